@@ -1,0 +1,104 @@
+# layerfit: plain Makefile.  `make demo` and `make check` are the two
+# commands of the README; both install missing Debian packages first.
+
+PREFIX  ?= /usr/local
+BINDIR  ?= $(PREFIX)/bin
+LIBDIR  ?= $(PREFIX)/lib
+INCDIR  ?= $(PREFIX)/include
+MANDIR  ?= $(PREFIX)/share/man
+PKGDIR  ?= $(LIBDIR)/pkgconfig
+BUILD   ?= build
+
+CC      ?= cc
+WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wpointer-arith -Wstrict-prototypes \
+           -Wmissing-prototypes -Wformat=2 -Wundef
+ifeq ($(WERROR),1)
+WARN    += -Werror
+endif
+OPT     ?= -O2 -g
+# project flags first, the user's CFLAGS after them
+ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE $(WARN) $(OPT) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
+LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lpthread -lm
+ALL_LDFLAGS := $(SANFLAGS) $(LDFLAGS)
+
+CLI_SRC := src/main.c $(wildcard src/cli_*.c)
+LIB_SRC := $(filter-out $(CLI_SRC),$(wildcard src/*.c)) $(wildcard fit/*.c)
+LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
+CLI_OBJ := $(CLI_SRC:%.c=$(BUILD)/%.o)
+TEST_SRC := $(wildcard tests/test_*.c)
+TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
+HEADERS := $(wildcard src/*.h fit/*.h) tests/testlib.h
+
+LIB  := $(BUILD)/liblayerfit.a
+PROG := $(BUILD)/layerfit
+
+DEBS := libgsl-dev libcsv-dev libudunits2-dev gnuplot-nox
+
+.PHONY: all deps demo check tests sanitize install uninstall clean
+
+all: $(PROG) $(LIB)
+
+$(BUILD)/%.o: %.c $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -c $< -o $@
+
+$(LIB): $(LIB_OBJ)
+	@rm -f $@
+	ar rcs $@ $^
+
+$(PROG): $(CLI_OBJ) $(LIB)
+	$(CC) $(ALL_LDFLAGS) -o $@ $(CLI_OBJ) $(LIB) $(LDLIBS)
+
+$(BUILD)/tests/%: tests/%.c tests/testlib.c $(LIB) $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -Itests $(ALL_LDFLAGS) -o $@ $< tests/testlib.c $(LIB) $(LDLIBS)
+
+tests: $(TEST_BIN) $(PROG)
+
+# Install what is missing (as root), or say the exact command to run.
+deps:
+	@missing=""; for p in $(DEBS); do \
+	  dpkg -s $$p >/dev/null 2>&1 || missing="$$missing $$p"; done; \
+	if [ -n "$$missing" ]; then \
+	  if [ "$$(id -u)" = 0 ]; then \
+	    echo "installing:$$missing"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$missing >/dev/null || exit 1; \
+	  else \
+	    echo "layerfit needs:$$missing"; \
+	    echo "run: sudo apt-get install -y$$missing"; exit 1; \
+	  fi; \
+	fi
+
+demo: deps
+	@$(MAKE) --no-print-directory all
+	@sh tests/demo.sh $(PROG)
+
+check: deps
+	@$(MAKE) --no-print-directory tests
+	@sh tests/run.sh $(BUILD)
+
+sanitize: deps
+	@$(MAKE) --no-print-directory BUILD=build-san OPT="-O1 -g -fno-omit-frame-pointer" \
+	  SANFLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all" tests
+	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 sh tests/run.sh build-san
+
+$(BUILD)/layerfit.pc: src/layerfit.pc.in
+	@mkdir -p $(dir $@)
+	sed -e 's|@PREFIX@|$(PREFIX)|g' -e 's|@LIBDIR@|$(LIBDIR)|g' \
+	    -e 's|@INCDIR@|$(INCDIR)|g' -e 's|@VERSION@|$(shell sed -n 's/^#define LF_VERSION "\(.*\)"/\1/p' src/layerfit.h)|g' $< > $@
+
+install: all $(BUILD)/layerfit.pc
+	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCDIR) $(DESTDIR)$(PKGDIR) $(DESTDIR)$(MANDIR)/man1
+	install -m 755 $(PROG) $(DESTDIR)$(BINDIR)/layerfit
+	install -m 644 $(LIB) $(DESTDIR)$(LIBDIR)/liblayerfit.a
+	install -m 644 src/layerfit.h $(DESTDIR)$(INCDIR)/layerfit.h
+	install -m 644 $(BUILD)/layerfit.pc $(DESTDIR)$(PKGDIR)/layerfit.pc
+	install -m 644 src/layerfit.1 $(DESTDIR)$(MANDIR)/man1/layerfit.1
+
+uninstall:
+	rm -f $(DESTDIR)$(BINDIR)/layerfit $(DESTDIR)$(LIBDIR)/liblayerfit.a \
+	      $(DESTDIR)$(INCDIR)/layerfit.h $(DESTDIR)$(PKGDIR)/layerfit.pc \
+	      $(DESTDIR)$(MANDIR)/man1/layerfit.1
+
+clean:
+	rm -rf build build-san build-fuzz

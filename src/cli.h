@@ -1,0 +1,81 @@
+/* cli.h: what the layerfit command's files share.  Only this layer prints,
+ * picks exit codes and adds file:line:column context to library errors. */
+#ifndef LF_CLI_H
+#define LF_CLI_H
+
+#include <stdio.h>
+
+#include "layerfit.h"
+
+#if defined(__GNUC__)
+#define CLI_NORETURN __attribute__((noreturn))
+#define CLI_PRINTF(a, b) __attribute__((format(printf, a, b)))
+#else
+#define CLI_NORETURN
+#define CLI_PRINTF(a, b)
+#endif
+
+/* Exit statuses of the command. */
+enum {
+    CLI_EXIT_OK = 0,
+    CLI_EXIT_FAIL = 1,      /* a computation failed */
+    CLI_EXIT_USAGE = 2,     /* bad command line or bad input file */
+    CLI_EXIT_NOCONV = 3     /* a fit did not converge */
+};
+
+/* A subcommand: one entry of the table in main.c. */
+typedef struct {
+    const char *name;
+    const char *summary;
+    int (*run)(int argc, char **argv);  /* argv[0] is the subcommand name */
+} cli_command;
+
+/* Print "layerfit: MESSAGE" on stderr and exit with code. */
+CLI_NORETURN void cli_die(int code, const char *fmt, ...) CLI_PRINTF(2, 3);
+/* Print a library error as "layerfit: FILE:LINE:COLUMN: message" (the parts
+ * that are known) and exit with code. */
+CLI_NORETURN void cli_die_error(int code, const lf_error *err);
+/* Print warnings as "layerfit: warning: ..." on stderr. */
+void cli_print_warnings(const lf_warnings *w);
+
+/* Options.  A value option is "--name VALUE" or "--name=VALUE".  A double
+ * target starts as NaN, meaning "not given". */
+typedef enum {
+    CLI_FLAG,        /* int *, set to 1 */
+    CLI_STRING,      /* const char ** */
+    CLI_NUMBER,      /* double *, bare number */
+    CLI_COUNT,       /* long *, integer >= 0 */
+    CLI_LENGTH,      /* double *, SI, through udunits2 */
+    CLI_FORCE,
+    CLI_ADHESION,
+    CLI_PRESSURE
+} cli_kind;
+
+typedef struct {
+    const char *name;     /* without the leading "--" */
+    cli_kind kind;
+    void *target;
+} cli_opt;
+
+/* Parse argv[1..argc-1] (argv[0] is the subcommand) against opts (ended
+ * by a {NULL} entry).  Non-option words are moved to the front of argv
+ * and counted in *npos.  "--help" sets *help.  Errors exit with status 2
+ * and name the option and an example of a good value. */
+void cli_parse(const char *cmd, int argc, char **argv, const cli_opt *opts,
+               int *npos, int *help);
+
+/* Parse an interface word ("frictionless", "bonded"); -1 if unknown. */
+int cli_base(const char *word);
+const char *cli_base_name(lf_base base);
+
+/* Write a number that reads back exactly ("%.17g"); NaN/Inf as given. */
+void cli_print_double(FILE *f, double x);
+/* Write a number for people with an SI prefix chosen for it:
+ * cli_human(buf, n, 1.2e-8, "m") -> "12 nm".  Returns buf. */
+char *cli_human(char *buf, size_t n, double x, const char *unit);
+
+
+
+/* The subcommands, one file each (cli_NAME.c). */
+int cli_model(int argc, char **argv);
+#endif

@@ -1,0 +1,260 @@
+/* layerfit.h: the public interface of liblayerfit.
+ *
+ * layerfit measures the work of adhesion w, the effective modulus
+ * E* = E/(1-nu^2) and, where the data can tell, Poisson's ratio nu of a thin
+ * elastic layer on a rigid substrate from indentation curves taken with
+ * rigid axisymmetric power-law probes f(r) = r^k / (k R^(k-1)).
+ *
+ * Data flows one way: CSV + units at the edge -> curves in SI -> forward
+ * model -> fitter -> result.  Every quantity crossing this interface is in SI
+ * units (m, N, Pa, J/m^2, s).  Indentation delta is positive into the layer,
+ * force P positive when compressive (adhesive forces are negative).
+ *
+ * Conventions for every function below:
+ *  - the return value is a status, LF_OK (0) on success; lf_strerror() names
+ *    it.  Where a function takes an lf_error *, a failure also fills it with
+ *    a message (and the file, line and column where the cause sits, if any);
+ *    passing NULL is allowed.
+ *  - the library never prints and never exits.
+ *  - objects made by an _alloc or _read function are owned by the caller and
+ *    released with the matching _free, which accepts NULL and half-built
+ *    objects.  Pointers returned inside an object stay owned by that object.
+ */
+#ifndef LAYERFIT_H
+#define LAYERFIT_H
+
+#include <stddef.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#define LF_VERSION "0.1.0"
+
+/* ------------------------------------------------------------------------
+ * Status codes and error reports
+ * --------------------------------------------------------------------- */
+
+enum {
+    LF_OK = 0,
+    LF_EINVAL,     /* a parameter or argument outside its domain */
+    LF_ENOMEM,     /* out of memory */
+    LF_EIO,        /* a file could not be opened or read */
+    LF_EFORMAT,    /* a file's content is malformed */
+    LF_EUNIT,      /* a unit is unknown or of the wrong dimension */
+    LF_EDATA,      /* data too few or degenerate for the task */
+    LF_ENOCONV,    /* an iteration did not converge (not an error in input) */
+    LF_ENUMERIC    /* a numerical failure (singular system, non-finite value) */
+};
+
+/* Where and why something failed.  line and column are 1-based, 0 when not
+ * applicable; file is empty when not applicable. */
+typedef struct {
+    int status;
+    char file[512];
+    long line;
+    long column;
+    char msg[512];
+} lf_error;
+
+/* A short constant name of a status code ("invalid argument", ...). */
+const char *lf_strerror(int status);
+
+/* Clear an error report (status LF_OK, empty strings). Accepts NULL. */
+void lf_error_clear(lf_error *err);
+
+/* Warnings collected by readers and the fitter for the caller to show.
+ * Each message is owned by the list. */
+typedef struct {
+    size_t n;
+    char **msg;
+} lf_warnings;
+
+void lf_warnings_free(lf_warnings *w); /* frees the messages, not w itself */
+
+/* ------------------------------------------------------------------------
+ * Units (udunits2)
+ * --------------------------------------------------------------------- */
+
+typedef enum {
+    LF_Q_LENGTH,      /* m */
+    LF_Q_FORCE,       /* N */
+    LF_Q_ADHESION,    /* J/m^2 = N/m (work of adhesion) */
+    LF_Q_PRESSURE,    /* Pa (modulus, strength) */
+    LF_Q_TIME,        /* s */
+    LF_Q_DIMENSIONLESS
+} lf_quantity;
+
+/* The SI unit symbol of a quantity ("m", "N", "J/m^2", "Pa", "s", ""). */
+const char *lf_quantity_si(lf_quantity q);
+
+/* Parse a number with its unit ("1um", "10 mJ/m2", "1.5e9 Pa", "1 µm") into
+ * SI.  A bare number is accepted only for LF_Q_DIMENSIONLESS.  Fails with
+ * LF_EUNIT (unknown unit or wrong dimension) or LF_EINVAL (not a number, or
+ * not finite); err->msg says which. */
+int lf_units_parse(const char *text, lf_quantity q, double *si, lf_error *err);
+
+/* The factor that converts a value in `unit` ("nm", "uN", "mN", "µm") into
+ * SI for quantity q (value_SI = factor * value).  Offsets (degC) are refused. */
+int lf_units_factor(const char *unit, lf_quantity q, double *factor, lf_error *err);
+
+/* ------------------------------------------------------------------------
+ * Forward models
+ * --------------------------------------------------------------------- */
+
+typedef enum {
+    LF_BASE_FRICTIONLESS = 0, /* layer slides freely on the rigid base */
+    LF_BASE_BONDED = 1        /* layer bonded to the rigid base */
+} lf_base;
+
+typedef enum {
+    LF_BRANCH_UNLOAD = 0,     /* retract: contact kept down to detachment */
+    LF_BRANCH_LOAD = 1        /* approach: contact made at delta = 0 */
+} lf_branch;
+
+/* What is known about one probe and the layer under it. */
+typedef struct {
+    double k;        /* profile exponent, > 0 */
+    double R;        /* reference length of the profile, m, > 0 */
+    double b;        /* layer thickness, m, > 0 */
+    lf_base base;    /* interface with the rigid substrate */
+} lf_probe;
+
+/* The material: what a fit estimates. */
+typedef struct {
+    double w;        /* work of adhesion, J/m^2, >= 0 */
+    double Estar;    /* effective modulus E/(1-nu^2), Pa, > 0 */
+    double nu;       /* Poisson's ratio, [0, 0.5); used by bonded layers */
+} lf_material;
+
+/* The model at one indentation: force, contact radius and derivatives.
+ * Out of contact every member is 0.  Derivatives are those of P; they are
+ * finite wherever the point is (for k > 2 they grow like delta1^(2/k-1) at
+ * detachment and are capped at a large finite value there). */
+typedef struct {
+    double P;          /* force, N */
+    double a;          /* contact radius, m */
+    double dP_ddelta;  /* N/m */
+    double dP_dlogw;   /* dP/d(ln w), N */
+    double dP_dlogE;   /* dP/d(ln E*), N */
+    double dP_dnu;     /* dP/dnu, N (0 for frictionless layers) */
+} lf_eval;
+
+/* Derived quantities of a model at given probe and material. */
+typedef struct {
+    double delta_detach; /* end of contact under displacement control on
+                            unloading, m (thin layer: -c) */
+    double P_detach;     /* force there, N */
+    double a_detach;     /* contact radius there, m */
+    double delta_po;     /* force-controlled pull-off indentation, m */
+    double P_po;         /* pull-off force (negative), N */
+    double a_po;         /* contact radius at pull-off, m */
+    double sigma_po;     /* mean tension |P_po| / (pi a_po^2), Pa */
+    double P_jump;       /* force on making contact when loading, N */
+    double c;            /* thin layer: offset sqrt(2 b w/(Z E*)), m; else 0 */
+} lf_pulloff;
+
+typedef struct lf_model lf_model;
+
+/* A forward model is one entry of this table.  Entries share one contract:
+ *  alloc  prepares state for one probe (may be NULL when none is needed);
+ *  eval   fills out[0..n-1] for indentations delta[0..n-1]; must not
+ *         allocate; returns LF_EINVAL for materials outside the domain;
+ *  pulloff fills the derived quantities. */
+typedef struct {
+    const char *name;        /* "thin", "exact", "halfspace" */
+    const char *description; /* one line for reports */
+    int (*alloc)(void **state, const lf_probe *probe, lf_error *err);
+    void (*free)(void *state);
+    int (*eval)(void *state, const lf_probe *probe, const lf_material *mat,
+                lf_branch branch, size_t n, const double *delta, lf_eval *out);
+    int (*pulloff)(void *state, const lf_probe *probe, const lf_material *mat,
+                   lf_pulloff *out);
+} lf_model_type;
+
+extern const lf_model_type lf_model_thin;      /* the seed paper, b << a */
+
+/* The table of all models, NULL-terminated, and lookup by name. */
+extern const lf_model_type *const lf_model_types[];
+const lf_model_type *lf_model_type_find(const char *name);
+
+/* Check a probe and a material against the domain every model shares
+ * (k > 0, R > 0, b > 0, w >= 0, E* > 0, 0 <= nu < 0.5 for bonded layers,
+ * everything finite).  LF_EINVAL with a message naming the parameter. */
+int lf_probe_check(const lf_probe *probe, lf_error *err);
+int lf_material_check(const lf_material *mat, lf_base base, lf_error *err);
+
+/* A model bound to one probe.  lf_model_alloc copies the probe. */
+lf_model *lf_model_alloc(const lf_model_type *type, const lf_probe *probe,
+                         lf_error *err);
+void lf_model_free(lf_model *m);
+const lf_model_type *lf_model_get_type(const lf_model *m);
+const lf_probe *lf_model_get_probe(const lf_model *m);
+int lf_model_eval(const lf_model *m, const lf_material *mat, lf_branch branch,
+                  size_t n, const double *delta, lf_eval *out, lf_error *err);
+int lf_model_pulloff(const lf_model *m, const lf_material *mat,
+                     lf_pulloff *out, lf_error *err);
+
+/* Closed-form helpers of the thin-layer model (seed paper). */
+double lf_thin_Z(lf_base base, double nu);      /* 1, or (1-nu)^2/(1-2nu) */
+double lf_thin_dlogZ_dnu(lf_base base, double nu);
+/* Critical thickness below which the mean pull-off tension reaches the
+ * theoretical strength sigma_th (Eq. 19, with M = Z E*). */
+double lf_thin_b_critical(double k, double w, double M, double sigma_th);
+/* Classical half-space JKR pull-off contact radius of a sphere of radius R,
+ * (9 pi R^2 w / (8 E*))^(1/3), for comparison. */
+double lf_jkr_sphere_a_po(double R, double w, double Estar);
+
+
+/* ------------------------------------------------------------------------
+ * Lab data: curves and fit plans (readers in src/csv_curve.c, src/plan.c)
+ * --------------------------------------------------------------------- */
+
+typedef enum {
+    LF_SEG_LOAD = 0,     /* approach / extend */
+    LF_SEG_UNLOAD = 1    /* retract / withdraw */
+} lf_segment;
+
+typedef struct {
+    char *key;
+    char *value;
+} lf_meta;
+
+/* One force-depth curve in SI, points in file order. */
+typedef struct {
+    char *file;               /* path it was read from ("" if from memory) */
+    size_t n;                 /* number of points */
+    double *depth;            /* instrument depth z, m (positive into layer) */
+    double *force;            /* N */
+    double *time;             /* s, or NULL when the file has no time */
+    unsigned char *segment;   /* lf_segment of each point */
+    long *line;               /* source line of each point, for messages */
+    size_t nmeta;
+    lf_meta *meta;            /* "# key: value" lines before the header */
+} lf_curve;
+
+/* One row of a fit plan: which curve, and what is known about it.
+ * A value that the plan leaves open is NaN (nu) or empty (sample). */
+typedef struct {
+    char *file;               /* curve path, resolved against the plan */
+    long line;                /* line of the row in the plan */
+    lf_probe probe;
+    double nu;                /* Poisson's ratio if the row gives one, else NaN */
+    lf_segment segment;       /* which segment to fit (default unload) */
+    char *sample;             /* material group, "" when not given */
+} lf_plan_row;
+
+typedef struct {
+    char *path;               /* the plan's own path */
+    size_t n;
+    lf_plan_row *rows;
+} lf_plan;
+
+void lf_curve_free(lf_curve *c);
+void lf_plan_free(lf_plan *p);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* LAYERFIT_H */

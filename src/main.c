@@ -1,0 +1,51 @@
+/* main.c: the layerfit command, a table of subcommands. */
+#include <stdio.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+
+#include "cli.h"
+
+static const cli_command commands[] = {
+    { "model", "compute model curves, pull-off and the paper's figures", cli_model },
+    { NULL, NULL, NULL }
+};
+
+static void
+usage(FILE *f)
+{
+    const cli_command *c;
+    fprintf(f, "usage: layerfit COMMAND [OPTIONS]\n\n"
+               "Adhesion (w) and elasticity (E*, nu) of thin coatings from indentation\n"
+               "curves taken with power-law probes f(r) = r^k/(k R^(k-1)).\n\ncommands:\n");
+    for (c = commands; c->name != NULL; c++)
+        fprintf(f, "  %-10s %s\n", c->name, c->summary);
+    fprintf(f, "\n'layerfit COMMAND --help' describes each command.\n"
+               "Every dimensional value takes a unit: --b 1um, --E 1GPa, --w 10mJ/m2.\n");
+}
+
+int
+main(int argc, char **argv)
+{
+    const cli_command *c;
+
+    gsl_set_error_handler_off();
+    if (argc < 2) {
+        usage(stderr);
+        return CLI_EXIT_USAGE;
+    }
+    if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0
+        || strcmp(argv[1], "help") == 0) {
+        usage(stdout);
+        return CLI_EXIT_OK;
+    }
+    if (strcmp(argv[1], "--version") == 0) {
+        printf("layerfit %s\n", LF_VERSION);
+        return CLI_EXIT_OK;
+    }
+    for (c = commands; c->name != NULL; c++)
+        if (strcmp(argv[1], c->name) == 0)
+            return c->run(argc - 1, argv + 1);
+    fprintf(stderr, "layerfit: unknown command '%s' (see 'layerfit --help')\n", argv[1]);
+    return CLI_EXIT_USAGE;
+}

@@ -1,0 +1,141 @@
+/* model_thin.c: the thin-layer adhesive (JKR) model of the seed paper,
+ * Papangelo, "Adhesion between a power-law indenter and a thin layer coated
+ * on a rigid substrate": Eqs. (7), (10)-(13) for a frictionless base and
+ * (21)-(25) for a bonded compressible base, valid for b << a.
+ *
+ * With M = Z E* (Z = 1 frictionless, (1-nu)^2/(1-2nu) bonded),
+ *   c      = sqrt(2 b w / M)                       (Eq. 11, 23)
+ *   delta1 = delta + c
+ *   P      = C delta1^(2/k) (delta1 - (k+2)/k c)   (Eq. 10, 22)
+ *   C      = pi M / b k^((k+2)/k) / (k+2) R^(2(k-1)/k)
+ *   a      = (k R^(k-1) delta1)^(1/k)              (Eq. 7)
+ * and P = a = 0 where delta1 <= 0 (unloading) or delta < 0 (loading).
+ * Derivatives (written for this file, checked in tests/test_model.c):
+ *   dP/ddelta = C (k+2)/k delta1^(2/k-1) (delta1 - 2c/k)
+ *   dP/dln w  = -C (k+2)/k^2 c^2 delta1^(2/k-1)
+ *   dP/dln M  = P - dP/dln w,   dP/dnu = dP/dln M * dln Z/dnu.
+ */
+#include <math.h>
+
+#include "internal.h"
+
+double
+lf_thin_Z(lf_base base, double nu)
+{
+    if (base == LF_BASE_FRICTIONLESS)
+        return 1.0;
+    return (1.0 - nu) * (1.0 - nu) / (1.0 - 2.0 * nu);
+}
+
+double
+lf_thin_dlogZ_dnu(lf_base base, double nu)
+{
+    if (base == LF_BASE_FRICTIONLESS)
+        return 0.0;
+    return 2.0 * nu / ((1.0 - nu) * (1.0 - 2.0 * nu));
+}
+
+double
+lf_thin_b_critical(double k, double w, double M, double sigma_th)
+{
+    double q = k / (k + 2.0);
+    return 2.0 * q * q * M * w / (sigma_th * sigma_th);
+}
+
+/* Keep a derivative finite: the true value diverges at detachment for k > 2. */
+static double
+capped(double x)
+{
+    if (x > LF_BIG)
+        return LF_BIG;
+    if (x < -LF_BIG)
+        return -LF_BIG;
+    return x;
+}
+
+/* The constants of one (probe, material) pair. */
+typedef struct {
+    double M;      /* constrained modulus Z E*, Pa */
+    double c;      /* adhesive offset, m */
+    double C;      /* force scale, N m^(-(k+2)/k) */
+    double dlogZ;  /* dln Z / dnu */
+} thin_consts;
+
+static thin_consts
+thin_setup(const lf_probe *p, const lf_material *m)
+{
+    thin_consts t;
+    double k = p->k;
+
+    t.M = lf_thin_Z(p->base, m->nu) * m->Estar;
+    t.c = sqrt(2.0 * p->b * m->w / t.M);
+    t.C = M_PI * t.M / p->b * pow(k, (k + 2.0) / k) / (k + 2.0)
+          * pow(p->R, 2.0 * (k - 1.0) / k);
+    t.dlogZ = lf_thin_dlogZ_dnu(p->base, m->nu);
+    return t;
+}
+
+static int
+thin_eval(void *state, const lf_probe *p, const lf_material *m,
+          lf_branch branch, size_t n, const double *delta, lf_eval *out)
+{
+    const thin_consts t = thin_setup(p, m);
+    const double k = p->k, kk = (k + 2.0) / k;
+    const double rk = k * pow(p->R, k - 1.0);
+    size_t i;
+
+    (void) state;
+    for (i = 0; i < n; i++) {
+        lf_eval *e = &out[i];
+        double d1 = delta[i] + t.c;
+
+        if (d1 <= 0.0 || (branch == LF_BRANCH_LOAD && delta[i] < 0.0)) {
+            e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
+            continue;
+        }
+        e->a = pow(rk * d1, 1.0 / k);
+        if (t.c > 0.0) {
+            double g = fmin(pow(d1, 2.0 / k - 1.0), LF_BIG); /* delta1^(2/k-1) */
+            e->P = t.C * pow(d1, 2.0 / k) * (d1 - kk * t.c);
+            e->dP_ddelta = capped(t.C * kk * g * (d1 - 2.0 * t.c / k));
+            e->dP_dlogw = capped(-t.C * kk / k * t.c * t.c * g);
+        } else {
+            e->P = t.C * pow(d1, kk);
+            e->dP_ddelta = t.C * kk * pow(d1, 2.0 / k);
+            e->dP_dlogw = 0.0;
+        }
+        e->dP_dlogE = capped(e->P - e->dP_dlogw);
+        e->dP_dnu = capped(e->dP_dlogE * t.dlogZ);
+    }
+    return LF_OK;
+}
+
+static int
+thin_pulloff(void *state, const lf_probe *p, const lf_material *m,
+             lf_pulloff *out)
+{
+    const thin_consts t = thin_setup(p, m);
+    const double k = p->k;
+    double d1po = 2.0 * t.c / k;
+
+    (void) state;
+    out->c = t.c;
+    out->delta_detach = -t.c;
+    out->P_detach = 0.0;
+    out->a_detach = 0.0;
+    out->delta_po = d1po - t.c;
+    out->P_po = -t.C * pow(d1po, 2.0 / k) * t.c;
+    out->a_po = pow(2.0 * pow(p->R, k - 1.0) * t.c, 1.0 / k);
+    out->sigma_po = out->a_po > 0.0 ? -out->P_po / (M_PI * out->a_po * out->a_po) : 0.0;
+    out->P_jump = -(2.0 / k) * t.C * pow(t.c, (k + 2.0) / k);
+    return LF_OK;
+}
+
+const lf_model_type lf_model_thin = {
+    "thin",
+    "thin-layer closed form (Papangelo; Johnson/Jaffar/Barber limit b << a)",
+    NULL,
+    NULL,
+    thin_eval,
+    thin_pulloff
+};

@@ -1,0 +1,154 @@
+/* units.c: numbers with units, through udunits2.  The unit database is read
+ * once per process (pthread_once) and udunits2's own messages are silenced,
+ * since the library never prints. */
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <pthread.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <udunits2.h>
+
+#include "internal.h"
+
+static ut_system *units_system;
+static pthread_once_t units_once = PTHREAD_ONCE_INIT;
+
+static const struct {
+    const char *si;       /* udunits2 spelling of the SI unit */
+    const char *shown;    /* how we write it */
+    const char *noun;     /* "a length" */
+    const char *example;  /* a good input */
+} quantities[] = {
+    [LF_Q_LENGTH]        = { "m", "m", "a length", "1um" },
+    [LF_Q_FORCE]         = { "N", "N", "a force", "10uN" },
+    [LF_Q_ADHESION]      = { "J/m2", "J/m^2", "a work of adhesion (energy per area)", "10mJ/m2" },
+    [LF_Q_PRESSURE]      = { "Pa", "Pa", "a pressure or modulus", "1GPa" },
+    [LF_Q_TIME]          = { "s", "s", "a time", "1s" },
+    [LF_Q_DIMENSIONLESS] = { "1", "", "a pure number", "0.3" },
+};
+#define NQUANT (sizeof quantities / sizeof quantities[0])
+
+static void
+units_load(void)
+{
+    ut_set_error_message_handler(ut_ignore);
+    units_system = ut_read_xml(NULL);
+}
+
+const char *
+lf_quantity_si(lf_quantity q)
+{
+    return (size_t) q < NQUANT ? quantities[q].shown : "?";
+}
+
+static const char *
+trim(char *s)
+{
+    char *end;
+    while (isspace((unsigned char) *s))
+        s++;
+    end = s + strlen(s);
+    while (end > s && isspace((unsigned char) end[-1]))
+        *--end = '\0';
+    return s;
+}
+
+/* Name what kind of quantity a unit measures, for messages. */
+static const char *
+unit_noun(const ut_unit *u)
+{
+    size_t q;
+    for (q = 0; q < NQUANT - 1; q++) {
+        ut_unit *si = ut_parse(units_system, quantities[q].si, UT_ASCII);
+        int same = si != NULL && ut_are_convertible(u, si);
+        ut_free(si);
+        if (same)
+            return quantities[q].noun;
+    }
+    return "another kind of quantity";
+}
+
+int
+lf_units_factor(const char *unit, lf_quantity q, double *factor, lf_error *err)
+{
+    char buf[256];
+    const char *name;
+    ut_unit *u = NULL, *si = NULL;
+    cv_converter *cv = NULL;
+    int status = LF_OK;
+
+    if ((size_t) q >= NQUANT)
+        return lf_fail(err, LF_EINVAL, "unknown quantity");
+    pthread_once(&units_once, units_load);
+    if (units_system == NULL)
+        return lf_fail(err, LF_EUNIT, "the udunits2 database could not be read "
+                       "(is libudunits2-data installed? UDUNITS2_XML_PATH may name it)");
+    if (strlen(unit) >= sizeof buf)
+        return lf_fail(err, LF_EUNIT, "unit too long");
+    strcpy(buf, unit);
+    name = trim(buf);
+    if (*name == '\0') {
+        if (q == LF_Q_DIMENSIONLESS) {
+            *factor = 1.0;
+            return LF_OK;
+        }
+        return lf_fail(err, LF_EUNIT, "missing unit: expected %s such as %s",
+                       quantities[q].noun, quantities[q].example);
+    }
+    u = ut_parse(units_system, name, UT_UTF8);
+    if (u == NULL) {
+        status = lf_fail(err, LF_EUNIT, "unknown unit '%s' (expected %s such as %s)",
+                         name, quantities[q].noun, quantities[q].example);
+        goto done;
+    }
+    si = ut_parse(units_system, quantities[q].si, UT_ASCII);
+    if (si == NULL || !ut_are_convertible(u, si)) {
+        status = lf_fail(err, LF_EUNIT, "unit '%s' is %s, not %s (e.g. %s)", name,
+                         unit_noun(u), quantities[q].noun, quantities[q].example);
+        goto done;
+    }
+    cv = ut_get_converter(u, si);
+    if (cv == NULL || cv_convert_double(cv, 0.0) != 0.0) {
+        status = lf_fail(err, LF_EUNIT, "unit '%s' has an offset; use an absolute unit", name);
+        goto done;
+    }
+    *factor = cv_convert_double(cv, 1.0);
+    if (!(isfinite(*factor) && *factor > 0.0))
+        status = lf_fail(err, LF_EUNIT, "unit '%s' has no usable scale", name);
+done:
+    cv_free(cv);
+    ut_free(si);
+    ut_free(u);
+    return status;
+}
+
+int
+lf_units_parse(const char *text, lf_quantity q, double *si, lf_error *err)
+{
+    char *end;
+    double value, factor;
+    int status;
+
+    errno = 0;
+    while (isspace((unsigned char) *text))
+        text++;
+    value = strtod(text, &end);
+    if (end == text)
+        return lf_fail(err, LF_EINVAL, "'%s' does not start with a number (e.g. %s)",
+                       text, quantities[(size_t) q < NQUANT ? q : 0].example);
+    if (errno == ERANGE || !isfinite(value))
+        return lf_fail(err, LF_EINVAL, "'%s' is not a finite number", text);
+    status = lf_units_factor(end, q, &factor, err);
+    if (status != LF_OK) {
+        if (end[strspn(end, " \t")] == '\0')
+            return lf_fail(err, LF_EUNIT, "'%s' has no unit (e.g. %s)", text,
+                           quantities[q].example);
+        return status;
+    }
+    *si = value * factor;
+    if (!isfinite(*si))
+        return lf_fail(err, LF_EINVAL, "'%s' overflows in SI units", text);
+    return LF_OK;
+}
