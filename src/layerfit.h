@@ -242,6 +242,8 @@ typedef struct {
     double nu;                /* Poisson's ratio if the row gives one, else NaN */
     lf_segment segment;       /* which segment to fit (default unload) */
     char *sample;             /* material group, "" when not given */
+    double z0;                /* contact point offset, m, if the plan fixes it, else NaN */
+    double F0;                /* force offset, N, if the plan fixes it, else NaN */
 } lf_plan_row;
 
 typedef struct {
