@@ -39,6 +39,7 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
 {
     static const char *colors[] = { "#1b6ca8", "#c0392b", "#27ae60", "#8e44ad",
                                     "#d35400", "#2c3e50", "#16a085", "#7f8c8d" };
+    static const int shapes[] = { 7, 5, 9, 13, 11, 15 };   /* filled markers */
     const char *term = terminal_for(file);
     FILE *g;
     size_t s, i;
@@ -75,8 +76,13 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
             f->logy ? "set logscale y" : "unset logscale y");
     for (s = 0; s < f->nseries; s++) {
         const plot_series *p = &f->series[s];
-        fprintf(g, "%s$d%zu using 1:2 with lines lw 2 lc rgb '%s' dt %d title ",
-                s ? ", " : "", s, colors[(size_t) p->color % 8], p->dashed ? 2 : 1);
+        if (p->points > 0)
+            fprintf(g, "%s$d%zu using 1:2 with points pt %d ps 1.2 lc rgb '%s' title ",
+                    s ? ", " : "", s, shapes[(size_t) (p->points - 1) % 6],
+                    colors[(size_t) p->color % 8]);
+        else
+            fprintf(g, "%s$d%zu using 1:2 with lines lw 2 lc rgb '%s' dt %d title ",
+                    s ? ", " : "", s, colors[(size_t) p->color % 8], p->dashed ? 2 : 1);
         put_quoted(g, p->title ? p->title : "");
     }
     fprintf(g, "\n");

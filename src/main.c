@@ -8,6 +8,7 @@
 
 static const cli_command commands[] = {
     { "model", "compute model curves, pull-off and the paper's figures", cli_model },
+    { "bench", "what a fit costs and how accurate it is (against the Cramer-Rao bound)", cli_bench },
     { NULL, NULL, NULL }
 };
 

@@ -10,6 +10,8 @@ typedef struct {
     const double *x, *y;
     int dashed;             /* 1: dashed line (e.g. unstable branch) */
     int color;              /* 0, 1, 2, ...: series with one color share it */
+    int points;             /* 0: a line; 1, 2, ...: unconnected points, each
+                               value its own marker shape */
 } plot_series;
 
 typedef struct {

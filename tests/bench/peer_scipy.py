@@ -1,0 +1,162 @@
+#!/usr/bin/python3
+"""peer_scipy.py DIR: fit the data `layerfit bench` wrote to DIR with
+scipy.optimize.least_squares and print, per case, one line
+
+    case SCENE NOISE median_time_us rms_rel_err_w rms_rel_err_E rms_abs_err_nu converged_fraction
+
+(err_nu is nan when nu is not fitted).  Run it with Debian's python3-scipy
+(/usr/bin/python3).  The model is the thin-layer closed form of the seed
+paper (Papangelo, Eq. 10-11, 22-23), written here from the formulas in
+physics.md section 1:
+
+    M = Z E*, Z = 1 (frictionless) or (1-nu)^2/(1-2nu) (bonded)
+    c = sqrt(2 b w / M), d1 = z - z0 + c
+    P = C d1^(2/k) (d1 - (k+2)/k c),  C = pi M/b k^((k+2)/k)/(k+2) R^(2(k-1)/k)
+    P = 0 where d1 <= 0;  F = P + F0
+
+Parameters: ln w, ln E*, u = atanh(4 nu - 1) when nu is free, then z0 and F0
+of each curve when the case frees them.  Residuals are weighted by each
+curve's largest |force| (the noise is a fixed fraction of it).  The fit
+starts from the truth, which the case file carries: the most favourable
+start scipy can have.  Analytic Jacobian, method 'trf', x_scale 'jac',
+default tolerances.
+
+Case file: '# key values' header lines (scene, noise, truth w E nu,
+free_nu, free_offsets, seeds, curves, then 'curve j k R b base' and
+'offsets j z0 F0'), then rows 'seed curve z F'.
+"""
+import glob
+import math
+import os
+import sys
+import time
+
+import numpy as np
+from scipy.optimize import least_squares
+
+
+def read_case(path):
+    head = {"curves": [], "offsets": {}}
+    with open(path) as f:
+        for line in f:
+            if not line.startswith("#"):
+                break
+            key, *vals = line[1:].split()
+            if key == "curve":
+                head["curves"].append((float(vals[1]), float(vals[2]), float(vals[3]),
+                                       vals[4] == "bonded"))
+            elif key == "offsets":
+                head["offsets"][int(vals[0])] = (float(vals[1]), float(vals[2]))
+            elif key == "truth":
+                head["truth"] = tuple(float(v) for v in vals)
+            elif key == "scene":
+                head["scene"] = vals[0]
+            else:
+                head[key] = float(vals[0])
+    data = np.loadtxt(path, comments="#", ndmin=2)
+    return head, data
+
+
+def curve_model(k, R, b, bonded, w, E, nu, z, z0):
+    """P and its derivatives dP/dln w, dP/dln M, dP/ddelta at depths z."""
+    Z = (1 - nu) ** 2 / (1 - 2 * nu) if bonded else 1.0
+    M = Z * E
+    c = math.sqrt(2 * b * w / M)
+    C = math.pi * M / b * k ** ((k + 2) / k) / (k + 2) * R ** (2 * (k - 1) / k)
+    d1 = z - z0 + c
+    on = d1 > 0
+    d = np.where(on, d1, 0.0)
+    g = np.where(on, np.maximum(d, 1e-9 * c) ** (2 / k - 1), 0.0)
+    P = np.where(on, C * d ** (2 / k) * (d - (k + 2) / k * c), 0.0)
+    dlogw = -C * (k + 2) / k ** 2 * c * c * g
+    dlogM = P - dlogw
+    ddelta = C * (k + 2) / k * g * (d - 2 * c / k)
+    dlogZ_dnu = 2 * nu / ((1 - nu) * (1 - 2 * nu)) if bonded else 0.0
+    return P, dlogw, dlogM, ddelta, dlogZ_dnu
+
+
+def fit_one(head, rows):
+    curves = head["curves"]
+    free_nu = bool(head["free_nu"])
+    free_off = bool(head["free_offsets"])
+    w0, E0, nu0 = head["truth"]
+    z = [rows[rows[:, 1] == j, 2] for j in range(len(curves))]
+    F = [rows[rows[:, 1] == j, 3] for j in range(len(curves))]
+    scale = [np.max(np.abs(f)) for f in F]
+    L = [np.ptp(zz) for zz in z]
+    nmat = 3 if free_nu else 2
+
+    def unpack(x):
+        w, E = math.exp(x[0]), math.exp(x[1])
+        nu = 0.25 * (1 + math.tanh(x[2])) if free_nu else nu0
+        return w, E, nu
+
+    def offsets(x, j):
+        if not free_off:
+            return 0.0, 0.0
+        return x[nmat + 2 * j] * L[j], x[nmat + 2 * j + 1] * scale[j]
+
+    def res(x):
+        w, E, nu = unpack(x)
+        out = []
+        for j, (k, R, b, bonded) in enumerate(curves):
+            z0, F0 = offsets(x, j)
+            P = curve_model(k, R, b, bonded, w, E, nu, z[j], z0)[0]
+            out.append((P + F0 - F[j]) / scale[j])
+        return np.concatenate(out)
+
+    def jac(x):
+        w, E, nu = unpack(x)
+        blocks = []
+        for j, (k, R, b, bonded) in enumerate(curves):
+            z0, F0 = offsets(x, j)
+            P, dlw, dlM, dd, dlZ = curve_model(k, R, b, bonded, w, E, nu, z[j], z0)
+            J = np.zeros((len(z[j]), len(x)))
+            J[:, 0] = dlw
+            J[:, 1] = dlM
+            if free_nu:
+                J[:, 2] = dlM * dlZ * 0.25 * (1 - math.tanh(x[2]) ** 2)
+            if free_off:
+                J[:, nmat + 2 * j] = -dd * L[j]
+                J[:, nmat + 2 * j + 1] = scale[j]
+            blocks.append(J / scale[j])
+        return np.vstack(blocks)
+
+    x0 = [math.log(w0), math.log(E0)]
+    if free_nu:
+        x0.append(math.atanh(4 * nu0 - 1))
+    if free_off:
+        for j in range(len(curves)):
+            z0, F0 = head["offsets"][j]
+            x0 += [z0 / L[j], F0 / scale[j]]
+    t = time.perf_counter()
+    sol = least_squares(res, np.array(x0), jac=jac, method="trf", x_scale="jac")
+    t = time.perf_counter() - t
+    w, E, nu = unpack(sol.x)
+    return t, sol.status > 0, w, E, nu
+
+
+def main():
+    if len(sys.argv) != 2:
+        sys.exit("usage: peer_scipy.py DIR")
+    for path in sorted(glob.glob(os.path.join(sys.argv[1], "case_*_*.txt"))):
+        s, n = os.path.basename(path)[5:-4].split("_")
+        head, data = read_case(path)
+        w0, E0, nu0 = head["truth"]
+        times, ew, eE, en, conv = [], [], [], [], 0
+        for seed in range(int(head["seeds"])):
+            t, ok, w, E, nu = fit_one(head, data[data[:, 0] == seed])
+            times.append(t)
+            if ok:
+                conv += 1
+                ew.append(w / w0 - 1)
+                eE.append(E / E0 - 1)
+                en.append(nu - nu0)
+        rms = lambda v: math.sqrt(sum(e * e for e in v) / len(v)) if v else float("nan")
+        print("case %s %s %.6g %.6g %.6g %s %.6g" % (
+            s, n, 1e6 * float(np.median(times)), rms(ew), rms(eE),
+            "%.6g" % rms(en) if head["free_nu"] else "nan", conv / len(times)))
+
+
+if __name__ == "__main__":
+    main()
