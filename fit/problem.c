@@ -103,7 +103,9 @@ fit_problem_setup(lf_fit *f, lf_error *err)
         else
             f->any_frictionless = 1;
     }
-    f->nu_determinable = f->any_bonded && f->any_frictionless;
+    /* Z = M / E*: nu follows when E* is seen by frictionless curves or held */
+    f->nu_determinable = f->any_bonded
+                         && (f->any_frictionless || s->Estar.mode == LF_PARAM_FIXED);
     f->imat[FIT_W] = s->w.mode == LF_PARAM_FIXED ? -1 : np++;
     f->imat[FIT_E] = s->Estar.mode == LF_PARAM_FIXED ? -1 : np++;
     f->nu_prior = 0;

@@ -230,6 +230,29 @@ estimate_M(const lf_fit *f, const lf_fit_result *r, const lf_material *mat,
     estimate_positive(M, Z * mat->Estar, sqrt(var));
 }
 
+/* physics.md section 2: with k = 2 only and free z0 and F0, the contact
+ * part of a curve is a parabola (three coefficients for four unknowns) and
+ * w rests on the baseline past detachment alone.  Where every curve is
+ * like that and less than 10% of its points lie past detachment at the
+ * solution, w is not determined (whatever a noisy edge suggests). */
+static int
+k2_without_baseline(const lf_fit *f)
+{
+    size_t i, j;
+
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        size_t nout = 0;
+        if (fabs(c->data.probe.k - 2.0) > 1e-9 || c->iz0 < 0 || c->iF0 < 0)
+            return 0;
+        for (i = 0; i < c->data.n; i++)
+            nout += f->ev[c->row + i].a == 0.0;
+        if ((double) nout >= 0.1 * (double) c->data.n)
+            return 0;
+    }
+    return 1;
+}
+
 /* What the data cannot determine, in words. */
 static void
 explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
@@ -245,7 +268,10 @@ explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
         if (f->c[j].iF0 >= 0 && nullw[f->c[j].iF0] > 0.01)
             F0_null = 1;
     }
-    if (f->any_bonded && !f->any_frictionless && !r->nu.determined) {
+    if (f->imat[FIT_W] >= 0 && k2_without_baseline(f))
+        w_null = F0_null = 1;
+    if (f->any_bonded && !f->any_frictionless && !r->nu.determined
+        && f->set.Estar.mode != LF_PARAM_FIXED) {
         if (r->M.determined)
             lf_warn(&r->identifiability,
                     "only bonded curves: the data fix M = Z*E* = %.4g Pa (se %.2g Pa) and w; "
@@ -319,7 +345,8 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
     cr->slope_se = se_of(r, c->islope);
     if (c->iz0 >= 0 && nullw[c->iz0] > 0.01)
         cr->z0 = cr->z0_se = NAN;
-    if (c->iF0 >= 0 && nullw[c->iF0] > 0.01)
+    if (c->iF0 >= 0 && (nullw[c->iF0] > 0.01
+                        || (f->imat[FIT_W] >= 0 && k2_without_baseline(f))))
         cr->F0 = cr->F0_se = NAN;
     cr->sigma = c->sigma;
     for (i = 0; i < c->data.n; i++) {
@@ -395,7 +422,7 @@ fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
     /* w */
     if (f->imat[FIT_W] < 0)
         estimate_fixed(&r->w, mat.w);
-    else if (nullw[f->imat[FIT_W]] > 0.01)
+    else if (nullw[f->imat[FIT_W]] > 0.01 || k2_without_baseline(f))
         estimate_undetermined(&r->w, 1);
     else {
         double se = se_of(r, f->imat[FIT_W]);
@@ -429,6 +456,7 @@ fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
         estimate_fixed(&r->Estar, mat.Estar);
     else if (nullw[f->imat[FIT_E]] > 0.01
              || (f->any_bonded && !f->any_frictionless && !r->nu.determined))
+        /* bonded curves alone: E* = M / Z(nu) with nu unknown */
         estimate_undetermined(&r->Estar, 1);
     else
         estimate_positive(&r->Estar, mat.Estar, se_of(r, f->imat[FIT_E]));

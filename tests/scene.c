@@ -47,18 +47,6 @@ scene_simulate(scene *s, unsigned long seed)
         }
     }
     s->sim.seed = seed;
-    return lf_simulate(&s->sim, &lf_model_thin, &s->mat, s->n, s->probe,
-                       s->depth, s->force, s->sigma, NULL);
-}
-
-int
-scene_fit(scene *s, unsigned long seed, lf_fit_result *res, lf_error *err)
-{
-    size_t j;
-    int status = scene_simulate(s, seed);
-
-    if (status != LF_OK)
-        return status;
     for (j = 0; j < s->n; j++) {
         lf_fit_curve *c = &s->curve[j];
         c->name = s->label;
@@ -70,6 +58,17 @@ scene_fit(scene *s, unsigned long seed, lf_fit_result *res, lf_error *err)
         c->z0 = s->fix_z0 ? s->sim.z0 : NAN;
         c->F0 = s->fix_F0 ? s->sim.F0 : NAN;
     }
+    return lf_simulate(&s->sim, &lf_model_thin, &s->mat, s->n, s->probe,
+                       s->depth, s->force, s->sigma, NULL);
+}
+
+int
+scene_fit(scene *s, unsigned long seed, lf_fit_result *res, lf_error *err)
+{
+    int status = scene_simulate(s, seed);
+
+    if (status != LF_OK)
+        return status;
     return lf_fit_driver(&s->fit, s->n, s->curve, res, err);
 }
 

@@ -26,7 +26,8 @@ typedef struct {
  * probes yet, 300 points, z0 = 15 nm, F0 = 0.21 uN. */
 scene scene_default(const char *label);
 void scene_add(scene *s, double k, double R, double b, lf_base base);
-/* Simulate with the given seed (allocates the arrays once). */
+/* Simulate with the given seed (allocates the arrays once) and describe
+ * the curves in s->curve. */
 int scene_simulate(scene *s, unsigned long seed);
 /* Simulate and fit; res must be freed with lf_fit_result_free. */
 int scene_fit(scene *s, unsigned long seed, lf_fit_result *res, lf_error *err);
