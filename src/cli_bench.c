@@ -581,7 +581,7 @@ write_peer_case(const char *dir, size_t si, size_t ni, size_t nseeds, gsl_rng *r
     if (f == NULL)
         cli_die(CLI_EXIT_FAIL, "bench: cannot write %s: %s", path, strerror(errno));
     fprintf(f, "# scene %s\n# noise %.17g\n# truth %.17g %.17g %.17g\n# free_nu %d\n"
-               "# free_offsets %d\n# seeds %zu\n# curves %zu\n",
+               "# free_offsets %d\n# seeds %zu\n# ncurves %zu\n",
             s->name, noise_levels[ni], s->truth.w, s->truth.Estar, s->truth.nu,
             scene_free_nu(s), s->free_offsets, nseeds, s->ncurves);
     for (j = 0; j < s->ncurves; j++)

@@ -22,7 +22,7 @@ start scipy can have.  Analytic Jacobian, method 'trf', x_scale 'jac',
 default tolerances.
 
 Case file: '# key values' header lines (scene, noise, truth w E nu,
-free_nu, free_offsets, seeds, curves, then 'curve j k R b base' and
+free_nu, free_offsets, seeds, ncurves, then 'curve j k R b base' and
 'offsets j z0 F0'), then rows 'seed curve z F'.
 """
 import glob
