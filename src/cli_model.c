@@ -1,10 +1,306 @@
-/* cli_model.c: `layerfit model` (being written). */
+/* cli_model.c: `layerfit model`, forward curves, derived quantities and the
+ * data of the seed paper's figures 2-5. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
 #include "cli.h"
+
+
+static const char model_help[] =
+    "usage: layerfit model --k K --R LEN --b LEN --w ADH --E PRESSURE [options]\n"
+    "       layerfit model --figure N [--plot FILE.svg|FILE.png]\n"
+    "\n"
+    "Force against indentation of a power-law probe f(r) = r^k/(k R^(k-1)) on an\n"
+    "adhesive elastic layer of thickness b on a rigid base, as CSV on stdout\n"
+    "(depth_m,force_N,radius_m,b_over_a,stable: SI units, stable = 1 where the\n"
+    "curve is stable under force control).\n"
+    "\n"
+    "  --k K              profile exponent (2 paraboloid, 1 cone, large k flat punch)\n"
+    "  --R LEN            reference length of the profile, e.g. 1mm\n"
+    "  --b LEN            layer thickness, e.g. 1um\n"
+    "  --w ADH            work of adhesion, e.g. 10mJ/m2 (also J/m^2, N/m)\n"
+    "  --E PRESSURE       effective modulus E* = E/(1-nu^2), e.g. 1GPa\n"
+    "  --interface WORD   frictionless (default) or bonded\n"
+    "  --nu NU            Poisson's ratio in [0, 0.5), needed for bonded layers\n"
+    "  --model NAME       forward model (default thin)\n"
+    "  --branch WORD      unload (default: contact down to detachment) or load\n"
+    "  --from LEN --to LEN --points N   indentation range and points\n"
+    "                     (default: from detachment over ten pull-off widths, 200)\n"
+    "  --summary          print pull-off and validity figures for people\n"
+    "  --json             print the same in SI as JSON\n"
+    "  --sigma-th P       theoretical strength: adds the critical thickness (Eq. 19)\n"
+    "  --figure N         data of the paper's figure N (2..5) with its parameters\n"
+    "  --plot FILE        with --figure, draw it with gnuplot (.svg or .png)\n";
+
+typedef struct {
+    double k, R, b, w, E, nu, from, to, sigma_th;
+    long points;
+    const char *interface, *model, *branch, *plot;
+    int summary, json;
+    long figure;
+} model_args;
+
+/* Everything the summary and JSON report. */
+typedef struct {
+    lf_probe probe;
+    lf_material mat;
+    const lf_model_type *type;
+    lf_pulloff po;
+    double Z;
+    double b_cr;          /* critical thickness, NaN without --sigma-th */
+    double b_cr_over_a;   /* Eq. (20), NaN without --sigma-th */
+} model_summary;
+
+static void
+need(const char *name, double v, const char *example)
+{
+    if (isnan(v))
+        cli_die(CLI_EXIT_USAGE, "model: --%s is required (e.g. --%s %s)", name, name, example);
+}
+
+static lf_model *
+make_model(const model_args *a, lf_probe *probe, lf_material *mat)
+{
+    lf_error err;
+    lf_model *m;
+    const lf_model_type *type = lf_model_type_find(a->model);
+    int base = cli_base(a->interface);
+
+    if (type == NULL)
+        cli_die(CLI_EXIT_USAGE, "model: --model: unknown model '%s' (e.g. --model thin)", a->model);
+    if (base < 0)
+        cli_die(CLI_EXIT_USAGE, "model: --interface: unknown interface '%s' "
+                "(frictionless or bonded)", a->interface);
+    need("k", a->k, "2");
+    need("R", a->R, "1mm");
+    need("b", a->b, "1um");
+    need("w", a->w, "10mJ/m2");
+    need("E", a->E, "1GPa");
+    if (base == LF_BASE_BONDED && isnan(a->nu))
+        cli_die(CLI_EXIT_USAGE, "model: --nu is required for a bonded layer (e.g. --nu 0.3)");
+    probe->k = a->k;
+    probe->R = a->R;
+    probe->b = a->b;
+    probe->base = (lf_base) base;
+    mat->w = a->w;
+    mat->Estar = a->E;
+    mat->nu = isnan(a->nu) ? 0.0 : a->nu;
+    m = lf_model_alloc(type, probe, &err);
+    if (m == NULL || lf_material_check(mat, probe->base, &err) != LF_OK) {
+        lf_model_free(m);
+        cli_die(CLI_EXIT_USAGE, "model: %s", err.msg);
+    }
+    return m;
+}
+
+static void
+summarise(const lf_model *m, const model_args *a, model_summary *s)
+{
+    lf_error err;
+
+    s->probe = *lf_model_get_probe(m);
+    s->type = lf_model_get_type(m);
+    s->mat.w = a->w;
+    s->mat.Estar = a->E;
+    s->mat.nu = isnan(a->nu) ? 0.0 : a->nu;
+    s->Z = lf_thin_Z(s->probe.base, s->mat.nu);
+    if (lf_model_pulloff(m, &s->mat, &s->po, &err) != LF_OK)
+        cli_die_error(CLI_EXIT_FAIL, &err);
+    s->b_cr = s->b_cr_over_a = NAN;
+    if (!isnan(a->sigma_th)) {
+        /* Eq. (19) and (20): the pull-off radius of a layer of thickness b_cr */
+        lf_probe crit = s->probe;
+        lf_pulloff po;
+        lf_model *mc;
+
+        s->b_cr = lf_thin_b_critical(s->probe.k, s->mat.w, s->Z * s->mat.Estar, a->sigma_th);
+        crit.b = s->b_cr;
+        mc = lf_model_alloc(&lf_model_thin, &crit, &err);
+        if (mc == NULL || lf_model_pulloff(mc, &s->mat, &po, &err) != LF_OK)
+            cli_die_error(CLI_EXIT_FAIL, &err);
+        s->b_cr_over_a = s->b_cr / po.a_po;
+        lf_model_free(mc);
+    }
+}
+
+static void
+print_summary(const model_summary *s)
+{
+    char b1[64], b2[64];
+    const lf_pulloff *po = &s->po;
+
+    printf("model            %s: %s\n", s->type->name, s->type->description);
+    printf("probe            k = %g, R = %s, b = %s, %s base",
+           s->probe.k, cli_human(b1, sizeof b1, s->probe.R, "m"),
+           cli_human(b2, sizeof b2, s->probe.b, "m"), cli_base_name(s->probe.base));
+    if (s->probe.base == LF_BASE_BONDED)
+        printf(", nu = %g (Z = %.6g)", s->mat.nu, s->Z);
+    printf("\nmaterial         w = %s, E* = %s\n",
+           cli_human(b1, sizeof b1, s->mat.w, "J/m^2"),
+           cli_human(b2, sizeof b2, s->mat.Estar, "Pa"));
+    if (po->c > 0)
+        printf("offset c         %s  (sqrt(2 b w / (Z E*)))\n", cli_human(b1, sizeof b1, po->c, "m"));
+    printf("detachment       delta = %s, P = %s, a = %s  (displacement control)\n",
+           cli_human(b1, sizeof b1, po->delta_detach, "m"),
+           cli_human(b2, sizeof b2, po->P_detach, "N"),
+           cli_human((char[64]){ 0 }, 64, po->a_detach, "m"));
+    printf("pull-off         delta = %s, P = %s, a = %s  (force control)\n",
+           cli_human(b1, sizeof b1, po->delta_po, "m"),
+           cli_human(b2, sizeof b2, po->P_po, "N"),
+           cli_human((char[64]){ 0 }, 64, po->a_po, "m"));
+    printf("P_po/(2 pi R w)  %.6g\n", po->P_po / (2 * M_PI * s->probe.R * s->mat.w));
+    printf("mean tension     |sigma_po| = %s  (Eq. 18)\n", cli_human(b1, sizeof b1, po->sigma_po, "Pa"));
+    printf("jump-in force    %s  (loading, at contact)\n", cli_human(b1, sizeof b1, po->P_jump, "N"));
+    printf("b/a at pull-off  %.4g%s\n", s->probe.b / po->a_po,
+           s->probe.b / po->a_po > 0.1 ? "  (thin-layer assumption b << a strained)" : "");
+    printf("JKR sphere a_po  %s  (half-space, (9 pi R^2 w/(8 E*))^(1/3), for comparison)\n",
+           cli_human(b1, sizeof b1, lf_jkr_sphere_a_po(s->probe.R, s->mat.w, s->mat.Estar), "m"));
+    if (!isnan(s->b_cr)) {
+        printf("critical b       %s  (Eq. 19: |sigma_po| reaches sigma_th)\n",
+               cli_human(b1, sizeof b1, s->b_cr, "m"));
+        printf("b_cr/a_po at b_cr %.4g  (Eq. 20)\n", s->b_cr_over_a);
+    }
+}
+
+static void
+json_num(const char *name, double x, int last)
+{
+    printf("  \"%s\": ", name);
+    if (isfinite(x))
+        cli_print_double(stdout, x);
+    else
+        fputs("null", stdout);
+    fputs(last ? "\n" : ",\n", stdout);
+}
+
+static void
+print_json(const model_summary *s)
+{
+    const lf_pulloff *po = &s->po;
+
+    printf("{\n  \"model\": \"%s\",\n  \"interface\": \"%s\",\n", s->type->name,
+           cli_base_name(s->probe.base));
+    json_num("k", s->probe.k, 0);
+    json_num("R_m", s->probe.R, 0);
+    json_num("b_m", s->probe.b, 0);
+    json_num("w_J_per_m2", s->mat.w, 0);
+    json_num("Estar_Pa", s->mat.Estar, 0);
+    json_num("nu", s->probe.base == LF_BASE_BONDED ? s->mat.nu : NAN, 0);
+    json_num("Z", s->Z, 0);
+    json_num("c_m", po->c, 0);
+    json_num("delta_detach_m", po->delta_detach, 0);
+    json_num("P_detach_N", po->P_detach, 0);
+    json_num("a_detach_m", po->a_detach, 0);
+    json_num("delta_po_m", po->delta_po, 0);
+    json_num("P_po_N", po->P_po, 0);
+    json_num("a_po_m", po->a_po, 0);
+    json_num("sigma_po_Pa", po->sigma_po, 0);
+    json_num("P_jump_N", po->P_jump, 0);
+    json_num("b_over_a_po", s->probe.b / po->a_po, 0);
+    json_num("a_jkr_sphere_po_m", lf_jkr_sphere_a_po(s->probe.R, s->mat.w, s->mat.Estar), 0);
+    json_num("b_cr_m", s->b_cr, 0);
+    json_num("b_cr_over_a_po", s->b_cr_over_a, 1);
+    printf("}\n");
+}
+
+/* Default range: from detachment over ten pull-off widths. */
+static void
+default_range(const lf_pulloff *po, double *from, double *to)
+{
+    double span = fmax(fabs(po->delta_po - po->delta_detach), fabs(po->delta_detach));
+    if (isnan(*from))
+        *from = po->delta_detach;
+    if (isnan(*to))
+        *to = *from + 10.0 * span;
+}
+
+static void
+print_curve(const lf_model *m, const lf_material *mat, lf_branch branch,
+            double from, double to, long points)
+{
+    lf_error err;
+    lf_eval *e = malloc((size_t) points * sizeof *e);
+    double *delta = malloc((size_t) points * sizeof *delta);
+    const double b = lf_model_get_probe(m)->b;
+    long i;
+
+    if (e == NULL || delta == NULL)
+        cli_die(CLI_EXIT_FAIL, "model: out of memory");
+    for (i = 0; i < points; i++)
+        delta[i] = points == 1 ? from : from + (to - from) * (double) i / (double) (points - 1);
+    if (lf_model_eval(m, mat, branch, (size_t) points, delta, e, &err) != LF_OK)
+        cli_die(CLI_EXIT_FAIL, "model: %s", err.msg);
+    printf("depth_m,force_N,radius_m,b_over_a,stable\n");
+    for (i = 0; i < points; i++) {
+        cli_print_double(stdout, delta[i]);
+        putchar(',');
+        cli_print_double(stdout, e[i].P);
+        putchar(',');
+        cli_print_double(stdout, e[i].a);
+        putchar(',');
+        if (e[i].a > 0)
+            cli_print_double(stdout, b / e[i].a);
+        printf(",%d\n", e[i].a > 0 && e[i].dP_ddelta > 0);
+    }
+    free(e);
+    free(delta);
+}
 
 int
 cli_model(int argc, char **argv)
 {
-    (void) argc;
-    (void) argv;
-    cli_die(CLI_EXIT_FAIL, "model: not yet available");
+    model_args a = { NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, 200,
+                     "frictionless", "thin", "unload", NULL, 0, 0, 0 };
+    const cli_opt opts[] = {
+        { "k", CLI_NUMBER, &a.k }, { "R", CLI_LENGTH, &a.R }, { "b", CLI_LENGTH, &a.b },
+        { "w", CLI_ADHESION, &a.w }, { "E", CLI_PRESSURE, &a.E }, { "nu", CLI_NUMBER, &a.nu },
+        { "interface", CLI_STRING, &a.interface }, { "model", CLI_STRING, &a.model },
+        { "branch", CLI_STRING, &a.branch }, { "from", CLI_LENGTH, &a.from },
+        { "to", CLI_LENGTH, &a.to }, { "points", CLI_COUNT, &a.points },
+        { "summary", CLI_FLAG, &a.summary }, { "json", CLI_FLAG, &a.json },
+        { "sigma-th", CLI_PRESSURE, &a.sigma_th }, { "figure", CLI_COUNT, &a.figure },
+        { "plot", CLI_STRING, &a.plot }, { NULL, CLI_FLAG, NULL }
+    };
+    int npos, help;
+    lf_probe probe;
+    lf_material mat;
+    lf_model *m;
+    model_summary s;
+    lf_branch branch;
+
+    cli_parse("model", argc, argv, opts, &npos, &help);
+    if (help) {
+        fputs(model_help, stdout);
+        return CLI_EXIT_OK;
+    }
+    if (npos > 0)
+        cli_die(CLI_EXIT_USAGE, "model: unexpected argument '%s' (see 'layerfit model --help')", argv[0]);
+    if (a.figure != 0)
+        return cli_figure((int) a.figure, a.plot);
+    if (a.plot != NULL)
+        cli_die(CLI_EXIT_USAGE, "model: --plot goes with --figure N");
+    if (strcmp(a.branch, "unload") == 0)
+        branch = LF_BRANCH_UNLOAD;
+    else if (strcmp(a.branch, "load") == 0)
+        branch = LF_BRANCH_LOAD;
+    else
+        cli_die(CLI_EXIT_USAGE, "model: --branch: unknown branch '%s' (unload or load)", a.branch);
+    if (a.points < 1 || a.points > 100000000L)
+        cli_die(CLI_EXIT_USAGE, "model: --points must be between 1 and 100000000");
+
+    m = make_model(&a, &probe, &mat);
+    summarise(m, &a, &s);
+    if (a.summary)
+        print_summary(&s);
+    else if (a.json)
+        print_json(&s);
+    else {
+        default_range(&s.po, &a.from, &a.to);
+        if (!(a.to > a.from) && a.points > 1)
+            cli_die(CLI_EXIT_USAGE, "model: the range is empty: give --from and --to with --to > --from");
+        print_curve(m, &mat, branch, a.from, a.to, a.points);
+    }
+    lf_model_free(m);
+    return CLI_EXIT_OK;
 }

@@ -1,0 +1,211 @@
+/* cli_figure.c: the data of the seed paper's figures 2-5 (Papangelo), with
+ * the paper's parameters w = 10 mJ/m^2, E* = 1 GPa, b = 1 um, R = 1 mm,
+ * frictionless base, as CSV on stdout, and optionally drawn with gnuplot. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "cli.h"
+#include "plot.h"
+
+#define PAPER_W 10e-3     /* J/m^2 */
+#define PAPER_E 1e9       /* Pa */
+#define PAPER_B 1e-6      /* m */
+#define PAPER_R 1e-3      /* m */
+#define PAPER_SIGMA 10e6  /* Pa, theoretical strength of Section 3 */
+
+#define MAXSER 8
+#define MAXPTS 512
+
+typedef struct {
+    plot_series s[MAXSER];
+    double x[MAXSER][MAXPTS], y[MAXSER][MAXPTS];
+    char title[MAXSER][64];
+    size_t n;
+} figure_data;
+
+static plot_series *
+add_series(figure_data *d, const char *title, int color, int dashed)
+{
+    plot_series *s = &d->s[d->n];
+    snprintf(d->title[d->n], sizeof d->title[0], "%s", title);
+    s->title = d->title[d->n];
+    s->x = d->x[d->n];
+    s->y = d->y[d->n];
+    s->n = 0;
+    s->color = color;
+    s->dashed = dashed;
+    d->n++;
+    return s;
+}
+
+static void
+push(figure_data *d, plot_series *s, double x, double y)
+{
+    size_t i = (size_t) (s - d->s);
+    if (s->n < MAXPTS) {
+        d->x[i][s->n] = x;
+        d->y[i][s->n] = y;
+        s->n++;
+    }
+}
+
+static void
+thin_pulloff(double k, double R, double b, lf_pulloff *po)
+{
+    lf_probe p = { k, R, b, LF_BASE_FRICTIONLESS };
+    lf_material m = { PAPER_W, PAPER_E, 0.0 };
+    lf_error err;
+    lf_model *model = lf_model_alloc(&lf_model_thin, &p, &err);
+
+    if (model == NULL || lf_model_pulloff(model, &m, po, &err) != LF_OK)
+        cli_die_error(CLI_EXIT_FAIL, &err);
+    lf_model_free(model);
+}
+
+/* Fig. 2: exponent (2-k)/(2k) of b in the pull-off force. */
+static void
+figure2(figure_data *d)
+{
+    plot_series *s = add_series(d, "(2-k)/(2k)", 0, 0);
+    int i;
+    printf("k,exponent\n");
+    for (i = 0; i <= 180; i++) {
+        double k = 1.0 + 0.05 * i;
+        printf("%.6g,%.17g\n", k, (2 - k) / (2 * k));
+        push(d, s, k, (2 - k) / (2 * k));
+    }
+}
+
+/* Fig. 3: dimensionless force P/(2 pi R w) against delta/c (Eq. 15-16),
+ * stable (force control) and unstable parts as separate series. */
+static void
+figure3(figure_data *d)
+{
+    static const double ks[] = { 1.9, 2.0, 2.1 };
+    const lf_material mat = { PAPER_W, PAPER_E, 0.0 };
+    size_t j;
+    int i;
+
+    printf("k,delta_bar,P_bar,depth_m,force_N,stable\n");
+    for (j = 0; j < 3; j++) {
+        lf_probe p = { ks[j], PAPER_R, PAPER_B, LF_BASE_FRICTIONLESS };
+        lf_error err;
+        lf_model *model = lf_model_alloc(&lf_model_thin, &p, &err);
+        lf_pulloff po;
+        char t[64];
+        plot_series *st, *un;
+
+        if (model == NULL || lf_model_pulloff(model, &mat, &po, &err) != LF_OK)
+            cli_die_error(CLI_EXIT_FAIL, &err);
+        snprintf(t, sizeof t, "k = %g stable", ks[j]);
+        st = add_series(d, t, (int) j, 0);
+        snprintf(t, sizeof t, "k = %g unstable", ks[j]);
+        un = add_series(d, t, (int) j, 1);
+        for (i = 0; i <= 400; i++) {
+            double dbar = -1.0 + 4.0 * i / 400.0, delta = dbar * po.c;
+            lf_eval e;
+            double pbar;
+            if (lf_model_eval(model, &mat, LF_BRANCH_UNLOAD, 1, &delta, &e, &err) != LF_OK)
+                cli_die_error(CLI_EXIT_FAIL, &err);
+            pbar = e.P / (2 * M_PI * PAPER_R * PAPER_W);
+            printf("%g,%.17g,%.17g,%.17g,%.17g,%d\n", ks[j], dbar, pbar, delta, e.P,
+                   e.dP_ddelta > 0);
+            push(d, e.dP_ddelta > 0 ? st : un, dbar, pbar);
+            if (e.dP_ddelta > 0 && un->n > 0 && st->n == 1)
+                push(d, un, dbar, pbar);   /* join the two parts */
+        }
+        lf_model_free(model);
+    }
+}
+
+/* Fig. 4: -P_po/(2 pi R w) against k for R/b = 1e2, 1e3, 1e4. */
+static void
+figure4(figure_data *d)
+{
+    static const double rb[] = { 1e2, 1e3, 1e4 };
+    size_t j;
+    int i;
+
+    printf("R_over_b,k,P_po_bar,P_po_N\n");
+    for (j = 0; j < 3; j++) {
+        char t[64];
+        plot_series *s;
+        snprintf(t, sizeof t, "R/b = 10^%g", log10(rb[j]));
+        s = add_series(d, t, (int) j, 0);
+        for (i = 0; i <= 300; i++) {
+            double k = 1.0 + 3.0 * i / 300.0, R = rb[j] * PAPER_B;
+            lf_pulloff po;
+            thin_pulloff(k, R, PAPER_B, &po);
+            printf("%g,%.6g,%.17g,%.17g\n", rb[j], k, po.P_po / (2 * M_PI * R * PAPER_W), po.P_po);
+            push(d, s, k, -po.P_po / (2 * M_PI * R * PAPER_W));
+        }
+    }
+}
+
+/* Fig. 5: b_cr/a_po at b = b_cr (Eq. 19-20) against k, sigma_th = 10 MPa,
+ * R = (R/b) x 1 um as in the paper.  Eq. (19) gives b_cr = 50 nm at k = 2,
+ * not the 1 um the paper's text states (see physics.md). */
+static void
+figure5(figure_data *d)
+{
+    static const double rb[] = { 1e2, 1e3, 1e4 };
+    size_t j;
+    int i;
+
+    printf("R_over_b,k,R_m,b_cr_m,a_po_cr_m,b_cr_over_a_po\n");
+    for (j = 0; j < 3; j++) {
+        char t[64];
+        plot_series *s;
+        snprintf(t, sizeof t, "R/b = 10^%g", log10(rb[j]));
+        s = add_series(d, t, (int) j, 0);
+        for (i = 0; i <= 300; i++) {
+            double k = 2.0 + 8.0 * i / 300.0, R = rb[j] * PAPER_B;
+            double bcr = lf_thin_b_critical(k, PAPER_W, PAPER_E, PAPER_SIGMA);
+            lf_pulloff po;
+            thin_pulloff(k, R, bcr, &po);
+            printf("%g,%.6g,%.17g,%.17g,%.17g,%.17g\n", rb[j], k, R, bcr, po.a_po, bcr / po.a_po);
+            push(d, s, k, bcr / po.a_po);
+        }
+    }
+}
+
+int
+cli_figure(int figure, const char *plot)
+{
+    static const struct {
+        void (*make)(figure_data *);
+        const char *title, *xlabel, *ylabel;
+        int logy;
+    } figs[] = {
+        [2] = { figure2, "Fig. 2: pull-off force scales as b^{(2-k)/(2k)}", "k",
+                "exponent (2-k)/(2k)", 0 },
+        [3] = { figure3, "Fig. 3: force-indentation, w = 10 mJ/m^2, E* = 1 GPa, b = 1 {/Symbol m}m, R = 1 mm",
+                "{/Symbol d}/c", "P/(2{/Symbol p}Rw)", 0 },
+        [4] = { figure4, "Fig. 4: pull-off force against profile exponent", "k",
+                "-P_{PO}/(2{/Symbol p}Rw)", 1 },
+        [5] = { figure5, "Fig. 5: thin-layer validity at the critical thickness (Eq. 20)", "k",
+                "b_{cr}/a_{PO,cr}", 1 },
+    };
+    figure_data *d;
+    char msg[512];
+
+    if (figure < 2 || figure > 5)
+        cli_die(CLI_EXIT_USAGE, "model: --figure: no figure %d (the paper's figures 2 to 5)", figure);
+    if (plot != NULL && !plot_have_gnuplot())
+        cli_die(CLI_EXIT_FAIL, "model: --plot: gnuplot is not installed: %s", PLOT_INSTALL_HINT);
+    d = calloc(1, sizeof *d);
+    if (d == NULL)
+        cli_die(CLI_EXIT_FAIL, "model: out of memory");
+    figs[figure].make(d);
+    if (plot != NULL) {
+        plot_figure f = { figs[figure].title, figs[figure].xlabel, figs[figure].ylabel,
+                          0, figs[figure].logy, d->n, d->s };
+        if (plot_draw(&f, plot, msg, sizeof msg) != 0) {
+            free(d);
+            cli_die(CLI_EXIT_FAIL, "model: --plot: %s", msg);
+        }
+        fprintf(stderr, "layerfit: figure %d drawn in %s\n", figure, plot);
+    }
+    free(d);
+    return CLI_EXIT_OK;
+}

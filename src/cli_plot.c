@@ -1,0 +1,89 @@
+/* plot.c: figures through a gnuplot pipe, data inline as datablocks. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/wait.h>
+
+#include "plot.h"
+
+int
+plot_have_gnuplot(void)
+{
+    return system("command -v gnuplot >/dev/null 2>&1") == 0;
+}
+
+static const char *
+terminal_for(const char *file)
+{
+    const char *dot = strrchr(file, '.');
+    if (dot != NULL && strcmp(dot, ".svg") == 0)
+        return "svg size 800,560 dynamic enhanced font 'Helvetica,13'";
+    if (dot != NULL && strcmp(dot, ".png") == 0)
+        return "pngcairo size 1000,700 enhanced font 'Helvetica,12'";
+    return NULL;
+}
+
+/* gnuplot strings are single-quoted; drop quotes from titles. */
+static void
+put_quoted(FILE *g, const char *s)
+{
+    fputc('\'', g);
+    for (; *s; s++)
+        if (*s != '\'')
+            fputc(*s, g);
+    fputc('\'', g);
+}
+
+int
+plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
+{
+    static const char *colors[] = { "#1b6ca8", "#c0392b", "#27ae60", "#8e44ad",
+                                    "#d35400", "#2c3e50", "#16a085", "#7f8c8d" };
+    const char *term = terminal_for(file);
+    FILE *g;
+    size_t s, i;
+    int rc;
+
+    if (term == NULL) {
+        snprintf(msg, n, "%s: the plot file must end in .svg or .png", file);
+        return -1;
+    }
+    if (!plot_have_gnuplot()) {
+        snprintf(msg, n, "gnuplot is not installed: %s", PLOT_INSTALL_HINT);
+        return -1;
+    }
+    g = popen("gnuplot", "w");
+    if (g == NULL) {
+        snprintf(msg, n, "could not start gnuplot");
+        return -1;
+    }
+    for (s = 0; s < f->nseries; s++) {
+        fprintf(g, "$d%zu << EOD\n", s);
+        for (i = 0; i < f->series[s].n; i++)
+            fprintf(g, "%.10g %.10g\n", f->series[s].x[i], f->series[s].y[i]);
+        fprintf(g, "EOD\n");
+    }
+    fprintf(g, "set terminal %s\nset output ", term);
+    put_quoted(g, file);
+    fprintf(g, "\nset grid lc rgb '#dddddd'\nset key outside right top\nset title ");
+    put_quoted(g, f->title);
+    fprintf(g, "\nset xlabel ");
+    put_quoted(g, f->xlabel);
+    fprintf(g, "\nset ylabel ");
+    put_quoted(g, f->ylabel);
+    fprintf(g, "\n%s\n%s\nplot ", f->logx ? "set logscale x" : "unset logscale x",
+            f->logy ? "set logscale y" : "unset logscale y");
+    for (s = 0; s < f->nseries; s++) {
+        const plot_series *p = &f->series[s];
+        fprintf(g, "%s$d%zu using 1:2 with lines lw 2 lc rgb '%s' dt %d title ",
+                s ? ", " : "", s, colors[(size_t) p->color % 8], p->dashed ? 2 : 1);
+        put_quoted(g, p->title ? p->title : "");
+    }
+    fprintf(g, "\n");
+    rc = pclose(g);
+    if (rc != 0) {
+        snprintf(msg, n, "gnuplot failed (status %d) drawing %s", WIFEXITED(rc) ? WEXITSTATUS(rc) : rc, file);
+        return -1;
+    }
+    return 0;
+}

@@ -1,0 +1,32 @@
+/* plot.h: drawing with gnuplot, for the command line only. */
+#ifndef LF_PLOT_H
+#define LF_PLOT_H
+
+#include <stddef.h>
+
+typedef struct {
+    const char *title;      /* legend entry */
+    size_t n;
+    const double *x, *y;
+    int dashed;             /* 1: dashed line (e.g. unstable branch) */
+    int color;              /* 0, 1, 2, ...: series with one color share it */
+} plot_series;
+
+typedef struct {
+    const char *title, *xlabel, *ylabel;
+    int logx, logy;
+    size_t nseries;
+    const plot_series *series;
+} plot_figure;
+
+/* 1 when gnuplot can be run. */
+int plot_have_gnuplot(void);
+
+/* Draw f into file (terminal from the extension: .svg or .png).  Returns 0,
+ * or -1 with a message in msg. */
+int plot_draw(const plot_figure *f, const char *file, char *msg, size_t n);
+
+/* The command that installs gnuplot, for messages. */
+#define PLOT_INSTALL_HINT "install it with 'apt-get install gnuplot-nox' (or 'make deps')"
+
+#endif

@@ -1,0 +1,71 @@
+# model.sh: golden tests of `layerfit model` and the top-level usage.
+. "$(dirname "$0")/common"
+
+P="--k 3 --R 1mm --b 1um --w 10mJ/m2 --E 1GPa"
+
+# top level
+run_ok --version && has "--version" "$tmp/out" "layerfit 0."
+run_ok --help && has "--help lists model" "$tmp/out" "model"
+run_ok model --help && has "model --help" "$tmp/out" "usage: layerfit model"
+"$LF" >/dev/null 2>&1; [ $? -eq 2 ] && ok || bad "no command: exit 2"
+expect_fail 2 "layerfit: unknown command 'frobnicate' (see 'layerfit --help')" frobnicate
+
+# pull-off against physics.md section 1
+run_ok model $P --json
+near "P_po k=3" "$(json_field "$tmp/out" P_po_N)" -3.632281e-03 2e-7
+near "a_po k=3" "$(json_field "$tmp/out" a_po_m)" 2.0758e-05 3e-5
+run_ok model $P --interface bonded --nu 0.3 --json
+near "P_po bonded k=3" "$(json_field "$tmp/out" P_po_N)" -3.757239e-03 2e-7
+near "a_po bonded k=3" "$(json_field "$tmp/out" a_po_m)" 2.0067e-05 3e-5
+run_ok model --k 2 --R 1mm --b 1um --w 10mJ/m2 --E 1GPa --json --sigma-th 10MPa
+near "Hertz limit" "$(json_field "$tmp/out" P_po_N)" -6.283185307179586e-05 1e-12
+near "b_cr k=2" "$(json_field "$tmp/out" b_cr_m)" 5e-08 1e-12
+has "nu is null for frictionless" "$tmp/out" '"nu": null,'
+
+# units: the same curve whatever the spelling
+run_ok model --k 2 --R 1mm --b 1um --w 10mJ/m2 --E 1GPa --points 3 --from -2nm --to 30nm
+cp "$tmp/out" "$tmp/a"
+run_ok model --k 2 --R 1e-3m --b "1 µm" --w "0.01 N/m" --E 1e9Pa --points 3 --from -0.002um --to 3e-8m
+if paste -d, "$tmp/a" "$tmp/out" | awk -F, 'NR > 1 { for (i = 1; i <= 4; i++) {
+        d = $i - $(i + 5); if (d < 0) d = -d; m = $i < 0 ? -$i : $i;
+        if (d > 1e-14 * m) exit 1 } }'; then ok; else bad "unit spellings give the same curve"; fi
+has "CSV header" "$tmp/a" "depth_m,force_N,radius_m,b_over_a,stable"
+near "force at 30 nm, k=2" "$(csv_field "$tmp/a" 4 2)" \
+    "$(awk 'BEGIN { pi = 3.141592653589793; c = sqrt(2e-6 * 0.01 / 1e9); d1 = 30e-9 + c;
+                    printf "%.17g", pi * 1e9 / 1e-6 * 1e-3 * d1 * (d1 - 2 * c) }')" 1e-12
+run_ok model $P --points 1 --from -10nm
+near "out of contact below -c" "$(csv_field "$tmp/out" 2 2)" 0 0 0
+run_ok model $P --branch load --points 2 --from -1nm --to 0nm
+near "loading: no contact before 0" "$(csv_field "$tmp/out" 2 2)" 0 0 0
+near "loading: jump-in at 0" "$(csv_field "$tmp/out" 3 2)" -0.0031730898038992857 1e-12
+run_ok model $P --summary && has "summary" "$tmp/out" "pull-off         delta = -1.491 nm, P = -3.632 mN, a = 20.76 µm"
+
+# usage errors: exact messages, exit 2, no output
+expect_fail 2 "layerfit: model: --b: '1' has no unit (e.g. 1um)" model --k 3 --R 1mm --b 1 --w 10mJ/m2 --E 1GPa
+expect_fail 2 "layerfit: model: --b: unit 'GPa' is a pressure or modulus, not a length (e.g. 1um)" model --k 3 --R 1mm --b 1GPa --w 10mJ/m2 --E 1GPa
+expect_fail 2 "layerfit: model: --w: unknown unit 'mJ/parsec2x' (expected a work of adhesion (energy per area) such as 10mJ/m2)" model $P --w 10mJ/parsec2x
+expect_fail 2 "layerfit: model: --E is required (e.g. --E 1GPa)" model --k 3 --R 1mm --b 1um --w 10mJ/m2
+expect_fail 2 "layerfit: model: --nu is required for a bonded layer (e.g. --nu 0.3)" model $P --interface bonded
+expect_fail 2 "layerfit: model: nu must lie in [0, 0.5) for a bonded layer (got 0.5)" model $P --interface bonded --nu 0.5
+expect_fail 2 "layerfit: model: k must be a finite number > 0 (got -1)" model --k -1 --R 1mm --b 1um --w 10mJ/m2 --E 1GPa
+expect_fail 2 "layerfit: model: R must be a finite length > 0 (got -0.001 m)" model --k 2 --R -1mm --b 1um --w 10mJ/m2 --E 1GPa
+expect_fail 2 "layerfit: model: --interface: unknown interface 'glued' (frictionless or bonded)" model $P --interface glued
+expect_fail 2 "layerfit: model: --k: 'two' is not a number (e.g. --k 0.3)" model --k two
+expect_fail 2 "layerfit: model: unknown option '--depth' (see 'layerfit model --help')" model $P --depth 3nm
+expect_fail 2 "layerfit: model: --points needs a value" model $P --points
+expect_fail 2 "layerfit: model: --figure: no figure 7 (the paper's figures 2 to 5)" model --figure 7
+expect_fail 2 "layerfit: model: --branch: unknown branch 'up' (unload or load)" model $P --branch up
+expect_fail 2 "layerfit: model: --model: unknown model 'fem' (e.g. --model thin)" model $P --model fem
+expect_fail 2 "layerfit: model: the range is empty: give --from and --to with --to > --from" model $P --from 5nm --to 1nm
+
+# figures
+for n in 2 3 4 5; do
+    run_ok model --figure $n && [ "$(wc -l <"$tmp/out")" -gt 100 ] && ok || bad "figure $n has data"
+done
+run_ok model --figure 4
+near "Fig. 4 R/b=1e3 k=3" "$(awk -F, '$1 == 1000 && $2 == 3 { print $3 }' "$tmp/out")" -57.810 1e-4
+if command -v gnuplot >/dev/null 2>&1; then
+    run_ok model --figure 3 --plot "$tmp/fig3.svg"
+    has "svg drawn" "$tmp/fig3.svg" "<svg"
+fi
+summary
