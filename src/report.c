@@ -28,7 +28,10 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
         return;
     }
     if (!e->free) {
-        fprintf(f, "  %-4s = %s (fixed)\n", name, cli_human(v, sizeof v, e->value, unit));
+        if (unit[0] == '\0')
+            fprintf(f, "  %-4s = %.4g (fixed)\n", name, e->value);
+        else
+            fprintf(f, "  %-4s = %s (fixed)\n", name, cli_human(v, sizeof v, e->value, unit));
         return;
     }
     if (unit[0] == '\0')
@@ -52,7 +55,7 @@ list(FILE *f, const char *prefix, const lf_warnings *w)
 void
 report_text(FILE *f, const report_input *in, const lf_fit_result *r)
 {
-    char a[48], b[48], c[48];
+    char a[48], b[48], c[48], d[48];
     size_t i, j, k;
 
     (void) in;
@@ -92,7 +95,7 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
         fprintf(f, "      z0 = %s%s, F0 = %s%s, noise %s, rms residual %s\n",
                 cli_human(a, sizeof a, cr->z0, "m"), cr->z0_free ? "" : " (fixed)",
                 cli_human(b, sizeof b, cr->F0, "N"), cr->F0_free ? "" : " (fixed)",
-                cli_human(c, sizeof c, cr->sigma, "N"), cli_human(a, sizeof a, cr->rms, "N"));
+                cli_human(c, sizeof c, cr->sigma, "N"), cli_human(d, sizeof d, cr->rms, "N"));
         fprintf(f, "      pull-off %s, contact radius %s, mean tension %s\n",
                 cli_human(a, sizeof a, cr->pulloff.P_po, "N"),
                 cli_human(b, sizeof b, cr->pulloff.a_po, "m"),
