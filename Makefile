@@ -106,3 +106,17 @@ uninstall:
 
 clean:
 	rm -rf build build-san build-fuzz
+
+# Longer recovery Monte Carlo (2000 seeds per scene), on demand.
+.PHONY: recovery-long bench-fit
+recovery-long: $(BUILD)/tests/test_recovery
+	$(BUILD)/tests/test_recovery 2000
+
+# Timing of a two-probe joint fit against scipy (reported, not asserted).
+$(BUILD)/bench_fit: tests/bench/bench_fit.c $(LIB) $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
+bench-fit: $(BUILD)/bench_fit
+	@mkdir -p $(BUILD)/bench
+	$(BUILD)/bench_fit $(BUILD)/bench
