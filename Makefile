@@ -20,10 +20,14 @@ OPT     ?= -O2 -g
 # OpenMP: `layerfit bench` measures fits per second on all cores
 OMPFLAGS ?= -fopenmp
 ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE $(WARN) $(OPT) $(OMPFLAGS) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
+# `layerfit fit` reads curves once the readers are there (branch ingest)
+ifneq ($(wildcard src/csv_curve.c),)
+ALL_CFLAGS += -DLF_HAVE_READERS
+endif
 LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lpthread -lm
 ALL_LDFLAGS := $(OMPFLAGS) $(SANFLAGS) $(LDFLAGS)
 
-CLI_SRC := src/main.c $(wildcard src/cli_*.c)
+CLI_SRC := src/main.c $(wildcard src/cli_*.c) src/report.c
 LIB_SRC := $(filter-out $(CLI_SRC),$(wildcard src/*.c)) $(wildcard fit/*.c)
 LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
 CLI_OBJ := $(CLI_SRC:%.c=$(BUILD)/%.o)
@@ -104,3 +108,17 @@ uninstall:
 
 clean:
 	rm -rf build build-san build-fuzz
+
+# Longer recovery Monte Carlo (2000 seeds per scene), on demand.
+.PHONY: recovery-long bench-fit
+recovery-long: $(BUILD)/tests/test_recovery
+	$(BUILD)/tests/test_recovery 2000
+
+# Timing of a two-probe joint fit against scipy (reported, not asserted).
+$(BUILD)/bench_fit: tests/bench/bench_fit.c $(LIB) $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
+bench-fit: $(BUILD)/bench_fit
+	@mkdir -p $(BUILD)/bench
+	$(BUILD)/bench_fit $(BUILD)/bench

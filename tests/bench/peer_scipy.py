@@ -1,30 +1,37 @@
 #!/usr/bin/python3
-"""peer_scipy.py DIR: fit the data `layerfit bench` wrote to DIR with
-scipy.optimize.least_squares and print, per case, one line
+"""peer_scipy.py: scipy.optimize.least_squares on layerfit's data, so the
+speed and accuracy comparison can be rerun by anyone.  Run it with Debian's
+python3-scipy (/usr/bin/python3).  Two modes:
 
-    case SCENE NOISE median_time_us rms_rel_err_w rms_rel_err_E rms_abs_err_nu converged_fraction
+peer_scipy.py DIR (used by `layerfit bench`): fit every case file
+DIR/case_S_N.txt the bench wrote and print, per case, one line
 
-(err_nu is nan when nu is not fitted).  Run it with Debian's python3-scipy
-(/usr/bin/python3).  The model is the thin-layer closed form of the seed
-paper (Papangelo, Eq. 10-11, 22-23), written here from the formulas in
-physics.md section 1:
+    case S N median_time_us rms_rel_err_w rms_rel_err_E rms_abs_err_nu converged_fraction
+
+(err_nu is nan when nu is not fitted).  Case file: '# key values' header
+lines (scene, noise, truth w E nu, free_nu, free_offsets, seeds, ncurves,
+then 'curve j k R b base' and 'offsets j z0 F0'), then rows 'seed curve z F'.
+Parameters: ln w, ln E*, u = atanh(4 nu - 1) when nu is free, then z0 and F0
+of each curve when the case frees them; residuals weighted by each curve's
+largest |force| (the noise is a fixed fraction of it); analytic Jacobian,
+method 'trf', x_scale 'jac', default tolerances; the fit starts from the
+truth, the most favourable start scipy can have.
+
+peer_scipy.py PLAN.csv [LAYERFIT_SECONDS] (used by bench_fit.c, `make
+bench-fit`): reads the plan and curve files `layerfit simulate` (or
+bench_fit) writes, fits w, E*, nu shared and z0, F0 per curve with a 2-point
+Jacobian from the truth times 1.1, and prints the median time of repeated
+fits and the estimates.
+
+The model in both is the thin-layer closed form of the seed paper
+(Papangelo, Eq. 10-11, 22-23), written from physics.md section 1:
 
     M = Z E*, Z = 1 (frictionless) or (1-nu)^2/(1-2nu) (bonded)
     c = sqrt(2 b w / M), d1 = z - z0 + c
     P = C d1^(2/k) (d1 - (k+2)/k c),  C = pi M/b k^((k+2)/k)/(k+2) R^(2(k-1)/k)
     P = 0 where d1 <= 0;  F = P + F0
-
-Parameters: ln w, ln E*, u = atanh(4 nu - 1) when nu is free, then z0 and F0
-of each curve when the case frees them.  Residuals are weighted by each
-curve's largest |force| (the noise is a fixed fraction of it).  The fit
-starts from the truth, which the case file carries: the most favourable
-start scipy can have.  Analytic Jacobian, method 'trf', x_scale 'jac',
-default tolerances.
-
-Case file: '# key values' header lines (scene, noise, truth w E nu,
-free_nu, free_offsets, seeds, ncurves, then 'curve j k R b base' and
-'offsets j z0 F0'), then rows 'seed curve z F'.
 """
+import csv
 import glob
 import math
 import os
@@ -34,6 +41,67 @@ import time
 import numpy as np
 from scipy.optimize import least_squares
 
+
+# ---- plan mode (bench_fit.c) -------------------------------------------
+
+def read_plan(path):
+    rows = []
+    with open(path) as f:
+        for r in csv.DictReader(f):
+            z, F = [], []
+            with open(os.path.join(os.path.dirname(path), r["file"])) as g:
+                for c in csv.DictReader(g):
+                    z.append(float(c["depth_m"]))
+                    F.append(float(c["force_N"]))
+            rows.append(dict(k=float(r["k"]), R=float(r["R_m"]), b=float(r["b_m"]),
+                             bonded=r["interface"] == "bonded",
+                             z=np.array(z), F=np.array(F)))
+    return rows
+
+
+def plan_force(c, w, E, nu, z0, F0):
+    k, R, b = c["k"], c["R"], c["b"]
+    Z = (1 - nu) ** 2 / (1 - 2 * nu) if c["bonded"] else 1.0
+    M = Z * E
+    cc = math.sqrt(2 * b * w / M)
+    C = math.pi * M / b * k ** ((k + 2) / k) / (k + 2) * R ** (2 * (k - 1) / k)
+    d1 = c["z"] - z0 + cc
+    d1p = np.where(d1 > 0, d1, 0.0)
+    return np.where(d1 > 0, C * d1p ** (2 / k) * (d1p - (k + 2) / k * cc), 0.0) + F0
+
+
+def plan_residuals(p, curves):
+    w, E, nu = math.exp(p[0]), math.exp(p[1]), 0.25 * (1 + math.tanh(p[2]))
+    out = []
+    for j, c in enumerate(curves):
+        z0, F0 = p[3 + 2 * j] * 1e-9, p[4 + 2 * j] * c["scale"]
+        out.append((plan_force(c, w, E, nu, z0, F0) - c["F"]) / c["scale"])
+    return np.concatenate(out)
+
+
+def plan_main():
+    curves = read_plan(sys.argv[1])
+    for c in curves:
+        c["scale"] = np.max(np.abs(c["F"]))
+    x0 = [math.log(12.3e-3 * 1.1), math.log(1.85e9 * 1.1), math.atanh(4 * 0.35 * 1.02 - 1)]
+    for c in curves:
+        x0 += [15.0 * 1.1, 0.0]
+    times = []
+    for _ in range(20):
+        t0 = time.perf_counter()
+        sol = least_squares(plan_residuals, x0, args=(curves,), method="trf", xtol=1e-12, ftol=1e-12)
+        times.append(time.perf_counter() - t0)
+    t = sorted(times)[len(times) // 2]
+    p = sol.x
+    print("scipy:    median %.1f us over %d fits (least_squares trf, start = truth x 1.1), status %d"
+          % (1e6 * t, len(times), sol.status))
+    print("scipy:    w = %.6g J/m^2, E* = %.6g Pa, nu = %.6g"
+          % (math.exp(p[0]), math.exp(p[1]), 0.25 * (1 + math.tanh(p[2]))))
+    if len(sys.argv) > 2:
+        print("ratio scipy / layerfit = %.1f" % (t / float(sys.argv[2])))
+
+
+# ---- case-directory mode (layerfit bench) -------------------------------
 
 def read_case(path):
     head = {"curves": [], "offsets": {}}
@@ -136,9 +204,7 @@ def fit_one(head, rows):
     return t, sol.status > 0, w, E, nu
 
 
-def main():
-    if len(sys.argv) != 2:
-        sys.exit("usage: peer_scipy.py DIR")
+def bench_main():
     for path in sorted(glob.glob(os.path.join(sys.argv[1], "case_*_*.txt"))):
         s, n = os.path.basename(path)[5:-4].split("_")
         head, data = read_case(path)
@@ -156,6 +222,15 @@ def main():
         print("case %s %s %.6g %.6g %.6g %s %.6g" % (
             s, n, 1e6 * float(np.median(times)), rms(ew), rms(eE),
             "%.6g" % rms(en) if head["free_nu"] else "nan", conv / len(times)))
+
+
+def main():
+    if len(sys.argv) < 2:
+        sys.exit("usage: peer_scipy.py DIR | PLAN.csv [LAYERFIT_SECONDS]")
+    if os.path.isdir(sys.argv[1]):
+        bench_main()
+    else:
+        plan_main()
 
 
 if __name__ == "__main__":
