@@ -520,6 +520,19 @@ utf8_len(const unsigned char *s)
     return n;
 }
 
+int
+lf_csv_is_text(const lf_csv_record *r)
+{
+    size_t i, k;
+    for (i = 0; i < r->n; i++) {
+        const unsigned char *t = (const unsigned char *) r->text[i];
+        for (; *t; t += k)
+            if ((k = utf8_len(t)) == 0)
+                return 0;
+    }
+    return 1;
+}
+
 const char *
 lf_csv_excerpt(const char *text, char *buf, size_t n)
 {
