@@ -9,35 +9,7 @@
 
 #include "layerfit.h"
 #include "testlib.h"
-
-static char data[1024];   /* tests/data, found from argv[0] */
-
-static void
-find_data(const char *argv0)
-{
-    const char *slash = strrchr(argv0, '/');
-    int n = slash ? (int) (slash - argv0) : 1;
-    snprintf(data, sizeof data, "%.*s/../../tests/data", n, slash ? argv0 : ".");
-}
-
-static char *
-slurp(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    char *buf = NULL;
-    long n;
-    if (f == NULL || fseek(f, 0, SEEK_END) != 0 || (n = ftell(f)) < 0
-        || fseek(f, 0, SEEK_SET) != 0 || (buf = malloc((size_t) n + 1)) == NULL
-        || fread(buf, 1, (size_t) n, f) != (size_t) n) {
-        if (f)
-            fclose(f);
-        free(buf);
-        return NULL;
-    }
-    fclose(f);
-    *len = (size_t) n;
-    return buf;
-}
+#include "testdata.h"
 
 static int
 same_array(const void *a, const void *b, size_t n)
@@ -59,13 +31,6 @@ same_curve(const lf_curve *a, const lf_curve *b)
         && same_array(a->time, b->time, a->n * sizeof *a->time)
         && same_array(a->segment, b->segment, a->n)
         && same_array(a->line, b->line, a->n * sizeof *a->line);
-}
-
-static int
-same_error(const lf_error *a, const lf_error *b)
-{
-    return a->status == b->status && a->line == b->line && a->column == b->column
-        && strcmp(a->msg, b->msg) == 0 && strcmp(a->file, b->file) == 0;
 }
 
 /* Parse path at once from the file and from memory with every chunk size;
