@@ -33,33 +33,49 @@ same_curve(const lf_curve *a, const lf_curve *b)
         && same_array(a->line, b->line, a->n * sizeof *a->line);
 }
 
-/* Parse path at once from the file and from memory with every chunk size;
- * all results must agree.  Returns the curve read from the file (or NULL
- * and *err). */
+/* What a chunked parse is compared with. */
+typedef struct {
+    const char *path;
+    const lf_read_opts *o;
+    int status;
+    const lf_curve *ref;
+    const lf_error *err;
+} reference;
+
+static int
+curve_differs(void *ctx, const char *buf, size_t len, size_t chunk)
+{
+    const reference *r = ctx;
+    lf_curve *c;
+    lf_error e;
+    int status = lf_curve_parse(buf, len, chunk, r->path, r->o, &c, NULL, &e);
+    int differs = status != r->status
+        || (status == LF_OK ? !same_curve(r->ref, c) : !same_error(r->err, &e));
+    lf_curve_free(c);
+    return differs;
+}
+
+/* Read name (under tests/data) from its file, then from memory at every
+ * chunk size; all must agree.  Returns the curve read from the file (or
+ * NULL and *err). */
 static lf_curve *
 read_all_ways(const char *name, const lf_read_opts *o, lf_warnings *warn, lf_error *err)
 {
     char path[1200];
-    lf_curve *ref = NULL, *c;
-    lf_error e;
-    size_t len = 0, chunk, bad = 0;
-    char *buf;
-    int status;
+    lf_curve *ref = NULL;
+    reference r;
+    size_t len = 0;
+    long bad;
 
     snprintf(path, sizeof path, "%s/%s", data, name);
-    buf = slurp(path, &len);
-    if (!t_true(buf != NULL, "%s: readable", name))
-        return NULL;
-    status = lf_curve_read(path, o, &ref, warn, err);
-    for (chunk = 0; chunk <= len; chunk++) {
-        int s2 = lf_curve_parse(buf, len, chunk, path, o, &c, NULL, &e);
-        if (s2 != status || (status == LF_OK ? !same_curve(ref, c) : !same_error(err, &e)))
-            bad++;
-        lf_curve_free(c);
-    }
-    t_int((long) bad, 0, "%s: the same %s with each of %zu chunk sizes", name,
-          status == LF_OK ? "curve" : "error", len + 1);
-    free(buf);
+    r.path = path;
+    r.o = o;
+    r.status = lf_curve_read(path, o, &ref, warn, err);
+    r.ref = ref;
+    r.err = err;
+    bad = every_chunk(path, &len, curve_differs, &r);
+    t_int(bad, 0, "%s: the same %s with each of %zu chunk sizes", name,
+          r.status == LF_OK ? "curve" : "error", len + 1);
     return ref;
 }
 

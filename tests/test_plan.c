@@ -27,34 +27,49 @@ same_plan(const lf_plan *a, const lf_plan *b)
     return 1;
 }
 
+/* What a chunked parse is compared with. */
+typedef struct {
+    const char *path, *dir;
+    int status;
+    const lf_plan *ref;
+    const lf_error *err;
+} reference;
+
+static int
+plan_differs(void *ctx, const char *buf, size_t len, size_t chunk)
+{
+    const reference *r = ctx;
+    lf_plan *p;
+    lf_error e;
+    int status = lf_plan_parse(buf, len, chunk, r->path, r->dir, &p, NULL, &e);
+    int differs = status != r->status
+        || (status == LF_OK ? !same_plan(r->ref, p) : !same_error(r->err, &e));
+    lf_plan_free(p);
+    return differs;
+}
+
 /* Read name (under tests/data) from its file, then from memory at every
  * chunk size; all must agree.  Returns the plan from the file or NULL. */
 static lf_plan *
 read_all_ways(const char *name, lf_error *err)
 {
     char path[1200], dir[1200];
-    lf_plan *ref = NULL, *p;
-    lf_error e;
-    size_t len = 0, chunk, bad = 0;
-    char *buf;
-    int status;
+    lf_plan *ref = NULL;
+    reference r;
+    size_t len = 0;
+    long bad;
 
     snprintf(path, sizeof path, "%s/%s", data, name);
     snprintf(dir, sizeof dir, "%s", path);
     *strrchr(dir, '/') = '\0';
-    buf = slurp(path, &len);
-    if (!t_true(buf != NULL, "%s: readable", name))
-        return NULL;
-    status = lf_plan_read(path, &ref, NULL, err);
-    for (chunk = 0; chunk <= len; chunk++) {
-        int s2 = lf_plan_parse(buf, len, chunk, path, dir, &p, NULL, &e);
-        if (s2 != status || (status == LF_OK ? !same_plan(ref, p) : !same_error(err, &e)))
-            bad++;
-        lf_plan_free(p);
-    }
-    t_int((long) bad, 0, "%s: the same %s with each of %zu chunk sizes", name,
-          status == LF_OK ? "plan" : "error", len + 1);
-    free(buf);
+    r.path = path;
+    r.dir = dir;
+    r.status = lf_plan_read(path, &ref, NULL, err);
+    r.ref = ref;
+    r.err = err;
+    bad = every_chunk(path, &len, plan_differs, &r);
+    t_int(bad, 0, "%s: the same %s with each of %zu chunk sizes", name,
+          r.status == LF_OK ? "plan" : "error", len + 1);
     return ref;
 }
 

@@ -37,6 +37,26 @@ slurp(const char *path, size_t *len)
     return buf;
 }
 
+/* Read the file at path and call differs(ctx, buf, len, chunk) for every
+ * chunk size from 0 (all at once) to the file's length; returns how many
+ * sizes gave a different result (differs() != 0), or -1 when the file
+ * cannot be read.  *len gets the file's length. */
+static inline long
+every_chunk(const char *path, size_t *len,
+            int (*differs)(void *ctx, const char *buf, size_t len, size_t chunk),
+            void *ctx)
+{
+    size_t chunk;
+    long bad = 0;
+    char *buf = slurp(path, len);
+    if (buf == NULL)
+        return -1;
+    for (chunk = 0; chunk <= *len; chunk++)
+        bad += differs(ctx, buf, *len, chunk) != 0;
+    free(buf);
+    return bad;
+}
+
 /* Two error reports say the same thing. */
 static inline int
 same_error(const lf_error *a, const lf_error *b)
