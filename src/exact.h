@@ -105,13 +105,24 @@ void lf_exact_cache_clear(void);
 /* The bonded nu grid: node i (0 .. LF_EXACT_NY-1) and its nu. */
 double lf_exact_nu_node(int i);
 
-/* The functions at (tau, nu) as the model uses them: frictionless from one
- * table; bonded by 4-point Lagrange interpolation across the nu grid in
- * y = ln sqrt(1-2nu) (tables built on demand).  dfn (may be NULL) receives
- * d/dnu of the interpolant. */
-int lf_exact_functions(double k, lf_base base, double nu, double tau,
-                       double f[4], double df[4], double dfn[4],
-                       lf_error *err);
+/* The functions at (tau, nu) as the model uses them.  Frictionless: one
+ * table.  Bonded: 4-point Lagrange interpolation of ln f across the nu grid
+ * in y = ln sqrt(1 - 2 nu) (one-sided at the ends); the node tables are
+ * built on demand through the cache by lf_exact_mix_init, which is the only
+ * step that may allocate.  dfn receives d/dnu of the interpolant, so
+ * derivatives in nu are those of the values returned. */
+typedef struct {
+    int m;                         /* tables in use, 1 or 4 */
+    const lf_exact_table *t[4];
+    double wl[4];                  /* Lagrange weights at y(nu) */
+    double dwl[4];                 /* their d/dnu */
+} lf_exact_mix;
+
+int lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu,
+                      lf_error *err);
+/* f, df (d/dtau) and dfn (d/dnu; may be NULL) at tau. */
+void lf_exact_mix_eval(const lf_exact_mix *mx, double tau, double f[4],
+                       double df[4], double dfn[4]);
 
 /* Build statistics of the last table built in this process (bench). */
 double lf_exact_last_build_seconds(void);

@@ -232,6 +232,92 @@ lf_exact_table_get(double k, lf_base base, double nu, const lf_exact_table **out
     return LF_OK;
 }
 
+int
+lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu, lf_error *err)
+{
+    double ymin = 0.5 * log(1.0 - 2.0 * LF_EXACT_NU_MAX), hy, y, q, dydnu;
+    int i0, m, status;
+
+    if (base == LF_BASE_FRICTIONLESS) {
+        mx->m = 1;
+        mx->wl[0] = 1.0;
+        mx->dwl[0] = 0.0;
+        return lf_exact_table_get(k, base, 0.0, &mx->t[0], err);
+    }
+    if (!(nu >= 0.0 && nu <= LF_EXACT_NU_MAX))
+        return lf_fail(err, LF_EINVAL, "the exact bonded model covers 0 <= nu <= %g (got %g)",
+                       LF_EXACT_NU_MAX, nu);
+    hy = -ymin / (double) (LF_EXACT_NY - 1);
+    y = 0.5 * log(1.0 - 2.0 * nu);
+    dydnu = -1.0 / (1.0 - 2.0 * nu);
+    q = -y / hy;                      /* node coordinate, 0 at nu = 0 */
+    i0 = (int) floor(q) - 1;
+    if (i0 < 0)
+        i0 = 0;
+    if (i0 > LF_EXACT_NY - 4)
+        i0 = LF_EXACT_NY - 4;
+    mx->m = 4;
+    for (m = 0; m < 4; m++) {
+        double w = 1.0, dw = 0.0;
+        int j, l;
+        /* Lagrange basis in q and its derivative */
+        for (j = 0; j < 4; j++) {
+            if (j == m)
+                continue;
+            w *= (q - (double) (i0 + j)) / (double) (m - j);
+        }
+        for (l = 0; l < 4; l++) {
+            double prod = 1.0;
+            if (l == m)
+                continue;
+            for (j = 0; j < 4; j++) {
+                if (j == m || j == l)
+                    continue;
+                prod *= (q - (double) (i0 + j)) / (double) (m - j);
+            }
+            dw += prod / (double) (m - l);
+        }
+        mx->wl[m] = w;
+        mx->dwl[m] = dw * (-dydnu / hy);  /* dq/dnu = -dy/dnu / hy */
+        status = lf_exact_table_get(k, base, lf_exact_nu_node(i0 + m), &mx->t[m], err);
+        if (status != LF_OK)
+            return status;
+    }
+    return LF_OK;
+}
+
+void
+lf_exact_mix_eval(const lf_exact_mix *mx, double tau, double f[4], double df[4],
+                  double dfn[4])
+{
+    double F[4] = {0, 0, 0, 0}, G[4] = {0, 0, 0, 0}, H[4] = {0, 0, 0, 0};
+    int m, j;
+
+    if (mx->m == 1) {
+        lf_exact_table_eval(mx->t[0], tau, f, df);
+        if (dfn != NULL)
+            for (j = 0; j < NFUN; j++)
+                dfn[j] = 0.0;
+        return;
+    }
+    for (m = 0; m < mx->m; m++) {
+        double fm[4], dfm[4];
+        lf_exact_table_eval(mx->t[m], tau, fm, dfm);
+        for (j = 0; j < NFUN; j++) {
+            double lf = log(fm[j]);
+            F[j] += mx->wl[m] * lf;
+            G[j] += mx->wl[m] * dfm[j] / fm[j];
+            H[j] += mx->dwl[m] * lf;
+        }
+    }
+    for (j = 0; j < NFUN; j++) {
+        f[j] = exp(F[j]);
+        df[j] = f[j] * G[j];
+        if (dfn != NULL)
+            dfn[j] = f[j] * H[j];
+    }
+}
+
 void
 lf_exact_cache_clear(void)
 {
