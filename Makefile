@@ -102,3 +102,12 @@ uninstall:
 
 clean:
 	rm -rf build build-san build-fuzz
+
+# Speed against error of the exact model (not part of `make check`).
+$(BUILD)/tests/bench/bench_exact: tests/bench/bench_exact.c $(LIB) $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
+.PHONY: bench-exact
+bench-exact: $(BUILD)/tests/bench/bench_exact
+	$(BUILD)/tests/bench/bench_exact

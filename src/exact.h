@@ -73,7 +73,7 @@ size_t lf_exact_nodes(double tau);
 /* Grid in nu for bonded layers: y = ln sqrt(1 - 2 nu) on a uniform grid
  * from LF_EXACT_Y_MIN (nu = LF_EXACT_NU_MAX) to 0 (nu = 0). */
 #define LF_EXACT_NU_MAX 0.4995
-#define LF_EXACT_NY 36
+#define LF_EXACT_NY 60
 
 /* Default spacing of the table in ln tau. */
 #define LF_EXACT_STEP 0.1
@@ -102,7 +102,8 @@ int lf_exact_table_get(double k, lf_base base, double nu,
                        const lf_exact_table **out, lf_error *err);
 void lf_exact_cache_clear(void);
 
-/* The bonded nu grid: node i (0 .. LF_EXACT_NY-1) and its nu. */
+/* The bonded nu grid: node i (-1 .. LF_EXACT_NY) and its nu; nodes -1 and
+ * LF_EXACT_NY are ghosts just outside [0, LF_EXACT_NU_MAX]. */
 double lf_exact_nu_node(int i);
 
 /* The functions at (tau, nu) as the model uses them.  Frictionless: one

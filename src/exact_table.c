@@ -135,26 +135,25 @@ lf_exact_table_build(const lf_exact_kernel *kr, double k, lf_base base, double n
     return LF_OK;
 }
 
-void
-lf_exact_table_eval(const lf_exact_table *t, double tau, double f[4], double df[4])
+/* ln f_j and d ln f_j / dtau at tau. */
+static void
+table_eval_log(const lf_exact_table *t, double tau, double F[4], double G[4])
 {
     int j;
 
     if (tau < LF_EXACT_TAU_MIN) {
         for (j = 0; j < NFUN; j++) {
             double slope = (t->flo[j] - t->f0[j]) / LF_EXACT_TAU_MIN;
-            f[j] = t->f0[j] + slope * tau;
-            if (df != NULL)
-                df[j] = slope;
+            double f = t->f0[j] + slope * tau;
+            F[j] = log(f);
+            G[j] = slope / f;
         }
     } else if (tau > LF_EXACT_TAU_MAX) {
-        double sg = 1.0 / tau;
+        double sg = 1.0 / tau, lt = log(tau);
         for (j = 0; j < NFUN; j++) {
-            double r = t->alpha[j] * sg + t->beta[j] * sg * sg;
-            f[j] = t->thin_c[j] * pow(tau, t->thin_pow[j]) * exp(r);
-            if (df != NULL) /* d ln f/dl = pow - (alpha sg + 2 beta sg^2) */
-                df[j] = f[j] * sg * (t->thin_pow[j] - t->alpha[j] * sg
-                                     - 2.0 * t->beta[j] * sg * sg);
+            F[j] = log(t->thin_c[j]) + t->thin_pow[j] * lt
+                   + t->alpha[j] * sg + t->beta[j] * sg * sg;
+            G[j] = sg * (t->thin_pow[j] - t->alpha[j] * sg - 2.0 * t->beta[j] * sg * sg);
         }
     } else {
         double q = (log(tau) - t->l0) / t->h, u, h00, h10, h01, h11, g00, g10, g11;
@@ -171,14 +170,23 @@ lf_exact_table_eval(const lf_exact_table *t, double tau, double f[4], double df[
         g11 = u * (3.0 * u - 2.0);
         for (j = 0; j < NFUN; j++) {
             size_t a = NFUN * i + (size_t) j, b = a + NFUN;
-            double F = h00 * t->F[a] + h01 * t->F[b] + t->h * (h10 * t->G[a] + h11 * t->G[b]);
-            f[j] = exp(F);
-            if (df != NULL) {
-                double dFdl = (g00 * (t->F[a] - t->F[b])) / t->h
-                              + g10 * t->G[a] + g11 * t->G[b];
-                df[j] = f[j] * dFdl / tau;
-            }
+            F[j] = h00 * t->F[a] + h01 * t->F[b] + t->h * (h10 * t->G[a] + h11 * t->G[b]);
+            G[j] = ((g00 * (t->F[a] - t->F[b])) / t->h + g10 * t->G[a] + g11 * t->G[b]) / tau;
         }
+    }
+}
+
+void
+lf_exact_table_eval(const lf_exact_table *t, double tau, double f[4], double df[4])
+{
+    double F[4], G[4];
+    int j;
+
+    table_eval_log(t, tau, F, G);
+    for (j = 0; j < NFUN; j++) {
+        f[j] = exp(F[j]);
+        if (df != NULL)
+            df[j] = f[j] * G[j];
     }
 }
 
@@ -251,11 +259,13 @@ lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu, lf_error 
     y = 0.5 * log(1.0 - 2.0 * nu);
     dydnu = -1.0 / (1.0 - 2.0 * nu);
     q = -y / hy;                      /* node coordinate, 0 at nu = 0 */
+    /* centred stencil; nodes -1 (nu < 0) and LF_EXACT_NY (nu beyond
+     * LF_EXACT_NU_MAX) are ghosts that keep it centred at the ends */
     i0 = (int) floor(q) - 1;
-    if (i0 < 0)
-        i0 = 0;
-    if (i0 > LF_EXACT_NY - 4)
-        i0 = LF_EXACT_NY - 4;
+    if (i0 < -1)
+        i0 = -1;
+    if (i0 > LF_EXACT_NY - 3)
+        i0 = LF_EXACT_NY - 3;
     mx->m = 4;
     for (m = 0; m < 4; m++) {
         double w = 1.0, dw = 0.0;
@@ -293,21 +303,13 @@ lf_exact_mix_eval(const lf_exact_mix *mx, double tau, double f[4], double df[4],
     double F[4] = {0, 0, 0, 0}, G[4] = {0, 0, 0, 0}, H[4] = {0, 0, 0, 0};
     int m, j;
 
-    if (mx->m == 1) {
-        lf_exact_table_eval(mx->t[0], tau, f, df);
-        if (dfn != NULL)
-            for (j = 0; j < NFUN; j++)
-                dfn[j] = 0.0;
-        return;
-    }
     for (m = 0; m < mx->m; m++) {
-        double fm[4], dfm[4];
-        lf_exact_table_eval(mx->t[m], tau, fm, dfm);
+        double Fm[4], Gm[4];
+        table_eval_log(mx->t[m], tau, Fm, Gm);
         for (j = 0; j < NFUN; j++) {
-            double lf = log(fm[j]);
-            F[j] += mx->wl[m] * lf;
-            G[j] += mx->wl[m] * dfm[j] / fm[j];
-            H[j] += mx->dwl[m] * lf;
+            F[j] += mx->wl[m] * Fm[j];
+            G[j] += mx->wl[m] * Gm[j];
+            H[j] += mx->dwl[m] * Fm[j];
         }
     }
     for (j = 0; j < NFUN; j++) {

@@ -142,46 +142,52 @@ ctx_init(exact_ctx *c, const lf_probe *pr, const lf_material *m, lf_error *err)
 }
 
 /* ln tau on the stable branch where delta(tau) = target (> delta_det):
- * Newton in ln tau, safeguarded by bisection on a bracket. */
+ * Newton in ln tau from `guess` (NAN: none), safeguarded by bisection on a
+ * bracket [lo, hi] with delta(lo) < target <= delta(hi). */
 static double
-invert(const exact_ctx *c, double target)
+invert(const exact_ctx *c, double target, double guess)
 {
     exact_pt pt;
-    double lo = isfinite(c->u_det) ? c->u_det : U_LOW, hi, u;
+    double lo = isfinite(c->u_det) ? c->u_det : U_LOW, hi, u, step = 0.25;
     int i;
 
-    /* first guess from the adhesiveless half-space or thin forms */
-    u = log(fmax(target - c->delta_det, 1e-300) / c->A1) / c->k;
-    if (!(u > lo))
-        u = lo + 1.0;
-    if (u > U_HIGH)
-        u = U_HIGH;
-    /* bracket from above */
-    hi = u;
-    for (i = 0; i < 200; i++) {
-        curve_at(c, exp(hi), 0, &pt);
-        if (pt.delta >= target || hi >= U_HIGH)
-            break;
-        lo = hi;
-        hi += 1.0;
+    u = guess;
+    if (!(u > lo && u < U_HIGH)) /* first guess from the half-space form */
+        u = fmin(fmax(log(fmax(target - c->delta_det, 1e-300) / c->A1) / c->k, lo + 0.5), U_HIGH);
+    curve_at(c, exp(u), 0, &pt);
+    if (pt.delta >= target) {
+        hi = u;
+    } else {
+        exact_pt pt_u = pt;
+        lo = u;
+        for (hi = u + step; hi < U_HIGH; hi += step, step *= 2.0) {
+            curve_at(c, exp(hi), 0, &pt);
+            if (pt.delta >= target)
+                break;
+            lo = hi;
+        }
+        if (hi >= U_HIGH)
+            hi = U_HIGH;
+        if (lo == u) {         /* keep the guess: Newton from there */
+            pt = pt_u;
+        } else {
+            u = 0.5 * (lo + hi);
+            curve_at(c, exp(u), 0, &pt);
+        }
     }
-    if (u > hi || u < lo)
-        u = 0.5 * (lo + hi);
     for (i = 0; i < 100; i++) {
-        double g, gp, un;
-        curve_at(c, exp(u), 0, &pt);
-        g = pt.delta - target;
+        double g = pt.delta - target, gp = pt.ddelta * exp(u), un;
         if (g > 0.0)
             hi = u;
         else
             lo = u;
-        gp = pt.ddelta * exp(u);
         un = (gp > 0.0) ? u - g / gp : 0.5 * (lo + hi);
         if (!(un > lo && un < hi))
             un = 0.5 * (lo + hi);
-        if (fabs(un - u) < 1e-13 || hi - lo < 1e-13)
+        if (fabs(un - u) < 1e-10 || hi - lo < 1e-13)
             return un;
         u = un;
+        curve_at(c, exp(u), 0, &pt);
     }
     return u;
 }
@@ -236,6 +242,7 @@ exact_eval(void *state, const lf_probe *probe, const lf_material *mat,
     exact_ctx c;
     size_t i;
     int bonded = probe->base == LF_BASE_BONDED;
+    double u_prev = NAN;   /* warm start: data come in order */
 
     (void) state;
     if (ctx_init(&c, probe, mat, NULL) != LF_OK)
@@ -249,7 +256,8 @@ exact_eval(void *state, const lf_probe *probe, const lf_material *mat,
             e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
             continue;
         }
-        fill_point(&c, exp(invert(&c, delta[i])), bonded, e);
+        u_prev = invert(&c, delta[i], u_prev);
+        fill_point(&c, exp(u_prev), bonded, e);
     }
     return LF_OK;
 }
@@ -303,7 +311,7 @@ exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
     out->a_po = exp(u_hi) * c.h;
     out->sigma_po = -out->P_po / (M_PI * out->a_po * out->a_po);
     if (c.delta_det < 0.0) {
-        curve_at(&c, exp(invert(&c, 0.0)), 0, &pt);
+        curve_at(&c, exp(invert(&c, 0.0, NAN)), 0, &pt);
         out->P_jump = pt.P;
     } else {
         out->P_jump = 0.0;

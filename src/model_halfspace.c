@@ -65,30 +65,34 @@ hs_init(hs_ctx *c, const lf_probe *p, const lf_material *m)
 }
 
 /* a on the stable branch with delta(a) = target > delta_det: Newton in
- * ln a with a bisection bracket. */
+ * ln a from `guess` (NAN: none) with a bisection bracket. */
 static double
-hs_invert(const hs_ctx *c, double target)
+hs_invert(const hs_ctx *c, double target, double guess)
 {
-    double lo = c->a_det > 0.0 ? log(c->a_det) : -700.0, hi, u;
+    double lo = c->a_det > 0.0 ? log(c->a_det) : -700.0, hi, u, step = 0.25;
     double d, dd, P, dP, sh, P1;
     int i;
 
-    u = log(fmax(target - c->delta_det, 1e-300) / c->A) / c->k;
+    u = guess > 0.0 ? log(guess) : NAN;
     if (!(u > lo))
-        u = lo + 1.0;
-    hi = u;
-    for (i = 0; i < 2000; i++) {
-        hs_curve(c, exp(hi), &d, &dd, &P, &dP, &sh, &P1);
-        if (d >= target)
-            break;
-        lo = hi;
-        hi += 1.0;
-    }
-    u = 0.5 * (lo + hi);
-    for (i = 0; i < 200; i++) {
-        double g, un;
+        u = fmax(log(fmax(target - c->delta_det, 1e-300) / c->A) / c->k, lo + 0.5);
+    hs_curve(c, exp(u), &d, &dd, &P, &dP, &sh, &P1);
+    if (d >= target) {
+        hi = u;
+    } else {
+        lo = u;
+        for (hi = u + step, i = 0; i < 2000; hi += step, step *= 2.0, i++) {
+            hs_curve(c, exp(hi), &d, &dd, &P, &dP, &sh, &P1);
+            if (d >= target)
+                break;
+            lo = hi;
+        }
+        if (lo != u)           /* else keep the guess: Newton from there */
+            u = 0.5 * (lo + hi);
         hs_curve(c, exp(u), &d, &dd, &P, &dP, &sh, &P1);
-        g = d - target;
+    }
+    for (i = 0; i < 200; i++) {
+        double g = d - target, un;
         if (g > 0.0)
             hi = u;
         else
@@ -96,9 +100,10 @@ hs_invert(const hs_ctx *c, double target)
         un = dd > 0.0 ? u - g / (dd * exp(u)) : 0.5 * (lo + hi);
         if (!(un > lo && un < hi))
             un = 0.5 * (lo + hi);
-        if (fabs(un - u) < 1e-14 || hi - lo < 1e-14)
+        if (fabs(un - u) < 1e-10 || hi - lo < 1e-14)
             return exp(un);
         u = un;
+        hs_curve(c, exp(u), &d, &dd, &P, &dP, &sh, &P1);
     }
     return exp(u);
 }
@@ -109,6 +114,7 @@ hs_eval(void *state, const lf_probe *probe, const lf_material *mat,
 {
     hs_ctx c;
     size_t i;
+    double a_prev = NAN;   /* warm start: data come in order */
 
     (void) state;
     if (hs_init(&c, probe, mat) != LF_OK)
@@ -123,7 +129,7 @@ hs_eval(void *state, const lf_probe *probe, const lf_material *mat,
             e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
             continue;
         }
-        a = hs_invert(&c, delta[i]);
+        a = a_prev = hs_invert(&c, delta[i], a_prev);
         hs_curve(&c, a, &d, &dd, &P, &dP, &sh, &P1);
         S = 2.0 * c.Estar * a;
         dPdd = dd > 0.0 ? dP / dd : LF_BIG;
@@ -163,7 +169,7 @@ hs_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
     out->P_po = P;
     out->a_po = a_c;
     out->sigma_po = -P / (M_PI * a_c * a_c);
-    hs_curve(&c, hs_invert(&c, 0.0), &d, &dd, &P, &dP, &sh, &P1);
+    hs_curve(&c, hs_invert(&c, 0.0, NAN), &d, &dd, &P, &dP, &sh, &P1);
     out->P_jump = P;
     return LF_OK;
 }
