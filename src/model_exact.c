@@ -184,7 +184,7 @@ invert(const exact_ctx *c, double target, double guess)
         un = (gp > 0.0) ? u - g / gp : 0.5 * (lo + hi);
         if (!(un > lo && un < hi))
             un = 0.5 * (lo + hi);
-        if (fabs(un - u) < 1e-10 || hi - lo < 1e-13)
+        if (g == 0.0 || fabs(un - u) < 1e-13 || hi - lo < 1e-14)
             return un;
         u = un;
         curve_at(c, exp(u), 0, &pt);

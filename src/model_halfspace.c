@@ -100,7 +100,7 @@ hs_invert(const hs_ctx *c, double target, double guess)
         un = dd > 0.0 ? u - g / (dd * exp(u)) : 0.5 * (lo + hi);
         if (!(un > lo && un < hi))
             un = 0.5 * (lo + hi);
-        if (fabs(un - u) < 1e-10 || hi - lo < 1e-14)
+        if (g == 0.0 || fabs(un - u) < 1e-13 || hi - lo < 1e-14)
             return exp(un);
         u = un;
         hs_curve(c, exp(u), &d, &dd, &P, &dP, &sh, &P1);
