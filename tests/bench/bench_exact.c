@@ -167,7 +167,7 @@ incompressible(void)
         for (j = 0; j < 8; j++) {
             double f[4], df[4], tau = taus[j];
             /* P1/(E* h^3/R) = 2 B kappa tau^3 p with B = 1/(2R): kappa tau^3 p */
-            double p1 = kap * pow(tau, 3.0) * f[3] * 0 + 0;
+            double p1;
             lf_exact_mix_eval(&mx, tau, f, df, NULL);
             p1 = kap * pow(tau, 3.0) * f[3];
             printf("  %-9.4f", p1 / (M_PI * 0.5 * (1.0 - nus[i]) * pow(tau, 6.0) / 32.0));
