@@ -134,3 +134,12 @@ fuzz: fuzz-build
 	  if [ $$rc -ne 0 ]; then grep -A30 -E '^==[0-9]+==ERROR|deadly signal' build-fuzz/fuzz_$$t.log | head -60; \
 	    ls build-fuzz/$$t-* 2>/dev/null; exit 1; fi; \
 	done
+
+# Speed against error of the exact model (not part of `make check`).
+$(BUILD)/tests/bench/bench_exact: tests/bench/bench_exact.c $(LIB) $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
+.PHONY: bench-exact
+bench-exact: $(BUILD)/tests/bench/bench_exact
+	$(BUILD)/tests/bench/bench_exact
