@@ -20,10 +20,6 @@ OPT     ?= -O2 -g
 # OpenMP: `layerfit bench` measures fits per second on all cores
 OMPFLAGS ?= -fopenmp
 ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE $(WARN) $(OPT) $(OMPFLAGS) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
-# `layerfit fit` reads curves once the readers are there (branch ingest)
-ifneq ($(wildcard src/csv_curve.c),)
-ALL_CFLAGS += -DLF_HAVE_READERS
-endif
 LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lpthread -lm
 ALL_LDFLAGS := $(OMPFLAGS) $(SANFLAGS) $(LDFLAGS)
 

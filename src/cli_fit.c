@@ -46,7 +46,6 @@ typedef struct {
     char **names;
 } fit_data;
 
-#ifdef LF_HAVE_READERS
 static void
 add_curve(fit_data *d, const char *path, lf_segment seg, const lf_probe *probe,
           double z0, double F0)
@@ -143,15 +142,6 @@ read_input(const char *path, const fit_args *a, lf_segment seg_opt, int seg_give
         lf_plan_free(plan);
     }
 }
-#else
-static void
-read_input(const char *path, const fit_args *a, lf_segment seg_opt, int seg_given,
-           fit_data *d, double *plan_nu)
-{
-    (void) path; (void) a; (void) seg_opt; (void) seg_given; (void) d; (void) plan_nu;
-    cli_die(CLI_EXIT_FAIL, "fit: this build has no curve readers (src/csv_curve.c, src/plan.c)");
-}
-#endif
 
 static void
 write_file(const char *path, void (*writer)(FILE *, const report_input *, const lf_fit_result *),

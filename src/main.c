@@ -8,9 +8,9 @@
 
 static const cli_command commands[] = {
     { "model", "compute model curves, pull-off and the paper's figures", cli_model },
-    { "check", "read a fit plan or a curve file and report what it holds", cli_check },
     { "fit", "fit w, E* and nu jointly to curves from several probes", cli_fit },
     { "simulate", "write synthetic curves, a plan and the truth", cli_simulate },
+    { "check", "read a fit plan or a curve file and report what it holds", cli_check },
     { "bench", "what a fit costs and how accurate it is (against the Cramer-Rao bound)", cli_bench },
     { NULL, NULL, NULL }
 };

@@ -219,35 +219,23 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
         const lf_fit_curve_result *c = &r->curves[j];
         fputs("    {\"file\": ", f);
         jstr(f, c->name);
-        fputs(", \"k\": ", f);
-        jnum(f, c->probe.k);
-        fputs(", \"R\": ", f);
-        jnum(f, c->probe.R);
-        fputs(", \"b\": ", f);
-        jnum(f, c->probe.b);
-        fprintf(f, ", \"interface\": \"%s\", \"branch\": \"%s\", \"points\": %zu,\n     \"z0\": ",
-                cli_base_name(c->probe.base), branch_name(c->branch), c->n);
-        jnum(f, c->z0);
-        fputs(", \"z0_stderr\": ", f);
-        jnum(f, c->z0_se);
-        fprintf(f, ", \"z0_free\": %s, \"F0\": ", c->z0_free ? "true" : "false");
-        jnum(f, c->F0);
-        fputs(", \"F0_stderr\": ", f);
-        jnum(f, c->F0_se);
-        fprintf(f, ", \"F0_free\": %s, \"noise_sigma\": ", c->F0_free ? "true" : "false");
-        jnum(f, c->sigma);
-        fputs(", \"rms\": ", f);
-        jnum(f, c->rms);
-        fputs(",\n     \"P_po\": ", f);
-        jnum(f, c->pulloff.P_po);
-        fputs(", \"a_po\": ", f);
-        jnum(f, c->pulloff.a_po);
-        fputs(", \"sigma_po\": ", f);
-        jnum(f, c->pulloff.sigma_po);
-        fputs(", \"b_over_a_min_contact\": ", f);
-        jnum(f, c->b_over_a_min_contact);
-        fputs(", \"b_over_a_pulloff\": ", f);
-        jnum(f, c->b_over_a_pulloff);
+        const struct { const char *key; double v; } num[] = {
+            { "k", c->probe.k }, { "R", c->probe.R }, { "b", c->probe.b },
+            { "z0", c->z0 }, { "z0_stderr", c->z0_se }, { "F0", c->F0 },
+            { "F0_stderr", c->F0_se }, { "noise_sigma", c->sigma }, { "rms", c->rms },
+            { "P_po", c->pulloff.P_po }, { "a_po", c->pulloff.a_po },
+            { "sigma_po", c->pulloff.sigma_po },
+            { "b_over_a_min_contact", c->b_over_a_min_contact },
+            { "b_over_a_pulloff", c->b_over_a_pulloff }
+        };
+        for (i = 0; i < sizeof num / sizeof num[0]; i++) {
+            fprintf(f, ", \"%s\": ", num[i].key);
+            jnum(f, num[i].v);
+        }
+        fprintf(f, ",\n     \"interface\": \"%s\", \"branch\": \"%s\", \"points\": %zu, "
+                "\"z0_free\": %s, \"F0_free\": %s",
+                cli_base_name(c->probe.base), branch_name(c->branch), c->n,
+                c->z0_free ? "true" : "false", c->F0_free ? "true" : "false");
         fputs(", \"warnings\": ", f);
         jwarnings(f, &c->warnings);
         fprintf(f, "}%s\n", j + 1 < r->ncurves ? "," : "");
