@@ -21,7 +21,7 @@ ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE $(WARN) $(OPT) $(SANFLAGS) -Isrc -Ifit 
 LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lpthread -lm
 ALL_LDFLAGS := $(SANFLAGS) $(LDFLAGS)
 
-CLI_SRC := src/main.c $(wildcard src/cli_*.c)
+CLI_SRC := src/main.c $(wildcard src/cli_*.c) src/report.c
 LIB_SRC := $(filter-out $(CLI_SRC),$(wildcard src/*.c)) $(wildcard fit/*.c)
 LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
 CLI_OBJ := $(CLI_SRC:%.c=$(BUILD)/%.o)
@@ -49,9 +49,9 @@ $(LIB): $(LIB_OBJ)
 $(PROG): $(CLI_OBJ) $(LIB)
 	$(CC) $(ALL_LDFLAGS) -o $@ $(CLI_OBJ) $(LIB) $(LDLIBS)
 
-$(BUILD)/tests/%: tests/%.c tests/testlib.c $(LIB) $(HEADERS)
+$(BUILD)/tests/%: tests/%.c tests/testlib.c tests/scene.c $(LIB) $(HEADERS) tests/scene.h
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -Itests $(ALL_LDFLAGS) -o $@ $< tests/testlib.c $(LIB) $(LDLIBS)
+	$(CC) $(ALL_CFLAGS) -Itests $(ALL_LDFLAGS) -o $@ $< tests/testlib.c tests/scene.c $(LIB) $(LDLIBS)
 
 tests: $(TEST_BIN) $(PROG)
 
@@ -102,6 +102,20 @@ uninstall:
 
 clean:
 	rm -rf build build-san build-fuzz
+
+# Longer recovery Monte Carlo (2000 seeds per scene), on demand.
+.PHONY: recovery-long bench-fit
+recovery-long: $(BUILD)/tests/test_recovery
+	$(BUILD)/tests/test_recovery 2000
+
+# Timing of a two-probe joint fit against scipy (reported, not asserted).
+$(BUILD)/bench_fit: tests/bench/bench_fit.c $(LIB) $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
+bench-fit: $(BUILD)/bench_fit
+	@mkdir -p $(BUILD)/bench
+	$(BUILD)/bench_fit $(BUILD)/bench
 
 # Fuzzing with clang's libFuzzer: `make fuzz` runs each target for
 # FUZZ_SECONDS seconds from the seeds in tests/fuzz/TARGET, keeping what it
