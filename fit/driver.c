@@ -165,7 +165,7 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
         goto nomem;
     par.trs = f->trs;
     par.scale = gsl_multifit_nlinear_scale_more;
-    par.solver = gsl_multifit_nlinear_solver_qr;
+    par.solver = gsl_multifit_nlinear_solver_cholesky;
     par.fdtype = settings->jacobian == LF_JAC_CENTRAL ? GSL_MULTIFIT_NLINEAR_CTRDIFF
                                                       : GSL_MULTIFIT_NLINEAR_FWDIFF;
     f->gsl = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &par, f->nres, f->np);

@@ -26,7 +26,7 @@
 
 #include "fit.h"
 
-#define GUESS_GOLDEN 30
+#define GUESS_GOLDEN 20
 
 /* ---- noise ------------------------------------------------------------ */
 

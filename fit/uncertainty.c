@@ -144,11 +144,12 @@ decompose(lf_fit *f, const double *x, lf_fit_result *r, double *nullw)
 {
     size_t n = f->nres, p = f->np, i, k, l, rank = 0;
     gsl_matrix *J = gsl_matrix_alloc(n, p), *V = gsl_matrix_alloc(p, p);
-    gsl_vector *S = gsl_vector_alloc(p), *D = gsl_vector_alloc(p);
+    gsl_vector *S = gsl_vector_alloc(p), *D = gsl_vector_alloc(p), *D2 = gsl_vector_alloc(p);
+    gsl_matrix *Rsq = gsl_matrix_alloc(p, p);
     int status = LF_OK;
     double s2 = r->chi2 / (double) r->dof;
 
-    if (!J || !V || !S || !D) {
+    if (!J || !V || !S || !D || !D2 || !Rsq) {
         status = LF_ENOMEM;
         goto done;
     }
@@ -163,7 +164,21 @@ decompose(lf_fit *f, const double *x, lf_fit_result *r, double *nullw)
         if (d > 0)
             gsl_vector_scale(&col.vector, 1.0 / d);
     }
-    if (gsl_linalg_SV_decomp_jacobi(J, V, S) != GSL_SUCCESS) {
+    /* J = Q R first: the SVD of the small R has J's singular values and
+     * right vectors, at a fraction of the cost of a one-sided Jacobi SVD
+     * of the tall J */
+    if (n >= p) {
+        gsl_vector_view tau = gsl_vector_subvector(D2, 0, p);
+        if (gsl_linalg_QR_decomp(J, &tau.vector) != GSL_SUCCESS) {
+            status = LF_ENUMERIC;
+            goto done;
+        }
+        gsl_matrix_set_zero(Rsq);
+        for (i = 0; i < p; i++)
+            for (k = i; k < p; k++)
+                gsl_matrix_set(Rsq, i, k, gsl_matrix_get(J, i, k));
+    }
+    if (gsl_linalg_SV_decomp_jacobi(n >= p ? Rsq : J, V, S) != GSL_SUCCESS) {
         status = LF_ENUMERIC;
         goto done;
     }
@@ -191,6 +206,8 @@ done:
     gsl_matrix_free(V);
     gsl_vector_free(S);
     gsl_vector_free(D);
+    gsl_vector_free(D2);
+    gsl_matrix_free(Rsq);
     return status;
 }
 
