@@ -75,6 +75,47 @@ check_curve(const lf_fit_curve *c, size_t j, lf_error *err)
     return LF_OK;
 }
 
+typedef struct {
+    double z;
+    size_t i;
+} depth_index;
+
+static int
+cmp_depth_index(const void *a, const void *b)
+{
+    const depth_index *x = a, *y = b;
+    if (x->z != y->z)
+        return (x->z > y->z) - (x->z < y->z);
+    return (x->i > y->i) - (x->i < y->i);
+}
+
+/* f->order: each curve's points sorted by depth, ties in file order, so
+ * that nothing the fit computes depends on the order of the rows. */
+static int
+depth_order(lf_fit *f)
+{
+    size_t j, i, nmax = 0;
+    depth_index *di;
+
+    for (j = 0; j < f->ncurves; j++)
+        nmax = f->c[j].data.n > nmax ? f->c[j].data.n : nmax;
+    di = malloc(nmax * sizeof *di);
+    if (di == NULL)
+        return LF_ENOMEM;
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        for (i = 0; i < c->data.n; i++) {
+            di[i].z = c->data.depth[i];
+            di[i].i = i;
+        }
+        qsort(di, c->data.n, sizeof *di, cmp_depth_index);
+        for (i = 0; i < c->data.n; i++)
+            f->order[c->row + i] = di[i].i;
+    }
+    free(di);
+    return LF_OK;
+}
+
 /* Depth span, force scale, guard width and noise of each curve. */
 static int
 curve_scales(lf_fit *f, lf_error *err)
@@ -95,7 +136,8 @@ curve_scales(lf_fit *f, lf_error *err)
         c->L = zmax - zmin;
         c->Fs = fbig;
         c->eps = 1e-3 * c->L / (double) (c->data.n - 1);
-        c->sigma = fit_noise_sigma(c->data.force, c->data.n, f->work);
+        c->sigma = fit_noise_sigma(c->data.depth, c->data.force, f->order + c->row, c->data.n,
+                                   f->work);
     }
     return LF_OK;
 }
@@ -158,10 +200,13 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     f->x0_internal = calloc(f->np, sizeof *f->x0_internal);
     f->xcache = calloc(f->np, sizeof *f->xcache);
     f->ev = calloc(f->ndata, sizeof *f->ev);
+    f->scan_ev = calloc(f->ndata, sizeof *f->scan_ev);
     f->delta = calloc(f->ndata, sizeof *f->delta);
     f->work = calloc(f->ndata > 2 * NSUB_MAX ? f->ndata : 2 * NSUB_MAX, sizeof *f->work);
     f->sub = calloc(3 * NSUB_MAX + GUESS_NODES, sizeof *f->sub);
-    if (!f->x0_internal || !f->xcache || !f->ev || !f->delta || !f->work || !f->sub)
+    f->order = malloc(f->ndata * sizeof *f->order);
+    if (!f->x0_internal || !f->xcache || !f->ev || !f->scan_ev || !f->delta || !f->work || !f->sub
+        || !f->order || depth_order(f) != LF_OK)
         goto nomem;
     par.trs = f->trs;
     par.scale = gsl_multifit_nlinear_scale_more;
@@ -204,6 +249,8 @@ lf_fit_free(lf_fit *f)
     free(f->ev);
     free(f->delta);
     free(f->work);
+    free(f->order);
+    free(f->scan_ev);
     free(f->sub);
     if (f->gsl != NULL)
         gsl_multifit_nlinear_free(f->gsl);
@@ -252,13 +299,141 @@ at_minimum(lf_fit *f)
     return 1;
 }
 
+/* Run the trust-region iteration from x (overwritten with where it
+ * stopped); *iters counts its iterations.  after_scan: x comes from
+ * edge_scan. */
+static int
+solve(lf_fit *f, gsl_vector *x, int after_scan, size_t *iters, char *why, size_t nwhy,
+      int *converged, lf_error *err)
+{
+    int status, info = 0;
+    size_t i;
+
+    *converged = 0;
+    status = gsl_multifit_nlinear_init(x, &f->fdf, f->gsl);
+    if (status != GSL_SUCCESS)
+        return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the starting point (%s)",
+                       gsl_strerror(status));
+    status = gsl_multifit_nlinear_driver(f->set.max_iter, f->set.xtol, f->set.gtol,
+                                         f->set.ftol, NULL, NULL, &info, f->gsl);
+    *iters = gsl_multifit_nlinear_niter(f->gsl);
+    /* GSL reports "no step lowers the cost from the start" as EMAXITER
+     * with info ENOPROG */
+    if (status == GSL_EMAXITER && info == GSL_ENOPROG && *iters < f->set.max_iter)
+        status = GSL_ENOPROG;
+    stop_reason(status, info, f->set.max_iter, why, nwhy, converged);
+    if (status == GSL_ENOPROG && (at_minimum(f) || after_scan)) {
+        /* after the contact-point scan the cost sits at a kink of the
+         * model, where the gradient need not vanish */
+        *converged = 1;
+        snprintf(why, nwhy, after_scan ? "converged (no step lowers the cost after the "
+                 "contact-point scan)" : "converged (no further decrease at a stationary point)");
+    }
+    for (i = 0; i < f->np; i++)
+        gsl_vector_set(x, i, gsl_vector_get(gsl_multifit_nlinear_position(f->gsl), i));
+    return LF_OK;
+}
+
+/* Curve j's weighted sum of squares at material mat and contact point z0,
+ * with its force offset (when free) at its best value for them, returned
+ * in *F0; slope as given.  HUGE_VAL when the model cannot be evaluated. */
+static double
+curve_cost(lf_fit *f, size_t j, const lf_material *mat, double z0, double *F0,
+           double slope)
+{
+    const fit_curve *c = &f->c[j];
+    double *delta = f->work, sum = 0.0, ss = 0.0;
+    lf_eval *e = f->scan_ev;
+    size_t i, n = c->data.n;
+
+    for (i = 0; i < n; i++)
+        delta[i] = c->data.depth[i] - z0;
+    if (lf_model_eval(c->model, mat, c->data.branch, n, delta, e, NULL) != LF_OK)
+        return HUGE_VAL;
+    if (c->iF0 >= 0) {
+        for (i = 0; i < n; i++)
+            sum += c->data.force[i] - e[i].P - slope * delta[i];
+        *F0 = sum / (double) n;
+    }
+    for (i = 0; i < n; i++) {
+        double r = (e[i].P + *F0 + slope * delta[i] - c->data.force[i]) / c->sigma;
+        ss += r * r;
+    }
+    return isfinite(ss) ? ss : HUGE_VAL;
+}
+
+#define SCAN_HALF 8
+
+/* The model has a kink where contact ends (a vertical tangent for k > 2),
+ * and the cost a kink at every data point that crosses it: a gradient
+ * method stops at the nearest one.  For each free contact point, try
+ * placing the edge between each pair of neighbouring points within
+ * SCAN_HALF of where it is, the force offset re-solved, the rest held;
+ * move x to the best when it lowers the cost.  Returns 1 if it moved. */
+static int
+edge_scan(lf_fit *f, gsl_vector *x)
+{
+    size_t j;
+    int moved = 0;
+
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        const size_t *ord = f->order + c->row;
+        lf_material mat;
+        lf_pulloff po;
+        double z0, F0, slope, edge, best, bestz0, bestF0, F0c;
+        size_t lo, hi, q, n = c->data.n, pos;
+
+        if (c->iz0 < 0 || n < 3)
+            continue;
+        fit_unpack(f, x->data, &mat, &z0, &F0, &slope, j);
+        if (lf_model_pulloff(c->model, &mat, &po, NULL) != LF_OK)
+            continue;
+        /* the edge in depth: detachment on unloading, z0 on loading */
+        edge = c->data.branch == LF_BRANCH_UNLOAD ? z0 + po.delta_detach : z0;
+        for (pos = 0; pos < n && c->data.depth[ord[pos]] < edge; pos++)
+            ;
+        F0c = F0;
+        best = curve_cost(f, j, &mat, z0, &F0c, slope);
+        bestz0 = z0;
+        bestF0 = F0c;
+        lo = pos > SCAN_HALF ? pos - SCAN_HALF : 1;
+        hi = pos + SCAN_HALF < n ? pos + SCAN_HALF : n - 1;
+        for (q = lo; q <= hi; q++) {
+            double zq = 0.5 * (c->data.depth[ord[q - 1]] + c->data.depth[ord[q]]);
+            double z0q = c->data.branch == LF_BRANCH_UNLOAD ? zq - po.delta_detach : zq;
+            double F0q = F0, v;
+            if (!(c->data.depth[ord[q]] > c->data.depth[ord[q - 1]]))
+                continue;
+            v = curve_cost(f, j, &mat, z0q, &F0q, slope);
+            if (v < best * (1.0 - 1e-12)) {
+                best = v;
+                bestz0 = z0q;
+                bestF0 = F0q;
+            }
+        }
+        if (bestz0 != z0) {
+            /* back to x: internal = x0 + x - 1, z0 = L internal, F0 = Fs internal */
+            gsl_vector_set(x, (size_t) c->iz0, bestz0 / c->L - f->x0_internal[c->iz0] + 1.0);
+            if (c->iF0 >= 0)
+                gsl_vector_set(x, (size_t) c->iF0, bestF0 / c->Fs - f->x0_internal[c->iF0] + 1.0);
+            moved = 1;
+        }
+    }
+    f->xcache_ok = 0;
+    return moved;
+}
+
+#define MAX_SCANS 4
+
 int
 lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
 {
     gsl_vector *x = NULL;
-    int status, info = 0, converged;
+    int status, converged;
     char why[160];
-    size_t i;
+    size_t iters;
+    int scan;
 
     memset(res, 0, sizeof *res);
     f->xcache_ok = 0;
@@ -270,22 +445,16 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
         return lf_fail(err, LF_ENOMEM, "out of memory");
     gsl_vector_set_all(x, 1.0);
     f->fdf.nevalf = f->fdf.nevaldf = 0;
-    status = gsl_multifit_nlinear_init(x, &f->fdf, f->gsl);
-    if (status != GSL_SUCCESS) {
+    status = solve(f, x, 0, &iters, why, sizeof why, &converged, err);
+    res->iterations = iters;
+    for (scan = 0; status == LF_OK && scan < MAX_SCANS && edge_scan(f, x); scan++) {
+        status = solve(f, x, 1, &iters, why, sizeof why, &converged, err);
+        res->iterations += iters;
+    }
+    if (status != LF_OK) {
         gsl_vector_free(x);
-        return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the initial guess (%s)",
-                       gsl_strerror(status));
+        return status;
     }
-    status = gsl_multifit_nlinear_driver(f->set.max_iter, f->set.xtol, f->set.gtol,
-                                         f->set.ftol, NULL, NULL, &info, f->gsl);
-    stop_reason(status, info, f->set.max_iter, why, sizeof why, &converged);
-    if (status == GSL_ENOPROG && at_minimum(f)) {
-        converged = 1;
-        snprintf(why, sizeof why, "converged (no further decrease at a stationary point)");
-    }
-    for (i = 0; i < f->np; i++)
-        gsl_vector_set(x, i, gsl_vector_get(gsl_multifit_nlinear_position(f->gsl), i));
-    res->iterations = gsl_multifit_nlinear_niter(f->gsl);
     res->evaluations = f->fdf.nevalf + f->fdf.nevaldf;
     status = fit_assess(f, x->data, res, err);
     gsl_vector_free(x);

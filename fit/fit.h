@@ -57,10 +57,13 @@ struct lf_fit {
     lf_material mat;     /* held values, then the guess, then the fit */
     double *x0_internal; /* np: internal coordinates at the guess */
     lf_eval *ev;         /* ndata: model at the last residual evaluation */
+    lf_eval *scan_ev;    /* ndata: scratch of the contact-point scan */
     double *delta;       /* ndata: indentations */
     double *xcache;      /* np: the x of ev[]; xcache_ok when valid */
     int xcache_ok;
     double *work;        /* max(ndata, 2 nsub_max): scratch */
+    size_t *order;       /* ndata: each curve's points by depth (ties in
+                            file order), indices within the curve */
     size_t nsub_max;     /* scratch size of the guess's subsample */
     double *sub;         /* 3 nsub_max + GUESS_NODES: subsample, nodes */
     gsl_multifit_nlinear_workspace *gsl;
@@ -85,7 +88,10 @@ double fit_dnu_du(double u);
 
 /* guess.c */
 int fit_guess(lf_fit *f, lf_error *err);
-double fit_noise_sigma(const double *force, size_t n, double *work);
+/* Noise sd of a curve from how far each point's force lies from the line
+ * through its neighbours in depth (order: indices by depth). */
+double fit_noise_sigma(const double *depth, const double *force, const size_t *order,
+                       size_t n, double *work);
 
 /* uncertainty.c */
 int fit_assess(lf_fit *f, const double *x, lf_fit_result *res, lf_error *err);

@@ -37,24 +37,37 @@ cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
-/* Noise sd from the median absolute second difference of the force (each
- * has sd sqrt(6) sigma for white noise, and the median of |N(0, s)| is
- * 0.6745 s); the smooth signal contributes only F'' h^2.  work holds n. */
+/* Noise sd from the points' departures from the line through their two
+ * neighbours in depth: with depths z0 <= z1 <= z2,
+ *     e = F1 - (F0 (z2 - z1) + F2 (z1 - z0)) / (z2 - z0)
+ * has variance s^2 (1 + ((z2-z1)^2 + (z1-z0)^2) / (z2-z0)^2) for white
+ * noise of sd s (1.5 s^2 on an even grid, where e is half the second
+ * difference; 2 s^2 for a repeated depth), and the smooth signal adds only
+ * about F'' h^2.  The median of |e| over its sd is 0.6745 s.  Order by
+ * depth makes it independent of the order of the rows and right for
+ * repeated depths.  work holds n. */
 double
-fit_noise_sigma(const double *force, size_t n, double *work)
+fit_noise_sigma(const double *depth, const double *force, const size_t *order, size_t n,
+                double *work)
 {
     size_t i, m = 0;
     double fbig = 0.0, med;
 
     for (i = 0; i < n; i++)
         fbig = fmax(fbig, fabs(force[i]));
-    for (i = 1; i + 1 < n; i++)
-        work[m++] = fabs(force[i + 1] - 2.0 * force[i] + force[i - 1]);
+    for (i = 1; i + 1 < n; i++) {
+        size_t a = order[i - 1], b = order[i], c = order[i + 1];
+        double h0 = depth[b] - depth[a], h1 = depth[c] - depth[b], h = h0 + h1, e;
+        if (!(h > 0))
+            continue;           /* three points at one depth: no line */
+        e = force[b] - (force[a] * h1 + force[c] * h0) / h;
+        work[m++] = fabs(e) / sqrt(1.0 + (h0 * h0 + h1 * h1) / (h * h));
+    }
     if (m == 0)
         return fbig > 0 ? fbig : 1.0;
     qsort(work, m, sizeof *work, cmp_double);
     med = m % 2 ? work[m / 2] : 0.5 * (work[m / 2 - 1] + work[m / 2]);
-    med /= 0.6745 * sqrt(6.0);
+    med /= 0.6745;
     /* noise-free data: keep the weight finite */
     return fmax(med, fbig > 0 ? 1e-12 * fbig : 1e-300);
 }
@@ -287,35 +300,42 @@ make_nodes(const profile *p, double lo, double hi, size_t n, int with_data,
 }
 
 /* The per-curve profile set up on a subsample of at most f->nsub_max
- * points of curve j: the nsub_max/4 shallowest points (where contact ends
- * and the baseline starts, which a sparse sample would miss) and evenly
- * spaced points among the rest. */
+ * points of curve j, taken in order of depth (so the order of the rows
+ * does not matter): nsub_max/4 points spread over the shallowest eighth
+ * of the points (where contact ends and the baseline starts, which a
+ * sparse sample would miss) and evenly spaced points among the rest. */
 static void
 profile_init(lf_fit *f, size_t j, profile *p)
 {
     const fit_curve *c = &f->c[j];
     const double k = c->data.probe.k, R = c->data.probe.R;
     const size_t n = c->data.n, nshallow = f->nsub_max / 4;
-    size_t i, m = 0, stride, nlow = 0;
-    double *z = f->sub, *F = f->sub + f->nsub_max, t = HUGE_VAL;
+    const size_t *ord = f->order + c->row;     /* by depth */
+    size_t i, m = 0;
+    double *z = f->sub, *F = f->sub + f->nsub_max;
 
-    if (n > f->nsub_max) {
-        memcpy(f->work, c->data.depth, n * sizeof *f->work);
-        qsort(f->work, n, sizeof *f->work, cmp_double);
-        t = f->work[nshallow - 1];
-        for (i = 0; i < n && nlow < nshallow; i++)
-            if (c->data.depth[i] <= t) {
-                z[nlow] = c->data.depth[i];
-                F[nlow++] = c->data.force[i];
-            }
-    }
-    m = nlow;
-    stride = (n + (f->nsub_max - nlow) - 1) / (f->nsub_max - nlow);
-    for (i = 0; i < n && m < f->nsub_max; i += stride)
-        if (!(c->data.depth[i] <= t)) {
-            z[m] = c->data.depth[i];
-            F[m++] = c->data.force[i];
+    if (n <= f->nsub_max) {            /* a small curve: every point */
+        for (i = 0; i < n; i++) {
+            z[i] = c->data.depth[ord[i]];
+            F[i] = c->data.force[ord[i]];
         }
+        m = n;
+    } else {
+        /* nshallow evenly among the shallowest eighth (at least nshallow
+         * points), then evenly in depth order among the rest */
+        size_t low = n / 8 > nshallow ? n / 8 : nshallow;
+        size_t rest = n - low, want = f->nsub_max - nshallow;
+        for (i = 0; i < nshallow; i++) {
+            size_t q = (i * (low - 1)) / (nshallow - 1);
+            z[m] = c->data.depth[ord[q]];
+            F[m++] = c->data.force[ord[q]];
+        }
+        for (i = 0; i < want; i++) {
+            size_t q = low + (i * (rest - 1)) / (want - 1);
+            z[m] = c->data.depth[ord[q]];
+            F[m++] = c->data.force[ord[q]];
+        }
+    }
     memset(p, 0, sizeof *p);
     p->z = z;
     p->F = F;

@@ -595,9 +595,9 @@ case_unsorted(void)
         st1 = lf_fit_driver(&s.fit, 1, &s.curve[1], &one_sorted, &err);
         st2 = lf_fit_driver(&s.fit, 1, &fc[1], &one_shuffled, &err);
         if (st1 == LF_OK && st2 == LF_OK
-            && fabs(one_sorted.w.value / one_shuffled.w.value - 1) < 1e-6
-            && fabs(one_sorted.Estar.value / one_shuffled.Estar.value - 1) < 1e-6
-            && fabs(one_sorted.w.se / one_shuffled.w.se - 1) < 1e-6)
+            && fabs(one_sorted.w.value - one_shuffled.w.value) < 1e-3 * one_sorted.w.se
+            && fabs(one_sorted.Estar.value - one_shuffled.Estar.value) < 1e-3 * one_sorted.Estar.se
+            && fabs(one_sorted.w.se / one_shuffled.w.se - 1) < 1e-4)
             same++;
         if (st1 == LF_OK || st1 == LF_ENOCONV)
             lf_fit_result_free(&one_sorted);
@@ -608,8 +608,8 @@ case_unsorted(void)
     t_int((long) nconv, (long) n, "%s: every fit converges", s.label);
     cover_check(s.label, &cw, nconv, 1);
     cover_check(s.label, &cE, nconv, 1);
-    t_int((long) same, (long) n, "%s: one curve shuffled gives the sorted answer (w, E*, se)",
-          s.label);
+    t_int((long) same, (long) n, "%s: one curve shuffled gives the sorted answer (w and E* to "
+          "1e-3 se, se to 1e-4)", s.label);
     for (j = 0; j < 2; j++) {
         free(pd[j]);
         free(pf[j]);
