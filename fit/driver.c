@@ -42,6 +42,7 @@ lf_fit_settings_default(void)
     s.w.value = s.Estar.value = NAN;
     s.nu.value = 0.3;
     s.w.prior_sd = s.Estar.prior_sd = s.nu.prior_sd = NAN;
+    s.w.guess = s.Estar.guess = s.nu.guess = NAN;
     s.fit_slope = 0;
     s.max_iter = 200;
     s.xtol = 1e-11;
@@ -426,14 +427,79 @@ edge_scan(lf_fit *f, gsl_vector *x)
 
 #define MAX_SCANS 4
 
+/* Iterate from the origin (x = 1), then scan the contact points and
+ * iterate again while the scan finds a lower cost.  Adds to *iters and
+ * *evals. */
+static int
+run_from_origin(lf_fit *f, gsl_vector *x, size_t *iters, size_t *evals, char *why,
+                size_t nwhy, int *converged, lf_error *err)
+{
+    size_t it;
+    int scan, status;
+
+    gsl_vector_set_all(x, 1.0);
+    f->xcache_ok = 0;
+    status = solve(f, x, 0, &it, why, nwhy, converged, err);
+    *iters += it;
+    *evals += f->fdf.nevalf + f->fdf.nevaldf;
+    for (scan = 0; status == LF_OK && scan < MAX_SCANS && edge_scan(f, x); scan++) {
+        status = solve(f, x, 1, &it, why, nwhy, converged, err);
+        *iters += it;
+        *evals += f->fdf.nevalf + f->fdf.nevaldf;
+    }
+    return status;
+}
+
+/* Half the sum of squared residuals at x; HUGE_VAL if not computable. */
+static double
+cost_at(lf_fit *f, const gsl_vector *x, gsl_vector *r)
+{
+    double n;
+    if (fit_residuals(x, f, r) != GSL_SUCCESS)
+        return HUGE_VAL;
+    n = gsl_blas_dnrm2(r);
+    return 0.5 * n * n;
+}
+
+/* Make the point x the origin: material and offsets into f, x = 1. */
+static void
+rebase(lf_fit *f, gsl_vector *x)
+{
+    lf_material mat;
+    double z0, F0, slope;
+    size_t j;
+
+    for (j = 0; j < f->ncurves; j++) {
+        fit_unpack(f, x->data, &mat, &z0, &F0, &slope, j);
+        f->c[j].z0 = z0;
+        f->c[j].F0 = F0;
+        f->c[j].slope = slope;
+    }
+    fit_unpack(f, x->data, &mat, &z0, &F0, &slope, f->ncurves);
+    f->mat = mat;
+    fit_set_origin(f);
+    gsl_vector_set_all(x, 1.0);
+}
+
+/* A user's starting point more than a factor of 10 from the automatic
+ * guess in w or E* is checked against it (as is one that does not
+ * converge or ends at chi2/dof > 1.5). */
+static int
+start_far(const lf_fit *f)
+{
+    const double far = log(10.0);
+    return (f->imat[FIT_W] >= 0 && fabs(log(f->mat.w / f->auto_mat.w)) > far)
+           || (f->imat[FIT_E] >= 0 && fabs(log(f->mat.Estar / f->auto_mat.Estar)) > far);
+}
+
 int
 lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
 {
-    gsl_vector *x = NULL;
+    gsl_vector *x = NULL, *r = NULL;
     int status, converged;
     char why[160];
-    size_t iters;
-    int scan;
+    size_t iters = 0, evals = 0;
+    lf_material user;
 
     memset(res, 0, sizeof *res);
     f->xcache_ok = 0;
@@ -441,21 +507,75 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
     if (status != LF_OK)
         return status;
     x = gsl_vector_alloc(f->np);
-    if (x == NULL)
+    r = gsl_vector_alloc(f->nres);
+    if (x == NULL || r == NULL) {
+        gsl_vector_free(x);
+        gsl_vector_free(r);
         return lf_fail(err, LF_ENOMEM, "out of memory");
-    gsl_vector_set_all(x, 1.0);
-    f->fdf.nevalf = f->fdf.nevaldf = 0;
-    status = solve(f, x, 0, &iters, why, sizeof why, &converged, err);
-    res->iterations = iters;
-    for (scan = 0; status == LF_OK && scan < MAX_SCANS && edge_scan(f, x); scan++) {
-        status = solve(f, x, 1, &iters, why, sizeof why, &converged, err);
-        res->iterations += iters;
     }
+    user = f->mat;
+    {
+        int far = f->user_start && start_far(f);
+        double cost_user = HUGE_VAL, cost_auto, dof = (double) (f->nres - f->np);
+        status = run_from_origin(f, x, &iters, &evals, why, sizeof why, &converged, err);
+        if (status == LF_OK && f->user_start)
+            cost_user = cost_at(f, x, r);
+        /* the residuals' noise is estimated apart from the model, so a
+         * chi2/dof well above 1 means a poor minimum */
+        if (status == LF_OK && f->user_start && (far || !converged || 2.0 * cost_user / dof > 1.5)) {
+            /* the same from the automatic guess; the lower cost wins */
+            char why_auto[160];
+            int conv_auto;
+            size_t j;
+            double *keep = malloc((3 * f->ncurves + 1) * sizeof *keep);
+            lf_material mat_user;
+
+            if (keep == NULL) {
+                gsl_vector_free(x);
+                gsl_vector_free(r);
+                return lf_fail(err, LF_ENOMEM, "out of memory");
+            }
+            rebase(f, x);
+            mat_user = f->mat;
+            for (j = 0; j < f->ncurves; j++) {
+                keep[3 * j] = f->c[j].z0;
+                keep[3 * j + 1] = f->c[j].F0;
+                keep[3 * j + 2] = f->c[j].slope;
+            }
+            f->mat = f->auto_mat;
+            fit_guess_offsets(f);
+            status = run_from_origin(f, x, &iters, &evals, why_auto, sizeof why_auto,
+                                     &conv_auto, err);
+            cost_auto = cost_at(f, x, r);
+            if (status == LF_OK && cost_auto < cost_user * (1.0 - 1e-9)) {
+                converged = conv_auto;
+                snprintf(why, sizeof why, "%s", why_auto);
+                lf_warn(&res->warnings, "the fit from the given starting point (w = %.4g J/m^2, "
+                        "E* = %.4g Pa) ended at a cost %.4g times higher than from the automatic "
+                        "guess; the result below starts from the automatic guess",
+                        user.w, user.Estar, cost_user / cost_auto);
+            } else if (status == LF_OK) {
+                f->mat = mat_user;
+                for (j = 0; j < f->ncurves; j++) {
+                    f->c[j].z0 = keep[3 * j];
+                    f->c[j].F0 = keep[3 * j + 1];
+                    f->c[j].slope = keep[3 * j + 2];
+                }
+                fit_set_origin(f);
+                gsl_vector_set_all(x, 1.0);
+                f->xcache_ok = 0;
+            }
+            free(keep);
+        }
+    }
+    res->iterations = iters;
+    gsl_vector_free(r);
     if (status != LF_OK) {
         gsl_vector_free(x);
+        lf_warnings_free(&res->warnings);
         return status;
     }
-    res->evaluations = f->fdf.nevalf + f->fdf.nevaldf;
+    res->evaluations = evals;
     status = fit_assess(f, x->data, res, err);
     gsl_vector_free(x);
     if (status != LF_OK) {

@@ -55,6 +55,8 @@ struct lf_fit {
     int nu_determinable; /* the plan alone determines nu */
     int any_bonded, any_frictionless;
     lf_material mat;     /* held values, then the guess, then the fit */
+    lf_material auto_mat; /* the automatic guess */
+    int user_start;      /* 1 when the settings' guess replaced some of it */
     double *x0_internal; /* np: internal coordinates at the guess */
     lf_eval *ev;         /* ndata: model at the last residual evaluation */
     lf_eval *scan_ev;    /* ndata: scratch of the contact-point scan */
@@ -88,6 +90,8 @@ double fit_dnu_du(double u);
 
 /* guess.c */
 int fit_guess(lf_fit *f, lf_error *err);
+/* Profile every curve's offsets at f->mat and make that the origin. */
+void fit_guess_offsets(lf_fit *f);
 /* Noise sd of a curve from how far each point's force lies from the line
  * through its neighbours in depth (order: indices by depth). */
 double fit_noise_sigma(const double *depth, const double *force, const size_t *order,

@@ -523,7 +523,28 @@ fit_guess(lf_fit *f, lf_error *err)
         }
         m->w = wbest;
     }
+    /* the user's starting point, where given, replaces the automatic one */
+    f->auto_mat = *m;
+    f->user_start = 0;
+    if (f->imat[FIT_W] >= 0 && !isnan(f->set.w.guess)) {
+        m->w = f->set.w.guess;
+        f->user_start = 1;
+    }
+    if (f->imat[FIT_E] >= 0 && !isnan(f->set.Estar.guess)) {
+        m->Estar = f->set.Estar.guess;
+        f->user_start = 1;
+    }
+    if (f->imat[FIT_NU] >= 0 && !isnan(f->set.nu.guess)) {
+        m->nu = f->set.nu.guess;
+        f->user_start = 1;
+    }
+    fit_guess_offsets(f);
+    return LF_OK;
+}
+
+void
+fit_guess_offsets(lf_fit *f)
+{
     offsets_at(f, 1);
     fit_set_origin(f);
-    return LF_OK;
 }

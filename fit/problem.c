@@ -123,6 +123,13 @@ fit_problem_setup(lf_fit *f, lf_error *err)
     if (s->nu.mode != LF_PARAM_AUTO || isfinite(s->nu.value))
         if (!(s->nu.value >= 0 && s->nu.value < 0.5))
             return lf_fail(err, LF_EINVAL, "nu must lie in [0, 0.5) (got %g)", s->nu.value);
+    if (!isnan(s->w.guess) && !(s->w.guess > 0 && isfinite(s->w.guess)))
+        return lf_fail(err, LF_EINVAL, "a guess of w must be finite and > 0 (got %g)", s->w.guess);
+    if (!isnan(s->Estar.guess) && !(s->Estar.guess > 0 && isfinite(s->Estar.guess)))
+        return lf_fail(err, LF_EINVAL, "a guess of E* must be finite and > 0 (got %g)",
+                       s->Estar.guess);
+    if (!isnan(s->nu.guess) && !(s->nu.guess > 0 && s->nu.guess < 0.5))
+        return lf_fail(err, LF_EINVAL, "a guess of nu must lie in (0, 0.5) (got %g)", s->nu.guess);
     if (s->w.mode == LF_PARAM_FIXED && !(s->w.value >= 0 && isfinite(s->w.value)))
         return lf_fail(err, LF_EINVAL, "a fixed w must be finite and >= 0 (got %g)", s->w.value);
     if (s->Estar.mode == LF_PARAM_FIXED && !(s->Estar.value > 0 && isfinite(s->Estar.value)))

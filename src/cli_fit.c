@@ -29,6 +29,10 @@ static const char usage_text[] =
     "  --max-iter N         iterations allowed (200)\n"
     "  --max-b-over-a X     warn where b/a exceeds X (0.1)\n"
     "  --segment S          unload (default) or load\n"
+    "  --guess-w ADH        start the iteration at this w (e.g. 10mJ/m2) instead of\n"
+    "                       the automatic guess\n"
+    "  --guess-E PRESSURE   start at this E* (e.g. 1GPa)\n"
+    "  --guess-nu NU        start at this nu, where nu is fitted\n"
     "exit status: 0 converged, 3 not converged (report still written), 1 failure, 2 bad input\n";
 
 typedef struct {
@@ -36,6 +40,7 @@ typedef struct {
     double k, R, b, nu, fix_nu, fix_z0, fix_F0, max_ba;
     long max_iter;
     int slope;
+    double guess_w, guess_E, guess_nu;
 } fit_args;
 
 /* The data of the run: curves as read, and the arrays handed to the fit. */
@@ -159,7 +164,7 @@ int
 cli_fit(int argc, char **argv)
 {
     fit_args a = { NULL, NULL, "lm", "analytic", "thin", NULL, NULL,
-                   NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, -1, 0 };
+                   NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, -1, 0, NAN, NAN, NAN };
     const cli_opt opts[] = {
         { "json", CLI_STRING, &a.json }, { "curves", CLI_STRING, &a.curves },
         { "method", CLI_STRING, &a.method }, { "jacobian", CLI_STRING, &a.jacobian },
@@ -169,6 +174,8 @@ cli_fit(int argc, char **argv)
         { "fix-nu", CLI_NUMBER, &a.fix_nu }, { "fix-z0", CLI_LENGTH, &a.fix_z0 },
         { "fix-F0", CLI_FORCE, &a.fix_F0 }, { "max-b-over-a", CLI_NUMBER, &a.max_ba },
         { "slope", CLI_FLAG, &a.slope }, { "max-iter", CLI_COUNT, &a.max_iter },
+        { "guess-w", CLI_ADHESION, &a.guess_w }, { "guess-E", CLI_PRESSURE, &a.guess_E },
+        { "guess-nu", CLI_NUMBER, &a.guess_nu },
         { NULL, CLI_FLAG, NULL }
     };
     int npos, help, status, seg_given = 0;
@@ -222,6 +229,15 @@ cli_fit(int argc, char **argv)
         set.max_b_over_a = a.max_ba;
     }
     set.fit_slope = a.slope;
+    if (!isnan(a.guess_w) && !(a.guess_w > 0))
+        cli_die(CLI_EXIT_USAGE, "fit: --guess-w must be > 0 (e.g. --guess-w 10mJ/m2)");
+    if (!isnan(a.guess_E) && !(a.guess_E > 0))
+        cli_die(CLI_EXIT_USAGE, "fit: --guess-E must be > 0 (e.g. --guess-E 1GPa)");
+    if (!isnan(a.guess_nu) && !(a.guess_nu > 0 && a.guess_nu < 0.5))
+        cli_die(CLI_EXIT_USAGE, "fit: --guess-nu must lie in (0, 0.5) (e.g. --guess-nu 0.3)");
+    set.w.guess = a.guess_w;
+    set.Estar.guess = a.guess_E;
+    set.nu.guess = a.guess_nu;
     if (a.max_iter == 0)
         cli_die(CLI_EXIT_USAGE, "fit: --max-iter must be >= 1");
     if (a.max_iter > 0)

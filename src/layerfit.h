@@ -254,6 +254,10 @@ typedef struct {
     double value;        /* SI: the fixed value (FIXED), the value held when
                             AUTO finds it undetermined, or the prior mean */
     double prior_sd;     /* nu only: sd of a Gaussian prior at value, or NaN */
+    double guess;        /* SI: where the iteration starts when fitted, or
+                            NaN (default) for the automatic guess; the
+                            contact points and force offsets are then
+                            profiled at this material */
 } lf_fit_param;
 
 typedef enum {

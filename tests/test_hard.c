@@ -619,6 +619,28 @@ case_unsorted(void)
     scene_free(&s);
 }
 
+/* A user's initial guess 1000x off, both ways: the fit finds the truth
+ * (a start more than 10x from the automatic guess is checked against it,
+ * and the report says when that won). */
+static void
+case_guess_far_off(void)
+{
+    static const double f[2] = { 1000.0, 1e-3 };
+    char label[2][64];
+    int q;
+
+    for (q = 0; q < 2; q++) {
+        scene s = two_probes("");
+        snprintf(label[q], sizeof label[q], "user guess w x %g, E* / %g", f[q], f[q]);
+        s.label = label[q];
+        s.fix_z0 = s.fix_F0 = 1;       /* the start is the point here */
+        s.fit.w.guess = f[q] * s.mat.w;
+        s.fit.Estar.guess = s.mat.Estar / f[q];
+        recover_scene(&s, seeds(20), 0);
+        scene_free(&s);
+    }
+}
+
 int
 main(void)
 {
@@ -639,5 +661,6 @@ main(void)
     case_many_points();
     case_duplicate_depths();
     case_unsorted();
+    case_guess_far_off();
     return t_summary();
 }

@@ -67,5 +67,18 @@ expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (g
     has "not converged: marked" "$tmp/out" "*** NOT CONVERGED"
     has "not converged: stderr" "$tmp/err" "layerfit: fit: not converged: 1 iterations reached"
     has "not converged: json" "$tmp/n.json" '"converged": false'
+    # a user's starting point: near it, the same answer within a standard
+    # error (2%; the cost is flat to 1e-4 there, with kinks where points
+    # cross the contact edge); 1000x off, checked against the automatic
+    # guess and said so
+    run_ok fit "$tmp/d/plan.csv" --json "$tmp/auto.json"
+    run_ok fit "$tmp/d/plan.csv" --guess-w 15mJ/m2 --guess-E 2GPa --json "$tmp/g1.json"
+    near "guess near: same w" "$(sed -n 's/.*"w": {"value": \([^,]*\),.*/\1/p' "$tmp/g1.json")" \
+        "$(sed -n 's/.*"w": {"value": \([^,]*\),.*/\1/p' "$tmp/auto.json")" 0.02
+    run_ok fit "$tmp/d/plan.csv" --guess-w 12.3J/m2 --guess-E 1.85MPa --json "$tmp/g2.json"
+    near "guess 1000x off: w" "$(sed -n 's/.*"w": {"value": \([^,]*\),.*/\1/p' "$tmp/g2.json")" 0.0123 0.1
+    has "guess 1000x off: said" "$tmp/out" "the fit from the given starting point (w = 12.3 J/m^2, E* = 1.85e+06 Pa) ended at a cost"
+    expect_fail 2 "layerfit: fit: --guess-w must be > 0 (e.g. --guess-w 10mJ/m2)" fit "$tmp/d/plan.csv" --guess-w 0J/m2
+    expect_fail 2 "layerfit: fit: --guess-nu must lie in (0, 0.5) (e.g. --guess-nu 0.3)" fit "$tmp/d/plan.csv" --guess-nu 0.5
 }
 summary
