@@ -50,6 +50,8 @@ lf_fit_settings_default(void)
     s.ftol = 0.0;
     s.rcond = 1e-7;
     s.max_b_over_a = 0.1;
+    s.loss = LF_LOSS_LINEAR;
+    s.loss_scale = NAN;
     return s;
 }
 
@@ -117,6 +119,26 @@ depth_order(lf_fit *f)
     return LF_OK;
 }
 
+const char *
+lf_loss_name(lf_loss loss)
+{
+    switch (loss) {
+    case LF_LOSS_HUBER:  return "huber";
+    case LF_LOSS_CAUCHY: return "cauchy";
+    default:             return "linear";
+    }
+}
+
+int
+lf_loss_find(const char *name)
+{
+    int l;
+    for (l = LF_LOSS_LINEAR; l <= LF_LOSS_CAUCHY; l++)
+        if (strcmp(name, lf_loss_name((lf_loss) l)) == 0)
+            return l;
+    return -1;
+}
+
 /* Depth span, force scale, guard width and noise of each curve. */
 static int
 curve_scales(lf_fit *f, lf_error *err)
@@ -169,6 +191,11 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
         lf_fail(err, LF_EINVAL, "fit settings out of range (jacobian, max_iter, rcond, max_b_over_a)");
         return NULL;
     }
+    if (settings->loss > LF_LOSS_CAUCHY
+        || !(isnan(settings->loss_scale) || (settings->loss_scale > 0 && isfinite(settings->loss_scale)))) {
+        lf_fail(err, LF_EINVAL, "fit settings out of range (loss, loss_scale > 0)");
+        return NULL;
+    }
     if (ncurves == 0) {
         lf_fail(err, LF_EDATA, "no curves to fit");
         return NULL;
@@ -202,11 +229,13 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     f->xcache = calloc(f->np, sizeof *f->xcache);
     f->ev = calloc(f->ndata, sizeof *f->ev);
     f->scan_ev = calloc(f->ndata, sizeof *f->scan_ev);
+    f->sqrtw = malloc(f->ndata * sizeof *f->sqrtw);
     f->delta = calloc(f->ndata, sizeof *f->delta);
     f->work = calloc(f->ndata > 2 * NSUB_MAX ? f->ndata : 2 * NSUB_MAX, sizeof *f->work);
     f->sub = calloc(3 * NSUB_MAX + GUESS_NODES, sizeof *f->sub);
     f->order = malloc(f->ndata * sizeof *f->order);
-    if (!f->x0_internal || !f->xcache || !f->ev || !f->scan_ev || !f->delta || !f->work || !f->sub
+    if (!f->x0_internal || !f->xcache || !f->ev || !f->scan_ev || !f->sqrtw || !f->delta
+        || !f->work || !f->sub
         || !f->order || depth_order(f) != LF_OK)
         goto nomem;
     par.trs = f->trs;
@@ -252,6 +281,7 @@ lf_fit_free(lf_fit *f)
     free(f->work);
     free(f->order);
     free(f->scan_ev);
+    free(f->sqrtw);
     free(f->sub);
     if (f->gsl != NULL)
         gsl_multifit_nlinear_free(f->gsl);
@@ -319,7 +349,8 @@ solve(lf_fit *f, gsl_vector *x, int after_scan, size_t *iters, char *why, size_t
                                          f->set.ftol, NULL, NULL, &info, f->gsl);
     *iters = gsl_multifit_nlinear_niter(f->gsl);
     /* GSL reports "no step lowers the cost from the start" as EMAXITER
-     * with info ENOPROG */
+     * with info ENOPROG.  after_scan: x is a converged solution moved by
+     * the contact-point scan or a reweighting */
     if (status == GSL_EMAXITER && info == GSL_ENOPROG && *iters < f->set.max_iter)
         status = GSL_ENOPROG;
     stop_reason(status, info, f->set.max_iter, why, nwhy, converged);
@@ -327,23 +358,24 @@ solve(lf_fit *f, gsl_vector *x, int after_scan, size_t *iters, char *why, size_t
         /* after the contact-point scan the cost sits at a kink of the
          * model, where the gradient need not vanish */
         *converged = 1;
-        snprintf(why, nwhy, after_scan ? "converged (no step lowers the cost after the "
-                 "contact-point scan)" : "converged (no further decrease at a stationary point)");
+        snprintf(why, nwhy, after_scan ? "converged (no step lowers the cost from the previous "
+                 "solution)" : "converged (no further decrease at a stationary point)");
     }
     for (i = 0; i < f->np; i++)
         gsl_vector_set(x, i, gsl_vector_get(gsl_multifit_nlinear_position(f->gsl), i));
     return LF_OK;
 }
 
-/* Curve j's weighted sum of squares at material mat and contact point z0,
- * with its force offset (when free) at its best value for them, returned
- * in *F0; slope as given.  HUGE_VAL when the model cannot be evaluated. */
+/* Curve j's weighted sum of squares (robust weights included) at material
+ * mat and contact point z0, with its force offset (when free) at its best
+ * value for them, returned in *F0; slope as given.  HUGE_VAL when the model cannot be evaluated. */
 static double
 curve_cost(lf_fit *f, size_t j, const lf_material *mat, double z0, double *F0,
            double slope)
 {
     const fit_curve *c = &f->c[j];
     double *delta = f->work, sum = 0.0, ss = 0.0;
+    const double *sw = f->sqrtw + c->row;
     lf_eval *e = f->scan_ev;
     size_t i, n = c->data.n;
 
@@ -352,12 +384,16 @@ curve_cost(lf_fit *f, size_t j, const lf_material *mat, double z0, double *F0,
     if (lf_model_eval(c->model, mat, c->data.branch, n, delta, e, NULL) != LF_OK)
         return HUGE_VAL;
     if (c->iF0 >= 0) {
-        for (i = 0; i < n; i++)
-            sum += c->data.force[i] - e[i].P - slope * delta[i];
-        *F0 = sum / (double) n;
+        double wsum = 0.0;
+        for (i = 0; i < n; i++) {
+            double wt = sw[i] * sw[i];
+            sum += wt * (c->data.force[i] - e[i].P - slope * delta[i]);
+            wsum += wt;
+        }
+        *F0 = sum / wsum;
     }
     for (i = 0; i < n; i++) {
-        double r = (e[i].P + *F0 + slope * delta[i] - c->data.force[i]) / c->sigma;
+        double r = (e[i].P + *F0 + slope * delta[i] - c->data.force[i]) / c->sigma * sw[i];
         ss += r * r;
     }
     return isfinite(ss) ? ss : HUGE_VAL;
@@ -492,6 +528,121 @@ start_far(const lf_fit *f)
            || (f->imat[FIT_E] >= 0 && fabs(log(f->mat.Estar / f->auto_mat.Estar)) > far);
 }
 
+#define MAX_REWEIGHT 50
+
+/* Robust loss by iteratively reweighted least squares: with u the residual
+ * in units of loss_scale noise sd, the weights are min(1, 1/|u|) (Huber)
+ * or 1/(1 + u^2) (Cauchy); refit from where the last fit ended until no
+ * weight's square root moves by more than 1e-4. */
+static int
+reweight(lf_fit *f, gsl_vector *x, gsl_vector *r, size_t *iters, size_t *evals, char *why,
+         size_t nwhy, int *converged, size_t *rounds, lf_error *err)
+{
+    const double scale = !isnan(f->set.loss_scale) ? f->set.loss_scale
+                         : f->set.loss == LF_LOSS_HUBER ? 1.345 : 2.385;
+    size_t round, k;
+    int status = LF_OK, scan;
+
+    for (round = 0; round < MAX_REWEIGHT; round++) {
+        double moved = 0.0;
+        size_t it;
+        if (fit_residuals(x, f, r) != GSL_SUCCESS)
+            return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated while reweighting");
+        for (k = 0; k < f->ndata; k++) {
+            double u = fabs(gsl_vector_get(r, k) / f->sqrtw[k]) / scale, wt, s;
+            wt = f->set.loss == LF_LOSS_HUBER ? (u <= 1.0 ? 1.0 : 1.0 / u) : 1.0 / (1.0 + u * u);
+            s = sqrt(wt);
+            moved = fmax(moved, fabs(s - f->sqrtw[k]));
+            f->sqrtw[k] = s;
+        }
+        f->xcache_ok = 0;
+        *rounds = round + 1;
+        if (moved < 1e-4)
+            break;
+        status = solve(f, x, 1, &it, why, nwhy, converged, err);
+        *iters += it;
+        *evals += f->fdf.nevalf + f->fdf.nevaldf;
+        for (scan = 0; status == LF_OK && scan < MAX_SCANS && edge_scan(f, x); scan++) {
+            status = solve(f, x, 1, &it, why, nwhy, converged, err);
+            *iters += it;
+            *evals += f->fdf.nevalf + f->fdf.nevaldf;
+        }
+        if (status != LF_OK)
+            return status;
+    }
+    if (round == MAX_REWEIGHT) {
+        *converged = 0;
+        snprintf(why, nwhy, "not converged: the robust weights still move after %d rounds",
+                 MAX_REWEIGHT);
+    }
+    return status;
+}
+
+/* Every curve of three or more disagrees with the joint fit: refit
+ * without each in turn.  When exactly one curve's absence lets all the
+ * others agree, that curve is named; when none or several do, the
+ * disagreement is reported as general. */
+static void
+leave_one_out(lf_fit *f, lf_fit_result *res)
+{
+    size_t j, i, m, culprit = 0, ncul = 0, n = f->ncurves;
+    lf_fit_curve *sub = malloc(n * sizeof *sub);
+    double *worst = malloc(n * sizeof *worst);
+    lf_material *mat = malloc(n * sizeof *mat);
+
+    if (sub == NULL || worst == NULL || mat == NULL)
+        goto done;
+    for (j = 0; j < n; j++) {
+        lf_fit *g;
+        lf_fit_result r;
+        int ok = 1;
+        for (i = 0, m = 0; i < n; i++)
+            if (i != j)
+                sub[m++] = f->c[i].data;
+        worst[j] = HUGE_VAL;
+        g = lf_fit_alloc(&f->set, m, sub, NULL);
+        if (g == NULL)
+            continue;
+        g->no_loo = 1;
+        if (lf_fit_run(g, &r, NULL) == LF_OK) {
+            worst[j] = 0.0;
+            for (i = 0; i < m; i++) {
+                ok &= r.curves[i].consistent;
+                worst[j] = fmax(worst[j], r.curves[i].chi2_per_point);
+            }
+            mat[j].w = r.w.value;
+            mat[j].Estar = r.Estar.value;
+            if (ok) {
+                culprit = j;
+                ncul++;
+            }
+            lf_fit_result_free(&r);
+        }
+        lf_fit_free(g);
+    }
+    if (ncul == 1) {
+        const lf_fit_curve_result *cr = &res->curves[culprit];
+        for (j = 0; j < n; j++)
+            res->curves[j].consistent = j != culprit;
+        lf_warn(&res->warnings, "curve %zu (%s) disagrees with the others: its residuals are "
+                "%.3g times its noise (runs test z = %.3g); fitted without it, the other curves "
+                "agree (chi2/point at most %.3g; w = %.4g J/m^2, E* = %.4g Pa): check its k, R, "
+                "b, interface and segment", culprit + 1, cr->name ? cr->name : "",
+                sqrt(cr->chi2_per_point), cr->runs_z, worst[culprit], mat[culprit].w,
+                mat[culprit].Estar);
+    } else {
+        lf_warn(&res->warnings, "the curves disagree with the model fitted to them all, and %s "
+                "(chi2/point of the worst curve %.3g): check the model and each curve's probe",
+                ncul == 0 ? "leaving out any one curve does not help"
+                          : "leaving out one of several curves helps",
+                res->curves[0].chi2_per_point);
+    }
+done:
+    free(sub);
+    free(worst);
+    free(mat);
+}
+
 int
 lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
 {
@@ -503,6 +654,9 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
 
     memset(res, 0, sizeof *res);
     f->xcache_ok = 0;
+    for (iters = 0; iters < f->ndata; iters++)
+        f->sqrtw[iters] = 1.0;
+    iters = 0;
     status = fit_guess(f, err);
     if (status != LF_OK)
         return status;
@@ -568,6 +722,9 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
             free(keep);
         }
     }
+    if (status == LF_OK && f->set.loss != LF_LOSS_LINEAR)
+        status = reweight(f, x, r, &iters, &evals, why, sizeof why, &converged, &res->reweightings,
+                          err);
     res->iterations = iters;
     gsl_vector_free(r);
     if (status != LF_OK) {
@@ -584,7 +741,15 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
     }
     res->converged = converged;
     snprintf(res->stop_reason, sizeof res->stop_reason, "%s", why);
+    if (!f->no_loo && f->ncurves >= 3) {
+        size_t j, bad = 0;
+        for (j = 0; j < f->ncurves; j++)
+            bad += !res->curves[j].consistent;
+        if (bad == f->ncurves)
+            leave_one_out(f, res);
+    }
     res->method = f->set.method;
+    res->loss = lf_loss_name(f->set.loss);
     res->model = f->set.model->name;
     if (!converged) {
         lf_warn(&res->warnings, "the fit did not converge (%s): the numbers below are where it stopped", why);

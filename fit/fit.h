@@ -57,9 +57,12 @@ struct lf_fit {
     lf_material mat;     /* held values, then the guess, then the fit */
     lf_material auto_mat; /* the automatic guess */
     int user_start;      /* 1 when the settings' guess replaced some of it */
+    int no_loo;          /* 1: a leave-one-out refit, which makes none itself */
     double *x0_internal; /* np: internal coordinates at the guess */
     lf_eval *ev;         /* ndata: model at the last residual evaluation */
     lf_eval *scan_ev;    /* ndata: scratch of the contact-point scan */
+    double *sqrtw;       /* ndata: square roots of the robust loss's point
+                            weights (1 for least squares) */
     double *delta;       /* ndata: indentations */
     double *xcache;      /* np: the x of ev[]; xcache_ok when valid */
     int xcache_ok;

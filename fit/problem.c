@@ -198,7 +198,8 @@ fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
         fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         for (i = 0; i < c->data.n; i++) {
             size_t k = c->row + i;
-            double v = (f->ev[k].P + F0 + slope * f->delta[k] - c->data.force[i]) / c->sigma;
+            double v = (f->ev[k].P + F0 + slope * f->delta[k] - c->data.force[i]) / c->sigma
+                       * f->sqrtw[k];
             if (!isfinite(v))
                 return GSL_EDOM;
             gsl_vector_set(r, k, v);
@@ -272,7 +273,7 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
         for (i = 0; i < c->data.n; i++) {
             size_t k = c->row + i;
             lf_eval e = guarded(f, c, &mat, ddet, k);
-            double ws = 1.0 / c->sigma;
+            double ws = f->sqrtw[k] / c->sigma;
             put(J, k, f->imat[FIT_W], e.dP_dlogw * sw * ws);
             put(J, k, f->imat[FIT_E], e.dP_dlogE * sE * ws);
             put(J, k, f->imat[FIT_NU], e.dP_dnu * snu * ws);

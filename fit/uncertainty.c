@@ -21,6 +21,7 @@
 #include <string.h>
 
 #include <gsl/gsl_blas.h>
+#include <gsl/gsl_cdf.h>
 #include <gsl/gsl_linalg.h>
 
 #include "fit.h"
@@ -336,6 +337,51 @@ explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
                 r->singular[f->np - 1]);
 }
 
+/* Does curve j agree with the material fitted to all curves?  Its
+ * residuals over its own noise sd (estimated from the data, not the model;
+ * robust weights included): chi2 per point and its chi-square tail, and
+ * the Wald-Wolfowitz runs test of their signs in order of depth, which a
+ * misfit in shape (a wrong k, R, b or interface) drives far below 0 while
+ * the noise level does not matter to it. */
+static void
+consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_result *cr)
+{
+    const fit_curve *c = &f->c[j];
+    const size_t *ord = f->order + c->row;
+    size_t i, npos = 0, nneg = 0, runs = 0, own = 0;
+    double chi2 = 0.0, mu, var, nn;
+    int last = 0;
+
+    for (i = 0; i < c->data.n; i++) {
+        double u = gsl_vector_get(res, c->row + ord[i]);
+        int sgn = u > 0 ? 1 : u < 0 ? -1 : 0;
+        chi2 += u * u;
+        if (sgn == 0)
+            continue;
+        if (sgn > 0)
+            npos++;
+        else
+            nneg++;
+        if (sgn != last)
+            runs++;
+        last = sgn;
+    }
+    cr->downweighted = 0;
+    for (i = 0; i < c->data.n; i++)
+        cr->downweighted += f->sqrtw[c->row + i] * f->sqrtw[c->row + i] < 0.5;
+    own = (size_t) (c->iz0 >= 0) + (size_t) (c->iF0 >= 0) + (size_t) (c->islope >= 0);
+    cr->chi2_per_point = chi2 / (double) c->data.n;
+    cr->p_value = c->data.n > own ? gsl_cdf_chisq_Q(chi2, (double) (c->data.n - own)) : NAN;
+    nn = (double) (npos + nneg);
+    mu = 2.0 * (double) npos * (double) nneg / nn + 1.0;
+    var = (mu - 1.0) * (mu - 2.0) / (nn - 1.0);
+    cr->runs_z = nn > 1 && var > 0 ? ((double) runs - mu) / sqrt(var) : 0.0;
+    /* the noise sd is itself estimated (to some 10% for 300 points), so
+     * chi2 alone flags only a gross excess; the runs test does not depend
+     * on it */
+    cr->consistent = !(cr->runs_z < -4.0 || cr->chi2_per_point > 4.0);
+}
+
 static void
 assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
              const double *nullw, const gsl_vector *res)
@@ -368,7 +414,7 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
     cr->sigma = c->sigma;
     for (i = 0; i < c->data.n; i++) {
         size_t k = c->row + i;
-        double e = gsl_vector_get(res, k) * c->sigma;
+        double e = gsl_vector_get(res, k) * c->sigma / f->sqrtw[k];
         ss += e * e;
         cr->fitted[i] = c->data.force[i] + e;
         cr->contact_radius[i] = f->ev[k].a;
@@ -387,9 +433,42 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
     if (cr->b_over_a_pulloff > f->set.max_b_over_a)
         lf_warn(&cr->warnings, "b/a = %.3g at pull-off: the thin-layer assumption b << a is "
                 "strained (limit %g)", cr->b_over_a_pulloff, f->set.max_b_over_a);
+    consistency(f, j, res, cr);
+    if (cr->downweighted > 0)
+        lf_warn(&cr->warnings, "%zu points weigh less than half under the %s loss (outliers)",
+                cr->downweighted, lf_loss_name(f->set.loss));
     if (cr->rms > 1.5 * c->sigma)
         lf_warn(&cr->warnings, "residuals are %.2g times the noise estimated from the data: "
                 "the model does not describe this curve well", cr->rms / c->sigma);
+}
+
+/* Name the curves that disagree with the material fitted to all of them. */
+static void
+agreement(const lf_fit *f, lf_fit_result *r)
+{
+    size_t j, bad = 0;
+
+    for (j = 0; j < f->ncurves; j++)
+        bad += !r->curves[j].consistent;
+    /* when all of three or more disagree, one bad curve may be dragging the
+     * material: the driver refits without each (leave_one_out) */
+    if (bad == 0 || (bad == f->ncurves && f->ncurves >= 3))
+        return;
+    for (j = 0; j < f->ncurves; j++) {
+        const lf_fit_curve_result *cr = &r->curves[j];
+        if (cr->consistent)
+            continue;
+        if (bad < f->ncurves)
+            lf_warn(&r->warnings, "curve %zu (%s) disagrees with the others: its residuals are "
+                    "%.3g times its noise (chi2/point %.3g, p = %.2g; runs test z = %.3g): check "
+                    "its k, R, b, interface and segment", j + 1, cr->name ? cr->name : "",
+                    sqrt(cr->chi2_per_point), cr->chi2_per_point, cr->p_value, cr->runs_z);
+        else
+            lf_warn(&r->warnings, "curve %zu (%s) is not described by the model: its residuals are "
+                    "%.3g times its noise (chi2/point %.3g, p = %.2g; runs test z = %.3g)",
+                    j + 1, cr->name ? cr->name : "", sqrt(cr->chi2_per_point),
+                    cr->chi2_per_point, cr->p_value, cr->runs_z);
+    }
 }
 
 int
@@ -489,6 +568,7 @@ fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
                                  / sqrt(r->cov[i * p + i] * r->cov[k * p + k]);
     for (j = 0; j < f->ncurves; j++)
         assess_curve(f, x, j, r, nullw, res);
+    agreement(f, r);
     explain(f, r, nullw);
     if (r->chi2 / (double) r->dof > 2.0)
         lf_warn(&r->warnings, "chi2/dof = %.3g: the residuals exceed the point-to-point noise "

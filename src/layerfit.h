@@ -266,6 +266,19 @@ typedef enum {
     LF_JAC_CENTRAL       /* GSL central finite differences */
 } lf_jacobian;
 
+/* How residuals count: least squares, or a robust loss solved by
+ * iteratively reweighted least squares (points far from the model, in
+ * units of their curve's noise sd, get less weight). */
+typedef enum {
+    LF_LOSS_LINEAR = 0,  /* least squares (default) */
+    LF_LOSS_HUBER,       /* quadratic within loss_scale sd, linear beyond */
+    LF_LOSS_CAUCHY       /* log(1 + (r/loss_scale)^2): far points hardly count */
+} lf_loss;
+
+/* "linear", "huber", "cauchy"; lf_loss_find returns -1 for an unknown name. */
+const char *lf_loss_name(lf_loss loss);
+int lf_loss_find(const char *name);
+
 typedef struct {
     const lf_model_type *model; /* forward model (default lf_model_thin) */
     const char *method;         /* trust-region method: "lm" (default),
@@ -283,6 +296,11 @@ typedef struct {
                                    below rcond * the largest is not
                                    determined (default 1e-7) */
     double max_b_over_a;        /* warn where b/a exceeds this (default 0.1) */
+    lf_loss loss;               /* default LF_LOSS_LINEAR */
+    double loss_scale;          /* robust losses: in units of each curve's
+                                   noise sd; NaN (default) for the usual
+                                   constants with 95% efficiency on Gaussian
+                                   noise, 1.345 (Huber) and 2.385 (Cauchy) */
 } lf_fit_settings;
 
 lf_fit_settings lf_fit_settings_default(void);
@@ -331,6 +349,21 @@ typedef struct {
     double b_over_a_pulloff;     /* b/a at force-controlled pull-off */
     double *fitted;         /* n fitted forces, N */
     double *contact_radius; /* n contact radii, m */
+    /* Is this curve consistent with the material fitted to all?  The noise
+     * sd comes from the data alone (not the model), so: */
+    double chi2_per_point;  /* sum (residual/sigma)^2 / n: about 1 when the
+                               model describes the curve */
+    double p_value;         /* chance of a chi2 that high or higher if it
+                               does (chi-square with n - its own parameters
+                               degrees of freedom, the noise sd taken as
+                               known: it is estimated to ~10%, so read
+                               small p with chi2_per_point near 1 calmly) */
+    double runs_z;          /* Wald-Wolfowitz runs test of the residuals'
+                               signs in order of depth: about N(0, 1) if the
+                               model fits, far below 0 for systematic misfit */
+    int consistent;         /* 0: the curve disagrees (runs_z < -4, or
+                               chi2_per_point > 4) */
+    size_t downweighted;    /* robust loss: points weighted below 1/2 */
     lf_warnings warnings;
 } lf_fit_curve_result;
 
@@ -353,6 +386,8 @@ typedef struct {
     char stop_reason[160];
     const char *method;     /* static strings */
     const char *model;
+    const char *loss;       /* "linear", "huber" or "cauchy" */
+    size_t reweightings;    /* robust loss: reweighting rounds */
     size_t ncurves;
     lf_fit_curve_result *curves;
     lf_warnings identifiability; /* what the data determine, in words */

@@ -142,7 +142,7 @@ recover_scene(scene *s, size_t n, int want_nu)
 {
     cover cw = { "w", 0, 0, 0, 0, 0 }, cE = { "E*", 0, 0, 0, 0, 0 };
     cover cn = { "nu", 0, 0, 0, 0, 0 };
-    size_t i, bad = 0, nconv = 0;
+    size_t i, j, bad = 0, nconv = 0, flagged = 0;
 
     for (i = 0; i < n; i++) {
         lf_fit_result res;
@@ -151,6 +151,13 @@ recover_scene(scene *s, size_t n, int want_nu)
         int st = scene_fit(s, seed, &res, &err);
         if (!ended(s->label, seed, st, &res, &err, &bad))
             continue;
+        for (j = 0; j < res.ncurves; j++)
+            if (!res.curves[j].consistent) {
+                flagged++;
+                printf("%s seed %lu: curve %zu flagged: chi2/pt %.3g p %.2g runs z %.2f\n",
+                       s->label, seed, j + 1, res.curves[j].chi2_per_point,
+                       res.curves[j].p_value, res.curves[j].runs_z);
+            }
         if (st == LF_OK) {
             nconv++;
             cover_add(&cw, &res.w, s->mat.w);
@@ -164,6 +171,7 @@ recover_scene(scene *s, size_t n, int want_nu)
     }
     t_int((long) bad, 0, "%s: every fit ends", s->label);
     t_int((long) nconv, (long) n, "%s: every fit converges (%zu seeds)", s->label, n);
+    t_int((long) flagged, 0, "%s: no curve flagged as disagreeing", s->label);
     cover_check(s->label, &cw, nconv, 1);
     cover_check(s->label, &cE, nconv, 1);
     if (want_nu)
@@ -641,6 +649,118 @@ case_guess_far_off(void)
     }
 }
 
+/* A few points 50 noise sd off: plain least squares is pulled away (its
+ * error many times what the robust fit reports as its uncertainty, and its
+ * own standard errors inflated), the Huber and Cauchy losses recover the
+ * truth within their uncertainty and count the outliers. */
+static void
+case_outliers(void)
+{
+    enum { NOUT = 4 };
+    const lf_loss losses[3] = { LF_LOSS_LINEAR, LF_LOSS_HUBER, LF_LOSS_CAUCHY };
+    scene s = two_probes("outliers");
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    size_t i, j, q, l, n = seeds(20), lost_plain = 0, bad[3] = { 0, 0, 0 }, nconv[3] = { 0, 0, 0 };
+    size_t counted[3] = { 0, 0, 0 };
+    double ss_plain = 0, ss_huber = 0;
+    cover cw[3], cE[3];
+    char label[3][64];
+
+    s.fix_z0 = s.fix_F0 = 1;
+    for (l = 0; l < 3; l++) {
+        snprintf(label[l], sizeof label[l], "%d outliers of 50 sd per curve, %s loss", NOUT,
+                 lf_loss_name(losses[l]));
+        cw[l] = (cover) { "w", 0, 0, 0, 0, 0 };
+        cE[l] = (cover) { "E*", 0, 0, 0, 0, 0 };
+    }
+    for (i = 0; i < n; i++) {
+        double w_plain = NAN, wse_robust = NAN, w_huber = NAN;
+        scene_simulate(&s, 900 + i);
+        gsl_rng_set(rng, 900 + i);
+        for (j = 0; j < s.n; j++)
+            for (q = 0; q < NOUT; q++) {
+                size_t at = gsl_rng_uniform_int(rng, s.sim.points);
+                s.force[j][at] += (gsl_rng_uniform(rng) < 0.5 ? -50.0 : 50.0) * s.sigma[j];
+            }
+        for (l = 0; l < 3; l++) {
+            lf_fit_result res;
+            lf_error err;
+            int st;
+            s.fit.loss = losses[l];
+            st = lf_fit_driver(&s.fit, s.n, s.curve, &res, &err);
+            if (!ended(label[l], 900 + i, st, &res, &err, &bad[l]))
+                continue;
+            if (st == LF_OK) {
+                nconv[l]++;
+                if (l == 0) {
+                    w_plain = res.w.value;
+                } else {
+                    if (l == 1) {
+                        wse_robust = res.w.se;
+                        w_huber = res.w.value;
+                    }
+                    cover_add(&cw[l], &res.w, s.mat.w);
+                    cover_add(&cE[l], &res.Estar, s.mat.Estar);
+                    for (j = 0; j < res.ncurves; j++)
+                        counted[l] += res.curves[j].downweighted >= NOUT;
+                }
+            } else {
+                printf("%s seed %zu: %s\n", label[l], 900 + i, res.stop_reason);
+            }
+            lf_fit_result_free(&res);
+        }
+        lost_plain += !(fabs(w_plain - s.mat.w) <= 3 * wse_robust);
+        ss_plain += (w_plain - s.mat.w) * (w_plain - s.mat.w);
+        ss_huber += (w_huber - s.mat.w) * (w_huber - s.mat.w);
+    }
+    for (l = 0; l < 3; l++) {
+        t_int((long) bad[l], 0, "%s: every fit ends", label[l]);
+        t_int((long) nconv[l], (long) n, "%s: every fit converges", label[l]);
+        if (l > 0) {
+            cover_check(label[l], &cw[l], nconv[l], 1);
+            cover_check(label[l], &cE[l], nconv[l], 1);
+            t_int((long) counted[l], (long) (nconv[l] * s.n),
+                  "%s: at least the outliers down-weighted on every curve", label[l]);
+        }
+    }
+    t_true(ss_plain > 9 * ss_huber, "%s: RMS error of w %.3g, 3 times the Huber fit's (%.3g) "
+           "or more; > 3 robust se off in %zu of %zu seeds", label[0], sqrt(ss_plain / (double) n),
+           sqrt(ss_huber / (double) n), lost_plain, n);
+    gsl_rng_free(rng);
+    scene_free(&s);
+}
+
+/* Three curves, one declared with the wrong k: the report names it. */
+static void
+case_wrong_k(void)
+{
+    scene s = scene_default("k = 3 curve declared as k = 2.5");
+    size_t i, n = seeds(20), bad = 0, named = 0, only = 0;
+
+    scene_add(&s, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    scene_add(&s, 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    scene_add(&s, 4.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    s.sim.noise = 0.002;
+    for (i = 0; i < n; i++) {
+        lf_fit_result res;
+        lf_error err;
+        int st;
+        scene_simulate(&s, 1000 + i);
+        s.curve[1].probe.k = 2.5;              /* the plan's mistake */
+        st = lf_fit_driver(&s.fit, s.n, s.curve, &res, &err);
+        if (!ended(s.label, 1000 + i, st, &res, &err, &bad))
+            continue;
+        named += strstr(joined(&res.warnings), "curve 2 (k = 3 curve declared as k = 2.5) "
+                        "disagrees with the others") != NULL;
+        only += !res.curves[1].consistent && res.curves[0].consistent && res.curves[2].consistent;
+        lf_fit_result_free(&res);
+    }
+    t_int((long) bad, 0, "%s: every fit ends", s.label);
+    t_int((long) named, (long) n, "%s: the report names curve 2", s.label);
+    t_int((long) only, (long) n, "%s: only curve 2 is flagged", s.label);
+    scene_free(&s);
+}
+
 int
 main(void)
 {
@@ -662,5 +782,7 @@ main(void)
     case_duplicate_depths();
     case_unsorted();
     case_guess_far_off();
+    case_outliers();
+    case_wrong_k();
     return t_summary();
 }
