@@ -101,6 +101,11 @@ double fit_noise_sigma(const double *depth, const double *force, const size_t *o
                        size_t n, double *work);
 
 /* uncertainty.c */
+/* Wald-Wolfowitz runs test of the signs of curve j's residuals in order of
+ * depth: about N(0, 1) when the model fits; below FIT_RUNS_Z_BAD, the
+ * curve's shape is not the model's. */
+#define FIT_RUNS_Z_BAD (-4.0)
+double fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res);
 int fit_assess(lf_fit *f, const double *x, lf_fit_result *res, lf_error *err);
 
 #endif

@@ -337,25 +337,18 @@ explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
                 r->singular[f->np - 1]);
 }
 
-/* Does curve j agree with the material fitted to all curves?  Its
- * residuals over its own noise sd (estimated from the data, not the model;
- * robust weights included): chi2 per point and its chi-square tail, and
- * the Wald-Wolfowitz runs test of their signs in order of depth, which a
- * misfit in shape (a wrong k, R, b or interface) drives far below 0 while
- * the noise level does not matter to it. */
-static void
-consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_result *cr)
+double
+fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
 {
     const fit_curve *c = &f->c[j];
     const size_t *ord = f->order + c->row;
-    size_t i, npos = 0, nneg = 0, runs = 0, own = 0;
-    double chi2 = 0.0, mu, var, nn;
+    size_t i, npos = 0, nneg = 0, runs = 0;
+    double mu, var, nn;
     int last = 0;
 
     for (i = 0; i < c->data.n; i++) {
         double u = gsl_vector_get(res, c->row + ord[i]);
         int sgn = u > 0 ? 1 : u < 0 ? -1 : 0;
-        chi2 += u * u;
         if (sgn == 0)
             continue;
         if (sgn > 0)
@@ -366,20 +359,42 @@ consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_resul
             runs++;
         last = sgn;
     }
+    nn = (double) (npos + nneg);
+    if (nn < 2)
+        return 0.0;
+    mu = 2.0 * (double) npos * (double) nneg / nn + 1.0;
+    var = (mu - 1.0) * (mu - 2.0) / (nn - 1.0);
+    return var > 0 ? ((double) runs - mu) / sqrt(var) : 0.0;
+}
+
+/* Does curve j agree with the material fitted to all curves?  Its
+ * residuals over its own noise sd (estimated from the data, not the model;
+ * robust weights included): chi2 per point and its chi-square tail, and
+ * the Wald-Wolfowitz runs test of their signs in order of depth, which a
+ * misfit in shape (a wrong k, R, b or interface) drives far below 0 while
+ * the noise level does not matter to it. */
+static void
+consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_result *cr)
+{
+    const fit_curve *c = &f->c[j];
+    size_t i, own;
+    double chi2 = 0.0;
+
+    for (i = 0; i < c->data.n; i++) {
+        double u = gsl_vector_get(res, c->row + i);
+        chi2 += u * u;
+    }
     cr->downweighted = 0;
     for (i = 0; i < c->data.n; i++)
         cr->downweighted += f->sqrtw[c->row + i] * f->sqrtw[c->row + i] < 0.5;
     own = (size_t) (c->iz0 >= 0) + (size_t) (c->iF0 >= 0) + (size_t) (c->islope >= 0);
     cr->chi2_per_point = chi2 / (double) c->data.n;
     cr->p_value = c->data.n > own ? gsl_cdf_chisq_Q(chi2, (double) (c->data.n - own)) : NAN;
-    nn = (double) (npos + nneg);
-    mu = 2.0 * (double) npos * (double) nneg / nn + 1.0;
-    var = (mu - 1.0) * (mu - 2.0) / (nn - 1.0);
-    cr->runs_z = nn > 1 && var > 0 ? ((double) runs - mu) / sqrt(var) : 0.0;
+    cr->runs_z = fit_runs_z(f, j, res);
     /* the noise sd is itself estimated (to some 10% for 300 points), so
      * chi2 alone flags only a gross excess; the runs test does not depend
      * on it */
-    cr->consistent = !(cr->runs_z < -4.0 || cr->chi2_per_point > 4.0);
+    cr->consistent = !(cr->runs_z < FIT_RUNS_Z_BAD || cr->chi2_per_point > 4.0);
 }
 
 static void

@@ -33,6 +33,10 @@ static const char usage_text[] =
     "                       the automatic guess\n"
     "  --guess-E PRESSURE   start at this E* (e.g. 1GPa)\n"
     "  --guess-nu NU        start at this nu, where nu is fitted\n"
+    "  --loss L             linear (least squares, default), huber or cauchy: robust\n"
+    "                       losses down-weight outliers (iteratively reweighted)\n"
+    "  --loss-scale X       where the robust loss bends, in noise sd (1.345 huber,\n"
+    "                       2.385 cauchy)\n"
     "exit status: 0 converged, 3 not converged (report still written), 1 failure, 2 bad input\n";
 
 typedef struct {
@@ -41,6 +45,8 @@ typedef struct {
     long max_iter;
     int slope;
     double guess_w, guess_E, guess_nu;
+    const char *loss;
+    double loss_scale;
 } fit_args;
 
 /* The data of the run: curves as read, and the arrays handed to the fit. */
@@ -164,7 +170,8 @@ int
 cli_fit(int argc, char **argv)
 {
     fit_args a = { NULL, NULL, "lm", "analytic", "thin", NULL, NULL,
-                   NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, -1, 0, NAN, NAN, NAN };
+                   NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, -1, 0, NAN, NAN, NAN,
+                   "linear", NAN };
     const cli_opt opts[] = {
         { "json", CLI_STRING, &a.json }, { "curves", CLI_STRING, &a.curves },
         { "method", CLI_STRING, &a.method }, { "jacobian", CLI_STRING, &a.jacobian },
@@ -175,7 +182,8 @@ cli_fit(int argc, char **argv)
         { "fix-F0", CLI_FORCE, &a.fix_F0 }, { "max-b-over-a", CLI_NUMBER, &a.max_ba },
         { "slope", CLI_FLAG, &a.slope }, { "max-iter", CLI_COUNT, &a.max_iter },
         { "guess-w", CLI_ADHESION, &a.guess_w }, { "guess-E", CLI_PRESSURE, &a.guess_E },
-        { "guess-nu", CLI_NUMBER, &a.guess_nu },
+        { "guess-nu", CLI_NUMBER, &a.guess_nu }, { "loss", CLI_STRING, &a.loss },
+        { "loss-scale", CLI_NUMBER, &a.loss_scale },
         { NULL, CLI_FLAG, NULL }
     };
     int npos, help, status, seg_given = 0;
@@ -235,6 +243,12 @@ cli_fit(int argc, char **argv)
         cli_die(CLI_EXIT_USAGE, "fit: --guess-E must be > 0 (e.g. --guess-E 1GPa)");
     if (!isnan(a.guess_nu) && !(a.guess_nu > 0 && a.guess_nu < 0.5))
         cli_die(CLI_EXIT_USAGE, "fit: --guess-nu must lie in (0, 0.5) (e.g. --guess-nu 0.3)");
+    if (lf_loss_find(a.loss) < 0)
+        cli_die(CLI_EXIT_USAGE, "fit: --loss must be linear, huber or cauchy (got '%s')", a.loss);
+    set.loss = (lf_loss) lf_loss_find(a.loss);
+    if (!isnan(a.loss_scale) && !(a.loss_scale > 0))
+        cli_die(CLI_EXIT_USAGE, "fit: --loss-scale must be > 0 (e.g. --loss-scale 1.345)");
+    set.loss_scale = a.loss_scale;
     set.w.guess = a.guess_w;
     set.Estar.guess = a.guess_E;
     set.nu.guess = a.guess_nu;

@@ -254,10 +254,12 @@ typedef struct {
     double value;        /* SI: the fixed value (FIXED), the value held when
                             AUTO finds it undetermined, or the prior mean */
     double prior_sd;     /* nu only: sd of a Gaussian prior at value, or NaN */
-    double guess;        /* SI: where the iteration starts when fitted, or
-                            NaN (default) for the automatic guess; the
-                            contact points and force offsets are then
-                            profiled at this material */
+    double guess;        /* SI: a starting value when fitted, or NaN
+                            (default): the automatic guess only.  The
+                            offsets are profiled at the given material;
+                            the fit is repeated from the automatic guess
+                            and the lower cost wins (a warning says when
+                            that was the automatic one) */
 } lf_fit_param;
 
 typedef enum {

@@ -61,6 +61,8 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
     (void) in;
     fprintf(f, "layerfit fit: %zu curve%s, model %s, method %s: %s\n", r->ncurves,
             r->ncurves == 1 ? "" : "s", r->model, r->method, r->stop_reason);
+    if (r->loss != NULL && strcmp(r->loss, "linear") != 0)
+        fprintf(f, "robust loss %s (%zu reweighting rounds)\n", r->loss, r->reweightings);
     if (!r->converged)
         fprintf(f, "*** NOT CONVERGED: the values below are where the fit stopped ***\n");
     fprintf(f, "\nmaterial (+- one standard error, scaled by sqrt(chi2/dof) = %.3g)\n", r->se_scale);
@@ -102,6 +104,12 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                 cli_human(c, sizeof c, cr->pulloff.sigma_po, "Pa"));
         fprintf(f, "      b/a = %.3g at the shallowest contact point, %.3g at pull-off\n",
                 cr->b_over_a_min_contact, cr->b_over_a_pulloff);
+        fprintf(f, "      agreement: chi2/point %.3g (p = %.2g), runs test z = %.2f: %s\n",
+                cr->chi2_per_point, cr->p_value, cr->runs_z,
+                cr->consistent ? "consistent" : "DISAGREES");
+        if (cr->downweighted > 0)
+            fprintf(f, "      %zu points down-weighted by the %s loss\n", cr->downweighted,
+                    r->loss);
         list(f, "      warning: ", &cr->warnings);
     }
     fprintf(f, "\nwhat the data determine:\n");
@@ -188,6 +196,8 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
     jstr(f, r->stop_reason);
     fputs(", \"method\": ", f);
     jstr(f, r->method);
+    fputs(", \"loss\": ", f);
+    jstr(f, r->loss);
     fputs(", \"model\": ", f);
     jstr(f, r->model);
     fputs("},\n  \"free_parameters\": [", f);
@@ -226,16 +236,19 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
             { "P_po", c->pulloff.P_po }, { "a_po", c->pulloff.a_po },
             { "sigma_po", c->pulloff.sigma_po },
             { "b_over_a_min_contact", c->b_over_a_min_contact },
-            { "b_over_a_pulloff", c->b_over_a_pulloff }
+            { "b_over_a_pulloff", c->b_over_a_pulloff },
+            { "chi2_per_point", c->chi2_per_point }, { "p_value", c->p_value },
+            { "runs_z", c->runs_z }
         };
         for (i = 0; i < sizeof num / sizeof num[0]; i++) {
             fprintf(f, ", \"%s\": ", num[i].key);
             jnum(f, num[i].v);
         }
         fprintf(f, ",\n     \"interface\": \"%s\", \"branch\": \"%s\", \"points\": %zu, "
-                "\"z0_free\": %s, \"F0_free\": %s",
+                "\"z0_free\": %s, \"F0_free\": %s, \"consistent\": %s, \"downweighted\": %zu",
                 cli_base_name(c->probe.base), branch_name(c->branch), c->n,
-                c->z0_free ? "true" : "false", c->F0_free ? "true" : "false");
+                c->z0_free ? "true" : "false", c->F0_free ? "true" : "false",
+                c->consistent ? "true" : "false", c->downweighted);
         fputs(", \"warnings\": ", f);
         jwarnings(f, &c->warnings);
         fprintf(f, "}%s\n", j + 1 < r->ncurves ? "," : "");

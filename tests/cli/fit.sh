@@ -80,5 +80,19 @@ expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (g
     has "guess 1000x off: said" "$tmp/out" "the fit from the given starting point (w = 12.3 J/m^2, E* = 1.85e+06 Pa) ended at a cost"
     expect_fail 2 "layerfit: fit: --guess-w must be > 0 (e.g. --guess-w 10mJ/m2)" fit "$tmp/d/plan.csv" --guess-w 0J/m2
     expect_fail 2 "layerfit: fit: --guess-nu must lie in (0, 0.5) (e.g. --guess-nu 0.3)" fit "$tmp/d/plan.csv" --guess-nu 0.5
+    # robust loss: said in the report and the JSON; every curve's agreement line
+    run_ok fit "$tmp/d/plan.csv" --loss huber --json "$tmp/h.json"
+    has "huber: said" "$tmp/out" "robust loss huber ("
+    has "agreement line" "$tmp/out" "agreement: chi2/point "
+    has "huber: json" "$tmp/h.json" '"loss": "huber"'
+    expect_fail 2 "layerfit: fit: --loss must be linear, huber or cauchy (got 'l1')" fit "$tmp/d/plan.csv" --loss l1
+    # a plan that declares the wrong k for one curve: the report names it
+    run_ok simulate --out "$tmp/wk" --w 12.3mJ/m2 --E 1.85GPa --noise 0.002 --seed 3 \
+        k=2,R=1mm,b=1um,interface=frictionless k=3,R=1mm,b=1um,interface=frictionless \
+        k=4,R=1mm,b=1um,interface=frictionless
+    sed 's/^curve2.csv,3,/curve2.csv,2.5,/' "$tmp/wk/plan.csv" > "$tmp/wk/wrong.csv"
+    run_ok fit "$tmp/wk/wrong.csv"
+    has "wrong k: named" "$tmp/out" "curve 2 ($tmp/wk/curve2.csv) disagrees with the others"
+    has "wrong k: marked" "$tmp/out" "DISAGREES"
 }
 summary
