@@ -330,6 +330,15 @@ at_minimum(lf_fit *f)
     return 1;
 }
 
+/* After each iteration: remember the cost. */
+static void
+track_cost(const size_t iter, void *params, const gsl_multifit_nlinear_workspace *w)
+{
+    lf_fit *f = params;
+    double r = gsl_blas_dnrm2(gsl_multifit_nlinear_residual(w));
+    f->cost_hist[iter % (FIT_FLAT_ITERS + 1)] = 0.5 * r * r;
+}
+
 /* Run the trust-region iteration from x (overwritten with where it
  * stopped); *iters counts its iterations.  after_scan: x comes from
  * edge_scan. */
@@ -346,8 +355,21 @@ solve(lf_fit *f, gsl_vector *x, int after_scan, size_t *iters, char *why, size_t
         return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the starting point (%s)",
                        gsl_strerror(status));
     status = gsl_multifit_nlinear_driver(f->set.max_iter, f->set.xtol, f->set.gtol,
-                                         f->set.ftol, NULL, NULL, &info, f->gsl);
+                                         f->set.ftol, track_cost, f, &info, f->gsl);
     *iters = gsl_multifit_nlinear_niter(f->gsl);
+    if (status == GSL_EMAXITER && *iters > FIT_FLAT_ITERS) {
+        /* GSL numbers the iteration that just ended iters - 1 */
+        double now = f->cost_hist[(*iters - 1) % (FIT_FLAT_ITERS + 1)];
+        double then = f->cost_hist[*iters % (FIT_FLAT_ITERS + 1)];
+        if (then - now <= FIT_FLAT_REL * now) {
+            for (i = 0; i < f->np; i++)
+                gsl_vector_set(x, i, gsl_vector_get(gsl_multifit_nlinear_position(f->gsl), i));
+            *converged = 1;
+            snprintf(why, nwhy, "converged (cost flat to %g over the last %d iterations)",
+                     FIT_FLAT_REL, FIT_FLAT_ITERS);
+            return LF_OK;
+        }
+    }
     /* GSL reports "no step lowers the cost from the start" as EMAXITER
      * with info ENOPROG.  after_scan: x is a converged solution moved by
      * the contact-point scan or a reweighting */
@@ -584,7 +606,7 @@ leave_one_out(lf_fit *f, lf_fit_result *res)
     for (j = 0; j < n; j++) {
         lf_fit *g;
         lf_fit_result r;
-        int ok = 1;
+        int ok = 1, st;
         for (i = 0, m = 0; i < n; i++)
             if (i != j)
                 sub[m++] = f->c[i].data;
@@ -593,7 +615,10 @@ leave_one_out(lf_fit *f, lf_fit_result *res)
         if (g == NULL)
             continue;
         g->no_loo = 1;
-        if (lf_fit_run(g, &r, NULL) == LF_OK) {
+        st = lf_fit_run(g, &r, NULL);
+        if (st == LF_ENOCONV)
+            lf_fit_result_free(&r);
+        if (st == LF_OK) {
             worst[j] = 0.0;
             for (i = 0; i < m; i++) {
                 ok &= r.curves[i].consistent;

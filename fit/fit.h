@@ -20,6 +20,12 @@
 
 enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
 
+/* An iteration limit reached with the cost flat to FIT_FLAT_REL over the
+ * last FIT_FLAT_ITERS iterations counts as convergence: at the kinks of the
+ * model the trust region can creep without end. */
+#define FIT_FLAT_ITERS 20
+#define FIT_FLAT_REL 1e-9
+
 #define GUESS_GRID 40          /* uniform nodes of a profile search */
 #define GUESS_NODES (GUESS_GRID + 1)
 
@@ -58,6 +64,7 @@ struct lf_fit {
     lf_material auto_mat; /* the automatic guess */
     int user_start;      /* 1 when the settings' guess replaced some of it */
     int no_loo;          /* 1: a leave-one-out refit, which makes none itself */
+    double cost_hist[FIT_FLAT_ITERS + 1]; /* cost after each iteration, cyclic */
     double *x0_internal; /* np: internal coordinates at the guess */
     lf_eval *ev;         /* ndata: model at the last residual evaluation */
     lf_eval *scan_ev;    /* ndata: scratch of the contact-point scan */

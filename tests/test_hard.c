@@ -9,7 +9,7 @@
  * within 2 (the nominal 95% interval is 1.96 se; the slack is for the few
  * seeds a case runs).
  *
- * Seeds per case scale with LF_HARD_SCALE (default 1; 0.25 when built with
+ * Seeds per case scale with LF_HARD_SCALE (default 3; 0.75 when built with
  * AddressSanitizer, which is 3-5x slower), never below one. */
 #include <math.h>
 #include <stdio.h>
@@ -25,14 +25,14 @@
 #include "testlib.h"
 
 #if defined(__SANITIZE_ADDRESS__)
-#define DEFAULT_SCALE 0.25
+#define DEFAULT_SCALE 0.75
 #elif defined(__has_feature)
 #if __has_feature(address_sanitizer)
-#define DEFAULT_SCALE 0.25
+#define DEFAULT_SCALE 0.75
 #endif
 #endif
 #ifndef DEFAULT_SCALE
-#define DEFAULT_SCALE 1.0
+#define DEFAULT_SCALE 3.0
 #endif
 
 static double scale = DEFAULT_SCALE;
