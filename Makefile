@@ -36,7 +36,7 @@ PROG := $(BUILD)/layerfit
 
 DEBS := libgsl-dev libcsv-dev libudunits2-dev gnuplot-nox
 
-.PHONY: all deps demo check tests sanitize install uninstall clean
+.PHONY: all deps demo check tests sanitize install uninstall clean bench bench-quick
 
 all: $(PROG) $(LIB)
 
@@ -159,3 +159,11 @@ $(BUILD)/tests/bench/bench_exact: tests/bench/bench_exact.c $(LIB) $(HEADERS)
 .PHONY: bench-exact
 bench-exact: $(BUILD)/tests/bench/bench_exact
 	$(BUILD)/tests/bench/bench_exact
+
+# What a fit costs and how accurate it is (`layerfit bench`): the quick run
+# takes seconds (CI runs it), the full one a few minutes.
+bench-quick: $(PROG)
+	$(PROG) bench --quick --csv $(BUILD)/bench-quick.csv
+
+bench: $(PROG)
+	$(PROG) bench --csv $(BUILD)/bench.csv --plot $(BUILD)/bench.svg
