@@ -83,8 +83,10 @@ typedef struct {
     const lf_choose_settings *cs;
     int *rung;              /* current model of each curve */
     int *fixed;             /* 1: the caller named the model */
-    lf_model **exact;       /* per curve, allocated when first needed */
-    lf_model **half;
+    lf_model **inst[NRUNG]; /* per model and curve, made when first needed */
+    int base_ok;            /* the decomposition is that of the current models */
+    double *P_exact;        /* ndata: the exact model's forces */
+    int *exact_ok;          /* per curve: P_exact could be evaluated */
     lf_eval *ev;            /* max n: scratch evaluations */
     double *d;              /* nres: the difference vector */
     double *coef;           /* np */
@@ -100,18 +102,18 @@ static void
 chooser_free(chooser *c)
 {
     size_t j;
+    int r;
 
-    if (c->f != NULL)
-        for (j = 0; j < c->f->ncurves; j++) {
-            if (c->exact)
-                lf_model_free(c->exact[j]);
-            if (c->half)
-                lf_model_free(c->half[j]);
-        }
+    for (r = 0; r < NRUNG; r++) {
+        if (c->f != NULL && c->inst[r] != NULL)
+            for (j = 0; j < c->f->ncurves; j++)
+                lf_model_free(c->inst[r][j]);
+        free(c->inst[r]);
+    }
     free(c->rung);
     free(c->fixed);
-    free(c->exact);
-    free(c->half);
+    free(c->P_exact);
+    free(c->exact_ok);
     free(c->ev);
     free(c->d);
     free(c->coef);
@@ -131,16 +133,20 @@ static int
 chooser_alloc(chooser *c, lf_fit *f, const lf_choose_settings *cs)
 {
     size_t j, nmax = 0, nc = f->ncurves;
+    int r;
 
     memset(c, 0, sizeof *c);
+    for (r = 0; r < NRUNG; r++)
+        if ((c->inst[r] = calloc(nc, sizeof *c->inst[r])) == NULL)
+            return LF_ENOMEM;
     c->f = f;
     c->cs = cs;
     for (j = 0; j < nc; j++)
         nmax = f->c[j].data.n > nmax ? f->c[j].data.n : nmax;
     c->rung = calloc(nc, sizeof *c->rung);
     c->fixed = calloc(nc, sizeof *c->fixed);
-    c->exact = calloc(nc, sizeof *c->exact);
-    c->half = calloc(nc, sizeof *c->half);
+    c->P_exact = calloc(f->ndata, sizeof *c->P_exact);
+    c->exact_ok = calloc(nc, sizeof *c->exact_ok);
     c->ev = calloc(nmax, sizeof *c->ev);
     c->d = calloc(f->nres, sizeof *c->d);
     c->coef = calloc(f->np, sizeof *c->coef);
@@ -154,7 +160,7 @@ chooser_alloc(chooser *c, lf_fit *f, const lf_choose_settings *cs)
     c->V = gsl_matrix_alloc(f->np, f->np);
     c->S = gsl_vector_alloc(f->np);
     c->D = gsl_vector_alloc(f->np);
-    if (!c->rung || !c->fixed || !c->exact || !c->half || !c->ev || !c->d || !c->coef
+    if (!c->rung || !c->fixed || !c->P_exact || !c->exact_ok || !c->ev || !c->d || !c->coef
         || !c->se || !c->thin || !c->half_b || !c->cur || !c->ab_lo || !c->ab_hi
         || !c->J || !c->V || !c->S || !c->D)
         return LF_ENOMEM;
@@ -277,50 +283,58 @@ project(chooser *c, bias *b)
     b->ok = 1;
 }
 
-/* The model of curve j of type t at the current indentations, into c->ev;
- * uses the fit's own evaluation when t is the curve's model. */
-static int
-eval_as(chooser *c, size_t j, int rung, const lf_material *mat)
+/* The model instance of curve j for a rung, made when first needed. */
+static lf_model *
+instance(chooser *c, size_t j, int rung)
 {
-    lf_fit *f = c->f;
-    const fit_curve *fc = &f->c[j];
-    lf_model **slot = rung == RUNG_EXACT ? &c->exact[j] : &c->half[j];
+    lf_model **slot = &c->inst[rung][j];
 
-    if (rung == c->rung[j]) {
-        memcpy(c->ev, f->ev + fc->row, fc->data.n * sizeof *c->ev);
-        return LF_OK;
-    }
-    if (rung == RUNG_THIN)
-        return lf_model_thin.eval(NULL, &fc->data.probe, mat, fc->data.branch, fc->data.n,
-                                  f->delta + fc->row, c->ev);
-    if (*slot == NULL) {
-        *slot = lf_model_alloc(rung_type(rung), &fc->data.probe, NULL);
-        if (*slot == NULL)
-            return LF_EINVAL;
-    }
-    return lf_model_eval(*slot, mat, fc->data.branch, fc->data.n, f->delta + fc->row,
-                         c->ev, NULL);
+    if (*slot == NULL)
+        *slot = lf_model_alloc(rung_type(rung), &c->f->c[j].data.probe, NULL);
+    return *slot;
 }
 
-/* Bias of curve j using model `rung` instead of exact. */
-static void
-curve_bias(chooser *c, size_t j, int rung, const double *P_exact, bias *b)
+/* Bias of curve j when it uses model `rung` instead of exact, the other
+ * curves keeping theirs.  The Jacobian is that of the model being judged
+ * (the fit that would be made), so curve j's model is swapped in for the
+ * decomposition when it is not the current one. */
+static int
+curve_bias(chooser *c, size_t j, int rung, bias *b)
 {
     lf_fit *f = c->f;
-    const fit_curve *fc = &f->c[j];
+    fit_curve *fc = &f->c[j];
+    lf_model *saved = fc->model, *m;
+    int swapped = rung != c->rung[j], status = LF_OK;
     size_t i;
 
     memset(b, 0, sizeof *b);
+    if (!c->exact_ok[j])
+        return LF_OK;           /* ok = 0: not assessed */
     if (rung == RUNG_EXACT) {
         b->ok = 1;
-        return;
+        return LF_OK;
     }
-    if (eval_as(c, j, rung, &f->mat) != LF_OK)
-        return;
-    memset(c->d, 0, f->nres * sizeof *c->d);
-    for (i = 0; i < fc->data.n; i++)
-        c->d[fc->row + i] = (P_exact[i] - c->ev[i].P) / fc->sigma;
-    project(c, b);
+    if (swapped) {
+        if ((m = instance(c, j, rung)) == NULL)
+            return LF_OK;
+        fc->model = m;
+        f->xcache_ok = 0;
+        c->base_ok = 0;
+    }
+    if (!c->base_ok || swapped)
+        status = decompose(c);  /* evaluates the models at the origin into f->ev */
+    if (status == LF_OK) {
+        memset(c->d, 0, f->nres * sizeof *c->d);
+        for (i = 0; i < fc->data.n; i++)
+            c->d[fc->row + i] = (c->P_exact[fc->row + i] - f->ev[fc->row + i].P) / fc->sigma;
+        project(c, b);
+        c->base_ok = !swapped;
+    }
+    if (swapped) {
+        fc->model = saved;
+        f->xcache_ok = 0;
+    }
+    return status;
 }
 
 /* Assess every curve at the origin (the last solution): biases of thin,
@@ -332,24 +346,21 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
 {
     lf_fit *f = c->f;
     const double tol = c->cs->tol;
-    double total[FIT_NMAT] = { 0 }, *P_exact = NULL;
-    size_t j, i, nmax = 0;
-    int status = decompose(c), m;
+    double total[FIT_NMAT] = { 0 };
+    size_t j, i;
+    int status, m;
 
     *changed = 0;
+    c->base_ok = 0;
+    status = decompose(c);
     if (status != LF_OK)
         return lf_fail(err, status, "model choice: the Jacobian at the solution cannot be decomposed");
-    for (j = 0; j < f->ncurves; j++)
-        nmax = f->c[j].data.n > nmax ? f->c[j].data.n : nmax;
-    P_exact = malloc(nmax * sizeof *P_exact);
-    if (P_exact == NULL)
-        return lf_fail(err, LF_ENOMEM, "out of memory choosing models");
+    c->base_ok = 1;
+    /* a/b ranges and the exact model's forces at the current indentations */
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *fc = &f->c[j];
         double b = fc->data.probe.b;
-        memset(&c->thin[j], 0, sizeof c->thin[j]);
-        memset(&c->half_b[j], 0, sizeof c->half_b[j]);
-        memset(&c->cur[j], 0, sizeof c->cur[j]);
+        lf_model *ex = c->rung[j] == RUNG_EXACT ? NULL : instance(c, j, RUNG_EXACT);
         c->ab_lo[j] = HUGE_VAL;
         c->ab_hi[j] = 0.0;
         for (i = 0; i < fc->data.n; i++) {
@@ -359,20 +370,35 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
                 c->ab_hi[j] = fmax(c->ab_hi[j], a / b);
             }
         }
-        if (eval_as(c, j, RUNG_EXACT, &f->mat) != LF_OK)
-            continue;   /* ok = 0: exact not available here (nu > 0.4995) */
-        for (i = 0; i < fc->data.n; i++)
-            P_exact[i] = c->ev[i].P;
-        curve_bias(c, j, RUNG_THIN, P_exact, &c->thin[j]);
+        c->exact_ok[j] = 1;
+        if (c->rung[j] == RUNG_EXACT) {
+            for (i = 0; i < fc->data.n; i++)
+                c->P_exact[fc->row + i] = f->ev[fc->row + i].P;
+        } else if (ex == NULL || lf_model_eval(ex, &f->mat, fc->data.branch, fc->data.n,
+                                                f->delta + fc->row, c->ev, NULL) != LF_OK) {
+            c->exact_ok[j] = 0;   /* e.g. nu above the exact model's range */
+        } else {
+            for (i = 0; i < fc->data.n; i++)
+                c->P_exact[fc->row + i] = c->ev[i].P;
+        }
+    }
+    /* the current models first (one decomposition), then thin where it is
+     * not the current model */
+    for (j = 0; j < f->ncurves && status == LF_OK; j++) {
+        status = curve_bias(c, j, c->rung[j], &c->cur[j]);
+        if (c->rung[j] == RUNG_THIN)
+            c->thin[j] = c->cur[j];
         if (c->rung[j] == RUNG_HALFSPACE)
-            curve_bias(c, j, RUNG_HALFSPACE, P_exact, &c->half_b[j]);
-        c->cur[j] = c->rung[j] == RUNG_THIN ? c->thin[j]
-                    : c->rung[j] == RUNG_HALFSPACE ? c->half_b[j] : c->cur[j];
-        c->cur[j].ok = 1;
+            c->half_b[j] = c->cur[j];
+        else
+            memset(&c->half_b[j], 0, sizeof c->half_b[j]);
         for (m = 0; m < FIT_NMAT; m++)
             total[m] += c->cur[j].r[m];
     }
-    for (;;) {
+    for (j = 0; j < f->ncurves && status == LF_OK; j++)
+        if (c->rung[j] != RUNG_THIN)
+            status = curve_bias(c, j, RUNG_THIN, &c->thin[j]);
+    while (status == LF_OK) {
         bias tb;
         size_t jw = f->ncurves;
         double worst = 0.0;
@@ -391,14 +417,8 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
             break;      /* nothing left to move */
         for (m = 0; m < FIT_NMAT; m++)
             total[m] -= c->cur[jw].r[m];
-        if (c->rung[jw] == RUNG_THIN && c->cs->halfspace && f->c[jw].data.probe.k > 0.5) {
-            /* the exact model's forces again, for the half-space check */
-            if (eval_as(c, jw, RUNG_EXACT, &f->mat) == LF_OK) {
-                for (i = 0; i < f->c[jw].data.n; i++)
-                    P_exact[i] = c->ev[i].P;
-                curve_bias(c, jw, RUNG_HALFSPACE, P_exact, &c->half_b[jw]);
-            }
-        }
+        if (c->rung[jw] == RUNG_THIN && c->cs->halfspace && f->c[jw].data.probe.k > 0.5)
+            status = curve_bias(c, jw, RUNG_HALFSPACE, &c->half_b[jw]);
         if (c->rung[jw] == RUNG_THIN && c->half_b[jw].ok
             && bias_max(&c->half_b[jw], NULL) < fmin(tol, worst)) {
             c->rung[jw] = RUNG_HALFSPACE;
@@ -409,12 +429,13 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
         }
         for (m = 0; m < FIT_NMAT; m++)
             total[m] += c->cur[jw].r[m];
-        status = set_model(f, jw, rung_type(c->rung[jw]), err);
-        if (status != LF_OK)
-            break;
+        if (status == LF_OK)
+            status = set_model(f, jw, rung_type(c->rung[jw]), err);
+        c->base_ok = 0;
         *changed = 1;
     }
-    free(P_exact);
+    if (status != LF_OK)
+        lf_fail(err, status, "model choice: the bias of a cheaper model cannot be computed");
     return status;
 }
 
@@ -514,7 +535,7 @@ lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *
     chooser ch;
     lf_fit_result cur, first;
     size_t j, rounds = 1;
-    int status, fit_status, changed, all_thin = 1, first_all_thin = 1;
+    int status, fit_status, changed, all_thin = 1, first_all_thin = 1, m;
     double total = 0.0;
 
     memset(res, 0, sizeof *res);
@@ -577,6 +598,8 @@ lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *
         cr->model = rung_type(ch.rung[j])->name;
         explain(&ch, j, cr->model_reason, sizeof cr->model_reason);
         cr->thin_bias = ch.thin[j].ok ? bias_max(&ch.thin[j], NULL) : NAN;
+        for (m = 0; m < FIT_NMAT; m++)
+            cr->thin_bias_se[m] = ch.thin[j].ok ? ch.thin[j].r[m] : NAN;
         if (ch.rung[j] != RUNG_THIN)
             all_thin = 0;
     }

@@ -314,6 +314,8 @@ fit_solve(lf_fit *f, lf_fit_result *res, lf_error *err)
         snprintf(res->curves[i].model_reason, sizeof res->curves[i].model_reason,
                  "as requested");
         res->curves[i].thin_bias = NAN;
+        res->curves[i].thin_bias_se[0] = res->curves[i].thin_bias_se[1] = NAN;
+        res->curves[i].thin_bias_se[2] = NAN;
     }
     if (!converged) {
         lf_warn(&res->warnings, "the fit did not converge (%s): the numbers below are where it stopped", why);

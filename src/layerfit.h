@@ -338,6 +338,10 @@ typedef struct {
                                of this curve alone would put on w, E* or nu
                                (linearised, see lf_fit_choose_driver); NaN
                                when not assessed */
+    double thin_bias_se[3]; /* that bias, signed, of w, E*, nu in units of
+                               their unscaled standard errors (se /
+                               se_scale); 0 where not fitted, NaN when not
+                               assessed */
     lf_warnings warnings;
 } lf_fit_curve_result;
 
