@@ -74,14 +74,17 @@ text_thin(FILE *f, const lf_fit_result *r)
 
     if (!t->done)
         return;
-    fprintf(f, "\nthe thin-layer model would give w %s", higher_lower(h, sizeof h, t->w_rel));
-    if (t->w.determined)
-        fprintf(f, " (%s", cli_human(v, sizeof v, t->w.value, "J/m^2"));
-    else
-        fprintf(f, " (%s", "w not determined");
-    if (isfinite(t->w_in_se))
-        fprintf(f, ", %.2g standard errors", t->w_in_se);
-    fprintf(f, ")");
+    if (t->w.determined && r->w.determined) {
+        fprintf(f, "\nthe thin-layer model would give w %s (%s",
+                higher_lower(h, sizeof h, t->w_rel), cli_human(v, sizeof v, t->w.value, "J/m^2"));
+        if (isfinite(t->w_in_se))
+            fprintf(f, ", %+.2g standard errors", t->w_in_se);
+        fprintf(f, ")");
+    } else {
+        fprintf(f, "\nthe thin-layer model would give w %s",
+                t->w.determined ? cli_human(v, sizeof v, t->w.value, "J/m^2")
+                                : "not determined");
+    }
     if (t->Estar.determined && r->Estar.determined)
         fprintf(f, ", E* %s (%s)", higher_lower(h, sizeof h, t->Estar_rel),
                 cli_human(v, sizeof v, t->Estar.value, "Pa"));
