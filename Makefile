@@ -157,3 +157,13 @@ $(BUILD)/tests/bench/bench_exact: tests/bench/bench_exact.c $(LIB) $(HEADERS)
 .PHONY: bench-exact
 bench-exact: $(BUILD)/tests/bench/bench_exact
 	$(BUILD)/tests/bench/bench_exact
+
+# Fit time and error of the exact model against the thin one (not part of
+# `make check`).
+$(BUILD)/tests/bench/bench_models: tests/bench/bench_models.c $(LIB) $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
+.PHONY: bench-models
+bench-models: $(BUILD)/tests/bench/bench_models
+	$(BUILD)/tests/bench/bench_models

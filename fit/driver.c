@@ -144,7 +144,8 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
         goto nomem;
     for (j = 0; j < ncurves; j++) {
         f->c[j].data = curves[j];
-        f->c[j].model = lf_model_alloc(settings->model, &curves[j].probe, err);
+        f->c[j].model = lf_model_alloc(curves[j].model ? curves[j].model : settings->model,
+                                       &curves[j].probe, err);
         if (f->c[j].model == NULL) {
             lf_fit_free(f);
             return NULL;
@@ -252,8 +253,21 @@ at_minimum(lf_fit *f)
     return 1;
 }
 
+/* The name of the curves' model, or "mixed". */
+static const char *
+model_name(const lf_fit *f)
+{
+    const lf_model_type *t = lf_model_get_type(f->c[0].model);
+    size_t j;
+
+    for (j = 1; j < f->ncurves; j++)
+        if (lf_model_get_type(f->c[j].model) != t)
+            return "mixed";
+    return t->name;
+}
+
 int
-lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
+fit_solve(lf_fit *f, lf_fit_result *res, lf_error *err)
 {
     gsl_vector *x = NULL;
     int status, info = 0, converged;
@@ -262,9 +276,6 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
 
     memset(res, 0, sizeof *res);
     f->xcache_ok = 0;
-    status = fit_guess(f, err);
-    if (status != LF_OK)
-        return status;
     x = gsl_vector_alloc(f->np);
     if (x == NULL)
         return lf_fail(err, LF_ENOMEM, "out of memory");
@@ -296,12 +307,34 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
     res->converged = converged;
     snprintf(res->stop_reason, sizeof res->stop_reason, "%s", why);
     res->method = f->set.method;
-    res->model = f->set.model->name;
+    res->model = model_name(f);
+    res->model_rounds = 1;
+    for (i = 0; i < f->ncurves; i++) {
+        res->curves[i].model = lf_model_get_type(f->c[i].model)->name;
+        snprintf(res->curves[i].model_reason, sizeof res->curves[i].model_reason,
+                 "as requested");
+        res->curves[i].thin_bias = NAN;
+        res->curves[i].thin_bias_se[0] = res->curves[i].thin_bias_se[1] = NAN;
+        res->curves[i].thin_bias_se[2] = NAN;
+    }
     if (!converged) {
         lf_warn(&res->warnings, "the fit did not converge (%s): the numbers below are where it stopped", why);
         return LF_ENOCONV;
     }
     return LF_OK;
+}
+
+int
+lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
+{
+    int status;
+
+    memset(res, 0, sizeof *res);
+    f->xcache_ok = 0;
+    status = fit_guess(f, err);
+    if (status != LF_OK)
+        return status;
+    return fit_solve(f, res, err);
 }
 
 int

@@ -87,6 +87,10 @@ double fit_dnu_du(double u);
 int fit_guess(lf_fit *f, lf_error *err);
 double fit_noise_sigma(const double *force, size_t n, double *work);
 
+/* driver.c: the least-squares solve from the origin set by fit_guess or
+ * fit_set_origin, then fit_assess; fills res as lf_fit_run does. */
+int fit_solve(lf_fit *f, lf_fit_result *res, lf_error *err);
+
 /* uncertainty.c */
 int fit_assess(lf_fit *f, const double *x, lf_fit_result *res, lf_error *err);
 

@@ -21,7 +21,9 @@ static const char usage_text[] =
     "  --curves FILE        per point: depth, force, fitted force, residual, contact radius\n"
     "  --method M           lm (default), lmaccel, dogleg, ddogleg, subspace2D\n"
     "  --jacobian J         analytic (default), forward, central\n"
-    "  --model NAME         forward model (default thin)\n"
+    "  --model NAME         auto (default), thin, exact or halfspace; auto picks per curve\n"
+    "                       the cheapest model whose bias on w, E*, nu is below --model-tol\n"
+    "  --model-tol X        bias allowed to a cheaper model, in standard errors (0.2)\n"
     "  --fix-nu NU          hold nu (also --nu); a plan's nu column does the same\n"
     "  --fix-z0 LENGTH      hold every curve's contact point\n"
     "  --fix-F0 FORCE       hold every curve's force offset\n"
@@ -33,7 +35,7 @@ static const char usage_text[] =
 
 typedef struct {
     const char *json, *curves, *method, *jacobian, *model, *interface, *segment;
-    double k, R, b, nu, fix_nu, fix_z0, fix_F0, max_ba;
+    double k, R, b, nu, fix_nu, fix_z0, fix_F0, max_ba, model_tol;
     long max_iter;
     int slope;
 } fit_args;
@@ -158,8 +160,8 @@ write_file(const char *path, void (*writer)(FILE *, const report_input *, const 
 int
 cli_fit(int argc, char **argv)
 {
-    fit_args a = { NULL, NULL, "lm", "analytic", "thin", NULL, NULL,
-                   NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, -1, 0 };
+    fit_args a = { NULL, NULL, "lm", "analytic", "auto", NULL, NULL,
+                   NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, -1, 0 };
     const cli_opt opts[] = {
         { "json", CLI_STRING, &a.json }, { "curves", CLI_STRING, &a.curves },
         { "method", CLI_STRING, &a.method }, { "jacobian", CLI_STRING, &a.jacobian },
@@ -168,12 +170,15 @@ cli_fit(int argc, char **argv)
         { "R", CLI_LENGTH, &a.R }, { "b", CLI_LENGTH, &a.b }, { "nu", CLI_NUMBER, &a.nu },
         { "fix-nu", CLI_NUMBER, &a.fix_nu }, { "fix-z0", CLI_LENGTH, &a.fix_z0 },
         { "fix-F0", CLI_FORCE, &a.fix_F0 }, { "max-b-over-a", CLI_NUMBER, &a.max_ba },
+        { "model-tol", CLI_NUMBER, &a.model_tol },
         { "slope", CLI_FLAG, &a.slope }, { "max-iter", CLI_COUNT, &a.max_iter },
         { NULL, CLI_FLAG, NULL }
     };
     int npos, help, status, seg_given = 0;
     lf_segment seg = LF_SEG_UNLOAD;
     lf_fit_settings set = lf_fit_settings_default();
+    lf_choose_settings choose = lf_choose_settings_default();
+    int model_auto;
     fit_data d = { 0, NULL, NULL, NULL, NULL };
     lf_fit_result r;
     lf_error err;
@@ -198,9 +203,17 @@ cli_fit(int argc, char **argv)
             cli_die(CLI_EXIT_USAGE, "fit: --segment must be unload or load (got '%s')", a.segment);
     }
     set.method = a.method;
-    set.model = lf_model_type_find(a.model);
+    model_auto = strcmp(a.model, "auto") == 0;
+    set.model = model_auto ? &lf_model_thin : lf_model_type_find(a.model);
     if (set.model == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: unknown model '%s'", a.model);
+        cli_die(CLI_EXIT_USAGE, "fit: unknown model '%s' (auto, thin, exact, halfspace)", a.model);
+    if (!isnan(a.model_tol)) {
+        if (!(a.model_tol > 0) || !isfinite(a.model_tol))
+            cli_die(CLI_EXIT_USAGE, "fit: --model-tol must be a number > 0 (e.g. --model-tol 0.2)");
+        if (!model_auto)
+            cli_die(CLI_EXIT_USAGE, "fit: --model-tol applies to --model auto only");
+        choose.tol = a.model_tol;
+    }
     if (strcmp(a.jacobian, "analytic") == 0)
         set.jacobian = LF_JAC_ANALYTIC;
     else if (strcmp(a.jacobian, "forward") == 0)
@@ -234,11 +247,23 @@ cli_fit(int argc, char **argv)
         set.nu.mode = LF_PARAM_FIXED;
         set.nu.value = nu;
     }
-    status = lf_fit_driver(&set, d.n, d.fc, &r, &err);
+    if (model_auto)
+        status = lf_fit_choose_driver(&set, &choose, d.n, d.fc, &r, &err);
+    else
+        status = lf_fit_driver(&set, d.n, d.fc, &r, &err);
     if (status != LF_OK && status != LF_ENOCONV)
         cli_die(status == LF_EDATA || status == LF_EINVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL,
                 "fit: %s", err.msg);
+    if (!model_auto && set.model != &lf_model_thin) {
+        lf_error terr;
+        int st = lf_fit_compare_thin(&set, d.n, d.fc, &r, &terr);
+        if (st != LF_OK)
+            fprintf(stderr, "layerfit: warning: the thin-layer comparison fit failed: %s\n",
+                    terr.msg);
+    }
     in.settings = &set;
+    in.model_request = a.model;
+    in.model_tol = model_auto ? choose.tol : NAN;
     in.curves = d.fc;
     report_text(stdout, &in, &r);
     if (a.json != NULL)

@@ -263,7 +263,8 @@ typedef enum {
 } lf_jacobian;
 
 typedef struct {
-    const lf_model_type *model; /* forward model (default lf_model_thin) */
+    const lf_model_type *model; /* forward model of every curve that names
+                                   none itself (default lf_model_thin) */
     const char *method;         /* trust-region method: "lm" (default),
                                    "lmaccel", "dogleg", "ddogleg", "subspace2D" */
     lf_jacobian jacobian;
@@ -296,6 +297,9 @@ typedef struct {
     lf_branch branch;       /* which branch the points follow */
     double z0;              /* contact point if known, m; NaN = fitted */
     double F0;              /* force offset if known, N; NaN = fitted */
+    const lf_model_type *model; /* this curve's forward model; NULL = the
+                                   settings' model (so a zeroed curve keeps
+                                   the old behaviour) */
 } lf_fit_curve;
 
 /* An estimate of one material parameter. */
@@ -327,8 +331,33 @@ typedef struct {
     double b_over_a_pulloff;     /* b/a at force-controlled pull-off */
     double *fitted;         /* n fitted forces, N */
     double *contact_radius; /* n contact radii, m */
+    const char *model;      /* name of the forward model used (static) */
+    char model_reason[240]; /* why that model (lf_fit_choose_driver), or
+                               "as requested" */
+    double thin_bias;       /* largest |bias| / se that the thin-layer model
+                               of this curve alone would put on w, E* or nu
+                               (linearised, see lf_fit_choose_driver); NaN
+                               when not assessed */
+    double thin_bias_se[3]; /* that bias, signed, of w, E*, nu in units of
+                               their unscaled standard errors (se /
+                               se_scale); 0 where not fitted, NaN when not
+                               assessed */
     lf_warnings warnings;
 } lf_fit_curve_result;
+
+/* What the all-thin-layer fit of the same curves gives, beside a fit made
+ * (partly) with other models.  Relative differences are (thin - final) /
+ * final; nu's is absolute.  done = 0 when not computed (every curve was
+ * already thin, or the comparison was not asked for). */
+typedef struct {
+    int done;
+    int converged;          /* the thin fit converged */
+    lf_fit_estimate w, Estar, nu;
+    double chi2;            /* of the thin fit */
+    double w_rel, Estar_rel, nu_diff;
+    double w_in_se;         /* (thin - final) w in standard errors of the
+                               final w */
+} lf_fit_thin_comparison;
 
 typedef struct {
     lf_fit_estimate w, Estar, nu;
@@ -348,9 +377,11 @@ typedef struct {
     int converged;
     char stop_reason[160];
     const char *method;     /* static strings */
-    const char *model;
+    const char *model;      /* the curves' model name, or "mixed" */
     size_t ncurves;
     lf_fit_curve_result *curves;
+    size_t model_rounds;    /* fits made by lf_fit_choose_driver (1 else) */
+    lf_fit_thin_comparison thin;
     lf_warnings identifiability; /* what the data determine, in words */
     lf_warnings warnings;        /* everything else worth saying */
 } lf_fit_result;
@@ -378,6 +409,56 @@ int lf_fit_driver(const lf_fit_settings *settings, size_t ncurves,
  * largest entry.  For tests and the curious. */
 int lf_fit_check_jacobian(lf_fit *fit, const lf_material *mat,
                           double *max_rel_err, lf_error *err);
+
+/* ------------------------------------------------------------------------
+ * Choosing the forward model of each curve (fit/choose.c)
+ *
+ * The thin-layer closed form is cheap but wrong where b/a is not small, and
+ * its error lands on w while the residuals still look fine (physics.md
+ * section 3).  So a curve is judged by what its model error does to the
+ * material parameters, not by its residuals.  For curve j using model m,
+ * with d_j = (P_exact - P_m)/sigma_j on the curve's points (zero on the
+ * other curves) at the fitted parameters and J the weighted Jacobian of the
+ * joint fit, the first-order bias of the parameters is
+ *     bias_j = (J^T J)^+ J^T d_j,
+ * compared with the standard errors se = sqrt(diag (J^T J)^+) (not scaled
+ * by chi2/dof: the weights are the noise estimated from the data).  A set
+ * of models is good enough when, for each fitted and determined w, E*, nu,
+ * |sum of bias_j over the curves not using exact| < tol se.
+ *
+ * lf_fit_choose_driver: fit every curve with the thin-layer model from the
+ * automatic guess; at the solution, while the summed bias exceeds tol, move
+ * the curve with the largest bias up to the cheapest better model (thin ->
+ * halfspace when its own bias is below tol and k > 1/2, else exact); refit
+ * from the previous solution; repeat until nothing moves or max_rounds
+ * refits.  Curves only move up, so it stops.  Curves that name their own
+ * model (lf_fit_curve.model) keep it.  res is as from lf_fit_driver, with
+ * curves[].model, model_reason and thin_bias filled, model_rounds the number
+ * of fits, and res->thin the first (all-thin) fit when the final models are
+ * not all thin and choose->thin_comparison is set.  Returns as
+ * lf_fit_driver (the status of the final fit).
+ * --------------------------------------------------------------------- */
+
+typedef struct {
+    double tol;              /* bias allowed, in standard errors (0.2) */
+    size_t max_rounds;       /* refits after the first fit (3) */
+    int halfspace;           /* 1: the half-space model is a candidate (1) */
+    int thin_comparison;     /* 1: fill res->thin (1) */
+} lf_choose_settings;
+
+lf_choose_settings lf_choose_settings_default(void);
+
+int lf_fit_choose_driver(const lf_fit_settings *settings,
+                         const lf_choose_settings *choose, size_t ncurves,
+                         const lf_fit_curve *curves, lf_fit_result *res,
+                         lf_error *err);
+
+/* Fit the same curves with the thin-layer model only (from the automatic
+ * guess) and put the outcome beside res in res->thin; for a fit made with
+ * other models by lf_fit_driver.  res must hold a completed fit. */
+int lf_fit_compare_thin(const lf_fit_settings *settings, size_t ncurves,
+                        const lf_fit_curve *curves, lf_fit_result *res,
+                        lf_error *err);
 
 /* ------------------------------------------------------------------------
  * Synthetic data (src/simulate.c)

@@ -34,7 +34,7 @@ expect_fail 2 "layerfit: simulate: --branch must be unload or load (got 'up')" s
 
 # fit: usage errors that need no data
 expect_fail 2 "layerfit: fit: give one plan or curve file (see 'layerfit fit --help')" fit
-expect_fail 2 "layerfit: fit: unknown model 'thick'" fit "$tmp/d/plan.csv" --model thick
+expect_fail 2 "layerfit: fit: unknown model 'thick' (auto, thin, exact, halfspace)" fit "$tmp/d/plan.csv" --model thick
 expect_fail 2 "layerfit: fit: unknown method 'newton' (lm, lmaccel, dogleg, ddogleg, subspace2D)" fit "$tmp/d/plan.csv" --method newton
 expect_fail 2 "layerfit: fit: --segment must be unload or load (got 'up')" fit "$tmp/d/plan.csv" --segment up
 expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (got 'exact')" fit "$tmp/d/plan.csv" --jacobian exact
