@@ -80,4 +80,5 @@ char *cli_human(char *buf, size_t n, double x, const char *unit);
 int cli_model(int argc, char **argv);
 /* `layerfit model --figure N [--plot FILE]` (cli_figure.c). */
 int cli_figure(int figure, const char *plot);
+int cli_check(int argc, char **argv);
 #endif

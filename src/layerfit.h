@@ -255,7 +255,8 @@ typedef struct {
 
 /* One force-depth curve in SI, points in file order. */
 typedef struct {
-    char *file;               /* path it was read from ("" if from memory) */
+    char *file;               /* path it was read from (the name given to
+                                 lf_curve_parse when read from memory) */
     size_t n;                 /* number of points */
     double *depth;            /* instrument depth z, m (positive into layer) */
     double *force;            /* N */
@@ -287,6 +288,59 @@ typedef struct {
 
 void lf_curve_free(lf_curve *c);
 void lf_plan_free(lf_plan *p);
+
+/* How to read a curve file. */
+typedef struct {
+    const char *depth_unit;   /* unit of the depth column; NULL = from header */
+    const char *force_unit;   /* unit of the force column; NULL = from header */
+    int skip_bad_rows;        /* skip rows with missing cells (with a warning)
+                                 instead of failing */
+} lf_read_opts;
+
+void lf_read_opts_default(lf_read_opts *o);
+
+/* Read one curve CSV (format in datasets/README.md).  On success *out is a
+ * new curve owned by the caller (lf_curve_free) and warnings, if any, are
+ * appended to warn (may be NULL).  On failure *out is NULL and err names the
+ * file, line and column (column = character in the line, 1-based) with
+ * LF_EIO, LF_EFORMAT, LF_EUNIT or LF_EDATA.  o may be NULL for defaults. */
+int lf_curve_read(const char *path, const lf_read_opts *o, lf_curve **out,
+                  lf_warnings *warn, lf_error *err);
+/* The same from memory, feeding the CSV parser chunk bytes at a time
+ * (0 = all at once); name is used in messages and stored as c->file. */
+int lf_curve_parse(const char *buf, size_t len, size_t chunk, const char *name,
+                   const lf_read_opts *o, lf_curve **out, lf_warnings *warn,
+                   lf_error *err);
+
+/* Read a fit plan: one row per curve, `file,k,R,b,interface` and optional
+ * `nu,segment,sample,z0,F0` columns.  Relative curve paths are resolved
+ * against the plan's folder (dir for lf_plan_parse; NULL or "" = as
+ * written) and must name existing files.  Rows are checked with
+ * lf_probe_check and, on bonded rows, 0 <= nu < 0.5.  Ownership and errors
+ * as for lf_curve_read. */
+int lf_plan_read(const char *path, lf_plan **out, lf_warnings *warn, lf_error *err);
+int lf_plan_parse(const char *buf, size_t len, size_t chunk, const char *name,
+                  const char *dir, lf_plan **out, lf_warnings *warn, lf_error *err);
+
+/* Whether a CSV file is a plan (its header has a "file" column) or a curve,
+ * from its header alone. */
+typedef enum { LF_FILE_CURVE = 0, LF_FILE_PLAN = 1 } lf_file_kind;
+int lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err);
+
+/* Copy the points of one segment, in file order, into depth and force
+ * (either may be NULL to skip it) and return how many there are.  Call with
+ * NULL, NULL to size the arrays. */
+size_t lf_curve_segment(const lf_curve *c, lf_segment seg, double *depth,
+                        double *force);
+
+/* Check that a segment can be fitted: at least min_points points, force
+ * not zero everywhere, depth not the same everywhere.  LF_EDATA with a
+ * message naming the file and what is wrong. */
+int lf_curve_check_fit(const lf_curve *c, lf_segment seg, size_t min_points,
+                       lf_error *err);
+
+/* The name of a segment ("load", "unload"). */
+const char *lf_segment_name(lf_segment seg);
 
 #ifdef __cplusplus
 }

@@ -8,6 +8,7 @@
 
 static const cli_command commands[] = {
     { "model", "compute model curves, pull-off and the paper's figures", cli_model },
+    { "check", "read a fit plan or a curve file and report what it holds", cli_check },
     { NULL, NULL, NULL }
 };
 

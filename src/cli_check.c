@@ -1,0 +1,154 @@
+/* cli_check.c: `layerfit check FILE`: load a fit plan and every curve it
+ * lists, or a single curve file, and say what was found.  Everything is
+ * read and checked before anything is printed, so that a bad input gives
+ * one error message (exit status 2) and no partial report. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+
+/* The fewest points of a segment worth fitting: one more than the most
+ * parameters a fit can have (w, E*, nu, z0, F0). */
+#define CHECK_MIN_POINTS 6
+
+static void
+usage(FILE *f)
+{
+    fprintf(f,
+        "usage: layerfit check [OPTIONS] FILE\n\n"
+        "Read a fit plan (a CSV whose header has a 'file' column) and every curve\n"
+        "it lists, or one curve file, and report points, ranges, segments and\n"
+        "metadata.  Errors go to stderr as FILE:LINE:COLUMN: message (exit 2).\n\n"
+        "options:\n"
+        "  --depth-unit UNIT   unit of the depth column when the header has none (nm)\n"
+        "  --force-unit UNIT   unit of the force column when the header has none (uN)\n"
+        "  --skip-bad-rows     skip rows with missing cells, with a warning\n");
+}
+
+static void
+print_range(const char *label, const double *x, size_t n, const char *unit)
+{
+    char lo[48], hi[48];
+    double a = INFINITY, b = -INFINITY;
+    size_t i;
+    for (i = 0; i < n; i++) {
+        a = fmin(a, x[i]);
+        b = fmax(b, x[i]);
+    }
+    printf("  %-9s %s .. %s\n", label, cli_human(lo, sizeof lo, a, unit),
+           cli_human(hi, sizeof hi, b, unit));
+}
+
+static void
+print_free(const char *label, double v, const char *unit)
+{
+    char buf[48];
+    if (isnan(v))
+        printf("  %-9s free\n", label);
+    else if (unit[0] == '\0')
+        printf("  %-9s %g (fixed)\n", label, v);
+    else
+        printf("  %-9s %s (fixed)\n", label, cli_human(buf, sizeof buf, v, unit));
+}
+
+/* What was found in one curve; seg is the segment a fit would use. */
+static void
+print_curve(const lf_curve *c, lf_segment seg)
+{
+    size_t i, nload = lf_curve_segment(c, LF_SEG_LOAD, NULL, NULL);
+
+    printf("  %-9s %zu (load %zu, unload %zu)\n", "points", c->n, nload, c->n - nload);
+    print_range("depth", c->depth, c->n, "m");
+    print_range("force", c->force, c->n, "N");
+    if (c->time != NULL)
+        print_range("time", c->time, c->n, "s");
+    printf("  %-9s %s segment, %zu points\n", "fit", lf_segment_name(seg),
+           lf_curve_segment(c, seg, NULL, NULL));
+    for (i = 0; i < c->nmeta; i++)
+        printf("  %-9s %s: %s\n", "metadata", c->meta[i].key, c->meta[i].value);
+}
+
+static void
+print_probe(const lf_plan_row *r)
+{
+    char R[48], b[48];
+    printf("  %-9s k = %g, R = %s, b = %s, %s\n", "probe", r->probe.k,
+           cli_human(R, sizeof R, r->probe.R, "m"), cli_human(b, sizeof b, r->probe.b, "m"),
+           cli_base_name(r->probe.base));
+    if (r->sample[0] != '\0')
+        printf("  %-9s %s\n", "sample", r->sample);
+    print_free("nu", r->nu, "");
+    print_free("z0", r->z0, "m");
+    print_free("F0", r->F0, "N");
+}
+
+int
+cli_check(int argc, char **argv)
+{
+    lf_read_opts o;
+    lf_error err;
+    lf_warnings warn = { 0, NULL };
+    lf_file_kind kind;
+    lf_plan *plan = NULL;
+    lf_curve **curves = NULL;
+    size_t i, ncurves = 0;
+    int npos, help, status;
+    cli_opt opts[] = {
+        { "depth-unit", CLI_STRING, NULL },
+        { "force-unit", CLI_STRING, NULL },
+        { "skip-bad-rows", CLI_FLAG, NULL },
+        { NULL, CLI_FLAG, NULL }
+    };
+
+    lf_read_opts_default(&o);
+    opts[0].target = &o.depth_unit;
+    opts[1].target = &o.force_unit;
+    opts[2].target = &o.skip_bad_rows;
+    cli_parse("check", argc, argv, opts, &npos, &help);
+    if (help) {
+        usage(stdout);
+        return CLI_EXIT_OK;
+    }
+    if (npos != 1)
+        cli_die(CLI_EXIT_USAGE, "check: expected one file, a plan or a curve "
+                "(e.g. layerfit check plan.csv)");
+    status = lf_file_kind_of(argv[0], &kind, &err);
+    if (status == LF_OK && kind == LF_FILE_PLAN) {
+        status = lf_plan_read(argv[0], &plan, &warn, &err);
+        ncurves = status == LF_OK ? plan->n : 0;
+    } else if (status == LF_OK) {
+        ncurves = 1;
+    }
+    if (status == LF_OK && (curves = calloc(ncurves, sizeof *curves)) == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    for (i = 0; i < ncurves && status == LF_OK; i++) {
+        const char *path = plan ? plan->rows[i].file : argv[0];
+        lf_segment seg = plan ? plan->rows[i].segment : LF_SEG_UNLOAD;
+        status = lf_curve_read(path, &o, &curves[i], &warn, &err);
+        if (status == LF_OK)
+            status = lf_curve_check_fit(curves[i], seg, CHECK_MIN_POINTS, &err);
+    }
+    if (status == LF_OK) {
+        cli_print_warnings(&warn);
+        if (plan != NULL)
+            printf("plan %s: %zu curve%s\n", plan->path, plan->n, plan->n == 1 ? "" : "s");
+        for (i = 0; i < ncurves; i++) {
+            if (plan != NULL) {
+                printf("%s (plan line %ld)\n", plan->rows[i].file, plan->rows[i].line);
+                print_probe(&plan->rows[i]);
+            } else {
+                printf("curve %s\n", curves[i]->file);
+            }
+            print_curve(curves[i], plan ? plan->rows[i].segment : LF_SEG_UNLOAD);
+        }
+    }
+    for (i = 0; i < ncurves && curves != NULL; i++)
+        lf_curve_free(curves[i]);
+    free(curves);
+    lf_plan_free(plan);
+    lf_warnings_free(&warn);
+    if (status != LF_OK)
+        cli_die_error(status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, &err);
+    return CLI_EXIT_OK;
+}

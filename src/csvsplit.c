@@ -1,0 +1,547 @@
+/* csvsplit.c: lines, comments and records of the CSV files layerfit reads
+ * (see csvsplit.h).  Bytes go to libcsv one at a time, so that the place of
+ * every field and of every malformed quote is known exactly; this costs a
+ * function call per byte, which is small next to the parsing of numbers. */
+#include <ctype.h>
+#include <errno.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <csv.h>
+
+#include "csvsplit.h"
+
+typedef struct {
+    const char *name;
+    const lf_csv_handler *h;
+    lf_error *err;
+    int status;               /* first failure or LF_CSV_STOP */
+    struct csv_parser csv;
+
+    char *line;               /* the physical line being gathered */
+    size_t len, cap;
+    long lineno;              /* number of that line */
+    int prev_cr;              /* the last byte was CR: an LF after it is eaten */
+
+    char delim;               /* 0 until the header has been seen */
+    long nrecords;
+    int in_record;            /* libcsv holds an unfinished record */
+    long rec_line;
+    size_t rec_bytes;
+
+    char *fbuf;               /* fields of the record, back to back */
+    size_t flen, fcap;
+    struct { size_t off; long line, col; } *fpos;
+    size_t nf, nfcap;
+    char **ftext;             /* the record as handed over */
+    long *fline, *fcol;
+    size_t ntcap;
+    long cur_col;             /* column of the byte being parsed */
+    long fstart_line, fstart_col;
+} splitter;
+
+static int
+grow(void **p, size_t *cap, size_t need, size_t size)
+{
+    size_t n = *cap ? *cap : 16;
+    void *q;
+    if (need <= *cap)
+        return 0;
+    while (n < need)
+        n *= 2;
+    q = realloc(*p, n * size);
+    if (q == NULL)
+        return -1;
+    *p = q;
+    *cap = n;
+    return 0;
+}
+
+static int
+nomem(splitter *s)
+{
+    s->status = lf_fail_at(s->err, LF_ENOMEM, s->name, s->lineno, 0,
+                           "out of memory");
+    return s->status;
+}
+
+static int
+is_blank(unsigned char c)
+{
+    return c == ' ' || c == '\t';
+}
+
+/* libcsv: only the space is blank, so that a tab can be a delimiter. */
+static int
+csv_space(unsigned char c)
+{
+    return c == ' ';
+}
+
+/* libcsv: end of a field.  Keeps the text and where it started. */
+static void
+on_field(void *data, size_t n, void *vs)
+{
+    splitter *s = vs;
+    const char *text = data ? data : "";
+    size_t b = 0, e = n;
+
+    if (s->status != LF_OK)
+        return;
+    while (b < e && is_blank((unsigned char) text[b]))
+        b++;
+    while (e > b && is_blank((unsigned char) text[e - 1]))
+        e--;
+    if (grow((void **) &s->fbuf, &s->fcap, s->flen + (e - b) + 1, 1) != 0
+        || grow((void **) &s->fpos, &s->nfcap, s->nf + 1, sizeof *s->fpos) != 0) {
+        nomem(s);
+        return;
+    }
+    memcpy(s->fbuf + s->flen, text + b, e - b);
+    s->fpos[s->nf].off = s->flen;
+    s->fpos[s->nf].line = s->fstart_line;
+    s->fpos[s->nf].col = s->fstart_col;
+    s->flen += e - b;
+    s->fbuf[s->flen++] = '\0';
+    s->nf++;
+    s->fstart_line = s->lineno;
+    s->fstart_col = s->cur_col + 1;
+}
+
+/* libcsv: end of a record.  Hands it to the caller. */
+static void
+on_record(int c, void *vs)
+{
+    splitter *s = vs;
+    lf_csv_record r;
+    size_t i;
+
+    (void) c;
+    s->in_record = 0;
+    if (s->status != LF_OK)
+        return;
+    if (s->nf > s->ntcap) {
+        size_t cap = s->ntcap, cap2 = s->ntcap, cap3 = s->ntcap;
+        if (grow((void **) &s->ftext, &cap, s->nf, sizeof *s->ftext) != 0
+            || grow((void **) &s->fline, &cap2, s->nf, sizeof *s->fline) != 0
+            || grow((void **) &s->fcol, &cap3, s->nf, sizeof *s->fcol) != 0) {
+            nomem(s);
+            return;
+        }
+        s->ntcap = cap;   /* all three grew to the same size */
+    }
+    for (i = 0; i < s->nf; i++) {
+        s->ftext[i] = s->fbuf + s->fpos[i].off;
+        s->fline[i] = s->fpos[i].line;
+        s->fcol[i] = s->fpos[i].col;
+    }
+    r.index = s->nrecords++;
+    r.line = s->rec_line;
+    r.n = s->nf;
+    r.text = s->ftext;
+    r.fline = s->fline;
+    r.fcol = s->fcol;
+    r.delim = s->delim;
+    s->status = s->h->record(s->h->ctx, &r, s->err);
+    s->nf = 0;
+    s->flen = 0;
+}
+
+/* The delimiter of a header line: the most frequent of tab, ';' and ','
+ * outside quotes, in that order of preference on a tie. */
+static char
+detect_delim(const char *t, size_t n)
+{
+    size_t tabs = 0, semis = 0, commas = 0, i;
+    int quoted = 0;
+    for (i = 0; i < n; i++) {
+        if (t[i] == '"')
+            quoted = !quoted;
+        else if (!quoted)
+            tabs += t[i] == '\t', semis += t[i] == ';', commas += t[i] == ',';
+    }
+    if (tabs > 0 && tabs >= semis && tabs >= commas)
+        return '\t';
+    if (semis > 0 && semis >= commas)
+        return ';';
+    return ',';
+}
+
+/* Give one byte to libcsv; col is its column. */
+static int
+parse_byte(splitter *s, char c, long col)
+{
+    s->cur_col = col;
+    if (csv_parse(&s->csv, &c, 1, on_field, on_record, s) != 1 && s->status == LF_OK)
+        s->status = lf_fail_at(s->err, LF_EFORMAT, s->name, s->lineno, col,
+                               "malformed quotes (quote a whole field, and double "
+                               "the quotes inside it: \"a \"\"b\"\"\")");
+    return s->status;
+}
+
+/* Handle one complete physical line, without its terminator. */
+static int
+process_line(splitter *s, char *t, size_t n)
+{
+    size_t i, b;
+    long col = 0;
+
+    if (s->lineno == 1) {
+        if (n >= 2 && ((unsigned char) t[0] == 0xFF || (unsigned char) t[0] == 0xFE)
+            && ((unsigned char) t[1] == 0xFE || (unsigned char) t[1] == 0xFF))
+            return s->status = lf_fail_at(s->err, LF_EFORMAT, s->name, 1, 1,
+                                          "UTF-16 text (save the file as UTF-8 CSV)");
+        if (n >= 3 && memcmp(t, "\xEF\xBB\xBF", 3) == 0)
+            t += 3, n -= 3;
+    }
+    for (i = 0; i < n; i++) {
+        unsigned char c = (unsigned char) t[i];
+        if ((c & 0xC0) != 0x80)
+            col++;
+        if ((c < 0x20 && c != '\t') || c == 0x7F)
+            return s->status = lf_fail_at(s->err, LF_EFORMAT, s->name, s->lineno, col,
+                                          "binary data: control byte 0x%02X (expected "
+                                          "a text CSV file)", c);
+    }
+    if (!s->in_record) {
+        for (b = 0; b < n && is_blank((unsigned char) t[b]); b++)
+            ;
+        if (b == n)
+            return LF_OK;
+        if (t[b] == '#') {
+            size_t e = n;
+            t[e] = '\0';
+            for (b++; b < e && is_blank((unsigned char) t[b]); b++)
+                ;
+            while (e > b && is_blank((unsigned char) t[e - 1]))
+                t[--e] = '\0';
+            if (s->h->comment != NULL)
+                s->status = s->h->comment(s->h->ctx, s->lineno, t + b,
+                                          s->delim == 0, s->err);
+            return s->status;
+        }
+        if (s->delim == 0) {
+            s->delim = detect_delim(t, n);
+            csv_set_delim(&s->csv, (unsigned char) s->delim);
+        }
+        s->in_record = 1;
+        s->rec_line = s->fstart_line = s->lineno;
+        s->fstart_col = 1;
+        s->rec_bytes = 0;
+    }
+    s->rec_bytes += n + 1;
+    if (s->rec_bytes > (size_t) LF_CSV_MAX_LINE)
+        return s->status = lf_fail_at(s->err, LF_EFORMAT, s->name, s->fstart_line,
+                                      s->fstart_col, "row longer than 1 MiB (is a "
+                                      "quote left open here?)");
+    col = 0;
+    for (i = 0; i < n && s->status == LF_OK; i++) {
+        if (((unsigned char) t[i] & 0xC0) != 0x80)
+            col++;
+        parse_byte(s, t[i], col);
+    }
+    if (s->status == LF_OK)
+        parse_byte(s, '\n', col + 1);
+    return s->status;   /* in_record still set: a quoted field goes on */
+}
+
+static int
+end_line(splitter *s)
+{
+    if (grow((void **) &s->line, &s->cap, s->len + 1, 1) != 0)
+        return nomem(s);
+    s->line[s->len] = '\0';
+    process_line(s, s->line, s->len);
+    s->len = 0;
+    s->lineno++;
+    return s->status;
+}
+
+static int
+feed(splitter *s, const char *buf, size_t n)
+{
+    size_t i;
+    for (i = 0; i < n && s->status == LF_OK; i++) {
+        char c = buf[i];
+        if (c == '\n' && s->prev_cr) {
+            s->prev_cr = 0;
+            continue;
+        }
+        s->prev_cr = c == '\r';
+        if (c == '\n' || c == '\r') {
+            end_line(s);
+            continue;
+        }
+        if (s->len >= (size_t) LF_CSV_MAX_LINE)
+            return s->status = lf_fail_at(s->err, LF_EFORMAT, s->name, s->lineno, 0,
+                                          "line longer than 1 MiB (lines must end "
+                                          "within %ld bytes; is this a CSV file?)",
+                                          LF_CSV_MAX_LINE);
+        if (s->len + 1 >= s->cap
+            && grow((void **) &s->line, &s->cap, s->len + 2, 1) != 0)
+            return nomem(s);
+        s->line[s->len++] = c;
+    }
+    return s->status;
+}
+
+static int
+finish(splitter *s)
+{
+    if (s->status == LF_OK && s->len > 0)
+        end_line(s);
+    if (s->status == LF_OK && s->in_record)
+        s->status = lf_fail_at(s->err, LF_EFORMAT, s->name, s->fstart_line,
+                               s->fstart_col, "quote opened here is never closed "
+                               "(end the field with \")");
+    return s->status;
+}
+
+static int
+start(splitter *s, const char *name, const lf_csv_handler *h, lf_error *err)
+{
+    memset(s, 0, sizeof *s);
+    s->name = name ? name : "";
+    s->h = h;
+    s->err = err;
+    s->lineno = 1;
+    lf_error_clear(err);
+    if (csv_init(&s->csv, CSV_STRICT | CSV_APPEND_NULL) != 0)
+        return s->status = lf_fail_at(err, LF_ENOMEM, s->name, 0, 0, "out of memory");
+    csv_set_space_func(&s->csv, csv_space);
+    return LF_OK;
+}
+
+static int
+stop(splitter *s)
+{
+    int status = s->status == LF_CSV_STOP ? LF_OK : s->status;
+    csv_free(&s->csv);
+    free(s->line);
+    free(s->fbuf);
+    free(s->fpos);
+    free(s->fline);
+    free(s->fcol);
+    free(s->ftext);
+    return status;
+}
+
+int
+lf_csv_read_buffer(const char *buf, size_t len, size_t chunk, const char *name,
+                   const lf_csv_handler *h, lf_error *err)
+{
+    splitter s;
+    size_t at = 0;
+
+    if (start(&s, name, h, err) != LF_OK)
+        return s.status;
+    if (chunk == 0)
+        chunk = len;
+    while (at < len && s.status == LF_OK) {
+        size_t n = len - at < chunk ? len - at : chunk;
+        feed(&s, buf + at, n);
+        at += n;
+    }
+    finish(&s);
+    return stop(&s);
+}
+
+int
+lf_csv_read_file(const char *path, const lf_csv_handler *h, lf_error *err)
+{
+    char block[65536];
+    struct stat st;
+    splitter s;
+    FILE *f;
+    size_t n;
+
+    lf_error_clear(err);
+    f = fopen(path, "rb");
+    if (f == NULL)
+        return lf_fail_at(err, LF_EIO, path, 0, 0, "cannot open: %s", strerror(errno));
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(f);
+        return lf_fail_at(err, LF_EIO, path, 0, 0, "is a directory (expected a CSV file)");
+    }
+    if (start(&s, path, h, err) == LF_OK) {
+        while (s.status == LF_OK && (n = fread(block, 1, sizeof block, f)) > 0)
+            feed(&s, block, n);
+        if (s.status == LF_OK && ferror(f))
+            s.status = lf_fail_at(err, LF_EIO, path, 0, 0, "read error: %s", strerror(errno));
+        finish(&s);
+    }
+    fclose(f);
+    return stop(&s);
+}
+
+/* ---------------------------------------------------------------------- */
+
+int
+lf_csv_ieq(const char *a, const char *b)
+{
+    for (; *a && *b; a++, b++)
+        if (tolower((unsigned char) *a) != tolower((unsigned char) *b))
+            return 0;
+    return *a == *b;
+}
+
+static void
+copy_trimmed(char *dst, size_t n, const char *b, const char *e)
+{
+    size_t len;
+    while (b < e && is_blank((unsigned char) *b))
+        b++;
+    while (e > b && is_blank((unsigned char) e[-1]))
+        e--;
+    len = (size_t) (e - b);
+    if (n == 0)
+        return;
+    if (len >= n)
+        len = n - 1;
+    memcpy(dst, b, len);
+    dst[len] = '\0';
+}
+
+/* Spell the micro sign as 'u', in place. */
+static void
+ascii_micro(char *u)
+{
+    char *w = u;
+    const unsigned char *r = (const unsigned char *) u;
+    while (*r) {
+        if ((r[0] == 0xC2 && r[1] == 0xB5) || (r[0] == 0xCE && r[1] == 0xBC)) {
+            *w++ = 'u';
+            r += 2;
+        } else if (r[0] == 0xB5) {
+            *w++ = 'u';
+            r++;
+        } else {
+            *w++ = (char) *r++;
+        }
+    }
+    *w = '\0';
+}
+
+void
+lf_csv_header_cell(const char *cell, char *name, size_t nname, char *unit,
+                   size_t nunit)
+{
+    const char *end = cell + strlen(cell), *cut;
+    char close;
+
+    while (end > cell && is_blank((unsigned char) end[-1]))
+        end--;
+    close = end > cell ? end[-1] : '\0';
+    if ((close == ')' || close == ']')
+        && (cut = memchr(cell, close == ')' ? '(' : '[', (size_t) (end - cell))) != NULL
+        && cut > cell) {
+        copy_trimmed(name, nname, cell, cut);
+        copy_trimmed(unit, nunit, cut + 1, end - 1);
+    } else if ((cut = strstr(cell, " / ")) != NULL) {
+        copy_trimmed(name, nname, cell, cut);
+        copy_trimmed(unit, nunit, cut + 3, end);
+    } else if ((cut = strrchr(cell, '_')) != NULL && cut > cell) {
+        copy_trimmed(name, nname, cell, cut);
+        copy_trimmed(unit, nunit, cut + 1, end);
+    } else {
+        copy_trimmed(name, nname, cell, end);
+        copy_trimmed(unit, nunit, end, end);
+    }
+    ascii_micro(unit);
+}
+
+void
+lf_csv_decimal_point(char *text, int decimal_comma)
+{
+    char *comma;
+    if (!decimal_comma || strchr(text, '.') != NULL)
+        return;
+    comma = strchr(text, ',');
+    if (comma != NULL && strchr(comma + 1, ',') == NULL)
+        *comma = '.';
+}
+
+int
+lf_csv_number(const char *text, int decimal_comma, double *value)
+{
+    char buf[80], *end;
+    const char *p = text;
+    size_t n = strlen(text), i;
+    int digits = 0;
+
+    if (n == 0)
+        return LF_NUM_EMPTY;
+    if (n >= sizeof buf)
+        return LF_NUM_BAD;
+    memcpy(buf, text, n + 1);
+    lf_csv_decimal_point(buf, decimal_comma);
+    p = buf + (buf[0] == '+' || buf[0] == '-');
+    if (lf_csv_ieq(p, "nan") || lf_csv_ieq(p, "inf") || lf_csv_ieq(p, "infinity"))
+        return LF_NUM_NONFINITE;
+    for (i = 0; i < n; i++) {
+        char c = buf[i];
+        if (isdigit((unsigned char) c))
+            digits = 1;
+        else if (!(c == '+' || c == '-' || c == '.' || c == 'e' || c == 'E'))
+            return LF_NUM_BAD;
+    }
+    if (!digits)
+        return LF_NUM_BAD;
+    errno = 0;
+    *value = strtod(buf, &end);
+    if (end != buf + n)
+        return LF_NUM_BAD;
+    if (errno == ERANGE && fabs(*value) > 1.0)
+        return LF_NUM_NONFINITE;
+    return LF_NUM_OK;
+}
+
+/* Length of the valid UTF-8 sequence at s, or 0. */
+static size_t
+utf8_len(const unsigned char *s)
+{
+    size_t n, i;
+    if (s[0] < 0x80)
+        return 1;
+    if (s[0] >= 0xC2 && s[0] <= 0xDF)
+        n = 2;
+    else if (s[0] >= 0xE0 && s[0] <= 0xEF)
+        n = 3;
+    else if (s[0] >= 0xF0 && s[0] <= 0xF4)
+        n = 4;
+    else
+        return 0;
+    for (i = 1; i < n; i++)
+        if ((s[i] & 0xC0) != 0x80)
+            return 0;
+    return n;
+}
+
+const char *
+lf_csv_excerpt(const char *text, char *buf, size_t n)
+{
+    const unsigned char *r = (const unsigned char *) text;
+    size_t w = 0, shown = 0;
+
+    while (*r && w + 8 < n && shown < 40) {
+        size_t k = utf8_len(r);
+        if (k == 0 || (k == 1 && (*r < 0x20 || *r == 0x7F))) {
+            buf[w++] = '?';
+            r++;
+        } else {
+            memcpy(buf + w, r, k);
+            w += k;
+            r += k;
+        }
+        shown++;
+    }
+    if (*r && w + 4 <= n) {
+        memcpy(buf + w, "...", 3);
+        w += 3;
+    }
+    buf[w] = '\0';
+    return buf;
+}

@@ -1,0 +1,74 @@
+/* csvsplit.h: the line and record layer shared by the curve and plan
+ * readers (internal, not installed).
+ *
+ * Input arrives in blocks of any size.  It is cut into physical lines (LF,
+ * CRLF or CR), each at most LF_CSV_MAX_LINE bytes, so memory stays bounded
+ * by one line whatever the file size.  A UTF-8 byte order mark is dropped,
+ * blank lines are skipped, lines whose first non-blank character is '#' go
+ * to the comment callback, and the first other line is the header: the
+ * delimiter (tab, ';' or ',') is taken from it.  Header and data lines go
+ * through libcsv in strict mode (CSV_APPEND_NULL); a quoted field may span
+ * lines.  Each complete record goes to the record callback with the line and
+ * column (in characters, 1-based) where each field starts. */
+#ifndef LF_CSVSPLIT_H
+#define LF_CSVSPLIT_H
+
+#include "internal.h"
+
+#define LF_CSV_MAX_LINE (1024L * 1024L)   /* bytes in a line, or in a record */
+#define LF_CSV_STOP (-1)  /* returned by a callback: stop reading, no error */
+
+typedef struct {
+    long index;      /* 0 for the header, then 1, 2, ... */
+    long line;       /* line where the record starts */
+    size_t n;        /* number of fields */
+    char **text;     /* NUL-terminated, surrounding spaces removed */
+    const long *fline, *fcol;   /* where each field starts */
+    char delim;      /* ',', ';' or '\t' */
+} lf_csv_record;
+
+/* What the caller does with records and comments.  A callback returns LF_OK
+ * to go on, LF_CSV_STOP to end the reading early (the reader then returns
+ * LF_OK), or a status after filling err. */
+typedef struct {
+    void *ctx;
+    int (*record)(void *ctx, const lf_csv_record *r, lf_error *err);
+    /* text after the '#', trimmed; before_header is 1 until the header */
+    int (*comment)(void *ctx, long line, const char *text, int before_header,
+                   lf_error *err);
+} lf_csv_handler;
+
+/* Read the file at path in blocks.  Messages name the file by path. */
+int lf_csv_read_file(const char *path, const lf_csv_handler *h, lf_error *err);
+/* Read buf[0..len-1], handed over in pieces of chunk bytes (0 = at once). */
+int lf_csv_read_buffer(const char *buf, size_t len, size_t chunk,
+                       const char *name, const lf_csv_handler *h, lf_error *err);
+
+/* Split a header cell into a name and a unit: "depth_nm", "Depth (nm)",
+ * "Indentation [um]", "depth / nm" give ("depth"|"Depth"|..., "nm"); a cell
+ * without a unit gives an empty unit.  µ (U+00B5), μ (U+03BC) and a Latin-1
+ * 0xB5 byte in the unit are spelled 'u'.  Output is truncated to fit. */
+void lf_csv_header_cell(const char *cell, char *name, size_t nname,
+                        char *unit, size_t nunit);
+
+/* The segment a word names (load, loading, approach, extend / unload,
+ * unloading, retract, withdraw; any case), or -1. */
+int lf_csv_segment_word(const char *word);
+
+/* Case-insensitive ASCII equality. */
+int lf_csv_ieq(const char *a, const char *b);
+
+/* Parse a plain decimal number (digits, sign, '.', exponent; with
+ * decimal_comma a single ',' stands for '.').  Returns one of: */
+enum { LF_NUM_OK, LF_NUM_EMPTY, LF_NUM_BAD, LF_NUM_NONFINITE };
+int lf_csv_number(const char *text, int decimal_comma, double *value);
+
+/* With decimal_comma, replace the only ',' of text (when it has no '.')
+ * with '.', in place. */
+void lf_csv_decimal_point(char *text, int decimal_comma);
+
+/* A printable excerpt of text for messages: at most about 40 characters,
+ * control and invalid bytes shown as '?'.  Returns buf. */
+const char *lf_csv_excerpt(const char *text, char *buf, size_t n);
+
+#endif

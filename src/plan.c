@@ -1,0 +1,421 @@
+/* plan.c: fit plans, CSV files that list curves and what is known about
+ * each: `file,k,R,b,interface` and optionally `nu,segment,sample,z0,F0`.
+ * Dimensional values carry their unit in the header ("R_mm", "b [um]") or
+ * in each cell ("1mm").  Each row is checked as it is read: the curve file
+ * exists, the probe passes lf_probe_check, nu suits the interface, and no
+ * curve and segment is listed twice. */
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "csvsplit.h"
+
+enum { P_FILE, P_K, P_R, P_B, P_INTERFACE, P_NU, P_SEGMENT, P_SAMPLE, P_Z0, P_F0, NPCOL };
+
+typedef enum { TEXT, NUMBER, FREE_NUMBER } cell_kind;  /* FREE_NUMBER: empty/NaN = free */
+
+static const struct {
+    const char *name;
+    cell_kind kind;
+    lf_quantity q;
+    int required;
+} pcols[NPCOL] = {
+    [P_FILE]      = { "file", TEXT, LF_Q_DIMENSIONLESS, 1 },
+    [P_K]         = { "k", NUMBER, LF_Q_DIMENSIONLESS, 1 },
+    [P_R]         = { "R", NUMBER, LF_Q_LENGTH, 1 },
+    [P_B]         = { "b", NUMBER, LF_Q_LENGTH, 1 },
+    [P_INTERFACE] = { "interface", TEXT, LF_Q_DIMENSIONLESS, 1 },
+    [P_NU]        = { "nu", FREE_NUMBER, LF_Q_DIMENSIONLESS, 0 },
+    [P_SEGMENT]   = { "segment", TEXT, LF_Q_DIMENSIONLESS, 0 },
+    [P_SAMPLE]    = { "sample", TEXT, LF_Q_DIMENSIONLESS, 0 },
+    [P_Z0]        = { "z0", FREE_NUMBER, LF_Q_LENGTH, 0 },
+    [P_F0]        = { "F0", FREE_NUMBER, LF_Q_FORCE, 0 },
+};
+
+#define COLUMNS_HINT "a plan has the columns file,k,R,b,interface and may add nu,segment,sample,z0,F0"
+
+typedef struct {
+    const char *name;
+    const char *dir;
+    lf_plan *plan;
+    size_t cap;
+    char **canon;             /* canonical path of each row, for duplicates */
+    int have_header;
+    long header_line;
+    size_t ncols;
+    long col[NPCOL];
+    int has_unit[NPCOL];      /* the header gives the column's unit */
+    double factor[NPCOL];
+    int decimal_comma;
+} plan_reader;
+
+static int
+plan_header(plan_reader *rd, const lf_csv_record *r, lf_error *err)
+{
+    char name[256], unit[256], buf[64];
+    size_t i;
+    int c;
+
+    rd->have_header = 1;
+    rd->header_line = r->line;
+    rd->ncols = r->n;
+    rd->decimal_comma = r->delim == ';';
+    for (c = 0; c < NPCOL; c++)
+        rd->col[c] = -1;
+    for (i = 0; i < r->n; i++) {
+        lf_error e;
+        lf_csv_header_cell(r->text[i], name, sizeof name, unit, sizeof unit);
+        for (c = 0; c < NPCOL; c++)
+            if (lf_csv_ieq(name, pcols[c].name))
+                break;
+        if (c == NPCOL)
+            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[i], r->fcol[i],
+                              "unknown column '%s' (" COLUMNS_HINT ")",
+                              lf_csv_excerpt(r->text[i], buf, sizeof buf));
+        if (rd->col[c] >= 0)
+            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[i], r->fcol[i],
+                              "second %s column (keep one)", pcols[c].name);
+        rd->col[c] = (long) i;
+        rd->factor[c] = 1.0;
+        if (unit[0] == '\0')
+            continue;
+        if (pcols[c].q == LF_Q_DIMENSIONLESS)
+            return lf_fail_at(err, LF_EUNIT, rd->name, r->fline[i], r->fcol[i],
+                              "column %s takes no unit (name it '%s')",
+                              pcols[c].name, pcols[c].name);
+        if (lf_units_factor(unit, pcols[c].q, &rd->factor[c], &e) != LF_OK)
+            return lf_fail_at(err, e.status, rd->name, r->fline[i], r->fcol[i],
+                              "column %s: %s", pcols[c].name, e.msg);
+        rd->has_unit[c] = 1;
+    }
+    for (c = 0; c < NPCOL; c++)
+        if (pcols[c].required && rd->col[c] < 0)
+            return lf_fail_at(err, LF_EFORMAT, rd->name, r->line, 1,
+                              "no %s column in the header (" COLUMNS_HINT ")",
+                              pcols[c].name);
+    return LF_OK;
+}
+
+/* A numeric cell in SI: a bare number in the header's unit, or a number
+ * with its own unit when the header gives none.  NaN when free. */
+static int
+plan_number(plan_reader *rd, const lf_csv_record *r, int c, double *v, lf_error *err)
+{
+    long k = rd->col[c];
+    char text[128], buf[64];
+    const char *t;
+    lf_error e;
+    int status;
+
+    *v = NAN;
+    if (k < 0)
+        return LF_OK;
+    t = r->text[k];
+    if (pcols[c].kind == FREE_NUMBER && (t[0] == '\0' || lf_csv_ieq(t, "nan")))
+        return LF_OK;
+    if (t[0] == '\0')
+        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                          "empty %s cell (every row needs %s)", pcols[c].name,
+                          pcols[c].name);
+    if (pcols[c].q == LF_Q_DIMENSIONLESS || rd->has_unit[c]) {
+        status = lf_csv_number(t, rd->decimal_comma, v);
+        if (status == LF_NUM_OK) {
+            *v *= rd->factor[c];
+            return LF_OK;
+        }
+        if (status == LF_NUM_NONFINITE)
+            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                              "%s '%s' is not a finite number", pcols[c].name,
+                              lf_csv_excerpt(t, buf, sizeof buf));
+        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                          "%s '%s' is not a number (%s)", pcols[c].name,
+                          lf_csv_excerpt(t, buf, sizeof buf),
+                          rd->has_unit[c] ? "the header gives the unit, so a bare "
+                          "number such as 1.5" : "e.g. 2");
+    }
+    snprintf(text, sizeof text, "%s", t);
+    lf_csv_decimal_point(text, rd->decimal_comma);
+    if (lf_units_parse(text, pcols[c].q, v, &e) != LF_OK)
+        return lf_fail_at(err, e.status, rd->name, r->fline[k], r->fcol[k], "%s: %s",
+                          pcols[c].name, e.msg);
+    return LF_OK;
+}
+
+/* The curve path of a row, against the plan's folder. */
+static char *
+resolve(const char *dir, const char *file)
+{
+    size_t nd, nf = strlen(file);
+    char *p;
+    if (file[0] == '/' || dir == NULL || dir[0] == '\0')
+        return lf_strdup(file);
+    nd = strlen(dir);
+    p = malloc(nd + nf + 2);
+    if (p != NULL)
+        sprintf(p, "%s%s%s", dir, dir[nd - 1] == '/' ? "" : "/", file);
+    return p;
+}
+
+/* Resolve and check the curve of row idx against the rows before it. */
+static int
+plan_file(plan_reader *rd, const lf_csv_record *r, size_t idx, lf_error *err)
+{
+    lf_plan_row *row = &rd->plan->rows[idx];
+    long k = rd->col[P_FILE];
+    const char *t = r->text[k];
+    char buf[64], *canon;
+    struct stat st;
+    size_t i;
+
+    if (t[0] == '\0')
+        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                          "empty file cell (name the curve's CSV file, relative "
+                          "to the plan's folder)");
+    row->file = resolve(rd->dir, t);
+    if (row->file == NULL)
+        return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
+    if (stat(row->file, &st) != 0)
+        return lf_fail_at(err, LF_EIO, rd->name, r->fline[k], r->fcol[k],
+                          "curve file '%s' not found (looked for %s; paths are "
+                          "relative to the plan's folder)",
+                          lf_csv_excerpt(t, buf, sizeof buf), row->file);
+    if (!S_ISREG(st.st_mode))
+        return lf_fail_at(err, LF_EIO, rd->name, r->fline[k], r->fcol[k],
+                          "curve file '%s' is not a regular file (name a CSV file)",
+                          lf_csv_excerpt(t, buf, sizeof buf));
+    canon = realpath(row->file, NULL);
+    if (canon == NULL)
+        canon = lf_strdup(row->file);
+    if (canon == NULL)
+        return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
+    rd->canon[idx] = canon;
+    for (i = 0; i < idx; i++)
+        if (strcmp(rd->canon[i], canon) == 0 && rd->plan->rows[i].segment == row->segment)
+            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                              "duplicate row: curve '%s' and segment %s are "
+                              "listed at line %ld already (list each once)",
+                              lf_csv_excerpt(t, buf, sizeof buf),
+                              lf_segment_name(row->segment), rd->plan->rows[i].line);
+    return LF_OK;
+}
+
+/* Which column a message of lf_probe_check is about: its first word. */
+static long
+probe_column(const plan_reader *rd, const char *msg)
+{
+    static const int named[] = { P_K, P_R, P_B, P_INTERFACE };
+    size_t i, n;
+    for (i = 0; i < sizeof named / sizeof named[0]; i++) {
+        n = strlen(pcols[named[i]].name);
+        if (strncmp(msg, pcols[named[i]].name, n) == 0 && msg[n] == ' ')
+            return rd->col[named[i]];
+    }
+    return -1;
+}
+
+static int
+plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
+{
+    lf_plan *p = rd->plan;
+    lf_plan_row *row;
+    lf_error e;
+    char buf[64];
+    size_t n = r->n;
+    long k;
+    int status, word;
+
+    while (n > rd->ncols && r->text[n - 1][0] == '\0')
+        n--;
+    if (n != rd->ncols)
+        return lf_fail_at(err, LF_EFORMAT, rd->name, r->line,
+                          n > rd->ncols ? r->fcol[rd->ncols] : 1,
+                          "row has %zu cells, the header %zu (give each column "
+                          "a cell; leave optional ones empty)", n, rd->ncols);
+    if (p->n == rd->cap) {
+        size_t cap = rd->cap ? 2 * rd->cap : 16;
+        lf_plan_row *rows = realloc(p->rows, cap * sizeof *rows);
+        char **canon;
+        if (rows == NULL)
+            return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
+        p->rows = rows;
+        canon = realloc(rd->canon, cap * sizeof *canon);
+        if (canon == NULL)
+            return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
+        rd->canon = canon;
+        rd->cap = cap;
+    }
+    row = &p->rows[p->n];
+    memset(row, 0, sizeof *row);
+    rd->canon[p->n] = NULL;
+    row->line = r->line;
+    row->segment = LF_SEG_UNLOAD;
+    k = rd->col[P_SEGMENT];
+    if (k >= 0 && r->text[k][0] != '\0') {
+        word = lf_csv_segment_word(r->text[k]);
+        if (word < 0)
+            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                                "unknown segment '%s' (expected unload or load)",
+                                lf_csv_excerpt(r->text[k], buf, sizeof buf));
+        row->segment = (lf_segment) word;
+    }
+    k = rd->col[P_INTERFACE];
+    if (lf_csv_ieq(r->text[k], "frictionless"))
+        row->probe.base = LF_BASE_FRICTIONLESS;
+    else if (lf_csv_ieq(r->text[k], "bonded"))
+        row->probe.base = LF_BASE_BONDED;
+    else
+        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                          "unknown interface '%s' (expected frictionless or bonded)",
+                          lf_csv_excerpt(r->text[k], buf, sizeof buf));
+    k = rd->col[P_SAMPLE];
+    row->sample = lf_strdup(k >= 0 ? r->text[k] : "");
+    p->n++;          /* from here on the row is owned by the plan */
+    if (row->sample == NULL)
+        return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
+    if ((status = plan_number(rd, r, P_K, &row->probe.k, err)) != LF_OK
+        || (status = plan_number(rd, r, P_R, &row->probe.R, err)) != LF_OK
+        || (status = plan_number(rd, r, P_B, &row->probe.b, err)) != LF_OK
+        || (status = plan_number(rd, r, P_NU, &row->nu, err)) != LF_OK
+        || (status = plan_number(rd, r, P_Z0, &row->z0, err)) != LF_OK
+        || (status = plan_number(rd, r, P_F0, &row->F0, err)) != LF_OK)
+        return status;
+    if (lf_probe_check(&row->probe, &e) != LF_OK) {
+        k = probe_column(rd, e.msg);
+        return lf_fail_at(err, e.status, rd->name, r->line, k >= 0 ? r->fcol[k] : 0,
+                          "%s", e.msg);
+    }
+    if (!isnan(row->nu)) {
+        lf_material m = { 0.0, 1.0, row->nu };
+        k = rd->col[P_NU];
+        if (lf_material_check(&m, row->probe.base, &e) != LF_OK)
+            return lf_fail_at(err, e.status, rd->name, r->fline[k], r->fcol[k],
+                              "%s (leave nu empty to fit it)", e.msg);
+        if (!(row->nu > -1.0 && row->nu <= 0.5))
+            return lf_fail_at(err, LF_EINVAL, rd->name, r->fline[k], r->fcol[k],
+                              "nu must lie in (-1, 0.5] (got %g)", row->nu);
+    }
+    return plan_file(rd, r, p->n - 1, err);
+}
+
+static int
+plan_record(void *ctx, const lf_csv_record *r, lf_error *err)
+{
+    plan_reader *rd = ctx;
+    return r->index == 0 ? plan_header(rd, r, err) : plan_row(rd, r, err);
+}
+
+static int
+plan_load(const char *path, const char *buf, size_t len, size_t chunk,
+          const char *name, const char *dir, lf_plan **out, lf_warnings *warn,
+          lf_error *err)
+{
+    lf_csv_handler h;
+    plan_reader rd;
+    int status;
+    size_t i;
+
+    (void) warn;   /* no warnings yet: plan comments are the user's notes */
+    *out = NULL;
+    memset(&rd, 0, sizeof rd);
+    rd.name = name ? name : "";
+    rd.dir = dir;
+    rd.plan = calloc(1, sizeof *rd.plan);
+    if (rd.plan == NULL || (rd.plan->path = lf_strdup(rd.name)) == NULL) {
+        lf_plan_free(rd.plan);
+        return lf_fail_at(err, LF_ENOMEM, rd.name, 0, 0, "out of memory");
+    }
+    h.ctx = &rd;
+    h.record = plan_record;
+    h.comment = NULL;
+    status = buf == NULL ? lf_csv_read_file(path, &h, err)
+                         : lf_csv_read_buffer(buf, len, chunk, rd.name, &h, err);
+    if (status == LF_OK && !rd.have_header)
+        status = lf_fail_at(err, LF_EFORMAT, rd.name, 0, 0, "empty plan (expected "
+                            "a header such as file,k,R_mm,b_um,interface and one "
+                            "row per curve)");
+    if (status == LF_OK && rd.plan->n == 0)
+        status = lf_fail_at(err, LF_EDATA, rd.name, rd.header_line, 0,
+                            "header but no rows (list one curve per row below it)");
+    for (i = 0; i < rd.plan->n; i++)
+        free(rd.canon[i]);
+    free(rd.canon);
+    if (status != LF_OK) {
+        lf_plan_free(rd.plan);
+        return status;
+    }
+    *out = rd.plan;
+    return LF_OK;
+}
+
+int
+lf_plan_parse(const char *buf, size_t len, size_t chunk, const char *name,
+              const char *dir, lf_plan **out, lf_warnings *warn, lf_error *err)
+{
+    return plan_load(NULL, buf ? buf : "", len, chunk, name, dir, out, warn, err);
+}
+
+int
+lf_plan_read(const char *path, lf_plan **out, lf_warnings *warn, lf_error *err)
+{
+    const char *slash = strrchr(path, '/');
+    char *dir = NULL;
+    int status;
+
+    if (slash != NULL) {
+        size_t n = (size_t) (slash - path);
+        dir = malloc(n + 2);
+        if (dir == NULL)
+            return lf_fail_at(err, LF_ENOMEM, path, 0, 0, "out of memory");
+        memcpy(dir, path, n);
+        dir[n] = '\0';
+        if (n == 0)
+            strcpy(dir, "/");
+    }
+    status = plan_load(path, NULL, 0, 0, path, dir, out, warn, err);
+    free(dir);
+    return status;
+}
+
+void
+lf_plan_free(lf_plan *p)
+{
+    size_t i;
+    if (p == NULL)
+        return;
+    for (i = 0; i < p->n; i++) {
+        free(p->rows[i].file);
+        free(p->rows[i].sample);
+    }
+    free(p->rows);
+    free(p->path);
+    free(p);
+}
+
+/* lf_file_kind_of: the header alone decides. */
+static int
+kind_record(void *ctx, const lf_csv_record *r, lf_error *err)
+{
+    char name[256], unit[256];
+    size_t i;
+    (void) err;
+    for (i = 0; i < r->n; i++) {
+        lf_csv_header_cell(r->text[i], name, sizeof name, unit, sizeof unit);
+        if (lf_csv_ieq(name, "file"))
+            *(lf_file_kind *) ctx = LF_FILE_PLAN;
+    }
+    return LF_CSV_STOP;
+}
+
+int
+lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err)
+{
+    lf_csv_handler h;
+    *kind = LF_FILE_CURVE;
+    h.ctx = kind;
+    h.record = kind_record;
+    h.comment = NULL;
+    return lf_csv_read_file(path, &h, err);
+}
