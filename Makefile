@@ -49,9 +49,9 @@ $(LIB): $(LIB_OBJ)
 $(PROG): $(CLI_OBJ) $(LIB)
 	$(CC) $(ALL_LDFLAGS) -o $@ $(CLI_OBJ) $(LIB) $(LDLIBS)
 
-$(BUILD)/tests/%: tests/%.c tests/testlib.c $(LIB) $(HEADERS)
+$(BUILD)/tests/%: tests/%.c tests/testlib.c tests/scene.c $(LIB) $(HEADERS) tests/scene.h
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -Itests $(ALL_LDFLAGS) -o $@ $< tests/testlib.c $(LIB) $(LDLIBS)
+	$(CC) $(ALL_CFLAGS) -Itests $(ALL_LDFLAGS) -o $@ $< tests/testlib.c tests/scene.c $(LIB) $(LDLIBS)
 
 tests: $(TEST_BIN) $(PROG)
 

@@ -240,6 +240,194 @@ int lf_crb(const lf_design_curve *curves, size_t ncurves, const lf_material *tru
            int free_nu, lf_crb_result *out, lf_error *err);
 
 /* ------------------------------------------------------------------------
+ * Fitting (fit/): shared material, per-curve nuisance parameters
+ *
+ * The measured force of curve j at instrument depth z is modelled as
+ *     F = P(delta; w, E*, nu, probe_j) + F0_j + s_j delta,  delta = z - z0_j
+ * with P the forward model, z0_j the contact point, F0_j the force offset
+ * (the baseline's force at the contact point) and s_j an optional baseline
+ * slope.  w, E* and nu are shared by all
+ * curves.  Residuals are weighted by each curve's noise level sigma_j,
+ * estimated from the data without the model (the spread of second
+ * differences of the force, a robust median estimate that assumes white
+ * noise); standard errors are then scaled by sqrt(chi2/dof), so they stay
+ * honest when that estimate is off, and chi2/dof itself tells how well the
+ * model describes the data (about 1 when it does).
+ *
+ * Ownership: lf_fit_alloc keeps pointers to the caller's curve arrays
+ * (depth, force, name), which must outlive the lf_fit; everything in an
+ * lf_fit_result is owned by it and released by lf_fit_result_free.
+ * A fit object is not shared between threads; separate objects are
+ * independent (no global state).
+ * --------------------------------------------------------------------- */
+
+typedef enum {
+    LF_PARAM_AUTO = 0,   /* free where the plan determines it, else held */
+    LF_PARAM_FREE,       /* always fitted */
+    LF_PARAM_FIXED       /* held at value */
+} lf_param_mode;
+
+/* What is known of one material parameter before the fit. */
+typedef struct {
+    lf_param_mode mode;
+    double value;        /* SI: the fixed value (FIXED), the value held when
+                            AUTO finds it undetermined, or the prior mean */
+    double prior_sd;     /* nu only: sd of a Gaussian prior at value, or NaN */
+} lf_fit_param;
+
+typedef enum {
+    LF_JAC_ANALYTIC = 0, /* derivatives from the forward model */
+    LF_JAC_FORWARD,      /* GSL forward finite differences */
+    LF_JAC_CENTRAL       /* GSL central finite differences */
+} lf_jacobian;
+
+typedef struct {
+    const lf_model_type *model; /* forward model (default lf_model_thin) */
+    const char *method;         /* trust-region method: "lm" (default),
+                                   "lmaccel", "dogleg", "ddogleg", "subspace2D" */
+    lf_jacobian jacobian;
+    lf_fit_param w;             /* default AUTO (= free) */
+    lf_fit_param Estar;         /* default AUTO (= free) */
+    lf_fit_param nu;            /* default AUTO, held at 0.3 when undetermined */
+    int fit_slope;              /* 1: fit a baseline slope s_j per curve */
+    size_t max_iter;            /* default 200 */
+    double xtol, gtol, ftol;    /* GSL convergence tests (defaults 1e-11,
+                                   1e-12, 0) */
+    double rcond;               /* identifiability: a direction of the
+                                   column-scaled Jacobian with singular value
+                                   below rcond * the largest is not
+                                   determined (default 1e-7) */
+    double max_b_over_a;        /* warn where b/a exceeds this (default 0.1) */
+} lf_fit_settings;
+
+lf_fit_settings lf_fit_settings_default(void);
+
+/* Names of the trust-region methods, NULL-terminated, for help texts. */
+extern const char *const lf_fit_methods[];
+
+/* One curve to fit: data in SI and what is known of the probe. */
+typedef struct {
+    const char *name;       /* label for reports (a file path), may be NULL */
+    size_t n;
+    const double *depth;    /* instrument depth z, m, positive into layer */
+    const double *force;    /* measured force, N */
+    lf_probe probe;
+    lf_branch branch;       /* which branch the points follow */
+    double z0;              /* contact point if known, m; NaN = fitted */
+    double F0;              /* force offset if known, N; NaN = fitted */
+} lf_fit_curve;
+
+/* An estimate of one material parameter. */
+typedef struct {
+    double value;           /* SI; NaN when not determined */
+    double se;              /* standard error, SI; NaN when fixed or not
+                               determined */
+    double ci95[2];         /* 95% interval (log-normal for w and E*,
+                               normal clipped to [0, 0.5] for nu); for an
+                               upper bound only: [0, bound] */
+    int free;               /* 1 when fitted */
+    int determined;         /* 1 when the data fix it (or it was fixed) */
+    int upper_bound_only;   /* w: the data only bound it from above */
+} lf_fit_estimate;
+
+typedef struct {
+    const char *name;       /* the curve's label (not owned) */
+    lf_probe probe;
+    lf_branch branch;
+    size_t n;
+    double z0, z0_se;       /* m; se NaN when fixed or not determined */
+    double F0, F0_se;       /* N */
+    double slope, slope_se; /* N/m */
+    int z0_free, F0_free, slope_free;
+    double sigma;           /* noise sd used as the weight, N */
+    double rms;             /* rms residual, N */
+    lf_pulloff pulloff;     /* predicted at the fitted material */
+    double b_over_a_min_contact; /* b/a at the shallowest point in contact */
+    double b_over_a_pulloff;     /* b/a at force-controlled pull-off */
+    double *fitted;         /* n fitted forces, N */
+    double *contact_radius; /* n contact radii, m */
+    lf_warnings warnings;
+} lf_fit_curve_result;
+
+typedef struct {
+    lf_fit_estimate w, Estar, nu;
+    lf_fit_estimate M;      /* Z E* of the bonded curves (NaN if none) */
+    size_t npar;            /* free parameters */
+    char (*names)[32];      /* their names: "w", "E*", "nu", "z0[1]", ... */
+    double *value;          /* npar values, SI */
+    double *cov;            /* npar x npar covariance, SI, row-major; rows of
+                               undetermined parameters are NaN */
+    double *corr;           /* npar x npar correlation */
+    double *singular;       /* npar singular values of the column-scaled
+                               Jacobian, relative to the largest */
+    double chi2;            /* weighted sum of squares at the solution */
+    size_t dof;             /* residuals - free parameters */
+    double se_scale;        /* sqrt(chi2/dof), the factor applied to se */
+    size_t iterations, evaluations;
+    int converged;
+    char stop_reason[160];
+    const char *method;     /* static strings */
+    const char *model;
+    size_t ncurves;
+    lf_fit_curve_result *curves;
+    lf_warnings identifiability; /* what the data determine, in words */
+    lf_warnings warnings;        /* everything else worth saying */
+} lf_fit_result;
+
+typedef struct lf_fit lf_fit;
+
+/* Check the settings and curves and allocate everything a fit needs. */
+lf_fit *lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
+                     const lf_fit_curve *curves, lf_error *err);
+/* Guess, fit and assess.  Fills res (free it with lf_fit_result_free) and
+ * returns LF_OK on convergence, LF_ENOCONV when the fit stopped without
+ * converging (res is still complete, with converged = 0 and the reason),
+ * other statuses on errors (res is then empty). */
+int lf_fit_run(lf_fit *fit, lf_fit_result *res, lf_error *err);
+void lf_fit_free(lf_fit *fit);
+void lf_fit_result_free(lf_fit_result *res);
+/* alloc + run + free */
+int lf_fit_driver(const lf_fit_settings *settings, size_t ncurves,
+                  const lf_fit_curve *curves, lf_fit_result *res,
+                  lf_error *err);
+
+/* Compare the analytic Jacobian with central differences at the material
+ * mat (nu used for bonded curves) and the curves' z0 = 0, F0 = 0 unless
+ * fixed; *max_rel_err is the largest difference relative to each column's
+ * largest entry.  For tests and the curious. */
+int lf_fit_check_jacobian(lf_fit *fit, const lf_material *mat,
+                          double *max_rel_err, lf_error *err);
+
+/* ------------------------------------------------------------------------
+ * Synthetic data (src/simulate.c)
+ * --------------------------------------------------------------------- */
+
+typedef struct {
+    size_t points;          /* points per curve (default 300) */
+    double delta_max;       /* deepest model indentation, m (default 50 nm) */
+    double delta_min;       /* shallowest indentation, m, or NaN: then
+                               -past_c * c (default NaN) */
+    double past_c;          /* default 1.2: 20% of c past detachment */
+    double noise;           /* Gaussian sd relative to the curve's largest
+                               |force| (default 0) */
+    double z0, F0;          /* offsets added: z = delta + z0, F = P + F0 */
+    unsigned long seed;     /* gsl_rng_mt19937 seed (default 1) */
+    lf_branch branch;       /* default unloading, written deep to shallow */
+} lf_sim_settings;
+
+lf_sim_settings lf_sim_settings_default(void);
+
+/* Simulate ncurves curves of the model type for the material.  Curve j has
+ * settings->points points, written into depth[j][..] and force[j][..]
+ * (caller-owned arrays of that length); sigma[j] receives the noise sd in N
+ * (may be NULL).  One generator seeded once draws the noise of all curves in
+ * order, so a plan and a seed give the same data on every machine. */
+int lf_simulate(const lf_sim_settings *settings, const lf_model_type *type,
+                const lf_material *mat, size_t ncurves, const lf_probe *probes,
+                double *const *depth, double *const *force, double *sigma,
+                lf_error *err);
+
+/* ------------------------------------------------------------------------
  * Lab data: curves and fit plans (readers in src/csv_curve.c, src/plan.c)
  * --------------------------------------------------------------------- */
 

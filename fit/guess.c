@@ -1,0 +1,509 @@
+/* guess.c: a deterministic initial guess that needs nothing from the user,
+ * and each curve's noise level.
+ *
+ * The guess uses the thin-layer closed form of the seed paper (Eq. 10, 22)
+ * whatever model is then fitted.  With M = Z E*, K = pi/b k^((k+2)/k)/(k+2)
+ * R^(2(k-1)/k) and d1 = z - z_d (z_d = z0 - c is where contact ends on
+ * unloading):
+ *     F = M K d1^(2/k) (d1 - (k+2)/k c) + F0
+ *       = alpha K d1^((k+2)/k) + beta K d1^(2/k) + F0,
+ * linear in (alpha, beta, F0) for a given z_d, with M = alpha and
+ * c = -beta k / ((k+2) alpha).  So each curve is profiled over the single
+ * nonlinear parameter z_d (variable projection: the linear parameters are
+ * solved exactly at each trial), on a grid and then by golden section.
+ * When z0 is held, the profile runs over c instead; when c is held (second
+ * stage) over z0, with M and F0 linear.
+ *
+ * Curves are treated one at a time and combined by symmetric means (E*
+ * from frictionless curves, Z and so nu from bonded over frictionless, w as
+ * the geometric mean over the curves that can see it), then every curve's
+ * z0 and F0 are profiled again at the combined material.  Nothing depends
+ * on the order of the curves or on an earlier fit.  The result is polished
+ * by the full least-squares fit (driver.c). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fit.h"
+
+#define GUESS_GOLDEN 30
+
+/* ---- noise ------------------------------------------------------------ */
+
+static int
+cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *) a, y = *(const double *) b;
+    return (x > y) - (x < y);
+}
+
+/* Noise sd from the median absolute second difference of the force (each
+ * has sd sqrt(6) sigma for white noise, and the median of |N(0, s)| is
+ * 0.6745 s); the smooth signal contributes only F'' h^2.  work holds n. */
+double
+fit_noise_sigma(const double *force, size_t n, double *work)
+{
+    size_t i, m = 0;
+    double fbig = 0.0, med;
+
+    for (i = 0; i < n; i++)
+        fbig = fmax(fbig, fabs(force[i]));
+    for (i = 1; i + 1 < n; i++)
+        work[m++] = fabs(force[i + 1] - 2.0 * force[i] + force[i - 1]);
+    if (m == 0)
+        return fbig > 0 ? fbig : 1.0;
+    qsort(work, m, sizeof *work, cmp_double);
+    med = m % 2 ? work[m / 2] : 0.5 * (work[m / 2 - 1] + work[m / 2]);
+    med /= 0.6745 * sqrt(6.0);
+    /* noise-free data: keep the weight finite */
+    return fmax(med, fbig > 0 ? 1e-12 * fbig : 1e-300);
+}
+
+/* ---- one curve --------------------------------------------------------- */
+
+typedef enum {
+    PROFILE_ZD,     /* search z_d; alpha, beta (, F0) linear */
+    PROFILE_C,      /* z0 held; search c; M (, F0) linear */
+    PROFILE_Z0      /* c held; search z0; M (, F0) linear */
+} profile_kind;
+
+typedef struct {
+    const double *z, *F;   /* subsample */
+    double *phi;           /* 2 * n scratch */
+    size_t n;
+    double k, K;
+    lf_branch branch;
+    int F0_free;
+    double F0_held;
+    double z0_held;        /* PROFILE_C */
+    double c_held;         /* PROFILE_Z0 */
+    profile_kind kind;
+    /* solution at the last trial */
+    double M, c, z0, F0;
+} profile;
+
+/* Solve the 1-3 column least-squares problem sum (y - X b)^2 by normal
+ * equations with unit-diagonal scaling and Cholesky; 0 when singular. */
+static int
+solve_small(size_t p, double A[3][3], double *rhs, double *sol)
+{
+    double d[3], L[3][3] = { { 0 } };
+    size_t i, j, k;
+
+    for (i = 0; i < p; i++) {
+        if (!(A[i][i] > 0))
+            return 0;
+        d[i] = 1.0 / sqrt(A[i][i]);
+    }
+    for (i = 0; i < p; i++)
+        for (j = 0; j <= i; j++) {
+            double s = A[i][j] * d[i] * d[j];
+            for (k = 0; k < j; k++)
+                s -= L[i][k] * L[j][k];
+            if (i == j) {
+                if (!(s > 1e-13))
+                    return 0;
+                L[i][i] = sqrt(s);
+            } else {
+                L[i][j] = s / L[j][j];
+            }
+        }
+    for (i = 0; i < p; i++) {          /* L y = D rhs */
+        double s = rhs[i] * d[i];
+        for (k = 0; k < i; k++)
+            s -= L[i][k] * sol[k];
+        sol[i] = s / L[i][i];
+    }
+    for (i = p; i-- > 0;) {            /* L^T v = y, b = D v */
+        double s = sol[i];
+        for (k = i + 1; k < p; k++)
+            s -= L[k][i] * sol[k];
+        sol[i] = s / L[i][i];
+    }
+    for (i = 0; i < p; i++)
+        sol[i] *= d[i];
+    return 1;
+}
+
+/* Least squares on the basis phi[0..ncol-1] (per point, 0 out of contact)
+ * plus a constant when F0 is free.  Returns the residual sum of squares
+ * (HUGE_VAL when singular) and the coefficients in b (F0 last). */
+static double
+linear_fit(const profile *p, size_t ncol, double *b)
+{
+    double A[3][3] = { { 0 } }, rhs[3] = { 0 }, row[3];
+    size_t i, r, s, m = ncol + (size_t) p->F0_free;
+    double rss = 0.0;
+
+    for (i = 0; i < p->n; i++) {
+        double y = p->F[i] - (p->F0_free ? 0.0 : p->F0_held);
+        for (r = 0; r < ncol; r++)
+            row[r] = p->phi[r * p->n + i];
+        if (p->F0_free)
+            row[ncol] = 1.0;
+        for (r = 0; r < m; r++) {
+            rhs[r] += row[r] * y;
+            for (s = 0; s <= r; s++)
+                A[r][s] += row[r] * row[s];
+        }
+    }
+    for (r = 0; r < m; r++)
+        for (s = r + 1; s < m; s++)
+            A[r][s] = A[s][r];
+    if (!solve_small(m, A, rhs, b))
+        return HUGE_VAL;
+    for (i = 0; i < p->n; i++) {
+        double y = p->F[i] - (p->F0_free ? 0.0 : p->F0_held), e = y;
+        for (r = 0; r < ncol; r++)
+            e -= b[r] * p->phi[r * p->n + i];
+        if (p->F0_free)
+            e -= b[ncol];
+        rss += e * e;
+    }
+    return rss;
+}
+
+/* The residual sum of squares at trial value s of the profiled parameter;
+ * fills p->M, c, z0, F0. */
+static double
+profile_cost(profile *p, double s)
+{
+    const double k = p->k, e2 = 2.0 / k, kk = (k + 2.0) / k;
+    size_t i, ncontact = 0;
+    double b[3], rss;
+    double zd, c, z0, zc;   /* zc: contact for z > zc (>= for loading) */
+
+    switch (p->kind) {
+    case PROFILE_ZD: zd = s; c = 0.0; z0 = s; zc = s; break;
+    case PROFILE_C:  c = fmax(s, 0.0); z0 = p->z0_held; zd = z0 - c; break;
+    default:         c = p->c_held; z0 = s; zd = z0 - c; break;
+    }
+    zc = (p->branch == LF_BRANCH_LOAD && p->kind != PROFILE_ZD) ? z0 : zd;
+    for (i = 0; i < p->n; i++) {
+        double d1 = p->z[i] - zd;
+        int in = p->branch == LF_BRANCH_LOAD && p->kind != PROFILE_ZD
+                 ? p->z[i] >= zc : p->z[i] > zc;
+        double g = in && d1 > 0 ? pow(d1, e2) : 0.0;
+        if (g > 0)
+            ncontact++;
+        if (p->kind == PROFILE_ZD) {
+            p->phi[i] = p->K * g * d1;
+            p->phi[p->n + i] = p->K * g;
+        } else {
+            p->phi[i] = p->K * g * (d1 - kk * c);
+        }
+    }
+    if (ncontact < 3)
+        return HUGE_VAL;
+    if (p->kind != PROFILE_ZD) {
+        rss = linear_fit(p, 1, b);
+        p->M = b[0];
+        p->F0 = p->F0_free ? b[1] : p->F0_held;
+        p->c = c;
+        p->z0 = z0;
+        return p->M > 0 ? rss : HUGE_VAL;
+    }
+    rss = linear_fit(p, 2, b);
+    if (rss < HUGE_VAL && b[0] > 0 && b[1] <= 0) {
+        p->M = b[0];
+        p->c = -b[1] / (kk * b[0]);
+        p->F0 = p->F0_free ? b[2] : p->F0_held;
+    } else {            /* no adhesion: c = 0, alpha and F0 only */
+        double t[2];
+        rss = linear_fit(p, 1, t);
+        if (!(rss < HUGE_VAL && t[0] > 0))
+            return HUGE_VAL;
+        p->M = t[0];
+        p->c = 0.0;
+        p->F0 = p->F0_free ? t[1] : p->F0_held;
+    }
+    p->z0 = zd + p->c;
+    return rss;
+}
+
+/* Minimise profile_cost over the sorted nodes: the best node, then golden
+ * section between its neighbours.  Leaves the solution of the minimum in
+ * p.  Returns the minimum (HUGE_VAL when no trial was valid). */
+static double
+profile_min(profile *p, const double *node, size_t nn)
+{
+    const double g = 0.5 * (sqrt(5.0) - 1.0);
+    double best = HUGE_VAL, a, bnd, x1, x2, f1, f2, sbest;
+    size_t i, ib = 0;
+
+    for (i = 0; i < nn; i++) {
+        double v = profile_cost(p, node[i]);
+        if (v < best) {
+            best = v;
+            ib = i;
+        }
+    }
+    if (best == HUGE_VAL)
+        return best;
+    sbest = node[ib];
+    a = node[ib > 0 ? ib - 1 : 0];
+    bnd = node[ib + 1 < nn ? ib + 1 : nn - 1];
+    x1 = bnd - g * (bnd - a);
+    x2 = a + g * (bnd - a);
+    f1 = profile_cost(p, x1);
+    f2 = profile_cost(p, x2);
+    for (i = 0; i < GUESS_GOLDEN; i++) {
+        if (f1 <= f2) {
+            bnd = x2; x2 = x1; f2 = f1;
+            x1 = bnd - g * (bnd - a);
+            f1 = profile_cost(p, x1);
+        } else {
+            a = x1; x1 = x2; f1 = f2;
+            x2 = a + g * (bnd - a);
+            f2 = profile_cost(p, x2);
+        }
+    }
+    if (fmin(f1, f2) <= best)
+        sbest = f1 <= f2 ? x1 : x2;
+    return profile_cost(p, sbest);
+}
+
+/* Nodes for a search: n uniform in [lo, hi), then (when with_data) the
+ * subsample's depths from hi up, sorted; returns the count.  The profile
+ * over a contact edge has kinks at the data, so the data are its nodes. */
+static size_t
+make_nodes(const profile *p, double lo, double hi, size_t n, int with_data,
+           double *node)
+{
+    size_t i, m = 0;
+
+    for (i = 0; i < n; i++)
+        node[m++] = lo + (hi - lo) * (double) i / (double) n;
+    if (with_data) {
+        size_t start = m;
+        for (i = 0; i < p->n; i++)
+            if (p->z[i] >= hi)
+                node[m++] = p->z[i];
+        qsort(node + start, m - start, sizeof *node, cmp_double);
+    } else {
+        node[m++] = hi;
+    }
+    return m;
+}
+
+/* The per-curve profile set up on a subsample of at most f->nsub_max
+ * points of curve j: the nsub_max/4 shallowest points (where contact ends
+ * and the baseline starts, which a sparse sample would miss) and evenly
+ * spaced points among the rest. */
+static void
+profile_init(lf_fit *f, size_t j, profile *p)
+{
+    const fit_curve *c = &f->c[j];
+    const double k = c->data.probe.k, R = c->data.probe.R;
+    const size_t n = c->data.n, nshallow = f->nsub_max / 4;
+    size_t i, m = 0, stride, nlow = 0;
+    double *z = f->sub, *F = f->sub + f->nsub_max, t = HUGE_VAL;
+
+    if (n > f->nsub_max) {
+        memcpy(f->work, c->data.depth, n * sizeof *f->work);
+        qsort(f->work, n, sizeof *f->work, cmp_double);
+        t = f->work[nshallow - 1];
+        for (i = 0; i < n && nlow < nshallow; i++)
+            if (c->data.depth[i] <= t) {
+                z[nlow] = c->data.depth[i];
+                F[nlow++] = c->data.force[i];
+            }
+    }
+    m = nlow;
+    stride = (n + (f->nsub_max - nlow) - 1) / (f->nsub_max - nlow);
+    for (i = 0; i < n && m < f->nsub_max; i += stride)
+        if (!(c->data.depth[i] <= t)) {
+            z[m] = c->data.depth[i];
+            F[m++] = c->data.force[i];
+        }
+    memset(p, 0, sizeof *p);
+    p->z = z;
+    p->F = F;
+    p->n = m;
+    p->phi = f->work;
+    p->k = k;
+    p->K = M_PI / c->data.probe.b * pow(k, (k + 2.0) / k) / (k + 2.0)
+           * pow(R, 2.0 * (k - 1.0) / k);
+    p->branch = c->data.branch;
+    p->F0_free = c->iF0 >= 0;
+    p->F0_held = c->F0;
+}
+
+static void
+depth_range(const fit_curve *c, double *zmin, double *zmax)
+{
+    size_t i;
+    *zmin = HUGE_VAL;
+    *zmax = -HUGE_VAL;
+    for (i = 0; i < c->data.n; i++) {
+        *zmin = fmin(*zmin, c->data.depth[i]);
+        *zmax = fmax(*zmax, c->data.depth[i]);
+    }
+}
+
+/* Stage 1 of curve j: M, c, and whether the curve sees adhesion. */
+static int
+guess_curve(lf_fit *f, size_t j, curve_guess *g)
+{
+    const fit_curve *c = &f->c[j];
+    double zmin, zmax, span, rss;
+    profile p;
+    size_t i, nbase = 0, nn;
+    double *node = f->sub + 2 * f->nsub_max;
+
+    depth_range(c, &zmin, &zmax);
+    span = zmax - zmin;
+    profile_init(f, j, &p);
+    if (c->iz0 >= 0) {
+        p.kind = PROFILE_ZD;
+        nn = make_nodes(&p, zmin - 2.0 * span, zmin, GUESS_GRID, 1, node);
+        rss = profile_min(&p, node, nn);
+        if (rss < HUGE_VAL && c->data.branch == LF_BRANCH_LOAD) {
+            p.kind = PROFILE_Z0;
+            p.c_held = p.c;
+            nn = make_nodes(&p, zmin - span, zmin, GUESS_GRID, 1, node);
+            rss = profile_min(&p, node, nn);
+        }
+    } else {
+        p.kind = PROFILE_C;
+        p.z0_held = c->z0;
+        nn = make_nodes(&p, 0.0, 2.0 * span, GUESS_GRID, 0, node);
+        rss = profile_min(&p, node, nn);
+    }
+    if (rss == HUGE_VAL)
+        return LF_EDATA;
+    for (i = 0; i < c->data.n; i++)
+        nbase += c->data.depth[i] < p.z0 - p.c;
+    g->M = p.M;
+    g->c = p.c;
+    g->z0 = p.z0;
+    g->F0 = p.F0;
+    g->sees_w = !(fabs(p.k - 2.0) < 1e-9 && c->iz0 >= 0 && c->iF0 >= 0
+                  && nbase < 3);
+    return LF_OK;
+}
+
+/* Invert Z(nu) = (1-nu)^2/(1-2nu) on [0, 1/2). */
+static double
+nu_of_Z(double Z)
+{
+    double a = Z - 1.0;
+    if (!(a > 0))
+        return 0.0;
+    return -a + sqrt(a * a + a);
+}
+
+/* Stage 2: every curve's z0 and F0 at the material f->mat, the contact
+ * offset c_j following from it, M and F0 linear.  Returns the total
+ * weighted sum of squares on the subsamples; stores z0 and F0 when store. */
+static double
+offsets_at(lf_fit *f, int store)
+{
+    const lf_material *m = &f->mat;
+    double total = 0.0;
+    size_t j;
+
+    for (j = 0; j < f->ncurves; j++) {
+        fit_curve *c = &f->c[j];
+        double zmin, zmax, span, rss, M = lf_thin_Z(c->data.probe.base, m->nu) * m->Estar;
+        double *node = f->sub + 2 * f->nsub_max;
+        size_t nn;
+        profile p;
+
+        profile_init(f, j, &p);
+        p.kind = PROFILE_Z0;
+        p.c_held = sqrt(2.0 * c->data.probe.b * m->w / M);
+        if (c->iz0 >= 0) {
+            depth_range(c, &zmin, &zmax);
+            span = zmax - zmin;
+            nn = make_nodes(&p, c->guess.z0 - 0.5 * span, c->guess.z0 + 0.5 * span,
+                            GUESS_GRID, 0, node);
+            rss = profile_min(&p, node, nn);
+        } else {
+            rss = profile_cost(&p, c->z0);
+        }
+        total += rss / (c->sigma * c->sigma);
+        if (!store)
+            continue;
+        c->slope = 0.0;
+        if (rss < HUGE_VAL) {
+            if (c->iz0 >= 0)
+                c->z0 = p.z0;
+            if (c->iF0 >= 0)
+                c->F0 = p.F0;
+        } else {
+            if (c->iz0 >= 0)
+                c->z0 = c->guess.z0;
+            if (c->iF0 >= 0)
+                c->F0 = c->guess.F0;
+        }
+    }
+    return total;
+}
+
+int
+fit_guess(lf_fit *f, lf_error *err)
+{
+    size_t j, nf = 0, nb = 0, nw = 0;
+    double lnMf = 0, lnMb = 0, lnw = 0, wfloor = HUGE_VAL;
+    lf_material *m = &f->mat;
+
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        double w_j;
+        if (guess_curve(f, j, &f->c[j].guess) != LF_OK)
+            return lf_fail(err, LF_EDATA, "curve %zu (%s): no contact found for an initial guess",
+                           j + 1, c->data.name ? c->data.name : "");
+        if (c->data.probe.base == LF_BASE_FRICTIONLESS) {
+            lnMf += log(c->guess.M);
+            nf++;
+        } else {
+            lnMb += log(c->guess.M);
+            nb++;
+        }
+        w_j = c->guess.M * c->guess.c * c->guess.c / (2.0 * c->data.probe.b);
+        wfloor = fmin(wfloor, c->guess.M * 1e-6 * c->L * c->L / (2.0 * c->data.probe.b));
+        if (w_j > 0 && c->guess.sees_w) {
+            lnw += log(w_j);
+            nw++;
+        }
+    }
+    if (f->imat[FIT_NU] >= 0) {
+        if (nf > 0 && nb > 0)
+            m->nu = nu_of_Z(exp(lnMb / (double) nb - lnMf / (double) nf));
+        else if (!isfinite(m->nu))
+            m->nu = 0.3;
+        m->nu = fmin(fmax(m->nu, 0.02), 0.48);
+    }
+    if (f->imat[FIT_E] >= 0)
+        m->Estar = nf > 0 ? exp(lnMf / (double) nf)
+                          : exp(lnMb / (double) nb) / lf_thin_Z(LF_BASE_BONDED, m->nu);
+    if (f->imat[FIT_W] >= 0) {
+        /* candidates: each curve's own w, their geometric mean and the
+         * floor; the one whose offsets fit all curves best wins (ties to
+         * the smaller w, so the order of the curves does not matter) */
+        double best = HUGE_VAL, wbest = wfloor;
+        size_t ncand = f->ncurves + 2, i;
+        for (i = 0; i < ncand; i++) {
+            double wc, cost;
+            if (i < f->ncurves) {
+                const fit_curve *c = &f->c[i];
+                wc = c->guess.M * c->guess.c * c->guess.c / (2.0 * c->data.probe.b);
+            } else {
+                wc = i == f->ncurves ? (nw > 0 ? exp(lnw / (double) nw) : 0.0) : wfloor;
+            }
+            if (!(wc >= wfloor) || !isfinite(wc))
+                continue;
+            m->w = wc;
+            cost = offsets_at(f, 0);
+            if (cost < best || (cost == best && wc < wbest)) {
+                best = cost;
+                wbest = wc;
+            }
+        }
+        m->w = wbest;
+    }
+    offsets_at(f, 1);
+    fit_set_origin(f);
+    return LF_OK;
+}

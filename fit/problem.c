@@ -1,0 +1,292 @@
+/* problem.c: the least-squares problem of a joint fit -- which parameters
+ * are free, how the GSL vector maps to them (see fit.h), and the weighted
+ * residuals and Jacobian across all curves.
+ *
+ * Residual of point i of curve j:
+ *     r = (P(delta_i) + F0_j + s_j delta_i - F_i) / sigma_j,  delta_i = z_i - z0_j
+ * with P from any lf_model_type.  Derivatives come from the model
+ * (dP/ddelta, dP/dln w, dP/dln E*, dP/dnu) by the chain rule.  The callbacks
+ * do not allocate. */
+#include <math.h>
+#include <string.h>
+
+#include "fit.h"
+
+double
+fit_nu_of_u(double u)
+{
+    return 0.25 * (1.0 + tanh(u));
+}
+
+double
+fit_u_of_nu(double nu)
+{
+    return atanh(4.0 * nu - 1.0);
+}
+
+double
+fit_dnu_du(double u)
+{
+    double t = tanh(u);
+    return 0.25 * (1.0 - t * t);
+}
+
+/* The internal coordinate of free parameter i at x. */
+static double
+internal(const lf_fit *f, const double *x, int i)
+{
+    return f->x0_internal[i] + x[i] - 1.0;
+}
+
+/* exp() kept finite and positive. */
+static double
+exp_clamped(double v)
+{
+    return exp(fmin(fmax(v, -700.0), 700.0));
+}
+
+void
+fit_unpack(const lf_fit *f, const double *x, lf_material *mat, double *z0,
+           double *F0, double *slope, size_t j)
+{
+    const fit_curve *c;
+
+    *mat = f->mat;
+    if (f->imat[FIT_W] >= 0)
+        mat->w = exp_clamped(internal(f, x, f->imat[FIT_W]));
+    if (f->imat[FIT_E] >= 0)
+        mat->Estar = exp_clamped(internal(f, x, f->imat[FIT_E]));
+    if (f->imat[FIT_NU] >= 0)
+        mat->nu = fit_nu_of_u(internal(f, x, f->imat[FIT_NU]));
+    if (j >= f->ncurves)
+        return;
+    c = &f->c[j];
+    *z0 = c->iz0 >= 0 ? c->L * internal(f, x, c->iz0) : c->z0;
+    *F0 = c->iF0 >= 0 ? c->Fs * internal(f, x, c->iF0) : c->F0;
+    *slope = c->islope >= 0 ? c->Fs / c->L * internal(f, x, c->islope) : c->slope;
+}
+
+void
+fit_set_origin(lf_fit *f)
+{
+    size_t j;
+
+    if (f->imat[FIT_W] >= 0)
+        f->x0_internal[f->imat[FIT_W]] = log(f->mat.w);
+    if (f->imat[FIT_E] >= 0)
+        f->x0_internal[f->imat[FIT_E]] = log(f->mat.Estar);
+    if (f->imat[FIT_NU] >= 0)
+        f->x0_internal[f->imat[FIT_NU]] = fit_u_of_nu(f->mat.nu);
+    for (j = 0; j < f->ncurves; j++) {
+        fit_curve *c = &f->c[j];
+        if (c->iz0 >= 0)
+            f->x0_internal[c->iz0] = c->z0 / c->L;
+        if (c->iF0 >= 0)
+            f->x0_internal[c->iF0] = c->F0 / c->Fs;
+        if (c->islope >= 0)
+            f->x0_internal[c->islope] = c->slope * c->L / c->Fs;
+    }
+    f->xcache_ok = 0;
+}
+
+int
+fit_problem_setup(lf_fit *f, lf_error *err)
+{
+    const lf_fit_settings *s = &f->set;
+    size_t j, row = 0;
+    int np = 0, nu_prior = isfinite(s->nu.prior_sd) && s->nu.prior_sd > 0;
+
+    f->any_bonded = f->any_frictionless = 0;
+    for (j = 0; j < f->ncurves; j++) {
+        if (f->c[j].data.probe.base == LF_BASE_BONDED)
+            f->any_bonded = 1;
+        else
+            f->any_frictionless = 1;
+    }
+    /* Z = M / E*: nu follows when E* is seen by frictionless curves or held */
+    f->nu_determinable = f->any_bonded
+                         && (f->any_frictionless || s->Estar.mode == LF_PARAM_FIXED);
+    f->imat[FIT_W] = s->w.mode == LF_PARAM_FIXED ? -1 : np++;
+    f->imat[FIT_E] = s->Estar.mode == LF_PARAM_FIXED ? -1 : np++;
+    f->nu_prior = 0;
+    if (s->nu.mode == LF_PARAM_FREE
+        || (s->nu.mode == LF_PARAM_AUTO && f->any_bonded
+            && (f->nu_determinable || nu_prior))) {
+        f->imat[FIT_NU] = np++;
+        f->nu_prior = nu_prior;
+    } else {
+        f->imat[FIT_NU] = -1;
+    }
+    f->mat.w = s->w.value;
+    f->mat.Estar = s->Estar.value;
+    f->mat.nu = s->nu.value;
+    if (s->nu.mode != LF_PARAM_AUTO || isfinite(s->nu.value))
+        if (!(s->nu.value >= 0 && s->nu.value < 0.5))
+            return lf_fail(err, LF_EINVAL, "nu must lie in [0, 0.5) (got %g)", s->nu.value);
+    if (s->w.mode == LF_PARAM_FIXED && !(s->w.value >= 0 && isfinite(s->w.value)))
+        return lf_fail(err, LF_EINVAL, "a fixed w must be finite and >= 0 (got %g)", s->w.value);
+    if (s->Estar.mode == LF_PARAM_FIXED && !(s->Estar.value > 0 && isfinite(s->Estar.value)))
+        return lf_fail(err, LF_EINVAL, "a fixed E* must be finite and > 0 (got %g)", s->Estar.value);
+    for (j = 0; j < f->ncurves; j++) {
+        fit_curve *c = &f->c[j];
+        c->row = row;
+        row += c->data.n;
+        c->iz0 = isnan(c->data.z0) ? np++ : -1;
+        c->iF0 = isnan(c->data.F0) ? np++ : -1;
+        c->islope = s->fit_slope ? np++ : -1;
+        c->z0 = isnan(c->data.z0) ? 0.0 : c->data.z0;
+        c->F0 = isnan(c->data.F0) ? 0.0 : c->data.F0;
+        c->slope = 0.0;
+    }
+    f->ndata = row;
+    f->nres = row + (size_t) f->nu_prior;
+    f->np = (size_t) np;
+    if (f->np == 0)
+        return lf_fail(err, LF_EINVAL, "nothing to fit: every parameter is fixed");
+    if (f->nres <= f->np)
+        return lf_fail(err, LF_EDATA, "%zu points cannot fit %zu parameters",
+                       f->ndata, f->np);
+    return LF_OK;
+}
+
+/* Evaluate the model at every point for x, caching the result. */
+static int
+eval_all(lf_fit *f, const double *x)
+{
+    size_t i, j;
+    lf_material mat;
+    double z0, F0, slope;
+
+    if (f->xcache_ok && memcmp(x, f->xcache, f->np * sizeof *x) == 0)
+        return LF_OK;
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        double *delta = f->delta + c->row;
+        fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+        for (i = 0; i < c->data.n; i++)
+            delta[i] = c->data.depth[i] - z0;
+        if (lf_model_eval(c->model, &mat, c->data.branch, c->data.n, delta,
+                          f->ev + c->row, NULL) != LF_OK)
+            return LF_ENUMERIC;
+    }
+    memcpy(f->xcache, x, f->np * sizeof *x);
+    f->xcache_ok = 1;
+    return LF_OK;
+}
+
+int
+fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
+{
+    lf_fit *f = params;
+    const double *x = xv->data;
+    size_t i, j;
+    lf_material mat;
+    double z0, F0, slope;
+
+    f->nfev++;
+    if (eval_all(f, x) != LF_OK)
+        return GSL_EDOM;
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+        for (i = 0; i < c->data.n; i++) {
+            size_t k = c->row + i;
+            double v = (f->ev[k].P + F0 + slope * f->delta[k] - c->data.force[i]) / c->sigma;
+            if (!isfinite(v))
+                return GSL_EDOM;
+            gsl_vector_set(r, k, v);
+        }
+    }
+    if (f->nu_prior) {
+        fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
+        gsl_vector_set(r, f->ndata, (mat.nu - f->set.nu.value) / f->set.nu.prior_sd);
+    }
+    return GSL_SUCCESS;
+}
+
+/* The model's derivatives at point k, away from the edge where they blow up:
+ * on unloading, a point closer than eps to detachment takes the
+ * derivatives of the point eps inside contact. */
+static lf_eval
+guarded(const lf_fit *f, const fit_curve *c, const lf_material *mat,
+        double delta_detach, size_t k)
+{
+    lf_eval e = f->ev[k];
+    double d = f->delta[k];
+
+    if (c->data.branch == LF_BRANCH_UNLOAD && d > delta_detach
+        && d < delta_detach + c->eps) {
+        double d2 = delta_detach + c->eps;
+        if (lf_model_eval(c->model, mat, c->data.branch, 1, &d2, &e, NULL) != LF_OK)
+            e = f->ev[k];
+    }
+    return e;
+}
+
+static void
+put(gsl_matrix *J, size_t row, int col, double v)
+{
+    if (col >= 0)
+        gsl_matrix_set(J, row, (size_t) col, v);
+}
+
+/* Fill J, rows weighted by 1/sigma.  physical = 0: derivatives with respect
+ * to the internal coordinates (= x); 1: with respect to w, E*, nu, z0, F0, s. */
+static int
+fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
+{
+    size_t i, j;
+    lf_material mat;
+    double z0, F0, slope, u = 0.0;
+    double sw, sE, snu;
+
+    if (eval_all(f, x) != LF_OK)
+        return GSL_EDOM;
+    gsl_matrix_set_zero(J);
+    fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
+    if (f->imat[FIT_NU] >= 0)
+        u = internal(f, x, f->imat[FIT_NU]);
+    /* d(internal)/d(physical) is 1/w, 1/E*, du/dnu; the model gives
+     * dP/dln w, dP/dln E*, dP/dnu. */
+    sw = physical ? 1.0 / mat.w : 1.0;
+    sE = physical ? 1.0 / mat.Estar : 1.0;
+    snu = physical ? 1.0 : fit_dnu_du(u);
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        double sz = physical ? 1.0 : c->L, sF = physical ? 1.0 : c->Fs;
+        double ss = physical ? 1.0 : c->Fs / c->L;
+        double ddet = -HUGE_VAL;
+        lf_pulloff po;
+
+        fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+        if (c->data.branch == LF_BRANCH_UNLOAD
+            && lf_model_pulloff(c->model, &mat, &po, NULL) == LF_OK)
+            ddet = po.delta_detach;
+        for (i = 0; i < c->data.n; i++) {
+            size_t k = c->row + i;
+            lf_eval e = guarded(f, c, &mat, ddet, k);
+            double ws = 1.0 / c->sigma;
+            put(J, k, f->imat[FIT_W], e.dP_dlogw * sw * ws);
+            put(J, k, f->imat[FIT_E], e.dP_dlogE * sE * ws);
+            put(J, k, f->imat[FIT_NU], e.dP_dnu * snu * ws);
+            put(J, k, c->iz0, -(e.dP_ddelta + slope) * sz * ws);
+            put(J, k, c->iF0, sF * ws);
+            put(J, k, c->islope, f->delta[k] * ss * ws);
+        }
+    }
+    if (f->nu_prior)
+        put(J, f->ndata, f->imat[FIT_NU], snu / f->set.nu.prior_sd);
+    return GSL_SUCCESS;
+}
+
+int
+fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J)
+{
+    return fill_jacobian(params, x->data, J, 0);
+}
+
+int
+fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J)
+{
+    return fill_jacobian(f, x, J, 1);
+}

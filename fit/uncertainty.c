@@ -1,0 +1,485 @@
+/* uncertainty.c: covariance, confidence intervals and identifiability at
+ * the solution of a fit.
+ *
+ * J is the weighted Jacobian with respect to the physical parameters (w,
+ * E*, nu, then z0, F0, s of each curve).  Its columns are scaled to unit
+ * norm, Js = J D^-1, and decomposed, Js = U S V^T (one-sided Jacobi SVD).
+ * Rule: a singular value below rcond * S_max (settings, default 1e-7)
+ * marks a direction the data do not determine; a parameter whose squared
+ * components along those directions sum to more than 0.01 is "not
+ * determined" and gets no value or error.  The covariance is the
+ * pseudo-inverse over the remaining directions,
+ *     C = s^2 D^-1 V S^-2 V^T D^-1,   s^2 = chi2 / dof,
+ * i.e. the relative weights come from each curve's noise estimate and the
+ * overall scale from the residuals (so errors stay honest when the noise
+ * estimate is off, and chi2/dof near 1 says the model fits).  Intervals:
+ * w and E* log-normal, exp(ln x +- 1.96 se/x); nu normal, clipped to
+ * [0, 0.5].  w counts as "below the noise" when w < 2 se: then only the
+ * one-sided bound w + 1.645 se is reported. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_blas.h>
+#include <gsl/gsl_linalg.h>
+
+#include "fit.h"
+
+#define Z95 1.959963984540054
+#define Z95_ONE_SIDED 1.6448536269514722
+
+void
+lf_fit_result_free(lf_fit_result *r)
+{
+    size_t j;
+
+    if (r == NULL)
+        return;
+    free(r->names);
+    free(r->value);
+    free(r->cov);
+    free(r->corr);
+    free(r->singular);
+    if (r->curves != NULL)
+        for (j = 0; j < r->ncurves; j++) {
+            free(r->curves[j].fitted);
+            free(r->curves[j].contact_radius);
+            lf_warnings_free(&r->curves[j].warnings);
+        }
+    free(r->curves);
+    lf_warnings_free(&r->identifiability);
+    lf_warnings_free(&r->warnings);
+    memset(r, 0, sizeof *r);
+}
+
+/* Standard error of free parameter i, or NaN. */
+static double
+se_of(const lf_fit_result *r, int i)
+{
+    return i < 0 ? NAN : sqrt(r->cov[(size_t) i * r->npar + (size_t) i]);
+}
+
+static void
+estimate_fixed(lf_fit_estimate *e, double value)
+{
+    e->value = value;
+    e->se = NAN;
+    e->ci95[0] = e->ci95[1] = value;
+    e->free = 0;
+    e->determined = 1;
+    e->upper_bound_only = 0;
+}
+
+static void
+estimate_undetermined(lf_fit_estimate *e, int free)
+{
+    e->value = e->se = e->ci95[0] = e->ci95[1] = NAN;
+    e->free = free;
+    e->determined = 0;
+    e->upper_bound_only = 0;
+}
+
+/* A positive parameter with a log-normal interval. */
+static void
+estimate_positive(lf_fit_estimate *e, double value, double se)
+{
+    e->value = value;
+    e->se = se;
+    e->ci95[0] = value * exp(-Z95 * se / value);
+    e->ci95[1] = value * exp(Z95 * se / value);
+    e->free = 1;
+    e->determined = 1;
+    e->upper_bound_only = 0;
+}
+
+static int
+alloc_result(lf_fit *f, lf_fit_result *r)
+{
+    size_t j, p = f->np;
+
+    r->npar = p;
+    r->names = calloc(p, sizeof *r->names);
+    r->value = calloc(p, sizeof *r->value);
+    r->cov = calloc(p * p, sizeof *r->cov);
+    r->corr = calloc(p * p, sizeof *r->corr);
+    r->singular = calloc(p, sizeof *r->singular);
+    r->ncurves = f->ncurves;
+    r->curves = calloc(f->ncurves, sizeof *r->curves);
+    if (!r->names || !r->value || !r->cov || !r->corr || !r->singular || !r->curves)
+        return LF_ENOMEM;
+    for (j = 0; j < f->ncurves; j++) {
+        size_t n = f->c[j].data.n;
+        r->curves[j].fitted = calloc(n, sizeof *r->curves[j].fitted);
+        r->curves[j].contact_radius = calloc(n, sizeof *r->curves[j].contact_radius);
+        if (!r->curves[j].fitted || !r->curves[j].contact_radius)
+            return LF_ENOMEM;
+    }
+    return LF_OK;
+}
+
+static void
+name_parameters(const lf_fit *f, lf_fit_result *r)
+{
+    size_t j;
+    static const char *const mat[FIT_NMAT] = { "w", "E*", "nu" };
+    int i;
+
+    for (i = 0; i < FIT_NMAT; i++)
+        if (f->imat[i] >= 0)
+            snprintf(r->names[f->imat[i]], sizeof r->names[0], "%s", mat[i]);
+    for (j = 0; j < f->ncurves; j++) {
+        if (f->c[j].iz0 >= 0)
+            snprintf(r->names[f->c[j].iz0], sizeof r->names[0], "z0[%zu]", j + 1);
+        if (f->c[j].iF0 >= 0)
+            snprintf(r->names[f->c[j].iF0], sizeof r->names[0], "F0[%zu]", j + 1);
+        if (f->c[j].islope >= 0)
+            snprintf(r->names[f->c[j].islope], sizeof r->names[0], "s[%zu]", j + 1);
+    }
+}
+
+/* SVD of the column-scaled Jacobian; fills the covariance, singular values
+ * and nullw[k], the weight of parameter k in the undetermined directions. */
+static int
+decompose(lf_fit *f, const double *x, lf_fit_result *r, double *nullw)
+{
+    size_t n = f->nres, p = f->np, i, k, l, rank = 0;
+    gsl_matrix *J = gsl_matrix_alloc(n, p), *V = gsl_matrix_alloc(p, p);
+    gsl_vector *S = gsl_vector_alloc(p), *D = gsl_vector_alloc(p);
+    int status = LF_OK;
+    double s2 = r->chi2 / (double) r->dof;
+
+    if (!J || !V || !S || !D) {
+        status = LF_ENOMEM;
+        goto done;
+    }
+    if (fit_jacobian_physical(f, x, J) != GSL_SUCCESS) {
+        status = LF_ENUMERIC;
+        goto done;
+    }
+    for (k = 0; k < p; k++) {
+        gsl_vector_view col = gsl_matrix_column(J, k);
+        double d = gsl_blas_dnrm2(&col.vector);
+        gsl_vector_set(D, k, d);
+        if (d > 0)
+            gsl_vector_scale(&col.vector, 1.0 / d);
+    }
+    if (gsl_linalg_SV_decomp_jacobi(J, V, S) != GSL_SUCCESS) {
+        status = LF_ENUMERIC;
+        goto done;
+    }
+    for (k = 0; k < p; k++) {
+        r->singular[k] = gsl_vector_get(S, k) / gsl_vector_get(S, 0);
+        if (r->singular[k] > f->set.rcond)
+            rank++;
+    }
+    for (k = 0; k < p; k++) {
+        nullw[k] = gsl_vector_get(D, k) > 0 ? 0.0 : 1.0;
+        for (l = rank; l < p; l++)
+            nullw[k] += gsl_matrix_get(V, k, l) * gsl_matrix_get(V, k, l);
+    }
+    for (i = 0; i < p; i++)
+        for (k = 0; k < p; k++) {
+            double c = 0.0, di = gsl_vector_get(D, i), dk = gsl_vector_get(D, k);
+            for (l = 0; l < rank; l++) {
+                double sl = gsl_vector_get(S, l);
+                c += gsl_matrix_get(V, i, l) * gsl_matrix_get(V, k, l) / (sl * sl);
+            }
+            r->cov[i * p + k] = di > 0 && dk > 0 ? s2 * c / (di * dk) : NAN;
+        }
+done:
+    gsl_matrix_free(J);
+    gsl_matrix_free(V);
+    gsl_vector_free(S);
+    gsl_vector_free(D);
+    return status;
+}
+
+/* M = Z(nu) E* of the bonded curves and its error from the covariance
+ * (before undetermined rows are blanked: M can be determined when E* and
+ * nu are not). */
+static void
+estimate_M(const lf_fit *f, const lf_fit_result *r, const lf_material *mat,
+           const double *nullw, lf_fit_estimate *M)
+{
+    int iE = f->imat[FIT_E], inu = f->imat[FIT_NU];
+    double Z = lf_thin_Z(LF_BASE_BONDED, mat->nu), dlnZ = lf_thin_dlogZ_dnu(LF_BASE_BONDED, mat->nu);
+    double g[2], var = 0.0;
+    int idx[2] = { iE, inu }, a, b, bad = 0;
+
+    if (!f->any_bonded) {
+        estimate_undetermined(M, 0);
+        return;
+    }
+    if (iE < 0 && inu < 0) {
+        estimate_fixed(M, Z * mat->Estar);
+        return;
+    }
+    g[0] = Z;                       /* dM/dE* */
+    g[1] = mat->Estar * Z * dlnZ;   /* dM/dnu */
+    for (a = 0; a < 2; a++)
+        for (b = 0; b < 2; b++)
+            if (idx[a] >= 0 && idx[b] >= 0)
+                var += g[a] * g[b] * r->cov[(size_t) idx[a] * r->npar + (size_t) idx[b]];
+    /* E* alone undetermined (not through nu) leaves M undetermined too */
+    if (iE >= 0 && nullw[iE] > 0.01 && (inu < 0 || nullw[inu] <= 0.01))
+        bad = 1;
+    if (bad || !(var >= 0)) {
+        estimate_undetermined(M, 1);
+        return;
+    }
+    estimate_positive(M, Z * mat->Estar, sqrt(var));
+}
+
+/* physics.md section 2: with k = 2 only and free z0 and F0, the contact
+ * part of a curve is a parabola (three coefficients for four unknowns) and
+ * w rests on the baseline past detachment alone.  Where every curve is
+ * like that and less than 10% of its points lie past detachment at the
+ * solution, w is not determined (whatever a noisy edge suggests). */
+static int
+k2_without_baseline(const lf_fit *f)
+{
+    size_t i, j;
+
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        size_t nout = 0;
+        if (fabs(c->data.probe.k - 2.0) > 1e-9 || c->iz0 < 0 || c->iF0 < 0)
+            return 0;
+        for (i = 0; i < c->data.n; i++)
+            nout += f->ev[c->row + i].a == 0.0;
+        if ((double) nout >= 0.1 * (double) c->data.n)
+            return 0;
+    }
+    return 1;
+}
+
+/* What the data cannot determine, in words. */
+static void
+explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
+{
+    char buf[800];
+    size_t k, j, len = 0;
+    int all_k2 = 1, w_null = f->imat[FIT_W] >= 0 && nullw[f->imat[FIT_W]] > 0.01;
+    int F0_null = 0, other = 0;
+
+    for (j = 0; j < f->ncurves; j++) {
+        if (fabs(f->c[j].data.probe.k - 2.0) > 1e-9)
+            all_k2 = 0;
+        if (f->c[j].iF0 >= 0 && nullw[f->c[j].iF0] > 0.01)
+            F0_null = 1;
+    }
+    if (f->imat[FIT_W] >= 0 && k2_without_baseline(f))
+        w_null = F0_null = 1;
+    if (f->any_bonded && !f->any_frictionless && !r->nu.determined
+        && f->set.Estar.mode != LF_PARAM_FIXED) {
+        if (r->M.determined)
+            lf_warn(&r->identifiability,
+                    "only bonded curves: the data fix M = Z*E* = %.4g Pa (se %.2g Pa) and w; "
+                    "nu is not determined (fix nu or add a frictionless curve)",
+                    r->M.value, r->M.se);
+        else
+            lf_warn(&r->identifiability,
+                    "only bonded curves: nu is not determined (fix nu or add a frictionless curve)");
+    }
+    if (!f->any_bonded && f->set.nu.mode != LF_PARAM_FIXED)
+        lf_warn(&r->identifiability,
+                "frictionless curves do not depend on nu: nu is not determined "
+                "(add a bonded curve of the same material to measure it)");
+    if (w_null && F0_null) {
+        if (all_k2)
+            lf_warn(&r->identifiability,
+                    "k = 2 alone with free F0 and z0 cannot separate w from the force offset "
+                    "(record the baseline past detachment, add a probe with k != 2, or fix F0)");
+        else
+            lf_warn(&r->identifiability,
+                    "w cannot be separated from the force offsets (record the baseline past "
+                    "detachment or fix F0)");
+    }
+    if (r->w.upper_bound_only)
+        lf_warn(&r->identifiability, "adhesion below the noise: w < %.4g J/m^2 (95%%)",
+                r->w.ci95[1]);
+    buf[0] = '\0';
+    for (k = 0; k < f->np; k++) {
+        int is_mat = (int) k == f->imat[FIT_W] || (int) k == f->imat[FIT_E]
+                     || (int) k == f->imat[FIT_NU];
+        int explained = ((int) k == f->imat[FIT_W] && F0_null)
+                        || (f->any_bonded && !f->any_frictionless
+                            && ((int) k == f->imat[FIT_E] || (int) k == f->imat[FIT_NU]));
+        if (nullw[k] > 0.01 && !explained && (is_mat || !F0_null)) {
+            len += (size_t) snprintf(buf + len, len < sizeof buf ? sizeof buf - len : 0,
+                                     "%s%s", other ? ", " : "", r->names[k]);
+            other = 1;
+        }
+    }
+    if (other && len < sizeof buf)
+        lf_warn(&r->identifiability, "not determined by the data: %s (fix some of them or add curves)", buf);
+    if (r->identifiability.n == 0)
+        lf_warn(&r->identifiability,
+                "every free parameter is determined (smallest scaled singular value %.2g)",
+                r->singular[f->np - 1]);
+}
+
+static void
+assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
+             const double *nullw, const gsl_vector *res)
+{
+    const fit_curve *c = &f->c[j];
+    lf_fit_curve_result *cr = &r->curves[j];
+    lf_material mat;
+    double z0, F0, slope, ss = 0.0, amin = HUGE_VAL, b = c->data.probe.b;
+    size_t i;
+
+    fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+    cr->name = c->data.name;
+    cr->probe = c->data.probe;
+    cr->branch = c->data.branch;
+    cr->n = c->data.n;
+    cr->z0 = z0;
+    cr->F0 = F0;
+    cr->slope = slope;
+    cr->z0_free = c->iz0 >= 0;
+    cr->F0_free = c->iF0 >= 0;
+    cr->slope_free = c->islope >= 0;
+    cr->z0_se = se_of(r, c->iz0);
+    cr->F0_se = se_of(r, c->iF0);
+    cr->slope_se = se_of(r, c->islope);
+    if (c->iz0 >= 0 && nullw[c->iz0] > 0.01)
+        cr->z0 = cr->z0_se = NAN;
+    if (c->iF0 >= 0 && (nullw[c->iF0] > 0.01
+                        || (f->imat[FIT_W] >= 0 && k2_without_baseline(f))))
+        cr->F0 = cr->F0_se = NAN;
+    cr->sigma = c->sigma;
+    for (i = 0; i < c->data.n; i++) {
+        size_t k = c->row + i;
+        double e = gsl_vector_get(res, k) * c->sigma;
+        ss += e * e;
+        cr->fitted[i] = c->data.force[i] + e;
+        cr->contact_radius[i] = f->ev[k].a;
+        if (f->ev[k].a > 0)
+            amin = fmin(amin, f->ev[k].a);
+    }
+    cr->rms = sqrt(ss / (double) c->data.n);
+    if (lf_model_pulloff(c->model, &mat, &cr->pulloff, NULL) != LF_OK)
+        memset(&cr->pulloff, 0, sizeof cr->pulloff);
+    cr->b_over_a_min_contact = amin < HUGE_VAL ? b / amin : NAN;
+    cr->b_over_a_pulloff = cr->pulloff.a_po > 0 ? b / cr->pulloff.a_po : NAN;
+    if (cr->b_over_a_min_contact > f->set.max_b_over_a)
+        lf_warn(&cr->warnings, "b/a = %.3g at the shallowest point in contact: the thin-layer "
+                "assumption b << a is strained there (limit %g)",
+                cr->b_over_a_min_contact, f->set.max_b_over_a);
+    if (cr->b_over_a_pulloff > f->set.max_b_over_a)
+        lf_warn(&cr->warnings, "b/a = %.3g at pull-off: the thin-layer assumption b << a is "
+                "strained (limit %g)", cr->b_over_a_pulloff, f->set.max_b_over_a);
+    if (cr->rms > 1.5 * c->sigma)
+        lf_warn(&cr->warnings, "residuals are %.2g times the noise estimated from the data: "
+                "the model does not describe this curve well", cr->rms / c->sigma);
+}
+
+int
+fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
+{
+    size_t p = f->np, i, k, j;
+    gsl_vector *res = gsl_vector_alloc(f->nres);
+    gsl_vector_const_view xv = gsl_vector_const_view_array(x, p);
+    double *nullw = NULL, z0, F0, slope;
+    lf_material mat;
+    int status;
+
+    if (res == NULL || (nullw = calloc(p, sizeof *nullw)) == NULL
+        || alloc_result(f, r) != LF_OK) {
+        status = lf_fail(err, LF_ENOMEM, "out of memory assessing a fit");
+        goto done;
+    }
+    if (fit_residuals(&xv.vector, f, res) != GSL_SUCCESS) {
+        status = lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the solution");
+        goto done;
+    }
+    r->chi2 = gsl_blas_dnrm2(res);
+    r->chi2 *= r->chi2;
+    r->dof = f->nres - p;
+    r->se_scale = sqrt(r->chi2 / (double) r->dof);
+    status = decompose(f, x, r, nullw);
+    if (status != LF_OK) {
+        status = lf_fail(err, status, "the Jacobian at the solution cannot be decomposed");
+        goto done;
+    }
+    name_parameters(f, r);
+    fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
+    f->mat = mat;
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+        if (c->iz0 >= 0) r->value[c->iz0] = z0;
+        if (c->iF0 >= 0) r->value[c->iF0] = F0;
+        if (c->islope >= 0) r->value[c->islope] = slope;
+    }
+    mat = f->mat;
+    if (f->imat[FIT_W] >= 0) r->value[f->imat[FIT_W]] = mat.w;
+    if (f->imat[FIT_E] >= 0) r->value[f->imat[FIT_E]] = mat.Estar;
+    if (f->imat[FIT_NU] >= 0) r->value[f->imat[FIT_NU]] = mat.nu;
+    estimate_M(f, r, &mat, nullw, &r->M);
+
+    /* w */
+    if (f->imat[FIT_W] < 0)
+        estimate_fixed(&r->w, mat.w);
+    else if (nullw[f->imat[FIT_W]] > 0.01 || k2_without_baseline(f))
+        estimate_undetermined(&r->w, 1);
+    else {
+        double se = se_of(r, f->imat[FIT_W]);
+        if (mat.w < 2.0 * se) {
+            estimate_undetermined(&r->w, 1);
+            r->w.upper_bound_only = 1;
+            r->w.ci95[0] = 0.0;
+            r->w.ci95[1] = mat.w + Z95_ONE_SIDED * se;
+        } else {
+            estimate_positive(&r->w, mat.w, se);
+        }
+    }
+    /* nu */
+    if (f->imat[FIT_NU] >= 0 && nullw[f->imat[FIT_NU]] <= 0.01) {
+        double se = se_of(r, f->imat[FIT_NU]);
+        r->nu.value = mat.nu;
+        r->nu.se = se;
+        r->nu.ci95[0] = fmax(mat.nu - Z95 * se, 0.0);
+        r->nu.ci95[1] = fmin(mat.nu + Z95 * se, 0.5);
+        r->nu.free = 1;
+        r->nu.determined = 1;
+    } else if (f->imat[FIT_NU] >= 0) {
+        estimate_undetermined(&r->nu, 1);
+    } else if (f->set.nu.mode == LF_PARAM_FIXED) {
+        estimate_fixed(&r->nu, mat.nu);
+    } else {
+        estimate_undetermined(&r->nu, 0);
+    }
+    /* E*: bonded curves alone fix M only, unless nu is known */
+    if (f->imat[FIT_E] < 0)
+        estimate_fixed(&r->Estar, mat.Estar);
+    else if (nullw[f->imat[FIT_E]] > 0.01
+             || (f->any_bonded && !f->any_frictionless && !r->nu.determined))
+        /* bonded curves alone: E* = M / Z(nu) with nu unknown */
+        estimate_undetermined(&r->Estar, 1);
+    else
+        estimate_positive(&r->Estar, mat.Estar, se_of(r, f->imat[FIT_E]));
+
+    /* blank what is not determined, then correlations */
+    for (k = 0; k < p; k++)
+        if (nullw[k] > 0.01)
+            for (i = 0; i < p; i++)
+                r->cov[k * p + i] = r->cov[i * p + k] = NAN;
+    for (i = 0; i < p; i++)
+        for (k = 0; k < p; k++)
+            r->corr[i * p + k] = r->cov[i * p + k]
+                                 / sqrt(r->cov[i * p + i] * r->cov[k * p + k]);
+    for (j = 0; j < f->ncurves; j++)
+        assess_curve(f, x, j, r, nullw, res);
+    explain(f, r, nullw);
+    if (r->chi2 / (double) r->dof > 2.0)
+        lf_warn(&r->warnings, "chi2/dof = %.3g: the residuals exceed the point-to-point noise "
+                "(model misfit or correlated noise); standard errors are scaled by %.3g",
+                r->chi2 / (double) r->dof, r->se_scale);
+    status = LF_OK;
+done:
+    gsl_vector_free(res);
+    free(nullw);
+    return status;
+}

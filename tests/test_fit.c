@@ -1,0 +1,215 @@
+/* test_fit.c: the fitter on noise-free data (truth to 1e-8 from the
+ * automatic guess, k in {1.5, 2, 3, 6}, frictionless, bonded and mixed
+ * plans, unloading and loading), the analytic Jacobian against central
+ * differences, independence of the order of the curves, every method and
+ * finite-difference Jacobians, held parameters and argument errors. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+
+#include "scene.h"
+#include "testlib.h"
+
+static void
+check_truth(scene *s, double tol)
+{
+    lf_fit_result r;
+    lf_error err;
+    int status = scene_fit(s, 1, &r, &err);
+    size_t j;
+
+    if (!t_int(status, LF_OK, "%s: fit converges (%s)", s->label,
+               status == LF_ENOCONV ? r.stop_reason : status ? err.msg : "ok"))
+        return;
+    t_rel(r.w.value, s->mat.w, tol, "%s: w", s->label);
+    t_rel(r.Estar.value, s->mat.Estar, tol, "%s: E*", s->label);
+    if (r.nu.free)
+        t_rel(r.nu.value, s->mat.nu, tol, "%s: nu", s->label);
+    for (j = 0; j < s->n; j++) {
+        if (r.curves[j].z0_free)
+            t_rel(r.curves[j].z0, s->sim.z0, tol, "%s: z0 of curve %zu", s->label, j + 1);
+        if (r.curves[j].F0_free)
+            t_abs(r.curves[j].F0, s->sim.F0, tol * r.curves[j].pulloff.P_po * -1.0,
+                  "%s: F0 of curve %zu (to tol x pull-off)", s->label, j + 1);
+    }
+    t_true(r.w.determined && r.Estar.determined, "%s: w and E* determined", s->label);
+    lf_fit_result_free(&r);
+}
+
+static void
+noise_free(void)
+{
+    static const double ks[] = { 1.5, 2, 3, 6 };
+    static const double Rs[] = { 0.5e-3, 1e-3, 1e-3, 20e-6 };
+    char label[128];
+    size_t i;
+    int base;
+
+    for (i = 0; i < 4; i++)
+        for (base = 0; base < 3; base++) {
+            scene s;
+            snprintf(label, sizeof label, "noise-free k=%g %s", ks[i],
+                     base == 0 ? "frictionless" : base == 1 ? "bonded (nu held)" : "mixed");
+            s = scene_default(label);
+            if (base == 1) {
+                s.fit.nu.mode = LF_PARAM_FIXED;
+                s.fit.nu.value = s.mat.nu;
+            }
+            /* each k joined by a second probe (k = 3) so that w is
+             * determined for k = 2 too, with its own b */
+            scene_add(&s, ks[i], Rs[i], 1e-6, base == 1 ? LF_BASE_BONDED : LF_BASE_FRICTIONLESS);
+            scene_add(&s, 3, 1e-3, 2e-6, base == 0 ? LF_BASE_FRICTIONLESS : LF_BASE_BONDED);
+            check_truth(&s, 1e-8);
+            scene_free(&s);
+        }
+    {   /* one curve alone, and the loading branch */
+        scene s = scene_default("noise-free k=3 alone");
+        scene_add(&s, 3, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+        check_truth(&s, 1e-8);
+        scene_free(&s);
+        s = scene_default("noise-free k=2 alone with baseline");
+        s.sim.past_c = 4.0;
+        scene_add(&s, 2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+        check_truth(&s, 1e-8);
+        scene_free(&s);
+        s = scene_default("noise-free loading k=2,3");
+        s.sim.branch = LF_BRANCH_LOAD;
+        s.sim.past_c = 2.0;
+        scene_add(&s, 2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+        scene_add(&s, 3, 1e-3, 1e-6, LF_BASE_BONDED);
+        check_truth(&s, 1e-8);
+        scene_free(&s);
+    }
+}
+
+static void
+jacobian(void)
+{
+    scene s = scene_default("jacobian");
+    lf_fit *f;
+    lf_error err;
+    double worst = 1;
+    lf_material m = { 9.1e-3, 1.37e9, 0.31 };
+
+    s.fit.fit_slope = 1;
+    scene_add(&s, 2.5, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    scene_add(&s, 3, 1e-3, 1e-6, LF_BASE_BONDED);
+    scene_simulate(&s, 3);
+    f = lf_fit_alloc(&s.fit, s.n, s.curve, &err);
+    if (t_true(f != NULL, "jacobian: alloc")) {
+        t_int(lf_fit_check_jacobian(f, &m, &worst, &err), LF_OK, "jacobian: check runs");
+        t_abs(worst, 0, 1e-6, "jacobian: analytic = central differences (max rel %.2g)", worst);
+    }
+    lf_fit_free(f);
+    scene_free(&s);
+}
+
+static void
+order_and_methods(void)
+{
+    scene s = scene_default("order");
+    lf_fit_curve rev[2];
+    lf_fit_result a, b;
+    lf_error err;
+    static const char *const methods[] = { "lm", "lmaccel", "dogleg", "ddogleg", "subspace2D" };
+    size_t i;
+
+    s.sim.noise = 0.005;
+    s.sim.past_c = 2.0;
+    s.sim.delta_max = 20e-9;
+    scene_add(&s, 2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    scene_add(&s, 3, 1e-3, 1e-6, LF_BASE_BONDED);
+    t_int(scene_fit(&s, 11, &a, &err), LF_OK, "order: forward fit");
+    rev[0] = s.curve[1];
+    rev[1] = s.curve[0];
+    t_int(lf_fit_driver(&s.fit, 2, rev, &b, &err), LF_OK, "order: reversed fit");
+    t_rel(b.w.value, a.w.value, 1e-7, "order: w does not depend on curve order (to 1e-5 se)");
+    t_rel(b.Estar.value, a.Estar.value, 1e-8, "order: E* does not depend on curve order");
+    t_rel(b.nu.value, a.nu.value, 1e-8, "order: nu does not depend on curve order");
+    t_rel(b.w.se, a.w.se, 1e-6, "order: se(w) does not depend on curve order");
+    t_rel(b.curves[1].z0, a.curves[0].z0, 1e-9, "order: z0 follows its curve");
+    lf_fit_result_free(&b);
+    /* a second run of the same fit object gives the same answer */
+    {
+        lf_fit *f = lf_fit_alloc(&s.fit, 2, s.curve, &err);
+        lf_fit_result c1, c2;
+        t_int(lf_fit_run(f, &c1, &err), LF_OK, "rerun: first");
+        t_int(lf_fit_run(f, &c2, &err), LF_OK, "rerun: second");
+        t_true(c1.w.value == c2.w.value && c1.Estar.value == c2.Estar.value,
+               "rerun: identical results, nothing carried over");
+        lf_fit_result_free(&c1);
+        lf_fit_result_free(&c2);
+        lf_fit_free(f);
+    }
+    for (i = 0; i < sizeof methods / sizeof methods[0]; i++) {
+        lf_fit_settings set = s.fit;
+        int j;
+        for (j = 0; j < 3; j++) {
+            int st;
+            set.method = methods[i];
+            set.jacobian = (lf_jacobian) j;
+            st = lf_fit_driver(&set, 2, s.curve, &b, &err);
+            t_int(st, LF_OK, "method %s jacobian %d converges", methods[i], j);
+            if (st == LF_OK || st == LF_ENOCONV) {
+                t_rel(b.w.value, a.w.value, 1e-5, "method %s jacobian %d: same w", methods[i], j);
+                t_rel(b.nu.value, a.nu.value, 1e-6, "method %s jacobian %d: same nu", methods[i], j);
+                t_str(b.method, methods[i], "method %s reported", methods[i]);
+                lf_fit_result_free(&b);
+            }
+        }
+    }
+    lf_fit_result_free(&a);
+    scene_free(&s);
+}
+
+static void
+held_and_errors(void)
+{
+    scene s = scene_default("held");
+    lf_fit_result r;
+    lf_error err;
+    lf_fit_settings bad;
+
+    scene_add(&s, 2, 1e-3, 1e-6, LF_BASE_BONDED);
+    scene_add(&s, 3, 1e-3, 1e-6, LF_BASE_BONDED);
+    s.fix_z0 = s.fix_F0 = 1;
+    s.fit.Estar.mode = LF_PARAM_FIXED;
+    s.fit.Estar.value = s.mat.Estar;
+    t_int(scene_fit(&s, 1, &r, &err), LF_OK, "held E*, z0, F0: converges");
+    t_true(r.nu.free && r.nu.determined, "held E*: nu becomes free and determined on bonded curves");
+    t_rel(r.nu.value, s.mat.nu, 1e-8, "held E*: nu recovered");
+    t_rel(r.w.value, s.mat.w, 1e-8, "held E*: w recovered");
+    t_true(!r.Estar.free && r.Estar.determined && r.Estar.value == s.mat.Estar, "held E* reported as held");
+    t_true(!r.curves[0].z0_free && !r.curves[0].F0_free && isnan(r.curves[0].z0_se),
+           "held z0, F0 reported as held");
+    t_int((long) r.npar, 2, "held: two free parameters (w, nu)");
+    lf_fit_result_free(&r);
+
+    bad = s.fit;
+    bad.method = "newton";
+    t_true(lf_fit_alloc(&bad, s.n, s.curve, &err) == NULL, "unknown method refused");
+    t_str(err.msg, "unknown method 'newton' (lm, lmaccel, dogleg, ddogleg, subspace2D)", "unknown method message");
+    bad = s.fit;
+    bad.w.mode = LF_PARAM_FIXED;
+    bad.w.value = 1e-3;
+    bad.nu.mode = LF_PARAM_FIXED;
+    t_true(lf_fit_alloc(&bad, s.n, s.curve, &err) == NULL, "nothing free refused");
+    t_int(err.status, LF_EINVAL, "nothing free: LF_EINVAL");
+    s.curve[0].n = 3;
+    t_true(lf_fit_alloc(&s.fit, s.n, s.curve, &err) == NULL, "3 points refused");
+    t_int(err.status, LF_EDATA, "3 points: LF_EDATA");
+    scene_free(&s);
+}
+
+int
+main(void)
+{
+    gsl_set_error_handler_off();
+    noise_free();
+    jacobian();
+    order_and_methods();
+    held_and_errors();
+    return t_summary();
+}
