@@ -17,9 +17,10 @@ WARN    += -Werror
 endif
 OPT     ?= -O2 -g
 # project flags first, the user's CFLAGS after them
-ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE $(WARN) $(OPT) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
+OPENMP  ?= -fopenmp
+ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE $(WARN) $(OPT) $(OPENMP) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
 LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lpthread -lm
-ALL_LDFLAGS := $(SANFLAGS) $(LDFLAGS)
+ALL_LDFLAGS := $(OPENMP) $(SANFLAGS) $(LDFLAGS)
 
 CLI_SRC := src/main.c $(wildcard src/cli_*.c)
 LIB_SRC := $(filter-out $(CLI_SRC),$(wildcard src/*.c)) $(wildcard fit/*.c)

@@ -81,4 +81,23 @@ int cli_model(int argc, char **argv);
 /* `layerfit model --figure N [--plot FILE]` (cli_figure.c). */
 int cli_figure(int figure, const char *plot);
 int cli_check(int argc, char **argv);
+int cli_map(int argc, char **argv);
+
+/* Batch fitting (cli_batch.c). */
+#define CLI_BATCH_MAX_FAILED 125   /* exit status: failed fits, capped */
+typedef struct {
+    const char *plan;      /* the plan */
+    const char *out;       /* FILE.csv or FILE.jsonl; NULL: CSV on stdout */
+    const char *shard;     /* "I/N" or NULL for all */
+    long threads;          /* 0: all cores */
+    int progress;          /* 1 on, 0 off, -1 when stderr is a terminal */
+} cli_batch_opts;
+/* Fit every fit of the plan with the settings; returns the exit status
+ * (number of failed fits, capped). */
+int cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings);
+/* "I/N" with 1 <= I <= N; -1 when malformed. */
+int cli_shard_parse(const char *text, long *index, long *count);
+/* `layerfit fit --batch ...` and whether argv asks for it. */
+int cli_fit_batch(int argc, char **argv);
+int cli_wants_batch(int argc, char **argv);
 #endif

@@ -9,6 +9,7 @@
 static const cli_command commands[] = {
     { "model", "compute model curves, pull-off and the paper's figures", cli_model },
     { "check", "read a fit plan or a curve file and report what it holds", cli_check },
+    { "map", "heat maps of w and E* from a batch fit; synthetic force maps", cli_map },
     { NULL, NULL, NULL }
 };
 
@@ -44,6 +45,8 @@ main(int argc, char **argv)
         printf("layerfit %s\n", LF_VERSION);
         return CLI_EXIT_OK;
     }
+    if (strcmp(argv[1], "fit") == 0 && cli_wants_batch(argc - 1, argv + 1))
+        return cli_fit_batch(argc - 1, argv + 1);
     for (c = commands; c->name != NULL; c++)
         if (strcmp(argv[1], c->name) == 0)
             return c->run(argc - 1, argv + 1);
