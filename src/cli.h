@@ -100,4 +100,19 @@ int cli_shard_parse(const char *text, long *index, long *count);
 /* `layerfit fit --batch ...` and whether argv asks for it. */
 int cli_fit_batch(int argc, char **argv);
 int cli_wants_batch(int argc, char **argv);
+
+/* Figures of a fit (cli_plotfit.c): "overview" and "curve1", "curve2", ...
+ * each as DIR/NAME.png and DIR/NAME.svg, drawn by DIR/NAME.gp from
+ * DIR/NAME.dat.  The names and captions are owned by the struct. */
+typedef struct {
+    size_t n;
+    char (*base)[64];
+    char (*caption)[1200];
+} cli_figures;
+/* Write the scripts and data into dir (created when missing) and run
+ * gnuplot on them.  Returns 0, or -1 with a message: when gnuplot is not
+ * installed the scripts and data are still written and figs filled. */
+int cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
+                 const lf_fit_result *res, cli_figures *figs, char *msg, size_t n);
+void cli_figures_free(cli_figures *f);
 #endif
