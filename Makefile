@@ -19,10 +19,14 @@ OPT     ?= -O2 -g
 # project flags first, the user's CFLAGS after them
 OPENMP  ?= -fopenmp
 ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE $(WARN) $(OPT) $(OPENMP) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
+# `layerfit fit` reads curves once the readers are there (branch ingest)
+ifneq ($(wildcard src/csv_curve.c),)
+ALL_CFLAGS += -DLF_HAVE_READERS
+endif
 LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lpthread -lm
 ALL_LDFLAGS := $(OPENMP) $(SANFLAGS) $(LDFLAGS)
 
-CLI_SRC := src/main.c $(wildcard src/cli_*.c)
+CLI_SRC := src/main.c $(wildcard src/cli_*.c) src/report.c
 LIB_SRC := $(filter-out $(CLI_SRC),$(wildcard src/*.c)) $(wildcard fit/*.c)
 LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
 CLI_OBJ := $(CLI_SRC:%.c=$(BUILD)/%.o)

@@ -78,6 +78,8 @@ char *cli_human(char *buf, size_t n, double x, const char *unit);
 
 /* The subcommands, one file each (cli_NAME.c). */
 int cli_model(int argc, char **argv);
+int cli_fit(int argc, char **argv);
+int cli_simulate(int argc, char **argv);
 /* `layerfit model --figure N [--plot FILE]` (cli_figure.c). */
 int cli_figure(int figure, const char *plot);
 int cli_check(int argc, char **argv);

@@ -207,39 +207,6 @@ double lf_jkr_sphere_a_po(double R, double w, double Estar);
 
 
 /* ------------------------------------------------------------------------
- * Experiment design: the Cramer-Rao bound (fit/crb.c)
- * --------------------------------------------------------------------- */
-
-/* One curve of an experiment, as the bound sees it. */
-typedef struct {
-    const lf_model *model;   /* probe and forward model */
-    lf_branch branch;
-    size_t n;
-    const double *delta;     /* true indentations, m */
-    double sigma;            /* standard deviation of the force noise, N */
-    int free_z0;             /* contact point estimated with the material */
-    int free_F0;             /* force offset estimated with the material */
-} lf_design_curve;
-
-/* The smallest standard deviations any unbiased estimator can reach with
- * Gaussian noise: the inverse Fisher information at the truth.  w and E*
- * are bounded relatively (sd of ln w, ln E*); nu absolutely. */
-typedef struct {
-    double sd_logw;          /* ~ relative sd of w */
-    double sd_logE;          /* ~ relative sd of E* */
-    double sd_nu;            /* NaN when nu is not estimated */
-    double corr_wE;          /* correlation of ln w and ln E* */
-    double cov[3][3];        /* covariance of (ln w, ln E*, nu); nu row NaN if fixed */
-    size_t nparams;          /* parameters counted, nuisance included */
-} lf_crb_result;
-
-/* Fisher information of w, E* (and nu when free_nu) together with the
- * nuisance parameters each curve declares free, inverted.  LF_EDATA when the
- * design does not determine them all (singular information). */
-int lf_crb(const lf_design_curve *curves, size_t ncurves, const lf_material *truth,
-           int free_nu, lf_crb_result *out, lf_error *err);
-
-/* ------------------------------------------------------------------------
  * Fitting (fit/): shared material, per-curve nuisance parameters
  *
  * The measured force of curve j at instrument depth z is modelled as
@@ -426,6 +393,39 @@ int lf_simulate(const lf_sim_settings *settings, const lf_model_type *type,
                 const lf_material *mat, size_t ncurves, const lf_probe *probes,
                 double *const *depth, double *const *force, double *sigma,
                 lf_error *err);
+
+/* ------------------------------------------------------------------------
+ * Experiment design: the Cramer-Rao bound (fit/crb.c)
+ * --------------------------------------------------------------------- */
+
+/* One curve of an experiment, as the bound sees it. */
+typedef struct {
+    const lf_model *model;   /* probe and forward model */
+    lf_branch branch;
+    size_t n;
+    const double *delta;     /* true indentations, m */
+    double sigma;            /* standard deviation of the force noise, N */
+    int free_z0;             /* contact point estimated with the material */
+    int free_F0;             /* force offset estimated with the material */
+} lf_design_curve;
+
+/* The smallest standard deviations any unbiased estimator can reach with
+ * Gaussian noise: the inverse Fisher information at the truth.  w and E*
+ * are bounded relatively (sd of ln w, ln E*); nu absolutely. */
+typedef struct {
+    double sd_logw;          /* ~ relative sd of w */
+    double sd_logE;          /* ~ relative sd of E* */
+    double sd_nu;            /* NaN when nu is not estimated */
+    double corr_wE;          /* correlation of ln w and ln E* */
+    double cov[3][3];        /* covariance of (ln w, ln E*, nu); nu row NaN if fixed */
+    size_t nparams;          /* parameters counted, nuisance included */
+} lf_crb_result;
+
+/* Fisher information of w, E* (and nu when free_nu) together with the
+ * nuisance parameters each curve declares free, inverted.  LF_EDATA when the
+ * design does not determine them all (singular information). */
+int lf_crb(const lf_design_curve *curves, size_t ncurves, const lf_material *truth,
+           int free_nu, lf_crb_result *out, lf_error *err);
 
 /* ------------------------------------------------------------------------
  * Lab data: curves and fit plans (readers in src/csv_curve.c, src/plan.c)

@@ -8,6 +8,8 @@
 
 static const cli_command commands[] = {
     { "model", "compute model curves, pull-off and the paper's figures", cli_model },
+    { "fit", "fit w, E* and nu jointly to curves from several probes", cli_fit },
+    { "simulate", "write synthetic curves, a plan and the truth", cli_simulate },
     { "check", "read a fit plan or a curve file and report what it holds", cli_check },
     { "map", "heat maps of w and E* from a batch fit; synthetic force maps", cli_map },
     { NULL, NULL, NULL }

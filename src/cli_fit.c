@@ -1,0 +1,264 @@
+/* cli_fit.c: `layerfit fit PLAN.csv` and `layerfit fit CURVE.csv --k K
+ * --R R --b B --interface I`: read the curves (src/csv_curve.c, src/plan.c),
+ * fit them jointly (fit/), print the report and write --json / --curves. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "report.h"
+
+static const char usage_text[] =
+    "usage: layerfit fit PLAN.csv [options]\n"
+    "       layerfit fit CURVE.csv --k K --R LENGTH --b LENGTH --interface I [options]\n"
+    "\n"
+    "Fits w, E* and (where the plan determines it) nu jointly to every curve,\n"
+    "with each curve's contact point z0 and force offset F0 free unless fixed.\n"
+    "\n"
+    "options:\n"
+    "  --json FILE          the result in SI as JSON\n"
+    "  --curves FILE        per point: depth, force, fitted force, residual, contact radius\n"
+    "  --method M           lm (default), lmaccel, dogleg, ddogleg, subspace2D\n"
+    "  --jacobian J         analytic (default), forward, central\n"
+    "  --model NAME         forward model (default thin)\n"
+    "  --fix-nu NU          hold nu (also --nu); a plan's nu column does the same\n"
+    "  --fix-z0 LENGTH      hold every curve's contact point\n"
+    "  --fix-F0 FORCE       hold every curve's force offset\n"
+    "  --slope              fit a baseline slope per curve\n"
+    "  --max-b-over-a X     warn where b/a exceeds X (0.1)\n"
+    "  --segment S          unload (default) or load\n"
+    "exit status: 0 converged, 3 not converged (report still written), 1 failure, 2 bad input\n";
+
+typedef struct {
+    const char *json, *curves, *method, *jacobian, *model, *interface, *segment;
+    double k, R, b, nu, fix_nu, fix_z0, fix_F0, max_ba;
+    int slope;
+} fit_args;
+
+/* The data of the run: curves as read, and the arrays handed to the fit. */
+typedef struct {
+    size_t n;
+    lf_fit_curve *fc;
+    double **depth, **force;
+    char **names;
+} fit_data;
+
+#ifdef LF_HAVE_READERS
+static void
+add_curve(fit_data *d, const char *path, lf_segment seg, const lf_probe *probe,
+          double z0, double F0)
+{
+    lf_curve *c = NULL;
+    lf_warnings warn = { 0, NULL };
+    lf_error err;
+    size_t n, j = d->n;
+
+    if (lf_curve_read(path, NULL, &c, &warn, &err) != LF_OK)
+        cli_die_error(CLI_EXIT_USAGE, &err);
+    cli_print_warnings(&warn);
+    lf_warnings_free(&warn);
+    if (lf_curve_check_fit(c, seg, 5, &err) != LF_OK)
+        cli_die_error(CLI_EXIT_USAGE, &err);
+    n = lf_curve_segment(c, seg, NULL, NULL);
+    d->depth[j] = malloc(n * sizeof **d->depth);
+    d->force[j] = malloc(n * sizeof **d->force);
+    d->names[j] = malloc(strlen(path) + 1);
+    if (!d->depth[j] || !d->force[j] || !d->names[j])
+        cli_die(CLI_EXIT_FAIL, "fit: out of memory");
+    strcpy(d->names[j], path);
+    lf_curve_segment(c, seg, d->depth[j], d->force[j]);
+    lf_curve_free(c);
+    d->fc[j].name = d->names[j];
+    d->fc[j].n = n;
+    d->fc[j].depth = d->depth[j];
+    d->fc[j].force = d->force[j];
+    d->fc[j].probe = *probe;
+    d->fc[j].branch = seg == LF_SEG_LOAD ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD;
+    d->fc[j].z0 = z0;
+    d->fc[j].F0 = F0;
+    d->n++;
+}
+
+static void
+data_alloc(fit_data *d, size_t n)
+{
+    d->n = 0;
+    d->fc = calloc(n, sizeof *d->fc);
+    d->depth = calloc(n, sizeof *d->depth);
+    d->force = calloc(n, sizeof *d->force);
+    d->names = calloc(n, sizeof *d->names);
+    if (!d->fc || !d->depth || !d->force || !d->names)
+        cli_die(CLI_EXIT_FAIL, "fit: out of memory");
+}
+
+/* Read the plan (or the single curve) into d; sets the nu held by the plan. */
+static void
+read_input(const char *path, const fit_args *a, lf_segment seg_opt, int seg_given,
+           fit_data *d, double *plan_nu)
+{
+    *plan_nu = NAN;
+    if (!isnan(a->k)) {
+        lf_probe p;
+        lf_error err;
+        int base;
+        if (isnan(a->R) || isnan(a->b) || a->interface == NULL)
+            cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
+                    "(e.g. --k 2 --R 1mm --b 1um --interface frictionless)");
+        base = cli_base(a->interface);
+        if (base < 0)
+            cli_die(CLI_EXIT_USAGE, "fit: unknown interface '%s' (frictionless or bonded)", a->interface);
+        p.k = a->k;
+        p.R = a->R;
+        p.b = a->b;
+        p.base = (lf_base) base;
+        if (lf_probe_check(&p, &err) != LF_OK)
+            cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
+        data_alloc(d, 1);
+        add_curve(d, path, seg_opt, &p, a->fix_z0, a->fix_F0);
+    } else {
+        lf_plan *plan = NULL;
+        lf_warnings warn = { 0, NULL };
+        lf_error err;
+        size_t i;
+        if (lf_plan_read(path, &plan, &warn, &err) != LF_OK)
+            cli_die_error(CLI_EXIT_USAGE, &err);
+        cli_print_warnings(&warn);
+        lf_warnings_free(&warn);
+        data_alloc(d, plan->n);
+        for (i = 0; i < plan->n; i++) {
+            const lf_plan_row *row = &plan->rows[i];
+            if (!isnan(row->nu) && row->probe.base == LF_BASE_BONDED) {
+                if (!isnan(*plan_nu) && *plan_nu != row->nu)
+                    cli_die(CLI_EXIT_USAGE, "fit: %s:%ld: nu %g differs from an earlier row's %g "
+                            "(one material, one nu)", plan->path, row->line, row->nu, *plan_nu);
+                *plan_nu = row->nu;
+            }
+            add_curve(d, row->file, seg_given ? seg_opt : row->segment, &row->probe,
+                      isnan(a->fix_z0) ? row->z0 : a->fix_z0,
+                      isnan(a->fix_F0) ? row->F0 : a->fix_F0);
+        }
+        lf_plan_free(plan);
+    }
+}
+#else
+static void
+read_input(const char *path, const fit_args *a, lf_segment seg_opt, int seg_given,
+           fit_data *d, double *plan_nu)
+{
+    (void) path; (void) a; (void) seg_opt; (void) seg_given; (void) d; (void) plan_nu;
+    cli_die(CLI_EXIT_FAIL, "fit: this build has no curve readers (src/csv_curve.c, src/plan.c)");
+}
+#endif
+
+static void
+write_file(const char *path, void (*writer)(FILE *, const report_input *, const lf_fit_result *),
+           const report_input *in, const lf_fit_result *r)
+{
+    FILE *f = fopen(path, "w");
+    if (f == NULL)
+        cli_die(CLI_EXIT_FAIL, "fit: cannot write %s: %s", path, strerror(errno));
+    writer(f, in, r);
+    if (ferror(f) | fclose(f))
+        cli_die(CLI_EXIT_FAIL, "fit: error writing %s", path);
+}
+
+int
+cli_fit(int argc, char **argv)
+{
+    fit_args a = { NULL, NULL, "lm", "analytic", "thin", NULL, NULL,
+                   NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, 0 };
+    const cli_opt opts[] = {
+        { "json", CLI_STRING, &a.json }, { "curves", CLI_STRING, &a.curves },
+        { "method", CLI_STRING, &a.method }, { "jacobian", CLI_STRING, &a.jacobian },
+        { "model", CLI_STRING, &a.model }, { "interface", CLI_STRING, &a.interface },
+        { "segment", CLI_STRING, &a.segment }, { "k", CLI_NUMBER, &a.k },
+        { "R", CLI_LENGTH, &a.R }, { "b", CLI_LENGTH, &a.b }, { "nu", CLI_NUMBER, &a.nu },
+        { "fix-nu", CLI_NUMBER, &a.fix_nu }, { "fix-z0", CLI_LENGTH, &a.fix_z0 },
+        { "fix-F0", CLI_FORCE, &a.fix_F0 }, { "max-b-over-a", CLI_NUMBER, &a.max_ba },
+        { "slope", CLI_FLAG, &a.slope }, { NULL, CLI_FLAG, NULL }
+    };
+    int npos, help, status, seg_given = 0;
+    lf_segment seg = LF_SEG_UNLOAD;
+    lf_fit_settings set = lf_fit_settings_default();
+    fit_data d = { 0, NULL, NULL, NULL, NULL };
+    lf_fit_result r;
+    lf_error err;
+    report_input in;
+    double plan_nu, nu;
+    size_t i;
+
+    cli_parse("fit", argc, argv, opts, &npos, &help);
+    if (help) {
+        fputs(usage_text, stdout);
+        return CLI_EXIT_OK;
+    }
+    if (npos != 1)
+        cli_die(CLI_EXIT_USAGE, "fit: give one plan or curve file (see 'layerfit fit --help')");
+    if (a.segment != NULL) {
+        seg_given = 1;
+        if (strcmp(a.segment, "unload") == 0)
+            seg = LF_SEG_UNLOAD;
+        else if (strcmp(a.segment, "load") == 0)
+            seg = LF_SEG_LOAD;
+        else
+            cli_die(CLI_EXIT_USAGE, "fit: --segment must be unload or load (got '%s')", a.segment);
+    }
+    set.method = a.method;
+    set.model = lf_model_type_find(a.model);
+    if (set.model == NULL)
+        cli_die(CLI_EXIT_USAGE, "fit: unknown model '%s'", a.model);
+    if (strcmp(a.jacobian, "analytic") == 0)
+        set.jacobian = LF_JAC_ANALYTIC;
+    else if (strcmp(a.jacobian, "forward") == 0)
+        set.jacobian = LF_JAC_FORWARD;
+    else if (strcmp(a.jacobian, "central") == 0)
+        set.jacobian = LF_JAC_CENTRAL;
+    else
+        cli_die(CLI_EXIT_USAGE, "fit: --jacobian must be analytic, forward or central (got '%s')",
+                a.jacobian);
+    for (i = 0; lf_fit_methods[i] != NULL; i++)
+        if (strcmp(lf_fit_methods[i], a.method) == 0)
+            break;
+    if (lf_fit_methods[i] == NULL)
+        cli_die(CLI_EXIT_USAGE, "fit: unknown method '%s' (lm, lmaccel, dogleg, ddogleg, subspace2D)",
+                a.method);
+    if (!isnan(a.max_ba)) {
+        if (!(a.max_ba > 0))
+            cli_die(CLI_EXIT_USAGE, "fit: --max-b-over-a must be > 0 (e.g. --max-b-over-a 0.1)");
+        set.max_b_over_a = a.max_ba;
+    }
+    set.fit_slope = a.slope;
+    read_input(argv[0], &a, seg, seg_given, &d, &plan_nu);
+    nu = !isnan(a.fix_nu) ? a.fix_nu : !isnan(a.nu) ? a.nu : plan_nu;
+    if (!isnan(nu)) {
+        if (!(nu >= 0 && nu < 0.5))
+            cli_die(CLI_EXIT_USAGE, "fit: nu must lie in [0, 0.5) (got %g)", nu);
+        set.nu.mode = LF_PARAM_FIXED;
+        set.nu.value = nu;
+    }
+    status = lf_fit_driver(&set, d.n, d.fc, &r, &err);
+    if (status != LF_OK && status != LF_ENOCONV)
+        cli_die(status == LF_EDATA || status == LF_EINVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL,
+                "fit: %s", err.msg);
+    in.settings = &set;
+    in.curves = d.fc;
+    report_text(stdout, &in, &r);
+    if (a.json != NULL)
+        write_file(a.json, report_json, &in, &r);
+    if (a.curves != NULL)
+        write_file(a.curves, report_curves, &in, &r);
+    if (status == LF_ENOCONV)
+        fprintf(stderr, "layerfit: fit: not converged: %s\n", r.stop_reason);
+    lf_fit_result_free(&r);
+    for (i = 0; i < d.n; i++) {
+        free(d.depth[i]);
+        free(d.force[i]);
+        free(d.names[i]);
+    }
+    free(d.fc);
+    free(d.depth);
+    free(d.force);
+    free(d.names);
+    return status == LF_OK ? CLI_EXIT_OK : CLI_EXIT_NOCONV;
+}

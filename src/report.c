@@ -1,0 +1,280 @@
+/* report.c: a fit result as text for people, as JSON (SI) and as a
+ * per-point CSV.  See report.h. */
+#include <math.h>
+#include <string.h>
+
+#include "cli.h"
+#include "report.h"
+
+static const char *
+branch_name(lf_branch b)
+{
+    return b == LF_BRANCH_LOAD ? "load" : "unload";
+}
+
+static void
+text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
+              const char *unit, const char *why_not)
+{
+    char v[48], s[48], lo[48], hi[48];
+
+    if (e->upper_bound_only) {
+        fprintf(f, "  %-4s < %s (95%%, one-sided): adhesion below the noise\n", name,
+                cli_human(hi, sizeof hi, e->ci95[1], unit));
+        return;
+    }
+    if (!e->determined) {
+        fprintf(f, "  %-4s not determined%s%s\n", name, why_not ? ": " : "", why_not ? why_not : "");
+        return;
+    }
+    if (!e->free) {
+        fprintf(f, "  %-4s = %s (fixed)\n", name, cli_human(v, sizeof v, e->value, unit));
+        return;
+    }
+    if (unit[0] == '\0')
+        fprintf(f, "  %-4s = %.4f +- %.2g   95%% [%.4f, %.4f]\n", name, e->value, e->se,
+                e->ci95[0], e->ci95[1]);
+    else
+        fprintf(f, "  %-4s = %s +- %s (%.2g%%)   95%% [%s, %s]\n", name,
+                cli_human(v, sizeof v, e->value, unit), cli_human(s, sizeof s, e->se, unit),
+                100.0 * e->se / e->value, cli_human(lo, sizeof lo, e->ci95[0], unit),
+                cli_human(hi, sizeof hi, e->ci95[1], unit));
+}
+
+static void
+list(FILE *f, const char *prefix, const lf_warnings *w)
+{
+    size_t i;
+    for (i = 0; i < w->n; i++)
+        fprintf(f, "%s%s\n", prefix, w->msg[i]);
+}
+
+void
+report_text(FILE *f, const report_input *in, const lf_fit_result *r)
+{
+    char a[48], b[48], c[48];
+    size_t i, j, k;
+
+    (void) in;
+    fprintf(f, "layerfit fit: %zu curve%s, model %s, method %s: %s\n", r->ncurves,
+            r->ncurves == 1 ? "" : "s", r->model, r->method, r->stop_reason);
+    if (!r->converged)
+        fprintf(f, "*** NOT CONVERGED: the values below are where the fit stopped ***\n");
+    fprintf(f, "\nmaterial (+- one standard error, scaled by sqrt(chi2/dof) = %.3g)\n", r->se_scale);
+    text_estimate(f, "w", &r->w, "J/m^2", "it cannot be told from the force offset");
+    text_estimate(f, "E*", &r->Estar, "Pa", r->M.determined ? "only M = Z*E* is" : NULL);
+    text_estimate(f, "nu", &r->nu, "", "the plan does not determine it");
+    if (r->M.determined && r->M.free)
+        text_estimate(f, "M", &r->M, "Pa", NULL);
+    fprintf(f, "\nfree parameters:");
+    for (i = 0; i < r->npar; i++)
+        fprintf(f, " %s", r->names[i]);
+    fprintf(f, "\nchi2/dof = %.4g / %zu = %.4g   iterations %zu, evaluations %zu\n",
+            r->chi2, r->dof, r->chi2 / (double) r->dof, r->iterations, r->evaluations);
+    fprintf(f, "\ncorrelations of the material parameters:\n");
+    for (i = 0; i < r->npar; i++) {
+        if (strcmp(r->names[i], "w") && strcmp(r->names[i], "E*") && strcmp(r->names[i], "nu"))
+            continue;
+        for (k = i + 1; k < r->npar; k++) {
+            double rho = r->corr[i * r->npar + k];
+            if (isnan(rho) || fabs(rho) < 0.3)
+                continue;
+            fprintf(f, "  corr(%s, %s) = %+.3f\n", r->names[i], r->names[k], rho);
+        }
+    }
+    fprintf(f, "\ncurves (predicted from the fit)\n");
+    for (j = 0; j < r->ncurves; j++) {
+        const lf_fit_curve_result *cr = &r->curves[j];
+        fprintf(f, "  [%zu] %s: k = %g, R = %s, b = %s, %s, %s branch, %zu points\n", j + 1,
+                cr->name ? cr->name : "", cr->probe.k, cli_human(a, sizeof a, cr->probe.R, "m"),
+                cli_human(b, sizeof b, cr->probe.b, "m"), cli_base_name(cr->probe.base),
+                branch_name(cr->branch), cr->n);
+        fprintf(f, "      z0 = %s%s, F0 = %s%s, noise %s, rms residual %s\n",
+                cli_human(a, sizeof a, cr->z0, "m"), cr->z0_free ? "" : " (fixed)",
+                cli_human(b, sizeof b, cr->F0, "N"), cr->F0_free ? "" : " (fixed)",
+                cli_human(c, sizeof c, cr->sigma, "N"), cli_human(a, sizeof a, cr->rms, "N"));
+        fprintf(f, "      pull-off %s, contact radius %s, mean tension %s\n",
+                cli_human(a, sizeof a, cr->pulloff.P_po, "N"),
+                cli_human(b, sizeof b, cr->pulloff.a_po, "m"),
+                cli_human(c, sizeof c, cr->pulloff.sigma_po, "Pa"));
+        fprintf(f, "      b/a = %.3g at the shallowest contact point, %.3g at pull-off\n",
+                cr->b_over_a_min_contact, cr->b_over_a_pulloff);
+        list(f, "      warning: ", &cr->warnings);
+    }
+    fprintf(f, "\nwhat the data determine:\n");
+    list(f, "  ", &r->identifiability);
+    if (r->warnings.n > 0) {
+        fprintf(f, "\nwarnings:\n");
+        list(f, "  ", &r->warnings);
+    }
+}
+
+/* ---- JSON --------------------------------------------------------------- */
+
+static void
+jnum(FILE *f, double x)
+{
+    if (isfinite(x))
+        cli_print_double(f, x);
+    else
+        fputs("null", f);
+}
+
+static void
+jstr(FILE *f, const char *s)
+{
+    fputc('"', f);
+    for (; s != NULL && *s; s++) {
+        unsigned char ch = (unsigned char) *s;
+        if (ch == '"' || ch == '\\')
+            fprintf(f, "\\%c", ch);
+        else if (ch < 0x20)
+            fprintf(f, "\\u%04x", ch);
+        else
+            fputc(ch, f);
+    }
+    fputc('"', f);
+}
+
+static void
+jwarnings(FILE *f, const lf_warnings *w)
+{
+    size_t i;
+    fputc('[', f);
+    for (i = 0; i < w->n; i++) {
+        if (i)
+            fputs(", ", f);
+        jstr(f, w->msg[i]);
+    }
+    fputc(']', f);
+}
+
+static void
+jestimate(FILE *f, const char *name, const lf_fit_estimate *e, int last)
+{
+    fprintf(f, "    \"%s\": {\"value\": ", name);
+    jnum(f, e->value);
+    fputs(", \"stderr\": ", f);
+    jnum(f, e->se);
+    fputs(", \"ci95\": [", f);
+    jnum(f, e->ci95[0]);
+    fputs(", ", f);
+    jnum(f, e->ci95[1]);
+    fprintf(f, "], \"free\": %s, \"determined\": %s, \"upper_bound_only\": %s}%s\n",
+            e->free ? "true" : "false", e->determined ? "true" : "false",
+            e->upper_bound_only ? "true" : "false", last ? "" : ",");
+}
+
+void
+report_json(FILE *f, const report_input *in, const lf_fit_result *r)
+{
+    size_t i, k, j;
+
+    (void) in;
+    fputs("{\n  \"parameters\": {\n", f);
+    jestimate(f, "w", &r->w, 0);
+    jestimate(f, "Estar", &r->Estar, 0);
+    jestimate(f, "nu", &r->nu, 0);
+    jestimate(f, "M", &r->M, 1);
+    fputs("  },\n  \"fit\": {\"chi2\": ", f);
+    jnum(f, r->chi2);
+    fprintf(f, ", \"dof\": %zu, \"se_scale\": ", r->dof);
+    jnum(f, r->se_scale);
+    fprintf(f, ", \"iterations\": %zu, \"evaluations\": %zu, \"converged\": %s, \"stop_reason\": ",
+            r->iterations, r->evaluations, r->converged ? "true" : "false");
+    jstr(f, r->stop_reason);
+    fputs(", \"method\": ", f);
+    jstr(f, r->method);
+    fputs(", \"model\": ", f);
+    jstr(f, r->model);
+    fputs("},\n  \"free_parameters\": [", f);
+    for (i = 0; i < r->npar; i++) {
+        fputs(i ? ", " : "", f);
+        jstr(f, r->names[i]);
+    }
+    fputs("],\n  \"values\": [", f);
+    for (i = 0; i < r->npar; i++) {
+        fputs(i ? ", " : "", f);
+        jnum(f, r->value[i]);
+    }
+    fputs("],\n  \"covariance\": [", f);
+    for (i = 0; i < r->npar; i++) {
+        fputs(i ? ",\n    [" : "\n    [", f);
+        for (k = 0; k < r->npar; k++) {
+            fputs(k ? ", " : "", f);
+            jnum(f, r->cov[i * r->npar + k]);
+        }
+        fputc(']', f);
+    }
+    fputs("],\n  \"singular_values\": [", f);
+    for (i = 0; i < r->npar; i++) {
+        fputs(i ? ", " : "", f);
+        jnum(f, r->singular[i]);
+    }
+    fputs("],\n  \"curves\": [\n", f);
+    for (j = 0; j < r->ncurves; j++) {
+        const lf_fit_curve_result *c = &r->curves[j];
+        fputs("    {\"file\": ", f);
+        jstr(f, c->name);
+        fputs(", \"k\": ", f);
+        jnum(f, c->probe.k);
+        fputs(", \"R\": ", f);
+        jnum(f, c->probe.R);
+        fputs(", \"b\": ", f);
+        jnum(f, c->probe.b);
+        fprintf(f, ", \"interface\": \"%s\", \"branch\": \"%s\", \"points\": %zu,\n     \"z0\": ",
+                cli_base_name(c->probe.base), branch_name(c->branch), c->n);
+        jnum(f, c->z0);
+        fputs(", \"z0_stderr\": ", f);
+        jnum(f, c->z0_se);
+        fprintf(f, ", \"z0_free\": %s, \"F0\": ", c->z0_free ? "true" : "false");
+        jnum(f, c->F0);
+        fputs(", \"F0_stderr\": ", f);
+        jnum(f, c->F0_se);
+        fprintf(f, ", \"F0_free\": %s, \"noise_sigma\": ", c->F0_free ? "true" : "false");
+        jnum(f, c->sigma);
+        fputs(", \"rms\": ", f);
+        jnum(f, c->rms);
+        fputs(",\n     \"P_po\": ", f);
+        jnum(f, c->pulloff.P_po);
+        fputs(", \"a_po\": ", f);
+        jnum(f, c->pulloff.a_po);
+        fputs(", \"sigma_po\": ", f);
+        jnum(f, c->pulloff.sigma_po);
+        fputs(", \"b_over_a_min_contact\": ", f);
+        jnum(f, c->b_over_a_min_contact);
+        fputs(", \"b_over_a_pulloff\": ", f);
+        jnum(f, c->b_over_a_pulloff);
+        fputs(", \"warnings\": ", f);
+        jwarnings(f, &c->warnings);
+        fprintf(f, "}%s\n", j + 1 < r->ncurves ? "," : "");
+    }
+    fputs("  ],\n  \"identifiability\": ", f);
+    jwarnings(f, &r->identifiability);
+    fputs(",\n  \"warnings\": ", f);
+    jwarnings(f, &r->warnings);
+    fputs("\n}\n", f);
+}
+
+void
+report_curves(FILE *f, const report_input *in, const lf_fit_result *r)
+{
+    size_t i, j;
+
+    fputs("depth_m,force_N,fitted_N,residual_N,contact_radius_m,curve\n", f);
+    for (j = 0; j < r->ncurves; j++) {
+        const lf_fit_curve *c = &in->curves[j];
+        for (i = 0; i < c->n; i++) {
+            cli_print_double(f, c->depth[i]);
+            fputc(',', f);
+            cli_print_double(f, c->force[i]);
+            fputc(',', f);
+            cli_print_double(f, r->curves[j].fitted[i]);
+            fputc(',', f);
+            cli_print_double(f, c->force[i] - r->curves[j].fitted[i]);
+            fputc(',', f);
+            cli_print_double(f, r->curves[j].contact_radius[i]);
+            fprintf(f, ",%zu\n", j + 1);
+        }
+    }
+}

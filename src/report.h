@@ -1,0 +1,24 @@
+/* report.h: writers of a fit result for the layerfit command: the readable
+ * report, the JSON file and the per-point curves CSV. */
+#ifndef LF_REPORT_H
+#define LF_REPORT_H
+
+#include <stdio.h>
+
+#include "layerfit.h"
+
+/* What the fit was asked, for the report's "free / fixed" lines. */
+typedef struct {
+    const lf_fit_settings *settings;
+    const lf_fit_curve *curves;    /* the data, for the curves CSV */
+} report_input;
+
+/* People: values with units (cli_human), errors, intervals, correlations,
+ * per-probe predictions, warnings in words. */
+void report_text(FILE *f, const report_input *in, const lf_fit_result *r);
+/* SI, numbers that read back exactly, NaN as null. */
+void report_json(FILE *f, const report_input *in, const lf_fit_result *r);
+/* depth_m,force_N,fitted_N,residual_N,contact_radius_m,curve */
+void report_curves(FILE *f, const report_input *in, const lf_fit_result *r);
+
+#endif
