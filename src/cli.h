@@ -117,4 +117,21 @@ typedef struct {
 int cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
                  const lf_fit_result *res, cli_figures *figs, char *msg, size_t n);
 void cli_figures_free(cli_figures *f);
+
+/* `layerfit fit --plot DIR --report FILE.html` (either may be NULL): draw
+ * the figures and write the page; what goes wrong short of an I/O error on
+ * the page (gnuplot missing) is said on stderr without failing. */
+void cli_fit_figures(const char *plotdir, const char *report, size_t ncurves,
+                     const lf_fit_curve *curves, const lf_fit_result *res);
+
+/* The command line as typed (shell-quoted), saved by main() for reports. */
+void cli_set_command_line(int argc, char **argv);
+const char *cli_get_command_line(void);
+/* Write a self-contained HTML report of a fit (cli_html.c) with the figures
+ * inlined as SVG; they are drawn into plotdir, or into a temporary folder
+ * removed afterwards when plotdir is NULL.  Returns 0; 1 when the page was
+ * written without figures (msg says why, e.g. gnuplot missing); -1 with msg
+ * when the page could not be written. */
+int cli_html_report(const char *file, const char *plotdir, size_t ncurves,
+                    const lf_fit_curve *curves, const lf_fit_result *r, char *msg, size_t n);
 #endif

@@ -659,7 +659,7 @@ cli_fit_batch(int argc, char **argv)
     }
     if (npos > 0)
         cli_die(CLI_EXIT_USAGE, "fit: --batch takes the plan as its value; unexpected '%s'", argv[0]);
-    if (plan == NULL)
+    if (plan == NULL || *plan == '\0')
         cli_die(CLI_EXIT_USAGE, "fit: --batch needs a plan (e.g. --batch plan.csv)");
     if (model != NULL && (s.model = lf_model_type_find(model)) == NULL)
         cli_die(CLI_EXIT_USAGE, "fit: --model: unknown model '%s'", model);

@@ -191,7 +191,36 @@ close_both(FILE *g, FILE *d, const char *dir, const char *base, char *msg, size_
     return bad ? -1 : 0;
 }
 
-/* One curve: top panel data + model, bottom panel residuals. */
+/* The plot command of data, model parts and pull-off from NAME.dat. */
+static void
+curve_layers(FILE *g, const char *base, size_t nst, size_t nun, size_t nbase, int have,
+             int po, int titles, const char *po_text)
+{
+    fprintf(g, "plot '%s.dat' index 0 using 1:2 with points pt 6 ps 0.6 lc rgb '#7f8c8d' %s",
+            base, titles ? "title 'data'" : "notitle");
+    if (nst > 0)
+        fprintf(g, ", \\\n     '' index 1 using 1:2 with lines lw 2.5 lc rgb '%s' %s",
+                palette[0], titles ? "title 'fit, stable'" : "notitle");
+    if (nun > 0)
+        fprintf(g, ", \\\n     '' index 2 using 1:2 with lines lw 2.5 dt 2 lc rgb '%s' %s",
+                palette[0], titles ? "title 'fit, unstable'" : "notitle");
+    if (nbase > 0)
+        fprintf(g, ", \\\n     '' index 3 using 1:2 with lines lw 1.5 lc rgb '#95a5a6' %s",
+                titles ? "title 'out of contact'" : "notitle");
+    if (!have)
+        fprintf(g, ", \\\n     '' index 0 using 1:3 with lines lw 2 lc rgb '%s' %s", palette[0],
+                titles ? "title 'fit'" : "notitle");
+    if (po) {
+        fprintf(g, ", \\\n     '' index 4 using 1:2 with points pt 7 ps 1.6 lc rgb '%s' ", palette[1]);
+        if (titles)
+            fprintf(g, "title 'pull-off %s'", po_text);
+        else
+            fprintf(g, "notitle");
+    }
+    fprintf(g, "\n");
+}
+
+/* One curve: data + model over the residuals, and the part around pull-off. */
 static int
 curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
              const lf_fit_result *res, char *msg, size_t n)
@@ -243,36 +272,42 @@ curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
         return -1;
     }
     snprintf(tb, sizeof tb, "%s", base_name(c->name));
-    script_head(g, base, "one curve of a fit with its residuals", 1000, 760);
-    fprintf(g, "set multiplot\n");
-    fprintf(g, "set lmargin at screen 0.12\nset rmargin at screen 0.97\n");
-    fprintf(g, "set origin 0,0.3\nset size 1,0.7\nset tmargin 3\nset bmargin 0.5\n"
-               "set format x ''\nunset xlabel\n");
-    fprintf(g, "set title \"%s: k = %g, R = %s, ", tb, c->probe.k,
+    script_head(g, base, "one curve of a fit with its residuals", 1200, 760);
+    /* left: the whole curve over its residuals; right: the adhesive part
+     * around pull-off, where the paper's Fig. 3 draws the branches */
+    fprintf(g, "set multiplot title \"%s: k = %g, R = %s, ", tb, c->probe.k,
             cli_human(buf, sizeof buf, c->probe.R, "m"));
-    fprintf(g, "b = %s, %s\\nw = %s, E* = %s\" noenhanced\n",
+    fprintf(g, "b = %s, %s;  w = %s, E* = %s\" noenhanced\n",
             cli_human(buf, sizeof buf, c->probe.b, "m"), cli_base_name(c->probe.base),
             cli_human(wb, sizeof wb, res->w.value, "J/m²"),
             cli_human(Eb, sizeof Eb, res->Estar.value, "Pa"));
-    fprintf(g, "set ylabel 'force (%s)'\nset key top left box opaque\n", fu);
-    fprintf(g, "plot '%s.dat' index 0 using 1:2 with points pt 6 ps 0.6 lc rgb '#7f8c8d' title 'data'", base);
-    if (nst > 0)
-        fprintf(g, ", \\\n     '' index 1 using 1:2 with lines lw 2.5 lc rgb '%s' title 'fit, stable'", palette[0]);
-    if (nun > 0)
-        fprintf(g, ", \\\n     '' index 2 using 1:2 with lines lw 2.5 dt 2 lc rgb '%s' title 'fit, unstable'", palette[0]);
-    if (nbase > 0)
-        fprintf(g, ", \\\n     '' index 3 using 1:2 with lines lw 1.5 lc rgb '#95a5a6' title 'out of contact'");
-    if (!mc->have)
-        fprintf(g, ", \\\n     '' index 0 using 1:3 with lines lw 2 lc rgb '%s' title 'fit'", palette[0]);
-    if (isfinite(mc->F_po))
-        fprintf(g, ", \\\n     '' index 4 using 1:2 with points pt 7 ps 1.6 lc rgb '%s' title 'pull-off %s'",
-                palette[1], cli_human(buf, sizeof buf, cr->pulloff.P_po, "N"));
-    fprintf(g, "\n");
-    fprintf(g, "set origin 0,0\nset size 1,0.3\nset tmargin 0.5\nset bmargin 3.5\nunset title\n"
+    fprintf(g, "set lmargin at screen 0.09\nset rmargin at screen 0.60\n"
+               "set tmargin at screen 0.90\nset bmargin at screen 0.36\n"
+               "set format x ''\nunset xlabel\nset ylabel 'force (%s)'\n"
+               "set key top left Left reverse box opaque\n", fu);
+    curve_layers(g, base, nst, nun, nbase, mc->have, isfinite(mc->F_po), 1,
+                 cli_human(buf, sizeof buf, cr->pulloff.P_po, "N"));
+    fprintf(g, "set tmargin at screen 0.34\nset bmargin at screen 0.09\n"
                "set format x '%%g'\nset xlabel 'depth z (nm)'\nset ylabel 'residual (%s)'\n"
                "unset key\n", fu);
     fprintf(g, "plot '%s.dat' index 0 using 1:4 with points pt 7 ps 0.4 lc rgb '%s', "
                "0 with lines lc rgb '#444444' dt 3\n", base, palette[0]);
+    if (isfinite(mc->F_po) && cr->pulloff.delta_po > cr->pulloff.delta_detach) {
+        /* from just past detachment to a few pull-off widths into contact */
+        double span = cr->pulloff.delta_po - cr->pulloff.delta_detach;
+        double s = isfinite(cr->slope) ? cr->slope : 0.0;
+        double x0 = cr->pulloff.delta_detach - 0.4 * span, x1 = cr->pulloff.delta_po + 3.0 * span;
+        double y0 = 1.6 * cr->pulloff.P_po, y1 = -1.6 * cr->pulloff.P_po;
+        fprintf(g, "set lmargin at screen 0.70\nset rmargin at screen 0.98\n"
+                   "set tmargin at screen 0.90\nset bmargin at screen 0.36\n"
+                   "set title 'around pull-off'\nset xlabel 'depth z (nm)'\n"
+                   "set ylabel 'force (%s)'\n", fu);
+        fprintf(g, "set xrange [%.9g:%.9g]\nset yrange [%.9g:%.9g]\n",
+                (x0 + cr->z0) * 1e9, (x1 + cr->z0) * 1e9,
+                (y0 + cr->F0 + s * x0) / fs, (y1 + cr->F0 + s * x1) / fs);
+        curve_layers(g, base, nst, nun, nbase, mc->have, 1, 0, "");
+        fprintf(g, "unset title\nset autoscale\n");
+    }
     fprintf(g, "unset multiplot\n}\n");
     free(mc);
     return close_both(g, d, dir, base, msg, n);
@@ -405,17 +440,17 @@ cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
     snprintf(figs->caption[k], sizeof figs->caption[0],
              "Every curve of the fit against indentation; fitted model solid where stable "
              "under force control, dashed where unstable; dots: pull-off.");
-    if (overview_figure(dir, figs->base[k], ncurves, curves, res, msg, n) != 0)
+    figs->n = ++k;
+    if (overview_figure(dir, figs->base[0], ncurves, curves, res, msg, n) != 0)
         return -1;
-    k++;
     for (j = 0; j < ncurves; j++, k++) {
         snprintf(figs->base[k], sizeof figs->base[0], "curve%zu", j + 1);
         snprintf(figs->caption[k], sizeof figs->caption[0], "Curve %zu: %s, with residuals.",
                  j + 1, curves[j].name ? curves[j].name : "");
+        figs->n = k + 1;
         if (curve_figure(dir, figs->base[k], j, &curves[j], res, msg, n) != 0)
             return -1;
     }
-    figs->n = k;
     if (!plot_have_gnuplot()) {
         snprintf(msg, n, "gnuplot is not installed, so the figures were not drawn (their "
                  "scripts and data are in %s): %s", dir, PLOT_INSTALL_HINT);
@@ -427,4 +462,30 @@ cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
         status = plot_run_script(dir, script, msg, n);
     }
     return status;
+}
+
+void
+cli_fit_figures(const char *plotdir, const char *report, size_t ncurves,
+                const lf_fit_curve *curves, const lf_fit_result *res)
+{
+    char msg[1400];
+
+    if (report != NULL) {
+        size_t len = strlen(report);
+        if (len < 5 || (strcmp(report + len - 5, ".html") != 0 && strcmp(report + len - 4, ".htm") != 0))
+            cli_die(CLI_EXIT_USAGE, "fit: --report %s: the report is a web page, FILE.html", report);
+    }
+    if (plotdir != NULL && report == NULL) {
+        cli_figures figs = { 0, NULL, NULL };
+        if (cli_plot_fit(plotdir, ncurves, curves, res, &figs, msg, sizeof msg) != 0)
+            fprintf(stderr, "layerfit: fit: %s\n", msg);
+        cli_figures_free(&figs);
+    }
+    if (report != NULL) {
+        int st = cli_html_report(report, plotdir, ncurves, curves, res, msg, sizeof msg);
+        if (st < 0)
+            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
+        if (st > 0)
+            fprintf(stderr, "layerfit: fit: %s\n", msg);
+    }
 }

@@ -34,6 +34,7 @@ main(int argc, char **argv)
     const cli_command *c;
 
     gsl_set_error_handler_off();
+    cli_set_command_line(argc, argv);
     if (argc < 2) {
         usage(stderr);
         return CLI_EXIT_USAGE;
