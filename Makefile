@@ -107,3 +107,35 @@ uninstall:
 
 clean:
 	rm -rf build build-san build-fuzz
+
+# Fuzzing with clang's libFuzzer: `make fuzz` runs each target for
+# FUZZ_SECONDS seconds from the seeds in tests/fuzz/TARGET, keeping what it
+# learns in build-fuzz/corpus.  A crash stops it and leaves the input in
+# build-fuzz/; keep such inputs in tests/fuzz/regress (replayed by
+# tests/test_fuzz_regress.c).
+FUZZ_SECONDS ?= 20
+FUZZ_CC ?= clang
+FUZZ_TARGETS := curve plan
+FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all
+
+.PHONY: fuzz fuzz-build
+fuzz-build:
+	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=$(FUZZ_CC) OPT="-O1 -g" \
+	  SANFLAGS="-fsanitize=fuzzer-no-link $(FUZZ_SAN)" build-fuzz/liblayerfit.a
+	@for t in $(FUZZ_TARGETS); do \
+	  $(FUZZ_CC) -std=c11 -D_DEFAULT_SOURCE -O1 -g -fsanitize=fuzzer $(FUZZ_SAN) \
+	    -Isrc -Itests -o build-fuzz/fuzz_$$t tests/fuzz/fuzz_$$t.c build-fuzz/liblayerfit.a \
+	    $(LDLIBS) || exit 1; \
+	done
+
+fuzz: fuzz-build
+	@for t in $(FUZZ_TARGETS); do \
+	  mkdir -p build-fuzz/corpus/$$t; \
+	  build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 \
+	    -artifact_prefix=build-fuzz/$$t- build-fuzz/corpus/$$t tests/fuzz/$$t \
+	    >build-fuzz/fuzz_$$t.log 2>&1; rc=$$?; \
+	  runs=$$(sed -n 's/^stat::number_of_executed_units: *//p' build-fuzz/fuzz_$$t.log); \
+	  echo "fuzz_$$t: $${runs:-?} executions in $(FUZZ_SECONDS) s, exit $$rc"; \
+	  if [ $$rc -ne 0 ]; then grep -A30 -E '^==[0-9]+==ERROR|deadly signal' build-fuzz/fuzz_$$t.log | head -60; \
+	    ls build-fuzz/$$t-* 2>/dev/null; exit 1; fi; \
+	done

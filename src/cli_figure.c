@@ -118,55 +118,64 @@ figure3(figure_data *d)
     }
 }
 
-/* Fig. 4: -P_po/(2 pi R w) against k for R/b = 1e2, 1e3, 1e4. */
+/* Figures 4 and 5 share their layout: one series per R/b in {1e2, 1e3,
+ * 1e4} (b = 1 um), 301 values of k in [k_lo, k_hi]; point() prints one CSV
+ * row and returns the plotted value. */
+typedef double (*rb_point)(double R_over_b, double k, double R);
+
 static void
-figure4(figure_data *d)
+rb_figure(figure_data *d, double k_lo, double k_hi, const char *header, rb_point point)
 {
     static const double rb[] = { 1e2, 1e3, 1e4 };
     size_t j;
     int i;
 
-    printf("R_over_b,k,P_po_bar,P_po_N\n");
+    printf("%s\n", header);
     for (j = 0; j < 3; j++) {
         char t[64];
         plot_series *s;
         snprintf(t, sizeof t, "R/b = 10^%g", log10(rb[j]));
         s = add_series(d, t, (int) j, 0);
         for (i = 0; i <= 300; i++) {
-            double k = 1.0 + 3.0 * i / 300.0, R = rb[j] * PAPER_B;
-            lf_pulloff po;
-            thin_pulloff(k, R, PAPER_B, &po);
-            printf("%g,%.6g,%.17g,%.17g\n", rb[j], k, po.P_po / (2 * M_PI * R * PAPER_W), po.P_po);
-            push(d, s, k, -po.P_po / (2 * M_PI * R * PAPER_W));
+            double k = k_lo + (k_hi - k_lo) * i / 300.0;
+            push(d, s, k, point(rb[j], k, rb[j] * PAPER_B));
         }
     }
+}
+
+/* Fig. 4: -P_po/(2 pi R w) against k. */
+static double
+fig4_point(double rb, double k, double R)
+{
+    lf_pulloff po;
+    thin_pulloff(k, R, PAPER_B, &po);
+    printf("%g,%.6g,%.17g,%.17g\n", rb, k, po.P_po / (2 * M_PI * R * PAPER_W), po.P_po);
+    return -po.P_po / (2 * M_PI * R * PAPER_W);
+}
+
+static void
+figure4(figure_data *d)
+{
+    rb_figure(d, 1.0, 4.0, "R_over_b,k,P_po_bar,P_po_N", fig4_point);
 }
 
 /* Fig. 5: b_cr/a_po at b = b_cr (Eq. 19-20) against k, sigma_th = 10 MPa,
  * R = (R/b) x 1 um as in the paper.  Eq. (19) gives b_cr = 50 nm at k = 2,
  * not the 1 um the paper's text states (see physics.md). */
+static double
+fig5_point(double rb, double k, double R)
+{
+    double bcr = lf_thin_b_critical(k, PAPER_W, PAPER_E, PAPER_SIGMA);
+    lf_pulloff po;
+    thin_pulloff(k, R, bcr, &po);
+    printf("%g,%.6g,%.17g,%.17g,%.17g,%.17g\n", rb, k, R, bcr, po.a_po, bcr / po.a_po);
+    return bcr / po.a_po;
+}
+
 static void
 figure5(figure_data *d)
 {
-    static const double rb[] = { 1e2, 1e3, 1e4 };
-    size_t j;
-    int i;
-
-    printf("R_over_b,k,R_m,b_cr_m,a_po_cr_m,b_cr_over_a_po\n");
-    for (j = 0; j < 3; j++) {
-        char t[64];
-        plot_series *s;
-        snprintf(t, sizeof t, "R/b = 10^%g", log10(rb[j]));
-        s = add_series(d, t, (int) j, 0);
-        for (i = 0; i <= 300; i++) {
-            double k = 2.0 + 8.0 * i / 300.0, R = rb[j] * PAPER_B;
-            double bcr = lf_thin_b_critical(k, PAPER_W, PAPER_E, PAPER_SIGMA);
-            lf_pulloff po;
-            thin_pulloff(k, R, bcr, &po);
-            printf("%g,%.6g,%.17g,%.17g,%.17g,%.17g\n", rb[j], k, R, bcr, po.a_po, bcr / po.a_po);
-            push(d, s, k, bcr / po.a_po);
-        }
-    }
+    rb_figure(d, 2.0, 10.0, "R_over_b,k,R_m,b_cr_m,a_po_cr_m,b_cr_over_a_po", fig5_point);
 }
 
 int

@@ -167,6 +167,8 @@ read_header(reader *rd, const lf_csv_record *r, lf_error *err)
     for (role = COL_DEPTH; role <= COL_FORCE; role++) {
         if (rd->col[role] >= 0)
             continue;
+        if (!lf_csv_is_text(r))
+            return lf_fail_at(err, LF_EFORMAT, rd->name, r->line, 1, LF_CSV_NOT_TEXT);
         if (r->n > 0 && lf_csv_number(r->text[0], rd->decimal_comma, &dummy) == LF_NUM_OK)
             return lf_fail_at(err, LF_EFORMAT, rd->name, r->line, 1,
                               "the first row is data, not a header (start with a "
@@ -245,7 +247,8 @@ read_row(reader *rd, const lf_csv_record *r, lf_error *err)
                           r->delim == '\t' ? "\\t" : r->delim == ';' ? ";" : ",");
     if (n < rd->ncols) {
         long col = n > 0 ? r->fcol[n - 1] + (long) strlen(r->text[n - 1]) : 1;
-        snprintf(what, sizeof what, "row has %zu cells, the header %zu", n, rd->ncols);
+        snprintf(what, sizeof what, "row has %zu cell%s, the header %zu", n,
+                 n == 1 ? "" : "s", rd->ncols);
         return bad_row(rd, r, col, err, what);
     }
     for (role = 0; role < NCOL; role++) {

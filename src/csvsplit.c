@@ -231,8 +231,10 @@ process_line(splitter *s, char *t, size_t n)
         s->rec_line = s->fstart_line = s->lineno;
         s->fstart_col = 1;
         s->rec_bytes = 0;
+    } else {
+        s->rec_bytes++;       /* the line break inside the quoted field */
     }
-    s->rec_bytes += n + 1;
+    s->rec_bytes += n;
     if (s->rec_bytes > (size_t) LF_CSV_MAX_LINE)
         return s->status = lf_fail_at(s->err, LF_EFORMAT, s->name, s->fstart_line,
                                       s->fstart_col, "row longer than 1 MiB (is a "
@@ -518,6 +520,19 @@ utf8_len(const unsigned char *s)
         if ((s[i] & 0xC0) != 0x80)
             return 0;
     return n;
+}
+
+int
+lf_csv_is_text(const lf_csv_record *r)
+{
+    size_t i, k;
+    for (i = 0; i < r->n; i++) {
+        const unsigned char *t = (const unsigned char *) r->text[i];
+        for (; *t; t += k)
+            if ((k = utf8_len(t)) == 0)
+                return 0;
+    }
+    return 1;
 }
 
 const char *

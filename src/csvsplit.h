@@ -67,6 +67,13 @@ int lf_csv_number(const char *text, int decimal_comma, double *value);
  * with '.', in place. */
 void lf_csv_decimal_point(char *text, int decimal_comma);
 
+/* Whether all cells of a record are valid UTF-8 text (a header that is
+ * not is most likely binary data). */
+int lf_csv_is_text(const lf_csv_record *r);
+
+/* The message for a header that is not text. */
+#define LF_CSV_NOT_TEXT "binary data or text that is not UTF-8 (expected a CSV text file)"
+
 /* A printable excerpt of text for messages: at most about 40 characters,
  * control and invalid bytes shown as '?'.  Returns buf. */
 const char *lf_csv_excerpt(const char *text, char *buf, size_t n);

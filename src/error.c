@@ -35,7 +35,7 @@ lf_error_clear(lf_error *err)
     err->msg[0] = '\0';
 }
 
-static int
+LF_PRINTF(6, 0) static int
 vfail(lf_error *err, int status, const char *file, long line, long column,
       const char *fmt, va_list ap)
 {

@@ -71,6 +71,8 @@ plan_header(plan_reader *rd, const lf_csv_record *r, lf_error *err)
         for (c = 0; c < NPCOL; c++)
             if (lf_csv_ieq(name, pcols[c].name))
                 break;
+        if (c == NPCOL && !lf_csv_is_text(r))
+            return lf_fail_at(err, LF_EFORMAT, rd->name, r->line, 1, LF_CSV_NOT_TEXT);
         if (c == NPCOL)
             return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[i], r->fcol[i],
                               "unknown column '%s' (" COLUMNS_HINT ")",
@@ -232,8 +234,9 @@ plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     if (n != rd->ncols)
         return lf_fail_at(err, LF_EFORMAT, rd->name, r->line,
                           n > rd->ncols ? r->fcol[rd->ncols] : 1,
-                          "row has %zu cells, the header %zu (give each column "
-                          "a cell; leave optional ones empty)", n, rd->ncols);
+                          "row has %zu cell%s, the header %zu (give each column "
+                          "a cell; leave optional ones empty)", n, n == 1 ? "" : "s",
+                          rd->ncols);
     if (p->n == rd->cap) {
         size_t cap = rd->cap ? 2 * rd->cap : 16;
         lf_plan_row *rows = realloc(p->rows, cap * sizeof *rows);

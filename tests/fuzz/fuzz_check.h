@@ -1,0 +1,74 @@
+/* fuzz_check.h: what the fuzz targets and the regression test ask of the
+ * readers for any input: no crash, no leak, an error message whenever they
+ * fail, and the same result whole and fed in chunks.  Each function
+ * returns 0 when all holds. */
+#ifndef LF_FUZZ_CHECK_H
+#define LF_FUZZ_CHECK_H
+
+#include <string.h>
+
+#include "layerfit.h"
+
+static inline int
+fuzz_same_error(const lf_error *a, const lf_error *b)
+{
+    return a->status == b->status && a->line == b->line && a->column == b->column
+        && strcmp(a->msg, b->msg) == 0 && a->msg[0] != '\0';
+}
+
+/* The curve reader on buf, whole and in pieces of chunk bytes. */
+static inline int
+fuzz_curve(const char *buf, size_t len, size_t chunk, int skip_bad_rows)
+{
+    lf_read_opts o;
+    lf_curve *a = NULL, *b = NULL;
+    lf_error ea, eb;
+    lf_warnings w = { 0, NULL };
+    int sa, sb, bad = 0;
+
+    lf_read_opts_default(&o);
+    o.skip_bad_rows = skip_bad_rows;
+    sa = lf_curve_parse(buf, len, 0, "fuzz.csv", &o, &a, &w, &ea);
+    sb = lf_curve_parse(buf, len, chunk, "fuzz.csv", &o, &b, NULL, &eb);
+    if (sa != sb || (sa != LF_OK && !fuzz_same_error(&ea, &eb)))
+        bad = 1;
+    else if (sa == LF_OK) {
+        size_t nl = lf_curve_segment(a, LF_SEG_LOAD, NULL, NULL);
+        size_t nu = lf_curve_segment(a, LF_SEG_UNLOAD, NULL, NULL);
+        bad = a->n == 0 || a->n != b->n || nl + nu != a->n
+            || memcmp(a->depth, b->depth, a->n * sizeof *a->depth) != 0
+            || memcmp(a->force, b->force, a->n * sizeof *a->force) != 0;
+        if (lf_curve_check_fit(a, LF_SEG_UNLOAD, 6, &ea) != LF_OK && ea.msg[0] == '\0')
+            bad = 1;
+    }
+    lf_curve_free(a);
+    lf_curve_free(b);
+    lf_warnings_free(&w);
+    return bad;
+}
+
+/* The plan reader on buf, whole and in pieces, curves resolved in dir. */
+static inline int
+fuzz_plan(const char *buf, size_t len, size_t chunk, const char *dir)
+{
+    lf_plan *a = NULL, *b = NULL;
+    lf_error ea, eb;
+    int sa, sb, bad = 0;
+    size_t i;
+
+    sa = lf_plan_parse(buf, len, 0, "fuzz.csv", dir, &a, NULL, &ea);
+    sb = lf_plan_parse(buf, len, chunk, "fuzz.csv", dir, &b, NULL, &eb);
+    if (sa != sb || (sa != LF_OK && !fuzz_same_error(&ea, &eb)))
+        bad = 1;
+    else if (sa == LF_OK) {
+        bad = a->n == 0 || a->n != b->n;
+        for (i = 0; !bad && i < a->n; i++)
+            bad = strcmp(a->rows[i].file, b->rows[i].file) != 0
+                || lf_probe_check(&a->rows[i].probe, NULL) != LF_OK;
+    }
+    lf_plan_free(a);
+    lf_plan_free(b);
+    return bad;
+}
+
+#endif

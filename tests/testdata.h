@@ -1,0 +1,68 @@
+/* testdata.h: finding and reading the files under tests/data, for the
+ * reader tests (static inline: each test includes what it uses). */
+#ifndef LF_TESTDATA_H
+#define LF_TESTDATA_H
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static char data[1024];   /* tests/data, found from argv[0] (BUILD/tests/NAME) */
+
+static inline void
+find_data(const char *argv0)
+{
+    const char *slash = strrchr(argv0, '/');
+    int n = slash ? (int) (slash - argv0) : 1;
+    snprintf(data, sizeof data, "%.*s/../../tests/data", n, slash ? argv0 : ".");
+}
+
+/* The whole file in a new buffer (caller frees), or NULL. */
+static inline char *
+slurp(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    char *buf = NULL;
+    long n;
+    if (f == NULL || fseek(f, 0, SEEK_END) != 0 || (n = ftell(f)) < 0
+        || fseek(f, 0, SEEK_SET) != 0 || (buf = malloc((size_t) n + 1)) == NULL
+        || fread(buf, 1, (size_t) n, f) != (size_t) n) {
+        if (f)
+            fclose(f);
+        free(buf);
+        return NULL;
+    }
+    fclose(f);
+    *len = (size_t) n;
+    return buf;
+}
+
+/* Read the file at path and call differs(ctx, buf, len, chunk) for every
+ * chunk size from 0 (all at once) to the file's length; returns how many
+ * sizes gave a different result (differs() != 0), or -1 when the file
+ * cannot be read.  *len gets the file's length. */
+static inline long
+every_chunk(const char *path, size_t *len,
+            int (*differs)(void *ctx, const char *buf, size_t len, size_t chunk),
+            void *ctx)
+{
+    size_t chunk;
+    long bad = 0;
+    char *buf = slurp(path, len);
+    if (buf == NULL)
+        return -1;
+    for (chunk = 0; chunk <= *len; chunk++)
+        bad += differs(ctx, buf, *len, chunk) != 0;
+    free(buf);
+    return bad;
+}
+
+/* Two error reports say the same thing. */
+static inline int
+same_error(const lf_error *a, const lf_error *b)
+{
+    return a->status == b->status && a->line == b->line && a->column == b->column
+        && strcmp(a->msg, b->msg) == 0 && strcmp(a->file, b->file) == 0;
+}
+
+#endif
