@@ -123,6 +123,8 @@ void cli_figures_free(cli_figures *f);
  * the page (gnuplot missing) is said on stderr without failing. */
 void cli_fit_figures(const char *plotdir, const char *report, size_t ncurves,
                      const lf_fit_curve *curves, const lf_fit_result *res);
+/* Check --plot and --report before fitting (exit 2 on a bad value). */
+void cli_fit_figures_check(const char *plotdir, const char *report);
 
 /* The command line as typed (shell-quoted), saved by main() for reports. */
 void cli_set_command_line(int argc, char **argv);

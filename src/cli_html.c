@@ -338,6 +338,7 @@ inline_svg(FILE *f, const char *path, size_t fig)
     char *buf, *p, *q;
     long len;
     char prefix[32];
+    size_t seq = 0;
 
     if (s == NULL)
         return -1;
@@ -377,6 +378,10 @@ inline_svg(FILE *f, const char *path, size_t fig)
         at += strlen(pats[best]);
         fwrite(p, 1, (size_t) (at - p), f);
         fputs(prefix, f);
+        /* gnuplot repeats its group ids in every panel of a multiplot;
+         * nothing refers to them, so they are numbered apart */
+        if (best < 2 && strncmp(at, "gnuplot_", 8) == 0)
+            fprintf(f, "%zu-", ++seq);
         p = at;
     }
     free(buf);

@@ -142,6 +142,8 @@ put_class(FILE *f, const model_curve *mc, int cls, double xshift, double fscale)
             in = 0;
         }
     }
+    if (n == 0)
+        fputs("NaN NaN\n", f);   /* an empty block would not count as an index */
     return n;
 }
 
@@ -252,18 +254,18 @@ curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
     for (i = 0; i < c->n; i++)
         fprintf(d, "%.9g %.9g %.9g %.9g\n", c->depth[i] * 1e9, c->force[i] / fs,
                 cr->fitted[i] / fs, (c->force[i] - cr->fitted[i]) / fs);
+    /* an empty block would not count as an index: "NaN NaN" holds its place */
     fprintf(d, "\n\n# index 1: model, stable under force control (dP/ddelta > 0): depth_nm force_%s\n", fu);
-    if (mc->have)
-        nst = put_class(d, mc, 1, 0.0, fs);
+    nst = mc->have ? put_class(d, mc, 1, 0.0, fs) : (fputs("NaN NaN\n", d), 0);
     fprintf(d, "\n\n# index 2: model, unstable under force control (dP/ddelta <= 0)\n");
-    if (mc->have)
-        nun = put_class(d, mc, 2, 0.0, fs);
+    nun = mc->have ? put_class(d, mc, 2, 0.0, fs) : (fputs("NaN NaN\n", d), 0);
     fprintf(d, "\n\n# index 3: model out of contact (baseline)\n");
-    if (mc->have)
-        nbase = put_class(d, mc, 0, 0.0, fs);
+    nbase = mc->have ? put_class(d, mc, 0, 0.0, fs) : (fputs("NaN NaN\n", d), 0);
     fprintf(d, "\n\n# index 4: force-controlled pull-off: depth_nm force_%s\n", fu);
     if (isfinite(mc->F_po))
         fprintf(d, "%.9g %.9g\n", mc->z_po * 1e9, mc->F_po / fs);
+    else
+        fputs("NaN NaN\n", d);
 
     snprintf(name, sizeof name, "%s.gp", base);
     if ((g = open_in(dir, name, msg, n)) == NULL) {
@@ -363,12 +365,14 @@ overview_figure(const char *dir, const char *base, size_t nc, const lf_fit_curve
             fprintf(d, "\n\n");
             cnt[4 * j + 2] = put_class(d, mc, 2, cr->z0, fs);
         } else {
-            fprintf(d, "\n\n# no model\n\n\n# no model\n");
+            fprintf(d, "\n\n# no model\nNaN NaN\n\n\n# no model\nNaN NaN\n");
         }
         fprintf(d, "\n\n# pull-off\n");
         if (isfinite(mc->F_po)) {
             fprintf(d, "%.9g %.9g\n", (mc->z_po - cr->z0) * 1e9, (mc->F_po - cr->F0) / fs);
             cnt[4 * j + 3] = 1;
+        } else {
+            fputs("NaN NaN\n", d);
         }
     }
     snprintf(name, sizeof name, "%s.gp", base);
@@ -465,16 +469,24 @@ cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
 }
 
 void
-cli_fit_figures(const char *plotdir, const char *report, size_t ncurves,
-                const lf_fit_curve *curves, const lf_fit_result *res)
+cli_fit_figures_check(const char *plotdir, const char *report)
 {
-    char msg[1400];
-
+    if (plotdir != NULL && *plotdir == '\0')
+        cli_die(CLI_EXIT_USAGE, "fit: --plot needs a folder (e.g. --plot figures)");
     if (report != NULL) {
         size_t len = strlen(report);
         if (len < 5 || (strcmp(report + len - 5, ".html") != 0 && strcmp(report + len - 4, ".htm") != 0))
             cli_die(CLI_EXIT_USAGE, "fit: --report %s: the report is a web page, FILE.html", report);
     }
+}
+
+void
+cli_fit_figures(const char *plotdir, const char *report, size_t ncurves,
+                const lf_fit_curve *curves, const lf_fit_result *res)
+{
+    char msg[1400];
+
+    cli_fit_figures_check(plotdir, report);
     if (plotdir != NULL && report == NULL) {
         cli_figures figs = { 0, NULL, NULL };
         if (cli_plot_fit(plotdir, ncurves, curves, res, &figs, msg, sizeof msg) != 0)
