@@ -624,51 +624,85 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
 }
 
 /* `layerfit fit --batch PLAN.csv [options]`: reached from main.c before the
- * single-fit command sees the arguments. */
+ * single-fit command sees the arguments.  The fit settings take the same
+ * options as a single fit (cli_fit.c). */
 int
 cli_fit_batch(int argc, char **argv)
 {
-    const char *plan = NULL, *out = NULL, *shard = NULL, *model = NULL, *method = NULL;
+    const char *plan = NULL, *out = NULL, *shard = NULL, *model = "thin", *method = "lm",
+               *jacobian = "analytic";
     long threads = 0;
     int npos, help = 0, slope = 0, quiet = 0, progress = 0;
-    double nu = NAN;
+    double nu = NAN, fix_nu = NAN, max_ba = NAN;
     const cli_opt opts[] = {
-        { "batch", CLI_STRING, &plan },
-        { "out", CLI_STRING, &out },
-        { "threads", CLI_COUNT, &threads },
-        { "shard", CLI_STRING, &shard },
-        { "progress", CLI_FLAG, &progress },
-        { "quiet", CLI_FLAG, &quiet },
-        { "model", CLI_STRING, &model },
-        { "method", CLI_STRING, &method },
-        { "slope", CLI_FLAG, &slope },
-        { "nu", CLI_NUMBER, &nu },
+        { "batch", CLI_STRING, &plan }, { "out", CLI_STRING, &out },
+        { "threads", CLI_COUNT, &threads }, { "shard", CLI_STRING, &shard },
+        { "progress", CLI_FLAG, &progress }, { "quiet", CLI_FLAG, &quiet },
+        { "model", CLI_STRING, &model }, { "method", CLI_STRING, &method },
+        { "jacobian", CLI_STRING, &jacobian }, { "slope", CLI_FLAG, &slope },
+        { "nu", CLI_NUMBER, &nu }, { "fix-nu", CLI_NUMBER, &fix_nu },
+        { "max-b-over-a", CLI_NUMBER, &max_ba },
         { NULL, 0, NULL }
     };
     lf_fit_settings s = lf_fit_settings_default();
     cli_batch_opts o;
+    size_t i;
 
     cli_parse("fit", argc, argv, opts, &npos, &help);
     if (help) {
         printf("usage: layerfit fit --batch PLAN.csv [--out FILE.csv|FILE.jsonl] [--threads N]\n"
-               "                    [--shard I/N] [--model NAME] [--method NAME] [--slope] [--nu NU]\n\n"
+               "                    [--shard I/N] [--progress|--quiet] [fit options]\n\n"
                "Fits every curve of the plan, or every group of curves with the same\n"
-               "'sample', on its own; one output row per fit with its status.  The exit\n"
-               "status is the number of failed fits (at most %d).\n", CLI_BATCH_MAX_FAILED);
+               "'sample', on its own, in parallel; one output row per fit, in plan order,\n"
+               "with its status (ok, noconv, error) and message.\n\n"
+               "  --out FILE        .csv or .jsonl (default: CSV on standard output)\n"
+               "  --threads N       parallel fits (default: all cores); the output does\n"
+               "                    not depend on N\n"
+               "  --shard I/N       only the I-th of N contiguous shares of the fits; the\n"
+               "                    outputs of 1..N concatenated (one CSV header) are the\n"
+               "                    output of the whole plan\n"
+               "  --progress        progress bar on stderr even when it is not a terminal\n"
+               "  --quiet           no progress bar\n"
+               "fit options as for a single fit: --model, --method, --jacobian, --slope,\n"
+               "  --nu/--fix-nu NU, --max-b-over-a X\n\n"
+               "exit status: 0 every fit ok; N (1..%d) the number of fits that failed;\n"
+               "2 also for a bad command line or plan (then nothing is fitted)\n",
+               CLI_BATCH_MAX_FAILED);
         return CLI_EXIT_OK;
     }
     if (npos > 0)
         cli_die(CLI_EXIT_USAGE, "fit: --batch takes the plan as its value; unexpected '%s'", argv[0]);
     if (plan == NULL || *plan == '\0')
         cli_die(CLI_EXIT_USAGE, "fit: --batch needs a plan (e.g. --batch plan.csv)");
-    if (model != NULL && (s.model = lf_model_type_find(model)) == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: --model: unknown model '%s'", model);
-    if (method != NULL)
-        s.method = method;
+    if ((s.model = lf_model_type_find(model)) == NULL)
+        cli_die(CLI_EXIT_USAGE, "fit: unknown model '%s'", model);
+    for (i = 0; lf_fit_methods[i] != NULL; i++)
+        if (strcmp(lf_fit_methods[i], method) == 0)
+            break;
+    if (lf_fit_methods[i] == NULL)
+        cli_die(CLI_EXIT_USAGE, "fit: unknown method '%s' (lm, lmaccel, dogleg, ddogleg, subspace2D)",
+                method);
+    s.method = method;
+    if (strcmp(jacobian, "analytic") == 0)
+        s.jacobian = LF_JAC_ANALYTIC;
+    else if (strcmp(jacobian, "forward") == 0)
+        s.jacobian = LF_JAC_FORWARD;
+    else if (strcmp(jacobian, "central") == 0)
+        s.jacobian = LF_JAC_CENTRAL;
+    else
+        cli_die(CLI_EXIT_USAGE, "fit: --jacobian must be analytic, forward or central (got '%s')",
+                jacobian);
+    if (!isnan(max_ba)) {
+        if (!(max_ba > 0))
+            cli_die(CLI_EXIT_USAGE, "fit: --max-b-over-a must be > 0 (e.g. --max-b-over-a 0.1)");
+        s.max_b_over_a = max_ba;
+    }
     s.fit_slope = slope;
-    if (isfinite(nu)) {
+    if (!isnan(fix_nu))
+        nu = fix_nu;
+    if (!isnan(nu)) {
         if (!(nu >= 0.0 && nu < 0.5))
-            cli_die(CLI_EXIT_USAGE, "fit: --nu %g is outside [0, 0.5)", nu);
+            cli_die(CLI_EXIT_USAGE, "fit: nu must lie in [0, 0.5) (got %g)", nu);
         s.nu.mode = LF_PARAM_FIXED;
         s.nu.value = nu;
     }
