@@ -112,7 +112,7 @@ syn_curve(const char *dir, long size, long ix, long iy, long points, double nois
     fprintf(f, "depth_nm,force_mN,segment\n");
     for (i = 0; i < points; i++) {
         double F = ev[i].P + (sd > 0 ? gsl_ran_gaussian(rng, sd) : 0.0);
-        fprintf(f, "%.6f,%.6g,unload\n", (delta[i] + z0) * 1e9, F * 1e3);
+        fprintf(f, "%.4f,%.6g,unload\n", (delta[i] + z0) * 1e9, F * 1e3);
     }
     if (fclose(f) != 0)
         cli_die(CLI_EXIT_FAIL, "map: error writing %s", path);
