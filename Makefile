@@ -19,10 +19,6 @@ OPT     ?= -O2 -g
 # project flags first, the user's CFLAGS after them
 OPENMP  ?= -fopenmp
 ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE $(WARN) $(OPT) $(OPENMP) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
-# `layerfit fit` reads curves once the readers are there (branch ingest)
-ifneq ($(wildcard src/csv_curve.c),)
-ALL_CFLAGS += -DLF_HAVE_READERS
-endif
 LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lpthread -lm
 ALL_LDFLAGS := $(OPENMP) $(SANFLAGS) $(LDFLAGS)
 
@@ -124,6 +120,20 @@ uninstall:
 clean:
 	rm -rf build build-san build-fuzz
 
+# Longer recovery Monte Carlo (2000 seeds per scene), on demand.
+.PHONY: recovery-long bench-fit
+recovery-long: $(BUILD)/tests/test_recovery
+	$(BUILD)/tests/test_recovery 2000
+
+# Timing of a two-probe joint fit against scipy (reported, not asserted).
+$(BUILD)/bench_fit: tests/bench/bench_fit.c $(LIB) $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
+bench-fit: $(BUILD)/bench_fit
+	@mkdir -p $(BUILD)/bench
+	$(BUILD)/bench_fit $(BUILD)/bench
+
 # Fuzzing with clang's libFuzzer: `make fuzz` runs each target for
 # FUZZ_SECONDS seconds from the seeds in tests/fuzz/TARGET, keeping what it
 # learns in build-fuzz/corpus.  A crash stops it and leaves the input in
@@ -155,3 +165,12 @@ fuzz: fuzz-build
 	  if [ $$rc -ne 0 ]; then grep -A30 -E '^==[0-9]+==ERROR|deadly signal' build-fuzz/fuzz_$$t.log | head -60; \
 	    ls build-fuzz/$$t-* 2>/dev/null; exit 1; fi; \
 	done
+
+# Speed against error of the exact model (not part of `make check`).
+$(BUILD)/tests/bench/bench_exact: tests/bench/bench_exact.c $(LIB) $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
+.PHONY: bench-exact
+bench-exact: $(BUILD)/tests/bench/bench_exact
+	$(BUILD)/tests/bench/bench_exact

@@ -178,28 +178,61 @@ figure5(figure_data *d)
     rb_figure(d, 2.0, 10.0, "R_over_b,k,R_m,b_cr_m,a_po_cr_m,b_cr_over_a_po", fig5_point);
 }
 
+/* Figure 6 (not the paper's): the thin-layer closed form against the exact
+ * layer model, adhesiveless force P1 at the same contact radius, over a/b. */
+static void
+figure6(figure_data *d)
+{
+    static const struct { double k; lf_base base; double nu; const char *title; } cases[] = {
+        { 2, LF_BASE_FRICTIONLESS, 0.0, "k = 2 frictionless" },
+        { 3, LF_BASE_FRICTIONLESS, 0.0, "k = 3 frictionless" },
+        { 2, LF_BASE_BONDED, 0.3, "k = 2 bonded nu = 0.3" },
+        { 2, LF_BASE_BONDED, 0.45, "k = 2 bonded nu = 0.45" },
+        { 2, LF_BASE_BONDED, 0.49, "k = 2 bonded nu = 0.49" },
+    };
+    size_t j;
+    int i;
+
+    printf("k,interface,nu,a_over_b,exact_over_thin_P1\n");
+    for (j = 0; j < sizeof cases / sizeof cases[0]; j++) {
+        plot_series *s = add_series(d, cases[j].title, (int) j, 0);
+        for (i = 0; i <= 120; i++) {
+            double tau = pow(10.0, -0.5 + 2.5 * i / 120.0), ratio;
+            lf_error err;
+            if (lf_exact_thin_ratio(cases[j].k, cases[j].base, cases[j].nu, tau, &ratio, &err) != LF_OK)
+                cli_die_error(CLI_EXIT_FAIL, &err);
+            printf("%g,%s,%g,%.17g,%.17g\n", cases[j].k, cli_base_name(cases[j].base),
+                   cases[j].nu, tau, ratio);
+            push(d, s, tau, ratio);
+        }
+    }
+}
+
 int
 cli_figure(int figure, const char *plot)
 {
     static const struct {
         void (*make)(figure_data *);
         const char *title, *xlabel, *ylabel;
-        int logy;
+        int logy, logx;
     } figs[] = {
         [2] = { figure2, "Fig. 2: pull-off force scales as b^{(2-k)/(2k)}", "k",
-                "exponent (2-k)/(2k)", 0 },
+                "exponent (2-k)/(2k)", 0, 0 },
         [3] = { figure3, "Fig. 3: force-indentation, w = 10 mJ/m^2, E* = 1 GPa, b = 1 {/Symbol m}m, R = 1 mm",
-                "{/Symbol d}/c", "P/(2{/Symbol p}Rw)", 0 },
+                "{/Symbol d}/c", "P/(2{/Symbol p}Rw)", 0, 0 },
         [4] = { figure4, "Fig. 4: pull-off force against profile exponent", "k",
-                "-P_{PO}/(2{/Symbol p}Rw)", 1 },
+                "-P_{PO}/(2{/Symbol p}Rw)", 1, 0 },
         [5] = { figure5, "Fig. 5: thin-layer validity at the critical thickness (Eq. 20)", "k",
-                "b_{cr}/a_{PO,cr}", 1 },
+                "b_{cr}/a_{PO,cr}", 1, 0 },
+        [6] = { figure6, "Thin-layer closed form against the exact layer model (adhesiveless, same a)",
+                "a/b", "P_1 exact / P_1 thin", 1, 1 },
     };
     figure_data *d;
     char msg[512];
 
-    if (figure < 2 || figure > 5)
-        cli_die(CLI_EXIT_USAGE, "model: --figure: no figure %d (the paper's figures 2 to 5)", figure);
+    if (figure < 2 || figure > 6)
+        cli_die(CLI_EXIT_USAGE, "model: --figure: no figure %d (the paper's figures 2 to 5, "
+                "or 6: thin-layer error against a/b)", figure);
     if (plot != NULL && !plot_have_gnuplot())
         cli_die(CLI_EXIT_FAIL, "model: --plot: gnuplot is not installed: %s", PLOT_INSTALL_HINT);
     d = calloc(1, sizeof *d);
@@ -208,7 +241,7 @@ cli_figure(int figure, const char *plot)
     figs[figure].make(d);
     if (plot != NULL) {
         plot_figure f = { figs[figure].title, figs[figure].xlabel, figs[figure].ylabel,
-                          0, figs[figure].logy, d->n, d->s };
+                          figs[figure].logx, figs[figure].logy, d->n, d->s };
         if (plot_draw(&f, plot, msg, sizeof msg) != 0) {
             free(d);
             cli_die(CLI_EXIT_FAIL, "model: --plot: %s", msg);

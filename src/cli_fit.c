@@ -26,6 +26,7 @@ static const char usage_text[] =
     "  --fix-z0 LENGTH      hold every curve's contact point\n"
     "  --fix-F0 FORCE       hold every curve's force offset\n"
     "  --slope              fit a baseline slope per curve\n"
+    "  --max-iter N         iterations allowed (200)\n"
     "  --max-b-over-a X     warn where b/a exceeds X (0.1)\n"
     "  --segment S          unload (default) or load\n"
     "exit status: 0 converged, 3 not converged (report still written), 1 failure, 2 bad input\n";
@@ -33,6 +34,7 @@ static const char usage_text[] =
 typedef struct {
     const char *json, *curves, *method, *jacobian, *model, *interface, *segment;
     double k, R, b, nu, fix_nu, fix_z0, fix_F0, max_ba;
+    long max_iter;
     int slope;
 } fit_args;
 
@@ -44,7 +46,6 @@ typedef struct {
     char **names;
 } fit_data;
 
-#ifdef LF_HAVE_READERS
 static void
 add_curve(fit_data *d, const char *path, lf_segment seg, const lf_probe *probe,
           double z0, double F0)
@@ -141,15 +142,6 @@ read_input(const char *path, const fit_args *a, lf_segment seg_opt, int seg_give
         lf_plan_free(plan);
     }
 }
-#else
-static void
-read_input(const char *path, const fit_args *a, lf_segment seg_opt, int seg_given,
-           fit_data *d, double *plan_nu)
-{
-    (void) path; (void) a; (void) seg_opt; (void) seg_given; (void) d; (void) plan_nu;
-    cli_die(CLI_EXIT_FAIL, "fit: this build has no curve readers (src/csv_curve.c, src/plan.c)");
-}
-#endif
 
 static void
 write_file(const char *path, void (*writer)(FILE *, const report_input *, const lf_fit_result *),
@@ -167,7 +159,7 @@ int
 cli_fit(int argc, char **argv)
 {
     fit_args a = { NULL, NULL, "lm", "analytic", "thin", NULL, NULL,
-                   NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, 0 };
+                   NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, -1, 0 };
     const cli_opt opts[] = {
         { "json", CLI_STRING, &a.json }, { "curves", CLI_STRING, &a.curves },
         { "method", CLI_STRING, &a.method }, { "jacobian", CLI_STRING, &a.jacobian },
@@ -176,7 +168,8 @@ cli_fit(int argc, char **argv)
         { "R", CLI_LENGTH, &a.R }, { "b", CLI_LENGTH, &a.b }, { "nu", CLI_NUMBER, &a.nu },
         { "fix-nu", CLI_NUMBER, &a.fix_nu }, { "fix-z0", CLI_LENGTH, &a.fix_z0 },
         { "fix-F0", CLI_FORCE, &a.fix_F0 }, { "max-b-over-a", CLI_NUMBER, &a.max_ba },
-        { "slope", CLI_FLAG, &a.slope }, { NULL, CLI_FLAG, NULL }
+        { "slope", CLI_FLAG, &a.slope }, { "max-iter", CLI_COUNT, &a.max_iter },
+        { NULL, CLI_FLAG, NULL }
     };
     int npos, help, status, seg_given = 0;
     lf_segment seg = LF_SEG_UNLOAD;
@@ -229,6 +222,10 @@ cli_fit(int argc, char **argv)
         set.max_b_over_a = a.max_ba;
     }
     set.fit_slope = a.slope;
+    if (a.max_iter == 0)
+        cli_die(CLI_EXIT_USAGE, "fit: --max-iter must be >= 1");
+    if (a.max_iter > 0)
+        set.max_iter = (size_t) a.max_iter;
     read_input(argv[0], &a, seg, seg_given, &d, &plan_nu);
     nu = !isnan(a.fix_nu) ? a.fix_nu : !isnan(a.nu) ? a.nu : plan_nu;
     if (!isnan(nu)) {
@@ -249,7 +246,7 @@ cli_fit(int argc, char **argv)
     if (a.curves != NULL)
         write_file(a.curves, report_curves, &in, &r);
     if (status == LF_ENOCONV)
-        fprintf(stderr, "layerfit: fit: not converged: %s\n", r.stop_reason);
+        fprintf(stderr, "layerfit: fit: %s\n", r.stop_reason);
     lf_fit_result_free(&r);
     for (i = 0; i < d.n; i++) {
         free(d.depth[i]);

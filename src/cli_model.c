@@ -30,7 +30,8 @@ static const char model_help[] =
     "  --summary          print pull-off and validity figures for people\n"
     "  --json             print the same in SI as JSON\n"
     "  --sigma-th P       theoretical strength: adds the critical thickness (Eq. 19)\n"
-    "  --figure N         data of the paper's figure N (2..5) with its parameters\n"
+    "  --figure N         data of the paper's figure N (2..5) with its parameters,\n"
+    "                     or 6: thin-layer error against a/b (exact layer model)\n"
     "  --plot FILE        with --figure, draw it with gnuplot (.svg or .png)\n";
 
 typedef struct {

@@ -173,6 +173,8 @@ typedef struct {
 } lf_model_type;
 
 extern const lf_model_type lf_model_thin;      /* the seed paper, b << a */
+extern const lf_model_type lf_model_exact;     /* any thickness (Nystrom tables) */
+extern const lf_model_type lf_model_halfspace; /* b -> infinity, needs k > 1/2 */
 
 /* The table of all models, NULL-terminated, and lookup by name (NULL when
  * no model has that name; the entries are static, never freed). */
@@ -209,6 +211,18 @@ double lf_thin_dlogZ_dnu(lf_base base, double nu);
 /* Critical thickness below which the mean pull-off tension reaches the
  * theoretical strength sigma_th (Eq. 19, with M = Z E*). */
 double lf_thin_b_critical(double k, double w, double M, double sigma_th);
+/* Exact layer model helpers (src/model_exact.c).
+ * lf_exact_thin_ratio: exact over thin-layer adhesiveless force P1 at the
+ * same contact radius a = tau b, for the exact model's tables (bonded nu
+ * up to 0.4995).  lf_exact_thin_difference: along the exact model's
+ * unloading branch for a/b in [ab_min, ab_max] (clipped below at
+ * detachment), max |P_thin(delta) - P_exact(delta)| / max |P_exact|, both
+ * at the same indentation delta; what the `auto` model choice weighs. */
+int lf_exact_thin_ratio(double k, lf_base base, double nu, double tau,
+                        double *ratio_P1, lf_error *err);
+int lf_exact_thin_difference(const lf_probe *probe, const lf_material *mat,
+                             double ab_min, double ab_max, double *max_rel,
+                             lf_error *err);
 /* Classical half-space JKR pull-off contact radius of a sphere of radius R,
  * (9 pi R^2 w / (8 E*))^(1/3), for comparison. */
 double lf_jkr_sphere_a_po(double R, double w, double Estar);

@@ -14,6 +14,8 @@ struct lf_model {
 
 const lf_model_type *const lf_model_types[] = {
     &lf_model_thin,
+    &lf_model_exact,
+    &lf_model_halfspace,
     NULL
 };
 

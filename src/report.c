@@ -28,7 +28,10 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
         return;
     }
     if (!e->free) {
-        fprintf(f, "  %-4s = %s (fixed)\n", name, cli_human(v, sizeof v, e->value, unit));
+        if (unit[0] == '\0')
+            fprintf(f, "  %-4s = %.4g (fixed)\n", name, e->value);
+        else
+            fprintf(f, "  %-4s = %s (fixed)\n", name, cli_human(v, sizeof v, e->value, unit));
         return;
     }
     if (unit[0] == '\0')
@@ -52,7 +55,7 @@ list(FILE *f, const char *prefix, const lf_warnings *w)
 void
 report_text(FILE *f, const report_input *in, const lf_fit_result *r)
 {
-    char a[48], b[48], c[48];
+    char a[48], b[48], c[48], d[48];
     size_t i, j, k;
 
     (void) in;
@@ -92,7 +95,7 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
         fprintf(f, "      z0 = %s%s, F0 = %s%s, noise %s, rms residual %s\n",
                 cli_human(a, sizeof a, cr->z0, "m"), cr->z0_free ? "" : " (fixed)",
                 cli_human(b, sizeof b, cr->F0, "N"), cr->F0_free ? "" : " (fixed)",
-                cli_human(c, sizeof c, cr->sigma, "N"), cli_human(a, sizeof a, cr->rms, "N"));
+                cli_human(c, sizeof c, cr->sigma, "N"), cli_human(d, sizeof d, cr->rms, "N"));
         fprintf(f, "      pull-off %s, contact radius %s, mean tension %s\n",
                 cli_human(a, sizeof a, cr->pulloff.P_po, "N"),
                 cli_human(b, sizeof b, cr->pulloff.a_po, "m"),
@@ -216,35 +219,23 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
         const lf_fit_curve_result *c = &r->curves[j];
         fputs("    {\"file\": ", f);
         jstr(f, c->name);
-        fputs(", \"k\": ", f);
-        jnum(f, c->probe.k);
-        fputs(", \"R\": ", f);
-        jnum(f, c->probe.R);
-        fputs(", \"b\": ", f);
-        jnum(f, c->probe.b);
-        fprintf(f, ", \"interface\": \"%s\", \"branch\": \"%s\", \"points\": %zu,\n     \"z0\": ",
-                cli_base_name(c->probe.base), branch_name(c->branch), c->n);
-        jnum(f, c->z0);
-        fputs(", \"z0_stderr\": ", f);
-        jnum(f, c->z0_se);
-        fprintf(f, ", \"z0_free\": %s, \"F0\": ", c->z0_free ? "true" : "false");
-        jnum(f, c->F0);
-        fputs(", \"F0_stderr\": ", f);
-        jnum(f, c->F0_se);
-        fprintf(f, ", \"F0_free\": %s, \"noise_sigma\": ", c->F0_free ? "true" : "false");
-        jnum(f, c->sigma);
-        fputs(", \"rms\": ", f);
-        jnum(f, c->rms);
-        fputs(",\n     \"P_po\": ", f);
-        jnum(f, c->pulloff.P_po);
-        fputs(", \"a_po\": ", f);
-        jnum(f, c->pulloff.a_po);
-        fputs(", \"sigma_po\": ", f);
-        jnum(f, c->pulloff.sigma_po);
-        fputs(", \"b_over_a_min_contact\": ", f);
-        jnum(f, c->b_over_a_min_contact);
-        fputs(", \"b_over_a_pulloff\": ", f);
-        jnum(f, c->b_over_a_pulloff);
+        const struct { const char *key; double v; } num[] = {
+            { "k", c->probe.k }, { "R", c->probe.R }, { "b", c->probe.b },
+            { "z0", c->z0 }, { "z0_stderr", c->z0_se }, { "F0", c->F0 },
+            { "F0_stderr", c->F0_se }, { "noise_sigma", c->sigma }, { "rms", c->rms },
+            { "P_po", c->pulloff.P_po }, { "a_po", c->pulloff.a_po },
+            { "sigma_po", c->pulloff.sigma_po },
+            { "b_over_a_min_contact", c->b_over_a_min_contact },
+            { "b_over_a_pulloff", c->b_over_a_pulloff }
+        };
+        for (i = 0; i < sizeof num / sizeof num[0]; i++) {
+            fprintf(f, ", \"%s\": ", num[i].key);
+            jnum(f, num[i].v);
+        }
+        fprintf(f, ",\n     \"interface\": \"%s\", \"branch\": \"%s\", \"points\": %zu, "
+                "\"z0_free\": %s, \"F0_free\": %s",
+                cli_base_name(c->probe.base), branch_name(c->branch), c->n,
+                c->z0_free ? "true" : "false", c->F0_free ? "true" : "false");
         fputs(", \"warnings\": ", f);
         jwarnings(f, &c->warnings);
         fprintf(f, "}%s\n", j + 1 < r->ncurves ? "," : "");

@@ -53,7 +53,7 @@ expect_fail 2 "layerfit: model: --interface: unknown interface 'glued' (friction
 expect_fail 2 "layerfit: model: --k: 'two' is not a number (e.g. --k 0.3)" model --k two
 expect_fail 2 "layerfit: model: unknown option '--depth' (see 'layerfit model --help')" model $P --depth 3nm
 expect_fail 2 "layerfit: model: --points needs a value" model $P --points
-expect_fail 2 "layerfit: model: --figure: no figure 7 (the paper's figures 2 to 5)" model --figure 7
+expect_fail 2 "layerfit: model: --figure: no figure 7 (the paper's figures 2 to 5, or 6: thin-layer error against a/b)" model --figure 7
 expect_fail 2 "layerfit: model: --branch: unknown branch 'up' (unload or load)" model $P --branch up
 expect_fail 2 "layerfit: model: --model: unknown model 'fem' (e.g. --model thin)" model $P --model fem
 expect_fail 2 "layerfit: model: the range is empty: give --from and --to with --to > --from" model $P --from 5nm --to 1nm
@@ -64,6 +64,21 @@ for n in 2 3 4 5; do
 done
 run_ok model --figure 4
 near "Fig. 4 R/b=1e3 k=3" "$(awk -F, '$1 == 1000 && $2 == 3 { print $3 }' "$tmp/out")" -57.810 1e-4
+run_ok model --figure 6
+near "Fig. 6 exact/thin P1, k=2 frictionless, a/b=1 (physics.md 2.0093)" \
+    "$(awk -F, '$1 == 2 && $2 == "frictionless" && $4 == 1 { print $5 }' "$tmp/out")" 2.0093 1e-4
+near "Fig. 6 bonded nu=0.45, a/b=10 (physics.md 0.81)" \
+    "$(awk -F, '$3 == 0.45 && $4 == 10 { print $5 }' "$tmp/out")" 0.81 0.01
+
+# other models through the same table
+run_ok model --model halfspace --k 2 --R 1mm --b 1um --w 10mJ/m2 --E 1GPa --json
+near "half-space sphere pull-off -1.5 pi R w" "$(json_field "$tmp/out" P_po_N)" -4.71238898038469e-05 1e-9
+run_ok model --model exact --k 3 --R 1mm --b 100nm --w 10mJ/m2 --E 1GPa --json
+cp "$tmp/out" "$tmp/exact.json"
+run_ok model --k 3 --R 1mm --b 100nm --w 10mJ/m2 --E 1GPa --json
+near "exact tends to thin for b << a (k=3, b/a_po ~ 0.01)" "$(json_field "$tmp/exact.json" P_po_N)" \
+    "$(json_field "$tmp/out" P_po_N)" 0.02
+
 if command -v gnuplot >/dev/null 2>&1; then
     run_ok model --figure 3 --plot "$tmp/fig3.svg"
     has "svg drawn" "$tmp/fig3.svg" "<svg"

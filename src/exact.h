@@ -1,0 +1,131 @@
+/* exact.h: internals of the finite-thickness ("exact") layer model, shared by
+ * src/exact_kernel.c (kernel and Nystrom solver), src/exact_table.c (tables
+ * of the dimensionless functions and their process cache) and
+ * src/model_exact.c (the forward model).  Not installed.
+ *
+ * Everything here is dimensionless: lengths in units of the layer thickness
+ * h, tau = a/h, x = t/a in [0, 1], E* scaled out (physics.md section 3).
+ * For contact radius a = tau h the model needs four positive functions of
+ * tau, from the Fredholm solutions u1 (right-hand side 1) and v
+ * (right-hand side x^k):
+ *   s = int_0^1 u1 dx            flat-punch stiffness S = 2 E* h tau s
+ *   e = u1(1)                    edge value, phi1(a) = e
+ *   d = v(1)/u1(1)               delta1 = B kappa_k h^k tau^k d
+ *   p = s d - int_0^1 v dx       P1 = 2 E* B kappa_k h^(k+1) tau^(k+1) p
+ * with B = 1/(k R^(k-1)).  Half-space (tau -> 0): s = e = d = 1,
+ * p = k/(k+1).  Thin layer (tau -> inf): s -> pi Z tau/2,
+ * e -> sqrt(pi Z tau), d -> 1/kappa_k, p -> pi Z tau k/(2 kappa_k (k+2)).
+ */
+#ifndef LF_EXACT_H
+#define LF_EXACT_H
+
+#include <stddef.h>
+
+#include "internal.h"
+
+/* ---- kernel kf(z) = int_0^inf (1 - L(u)) cos(u z) du (exact_kernel.c) ---- */
+
+typedef struct lf_exact_kernel lf_exact_kernel;
+
+/* Tabulate kf for one base and nu (nu ignored when frictionless).  Direct
+ * quadrature on [0, LF_EXACT_ZC], the asymptotic series in 1/z^2 beyond.
+ * Owned by the caller, released with lf_exact_kernel_free (NULL allowed). */
+int lf_exact_kernel_alloc(lf_exact_kernel **out, lf_base base, double nu,
+                          lf_error *err);
+void lf_exact_kernel_free(lf_exact_kernel *kr);
+
+/* kf(z) and, if dkf is not NULL, kf'(z); kf is even in z. */
+double lf_exact_kf(const lf_exact_kernel *kr, double z, double *dkf);
+
+/* 1 - L(u) for a base and nu (the integrand of kf). */
+double lf_exact_one_minus_L(lf_base base, double nu, double u);
+
+/* Gauss-Legendre nodes x[] and weights w[] of n points on [0, 1]. */
+void lf_exact_gauss_legendre(size_t n, double *x, double *w);
+
+/* kappa_k = sqrt(pi) Gamma(k/2 + 1) / Gamma(k/2 + 1/2). */
+double lf_exact_kappa(double k);
+
+/* ---- one Nystrom solve (exact_kernel.c) ---- */
+
+/* The four functions of the header comment and their tau-derivatives. */
+typedef struct {
+    double s, e, d, p;
+    double ds, de, dd, dp;   /* d/dtau */
+} lf_exact_point;
+
+/* Solve at one tau with N Gauss-Legendre nodes on [0, 1].  Allocates its
+ * own workspace.  LF_ENUMERIC if the system is singular or a value is not
+ * positive and finite. */
+int lf_exact_solve(const lf_exact_kernel *kr, double k, double tau, size_t N,
+                   lf_exact_point *out, lf_error *err);
+
+/* The node count the tables use at tau for relative accuracy ~1e-8. */
+size_t lf_exact_nodes(double tau);
+
+/* ---- tables (exact_table.c) ---- */
+
+/* Range of the direct tabulation; outside it the tables use the limits
+ * (see exact_table.c). */
+#define LF_EXACT_TAU_MIN 1e-3
+#define LF_EXACT_TAU_MAX 100.0
+
+/* Grid in nu for bonded layers: y = ln sqrt(1 - 2 nu) on a uniform grid
+ * from LF_EXACT_Y_MIN (nu = LF_EXACT_NU_MAX) to 0 (nu = 0). */
+#define LF_EXACT_NU_MAX 0.4995
+#define LF_EXACT_NY 60
+
+/* Default spacing of the table in ln tau. */
+#define LF_EXACT_STEP 0.1
+
+typedef struct lf_exact_table lf_exact_table;
+
+/* Build one table from a kernel: nodes every `step` in ln tau, Nystrom
+ * with node_factor * lf_exact_nodes(tau) nodes (1 = the default).  Owned
+ * by the caller (lf_exact_table_free); the cache builds its own. */
+int lf_exact_table_build(const lf_exact_kernel *kr, double k, lf_base base,
+                         double nu, double step, double node_factor,
+                         lf_exact_table **out, lf_error *err);
+void lf_exact_table_free(lf_exact_table *t);
+
+/* Functions at tau from one table: f[4] = {s, e, d, p}, df[4] their
+ * tau-derivatives (df may be NULL). */
+void lf_exact_table_eval(const lf_exact_table *t, double tau, double f[4],
+                         double df[4]);
+
+/* The process cache.  Tables are immutable once published and live until
+ * lf_exact_cache_clear() (tests only; not thread-safe against users).
+ * lf_exact_table_get returns the table of (k, base, nu) building it under
+ * the cache's mutex if missing.  nu is used as given (bonded), ignored for
+ * frictionless. */
+int lf_exact_table_get(double k, lf_base base, double nu,
+                       const lf_exact_table **out, lf_error *err);
+void lf_exact_cache_clear(void);
+
+/* The bonded nu grid: node i (-1 .. LF_EXACT_NY) and its nu; nodes -1 and
+ * LF_EXACT_NY are ghosts just outside [0, LF_EXACT_NU_MAX]. */
+double lf_exact_nu_node(int i);
+
+/* The functions at (tau, nu) as the model uses them.  Frictionless: one
+ * table.  Bonded: 4-point Lagrange interpolation of ln f across the nu grid
+ * in y = ln sqrt(1 - 2 nu) (one-sided at the ends); the node tables are
+ * built on demand through the cache by lf_exact_mix_init, which is the only
+ * step that may allocate.  dfn receives d/dnu of the interpolant, so
+ * derivatives in nu are those of the values returned. */
+typedef struct {
+    int m;                         /* tables in use, 1 or 4 */
+    const lf_exact_table *t[4];
+    double wl[4];                  /* Lagrange weights at y(nu) */
+    double dwl[4];                 /* their d/dnu */
+} lf_exact_mix;
+
+int lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu,
+                      lf_error *err);
+/* f, df (d/dtau) and dfn (d/dnu; may be NULL) at tau. */
+void lf_exact_mix_eval(const lf_exact_mix *mx, double tau, double f[4],
+                       double df[4], double dfn[4]);
+
+/* Build statistics of the last table built in this process (bench). */
+double lf_exact_last_build_seconds(void);
+
+#endif

@@ -1,0 +1,395 @@
+/* model_exact.c: adhesive (JKR) indentation of an elastic layer of any
+ * thickness on a frictionless or bonded rigid base by a power-law punch,
+ * from the Lebedev-Ufliand Fredholm equation (physics.md section 3).
+ *
+ * With a = tau h and the tabulated functions s, e, d, p of exact.h:
+ *   delta1 = A1 tau^k d,             A1 = B kappa_k h^k,  B = 1/(k R^(k-1))
+ *   shift  = A2 sqrt(tau) / e,       A2 = sqrt(2 pi h w / E*)
+ *   delta  = delta1 - shift          (JKR edge condition)
+ *   P      = F1 tau^(k+1) p - S shift,  F1 = 2 E* B kappa_k h^(k+1),
+ *   S      = 2 E* h tau s            (flat-punch stiffness)
+ * Derivatives at fixed delta follow from those at fixed tau and
+ * dP/ddelta = (dP/dtau)/(ddelta/dtau).
+ *
+ * Branches.  delta(tau) has a minimum at small tau (the half-space
+ * displacement-control instability, section 4): the unloading branch keeps
+ * contact for tau above the largest tau where ddelta/dtau = 0 and ends
+ * there (delta_detach, P_detach, a_detach); below delta_detach there is no
+ * contact.  Loading makes contact at delta = 0 and jumps to the stable
+ * branch at delta = 0 (force P_jump), as in the thin-layer model; for
+ * delta >= 0 both branches coincide.  Without adhesion (w = 0) the branch
+ * reaches tau -> 0 at delta = 0.
+ */
+#include <math.h>
+#include <stdlib.h>
+
+#include "exact.h"
+
+static double
+capped(double x)
+{
+    if (!(x < LF_BIG))
+        return LF_BIG;
+    if (!(x > -LF_BIG))
+        return -LF_BIG;
+    return x;
+}
+
+/* Everything one (probe, material) pair needs. */
+typedef struct {
+    lf_exact_mix mix;
+    double k, h, Estar;
+    double A1, A2, F1;
+    double u_det;     /* ln tau at detachment, -INFINITY when none */
+    double delta_det;
+} exact_ctx;
+
+/* The curve at tau: delta, P, their tau-derivatives, and the partial
+ * derivatives at fixed tau needed for the Jacobian. */
+typedef struct {
+    double delta, P, ddelta, dP;       /* d/dtau */
+    double shift, S, P1;               /* adhesive shift, stiffness, P1 */
+    double ddelta_nu, dP_nu;           /* d/dnu at fixed tau */
+} exact_pt;
+
+static void
+curve_at(const exact_ctx *c, double tau, int want_nu, exact_pt *o)
+{
+    double f[4], df[4], dn[4];
+    double s, e, d, p, tk = pow(tau, c->k), st = sqrt(tau);
+    double twoEh = 2.0 * c->Estar * c->h;
+
+    lf_exact_mix_eval(&c->mix, tau, f, df, want_nu ? dn : NULL);
+    s = f[0]; e = f[1]; d = f[2]; p = f[3];
+    o->shift = c->A2 * st / e;
+    o->delta = c->A1 * tk * d - o->shift;
+    o->ddelta = c->A1 * (c->k * tk / tau * d + tk * df[2])
+                - c->A2 * (0.5 / (st * e) - st * df[1] / (e * e));
+    o->S = twoEh * tau * s;
+    o->P1 = c->F1 * tk * tau * p;
+    o->P = o->P1 - o->S * o->shift;
+    /* S shift = 2 E* h A2 tau^(3/2) s/e */
+    o->dP = c->F1 * ((c->k + 1.0) * tk * p + tk * tau * df[3])
+            - twoEh * c->A2 * (1.5 * st * s / e + tau * st * (df[0] / e - s * df[1] / (e * e)));
+    if (want_nu) {
+        o->ddelta_nu = c->A1 * tk * dn[2] + c->A2 * st * dn[1] / (e * e);
+        o->dP_nu = c->F1 * tk * tau * dn[3]
+                   - twoEh * c->A2 * tau * st * (dn[0] / e - s * dn[1] / (e * e));
+    } else {
+        o->ddelta_nu = o->dP_nu = 0.0;
+    }
+}
+
+#define U_LOW (-60.0)   /* ln tau treated as contact vanishing */
+#define U_HIGH 30.0
+
+/* The start of the stable branch: the largest tau with ddelta/dtau = 0,
+ * scanning down in ln tau from the thin-layer regime. */
+static void
+find_detach(exact_ctx *c)
+{
+    exact_pt pt;
+    double u, u_hi, u_lo;
+    int i;
+
+    c->u_det = -INFINITY;
+    c->delta_det = 0.0;
+    if (c->A2 == 0.0)
+        return;
+    for (u = log(1e4); u > U_LOW; u -= 0.25) {
+        curve_at(c, exp(u), 0, &pt);
+        if (pt.ddelta <= 0.0)
+            break;
+    }
+    if (u <= U_LOW)
+        return; /* monotonic down to a -> 0 (k < 1/2) */
+    u_lo = u;
+    u_hi = u + 0.25;
+    for (i = 0; i < 60 && u_hi - u_lo > 1e-14; i++) {
+        double um = 0.5 * (u_lo + u_hi);
+        curve_at(c, exp(um), 0, &pt);
+        if (pt.ddelta <= 0.0)
+            u_lo = um;
+        else
+            u_hi = um;
+    }
+    c->u_det = u_hi;
+    curve_at(c, exp(u_hi), 0, &pt);
+    c->delta_det = pt.delta;
+}
+
+static int
+ctx_init(exact_ctx *c, const lf_probe *pr, const lf_material *m, lf_error *err)
+{
+    double kap, B;
+    int status;
+
+    if (pr->base == LF_BASE_BONDED && m->nu > LF_EXACT_NU_MAX)
+        return lf_fail(err, LF_EINVAL, "exact model: nu must be <= %g", LF_EXACT_NU_MAX);
+    status = lf_exact_mix_init(&c->mix, pr->k, pr->base, m->nu, err);
+    if (status != LF_OK)
+        return status;
+    kap = lf_exact_kappa(pr->k);
+    B = 1.0 / (pr->k * pow(pr->R, pr->k - 1.0));
+    c->k = pr->k;
+    c->h = pr->b;
+    c->Estar = m->Estar;
+    c->A1 = B * kap * pow(pr->b, pr->k);
+    c->A2 = sqrt(2.0 * M_PI * pr->b * m->w / m->Estar);
+    c->F1 = 2.0 * m->Estar * B * kap * pow(pr->b, pr->k + 1.0);
+    find_detach(c);
+    return LF_OK;
+}
+
+/* ln tau on the stable branch where delta(tau) = target (> delta_det):
+ * Newton in ln tau from `guess` (NAN: none), safeguarded by bisection on a
+ * bracket [lo, hi] with delta(lo) < target <= delta(hi). */
+static double
+invert(const exact_ctx *c, double target, double guess)
+{
+    exact_pt pt;
+    double lo = isfinite(c->u_det) ? c->u_det : U_LOW, hi, u, step = 0.25;
+    int i;
+
+    u = guess;
+    if (!(u > lo && u < U_HIGH)) /* first guess from the half-space form */
+        u = fmin(fmax(log(fmax(target - c->delta_det, 1e-300) / c->A1) / c->k, lo + 0.5), U_HIGH);
+    curve_at(c, exp(u), 0, &pt);
+    if (pt.delta >= target) {
+        hi = u;
+    } else {
+        exact_pt pt_u = pt;
+        lo = u;
+        for (hi = u + step; hi < U_HIGH; hi += step, step *= 2.0) {
+            curve_at(c, exp(hi), 0, &pt);
+            if (pt.delta >= target)
+                break;
+            lo = hi;
+        }
+        if (hi >= U_HIGH)
+            hi = U_HIGH;
+        if (lo == u) {         /* keep the guess: Newton from there */
+            pt = pt_u;
+        } else {
+            u = 0.5 * (lo + hi);
+            curve_at(c, exp(u), 0, &pt);
+        }
+    }
+    for (i = 0; i < 100; i++) {
+        double g = pt.delta - target, gp = pt.ddelta * exp(u), un;
+        if (g > 0.0)
+            hi = u;
+        else
+            lo = u;
+        un = (gp > 0.0) ? u - g / gp : 0.5 * (lo + hi);
+        if (!(un > lo && un < hi))
+            un = 0.5 * (lo + hi);
+        if (g == 0.0 || fabs(un - u) < 1e-13 || hi - lo < 1e-14)
+            return un;
+        u = un;
+        curve_at(c, exp(u), 0, &pt);
+    }
+    return u;
+}
+
+static void
+fill_point(const exact_ctx *c, double tau, int bonded, lf_eval *e)
+{
+    exact_pt pt;
+    double dPdd;
+
+    curve_at(c, tau, bonded, &pt);
+    dPdd = pt.dP / pt.ddelta;
+    if (!(pt.ddelta > 0.0))
+        dPdd = LF_BIG;
+    e->P = pt.P;
+    e->a = tau * c->h;
+    e->dP_ddelta = capped(dPdd);
+    /* at fixed tau: d delta/dln w = -shift/2, dP/dln w = -S shift/2;
+     * d delta/dln E = +shift/2, dP/dln E = P1 - S shift/2 */
+    e->dP_dlogw = capped(-0.5 * pt.S * pt.shift + dPdd * 0.5 * pt.shift);
+    e->dP_dlogE = capped(pt.P1 - 0.5 * pt.S * pt.shift - dPdd * 0.5 * pt.shift);
+    e->dP_dnu = bonded ? capped(pt.dP_nu - dPdd * pt.ddelta_nu) : 0.0;
+}
+
+static int
+exact_alloc(void **state, const lf_probe *probe, lf_error *err)
+{
+    lf_exact_mix mix;
+    int status;
+
+    *state = NULL;
+    /* build (or find) the frictionless table now; bonded node tables are
+     * built when a nu first needs them */
+    if (probe->base == LF_BASE_FRICTIONLESS) {
+        status = lf_exact_mix_init(&mix, probe->k, probe->base, 0.0, err);
+        if (status != LF_OK)
+            return status;
+    }
+    return LF_OK;
+}
+
+static void
+exact_free(void *state)
+{
+    free(state);
+}
+
+static int
+exact_eval(void *state, const lf_probe *probe, const lf_material *mat,
+           lf_branch branch, size_t n, const double *delta, lf_eval *out)
+{
+    exact_ctx c;
+    size_t i;
+    int bonded = probe->base == LF_BASE_BONDED;
+    double u_prev = NAN;   /* warm start: data come in order */
+
+    (void) state;
+    if (ctx_init(&c, probe, mat, NULL) != LF_OK)
+        return LF_EINVAL;
+    for (i = 0; i < n; i++) {
+        lf_eval *e = &out[i];
+        double start = branch == LF_BRANCH_LOAD ? fmax(0.0, c.delta_det) : c.delta_det;
+        int touching = branch == LF_BRANCH_LOAD ? delta[i] >= start : delta[i] > start;
+
+        if (!touching || (!isfinite(c.u_det) && delta[i] <= 0.0)) {
+            e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
+            continue;
+        }
+        u_prev = invert(&c, delta[i], u_prev);
+        fill_point(&c, exp(u_prev), bonded, e);
+    }
+    return LF_OK;
+}
+
+static int
+exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
+              lf_pulloff *out)
+{
+    exact_ctx c;
+    exact_pt pt;
+    double u, u_lo, u_hi;
+    int i;
+
+    (void) state;
+    if (ctx_init(&c, probe, mat, NULL) != LF_OK)
+        return LF_EINVAL;
+    out->c = 0.0;
+    if (!isfinite(c.u_det)) {
+        out->delta_detach = out->P_detach = out->a_detach = 0.0;
+        out->delta_po = out->P_po = out->a_po = out->sigma_po = out->P_jump = 0.0;
+        return LF_OK;
+    }
+    curve_at(&c, exp(c.u_det), 0, &pt);
+    out->delta_detach = pt.delta;
+    out->P_detach = pt.P;
+    out->a_detach = exp(c.u_det) * c.h;
+    /* force-controlled pull-off: first minimum of P(tau) above detachment */
+    u_lo = c.u_det;
+    if (pt.dP >= 0.0) {
+        u_hi = u_lo;
+    } else {
+        for (u = c.u_det + 0.05; u < U_HIGH; u += 0.05) {
+            curve_at(&c, exp(u), 0, &pt);
+            if (pt.dP >= 0.0)
+                break;
+            u_lo = u;
+        }
+        u_hi = u;
+        for (i = 0; i < 60 && u_hi - u_lo > 1e-14; i++) {
+            double um = 0.5 * (u_lo + u_hi);
+            curve_at(&c, exp(um), 0, &pt);
+            if (pt.dP >= 0.0)
+                u_hi = um;
+            else
+                u_lo = um;
+        }
+    }
+    curve_at(&c, exp(u_hi), 0, &pt);
+    out->delta_po = pt.delta;
+    out->P_po = pt.P;
+    out->a_po = exp(u_hi) * c.h;
+    out->sigma_po = -out->P_po / (M_PI * out->a_po * out->a_po);
+    if (c.delta_det < 0.0) {
+        curve_at(&c, exp(invert(&c, 0.0, NAN)), 0, &pt);
+        out->P_jump = pt.P;
+    } else {
+        out->P_jump = 0.0;
+    }
+    return LF_OK;
+}
+
+const lf_model_type lf_model_exact = {
+    "exact",
+    "finite-thickness layer, Lebedev-Ufliand Fredholm equation (Nystrom, tabulated)",
+    exact_alloc,
+    exact_free,
+    exact_eval,
+    exact_pulloff
+};
+
+/* ---------------------------------------------------------------- helpers */
+
+int
+lf_exact_thin_ratio(double k, lf_base base, double nu, double tau, double *ratio_P1,
+                    lf_error *err)
+{
+    lf_exact_mix mix;
+    double f[4], df[4], kap, Z, p_thin;
+    int status;
+
+    *ratio_P1 = NAN;
+    if (!(isfinite(k) && k > 0 && isfinite(tau) && tau > 0))
+        return lf_fail(err, LF_EINVAL, "exact/thin ratio needs k > 0 and a/b > 0");
+    if (base == LF_BASE_BONDED && !(nu >= 0 && nu < 0.5))
+        return lf_fail(err, LF_EINVAL, "nu must lie in [0, 0.5) (got %g)", nu);
+    status = lf_exact_mix_init(&mix, k, base, nu, err);
+    if (status != LF_OK)
+        return status;
+    lf_exact_mix_eval(&mix, tau, f, df, NULL);
+    kap = lf_exact_kappa(k);
+    Z = lf_thin_Z(base, nu);
+    p_thin = 0.5 * M_PI * Z * tau * k / (kap * (k + 2.0));
+    *ratio_P1 = f[3] / p_thin;
+    return LF_OK;
+}
+
+int
+lf_exact_thin_difference(const lf_probe *probe, const lf_material *mat,
+                         double ab_min, double ab_max, double *max_rel,
+                         lf_error *err)
+{
+    exact_ctx c;
+    double u0, u1, Pmax = 0.0, dmax = 0.0;
+    int status, i, n = 200;
+
+    *max_rel = NAN;
+    if ((status = lf_probe_check(probe, err)) != LF_OK
+        || (status = lf_material_check(mat, probe->base, err)) != LF_OK)
+        return status;
+    if (!(ab_min > 0 && ab_max > ab_min && isfinite(ab_max)))
+        return lf_fail(err, LF_EINVAL, "need 0 < a/b min < a/b max (got %g, %g)", ab_min, ab_max);
+    status = ctx_init(&c, probe, mat, err);
+    if (status != LF_OK)
+        return status;
+    u0 = log(ab_min);
+    if (isfinite(c.u_det) && u0 < c.u_det)
+        u0 = c.u_det;
+    u1 = log(ab_max);
+    if (u1 <= u0)
+        return lf_fail(err, LF_EINVAL, "a/b range lies below the detachment radius");
+    for (i = 0; i <= n; i++) {
+        exact_pt pt;
+        lf_eval th;
+        double d;
+        curve_at(&c, exp(u0 + (u1 - u0) * i / n), 0, &pt);
+        d = pt.delta;
+        status = lf_model_thin.eval(NULL, probe, mat, LF_BRANCH_UNLOAD, 1, &d, &th);
+        if (status != LF_OK)
+            return lf_fail(err, status, "thin model failed");
+        Pmax = fmax(Pmax, fabs(pt.P));
+        dmax = fmax(dmax, fabs(th.P - pt.P));
+    }
+    *max_rel = Pmax > 0.0 ? dmax / Pmax : 0.0;
+    return LF_OK;
+}

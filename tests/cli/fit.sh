@@ -1,0 +1,71 @@
+# fit.sh: golden tests of `layerfit simulate` and `layerfit fit`: files and
+# numbers (with tolerances), exact messages and exit statuses.
+. "$(dirname "$0")/common"
+
+P1=k=2,R=1mm,b=1um,interface=frictionless
+P2=k=3,R=1mm,b=1um,interface=bonded
+SIM="--w 12.3mJ/m2 --E 1.85GPa --nu 0.35 --noise 0.005 --seed 7 --z0 15nm --past-c 2 --delta-max 20nm"
+
+# simulate: files, formats, determinism
+run_ok simulate --out "$tmp/d" $SIM $P1 $P2
+has "plan header" "$tmp/d/plan.csv" "file,k,R_m,b_m,interface,nu"
+has "plan row" "$tmp/d/plan.csv" "curve2.csv,3,0.001,1e-06,bonded,"
+has "curve header" "$tmp/d/curve1.csv" "depth_m,force_N,segment"
+[ "$(wc -l < "$tmp/d/curve1.csv")" -eq 301 ] && ok || bad "300 points + header"
+near "first depth = 20 nm + z0" "$(csv_field "$tmp/d/curve1.csv" 2 1)" 3.5e-08 1e-12
+near "truth w" "$(csv_field "$tmp/d/truth.csv" 2 6)" 0.0123 1e-15
+near "truth nu" "$(csv_field "$tmp/d/truth.csv" 3 8)" 0.35 1e-15
+run_ok simulate --out "$tmp/e" $SIM $P1 $P2
+cmp -s "$tmp/d/curve2.csv" "$tmp/e/curve2.csv" && ok || bad "same seed, same bytes"
+run_ok simulate --out "$tmp/f" $SIM --seed 8 $P1 $P2
+cmp -s "$tmp/d/curve2.csv" "$tmp/f/curve2.csv" && bad "another seed, other noise" || ok
+run_ok simulate --out "$tmp/g" --w 10mJ/m2 --E 1GPa --points 3 --delta-min -1nm --delta-max 1nm $P1
+near "noise-free force at 1 nm" "$(csv_field "$tmp/g/curve1.csv" 2 2)" \
+    "$(awk 'BEGIN { pi = 3.141592653589793; c = sqrt(2e-6 * 0.01 / 1e9); d1 = 1e-9 + c;
+                    printf "%.17g", pi * 1e9 / 1e-6 * 1e-3 * d1 * (d1 - 2 * c) }')" 1e-12
+
+expect_fail 2 "layerfit: simulate: --out is required (e.g. --out datasets/demo)" simulate --w 1mJ/m2 --E 1GPa $P1
+expect_fail 2 "layerfit: simulate: --w and --E are required (e.g. --w 10mJ/m2 --E 1GPa)" simulate --out "$tmp/x" $P1
+expect_fail 2 "layerfit: simulate: give at least one probe (e.g. k=2,R=1mm,b=1um,interface=frictionless)" simulate --out "$tmp/x" --w 1mJ/m2 --E 1GPa
+expect_fail 2 "layerfit: simulate: --nu is required for a bonded probe (e.g. --nu 0.3)" simulate --out "$tmp/x" --w 1mJ/m2 --E 1GPa $P2
+expect_fail 2 "layerfit: simulate: probe 'k=2,R=1mm' needs k, R and b (e.g. k=2,R=1mm,b=1um,interface=frictionless)" simulate --out "$tmp/x" --w 1mJ/m2 --E 1GPa k=2,R=1mm
+expect_fail 2 "layerfit: simulate: probe 'k=2,R=1mm,b=1um,interface=glued': unknown interface 'glued' (frictionless or bonded)" simulate --out "$tmp/x" --w 1mJ/m2 --E 1GPa k=2,R=1mm,b=1um,interface=glued
+expect_fail 2 "layerfit: simulate: --branch must be unload or load (got 'up')" simulate --out "$tmp/x" --w 1mJ/m2 --E 1GPa --branch up $P1
+
+# fit: usage errors that need no data
+expect_fail 2 "layerfit: fit: give one plan or curve file (see 'layerfit fit --help')" fit
+expect_fail 2 "layerfit: fit: unknown model 'thick'" fit "$tmp/d/plan.csv" --model thick
+expect_fail 2 "layerfit: fit: unknown method 'newton' (lm, lmaccel, dogleg, ddogleg, subspace2D)" fit "$tmp/d/plan.csv" --method newton
+expect_fail 2 "layerfit: fit: --segment must be unload or load (got 'up')" fit "$tmp/d/plan.csv" --segment up
+expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (got 'exact')" fit "$tmp/d/plan.csv" --jacobian exact
+
+# fit: the data
+"$LF" fit "$tmp/d/plan.csv" --json "$tmp/r.json" --curves "$tmp/c.csv" >"$tmp/out" 2>"$tmp/err"; rc=$?
+{
+    [ $rc -eq 0 ] && ok || bad "fit plan: exit $rc: $(cat "$tmp/err")"
+    has "report: converged" "$tmp/out" "converged"
+    has "report: every parameter determined" "$tmp/out" "every free parameter is determined"
+    w=$(sed -n 's/.*"w": {"value": \([^,]*\),.*/\1/p' "$tmp/r.json")
+    wse=$(sed -n 's/.*"w": {"value": [^,]*, "stderr": \([^,]*\),.*/\1/p' "$tmp/r.json")
+    near "w within 4 se of the truth" "$w" 0.0123 0 "$(awk -v s="$wse" 'BEGIN { print 4 * s }')"
+    nu=$(sed -n 's/.*"nu": {"value": \([^,]*\),.*/\1/p' "$tmp/r.json")
+    near "nu within 0.01 of the truth" "$nu" 0.35 0 0.01
+    has "json: fit block" "$tmp/r.json" '"converged": true, "stop_reason": '
+    has "json: curves" "$tmp/r.json" '"b_over_a_min_contact": '
+    has "curves CSV header" "$tmp/c.csv" "depth_m,force_N,fitted_N,residual_N,contact_radius_m,curve"
+    [ "$(wc -l < "$tmp/c.csv")" -eq 601 ] && ok || bad "curves CSV: 600 points + header"
+    # bonded curve alone: nu and E* not determined, said in words
+    run_ok fit "$tmp/d/curve2.csv" --k 3 --R 1mm --b 1um --interface bonded --json "$tmp/b.json"
+    has "bonded alone: M message" "$tmp/out" "only bonded curves: the data fix M = Z*E* = "
+    has "bonded alone: nu null" "$tmp/b.json" '"nu": {"value": null, "stderr": null'
+    run_ok fit "$tmp/d/curve2.csv" --k 3 --R 1mm --b 1um --interface bonded --fix-nu 0.35
+    has "bonded, nu fixed" "$tmp/out" "nu   = 0.35 (fixed)"
+    expect_fail 2 "layerfit: fit: a single curve needs --k, --R, --b and --interface (e.g. --k 2 --R 1mm --b 1um --interface frictionless)" fit "$tmp/d/curve2.csv" --k 3
+    # not converged: exit 3, report still written and marked
+    "$LF" fit "$tmp/d/plan.csv" --max-iter 1 --json "$tmp/n.json" >"$tmp/out" 2>"$tmp/err"; rc=$?
+    [ $rc -eq 3 ] && ok || bad "not converged: exit $rc, want 3"
+    has "not converged: marked" "$tmp/out" "*** NOT CONVERGED"
+    has "not converged: stderr" "$tmp/err" "layerfit: fit: not converged: 1 iterations reached"
+    has "not converged: json" "$tmp/n.json" '"converged": false'
+}
+summary
