@@ -631,7 +631,7 @@ cli_fit_batch(int argc, char **argv)
 {
     const char *plan = NULL, *out = NULL, *shard = NULL, *model = "thin", *method = "lm",
                *jacobian = "analytic";
-    long threads = 0;
+    long threads = 0, max_iter = -1;
     int npos, help = 0, slope = 0, quiet = 0, progress = 0;
     double nu = NAN, fix_nu = NAN, max_ba = NAN;
     const cli_opt opts[] = {
@@ -641,7 +641,7 @@ cli_fit_batch(int argc, char **argv)
         { "model", CLI_STRING, &model }, { "method", CLI_STRING, &method },
         { "jacobian", CLI_STRING, &jacobian }, { "slope", CLI_FLAG, &slope },
         { "nu", CLI_NUMBER, &nu }, { "fix-nu", CLI_NUMBER, &fix_nu },
-        { "max-b-over-a", CLI_NUMBER, &max_ba },
+        { "max-b-over-a", CLI_NUMBER, &max_ba }, { "max-iter", CLI_COUNT, &max_iter },
         { NULL, 0, NULL }
     };
     lf_fit_settings s = lf_fit_settings_default();
@@ -664,7 +664,7 @@ cli_fit_batch(int argc, char **argv)
                "  --progress        progress bar on stderr even when it is not a terminal\n"
                "  --quiet           no progress bar\n"
                "fit options as for a single fit: --model, --method, --jacobian, --slope,\n"
-               "  --nu/--fix-nu NU, --max-b-over-a X\n\n"
+               "  --nu/--fix-nu NU, --max-b-over-a X, --max-iter N\n\n"
                "exit status: 0 every fit ok; N (1..%d) the number of fits that failed;\n"
                "2 also for a bad command line or plan (then nothing is fitted)\n",
                CLI_BATCH_MAX_FAILED);
@@ -698,6 +698,10 @@ cli_fit_batch(int argc, char **argv)
         s.max_b_over_a = max_ba;
     }
     s.fit_slope = slope;
+    if (max_iter == 0)
+        cli_die(CLI_EXIT_USAGE, "fit: --max-iter must be at least 1");
+    if (max_iter > 0)
+        s.max_iter = (size_t) max_iter;
     if (!isnan(fix_nu))
         nu = fix_nu;
     if (!isnan(nu)) {
