@@ -139,7 +139,7 @@ static const char style[] =
     "table{border-collapse:collapse;margin:.5em 0;font-size:.92em}\n"
     "th,td{border:1px solid #ccc;padding:.25em .6em;text-align:left}\n"
     "th{background:#eef2f6}td.num{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}\n"
-    "td.na{text-align:center;color:#999}\n"
+    "td.na{text-align:center;color:#999}div.wide{overflow-x:auto}\n"
     "li.ident{color:#1b4f72}li.warn{color:#9a3c00}\n"
     "figure{margin:1.2em 0;border:1px solid #ddd;padding:.5em}\n"
     "figure svg{width:100%;height:auto;display:block}\n"
@@ -217,7 +217,7 @@ correlations(FILE *f, const lf_fit_result *r)
         fputs("<p>No free parameters.</p>\n</section>\n", f);
         return;
     }
-    fputs("<table id=\"correlation-table\">\n<tr><th></th>", f);
+    fputs("<div class=\"wide\"><table id=\"correlation-table\">\n<tr><th></th>", f);
     for (j = 0; j < r->npar; j++) {
         fputs("<th>", f);
         esc(f, r->names[j]);
@@ -240,7 +240,7 @@ correlations(FILE *f, const lf_fit_result *r)
         }
         fputs("</tr>\n", f);
     }
-    fputs("</table>\n</section>\n", f);
+    fputs("</table></div>\n</section>\n", f);
 }
 
 static void
@@ -288,14 +288,30 @@ statistics(FILE *f, const lf_fit_result *r)
     fputs("</table>\n</section>\n", f);
 }
 
+/* "value ± se", or "value (fixed)". */
+static void
+td_estimate(FILE *f, double x, double se, int free, const char *unit)
+{
+    char a[64], b[64];
+    fputs("<td class=\"num\">", f);
+    esc(f, cli_human(a, sizeof a, x, unit));
+    if (!free)
+        fputs(" (fixed)", f);
+    else if (isfinite(se)) {
+        fputs(" &plusmn; ", f);
+        esc(f, cli_human(b, sizeof b, se, unit));
+    }
+    fputs("</td>", f);
+}
+
 static void
 curves_table(FILE *f, const lf_fit_result *r)
 {
     size_t j;
 
-    fputs("<section id=\"curves\">\n<h2>Curves</h2>\n<table id=\"curve-table\">\n"
+    fputs("<section id=\"curves\">\n<h2>Curves</h2>\n<div class=\"wide\"><table id=\"curve-table\">\n"
           "<tr><th>#</th><th>file</th><th>k</th><th>R</th><th>b</th><th>interface</th>"
-          "<th>branch</th><th>points</th><th>z0</th><th>&plusmn;</th><th>F0</th><th>&plusmn;</th>"
+          "<th>branch</th><th>points</th><th>z0</th><th>F0</th>"
           "<th>noise &sigma;</th><th>rms residual</th><th>rms/&sigma;</th><th>pull-off force</th>"
           "<th>pull-off radius</th><th>b/a at pull-off</th></tr>\n", f);
     for (j = 0; j < r->ncurves; j++) {
@@ -308,16 +324,8 @@ curves_table(FILE *f, const lf_fit_result *r)
         td_text(f, cli_base_name(c->probe.base));
         td_text(f, c->branch == LF_BRANCH_LOAD ? "load" : "unload");
         fprintf(f, "<td class=\"num\">%zu</td>", c->n);
-        td_human(f, c->z0, "m");
-        if (c->z0_free)
-            td_human(f, c->z0_se, "m");
-        else
-            td_text(f, "fixed");
-        td_human(f, c->F0, "N");
-        if (c->F0_free)
-            td_human(f, c->F0_se, "N");
-        else
-            td_text(f, "fixed");
+        td_estimate(f, c->z0, c->z0_se, c->z0_free, "m");
+        td_estimate(f, c->F0, c->F0_se, c->F0_free, "N");
         td_human(f, c->sigma, "N");
         td_human(f, c->rms, "N");
         td_num(f, c->sigma > 0 ? c->rms / c->sigma : NAN, 3, "");
@@ -326,7 +334,7 @@ curves_table(FILE *f, const lf_fit_result *r)
         td_num(f, c->b_over_a_pulloff, 3, "");
         fputs("</tr>\n", f);
     }
-    fputs("</table>\n</section>\n", f);
+    fputs("</table></div>\n</section>\n", f);
 }
 
 /* Copy an SVG file into the page from its <svg element on, prefixing every

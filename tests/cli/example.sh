@@ -8,7 +8,17 @@ if ! command -v pkg-config >/dev/null 2>&1; then
     summary; exit
 fi
 dest="$tmp/root"
-(unset MAKEFLAGS MFLAGS MAKELEVEL; make -s -C "$top" install BUILD="$build" DESTDIR="$dest" PREFIX=/usr) \
+# a sanitizer build (make sanitize) is installed with its own flags, so
+# that whatever make rebuilds matches the rest of it
+san=""
+if nm "$top/$build/liblayerfit.a" 2>/dev/null | grep -q __asan_; then
+    san="-fsanitize=address,undefined"
+    set -- SANFLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all" \
+           OPT="-O1 -g -fno-omit-frame-pointer"
+else
+    set --
+fi
+(unset MAKEFLAGS MFLAGS MAKELEVEL; make -s -C "$top" install BUILD="$build" DESTDIR="$dest" PREFIX=/usr "$@") \
     >"$tmp/make.log" 2>&1 && ok || { bad "make install: $(tail -n 5 "$tmp/make.log")"; summary; exit; }
 for f in usr/bin/layerfit usr/lib/liblayerfit.a usr/include/layerfit.h \
          usr/lib/pkgconfig/layerfit.pc usr/share/man/man1/layerfit.1; do
@@ -17,9 +27,7 @@ done
 flags=$(PKG_CONFIG_PATH= PKG_CONFIG_LIBDIR="$dest/usr/lib/pkgconfig" PKG_CONFIG_SYSROOT_DIR="$dest" \
         pkg-config --cflags --libs layerfit) && ok || bad "pkg-config finds layerfit"
 case "$flags" in *"-I$dest/usr/include"*) ok ;; *) bad "pkg-config flags point into DESTDIR: $flags" ;; esac
-# a sanitizer build's library needs the sanitizer runtime in the program
-san=""
-nm "$dest/usr/lib/liblayerfit.a" 2>/dev/null | grep -q __asan_ && san="-fsanitize=address,undefined"
+# (a sanitizer build's library needs the sanitizer runtime in the program)
 # shellcheck disable=SC2086
 ${CC:-cc} -std=c11 -Wall -Wextra -Werror $san -o "$tmp/example" "$top/tests/example/example.c" $flags \
     2>"$tmp/cc.err" && ok || bad "example builds: $(head -n 5 "$tmp/cc.err")"
