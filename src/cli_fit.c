@@ -31,6 +31,9 @@ static const char usage_text[] =
     "  --max-iter N         iterations allowed (200)\n"
     "  --max-b-over-a X     warn where b/a exceeds X (0.1)\n"
     "  --segment S          unload (default) or load\n"
+    "  --plot DIR           figures (PNG, SVG) with their gnuplot scripts and data\n"
+    "  --report FILE.html   one self-contained page: tables, warnings, figures\n"
+    "  --batch PLAN.csv     every curve or sample an independent fit (see --batch --help)\n"
     "exit status: 0 converged, 3 not converged (report still written), 1 failure, 2 bad input\n";
 
 typedef struct {
@@ -162,6 +165,7 @@ cli_fit(int argc, char **argv)
 {
     fit_args a = { NULL, NULL, "lm", "analytic", "auto", NULL, NULL,
                    NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, -1, 0 };
+    const char *plot_dir = NULL, *report_html = NULL;
     const cli_opt opts[] = {
         { "json", CLI_STRING, &a.json }, { "curves", CLI_STRING, &a.curves },
         { "method", CLI_STRING, &a.method }, { "jacobian", CLI_STRING, &a.jacobian },
@@ -172,6 +176,7 @@ cli_fit(int argc, char **argv)
         { "fix-F0", CLI_FORCE, &a.fix_F0 }, { "max-b-over-a", CLI_NUMBER, &a.max_ba },
         { "model-tol", CLI_NUMBER, &a.model_tol },
         { "slope", CLI_FLAG, &a.slope }, { "max-iter", CLI_COUNT, &a.max_iter },
+        { "plot", CLI_STRING, &plot_dir }, { "report", CLI_STRING, &report_html },
         { NULL, CLI_FLAG, NULL }
     };
     int npos, help, status, seg_given = 0;
@@ -193,6 +198,7 @@ cli_fit(int argc, char **argv)
     }
     if (npos != 1)
         cli_die(CLI_EXIT_USAGE, "fit: give one plan or curve file (see 'layerfit fit --help')");
+    cli_fit_figures_check(plot_dir, report_html);
     if (a.segment != NULL) {
         seg_given = 1;
         if (strcmp(a.segment, "unload") == 0)
@@ -270,6 +276,7 @@ cli_fit(int argc, char **argv)
         write_file(a.json, report_json, &in, &r);
     if (a.curves != NULL)
         write_file(a.curves, report_curves, &in, &r);
+    cli_fit_figures(plot_dir, report_html, d.n, d.fc, &r);
     if (status == LF_ENOCONV)
         fprintf(stderr, "layerfit: fit: %s\n", r.stop_reason);
     lf_fit_result_free(&r);

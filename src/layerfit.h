@@ -176,7 +176,8 @@ extern const lf_model_type lf_model_thin;      /* the seed paper, b << a */
 extern const lf_model_type lf_model_exact;     /* any thickness (Nystrom tables) */
 extern const lf_model_type lf_model_halfspace; /* b -> infinity, needs k > 1/2 */
 
-/* The table of all models, NULL-terminated, and lookup by name. */
+/* The table of all models, NULL-terminated, and lookup by name (NULL when
+ * no model has that name; the entries are static, never freed). */
 extern const lf_model_type *const lf_model_types[];
 const lf_model_type *lf_model_type_find(const char *name);
 
@@ -186,7 +187,14 @@ const lf_model_type *lf_model_type_find(const char *name);
 int lf_probe_check(const lf_probe *probe, lf_error *err);
 int lf_material_check(const lf_material *mat, lf_base base, lf_error *err);
 
-/* A model bound to one probe.  lf_model_alloc copies the probe. */
+/* A model bound to one probe.  lf_model_alloc copies the probe and returns
+ * a new object owned by the caller (NULL with err filled on a bad probe or
+ * no memory); lf_model_free releases it (NULL allowed).  The getters return
+ * pointers owned by the model.  lf_model_eval fills out[0..n-1] (caller's
+ * array) for the indentations delta[0..n-1], does not allocate, and fails
+ * with LF_EINVAL for a material outside the domain; lf_model_pulloff fills
+ * *out.  A model may be shared by threads for eval and pulloff (they only
+ * read it). */
 lf_model *lf_model_alloc(const lf_model_type *type, const lf_probe *probe,
                          lf_error *err);
 void lf_model_free(lf_model *m);
@@ -569,6 +577,8 @@ typedef struct {
     lf_plan_row *rows;
 } lf_plan;
 
+/* Release a curve or a plan made by the readers below and everything it
+ * holds (NULL allowed). */
 void lf_curve_free(lf_curve *c);
 void lf_plan_free(lf_plan *p);
 
@@ -580,6 +590,7 @@ typedef struct {
                                  instead of failing */
 } lf_read_opts;
 
+/* Fill o with the defaults: units from the header, bad rows are errors. */
 void lf_read_opts_default(lf_read_opts *o);
 
 /* Read one curve CSV (format in datasets/README.md).  On success *out is a
