@@ -93,6 +93,7 @@ typedef struct {
     const char *shard;     /* "I/N" or NULL for all */
     long threads;          /* 0: all cores */
     int progress;          /* 1 on, 0 off, -1 when stderr is a terminal */
+    int auto_model;        /* 1: choose each fit's models (lf_fit_choose_driver) */
 } cli_batch_opts;
 /* Fit every fit of the plan with the settings; returns the exit status
  * (number of failed fits, capped). */

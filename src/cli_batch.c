@@ -221,6 +221,7 @@ units_free(unit_list *u)
 typedef struct {
     const lf_fit_settings *settings;
     int json;
+    int auto_model;        /* lf_fit_choose_driver instead of lf_fit_driver */
 } batch_config;
 
 /* Where a curve sits on a force map: "# x: 10 um" and "# y: ..." lines of
@@ -269,7 +270,7 @@ join_warnings(sbuf *b, const lf_warnings *w, int *first)
 
 /* The column names, in the order put_row writes them. */
 static const char *const columns[] = {
-    "fit", "sample", "file", "curves", "status", "x_m", "y_m",
+    "fit", "sample", "file", "curves", "status", "model", "x_m", "y_m",
     "w_J_m2", "w_se_J_m2", "w_upper_bound", "Estar_Pa", "Estar_se_Pa",
     "nu", "nu_se", "M_Pa", "M_se_Pa", "corr_w_Estar", "chi2_dof",
     "rms_N", "P_po_N", "iterations", "identifiability", "message", NULL
@@ -312,7 +313,7 @@ typedef struct {
 /* Write one row: key/value pairs for JSON Lines, cells for CSV. */
 static void
 put_row(sbuf *b, const batch_config *cfg, size_t fit_no, const char *sample,
-        const char *files, size_t ncurves, const char *status,
+        const char *files, size_t ncurves, const char *status, const char *model,
         const num_field *num, size_t nnum, const char *ident, const char *msg)
 {
     int json = cfg->json;
@@ -327,6 +328,8 @@ put_row(sbuf *b, const batch_config *cfg, size_t fit_no, const char *sample,
     sb_text(b, files, json);
     sb_printf(b, json ? ", \"curves\": %zu, \"status\": " : ",%zu,", ncurves);
     sb_text(b, status, json);
+    sb_printf(b, json ? ", \"model\": " : ",");
+    sb_text(b, model, json);
     for (i = 0; i < nnum; i++) {
         sb_printf(b, json ? ", \"%s\": " : ",", num[i].key);
         sb_number(b, num[i].value, json);
@@ -408,7 +411,12 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
         s.nu.mode = LF_PARAM_FIXED;
         s.nu.value = nu_row;
     }
-    st = lf_fit_driver(&s, n, fc, &res, &err);
+    if (cfg->auto_model) {
+        lf_choose_settings choose = lf_choose_settings_default();
+        st = lf_fit_choose_driver(&s, &choose, n, fc, &res, &err);
+    } else {
+        st = lf_fit_driver(&s, n, fc, &res, &err);
+    }
     if (st == LF_OK || st == LF_ENOCONV) {
         have_res = 1;
         status = st == LF_OK ? "ok" : "noconv";
@@ -438,7 +446,8 @@ row:
         join_warnings(&msg, &res.warnings, &firstw);
         for (j = 0; j < res.ncurves; j++)
             join_warnings(&msg, &res.curves[j].warnings, &firstw);
-        put_row(out, cfg, u + 1, sample, files.s ? files.s : "", n, status, num,
+        put_row(out, cfg, u + 1, sample, files.s ? files.s : "", n, status,
+                res.model ? res.model : "", num,
                 sizeof num / sizeof num[0], ident.s ? ident.s : "", msg.s ? msg.s : "");
         lf_fit_result_free(&res);
     } else {
@@ -449,7 +458,7 @@ row:
             { "M_Pa", NAN }, { "M_se_Pa", NAN }, { "corr_w_Estar", NAN },
             { "chi2_dof", NAN }, { "rms_N", NAN }, { "P_po_N", NAN }, { "iterations", NAN },
         };
-        put_row(out, cfg, u + 1, sample, files.s ? files.s : "", n, status, num,
+        put_row(out, cfg, u + 1, sample, files.s ? files.s : "", n, status, "", num,
                 sizeof num / sizeof num[0], "", ebuf);
     }
     for (j = 0; curve != NULL && j < n; j++)
@@ -545,6 +554,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
 
     cfg.settings = settings;
     cfg.json = 0;
+    cfg.auto_model = o->auto_model;
     if (o->out != NULL) {
         if (ends_with(o->out, ".jsonl"))
             cfg.json = 1;
@@ -674,8 +684,9 @@ cli_fit_batch(int argc, char **argv)
         cli_die(CLI_EXIT_USAGE, "fit: --batch takes the plan as its value; unexpected '%s'", argv[0]);
     if (plan == NULL || *plan == '\0')
         cli_die(CLI_EXIT_USAGE, "fit: --batch needs a plan (e.g. --batch plan.csv)");
-    if ((s.model = lf_model_type_find(model)) == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: unknown model '%s'", model);
+    o.auto_model = strcmp(model, "auto") == 0;
+    if ((s.model = o.auto_model ? &lf_model_thin : lf_model_type_find(model)) == NULL)
+        cli_die(CLI_EXIT_USAGE, "fit: unknown model '%s' (thin, auto, exact or halfspace)", model);
     for (i = 0; lf_fit_methods[i] != NULL; i++)
         if (strcmp(lf_fit_methods[i], method) == 0)
             break;

@@ -26,8 +26,15 @@ run_ok fit --batch "$tmp/fm/plan.csv" --threads 2 --out "$tmp/r2.jsonl"
 cmp -s "$tmp/r1.jsonl" "$tmp/r2.jsonl" && ok || bad "--threads 1 and 2 give different JSON Lines"
 [ "$(wc -l < "$tmp/r1.csv")" -eq 65 ] && ok || bad "header + 64 rows"
 [ "$(wc -l < "$tmp/r1.jsonl")" -eq 64 ] && ok || bad "64 JSON lines"
-has "CSV header" "$tmp/r1.csv" "fit,sample,file,curves,status,x_m,y_m,w_J_m2,w_se_J_m2"
+has "CSV header" "$tmp/r1.csv" "fit,sample,file,curves,status,model,x_m,y_m,w_J_m2,w_se_J_m2"
+has "thin model by default in a batch" "$tmp/r1.csv" ",ok,thin,"
 has "JSON null for NaN" "$tmp/r1.jsonl" '"nu": null'
+# --model auto: each fit chooses its models like a single fit, and says which
+run_ok fit --batch "$top/datasets/plan.csv" --model auto --threads 2 --out "$tmp/auto.csv"
+"$LF" fit "$top/datasets/plan.csv" --json "$tmp/auto.json" >/dev/null 2>&1
+m=$(grep -o '"model": "[a-z]*"' "$tmp/auto.json" | head -n 1 | cut -d'"' -f4)
+[ -n "$m" ] && has "batch --model auto names the model a single auto fit chose ($m)" "$tmp/auto.csv" ",ok,$m," \
+    || bad "single fit JSON has a model"
 # stdout when no --out
 run_ok fit --batch "$tmp/fm/plan.csv" --threads 2
 cmp -s "$tmp/out" "$tmp/r1.csv" && ok || bad "CSV on stdout equals --out FILE.csv"
