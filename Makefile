@@ -17,11 +17,10 @@ WARN    += -Werror
 endif
 OPT     ?= -O2 -g
 # project flags first, the user's CFLAGS after them
-# OpenMP: `layerfit bench` measures fits per second on all cores
-OMPFLAGS ?= -fopenmp
-ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE $(WARN) $(OPT) $(OMPFLAGS) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
+OPENMP  ?= -fopenmp
+ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE $(WARN) $(OPT) $(OPENMP) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
 LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lpthread -lm
-ALL_LDFLAGS := $(OMPFLAGS) $(SANFLAGS) $(LDFLAGS)
+ALL_LDFLAGS := $(OPENMP) $(SANFLAGS) $(LDFLAGS)
 
 CLI_SRC := src/main.c $(wildcard src/cli_*.c) src/report.c
 LIB_SRC := $(filter-out $(CLI_SRC),$(wildcard src/*.c)) $(wildcard fit/*.c)
@@ -35,8 +34,12 @@ LIB  := $(BUILD)/liblayerfit.a
 PROG := $(BUILD)/layerfit
 
 DEBS := libgsl-dev libcsv-dev libudunits2-dev gnuplot-nox
+# wanted by some tests (the report test loads the page in headless
+# Chromium, the example test uses pkg-config), which skip with a note
+# when they are missing: installed when possible, never required
+OPT_DEBS := chromium pkgconf
 
-.PHONY: all deps demo check tests sanitize install uninstall clean bench bench-quick
+.PHONY: all deps demo check tests sanitize install uninstall clean bench-batch bench bench-quick
 
 all: $(PROG) $(LIB)
 
@@ -69,6 +72,13 @@ deps:
 	    echo "layerfit needs:$$missing"; \
 	    echo "run: sudo apt-get install -y$$missing"; exit 1; \
 	  fi; \
+	fi; \
+	optional=""; for p in $(OPT_DEBS); do \
+	  dpkg -s $$p >/dev/null 2>&1 || optional="$$optional $$p"; done; \
+	if [ -n "$$optional" ] && [ "$$(id -u)" = 0 ]; then \
+	  echo "installing (optional, for tests):$$optional"; \
+	  (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$optional >/dev/null) \
+	    || echo "could not install$$optional: the tests that use them will say so and skip"; \
 	fi
 
 demo: deps
@@ -83,6 +93,11 @@ sanitize: deps
 	@$(MAKE) --no-print-directory BUILD=build-san OPT="-O1 -g -fno-omit-frame-pointer" \
 	  SANFLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all" tests
 	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 sh tests/run.sh build-san
+
+# Throughput and peak memory of `fit --batch` on 16 384 synthetic curves
+# of 300 points (reported, not asserted).
+bench-batch: all
+	@sh tests/bench/batch.sh $(PROG)
 
 $(BUILD)/layerfit.pc: src/layerfit.pc.in
 	@mkdir -p $(dir $@)
@@ -131,7 +146,7 @@ FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all
 
 .PHONY: fuzz fuzz-build
 fuzz-build:
-	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=$(FUZZ_CC) OPT="-O1 -g" OMPFLAGS= \
+	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=$(FUZZ_CC) OPT="-O1 -g" OPENMP= \
 	  SANFLAGS="-fsanitize=fuzzer-no-link $(FUZZ_SAN)" build-fuzz/liblayerfit.a
 	@for t in $(FUZZ_TARGETS); do \
 	  $(FUZZ_CC) -std=c11 -D_DEFAULT_SOURCE -O1 -g -fsanitize=fuzzer $(FUZZ_SAN) \
@@ -159,6 +174,16 @@ $(BUILD)/tests/bench/bench_exact: tests/bench/bench_exact.c $(LIB) $(HEADERS)
 .PHONY: bench-exact
 bench-exact: $(BUILD)/tests/bench/bench_exact
 	$(BUILD)/tests/bench/bench_exact
+
+# Fit time and error of the exact model against the thin one (not part of
+# `make check`).
+$(BUILD)/tests/bench/bench_models: tests/bench/bench_models.c $(LIB) $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
+.PHONY: bench-models
+bench-models: $(BUILD)/tests/bench/bench_models
+	$(BUILD)/tests/bench/bench_models
 
 # What a fit costs and how accurate it is (`layerfit bench`): the quick run
 # takes seconds (CI runs it), the full one a few minutes.

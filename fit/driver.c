@@ -214,7 +214,8 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
         goto nomem;
     for (j = 0; j < ncurves; j++) {
         f->c[j].data = curves[j];
-        f->c[j].model = lf_model_alloc(settings->model, &curves[j].probe, err);
+        f->c[j].model = lf_model_alloc(curves[j].model ? curves[j].model : settings->model,
+                                       &curves[j].probe, err);
         if (f->c[j].model == NULL) {
             lf_fit_free(f);
             return NULL;
@@ -330,6 +331,42 @@ at_minimum(lf_fit *f)
     return 1;
 }
 
+/* No coordinate step of +-h (internal units: relative for w and E*,
+ * fractions of the depth span and force scale for the offsets) lowers the
+ * cost at x: a minimum, smooth or at a kink of the model, where GSL's
+ * gradient test need not pass. */
+static int
+no_descent(lf_fit *f, gsl_vector *x)
+{
+    const double h[3] = { 1e-4, 1e-6, 1e-8 };
+    gsl_vector *r = gsl_vector_alloc(f->nres);
+    double c0, rn;
+    size_t k, q;
+    int sign, ok = 1;
+
+    if (r == NULL || fit_residuals(x, f, r) != GSL_SUCCESS) {
+        gsl_vector_free(r);
+        return 0;
+    }
+    rn = gsl_blas_dnrm2(r);
+    c0 = rn * rn;
+    for (k = 0; k < f->np && ok; k++) {
+        double xk = gsl_vector_get(x, k);
+        for (q = 0; q < 3 && ok; q++)
+            for (sign = -1; sign <= 1 && ok; sign += 2) {
+                gsl_vector_set(x, k, xk + sign * h[q]);
+                if (fit_residuals(x, f, r) == GSL_SUCCESS) {
+                    rn = gsl_blas_dnrm2(r);
+                    ok = !(rn * rn < c0 * (1.0 - 1e-12));
+                }
+            }
+        gsl_vector_set(x, k, xk);
+    }
+    f->xcache_ok = 0;
+    gsl_vector_free(r);
+    return ok;
+}
+
 /* After each iteration: remember the cost. */
 static void
 track_cost(const size_t iter, void *params, const gsl_multifit_nlinear_workspace *w)
@@ -376,6 +413,33 @@ solve(lf_fit *f, gsl_vector *x, int after_scan, size_t *iters, char *why, size_t
     if (status == GSL_EMAXITER && info == GSL_ENOPROG && *iters < f->set.max_iter)
         status = GSL_ENOPROG;
     stop_reason(status, info, f->set.max_iter, why, nwhy, converged);
+    for (i = 0; i < f->np; i++)
+        gsl_vector_set(x, i, gsl_vector_get(gsl_multifit_nlinear_position(f->gsl), i));
+    if (status == GSL_ENOPROG && !at_minimum(f) && f->fdf.df != NULL && !no_descent(f, x)) {
+        /* the analytic derivatives, guarded at the contact edge, can point
+         * nowhere useful there: go on with finite differences, which see the
+         * residuals as they are */
+        size_t more;
+        f->fdf.df = NULL;
+        status = gsl_multifit_nlinear_init(x, &f->fdf, f->gsl);
+        if (status == GSL_SUCCESS)
+            status = gsl_multifit_nlinear_driver(f->set.max_iter, f->set.xtol, f->set.gtol,
+                                                 f->set.ftol, track_cost, f, &info, f->gsl);
+        f->fdf.df = fit_jacobian;
+        more = gsl_multifit_nlinear_niter(f->gsl);
+        *iters += more;
+        if (status == GSL_EMAXITER && info == GSL_ENOPROG && more < f->set.max_iter)
+            status = GSL_ENOPROG;
+        stop_reason(status, info, f->set.max_iter, why, nwhy, converged);
+        for (i = 0; i < f->np; i++)
+            gsl_vector_set(x, i, gsl_vector_get(gsl_multifit_nlinear_position(f->gsl), i));
+    }
+    if (status == GSL_ENOPROG && !at_minimum(f) && !after_scan && no_descent(f, x)) {
+        *converged = 1;
+        snprintf(why, nwhy, "converged (no step lowers the cost: a kink where a point meets "
+                 "the contact edge)");
+        return LF_OK;
+    }
     if (status == GSL_ENOPROG && (at_minimum(f) || after_scan)) {
         /* after the contact-point scan the cost sits at a kink of the
          * model, where the gradient need not vanish */
@@ -657,13 +721,26 @@ done:
     free(mat);
 }
 
+/* The name of the curves' model, or "mixed". */
+static const char *
+model_name(const lf_fit *f)
+{
+    const lf_model_type *t = lf_model_get_type(f->c[0].model);
+    size_t j;
+
+    for (j = 1; j < f->ncurves; j++)
+        if (lf_model_get_type(f->c[j].model) != t)
+            return "mixed";
+    return t->name;
+}
+
 int
-lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
+fit_solve(lf_fit *f, lf_fit_result *res, lf_error *err)
 {
     gsl_vector *x = NULL, *r = NULL;
     int status, converged;
     char why[160];
-    size_t iters = 0, evals = 0;
+    size_t iters = 0, evals = 0, i;
     lf_material user;
 
     memset(res, 0, sizeof *res);
@@ -671,9 +748,6 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
     for (iters = 0; iters < f->ndata; iters++)
         f->sqrtw[iters] = 1.0;
     iters = 0;
-    status = fit_guess(f, err);
-    if (status != LF_OK)
-        return status;
     x = gsl_vector_alloc(f->np);
     r = gsl_vector_alloc(f->nres);
     if (x == NULL || r == NULL) {
@@ -736,6 +810,7 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
             }
             free(keep);
         }
+        f->user_start = 0;      /* warm starts after this one are the caller's */
     }
     if (status == LF_OK && f->set.loss != LF_LOSS_LINEAR)
         status = reweight(f, x, r, &iters, &evals, why, sizeof why, &converged, &res->reweightings,
@@ -765,12 +840,34 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
     }
     res->method = f->set.method;
     res->loss = lf_loss_name(f->set.loss);
-    res->model = f->set.model->name;
+    res->model = model_name(f);
+    res->model_rounds = 1;
+    for (i = 0; i < f->ncurves; i++) {
+        res->curves[i].model = lf_model_get_type(f->c[i].model)->name;
+        snprintf(res->curves[i].model_reason, sizeof res->curves[i].model_reason,
+                 "as requested");
+        res->curves[i].thin_bias = NAN;
+        res->curves[i].thin_bias_se[0] = res->curves[i].thin_bias_se[1] = NAN;
+        res->curves[i].thin_bias_se[2] = NAN;
+    }
     if (!converged) {
         lf_warn(&res->warnings, "the fit did not converge (%s): the numbers below are where it stopped", why);
         return LF_ENOCONV;
     }
     return LF_OK;
+}
+
+int
+lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
+{
+    int status;
+
+    memset(res, 0, sizeof *res);
+    f->xcache_ok = 0;
+    status = fit_guess(f, err);
+    if (status != LF_OK)
+        return status;
+    return fit_solve(f, res, err);
 }
 
 int

@@ -107,6 +107,10 @@ void fit_guess_offsets(lf_fit *f);
 double fit_noise_sigma(const double *depth, const double *force, const size_t *order,
                        size_t n, double *work);
 
+/* driver.c: the least-squares solve from the origin set by fit_guess or
+ * fit_set_origin, then fit_assess; fills res as lf_fit_run does. */
+int fit_solve(lf_fit *f, lf_fit_result *res, lf_error *err);
+
 /* uncertainty.c */
 /* Wald-Wolfowitz runs test of the signs of curve j's residuals in order of
  * depth: about N(0, 1) when the model fits; below FIT_RUNS_Z_BAD, the

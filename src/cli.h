@@ -80,9 +80,63 @@ char *cli_human(char *buf, size_t n, double x, const char *unit);
 int cli_model(int argc, char **argv);
 int cli_fit(int argc, char **argv);
 int cli_simulate(int argc, char **argv);
-int cli_check(int argc, char **argv);
 /* `layerfit bench`: speed against error (cli_bench.c). */
 int cli_bench(int argc, char **argv);
 /* `layerfit model --figure N [--plot FILE]` (cli_figure.c). */
 int cli_figure(int figure, const char *plot);
+int cli_check(int argc, char **argv);
+int cli_map(int argc, char **argv);
+
+/* Batch fitting (cli_batch.c). */
+#define CLI_BATCH_MAX_FAILED 125   /* exit status: failed fits, capped */
+typedef struct {
+    const char *plan;      /* the plan */
+    const char *out;       /* FILE.csv or FILE.jsonl; NULL: CSV on stdout */
+    const char *shard;     /* "I/N" or NULL for all */
+    long threads;          /* 0: all cores */
+    int progress;          /* 1 on, 0 off, -1 when stderr is a terminal */
+    int auto_model;        /* 1: choose each fit's models (lf_fit_choose_driver) */
+} cli_batch_opts;
+/* Fit every fit of the plan with the settings; returns the exit status
+ * (number of failed fits, capped). */
+int cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings);
+/* "I/N" with 1 <= I <= N; -1 when malformed. */
+int cli_shard_parse(const char *text, long *index, long *count);
+/* `layerfit fit --batch ...` and whether argv asks for it. */
+int cli_fit_batch(int argc, char **argv);
+int cli_wants_batch(int argc, char **argv);
+
+/* Figures of a fit (cli_plotfit.c): "overview" and "curve1", "curve2", ...
+ * each as DIR/NAME.png and DIR/NAME.svg, drawn by DIR/NAME.gp from
+ * DIR/NAME.dat.  The names and captions are owned by the struct. */
+typedef struct {
+    size_t n;
+    char (*base)[64];
+    char (*caption)[1200];
+} cli_figures;
+/* Write the scripts and data into dir (created when missing) and run
+ * gnuplot on them.  Returns 0, or -1 with a message: when gnuplot is not
+ * installed the scripts and data are still written and figs filled. */
+int cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
+                 const lf_fit_result *res, cli_figures *figs, char *msg, size_t n);
+void cli_figures_free(cli_figures *f);
+
+/* `layerfit fit --plot DIR --report FILE.html` (either may be NULL): draw
+ * the figures and write the page; what goes wrong short of an I/O error on
+ * the page (gnuplot missing) is said on stderr without failing. */
+void cli_fit_figures(const char *plotdir, const char *report, size_t ncurves,
+                     const lf_fit_curve *curves, const lf_fit_result *res);
+/* Check --plot and --report before fitting (exit 2 on a bad value). */
+void cli_fit_figures_check(const char *plotdir, const char *report);
+
+/* The command line as typed (shell-quoted), saved by main() for reports. */
+void cli_set_command_line(int argc, char **argv);
+const char *cli_get_command_line(void);
+/* Write a self-contained HTML report of a fit (cli_html.c) with the figures
+ * inlined as SVG; they are drawn into plotdir, or into a temporary folder
+ * removed afterwards when plotdir is NULL.  Returns 0; 1 when the page was
+ * written without figures (msg says why, e.g. gnuplot missing); -1 with msg
+ * when the page could not be written. */
+int cli_html_report(const char *file, const char *plotdir, size_t ncurves,
+                    const lf_fit_curve *curves, const lf_fit_result *r, char *msg, size_t n);
 #endif

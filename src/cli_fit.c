@@ -21,7 +21,9 @@ static const char usage_text[] =
     "  --curves FILE        per point: depth, force, fitted force, residual, contact radius\n"
     "  --method M           lm (default), lmaccel, dogleg, ddogleg, subspace2D\n"
     "  --jacobian J         analytic (default), forward, central\n"
-    "  --model NAME         forward model (default thin)\n"
+    "  --model NAME         auto (default), thin, exact or halfspace; auto picks per curve\n"
+    "                       the cheapest model whose bias on w, E*, nu is below --model-tol\n"
+    "  --model-tol X        bias allowed to a cheaper model, in standard errors (0.2)\n"
     "  --fix-nu NU          hold nu (also --nu); a plan's nu column does the same\n"
     "  --fix-z0 LENGTH      hold every curve's contact point\n"
     "  --fix-F0 FORCE       hold every curve's force offset\n"
@@ -37,11 +39,14 @@ static const char usage_text[] =
     "                       losses down-weight outliers (iteratively reweighted)\n"
     "  --loss-scale X       where the robust loss bends, in noise sd (1.345 huber,\n"
     "                       2.385 cauchy)\n"
+    "  --plot DIR           figures (PNG, SVG) with their gnuplot scripts and data\n"
+    "  --report FILE.html   one self-contained page: tables, warnings, figures\n"
+    "  --batch PLAN.csv     every curve or sample an independent fit (see --batch --help)\n"
     "exit status: 0 converged, 3 not converged (report still written), 1 failure, 2 bad input\n";
 
 typedef struct {
     const char *json, *curves, *method, *jacobian, *model, *interface, *segment;
-    double k, R, b, nu, fix_nu, fix_z0, fix_F0, max_ba;
+    double k, R, b, nu, fix_nu, fix_z0, fix_F0, max_ba, model_tol;
     long max_iter;
     int slope;
     double guess_w, guess_E, guess_nu;
@@ -169,9 +174,10 @@ write_file(const char *path, void (*writer)(FILE *, const report_input *, const 
 int
 cli_fit(int argc, char **argv)
 {
-    fit_args a = { NULL, NULL, "lm", "analytic", "thin", NULL, NULL,
-                   NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, -1, 0, NAN, NAN, NAN,
+    fit_args a = { NULL, NULL, "lm", "analytic", "auto", NULL, NULL,
+                   NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, -1, 0, NAN, NAN, NAN,
                    "linear", NAN };
+    const char *plot_dir = NULL, *report_html = NULL;
     const cli_opt opts[] = {
         { "json", CLI_STRING, &a.json }, { "curves", CLI_STRING, &a.curves },
         { "method", CLI_STRING, &a.method }, { "jacobian", CLI_STRING, &a.jacobian },
@@ -180,15 +186,19 @@ cli_fit(int argc, char **argv)
         { "R", CLI_LENGTH, &a.R }, { "b", CLI_LENGTH, &a.b }, { "nu", CLI_NUMBER, &a.nu },
         { "fix-nu", CLI_NUMBER, &a.fix_nu }, { "fix-z0", CLI_LENGTH, &a.fix_z0 },
         { "fix-F0", CLI_FORCE, &a.fix_F0 }, { "max-b-over-a", CLI_NUMBER, &a.max_ba },
+        { "model-tol", CLI_NUMBER, &a.model_tol },
         { "slope", CLI_FLAG, &a.slope }, { "max-iter", CLI_COUNT, &a.max_iter },
         { "guess-w", CLI_ADHESION, &a.guess_w }, { "guess-E", CLI_PRESSURE, &a.guess_E },
         { "guess-nu", CLI_NUMBER, &a.guess_nu }, { "loss", CLI_STRING, &a.loss },
         { "loss-scale", CLI_NUMBER, &a.loss_scale },
+        { "plot", CLI_STRING, &plot_dir }, { "report", CLI_STRING, &report_html },
         { NULL, CLI_FLAG, NULL }
     };
     int npos, help, status, seg_given = 0;
     lf_segment seg = LF_SEG_UNLOAD;
     lf_fit_settings set = lf_fit_settings_default();
+    lf_choose_settings choose = lf_choose_settings_default();
+    int model_auto;
     fit_data d = { 0, NULL, NULL, NULL, NULL };
     lf_fit_result r;
     lf_error err;
@@ -203,6 +213,7 @@ cli_fit(int argc, char **argv)
     }
     if (npos != 1)
         cli_die(CLI_EXIT_USAGE, "fit: give one plan or curve file (see 'layerfit fit --help')");
+    cli_fit_figures_check(plot_dir, report_html);
     if (a.segment != NULL) {
         seg_given = 1;
         if (strcmp(a.segment, "unload") == 0)
@@ -213,9 +224,17 @@ cli_fit(int argc, char **argv)
             cli_die(CLI_EXIT_USAGE, "fit: --segment must be unload or load (got '%s')", a.segment);
     }
     set.method = a.method;
-    set.model = lf_model_type_find(a.model);
+    model_auto = strcmp(a.model, "auto") == 0;
+    set.model = model_auto ? &lf_model_thin : lf_model_type_find(a.model);
     if (set.model == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: unknown model '%s'", a.model);
+        cli_die(CLI_EXIT_USAGE, "fit: unknown model '%s' (auto, thin, exact, halfspace)", a.model);
+    if (!isnan(a.model_tol)) {
+        if (!(a.model_tol > 0) || !isfinite(a.model_tol))
+            cli_die(CLI_EXIT_USAGE, "fit: --model-tol must be a number > 0 (e.g. --model-tol 0.2)");
+        if (!model_auto)
+            cli_die(CLI_EXIT_USAGE, "fit: --model-tol applies to --model auto only");
+        choose.tol = a.model_tol;
+    }
     if (strcmp(a.jacobian, "analytic") == 0)
         set.jacobian = LF_JAC_ANALYTIC;
     else if (strcmp(a.jacobian, "forward") == 0)
@@ -264,17 +283,30 @@ cli_fit(int argc, char **argv)
         set.nu.mode = LF_PARAM_FIXED;
         set.nu.value = nu;
     }
-    status = lf_fit_driver(&set, d.n, d.fc, &r, &err);
+    if (model_auto)
+        status = lf_fit_choose_driver(&set, &choose, d.n, d.fc, &r, &err);
+    else
+        status = lf_fit_driver(&set, d.n, d.fc, &r, &err);
     if (status != LF_OK && status != LF_ENOCONV)
         cli_die(status == LF_EDATA || status == LF_EINVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL,
                 "fit: %s", err.msg);
+    if (!model_auto && set.model != &lf_model_thin) {
+        lf_error terr;
+        int st = lf_fit_compare_thin(&set, d.n, d.fc, &r, &terr);
+        if (st != LF_OK)
+            fprintf(stderr, "layerfit: warning: the thin-layer comparison fit failed: %s\n",
+                    terr.msg);
+    }
     in.settings = &set;
+    in.model_request = a.model;
+    in.model_tol = model_auto ? choose.tol : NAN;
     in.curves = d.fc;
     report_text(stdout, &in, &r);
     if (a.json != NULL)
         write_file(a.json, report_json, &in, &r);
     if (a.curves != NULL)
         write_file(a.curves, report_curves, &in, &r);
+    cli_fit_figures(plot_dir, report_html, d.n, d.fc, &r);
     if (status == LF_ENOCONV)
         fprintf(stderr, "layerfit: fit: %s\n", r.stop_reason);
     lf_fit_result_free(&r);

@@ -3,6 +3,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include "plot.h"
 
@@ -12,8 +13,8 @@ plot_have_gnuplot(void)
     return system("command -v gnuplot >/dev/null 2>&1") == 0;
 }
 
-static const char *
-terminal_for(const char *file)
+const char *
+plot_terminal(const char *file)
 {
     const char *dot = strrchr(file, '.');
     if (dot != NULL && strcmp(dot, ".svg") == 0)
@@ -24,8 +25,8 @@ terminal_for(const char *file)
 }
 
 /* gnuplot strings are single-quoted; drop quotes from titles. */
-static void
-put_quoted(FILE *g, const char *s)
+void
+plot_quote(FILE *g, const char *s)
 {
     fputc('\'', g);
     for (; *s; s++)
@@ -40,7 +41,7 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
     static const char *colors[] = { "#1b6ca8", "#c0392b", "#27ae60", "#8e44ad",
                                     "#d35400", "#2c3e50", "#16a085", "#7f8c8d" };
     static const int shapes[] = { 7, 5, 9, 13, 11, 15 };   /* filled markers */
-    const char *term = terminal_for(file);
+    const char *term = plot_terminal(file);
     FILE *g;
     size_t s, i;
     int rc;
@@ -65,13 +66,13 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
         fprintf(g, "EOD\n");
     }
     fprintf(g, "set terminal %s\nset output ", term);
-    put_quoted(g, file);
+    plot_quote(g, file);
     fprintf(g, "\nset grid lc rgb '#dddddd'\nset key outside right top\nset title ");
-    put_quoted(g, f->title);
+    plot_quote(g, f->title);
     fprintf(g, "\nset xlabel ");
-    put_quoted(g, f->xlabel);
+    plot_quote(g, f->xlabel);
     fprintf(g, "\nset ylabel ");
-    put_quoted(g, f->ylabel);
+    plot_quote(g, f->ylabel);
     fprintf(g, "\n%s\n%s\nplot ", f->logx ? "set logscale x" : "unset logscale x",
             f->logy ? "set logscale y" : "unset logscale y");
     for (s = 0; s < f->nseries; s++) {
@@ -83,7 +84,7 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
         else
             fprintf(g, "%s$d%zu using 1:2 with lines lw 2 lc rgb '%s' dt %d title ",
                     s ? ", " : "", s, colors[(size_t) p->color % 8], p->dashed ? 2 : 1);
-        put_quoted(g, p->title ? p->title : "");
+        plot_quote(g, p->title ? p->title : "");
     }
     fprintf(g, "\n");
     rc = pclose(g);
@@ -92,4 +93,41 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
         return -1;
     }
     return 0;
+}
+
+int
+plot_run_script(const char *dir, const char *script, char *msg, size_t n)
+{
+    pid_t pid;
+    int rc;
+
+    if (!plot_have_gnuplot()) {
+        snprintf(msg, n, "gnuplot is not installed: %s", PLOT_INSTALL_HINT);
+        return -1;
+    }
+    fflush(NULL);
+    pid = fork();
+    if (pid < 0) {
+        snprintf(msg, n, "could not start gnuplot");
+        return -1;
+    }
+    if (pid == 0) {
+        if (chdir(dir) != 0)
+            _exit(126);
+        execlp("gnuplot", "gnuplot", script, (char *) NULL);
+        _exit(127);
+    }
+    if (waitpid(pid, &rc, 0) != pid || !WIFEXITED(rc) || WEXITSTATUS(rc) != 0) {
+        snprintf(msg, n, "gnuplot failed on %s/%s (status %d)", dir, script,
+                 WIFEXITED(rc) ? WEXITSTATUS(rc) : rc);
+        return -1;
+    }
+    return 0;
+}
+
+int
+plot_path(char *buf, size_t n, const char *dir, const char *name)
+{
+    int len = snprintf(buf, n, "%s/%s", dir, name);
+    return len < 0 || (size_t) len >= n ? -1 : 0;
 }

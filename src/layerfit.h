@@ -176,7 +176,8 @@ extern const lf_model_type lf_model_thin;      /* the seed paper, b << a */
 extern const lf_model_type lf_model_exact;     /* any thickness (Nystrom tables) */
 extern const lf_model_type lf_model_halfspace; /* b -> infinity, needs k > 1/2 */
 
-/* The table of all models, NULL-terminated, and lookup by name. */
+/* The table of all models, NULL-terminated, and lookup by name (NULL when
+ * no model has that name; the entries are static, never freed). */
 extern const lf_model_type *const lf_model_types[];
 const lf_model_type *lf_model_type_find(const char *name);
 
@@ -186,7 +187,14 @@ const lf_model_type *lf_model_type_find(const char *name);
 int lf_probe_check(const lf_probe *probe, lf_error *err);
 int lf_material_check(const lf_material *mat, lf_base base, lf_error *err);
 
-/* A model bound to one probe.  lf_model_alloc copies the probe. */
+/* A model bound to one probe.  lf_model_alloc copies the probe and returns
+ * a new object owned by the caller (NULL with err filled on a bad probe or
+ * no memory); lf_model_free releases it (NULL allowed).  The getters return
+ * pointers owned by the model.  lf_model_eval fills out[0..n-1] (caller's
+ * array) for the indentations delta[0..n-1], does not allocate, and fails
+ * with LF_EINVAL for a material outside the domain; lf_model_pulloff fills
+ * *out.  A model may be shared by threads for eval and pulloff (they only
+ * read it). */
 lf_model *lf_model_alloc(const lf_model_type *type, const lf_probe *probe,
                          lf_error *err);
 void lf_model_free(lf_model *m);
@@ -282,7 +290,8 @@ const char *lf_loss_name(lf_loss loss);
 int lf_loss_find(const char *name);
 
 typedef struct {
-    const lf_model_type *model; /* forward model (default lf_model_thin) */
+    const lf_model_type *model; /* forward model of every curve that names
+                                   none itself (default lf_model_thin) */
     const char *method;         /* trust-region method: "lm" (default),
                                    "lmaccel", "dogleg", "ddogleg", "subspace2D" */
     lf_jacobian jacobian;
@@ -320,6 +329,9 @@ typedef struct {
     lf_branch branch;       /* which branch the points follow */
     double z0;              /* contact point if known, m; NaN = fitted */
     double F0;              /* force offset if known, N; NaN = fitted */
+    const lf_model_type *model; /* this curve's forward model; NULL = the
+                                   settings' model (so a zeroed curve keeps
+                                   the old behaviour) */
 } lf_fit_curve;
 
 /* An estimate of one material parameter. */
@@ -351,6 +363,17 @@ typedef struct {
     double b_over_a_pulloff;     /* b/a at force-controlled pull-off */
     double *fitted;         /* n fitted forces, N */
     double *contact_radius; /* n contact radii, m */
+    const char *model;      /* name of the forward model used (static) */
+    char model_reason[240]; /* why that model (lf_fit_choose_driver), or
+                               "as requested" */
+    double thin_bias;       /* largest |bias| / se that the thin-layer model
+                               of this curve alone would put on w, E* or nu
+                               (linearised, see lf_fit_choose_driver); NaN
+                               when not assessed */
+    double thin_bias_se[3]; /* that bias, signed, of w, E*, nu in units of
+                               their unscaled standard errors (se /
+                               se_scale); 0 where not fitted, NaN when not
+                               assessed */
     /* Is this curve consistent with the material fitted to all?  The noise
      * sd comes from the data alone (not the model), so: */
     double chi2_per_point;  /* sum (residual/sigma)^2 / n: about 1 when the
@@ -368,6 +391,20 @@ typedef struct {
     size_t downweighted;    /* robust loss: points weighted below 1/2 */
     lf_warnings warnings;
 } lf_fit_curve_result;
+
+/* What the all-thin-layer fit of the same curves gives, beside a fit made
+ * (partly) with other models.  Relative differences are (thin - final) /
+ * final; nu's is absolute.  done = 0 when not computed (every curve was
+ * already thin, or the comparison was not asked for). */
+typedef struct {
+    int done;
+    int converged;          /* the thin fit converged */
+    lf_fit_estimate w, Estar, nu;
+    double chi2;            /* of the thin fit */
+    double w_rel, Estar_rel, nu_diff;
+    double w_in_se;         /* (thin - final) w in standard errors of the
+                               final w */
+} lf_fit_thin_comparison;
 
 typedef struct {
     lf_fit_estimate w, Estar, nu;
@@ -387,11 +424,13 @@ typedef struct {
     int converged;
     char stop_reason[160];
     const char *method;     /* static strings */
-    const char *model;
+    const char *model;      /* the curves' model name, or "mixed" */
     const char *loss;       /* "linear", "huber" or "cauchy" */
     size_t reweightings;    /* robust loss: reweighting rounds */
     size_t ncurves;
     lf_fit_curve_result *curves;
+    size_t model_rounds;    /* fits made by lf_fit_choose_driver (1 else) */
+    lf_fit_thin_comparison thin;
     lf_warnings identifiability; /* what the data determine, in words */
     lf_warnings warnings;        /* everything else worth saying */
 } lf_fit_result;
@@ -419,6 +458,56 @@ int lf_fit_driver(const lf_fit_settings *settings, size_t ncurves,
  * largest entry.  For tests and the curious. */
 int lf_fit_check_jacobian(lf_fit *fit, const lf_material *mat,
                           double *max_rel_err, lf_error *err);
+
+/* ------------------------------------------------------------------------
+ * Choosing the forward model of each curve (fit/choose.c)
+ *
+ * The thin-layer closed form is cheap but wrong where b/a is not small, and
+ * its error lands on w while the residuals still look fine (physics.md
+ * section 3).  So a curve is judged by what its model error does to the
+ * material parameters, not by its residuals.  For curve j using model m,
+ * with d_j = (P_exact - P_m)/sigma_j on the curve's points (zero on the
+ * other curves) at the fitted parameters and J the weighted Jacobian of the
+ * joint fit, the first-order bias of the parameters is
+ *     bias_j = (J^T J)^+ J^T d_j,
+ * compared with the standard errors se = sqrt(diag (J^T J)^+) (not scaled
+ * by chi2/dof: the weights are the noise estimated from the data).  A set
+ * of models is good enough when, for each fitted and determined w, E*, nu,
+ * |sum of bias_j over the curves not using exact| < tol se.
+ *
+ * lf_fit_choose_driver: fit every curve with the thin-layer model from the
+ * automatic guess; at the solution, while the summed bias exceeds tol, move
+ * the curve with the largest bias up to the cheapest better model (thin ->
+ * halfspace when its own bias is below tol and k > 1/2, else exact); refit
+ * from the previous solution; repeat until nothing moves or max_rounds
+ * refits.  Curves only move up, so it stops.  Curves that name their own
+ * model (lf_fit_curve.model) keep it.  res is as from lf_fit_driver, with
+ * curves[].model, model_reason and thin_bias filled, model_rounds the number
+ * of fits, and res->thin the first (all-thin) fit when the final models are
+ * not all thin and choose->thin_comparison is set.  Returns as
+ * lf_fit_driver (the status of the final fit).
+ * --------------------------------------------------------------------- */
+
+typedef struct {
+    double tol;              /* bias allowed, in standard errors (0.2) */
+    size_t max_rounds;       /* refits after the first fit (3) */
+    int halfspace;           /* 1: the half-space model is a candidate (1) */
+    int thin_comparison;     /* 1: fill res->thin (1) */
+} lf_choose_settings;
+
+lf_choose_settings lf_choose_settings_default(void);
+
+int lf_fit_choose_driver(const lf_fit_settings *settings,
+                         const lf_choose_settings *choose, size_t ncurves,
+                         const lf_fit_curve *curves, lf_fit_result *res,
+                         lf_error *err);
+
+/* Fit the same curves with the thin-layer model only (from the automatic
+ * guess) and put the outcome beside res in res->thin; for a fit made with
+ * other models by lf_fit_driver.  res must hold a completed fit. */
+int lf_fit_compare_thin(const lf_fit_settings *settings, size_t ncurves,
+                        const lf_fit_curve *curves, lf_fit_result *res,
+                        lf_error *err);
 
 /* ------------------------------------------------------------------------
  * Synthetic data (src/simulate.c)
@@ -529,6 +618,8 @@ typedef struct {
     lf_plan_row *rows;
 } lf_plan;
 
+/* Release a curve or a plan made by the readers below and everything it
+ * holds (NULL allowed). */
 void lf_curve_free(lf_curve *c);
 void lf_plan_free(lf_plan *p);
 
@@ -540,6 +631,7 @@ typedef struct {
                                  instead of failing */
 } lf_read_opts;
 
+/* Fill o with the defaults: units from the header, bad rows are errors. */
 void lf_read_opts_default(lf_read_opts *o);
 
 /* Read one curve CSV (format in datasets/README.md).  On success *out is a

@@ -11,6 +11,7 @@ static const cli_command commands[] = {
     { "fit", "fit w, E* and nu jointly to curves from several probes", cli_fit },
     { "simulate", "write synthetic curves, a plan and the truth", cli_simulate },
     { "check", "read a fit plan or a curve file and report what it holds", cli_check },
+    { "map", "heat maps of w and E* from a batch fit; synthetic force maps", cli_map },
     { "bench", "what a fit costs and how accurate it is (against the Cramer-Rao bound)", cli_bench },
     { NULL, NULL, NULL }
 };
@@ -34,6 +35,7 @@ main(int argc, char **argv)
     const cli_command *c;
 
     gsl_set_error_handler_off();
+    cli_set_command_line(argc, argv);
     if (argc < 2) {
         usage(stderr);
         return CLI_EXIT_USAGE;
@@ -47,6 +49,8 @@ main(int argc, char **argv)
         printf("layerfit %s\n", LF_VERSION);
         return CLI_EXIT_OK;
     }
+    if (strcmp(argv[1], "fit") == 0 && cli_wants_batch(argc - 1, argv + 1))
+        return cli_fit_batch(argc - 1, argv + 1);
     for (c = commands; c->name != NULL; c++)
         if (strcmp(argv[1], c->name) == 0)
             return c->run(argc - 1, argv + 1);

@@ -43,6 +43,9 @@ typedef struct {
     lf_plan *plan;
     size_t cap;
     char **canon;             /* canonical path of each row, for duplicates */
+    size_t *slot;             /* open-addressing set of rows by (canon,
+                                 segment): row index + 1, 0 = empty */
+    size_t nslot, nused;      /* nslot a power of two, > 2 nused */
     int have_header;
     long header_line;
     size_t ncols;
@@ -51,6 +54,62 @@ typedef struct {
     double factor[NPCOL];
     int decimal_comma;
 } plan_reader;
+
+/* FNV-1a over a row's canonical path and segment. */
+static size_t
+row_hash(const plan_reader *rd, size_t idx)
+{
+    const unsigned char *c = (const unsigned char *) rd->canon[idx];
+    size_t h = (size_t) 2166136261u;
+    for (; *c; c++)
+        h = (h ^ *c) * (size_t) 16777619u;
+    return (h ^ (size_t) rd->plan->rows[idx].segment) * (size_t) 16777619u;
+}
+
+/* Put row idx into rd's slot table (nslot a power of two). */
+static void
+slot_put(plan_reader *rd, size_t idx)
+{
+    size_t h = row_hash(rd, idx) & (rd->nslot - 1);
+    while (rd->slot[h] != 0)
+        h = (h + 1) & (rd->nslot - 1);
+    rd->slot[h] = idx + 1;
+}
+
+/* 1 (and *dup) when a row before idx names the same curve and segment,
+ * else 0 after adding idx to the set; -1 when out of memory.  Linear time
+ * over a plan, where comparing every pair would be quadratic. */
+static int
+seen_before(plan_reader *rd, size_t idx, size_t *dup)
+{
+    const lf_plan_row *rows = rd->plan->rows;
+    size_t h, i;
+
+    if (2 * (rd->nused + 1) >= rd->nslot) {
+        size_t *old = rd->slot, nold = rd->nslot;
+        rd->nslot = nold ? 2 * nold : 64;
+        rd->slot = calloc(rd->nslot, sizeof *rd->slot);
+        if (rd->slot == NULL) {
+            rd->slot = old;
+            rd->nslot = nold;
+            return -1;
+        }
+        for (i = 0; i < nold; i++)
+            if (old[i] != 0)
+                slot_put(rd, old[i] - 1);
+        free(old);
+    }
+    for (h = row_hash(rd, idx) & (rd->nslot - 1); rd->slot[h] != 0; h = (h + 1) & (rd->nslot - 1)) {
+        i = rd->slot[h] - 1;
+        if (rows[i].segment == rows[idx].segment && strcmp(rd->canon[i], rd->canon[idx]) == 0) {
+            *dup = i;
+            return 1;
+        }
+    }
+    rd->slot[h] = idx + 1;
+    rd->nused++;
+    return 0;
+}
 
 static int
 plan_header(plan_reader *rd, const lf_csv_record *r, lf_error *err)
@@ -194,14 +253,18 @@ plan_file(plan_reader *rd, const lf_csv_record *r, size_t idx, lf_error *err)
     if (canon == NULL)
         return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
     rd->canon[idx] = canon;
-    for (i = 0; i < idx; i++)
-        if (strcmp(rd->canon[i], canon) == 0 && rd->plan->rows[i].segment == row->segment)
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                              "duplicate row: curve '%s' and segment %s are "
-                              "listed at line %ld already (list each once)",
-                              lf_csv_excerpt(t, buf, sizeof buf),
-                              lf_segment_name(row->segment), rd->plan->rows[i].line);
-    return LF_OK;
+    switch (seen_before(rd, idx, &i)) {
+    case 1:
+        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                          "duplicate row: curve '%s' and segment %s are "
+                          "listed at line %ld already (list each once)",
+                          lf_csv_excerpt(t, buf, sizeof buf),
+                          lf_segment_name(row->segment), rd->plan->rows[i].line);
+    case -1:
+        return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
+    default:
+        return LF_OK;
+    }
 }
 
 /* Which column a message of lf_probe_check is about: its first word. */
@@ -345,6 +408,7 @@ plan_load(const char *path, const char *buf, size_t len, size_t chunk,
     for (i = 0; i < rd.plan->n; i++)
         free(rd.canon[i]);
     free(rd.canon);
+    free(rd.slot);
     if (status != LF_OK) {
         lf_plan_free(rd.plan);
         return status;

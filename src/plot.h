@@ -3,6 +3,7 @@
 #define LF_PLOT_H
 
 #include <stddef.h>
+#include <stdio.h>
 
 typedef struct {
     const char *title;      /* legend entry */
@@ -27,6 +28,20 @@ int plot_have_gnuplot(void);
 /* Draw f into file (terminal from the extension: .svg or .png).  Returns 0,
  * or -1 with a message in msg. */
 int plot_draw(const plot_figure *f, const char *file, char *msg, size_t n);
+
+/* The gnuplot terminal for a file name ending in .svg or .png, or NULL. */
+const char *plot_terminal(const char *file);
+
+/* Write s to g as a gnuplot single-quoted string (quotes dropped). */
+void plot_quote(FILE *g, const char *s);
+
+/* Run `gnuplot SCRIPT` with dir as the working folder, so that the file
+ * names inside a kept script are relative to it and the user can rerun it
+ * there.  Returns 0, or -1 with a message in msg. */
+int plot_run_script(const char *dir, const char *script, char *msg, size_t n);
+
+/* dir/name into buf (n bytes); -1 when it does not fit. */
+int plot_path(char *buf, size_t n, const char *dir, const char *name);
 
 /* The command that installs gnuplot, for messages. */
 #define PLOT_INSTALL_HINT "install it with 'apt-get install gnuplot-nox' (or 'make deps')"

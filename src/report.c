@@ -52,15 +52,61 @@ list(FILE *f, const char *prefix, const lf_warnings *w)
         fprintf(f, "%s%s\n", prefix, w->msg[i]);
 }
 
+/* "14% higher" / "0.09% lower" / "the same" */
+static const char *
+higher_lower(char *buf, size_t n, double rel)
+{
+    if (!isfinite(rel))
+        snprintf(buf, n, "(not comparable)");
+    else if (fabs(rel) < 5e-5)
+        snprintf(buf, n, "the same");
+    else
+        snprintf(buf, n, "%.2g%% %s", 100.0 * fabs(rel), rel > 0 ? "higher" : "lower");
+    return buf;
+}
+
+/* What the thin-layer closed form would have given (res->thin). */
+static void
+text_thin(FILE *f, const lf_fit_result *r)
+{
+    const lf_fit_thin_comparison *t = &r->thin;
+    char v[48], h[48];
+
+    if (!t->done)
+        return;
+    if (t->w.determined && r->w.determined) {
+        fprintf(f, "\nthe thin-layer model would give w %s (%s",
+                higher_lower(h, sizeof h, t->w_rel), cli_human(v, sizeof v, t->w.value, "J/m^2"));
+        if (isfinite(t->w_in_se))
+            fprintf(f, ", %+.2g standard errors", t->w_in_se);
+        fprintf(f, ")");
+    } else {
+        fprintf(f, "\nthe thin-layer model would give w %s",
+                t->w.determined ? cli_human(v, sizeof v, t->w.value, "J/m^2")
+                                : "not determined");
+    }
+    if (t->Estar.determined && r->Estar.determined)
+        fprintf(f, ", E* %s (%s)", higher_lower(h, sizeof h, t->Estar_rel),
+                cli_human(v, sizeof v, t->Estar.value, "Pa"));
+    if (t->nu.determined && t->nu.free && r->nu.determined)
+        fprintf(f, ", nu %.4f (%+.4f)", t->nu.value, t->nu_diff);
+    fprintf(f, "%s\n", t->converged ? "" : " [that fit did not converge]");
+}
+
 void
 report_text(FILE *f, const report_input *in, const lf_fit_result *r)
 {
     char a[48], b[48], c[48], d[48];
     size_t i, j, k;
 
-    (void) in;
-    fprintf(f, "layerfit fit: %zu curve%s, model %s, method %s: %s\n", r->ncurves,
-            r->ncurves == 1 ? "" : "s", r->model, r->method, r->stop_reason);
+    if (in->model_request != NULL && strcmp(in->model_request, "auto") == 0)
+        fprintf(f, "layerfit fit: %zu curve%s, model auto (%s; %zu fit%s, tolerance %.2g se), "
+                "method %s: %s\n", r->ncurves, r->ncurves == 1 ? "" : "s", r->model,
+                r->model_rounds, r->model_rounds == 1 ? "" : "s", in->model_tol, r->method,
+                r->stop_reason);
+    else
+        fprintf(f, "layerfit fit: %zu curve%s, model %s, method %s: %s\n", r->ncurves,
+                r->ncurves == 1 ? "" : "s", r->model, r->method, r->stop_reason);
     if (r->loss != NULL && strcmp(r->loss, "linear") != 0)
         fprintf(f, "robust loss %s (%zu reweighting rounds)\n", r->loss, r->reweightings);
     if (!r->converged)
@@ -71,6 +117,7 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
     text_estimate(f, "nu", &r->nu, "", "the plan does not determine it");
     if (r->M.determined && r->M.free)
         text_estimate(f, "M", &r->M, "Pa", NULL);
+    text_thin(f, r);
     fprintf(f, "\nfree parameters:");
     for (i = 0; i < r->npar; i++)
         fprintf(f, " %s", r->names[i]);
@@ -104,6 +151,8 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                 cli_human(c, sizeof c, cr->pulloff.sigma_po, "Pa"));
         fprintf(f, "      b/a = %.3g at the shallowest contact point, %.3g at pull-off\n",
                 cr->b_over_a_min_contact, cr->b_over_a_pulloff);
+        if (cr->model != NULL)
+            fprintf(f, "      model %s: %s\n", cr->model, cr->model_reason);
         fprintf(f, "      agreement: chi2/point %.3g (p = %.2g), runs test z = %.2f: %s\n",
                 cr->chi2_per_point, cr->p_value, cr->runs_z,
                 cr->consistent ? "consistent" : "DISAGREES");
@@ -181,7 +230,6 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
 {
     size_t i, k, j;
 
-    (void) in;
     fputs("{\n  \"parameters\": {\n", f);
     jestimate(f, "w", &r->w, 0);
     jestimate(f, "Estar", &r->Estar, 0);
@@ -200,7 +248,31 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
     jstr(f, r->loss);
     fputs(", \"model\": ", f);
     jstr(f, r->model);
-    fputs("},\n  \"free_parameters\": [", f);
+    fputs(", \"model_request\": ", f);
+    jstr(f, in->model_request ? in->model_request : r->model);
+    fprintf(f, ", \"model_rounds\": %zu, \"model_tol\": ", r->model_rounds);
+    jnum(f, in->model_tol);
+    fputs("},\n  \"thin_comparison\": ", f);
+    if (r->thin.done) {
+        fputs("{\n", f);
+        jestimate(f, "w", &r->thin.w, 0);
+        jestimate(f, "Estar", &r->thin.Estar, 0);
+        jestimate(f, "nu", &r->thin.nu, 0);
+        fputs("    \"w_rel_diff\": ", f);
+        jnum(f, r->thin.w_rel);
+        fputs(", \"Estar_rel_diff\": ", f);
+        jnum(f, r->thin.Estar_rel);
+        fputs(", \"nu_diff\": ", f);
+        jnum(f, r->thin.nu_diff);
+        fputs(", \"w_diff_in_se\": ", f);
+        jnum(f, r->thin.w_in_se);
+        fputs(", \"chi2\": ", f);
+        jnum(f, r->thin.chi2);
+        fprintf(f, ", \"converged\": %s\n  }", r->thin.converged ? "true" : "false");
+    } else {
+        fputs("null", f);
+    }
+    fputs(",\n  \"free_parameters\": [", f);
     for (i = 0; i < r->npar; i++) {
         fputs(i ? ", " : "", f);
         jstr(f, r->names[i]);
@@ -249,6 +321,12 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
                 cli_base_name(c->probe.base), branch_name(c->branch), c->n,
                 c->z0_free ? "true" : "false", c->F0_free ? "true" : "false",
                 c->consistent ? "true" : "false", c->downweighted);
+        fputs(",\n     \"model\": ", f);
+        jstr(f, c->model);
+        fputs(", \"model_reason\": ", f);
+        jstr(f, c->model_reason);
+        fputs(", \"thin_bias_in_se\": ", f);
+        jnum(f, c->thin_bias);
         fputs(", \"warnings\": ", f);
         jwarnings(f, &c->warnings);
         fprintf(f, "}%s\n", j + 1 < r->ncurves ? "," : "");

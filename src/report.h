@@ -11,6 +11,8 @@
 typedef struct {
     const lf_fit_settings *settings;
     const lf_fit_curve *curves;    /* the data, for the curves CSV */
+    const char *model_request;     /* --model as given ("auto", "exact", ...) */
+    double model_tol;              /* --model-tol of auto, NaN otherwise */
 } report_input;
 
 /* People: values with units (cli_human), errors, intervals, correlations,

@@ -1,6 +1,8 @@
 /* units.c: numbers with units, through udunits2.  The unit database is read
  * once per process (pthread_once) and udunits2's own messages are silenced,
- * since the library never prints. */
+ * since the library never prints.  udunits2's parser keeps global state, so
+ * every call into it holds units_lock: readers may run in parallel threads
+ * (layerfit fit --batch). */
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -14,6 +16,7 @@
 
 static ut_system *units_system;
 static pthread_once_t units_once = PTHREAD_ONCE_INIT;
+static pthread_mutex_t units_lock = PTHREAD_MUTEX_INITIALIZER;
 
 static const struct {
     const char *si;       /* udunits2 spelling of the SI unit */
@@ -97,6 +100,7 @@ lf_units_factor(const char *unit, lf_quantity q, double *factor, lf_error *err)
         return lf_fail(err, LF_EUNIT, "missing unit: expected %s such as %s",
                        quantities[q].noun, quantities[q].example);
     }
+    pthread_mutex_lock(&units_lock);
     u = ut_parse(units_system, name, UT_UTF8);
     if (u == NULL) {
         status = lf_fail(err, LF_EUNIT, "unknown unit '%s' (expected %s such as %s)",
@@ -121,6 +125,7 @@ done:
     cv_free(cv);
     ut_free(si);
     ut_free(u);
+    pthread_mutex_unlock(&units_lock);
     return status;
 }
 

@@ -58,7 +58,7 @@ scene_simulate(scene *s, unsigned long seed)
         c->z0 = s->fix_z0 ? s->sim.z0 : NAN;
         c->F0 = s->fix_F0 ? s->sim.F0 : NAN;
     }
-    return lf_simulate(&s->sim, &lf_model_thin, &s->mat, s->n, s->probe,
+    return lf_simulate(&s->sim, s->sim_model ? s->sim_model : &lf_model_thin, &s->mat, s->n, s->probe,
                        s->depth, s->force, s->sigma, NULL);
 }
 

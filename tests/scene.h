@@ -16,6 +16,7 @@ typedef struct {
     lf_sim_settings sim;
     lf_fit_settings fit;
     int fix_z0, fix_F0;         /* hold them at the simulated values */
+    const lf_model_type *sim_model; /* model that makes the data (NULL = thin) */
     /* filled by scene_simulate */
     double *depth[SCENE_MAX], *force[SCENE_MAX];
     double sigma[SCENE_MAX];

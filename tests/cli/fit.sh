@@ -34,7 +34,7 @@ expect_fail 2 "layerfit: simulate: --branch must be unload or load (got 'up')" s
 
 # fit: usage errors that need no data
 expect_fail 2 "layerfit: fit: give one plan or curve file (see 'layerfit fit --help')" fit
-expect_fail 2 "layerfit: fit: unknown model 'thick'" fit "$tmp/d/plan.csv" --model thick
+expect_fail 2 "layerfit: fit: unknown model 'thick' (auto, thin, exact, halfspace)" fit "$tmp/d/plan.csv" --model thick
 expect_fail 2 "layerfit: fit: unknown method 'newton' (lm, lmaccel, dogleg, ddogleg, subspace2D)" fit "$tmp/d/plan.csv" --method newton
 expect_fail 2 "layerfit: fit: --segment must be unload or load (got 'up')" fit "$tmp/d/plan.csv" --segment up
 expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (got 'exact')" fit "$tmp/d/plan.csv" --jacobian exact
@@ -75,7 +75,7 @@ expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (g
     run_ok fit "$tmp/d/plan.csv" --guess-w 15mJ/m2 --guess-E 2GPa --json "$tmp/g1.json"
     near "guess near: same w" "$(sed -n 's/.*"w": {"value": \([^,]*\),.*/\1/p' "$tmp/g1.json")" \
         "$(sed -n 's/.*"w": {"value": \([^,]*\),.*/\1/p' "$tmp/auto.json")" 0.02
-    run_ok fit "$tmp/d/plan.csv" --guess-w 12.3J/m2 --guess-E 1.85MPa --json "$tmp/g2.json"
+    run_ok fit "$tmp/d/plan.csv" --model thin --guess-w 12.3J/m2 --guess-E 1.85MPa --json "$tmp/g2.json"
     near "guess 1000x off: w" "$(sed -n 's/.*"w": {"value": \([^,]*\),.*/\1/p' "$tmp/g2.json")" 0.0123 0.1
     has "guess 1000x off: said" "$tmp/out" "the fit from the given starting point (w = 12.3 J/m^2, E* = 1.85e+06 Pa) ended at a cost"
     expect_fail 2 "layerfit: fit: --guess-w must be > 0 (e.g. --guess-w 10mJ/m2)" fit "$tmp/d/plan.csv" --guess-w 0J/m2

@@ -1,0 +1,628 @@
+/* choose.c: the cheapest forward model that is accurate enough, per curve
+ * (the rule and the algorithm are in layerfit.h above
+ * lf_fit_choose_driver), and the all-thin comparison fit.
+ *
+ * Why a bias rule and not a residual rule: fitted to curves of the exact
+ * layer model, the thin-layer closed form leaves residuals below 1% of the
+ * force while w moves by 10-70% (physics.md section 3, last table).  What
+ * matters is the shift of the parameters against their standard errors.
+ * To first order the estimate made with model m from data that follow the
+ * exact model moves by
+ *     bias = (J^T J)^+ J^T (P_exact - P_m) / sigma,
+ * one Gauss-Newton step from the solution, with J the weighted Jacobian.
+ * Everything is computed in the column-scaled SVD J D^-1 = U S V^T that
+ * uncertainty.c uses, over the same determined directions (rcond), so the
+ * ratio bias / se needs no inverse:
+ *     bias_p / se_p = (sum_l V_pl (U_l . d) / S_l) / sqrt(sum_l V_pl^2 / S_l^2).
+ * Biases of several curves add (the map is linear in d). */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_blas.h>
+#include <gsl/gsl_linalg.h>
+
+#include "fit.h"
+
+static const char *const mat_names[FIT_NMAT] = { "w", "E*", "nu" };
+
+lf_choose_settings
+lf_choose_settings_default(void)
+{
+    lf_choose_settings s;
+    s.tol = 0.2;
+    s.max_rounds = 3;
+    s.halfspace = 1;
+    s.thin_comparison = 1;
+    return s;
+}
+
+/* Models from the cheapest up. */
+enum { RUNG_THIN = 0, RUNG_HALFSPACE, RUNG_EXACT, NRUNG };
+
+static const lf_model_type *
+rung_type(int rung)
+{
+    return rung == RUNG_THIN ? &lf_model_thin
+           : rung == RUNG_HALFSPACE ? &lf_model_halfspace : &lf_model_exact;
+}
+
+static int
+rung_of(const lf_model_type *t)
+{
+    return t == &lf_model_thin ? RUNG_THIN : t == &lf_model_halfspace ? RUNG_HALFSPACE
+                                                                      : RUNG_EXACT;
+}
+
+/* Bias over se of w, E*, nu (0 where not fitted or not determined). */
+typedef struct {
+    double r[FIT_NMAT];
+    int ok;                 /* 0: the comparison model could not be evaluated */
+} bias;
+
+static double
+bias_max(const bias *b, int *which)
+{
+    double m = 0.0;
+    int i;
+
+    if (which)
+        *which = FIT_W;
+    for (i = 0; i < FIT_NMAT; i++)
+        if (fabs(b->r[i]) > m) {
+            m = fabs(b->r[i]);
+            if (which)
+                *which = i;
+        }
+    return m;
+}
+
+/* The state of a model choice. */
+typedef struct {
+    lf_fit *f;
+    const lf_choose_settings *cs;
+    int *rung;              /* current model of each curve */
+    int *fixed;             /* 1: the caller named the model */
+    lf_model **inst[NRUNG]; /* per model and curve, made when first needed */
+    int base_ok;            /* the decomposition is that of the current models */
+    double *P_exact;        /* ndata: the exact model's forces */
+    int *exact_ok;          /* per curve: P_exact could be evaluated */
+    lf_eval *ev;            /* max n: scratch evaluations */
+    double *d;              /* nres: the difference vector */
+    double *coef;           /* np */
+    double *se;             /* FIT_NMAT: sqrt(sum V^2/S^2) of w, E*, nu */
+    gsl_matrix *J, *V;
+    gsl_vector *S, *D;
+    size_t rank;
+    bias *thin, *half_b, *cur;  /* per curve */
+    double *ab_lo, *ab_hi;      /* a/b range in contact */
+} chooser;
+
+static void
+chooser_free(chooser *c)
+{
+    size_t j;
+    int r;
+
+    for (r = 0; r < NRUNG; r++) {
+        if (c->f != NULL && c->inst[r] != NULL)
+            for (j = 0; j < c->f->ncurves; j++)
+                lf_model_free(c->inst[r][j]);
+        free(c->inst[r]);
+    }
+    free(c->rung);
+    free(c->fixed);
+    free(c->P_exact);
+    free(c->exact_ok);
+    free(c->ev);
+    free(c->d);
+    free(c->coef);
+    free(c->se);
+    free(c->thin);
+    free(c->half_b);
+    free(c->cur);
+    free(c->ab_lo);
+    free(c->ab_hi);
+    gsl_matrix_free(c->J);
+    gsl_matrix_free(c->V);
+    gsl_vector_free(c->S);
+    gsl_vector_free(c->D);
+}
+
+static int
+chooser_alloc(chooser *c, lf_fit *f, const lf_choose_settings *cs)
+{
+    size_t j, nmax = 0, nc = f->ncurves;
+    int r;
+
+    memset(c, 0, sizeof *c);
+    for (r = 0; r < NRUNG; r++)
+        if ((c->inst[r] = calloc(nc, sizeof *c->inst[r])) == NULL)
+            return LF_ENOMEM;
+    c->f = f;
+    c->cs = cs;
+    for (j = 0; j < nc; j++)
+        nmax = f->c[j].data.n > nmax ? f->c[j].data.n : nmax;
+    c->rung = calloc(nc, sizeof *c->rung);
+    c->fixed = calloc(nc, sizeof *c->fixed);
+    c->P_exact = calloc(f->ndata, sizeof *c->P_exact);
+    c->exact_ok = calloc(nc, sizeof *c->exact_ok);
+    c->ev = calloc(nmax, sizeof *c->ev);
+    c->d = calloc(f->nres, sizeof *c->d);
+    c->coef = calloc(f->np, sizeof *c->coef);
+    c->se = calloc(FIT_NMAT, sizeof *c->se);
+    c->thin = calloc(nc, sizeof *c->thin);
+    c->half_b = calloc(nc, sizeof *c->half_b);
+    c->cur = calloc(nc, sizeof *c->cur);
+    c->ab_lo = calloc(nc, sizeof *c->ab_lo);
+    c->ab_hi = calloc(nc, sizeof *c->ab_hi);
+    c->J = gsl_matrix_alloc(f->nres, f->np);
+    c->V = gsl_matrix_alloc(f->np, f->np);
+    c->S = gsl_vector_alloc(f->np);
+    c->D = gsl_vector_alloc(f->np);
+    if (!c->rung || !c->fixed || !c->P_exact || !c->exact_ok || !c->ev || !c->d || !c->coef
+        || !c->se || !c->thin || !c->half_b || !c->cur || !c->ab_lo || !c->ab_hi
+        || !c->J || !c->V || !c->S || !c->D)
+        return LF_ENOMEM;
+    return LF_OK;
+}
+
+/* Put the origin of the fit at the solution in res (warm start, and the
+ * point where the Jacobian is taken with x = 1). */
+static void
+origin_at(lf_fit *f, const lf_fit_result *res)
+{
+    size_t j;
+
+    if (f->imat[FIT_W] >= 0)
+        f->mat.w = res->value[f->imat[FIT_W]];
+    if (f->imat[FIT_E] >= 0)
+        f->mat.Estar = res->value[f->imat[FIT_E]];
+    if (f->imat[FIT_NU] >= 0)
+        f->mat.nu = res->value[f->imat[FIT_NU]];
+    for (j = 0; j < f->ncurves; j++) {
+        fit_curve *c = &f->c[j];
+        if (c->iz0 >= 0)
+            c->z0 = res->value[c->iz0];
+        if (c->iF0 >= 0)
+            c->F0 = res->value[c->iF0];
+        if (c->islope >= 0)
+            c->slope = res->value[c->islope];
+    }
+    fit_set_origin(f);
+}
+
+static int
+set_model(lf_fit *f, size_t j, const lf_model_type *t, lf_error *err)
+{
+    lf_model *m = lf_model_alloc(t, &f->c[j].data.probe, err);
+
+    if (m == NULL)
+        return err ? err->status : LF_EINVAL;
+    lf_model_free(f->c[j].model);
+    f->c[j].model = m;
+    f->c[j].data.model = t;
+    f->xcache_ok = 0;
+    return LF_OK;
+}
+
+/* The weighted Jacobian at the origin, column-scaled and decomposed; the
+ * standard errors of the material parameters in scaled units. */
+static int
+decompose(chooser *c)
+{
+    lf_fit *f = c->f;
+    gsl_vector *x = gsl_vector_alloc(f->np);
+    size_t k, l;
+    int i;
+
+    if (x == NULL)
+        return LF_ENOMEM;
+    gsl_vector_set_all(x, 1.0);
+    if (fit_jacobian_physical(f, x->data, c->J) != GSL_SUCCESS) {
+        gsl_vector_free(x);
+        return LF_ENUMERIC;
+    }
+    gsl_vector_free(x);
+    for (k = 0; k < f->np; k++) {
+        gsl_vector_view col = gsl_matrix_column(c->J, k);
+        double dn = gsl_blas_dnrm2(&col.vector);
+        gsl_vector_set(c->D, k, dn);
+        if (dn > 0)
+            gsl_vector_scale(&col.vector, 1.0 / dn);
+    }
+    if (gsl_linalg_SV_decomp_jacobi(c->J, c->V, c->S) != GSL_SUCCESS)
+        return LF_ENUMERIC;
+    c->rank = 0;
+    for (k = 0; k < f->np; k++)
+        if (gsl_vector_get(c->S, k) > f->set.rcond * gsl_vector_get(c->S, 0))
+            c->rank++;
+    for (i = 0; i < FIT_NMAT; i++) {
+        int p = f->imat[i];
+        double se = 0.0, nullw = 0.0;
+        c->se[i] = 0.0;
+        if (p < 0 || !(gsl_vector_get(c->D, (size_t) p) > 0))
+            continue;
+        for (l = 0; l < f->np; l++) {
+            double v = gsl_matrix_get(c->V, (size_t) p, l);
+            if (l < c->rank)
+                se += v * v / (gsl_vector_get(c->S, l) * gsl_vector_get(c->S, l));
+            else
+                nullw += v * v;
+        }
+        if (nullw <= 0.01)   /* determined, as in uncertainty.c */
+            c->se[i] = sqrt(se);
+    }
+    return LF_OK;
+}
+
+/* Bias over se from c->d. */
+static void
+project(chooser *c, bias *b)
+{
+    lf_fit *f = c->f;
+    size_t l, i;
+    int m;
+
+    for (l = 0; l < c->rank; l++) {
+        double s = 0.0;
+        for (i = 0; i < f->nres; i++)
+            s += gsl_matrix_get(c->J, i, l) * c->d[i];
+        c->coef[l] = s / gsl_vector_get(c->S, l);
+    }
+    for (m = 0; m < FIT_NMAT; m++) {
+        int p = f->imat[m];
+        double s = 0.0;
+        b->r[m] = 0.0;
+        if (p < 0 || c->se[m] == 0.0)
+            continue;
+        for (l = 0; l < c->rank; l++)
+            s += gsl_matrix_get(c->V, (size_t) p, l) * c->coef[l];
+        b->r[m] = s / c->se[m];
+    }
+    b->ok = 1;
+}
+
+/* The model instance of curve j for a rung, made when first needed. */
+static lf_model *
+instance(chooser *c, size_t j, int rung)
+{
+    lf_model **slot = &c->inst[rung][j];
+
+    if (*slot == NULL)
+        *slot = lf_model_alloc(rung_type(rung), &c->f->c[j].data.probe, NULL);
+    return *slot;
+}
+
+/* Bias of curve j when it uses model `rung` instead of exact, the other
+ * curves keeping theirs.  The Jacobian is that of the model being judged
+ * (the fit that would be made), so curve j's model is swapped in for the
+ * decomposition when it is not the current one. */
+static int
+curve_bias(chooser *c, size_t j, int rung, bias *b)
+{
+    lf_fit *f = c->f;
+    fit_curve *fc = &f->c[j];
+    lf_model *saved = fc->model, *m;
+    int swapped = rung != c->rung[j], status = LF_OK;
+    size_t i;
+
+    memset(b, 0, sizeof *b);
+    if (!c->exact_ok[j])
+        return LF_OK;           /* ok = 0: not assessed */
+    if (rung == RUNG_EXACT) {
+        b->ok = 1;
+        return LF_OK;
+    }
+    if (swapped) {
+        if ((m = instance(c, j, rung)) == NULL)
+            return LF_OK;
+        fc->model = m;
+        f->xcache_ok = 0;
+        c->base_ok = 0;
+    }
+    if (!c->base_ok || swapped)
+        status = decompose(c);  /* evaluates the models at the origin into f->ev */
+    if (status == LF_OK) {
+        memset(c->d, 0, f->nres * sizeof *c->d);
+        for (i = 0; i < fc->data.n; i++)
+            c->d[fc->row + i] = (c->P_exact[fc->row + i] - f->ev[fc->row + i].P) / fc->sigma;
+        project(c, b);
+        c->base_ok = !swapped;
+    }
+    if (swapped) {
+        fc->model = saved;
+        f->xcache_ok = 0;
+    }
+    return status;
+}
+
+/* Assess every curve at the origin (the last solution): biases of thin,
+ * half-space (where needed) and the current model against exact; then,
+ * when allowed, move curves up until the summed bias is below tol.
+ * *changed tells whether a model moved. */
+static int
+assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *err)
+{
+    lf_fit *f = c->f;
+    const double tol = c->cs->tol;
+    double total[FIT_NMAT] = { 0 };
+    size_t j, i;
+    int status, m;
+
+    *changed = 0;
+    c->base_ok = 0;
+    status = decompose(c);
+    if (status != LF_OK)
+        return lf_fail(err, status, "model choice: the Jacobian at the solution cannot be decomposed");
+    c->base_ok = 1;
+    /* a/b ranges and the exact model's forces at the current indentations */
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *fc = &f->c[j];
+        double b = fc->data.probe.b;
+        lf_model *ex = c->rung[j] == RUNG_EXACT ? NULL : instance(c, j, RUNG_EXACT);
+        c->ab_lo[j] = HUGE_VAL;
+        c->ab_hi[j] = 0.0;
+        for (i = 0; i < fc->data.n; i++) {
+            double a = f->ev[fc->row + i].a;
+            if (a > 0) {
+                c->ab_lo[j] = fmin(c->ab_lo[j], a / b);
+                c->ab_hi[j] = fmax(c->ab_hi[j], a / b);
+            }
+        }
+        c->exact_ok[j] = 1;
+        if (c->rung[j] == RUNG_EXACT) {
+            for (i = 0; i < fc->data.n; i++)
+                c->P_exact[fc->row + i] = f->ev[fc->row + i].P;
+        } else if (ex == NULL || lf_model_eval(ex, &f->mat, fc->data.branch, fc->data.n,
+                                                f->delta + fc->row, c->ev, NULL) != LF_OK) {
+            c->exact_ok[j] = 0;   /* e.g. nu above the exact model's range */
+        } else {
+            for (i = 0; i < fc->data.n; i++)
+                c->P_exact[fc->row + i] = c->ev[i].P;
+        }
+    }
+    /* the current models first (one decomposition), then thin where it is
+     * not the current model */
+    for (j = 0; j < f->ncurves && status == LF_OK; j++) {
+        status = curve_bias(c, j, c->rung[j], &c->cur[j]);
+        if (c->rung[j] == RUNG_THIN)
+            c->thin[j] = c->cur[j];
+        if (c->rung[j] == RUNG_HALFSPACE)
+            c->half_b[j] = c->cur[j];
+        else
+            memset(&c->half_b[j], 0, sizeof c->half_b[j]);
+        for (m = 0; m < FIT_NMAT; m++)
+            total[m] += c->cur[j].r[m];
+    }
+    for (j = 0; j < f->ncurves && status == LF_OK; j++)
+        if (c->rung[j] != RUNG_THIN)
+            status = curve_bias(c, j, RUNG_THIN, &c->thin[j]);
+    while (status == LF_OK) {
+        bias tb;
+        size_t jw = f->ncurves;
+        double worst = 0.0;
+        memcpy(tb.r, total, sizeof total);
+        *total_max = bias_max(&tb, NULL);
+        if (!allow_change || *total_max < tol)
+            break;
+        for (j = 0; j < f->ncurves; j++) {
+            double bm = bias_max(&c->cur[j], NULL);
+            if (!c->fixed[j] && c->rung[j] != RUNG_EXACT && c->cur[j].ok && bm > worst) {
+                worst = bm;
+                jw = j;
+            }
+        }
+        if (jw == f->ncurves)
+            break;      /* nothing left to move */
+        for (m = 0; m < FIT_NMAT; m++)
+            total[m] -= c->cur[jw].r[m];
+        if (c->rung[jw] == RUNG_THIN && c->cs->halfspace && f->c[jw].data.probe.k > 0.5)
+            status = curve_bias(c, jw, RUNG_HALFSPACE, &c->half_b[jw]);
+        if (c->rung[jw] == RUNG_THIN && c->half_b[jw].ok
+            && bias_max(&c->half_b[jw], NULL) < fmin(tol, worst)) {
+            c->rung[jw] = RUNG_HALFSPACE;
+            c->cur[jw] = c->half_b[jw];
+        } else {
+            c->rung[jw] = RUNG_EXACT;
+            memset(c->cur[jw].r, 0, sizeof c->cur[jw].r);
+        }
+        for (m = 0; m < FIT_NMAT; m++)
+            total[m] += c->cur[jw].r[m];
+        if (status == LF_OK)
+            status = set_model(f, jw, rung_type(c->rung[jw]), err);
+        c->base_ok = 0;
+        *changed = 1;
+    }
+    if (status != LF_OK)
+        lf_fail(err, status, "model choice: the bias of a cheaper model cannot be computed");
+    return status;
+}
+
+/* Why curve j has its model, in words, at the last assessment. */
+static void
+explain(const chooser *c, size_t j, char *buf, size_t n)
+{
+    const double tol = c->cs->tol;
+    char range[80] = "";
+    int wt, wh;
+    double bt = bias_max(&c->thin[j], &wt), bh = bias_max(&c->half_b[j], &wh);
+
+    if (c->ab_hi[j] > 0)
+        snprintf(range, sizeof range, " over a/b %.3g-%.3g", c->ab_lo[j], c->ab_hi[j]);
+    if (c->fixed[j]) {
+        if (c->thin[j].ok)
+            snprintf(buf, n, "as requested; the thin-layer model would bias %s by %.2g se%s",
+                     mat_names[wt], bt, range);
+        else
+            snprintf(buf, n, "as requested");
+        return;
+    }
+    if (!c->thin[j].ok) {
+        snprintf(buf, n, "the exact model cannot be evaluated at the fitted parameters, "
+                 "so the choice was not checked");
+        return;
+    }
+    switch (c->rung[j]) {
+    case RUNG_THIN:
+        snprintf(buf, n, "the thin-layer model biases %s by at most %.2g se%s "
+                 "(tolerance %.2g se)", mat_names[wt], bt, range, tol);
+        break;
+    case RUNG_HALFSPACE:
+        snprintf(buf, n, "the thin-layer model would bias %s by %.2g se%s, the half-space "
+                 "model only %s by %.2g se (tolerance %.2g se)", mat_names[wt], bt, range,
+                 mat_names[wh], bh, tol);
+        break;
+    default:
+        snprintf(buf, n, "the thin-layer model would bias %s by %.2g se%s "
+                 "(tolerance %.2g se, with the other curves' biases added)",
+                 mat_names[wt], bt, range, tol);
+        break;
+    }
+}
+
+/* res->thin from an all-thin fit. */
+static void
+fill_thin(lf_fit_result *res, const lf_fit_result *thin)
+{
+    lf_fit_thin_comparison *t = &res->thin;
+
+    t->done = 1;
+    t->converged = thin->converged;
+    t->w = thin->w;
+    t->Estar = thin->Estar;
+    t->nu = thin->nu;
+    t->chi2 = thin->chi2;
+    t->w_rel = (thin->w.value - res->w.value) / res->w.value;
+    t->Estar_rel = (thin->Estar.value - res->Estar.value) / res->Estar.value;
+    t->nu_diff = thin->nu.value - res->nu.value;
+    t->w_in_se = (thin->w.value - res->w.value) / res->w.se;
+}
+
+int
+lf_fit_compare_thin(const lf_fit_settings *settings, size_t ncurves,
+                    const lf_fit_curve *curves, lf_fit_result *res, lf_error *err)
+{
+    lf_fit_settings s = *settings;
+    lf_fit_curve *cv = malloc(ncurves * sizeof *cv);
+    lf_fit_result thin;
+    size_t j;
+    int status;
+
+    if (cv == NULL)
+        return lf_fail(err, LF_ENOMEM, "out of memory");
+    for (j = 0; j < ncurves; j++) {
+        cv[j] = curves[j];
+        cv[j].model = NULL;
+    }
+    s.model = &lf_model_thin;
+    status = lf_fit_driver(&s, ncurves, cv, &thin, err);
+    free(cv);
+    if (status != LF_OK && status != LF_ENOCONV)
+        return status;
+    fill_thin(res, &thin);
+    lf_fit_result_free(&thin);
+    return LF_OK;
+}
+
+int
+lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *cs,
+                     size_t ncurves, const lf_fit_curve *curves, lf_fit_result *res,
+                     lf_error *err)
+{
+    lf_fit_curve *cv = NULL;
+    lf_fit *f = NULL;
+    chooser ch;
+    lf_fit_result cur, first;
+    size_t j, rounds = 1;
+    int status, fit_status, changed, all_thin = 1, first_all_thin = 1, m;
+    double total = 0.0;
+
+    memset(res, 0, sizeof *res);
+    memset(&cur, 0, sizeof cur);
+    memset(&first, 0, sizeof first);
+    memset(&ch, 0, sizeof ch);
+    if (!(cs->tol > 0) || !isfinite(cs->tol))
+        return lf_fail(err, LF_EINVAL, "model choice: tolerance must be > 0 (got %g)", cs->tol);
+    cv = malloc((ncurves ? ncurves : 1) * sizeof *cv);
+    if (cv == NULL)
+        return lf_fail(err, LF_ENOMEM, "out of memory");
+    for (j = 0; j < ncurves; j++) {
+        cv[j] = curves[j];
+        if (cv[j].model == NULL)
+            cv[j].model = &lf_model_thin;
+        else if (cv[j].model != &lf_model_thin)
+            first_all_thin = 0;
+    }
+    f = lf_fit_alloc(settings, ncurves, cv, err);
+    if (f == NULL) {
+        free(cv);
+        return err ? err->status : LF_EINVAL;
+    }
+    if (chooser_alloc(&ch, f, cs) != LF_OK) {
+        status = lf_fail(err, LF_ENOMEM, "out of memory choosing models");
+        goto done;
+    }
+    for (j = 0; j < ncurves; j++) {
+        ch.fixed[j] = curves[j].model != NULL;
+        ch.rung[j] = rung_of(cv[j].model);
+    }
+    fit_status = lf_fit_run(f, &first, err);
+    if (fit_status != LF_OK && fit_status != LF_ENOCONV) {
+        status = fit_status;
+        goto done;
+    }
+    for (;;) {
+        lf_fit_result next;
+        origin_at(f, cur.curves ? &cur : &first);
+        status = assess(&ch, rounds <= cs->max_rounds, &changed, &total, err);
+        if (status != LF_OK)
+            goto done;
+        if (!changed)
+            break;
+        fit_status = fit_solve(f, &next, err);
+        if (fit_status != LF_OK && fit_status != LF_ENOCONV) {
+            status = fit_status;
+            goto done;
+        }
+        lf_fit_result_free(&cur);
+        cur = next;
+        rounds++;
+    }
+    if (cur.curves == NULL) {   /* the first fit stands */
+        cur = first;
+        memset(&first, 0, sizeof first);
+    }
+    for (j = 0; j < ncurves; j++) {
+        lf_fit_curve_result *cr = &cur.curves[j];
+        cr->model = rung_type(ch.rung[j])->name;
+        explain(&ch, j, cr->model_reason, sizeof cr->model_reason);
+        cr->thin_bias = ch.thin[j].ok ? bias_max(&ch.thin[j], NULL) : NAN;
+        for (m = 0; m < FIT_NMAT; m++)
+            cr->thin_bias_se[m] = ch.thin[j].ok ? ch.thin[j].r[m] : NAN;
+        if (ch.rung[j] != RUNG_THIN)
+            all_thin = 0;
+    }
+    cur.model_rounds = rounds;
+    if (total >= cs->tol)
+        lf_warn(&cur.warnings, "model choice: after %zu fits the cheaper models still bias the "
+                "material by %.2g se (tolerance %.2g se); consider --model exact",
+                rounds, total, cs->tol);
+    *res = cur;
+    memset(&cur, 0, sizeof cur);
+    status = fit_status;
+    if (!all_thin && cs->thin_comparison) {
+        int st;
+        if (first_all_thin && first.curves != NULL)
+            fill_thin(res, &first);
+        else if ((st = lf_fit_compare_thin(settings, ncurves, curves, res, NULL)) != LF_OK)
+            lf_warn(&res->warnings, "the all-thin comparison fit failed (%s)", lf_strerror(st));
+    }
+done:
+    lf_fit_result_free(&cur);
+    lf_fit_result_free(&first);
+    chooser_free(&ch);
+    lf_fit_free(f);
+    free(cv);
+    return status;
+}

@@ -1,0 +1,508 @@
+/* cli_html.c: `layerfit fit ... --report FILE.html`, one self-contained page.
+ *
+ * The page holds the material parameters with their errors and intervals,
+ * the correlation matrix, what the data determine (identifiability) and
+ * what to be wary of (validity warnings), fit statistics, a table of the
+ * curves and every figure of cli_plotfit.c inlined as SVG (element ids are
+ * prefixed per figure so that several gnuplot SVGs can share one page).  The
+ * command line and version that produced it are at the top.  Without
+ * gnuplot the page is written all the same, with a note where the figures
+ * would be. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "cli.h"
+#include "plot.h"
+
+/* ------------------------------------------------------------------------
+ * The command line, saved by main() before options are parsed (parsing
+ * reorders argv).
+ * --------------------------------------------------------------------- */
+
+static char command_line[8192];
+
+void
+cli_set_command_line(int argc, char **argv)
+{
+    size_t len = 0;
+    int i;
+
+    command_line[0] = '\0';
+    for (i = 0; i < argc && len < sizeof command_line; i++) {
+        const char *a = i == 0 ? "layerfit" : argv[i], *p;
+        int plain = *a != '\0' && strspn(a, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                            "0123456789-_./=:,+@%") == strlen(a);
+        if (i > 0)
+            command_line[len++] = ' ';
+        if (plain) {
+            len += (size_t) snprintf(command_line + len, sizeof command_line - len, "%s", a);
+            continue;
+        }
+        if (len < sizeof command_line - 1)
+            command_line[len++] = '\'';
+        for (p = a; *p && len < sizeof command_line - 5; p++) {
+            if (*p == '\'') {
+                memcpy(command_line + len, "'\\''", 4);
+                len += 4;
+            } else {
+                command_line[len++] = *p;
+            }
+        }
+        if (len < sizeof command_line - 1)
+            command_line[len++] = '\'';
+        command_line[len < sizeof command_line ? len : sizeof command_line - 1] = '\0';
+    }
+    if (len >= sizeof command_line)
+        command_line[sizeof command_line - 1] = '\0';
+}
+
+const char *
+cli_get_command_line(void)
+{
+    return command_line;
+}
+
+/* ------------------------------------------------------------------------
+ * HTML helpers.
+ * --------------------------------------------------------------------- */
+
+static void
+esc(FILE *f, const char *s)
+{
+    for (; s != NULL && *s; s++) {
+        switch (*s) {
+        case '&': fputs("&amp;", f); break;
+        case '<': fputs("&lt;", f); break;
+        case '>': fputs("&gt;", f); break;
+        case '"': fputs("&quot;", f); break;
+        default: fputc(*s, f);
+        }
+    }
+}
+
+static void
+td_text(FILE *f, const char *s)
+{
+    fputs("<td>", f);
+    esc(f, s);
+    fputs("</td>", f);
+}
+
+static void
+td_human(FILE *f, double x, const char *unit)
+{
+    char buf[64];
+    if (!isfinite(x)) {
+        fputs("<td class=\"na\">&ndash;</td>", f);
+        return;
+    }
+    fputs("<td class=\"num\">", f);
+    esc(f, cli_human(buf, sizeof buf, x, unit));
+    fputs("</td>", f);
+}
+
+/* x with prec significant digits and a suffix ("" or " %"). */
+static void
+td_num(FILE *f, double x, int prec, const char *suffix)
+{
+    if (!isfinite(x)) {
+        fputs("<td class=\"na\">&ndash;</td>", f);
+        return;
+    }
+    fprintf(f, "<td class=\"num\">%.*g%s</td>", prec, x, suffix);
+}
+
+static void
+warning_list(FILE *f, const lf_warnings *w, const char *cls, const char *prefix)
+{
+    size_t i;
+    for (i = 0; i < w->n; i++) {
+        fprintf(f, "<li class=\"%s\">", cls);
+        if (prefix != NULL)
+            esc(f, prefix);
+        esc(f, w->msg[i]);
+        fputs("</li>\n", f);
+    }
+}
+
+static const char style[] =
+    "body{font-family:Helvetica,Arial,sans-serif;max-width:1100px;margin:2em auto;"
+    "padding:0 1em;color:#222;line-height:1.4}\n"
+    "h1{font-size:1.6em;margin-bottom:.2em}h2{font-size:1.25em;border-bottom:1px solid #ccc;"
+    "padding-bottom:.2em;margin-top:1.6em}\n"
+    "code.cmd{display:block;background:#f4f4f4;padding:.6em;border-radius:4px;"
+    "white-space:pre-wrap;word-break:break-all}\n"
+    "table{border-collapse:collapse;margin:.5em 0;font-size:.92em}\n"
+    "th,td{border:1px solid #ccc;padding:.25em .6em;text-align:left}\n"
+    "th{background:#eef2f6}td.num{text-align:right;font-variant-numeric:tabular-nums;white-space:nowrap}\n"
+    "td.na{text-align:center;color:#999}div.wide{overflow-x:auto}\n"
+    "li.ident{color:#1b4f72}li.warn{color:#9a3c00}\n"
+    "figure{margin:1.2em 0;border:1px solid #ddd;padding:.5em}\n"
+    "figure svg{width:100%;height:auto;display:block}\n"
+    "figcaption{font-size:.9em;color:#555;margin-top:.3em}\n"
+    "p.note{background:#fff4e0;border-left:4px solid #e67e22;padding:.5em}\n"
+    "span.ok{color:#1e8449}span.bad{color:#b03a2e;font-weight:bold}\n";
+
+/* ------------------------------------------------------------------------
+ * Sections.
+ * --------------------------------------------------------------------- */
+
+static void
+parameter_row(FILE *f, const char *name, const lf_fit_estimate *e, const char *unit)
+{
+    char buf[64];
+    const char *status;
+
+    if (e->upper_bound_only)
+        status = "upper bound only (adhesion below the noise)";
+    else if (!e->free && e->determined)
+        status = "fixed";
+    else if (!e->determined)
+        status = "not determined by the data";
+    else
+        status = "fitted";
+    fprintf(f, "<tr><th>%s</th>", name);
+    if (unit[0] != '\0') {
+        td_human(f, e->upper_bound_only ? NAN : e->value, unit);
+        td_human(f, e->se, unit);
+    } else {
+        td_num(f, e->upper_bound_only ? NAN : e->value, 4, "");
+        td_num(f, e->se, 2, "");
+    }
+    td_num(f, e->free && e->determined && e->value != 0 ? 100.0 * e->se / fabs(e->value) : NAN,
+           2, " %");
+    if (isfinite(e->ci95[0]) && isfinite(e->ci95[1]) && (e->free || e->upper_bound_only)) {
+        fputs("<td class=\"num\">", f);
+        if (unit[0] != '\0') {
+            esc(f, cli_human(buf, sizeof buf, e->ci95[0], unit));
+            fputs(" &ndash; ", f);
+            esc(f, cli_human(buf, sizeof buf, e->ci95[1], unit));
+        } else {
+            fprintf(f, "%.4f &ndash; %.4f", e->ci95[0], e->ci95[1]);
+        }
+        fputs("</td>", f);
+    } else {
+        fputs("<td class=\"na\">&ndash;</td>", f);
+    }
+    td_text(f, status);
+    fputs("</tr>\n", f);
+}
+
+static void
+parameters(FILE *f, const lf_fit_result *r)
+{
+    fputs("<section id=\"parameters\">\n<h2>Material parameters</h2>\n"
+          "<table id=\"parameter-table\">\n<tr><th>parameter</th><th>value</th>"
+          "<th>standard error</th><th>relative</th><th>95 % interval</th><th>status</th></tr>\n", f);
+    parameter_row(f, "w (work of adhesion)", &r->w, "J/m²");
+    parameter_row(f, "E* (effective modulus)", &r->Estar, "Pa");
+    parameter_row(f, "nu (Poisson&#39;s ratio)", &r->nu, "");
+    if (isfinite(r->M.value))
+        parameter_row(f, "M = Z E* (bonded curves)", &r->M, "Pa");
+    fprintf(f, "</table>\n<p>Standard errors are scaled by sqrt(chi²/dof) = %.3g.</p>\n"
+               "</section>\n", r->se_scale);
+}
+
+static void
+correlations(FILE *f, const lf_fit_result *r)
+{
+    size_t i, j;
+
+    fputs("<section id=\"correlations\">\n<h2>Correlations</h2>\n", f);
+    if (r->npar == 0 || r->corr == NULL) {
+        fputs("<p>No free parameters.</p>\n</section>\n", f);
+        return;
+    }
+    fputs("<div class=\"wide\"><table id=\"correlation-table\">\n<tr><th></th>", f);
+    for (j = 0; j < r->npar; j++) {
+        fputs("<th>", f);
+        esc(f, r->names[j]);
+        fputs("</th>", f);
+    }
+    fputs("</tr>\n", f);
+    for (i = 0; i < r->npar; i++) {
+        fputs("<tr><th>", f);
+        esc(f, r->names[i]);
+        fputs("</th>", f);
+        for (j = 0; j < r->npar; j++) {
+            double c = r->corr[i * r->npar + j];
+            if (!isfinite(c)) {
+                fputs("<td class=\"na\">&ndash;</td>", f);
+                continue;
+            }
+            /* red for positive, blue for negative, paler when weaker */
+            fprintf(f, "<td class=\"num\" style=\"background:rgba(%s,%.2f)\">%.3f</td>",
+                    c >= 0 ? "192,57,43" : "27,108,168", 0.6 * fabs(c), c);
+        }
+        fputs("</tr>\n", f);
+    }
+    fputs("</table></div>\n</section>\n", f);
+}
+
+static void
+assessment(FILE *f, const lf_fit_result *r)
+{
+    size_t j, nw = r->warnings.n;
+
+    fputs("<section id=\"identifiability\">\n<h2>What the data determine</h2>\n<ul>\n", f);
+    warning_list(f, &r->identifiability, "ident", NULL);
+    fputs("</ul>\n</section>\n", f);
+    for (j = 0; j < r->ncurves; j++)
+        nw += r->curves[j].warnings.n;
+    fputs("<section id=\"warnings\">\n<h2>Validity warnings</h2>\n", f);
+    if (nw == 0) {
+        fputs("<p><span class=\"ok\">none</span></p>\n</section>\n", f);
+        return;
+    }
+    fputs("<ul>\n", f);
+    warning_list(f, &r->warnings, "warn", NULL);
+    for (j = 0; j < r->ncurves; j++) {
+        char prefix[64];
+        snprintf(prefix, sizeof prefix, "curve %zu: ", j + 1);
+        warning_list(f, &r->curves[j].warnings, "warn", prefix);
+    }
+    fputs("</ul>\n</section>\n", f);
+}
+
+static void
+statistics(FILE *f, const lf_fit_result *r)
+{
+    fputs("<section id=\"statistics\">\n<h2>Fit</h2>\n<table id=\"fit-table\">\n", f);
+    fputs("<tr><th>model</th>", f);
+    td_text(f, r->model);
+    fputs("</tr>\n<tr><th>method</th>", f);
+    td_text(f, r->method);
+    fprintf(f, "</tr>\n<tr><th>converged</th><td><span class=\"%s\">%s</span></td></tr>\n",
+            r->converged ? "ok" : "bad", r->converged ? "yes" : "no");
+    fputs("<tr><th>stop reason</th>", f);
+    td_text(f, r->stop_reason);
+    fprintf(f, "</tr>\n<tr><th>iterations / evaluations</th><td class=\"num\">%zu / %zu</td></tr>\n",
+            r->iterations, r->evaluations);
+    fprintf(f, "<tr><th>chi² / dof</th><td class=\"num\">%.4g / %zu = %.4g</td></tr>\n",
+            r->chi2, r->dof, r->dof ? r->chi2 / (double) r->dof : NAN);
+    fprintf(f, "<tr><th>free parameters</th><td class=\"num\">%zu</td></tr>\n", r->npar);
+    fputs("</table>\n</section>\n", f);
+}
+
+/* "value ± se", or "value (fixed)". */
+static void
+td_estimate(FILE *f, double x, double se, int free, const char *unit)
+{
+    char a[64], b[64];
+    fputs("<td class=\"num\">", f);
+    esc(f, cli_human(a, sizeof a, x, unit));
+    if (!free)
+        fputs(" (fixed)", f);
+    else if (isfinite(se)) {
+        fputs(" &plusmn; ", f);
+        esc(f, cli_human(b, sizeof b, se, unit));
+    }
+    fputs("</td>", f);
+}
+
+static void
+curves_table(FILE *f, const lf_fit_result *r)
+{
+    size_t j;
+
+    fputs("<section id=\"curves\">\n<h2>Curves</h2>\n<div class=\"wide\"><table id=\"curve-table\">\n"
+          "<tr><th>#</th><th>file</th><th>k</th><th>R</th><th>b</th><th>interface</th>"
+          "<th>branch</th><th>points</th><th>z0</th><th>F0</th>"
+          "<th>noise &sigma;</th><th>rms residual</th><th>rms/&sigma;</th><th>pull-off force</th>"
+          "<th>pull-off radius</th><th>b/a at pull-off</th></tr>\n", f);
+    for (j = 0; j < r->ncurves; j++) {
+        const lf_fit_curve_result *c = &r->curves[j];
+        fprintf(f, "<tr><td class=\"num\">%zu</td>", j + 1);
+        td_text(f, c->name ? c->name : "");
+        td_num(f, c->probe.k, 6, "");
+        td_human(f, c->probe.R, "m");
+        td_human(f, c->probe.b, "m");
+        td_text(f, cli_base_name(c->probe.base));
+        td_text(f, c->branch == LF_BRANCH_LOAD ? "load" : "unload");
+        fprintf(f, "<td class=\"num\">%zu</td>", c->n);
+        td_estimate(f, c->z0, c->z0_se, c->z0_free, "m");
+        td_estimate(f, c->F0, c->F0_se, c->F0_free, "N");
+        td_human(f, c->sigma, "N");
+        td_human(f, c->rms, "N");
+        td_num(f, c->sigma > 0 ? c->rms / c->sigma : NAN, 3, "");
+        td_human(f, c->pulloff.P_po, "N");
+        td_human(f, c->pulloff.a_po, "m");
+        td_num(f, c->b_over_a_pulloff, 3, "");
+        fputs("</tr>\n", f);
+    }
+    fputs("</table></div>\n</section>\n", f);
+}
+
+/* Copy an SVG file into the page from its <svg element on, prefixing every
+ * id and every reference to one with "fN-". */
+static int
+inline_svg(FILE *f, const char *path, size_t fig)
+{
+    FILE *s = fopen(path, "r");
+    char *buf, *p, *q;
+    long len;
+    char prefix[32];
+    size_t seq = 0;
+
+    if (s == NULL)
+        return -1;
+    if (fseek(s, 0, SEEK_END) != 0 || (len = ftell(s)) < 0 || fseek(s, 0, SEEK_SET) != 0) {
+        fclose(s);
+        return -1;
+    }
+    buf = malloc((size_t) len + 1);
+    if (buf == NULL || fread(buf, 1, (size_t) len, s) != (size_t) len) {
+        free(buf);
+        fclose(s);
+        return -1;
+    }
+    fclose(s);
+    buf[len] = '\0';
+    p = strstr(buf, "<svg");
+    if (p == NULL) {
+        free(buf);
+        return -1;
+    }
+    snprintf(prefix, sizeof prefix, "f%zu-", fig);
+    while (*p) {
+        static const char *const pats[] = { "id='", "id=\"", "href='#", "href=\"#", "url(#" };
+        size_t k, best = 0;
+        char *at = NULL;
+        for (k = 0; k < sizeof pats / sizeof pats[0]; k++) {
+            q = strstr(p, pats[k]);
+            if (q != NULL && (at == NULL || q < at)) {
+                at = q;
+                best = k;
+            }
+        }
+        if (at == NULL) {
+            fputs(p, f);
+            break;
+        }
+        at += strlen(pats[best]);
+        fwrite(p, 1, (size_t) (at - p), f);
+        fputs(prefix, f);
+        /* gnuplot repeats its group ids in every panel of a multiplot;
+         * nothing refers to them, so they are numbered apart */
+        if (best < 2 && strncmp(at, "gnuplot_", 8) == 0)
+            fprintf(f, "%zu-", ++seq);
+        p = at;
+    }
+    free(buf);
+    return 0;
+}
+
+static void
+figures(FILE *f, const char *dir, const cli_figures *figs, const char *note)
+{
+    size_t k;
+
+    fputs("<section id=\"figures\">\n<h2>Figures</h2>\n", f);
+    if (note != NULL) {
+        fputs("<p class=\"note\">", f);
+        esc(f, note);
+        fputs("</p>\n", f);
+    }
+    for (k = 0; k < figs->n; k++) {
+        char path[4096], name[80];
+        snprintf(name, sizeof name, "%s.svg", figs->base[k]);
+        if (plot_path(path, sizeof path, dir, name) != 0)
+            continue;
+        if (access(path, R_OK) != 0)
+            continue;
+        fprintf(f, "<figure class=\"fit-figure\" id=\"figure-%s\">\n", figs->base[k]);
+        if (inline_svg(f, path, k + 1) != 0)
+            fputs("<p class=\"note\">figure could not be read</p>\n", f);
+        fputs("\n<figcaption>", f);
+        esc(f, figs->caption[k]);
+        fputs("</figcaption>\n</figure>\n", f);
+    }
+    fputs("</section>\n", f);
+}
+
+/* Remove what cli_plot_fit wrote into a temporary folder, then the folder. */
+static void
+remove_figures(const char *dir, const cli_figures *figs)
+{
+    static const char *const ext[] = { "gp", "dat", "png", "svg" };
+    size_t k, e;
+    for (k = 0; k < figs->n; k++)
+        for (e = 0; e < 4; e++) {
+            char path[4096], name[80];
+            snprintf(name, sizeof name, "%s.%s", figs->base[k], ext[e]);
+            if (plot_path(path, sizeof path, dir, name) == 0)
+                unlink(path);
+        }
+    rmdir(dir);
+}
+
+int
+cli_html_report(const char *file, const char *plotdir, size_t ncurves,
+                const lf_fit_curve *curves, const lf_fit_result *r, char *msg, size_t n)
+{
+    cli_figures figs = { 0, NULL, NULL };
+    char tmpdir[4096], note[1200];
+    const char *dir = plotdir;
+    int have_note = 0, status = 0;
+    FILE *f;
+
+    if (dir == NULL) {
+        const char *t = getenv("TMPDIR");
+        snprintf(tmpdir, sizeof tmpdir, "%s/layerfit-report-XXXXXX", t && *t ? t : "/tmp");
+        if (mkdtemp(tmpdir) == NULL) {
+            snprintf(msg, n, "cannot create a temporary folder for the figures: %s", strerror(errno));
+            return -1;
+        }
+        dir = tmpdir;
+    }
+    if (cli_plot_fit(dir, ncurves, curves, r, &figs, note, sizeof note) != 0)
+        have_note = 1;
+    if ((f = fopen(file, "w")) == NULL) {
+        snprintf(msg, n, "cannot write %s: %s", file, strerror(errno));
+        status = -1;
+        goto done;
+    }
+    fputs("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+          "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n", f);
+    fprintf(f, "<meta name=\"generator\" content=\"layerfit %s\">\n<title>layerfit fit: %zu curve%s</title>\n",
+            LF_VERSION, r->ncurves, r->ncurves == 1 ? "" : "s");
+    fprintf(f, "<style>\n%s</style>\n</head>\n<body>\n", style);
+    fputs("<header>\n<h1>layerfit fit report</h1>\n", f);
+    fprintf(f, "<p id=\"version\">layerfit %s &middot; model ", LF_VERSION);
+    esc(f, r->model);
+    fputs(" &middot; method ", f);
+    esc(f, r->method);
+    fprintf(f, " &middot; %zu curve%s</p>\n<p>Command line:</p>\n<code class=\"cmd\" id=\"command-line\">",
+            r->ncurves, r->ncurves == 1 ? "" : "s");
+    esc(f, cli_get_command_line());
+    fputs("</code>\n</header>\n", f);
+    if (!r->converged) {
+        fputs("<p class=\"note\">The fit did not converge: the numbers are where it stopped (", f);
+        esc(f, r->stop_reason);
+        fputs(").</p>\n", f);
+    }
+    parameters(f, r);
+    assessment(f, r);
+    correlations(f, r);
+    statistics(f, r);
+    curves_table(f, r);
+    figures(f, dir, &figs, have_note ? note : NULL);
+    fputs("</body>\n</html>\n", f);
+    if (fclose(f) != 0) {
+        snprintf(msg, n, "error writing %s", file);
+        status = -1;
+    }
+    if (status == 0 && have_note) {
+        snprintf(msg, n, "%s", note);
+        status = 1;
+    }
+done:
+    if (plotdir == NULL)
+        remove_figures(dir, &figs);
+    cli_figures_free(&figs);
+    return status;
+}

@@ -1,0 +1,431 @@
+/* cli_map.c: `layerfit map`, force maps.
+ *
+ *   layerfit map RESULT.csv --plot map.png   heat maps of w and E* from the
+ *                                             output of `fit --batch`
+ *   layerfit map --synthetic DIR             write a synthetic force map with
+ *                                             a known pattern (datasets/forcemap)
+ *
+ * A map pixel is placed by the x_m, y_m columns of the batch result, which
+ * come from "# x: ..." and "# y: ..." lines of each curve file.  The figure is
+ * drawn by a gnuplot script written next to the image (map.gp, map.dat for
+ * map.png), so that it can be restyled and redrawn with `gnuplot map.gp`. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+
+#include "cli.h"
+#include "csvsplit.h"
+#include "plot.h"
+
+/* ------------------------------------------------------------------------
+ * The synthetic map: the truth pattern, stated in datasets/forcemap/README.md.
+ * --------------------------------------------------------------------- */
+
+#define SYN_K 3.0           /* probe exponent */
+#define SYN_R 1e-3          /* m */
+#define SYN_B 1e-6          /* m, layer thickness, frictionless base */
+#define SYN_PITCH 1e-6      /* m between pixels */
+#define SYN_DEPTH 20e-9     /* m, deepest indentation */
+#define SYN_PAST_C 1.5      /* shallowest indentation: -1.5 c (baseline) */
+
+/* Work of adhesion at (x, y) in m: 25 mJ/m^2 inside a disc of radius 14
+ * pitches centred at (40, 24) pitches, 10 mJ/m^2 outside. */
+static double
+syn_w(double x, double y)
+{
+    double dx = x / SYN_PITCH - 40.0, dy = y / SYN_PITCH - 24.0;
+    return dx * dx + dy * dy < 14.0 * 14.0 ? 25e-3 : 10e-3;
+}
+
+/* E* rises linearly with x from 0.5 GPa (x = 0) to 1.5 GPa (x = 63 pitches). */
+static double
+syn_E(double x)
+{
+    return 0.5e9 + 1e9 * (x / SYN_PITCH) / 63.0;
+}
+
+/* The contact point follows a tilted surface: 30 nm + 0.25 nm per pitch in x
+ * + 0.125 nm per pitch in y. */
+static double
+syn_z0(double x, double y)
+{
+    return 30e-9 + 0.25e-9 * x / SYN_PITCH + 0.125e-9 * y / SYN_PITCH;
+}
+
+static void
+make_dir(const char *path)
+{
+    if (mkdir(path, 0777) != 0 && errno != EEXIST)
+        cli_die(CLI_EXIT_FAIL, "map: cannot create %s: %s", path, strerror(errno));
+}
+
+/* Curve of pixel (ix, iy): unloading from SYN_DEPTH to -SYN_PAST_C c, with
+ * Gaussian noise of sd noise * max|P| from a generator seeded by the pixel,
+ * so that any subset of the map is the same data as the full map. */
+static void
+syn_curve(const char *dir, long size, long ix, long iy, long points, double noise,
+          unsigned long seed)
+{
+    const lf_probe probe = { SYN_K, SYN_R, SYN_B, LF_BASE_FRICTIONLESS };
+    double x = (double) ix * SYN_PITCH, y = (double) iy * SYN_PITCH;
+    lf_material mat;
+    lf_model *model;
+    lf_pulloff po;
+    lf_error err;
+    double *delta = malloc((size_t) points * sizeof *delta), pmax = 0.0, sd, z0;
+    lf_eval *ev = malloc((size_t) points * sizeof *ev);
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    char path[4096];
+    FILE *f;
+    long i;
+
+    if (delta == NULL || ev == NULL || rng == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    mat.w = syn_w(x, y);
+    mat.Estar = syn_E(x);
+    mat.nu = 0.3;
+    z0 = syn_z0(x, y);
+    gsl_rng_set(rng, seed * 1000003UL + (unsigned long) (iy * size + ix));
+    model = lf_model_alloc(&lf_model_thin, &probe, &err);
+    if (model == NULL || lf_model_pulloff(model, &mat, &po, &err) != LF_OK)
+        cli_die_error(CLI_EXIT_FAIL, &err);
+    for (i = 0; i < points; i++)
+        delta[i] = SYN_DEPTH - (SYN_DEPTH + SYN_PAST_C * po.c) * (double) i / (double) (points - 1);
+    if (lf_model_eval(model, &mat, LF_BRANCH_UNLOAD, (size_t) points, delta, ev, &err) != LF_OK)
+        cli_die_error(CLI_EXIT_FAIL, &err);
+    for (i = 0; i < points; i++)
+        pmax = fmax(pmax, fabs(ev[i].P));
+    sd = noise * pmax;
+    snprintf(path, sizeof path, "%s/curves/x%02ld_y%02ld.csv", dir, ix, iy);
+    if ((f = fopen(path, "w")) == NULL)
+        cli_die(CLI_EXIT_FAIL, "map: cannot write %s: %s", path, strerror(errno));
+    fprintf(f, "# layerfit synthetic force map, pixel (%ld, %ld)\n", ix, iy);
+    fprintf(f, "# x: %g um\n# y: %g um\n", x * 1e6, y * 1e6);
+    fprintf(f, "# true_w: %.6g J/m2\n# true_Estar: %.6g Pa\n# true_z0: %.6g nm\n",
+            mat.w, mat.Estar, z0 * 1e9);
+    fprintf(f, "# noise_sd: %.6g mN\n", sd * 1e3);
+    fprintf(f, "depth_nm,force_mN,segment\n");
+    for (i = 0; i < points; i++) {
+        double F = ev[i].P + (sd > 0 ? gsl_ran_gaussian(rng, sd) : 0.0);
+        fprintf(f, "%.4f,%.6g,unload\n", (delta[i] + z0) * 1e9, F * 1e3);
+    }
+    if (fclose(f) != 0)
+        cli_die(CLI_EXIT_FAIL, "map: error writing %s", path);
+    lf_model_free(model);
+    gsl_rng_free(rng);
+    free(delta);
+    free(ev);
+}
+
+static int
+synthetic(const char *dir, long size, long every, long points, double noise,
+          unsigned long seed)
+{
+    char path[4096];
+    FILE *plan;
+    long ix, iy, n = 0;
+
+    if (size < 1 || size > 1000 || every < 1 || points < 10 || points > 100000)
+        cli_die(CLI_EXIT_USAGE, "map: --size must be 1..1000, --every >= 1, --points 10..100000");
+    if (!(noise >= 0.0 && noise < 1.0))
+        cli_die(CLI_EXIT_USAGE, "map: --noise is relative to the largest force, in [0, 1)");
+    make_dir(dir);
+    snprintf(path, sizeof path, "%s/curves", dir);
+    make_dir(path);
+    snprintf(path, sizeof path, "%s/plan.csv", dir);
+    if ((plan = fopen(path, "w")) == NULL)
+        cli_die(CLI_EXIT_FAIL, "map: cannot write %s: %s", path, strerror(errno));
+    fprintf(plan, "# synthetic force map: %ld x %ld pixels (every %ld), %ld points per curve,\n"
+                  "# noise %g of the largest force, seed %lu (layerfit map --synthetic)\n",
+            size, size, every, points, noise, seed);
+    fprintf(plan, "file,k,R,b,interface\n");
+    for (iy = 0; iy < size; iy += every)
+        for (ix = 0; ix < size; ix += every) {
+            syn_curve(dir, size, ix, iy, points, noise, seed);
+            fprintf(plan, "curves/x%02ld_y%02ld.csv,%g,%gmm,%gum,frictionless\n", ix, iy,
+                    SYN_K, SYN_R * 1e3, SYN_B * 1e6);
+            n++;
+        }
+    if (fclose(plan) != 0)
+        cli_die(CLI_EXIT_FAIL, "map: error writing %s", path);
+    fprintf(stderr, "layerfit: map: wrote %ld curves and %s\n", n, path);
+    return CLI_EXIT_OK;
+}
+
+/* ------------------------------------------------------------------------
+ * Heat maps from a batch result.
+ * --------------------------------------------------------------------- */
+
+enum { MC_X, MC_Y, MC_W, MC_E, MC_STATUS, NMCOL };
+static const char *const mcol_name[NMCOL] = { "x_m", "y_m", "w_J_m2", "Estar_Pa", "status" };
+
+typedef struct {
+    const char *path;
+    long col[NMCOL];
+    size_t n, cap;
+    double (*v)[4];        /* x, y, w, E* (NaN where the fit failed) */
+    size_t skipped;        /* rows without a position */
+} map_reader;
+
+static int
+map_record(void *ctx, const lf_csv_record *r, lf_error *err)
+{
+    map_reader *m = ctx;
+    double v[4];
+    size_t i;
+
+    if (r->index == 0) {
+        for (i = 0; i < NMCOL; i++)
+            m->col[i] = -1;
+        for (i = 0; i < r->n; i++) {
+            size_t c;
+            for (c = 0; c < NMCOL; c++)
+                if (strcmp(r->text[i], mcol_name[c]) == 0)
+                    m->col[c] = (long) i;
+        }
+        for (i = 0; i < NMCOL; i++)
+            if (m->col[i] < 0)
+                return lf_fail_at(err, LF_EFORMAT, m->path, r->line, 0,
+                                  "no column '%s': expected the CSV output of "
+                                  "'layerfit fit --batch PLAN --out RESULT.csv'", mcol_name[i]);
+        return LF_OK;
+    }
+    for (i = 0; i < 4; i++) {
+        long c = m->col[i];
+        v[i] = NAN;
+        if (c < (long) r->n && lf_csv_number(r->text[c], 0, &v[i]) == LF_NUM_BAD)
+            return lf_fail_at(err, LF_EFORMAT, m->path, r->fline[c], r->fcol[c],
+                              "'%s' is not a number", r->text[c]);
+    }
+    if (!isfinite(v[0]) || !isfinite(v[1])) {
+        m->skipped++;
+        return LF_OK;
+    }
+    if (m->col[MC_STATUS] >= (long) r->n || strcmp(r->text[m->col[MC_STATUS]], "ok") != 0)
+        v[2] = v[3] = NAN;
+    if (m->n == m->cap) {
+        size_t cap = m->cap ? 2 * m->cap : 1024;
+        double (*nv)[4] = realloc(m->v, cap * sizeof *nv);
+        if (nv == NULL)
+            return lf_fail(err, LF_ENOMEM, "out of memory");
+        m->v = nv;
+        m->cap = cap;
+    }
+    memcpy(m->v[m->n++], v, sizeof v);
+    return LF_OK;
+}
+
+static int
+cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *) a, y = *(const double *) b;
+    return x < y ? -1 : x > y;
+}
+
+/* Sorted distinct values of column c of the points, into u; returns how many. */
+static size_t
+distinct(const map_reader *m, int c, double *u)
+{
+    size_t i, k = 0;
+    for (i = 0; i < m->n; i++)
+        u[i] = m->v[i][c];
+    qsort(u, m->n, sizeof *u, cmp_double);
+    for (i = 0; i < m->n; i++)
+        if (k == 0 || u[i] - u[k - 1] > 1e-9 * fmax(fabs(u[i]), 1e-12))
+            u[k++] = u[i];
+    return k;
+}
+
+static size_t
+index_of(const double *u, size_t n, double x)
+{
+    size_t lo = 0, hi = n;
+    while (hi - lo > 1) {
+        size_t mid = (lo + hi) / 2;
+        if (u[mid] <= x * (1 + 1e-9) + 1e-21)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return lo;
+}
+
+/* Split "dir/name.ext" into dir and "name" (no extension). */
+static void
+split_path(const char *file, char *dir, size_t nd, char *base, size_t nb)
+{
+    const char *slash = strrchr(file, '/'), *name = slash ? slash + 1 : file, *dot;
+    size_t len;
+    if (slash == NULL)
+        snprintf(dir, nd, ".");
+    else if (slash == file)
+        snprintf(dir, nd, "/");
+    else
+        snprintf(dir, nd, "%.*s", (int) (slash - file), file);
+    dot = strrchr(name, '.');
+    len = dot ? (size_t) (dot - name) : strlen(name);
+    snprintf(base, nb, "%.*s", (int) len, name);
+}
+
+static int
+draw_map(const char *result, const char *image)
+{
+    map_reader m;
+    lf_csv_handler h;
+    lf_error err;
+    double *ux, *uy, *grid, Escale;
+    const char *Eunit;
+    size_t nx, ny, i;
+    char dir[4096], base[1024], path[4096], msg[600], gp[1100], dat[1100];
+    const char *term = plot_terminal(image), *ext = strrchr(image, '.');
+    FILE *f;
+
+    if (term == NULL)
+        cli_die(CLI_EXIT_USAGE, "map: --plot %s: the image must end in .png or .svg", image);
+    memset(&m, 0, sizeof m);
+    m.path = result;
+    h.ctx = &m;
+    h.record = map_record;
+    h.comment = NULL;
+    if (lf_csv_read_file(result, &h, &err) != LF_OK)
+        cli_die_error(CLI_EXIT_USAGE, &err);
+    if (m.n == 0)
+        cli_die(CLI_EXIT_USAGE, "map: %s has no rows with a position (x_m, y_m): "
+                "the curve files need '# x: ...' and '# y: ...' lines", result);
+    ux = malloc(m.n * sizeof *ux);
+    uy = malloc(m.n * sizeof *uy);
+    if (ux == NULL || uy == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    nx = distinct(&m, 0, ux);
+    ny = distinct(&m, 1, uy);
+    if (nx * ny > 4 * m.n + 16)
+        cli_die(CLI_EXIT_USAGE, "map: the %zu positions of %s do not lie on a grid", m.n, result);
+    grid = malloc(2 * nx * ny * sizeof *grid);
+    if (grid == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    for (i = 0; i < 2 * nx * ny; i++)
+        grid[i] = NAN;
+    Escale = 0.0;
+    for (i = 0; i < m.n; i++) {
+        size_t at = index_of(uy, ny, m.v[i][1]) * nx + index_of(ux, nx, m.v[i][0]);
+        grid[2 * at] = m.v[i][2];
+        grid[2 * at + 1] = m.v[i][3];
+        if (isfinite(m.v[i][3]))
+            Escale = fmax(Escale, m.v[i][3]);
+    }
+    if (Escale >= 1e9) {
+        Escale = 1e9;
+        Eunit = "GPa";
+    } else if (Escale >= 1e6) {
+        Escale = 1e6;
+        Eunit = "MPa";
+    } else {
+        Escale = 1e3;
+        Eunit = "kPa";
+    }
+    split_path(image, dir, sizeof dir, base, sizeof base);
+    snprintf(dat, sizeof dat, "%s.dat", base);
+    snprintf(gp, sizeof gp, "%s.gp", base);
+    if (plot_path(path, sizeof path, dir, dat) != 0 || (f = fopen(path, "w")) == NULL)
+        cli_die(CLI_EXIT_FAIL, "map: cannot write %s/%s", dir, dat);
+    fprintf(f, "# layerfit map of %s: x_um y_um w_mJ_m2 Estar_%s (NaN: fit failed or no curve)\n",
+            result, Eunit);
+    for (i = 0; i < ny; i++) {
+        size_t j;
+        for (j = 0; j < nx; j++) {
+            double w = grid[2 * (i * nx + j)], E = grid[2 * (i * nx + j) + 1];
+            fprintf(f, "%.6g %.6g ", ux[j] * 1e6, uy[i] * 1e6);
+            if (isfinite(w))
+                fprintf(f, "%.6g ", w * 1e3);
+            else
+                fprintf(f, "NaN ");
+            if (isfinite(E))
+                fprintf(f, "%.6g\n", E / Escale);
+            else
+                fprintf(f, "NaN\n");
+        }
+        fputc('\n', f);
+    }
+    if (fclose(f) != 0)
+        cli_die(CLI_EXIT_FAIL, "map: error writing %s", path);
+    if (plot_path(path, sizeof path, dir, gp) != 0 || (f = fopen(path, "w")) == NULL)
+        cli_die(CLI_EXIT_FAIL, "map: cannot write %s/%s", dir, gp);
+    fprintf(f, "# %s: heat maps of w and E* made by layerfit %s from %s.\n"
+               "# Redraw with: cd %s && gnuplot %s\n", gp, LF_VERSION, result, dir, gp);
+    fprintf(f, "set terminal %s\n", strcmp(ext, ".svg") == 0
+            ? "svg size 1100,520 dynamic enhanced font 'Helvetica,13'"
+            : "pngcairo size 1400,640 enhanced font 'Helvetica,13'");
+    fprintf(f, "set output '%s%s'\n", base, ext);
+    fprintf(f, "set multiplot layout 1,2 title '%zu x %zu map, %zu fits'\n", nx, ny, m.n);
+    fprintf(f, "set size ratio -1\nset xlabel 'x (µm)'\nset ylabel 'y (µm)'\n"
+               "set palette defined (0 '#440154', 1 '#3b528b', 2 '#21918c', 3 '#5ec962', 4 '#fde725')\n"
+               "set xrange [%.6g:%.6g]\nset yrange [%.6g:%.6g]\nset tics out\n",
+            (ux[0] - 0.5 * (nx > 1 ? ux[1] - ux[0] : 1e-6)) * 1e6,
+            (ux[nx - 1] + 0.5 * (nx > 1 ? ux[1] - ux[0] : 1e-6)) * 1e6,
+            (uy[0] - 0.5 * (ny > 1 ? uy[1] - uy[0] : 1e-6)) * 1e6,
+            (uy[ny - 1] + 0.5 * (ny > 1 ? uy[1] - uy[0] : 1e-6)) * 1e6);
+    fprintf(f, "set title 'work of adhesion w (mJ/m^2)'\n"
+               "plot '%s' using 1:2:3 with image notitle\n", dat);
+    fprintf(f, "set title 'effective modulus E* (%s)'\n"
+               "plot '%s' using 1:2:4 with image notitle\nunset multiplot\n", Eunit, dat);
+    if (fclose(f) != 0)
+        cli_die(CLI_EXIT_FAIL, "map: error writing %s", path);
+    if (plot_run_script(dir, gp, msg, sizeof msg) != 0)
+        cli_die(CLI_EXIT_FAIL, "map: %s (the script and data are in %s/%s and %s/%s)",
+                msg, dir, gp, dir, dat);
+    if (m.skipped > 0)
+        fprintf(stderr, "layerfit: map: %zu rows of %s have no position and are not shown\n",
+                m.skipped, result);
+    free(ux);
+    free(uy);
+    free(grid);
+    free(m.v);
+    return CLI_EXIT_OK;
+}
+
+int
+cli_map(int argc, char **argv)
+{
+    const char *plot = NULL, *syn = NULL;
+    long size = 64, every = 1, points = 150, seed = 1;
+    double noise = NAN;
+    int npos, help;
+    const cli_opt opts[] = {
+        { "plot", CLI_STRING, &plot },
+        { "synthetic", CLI_STRING, &syn },
+        { "size", CLI_COUNT, &size },
+        { "every", CLI_COUNT, &every },
+        { "points", CLI_COUNT, &points },
+        { "noise", CLI_NUMBER, &noise },
+        { "seed", CLI_COUNT, &seed },
+        { NULL, 0, NULL }
+    };
+
+    cli_parse("map", argc, argv, opts, &npos, &help);
+    if (help) {
+        printf("usage: layerfit map RESULT.csv --plot MAP.png|MAP.svg\n"
+               "       layerfit map --synthetic DIR [--size 64] [--every 1] [--points 150]\n"
+               "                    [--noise 0.01] [--seed 1]\n\n"
+               "The first form draws heat maps of w and E* from the CSV output of\n"
+               "'layerfit fit --batch', keeping the gnuplot script and data next to the\n"
+               "image (MAP.gp, MAP.dat).  The second writes a synthetic force map with a\n"
+               "known pattern: DIR/plan.csv and DIR/curves/xXX_yYY.csv (every N-th pixel).\n");
+        return CLI_EXIT_OK;
+    }
+    if (syn != NULL) {
+        if (npos > 0)
+            cli_die(CLI_EXIT_USAGE, "map: --synthetic takes no other file ('%s')", argv[0]);
+        return synthetic(syn, size, every, points, isfinite(noise) ? noise : 0.01,
+                         (unsigned long) seed);
+    }
+    if (npos != 1)
+        cli_die(CLI_EXIT_USAGE, "map: give one batch result (layerfit map RESULT.csv --plot map.png)");
+    if (plot == NULL)
+        cli_die(CLI_EXIT_USAGE, "map: say where to draw the map (--plot map.png or --plot map.svg)");
+    return draw_map(argv[0], plot);
+}

@@ -1,0 +1,503 @@
+/* cli_plotfit.c: the figures of a fit (`layerfit fit --plot DIR`).
+ *
+ * Per curve, after the seed paper's Fig. 3: the measured points, the fitted
+ * model with its force-controlled stable part (dP/ddelta > 0) solid and its
+ * unstable part dashed, the baseline out of contact, the pull-off point, and
+ * the residuals in a panel below.  One overview puts every curve of a joint
+ * fit on shared axes (indentation delta = z - z0 in nm, force in a unit
+ * chosen for the data).  Each figure is drawn by a gnuplot script kept next
+ * to it with its data: DIR/NAME.gp reads DIR/NAME.dat and writes NAME.png
+ * and NAME.svg, so `cd DIR && gnuplot NAME.gp` redraws it after restyling. */
+#include <errno.h>
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "cli.h"
+#include "plot.h"
+
+#define GRID 400   /* points of a model curve */
+
+static const char *const palette[] = { "#1b6ca8", "#c0392b", "#27ae60", "#8e44ad",
+                                       "#d35400", "#2c3e50", "#16a085", "#7f8c8d" };
+#define NPAL (sizeof palette / sizeof palette[0])
+
+/* A force unit for values up to fmax: scale (N per unit) and name. */
+static void
+force_unit(double fmax, double *scale, const char **name)
+{
+    static const struct { double s; const char *n; } u[] = {
+        { 1.0, "N" }, { 1e-3, "mN" }, { 1e-6, "µN" }, { 1e-9, "nN" }, { 1e-12, "pN" }
+    };
+    size_t i;
+    for (i = 0; i < sizeof u / sizeof u[0] - 1; i++)
+        if (fmax >= u[i].s)
+            break;
+    *scale = u[i].s;
+    *name = u[i].n;
+}
+
+static const char *
+base_name(const char *path)
+{
+    const char *s;
+    if (path == NULL || *path == '\0')
+        return "curve";
+    s = strrchr(path, '/');
+    return s ? s + 1 : path;
+}
+
+/* The material to draw with: the fitted one; where E* is not determined
+ * (bonded curves alone fix only M = Z E*), E* = M with nu = 0 (Z = 1) draws
+ * the same thin-layer curve. */
+static int
+draw_material(const lf_fit_result *res, lf_material *m)
+{
+    m->w = res->w.value;
+    m->Estar = res->Estar.value;
+    m->nu = isfinite(res->nu.value) ? res->nu.value : 0.3;
+    if (!isfinite(m->Estar) && isfinite(res->M.value)) {
+        m->Estar = res->M.value;
+        m->nu = 0.0;
+    }
+    if (!isfinite(m->w) && res->w.upper_bound_only)
+        m->w = 0.0;
+    return isfinite(m->w) && isfinite(m->Estar) ? 0 : -1;
+}
+
+/* One curve's model on a grid of indentations, in instrument coordinates. */
+typedef struct {
+    double z[GRID], F[GRID], delta[GRID];
+    int cls[GRID];          /* 0 baseline (no contact), 1 stable, 2 unstable */
+    int have;               /* 0 when the model could not be evaluated */
+    double z_po, F_po;      /* pull-off point, NaN if none */
+} model_curve;
+
+static void
+model_for(const lf_fit_curve *c, const lf_fit_curve_result *cr, const lf_fit_result *res,
+          model_curve *mc)
+{
+    const lf_model_type *type = lf_model_type_find(res->model ? res->model : "thin");
+    lf_material mat;
+    lf_model *model;
+    lf_eval ev[GRID];
+    lf_error err;
+    double lo = INFINITY, hi = -INFINITY;
+    size_t i;
+
+    mc->have = 0;
+    mc->z_po = mc->F_po = NAN;
+    if (type == NULL || draw_material(res, &mat) != 0)
+        return;
+    model = lf_model_alloc(type, &c->probe, &err);
+    if (model == NULL)
+        return;
+    for (i = 0; i < c->n; i++) {
+        double d = c->depth[i] - cr->z0;
+        lo = fmin(lo, d);
+        hi = fmax(hi, d);
+    }
+    if (cr->branch == LF_BRANCH_UNLOAD && isfinite(cr->pulloff.delta_detach))
+        lo = fmin(lo, cr->pulloff.delta_detach - 0.05 * (hi - cr->pulloff.delta_detach));
+    for (i = 0; i < GRID; i++)
+        mc->delta[i] = lo + (hi - lo) * (double) i / (GRID - 1);
+    if (!(hi > lo) || lf_model_eval(model, &mat, cr->branch, GRID, mc->delta, ev, &err) != LF_OK) {
+        lf_model_free(model);
+        return;
+    }
+    for (i = 0; i < GRID; i++) {
+        double s = isfinite(cr->slope) ? cr->slope : 0.0;
+        mc->z[i] = mc->delta[i] + cr->z0;
+        mc->F[i] = ev[i].P + cr->F0 + s * mc->delta[i];
+        mc->cls[i] = ev[i].a <= 0.0 ? 0 : ev[i].dP_ddelta > 0.0 ? 1 : 2;
+    }
+    if (cr->branch == LF_BRANCH_UNLOAD && isfinite(cr->pulloff.P_po)) {
+        double s = isfinite(cr->slope) ? cr->slope : 0.0;
+        mc->z_po = cr->pulloff.delta_po + cr->z0;
+        mc->F_po = cr->pulloff.P_po + cr->F0 + s * cr->pulloff.delta_po;
+    }
+    mc->have = 1;
+    lf_model_free(model);
+}
+
+/* Write the model points of class cls as one data set, contiguous runs
+ * separated by a blank line; the boundary points are shared so that the
+ * parts join.  xshift is subtracted from z.  Returns the points written. */
+static size_t
+put_class(FILE *f, const model_curve *mc, int cls, double xshift, double fscale)
+{
+    size_t i, n = 0;
+    int in = 0;
+    for (i = 0; i < GRID; i++) {
+        int here = mc->cls[i] == cls
+                   || (i > 0 && mc->cls[i - 1] == cls)
+                   || (i + 1 < GRID && mc->cls[i + 1] == cls);
+        if (here) {
+            fprintf(f, "%.9g %.9g\n", (mc->z[i] - xshift) * 1e9, mc->F[i] / fscale);
+            n++;
+            in = 1;
+        } else if (in) {
+            fputc('\n', f);
+            in = 0;
+        }
+    }
+    if (n == 0)
+        fputs("NaN NaN\n", f);   /* an empty block would not count as an index */
+    return n;
+}
+
+static FILE *
+open_in(const char *dir, const char *name, char *msg, size_t n)
+{
+    char path[4096];
+    FILE *f;
+    if (plot_path(path, sizeof path, dir, name) != 0) {
+        snprintf(msg, n, "%s/%s: path too long", dir, name);
+        return NULL;
+    }
+    if ((f = fopen(path, "w")) == NULL)
+        snprintf(msg, n, "cannot write %s: %s", path, strerror(errno));
+    return f;
+}
+
+/* The lines every script starts with: a loop over both terminals. */
+static void
+script_head(FILE *g, const char *base, const char *what, int w_png, int h_png)
+{
+    fprintf(g, "# %s.gp: %s, made by layerfit %s.\n"
+               "# Data in %s.dat (blocks selected with 'index', described in its header).\n"
+               "# Redraw after restyling with: gnuplot %s.gp\n",
+            base, what, LF_VERSION, base, base);
+    fprintf(g, "do for [fmt in 'png svg'] {\n"
+               "if (fmt eq 'png') {\n"
+               "    set terminal pngcairo size %d,%d enhanced font 'Helvetica,12'\n"
+               "    set output '%s.png'\n"
+               "} else {\n"
+               "    set terminal svg size %d,%d dynamic enhanced font 'Helvetica,13'\n"
+               "    set output '%s.svg'\n"
+               "}\n", w_png, h_png, base, w_png * 4 / 5, h_png * 4 / 5, base);
+    fprintf(g, "set grid lc rgb '#e0e0e0'\nset tics out nomirror\nset border 3\n");
+}
+
+static int
+close_both(FILE *g, FILE *d, const char *dir, const char *base, char *msg, size_t n)
+{
+    int bad = 0;
+    if (g != NULL && fclose(g) != 0)
+        bad = 1;
+    if (d != NULL && fclose(d) != 0)
+        bad = 1;
+    if (bad)
+        snprintf(msg, n, "error writing %s/%s.gp or .dat", dir, base);
+    return bad ? -1 : 0;
+}
+
+/* The plot command of data, model parts and pull-off from NAME.dat. */
+static void
+curve_layers(FILE *g, const char *base, size_t nst, size_t nun, size_t nbase, int have,
+             int po, int titles, const char *po_text)
+{
+    fprintf(g, "plot '%s.dat' index 0 using 1:2 with points pt 6 ps 0.6 lc rgb '#7f8c8d' %s",
+            base, titles ? "title 'data'" : "notitle");
+    if (nst > 0)
+        fprintf(g, ", \\\n     '' index 1 using 1:2 with lines lw 2.5 lc rgb '%s' %s",
+                palette[0], titles ? "title 'fit, stable'" : "notitle");
+    if (nun > 0)
+        fprintf(g, ", \\\n     '' index 2 using 1:2 with lines lw 2.5 dt 2 lc rgb '%s' %s",
+                palette[0], titles ? "title 'fit, unstable'" : "notitle");
+    if (nbase > 0)
+        fprintf(g, ", \\\n     '' index 3 using 1:2 with lines lw 1.5 lc rgb '#95a5a6' %s",
+                titles ? "title 'out of contact'" : "notitle");
+    if (!have)
+        fprintf(g, ", \\\n     '' index 0 using 1:3 with lines lw 2 lc rgb '%s' %s", palette[0],
+                titles ? "title 'fit'" : "notitle");
+    if (po) {
+        fprintf(g, ", \\\n     '' index 4 using 1:2 with points pt 7 ps 1.6 lc rgb '%s' ", palette[1]);
+        if (titles)
+            fprintf(g, "title 'pull-off %s'", po_text);
+        else
+            fprintf(g, "notitle");
+    }
+    fprintf(g, "\n");
+}
+
+/* One curve: data + model over the residuals, and the part around pull-off. */
+static int
+curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
+             const lf_fit_result *res, char *msg, size_t n)
+{
+    const lf_fit_curve_result *cr = &res->curves[j];
+    model_curve *mc = malloc(sizeof *mc);
+    char name[1100], buf[64], tb[64], wb[64], Eb[64];
+    const char *fu;
+    double fs, fpeak = 0.0;
+    size_t i, nst = 0, nun = 0, nbase = 0;
+    FILE *d, *g;
+
+    if (mc == NULL) {
+        snprintf(msg, n, "out of memory");
+        return -1;
+    }
+    model_for(c, cr, res, mc);
+    for (i = 0; i < c->n; i++)
+        fpeak = fmax(fpeak, fabs(c->force[i]));
+    force_unit(fpeak, &fs, &fu);
+    snprintf(name, sizeof name, "%s.dat", base);
+    if ((d = open_in(dir, name, msg, n)) == NULL) {
+        free(mc);
+        return -1;
+    }
+    fprintf(d, "# %s: curve %zu of the fit, %s (%s branch)\n", base, j + 1,
+            c->name ? c->name : "", cr->branch == LF_BRANCH_LOAD ? "loading" : "unloading");
+    fprintf(d, "# index 0: measured points: depth_nm force_%s fitted_%s residual_%s\n", fu, fu, fu);
+    for (i = 0; i < c->n; i++)
+        fprintf(d, "%.9g %.9g %.9g %.9g\n", c->depth[i] * 1e9, c->force[i] / fs,
+                cr->fitted[i] / fs, (c->force[i] - cr->fitted[i]) / fs);
+    /* an empty block would not count as an index: "NaN NaN" holds its place */
+    fprintf(d, "\n\n# index 1: model, stable under force control (dP/ddelta > 0): depth_nm force_%s\n", fu);
+    nst = mc->have ? put_class(d, mc, 1, 0.0, fs) : (fputs("NaN NaN\n", d), 0);
+    fprintf(d, "\n\n# index 2: model, unstable under force control (dP/ddelta <= 0)\n");
+    nun = mc->have ? put_class(d, mc, 2, 0.0, fs) : (fputs("NaN NaN\n", d), 0);
+    fprintf(d, "\n\n# index 3: model out of contact (baseline)\n");
+    nbase = mc->have ? put_class(d, mc, 0, 0.0, fs) : (fputs("NaN NaN\n", d), 0);
+    fprintf(d, "\n\n# index 4: force-controlled pull-off: depth_nm force_%s\n", fu);
+    if (isfinite(mc->F_po))
+        fprintf(d, "%.9g %.9g\n", mc->z_po * 1e9, mc->F_po / fs);
+    else
+        fputs("NaN NaN\n", d);
+
+    snprintf(name, sizeof name, "%s.gp", base);
+    if ((g = open_in(dir, name, msg, n)) == NULL) {
+        fclose(d);
+        free(mc);
+        return -1;
+    }
+    snprintf(tb, sizeof tb, "%s", base_name(c->name));
+    script_head(g, base, "one curve of a fit with its residuals", 1200, 760);
+    /* left: the whole curve over its residuals; right: the adhesive part
+     * around pull-off, where the paper's Fig. 3 draws the branches */
+    fprintf(g, "set multiplot title \"%s: k = %g, R = %s, ", tb, c->probe.k,
+            cli_human(buf, sizeof buf, c->probe.R, "m"));
+    fprintf(g, "b = %s, %s;  w = %s, E* = %s\" noenhanced\n",
+            cli_human(buf, sizeof buf, c->probe.b, "m"), cli_base_name(c->probe.base),
+            cli_human(wb, sizeof wb, res->w.value, "J/m²"),
+            cli_human(Eb, sizeof Eb, res->Estar.value, "Pa"));
+    fprintf(g, "set lmargin at screen 0.09\nset rmargin at screen 0.60\n"
+               "set tmargin at screen 0.90\nset bmargin at screen 0.36\n"
+               "set format x ''\nunset xlabel\nset ylabel 'force (%s)'\n"
+               "set key top left Left reverse box opaque\n", fu);
+    curve_layers(g, base, nst, nun, nbase, mc->have, isfinite(mc->F_po), 1,
+                 cli_human(buf, sizeof buf, cr->pulloff.P_po, "N"));
+    fprintf(g, "set tmargin at screen 0.34\nset bmargin at screen 0.09\n"
+               "set format x '%%g'\nset xlabel 'depth z (nm)'\nset ylabel 'residual (%s)'\n"
+               "unset key\n", fu);
+    fprintf(g, "plot '%s.dat' index 0 using 1:4 with points pt 7 ps 0.4 lc rgb '%s', "
+               "0 with lines lc rgb '#444444' dt 3\n", base, palette[0]);
+    if (isfinite(mc->F_po) && cr->pulloff.delta_po > cr->pulloff.delta_detach) {
+        /* from just past detachment to a few pull-off widths into contact */
+        double span = cr->pulloff.delta_po - cr->pulloff.delta_detach;
+        double s = isfinite(cr->slope) ? cr->slope : 0.0;
+        double x0 = cr->pulloff.delta_detach - 0.4 * span, x1 = cr->pulloff.delta_po + 3.0 * span;
+        double y0 = 1.6 * cr->pulloff.P_po, y1 = -1.6 * cr->pulloff.P_po;
+        fprintf(g, "set lmargin at screen 0.70\nset rmargin at screen 0.98\n"
+                   "set tmargin at screen 0.90\nset bmargin at screen 0.36\n"
+                   "set title 'around pull-off'\nset xlabel 'depth z (nm)'\n"
+                   "set ylabel 'force (%s)'\n", fu);
+        fprintf(g, "set xrange [%.9g:%.9g]\nset yrange [%.9g:%.9g]\n",
+                (x0 + cr->z0) * 1e9, (x1 + cr->z0) * 1e9,
+                (y0 + cr->F0 + s * x0) / fs, (y1 + cr->F0 + s * x1) / fs);
+        curve_layers(g, base, nst, nun, nbase, mc->have, 1, 0, "");
+        fprintf(g, "unset title\nset autoscale\n");
+    }
+    fprintf(g, "unset multiplot\n}\n");
+    free(mc);
+    return close_both(g, d, dir, base, msg, n);
+}
+
+/* Every curve on shared axes: delta = z - z0 so that the curves meet at
+ * contact. */
+static int
+overview_figure(const char *dir, const char *base, size_t nc, const lf_fit_curve *c,
+                const lf_fit_result *res, char *msg, size_t n)
+{
+    model_curve *mc = malloc(sizeof *mc);
+    size_t j, i, *cnt = calloc(4 * (nc ? nc : 1), sizeof *cnt);
+    double fs, fpeak = 0.0;
+    const char *fu;
+    char name[1100], buf[64], wb[64], Eb[64];
+    FILE *d, *g;
+    int first = 1;
+
+    if (mc == NULL || cnt == NULL) {
+        free(mc);
+        free(cnt);
+        snprintf(msg, n, "out of memory");
+        return -1;
+    }
+    for (j = 0; j < nc; j++)
+        for (i = 0; i < c[j].n; i++)
+            fpeak = fmax(fpeak, fabs(c[j].force[i] - res->curves[j].F0));
+    force_unit(fpeak, &fs, &fu);
+    snprintf(name, sizeof name, "%s.dat", base);
+    if ((d = open_in(dir, name, msg, n)) == NULL) {
+        free(mc);
+        free(cnt);
+        return -1;
+    }
+    fprintf(d, "# %s: every curve of the fit, indentation delta = z - z0 (nm) and force\n"
+               "# minus the fitted offset F0 (%s).  Curve j (1-based) has index 4(j-1)+0:\n"
+               "# data, +1: model stable, +2: model unstable, +3: pull-off point.\n", base, fu);
+    for (j = 0; j < nc; j++) {
+        const lf_fit_curve_result *cr = &res->curves[j];
+        model_for(&c[j], cr, res, mc);
+        if (j > 0)
+            fprintf(d, "\n\n");
+        fprintf(d, "# curve %zu: %s\n", j + 1, c[j].name ? c[j].name : "");
+        for (i = 0; i < c[j].n; i++)
+            fprintf(d, "%.9g %.9g\n", (c[j].depth[i] - cr->z0) * 1e9, (c[j].force[i] - cr->F0) / fs);
+        cnt[4 * j] = c[j].n;
+        if (mc->have) {
+            for (i = 0; i < GRID; i++)
+                mc->F[i] -= cr->F0;
+            fprintf(d, "\n\n");
+            cnt[4 * j + 1] = put_class(d, mc, 1, cr->z0, fs);
+            fprintf(d, "\n\n");
+            cnt[4 * j + 2] = put_class(d, mc, 2, cr->z0, fs);
+        } else {
+            fprintf(d, "\n\n# no model\nNaN NaN\n\n\n# no model\nNaN NaN\n");
+        }
+        fprintf(d, "\n\n# pull-off\n");
+        if (isfinite(mc->F_po)) {
+            fprintf(d, "%.9g %.9g\n", (mc->z_po - cr->z0) * 1e9, (mc->F_po - cr->F0) / fs);
+            cnt[4 * j + 3] = 1;
+        } else {
+            fputs("NaN NaN\n", d);
+        }
+    }
+    snprintf(name, sizeof name, "%s.gp", base);
+    if ((g = open_in(dir, name, msg, n)) == NULL) {
+        fclose(d);
+        free(mc);
+        free(cnt);
+        return -1;
+    }
+    script_head(g, base, "every curve of a joint fit on shared axes", 1000, 700);
+    fprintf(g, "set title \"%zu curve%s, w = %s, E* = %s, %s model\" noenhanced\n", nc,
+            nc == 1 ? "" : "s", cli_human(wb, sizeof wb, res->w.value, "J/m²"),
+            cli_human(Eb, sizeof Eb, res->Estar.value, "Pa"), res->model ? res->model : "");
+    fprintf(g, "set xlabel 'indentation δ = z - z_0 (nm)'\nset ylabel 'force - F_0 (%s)'\n"
+               "set key outside right top noenhanced\n", fu);
+    fprintf(g, "plot ");
+    for (j = 0; j < nc; j++) {
+        const char *col = palette[j % NPAL];
+        char label[128];
+        snprintf(label, sizeof label, "%zu: k = %g, %s", j + 1, c[j].probe.k,
+                 cli_human(buf, sizeof buf, c[j].probe.R, "m"));
+        fprintf(g, "%s'%s.dat' index %zu with points pt 6 ps 0.5 lc rgb '%s' title '%s'",
+                first ? "" : ", \\\n     ", base, 4 * j, col, label);
+        first = 0;
+        if (cnt[4 * j + 1] > 0)
+            fprintf(g, ", \\\n     '' index %zu with lines lw 2.5 lc rgb '%s' notitle", 4 * j + 1, col);
+        if (cnt[4 * j + 2] > 0)
+            fprintf(g, ", \\\n     '' index %zu with lines lw 2.5 dt 2 lc rgb '%s' notitle", 4 * j + 2, col);
+        if (cnt[4 * j + 3] > 0)
+            fprintf(g, ", \\\n     '' index %zu with points pt 7 ps 1.4 lc rgb '%s' notitle", 4 * j + 3, col);
+    }
+    fprintf(g, "\n}\n");
+    free(mc);
+    free(cnt);
+    return close_both(g, d, dir, base, msg, n);
+}
+
+void
+cli_figures_free(cli_figures *f)
+{
+    if (f == NULL)
+        return;
+    free(f->base);
+    free(f->caption);
+    f->base = NULL;
+    f->caption = NULL;
+    f->n = 0;
+}
+
+int
+cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
+             const lf_fit_result *res, cli_figures *figs, char *msg, size_t n)
+{
+    size_t j, k = 0;
+    int status = 0;
+
+    figs->n = 0;
+    figs->base = calloc(ncurves + 1, sizeof *figs->base);
+    figs->caption = calloc(ncurves + 1, sizeof *figs->caption);
+    if (figs->base == NULL || figs->caption == NULL) {
+        snprintf(msg, n, "out of memory");
+        return -1;
+    }
+    if (mkdir(dir, 0777) != 0 && errno != EEXIST) {
+        snprintf(msg, n, "cannot create %s: %s", dir, strerror(errno));
+        return -1;
+    }
+    snprintf(figs->base[k], sizeof figs->base[0], "overview");
+    snprintf(figs->caption[k], sizeof figs->caption[0],
+             "Every curve of the fit against indentation; fitted model solid where stable "
+             "under force control, dashed where unstable; dots: pull-off.");
+    figs->n = ++k;
+    if (overview_figure(dir, figs->base[0], ncurves, curves, res, msg, n) != 0)
+        return -1;
+    for (j = 0; j < ncurves; j++, k++) {
+        snprintf(figs->base[k], sizeof figs->base[0], "curve%zu", j + 1);
+        snprintf(figs->caption[k], sizeof figs->caption[0], "Curve %zu: %s, with residuals.",
+                 j + 1, curves[j].name ? curves[j].name : "");
+        figs->n = k + 1;
+        if (curve_figure(dir, figs->base[k], j, &curves[j], res, msg, n) != 0)
+            return -1;
+    }
+    if (!plot_have_gnuplot()) {
+        snprintf(msg, n, "gnuplot is not installed, so the figures were not drawn (their "
+                 "scripts and data are in %s): %s", dir, PLOT_INSTALL_HINT);
+        return -1;
+    }
+    for (k = 0; k < figs->n && status == 0; k++) {
+        char script[80];
+        snprintf(script, sizeof script, "%s.gp", figs->base[k]);
+        status = plot_run_script(dir, script, msg, n);
+    }
+    return status;
+}
+
+void
+cli_fit_figures_check(const char *plotdir, const char *report)
+{
+    if (plotdir != NULL && *plotdir == '\0')
+        cli_die(CLI_EXIT_USAGE, "fit: --plot needs a folder (e.g. --plot figures)");
+    if (report != NULL) {
+        size_t len = strlen(report);
+        if (len < 5 || (strcmp(report + len - 5, ".html") != 0 && strcmp(report + len - 4, ".htm") != 0))
+            cli_die(CLI_EXIT_USAGE, "fit: --report %s: the report is a web page, FILE.html", report);
+    }
+}
+
+void
+cli_fit_figures(const char *plotdir, const char *report, size_t ncurves,
+                const lf_fit_curve *curves, const lf_fit_result *res)
+{
+    char msg[1400];
+
+    cli_fit_figures_check(plotdir, report);
+    if (plotdir != NULL && report == NULL) {
+        cli_figures figs = { 0, NULL, NULL };
+        if (cli_plot_fit(plotdir, ncurves, curves, res, &figs, msg, sizeof msg) != 0)
+            fprintf(stderr, "layerfit: fit: %s\n", msg);
+        cli_figures_free(&figs);
+    }
+    if (report != NULL) {
+        int st = cli_html_report(report, plotdir, ncurves, curves, res, msg, sizeof msg);
+        if (st < 0)
+            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
+        if (st > 0)
+            fprintf(stderr, "layerfit: fit: %s\n", msg);
+    }
+}

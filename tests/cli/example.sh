@@ -1,0 +1,46 @@
+# example.sh: the README's library example, built against the installed
+# header, library and pkg-config file (make install DESTDIR=... PREFIX=/usr).
+. "$(dirname "$0")/common"
+top=$(cd "$(dirname "$0")/../.." && pwd)
+build=$(basename "$(dirname "$LF")")
+if ! command -v pkg-config >/dev/null 2>&1; then
+    echo "note: pkg-config is not installed (apt-get install pkgconf); example not built"
+    summary; exit
+fi
+dest="$tmp/root"
+# a sanitizer build (make sanitize) is installed with its own flags, so
+# that whatever make rebuilds matches the rest of it
+san=""
+if nm "$top/$build/liblayerfit.a" 2>/dev/null | grep -q __asan_; then
+    san="-fsanitize=address,undefined"
+    set -- SANFLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all" \
+           OPT="-O1 -g -fno-omit-frame-pointer"
+else
+    set --
+fi
+(unset MAKEFLAGS MFLAGS MAKELEVEL; make -s -C "$top" install BUILD="$build" DESTDIR="$dest" PREFIX=/usr "$@") \
+    >"$tmp/make.log" 2>&1 && ok || { bad "make install: $(tail -n 5 "$tmp/make.log")"; summary; exit; }
+for f in usr/bin/layerfit usr/lib/liblayerfit.a usr/include/layerfit.h \
+         usr/lib/pkgconfig/layerfit.pc usr/share/man/man1/layerfit.1; do
+    [ -f "$dest/$f" ] && ok || bad "installed $f"
+done
+flags=$(PKG_CONFIG_PATH= PKG_CONFIG_LIBDIR="$dest/usr/lib/pkgconfig" PKG_CONFIG_SYSROOT_DIR="$dest" \
+        pkg-config --cflags --libs layerfit) && ok || bad "pkg-config finds layerfit"
+case "$flags" in *"-I$dest/usr/include"*) ok ;; *) bad "pkg-config flags point into DESTDIR: $flags" ;; esac
+# (a sanitizer build's library needs the sanitizer runtime in the program)
+# shellcheck disable=SC2086
+${CC:-cc} -std=c11 -Wall -Wextra -Werror $san -o "$tmp/example" "$top/tests/example/example.c" $flags \
+    2>"$tmp/cc.err" && ok || bad "example builds: $(head -n 5 "$tmp/cc.err")"
+(cd "$top" && "$tmp/example" datasets/plan.csv) >"$tmp/out" 2>"$tmp/err" && ok \
+    || bad "example runs: $(cat "$tmp/err")"
+has "example converged" "$tmp/out" "converged: yes"
+near "example w (datasets truth 12.3 mJ/m^2)" "$(sed -n 's/^w  = \([^ ]*\) .*/\1/p' "$tmp/out")" 0.0123 0.05
+near "example E* (truth 1.85 GPa)" "$(sed -n 's/^E\* = \([^ ]*\) .*/\1/p' "$tmp/out")" 1.85e9 0.02
+has "example lists the curves" "$tmp/out" "curve 4: pull-off force"
+# the README quotes the example as it is: every line, indented by 4
+if [ -f "$top/README.md" ]; then
+    missing=$(sed 's/^/    /; s/^ *$//' "$top/tests/example/example.c" | while IFS= read -r l; do
+        [ -z "$l" ] && continue; grep -qxF -- "$l" "$top/README.md" || echo "$l"; done | head -n 3)
+    [ -z "$missing" ] && ok || bad "README does not quote tests/example/example.c: $missing"
+fi
+summary

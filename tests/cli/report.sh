@@ -1,0 +1,85 @@
+# report.sh: `layerfit fit --plot DIR` and `--report FILE.html`; the page is
+# loaded in headless Chromium, which must find every table and figure.
+. "$(dirname "$0")/common"
+
+"$LF" simulate --out "$tmp/d" --w 12mJ/m2 --E 1.3GPa --noise 0.003 --seed 11 --z0 20nm \
+    --points 120 k=2,R=1mm,b=1um,interface=frictionless k=3,R=1mm,b=1um,interface=frictionless \
+    >/dev/null 2>"$tmp/err" && ok || bad "simulate: $(cat "$tmp/err")"
+if ! "$LF" fit --help | grep -q -- "--report"; then
+    echo "note: this build's 'layerfit fit' has no --plot/--report yet"
+    summary; exit
+fi
+
+# figures: kept scripts and data, PNG and SVG, a script that redraws
+if command -v gnuplot >/dev/null 2>&1; then
+    run_ok fit "$tmp/d/plan.csv" --plot "$tmp/figs"
+    for f in overview curve1 curve2; do
+        for e in png svg gp dat; do
+            [ -s "$tmp/figs/$f.$e" ] && ok || bad "--plot wrote $f.$e"
+        done
+    done
+    [ "$(head -c 4 "$tmp/figs/curve1.png" | od -An -c | tr -d ' ')" = "211PNG" ] && ok \
+        || bad "curve1.png is a PNG"
+    has "per-curve figure: stable branch" "$tmp/figs/curve1.gp" "title 'fit, stable'"
+    has "per-curve figure: unstable branch dashed" "$tmp/figs/curve1.gp" "dt 2"
+    has "per-curve figure: pull-off" "$tmp/figs/curve1.gp" "title 'pull-off"
+    has "per-curve figure: residuals" "$tmp/figs/curve1.gp" "ylabel 'residual"
+    has "overview: shared axes in nm" "$tmp/figs/overview.gp" "(nm)"
+    has "the data say what they hold" "$tmp/figs/curve1.dat" "# index 4: force-controlled pull-off"
+    rm "$tmp/figs/curve2.svg"
+    (cd "$tmp/figs" && gnuplot curve2.gp) && [ -s "$tmp/figs/curve2.svg" ] && ok \
+        || bad "the kept script redraws the figure"
+else
+    echo "note: gnuplot not installed, figures not tested"
+fi
+
+# without gnuplot the fit still works and says how to install it
+PATH=/nonexistent "$LF" fit "$tmp/d/plan.csv" --plot "$tmp/nog" >"$tmp/out" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 0 ] && ok || bad "fit --plot without gnuplot: exit $rc"
+has "fit result still printed" "$tmp/out" "E*   ="
+has "how to install gnuplot" "$tmp/err" "apt-get install gnuplot-nox"
+[ -s "$tmp/nog/curve1.gp" ] && ok || bad "scripts are written without gnuplot"
+PATH=/nonexistent "$LF" fit "$tmp/d/plan.csv" --report "$tmp/nog.html" >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 0 ] && ok || bad "fit --report without gnuplot: exit $rc"
+has "report without gnuplot keeps the tables" "$tmp/nog.html" 'id="parameter-table"'
+has "report without gnuplot says why" "$tmp/nog.html" "gnuplot is not installed"
+
+# the page
+run_ok fit "$tmp/d/plan.csv" --report "$tmp/r.html"
+for id in parameter-table correlation-table curve-table fit-table identifiability warnings command-line; do
+    has "page has $id" "$tmp/r.html" "id=\"$id\""
+done
+has "page has the version" "$tmp/r.html" "layerfit 0."
+has "page has the command line" "$tmp/r.html" "layerfit fit $tmp/d/plan.csv --report $tmp/r.html"
+[ "$(grep -c '<figure class="fit-figure"' "$tmp/r.html")" -eq 3 ] && ok || bad "3 figures on the page"
+grep -q '<?xml' "$tmp/r.html" && bad "XML prolog inside HTML" || ok
+dups=$(grep -o " id=['\"][^'\"]*['\"]" "$tmp/r.html" | sort | uniq -d | head -n 3)
+[ -z "$dups" ] && ok || bad "duplicate ids on the page: $dups"
+[ ! -e "$tmp/figs2" ] && ok
+expect_fail 2 "layerfit: fit: --report $tmp/r.pdf: the report is a web page, FILE.html" \
+    fit "$tmp/d/plan.csv" --report "$tmp/r.pdf"
+
+# headless Chromium: the DOM it builds holds the tables and every figure
+chrome=$(command -v chromium || command -v chromium-browser || true)
+if [ -n "$chrome" ]; then
+    prof=$(mktemp -d)
+    timeout 120 "$chrome" --headless --no-sandbox --disable-gpu --disable-background-networking \
+        --no-first-run --disable-component-update --disable-sync --user-data-dir="$prof" \
+        --dump-dom "file://$tmp/r.html" >"$tmp/dom.html" 2>"$tmp/chrome.err"
+    rm -rf "$prof"
+    [ -s "$tmp/dom.html" ] && ok || bad "chromium --dump-dom gave nothing: $(tail -n 3 "$tmp/chrome.err")"
+    for id in parameter-table correlation-table curve-table; do
+        grep -q "<table id=\"$id\"" "$tmp/dom.html" && ok || bad "DOM has table $id"
+    done
+    for f in overview curve1 curve2; do
+        # the figure element and an svg element inside it
+        awk -v id="figure-$f" 'index($0, "id=\"" id "\"") { on = 1 } on && /<svg/ { found = 1; exit }
+            on && /<\/figure>/ { exit } END { exit !found }' "$tmp/dom.html" && ok \
+            || bad "DOM has figure $f with its SVG"
+    done
+    n=$(grep -c '<path' "$tmp/dom.html"); [ "$n" -gt 20 ] && ok || bad "SVG paths in the DOM ($n)"
+else
+    echo "note: chromium is not installed (apt-get install -y chromium); the page was not loaded in a browser"
+fi
+
+summary
