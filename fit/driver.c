@@ -207,6 +207,7 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     if (f == NULL)
         goto nomem;
     f->set = *settings;
+    f->alt_w = NAN;
     f->trs = *methods[im].trs;
     f->ncurves = ncurves;
     f->c = calloc(ncurves, sizeof *f->c);
@@ -603,6 +604,56 @@ rebase(lf_fit *f, gsl_vector *x)
     gsl_vector_set_all(x, 1.0);
 }
 
+/* Fit again from the material start (offsets profiled there) and keep
+ * whichever of that and the solution at x has the lower cost; *won = 1
+ * when the new start did, *ratio = the other's cost over the winner's. */
+static int
+second_start(lf_fit *f, gsl_vector *x, gsl_vector *r, const lf_material *start,
+             size_t *iters, size_t *evals, char *why, size_t nwhy, int *converged, int *won,
+             double *ratio, lf_error *err)
+{
+    double cost_first = cost_at(f, x, r), cost_second;
+    double *keep = malloc((3 * f->ncurves + 1) * sizeof *keep);
+    lf_material mat_first;
+    char why2[160];
+    int conv2, status;
+    size_t j;
+
+    *won = 0;
+    *ratio = 1.0;
+    if (keep == NULL)
+        return lf_fail(err, LF_ENOMEM, "out of memory");
+    rebase(f, x);
+    mat_first = f->mat;
+    for (j = 0; j < f->ncurves; j++) {
+        keep[3 * j] = f->c[j].z0;
+        keep[3 * j + 1] = f->c[j].F0;
+        keep[3 * j + 2] = f->c[j].slope;
+    }
+    f->mat = *start;
+    fit_guess_offsets(f);
+    status = run_from_origin(f, x, iters, evals, why2, sizeof why2, &conv2, err);
+    cost_second = cost_at(f, x, r);
+    if (status == LF_OK && cost_second < cost_first * (1.0 - 1e-9)) {
+        *won = 1;
+        *ratio = cost_first / cost_second;
+        *converged = conv2;
+        snprintf(why, nwhy, "%s", why2);
+    } else if (status == LF_OK) {
+        f->mat = mat_first;
+        for (j = 0; j < f->ncurves; j++) {
+            f->c[j].z0 = keep[3 * j];
+            f->c[j].F0 = keep[3 * j + 1];
+            f->c[j].slope = keep[3 * j + 2];
+        }
+        fit_set_origin(f);
+        gsl_vector_set_all(x, 1.0);
+        f->xcache_ok = 0;
+    }
+    free(keep);
+    return status;
+}
+
 #define MAX_REWEIGHT 50
 
 /* Robust loss by iteratively reweighted least squares: with u the residual
@@ -756,62 +807,35 @@ fit_solve(lf_fit *f, lf_fit_result *res, lf_error *err)
         return lf_fail(err, LF_ENOMEM, "out of memory");
     }
     user = f->mat;
-    {
-        double cost_user, cost_auto;
-        size_t j;
-        status = run_from_origin(f, x, &iters, &evals, why, sizeof why, &converged, err);
-        if (status == LF_OK && f->user_start) {
-            /* A user's starting point is a second start, not a replacement:
-             * the cost has kinks wherever a point crosses the contact edge,
-             * and a start a factor of 3 off can end in a minimum whose
-             * misfit, local to the edge, neither chi2 (the noise is only
-             * estimated) nor the runs test reliably shows.  So the fit is
-             * repeated from the automatic guess and the lower cost wins. */
-            char why_auto[160];
-            int conv_auto;
-            double *keep = malloc((3 * f->ncurves + 1) * sizeof *keep);
-            lf_material mat_user;
-
-            cost_user = cost_at(f, x, r);
-            if (keep == NULL) {
-                gsl_vector_free(x);
-                gsl_vector_free(r);
-                return lf_fail(err, LF_ENOMEM, "out of memory");
-            }
-            rebase(f, x);
-            mat_user = f->mat;
-            for (j = 0; j < f->ncurves; j++) {
-                keep[3 * j] = f->c[j].z0;
-                keep[3 * j + 1] = f->c[j].F0;
-                keep[3 * j + 2] = f->c[j].slope;
-            }
-            f->mat = f->auto_mat;
-            fit_guess_offsets(f);
-            status = run_from_origin(f, x, &iters, &evals, why_auto, sizeof why_auto,
-                                     &conv_auto, err);
-            cost_auto = cost_at(f, x, r);
-            if (status == LF_OK && cost_auto < cost_user * (1.0 - 1e-9)) {
-                converged = conv_auto;
-                snprintf(why, sizeof why, "%s", why_auto);
-                lf_warn(&res->warnings, "the fit from the given starting point (w = %.4g J/m^2, "
-                        "E* = %.4g Pa) ended at a cost %.4g times higher than from the automatic "
-                        "guess; the result below starts from the automatic guess",
-                        user.w, user.Estar, cost_user / cost_auto);
-            } else if (status == LF_OK) {
-                f->mat = mat_user;
-                for (j = 0; j < f->ncurves; j++) {
-                    f->c[j].z0 = keep[3 * j];
-                    f->c[j].F0 = keep[3 * j + 1];
-                    f->c[j].slope = keep[3 * j + 2];
-                }
-                fit_set_origin(f);
-                gsl_vector_set_all(x, 1.0);
-                f->xcache_ok = 0;
-            }
-            free(keep);
-        }
-        f->user_start = 0;      /* warm starts after this one are the caller's */
+    status = run_from_origin(f, x, &iters, &evals, why, sizeof why, &converged, err);
+    if (status == LF_OK && f->user_start) {
+        /* A user's starting point is a second start, not a replacement:
+         * the cost has kinks wherever a point crosses the contact edge, and
+         * a start a factor of 3 off can end in a minimum whose misfit,
+         * local to the edge, neither chi2 (the noise is only estimated)
+         * nor the runs test reliably shows.  So the fit is repeated from
+         * the automatic guess and the lower cost wins. */
+        double ratio;
+        int won;
+        status = second_start(f, x, r, &f->auto_mat, &iters, &evals, why, sizeof why,
+                              &converged, &won, &ratio, err);
+        if (status == LF_OK && won)
+            lf_warn(&res->warnings, "the fit from the given starting point (w = %.4g J/m^2, "
+                    "E* = %.4g Pa) ended at a cost %.4g times higher than from the automatic "
+                    "guess; the result below starts from the automatic guess",
+                    user.w, user.Estar, ratio);
     }
+    if (status == LF_OK && isfinite(f->alt_w)) {
+        /* the automatic guess's runner-up, when close: another basin */
+        lf_material alt = f->auto_mat;
+        double ratio;
+        int won;
+        alt.w = f->alt_w;
+        status = second_start(f, x, r, &alt, &iters, &evals, why, sizeof why, &converged,
+                              &won, &ratio, err);
+    }
+    f->user_start = 0;          /* warm starts after this one are the caller's */
+    f->alt_w = NAN;
     if (status == LF_OK && f->set.loss != LF_LOSS_LINEAR)
         status = reweight(f, x, r, &iters, &evals, why, sizeof why, &converged, &res->reweightings,
                           err);

@@ -63,6 +63,7 @@ struct lf_fit {
     lf_material mat;     /* held values, then the guess, then the fit */
     lf_material auto_mat; /* the automatic guess */
     int user_start;      /* 1 when the settings' guess replaced some of it */
+    double alt_w;        /* the guess's runner-up w, a second start, or NaN */
     int no_loo;          /* 1: a leave-one-out refit, which makes none itself */
     double cost_hist[FIT_FLAT_ITERS + 1]; /* cost after each iteration, cyclic */
     double *x0_internal; /* np: internal coordinates at the guess */

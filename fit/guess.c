@@ -502,7 +502,7 @@ fit_guess(lf_fit *f, lf_error *err)
         /* candidates: each curve's own w, their geometric mean and the
          * floor; the one whose offsets fit all curves best wins (ties to
          * the smaller w, so the order of the curves does not matter) */
-        double best = HUGE_VAL, wbest = wfloor;
+        double best = HUGE_VAL, wbest = wfloor, second = HUGE_VAL, wsecond = NAN;
         size_t ncand = f->ncurves + 2, i;
         for (i = 0; i < ncand; i++) {
             double wc, cost;
@@ -517,13 +517,24 @@ fit_guess(lf_fit *f, lf_error *err)
             m->w = wc;
             cost = offsets_at(f, 0);
             if (cost < best || (cost == best && wc < wbest)) {
+                if (!(fabs(log(wc / wbest)) < 0.1)) {
+                    second = best;
+                    wsecond = wbest;
+                }
                 best = cost;
                 wbest = wc;
+            } else if (cost < second && !(fabs(log(wc / wbest)) < 0.1)) {
+                second = cost;
+                wsecond = wc;
             }
         }
         m->w = wbest;
+        /* a runner-up within a factor 3 in cost is a second start */
+        f->alt_w = second <= 3.0 * best && isfinite(wsecond) ? wsecond : NAN;
     }
     /* the user's starting point, where given, replaces the automatic one */
+    if (f->imat[FIT_W] < 0)
+        f->alt_w = NAN;
     f->auto_mat = *m;
     f->user_start = 0;
     if (f->imat[FIT_W] >= 0 && !isnan(f->set.w.guess)) {
