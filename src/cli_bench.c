@@ -457,6 +457,27 @@ typedef struct {
     size_t serial_conv, parallel_conv;
 } bench_throughput;
 
+/* Fit the n single-curve problems fc independently on `threads` threads;
+ * returns how many converged. */
+static size_t
+fit_all(const lf_fit_settings *set, const lf_fit_curve *fc, size_t n, int threads)
+{
+    long i, nb = (long) n, conv = 0;
+
+#ifdef _OPENMP
+#pragma omp parallel for num_threads(threads) schedule(dynamic, 8) reduction(+:conv)
+#endif
+    for (i = 0; i < nb; i++) {
+        lf_fit_result res;
+        int st = lf_fit_driver(set, 1, &fc[i], &res, NULL);
+        conv += st == LF_OK;
+        if (st == LF_OK || st == LF_ENOCONV)
+            lf_fit_result_free(&res);
+    }
+    (void) threads;
+    return (size_t) conv;
+}
+
 /* Fit `batch` independent single-curve problems (scene single-k2, 1%
  * noise, 300 points), once on one thread and once on all. */
 static void
@@ -471,8 +492,6 @@ run_throughput(bench_throughput *tp, size_t batch)
     lf_fit_curve *fc = malloc(batch * sizeof *fc);
     lf_fit_settings set = lf_fit_settings_default();
     double t0;
-    long conv;
-    int pass;
 
     if (rng == NULL || depth == NULL || force == NULL || fc == NULL)
         cli_die(CLI_EXIT_FAIL, "bench: out of memory");
@@ -491,35 +510,12 @@ run_throughput(bench_throughput *tp, size_t batch)
 #else
     tp->threads = 1;
 #endif
-    for (pass = 0; pass < 2; pass++) {
-        conv = 0;
-        t0 = now_s();
-        if (pass == 0) {
-            for (b = 0; b < batch; b++) {
-                lf_fit_result res;
-                if (lf_fit_driver(&set, 1, &fc[b], &res, NULL) == LF_OK) {
-                    conv++;
-                    lf_fit_result_free(&res);
-                }
-            }
-            tp->serial_per_s = (double) batch / (now_s() - t0);
-            tp->serial_conv = (size_t) conv;
-        } else {
-            long i, nb = (long) batch;
-#ifdef _OPENMP
-#pragma omp parallel for schedule(dynamic, 8) reduction(+:conv)
-#endif
-            for (i = 0; i < nb; i++) {
-                lf_fit_result res;
-                if (lf_fit_driver(&set, 1, &fc[i], &res, NULL) == LF_OK) {
-                    conv++;
-                    lf_fit_result_free(&res);
-                }
-            }
-            tp->parallel_per_s = (double) batch / (now_s() - t0);
-            tp->parallel_conv = (size_t) conv;
-        }
-    }
+    t0 = now_s();
+    tp->serial_conv = fit_all(&set, fc, batch, 1);
+    tp->serial_per_s = (double) batch / (now_s() - t0);
+    t0 = now_s();
+    tp->parallel_conv = fit_all(&set, fc, batch, tp->threads);
+    tp->parallel_per_s = (double) batch / (now_s() - t0);
     data_free(&d);
     gsl_rng_free(rng);
     free(depth);
