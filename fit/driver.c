@@ -377,6 +377,62 @@ track_cost(const size_t iter, void *params, const gsl_multifit_nlinear_workspace
     f->cost_hist[iter % (FIT_FLAT_ITERS + 1)] = 0.5 * r * r;
 }
 
+/* 1 when every column of the solver's Jacobian is finite and not
+ * negligible.  A parameter that stops mattering (w driven towards zero
+ * leaves its column near zero) sends GSL's subspace2D method into an
+ * endless loop solving a quartic of NaNs; the other methods stall. */
+static int
+jacobian_usable(lf_fit *f, size_t *which)
+{
+    const gsl_matrix *J = gsl_multifit_nlinear_jac(f->gsl);
+    size_t i, k;
+    double top = 0.0, low = HUGE_VAL;
+
+    for (k = 0; k < J->size2; k++) {
+        double big = 0.0;
+        for (i = 0; i < J->size1; i++) {
+            double v = fabs(gsl_matrix_get(J, i, k));
+            if (!isfinite(v))
+                return 0;
+            big = fmax(big, v);
+        }
+        top = fmax(top, big);
+        if (big < low) {
+            low = big;
+            *which = k;
+        }
+    }
+    /* the internal coordinates are all of order one, so a column 1e-12 of
+     * the largest belongs to a parameter that no longer matters */
+    return low > 1e-12 * top;
+}
+
+/* gsl_multifit_nlinear_driver with the Jacobian checked before each
+ * iteration and the cost recorded after it.  An unusable Jacobian ends the
+ * run with GSL_EBADFUNC and the negligible column in *dead. */
+static int
+drive(lf_fit *f, int *info, size_t *dead)
+{
+    size_t iter = 0;
+    int status;
+
+    *info = 0;
+    do {
+        if (!jacobian_usable(f, dead))
+            return GSL_EBADFUNC;
+        status = gsl_multifit_nlinear_iterate(f->gsl);
+        if (status == GSL_ENOPROG && iter == 0) {
+            *info = status;
+            return GSL_EMAXITER;
+        }
+        track_cost(iter, f, f->gsl);
+        status = gsl_multifit_nlinear_test(f->set.xtol, f->set.gtol, f->set.ftol, info, f->gsl);
+    } while (status == GSL_CONTINUE && ++iter < f->set.max_iter);
+    if (iter >= f->set.max_iter && status != GSL_SUCCESS)
+        status = GSL_EMAXITER;
+    return status;
+}
+
 /* Run the trust-region iteration from x (overwritten with where it
  * stopped); *iters counts its iterations.  after_scan: x comes from
  * edge_scan. */
@@ -385,26 +441,38 @@ solve(lf_fit *f, gsl_vector *x, int after_scan, size_t *iters, char *why, size_t
       int *converged, lf_error *err)
 {
     int status, info = 0;
-    size_t i;
+    size_t i, dead = 0;
 
     *converged = 0;
     status = gsl_multifit_nlinear_init(x, &f->fdf, f->gsl);
     if (status != GSL_SUCCESS)
         return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the starting point (%s)",
                        gsl_strerror(status));
-    status = gsl_multifit_nlinear_driver(f->set.max_iter, f->set.xtol, f->set.gtol,
-                                         f->set.ftol, track_cost, f, &info, f->gsl);
+    status = drive(f, &info, &dead);
     *iters = gsl_multifit_nlinear_niter(f->gsl);
+    if (status == GSL_EBADFUNC) {
+        for (i = 0; i < f->np; i++)
+            gsl_vector_set(x, i, gsl_vector_get(gsl_multifit_nlinear_position(f->gsl), i));
+        if ((int) dead == f->imat[FIT_W]) {
+            /* the assessment reports w as bounded or undetermined */
+            *converged = 1;
+            snprintf(why, nwhy, "converged (w driven towards zero, where it no longer "
+                     "changes the fit)");
+        } else {
+            snprintf(why, nwhy, "not converged: parameter %zu no longer changes the fit", dead + 1);
+        }
+        return LF_OK;
+    }
     if (status == GSL_EMAXITER && *iters > FIT_FLAT_ITERS) {
         /* GSL numbers the iteration that just ended iters - 1 */
         double now = f->cost_hist[(*iters - 1) % (FIT_FLAT_ITERS + 1)];
         double then = f->cost_hist[*iters % (FIT_FLAT_ITERS + 1)];
-        if (then - now <= FIT_FLAT_REL * now) {
+        if (then - now <= fmax(FIT_FLAT_REL * now, FIT_FLAT_ABS)) {
             for (i = 0; i < f->np; i++)
                 gsl_vector_set(x, i, gsl_vector_get(gsl_multifit_nlinear_position(f->gsl), i));
             *converged = 1;
-            snprintf(why, nwhy, "converged (cost flat to %g over the last %d iterations)",
-                     FIT_FLAT_REL, FIT_FLAT_ITERS);
+            snprintf(why, nwhy, "converged (chi2 fell by %.2g over the last %d iterations)",
+                     2.0 * (then - now), FIT_FLAT_ITERS);
             return LF_OK;
         }
     }
@@ -424,8 +492,7 @@ solve(lf_fit *f, gsl_vector *x, int after_scan, size_t *iters, char *why, size_t
         f->fdf.df = NULL;
         status = gsl_multifit_nlinear_init(x, &f->fdf, f->gsl);
         if (status == GSL_SUCCESS)
-            status = gsl_multifit_nlinear_driver(f->set.max_iter, f->set.xtol, f->set.gtol,
-                                                 f->set.ftol, track_cost, f, &info, f->gsl);
+            status = drive(f, &info, &dead);
         f->fdf.df = fit_jacobian;
         more = gsl_multifit_nlinear_niter(f->gsl);
         *iters += more;
@@ -634,7 +701,12 @@ second_start(lf_fit *f, gsl_vector *x, gsl_vector *r, const lf_material *start,
     fit_guess_offsets(f);
     status = run_from_origin(f, x, iters, evals, why2, sizeof why2, &conv2, err);
     cost_second = cost_at(f, x, r);
-    if (status == LF_OK && cost_second < cost_first * (1.0 - 1e-9)) {
+    /* a converged run beats an unconverged one at about the same cost; else
+     * the lower cost wins, an unconverged run only by a clear margin */
+    if (status == LF_OK
+        && ((conv2 && !*converged && cost_second <= cost_first * (1.0 + 1e-6))
+            || (conv2 == *converged && cost_second < cost_first * (1.0 - 1e-9))
+            || (!conv2 && *converged && cost_second < cost_first * (1.0 - 1e-4)))) {
         *won = 1;
         *ratio = cost_first / cost_second;
         *converged = conv2;

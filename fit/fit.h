@@ -20,11 +20,15 @@
 
 enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
 
-/* An iteration limit reached with the cost flat to FIT_FLAT_REL over the
- * last FIT_FLAT_ITERS iterations counts as convergence: at the kinks of the
- * model the trust region can creep without end. */
+/* An iteration limit reached with the cost (half chi2, the residuals being
+ * in units of the noise) fallen by less than FIT_FLAT_REL of itself or
+ * FIT_FLAT_ABS over the last FIT_FLAT_ITERS iterations counts as
+ * convergence: at the kinks of the model the trust region can creep
+ * without end, and a chi2 change of 0.002 moves no estimate by more than a
+ * twentieth of its standard error. */
 #define FIT_FLAT_ITERS 20
-#define FIT_FLAT_REL 1e-9
+#define FIT_FLAT_REL 1e-8
+#define FIT_FLAT_ABS 1e-3
 
 #define GUESS_GRID 40          /* uniform nodes of a profile search */
 #define GUESS_NODES (GUESS_GRID + 1)
