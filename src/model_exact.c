@@ -184,7 +184,12 @@ invert(const exact_ctx *c, double target, double guess)
         un = (gp > 0.0) ? u - g / gp : 0.5 * (lo + hi);
         if (!(un > lo && un < hi))
             un = 0.5 * (lo + hi);
-        if (g == 0.0 || fabs(un - u) < 1e-13 || hi - lo < 1e-14)
+        /* done at the rounding level of delta = A1 tau^k d - shift (the
+         * two terms nearly cancel near detachment): chasing g further only
+         * bisects rounding noise */
+        if (fabs(g) <= 1e-14 * (fabs(pt.delta + pt.shift) + fabs(pt.shift)))
+            return u;
+        if (fabs(un - u) < 1e-13 || hi - lo < 1e-14)
             return un;
         u = un;
         curve_at(c, exp(u), 0, &pt);
