@@ -25,16 +25,6 @@
 
 #include "exact.h"
 
-static double
-capped(double x)
-{
-    if (!(x < LF_BIG))
-        return LF_BIG;
-    if (!(x > -LF_BIG))
-        return -LF_BIG;
-    return x;
-}
-
 /* Everything one (probe, material) pair needs. */
 typedef struct {
     lf_exact_mix mix;
@@ -209,12 +199,12 @@ fill_point(const exact_ctx *c, double tau, int bonded, lf_eval *e)
         dPdd = LF_BIG;
     e->P = pt.P;
     e->a = tau * c->h;
-    e->dP_ddelta = capped(dPdd);
+    e->dP_ddelta = lf_capped(dPdd);
     /* at fixed tau: d delta/dln w = -shift/2, dP/dln w = -S shift/2;
      * d delta/dln E = +shift/2, dP/dln E = P1 - S shift/2 */
-    e->dP_dlogw = capped(-0.5 * pt.S * pt.shift + dPdd * 0.5 * pt.shift);
-    e->dP_dlogE = capped(pt.P1 - 0.5 * pt.S * pt.shift - dPdd * 0.5 * pt.shift);
-    e->dP_dnu = bonded ? capped(pt.dP_nu - dPdd * pt.ddelta_nu) : 0.0;
+    e->dP_dlogw = lf_capped(-0.5 * pt.S * pt.shift + dPdd * 0.5 * pt.shift);
+    e->dP_dlogE = lf_capped(pt.P1 - 0.5 * pt.S * pt.shift - dPdd * 0.5 * pt.shift);
+    e->dP_dnu = bonded ? lf_capped(pt.dP_nu - dPdd * pt.ddelta_nu) : 0.0;
 }
 
 static int
