@@ -28,4 +28,16 @@ char *lf_strdup(const char *s);
 /* Largest finite magnitude a derivative is allowed to reach. */
 #define LF_BIG 1e300
 
+/* x clamped to [-LF_BIG, LF_BIG]: derivatives that diverge at detachment
+ * stay finite (a NaN, which no model should make, becomes LF_BIG). */
+static inline double
+lf_capped(double x)
+{
+    if (!(x < LF_BIG))
+        return LF_BIG;
+    if (!(x > -LF_BIG))
+        return -LF_BIG;
+    return x;
+}
+
 #endif

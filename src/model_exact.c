@@ -25,16 +25,6 @@
 
 #include "exact.h"
 
-static double
-capped(double x)
-{
-    if (!(x < LF_BIG))
-        return LF_BIG;
-    if (!(x > -LF_BIG))
-        return -LF_BIG;
-    return x;
-}
-
 /* Everything one (probe, material) pair needs. */
 typedef struct {
     lf_exact_mix mix;
@@ -184,7 +174,12 @@ invert(const exact_ctx *c, double target, double guess)
         un = (gp > 0.0) ? u - g / gp : 0.5 * (lo + hi);
         if (!(un > lo && un < hi))
             un = 0.5 * (lo + hi);
-        if (g == 0.0 || fabs(un - u) < 1e-13 || hi - lo < 1e-14)
+        /* done at the rounding level of delta = A1 tau^k d - shift (the
+         * two terms nearly cancel near detachment): chasing g further only
+         * bisects rounding noise */
+        if (fabs(g) <= 1e-14 * (fabs(pt.delta + pt.shift) + fabs(pt.shift)))
+            return u;
+        if (fabs(un - u) < 1e-13 || hi - lo < 1e-14)
             return un;
         u = un;
         curve_at(c, exp(u), 0, &pt);
@@ -204,12 +199,12 @@ fill_point(const exact_ctx *c, double tau, int bonded, lf_eval *e)
         dPdd = LF_BIG;
     e->P = pt.P;
     e->a = tau * c->h;
-    e->dP_ddelta = capped(dPdd);
+    e->dP_ddelta = lf_capped(dPdd);
     /* at fixed tau: d delta/dln w = -shift/2, dP/dln w = -S shift/2;
      * d delta/dln E = +shift/2, dP/dln E = P1 - S shift/2 */
-    e->dP_dlogw = capped(-0.5 * pt.S * pt.shift + dPdd * 0.5 * pt.shift);
-    e->dP_dlogE = capped(pt.P1 - 0.5 * pt.S * pt.shift - dPdd * 0.5 * pt.shift);
-    e->dP_dnu = bonded ? capped(pt.dP_nu - dPdd * pt.ddelta_nu) : 0.0;
+    e->dP_dlogw = lf_capped(-0.5 * pt.S * pt.shift + dPdd * 0.5 * pt.shift);
+    e->dP_dlogE = lf_capped(pt.P1 - 0.5 * pt.S * pt.shift - dPdd * 0.5 * pt.shift);
+    e->dP_dnu = bonded ? lf_capped(pt.dP_nu - dPdd * pt.ddelta_nu) : 0.0;
 }
 
 static int

@@ -16,16 +16,6 @@
 
 #include "exact.h"
 
-static double
-capped(double x)
-{
-    if (!(x < LF_BIG))
-        return LF_BIG;
-    if (!(x > -LF_BIG))
-        return -LF_BIG;
-    return x;
-}
-
 typedef struct {
     double k, A, Estar, q;   /* q = sqrt(2 pi w / E*) */
     double a_det, delta_det;
@@ -135,9 +125,9 @@ hs_eval(void *state, const lf_probe *probe, const lf_material *mat,
         dPdd = dd > 0.0 ? dP / dd : LF_BIG;
         e->P = P;
         e->a = a;
-        e->dP_ddelta = capped(dPdd);
-        e->dP_dlogw = capped(-0.5 * S * sh + 0.5 * dPdd * sh);
-        e->dP_dlogE = capped(P1 - 0.5 * S * sh - 0.5 * dPdd * sh);
+        e->dP_ddelta = lf_capped(dPdd);
+        e->dP_dlogw = lf_capped(-0.5 * S * sh + 0.5 * dPdd * sh);
+        e->dP_dlogE = lf_capped(P1 - 0.5 * S * sh - 0.5 * dPdd * sh);
         e->dP_dnu = 0.0;
     }
     return LF_OK;
