@@ -504,6 +504,7 @@ fit_guess(lf_fit *f, lf_error *err)
          * the smaller w, so the order of the curves does not matter) */
         double best = HUGE_VAL, wbest = wfloor, second = HUGE_VAL, wsecond = NAN;
         size_t ncand = f->ncurves + 2, i;
+        int any_z0;
         for (i = 0; i < ncand; i++) {
             double wc, cost;
             if (i < f->ncurves) {
@@ -529,8 +530,11 @@ fit_guess(lf_fit *f, lf_error *err)
             }
         }
         m->w = wbest;
-        /* a runner-up within a factor 3 in cost is a second start */
-        f->alt_w = second <= 3.0 * best && isfinite(wsecond) ? wsecond : NAN;
+        /* a runner-up within a factor 3 in cost is a second start where a
+         * contact point is free: its kinks make the other basins */
+        for (i = 0, any_z0 = 0; i < f->ncurves; i++)
+            any_z0 |= f->c[i].iz0 >= 0;
+        f->alt_w = any_z0 && second <= 3.0 * best && isfinite(wsecond) ? wsecond : NAN;
     }
     /* the user's starting point, where given, replaces the automatic one */
     if (f->imat[FIT_W] < 0)
