@@ -76,6 +76,7 @@ main(int argc, char **argv)
     size_t j;
 
     gsl_set_error_handler_off();
+    memset(c, 0, sizeof c);      /* every member not set below: default */
     sim.points = NPTS;
     sim.noise = 0.005;
     sim.seed = 2024;
