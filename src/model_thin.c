@@ -42,17 +42,6 @@ lf_thin_b_critical(double k, double w, double M, double sigma_th)
     return 2.0 * q * q * M * w / (sigma_th * sigma_th);
 }
 
-/* Keep a derivative finite: the true value diverges at detachment for k > 2. */
-static double
-capped(double x)
-{
-    if (x > LF_BIG)
-        return LF_BIG;
-    if (x < -LF_BIG)
-        return -LF_BIG;
-    return x;
-}
-
 /* The constants of one (probe, material) pair. */
 typedef struct {
     double M;      /* constrained modulus Z E*, Pa */
@@ -136,15 +125,15 @@ thin_eval(void *state, const lf_probe *p, const lf_material *m,
         powers_at(&pw, rk, d1, &g, &p2, &e->a);     /* g = delta1^(2/k-1) */
         if (t.c > 0.0) {
             e->P = t.C * p2 * (d1 - kk * t.c);
-            e->dP_ddelta = capped(t.C * kk * g * (d1 - 2.0 * t.c / k));
-            e->dP_dlogw = capped(-t.C * kk / k * t.c * t.c * g);
+            e->dP_ddelta = lf_capped(t.C * kk * g * (d1 - 2.0 * t.c / k));
+            e->dP_dlogw = lf_capped(-t.C * kk / k * t.c * t.c * g);
         } else {
             e->P = t.C * p2 * d1;
             e->dP_ddelta = t.C * kk * p2;
             e->dP_dlogw = 0.0;
         }
-        e->dP_dlogE = capped(e->P - e->dP_dlogw);
-        e->dP_dnu = capped(e->dP_dlogE * t.dlogZ);
+        e->dP_dlogE = lf_capped(e->P - e->dP_dlogw);
+        e->dP_dnu = lf_capped(e->dP_dlogE * t.dlogZ);
     }
     return LF_OK;
 }
