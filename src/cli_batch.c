@@ -2,7 +2,7 @@
  *
  * Every curve of the plan, or every group of curves that share a non-empty
  * `sample`, is one fit of its own.  The fits run in parallel with OpenMP and
- * stream: the plan is cut into blocks of a few fits per thread; a block is
+ * stream: the plan is cut into blocks of 128 fits per thread; a block is
  * read and fitted in parallel, each fit formats its own output row, and the
  * rows are written in plan order before the next block starts.  Memory is
  * therefore bounded by the block (the number of threads), not by the number
@@ -588,7 +588,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
         fputc('\n', out);
     }
     progress = o->progress >= 0 ? o->progress : isatty(STDERR_FILENO);
-    block = 16 * (size_t) threads;
+    block = 128 * (size_t) threads;   /* large enough that slow fits average out across threads */
     rows = calloc(block, sizeof *rows);
     if (rows == NULL)
         cli_die(CLI_EXIT_FAIL, "out of memory");
