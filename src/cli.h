@@ -68,6 +68,9 @@ void cli_parse(const char *cmd, int argc, char **argv, const cli_opt *opts,
 int cli_base(const char *word);
 const char *cli_base_name(lf_base base);
 
+/* Monotonic wall-clock time in seconds, for progress and benchmarks. */
+double cli_now(void);
+
 /* Write a number that reads back exactly ("%.17g"); NaN/Inf as given. */
 void cli_print_double(FILE *f, double x);
 /* Write a number for people with an SI prefix chosen for it:
@@ -86,6 +89,12 @@ int cli_bench(int argc, char **argv);
 int cli_figure(int figure, const char *plot);
 int cli_check(int argc, char **argv);
 int cli_map(int argc, char **argv);
+
+/* The fit settings a single fit and a batch share (cli_fit.c): model name
+ * ("auto" sets the thin model and returns 1), trust-region method,
+ * Jacobian and the b/a warning limit (NaN: default).  Bad values exit 2. */
+int cli_fit_options(const char *model, const char *method, const char *jacobian,
+                    double max_ba, lf_fit_settings *s);
 
 /* Batch fitting (cli_batch.c). */
 #define CLI_BATCH_MAX_FAILED 125   /* exit status: failed fits, capped */

@@ -478,20 +478,12 @@ row:
  * Progress on a terminal.
  * --------------------------------------------------------------------- */
 
-static double
-now_seconds(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double) t.tv_sec + 1e-9 * (double) t.tv_nsec;
-}
-
 static void
 progress_show(size_t done, size_t total, size_t failed, double t0, int final)
 {
     enum { WIDTH = 30 };
     char bar[WIDTH + 1];
-    double el = now_seconds() - t0, rate = el > 0 ? (double) done / el : 0.0;
+    double el = cli_now() - t0, rate = el > 0 ? (double) done / el : 0.0;
     double left = rate > 0 ? (double) (total - done) / rate : 0.0;
     size_t i, fill = total ? done * WIDTH / total : WIDTH;
 
@@ -550,7 +542,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     size_t lo, hi, u, block, total, done = 0, failed = 0, i;
     long shard_i = 1, shard_n = 1, threads = o->threads;
     int progress, io_error = 0;
-    double t0 = now_seconds(), last = 0.0;
+    double t0 = cli_now(), last = 0.0;
 
     cfg.settings = settings;
     cfg.json = 0;
@@ -609,8 +601,8 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
         }
         failed += bad;
         done += nb;
-        if (progress && (now_seconds() - last > 0.2 || done == total)) {
-            last = now_seconds();
+        if (progress && (cli_now() - last > 0.2 || done == total)) {
+            last = cli_now();
             progress_show(done, total, failed, t0, 0);
         }
     }
@@ -656,7 +648,6 @@ cli_fit_batch(int argc, char **argv)
     };
     lf_fit_settings s = lf_fit_settings_default();
     cli_batch_opts o;
-    size_t i;
 
     cli_parse("fit", argc, argv, opts, &npos, &help);
     if (help) {
@@ -684,30 +675,7 @@ cli_fit_batch(int argc, char **argv)
         cli_die(CLI_EXIT_USAGE, "fit: --batch takes the plan as its value; unexpected '%s'", argv[0]);
     if (plan == NULL || *plan == '\0')
         cli_die(CLI_EXIT_USAGE, "fit: --batch needs a plan (e.g. --batch plan.csv)");
-    o.auto_model = strcmp(model, "auto") == 0;
-    if ((s.model = o.auto_model ? &lf_model_thin : lf_model_type_find(model)) == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: unknown model '%s' (thin, auto, exact or halfspace)", model);
-    for (i = 0; lf_fit_methods[i] != NULL; i++)
-        if (strcmp(lf_fit_methods[i], method) == 0)
-            break;
-    if (lf_fit_methods[i] == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: unknown method '%s' (lm, lmaccel, dogleg, ddogleg, subspace2D)",
-                method);
-    s.method = method;
-    if (strcmp(jacobian, "analytic") == 0)
-        s.jacobian = LF_JAC_ANALYTIC;
-    else if (strcmp(jacobian, "forward") == 0)
-        s.jacobian = LF_JAC_FORWARD;
-    else if (strcmp(jacobian, "central") == 0)
-        s.jacobian = LF_JAC_CENTRAL;
-    else
-        cli_die(CLI_EXIT_USAGE, "fit: --jacobian must be analytic, forward or central (got '%s')",
-                jacobian);
-    if (!isnan(max_ba)) {
-        if (!(max_ba > 0))
-            cli_die(CLI_EXIT_USAGE, "fit: --max-b-over-a must be > 0 (e.g. --max-b-over-a 0.1)");
-        s.max_b_over_a = max_ba;
-    }
+    o.auto_model = cli_fit_options(model, method, jacobian, max_ba, &s);
     s.fit_slope = slope;
     if (max_iter == 0)
         cli_die(CLI_EXIT_USAGE, "fit: --max-iter must be at least 1");

@@ -153,14 +153,6 @@ jacobian_name(lf_jacobian j)
 
 /* ---- timing and small statistics ------------------------------------- */
 
-static double
-now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double) t.tv_sec + 1e-9 * (double) t.tv_nsec;
-}
-
 static int
 cmp_double(const void *a, const void *b)
 {
@@ -315,23 +307,23 @@ eval_cost(const bench_data *d)
     if (e == NULL)
         cli_die(CLI_EXIT_FAIL, "bench: out of memory");
     for (;;) {      /* enough repetitions for half a millisecond */
-        t0 = now_s();
+        t0 = cli_now();
         for (r = 0; r < reps; r++)
             for (j = 0; j < d->scene->ncurves; j++)
                 lf_model_eval(d->model[j], &d->scene->truth, LF_BRANCH_UNLOAD, d->n,
                               d->delta[j], e, NULL);
-        t = now_s() - t0;
+        t = cli_now() - t0;
         if (t > 5e-4 || reps > (1u << 24))
             break;
         reps *= 2;
     }
     for (b = 0; b < BATCHES; b++) {
-        t0 = now_s();
+        t0 = cli_now();
         for (r = 0; r < reps; r++)
             for (j = 0; j < d->scene->ncurves; j++)
                 lf_model_eval(d->model[j], &d->scene->truth, LF_BRANCH_UNLOAD, d->n,
                               d->delta[j], e, NULL);
-        per[b] = (now_s() - t0) / (double) reps;
+        per[b] = (cli_now() - t0) / (double) reps;
     }
     free(e);
     return median(per, BATCHES);
@@ -409,9 +401,9 @@ run_row(bench_row *row, bench_data *d, gsl_rng *rng, size_t nseeds)
         double t0;
 
         data_draw(d, rng, draw_seed(row->scene, row->noise, d->n, k), rel);
-        t0 = now_s();
+        t0 = cli_now();
         st = lf_fit_driver(&set, s->ncurves, d->fc, &res, &err);
-        times[k] = now_s() - t0;
+        times[k] = cli_now() - t0;
         if (st == LF_OK || st == LF_ENOCONV) {
             it += (double) res.iterations;
             ev += (double) res.evaluations;
@@ -510,12 +502,12 @@ run_throughput(bench_throughput *tp, size_t batch)
 #else
     tp->threads = 1;
 #endif
-    t0 = now_s();
+    t0 = cli_now();
     tp->serial_conv = fit_all(&set, fc, batch, 1);
-    tp->serial_per_s = (double) batch / (now_s() - t0);
-    t0 = now_s();
+    tp->serial_per_s = (double) batch / (cli_now() - t0);
+    t0 = cli_now();
     tp->parallel_conv = fit_all(&set, fc, batch, tp->threads);
-    tp->parallel_per_s = (double) batch / (now_s() - t0);
+    tp->parallel_per_s = (double) batch / (cli_now() - t0);
     data_free(&d);
     gsl_rng_free(rng);
     free(depth);
@@ -846,7 +838,7 @@ cli_bench(int argc, char **argv)
     bench_throughput tp;
     bench_peer peer;
     gsl_rng *rng;
-    double t_start = now_s();
+    double t_start = cli_now();
 
     cli_parse("bench", argc, argv, opts, &npos, &help);
     if (help) {
@@ -999,10 +991,10 @@ cli_bench(int argc, char **argv)
         write_plot(plot, rows, nrows);
 #ifdef _OPENMP
     printf("\nmachine: %ld cores online, OpenMP %d threads; total bench time %.1f s\n",
-           sysconf(_SC_NPROCESSORS_ONLN), omp_get_max_threads(), now_s() - t_start);
+           sysconf(_SC_NPROCESSORS_ONLN), omp_get_max_threads(), cli_now() - t_start);
 #else
     printf("\nmachine: %ld cores online, built without OpenMP; total bench time %.1f s\n",
-           sysconf(_SC_NPROCESSORS_ONLN), now_s() - t_start);
+           sysconf(_SC_NPROCESSORS_ONLN), cli_now() - t_start);
 #endif
     gsl_rng_free(rng);
     free(rows);

@@ -172,6 +172,40 @@ write_file(const char *path, void (*writer)(FILE *, const report_input *, const 
 }
 
 int
+cli_fit_options(const char *model, const char *method, const char *jacobian,
+                double max_ba, lf_fit_settings *s)
+{
+    int model_auto = strcmp(model, "auto") == 0;
+    size_t i;
+
+    s->model = model_auto ? &lf_model_thin : lf_model_type_find(model);
+    if (s->model == NULL)
+        cli_die(CLI_EXIT_USAGE, "fit: unknown model '%s' (auto, thin, exact, halfspace)", model);
+    for (i = 0; lf_fit_methods[i] != NULL; i++)
+        if (strcmp(lf_fit_methods[i], method) == 0)
+            break;
+    if (lf_fit_methods[i] == NULL)
+        cli_die(CLI_EXIT_USAGE, "fit: unknown method '%s' (lm, lmaccel, dogleg, ddogleg, subspace2D)",
+                method);
+    s->method = method;
+    if (strcmp(jacobian, "analytic") == 0)
+        s->jacobian = LF_JAC_ANALYTIC;
+    else if (strcmp(jacobian, "forward") == 0)
+        s->jacobian = LF_JAC_FORWARD;
+    else if (strcmp(jacobian, "central") == 0)
+        s->jacobian = LF_JAC_CENTRAL;
+    else
+        cli_die(CLI_EXIT_USAGE, "fit: --jacobian must be analytic, forward or central (got '%s')",
+                jacobian);
+    if (!isnan(max_ba)) {
+        if (!(max_ba > 0))
+            cli_die(CLI_EXIT_USAGE, "fit: --max-b-over-a must be > 0 (e.g. --max-b-over-a 0.1)");
+        s->max_b_over_a = max_ba;
+    }
+    return model_auto;
+}
+
+int
 cli_fit(int argc, char **argv)
 {
     fit_args a = { NULL, NULL, "lm", "analytic", "auto", NULL, NULL,
@@ -223,37 +257,13 @@ cli_fit(int argc, char **argv)
         else
             cli_die(CLI_EXIT_USAGE, "fit: --segment must be unload or load (got '%s')", a.segment);
     }
-    set.method = a.method;
-    model_auto = strcmp(a.model, "auto") == 0;
-    set.model = model_auto ? &lf_model_thin : lf_model_type_find(a.model);
-    if (set.model == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: unknown model '%s' (auto, thin, exact, halfspace)", a.model);
+    model_auto = cli_fit_options(a.model, a.method, a.jacobian, a.max_ba, &set);
     if (!isnan(a.model_tol)) {
         if (!(a.model_tol > 0) || !isfinite(a.model_tol))
             cli_die(CLI_EXIT_USAGE, "fit: --model-tol must be a number > 0 (e.g. --model-tol 0.2)");
         if (!model_auto)
             cli_die(CLI_EXIT_USAGE, "fit: --model-tol applies to --model auto only");
         choose.tol = a.model_tol;
-    }
-    if (strcmp(a.jacobian, "analytic") == 0)
-        set.jacobian = LF_JAC_ANALYTIC;
-    else if (strcmp(a.jacobian, "forward") == 0)
-        set.jacobian = LF_JAC_FORWARD;
-    else if (strcmp(a.jacobian, "central") == 0)
-        set.jacobian = LF_JAC_CENTRAL;
-    else
-        cli_die(CLI_EXIT_USAGE, "fit: --jacobian must be analytic, forward or central (got '%s')",
-                a.jacobian);
-    for (i = 0; lf_fit_methods[i] != NULL; i++)
-        if (strcmp(lf_fit_methods[i], a.method) == 0)
-            break;
-    if (lf_fit_methods[i] == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: unknown method '%s' (lm, lmaccel, dogleg, ddogleg, subspace2D)",
-                a.method);
-    if (!isnan(a.max_ba)) {
-        if (!(a.max_ba > 0))
-            cli_die(CLI_EXIT_USAGE, "fit: --max-b-over-a must be > 0 (e.g. --max-b-over-a 0.1)");
-        set.max_b_over_a = a.max_ba;
     }
     set.fit_slope = a.slope;
     if (!isnan(a.guess_w) && !(a.guess_w > 0))

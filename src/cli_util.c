@@ -5,6 +5,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "cli.h"
 
@@ -187,4 +188,12 @@ cli_human(char *buf, size_t n, double x, const char *unit)
             break;
     snprintf(buf, n, "%.4g %s%s", x / pre[i].scale, pre[i].prefix, unit);
     return buf;
+}
+
+double
+cli_now(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double) t.tv_sec + 1e-9 * (double) t.tv_nsec;
 }

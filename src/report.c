@@ -180,6 +180,19 @@ jnum(FILE *f, double x)
         fputs("null", f);
 }
 
+/* A JSON array of n numbers. */
+static void
+jnums(FILE *f, const double *x, size_t n)
+{
+    size_t i;
+    fputc('[', f);
+    for (i = 0; i < n; i++) {
+        fputs(i ? ", " : "", f);
+        jnum(f, x[i]);
+    }
+    fputc(']', f);
+}
+
 static void
 jstr(FILE *f, const char *s)
 {
@@ -228,7 +241,7 @@ jestimate(FILE *f, const char *name, const lf_fit_estimate *e, int last)
 void
 report_json(FILE *f, const report_input *in, const lf_fit_result *r)
 {
-    size_t i, k, j;
+    size_t i, j;
 
     fputs("{\n  \"parameters\": {\n", f);
     jestimate(f, "w", &r->w, 0);
@@ -277,26 +290,16 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
         fputs(i ? ", " : "", f);
         jstr(f, r->names[i]);
     }
-    fputs("],\n  \"values\": [", f);
+    fputs("],\n  \"values\": ", f);
+    jnums(f, r->value, r->npar);
+    fputs(",\n  \"covariance\": [", f);
     for (i = 0; i < r->npar; i++) {
-        fputs(i ? ", " : "", f);
-        jnum(f, r->value[i]);
+        fputs(i ? ",\n    " : "\n    ", f);
+        jnums(f, r->cov + i * r->npar, r->npar);
     }
-    fputs("],\n  \"covariance\": [", f);
-    for (i = 0; i < r->npar; i++) {
-        fputs(i ? ",\n    [" : "\n    [", f);
-        for (k = 0; k < r->npar; k++) {
-            fputs(k ? ", " : "", f);
-            jnum(f, r->cov[i * r->npar + k]);
-        }
-        fputc(']', f);
-    }
-    fputs("],\n  \"singular_values\": [", f);
-    for (i = 0; i < r->npar; i++) {
-        fputs(i ? ", " : "", f);
-        jnum(f, r->singular[i]);
-    }
-    fputs("],\n  \"curves\": [\n", f);
+    fputs("],\n  \"singular_values\": ", f);
+    jnums(f, r->singular, r->npar);
+    fputs(",\n  \"curves\": [\n", f);
     for (j = 0; j < r->ncurves; j++) {
         const lf_fit_curve_result *c = &r->curves[j];
         fputs("    {\"file\": ", f);
