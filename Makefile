@@ -22,13 +22,14 @@ ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE $(WARN) $(OPT) $(OPENMP) $(SANFLAGS) -I
 LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lpthread -lm
 ALL_LDFLAGS := $(OPENMP) $(SANFLAGS) $(LDFLAGS)
 
-CLI_SRC := src/main.c $(wildcard src/cli_*.c) src/report.c
-LIB_SRC := $(filter-out $(CLI_SRC),$(wildcard src/*.c)) $(wildcard fit/*.c)
+# the command (src/cli/) is built on the library's public header
+CLI_SRC := $(wildcard src/cli/*.c)
+LIB_SRC := $(wildcard src/*.c) $(wildcard fit/*.c)
 LIB_OBJ := $(LIB_SRC:%.c=$(BUILD)/%.o)
 CLI_OBJ := $(CLI_SRC:%.c=$(BUILD)/%.o)
 TEST_SRC := $(wildcard tests/test_*.c)
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
-HEADERS := $(wildcard src/*.h fit/*.h) tests/testlib.h
+HEADERS := $(wildcard src/*.h src/cli/*.h fit/*.h) tests/testlib.h
 
 LIB  := $(BUILD)/liblayerfit.a
 PROG := $(BUILD)/layerfit

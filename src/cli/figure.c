@@ -1,4 +1,4 @@
-/* cli_figure.c: the data of the seed paper's figures 2-5 (Papangelo), with
+/* cli/figure.c: the data of the seed paper's figures 2-5 (Papangelo), with
  * the paper's parameters w = 10 mJ/m^2, E* = 1 GPa, b = 1 um, R = 1 mm,
  * frictionless base, as CSV on stdout, and optionally drawn with gnuplot. */
 #include <math.h>

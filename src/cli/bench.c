@@ -1,4 +1,4 @@
-/* cli_bench.c: `layerfit bench`, what a fit costs and how accurate it is.
+/* cli/bench.c: `layerfit bench`, what a fit costs and how accurate it is.
  *
  * Synthetic experiments (scenes) are drawn from the thin-layer model of the
  * seed paper with Gaussian force noise, fitted many times over deterministic

@@ -1,4 +1,4 @@
-/* cli_util.c: messages, option parsing and number formatting for the
+/* cli/util.c: messages, option parsing and number formatting for the
  * layerfit command. */
 #include <errno.h>
 #include <math.h>

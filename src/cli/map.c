@@ -1,4 +1,4 @@
-/* cli_map.c: `layerfit map`, force maps.
+/* cli/map.c: `layerfit map`, force maps.
  *
  *   layerfit map RESULT.csv --plot map.png   heat maps of w and E* from the
  *                                             output of `fit --batch`

@@ -1,4 +1,4 @@
-/* cli_check.c: `layerfit check FILE`: load a fit plan and every curve it
+/* cli/check.c: `layerfit check FILE`: load a fit plan and every curve it
  * lists, or a single curve file, and say what was found.  Everything is
  * read and checked before anything is printed, so that a bad input gives
  * one error message (exit status 2) and no partial report. */

@@ -1,4 +1,4 @@
-/* cli_model.c: `layerfit model`, forward curves, derived quantities and the
+/* cli/model.c: `layerfit model`, forward curves, derived quantities and the
  * data of the seed paper's figures 2-5. */
 #include <math.h>
 #include <stdlib.h>

@@ -1,4 +1,4 @@
-/* cli_simulate.c: `layerfit simulate`, synthetic lab data from probes,
+/* cli/simulate.c: `layerfit simulate`, synthetic lab data from probes,
  * true parameters and a noise model, written in the lab-data formats
  * (curve CSV `depth_m,force_N,segment`, plan CSV `file,k,R_m,b_m,interface,nu`)
  * with a truth file beside them. */

@@ -1,4 +1,4 @@
-/* cli_plotfit.c: the figures of a fit (`layerfit fit --plot DIR`).
+/* cli/plotfit.c: the figures of a fit (`layerfit fit --plot DIR`).
  *
  * Per curve, after the seed paper's Fig. 3: the measured points, the fitted
  * model with its force-controlled stable part (dP/ddelta > 0) solid and its

@@ -1,4 +1,4 @@
-/* cli_fit.c: `layerfit fit PLAN.csv` and `layerfit fit CURVE.csv --k K
+/* cli/fit.c: `layerfit fit PLAN.csv` and `layerfit fit CURVE.csv --k K
  * --R R --b B --interface I`: read the curves (src/csv_curve.c, src/plan.c),
  * fit them jointly (fit/), print the report and write --json / --curves. */
 #include <errno.h>

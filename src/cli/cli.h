@@ -83,20 +83,20 @@ char *cli_human(char *buf, size_t n, double x, const char *unit);
 int cli_model(int argc, char **argv);
 int cli_fit(int argc, char **argv);
 int cli_simulate(int argc, char **argv);
-/* `layerfit bench`: speed against error (cli_bench.c). */
+/* `layerfit bench`: speed against error (bench.c). */
 int cli_bench(int argc, char **argv);
-/* `layerfit model --figure N [--plot FILE]` (cli_figure.c). */
+/* `layerfit model --figure N [--plot FILE]` (figure.c). */
 int cli_figure(int figure, const char *plot);
 int cli_check(int argc, char **argv);
 int cli_map(int argc, char **argv);
 
-/* The fit settings a single fit and a batch share (cli_fit.c): model name
+/* The fit settings a single fit and a batch share (fit.c): model name
  * ("auto" sets the thin model and returns 1), trust-region method,
  * Jacobian and the b/a warning limit (NaN: default).  Bad values exit 2. */
 int cli_fit_options(const char *model, const char *method, const char *jacobian,
                     double max_ba, lf_fit_settings *s);
 
-/* Batch fitting (cli_batch.c). */
+/* Batch fitting (batch.c). */
 #define CLI_BATCH_MAX_FAILED 125   /* exit status: failed fits, capped */
 typedef struct {
     const char *plan;      /* the plan */
@@ -115,7 +115,7 @@ int cli_shard_parse(const char *text, long *index, long *count);
 int cli_fit_batch(int argc, char **argv);
 int cli_wants_batch(int argc, char **argv);
 
-/* Figures of a fit (cli_plotfit.c): "overview" and "curve1", "curve2", ...
+/* Figures of a fit (plotfit.c): "overview" and "curve1", "curve2", ...
  * each as DIR/NAME.png and DIR/NAME.svg, drawn by DIR/NAME.gp from
  * DIR/NAME.dat.  The names and captions are owned by the struct. */
 typedef struct {
@@ -141,7 +141,7 @@ void cli_fit_figures_check(const char *plotdir, const char *report);
 /* The command line as typed (shell-quoted), saved by main() for reports. */
 void cli_set_command_line(int argc, char **argv);
 const char *cli_get_command_line(void);
-/* Write a self-contained HTML report of a fit (cli_html.c) with the figures
+/* Write a self-contained HTML report of a fit (html.c) with the figures
  * inlined as SVG; they are drawn into plotdir, or into a temporary folder
  * removed afterwards when plotdir is NULL.  Returns 0; 1 when the page was
  * written without figures (msg says why, e.g. gnuplot missing); -1 with msg

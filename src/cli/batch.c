@@ -1,4 +1,4 @@
-/* cli_batch.c: `layerfit fit --batch PLAN.csv`, many independent fits.
+/* cli/batch.c: `layerfit fit --batch PLAN.csv`, many independent fits.
  *
  * Every curve of the plan, or every group of curves that share a non-empty
  * `sample`, is one fit of its own.  The fits run in parallel with OpenMP and
@@ -627,7 +627,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
 
 /* `layerfit fit --batch PLAN.csv [options]`: reached from main.c before the
  * single-fit command sees the arguments.  The fit settings take the same
- * options as a single fit (cli_fit.c). */
+ * options as a single fit (cli/fit.c). */
 int
 cli_fit_batch(int argc, char **argv)
 {

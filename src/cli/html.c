@@ -1,9 +1,9 @@
-/* cli_html.c: `layerfit fit ... --report FILE.html`, one self-contained page.
+/* cli/html.c: `layerfit fit ... --report FILE.html`, one self-contained page.
  *
  * The page holds the material parameters with their errors and intervals,
  * the correlation matrix, what the data determine (identifiability) and
  * what to be wary of (validity warnings), fit statistics, a table of the
- * curves and every figure of cli_plotfit.c inlined as SVG (element ids are
+ * curves and every figure of cli/plotfit.c inlined as SVG (element ids are
  * prefixed per figure so that several gnuplot SVGs can share one page).  The
  * command line and version that produced it are at the top.  Without
  * gnuplot the page is written all the same, with a note where the figures
