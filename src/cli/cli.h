@@ -79,7 +79,7 @@ char *cli_human(char *buf, size_t n, double x, const char *unit);
 
 
 
-/* The subcommands, one file each (cli_NAME.c). */
+/* The subcommands, one file each (src/cli/NAME.c). */
 int cli_model(int argc, char **argv);
 int cli_fit(int argc, char **argv);
 int cli_simulate(int argc, char **argv);
