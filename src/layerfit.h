@@ -677,6 +677,229 @@ int lf_curve_check_fit(const lf_curve *c, lf_segment seg, size_t min_points,
 /* The name of a segment ("load", "unload"). */
 const char *lf_segment_name(lf_segment seg);
 
+/* ------------------------------------------------------------------------
+ * Planning a test: what a set of candidate curves would measure (fit/design.c)
+ *
+ * A candidate is a curve a lab could record: probe, layer and interface,
+ * the indentations it would span, how many points, whether the baseline
+ * past detachment is recorded and which offsets (z0, F0) a fit would leave
+ * free.  The data are taken to follow the exact layer model at the true
+ * material with Gaussian force noise; each set is judged as `layerfit fit`
+ * with `--model auto` would fit it: each curve gets the model the rule of
+ * lf_fit_choose_driver picks (evaluated at the truth, where a noise-free
+ * fit lands), nu is free only where the fitter frees it (bonded and
+ * frictionless curves together, unless held), and what the fit could not
+ * determine is found by the same rule as lf_fit_run (column-scaled
+ * Jacobian, singular values below rcond, weight > 0.01 on those
+ * directions; k = 2 alone with free z0 and F0 and under 10% of the points
+ * past detachment leaves w undetermined).  The standard errors are the
+ * Cramer-Rao bound of that fit: the inverse Fisher information with every
+ * free nuisance parameter estimated too.
+ *
+ * Ownership: a plan made by lf_design_plan_read/parse is the caller's
+ * (lf_design_plan_free); results are filled into caller structs and their
+ * contents released with lf_design_result_free / lf_design_choice_free.
+ * --------------------------------------------------------------------- */
+
+/* One candidate curve.  NaN / 0 members take the settings' defaults. */
+typedef struct {
+    char name[64];          /* label ("" in a plan row: "row N") */
+    long line;              /* line of the plan row, 0 when not from a file */
+    lf_probe probe;
+    lf_branch branch;       /* default unloading */
+    double delta_max;       /* deepest indentation, m (NaN: settings) */
+    double delta_min;       /* shallowest indentation, m; NaN: 0.9 of the
+                               detachment indentation without a baseline,
+                               the detachment minus the baseline with one */
+    double baseline;        /* length recorded past detachment, m: 0 none,
+                               NaN "yes" (settings' baseline_fraction of the
+                               contact part) */
+    size_t points;          /* 0: settings */
+    int free_z0, free_F0;   /* offsets a fit would estimate */
+    double noise_rel;       /* this curve's noise (fraction of its largest
+                               |force|), or NaN: settings */
+    double noise_abs;       /* this curve's noise sd, N, or NaN: settings */
+} lf_design_candidate;
+
+typedef struct {
+    char *path;
+    size_t n;
+    lf_design_candidate *rows;
+} lf_design_plan;
+
+/* Read a design plan: a CSV with the columns k,R,b,interface and optional
+ * name,delta_max,delta_min,points,baseline,z0,F0,segment,noise (units in
+ * the header or in each cell, as in fit plans; baseline is yes, no or a
+ * length; z0 and F0 are free or fixed; noise a fraction such as 1% or
+ * 0.01, or a force such as 2uN).  Errors name the file, line and column. */
+int lf_design_plan_read(const char *path, lf_design_plan **out, lf_error *err);
+int lf_design_plan_parse(const char *buf, size_t len, const char *name,
+                         lf_design_plan **out, lf_error *err);
+void lf_design_plan_free(lf_design_plan *p);
+
+typedef struct {
+    lf_material truth;      /* w > 0, E*, nu (nu used by bonded curves) */
+    int fix_nu;             /* 1: nu known and held (fit --fix-nu) */
+    double noise_rel;       /* default noise: fraction of each curve's
+                               largest |force| (0.01) */
+    double noise_abs;       /* default noise sd in N; used instead of
+                               noise_rel when finite (NaN) */
+    double delta_max;       /* default deepest indentation (50 nm) */
+    size_t points;          /* default points per curve (200) */
+    double baseline_fraction; /* "baseline yes": the recording goes on past
+                               detachment for this fraction of the contact
+                               part's depth span (0.25) */
+    const lf_model_type *model; /* NULL (default): auto, as `fit`; else the
+                                   model every curve is fitted with */
+    lf_choose_settings choose;  /* the auto rule's tolerance (0.2 se) */
+    double rcond;           /* as lf_fit_settings (1e-7) */
+} lf_design_settings;
+
+lf_design_settings lf_design_settings_default(void);
+
+/* What one parameter of the material would be. */
+typedef struct {
+    int free;               /* a fit would estimate it */
+    int determined;         /* ... and the data would fix it */
+    double se;              /* predicted standard error, SI; NaN when not
+                               free or not determined */
+    double rel;             /* se / true value (w, E*, M); se for nu */
+} lf_design_estimate;
+
+/* One curve of an evaluated set, as it would be recorded and fitted. */
+typedef struct {
+    size_t index;           /* candidate index */
+    const lf_model_type *model; /* the model a fit would use */
+    char model_reason[200];
+    double thin_bias;       /* largest |bias| / se the thin-layer model of
+                               this curve would put on w, E*, nu; NaN when
+                               not assessed */
+    double delta_lo, delta_hi;  /* indentations recorded, m */
+    double delta_detach;    /* end of contact (exact model), m */
+    size_t n, n_past;       /* points, points past detachment */
+    double sigma;           /* noise sd, N */
+    double fmax;            /* largest |force| of the curve, N */
+    double ba_min, ba_max;  /* b/a over the points in contact */
+    double ba_pulloff;      /* b/a at force-controlled pull-off */
+    int free_z0, free_F0;
+} lf_design_curve_info;
+
+typedef struct {
+    lf_design_estimate w, Estar, nu;
+    lf_design_estimate M;   /* Z E* of bonded curves (when E* itself is
+                               not determined by bonded curves alone) */
+    double corr_wE;         /* NaN when either is undetermined */
+    size_t npar;            /* free parameters, nuisance included */
+    size_t ndetermined;     /* of w, E*, nu: free and determined */
+    double logdet;          /* ln det of the Fisher information of the
+                               determined ones among ln w, ln E*, nu, the
+                               nuisance parameters profiled out; -inf when
+                               none is determined */
+    size_t ncurves;
+    lf_design_curve_info *curves;
+    lf_warnings identifiability; /* what is not determined and why, in words */
+    lf_warnings notes;           /* everything else worth saying */
+} lf_design_result;
+
+void lf_design_result_free(lf_design_result *r);
+
+typedef struct lf_design lf_design;
+
+/* Prepare the candidates (each curve's indentations, noise and the
+ * derivatives of the thin, half-space and exact models at the truth);
+ * every later evaluation is then cheap.  The candidates are copied. */
+lf_design *lf_design_alloc(const lf_design_settings *s, size_t n,
+                           const lf_design_candidate *cand, lf_error *err);
+void lf_design_free(lf_design *d);
+size_t lf_design_size(const lf_design *d);
+
+/* Evaluate the set of candidates with use[i] != 0 (use NULL: all).
+ * LF_EDATA when the set is empty. */
+int lf_design_eval(lf_design *d, const int *use, lf_design_result *out, lf_error *err);
+
+typedef enum {
+    LF_TARGET_W = 0,        /* smallest se of w */
+    LF_TARGET_E,            /* smallest se of E* */
+    LF_TARGET_NU,           /* smallest se of nu */
+    LF_TARGET_ALL           /* D-optimal: largest logdet */
+} lf_design_target;
+
+/* "w", "E", "nu", "all"; lf_design_target_find returns -1 when unknown. */
+const char *lf_design_target_name(lf_design_target t);
+int lf_design_target_find(const char *name);
+
+/* How good a result is for a target, as a comparable score.  A set that
+ * determines the target beats one that does not; two that do compare by
+ * value (-relative se of w or E*, -se of nu; for all: first how many of
+ * w, E*, nu are determined, then logdet); two that do not compare by how
+ * many of w, E*, nu they determine, then by logdet. */
+typedef struct {
+    lf_design_target target;
+    int target_determined;
+    size_t ndetermined;
+    double value;           /* larger is better; -inf when undetermined */
+    double logdet;          /* the result's logdet, the last tie-break */
+} lf_design_score;
+
+lf_design_score lf_design_score_of(const lf_design_result *r, lf_design_target t);
+/* > 0 when a is better than b, < 0 when worse, 0 when equal. */
+int lf_design_score_cmp(const lf_design_score *a, const lf_design_score *b);
+
+/* One step of a choice: the candidate added and what the set gives. */
+typedef struct {
+    size_t added;           /* candidate index */
+    lf_design_score score;
+    lf_design_estimate w, Estar, nu;
+    size_t runner_up;       /* next best candidate at this step, or
+                               (size_t) -1 when there was none */
+    lf_design_score runner_score;
+} lf_design_step;
+
+typedef struct {
+    size_t nsteps;
+    lf_design_step *steps;
+    int *chosen;            /* per candidate: 1 when chosen */
+} lf_design_choice;
+
+void lf_design_choice_free(lf_design_choice *c);
+
+/* Pick nchoose candidates greedily: at each step the one whose addition
+ * scores best for the target (ties: the earlier candidate). */
+int lf_design_choose(lf_design *d, size_t nchoose, lf_design_target target,
+                     lf_design_choice *out, lf_error *err);
+/* The best set of nchoose candidates over all subsets (for small sets:
+ * LF_EINVAL when there are more than max_sets subsets).  best[] (one per
+ * candidate) receives 1 for the chosen ones; *score their score. */
+int lf_design_exhaustive(lf_design *d, size_t nchoose, lf_design_target target,
+                         size_t max_sets, int *best, lf_design_score *score,
+                         lf_error *err);
+
+/* A factor to sweep, applied to every candidate (or to one). */
+typedef enum {
+    LF_FACTOR_K = 0,        /* probe exponent */
+    LF_FACTOR_DELTA_MAX,    /* deepest indentation, m */
+    LF_FACTOR_POINTS,       /* points per curve */
+    LF_FACTOR_B,            /* layer thickness, m */
+    LF_FACTOR_R,            /* probe reference length, m */
+    LF_FACTOR_BASELINE      /* baseline length past detachment, m */
+} lf_design_factor;
+
+/* "k", "delta_max", "points", "b", "R", "baseline"; find: -1 when unknown
+ * (also accepts "depth" for delta_max). */
+const char *lf_design_factor_name(lf_design_factor f);
+int lf_design_factor_find(const char *name);
+/* The quantity of a factor's values (LF_Q_DIMENSIONLESS for k, points). */
+lf_quantity lf_design_factor_quantity(lf_design_factor f);
+
+/* Evaluate the whole set with the factor set to each of values[0..nv-1]
+ * on candidate `which` (or on all when which == (size_t) -1).  out[]
+ * (nv results, caller's array) is filled; a value the candidates refuse
+ * (e.g. k <= 0) fails with LF_EINVAL. */
+int lf_design_sweep(const lf_design_settings *s, size_t n,
+                    const lf_design_candidate *cand, lf_design_factor factor,
+                    size_t which, size_t nv, const double *values,
+                    lf_design_result *out, lf_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -89,6 +89,8 @@ int cli_bench(int argc, char **argv);
 int cli_figure(int figure, const char *plot);
 int cli_check(int argc, char **argv);
 int cli_map(int argc, char **argv);
+/* `layerfit design`: what a planned test would measure (design.c). */
+int cli_design(int argc, char **argv);
 
 /* The fit settings a single fit and a batch share (fit.c): model name
  * ("auto" sets the thin model and returns 1), trust-region method,

@@ -11,6 +11,7 @@ static const cli_command commands[] = {
     { "fit", "fit w, E* and nu jointly to curves from several probes", cli_fit },
     { "simulate", "write synthetic curves, a plan and the truth", cli_simulate },
     { "check", "read a fit plan or a curve file and report what it holds", cli_check },
+    { "design", "what a planned test would measure: predicted errors, best probes", cli_design },
     { "map", "heat maps of w and E* from a batch fit; synthetic force maps", cli_map },
     { "bench", "what a fit costs and how accurate it is (against the Cramer-Rao bound)", cli_bench },
     { NULL, NULL, NULL }

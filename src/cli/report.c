@@ -209,6 +209,18 @@ jstr(FILE *f, const char *s)
     fputc('"', f);
 }
 
+void
+report_json_number(FILE *f, double x)
+{
+    jnum(f, x);
+}
+
+void
+report_json_string(FILE *f, const char *s)
+{
+    jstr(f, s);
+}
+
 static void
 jwarnings(FILE *f, const lf_warnings *w)
 {

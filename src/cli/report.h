@@ -22,5 +22,9 @@ void report_text(FILE *f, const report_input *in, const lf_fit_result *r);
 void report_json(FILE *f, const report_input *in, const lf_fit_result *r);
 /* depth_m,force_N,fitted_N,residual_N,contact_radius_m,curve */
 void report_curves(FILE *f, const report_input *in, const lf_fit_result *r);
+/* JSON pieces for other reports: a number (NaN and Inf as null) and a
+ * string with quotes and control characters escaped. */
+void report_json_number(FILE *f, double x);
+void report_json_string(FILE *f, const char *s);
 
 #endif
