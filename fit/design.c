@@ -124,10 +124,20 @@ dplan_header(dplan_reader *rd, const lf_csv_record *r, lf_error *err)
         rd->col[c] = -1;
     for (i = 0; i < r->n; i++) {
         lf_error e;
-        lf_csv_header_cell(r->text[i], name, sizeof name, unit, sizeof unit);
+        /* a whole cell that names a column has no unit ("delta_max" is
+         * not delta in the unit "max"); else split "delta_max_nm" */
         for (c = 0; c < NDCOL; c++)
-            if (lf_csv_ieq(name, dcols[c].name))
+            if (lf_csv_ieq(r->text[i], dcols[c].name))
                 break;
+        if (c < NDCOL) {
+            snprintf(name, sizeof name, "%s", dcols[c].name);
+            unit[0] = '\0';
+        } else {
+            lf_csv_header_cell(r->text[i], name, sizeof name, unit, sizeof unit);
+            for (c = 0; c < NDCOL; c++)
+                if (lf_csv_ieq(name, dcols[c].name))
+                    break;
+        }
         if (c == NDCOL && !lf_csv_is_text(r))
             return lf_fail_at(err, LF_EFORMAT, rd->name, r->line, 1, LF_CSV_NOT_TEXT);
         if (c == NDCOL)
@@ -1145,6 +1155,11 @@ notes(const setwork *w, lf_design_result *r)
             lf_warn(&r->notes, "%s: b/a reaches %.3g in contact: the thin-layer model is "
                     "strained (a fit would warn above 0.1) though its bias is within tolerance",
                     pp->c.name, ci->ba_max);
+        if (pp->c.probe.k > 2.0 + 1e-9 && ci->n_past > 0)
+            lf_warn(&r->notes, "%s: k > 2 recorded through detachment, where the force's slope "
+                    "diverges: the predicted errors (w above all) depend on where the points fall "
+                    "next to detachment and may be optimistic (Monte Carlo fits of such curves "
+                    "scattered up to 25%% more than predicted)", pp->c.name);
         if (pp->c.baseline != 0.0 && isnan(pp->c.delta_min) && fabs(pp->c.probe.k - 2.0) < 1e-9
             && (double) ci->n_past < K2_BASELINE_SHARE * (double) ci->n)
             lf_warn(&r->notes, "%s: only %zu of %zu points lie past detachment; the fitter "
