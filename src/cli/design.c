@@ -288,14 +288,21 @@ text_curves(FILE *f, const lf_design_plan *plan, const lf_design_result *r)
 }
 
 static void
-text_set(FILE *f, const char *title, const lf_design_result *r)
+text_set(FILE *f, const char *title, const lf_design_result *r, const lf_design_plan *plan,
+         const lf_design_settings *s)
 {
+    size_t j, nb = 0;
+
+    for (j = 0; j < r->ncurves; j++)
+        nb += plan->rows[r->curves[j].index].probe.base == LF_BASE_BONDED;
     fprintf(f, "\n%s (predicted standard errors: the Cramer-Rao bound of the joint fit)\n", title);
     text_estimate(f, "w", &r->w, "J/m^2", "", "it cannot be told from the force offsets");
     text_estimate(f, "E*", &r->Estar, "Pa", "",
                   r->M.determined ? "only M = Z*E* is (bonded curves alone)" : NULL);
     text_estimate(f, "nu", &r->nu, "",
-                  "frictionless curves alone, bonded alone, or nu held: see below", NULL);
+                  s->fix_nu ? "held at the given value (--fix-nu)"
+                  : nb == 0 ? "frictionless curves do not depend on it"
+                            : "bonded curves alone do not determine it", NULL);
     if (r->M.determined && !r->Estar.determined)
         text_estimate(f, "M", &r->M, "Pa", "", NULL);
     if (isfinite(r->corr_wE))
@@ -430,20 +437,24 @@ static void
 text_contributions(FILE *f, const lf_design_plan *plan, const lf_design_result *all,
                    const contributions *c)
 {
-    char a[32], b[32], d[32], l[96];
+    char a[32], b[32], d[32], l[96], lab[128];
     size_t i;
+    int width = 14;
 
     if (c->n < 2)
         return;
+    for (i = 0; i < c->n; i++) {
+        int len = snprintf(lab, sizeof lab, "without %s", cand_label(l, sizeof l, &plan->rows[i], i));
+        width = len > width ? len : width;
+    }
     fprintf(f, "\nwhat each candidate adds (the predicted errors without it)\n");
-    fprintf(f, "  %-26s %-14s %-14s %-14s\n", "set", "w", "E*", "nu");
-    fprintf(f, "  %-26s %-14s %-14s %-14s\n", "all candidates", rel_text(a, sizeof a, &all->w, 0),
+    fprintf(f, "  %-*s  %-14s %-14s %s\n", width, "set", "w", "E*", "nu");
+    fprintf(f, "  %-*s  %-14s %-14s %s\n", width, "all candidates", rel_text(a, sizeof a, &all->w, 0),
             rel_text(b, sizeof b, &all->Estar, 0), rel_text(d, sizeof d, &all->nu, 1));
     for (i = 0; i < c->n; i++) {
         const lf_design_result *r = &c->without[i];
-        char lab[128];
         snprintf(lab, sizeof lab, "without %s", cand_label(l, sizeof l, &plan->rows[i], i));
-        fprintf(f, "  %-26s %-14s %-14s %-14s\n", lab, rel_text(a, sizeof a, &r->w, 0),
+        fprintf(f, "  %-*s  %-14s %-14s %s\n", width, lab, rel_text(a, sizeof a, &r->w, 0),
                 rel_text(b, sizeof b, &r->Estar, 0), rel_text(d, sizeof d, &r->nu, 1));
     }
 }
@@ -616,7 +627,7 @@ text_sweep(FILE *f, lf_design_factor factor, size_t nv, const double *x,
     fprintf(f, "\nsweep of %s over %zu values (%s); predicted errors of the whole set\n",
             lf_design_factor_name(factor), nv, scope);
     fprintf(f, "  %-12s %-14s %-14s %-14s %s\n", lf_design_factor_name(factor), "w", "E*", "nu",
-            "models");
+            "models (by candidate)");
     for (v = 0; v < nv; v++) {
         value_text(vb, sizeof vb, factor, x[v]);
         fprintf(f, "  %-12s %-14s %-14s %-14s ", vb, rel_text(a, sizeof a, &res[v].w, 0),
@@ -815,11 +826,11 @@ cli_design(int argc, char **argv)
         fprintf(out, "%.3g%% of each curve's largest |force|", 100.0 * s.noise_rel);
     fprintf(out, "; model %s\n", s.model ? s.model->name : "auto");
     text_curves(out, plan, &all);
-    text_set(out, "the whole set", &all);
+    text_set(out, "the whole set", &all, plan, &s);
     text_contributions(out, plan, &all, &con);
     if (a.choose > 0) {
         text_choice(out, plan, &choice, target, exh_status, best, nsets);
-        text_set(out, "the chosen set", &chosen_r);
+        text_set(out, "the chosen set", &chosen_r, plan, &s);
     }
     if (nv > 0)
         text_sweep(out, factor, nv, values, sweep, scope);
