@@ -19,7 +19,7 @@ OPT     ?= -O2 -g
 # project flags first, the user's CFLAGS after them
 OPENMP  ?= -fopenmp
 ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE $(WARN) $(OPT) $(OPENMP) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
-LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lpthread -lm
+LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lnettle -lpthread -lm
 ALL_LDFLAGS := $(OPENMP) $(SANFLAGS) $(LDFLAGS)
 
 # the command (src/cli/) is built on the library's public header
@@ -34,7 +34,7 @@ HEADERS := $(wildcard src/*.h src/cli/*.h fit/*.h) tests/testlib.h
 LIB  := $(BUILD)/liblayerfit.a
 PROG := $(BUILD)/layerfit
 
-DEBS := libgsl-dev libcsv-dev libudunits2-dev gnuplot-nox
+DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev gnuplot-nox
 # wanted by some tests (the report test loads the page in headless
 # Chromium, the example test uses pkg-config), which skip with a note
 # when they are missing: installed when possible, never required

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <csv.h>
 
@@ -355,27 +356,30 @@ int
 lf_csv_read_file(const char *path, const lf_csv_handler *h, lf_error *err)
 {
     char block[65536];
-    struct stat st;
     splitter s;
-    FILE *f;
-    size_t n;
+    ssize_t n;
+    int fd, status;
 
     lf_error_clear(err);
-    f = fopen(path, "rb");
-    if (f == NULL)
-        return lf_fail_at(err, LF_EIO, path, 0, 0, "cannot open: %s", strerror(errno));
-    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
-        fclose(f);
-        return lf_fail_at(err, LF_EIO, path, 0, 0, "is a directory (expected a CSV file)");
-    }
+    /* a regular file, checked on the open descriptor (input.c) */
+    if ((status = lf_input_open(path, 0, &fd, err)) != LF_OK)
+        return status;
     if (start(&s, path, h, err) == LF_OK) {
-        while (s.status == LF_OK && (n = fread(block, 1, sizeof block, f)) > 0)
-            feed(&s, block, n);
-        if (s.status == LF_OK && ferror(f))
-            s.status = lf_fail_at(err, LF_EIO, path, 0, 0, "read error: %s", strerror(errno));
+        while (s.status == LF_OK) {
+            n = read(fd, block, sizeof block);
+            if (n < 0 && errno == EINTR)
+                continue;
+            if (n < 0) {
+                s.status = lf_fail_at(err, LF_EIO, path, 0, 0, "read error: %s", strerror(errno));
+                break;
+            }
+            if (n == 0)
+                break;
+            feed(&s, block, (size_t) n);
+        }
         finish(&s);
     }
-    fclose(f);
+    close(fd);
     return stop(&s);
 }
 

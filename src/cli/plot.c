@@ -5,6 +5,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "cli.h"
 #include "plot.h"
 
 int
@@ -24,15 +25,10 @@ plot_terminal(const char *file)
     return NULL;
 }
 
-/* gnuplot strings are single-quoted; drop quotes from titles. */
 void
 plot_quote(FILE *g, const char *s)
 {
-    fputc('\'', g);
-    for (; *s; s++)
-        if (*s != '\'')
-            fputc(*s, g);
-    fputc('\'', g);
+    cli_gnuplot_string(g, s);
 }
 
 int
@@ -96,7 +92,7 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
 }
 
 int
-plot_run_script(const char *dir, const char *script, char *msg, size_t n)
+plot_run_script(const char *dir, const char *script, const char *out, char *msg, size_t n)
 {
     pid_t pid;
     int rc;
@@ -114,7 +110,17 @@ plot_run_script(const char *dir, const char *script, char *msg, size_t n)
     if (pid == 0) {
         if (chdir(dir) != 0)
             _exit(126);
-        execlp("gnuplot", "gnuplot", script, (char *) NULL);
+        if (out != NULL) {
+            /* out is a name layerfit made, never data; quoted all the same */
+            size_t len = strlen(out) + 16;
+            char *e = malloc(len);
+            if (e == NULL || strchr(out, '\'') != NULL)
+                _exit(126);
+            snprintf(e, len, "out='%s'", out);
+            execlp("gnuplot", "gnuplot", "-e", e, script, (char *) NULL);
+        } else {
+            execlp("gnuplot", "gnuplot", script, (char *) NULL);
+        }
         _exit(127);
     }
     if (waitpid(pid, &rc, 0) != pid || !WIFEXITED(rc) || WEXITSTATUS(rc) != 0) {
