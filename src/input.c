@@ -29,8 +29,7 @@ lf_input_open(const char *path, unsigned flags, int *fd_out, lf_error *err)
     *fd_out = -1;
     fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
     if (fd < 0)
-        return lf_fail_at(err, LF_EIO, path, 0, 0, "%s", errno == ENOENT
-                          ? "not found" : strerror(errno));
+        return lf_fail_at(err, LF_EIO, path, 0, 0, "cannot open: %s", strerror(errno));
     if (fstat(fd, &st) != 0) {
         int e = errno;
         close(fd);

@@ -99,9 +99,10 @@ lf_plan *cli_plan_load(const char *cmd, const char *path);
 /* Exit statuses of the command. */
 enum {
     CLI_EXIT_OK = 0,
-    CLI_EXIT_FAIL = 1,      /* a computation failed */
-    CLI_EXIT_USAGE = 2,     /* bad command line or bad input file */
-    CLI_EXIT_NOCONV = 3     /* a fit did not converge */
+    CLI_EXIT_FAIL = 1,      /* a failure of the run itself (I/O, memory, a computation) */
+    CLI_EXIT_USAGE = 2,     /* bad command line or bad input file or plan */
+    CLI_EXIT_NOCONV = 3,    /* a fit did not converge (single fit) */
+    CLI_EXIT_SOME_FAILED = 3 /* some fits of a batch failed (error or noconv) */
 };
 
 /* A subcommand: one entry of the table in main.c. */
@@ -178,7 +179,7 @@ int cli_fit_options(const char *model, const char *method, const char *jacobian,
                     double max_ba, lf_fit_settings *s);
 
 /* Batch fitting (batch.c). */
-#define CLI_BATCH_MAX_FAILED 125   /* exit status: failed fits, capped */
+#define CLI_MAX_THREADS 1024      /* --threads is 1..CLI_MAX_THREADS */
 typedef struct {
     const char *plan;      /* the plan */
     const char *out;       /* FILE.csv or FILE.jsonl; NULL: CSV on stdout */
@@ -188,7 +189,7 @@ typedef struct {
     int auto_model;        /* 1: choose each fit's models (lf_fit_choose_driver) */
 } cli_batch_opts;
 /* Fit every fit of the plan with the settings; returns the exit status
- * (number of failed fits, capped). */
+ * (CLI_EXIT_OK, or CLI_EXIT_SOME_FAILED with a summary line on stderr). */
 int cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings);
 /* "I/N" with 1 <= I <= N; -1 when malformed. */
 int cli_shard_parse(const char *text, long *index, long *count);
