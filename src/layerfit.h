@@ -681,6 +681,9 @@ typedef struct {
 int lf_input_open(const char *path, unsigned flags, int *fd, lf_error *err);
 int lf_input_read(const char *path, unsigned flags, lf_input *in, lf_error *err);
 void lf_input_free(lf_input *in);
+/* Length of the valid UTF-8 sequence that starts at s (1..4), or 0 when
+ * the bytes there are not UTF-8 (overlong forms and surrogates included). */
+size_t lf_utf8_len(const unsigned char *s);
 /* lf_file_kind_of for a file already in memory (name for messages). */
 int lf_file_kind_parse(const char *buf, size_t len, const char *name, lf_file_kind *kind,
                        lf_error *err);

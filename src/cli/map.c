@@ -282,6 +282,19 @@ split_path(const char *file, char *dir, size_t nd, char *base, size_t nb)
     snprintf(base, nb, "%.*s", (int) len, name);
 }
 
+/* dir/name through the atomic writer (output.c); dies on failure. */
+static FILE *
+open_in_dir(cli_out *o, const char *dir, const char *name)
+{
+    char path[4096], msg[4400];
+    FILE *f;
+    if (plot_path(path, sizeof path, dir, name) != 0)
+        cli_die(CLI_EXIT_FAIL, "map: %s/%s: path too long", dir, name);
+    if ((f = cli_out_open(o, path, msg, sizeof msg)) == NULL)
+        cli_die(CLI_EXIT_FAIL, "map: %s", msg);
+    return f;
+}
+
 static int
 draw_map(const char *result, const char *image)
 {
@@ -350,10 +363,7 @@ draw_map(const char *result, const char *image)
         Escale = 1e3;
         Eunit = "kPa";
     }
-    if (plot_path(path, sizeof path, dir, dat) != 0)
-        cli_die(CLI_EXIT_FAIL, "map: %s/%s: path too long", dir, dat);
-    if ((f = cli_out_open(&out, path, msg, sizeof msg)) == NULL)
-        cli_die(CLI_EXIT_FAIL, "map: %s", msg);
+    f = open_in_dir(&out, dir, dat);
     fputs("# layerfit map of ", f);
     cli_put_clean(f, result);
     fprintf(f, ": x_um y_um w_mJ_m2 Estar_%s (NaN: fit failed or no curve)\n", Eunit);
@@ -375,10 +385,7 @@ draw_map(const char *result, const char *image)
     }
     if (cli_out_commit(&out, msg, sizeof msg) != 0)
         cli_die(CLI_EXIT_FAIL, "map: %s", msg);
-    if (plot_path(path, sizeof path, dir, gp) != 0)
-        cli_die(CLI_EXIT_FAIL, "map: %s/%s: path too long", dir, gp);
-    if ((f = cli_out_open(&out, path, msg, sizeof msg)) == NULL)
-        cli_die(CLI_EXIT_FAIL, "map: %s", msg);
+    f = open_in_dir(&out, dir, gp);
     /* names from the command line are data too: comments on one line,
      * strings quoted by gnuplot's rules */
     fputs("# ", f);

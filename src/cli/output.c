@@ -302,37 +302,12 @@ cli_stdout_close(void)
  * Text from data, escaped for where it goes.
  * --------------------------------------------------------------------- */
 
-size_t
-cli_utf8_len(const unsigned char *s)
-{
-    unsigned char c = s[0];
-    size_t n, i;
-    if (c < 0x80)
-        return 1;
-    if (c >= 0xC2 && c <= 0xDF)
-        n = 2;
-    else if (c >= 0xE0 && c <= 0xEF)
-        n = 3;
-    else if (c >= 0xF0 && c <= 0xF4)
-        n = 4;
-    else
-        return 0;
-    for (i = 1; i < n; i++)
-        if ((s[i] & 0xC0) != 0x80)
-            return 0;
-    /* overlong forms, surrogates and code points above U+10FFFF */
-    if ((c == 0xE0 && s[1] < 0xA0) || (c == 0xED && s[1] > 0x9F)
-        || (c == 0xF0 && s[1] < 0x90) || (c == 0xF4 && s[1] > 0x8F))
-        return 0;
-    return n;
-}
-
 int
 cli_utf8_valid(const char *s)
 {
     const unsigned char *p = (const unsigned char *) s;
     while (*p) {
-        size_t n = cli_utf8_len(p);
+        size_t n = lf_utf8_len(p);
         if (n == 0)
             return 0;
         p += n;
@@ -346,7 +321,7 @@ cli_text_clean(const char *s, int keep_newlines,
 {
     const unsigned char *p = (const unsigned char *) (s ? s : "");
     while (*p) {
-        size_t n = cli_utf8_len(p);
+        size_t n = lf_utf8_len(p);
         if (n == 0) {
             put(ctx, "\xEF\xBF\xBD", 3);   /* U+FFFD */
             p++;
@@ -378,7 +353,7 @@ cli_json_escape(const char *s, void (*put)(void *, const char *, size_t), void *
     const unsigned char *p = (const unsigned char *) (s ? s : "");
     put(ctx, "\"", 1);
     while (*p) {
-        size_t n = cli_utf8_len(p);
+        size_t n = lf_utf8_len(p);
         char buf[8];
         if (n == 0) {
             put(ctx, "\\ufffd", 6);
@@ -442,7 +417,7 @@ cli_gnuplot_string(FILE *g, const char *s)
     const unsigned char *p = (const unsigned char *) (s ? s : "");
     fputc('\'', g);
     while (*p) {
-        size_t n = cli_utf8_len(p);
+        size_t n = lf_utf8_len(p);
         if (n == 0) {
             fputc('?', g);
             p++;
