@@ -132,6 +132,12 @@ wait
 cat "$good" | timeout 30 "$LF" check /dev/stdin >"$tmp/out" 2>"$tmp/err"; rc=$?
 [ "$rc" -eq 0 ] && ok || bad "check /dev/stdin (a pipe): exit $rc: $(cat "$tmp/err")"
 has "a pipe is read once, whole" "$tmp/out" "points"
+if command -v bash >/dev/null 2>&1; then     # process substitution
+    timeout 30 bash -c '"$0" check <(cat "$1")' "$LF" "$good" >"$tmp/out" 2>"$tmp/err"; rc=$?
+    [ "$rc" -eq 0 ] && ok || bad "check <(cat FILE): exit $rc: $(cat "$tmp/err")"
+    sed 1d "$tmp/out" >"$tmp/got"
+    cmp -s "$tmp/got" "$tmp/want1" && ok || bad "check <(cat FILE) reads what check FILE reads"
+fi
 cat "$good" | timeout 30 "$LF" fit /dev/stdin $PROBE >/dev/null 2>"$tmp/err"; rc=$?
 [ "$rc" -eq 0 ] && ok || bad "fit /dev/stdin: exit $rc: $(cat "$tmp/err")"
 # nobody writes: an error after a bounded wait, not a hang
