@@ -19,7 +19,7 @@ OPT     ?= -O2 -g
 # project flags first, the user's CFLAGS after them
 OPENMP  ?= -fopenmp
 ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE $(WARN) $(OPT) $(OPENMP) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
-LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lpthread -lm
+LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lnettle -lpthread -lm
 ALL_LDFLAGS := $(OPENMP) $(SANFLAGS) $(LDFLAGS)
 
 # the command (src/cli/) is built on the library's public header
@@ -34,7 +34,7 @@ HEADERS := $(wildcard src/*.h src/cli/*.h fit/*.h) tests/testlib.h
 LIB  := $(BUILD)/liblayerfit.a
 PROG := $(BUILD)/layerfit
 
-DEBS := libgsl-dev libcsv-dev libudunits2-dev gnuplot-nox
+DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev gnuplot-nox
 # wanted by some tests (the report test loads the page in headless
 # Chromium, the example test uses pkg-config), which skip with a note
 # when they are missing: installed when possible, never required
@@ -93,7 +93,8 @@ check: deps
 sanitize: deps
 	@$(MAKE) --no-print-directory BUILD=build-san OPT="-O1 -g -fno-omit-frame-pointer" \
 	  SANFLAGS="-fsanitize=address,undefined -fno-sanitize-recover=all" tests
-	@ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 sh tests/run.sh build-san
+	@ASAN_OPTIONS=detect_leaks=1 LSAN_OPTIONS=suppressions=$(LSAN_SUPP) \
+	  UBSAN_OPTIONS=print_stacktrace=1 sh tests/run.sh build-san
 
 # Throughput and peak memory of `fit --batch` on 16 384 synthetic curves
 # of 300 points (reported, not asserted).
@@ -141,6 +142,8 @@ bench-fit: $(BUILD)/bench_fit
 # build-fuzz/; keep such inputs in tests/fuzz/regress (replayed by
 # tests/test_fuzz_regress.c).
 FUZZ_SECONDS ?= 20
+# known leaks of third-party libraries (libudunits2), not layerfit's
+LSAN_SUPP := $(CURDIR)/tests/fuzz/lsan.supp
 FUZZ_CC ?= clang
 FUZZ_TARGETS := curve plan
 FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all
@@ -158,7 +161,7 @@ fuzz-build:
 fuzz: fuzz-build
 	@for t in $(FUZZ_TARGETS); do \
 	  mkdir -p build-fuzz/corpus/$$t; \
-	  build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 \
+	  LSAN_OPTIONS=suppressions=$(LSAN_SUPP) build-fuzz/fuzz_$$t -max_total_time=$(FUZZ_SECONDS) -print_final_stats=1 \
 	    -artifact_prefix=build-fuzz/$$t- build-fuzz/corpus/$$t tests/fuzz/$$t \
 	    >build-fuzz/fuzz_$$t.log 2>&1; rc=$$?; \
 	  runs=$$(sed -n 's/^stat::number_of_executed_units: *//p' build-fuzz/fuzz_$$t.log); \

@@ -9,6 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include <csv.h>
 
@@ -355,27 +356,30 @@ int
 lf_csv_read_file(const char *path, const lf_csv_handler *h, lf_error *err)
 {
     char block[65536];
-    struct stat st;
     splitter s;
-    FILE *f;
-    size_t n;
+    ssize_t n;
+    int fd, status;
 
     lf_error_clear(err);
-    f = fopen(path, "rb");
-    if (f == NULL)
-        return lf_fail_at(err, LF_EIO, path, 0, 0, "cannot open: %s", strerror(errno));
-    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
-        fclose(f);
-        return lf_fail_at(err, LF_EIO, path, 0, 0, "is a directory (expected a CSV file)");
-    }
+    /* a regular file, checked on the open descriptor (input.c) */
+    if ((status = lf_input_open(path, 0, &fd, err)) != LF_OK)
+        return status;
     if (start(&s, path, h, err) == LF_OK) {
-        while (s.status == LF_OK && (n = fread(block, 1, sizeof block, f)) > 0)
-            feed(&s, block, n);
-        if (s.status == LF_OK && ferror(f))
-            s.status = lf_fail_at(err, LF_EIO, path, 0, 0, "read error: %s", strerror(errno));
+        while (s.status == LF_OK) {
+            n = read(fd, block, sizeof block);
+            if (n < 0 && errno == EINTR)
+                continue;
+            if (n < 0) {
+                s.status = lf_fail_at(err, LF_EIO, path, 0, 0, "read error: %s", strerror(errno));
+                break;
+            }
+            if (n == 0)
+                break;
+            feed(&s, block, (size_t) n);
+        }
         finish(&s);
     }
-    fclose(f);
+    close(fd);
     return stop(&s);
 }
 
@@ -501,24 +505,28 @@ lf_csv_number(const char *text, int decimal_comma, double *value)
     return LF_NUM_OK;
 }
 
-/* Length of the valid UTF-8 sequence at s, or 0. */
-static size_t
-utf8_len(const unsigned char *s)
+size_t
+lf_utf8_len(const unsigned char *s)
 {
+    unsigned char c = s[0];
     size_t n, i;
-    if (s[0] < 0x80)
+    if (c < 0x80)
         return 1;
-    if (s[0] >= 0xC2 && s[0] <= 0xDF)
+    if (c >= 0xC2 && c <= 0xDF)
         n = 2;
-    else if (s[0] >= 0xE0 && s[0] <= 0xEF)
+    else if (c >= 0xE0 && c <= 0xEF)
         n = 3;
-    else if (s[0] >= 0xF0 && s[0] <= 0xF4)
+    else if (c >= 0xF0 && c <= 0xF4)
         n = 4;
     else
         return 0;
     for (i = 1; i < n; i++)
         if ((s[i] & 0xC0) != 0x80)
             return 0;
+    /* overlong forms, surrogates and code points above U+10FFFF */
+    if ((c == 0xE0 && s[1] < 0xA0) || (c == 0xED && s[1] > 0x9F)
+        || (c == 0xF0 && s[1] < 0x90) || (c == 0xF4 && s[1] > 0x8F))
+        return 0;
     return n;
 }
 
@@ -529,7 +537,7 @@ lf_csv_is_text(const lf_csv_record *r)
     for (i = 0; i < r->n; i++) {
         const unsigned char *t = (const unsigned char *) r->text[i];
         for (; *t; t += k)
-            if ((k = utf8_len(t)) == 0)
+            if ((k = lf_utf8_len(t)) == 0)
                 return 0;
     }
     return 1;
@@ -542,7 +550,7 @@ lf_csv_excerpt(const char *text, char *buf, size_t n)
     size_t w = 0, shown = 0;
 
     while (*r && w + 8 < n && shown < 40) {
-        size_t k = utf8_len(r);
+        size_t k = lf_utf8_len(r);
         if (k == 0 || (k == 1 && (*r < 0x20 || *r == 0x7F))) {
             buf[w++] = '?';
             r++;

@@ -650,7 +650,7 @@ int lf_curve_parse(const char *buf, size_t len, size_t chunk, const char *name,
 /* Read a fit plan: one row per curve, `file,k,R,b,interface` and optional
  * `nu,segment,sample,z0,F0` columns.  Relative curve paths are resolved
  * against the plan's folder (dir for lf_plan_parse; NULL or "" = as
- * written) and must name existing files.  Rows are checked with
+ * written); whether they exist is checked when they are read.  Rows are checked with
  * lf_probe_check and, on bonded rows, 0 <= nu < 0.5.  Ownership and errors
  * as for lf_curve_read. */
 int lf_plan_read(const char *path, lf_plan **out, lf_warnings *warn, lf_error *err);
@@ -661,6 +661,32 @@ int lf_plan_parse(const char *buf, size_t len, size_t chunk, const char *name,
  * from its header alone. */
 typedef enum { LF_FILE_CURVE = 0, LF_FILE_PLAN = 1 } lf_file_kind;
 int lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err);
+
+/* Reading an input file safely (input.c).  lf_input_open opens path
+ * without blocking (O_NONBLOCK), checks the open descriptor with fstat and
+ * then makes it blocking again: a regular file is required unless flags
+ * has LF_INPUT_STREAM, which admits a FIFO, pipe or device (read once, as
+ * a stream; at most LF_STREAM_WAIT seconds are waited for the first byte).
+ * On success *fd is open and owned by the caller.  lf_input_read reads the
+ * whole input into in->data (owned by in, lf_input_free) and puts its
+ * SHA-256 in hex into in->sha256.  Errors: LF_EIO, LF_ENOMEM, naming path.
+ * Every reader opens its files through these. */
+#define LF_INPUT_STREAM 1u
+#define LF_STREAM_WAIT 10
+typedef struct {
+    char *data;               /* the bytes read (not NUL-terminated) */
+    size_t len;
+    char sha256[65];          /* lowercase hex */
+} lf_input;
+int lf_input_open(const char *path, unsigned flags, int *fd, lf_error *err);
+int lf_input_read(const char *path, unsigned flags, lf_input *in, lf_error *err);
+void lf_input_free(lf_input *in);
+/* Length of the valid UTF-8 sequence that starts at s (1..4), or 0 when
+ * the bytes there are not UTF-8 (overlong forms and surrogates included). */
+size_t lf_utf8_len(const unsigned char *s);
+/* lf_file_kind_of for a file already in memory (name for messages). */
+int lf_file_kind_parse(const char *buf, size_t len, const char *name, lf_file_kind *kind,
+                       lf_error *err);
 
 /* Copy the points of one segment, in file order, into depth and force
  * (either may be NULL to skip it) and return how many there are.  Call with

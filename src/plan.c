@@ -1,15 +1,15 @@
 /* plan.c: fit plans, CSV files that list curves and what is known about
  * each: `file,k,R,b,interface` and optionally `nu,segment,sample,z0,F0`.
  * Dimensional values carry their unit in the header ("R_mm", "b [um]") or
- * in each cell ("1mm").  Each row is checked as it is read: the curve file
- * exists, the probe passes lf_probe_check, nu suits the interface, and no
- * curve and segment is listed twice. */
+ * in each cell ("1mm").  Each row is checked as it is read: the probe
+ * passes lf_probe_check, nu suits the interface, and no curve and segment
+ * is listed twice.  The curve files themselves are checked when they are
+ * read. */
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "csvsplit.h"
 
@@ -166,7 +166,7 @@ static int
 plan_number(plan_reader *rd, const lf_csv_record *r, int c, double *v, lf_error *err)
 {
     long k = rd->col[c];
-    char text[128], buf[64];
+    char *text, buf[64];
     const char *t;
     lf_error e;
     int status;
@@ -197,9 +197,13 @@ plan_number(plan_reader *rd, const lf_csv_record *r, int c, double *v, lf_error 
                           rd->has_unit[c] ? "the header gives the unit, so a bare "
                           "number such as 1.5" : "e.g. 2");
     }
-    snprintf(text, sizeof text, "%s", t);
+    /* a copy as long as the cell: a cut cell could read as another value */
+    if ((text = lf_strdup(t)) == NULL)
+        return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
     lf_csv_decimal_point(text, rd->decimal_comma);
-    if (lf_units_parse(text, pcols[c].q, v, &e) != LF_OK)
+    status = lf_units_parse(text, pcols[c].q, v, &e);
+    free(text);
+    if (status != LF_OK)
         return lf_fail_at(err, e.status, rd->name, r->fline[k], r->fcol[k], "%s: %s",
                           pcols[c].name, e.msg);
     return LF_OK;
@@ -228,7 +232,6 @@ plan_file(plan_reader *rd, const lf_csv_record *r, size_t idx, lf_error *err)
     long k = rd->col[P_FILE];
     const char *t = r->text[k];
     char buf[64], *canon;
-    struct stat st;
     size_t i;
 
     if (t[0] == '\0')
@@ -238,15 +241,9 @@ plan_file(plan_reader *rd, const lf_csv_record *r, size_t idx, lf_error *err)
     row->file = resolve(rd->dir, t);
     if (row->file == NULL)
         return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
-    if (stat(row->file, &st) != 0)
-        return lf_fail_at(err, LF_EIO, rd->name, r->fline[k], r->fcol[k],
-                          "curve file '%s' not found (looked for %s; paths are "
-                          "relative to the plan's folder)",
-                          lf_csv_excerpt(t, buf, sizeof buf), row->file);
-    if (!S_ISREG(st.st_mode))
-        return lf_fail_at(err, LF_EIO, rd->name, r->fline[k], r->fcol[k],
-                          "curve file '%s' is not a regular file (name a CSV file)",
-                          lf_csv_excerpt(t, buf, sizeof buf));
+    /* whether the file exists and is a regular file is checked when it is
+     * read (lf_input_open), so that a batch can report it as that curve's
+     * problem and go on */
     canon = realpath(row->file, NULL);
     if (canon == NULL)
         canon = lf_strdup(row->file);
@@ -474,6 +471,18 @@ kind_record(void *ctx, const lf_csv_record *r, lf_error *err)
             *(lf_file_kind *) ctx = LF_FILE_PLAN;
     }
     return LF_CSV_STOP;
+}
+
+int
+lf_file_kind_parse(const char *buf, size_t len, const char *name, lf_file_kind *kind,
+                   lf_error *err)
+{
+    lf_csv_handler h;
+    *kind = LF_FILE_CURVE;
+    h.ctx = kind;
+    h.record = kind_record;
+    h.comment = NULL;
+    return lf_csv_read_buffer(buf ? buf : "", len, 0, name, &h, err);
 }
 
 int

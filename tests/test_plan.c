@@ -5,6 +5,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include "layerfit.h"
 #include "testlib.h"
@@ -166,7 +168,6 @@ test_bad_memory(void)
         { "file,k,R,b,interface,segment\ncurve_comma.csv,2,1mm,1um,bonded,hold\n", LF_EFORMAT, 2, 34, "unknown segment 'hold' (expected unload or load)" },
         { "file,k,R,b,interface\ncurve_comma.csv,2,1mm,1um\n", LF_EFORMAT, 2, 1, "row has 4 cells, the header 5 (give each column a cell; leave optional ones empty)" },
         { "file,k,R,b,interface\n,2,1mm,1um,bonded\n", LF_EFORMAT, 2, 1, "empty file cell (name the curve's CSV file, relative to the plan's folder)" },
-        { "file,k,R,b,interface\nbad,2,1mm,1um,bonded\n", LF_EIO, 2, 1, "curve file 'bad' is not a regular file (name a CSV file)" },
         { "file,k,R,b,interface,segment\ncurve_comma.csv,2,1mm,1um,bonded,unload\n"
           "curve_comma.csv,2,1mm,1um,bonded,load\ncurve_comma.csv,3,1mm,1um,bonded,retract\n",
           LF_EFORMAT, 4, 1, "duplicate row: curve 'curve_comma.csv' and segment unload are listed at line 2 already (list each once)" },
@@ -196,7 +197,7 @@ static void
 test_bad_files(void)
 {
     static const char *const files[] = {
-        "plan_missing_curve.csv", "plan_k_zero.csv", "plan_negative_R.csv",
+        "plan_k_zero.csv", "plan_negative_R.csv",
         "plan_negative_b.csv", "plan_nu_bonded.csv", "plan_interface.csv",
         "plan_duplicate.csv", "plan_unknown_column.csv", "plan_no_b.csv",
         "plan_cell_unit.csv"
@@ -211,6 +212,73 @@ test_bad_files(void)
         t_true(p == NULL && err.msg[0] != '\0' && err.line > 0, "%s rejected at a line", files[i]);
         lf_plan_free(p);
     }
+}
+
+/* A curve file that is missing, a folder or a FIFO does not stop the plan
+ * from being read (a batch makes it that curve's row): it is refused when
+ * it is read, on the open descriptor, without blocking. */
+static void
+test_curve_checked_when_read(void)
+{
+    static const char folder_row[] = "file,k,R,b,interface\nbad,2,1mm,1um,bonded\n";
+    char path[1200], fifo[64];
+    lf_plan *p = NULL;
+    lf_curve *c = NULL;
+    lf_input in;
+    lf_error err;
+    int fd;
+
+    snprintf(path, sizeof path, "%s/bad/plan_missing_curve.csv", data);
+    t_int(lf_plan_read(path, &p, NULL, &err), LF_OK, "plan naming a missing curve is read (%s)",
+          err.msg);
+    if (p != NULL) {
+        t_int(lf_curve_read(p->rows[p->n - 1].file, NULL, &c, NULL, &err), LF_EIO,
+              "the missing curve is refused when read");
+        t_true(strstr(err.msg, "No such file") != NULL, "and says so (%s)", err.msg);
+    }
+    lf_plan_free(p);
+    t_int(lf_plan_parse(folder_row, strlen(folder_row), 0, "p.csv", data,
+                        &p, NULL, &err), LF_OK, "plan naming a folder is read (%s)", err.msg);
+    if (p != NULL) {
+        t_int(lf_input_open(p->rows[0].file, 0, &fd, &err), LF_EIO, "a folder is refused");
+        t_str(err.msg, "is a directory (expected a CSV file)", "a folder: message");
+    }
+    lf_plan_free(p);
+    snprintf(fifo, sizeof fifo, "/tmp/lf_test_fifo_%ld", (long) getpid());
+    unlink(fifo);
+    if (mkfifo(fifo, 0600) == 0) {
+        t_int(lf_input_read(fifo, 0, &in, &err), LF_EIO, "a FIFO is refused at once");
+        t_str(err.msg, "is not a regular file (a FIFO or pipe; name a CSV file)", "a FIFO: message");
+        t_int(lf_curve_read(fifo, NULL, &c, NULL, &err), LF_EIO, "a FIFO curve is refused");
+        unlink(fifo);
+    } else {
+        t_true(0, "mkfifo %s", fifo);
+    }
+    snprintf(path, sizeof path, "%s/curve_comma.csv", data);
+    t_int(lf_input_read(path, 0, &in, &err), LF_OK, "a regular file is read (%s)", err.msg);
+    t_true(in.len > 0 && strlen(in.sha256) == 64, "whole, with its SHA-256");
+    lf_input_free(&in);
+    t_int(lf_input_read("/dev/null", LF_INPUT_STREAM, &in, &err), LF_OK, "a device as a stream");
+    t_int((long) in.len, 0, "/dev/null is empty");
+    t_str(in.sha256, "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855",
+          "SHA-256 of nothing (FIPS 180-4 example)");
+    lf_input_free(&in);
+}
+
+/* A long cell is parsed whole: '1' + 200 spaces + 'mm' is 1 mm, not 1 m. */
+static void
+test_long_cell(void)
+{
+    char buf[600];
+    lf_plan *p = NULL;
+    lf_error err;
+    int n = snprintf(buf, sizeof buf, "file,k,R,b,interface\ncurve_comma.csv,2,1%200smm,1um,"
+                     "frictionless\n", "");
+    t_int(lf_plan_parse(buf, (size_t) n, 0, "p.csv", data, &p, NULL, &err), LF_OK,
+          "long cell: read (%s)", err.msg);
+    if (p != NULL)
+        t_rel(p->rows[0].probe.R, 1e-3, 1e-12, "long cell: R = 1 mm");
+    lf_plan_free(p);
 }
 
 static void
@@ -243,6 +311,8 @@ main(int argc, char **argv)
     test_memory();
     test_bad_memory();
     test_bad_files();
+    test_curve_checked_when_read();
+    test_long_cell();
     test_kind();
     return t_summary();
 }

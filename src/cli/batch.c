@@ -11,8 +11,9 @@
  *
  * `--shard I/N` keeps the I-th of N contiguous shares of the fits, so that
  * the outputs of shards 1..N, concatenated in order (one CSV header kept),
- * are the output of the whole plan.  A bad curve gives a row with status
- * "error" and its message; the exit status counts the failed fits. */
+ * are the output of the whole plan.  A bad curve (a missing file
+ * included) gives a row with status "error" and its message; the exit
+ * status is 3 when any fit failed. */
 #include <errno.h>
 #include <math.h>
 #include <stdarg.h>
@@ -91,6 +92,12 @@ sb_number(sbuf *b, double x, int json)
     sb_printf(b, "%s", buf);
 }
 
+static void
+sb_put(void *ctx, const char *s, size_t n)
+{
+    sb_printf((sbuf *) ctx, "%.*s", (int) n, s);
+}
+
 /* Text as a CSV cell (quoted when it holds a comma, quote or line break) or
  * as a JSON string. */
 static void
@@ -98,19 +105,7 @@ sb_text(sbuf *b, const char *s, int json)
 {
     const char *p;
     if (json) {
-        sb_printf(b, "\"");
-        for (p = s; *p; p++) {
-            unsigned char ch = (unsigned char) *p;
-            if (ch == '"' || ch == '\\')
-                sb_printf(b, "\\%c", ch);
-            else if (ch == '\n')
-                sb_printf(b, "\\n");
-            else if (ch < 0x20)
-                sb_printf(b, "\\u%04x", ch);
-            else
-                sb_printf(b, "%c", ch);
-        }
-        sb_printf(b, "\"");
+        cli_json_escape(s, sb_put, b);   /* valid UTF-8 whatever the bytes */
         return;
     }
     if (strpbrk(s, ",\"\r\n") == NULL) {
@@ -273,7 +268,7 @@ static const char *const columns[] = {
     "fit", "sample", "file", "curves", "status", "model", "x_m", "y_m",
     "w_J_m2", "w_se_J_m2", "w_upper_bound", "Estar_Pa", "Estar_se_Pa",
     "nu", "nu_se", "M_Pa", "M_se_Pa", "corr_w_Estar", "chi2_dof",
-    "rms_N", "P_po_N", "iterations", "identifiability", "message", NULL
+    "rms_N", "P_po_N", "iterations", "identifiability", "message", "sha256", NULL
 };
 
 /* Sum of squared residuals relative to the points, over all curves. */
@@ -310,11 +305,41 @@ typedef struct {
     double value;
 } num_field;
 
+/* The curves of one fit: names and SHA-256 of what was read ("" if not). */
+typedef struct {
+    size_t n;
+    const char **name;
+    char (*sha)[65];
+} unit_files;
+
+/* The file names of a joint fit in one cell: joined by ';', a name that
+ * holds ';', '"' or starts or ends with a space in double quotes (quotes
+ * doubled), so that the names can be told apart again. */
+static void
+join_names(sbuf *b, const unit_files *uf)
+{
+    size_t i;
+    for (i = 0; i < uf->n; i++) {
+        const char *p = uf->name[i];
+        size_t len = strlen(p);
+        sb_printf(b, i ? ";" : "");
+        if (uf->n > 1 && (strpbrk(p, ";\"") != NULL || (len > 0 && (p[0] == ' ' || p[len - 1] == ' ')))) {
+            sb_printf(b, "\"");
+            for (; *p; p++)
+                sb_printf(b, *p == '"' ? "\"\"" : "%c", *p);
+            sb_printf(b, "\"");
+        } else {
+            sb_printf(b, "%s", p);
+        }
+    }
+}
+
 /* Write one row: key/value pairs for JSON Lines, cells for CSV. */
 static void
 put_row(sbuf *b, const batch_config *cfg, size_t fit_no, const char *sample,
-        const char *files, size_t ncurves, const char *status, const char *model,
-        const num_field *num, size_t nnum, const char *ident, const char *msg)
+        const char *files, const unit_files *uf, size_t ncurves, const char *status,
+        const char *model, const num_field *num, size_t nnum, const char *ident,
+        const char *msg)
 {
     int json = cfg->json;
     size_t i;
@@ -338,7 +363,31 @@ put_row(sbuf *b, const batch_config *cfg, size_t fit_no, const char *sample,
     sb_text(b, ident, json);
     sb_printf(b, json ? ", \"message\": " : ",");
     sb_text(b, msg, json);
-    sb_printf(b, json ? "}\n" : "\n");
+    if (json) {
+        int raw = 0;
+        sb_printf(b, ", \"files\": [");
+        for (i = 0; i < uf->n; i++) {
+            sb_printf(b, i ? ", " : "");
+            cli_json_escape(uf->name[i], sb_put, b);
+            raw |= !cli_utf8_valid(uf->name[i]);
+        }
+        if (raw) {   /* the bytes of names that are not UTF-8, percent-escaped */
+            sb_printf(b, "], \"files_raw\": [");
+            for (i = 0; i < uf->n; i++) {
+                sb_printf(b, i ? ", " : "");
+                cli_percent_escape(uf->name[i], sb_put, b);
+            }
+        }
+        sb_printf(b, "], \"sha256\": [");
+        for (i = 0; i < uf->n; i++)
+            sb_printf(b, uf->sha[i][0] ? "%s\"%s\"" : "%snull", i ? ", " : "", uf->sha[i]);
+        sb_printf(b, "]}\n");
+    } else {
+        sb_printf(b, ",");
+        for (i = 0; i < uf->n; i++)
+            sb_printf(b, "%s%s", i ? ";" : "", uf->sha[i]);
+        sb_printf(b, "\n");
+    }
 }
 
 /* Read, fit and format fit number u (0-based) of the plan.  Returns 1 when
@@ -355,6 +404,7 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
     lf_fit_settings s = *cfg->settings;
     lf_fit_result res;
     lf_error err;
+    unit_files uf = { n, calloc(n, sizeof(const char *)), calloc(n, sizeof(char[65])) };
     sbuf files = { NULL, 0, 0, 0 }, ident = { NULL, 0, 0, 0 }, msg = { NULL, 0, 0, 0 };
     char ebuf[1200];
     const char *sample = plan->rows[ul->row[first]].sample;
@@ -363,8 +413,18 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
     int st = LF_EINVAL, have_res = 0, failed = 1, firstw = 1;
 
     lf_error_clear(&err);
+    if (uf.name == NULL || uf.sha == NULL) {
+        free(uf.name);
+        free(uf.sha);
+        free(curve);
+        free(fc);
+        free(data);
+        out->failed = 1;
+        return 1;
+    }
     for (j = 0; j < n; j++)
-        sb_printf(&files, "%s%s", j ? ";" : "", plan->rows[ul->row[first + j]].file);
+        uf.name[j] = plan->rows[ul->row[first + j]].file;
+    join_names(&files, &uf);
     if (curve == NULL || fc == NULL || data == NULL) {
         snprintf(ebuf, sizeof ebuf, "out of memory");
         goto row;
@@ -373,8 +433,9 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
         const lf_plan_row *pr = &plan->rows[ul->row[first + j]];
         size_t m;
 
-        if (lf_curve_read(pr->file, NULL, &curve[j], NULL, &err) != LF_OK
-            || lf_curve_check_fit(curve[j], pr->segment, 5, &err) != LF_OK) {
+        /* a regular file, checked when opened; the same checks as `check` */
+        if (cli_curve_load(pr->file, 0, NULL, pr->segment, &curve[j], uf.sha[j], NULL, &err)
+            != LF_OK) {
             format_error(ebuf, sizeof ebuf, &err);
             goto row;
         }
@@ -446,7 +507,7 @@ row:
         join_warnings(&msg, &res.warnings, &firstw);
         for (j = 0; j < res.ncurves; j++)
             join_warnings(&msg, &res.curves[j].warnings, &firstw);
-        put_row(out, cfg, u + 1, sample, files.s ? files.s : "", n, status,
+        put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status,
                 res.model ? res.model : "", num,
                 sizeof num / sizeof num[0], ident.s ? ident.s : "", msg.s ? msg.s : "");
         lf_fit_result_free(&res);
@@ -458,7 +519,7 @@ row:
             { "M_Pa", NAN }, { "M_se_Pa", NAN }, { "corr_w_Estar", NAN },
             { "chi2_dof", NAN }, { "rms_N", NAN }, { "P_po_N", NAN }, { "iterations", NAN },
         };
-        put_row(out, cfg, u + 1, sample, files.s ? files.s : "", n, status, "", num,
+        put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status, "", num,
                 sizeof num / sizeof num[0], "", ebuf);
     }
     for (j = 0; curve != NULL && j < n; j++)
@@ -471,6 +532,8 @@ row:
     free(files.s);
     free(ident.s);
     free(msg.s);
+    free(uf.name);
+    free(uf.sha);
     return failed;
 }
 
@@ -533,10 +596,10 @@ int
 cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
 {
     lf_plan *plan = NULL;
-    lf_warnings warn = { 0, NULL };
-    lf_error err;
     unit_list ul;
     batch_config cfg;
+    cli_out atomic;
+    char msg[4400];
     FILE *out = stdout;
     sbuf *rows;
     size_t lo, hi, u, block, total, done = 0, failed = 0, i;
@@ -557,23 +620,27 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     if (o->shard != NULL && cli_shard_parse(o->shard, &shard_i, &shard_n) != 0)
         cli_die(CLI_EXIT_USAGE, "fit: --shard '%s' is not I/N with 1 <= I <= N (e.g. --shard 3/8)",
                 o->shard);
+    if (threads != 0 && (threads < 1 || threads > CLI_MAX_THREADS))
+        cli_die(CLI_EXIT_USAGE, "fit: --threads must be 1..%d (got %ld)", CLI_MAX_THREADS, threads);
 #ifdef _OPENMP
     if (threads <= 0)
         threads = omp_get_num_procs();
+    if (threads > CLI_MAX_THREADS)
+        threads = CLI_MAX_THREADS;
 #else
     threads = 1;
 #endif
-    if (lf_plan_read(o->plan, &plan, &warn, &err) != LF_OK)
-        cli_die_error(CLI_EXIT_USAGE, &err);
-    cli_print_warnings(&warn);
-    lf_warnings_free(&warn);
+    cli_output_note("fit", o->out);
+    plan = cli_plan_load("fit", o->plan);
+    for (i = 0; i < plan->n; i++)      /* no output may replace a curve */
+        cli_input_guard("fit", plan->rows[i].file);
     if (units_make(plan, &ul) != 0)
         cli_die(CLI_EXIT_FAIL, "out of memory");
     lo = (size_t) ((double) ul.nunits * (double) (shard_i - 1) / (double) shard_n);
     hi = (size_t) ((double) ul.nunits * (double) shard_i / (double) shard_n);
     total = hi - lo;
-    if (o->out != NULL && (out = fopen(o->out, "w")) == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: cannot write %s: %s", o->out, strerror(errno));
+    if (o->out != NULL && (out = cli_out_open(&atomic, o->out, msg, sizeof msg)) == NULL)
+        cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
     if (!cfg.json) {
         for (i = 0; columns[i] != NULL; i++)
             fprintf(out, "%s%s", i ? "," : "", columns[i]);
@@ -611,18 +678,24 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     for (i = 0; i < block; i++)
         free(rows[i].s);
     free(rows);
-    if (fflush(out) != 0 || ferror(out))
-        io_error = 1;
-    if (out != stdout && fclose(out) != 0)
+    if (out == stdout && (fflush(out) != 0 || ferror(out)))
         io_error = 1;
     units_free(&ul);
     lf_plan_free(plan);
     if (io_error)
         cli_die(CLI_EXIT_FAIL, "fit: error writing %s", o->out ? o->out : "standard output");
-    if (failed > 0)
+    if (out != stdout) {
+        /* the results replace an earlier file only now, whole */
+        if (cli_out_commit(&atomic, msg, sizeof msg) != 0)
+            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
+        cli_provenance_sidecar("fit", o->out);
+    }
+    if (failed > 0) {
         fprintf(stderr, "layerfit: fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s)\n",
                 failed, total, o->out ? o->out : "the output");
-    return failed > CLI_BATCH_MAX_FAILED ? CLI_BATCH_MAX_FAILED : (int) failed;
+        return CLI_EXIT_SOME_FAILED;
+    }
+    return CLI_EXIT_OK;
 }
 
 /* `layerfit fit --batch PLAN.csv [options]`: reached from main.c before the
@@ -633,12 +706,12 @@ cli_fit_batch(int argc, char **argv)
 {
     const char *plan = NULL, *out = NULL, *shard = NULL, *model = "thin", *method = "lm",
                *jacobian = "analytic";
-    long threads = 0, max_iter = -1;
+    long threads_opt = -1, max_iter = -1;
     int npos, help = 0, slope = 0, quiet = 0, progress = 0;
     double nu = NAN, fix_nu = NAN, max_ba = NAN;
     const cli_opt opts[] = {
         { "batch", CLI_STRING, &plan }, { "out", CLI_STRING, &out },
-        { "threads", CLI_COUNT, &threads }, { "shard", CLI_STRING, &shard },
+        { "threads", CLI_COUNT, &threads_opt }, { "shard", CLI_STRING, &shard },
         { "progress", CLI_FLAG, &progress }, { "quiet", CLI_FLAG, &quiet },
         { "model", CLI_STRING, &model }, { "method", CLI_STRING, &method },
         { "jacobian", CLI_STRING, &jacobian }, { "slope", CLI_FLAG, &slope },
@@ -657,8 +730,8 @@ cli_fit_batch(int argc, char **argv)
                "'sample', on its own, in parallel; one output row per fit, in plan order,\n"
                "with its status (ok, noconv, error) and message.\n\n"
                "  --out FILE        .csv or .jsonl (default: CSV on standard output)\n"
-               "  --threads N       parallel fits (default: all cores); the output does\n"
-               "                    not depend on N\n"
+               "  --threads N       parallel fits, 1..%d (default: all cores); the output\n"
+               "                    does not depend on N\n"
                "  --shard I/N       only the I-th of N contiguous shares of the fits; the\n"
                "                    outputs of 1..N concatenated (one CSV header) are the\n"
                "                    output of the whole plan\n"
@@ -666,9 +739,12 @@ cli_fit_batch(int argc, char **argv)
                "  --quiet           no progress bar\n"
                "fit options as for a single fit: --model, --method, --jacobian, --slope,\n"
                "  --nu/--fix-nu NU, --max-b-over-a X, --max-iter N\n\n"
-               "exit status: 0 every fit ok; N (1..%d) the number of fits that failed;\n"
-               "2 also for a bad command line or plan (then nothing is fitted)\n",
-               CLI_BATCH_MAX_FAILED);
+               "Every problem with one curve (a missing or unreadable file included) is\n"
+               "that fit's row; the batch goes on.  --out FILE gets FILE.provenance.json.\n\n"
+               "exit status: 0 every fit ok; 3 some fits failed (rows with status error or\n"
+               "noconv; stderr says how many); 2 bad command line or plan (nothing fitted);\n"
+               "1 a failure of the run itself (e.g. the output could not be written)\n",
+               CLI_MAX_THREADS);
         return CLI_EXIT_OK;
     }
     if (npos > 0)
@@ -692,7 +768,9 @@ cli_fit_batch(int argc, char **argv)
     o.plan = plan;
     o.out = out;
     o.shard = shard;
-    o.threads = threads;
+    if (threads_opt == 0)
+        cli_die(CLI_EXIT_USAGE, "fit: --threads must be 1..%d (got 0)", CLI_MAX_THREADS);
+    o.threads = threads_opt < 0 ? 0 : threads_opt;
     o.progress = quiet ? 0 : progress ? 1 : -1;
     return cli_batch_run(&o, &s);
 }

@@ -724,14 +724,18 @@ csv_num(FILE *f, double x)
         cli_print_double(f, x);
 }
 
-static void
-write_csv(const char *path, const bench_row *rows, size_t nrows)
-{
-    FILE *f = fopen(path, "w");
-    size_t i;
+typedef struct {
+    const bench_row *rows;
+    size_t nrows;
+} bench_table;
 
-    if (f == NULL)
-        cli_die(CLI_EXIT_USAGE, "bench: --csv: cannot write %s: %s", path, strerror(errno));
+/* The table, through the atomic writer (output.c). */
+static void
+csv_writer(FILE *f, const void *ctx)
+{
+    const bench_row *rows = ((const bench_table *) ctx)->rows;
+    size_t i, nrows = ((const bench_table *) ctx)->nrows;
+
     fprintf(f, "scene,noise_rel,factor,config,method,jacobian,guess,points,seeds,"
                "time_us,eval_us,time_in_evals,iterations,evaluations,converged,w_determined,"
                "err_w_rel,crb_w_rel,err_w_over_crb,err_E_rel,crb_E_rel,err_E_over_crb,"
@@ -762,8 +766,16 @@ write_csv(const char *path, const bench_row *rows, size_t nrows)
         csv_num(f, r->nu_free ? r->err_nu / r->crb_nu : NAN);
         fputc('\n', f);
     }
-    if (fclose(f) != 0)
-        cli_die(CLI_EXIT_FAIL, "bench: --csv: cannot write %s", path);
+}
+
+static void
+write_csv(const char *path, const bench_row *rows, size_t nrows)
+{
+    bench_table t;
+    t.rows = rows;
+    t.nrows = nrows;
+    cli_write_file("bench: --csv", path, csv_writer, &t);
+    cli_provenance_sidecar("bench: --csv", path);
 }
 
 /* Error of w against time per fit, one point per row, a series per scene

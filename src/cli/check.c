@@ -8,10 +8,6 @@
 
 #include "cli.h"
 
-/* The fewest points of a segment worth fitting: one more than the most
- * parameters a fit can have (w, E*, nu, z0, F0). */
-#define CHECK_MIN_POINTS 6
-
 static void
 usage(FILE *f)
 {
@@ -90,6 +86,7 @@ cli_check(int argc, char **argv)
     lf_error err;
     lf_warnings warn = { 0, NULL };
     lf_file_kind kind;
+    lf_input in;
     lf_plan *plan = NULL;
     lf_curve **curves = NULL;
     size_t i, ncurves = 0;
@@ -113,22 +110,38 @@ cli_check(int argc, char **argv)
     if (npos != 1)
         cli_die(CLI_EXIT_USAGE, "check: expected one file, a plan or a curve "
                 "(e.g. layerfit check plan.csv)");
-    status = lf_file_kind_of(argv[0], &kind, &err);
-    if (status == LF_OK && kind == LF_FILE_PLAN) {
-        status = lf_plan_read(argv[0], &plan, &warn, &err);
-        ncurves = status == LF_OK ? plan->n : 0;
-    } else if (status == LF_OK) {
-        ncurves = 1;
+    /* the file named here is read once, whole (it may be a pipe or a
+     * FIFO, read as a stream), then parsed; the curves a plan names must be
+     * regular files.  The same checks as a fit (cli_curve_load). */
+    status = lf_input_read(argv[0], LF_INPUT_STREAM, &in, &err);
+    if (status == LF_OK) {
+        status = lf_file_kind_parse(in.data, in.len, argv[0], &kind, &err);
+        if (status == LF_OK && kind == LF_FILE_PLAN) {
+            status = cli_plan_from(&in, argv[0], &plan, &warn, &err);
+            ncurves = status == LF_OK ? plan->n : 0;
+        } else if (status == LF_OK) {
+            ncurves = 1;
+        }
     }
     if (status == LF_OK && (curves = calloc(ncurves, sizeof *curves)) == NULL)
         cli_die(CLI_EXIT_FAIL, "out of memory");
     for (i = 0; i < ncurves && status == LF_OK; i++) {
-        const char *path = plan ? plan->rows[i].file : argv[0];
-        lf_segment seg = plan ? plan->rows[i].segment : LF_SEG_UNLOAD;
-        status = lf_curve_read(path, &o, &curves[i], &warn, &err);
-        if (status == LF_OK)
-            status = lf_curve_check_fit(curves[i], seg, CHECK_MIN_POINTS, &err);
+        if (plan == NULL)
+            status = cli_curve_from(&in, argv[0], &o, LF_SEG_UNLOAD, &curves[i], &warn, &err);
+        else
+            status = cli_curve_load(plan->rows[i].file, 0, &o, plan->rows[i].segment,
+                                    &curves[i], NULL, &warn, &err);
+        if (status != LF_OK && plan != NULL && err.line == 0) {
+            /* a file that cannot be read: say which row names it */
+            char m[sizeof err.msg];
+            snprintf(m, sizeof m, "curve file %.200s: %.220s (paths are relative to the "
+                     "plan's folder)", err.file, err.msg);
+            snprintf(err.msg, sizeof err.msg, "%s", m);
+            snprintf(err.file, sizeof err.file, "%s", plan->path);
+            err.line = plan->rows[i].line;
+        }
     }
+    lf_input_free(&in);
     if (status == LF_OK) {
         cli_print_warnings(&warn);
         if (plan != NULL)

@@ -18,9 +18,10 @@
 /* Exit statuses of the command. */
 enum {
     CLI_EXIT_OK = 0,
-    CLI_EXIT_FAIL = 1,      /* a computation failed */
-    CLI_EXIT_USAGE = 2,     /* bad command line or bad input file */
-    CLI_EXIT_NOCONV = 3     /* a fit did not converge */
+    CLI_EXIT_FAIL = 1,      /* a failure of the run itself (I/O, memory, a computation) */
+    CLI_EXIT_USAGE = 2,     /* bad command line or bad input file or plan */
+    CLI_EXIT_NOCONV = 3,    /* a fit did not converge (single fit) */
+    CLI_EXIT_SOME_FAILED = 3 /* some fits of a batch failed (error or noconv) */
 };
 
 /* A subcommand: one entry of the table in main.c. */
@@ -99,7 +100,7 @@ int cli_fit_options(const char *model, const char *method, const char *jacobian,
                     double max_ba, lf_fit_settings *s);
 
 /* Batch fitting (batch.c). */
-#define CLI_BATCH_MAX_FAILED 125   /* exit status: failed fits, capped */
+#define CLI_MAX_THREADS 1024      /* --threads is 1..CLI_MAX_THREADS */
 typedef struct {
     const char *plan;      /* the plan */
     const char *out;       /* FILE.csv or FILE.jsonl; NULL: CSV on stdout */
@@ -109,7 +110,7 @@ typedef struct {
     int auto_model;        /* 1: choose each fit's models (lf_fit_choose_driver) */
 } cli_batch_opts;
 /* Fit every fit of the plan with the settings; returns the exit status
- * (number of failed fits, capped). */
+ * (CLI_EXIT_OK, or CLI_EXIT_SOME_FAILED with a summary line on stderr). */
 int cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings);
 /* "I/N" with 1 <= I <= N; -1 when malformed. */
 int cli_shard_parse(const char *text, long *index, long *count);
@@ -131,6 +132,12 @@ typedef struct {
 int cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
                  const lf_fit_result *res, cli_figures *figs, char *msg, size_t n);
 void cli_figures_free(cli_figures *f);
+/* Run dir/script (cwd dir) with its images going to a temporary folder in
+ * dir (gnuplot -e "out='.layerfit-XXXXXX/img'"; the script writes
+ * out.'.EXT'), then rename each img.EXT to dir/base.EXT: an image is
+ * replaced only by one gnuplot finished.  0, or -1 with msg. */
+int cli_draw_script(const char *dir, const char *script, const char *base,
+                    const char *const *ext, size_t next, char *msg, size_t n);
 
 /* `layerfit fit --plot DIR --report FILE.html` (either may be NULL): draw
  * the figures and write the page; what goes wrong short of an I/O error on
@@ -150,4 +157,83 @@ const char *cli_get_command_line(void);
  * when the page could not be written. */
 int cli_html_report(const char *file, const char *plotdir, size_t ncurves,
                     const lf_fit_curve *curves, const lf_fit_result *r, char *msg, size_t n);
+/* ---- Outputs and inputs (output.c, read.c) -------------------------------
+ * Every output file goes through cli_out: a temporary file in the same
+ * folder, renamed into place by cli_out_commit after fflush, fsync and a
+ * check of every write; cli_out_discard (or exit) removes it. */
+typedef struct cli_out {
+    FILE *f;
+    char *path, *tmp;
+    struct cli_out *next;
+} cli_out;
+/* Open path for writing (NULL with msg when not possible, or when path is
+ * a noted input). */
+FILE *cli_out_open(cli_out *o, const char *path, char *msg, size_t n);
+/* Finish and rename into place: 0, or -1 with msg (the temp is removed). */
+int cli_out_commit(cli_out *o, char *msg, size_t n);
+void cli_out_discard(cli_out *o);
+/* PATH's temporary name ".NAME.XXXXXX" in its folder, malloc'ed. */
+int cli_tmp_name(const char *path, char **tmp);
+/* cli_out_open + writer + commit; dies with status 1 on failure. */
+void cli_write_file(const char *cmd, const char *path, void (*writer)(FILE *, const void *),
+                    const void *ctx);
+/* Die (status 2) when path exists and force is 0, or when it is an input:
+ * for commands that make a folder of new files (simulate, map --synthetic),
+ * called for every file before the first is written. */
+void cli_refuse_existing(const char *cmd, const char *path, int force);
+/* Flush and close stdout at the end of a run: 0, or -1 after a message. */
+int cli_stdout_close(void);
+
+/* Outputs declared before anything is read, inputs noted as they are read:
+ * an output that is the same file (device and inode) as an input is refused
+ * with exit status 2 from whichever call comes second. */
+void cli_output_note(const char *cmd, const char *path);
+void cli_input_guard(const char *cmd, const char *path);
+/* Record an input (and its SHA-256, or NULL) for provenance and the guard. */
+void cli_input_note(const char *path, const char *sha256);
+size_t cli_inputs_count(void);
+const char *cli_input_path(size_t i);
+const char *cli_input_sha256(size_t i);
+/* {"layerfit": VERSION, "command_line": ..., "inputs": [{"file", "sha256"}]}
+ * with indent before each line after the first. */
+void cli_provenance_json(FILE *f, const char *indent);
+/* OUTPUT.provenance.json beside an output that has no room for it (CSV). */
+void cli_provenance_sidecar(const char *cmd, const char *output);
+
+/* Text from data (lf_utf8_len: the library's UTF-8 check).  cli_json_escape: a JSON string, always valid UTF-8
+ * (invalid bytes become U+FFFD); cli_percent_escape: a JSON string of the
+ * raw bytes, every byte outside printable ASCII and % " \ as %XX;
+ * cli_json_name: "key": name, plus "key_raw": percent-escaped bytes when
+ * name is not valid UTF-8.  cli_gnuplot_string: a single-quoted gnuplot
+ * string ('' for ', control characters as spaces, invalid UTF-8 as ?).
+ * cli_put_clean / cli_text_clean: one line of valid UTF-8 (control
+ * characters as spaces, invalid bytes as U+FFFD). */
+int cli_utf8_valid(const char *s);
+void cli_text_clean(const char *s, int keep_newlines,
+                    void (*put)(void *, const char *, size_t), void *ctx);
+void cli_put_clean(FILE *f, const char *s);
+void cli_json_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
+void cli_percent_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
+void cli_json_string(FILE *f, const char *s);
+void cli_json_name(FILE *f, const char *key, const char *name);
+void cli_gnuplot_string(FILE *g, const char *s);
+
+/* Reading (read.c).  The fewest points of a segment worth fitting: one more
+ * than the most parameters a fit can have (w, E*, nu, z0, F0); `check` and
+ * every fit refuse a curve with fewer. */
+#define CLI_MIN_POINTS 6
+/* Read a curve whole (lf_input_read with flags: LF_INPUT_STREAM for a file
+ * named on the command line, 0 for one named in a plan), parse it and check
+ * that segment seg can be fitted.  sha256 (65 bytes, may be NULL) gets its
+ * hash.  Thread-safe; never prints or exits. */
+int cli_curve_load(const char *path, unsigned flags, const lf_read_opts *o, lf_segment seg,
+                   lf_curve **out, char *sha256, lf_warnings *warn, lf_error *err);
+/* The same for a curve already in memory. */
+int cli_curve_from(const lf_input *in, const char *path, const lf_read_opts *o,
+                   lf_segment seg, lf_curve **out, lf_warnings *warn, lf_error *err);
+/* A plan already in memory, its curves resolved against path's folder. */
+int cli_plan_from(const lf_input *in, const char *path, lf_plan **out, lf_warnings *warn,
+                  lf_error *err);
+/* Read a plan (stream allowed), note it as an input; dies with status 2. */
+lf_plan *cli_plan_load(const char *cmd, const char *path);
 #endif

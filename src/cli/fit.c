@@ -42,7 +42,8 @@ static const char usage_text[] =
     "  --plot DIR           figures (PNG, SVG) with their gnuplot scripts and data\n"
     "  --report FILE.html   one self-contained page: tables, warnings, figures\n"
     "  --batch PLAN.csv     every curve or sample an independent fit (see --batch --help)\n"
-    "exit status: 0 converged, 3 not converged (report still written), 1 failure, 2 bad input\n";
+    "exit status: 0 converged; 3 not converged (report still written); 2 bad command\n"
+    "line or input file; 1 a failure of the run itself (e.g. an output not written)\n";
 
 typedef struct {
     const char *json, *curves, *method, *jacobian, *model, *interface, *segment;
@@ -63,20 +64,24 @@ typedef struct {
 } fit_data;
 
 static void
-add_curve(fit_data *d, const char *path, lf_segment seg, const lf_probe *probe,
-          double z0, double F0)
+add_curve(fit_data *d, const char *path, unsigned flags, lf_segment seg,
+          const lf_probe *probe, double z0, double F0)
 {
     lf_curve *c = NULL;
     lf_warnings warn = { 0, NULL };
     lf_error err;
+    char sha[65];
     size_t n, j = d->n;
 
-    if (lf_curve_read(path, NULL, &c, &warn, &err) != LF_OK)
-        cli_die_error(CLI_EXIT_USAGE, &err);
+    /* a curve named on the command line may be a pipe; one in a plan must
+     * be a regular file.  Same checks as `layerfit check` (cli_curve_load). */
+    cli_input_guard("fit", path);
+    if (cli_curve_load(path, flags, NULL, seg, &c, sha,
+                       &warn, &err) != LF_OK)
+        cli_die_error(err.status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, &err);
+    cli_input_note(path, sha);
     cli_print_warnings(&warn);
     lf_warnings_free(&warn);
-    if (lf_curve_check_fit(c, seg, 5, &err) != LF_OK)
-        cli_die_error(CLI_EXIT_USAGE, &err);
     n = lf_curve_segment(c, seg, NULL, NULL);
     d->depth[j] = malloc(n * sizeof **d->depth);
     d->force[j] = malloc(n * sizeof **d->force);
@@ -132,16 +137,12 @@ read_input(const char *path, const fit_args *a, lf_segment seg_opt, int seg_give
         if (lf_probe_check(&p, &err) != LF_OK)
             cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
         data_alloc(d, 1);
-        add_curve(d, path, seg_opt, &p, a->fix_z0, a->fix_F0);
+        add_curve(d, path, LF_INPUT_STREAM, seg_opt, &p, a->fix_z0, a->fix_F0);
     } else {
-        lf_plan *plan = NULL;
-        lf_warnings warn = { 0, NULL };
-        lf_error err;
+        lf_plan *plan = cli_plan_load("fit", path);
         size_t i;
-        if (lf_plan_read(path, &plan, &warn, &err) != LF_OK)
-            cli_die_error(CLI_EXIT_USAGE, &err);
-        cli_print_warnings(&warn);
-        lf_warnings_free(&warn);
+        for (i = 0; i < plan->n; i++)   /* no output may replace a curve */
+            cli_input_guard("fit", plan->rows[i].file);
         data_alloc(d, plan->n);
         for (i = 0; i < plan->n; i++) {
             const lf_plan_row *row = &plan->rows[i];
@@ -151,7 +152,7 @@ read_input(const char *path, const fit_args *a, lf_segment seg_opt, int seg_give
                             "(one material, one nu)", plan->path, row->line, row->nu, *plan_nu);
                 *plan_nu = row->nu;
             }
-            add_curve(d, row->file, seg_given ? seg_opt : row->segment, &row->probe,
+            add_curve(d, row->file, 0, seg_given ? seg_opt : row->segment, &row->probe,
                       isnan(a->fix_z0) ? row->z0 : a->fix_z0,
                       isnan(a->fix_F0) ? row->F0 : a->fix_F0);
         }
@@ -159,16 +160,29 @@ read_input(const char *path, const fit_args *a, lf_segment seg_opt, int seg_give
     }
 }
 
+/* --json and --curves: through the atomic writer (output.c). */
+typedef struct {
+    void (*writer)(FILE *, const report_input *, const lf_fit_result *);
+    const report_input *in;
+    const lf_fit_result *r;
+} fit_output;
+
+static void
+fit_output_write(FILE *f, const void *ctx)
+{
+    const fit_output *o = ctx;
+    o->writer(f, o->in, o->r);
+}
+
 static void
 write_file(const char *path, void (*writer)(FILE *, const report_input *, const lf_fit_result *),
            const report_input *in, const lf_fit_result *r)
 {
-    FILE *f = fopen(path, "w");
-    if (f == NULL)
-        cli_die(CLI_EXIT_FAIL, "fit: cannot write %s: %s", path, strerror(errno));
-    writer(f, in, r);
-    if (ferror(f) | fclose(f))
-        cli_die(CLI_EXIT_FAIL, "fit: error writing %s", path);
+    fit_output o;
+    o.writer = writer;
+    o.in = in;
+    o.r = r;
+    cli_write_file("fit", path, fit_output_write, &o);
 }
 
 int
@@ -248,6 +262,9 @@ cli_fit(int argc, char **argv)
     if (npos != 1)
         cli_die(CLI_EXIT_USAGE, "fit: give one plan or curve file (see 'layerfit fit --help')");
     cli_fit_figures_check(plot_dir, report_html);
+    cli_output_note("fit", a.json);
+    cli_output_note("fit", a.curves);
+    cli_output_note("fit", report_html);
     if (a.segment != NULL) {
         seg_given = 1;
         if (strcmp(a.segment, "unload") == 0)
@@ -314,8 +331,10 @@ cli_fit(int argc, char **argv)
     report_text(stdout, &in, &r);
     if (a.json != NULL)
         write_file(a.json, report_json, &in, &r);
-    if (a.curves != NULL)
+    if (a.curves != NULL) {
         write_file(a.curves, report_curves, &in, &r);
+        cli_provenance_sidecar("fit", a.curves);
+    }
     cli_fit_figures(plot_dir, report_html, d.n, d.fc, &r);
     if (status == LF_ENOCONV)
         fprintf(stderr, "layerfit: fit: %s\n", r.stop_reason);

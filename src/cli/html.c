@@ -70,18 +70,28 @@ cli_get_command_line(void)
  * HTML helpers.
  * --------------------------------------------------------------------- */
 
+/* Text as HTML: markup characters escaped, invalid UTF-8 as U+FFFD. */
 static void
-esc(FILE *f, const char *s)
+esc_put(void *ctx, const char *s, size_t n)
 {
-    for (; s != NULL && *s; s++) {
-        switch (*s) {
+    FILE *f = ctx;
+    size_t i;
+    for (i = 0; i < n; i++) {
+        switch (s[i]) {
         case '&': fputs("&amp;", f); break;
         case '<': fputs("&lt;", f); break;
         case '>': fputs("&gt;", f); break;
         case '"': fputs("&quot;", f); break;
-        default: fputc(*s, f);
+        case '\'': fputs("&#39;", f); break;
+        default: fputc(s[i], f);
         }
     }
+}
+
+static void
+esc(FILE *f, const char *s)
+{
+    cli_text_clean(s, 1, esc_put, f);
 }
 
 static void
@@ -424,6 +434,24 @@ figures(FILE *f, const char *dir, const cli_figures *figs, const char *note)
     fputs("</section>\n", f);
 }
 
+/* Where the numbers came from: version, command line, inputs and hashes. */
+static void
+provenance(FILE *f)
+{
+    size_t i;
+    fprintf(f, "<section id=\"provenance\">\n<h2>Provenance</h2>\n<p>layerfit %s</p>\n"
+               "<table id=\"input-table\">\n<tr><th>input</th><th>SHA-256</th></tr>\n",
+            LF_VERSION);
+    for (i = 0; i < cli_inputs_count(); i++) {
+        fputs("<tr>", f);
+        td_text(f, cli_input_path(i));
+        fputs("<td><code>", f);
+        esc(f, cli_input_sha256(i));
+        fputs("</code></td></tr>\n", f);
+    }
+    fputs("</table>\n</section>\n", f);
+}
+
 /* Remove what cli_plot_fit wrote into a temporary folder, then the folder. */
 static void
 remove_figures(const char *dir, const cli_figures *figs)
@@ -437,6 +465,11 @@ remove_figures(const char *dir, const cli_figures *figs)
             if (plot_path(path, sizeof path, dir, name) == 0)
                 unlink(path);
         }
+    {
+        char path[4096];
+        if (plot_path(path, sizeof path, dir, "provenance.json") == 0)
+            unlink(path);
+    }
     rmdir(dir);
 }
 
@@ -448,6 +481,7 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
     char tmpdir[4096], note[1200];
     const char *dir = plotdir;
     int have_note = 0, status = 0;
+    cli_out out;
     FILE *f;
 
     if (dir == NULL) {
@@ -461,8 +495,7 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
     }
     if (cli_plot_fit(dir, ncurves, curves, r, &figs, note, sizeof note) != 0)
         have_note = 1;
-    if ((f = fopen(file, "w")) == NULL) {
-        snprintf(msg, n, "cannot write %s: %s", file, strerror(errno));
+    if ((f = cli_out_open(&out, file, msg, n)) == NULL) {
         status = -1;
         goto done;
     }
@@ -491,11 +524,10 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
     statistics(f, r);
     curves_table(f, r);
     figures(f, dir, &figs, have_note ? note : NULL);
+    provenance(f);
     fputs("</body>\n</html>\n", f);
-    if (fclose(f) != 0) {
-        snprintf(msg, n, "error writing %s", file);
+    if (cli_out_commit(&out, msg, n) != 0)
         status = -1;
-    }
     if (status == 0 && have_note) {
         snprintf(msg, n, "%s", note);
         status = 1;

@@ -30,6 +30,15 @@ usage(FILE *f)
                "Every dimensional value takes a unit: --b 1um, --E 1GPa, --w 10mJ/m2.\n");
 }
 
+/* A report lost on a full disk is a failure: stdout is checked at the end. */
+static int
+finish(int status)
+{
+    if (cli_stdout_close() != 0)
+        return CLI_EXIT_FAIL;
+    return status;
+}
+
 int
 main(int argc, char **argv)
 {
@@ -44,17 +53,17 @@ main(int argc, char **argv)
     if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0
         || strcmp(argv[1], "help") == 0) {
         usage(stdout);
-        return CLI_EXIT_OK;
+        return finish(CLI_EXIT_OK);
     }
     if (strcmp(argv[1], "--version") == 0) {
         printf("layerfit %s\n", LF_VERSION);
-        return CLI_EXIT_OK;
+        return cli_stdout_close() == 0 ? CLI_EXIT_OK : CLI_EXIT_FAIL;
     }
     if (strcmp(argv[1], "fit") == 0 && cli_wants_batch(argc - 1, argv + 1))
-        return cli_fit_batch(argc - 1, argv + 1);
+        return finish(cli_fit_batch(argc - 1, argv + 1));
     for (c = commands; c->name != NULL; c++)
         if (strcmp(argv[1], c->name) == 0)
-            return c->run(argc - 1, argv + 1);
+            return finish(c->run(argc - 1, argv + 1));
     fprintf(stderr, "layerfit: unknown command '%s' (see 'layerfit --help')\n", argv[1]);
     return CLI_EXIT_USAGE;
 }

@@ -80,7 +80,8 @@ syn_curve(const char *dir, long size, long ix, long iy, long points, double nois
     double *delta = malloc((size_t) points * sizeof *delta), pmax = 0.0, sd, z0;
     lf_eval *ev = malloc((size_t) points * sizeof *ev);
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
-    char path[4096];
+    char path[4096], msg[4400];
+    cli_out out;
     FILE *f;
     long i;
 
@@ -102,8 +103,8 @@ syn_curve(const char *dir, long size, long ix, long iy, long points, double nois
         pmax = fmax(pmax, fabs(ev[i].P));
     sd = noise * pmax;
     snprintf(path, sizeof path, "%s/curves/x%02ld_y%02ld.csv", dir, ix, iy);
-    if ((f = fopen(path, "w")) == NULL)
-        cli_die(CLI_EXIT_FAIL, "map: cannot write %s: %s", path, strerror(errno));
+    if ((f = cli_out_open(&out, path, msg, sizeof msg)) == NULL)
+        cli_die(CLI_EXIT_FAIL, "map: %s", msg);
     fprintf(f, "# layerfit synthetic force map, pixel (%ld, %ld)\n", ix, iy);
     fprintf(f, "# x: %g um\n# y: %g um\n", x * 1e6, y * 1e6);
     fprintf(f, "# true_w: %.6g J/m2\n# true_Estar: %.6g Pa\n# true_z0: %.6g nm\n",
@@ -114,8 +115,8 @@ syn_curve(const char *dir, long size, long ix, long iy, long points, double nois
         double F = ev[i].P + (sd > 0 ? gsl_ran_gaussian(rng, sd) : 0.0);
         fprintf(f, "%.4f,%.6g,unload\n", (delta[i] + z0) * 1e9, F * 1e3);
     }
-    if (fclose(f) != 0)
-        cli_die(CLI_EXIT_FAIL, "map: error writing %s", path);
+    if (cli_out_commit(&out, msg, sizeof msg) != 0)
+        cli_die(CLI_EXIT_FAIL, "map: %s", msg);
     lf_model_free(model);
     gsl_rng_free(rng);
     free(delta);
@@ -124,9 +125,10 @@ syn_curve(const char *dir, long size, long ix, long iy, long points, double nois
 
 static int
 synthetic(const char *dir, long size, long every, long points, double noise,
-          unsigned long seed)
+          unsigned long seed, int force)
 {
-    char path[4096];
+    char path[4096], msg[4400];
+    cli_out out;
     FILE *plan;
     long ix, iy, n = 0;
 
@@ -137,9 +139,17 @@ synthetic(const char *dir, long size, long every, long points, double noise,
     make_dir(dir);
     snprintf(path, sizeof path, "%s/curves", dir);
     make_dir(path);
+    /* no file of an earlier map is replaced unless asked */
     snprintf(path, sizeof path, "%s/plan.csv", dir);
-    if ((plan = fopen(path, "w")) == NULL)
-        cli_die(CLI_EXIT_FAIL, "map: cannot write %s: %s", path, strerror(errno));
+    cli_refuse_existing("map", path, force);
+    for (iy = 0; iy < size; iy += every)
+        for (ix = 0; ix < size; ix += every) {
+            snprintf(path, sizeof path, "%s/curves/x%02ld_y%02ld.csv", dir, ix, iy);
+            cli_refuse_existing("map", path, force);
+        }
+    snprintf(path, sizeof path, "%s/plan.csv", dir);
+    if ((plan = cli_out_open(&out, path, msg, sizeof msg)) == NULL)
+        cli_die(CLI_EXIT_FAIL, "map: %s", msg);
     fprintf(plan, "# synthetic force map: %ld x %ld pixels (every %ld), %ld points per curve,\n"
                   "# noise %g of the largest force, seed %lu (layerfit map --synthetic)\n",
             size, size, every, points, noise, seed);
@@ -151,8 +161,8 @@ synthetic(const char *dir, long size, long every, long points, double noise,
                     SYN_K, SYN_R * 1e3, SYN_B * 1e6);
             n++;
         }
-    if (fclose(plan) != 0)
-        cli_die(CLI_EXIT_FAIL, "map: error writing %s", path);
+    if (cli_out_commit(&out, msg, sizeof msg) != 0)
+        cli_die(CLI_EXIT_FAIL, "map: %s", msg);
     fprintf(stderr, "layerfit: map: wrote %ld curves and %s\n", n, path);
     return CLI_EXIT_OK;
 }
@@ -272,6 +282,19 @@ split_path(const char *file, char *dir, size_t nd, char *base, size_t nb)
     snprintf(base, nb, "%.*s", (int) len, name);
 }
 
+/* dir/name through the atomic writer (output.c); dies on failure. */
+static FILE *
+open_in_dir(cli_out *o, const char *dir, const char *name)
+{
+    char path[4096], msg[4400];
+    FILE *f;
+    if (plot_path(path, sizeof path, dir, name) != 0)
+        cli_die(CLI_EXIT_FAIL, "map: %s/%s: path too long", dir, name);
+    if ((f = cli_out_open(o, path, msg, sizeof msg)) == NULL)
+        cli_die(CLI_EXIT_FAIL, "map: %s", msg);
+    return f;
+}
+
 static int
 draw_map(const char *result, const char *image)
 {
@@ -282,11 +305,23 @@ draw_map(const char *result, const char *image)
     const char *Eunit;
     size_t nx, ny, i;
     char dir[4096], base[1024], path[4096], msg[600], gp[1100], dat[1100];
-    const char *term = plot_terminal(image), *ext = strrchr(image, '.');
+    const char *term = plot_terminal(image), *ext = strrchr(image, '.'), *ext_word;
+    cli_out out;
     FILE *f;
 
     if (term == NULL)
         cli_die(CLI_EXIT_USAGE, "map: --plot %s: the image must end in .png or .svg", image);
+    ext_word = ext + 1;
+    split_path(image, dir, sizeof dir, base, sizeof base);
+    snprintf(dat, sizeof dat, "%s.dat", base);
+    snprintf(gp, sizeof gp, "%s.gp", base);
+    cli_output_note("map", image);
+    if (plot_path(path, sizeof path, dir, dat) == 0)
+        cli_output_note("map", path);
+    if (plot_path(path, sizeof path, dir, gp) == 0)
+        cli_output_note("map", path);
+    cli_input_guard("map", result);
+    cli_input_note(result, NULL);
     memset(&m, 0, sizeof m);
     m.path = result;
     h.ctx = &m;
@@ -328,13 +363,10 @@ draw_map(const char *result, const char *image)
         Escale = 1e3;
         Eunit = "kPa";
     }
-    split_path(image, dir, sizeof dir, base, sizeof base);
-    snprintf(dat, sizeof dat, "%s.dat", base);
-    snprintf(gp, sizeof gp, "%s.gp", base);
-    if (plot_path(path, sizeof path, dir, dat) != 0 || (f = fopen(path, "w")) == NULL)
-        cli_die(CLI_EXIT_FAIL, "map: cannot write %s/%s", dir, dat);
-    fprintf(f, "# layerfit map of %s: x_um y_um w_mJ_m2 Estar_%s (NaN: fit failed or no curve)\n",
-            result, Eunit);
+    f = open_in_dir(&out, dir, dat);
+    fputs("# layerfit map of ", f);
+    cli_put_clean(f, result);
+    fprintf(f, ": x_um y_um w_mJ_m2 Estar_%s (NaN: fit failed or no curve)\n", Eunit);
     for (i = 0; i < ny; i++) {
         size_t j;
         for (j = 0; j < nx; j++) {
@@ -351,16 +383,24 @@ draw_map(const char *result, const char *image)
         }
         fputc('\n', f);
     }
-    if (fclose(f) != 0)
-        cli_die(CLI_EXIT_FAIL, "map: error writing %s", path);
-    if (plot_path(path, sizeof path, dir, gp) != 0 || (f = fopen(path, "w")) == NULL)
-        cli_die(CLI_EXIT_FAIL, "map: cannot write %s/%s", dir, gp);
-    fprintf(f, "# %s: heat maps of w and E* made by layerfit %s from %s.\n"
-               "# Redraw with: cd %s && gnuplot %s\n", gp, LF_VERSION, result, dir, gp);
+    if (cli_out_commit(&out, msg, sizeof msg) != 0)
+        cli_die(CLI_EXIT_FAIL, "map: %s", msg);
+    f = open_in_dir(&out, dir, gp);
+    /* names from the command line are data too: comments on one line,
+     * strings quoted by gnuplot's rules */
+    fputs("# ", f);
+    cli_put_clean(f, gp);
+    fprintf(f, ": heat maps of w and E* made by layerfit %s from ", LF_VERSION);
+    cli_put_clean(f, result);
+    fputs(".\n# Redraw with: gnuplot ", f);
+    cli_put_clean(f, gp);
+    fputs(" (in its folder)\n", f);
     fprintf(f, "set terminal %s\n", strcmp(ext, ".svg") == 0
             ? "svg size 1100,520 dynamic enhanced font 'Helvetica,13'"
             : "pngcairo size 1400,640 enhanced font 'Helvetica,13'");
-    fprintf(f, "set output '%s%s'\n", base, ext);
+    fputs("if (!exists('out')) out = ", f);
+    cli_gnuplot_string(f, base);
+    fprintf(f, "\nset output out.'%s'\n", ext);
     fprintf(f, "set multiplot layout 1,2 title '%zu x %zu map, %zu fits'\n", nx, ny, m.n);
     fprintf(f, "set size ratio -1\nset xlabel 'x (µm)'\nset ylabel 'y (µm)'\n"
                "set palette defined (0 '#440154', 1 '#3b528b', 2 '#21918c', 3 '#5ec962', 4 '#fde725')\n"
@@ -369,13 +409,15 @@ draw_map(const char *result, const char *image)
             (ux[nx - 1] + 0.5 * (nx > 1 ? ux[1] - ux[0] : 1e-6)) * 1e6,
             (uy[0] - 0.5 * (ny > 1 ? uy[1] - uy[0] : 1e-6)) * 1e6,
             (uy[ny - 1] + 0.5 * (ny > 1 ? uy[1] - uy[0] : 1e-6)) * 1e6);
-    fprintf(f, "set title 'work of adhesion w (mJ/m^2)'\n"
-               "plot '%s' using 1:2:3 with image notitle\n", dat);
-    fprintf(f, "set title 'effective modulus E* (%s)'\n"
-               "plot '%s' using 1:2:4 with image notitle\nunset multiplot\n", Eunit, dat);
-    if (fclose(f) != 0)
-        cli_die(CLI_EXIT_FAIL, "map: error writing %s", path);
-    if (plot_run_script(dir, gp, msg, sizeof msg) != 0)
+    fputs("set title 'work of adhesion w (mJ/m^2)'\nplot ", f);
+    cli_gnuplot_string(f, dat);
+    fprintf(f, " using 1:2:3 with image notitle\nset title 'effective modulus E* (%s)'\nplot ",
+            Eunit);
+    cli_gnuplot_string(f, dat);
+    fputs(" using 1:2:4 with image notitle\nunset multiplot\n", f);
+    if (cli_out_commit(&out, msg, sizeof msg) != 0)
+        cli_die(CLI_EXIT_FAIL, "map: %s", msg);
+    if (cli_draw_script(dir, gp, base, &ext_word, 1, msg, sizeof msg) != 0)
         cli_die(CLI_EXIT_FAIL, "map: %s (the script and data are in %s/%s and %s/%s)",
                 msg, dir, gp, dir, dat);
     if (m.skipped > 0)
@@ -394,7 +436,7 @@ cli_map(int argc, char **argv)
     const char *plot = NULL, *syn = NULL;
     long size = 64, every = 1, points = 150, seed = 1;
     double noise = NAN;
-    int npos, help;
+    int npos, help, force = 0;
     const cli_opt opts[] = {
         { "plot", CLI_STRING, &plot },
         { "synthetic", CLI_STRING, &syn },
@@ -403,6 +445,7 @@ cli_map(int argc, char **argv)
         { "points", CLI_COUNT, &points },
         { "noise", CLI_NUMBER, &noise },
         { "seed", CLI_COUNT, &seed },
+        { "force", CLI_FLAG, &force },
         { NULL, 0, NULL }
     };
 
@@ -410,18 +453,19 @@ cli_map(int argc, char **argv)
     if (help) {
         printf("usage: layerfit map RESULT.csv --plot MAP.png|MAP.svg\n"
                "       layerfit map --synthetic DIR [--size 64] [--every 1] [--points 150]\n"
-               "                    [--noise 0.01] [--seed 1]\n\n"
+               "                    [--noise 0.01] [--seed 1] [--force]\n\n"
                "The first form draws heat maps of w and E* from the CSV output of\n"
                "'layerfit fit --batch', keeping the gnuplot script and data next to the\n"
                "image (MAP.gp, MAP.dat).  The second writes a synthetic force map with a\n"
-               "known pattern: DIR/plan.csv and DIR/curves/xXX_yYY.csv (every N-th pixel).\n");
+               "known pattern: DIR/plan.csv and DIR/curves/xXX_yYY.csv (every N-th pixel);\n"
+               "files of an earlier map are replaced only with --force.\n");
         return CLI_EXIT_OK;
     }
     if (syn != NULL) {
         if (npos > 0)
             cli_die(CLI_EXIT_USAGE, "map: --synthetic takes no other file ('%s')", argv[0]);
         return synthetic(syn, size, every, points, isfinite(noise) ? noise : 0.01,
-                         (unsigned long) seed);
+                         (unsigned long) seed, force);
     }
     if (npos != 1)
         cli_die(CLI_EXIT_USAGE, "map: give one batch result (layerfit map RESULT.csv --plot map.png)");

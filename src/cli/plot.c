@@ -1,10 +1,13 @@
 /* plot.c: figures through a gnuplot pipe, data inline as datablocks. */
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include "cli.h"
 #include "plot.h"
 
 int
@@ -24,15 +27,10 @@ plot_terminal(const char *file)
     return NULL;
 }
 
-/* gnuplot strings are single-quoted; drop quotes from titles. */
 void
 plot_quote(FILE *g, const char *s)
 {
-    fputc('\'', g);
-    for (; *s; s++)
-        if (*s != '\'')
-            fputc(*s, g);
-    fputc('\'', g);
+    cli_gnuplot_string(g, s);
 }
 
 int
@@ -42,9 +40,11 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
                                     "#d35400", "#2c3e50", "#16a085", "#7f8c8d" };
     static const int shapes[] = { 7, 5, 9, 13, 11, 15 };   /* filled markers */
     const char *term = plot_terminal(file);
+    char *tmp = NULL;
+    const char *t;
     FILE *g;
     size_t s, i;
-    int rc;
+    int rc, fd;
 
     if (term == NULL) {
         snprintf(msg, n, "%s: the plot file must end in .svg or .png", file);
@@ -54,9 +54,31 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
         snprintf(msg, n, "gnuplot is not installed: %s", PLOT_INSTALL_HINT);
         return -1;
     }
+    /* gnuplot draws into a temporary file beside file, renamed into place
+     * once it has succeeded (cli_tmp_name: ".NAME.XXXXXX") */
+    if (cli_tmp_name(file, &tmp) != 0 || (fd = mkstemp(tmp)) < 0) {
+        snprintf(msg, n, "cannot write beside %s", file);
+        free(tmp);
+        return -1;
+    }
+    {
+        mode_t mask = umask(0);     /* the usual 0666 less the umask */
+        umask(mask);
+        (void) fchmod(fd, 0666 & ~mask);
+    }
+    close(fd);
+    for (t = tmp; *t; t++)
+        if ((unsigned char) *t < 0x20 || *t == 0x7F) {
+            snprintf(msg, n, "cannot draw into a path with control characters");
+            unlink(tmp);
+            free(tmp);
+            return -1;
+        }
     g = popen("gnuplot", "w");
     if (g == NULL) {
         snprintf(msg, n, "could not start gnuplot");
+        unlink(tmp);
+        free(tmp);
         return -1;
     }
     for (s = 0; s < f->nseries; s++) {
@@ -66,7 +88,7 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
         fprintf(g, "EOD\n");
     }
     fprintf(g, "set terminal %s\nset output ", term);
-    plot_quote(g, file);
+    plot_quote(g, tmp);
     fprintf(g, "\nset grid lc rgb '#dddddd'\nset key outside right top\nset title ");
     plot_quote(g, f->title);
     fprintf(g, "\nset xlabel ");
@@ -86,17 +108,26 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
                     s ? ", " : "", s, colors[(size_t) p->color % 8], p->dashed ? 2 : 1);
         plot_quote(g, p->title ? p->title : "");
     }
-    fprintf(g, "\n");
-    rc = pclose(g);
-    if (rc != 0) {
-        snprintf(msg, n, "gnuplot failed (status %d) drawing %s", WIFEXITED(rc) ? WEXITSTATUS(rc) : rc, file);
+    fprintf(g, "\nset output\n");
+    rc = ferror(g) ? -1 : 0;
+    if (pclose(g) != 0 || rc != 0) {
+        snprintf(msg, n, "gnuplot failed drawing %s", file);
+        unlink(tmp);
+        free(tmp);
         return -1;
     }
+    if (rename(tmp, file) != 0) {
+        snprintf(msg, n, "cannot put %s in place: %s", file, strerror(errno));
+        unlink(tmp);
+        free(tmp);
+        return -1;
+    }
+    free(tmp);
     return 0;
 }
 
 int
-plot_run_script(const char *dir, const char *script, char *msg, size_t n)
+plot_run_script(const char *dir, const char *script, const char *out, char *msg, size_t n)
 {
     pid_t pid;
     int rc;
@@ -114,7 +145,17 @@ plot_run_script(const char *dir, const char *script, char *msg, size_t n)
     if (pid == 0) {
         if (chdir(dir) != 0)
             _exit(126);
-        execlp("gnuplot", "gnuplot", script, (char *) NULL);
+        if (out != NULL) {
+            /* out is a name layerfit made, never data; quoted all the same */
+            size_t len = strlen(out) + 16;
+            char *e = malloc(len);
+            if (e == NULL || strchr(out, '\'') != NULL)
+                _exit(126);
+            snprintf(e, len, "out='%s'", out);
+            execlp("gnuplot", "gnuplot", "-e", e, script, (char *) NULL);
+        } else {
+            execlp("gnuplot", "gnuplot", script, (char *) NULL);
+        }
         _exit(127);
     }
     if (waitpid(pid, &rc, 0) != pid || !WIFEXITED(rc) || WEXITSTATUS(rc) != 0) {

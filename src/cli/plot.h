@@ -32,13 +32,15 @@ int plot_draw(const plot_figure *f, const char *file, char *msg, size_t n);
 /* The gnuplot terminal for a file name ending in .svg or .png, or NULL. */
 const char *plot_terminal(const char *file);
 
-/* Write s to g as a gnuplot single-quoted string (quotes dropped). */
+/* Write s to g as a gnuplot single-quoted string ('' for a quote, control
+ * characters as spaces). */
 void plot_quote(FILE *g, const char *s);
 
 /* Run `gnuplot SCRIPT` with dir as the working folder, so that the file
  * names inside a kept script are relative to it and the user can rerun it
- * there.  Returns 0, or -1 with a message in msg. */
-int plot_run_script(const char *dir, const char *script, char *msg, size_t n);
+ * there; out, when not NULL, is passed as `-e "out='OUT'"` (a name layerfit
+ * made, without quotes).  Returns 0, or -1 with a message in msg. */
+int plot_run_script(const char *dir, const char *script, const char *out, char *msg, size_t n);
 
 /* dir/name into buf (n bytes); -1 when it does not fit. */
 int plot_path(char *buf, size_t n, const char *dir, const char *name);

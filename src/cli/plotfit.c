@@ -13,6 +13,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #include "cli.h"
 #include "plot.h"
@@ -147,21 +148,22 @@ put_class(FILE *f, const model_curve *mc, int cls, double xshift, double fscale)
     return n;
 }
 
+/* dir/name through the atomic writer (output.c). */
 static FILE *
-open_in(const char *dir, const char *name, char *msg, size_t n)
+open_in(cli_out *o, const char *dir, const char *name, char *msg, size_t n)
 {
     char path[4096];
-    FILE *f;
     if (plot_path(path, sizeof path, dir, name) != 0) {
         snprintf(msg, n, "%s/%s: path too long", dir, name);
         return NULL;
     }
-    if ((f = fopen(path, "w")) == NULL)
-        snprintf(msg, n, "cannot write %s: %s", path, strerror(errno));
-    return f;
+    return cli_out_open(o, path, msg, n);
 }
 
-/* The lines every script starts with: a loop over both terminals. */
+/* The lines every script starts with: a loop over both terminals.  The
+ * images go to OUT.png and OUT.svg, OUT being the figure's name unless the
+ * caller sets it (gnuplot -e "out='...'"): layerfit draws into a temporary
+ * name and renames the images once gnuplot has succeeded. */
 static void
 script_head(FILE *g, const char *base, const char *what, int w_png, int h_png)
 {
@@ -169,27 +171,29 @@ script_head(FILE *g, const char *base, const char *what, int w_png, int h_png)
                "# Data in %s.dat (blocks selected with 'index', described in its header).\n"
                "# Redraw after restyling with: gnuplot %s.gp\n",
             base, what, LF_VERSION, base, base);
-    fprintf(g, "do for [fmt in 'png svg'] {\n"
+    fprintf(g, "if (!exists('out')) out = '%s'\n"
+               "do for [fmt in 'png svg'] {\n"
                "if (fmt eq 'png') {\n"
                "    set terminal pngcairo size %d,%d enhanced font 'Helvetica,12'\n"
-               "    set output '%s.png'\n"
+               "    set output out.'.png'\n"
                "} else {\n"
                "    set terminal svg size %d,%d dynamic enhanced font 'Helvetica,13'\n"
-               "    set output '%s.svg'\n"
-               "}\n", w_png, h_png, base, w_png * 4 / 5, h_png * 4 / 5, base);
+               "    set output out.'.svg'\n"
+               "}\n", base, w_png, h_png, w_png * 4 / 5, h_png * 4 / 5);
     fprintf(g, "set grid lc rgb '#e0e0e0'\nset tics out nomirror\nset border 3\n");
 }
 
+/* Commit both files (or discard both after an error). */
 static int
-close_both(FILE *g, FILE *d, const char *dir, const char *base, char *msg, size_t n)
+close_both(cli_out *g, cli_out *d, char *msg, size_t n)
 {
     int bad = 0;
-    if (g != NULL && fclose(g) != 0)
-        bad = 1;
-    if (d != NULL && fclose(d) != 0)
+    if (cli_out_commit(g, msg, n) != 0)
         bad = 1;
     if (bad)
-        snprintf(msg, n, "error writing %s/%s.gp or .dat", dir, base);
+        cli_out_discard(d);
+    else if (cli_out_commit(d, msg, n) != 0)
+        bad = 1;
     return bad ? -1 : 0;
 }
 
@@ -229,10 +233,11 @@ curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
 {
     const lf_fit_curve_result *cr = &res->curves[j];
     model_curve *mc = malloc(sizeof *mc);
-    char name[1100], buf[64], tb[64], wb[64], Eb[64];
+    char name[1100], buf[64], wb[64], Eb[64];
     const char *fu;
     double fs, fpeak = 0.0;
     size_t i, nst = 0, nun = 0, nbase = 0;
+    cli_out od, og;
     FILE *d, *g;
 
     if (mc == NULL) {
@@ -244,12 +249,13 @@ curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
         fpeak = fmax(fpeak, fabs(c->force[i]));
     force_unit(fpeak, &fs, &fu);
     snprintf(name, sizeof name, "%s.dat", base);
-    if ((d = open_in(dir, name, msg, n)) == NULL) {
+    if ((d = open_in(&od, dir, name, msg, n)) == NULL) {
         free(mc);
         return -1;
     }
-    fprintf(d, "# %s: curve %zu of the fit, %s (%s branch)\n", base, j + 1,
-            c->name ? c->name : "", cr->branch == LF_BRANCH_LOAD ? "loading" : "unloading");
+    fprintf(d, "# %s: curve %zu of the fit, ", base, j + 1);
+    cli_put_clean(d, c->name);   /* one line whatever the name holds */
+    fprintf(d, " (%s branch)\n", cr->branch == LF_BRANCH_LOAD ? "loading" : "unloading");
     fprintf(d, "# index 0: measured points: depth_nm force_%s fitted_%s residual_%s\n", fu, fu, fu);
     for (i = 0; i < c->n; i++)
         fprintf(d, "%.9g %.9g %.9g %.9g\n", c->depth[i] * 1e9, c->force[i] / fs,
@@ -268,21 +274,26 @@ curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
         fputs("NaN NaN\n", d);
 
     snprintf(name, sizeof name, "%s.gp", base);
-    if ((g = open_in(dir, name, msg, n)) == NULL) {
-        fclose(d);
+    if ((g = open_in(&og, dir, name, msg, n)) == NULL) {
+        cli_out_discard(&od);
         free(mc);
         return -1;
     }
-    snprintf(tb, sizeof tb, "%s", base_name(c->name));
     script_head(g, base, "one curve of a fit with its residuals", 1200, 760);
     /* left: the whole curve over its residuals; right: the adhesive part
-     * around pull-off, where the paper's Fig. 3 draws the branches */
-    fprintf(g, "set multiplot title \"%s: k = %g, R = %s, ", tb, c->probe.k,
-            cli_human(buf, sizeof buf, c->probe.R, "m"));
-    fprintf(g, "b = %s, %s;  w = %s, E* = %s\" noenhanced\n",
-            cli_human(buf, sizeof buf, c->probe.b, "m"), cli_base_name(c->probe.base),
-            cli_human(wb, sizeof wb, res->w.value, "J/m²"),
-            cli_human(Eb, sizeof Eb, res->Estar.value, "Pa"));
+     * around pull-off, where the paper's Fig. 3 draws the branches.  The
+     * title holds the file name: a gnuplot string, never script text. */
+    {
+        char pb[64], title[1400];
+        snprintf(title, sizeof title, "%s: k = %g, R = %s, b = %s, %s;  w = %s, E* = %s",
+                 base_name(c->name), c->probe.k, cli_human(buf, sizeof buf, c->probe.R, "m"),
+                 cli_human(pb, sizeof pb, c->probe.b, "m"), cli_base_name(c->probe.base),
+                 cli_human(wb, sizeof wb, res->w.value, "J/m²"),
+                 cli_human(Eb, sizeof Eb, res->Estar.value, "Pa"));
+        fputs("set multiplot title ", g);
+        cli_gnuplot_string(g, title);
+        fputs(" noenhanced\n", g);
+    }
     fprintf(g, "set lmargin at screen 0.09\nset rmargin at screen 0.60\n"
                "set tmargin at screen 0.90\nset bmargin at screen 0.36\n"
                "set format x ''\nunset xlabel\nset ylabel 'force (%s)'\n"
@@ -312,7 +323,7 @@ curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
     }
     fprintf(g, "unset multiplot\n}\n");
     free(mc);
-    return close_both(g, d, dir, base, msg, n);
+    return close_both(&og, &od, msg, n);
 }
 
 /* Every curve on shared axes: delta = z - z0 so that the curves meet at
@@ -326,6 +337,7 @@ overview_figure(const char *dir, const char *base, size_t nc, const lf_fit_curve
     double fs, fpeak = 0.0;
     const char *fu;
     char name[1100], buf[64], wb[64], Eb[64];
+    cli_out od, og;
     FILE *d, *g;
     int first = 1;
 
@@ -340,7 +352,7 @@ overview_figure(const char *dir, const char *base, size_t nc, const lf_fit_curve
             fpeak = fmax(fpeak, fabs(c[j].force[i] - res->curves[j].F0));
     force_unit(fpeak, &fs, &fu);
     snprintf(name, sizeof name, "%s.dat", base);
-    if ((d = open_in(dir, name, msg, n)) == NULL) {
+    if ((d = open_in(&od, dir, name, msg, n)) == NULL) {
         free(mc);
         free(cnt);
         return -1;
@@ -353,7 +365,9 @@ overview_figure(const char *dir, const char *base, size_t nc, const lf_fit_curve
         model_for(&c[j], cr, res, mc);
         if (j > 0)
             fprintf(d, "\n\n");
-        fprintf(d, "# curve %zu: %s\n", j + 1, c[j].name ? c[j].name : "");
+        fprintf(d, "# curve %zu: ", j + 1);
+        cli_put_clean(d, c[j].name);   /* a line break would start a data line */
+        fputc('\n', d);
         for (i = 0; i < c[j].n; i++)
             fprintf(d, "%.9g %.9g\n", (c[j].depth[i] - cr->z0) * 1e9, (c[j].force[i] - cr->F0) / fs);
         cnt[4 * j] = c[j].n;
@@ -376,8 +390,8 @@ overview_figure(const char *dir, const char *base, size_t nc, const lf_fit_curve
         }
     }
     snprintf(name, sizeof name, "%s.gp", base);
-    if ((g = open_in(dir, name, msg, n)) == NULL) {
-        fclose(d);
+    if ((g = open_in(&og, dir, name, msg, n)) == NULL) {
+        cli_out_discard(&od);
         free(mc);
         free(cnt);
         return -1;
@@ -407,7 +421,61 @@ overview_figure(const char *dir, const char *base, size_t nc, const lf_fit_curve
     fprintf(g, "\n}\n");
     free(mc);
     free(cnt);
-    return close_both(g, d, dir, base, msg, n);
+    return close_both(&og, &od, msg, n);
+}
+
+static void
+provenance_writer(FILE *f, const void *ctx)
+{
+    (void) ctx;
+    cli_provenance_json(f, "");
+    fputc('\n', f);
+}
+
+int
+cli_draw_script(const char *dir, const char *script, const char *base,
+                const char *const *ext, size_t next, char *msg, size_t n)
+{
+    char tmp[4096], out[4200], *leaf;
+    size_t e;
+    int status;
+
+    if (plot_path(tmp, sizeof tmp, dir, ".layerfit-XXXXXX") != 0 || mkdtemp(tmp) == NULL) {
+        snprintf(msg, n, "cannot create a temporary folder in %s: %s", dir, strerror(errno));
+        return -1;
+    }
+    leaf = strrchr(tmp, '/') + 1;
+    snprintf(out, sizeof out, "%s/img", leaf);
+    status = plot_run_script(dir, script, out, msg, n);
+    for (e = 0; e < next; e++) {
+        char from[4400], to[4400], name[4200];
+        snprintf(name, sizeof name, "img.%s", ext[e]);
+        if (plot_path(from, sizeof from, tmp, name) != 0)
+            continue;
+        snprintf(name, sizeof name, "%s.%s", base, ext[e]);
+        if (status == 0 && (plot_path(to, sizeof to, dir, name) != 0 || rename(from, to) != 0)) {
+            snprintf(msg, n, "cannot put %s/%s in place: %s", dir, name, strerror(errno));
+            status = -1;
+        }
+        unlink(from);     /* what a failed run left */
+    }
+    rmdir(tmp);
+    return status;
+}
+
+static int
+draw_all(const char *dir, const cli_figures *figs, char *msg, size_t n)
+{
+    static const char *const ext[] = { "png", "svg" };
+    size_t k;
+    int status = 0;
+
+    for (k = 0; k < figs->n && status == 0; k++) {
+        char script[80];
+        snprintf(script, sizeof script, "%s.gp", figs->base[k]);
+        status = cli_draw_script(dir, script, figs->base[k], ext, 2, msg, n);
+    }
+    return status;
 }
 
 void
@@ -427,7 +495,6 @@ cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
              const lf_fit_result *res, cli_figures *figs, char *msg, size_t n)
 {
     size_t j, k = 0;
-    int status = 0;
 
     figs->n = 0;
     figs->base = calloc(ncurves + 1, sizeof *figs->base);
@@ -455,17 +522,17 @@ cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
         if (curve_figure(dir, figs->base[k], j, &curves[j], res, msg, n) != 0)
             return -1;
     }
+    {
+        char path[4096];
+        if (plot_path(path, sizeof path, dir, "provenance.json") == 0)
+            cli_write_file("fit", path, provenance_writer, NULL);
+    }
     if (!plot_have_gnuplot()) {
         snprintf(msg, n, "gnuplot is not installed, so the figures were not drawn (their "
                  "scripts and data are in %s): %s", dir, PLOT_INSTALL_HINT);
         return -1;
     }
-    for (k = 0; k < figs->n && status == 0; k++) {
-        char script[80];
-        snprintf(script, sizeof script, "%s.gp", figs->base[k]);
-        status = plot_run_script(dir, script, msg, n);
-    }
-    return status;
+    return draw_all(dir, figs, msg, n);
 }
 
 void

@@ -137,8 +137,9 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
     fprintf(f, "\ncurves (predicted from the fit)\n");
     for (j = 0; j < r->ncurves; j++) {
         const lf_fit_curve_result *cr = &r->curves[j];
-        fprintf(f, "  [%zu] %s: k = %g, R = %s, b = %s, %s, %s branch, %zu points\n", j + 1,
-                cr->name ? cr->name : "", cr->probe.k, cli_human(a, sizeof a, cr->probe.R, "m"),
+        fprintf(f, "  [%zu] ", j + 1);
+        cli_put_clean(f, cr->name);
+        fprintf(f, ": k = %g, R = %s, b = %s, %s, %s branch, %zu points\n", cr->probe.k, cli_human(a, sizeof a, cr->probe.R, "m"),
                 cli_human(b, sizeof b, cr->probe.b, "m"), cli_base_name(cr->probe.base),
                 branch_name(cr->branch), cr->n);
         fprintf(f, "      z0 = %s%s, F0 = %s%s, noise %s, rms residual %s\n",
@@ -193,20 +194,11 @@ jnums(FILE *f, const double *x, size_t n)
     fputc(']', f);
 }
 
+/* Valid UTF-8 whatever the bytes (output.c). */
 static void
 jstr(FILE *f, const char *s)
 {
-    fputc('"', f);
-    for (; s != NULL && *s; s++) {
-        unsigned char ch = (unsigned char) *s;
-        if (ch == '"' || ch == '\\')
-            fprintf(f, "\\%c", ch);
-        else if (ch < 0x20)
-            fprintf(f, "\\u%04x", ch);
-        else
-            fputc(ch, f);
-    }
-    fputc('"', f);
+    cli_json_string(f, s);
 }
 
 void
@@ -314,8 +306,8 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
     fputs(",\n  \"curves\": [\n", f);
     for (j = 0; j < r->ncurves; j++) {
         const lf_fit_curve_result *c = &r->curves[j];
-        fputs("    {\"file\": ", f);
-        jstr(f, c->name);
+        fputs("    {", f);
+        cli_json_name(f, "file", c->name);
         const struct { const char *key; double v; } num[] = {
             { "k", c->probe.k }, { "R", c->probe.R }, { "b", c->probe.b },
             { "z0", c->z0 }, { "z0_stderr", c->z0_se }, { "F0", c->F0 },
@@ -350,6 +342,8 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
     jwarnings(f, &r->identifiability);
     fputs(",\n  \"warnings\": ", f);
     jwarnings(f, &r->warnings);
+    fputs(",\n  \"provenance\": ", f);
+    cli_provenance_json(f, "  ");
     fputs("\n}\n", f);
 }
 

@@ -21,6 +21,7 @@ static const char usage_text[] =
     "  --nu NU          Poisson's ratio (needed by bonded probes)\n"
     "  --noise F        Gaussian noise sd as a fraction of each curve's largest |force| (0)\n"
     "  --seed N         seed of GSL's mt19937 generator (1)\n"
+    "  --force          replace files of an earlier run in DIR (refused otherwise)\n"
     "  --z0 LENGTH      contact point offset added to depth (0)\n"
     "  --F0 FORCE       force offset (0)\n"
     "  --points N       points per curve (300)\n"
@@ -77,22 +78,24 @@ parse_probe(const char *text, lf_probe *p)
         cli_die(CLI_EXIT_USAGE, "simulate: probe '%s': %s", text, err.msg);
 }
 
+/* Every file through the atomic writer (output.c). */
 static FILE *
-open_out(const char *dir, const char *name, char *path, size_t n)
+open_out(cli_out *o, const char *dir, const char *name, char *path, size_t n)
 {
+    char msg[4400];
     FILE *f;
     snprintf(path, n, "%s/%s", dir, name);
-    f = fopen(path, "w");
-    if (f == NULL)
-        cli_die(CLI_EXIT_FAIL, "simulate: cannot write %s: %s", path, strerror(errno));
+    if ((f = cli_out_open(o, path, msg, sizeof msg)) == NULL)
+        cli_die(CLI_EXIT_FAIL, "simulate: %s", msg);
     return f;
 }
 
 static void
-close_out(FILE *f, const char *path)
+close_out(cli_out *o)
 {
-    if (ferror(f) | fclose(f))
-        cli_die(CLI_EXIT_FAIL, "simulate: error writing %s", path);
+    char msg[4400];
+    if (cli_out_commit(o, msg, sizeof msg) != 0)
+        cli_die(CLI_EXIT_FAIL, "simulate: %s", msg);
 }
 
 int
@@ -102,15 +105,18 @@ cli_simulate(int argc, char **argv)
     double w = NAN, E = NAN, nu = NAN, noise = NAN, z0 = NAN, F0 = NAN;
     double dmax = NAN, dmin = NAN, past_c = NAN;
     long seed = -1, points = -1;
+    int force_replace = 0;
     const cli_opt opts[] = {
         { "out", CLI_STRING, &out }, { "w", CLI_ADHESION, &w }, { "E", CLI_PRESSURE, &E },
         { "nu", CLI_NUMBER, &nu }, { "noise", CLI_NUMBER, &noise }, { "seed", CLI_COUNT, &seed },
         { "z0", CLI_LENGTH, &z0 }, { "F0", CLI_FORCE, &F0 }, { "points", CLI_COUNT, &points },
         { "delta-max", CLI_LENGTH, &dmax }, { "delta-min", CLI_LENGTH, &dmin },
         { "past-c", CLI_NUMBER, &past_c }, { "branch", CLI_STRING, &branch },
-        { "model", CLI_STRING, &model }, { NULL, CLI_FLAG, NULL }
+        { "model", CLI_STRING, &model }, { "force", CLI_FLAG, &force_replace },
+        { NULL, CLI_FLAG, NULL }
     };
     int npos, help, i;
+    cli_out oplan, otruth, ocurve;
     lf_sim_settings s = lf_sim_settings_default();
     const lf_model_type *type;
     lf_material mat;
@@ -120,6 +126,7 @@ cli_simulate(int argc, char **argv)
     char path[4096];
     FILE *plan, *truth;
     size_t j, k;
+    static const char *const fixed_names[] = { "plan.csv", "truth.csv" };
 
     cli_parse("simulate", argc, argv, opts, &npos, &help);
     if (help) {
@@ -172,12 +179,21 @@ cli_simulate(int argc, char **argv)
         cli_die(CLI_EXIT_USAGE, "simulate: %s", err.msg);
     if (mkdir(out, 0777) != 0 && errno != EEXIST)
         cli_die(CLI_EXIT_FAIL, "simulate: cannot create %s: %s", out, strerror(errno));
+    /* no file of an earlier run is replaced unless asked */
+    for (j = 0; j < 2 + (size_t) npos; j++) {
+        if (j < 2)
+            snprintf(path, sizeof path, "%s/%s", out, fixed_names[j]);
+        else
+            snprintf(path, sizeof path, "%s/curve%zu.csv", out, j - 1);
+        cli_refuse_existing("simulate", path, force_replace);
+    }
 
-    plan = open_out(out, "plan.csv", path, sizeof path);
+    plan = open_out(&oplan, out, "plan.csv", path, sizeof path);
     fputs("file,k,R_m,b_m,interface,nu\n", plan);
     for (j = 0; j < (size_t) npos; j++) {
         char name[64], cpath[4096];
         FILE *c;
+
         snprintf(name, sizeof name, "curve%zu.csv", j + 1);
         fprintf(plan, "%s,", name);
         cli_print_double(plan, probes[j].k);
@@ -186,7 +202,7 @@ cli_simulate(int argc, char **argv)
         fputc(',', plan);
         cli_print_double(plan, probes[j].b);
         fprintf(plan, ",%s,\n", cli_base_name(probes[j].base));
-        c = open_out(out, name, cpath, sizeof cpath);
+        c = open_out(&ocurve, out, name, cpath, sizeof cpath);
         fputs("depth_m,force_N,segment\n", c);
         for (k = 0; k < s.points; k++) {
             cli_print_double(c, depth[j][k]);
@@ -194,11 +210,11 @@ cli_simulate(int argc, char **argv)
             cli_print_double(c, force[j][k]);
             fprintf(c, ",%s\n", s.branch == LF_BRANCH_LOAD ? "load" : "unload");
         }
-        close_out(c, cpath);
+        close_out(&ocurve);
     }
-    close_out(plan, path);
+    close_out(&oplan);
 
-    truth = open_out(out, "truth.csv", path, sizeof path);
+    truth = open_out(&otruth, out, "truth.csv", path, sizeof path);
     fputs("file,k,R_m,b_m,interface,w_J_m2,Estar_Pa,nu,z0_m,F0_N,noise_sd_N,seed,model\n", truth);
     for (j = 0; j < (size_t) npos; j++) {
         const double v[] = { probes[j].k, probes[j].R, probes[j].b };
@@ -216,7 +232,7 @@ cli_simulate(int argc, char **argv)
         }
         fprintf(truth, ",%lu,%s\n", s.seed, type->name);
     }
-    close_out(truth, path);
+    close_out(&otruth);
     for (i = 0; i < npos; i++) {
         free(depth[i]);
         free(force[i]);

@@ -63,7 +63,7 @@ expect 2 "layerfit: $b/curve_few_points.csv:4: the unloading segment has 3 point
 expect 2 "layerfit: $b/curve_zero_force.csv:4: force is 0 at every point of the unloading segment (is the force column the right one?)" check $b/curve_zero_force.csv
 expect 2 "layerfit: $b/curve_flat_depth.csv:2: depth is 1e-08 m at every point of the unloading segment (is the depth column the right one?)" check $b/curve_flat_depth.csv
 # plans
-expect 2 "layerfit: $b/plan_missing_curve.csv:3:1: curve file 'no_such_curve.csv' not found (looked for $b/no_such_curve.csv; paths are relative to the plan's folder)" check $b/plan_missing_curve.csv
+expect 2 "layerfit: $b/plan_missing_curve.csv:3: curve file $b/no_such_curve.csv: cannot open: No such file or directory (paths are relative to the plan's folder)" check $b/plan_missing_curve.csv
 expect 2 "layerfit: $b/plan_k_zero.csv:2:20: k must be a finite number > 0 (got 0)" check $b/plan_k_zero.csv
 expect 2 "layerfit: $b/plan_negative_R.csv:2:22: R must be a finite length > 0 (got -0.001 m)" check $b/plan_negative_R.csv
 expect 2 "layerfit: $b/plan_negative_b.csv:2:24: b must be a finite length > 0 (got -1e-06 m)" check $b/plan_negative_b.csv

@@ -1,0 +1,479 @@
+/* cli/output.c: what the command promises about its outputs.
+ *
+ * - Every output file is written to a temporary file in its own folder
+ *   (mkstemp), flushed, fsync'ed, checked for every write and close error,
+ *   and only then renamed over the old one: an interrupted or failed run
+ *   leaves the earlier file as it was.  Temporary files of a run that dies
+ *   through cli_die are removed at exit.
+ * - An output that is the same file as an input (same device and inode, so
+ *   that symlinks, hard links and "./" paths count) is refused.
+ * - Text taken from data (file names, metadata) is written escaped for
+ *   where it goes: JSON strings are valid UTF-8, gnuplot strings cannot be
+ *   closed by the data, comments cannot be broken by a line break.
+ * - Provenance: the version, the command line and the SHA-256 of every
+ *   input, for the JSON, HTML and sidecar writers. */
+#include <errno.h>
+#include <fcntl.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include "cli.h"
+
+/* ------------------------------------------------------------------------
+ * Inputs and outputs of the run: collisions and provenance.
+ * --------------------------------------------------------------------- */
+
+typedef struct {
+    char *path;
+    dev_t dev;
+    ino_t ino;
+    int have_id;          /* dev/ino known (the file existed when noted) */
+    char sha256[65];      /* "" when not hashed */
+} file_note;
+
+static file_note *inputs, *outputs;
+static size_t ninputs, noutputs;
+
+static char *
+dup_text(const char *s)
+{
+    char *d = malloc(strlen(s) + 1);
+    if (d == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    return strcpy(d, s);
+}
+
+static void
+note(file_note **list, size_t *n, const char *path, const char *sha256)
+{
+    file_note *l = realloc(*list, (*n + 1) * sizeof **list);
+    struct stat st;
+    if (l == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    *list = l;
+    l += *n;
+    memset(l, 0, sizeof *l);
+    l->path = dup_text(path);
+    if (stat(path, &st) == 0) {
+        l->dev = st.st_dev;
+        l->ino = st.st_ino;
+        l->have_id = 1;
+    }
+    if (sha256 != NULL)
+        snprintf(l->sha256, sizeof l->sha256, "%s", sha256);
+    (*n)++;
+}
+
+/* The input that path (an output) is, or NULL. */
+static const char *
+same_as_input(const char *path)
+{
+    struct stat st;
+    size_t i;
+    if (stat(path, &st) != 0)
+        return NULL;
+    for (i = 0; i < ninputs; i++)
+        if (inputs[i].have_id && inputs[i].dev == st.st_dev && inputs[i].ino == st.st_ino)
+            return inputs[i].path;
+    return NULL;
+}
+
+void
+cli_output_note(const char *cmd, const char *path)
+{
+    const char *in;
+    if (path == NULL)
+        return;
+    if ((in = same_as_input(path)) != NULL)
+        cli_die(CLI_EXIT_USAGE, "%s: output %s is the input %s: refusing to replace an input "
+                "(name another output)", cmd, path, in);
+    note(&outputs, &noutputs, path, NULL);
+}
+
+void
+cli_input_guard(const char *cmd, const char *path)
+{
+    struct stat st;
+    size_t i;
+    if (stat(path, &st) != 0)
+        return;   /* the reader says what is wrong with it */
+    for (i = 0; i < noutputs; i++) {
+        struct stat so;
+        if (stat(outputs[i].path, &so) == 0 && so.st_dev == st.st_dev && so.st_ino == st.st_ino)
+            cli_die(CLI_EXIT_USAGE, "%s: output %s is the input %s: refusing to replace an "
+                    "input (name another output)", cmd, outputs[i].path, path);
+    }
+}
+
+void
+cli_input_note(const char *path, const char *sha256)
+{
+    note(&inputs, &ninputs, path, sha256);
+}
+
+size_t
+cli_inputs_count(void)
+{
+    return ninputs;
+}
+
+const char *
+cli_input_path(size_t i)
+{
+    return inputs[i].path;
+}
+
+const char *
+cli_input_sha256(size_t i)
+{
+    return inputs[i].sha256;
+}
+
+/* ------------------------------------------------------------------------
+ * Atomic output files.
+ * --------------------------------------------------------------------- */
+
+static cli_out *pending;        /* open outputs, removed at exit if not committed */
+static int cleanup_set;
+
+static void
+remove_pending(void)
+{
+    cli_out *o;
+    for (o = pending; o != NULL; o = o->next)
+        if (o->tmp != NULL)
+            unlink(o->tmp);
+}
+
+static void
+unlink_pending(cli_out *o)
+{
+    cli_out **p;
+    for (p = &pending; *p != NULL; p = &(*p)->next)
+        if (*p == o) {
+            *p = o->next;
+            break;
+        }
+    o->next = NULL;
+}
+
+int
+cli_tmp_name(const char *path, char **tmp)
+{
+    const char *slash = strrchr(path, '/');
+    size_t nd = slash ? (size_t) (slash - path) + 1 : 0;
+    const char *base = path + nd;
+    char *t = malloc(nd + strlen(base) + 16);
+    if (t == NULL)
+        return -1;
+    memcpy(t, path, nd);
+    sprintf(t + nd, ".%s.XXXXXX", base);
+    *tmp = t;
+    return 0;
+}
+
+FILE *
+cli_out_open(cli_out *o, const char *path, char *msg, size_t n)
+{
+    const char *in;
+    mode_t mask;
+    int fd;
+
+    memset(o, 0, sizeof o[0]);
+    if ((in = same_as_input(path)) != NULL) {
+        snprintf(msg, n, "output %s is the input %s: refusing to replace an input", path, in);
+        return NULL;
+    }
+    if (cli_tmp_name(path, &o->tmp) != 0) {
+        snprintf(msg, n, "out of memory");
+        return NULL;
+    }
+    fd = mkstemp(o->tmp);
+    if (fd < 0) {
+        snprintf(msg, n, "cannot write %s: %s", path, strerror(errno));
+        free(o->tmp);
+        o->tmp = NULL;
+        return NULL;
+    }
+    /* mkstemp makes 0600; an output gets the usual 0666 less the umask */
+    mask = umask(0);
+    umask(mask);
+    (void) fchmod(fd, 0666 & ~mask);
+    o->f = fdopen(fd, "w");
+    if (o->f == NULL) {
+        snprintf(msg, n, "cannot write %s: %s", path, strerror(errno));
+        close(fd);
+        unlink(o->tmp);
+        free(o->tmp);
+        o->tmp = NULL;
+        return NULL;
+    }
+    o->path = dup_text(path);
+    if (!cleanup_set) {
+        atexit(remove_pending);
+        cleanup_set = 1;
+    }
+    o->next = pending;
+    pending = o;
+    return o->f;
+}
+
+int
+cli_out_commit(cli_out *o, char *msg, size_t n)
+{
+    int bad = 0, e = 0;
+
+    if (o->f == NULL)
+        return -1;
+    if (fflush(o->f) != 0 || ferror(o->f))
+        bad = 1, e = errno;
+    if (!bad && fsync(fileno(o->f)) != 0)
+        bad = 1, e = errno;
+    if (fclose(o->f) != 0 && !bad)
+        bad = 1, e = errno;
+    o->f = NULL;
+    if (!bad && rename(o->tmp, o->path) != 0)
+        bad = 1, e = errno;
+    if (bad) {
+        snprintf(msg, n, "error writing %s: %s", o->path, e ? strerror(e) : "write failed");
+        unlink(o->tmp);
+    }
+    unlink_pending(o);
+    free(o->tmp);
+    free(o->path);
+    o->tmp = o->path = NULL;
+    return bad ? -1 : 0;
+}
+
+void
+cli_out_discard(cli_out *o)
+{
+    if (o->f != NULL)
+        fclose(o->f);
+    if (o->tmp != NULL)
+        unlink(o->tmp);
+    unlink_pending(o);
+    free(o->tmp);
+    free(o->path);
+    memset(o, 0, sizeof o[0]);
+}
+
+void
+cli_write_file(const char *cmd, const char *path, void (*writer)(FILE *, const void *),
+               const void *ctx)
+{
+    cli_out o;
+    char msg[4400];
+    FILE *f = cli_out_open(&o, path, msg, sizeof msg);
+    if (f == NULL)
+        cli_die(CLI_EXIT_FAIL, "%s: %s", cmd, msg);
+    writer(f, ctx);
+    if (cli_out_commit(&o, msg, sizeof msg) != 0)
+        cli_die(CLI_EXIT_FAIL, "%s: %s", cmd, msg);
+}
+
+void
+cli_refuse_existing(const char *cmd, const char *path, int force)
+{
+    struct stat st;
+    if (!force && lstat(path, &st) == 0)
+        cli_die(CLI_EXIT_USAGE, "%s: %s exists: not replaced without --force", cmd, path);
+    if (same_as_input(path) != NULL)
+        cli_die(CLI_EXIT_USAGE, "%s: output %s is an input: refusing to replace it", cmd, path);
+}
+
+int
+cli_stdout_close(void)
+{
+    int bad = fflush(stdout) != 0 || ferror(stdout);
+    if (fclose(stdout) != 0)
+        bad = 1;
+    if (bad) {
+        fprintf(stderr, "layerfit: error writing standard output: %s\n",
+                errno ? strerror(errno) : "write failed");
+        return -1;
+    }
+    return 0;
+}
+
+/* ------------------------------------------------------------------------
+ * Text from data, escaped for where it goes.
+ * --------------------------------------------------------------------- */
+
+int
+cli_utf8_valid(const char *s)
+{
+    const unsigned char *p = (const unsigned char *) s;
+    while (*p) {
+        size_t n = lf_utf8_len(p);
+        if (n == 0)
+            return 0;
+        p += n;
+    }
+    return 1;
+}
+
+void
+cli_text_clean(const char *s, int keep_newlines,
+               void (*put)(void *, const char *, size_t), void *ctx)
+{
+    const unsigned char *p = (const unsigned char *) (s ? s : "");
+    while (*p) {
+        size_t n = lf_utf8_len(p);
+        if (n == 0) {
+            put(ctx, "\xEF\xBF\xBD", 3);   /* U+FFFD */
+            p++;
+        } else if (n == 1 && (*p < 0x20 || *p == 0x7F) && !(keep_newlines && *p == '\n')) {
+            put(ctx, " ", 1);
+            p++;
+        } else {
+            put(ctx, (const char *) p, n);
+            p += n;
+        }
+    }
+}
+
+static void
+put_file(void *ctx, const char *s, size_t n)
+{
+    fwrite(s, 1, n, (FILE *) ctx);
+}
+
+void
+cli_put_clean(FILE *f, const char *s)
+{
+    cli_text_clean(s, 0, put_file, f);
+}
+
+void
+cli_json_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx)
+{
+    const unsigned char *p = (const unsigned char *) (s ? s : "");
+    put(ctx, "\"", 1);
+    while (*p) {
+        size_t n = lf_utf8_len(p);
+        char buf[8];
+        if (n == 0) {
+            put(ctx, "\\ufffd", 6);
+            p++;
+            continue;
+        }
+        if (*p == '"' || *p == '\\') {
+            buf[0] = '\\';
+            buf[1] = (char) *p;
+            put(ctx, buf, 2);
+        } else if (*p == '\n') {
+            put(ctx, "\\n", 2);
+        } else if (*p < 0x20 || *p == 0x7F) {
+            snprintf(buf, sizeof buf, "\\u%04x", *p);
+            put(ctx, buf, 6);
+        } else {
+            put(ctx, (const char *) p, n);
+        }
+        p += n;
+    }
+    put(ctx, "\"", 1);
+}
+
+void
+cli_percent_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx)
+{
+    const unsigned char *p = (const unsigned char *) (s ? s : "");
+    put(ctx, "\"", 1);
+    for (; *p; p++) {
+        if (*p > 0x20 && *p < 0x7F && *p != '%' && *p != '"' && *p != '\\') {
+            put(ctx, (const char *) p, 1);
+        } else {
+            char buf[4];
+            snprintf(buf, sizeof buf, "%%%02X", *p);
+            put(ctx, buf, 3);
+        }
+    }
+    put(ctx, "\"", 1);
+}
+
+void
+cli_json_string(FILE *f, const char *s)
+{
+    cli_json_escape(s, put_file, f);
+}
+
+void
+cli_json_name(FILE *f, const char *key, const char *name)
+{
+    fprintf(f, "\"%s\": ", key);
+    cli_json_escape(name, put_file, f);
+    if (name != NULL && !cli_utf8_valid(name)) {
+        fprintf(f, ", \"%s_raw\": ", key);
+        cli_percent_escape(name, put_file, f);
+    }
+}
+
+void
+cli_gnuplot_string(FILE *g, const char *s)
+{
+    const unsigned char *p = (const unsigned char *) (s ? s : "");
+    fputc('\'', g);
+    while (*p) {
+        size_t n = lf_utf8_len(p);
+        if (n == 0) {
+            fputc('?', g);
+            p++;
+        } else if (*p == '\'') {
+            fputs("''", g);        /* the only special character of '...' */
+            p++;
+        } else if (n == 1 && (*p < 0x20 || *p == 0x7F)) {
+            fputc(' ', g);         /* a line break would end the command */
+            p++;
+        } else {
+            fwrite(p, 1, n, g);
+            p += n;
+        }
+    }
+    fputc('\'', g);
+}
+
+/* ------------------------------------------------------------------------
+ * Provenance.
+ * --------------------------------------------------------------------- */
+
+void
+cli_provenance_json(FILE *f, const char *indent)
+{
+    size_t i;
+    fprintf(f, "{\n%s  \"layerfit\": \"%s\",\n%s  \"command_line\": ", indent, LF_VERSION, indent);
+    cli_json_string(f, cli_get_command_line());
+    fprintf(f, ",\n%s  \"inputs\": [", indent);
+    for (i = 0; i < ninputs; i++) {
+        fprintf(f, "%s\n%s    {", i ? "," : "", indent);
+        cli_json_name(f, "file", inputs[i].path);
+        fputs(", \"sha256\": ", f);
+        if (inputs[i].sha256[0] != '\0')
+            fprintf(f, "\"%s\"}", inputs[i].sha256);
+        else
+            fputs("null}", f);
+    }
+    fprintf(f, "%s%s]\n%s}", ninputs ? "\n  " : "", ninputs ? indent : "", indent);
+}
+
+static void
+sidecar_writer(FILE *f, const void *ctx)
+{
+    (void) ctx;
+    cli_provenance_json(f, "");
+    fputc('\n', f);
+}
+
+void
+cli_provenance_sidecar(const char *cmd, const char *output)
+{
+    size_t n = strlen(output) + sizeof ".provenance.json";
+    char *path = malloc(n);
+    if (path == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    snprintf(path, n, "%s.provenance.json", output);
+    cli_write_file(cmd, path, sidecar_writer, NULL);
+    free(path);
+}

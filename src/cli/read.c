@@ -1,0 +1,79 @@
+/* cli/read.c: reading the command's inputs once, whole, from a descriptor
+ * checked when it is opened (lf_input_read), so that what is parsed is what
+ * is hashed for provenance, and a pipe named on the command line is read
+ * exactly once. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+
+int
+cli_curve_from(const lf_input *in, const char *path, const lf_read_opts *o,
+               lf_segment seg, lf_curve **out, lf_warnings *warn, lf_error *err)
+{
+    int status = lf_curve_parse(in->data, in->len, 0, path, o, out, warn, err);
+    if (status == LF_OK && (status = lf_curve_check_fit(*out, seg, CLI_MIN_POINTS, err)) != LF_OK) {
+        lf_curve_free(*out);
+        *out = NULL;
+    }
+    return status;
+}
+
+int
+cli_curve_load(const char *path, unsigned flags, const lf_read_opts *o, lf_segment seg,
+               lf_curve **out, char *sha256, lf_warnings *warn, lf_error *err)
+{
+    lf_input in;
+    int status;
+
+    *out = NULL;
+    if ((status = lf_input_read(path, flags, &in, err)) != LF_OK)
+        return status;
+    if (sha256 != NULL)
+        memcpy(sha256, in.sha256, sizeof in.sha256);
+    status = cli_curve_from(&in, path, o, seg, out, warn, err);
+    lf_input_free(&in);
+    return status;
+}
+
+int
+cli_plan_from(const lf_input *in, const char *path, lf_plan **out, lf_warnings *warn,
+              lf_error *err)
+{
+    const char *slash = strrchr(path, '/');
+    char *dir = NULL;
+    int status;
+
+    if (slash != NULL) {
+        size_t n = (size_t) (slash - path);
+        if ((dir = malloc(n + 2)) == NULL)
+            return LF_ENOMEM;
+        memcpy(dir, path, n);
+        dir[n] = '\0';
+        if (n == 0)
+            strcpy(dir, "/");
+    }
+    status = lf_plan_parse(in->data, in->len, 0, path, dir, out, warn, err);
+    free(dir);
+    return status;
+}
+
+lf_plan *
+cli_plan_load(const char *cmd, const char *path)
+{
+    lf_plan *plan = NULL;
+    lf_warnings warn = { 0, NULL };
+    lf_input in;
+    lf_error err;
+
+    cli_input_guard(cmd, path);
+    if (lf_input_read(path, LF_INPUT_STREAM, &in, &err) != LF_OK)
+        cli_die_error(CLI_EXIT_USAGE, &err);
+    cli_input_note(path, in.sha256);
+    if (cli_plan_from(&in, path, &plan, &warn, &err) != LF_OK)
+        cli_die_error(err.status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, &err);
+    lf_input_free(&in);
+    cli_print_warnings(&warn);
+    lf_warnings_free(&warn);
+    return plan;
+}

@@ -1,0 +1,246 @@
+# safety.sh: what layerfit promises about its outputs (README, "What
+# layerfit promises about its outputs"), tried as a hostile user would:
+# names that try to run commands, outputs that would replace inputs, runs
+# killed mid-write, FIFOs, full disks, names that are not UTF-8.
+. "$(dirname "$0")/common"
+
+PY=/usr/bin/python3
+PROBE="--k 2 --R 1mm --b 1um --interface frictionless"
+have_gnuplot=0; command -v gnuplot >/dev/null 2>&1 && have_gnuplot=1
+sha() { sha256sum "$1" | cut -d' ' -f1; }
+
+run_ok simulate --out "$tmp/s" --w 12.3mJ/m2 --E 1.85GPa --noise 0.005 --seed 7 --z0 15nm \
+    --past-c 2 --delta-max 20nm k=2,R=1mm,b=1um,interface=frictionless \
+    k=3,R=1mm,b=1um,interface=frictionless
+good="$tmp/s/curve1.csv"
+
+# ---- data never becomes code ---------------------------------------------
+mkdir -p "$tmp/h"
+cd "$tmp/h" || exit 1
+for name in 'x";system "touch pwned" #.csv' "x';system 'touch pwned' #.csv" \
+            'x`touch pwned`$(touch pwned).csv'; do
+    cp "$good" "$name"
+    rm -rf fig rep.html pwned fig/pwned
+    "$LF" fit "$name" $PROBE --plot fig >/dev/null 2>"$tmp/err"; rc=$?
+    [ "$rc" -eq 0 ] && ok || bad "hostile name, --plot: exit $rc: $(cat "$tmp/err")"
+    "$LF" fit "$name" $PROBE --report rep.html >/dev/null 2>"$tmp/err"; rc=$?
+    [ "$rc" -eq 0 ] && ok || bad "hostile name, --report: exit $rc: $(cat "$tmp/err")"
+    [ ! -e pwned ] && [ ! -e fig/pwned ] && ok || bad "a file name ran a command: $name"
+    if [ "$have_gnuplot" -eq 1 ]; then
+        [ -s fig/curve1.svg ] && [ -s fig/curve1.png ] && [ -s fig/overview.svg ] && ok \
+            || bad "hostile name: figures not drawn: $(cat "$tmp/err")"
+        grep -q '<svg' rep.html && ok || bad "hostile name: report without figures"
+    fi
+    rm -f "$name"
+done
+# quotes, a backslash and a line break: still figures, one line per comment
+name=$(printf 'we"i\\rd\nna'"'"'me.csv')
+cp "$good" "$name"
+rm -rf fig
+"$LF" fit "$name" $PROBE --plot fig --json n.json >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 0 ] && ok || bad "odd name: exit $rc: $(cat "$tmp/err")"
+[ "$(grep -c '^# curve 1: ' fig/overview.dat)" -eq 1 ] && ok || bad "overview.dat: curve comment"
+grep -q "^na'me.csv" fig/overview.dat fig/curve1.dat && bad "a line break in a name broke a .dat file" || ok
+if [ "$have_gnuplot" -eq 1 ]; then
+    [ -s fig/overview.svg ] && [ -s fig/curve1.svg ] && ok || bad "odd name: no figures"
+fi
+$PY -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["curves"][0]["file"]==sys.argv[2]' \
+    n.json "$name" 2>"$tmp/err" && ok || bad "odd name does not read back from JSON: $(cat "$tmp/err")"
+rm -f "$name"
+cd "$top" || exit 1
+
+# ---- nothing lost: an output never replaces an input ----------------------
+cp "$tmp/s/plan.csv" "$tmp/s/plan.orig"
+cp "$good" "$tmp/c1.orig"
+"$LF" fit --batch "$tmp/s/plan.csv" --out "$tmp/s/plan.csv" >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "--out PLAN: exit $rc, want 2"
+has "--out PLAN refused" "$tmp/err" "is the input"
+cmp -s "$tmp/s/plan.csv" "$tmp/s/plan.orig" && ok || bad "--out PLAN changed the plan"
+ln -s plan.csv "$tmp/s/link.csv"
+"$LF" fit --batch "$tmp/s/plan.csv" --out "$tmp/s/link.csv" >/dev/null 2>&1; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "--out SYMLINK-TO-PLAN: exit $rc, want 2"
+"$LF" fit --batch "$tmp/s/plan.csv" --out "$tmp/s/./curve1.csv" >/dev/null 2>&1; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "--out CURVE (./ path): exit $rc, want 2"
+"$LF" fit "$tmp/s/plan.csv" --json "$tmp/s/curve2.csv" >/dev/null 2>&1; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "fit PLAN --json CURVE: exit $rc, want 2"
+"$LF" fit "$good" $PROBE --curves "$good" >/dev/null 2>&1; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "fit CURVE --curves CURVE: exit $rc, want 2"
+cmp -s "$good" "$tmp/c1.orig" && ok || bad "an output replaced a curve"
+cmp -s "$tmp/s/plan.csv" "$tmp/s/plan.orig" && ok || bad "an output replaced the plan"
+
+# simulate and map --synthetic keep an earlier run unless --force
+cp "$tmp/s/truth.csv" "$tmp/truth.orig"
+"$LF" simulate --out "$tmp/s" --w 1mJ/m2 --E 1GPa k=2,R=1mm,b=1um >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "simulate over an earlier run: exit $rc, want 2"
+has "simulate says why" "$tmp/err" "exists: not replaced without --force"
+cmp -s "$tmp/s/truth.csv" "$tmp/truth.orig" && cmp -s "$good" "$tmp/c1.orig" && ok \
+    || bad "simulate replaced files without --force"
+run_ok simulate --out "$tmp/s2" --w 1mJ/m2 --E 1GPa k=2,R=1mm,b=1um
+run_ok simulate --out "$tmp/s2" --w 2mJ/m2 --E 1GPa k=2,R=1mm,b=1um --force
+has "--force replaces" "$tmp/s2/truth.csv" "0.002"
+run_ok map --synthetic "$tmp/m" --size 2 --points 40
+"$LF" map --synthetic "$tmp/m" --size 2 --points 40 >/dev/null 2>&1; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "map --synthetic over an earlier map: exit $rc, want 2"
+run_ok map --synthetic "$tmp/m" --size 2 --points 40 --force
+
+# a batch killed with SIGKILL mid-write leaves the earlier results as they were
+run_ok map --synthetic "$tmp/big" --size 60 --points 300
+"$LF" fit --batch "$tmp/m/plan.csv" --out "$tmp/big/results.csv" >/dev/null 2>&1
+cp "$tmp/big/results.csv" "$tmp/results.orig"
+"$LF" fit --batch "$tmp/big/plan.csv" --threads 1 --quiet --out "$tmp/big/results.csv" \
+    >/dev/null 2>&1 &
+pid=$!
+i=0
+while [ $i -lt 200 ]; do     # until the new results are being written
+    t=$(ls "$tmp/big"/.results.csv.* 2>/dev/null | head -n 1)
+    [ -n "$t" ] && [ -s "$t" ] && break
+    i=$((i + 1)); sleep 0.05
+done
+if kill -0 $pid 2>/dev/null; then
+    kill -9 $pid; wait $pid 2>/dev/null
+    cmp -s "$tmp/big/results.csv" "$tmp/results.orig" && ok \
+        || bad "a batch killed mid-write damaged the earlier results.csv"
+    ok
+else
+    wait $pid; bad "the batch finished before it could be killed (make it bigger)"
+fi
+
+# ---- write errors are errors ------------------------------------------------
+if [ -w /dev/full ]; then
+    "$LF" fit "$good" $PROBE >/dev/full 2>"$tmp/err"; rc=$?
+    [ "$rc" -eq 1 ] && ok || bad "fit > /dev/full: exit $rc, want 1"
+    has "/dev/full: message" "$tmp/err" "error writing standard output"
+    "$LF" check "$good" >/dev/full 2>/dev/null; rc=$?
+    [ "$rc" -eq 1 ] && ok || bad "check > /dev/full: exit $rc, want 1"
+    "$LF" fit --batch "$tmp/s/plan.csv" >/dev/full 2>/dev/null; rc=$?
+    [ "$rc" -eq 1 ] && ok || bad "fit --batch > /dev/full: exit $rc, want 1"
+    "$LF" model --help >/dev/full 2>/dev/null; rc=$?
+    [ "$rc" -eq 1 ] && ok || bad "model --help > /dev/full: exit $rc, want 1"
+else
+    echo "skipped: /dev/full not writable"
+fi
+
+# ---- inputs that must not hang or mislead -----------------------------------
+mkfifo "$tmp/fifo"
+cat "$good" > "$tmp/fifo" &
+timeout 30 "$LF" check "$tmp/fifo" >"$tmp/out" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 0 ] && ok || bad "check FIFO: exit $rc: $(cat "$tmp/err")"
+"$LF" check "$good" >"$tmp/want" 2>/dev/null
+sed 1d "$tmp/out" >"$tmp/got"; sed 1d "$tmp/want" >"$tmp/want1"
+cmp -s "$tmp/got" "$tmp/want1" && ok || bad "check FIFO reads what check FILE reads"
+wait
+cat "$good" | timeout 30 "$LF" check /dev/stdin >"$tmp/out" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 0 ] && ok || bad "check /dev/stdin (a pipe): exit $rc: $(cat "$tmp/err")"
+has "a pipe is read once, whole" "$tmp/out" "points"
+if command -v bash >/dev/null 2>&1; then     # process substitution
+    timeout 30 bash -c '"$0" check <(cat "$1")' "$LF" "$good" >"$tmp/out" 2>"$tmp/err"; rc=$?
+    [ "$rc" -eq 0 ] && ok || bad "check <(cat FILE): exit $rc: $(cat "$tmp/err")"
+    sed 1d "$tmp/out" >"$tmp/got"
+    cmp -s "$tmp/got" "$tmp/want1" && ok || bad "check <(cat FILE) reads what check FILE reads"
+fi
+cat "$good" | timeout 30 "$LF" fit /dev/stdin $PROBE >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 0 ] && ok || bad "fit /dev/stdin: exit $rc: $(cat "$tmp/err")"
+# nobody writes: an error after a bounded wait, not a hang
+timeout 60 "$LF" check "$tmp/fifo" >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "check FIFO without a writer: exit $rc, want 2"
+has "FIFO without a writer: message" "$tmp/err" "a FIFO needs a writer"
+# a FIFO in a plan is refused at once, as that curve's row
+cp "$tmp/s/plan.csv" "$tmp/s/plan_fifo.csv"
+mkfifo "$tmp/s/curve9.csv"
+echo "curve9.csv,2,0.001,1e-06,frictionless," >> "$tmp/s/plan_fifo.csv"
+timeout 30 "$LF" fit --batch "$tmp/s/plan_fifo.csv" --out "$tmp/fifo.csv" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 3 ] && ok || bad "batch with a FIFO curve: exit $rc, want 3"
+grep "curve9.csv" "$tmp/fifo.csv" | grep -q ",error,.*is not a regular file" && ok \
+    || bad "FIFO curve: error row"
+[ "$(grep -c ',ok,' "$tmp/fifo.csv")" -eq 2 ] && ok || bad "FIFO curve: the other fits go on"
+timeout 30 "$LF" fit "$tmp/s/plan_fifo.csv" >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "joint fit with a FIFO curve: exit $rc, want 2"
+has "joint fit: FIFO refused" "$tmp/err" "is not a regular file"
+
+# --threads is bounded
+for t in 0 1025 99999999999999999999; do
+    "$LF" fit --batch "$tmp/s/plan.csv" --threads $t >/dev/null 2>"$tmp/err"; rc=$?
+    [ "$rc" -eq 2 ] && ok || bad "--threads $t: exit $rc, want 2"
+done
+has "--threads: message" "$tmp/err" "--threads"
+
+# a long plan cell is read whole: '1' + spaces + 'mm' is 1 mm
+sp=$(printf '%200s' '')
+printf 'file,k,R,b,interface\ncurve1.csv,2,1%smm,1um,frictionless\n' "$sp" > "$tmp/s/plan_long.csv"
+run_ok check "$tmp/s/plan_long.csv"
+has "long cell: R = 1 mm" "$tmp/out" "R = 1 mm"
+
+# a curve check refuses, fit refuses too (same check)
+head -n 6 "$good" > "$tmp/five.csv"
+"$LF" check "$tmp/five.csv" >/dev/null 2>"$tmp/e1"; r1=$?
+"$LF" fit "$tmp/five.csv" $PROBE >/dev/null 2>"$tmp/e2"; r2=$?
+[ "$r1" -eq 2 ] && [ "$r2" -eq 2 ] && ok || bad "5 points: check exit $r1, fit exit $r2, want 2 and 2"
+cmp -s "$tmp/e1" "$tmp/e2" && ok || bad "5 points: check and fit say different things"
+
+# ---- batches: every problem is that curve's row -----------------------------
+cp "$tmp/s/plan.csv" "$tmp/s/plan_missing.csv"
+echo "gone.csv,2,0.001,1e-06,frictionless," >> "$tmp/s/plan_missing.csv"
+"$LF" fit --batch "$tmp/s/plan_missing.csv" --out "$tmp/miss.csv" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 3 ] && ok || bad "batch with a missing curve: exit $rc, want 3"
+has "summary line" "$tmp/err" "layerfit: fit: 1 of 3 fits failed"
+grep "gone.csv" "$tmp/miss.csv" | grep -q ",error," && ok || bad "missing curve: error row"
+[ "$(grep -c ',ok,' "$tmp/miss.csv")" -eq 2 ] && ok || bad "missing curve: the batch goes on"
+
+# ---- formats ------------------------------------------------------------------
+# names that are not UTF-8: JSON and JSON Lines still parse, raw bytes kept
+bad_name=$(printf 'bad\377\376name.csv')
+cp "$good" "$tmp/s/$bad_name"
+"$LF" fit "$tmp/s/$bad_name" $PROBE --json "$tmp/u.json" >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 0 ] && ok || bad "fit of a non-UTF-8 name: exit $rc"
+$PY -c 'import json,sys,urllib.parse as u
+d = json.load(open(sys.argv[1], encoding="utf-8"))
+c = d["curves"][0]
+assert "\ufffd" in c["file"], c["file"]
+assert u.unquote_to_bytes(c["file_raw"]) == sys.argv[2].encode("utf-8", "surrogateescape")
+' "$tmp/u.json" "$tmp/s/$bad_name" 2>"$tmp/err" && ok || bad "JSON of a non-UTF-8 name: $(cat "$tmp/err")"
+{ cat "$tmp/s/plan.csv"; printf '%s,2,0.001,1e-06,frictionless,\n' "$bad_name"; } > "$tmp/s/plan_u.csv"
+"$LF" fit --batch "$tmp/s/plan_u.csv" --out "$tmp/u.jsonl" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 0 ] && ok || bad "batch with a non-UTF-8 name: exit $rc: $(cat "$tmp/err")"
+$PY -c 'import json,sys,urllib.parse as u
+rows = [json.loads(l) for l in open(sys.argv[1], encoding="utf-8")]
+assert len(rows) == 3
+r = rows[2]
+assert u.unquote_to_bytes(r["files_raw"][0]) == sys.argv[2].encode("utf-8", "surrogateescape")
+assert len(r["sha256"][0]) == 64
+' "$tmp/u.jsonl" "$tmp/s/$bad_name" 2>"$tmp/err" && ok || bad "JSONL of a non-UTF-8 name: $(cat "$tmp/err")"
+
+# a joint fit's file cell: names with ';' and '"' can be told apart
+cp "$good" "$tmp/s/a;b.csv"
+cp "$tmp/s/curve2.csv" "$tmp/s/q\"uote.csv"
+printf 'file,k,R,b,interface,sample\n"a;b.csv",2,1mm,1um,frictionless,S\n"q""uote.csv",3,1mm,1um,frictionless,S\n' \
+    > "$tmp/s/plan_joint.csv"
+run_ok fit --batch "$tmp/s/plan_joint.csv" --out "$tmp/joint.csv"
+$PY -c 'import csv,sys
+rows = list(csv.DictReader(open(sys.argv[1])))
+assert len(rows) == 1
+cell = rows[0]["file"]
+names = next(csv.reader([cell], delimiter=";"))
+assert [n.rsplit("/", 1)[-1] for n in names] == ["a;b.csv", "q\"uote.csv"], names
+assert len(rows[0]["sha256"].split(";")) == 2
+' "$tmp/joint.csv" 2>"$tmp/err" && ok || bad "joint file cell: $(cat "$tmp/err")"
+
+# provenance: version, command line, SHA-256 of every input
+run_ok fit "$tmp/s/plan.csv" --json "$tmp/p.json" --curves "$tmp/p.csv" --report "$tmp/p.html" --plot "$tmp/pf"
+$PY -c 'import json,sys
+d = json.load(open(sys.argv[1]))["provenance"]
+assert d["layerfit"] and "--json" in d["command_line"]
+h = {i["file"].rsplit("/", 1)[-1]: i["sha256"] for i in d["inputs"]}
+assert h["plan.csv"] == sys.argv[2] and h["curve1.csv"] == sys.argv[3], h
+' "$tmp/p.json" "$(sha "$tmp/s/plan.csv")" "$(sha "$good")" 2>"$tmp/err" && ok \
+    || bad "JSON provenance: $(cat "$tmp/err")"
+has "curves CSV sidecar" "$tmp/p.csv.provenance.json" "$(sha "$good")"
+has "HTML provenance" "$tmp/p.html" "$(sha "$good")"
+has "plot folder provenance" "$tmp/pf/provenance.json" "$(sha "$good")"
+run_ok fit --batch "$tmp/s/plan.csv" --out "$tmp/b.csv"
+has "batch CSV: sha256 column" "$tmp/b.csv" "$(sha "$good")"
+has "batch CSV sidecar" "$tmp/b.csv.provenance.json" "$(sha "$tmp/s/plan.csv")"
+$PY -c 'import csv,sys; r = list(csv.DictReader(open(sys.argv[1]))); assert len(r) == 2' "$tmp/b.csv" \
+    && ok || bad "batch CSV still parses as CSV"
+ls -a "$tmp/s" "$tmp" | grep -q '^\.[^.].*\.[A-Za-z0-9]\{6\}$' && bad "temporary files left behind" || ok
+
+summary
