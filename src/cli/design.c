@@ -160,49 +160,6 @@ parse_grid(const char *text, lf_design_factor *factor, double *values)
     return n;
 }
 
-/* An output that must not be the plan itself. */
-static void
-check_output(const char *path, const char *plan, const char *option)
-{
-    struct stat a, b;
-    if (stat(path, &a) == 0 && stat(plan, &b) == 0 && a.st_dev == b.st_dev && a.st_ino == b.st_ino)
-        cli_die(CLI_EXIT_USAGE, "design: --%s %s would overwrite the plan", option, path);
-}
-
-/* Outputs go to a temporary file in the same folder, renamed when whole;
- * the temporary name keeps the extension (gnuplot picks its terminal by
- * it). */
-static void
-temp_name(char *tmp, size_t n, const char *path)
-{
-    const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
-    if (dot == NULL || (slash != NULL && dot < slash))
-        dot = path + strlen(path);
-    if (snprintf(tmp, n, "%.*s.tmp%ld%s", (int) (dot - path), path, (long) getpid(), dot)
-        >= (int) n)
-        cli_die(CLI_EXIT_USAGE, "design: output path too long: %s", path);
-}
-
-static FILE *
-open_output(const char *path, char *tmp, size_t n)
-{
-    FILE *f;
-    temp_name(tmp, n, path);
-    f = fopen(tmp, "w");
-    if (f == NULL)
-        cli_die(CLI_EXIT_FAIL, "design: cannot write %s: %s", path, strerror(errno));
-    return f;
-}
-
-static void
-close_output(FILE *f, const char *tmp, const char *path)
-{
-    if ((ferror(f) | fclose(f)) != 0 || rename(tmp, path) != 0) {
-        remove(tmp);
-        cli_die(CLI_EXIT_FAIL, "design: error writing %s", path);
-    }
-}
-
 /* "8.7%", "+- 0.0031", or words: never a NaN. */
 static const char *
 rel_text(char *buf, size_t n, const lf_design_estimate *e, int absolute)
@@ -544,7 +501,7 @@ draw_sweep(const char *file, lf_design_factor factor, size_t nv, const double *x
     double *xs = malloc(3 * nv * sizeof *xs), *ys = malloc(3 * nv * sizeof *ys);
     plot_series ser[3];
     plot_figure fig;
-    char tmp[4200], msg[600], xlabel[96], title[200];
+    char msg[600], xlabel[96], title[200];
     size_t s, v, ns = 0;
     double xscale = 1.0;
     const char *xunit = "";
@@ -594,15 +551,8 @@ draw_sweep(const char *file, lf_design_factor factor, size_t nv, const double *x
         fprintf(stderr, "layerfit: warning: design: nothing is determined anywhere in the sweep: "
                 "no figure drawn\n");
     } else {
-        temp_name(tmp, sizeof tmp, file);
-        if (plot_draw(&fig, tmp, msg, sizeof msg) != 0) {
-            remove(tmp);
+        if (plot_draw(&fig, file, msg, sizeof msg) != 0)
             cli_die(CLI_EXIT_FAIL, "design: --plot: %s", msg);
-        }
-        if (rename(tmp, file) != 0) {
-            remove(tmp);
-            cli_die(CLI_EXIT_FAIL, "design: cannot write %s: %s", file, strerror(errno));
-        }
     }
     free(xs);
     free(ys);
@@ -642,9 +592,13 @@ static void
 csv_sweep(const char *path, lf_design_factor factor, size_t nv, const double *x,
           const lf_design_result *res)
 {
-    char tmp[4200];
-    FILE *f = open_output(path, tmp, sizeof tmp);
+    cli_out o;
+    char msg[4400];
+    FILE *f = cli_out_open(&o, path, msg, sizeof msg);
     size_t v;
+
+    if (f == NULL)
+        cli_die(CLI_EXIT_FAIL, "design: %s", msg);
 
     fprintf(f, "%s%s,w_se_J_m2,w_rel_se,Estar_se_Pa,Estar_rel_se,nu_se,w_determined,"
             "Estar_determined,nu_determined\n", lf_design_factor_name(factor),
@@ -662,7 +616,8 @@ csv_sweep(const char *path, lf_design_factor factor, size_t nv, const double *x,
         fprintf(f, ",%d,%d,%d\n", res[v].w.determined, res[v].Estar.determined,
                 res[v].nu.determined);
     }
-    close_output(f, tmp, path);
+    if (cli_out_commit(&o, msg, sizeof msg) != 0)
+        cli_die(CLI_EXIT_FAIL, "design: %s", msg);
 }
 
 /* ---- the command ---------------------------------------------------------- */
@@ -761,12 +716,19 @@ cli_design(int argc, char **argv)
         cli_die(CLI_EXIT_USAGE, "design: --plot %s: the file must end in .svg or .png", a.plot);
     if (a.grid != NULL)
         nv = parse_grid(a.grid, &factor, values);
-    if (a.json) check_output(a.json, a.plan, "json");
-    if (a.csv) check_output(a.csv, a.plan, "csv");
-    if (a.plot) check_output(a.plot, a.plan, "plot");
-
-    if (lf_design_plan_read(a.plan, &plan, &err) != LF_OK)
-        cli_die_error(CLI_EXIT_USAGE, &err);
+    {
+        lf_input in;
+        cli_input_guard("design", a.plan);
+        if (lf_input_read(a.plan, LF_INPUT_STREAM, &in, &err) != LF_OK)
+            cli_die_error(CLI_EXIT_USAGE, &err);
+        cli_input_note(a.plan, in.sha256);
+        cli_output_note("design", a.json);
+        cli_output_note("design", a.csv);
+        cli_output_note("design", a.plot);
+        if (lf_design_plan_parse(in.data, in.len, a.plan, &plan, &err) != LF_OK)
+            cli_die_error(CLI_EXIT_USAGE, &err);
+        lf_input_free(&in);
+    }
     if (a.choose == 0 || (a.choose > 0 && (size_t) a.choose > plan->n))
         cli_die(CLI_EXIT_USAGE, "design: --choose must lie between 1 and the %zu candidates",
                 plan->n);
@@ -840,8 +802,11 @@ cli_design(int argc, char **argv)
     if (a.plot != NULL)
         draw_sweep(a.plot, factor, nv, values, sweep, scope);
     if (a.json != NULL) {
-        char tmp[4200];
-        FILE *f = open_output(a.json, tmp, sizeof tmp);
+        cli_out o;
+        char msg[4400];
+        FILE *f = cli_out_open(&o, a.json, msg, sizeof msg);
+        if (f == NULL)
+            cli_die(CLI_EXIT_FAIL, "design: %s", msg);
         fputs("{\n  \"truth\": {\"w_J_m2\": ", f);
         report_json_number(f, s.truth.w);
         fputs(", \"Estar_Pa\": ", f);
@@ -918,8 +883,11 @@ cli_design(int argc, char **argv)
             }
             fputs("\n  ]}", f);
         }
+        fputs(",\n  \"provenance\": ", f);
+        cli_provenance_json(f, "  ");
         fputs("\n}\n", f);
-        close_output(f, tmp, a.json);
+        if (cli_out_commit(&o, msg, sizeof msg) != 0)
+            cli_die(CLI_EXIT_FAIL, "design: %s", msg);
     }
 
     lf_design_result_free(&all);

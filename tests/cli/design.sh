@@ -25,8 +25,8 @@ if run_ok design "$plan" --w 10mJ/m2 --E 1GPa --noise 1% --json "$tmp/d.json"; t
     has "nu determined by the mixed set" "$tmp/all.txt" "  nu   +- "
     has "contributions" "$tmp/all.txt" "what each candidate adds"
     has "without the bonded curve nu is not fitted" "$tmp/all.txt" "without [4] bonded"
-    if grep -qi "nan" "$tmp/all.txt"; then bad "NaN in the text output"; else ok; fi
-    if grep -qi "nan" "$tmp/d.json"; then bad "NaN in the JSON"; else ok; fi
+    if grep -qiE "(^|[^a-z])-?nan([^a-z]|$)" "$tmp/all.txt"; then bad "NaN in the text output"; else ok; fi
+    if grep -qiE "(^|[^a-z])-?nan([^a-z]|$)" "$tmp/d.json"; then bad "NaN in the JSON"; else ok; fi
     if command -v python3 >/dev/null 2>&1; then
         if python3 - "$tmp/d.json" <<'PY'
 import json, sys
@@ -117,7 +117,7 @@ expect_fail 2 "layerfit: design: --grid: unknown factor 'colour' (k, delta_max, 
 expect_fail 2 "layerfit: design: --grid 'k=2:3': a range is LO:HI:N or LO:HI:N:log" design "$plan" --w 10mJ/m2 --E 1GPa --grid k=2:3
 expect_fail 2 "layerfit: design: --plot, --csv and --vary go with --grid" design "$plan" --w 10mJ/m2 --E 1GPa --plot "$tmp/x.svg"
 expect_fail 2 "layerfit: design: --plot $tmp/x.pdf: the file must end in .svg or .png" design "$plan" --w 10mJ/m2 --E 1GPa --grid k=2,3 --plot "$tmp/x.pdf"
-expect_fail 2 "layerfit: design: --json $plan would overwrite the plan" design "$plan" --w 10mJ/m2 --E 1GPa --json "$plan"
+expect_fail 2 "layerfit: design: output $plan is the input $plan: refusing to replace an input (name another output)" design "$plan" --w 10mJ/m2 --E 1GPa --json "$plan"
 expect_fail 2 "layerfit: design: --vary nope: no candidate of that name or number" design "$plan" --w 10mJ/m2 --E 1GPa --grid k=2,3 --vary nope
 printf 'k,R,b,interface,colour\n2,1mm,1um,frictionless,red\n' >"$tmp/badcol.csv"
 expect_fail 2 "layerfit: $tmp/badcol.csv:1:17: unknown column 'colour' (a design plan has the columns k,R,b,interface and may add name,delta_max,delta_min,points,baseline,z0,F0,segment,noise)" design "$tmp/badcol.csv" --w 10mJ/m2 --E 1GPa
