@@ -299,9 +299,9 @@ make_nodes(const profile *p, double lo, double hi, size_t n, int with_data,
     return m;
 }
 
-/* The per-curve profile set up on a subsample of at most f->nsub_max
+/* The per-curve profile set up on a subsample of at most GUESS_NSUB
  * points of curve j, taken in order of depth (so the order of the rows
- * does not matter): nsub_max/4 points spread over the shallowest eighth
+ * does not matter): GUESS_NSUB/4 points spread over the shallowest eighth
  * of the points (where contact ends and the baseline starts, which a
  * sparse sample would miss) and evenly spaced points among the rest. */
 static void
@@ -309,12 +309,12 @@ profile_init(lf_fit *f, size_t j, profile *p)
 {
     const fit_curve *c = &f->c[j];
     const double k = c->data.probe.k, R = c->data.probe.R;
-    const size_t n = c->data.n, nshallow = f->nsub_max / 4;
+    const size_t n = c->data.n, nshallow = GUESS_NSUB / 4;
     const size_t *ord = f->order + c->row;     /* by depth */
     size_t i, m = 0;
-    double *z = f->sub, *F = f->sub + f->nsub_max;
+    double *z = f->w.sub, *F = f->w.sub + GUESS_NSUB;
 
-    if (n <= f->nsub_max) {            /* a small curve: every point */
+    if (n <= GUESS_NSUB) {            /* a small curve: every point */
         for (i = 0; i < n; i++) {
             z[i] = c->data.depth[ord[i]];
             F[i] = c->data.force[ord[i]];
@@ -324,7 +324,7 @@ profile_init(lf_fit *f, size_t j, profile *p)
         /* nshallow evenly among the shallowest eighth (at least nshallow
          * points), then evenly in depth order among the rest */
         size_t low = n / 8 > nshallow ? n / 8 : nshallow;
-        size_t rest = n - low, want = f->nsub_max - nshallow;
+        size_t rest = n - low, want = GUESS_NSUB - nshallow;
         for (i = 0; i < nshallow; i++) {
             size_t q = (i * (low - 1)) / (nshallow - 1);
             z[m] = c->data.depth[ord[q]];
@@ -340,7 +340,7 @@ profile_init(lf_fit *f, size_t j, profile *p)
     p->z = z;
     p->F = F;
     p->n = m;
-    p->phi = f->work;
+    p->phi = f->w.work;
     p->k = k;
     p->K = M_PI / c->data.probe.b * pow(k, (k + 2.0) / k) / (k + 2.0)
            * pow(R, 2.0 * (k - 1.0) / k);
@@ -369,7 +369,7 @@ guess_curve(lf_fit *f, size_t j, curve_guess *g)
     double zmin, zmax, span, rss;
     profile p;
     size_t i, nbase = 0, nn;
-    double *node = f->sub + 2 * f->nsub_max;
+    double *node = f->w.sub + 2 * GUESS_NSUB;
 
     depth_range(c, &zmin, &zmax);
     span = zmax - zmin;
@@ -426,7 +426,7 @@ offsets_at(lf_fit *f, int store)
     for (j = 0; j < f->ncurves; j++) {
         fit_curve *c = &f->c[j];
         double zmin, zmax, span, rss, M = lf_thin_Z(c->data.probe.base, m->nu) * m->Estar;
-        double *node = f->sub + 2 * f->nsub_max;
+        double *node = f->w.sub + 2 * GUESS_NSUB;
         size_t nn;
         profile p;
 
@@ -462,12 +462,13 @@ offsets_at(lf_fit *f, int store)
 }
 
 int
-fit_guess(lf_fit *f, lf_error *err)
+fit_guess(lf_fit *f, fit_start *start, lf_error *err)
 {
     size_t j, nf = 0, nb = 0, nw = 0;
     double lnMf = 0, lnMb = 0, lnw = 0, wfloor = HUGE_VAL;
     lf_material *m = &f->mat;
 
+    start->alt_w = NAN;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
         double w_j;
@@ -518,13 +519,13 @@ fit_guess(lf_fit *f, lf_error *err)
             m->w = wc;
             cost = offsets_at(f, 0);
             if (cost < best || (cost == best && wc < wbest)) {
-                if (!(fabs(log(wc / wbest)) < 0.1)) {
+                if (!(fabs(log(wc / wbest)) < FIT_ALT_LOG_SEP)) {
                     second = best;
                     wsecond = wbest;
                 }
                 best = cost;
                 wbest = wc;
-            } else if (cost < second && !(fabs(log(wc / wbest)) < 0.1)) {
+            } else if (cost < second && !(fabs(log(wc / wbest)) < FIT_ALT_LOG_SEP)) {
                 second = cost;
                 wsecond = wc;
             }
@@ -534,25 +535,25 @@ fit_guess(lf_fit *f, lf_error *err)
          * contact point is free: its kinks make the other basins */
         for (i = 0, any_z0 = 0; i < f->ncurves; i++)
             any_z0 |= f->c[i].iz0 >= 0;
-        f->alt_w = any_z0 && second <= 3.0 * best && isfinite(wsecond) ? wsecond : NAN;
+        start->alt_w = any_z0 && second <= FIT_ALT_COST_RATIO * best && isfinite(wsecond)
+                       ? wsecond : NAN;
     }
     /* the user's starting point, where given, replaces the automatic one */
-    if (f->imat[FIT_W] < 0)
-        f->alt_w = NAN;
-    f->auto_mat = *m;
-    f->user_start = 0;
+    start->automatic = *m;
+    start->user = 0;
     if (f->imat[FIT_W] >= 0 && !isnan(f->set.w.guess)) {
         m->w = f->set.w.guess;
-        f->user_start = 1;
+        start->user = 1;
     }
     if (f->imat[FIT_E] >= 0 && !isnan(f->set.Estar.guess)) {
         m->Estar = f->set.Estar.guess;
-        f->user_start = 1;
+        start->user = 1;
     }
     if (f->imat[FIT_NU] >= 0 && !isnan(f->set.nu.guess)) {
         m->nu = f->set.nu.guess;
-        f->user_start = 1;
+        start->user = 1;
     }
+    start->mat = *m;
     fit_guess_offsets(f);
     return LF_OK;
 }

@@ -10,6 +10,8 @@
 #include <math.h>
 #include <string.h>
 
+#include <gsl/gsl_blas.h>
+
 #include "fit.h"
 
 double
@@ -86,7 +88,7 @@ fit_set_origin(lf_fit *f)
         if (c->islope >= 0)
             f->x0_internal[c->islope] = c->slope * c->L / c->Fs;
     }
-    f->xcache_ok = 0;
+    f->w.xcache_ok = 0;
 }
 
 int
@@ -164,20 +166,20 @@ eval_all(lf_fit *f, const double *x)
     lf_material mat;
     double z0, F0, slope;
 
-    if (f->xcache_ok && memcmp(x, f->xcache, f->np * sizeof *x) == 0)
+    if (f->w.xcache_ok && memcmp(x, f->w.xcache, f->np * sizeof *x) == 0)
         return LF_OK;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
-        double *delta = f->delta + c->row;
+        double *delta = f->w.delta + c->row;
         fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         for (i = 0; i < c->data.n; i++)
             delta[i] = c->data.depth[i] - z0;
         if (lf_model_eval(c->model, &mat, c->data.branch, c->data.n, delta,
-                          f->ev + c->row, NULL) != LF_OK)
+                          f->w.ev + c->row, NULL) != LF_OK)
             return LF_ENUMERIC;
     }
-    memcpy(f->xcache, x, f->np * sizeof *x);
-    f->xcache_ok = 1;
+    memcpy(f->w.xcache, x, f->np * sizeof *x);
+    f->w.xcache_ok = 1;
     return LF_OK;
 }
 
@@ -190,7 +192,6 @@ fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
     lf_material mat;
     double z0, F0, slope;
 
-    f->nfev++;
     if (eval_all(f, x) != LF_OK)
         return GSL_EDOM;
     for (j = 0; j < f->ncurves; j++) {
@@ -198,8 +199,8 @@ fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
         fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         for (i = 0; i < c->data.n; i++) {
             size_t k = c->row + i;
-            double v = (f->ev[k].P + F0 + slope * f->delta[k] - c->data.force[i]) / c->sigma
-                       * f->sqrtw[k];
+            double v = (f->w.ev[k].P + F0 + slope * f->w.delta[k] - c->data.force[i]) / c->sigma
+                       * f->w.sqrtw[k];
             if (!isfinite(v))
                 return GSL_EDOM;
             gsl_vector_set(r, k, v);
@@ -219,14 +220,14 @@ static lf_eval
 guarded(const lf_fit *f, const fit_curve *c, const lf_material *mat,
         double delta_detach, size_t k)
 {
-    lf_eval e = f->ev[k];
-    double d = f->delta[k];
+    lf_eval e = f->w.ev[k];
+    double d = f->w.delta[k];
 
     if (c->data.branch == LF_BRANCH_UNLOAD && d > delta_detach
         && d < delta_detach + c->eps) {
         double d2 = delta_detach + c->eps;
         if (lf_model_eval(c->model, mat, c->data.branch, 1, &d2, &e, NULL) != LF_OK)
-            e = f->ev[k];
+            e = f->w.ev[k];
     }
     return e;
 }
@@ -273,13 +274,13 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
         for (i = 0; i < c->data.n; i++) {
             size_t k = c->row + i;
             lf_eval e = guarded(f, c, &mat, ddet, k);
-            double ws = f->sqrtw[k] / c->sigma;
+            double ws = f->w.sqrtw[k] / c->sigma;
             put(J, k, f->imat[FIT_W], e.dP_dlogw * sw * ws);
             put(J, k, f->imat[FIT_E], e.dP_dlogE * sE * ws);
             put(J, k, f->imat[FIT_NU], e.dP_dnu * snu * ws);
             put(J, k, c->iz0, -(e.dP_ddelta + slope) * sz * ws);
             put(J, k, c->iF0, sF * ws);
-            put(J, k, c->islope, f->delta[k] * ss * ws);
+            put(J, k, c->islope, f->w.delta[k] * ss * ws);
         }
     }
     if (f->nu_prior)
@@ -297,4 +298,33 @@ int
 fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J)
 {
     return fill_jacobian(f, x, J, 1);
+}
+
+double
+fit_cost(lf_fit *f, const gsl_vector *x, gsl_vector *r)
+{
+    double n;
+    if (fit_residuals(x, f, r) != GSL_SUCCESS)
+        return HUGE_VAL;
+    n = gsl_blas_dnrm2(r);
+    return 0.5 * n * n;
+}
+
+void
+fit_rebase(lf_fit *f, gsl_vector *x)
+{
+    lf_material mat;
+    double z0, F0, slope;
+    size_t j;
+
+    for (j = 0; j < f->ncurves; j++) {
+        fit_unpack(f, x->data, &mat, &z0, &F0, &slope, j);
+        f->c[j].z0 = z0;
+        f->c[j].F0 = F0;
+        f->c[j].slope = slope;
+    }
+    fit_unpack(f, x->data, &mat, &z0, &F0, &slope, f->ncurves);
+    f->mat = mat;
+    fit_set_origin(f);
+    gsl_vector_set_all(x, 1.0);
 }
