@@ -48,6 +48,18 @@ $(BUILD)/%.o: %.c $(HEADERS)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
 
+# The command sees the library's public header only, as it would an
+# installed one: build/include holds a copy of src/layerfit.h and nothing
+# else, and src/ and fit/ are not on the command's include path.
+CLI_CFLAGS := $(filter-out -Isrc -Ifit,$(ALL_CFLAGS)) -I$(BUILD)/include
+$(BUILD)/include/layerfit.h: src/layerfit.h
+	@mkdir -p $(dir $@)
+	cp $< $@
+
+$(BUILD)/src/cli/%.o: src/cli/%.c $(BUILD)/include/layerfit.h $(wildcard src/cli/*.h)
+	@mkdir -p $(dir $@)
+	$(CC) $(CLI_CFLAGS) -c $< -o $@
+
 $(LIB): $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^

@@ -121,7 +121,7 @@ chooser_free(chooser *c)
     free(c->cur);
     free(c->ab_lo);
     free(c->ab_hi);
-    fit_decomp_free(&c->dec);
+    lf_fit_decomp_free(&c->dec);
 }
 
 static int
@@ -153,7 +153,7 @@ chooser_alloc(chooser *c, lf_fit *f, const lf_choose_settings *cs)
     c->ab_hi = calloc(nc, sizeof *c->ab_hi);
     if (!c->rung || !c->fixed || !c->P_exact || !c->exact_ok || !c->ev || !c->d || !c->coef
         || !c->se || !c->thin || !c->half_b || !c->cur || !c->ab_lo || !c->ab_hi
-        || fit_decomp_alloc(&c->dec, f->nres, f->np) != LF_OK)
+        || lf_fit_decomp_alloc(&c->dec, f->nres, f->np) != LF_OK)
         return LF_ENOMEM;
     return LF_OK;
 }
@@ -180,7 +180,7 @@ origin_at(lf_fit *f, const lf_fit_result *res)
         if (c->islope >= 0)
             c->slope = res->value[c->islope];
     }
-    fit_set_origin(f);
+    lf_fit_set_origin(f);
 }
 
 static int
@@ -208,7 +208,7 @@ decompose(chooser *c)
     int i, status;
 
     gsl_vector_set_all(x, 1.0);
-    status = fit_decomp_run(&c->dec, f, x->data, f->set.rcond);
+    status = lf_fit_decomp_run(&c->dec, f, x->data, f->set.rcond);
     if (status != LF_OK)
         return status;
     for (i = 0; i < FIT_NMAT; i++) {
@@ -221,7 +221,7 @@ decompose(chooser *c)
             double v = gsl_matrix_get(c->dec.V, (size_t) p, l);
             se += v * v / (gsl_vector_get(c->dec.S, l) * gsl_vector_get(c->dec.S, l));
         }
-        if (fit_decomp_nullw(&c->dec, (size_t) p) <= 0.01)   /* determined, as in uncertainty.c */
+        if (lf_fit_decomp_nullw(&c->dec, (size_t) p) <= 0.01)   /* determined, as in uncertainty.c */
             c->se[i] = sqrt(se);
     }
     return LF_OK;
@@ -235,7 +235,7 @@ project(chooser *c, bias *b)
     size_t l;
     int m;
 
-    fit_decomp_project(&c->dec, c->d, c->coef);
+    lf_fit_decomp_project(&c->dec, c->d, c->coef);
     for (m = 0; m < FIT_NMAT; m++) {
         int p = f->imat[m];
         double s = 0.0;
@@ -546,7 +546,7 @@ lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *
             goto done;
         if (!changed)
             break;
-        fit_status = fit_solve(f, NULL, 1, &next, err);
+        fit_status = lf_fit_solve(f, NULL, 1, &next, err);
         if (fit_status != LF_OK && fit_status != LF_ENOCONV) {
             status = fit_status;
             goto done;

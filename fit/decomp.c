@@ -17,7 +17,7 @@
 #include "fit.h"
 
 int
-fit_decomp_alloc(fit_decomp *d, size_t n, size_t p)
+lf_fit_decomp_alloc(fit_decomp *d, size_t n, size_t p)
 {
     memset(d, 0, sizeof *d);
     d->n = n;
@@ -31,14 +31,14 @@ fit_decomp_alloc(fit_decomp *d, size_t n, size_t p)
     d->work = gsl_vector_alloc(p);
     d->qtd = gsl_vector_alloc(n);
     if (!d->QR || !d->tau || !d->U || !d->V || !d->S || !d->D || !d->work || !d->qtd) {
-        fit_decomp_free(d);
+        lf_fit_decomp_free(d);
         return LF_ENOMEM;
     }
     return LF_OK;
 }
 
 void
-fit_decomp_free(fit_decomp *d)
+lf_fit_decomp_free(fit_decomp *d)
 {
     gsl_matrix_free(d->QR);
     gsl_vector_free(d->tau);
@@ -52,13 +52,13 @@ fit_decomp_free(fit_decomp *d)
 }
 
 int
-fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond)
+lf_fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond)
 {
     size_t i, k, p = d->p;
 
     if (d->n < p)
         return LF_EINVAL;
-    if (fit_jacobian_physical(f, x, d->QR) != GSL_SUCCESS)
+    if (lf_fit_jacobian_physical(f, x, d->QR) != GSL_SUCCESS)
         return LF_ENUMERIC;
     for (k = 0; k < p; k++) {
         gsl_vector_view col = gsl_matrix_column(d->QR, k);
@@ -83,7 +83,7 @@ fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond)
 }
 
 double
-fit_decomp_nullw(const fit_decomp *d, size_t k)
+lf_fit_decomp_nullw(const fit_decomp *d, size_t k)
 {
     double w = gsl_vector_get(d->D, k) > 0 ? 0.0 : 1.0;
     size_t l;
@@ -94,7 +94,7 @@ fit_decomp_nullw(const fit_decomp *d, size_t k)
 }
 
 void
-fit_decomp_project(fit_decomp *d, const double *v, double *coef)
+lf_fit_decomp_project(fit_decomp *d, const double *v, double *coef)
 {
     size_t i, l;
 

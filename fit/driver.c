@@ -1,14 +1,14 @@
 /* driver.c: one run of a fit -- the start, the solve from it, the
  * policies the data call for, the assessment -- and the one-call driver.
  *
- *   start      fit_guess (guess.c), or the current origin (a warm start)
- *   solve      fit_solve_scanned (solve.c + edge_scan.c)
+ *   start      lf_fit_guess (guess.c), or the current origin (a warm start)
+ *   solve      lf_fit_solve_scanned (solve.c + edge_scan.c)
  *   policies   a second start from the automatic guess when the user gave
  *              one, or from the guess's runner-up w (second_start.c);
  *              robust reweighting when the loss is not linear
  *              (reweight.c); leave-one-out when every one of three or more
  *              curves disagrees (loo.c)
- *   assess     fit_assess (uncertainty.c) */
+ *   assess     lf_fit_assess (uncertainty.c) */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -31,7 +31,7 @@ model_name(const lf_fit *f)
 }
 
 int
-fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res, lf_error *err)
+lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res, lf_error *err)
 {
     gsl_vector *x = f->w.x;
     fit_run run;
@@ -43,7 +43,7 @@ fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res, l
     f->w.xcache_ok = 0;
     for (i = 0; i < f->ndata; i++)
         f->w.sqrtw[i] = 1.0;
-    status = fit_solve_scanned(f, x, 1, &run, err);
+    status = lf_fit_solve_scanned(f, x, 1, &run, err);
     if (status == LF_OK && start != NULL && start->user) {
         /* A user's starting point is a second start, not a replacement:
          * the cost has kinks wherever a point crosses the contact edge, and
@@ -52,7 +52,7 @@ fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res, l
          * nor the runs test reliably shows.  So the fit is repeated from
          * the automatic guess and the lower cost wins. */
         double ratio;
-        status = fit_second_start(f, x, &start->automatic, &run, &ratio, err);
+        status = lf_fit_second_start(f, x, &start->automatic, &run, &ratio, err);
         if (status == LF_OK && ratio > 1.0)
             lf_warn(&res->warnings, "the fit from the given starting point (w = %.4g J/m^2, "
                     "E* = %.4g Pa) ended at a cost %.4g times higher than from the automatic "
@@ -64,17 +64,17 @@ fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res, l
         lf_material alt = start->automatic;
         double ratio;
         alt.w = start->alt_w;
-        status = fit_second_start(f, x, &alt, &run, &ratio, err);
+        status = lf_fit_second_start(f, x, &alt, &run, &ratio, err);
     }
     if (status == LF_OK && f->set.loss != LF_LOSS_LINEAR)
-        status = fit_reweight(f, x, &run, &res->reweightings, err);
+        status = lf_fit_reweight(f, x, &run, &res->reweightings, err);
     res->iterations = run.iters;
     if (status != LF_OK) {
         lf_warnings_free(&res->warnings);
         return status;
     }
     res->evaluations = run.evals;
-    status = fit_assess(f, x->data, res, err);
+    status = lf_fit_assess(f, x->data, res, err);
     if (status != LF_OK) {
         lf_fit_result_free(res);
         return status;
@@ -86,7 +86,7 @@ fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res, l
         for (j = 0; j < f->ncurves; j++)
             bad += !res->curves[j].consistent;
         if (bad == f->ncurves)
-            fit_leave_one_out(f, res);
+            lf_fit_leave_one_out(f, res);
     }
     res->method = f->set.method;
     res->loss = lf_loss_name(f->set.loss);
@@ -117,10 +117,10 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
 
     memset(res, 0, sizeof *res);
     f->w.xcache_ok = 0;
-    status = fit_guess(f, &start, err);
+    status = lf_fit_guess(f, &start, err);
     if (status != LF_OK)
         return status;
-    return fit_solve(f, &start, 1, res, err);
+    return lf_fit_solve(f, &start, 1, res, err);
 }
 
 int
@@ -156,9 +156,9 @@ lf_fit_check_jacobian(lf_fit *f, const lf_material *mat, double *max_rel_err,
     f->mat = *mat;
     for (i = 0; i < f->ncurves; i++)
         f->c[i].slope = 0.0;
-    fit_set_origin(f);
+    lf_fit_set_origin(f);
     gsl_vector_set_all(x, 1.0);
-    if (fit_jacobian(x, f, J) != GSL_SUCCESS) {
+    if (lf_fit_jacobian(x, f, J) != GSL_SUCCESS) {
         status = lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated");
         goto done;
     }
@@ -166,9 +166,9 @@ lf_fit_check_jacobian(lf_fit *f, const lf_material *mat, double *max_rel_err,
         const double h = 1e-6;
         double colmax = 0.0, worst = 0.0;
         gsl_vector_set(x, k, 1.0 + h);
-        status = fit_residuals(x, f, r1);
+        status = lf_fit_residuals(x, f, r1);
         gsl_vector_set(x, k, 1.0 - h);
-        status |= fit_residuals(x, f, r2);
+        status |= lf_fit_residuals(x, f, r2);
         gsl_vector_set(x, k, 1.0);
         if (status != GSL_SUCCESS) {
             status = lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated");

@@ -62,7 +62,7 @@ edge_scan(lf_fit *f, gsl_vector *x)
 
         if (c->iz0 < 0 || n < 3)
             continue;
-        fit_unpack(f, x->data, &mat, &z0, &F0, &slope, j);
+        lf_fit_unpack(f, x->data, &mat, &z0, &F0, &slope, j);
         if (lf_model_pulloff(c->model, &mat, &po, NULL) != LF_OK)
             continue;
         /* the edge in depth: detachment on unloading, z0 on loading */
@@ -101,7 +101,7 @@ edge_scan(lf_fit *f, gsl_vector *x)
 }
 
 int
-fit_solve_scanned(lf_fit *f, gsl_vector *x, int from_origin, fit_run *run, lf_error *err)
+lf_fit_solve_scanned(lf_fit *f, gsl_vector *x, int from_origin, fit_run *run, lf_error *err)
 {
     int scan, status;
 
@@ -109,8 +109,8 @@ fit_solve_scanned(lf_fit *f, gsl_vector *x, int from_origin, fit_run *run, lf_er
         gsl_vector_set_all(x, 1.0);
         f->w.xcache_ok = 0;
     }
-    status = fit_iterate(f, x, !from_origin, run, err);
+    status = lf_fit_iterate(f, x, !from_origin, run, err);
     for (scan = 0; status == LF_OK && scan < FIT_MAX_SCANS && edge_scan(f, x); scan++)
-        status = fit_iterate(f, x, 1, run, err);
+        status = lf_fit_iterate(f, x, 1, run, err);
     return status;
 }

@@ -93,7 +93,7 @@ typedef struct {
     curve_guess guess;
 } fit_curve;
 
-/* Where a solve begins, as fit_guess found it.  The origin of the fit is
+/* Where a solve begins, as lf_fit_guess found it.  The origin of the fit is
  * set at mat (with every curve's offsets profiled there). */
 typedef struct {
     lf_material mat;       /* the start: the automatic guess, with the
@@ -152,61 +152,61 @@ struct lf_fit {
 };
 
 /* problem.c: the parameter mapping, residuals and Jacobian */
-int fit_problem_setup(lf_fit *f, lf_error *err);
+int lf_fit_problem_setup(lf_fit *f, lf_error *err);
 /* Map x to the material and per-curve offsets. */
-void fit_unpack(const lf_fit *f, const double *x, lf_material *mat,
+void lf_fit_unpack(const lf_fit *f, const double *x, lf_material *mat,
                 double *z0, double *F0, double *slope, size_t j);
 /* Put the origin (f->mat, f->c[j].z0/F0/slope) into internal coordinates. */
-void fit_set_origin(lf_fit *f);
+void lf_fit_set_origin(lf_fit *f);
 /* Make the point x the origin: material and offsets into f, x = 1. */
-void fit_rebase(lf_fit *f, gsl_vector *x);
-int fit_residuals(const gsl_vector *x, void *params, gsl_vector *r);
-int fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J);
+void lf_fit_rebase(lf_fit *f, gsl_vector *x);
+int lf_fit_residuals(const gsl_vector *x, void *params, gsl_vector *r);
+int lf_fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J);
 /* Jacobian with respect to the physical coordinates, rows weighted. */
-int fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J);
+int lf_fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J);
 /* Half the sum of squared residuals at x (into r); HUGE_VAL if not computable. */
-double fit_cost(lf_fit *f, const gsl_vector *x, gsl_vector *r);
-double fit_nu_of_u(double u);
-double fit_u_of_nu(double nu);
-double fit_dnu_du(double u);
+double lf_fit_cost(lf_fit *f, const gsl_vector *x, gsl_vector *r);
+double lf_fit_nu_of_u(double u);
+double lf_fit_u_of_nu(double nu);
+double lf_fit_dnu_du(double u);
 
 /* guess.c: the automatic start.  Fills *start and sets the origin there. */
-int fit_guess(lf_fit *f, fit_start *start, lf_error *err);
+int lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err);
 /* Profile every curve's offsets at f->mat and make that the origin. */
-void fit_guess_offsets(lf_fit *f);
+void lf_fit_guess_offsets(lf_fit *f);
 /* Noise sd of a curve from how far each point's force lies from the line
  * through its neighbours in depth (order: indices by depth). */
-double fit_noise_sigma(const double *depth, const double *force, const size_t *order,
+double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,
                        size_t n, double *work);
 
 /* solve.c: the trust-region iteration from x (overwritten with where it
  * stopped) and its stopping rules; adds to run's totals and sets its
  * verdict.  after_scan: x is a converged solution moved by a policy (the
  * contact-edge scan, a reweighting), which sits at a kink of the cost. */
-int fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error *err);
+int lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error *err);
 
 /* Policies, each run only when the data call for it. */
 /* edge_scan.c: solve from the origin (x = 1), then move each free contact
  * point across neighbouring data points and solve again while that lowers
  * the cost. */
-int fit_solve_scanned(lf_fit *f, gsl_vector *x, int from_origin, fit_run *run, lf_error *err);
+int lf_fit_solve_scanned(lf_fit *f, gsl_vector *x, int from_origin, fit_run *run, lf_error *err);
 /* second_start.c: solve again from material `from` (offsets profiled) and
  * keep the lower-cost of that and the solution at x; *ratio > 1 when the
  * new start won (the loser's cost over the winner's), else 1. */
-int fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *run,
+int lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *run,
                      double *ratio, lf_error *err);
 /* reweight.c: a robust loss by iteratively reweighted least squares from
  * the solution at x. */
-int fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_error *err);
+int lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_error *err);
 /* loo.c: when every one of three or more curves disagrees with the joint
  * fit, refit without each in turn and name the culprit in res's warnings. */
-void fit_leave_one_out(lf_fit *f, lf_fit_result *res);
+void lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res);
 
 /* driver.c: the solve from the origin (with start: the automatic guess's
  * start and second starts; NULL: a warm start from the current origin),
- * the policies, then fit_assess; fills res as lf_fit_run does.
+ * the policies, then lf_fit_assess; fills res as lf_fit_run does.
  * with_loo: 0 for a leave-one-out refit itself. */
-int fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res,
+int lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res,
               lf_error *err);
 
 /* decomp.c: the one decomposition of the column-scaled physical Jacobian
@@ -220,26 +220,26 @@ typedef struct {
     gsl_matrix *U, *V;   /* p x p */
     gsl_vector *S, *D;   /* p */
     gsl_vector *work;    /* p */
-    gsl_vector *qtd;     /* n: scratch of fit_decomp_project */
+    gsl_vector *qtd;     /* n: scratch of lf_fit_decomp_project */
 } fit_decomp;
 
-int fit_decomp_alloc(fit_decomp *d, size_t n, size_t p);
-void fit_decomp_free(fit_decomp *d);
+int lf_fit_decomp_alloc(fit_decomp *d, size_t n, size_t p);
+void lf_fit_decomp_free(fit_decomp *d);
 /* Decompose the physical Jacobian of f at x. */
-int fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond);
+int lf_fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond);
 /* Weight of parameter k in the undetermined directions (1 for a column of
  * zeros). */
-double fit_decomp_nullw(const fit_decomp *d, size_t k);
+double lf_fit_decomp_nullw(const fit_decomp *d, size_t k);
 /* coef[l] = (U_l . v) / S_l for l < rank, U the left singular vectors of
  * J D^-1 (v of length n). */
-void fit_decomp_project(fit_decomp *d, const double *v, double *coef);
+void lf_fit_decomp_project(fit_decomp *d, const double *v, double *coef);
 
 /* uncertainty.c */
 /* Wald-Wolfowitz runs test of the signs of curve j's residuals in order of
  * depth: about N(0, 1) when the model fits; below FIT_RUNS_Z_BAD, the
  * curve's shape is not the model's. */
 #define FIT_RUNS_Z_BAD (-4.0)
-double fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res);
-int fit_assess(lf_fit *f, const double *x, lf_fit_result *res, lf_error *err);
+double lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res);
+int lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *res, lf_error *err);
 
 #endif

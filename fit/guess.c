@@ -47,7 +47,7 @@ cmp_double(const void *a, const void *b)
  * depth makes it independent of the order of the rows and right for
  * repeated depths.  work holds n. */
 double
-fit_noise_sigma(const double *depth, const double *force, const size_t *order, size_t n,
+lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order, size_t n,
                 double *work)
 {
     size_t i, m = 0;
@@ -462,7 +462,7 @@ offsets_at(lf_fit *f, int store)
 }
 
 int
-fit_guess(lf_fit *f, fit_start *start, lf_error *err)
+lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
 {
     size_t j, nf = 0, nb = 0, nw = 0;
     double lnMf = 0, lnMb = 0, lnw = 0, wfloor = HUGE_VAL;
@@ -554,13 +554,13 @@ fit_guess(lf_fit *f, fit_start *start, lf_error *err)
         start->user = 1;
     }
     start->mat = *m;
-    fit_guess_offsets(f);
+    lf_fit_guess_offsets(f);
     return LF_OK;
 }
 
 void
-fit_guess_offsets(lf_fit *f)
+lf_fit_guess_offsets(lf_fit *f)
 {
     offsets_at(f, 1);
-    fit_set_origin(f);
+    lf_fit_set_origin(f);
 }

@@ -187,7 +187,7 @@ curve_scales(lf_fit *f, lf_error *err)
         c->L = zmax - zmin;
         c->Fs = fbig;
         c->eps = 1e-3 * c->L / (double) (c->data.n - 1);
-        c->sigma = fit_noise_sigma(c->data.depth, c->data.force, f->order + c->row, c->data.n,
+        c->sigma = lf_fit_noise_sigma(c->data.depth, c->data.force, f->order + c->row, c->data.n,
                                    f->w.work);
     }
     return LF_OK;
@@ -249,7 +249,7 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
             return NULL;
         }
     }
-    if (fit_problem_setup(f, err) != LF_OK) {
+    if (lf_fit_problem_setup(f, err) != LF_OK) {
         lf_fit_free(f);
         return NULL;
     }
@@ -279,8 +279,8 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     f->gsl = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &par, f->nres, f->np);
     if (f->gsl == NULL)
         goto nomem;
-    f->fdf.f = fit_residuals;
-    f->fdf.df = settings->jacobian == LF_JAC_ANALYTIC ? fit_jacobian : NULL;
+    f->fdf.f = lf_fit_residuals;
+    f->fdf.df = settings->jacobian == LF_JAC_ANALYTIC ? lf_fit_jacobian : NULL;
     f->fdf.fvv = NULL;
     f->fdf.n = f->nres;
     f->fdf.p = f->np;

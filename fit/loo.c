@@ -13,7 +13,7 @@
  * others agree, that curve is named; when none or several do, the
  * disagreement is reported as general. */
 void
-fit_leave_one_out(lf_fit *f, lf_fit_result *res)
+lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res)
 {
     size_t j, i, m, culprit = 0, ncul = 0, n = f->ncurves;
     lf_fit_curve *sub = malloc(n * sizeof *sub);
@@ -34,9 +34,9 @@ fit_leave_one_out(lf_fit *f, lf_fit_result *res)
         g = lf_fit_alloc(&f->set, m, sub, NULL);
         if (g == NULL)
             continue;
-        st = fit_guess(g, &start, NULL);
+        st = lf_fit_guess(g, &start, NULL);
         if (st == LF_OK)
-            st = fit_solve(g, &start, 0, &r, NULL);
+            st = lf_fit_solve(g, &start, 0, &r, NULL);
         if (st == LF_ENOCONV)
             lf_fit_result_free(&r);
         if (st == LF_OK) {

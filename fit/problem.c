@@ -15,19 +15,19 @@
 #include "fit.h"
 
 double
-fit_nu_of_u(double u)
+lf_fit_nu_of_u(double u)
 {
     return 0.25 * (1.0 + tanh(u));
 }
 
 double
-fit_u_of_nu(double nu)
+lf_fit_u_of_nu(double nu)
 {
     return atanh(4.0 * nu - 1.0);
 }
 
 double
-fit_dnu_du(double u)
+lf_fit_dnu_du(double u)
 {
     double t = tanh(u);
     return 0.25 * (1.0 - t * t);
@@ -48,7 +48,7 @@ exp_clamped(double v)
 }
 
 void
-fit_unpack(const lf_fit *f, const double *x, lf_material *mat, double *z0,
+lf_fit_unpack(const lf_fit *f, const double *x, lf_material *mat, double *z0,
            double *F0, double *slope, size_t j)
 {
     const fit_curve *c;
@@ -59,7 +59,7 @@ fit_unpack(const lf_fit *f, const double *x, lf_material *mat, double *z0,
     if (f->imat[FIT_E] >= 0)
         mat->Estar = exp_clamped(internal(f, x, f->imat[FIT_E]));
     if (f->imat[FIT_NU] >= 0)
-        mat->nu = fit_nu_of_u(internal(f, x, f->imat[FIT_NU]));
+        mat->nu = lf_fit_nu_of_u(internal(f, x, f->imat[FIT_NU]));
     if (j >= f->ncurves)
         return;
     c = &f->c[j];
@@ -69,7 +69,7 @@ fit_unpack(const lf_fit *f, const double *x, lf_material *mat, double *z0,
 }
 
 void
-fit_set_origin(lf_fit *f)
+lf_fit_set_origin(lf_fit *f)
 {
     size_t j;
 
@@ -78,7 +78,7 @@ fit_set_origin(lf_fit *f)
     if (f->imat[FIT_E] >= 0)
         f->x0_internal[f->imat[FIT_E]] = log(f->mat.Estar);
     if (f->imat[FIT_NU] >= 0)
-        f->x0_internal[f->imat[FIT_NU]] = fit_u_of_nu(f->mat.nu);
+        f->x0_internal[f->imat[FIT_NU]] = lf_fit_u_of_nu(f->mat.nu);
     for (j = 0; j < f->ncurves; j++) {
         fit_curve *c = &f->c[j];
         if (c->iz0 >= 0)
@@ -92,7 +92,7 @@ fit_set_origin(lf_fit *f)
 }
 
 int
-fit_problem_setup(lf_fit *f, lf_error *err)
+lf_fit_problem_setup(lf_fit *f, lf_error *err)
 {
     const lf_fit_settings *s = &f->set;
     size_t j, row = 0;
@@ -171,7 +171,7 @@ eval_all(lf_fit *f, const double *x)
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
         double *delta = f->w.delta + c->row;
-        fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+        lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         for (i = 0; i < c->data.n; i++)
             delta[i] = c->data.depth[i] - z0;
         if (lf_model_eval(c->model, &mat, c->data.branch, c->data.n, delta,
@@ -184,7 +184,7 @@ eval_all(lf_fit *f, const double *x)
 }
 
 int
-fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
+lf_fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
 {
     lf_fit *f = params;
     const double *x = xv->data;
@@ -196,7 +196,7 @@ fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
         return GSL_EDOM;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
-        fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+        lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         for (i = 0; i < c->data.n; i++) {
             size_t k = c->row + i;
             double v = (f->w.ev[k].P + F0 + slope * f->w.delta[k] - c->data.force[i]) / c->sigma
@@ -207,7 +207,7 @@ fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
         }
     }
     if (f->nu_prior) {
-        fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
+        lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
         gsl_vector_set(r, f->ndata, (mat.nu - f->set.nu.value) / f->set.nu.prior_sd);
     }
     return GSL_SUCCESS;
@@ -252,14 +252,14 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
     if (eval_all(f, x) != LF_OK)
         return GSL_EDOM;
     gsl_matrix_set_zero(J);
-    fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
+    lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
     if (f->imat[FIT_NU] >= 0)
         u = internal(f, x, f->imat[FIT_NU]);
     /* d(internal)/d(physical) is 1/w, 1/E*, du/dnu; the model gives
      * dP/dln w, dP/dln E*, dP/dnu. */
     sw = physical ? 1.0 / mat.w : 1.0;
     sE = physical ? 1.0 / mat.Estar : 1.0;
-    snu = physical ? 1.0 : fit_dnu_du(u);
+    snu = physical ? 1.0 : lf_fit_dnu_du(u);
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
         double sz = physical ? 1.0 : c->L, sF = physical ? 1.0 : c->Fs;
@@ -267,7 +267,7 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
         double ddet = -HUGE_VAL;
         lf_pulloff po;
 
-        fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+        lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         if (c->data.branch == LF_BRANCH_UNLOAD
             && lf_model_pulloff(c->model, &mat, &po, NULL) == LF_OK)
             ddet = po.delta_detach;
@@ -289,42 +289,42 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
 }
 
 int
-fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J)
+lf_fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J)
 {
     return fill_jacobian(params, x->data, J, 0);
 }
 
 int
-fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J)
+lf_fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J)
 {
     return fill_jacobian(f, x, J, 1);
 }
 
 double
-fit_cost(lf_fit *f, const gsl_vector *x, gsl_vector *r)
+lf_fit_cost(lf_fit *f, const gsl_vector *x, gsl_vector *r)
 {
     double n;
-    if (fit_residuals(x, f, r) != GSL_SUCCESS)
+    if (lf_fit_residuals(x, f, r) != GSL_SUCCESS)
         return HUGE_VAL;
     n = gsl_blas_dnrm2(r);
     return 0.5 * n * n;
 }
 
 void
-fit_rebase(lf_fit *f, gsl_vector *x)
+lf_fit_rebase(lf_fit *f, gsl_vector *x)
 {
     lf_material mat;
     double z0, F0, slope;
     size_t j;
 
     for (j = 0; j < f->ncurves; j++) {
-        fit_unpack(f, x->data, &mat, &z0, &F0, &slope, j);
+        lf_fit_unpack(f, x->data, &mat, &z0, &F0, &slope, j);
         f->c[j].z0 = z0;
         f->c[j].F0 = F0;
         f->c[j].slope = slope;
     }
-    fit_unpack(f, x->data, &mat, &z0, &F0, &slope, f->ncurves);
+    lf_fit_unpack(f, x->data, &mat, &z0, &F0, &slope, f->ncurves);
     f->mat = mat;
-    fit_set_origin(f);
+    lf_fit_set_origin(f);
     gsl_vector_set_all(x, 1.0);
 }

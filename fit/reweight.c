@@ -12,7 +12,7 @@
 #include "fit.h"
 
 int
-fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_error *err)
+lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_error *err)
 {
     const double scale = !isnan(f->set.loss_scale) ? f->set.loss_scale
                          : f->set.loss == LF_LOSS_HUBER ? 1.345 : 2.385;
@@ -22,7 +22,7 @@ fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_error *e
 
     for (round = 0; round < FIT_MAX_REWEIGHT; round++) {
         double moved = 0.0;
-        if (fit_residuals(x, f, r) != GSL_SUCCESS)
+        if (lf_fit_residuals(x, f, r) != GSL_SUCCESS)
             return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated while reweighting");
         for (k = 0; k < f->ndata; k++) {
             double u = fabs(gsl_vector_get(r, k) / f->w.sqrtw[k]) / scale, wt, s;
@@ -35,7 +35,7 @@ fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_error *e
         *rounds = round + 1;
         if (moved < FIT_REWEIGHT_TOL)
             break;
-        status = fit_solve_scanned(f, x, 0, run, err);
+        status = lf_fit_solve_scanned(f, x, 0, run, err);
         if (status != LF_OK)
             return status;
     }

@@ -20,14 +20,14 @@ same_basin(lf_fit *f, const gsl_vector *x, const lf_material *from)
     lf_material m;
     double z0, F0, slope;
 
-    fit_unpack(f, x->data, &m, &z0, &F0, &slope, f->ncurves);
+    lf_fit_unpack(f, x->data, &m, &z0, &F0, &slope, f->ncurves);
     return fabs(log(m.w / from->w)) < FIT_ALT_LOG_SEP
            && fabs(log(m.Estar / from->Estar)) < FIT_ALT_LOG_SEP
            && fabs(m.nu - from->nu) < 0.25 * FIT_ALT_LOG_SEP;
 }
 
 int
-fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *run,
+lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *run,
                  double *ratio, lf_error *err)
 {
     double cost_first, cost_second, *keep = f->w.keep;
@@ -39,8 +39,8 @@ fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *run
     *ratio = 1.0;
     if (same_basin(f, x, from))
         return LF_OK;
-    cost_first = fit_cost(f, x, f->w.r);
-    fit_rebase(f, x);
+    cost_first = lf_fit_cost(f, x, f->w.r);
+    lf_fit_rebase(f, x);
     mat_first = f->mat;
     for (j = 0; j < f->ncurves; j++) {
         keep[3 * j] = f->c[j].z0;
@@ -48,14 +48,14 @@ fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *run
         keep[3 * j + 2] = f->c[j].slope;
     }
     f->mat = *from;
-    fit_guess_offsets(f);
+    lf_fit_guess_offsets(f);
     memset(&second, 0, sizeof second);
-    status = fit_solve_scanned(f, x, 1, &second, err);
+    status = lf_fit_solve_scanned(f, x, 1, &second, err);
     run->iters += second.iters;
     run->evals += second.evals;
     if (status != LF_OK)
         return status;
-    cost_second = fit_cost(f, x, f->w.r);
+    cost_second = lf_fit_cost(f, x, f->w.r);
     /* a converged run beats an unconverged one at about the same cost; else
      * the lower cost wins, an unconverged run only by a clear margin */
     win = (second.converged && !run->converged
@@ -76,7 +76,7 @@ fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *run
         f->c[j].F0 = keep[3 * j + 1];
         f->c[j].slope = keep[3 * j + 2];
     }
-    fit_set_origin(f);
+    lf_fit_set_origin(f);
     gsl_vector_set_all(x, 1.0);
     return LF_OK;
 }

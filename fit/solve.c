@@ -74,7 +74,7 @@ no_descent(lf_fit *f, gsl_vector *x)
     size_t k, q;
     int sign, ok = 1;
 
-    if (fit_residuals(x, f, r) != GSL_SUCCESS)
+    if (lf_fit_residuals(x, f, r) != GSL_SUCCESS)
         return 0;
     rn = gsl_blas_dnrm2(r);
     c0 = rn * rn;
@@ -83,7 +83,7 @@ no_descent(lf_fit *f, gsl_vector *x)
         for (q = 0; q < nh && ok; q++)
             for (sign = -1; sign <= 1 && ok; sign += 2) {
                 gsl_vector_set(x, k, xk + sign * h[q]);
-                if (fit_residuals(x, f, r) == GSL_SUCCESS) {
+                if (lf_fit_residuals(x, f, r) == GSL_SUCCESS) {
                     rn = gsl_blas_dnrm2(r);
                     ok = !(rn * rn < c0 * (1.0 - FIT_DESCENT_REL));
                 }
@@ -165,7 +165,7 @@ take_position(lf_fit *f, gsl_vector *x)
 }
 
 int
-fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error *err)
+lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error *err)
 {
     int status, info = 0, *converged = &run->converged;
     size_t dead = 0, iters;
@@ -221,7 +221,7 @@ fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error *er
         status = gsl_multifit_nlinear_init(x, &f->fdf, f->gsl);
         if (status == GSL_SUCCESS)
             status = drive(f, &info, &dead);
-        f->fdf.df = fit_jacobian;
+        f->fdf.df = lf_fit_jacobian;
         more = gsl_multifit_nlinear_niter(f->gsl);
         run->iters += more;
         run->evals += f->fdf.nevalf + f->fdf.nevaldf;

@@ -150,14 +150,14 @@ decompose(lf_fit *f, const double *x, lf_fit_result *r, double *nullw)
     double s2 = r->chi2 / (double) r->dof;
     int status;
 
-    if (fit_decomp_alloc(&d, f->nres, p) != LF_OK)
+    if (lf_fit_decomp_alloc(&d, f->nres, p) != LF_OK)
         return LF_ENOMEM;
-    status = fit_decomp_run(&d, f, x, f->set.rcond);
+    status = lf_fit_decomp_run(&d, f, x, f->set.rcond);
     if (status != LF_OK)
         goto done;
     for (k = 0; k < p; k++) {
         r->singular[k] = gsl_vector_get(d.S, k) / gsl_vector_get(d.S, 0);
-        nullw[k] = fit_decomp_nullw(&d, k);
+        nullw[k] = lf_fit_decomp_nullw(&d, k);
     }
     for (i = 0; i < p; i++)
         for (k = 0; k < p; k++) {
@@ -169,7 +169,7 @@ decompose(lf_fit *f, const double *x, lf_fit_result *r, double *nullw)
             r->cov[i * p + k] = di > 0 && dk > 0 ? s2 * c / (di * dk) : NAN;
         }
 done:
-    fit_decomp_free(&d);
+    lf_fit_decomp_free(&d);
     return status;
 }
 
@@ -299,7 +299,7 @@ explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
 }
 
 double
-fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
+lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
 {
     const fit_curve *c = &f->c[j];
     const size_t *ord = f->order + c->row;
@@ -351,7 +351,7 @@ consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_resul
     own = (size_t) (c->iz0 >= 0) + (size_t) (c->iF0 >= 0) + (size_t) (c->islope >= 0);
     cr->chi2_per_point = chi2 / (double) c->data.n;
     cr->p_value = c->data.n > own ? gsl_cdf_chisq_Q(chi2, (double) (c->data.n - own)) : NAN;
-    cr->runs_z = fit_runs_z(f, j, res);
+    cr->runs_z = lf_fit_runs_z(f, j, res);
     /* the noise sd is itself estimated (to some 10% for 300 points), so
      * chi2 alone flags only a gross excess; the runs test does not depend
      * on it */
@@ -368,7 +368,7 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
     double z0, F0, slope, ss = 0.0, amin = HUGE_VAL, b = c->data.probe.b;
     size_t i;
 
-    fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+    lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
     cr->name = c->data.name;
     cr->probe = c->data.probe;
     cr->branch = c->data.branch;
@@ -451,7 +451,7 @@ agreement(const lf_fit *f, lf_fit_result *r)
 }
 
 int
-fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
+lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
 {
     size_t p = f->np, i, k, j;
     gsl_vector *res = gsl_vector_alloc(f->nres);
@@ -465,7 +465,7 @@ fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
         status = lf_fail(err, LF_ENOMEM, "out of memory assessing a fit");
         goto done;
     }
-    if (fit_residuals(&xv.vector, f, res) != GSL_SUCCESS) {
+    if (lf_fit_residuals(&xv.vector, f, res) != GSL_SUCCESS) {
         status = lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the solution");
         goto done;
     }
@@ -479,11 +479,11 @@ fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
         goto done;
     }
     name_parameters(f, r);
-    fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
+    lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
     f->mat = mat;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
-        fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+        lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         if (c->iz0 >= 0) r->value[c->iz0] = z0;
         if (c->iF0 >= 0) r->value[c->iF0] = F0;
         if (c->islope >= 0) r->value[c->islope] = slope;

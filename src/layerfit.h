@@ -737,6 +737,31 @@ void lf_fit_input_apply_nu(const lf_fit_input *in, lf_fit_settings *settings);
 /* Release what the input owns (NULL and an empty input allowed). */
 void lf_fit_input_free(lf_fit_input *in);
 
+/* ------------------------------------------------------------------------
+ * Tables (src/table.c): a CSV file read whole, every cell as text -- e.g.
+ * the output of `layerfit fit --batch`.  The same line layer as the curve
+ * and plan readers (delimiter from the header, '#' comments, quotes).
+ * Ownership: *out is the caller's, released by lf_table_free.
+ * --------------------------------------------------------------------- */
+
+typedef struct {
+    size_t nrows, ncols;
+    long header_line;     /* the line of the header */
+    char **names;         /* ncols header cells */
+    char **cells;         /* nrows x ncols, row-major; "" where a row is short */
+    long *line;           /* nrows: the line where each row starts */
+    long *col;            /* nrows x ncols: the character column of each cell
+                             (0 where a row is short) */
+} lf_table;
+
+int lf_table_read(const char *path, lf_table **out, lf_error *err);
+void lf_table_free(lf_table *t);
+/* The index of the column named name, or -1. */
+long lf_table_column(const lf_table *t, const char *name);
+/* A number in a cell: LF_OK with *v, or LF_OK with *v = NaN for an empty
+ * cell; LF_EFORMAT (and *v = NaN) when the cell is not a number. */
+int lf_table_number(const char *cell, double *v);
+
 #ifdef __cplusplus
 }
 #endif
