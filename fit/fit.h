@@ -38,6 +38,14 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
 #define FIT_FLAT_ITERS 20
 #define FIT_FLAT_REL 1e-8
 #define FIT_FLAT_ABS 1e-3
+/* Converged when a Gauss-Newton step from the current point would lower
+ * chi2 (residuals in units of the noise) by less than FIT_CHI2_STEP: the
+ * estimates are then within sqrt(FIT_CHI2_STEP) standard errors of the
+ * minimum of the local quadratic, and further iterations only chase
+ * rounding.  GSL's own tests (the settings' xtol, gtol, ftol) stay in
+ * force for data so clean that this one cannot be met. */
+#define FIT_CHI2_STEP 1e-10
+#define FIT_INFO_CHI2 3     /* the stop reason's code for that test */
 /* A stop with no progress is a minimum when every scaled gradient
  * component is below FIT_GRAD_ROUNDING |J_k| |r| (rounding level)... */
 #define FIT_GRAD_ROUNDING 1e-8
@@ -117,6 +125,8 @@ typedef struct {
     gsl_vector *x, *r;   /* np, nres: a solution and its residuals */
     gsl_vector *x2, *r2; /* np, nres: a trial point and its residuals */
     double *keep;        /* 3 ncurves: offsets kept aside */
+    double *jtj;         /* np x np: J^T J and its Cholesky factor */
+    double *grad, *colmax;  /* np: J^T r and column maxima */
     double cost_hist[FIT_FLAT_ITERS + 1]; /* cost after each iteration, cyclic */
 } fit_work;
 

@@ -262,13 +262,16 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     f->w.work = calloc(f->ndata > 2 * GUESS_NSUB ? f->ndata : 2 * GUESS_NSUB, sizeof *f->w.work);
     f->w.sub = calloc(3 * GUESS_NSUB + GUESS_NODES, sizeof *f->w.sub);
     f->w.keep = calloc(3 * ncurves, sizeof *f->w.keep);
+    f->w.jtj = calloc(f->np * f->np, sizeof *f->w.jtj);
+    f->w.grad = calloc(f->np, sizeof *f->w.grad);
+    f->w.colmax = calloc(f->np, sizeof *f->w.colmax);
     f->w.x = gsl_vector_alloc(f->np);
     f->w.x2 = gsl_vector_alloc(f->np);
     f->w.r = gsl_vector_alloc(f->nres);
     f->w.r2 = gsl_vector_alloc(f->nres);
     f->order = malloc(f->ndata * sizeof *f->order);
     if (!f->x0_internal || !f->w.xcache || !f->w.ev || !f->w.scan_ev || !f->w.sqrtw
-        || !f->w.delta || !f->w.work || !f->w.sub || !f->w.keep || !f->w.x || !f->w.x2
+        || !f->w.delta || !f->w.work || !f->w.sub || !f->w.keep || !f->w.jtj || !f->w.grad || !f->w.colmax || !f->w.x || !f->w.x2
         || !f->w.r || !f->w.r2 || !f->order || depth_order(f) != LF_OK)
         goto nomem;
     par.trs = f->trs;
@@ -317,6 +320,9 @@ lf_fit_free(lf_fit *f)
     free(f->w.work);
     free(f->w.sub);
     free(f->w.keep);
+    free(f->w.jtj);
+    free(f->w.grad);
+    free(f->w.colmax);
     gsl_vector_free(f->w.x);
     gsl_vector_free(f->w.x2);
     gsl_vector_free(f->w.r);

@@ -26,7 +26,8 @@ stop_reason(int status, int info, size_t maxiter, char *buf, size_t n,
     *converged = 0;
     if (status == GSL_SUCCESS) {
         *converged = 1;
-        snprintf(buf, n, "converged (%s)", info == 1 ? "small step" : "small gradient");
+        snprintf(buf, n, "converged (%s)", info == FIT_INFO_CHI2 ? "chi2 within reach of its minimum"
+                                           : info == 1 ? "small step" : "small gradient");
     } else if (status == GSL_EMAXITER) {
         snprintf(buf, n, "not converged: %zu iterations reached", maxiter);
     } else if (status == GSL_ENOPROG) {
@@ -103,47 +104,101 @@ track_cost(const size_t iter, void *params, const gsl_multifit_nlinear_workspace
     f->w.cost_hist[iter % (FIT_FLAT_ITERS + 1)] = 0.5 * r * r;
 }
 
-/* 1 when every column of the solver's Jacobian is finite and not
- * negligible.  A parameter that stops mattering (w driven towards zero
- * leaves its column near zero) sends GSL's subspace2D method into an
- * endless loop solving a quartic of NaNs; the other methods stall. */
+/* The solver's Jacobian J and residuals r at its position, examined once
+ * per iteration (rows read in place):
+ *  - returns 0 when a column is not finite or negligible (below
+ *    FIT_DEAD_COLUMN of the largest), with that column in *which.  A
+ *    parameter that stops mattering (w driven towards zero leaves its
+ *    column near zero) sends GSL's subspace2D method into an endless loop
+ *    solving a quartic of NaNs; the other methods stall;
+ *  - *dchi2 = g^T (J^T J)^-1 g, g = J^T r: the decrease of chi2 that a full
+ *    Gauss-Newton step predicts, which is also the squared distance to the
+ *    minimum of the local quadratic measured in standard errors (residuals
+ *    are in units of the noise).  HUGE_VAL when J^T J is not positive
+ *    definite. */
 static int
-jacobian_usable(lf_fit *f, size_t *which)
+examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
 {
     const gsl_matrix *J = gsl_multifit_nlinear_jac(f->gsl);
-    size_t i, k;
-    double top = 0.0, low = HUGE_VAL;
+    const gsl_vector *r = gsl_multifit_nlinear_residual(f->gsl);
+    const size_t n = J->size1, p = J->size2;
+    double *A = f->w.jtj, *g = f->w.grad, *big = f->w.colmax, top = 0.0, low = HUGE_VAL;
+    size_t i, k, l;
 
-    for (k = 0; k < J->size2; k++) {
-        double big = 0.0;
-        for (i = 0; i < J->size1; i++) {
-            double v = fabs(gsl_matrix_get(J, i, k));
-            if (!isfinite(v))
-                return 0;
-            big = fmax(big, v);
+    *dchi2 = HUGE_VAL;
+    memset(A, 0, p * p * sizeof *A);
+    for (k = 0; k < p; k++)
+        g[k] = big[k] = 0.0;
+    for (i = 0; i < n; i++) {
+        const double *row = J->data + i * J->tda, ri = r->data[i * r->stride];
+        for (k = 0; k < p; k++) {
+            double a = row[k];
+            big[k] = fmax(big[k], fabs(a));
+            g[k] += a * ri;
+            for (l = 0; l <= k; l++)
+                A[k * p + l] += a * row[l];
         }
-        top = fmax(top, big);
-        if (big < low) {
-            low = big;
+    }
+    for (k = 0; k < p; k++) {
+        if (!isfinite(big[k]) || !isfinite(g[k]))
+            return 0;
+        top = fmax(top, big[k]);
+        if (big[k] < low) {
+            low = big[k];
             *which = k;
         }
     }
-    return low > FIT_DEAD_COLUMN * top;
+    if (!(low > FIT_DEAD_COLUMN * top))
+        return 0;
+    /* Cholesky of J^T J (lower triangle), then |L^-1 g|^2 */
+    for (k = 0; k < p; k++) {
+        for (l = 0; l <= k; l++) {
+            double sum = A[k * p + l];
+            size_t q;
+            for (q = 0; q < l; q++)
+                sum -= A[k * p + q] * A[l * p + q];
+            if (l == k) {
+                if (!(sum > 1e-14 * A[k * p + k]) || !(sum > 0))
+                    return 1;
+                A[k * p + k] = sqrt(sum);
+            } else {
+                A[k * p + l] = sum / A[l * p + l];
+            }
+        }
+    }
+    *dchi2 = 0.0;
+    for (k = 0; k < p; k++) {
+        double y = g[k];
+        for (l = 0; l < k; l++)
+            y -= A[k * p + l] * g[l];
+        g[k] = y / A[k * p + k];
+        *dchi2 += g[k] * g[k];
+    }
+    return 1;
 }
 
-/* gsl_multifit_nlinear_driver with the Jacobian checked before each
- * iteration and the cost recorded after it.  An unusable Jacobian ends the
- * run with GSL_EBADFUNC and the negligible column in *dead. */
+/* gsl_multifit_nlinear_driver with the Jacobian examined before each
+ * iteration and the cost recorded after it.  Stops with GSL_SUCCESS and
+ * *info = FIT_INFO_CHI2 when a Gauss-Newton step would lower chi2 by less
+ * than FIT_CHI2_STEP (the estimates are then within sqrt(FIT_CHI2_STEP)
+ * standard errors of the minimum), else by GSL's tests.  An unusable
+ * Jacobian ends the run with GSL_EBADFUNC and the negligible column in
+ * *dead. */
 static int
 drive(lf_fit *f, int *info, size_t *dead)
 {
     size_t iter = 0;
     int status;
+    double dchi2;
 
     *info = 0;
     do {
-        if (!jacobian_usable(f, dead))
+        if (!examine_jacobian(f, dead, &dchi2))
             return GSL_EBADFUNC;
+        if (dchi2 <= FIT_CHI2_STEP) {
+            *info = FIT_INFO_CHI2;
+            return GSL_SUCCESS;
+        }
         status = gsl_multifit_nlinear_iterate(f->gsl);
         if (status == GSL_ENOPROG && iter == 0) {
             *info = status;
