@@ -30,11 +30,55 @@
 
 /* ---- noise ------------------------------------------------------------ */
 
-static int
-cmp_double(const void *a, const void *b)
+/* The k-th smallest of v[0..n-1] (v reordered), by quickselect. */
+static double
+select_kth(double *v, size_t n, size_t k)
 {
-    double x = *(const double *) a, y = *(const double *) b;
-    return (x > y) - (x < y);
+    size_t lo = 0, hi = n - 1;
+
+    while (hi > lo) {
+        double pivot = v[lo + (hi - lo) / 2];
+        size_t i = lo, j = hi;
+        while (i <= j) {
+            while (v[i] < pivot)
+                i++;
+            while (v[j] > pivot)
+                j--;
+            if (i <= j) {
+                double t = v[i];
+                v[i] = v[j];
+                v[j] = t;
+                i++;
+                if (j == 0)
+                    break;
+                j--;
+            }
+        }
+        if (k <= j)
+            hi = j;
+        else if (k >= i)
+            lo = i;
+        else
+            return v[k];
+    }
+    return v[k];
+}
+
+/* The median of v[0..n-1], n > 0 (v reordered): the same number a sort
+ * would give, in linear time. */
+static double
+median(double *v, size_t n)
+{
+    double upper = select_kth(v, n, n / 2), lower;
+    size_t i;
+
+    if (n % 2)
+        return upper;
+    /* after the selection every v[i], i < n/2, is <= upper */
+    lower = v[0];
+    for (i = 1; i < n / 2; i++)
+        lower = fmax(lower, v[i]);
+    return 0.5 * (lower + upper);
 }
 
 /* Noise sd from the points' departures from the line through their two
@@ -65,8 +109,7 @@ lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order
     }
     if (m == 0)
         return fbig > 0 ? fbig : 1.0;
-    qsort(work, m, sizeof *work, cmp_double);
-    med = m % 2 ? work[m / 2] : 0.5 * (work[m / 2 - 1] + work[m / 2]);
+    med = median(work, m);
     med /= 0.6745;
     /* noise-free data: keep the weight finite */
     return fmax(med, fbig > 0 ? 1e-12 * fbig : 1e-300);
@@ -287,12 +330,10 @@ make_nodes(const profile *p, double lo, double hi, size_t n, int with_data,
 
     for (i = 0; i < n; i++)
         node[m++] = lo + (hi - lo) * (double) i / (double) n;
-    if (with_data) {
-        size_t start = m;
+    if (with_data) {            /* the subsample is in order of depth already */
         for (i = 0; i < p->n; i++)
             if (p->z[i] >= hi)
                 node[m++] = p->z[i];
-        qsort(node + start, m - start, sizeof *node, cmp_double);
     } else {
         node[m++] = hi;
     }
