@@ -36,9 +36,10 @@ PROG := $(BUILD)/layerfit
 
 DEBS := libgsl-dev libcsv-dev libudunits2-dev gnuplot-nox
 # wanted by some tests (the report test loads the page in headless
-# Chromium, the example test uses pkg-config), which skip with a note
+# Chromium, the example test uses pkg-config, `layerfit bench` runs the
+# scipy and lmfit peers), which skip with a note
 # when they are missing: installed when possible, never required
-OPT_DEBS := chromium pkgconf
+OPT_DEBS := chromium pkgconf python3-scipy python3-lmfit
 
 .PHONY: all deps demo check tests sanitize install uninstall clean bench-batch bench bench-quick
 
