@@ -203,7 +203,7 @@ lf_fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
                        * f->w.sqrtw[k];
             if (!isfinite(v))
                 return GSL_EDOM;
-            gsl_vector_set(r, k, v);
+            r->data[k * r->stride] = v;
         }
     }
     if (f->nu_prior) {
@@ -232,15 +232,9 @@ guarded(const lf_fit *f, const fit_curve *c, const lf_material *mat,
     return e;
 }
 
-static void
-put(gsl_matrix *J, size_t row, int col, double v)
-{
-    if (col >= 0)
-        gsl_matrix_set(J, row, (size_t) col, v);
-}
-
-/* Fill J, rows weighted by 1/sigma.  physical = 0: derivatives with respect
- * to the internal coordinates (= x); 1: with respect to w, E*, nu, z0, F0, s. */
+/* Fill J, rows weighted by 1/sigma, each row written in place (J's data,
+ * row by row).  physical = 0: derivatives with respect to the internal
+ * coordinates (= x); 1: with respect to w, E*, nu, z0, F0, s. */
 static int
 fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
 {
@@ -248,13 +242,13 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
     lf_material mat;
     double z0, F0, slope, u = 0.0;
     double sw, sE, snu;
+    const int iw = f->imat[FIT_W], iE = f->imat[FIT_E], inu = f->imat[FIT_NU];
 
     if (eval_all(f, x) != LF_OK)
         return GSL_EDOM;
-    gsl_matrix_set_zero(J);
     lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
-    if (f->imat[FIT_NU] >= 0)
-        u = internal(f, x, f->imat[FIT_NU]);
+    if (inu >= 0)
+        u = internal(f, x, inu);
     /* d(internal)/d(physical) is 1/w, 1/E*, du/dnu; the model gives
      * dP/dln w, dP/dln E*, dP/dnu. */
     sw = physical ? 1.0 / mat.w : 1.0;
@@ -273,18 +267,29 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
             ddet = po.delta_detach;
         for (i = 0; i < c->data.n; i++) {
             size_t k = c->row + i;
+            double *row = J->data + k * J->tda;
             lf_eval e = guarded(f, c, &mat, ddet, k);
             double ws = f->w.sqrtw[k] / c->sigma;
-            put(J, k, f->imat[FIT_W], e.dP_dlogw * sw * ws);
-            put(J, k, f->imat[FIT_E], e.dP_dlogE * sE * ws);
-            put(J, k, f->imat[FIT_NU], e.dP_dnu * snu * ws);
-            put(J, k, c->iz0, -(e.dP_ddelta + slope) * sz * ws);
-            put(J, k, c->iF0, sF * ws);
-            put(J, k, c->islope, f->w.delta[k] * ss * ws);
+            memset(row, 0, f->np * sizeof *row);
+            if (iw >= 0)
+                row[iw] = e.dP_dlogw * sw * ws;
+            if (iE >= 0)
+                row[iE] = e.dP_dlogE * sE * ws;
+            if (inu >= 0)
+                row[inu] = e.dP_dnu * snu * ws;
+            if (c->iz0 >= 0)
+                row[c->iz0] = -(e.dP_ddelta + slope) * sz * ws;
+            if (c->iF0 >= 0)
+                row[c->iF0] = sF * ws;
+            if (c->islope >= 0)
+                row[c->islope] = f->w.delta[k] * ss * ws;
         }
     }
-    if (f->nu_prior)
-        put(J, f->ndata, f->imat[FIT_NU], snu / f->set.nu.prior_sd);
+    if (f->nu_prior) {
+        double *row = J->data + f->ndata * J->tda;
+        memset(row, 0, f->np * sizeof *row);
+        row[inu] = snu / f->set.nu.prior_sd;
+    }
     return GSL_SUCCESS;
 }
 
