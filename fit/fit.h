@@ -3,7 +3,8 @@
  *   layout.c      settings, the problem's layout and workspace (alloc/free)
  *   problem.c     parameter mapping, residuals, Jacobian
  *   guess.c       the automatic start (a fit_start)
- *   solve.c       the trust-region iteration and its stopping rules
+ *   solve.c       the iteration and its stopping rules (lm.c: Levenberg-
+ *                 Marquardt on the normal matrix; GSL for the other methods)
  *   edge_scan.c, second_start.c, reweight.c, loo.c   the policies
  *   driver.c      one run: start, solve, policies, assessment
  *   decomp.c      the decomposition shared by uncertainty.c and choose.c
@@ -111,6 +112,22 @@ typedef struct {
     double alt_w;          /* the guess's runner-up w, a second start, or NaN */
 } fit_start;
 
+/* Levenberg-Marquardt's own state (lm.c), for the "lm" method with the
+ * analytic Jacobian. */
+#define FIT_LM_MU0 1e-3        /* initial damping over the largest scaled diagonal */
+#define FIT_LM_MAX_REJECT 15   /* rejected steps in a row that mean no progress */
+typedef struct {
+    gsl_vector *x, *r;      /* np, nres: the current point */
+    gsl_vector *xt, *rt;    /* np, nres: the trial point (the previous one
+                               after an accepted step) */
+    gsl_vector *h;          /* np: the step */
+    gsl_matrix *J;          /* nres x np at x */
+    double *A, *L;          /* np x np: J^T J and a Cholesky factor */
+    double *g, *D2;         /* np: J^T r, squared scaling */
+    double cost, mu, nu, last_step;
+    size_t niter, nevalf, nevaldf;
+} fit_lm;
+
 /* Scratch, sized once at alloc: nothing allocates inside a run. */
 typedef struct {
     lf_eval *ev;         /* ndata: model at the last residual evaluation */
@@ -124,10 +141,13 @@ typedef struct {
     double *sub;         /* 3 GUESS_NSUB + GUESS_NODES: subsample, nodes */
     gsl_vector *x, *r;   /* np, nres: a solution and its residuals */
     gsl_vector *x2, *r2; /* np, nres: a trial point and its residuals */
+    gsl_vector *x0;      /* np: where an iteration started */
     double *keep;        /* 3 ncurves: offsets kept aside */
     double *jtj;         /* np x np: J^T J and its Cholesky factor */
     double *grad, *colmax;  /* np: J^T r and column maxima */
     double cost_hist[FIT_FLAT_ITERS + 1]; /* cost after each iteration, cyclic */
+    fit_lm lm;
+    int own;             /* 1: lm.c holds the solver's state, 0: GSL */
 } fit_work;
 
 /* A run's running totals and its verdict. */
@@ -194,6 +214,13 @@ double lf_fit_noise_sigma(const double *depth, const double *force, const size_t
  * verdict.  after_scan: x is a converged solution moved by a policy (the
  * contact-edge scan, a reweighting), which sits at a kink of the cost. */
 int lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error *err);
+
+/* lm.c: init at x (residuals, Jacobian, scaling, damping); one accepted
+ * step (GSL_SUCCESS) or GSL_ENOPROG; GSL's step and gradient tests on the
+ * step just taken. */
+int lf_fit_lm_init(lf_fit *f, const gsl_vector *x);
+int lf_fit_lm_iterate(lf_fit *f);
+int lf_fit_lm_test(const lf_fit *f, double xtol, double gtol, int *info);
 
 /* Policies, each run only when the data call for it. */
 /* edge_scan.c: solve from the origin (x = 1), then move each free contact

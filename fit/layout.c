@@ -263,15 +263,28 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     f->w.sub = calloc(3 * GUESS_NSUB + GUESS_NODES, sizeof *f->w.sub);
     f->w.keep = calloc(3 * ncurves, sizeof *f->w.keep);
     f->w.jtj = calloc(f->np * f->np, sizeof *f->w.jtj);
+    f->w.lm.x = gsl_vector_alloc(f->np);
+    f->w.lm.xt = gsl_vector_alloc(f->np);
+    f->w.lm.h = gsl_vector_alloc(f->np);
+    f->w.lm.r = gsl_vector_alloc(f->nres);
+    f->w.lm.rt = gsl_vector_alloc(f->nres);
+    f->w.lm.J = gsl_matrix_alloc(f->nres, f->np);
+    f->w.lm.A = calloc(f->np * f->np, sizeof *f->w.lm.A);
+    f->w.lm.L = calloc(f->np * f->np, sizeof *f->w.lm.L);
+    f->w.lm.g = calloc(f->np, sizeof *f->w.lm.g);
+    f->w.lm.D2 = calloc(f->np, sizeof *f->w.lm.D2);
     f->w.grad = calloc(f->np, sizeof *f->w.grad);
     f->w.colmax = calloc(f->np, sizeof *f->w.colmax);
     f->w.x = gsl_vector_alloc(f->np);
     f->w.x2 = gsl_vector_alloc(f->np);
+    f->w.x0 = gsl_vector_alloc(f->np);
     f->w.r = gsl_vector_alloc(f->nres);
     f->w.r2 = gsl_vector_alloc(f->nres);
     f->order = malloc(f->ndata * sizeof *f->order);
     if (!f->x0_internal || !f->w.xcache || !f->w.ev || !f->w.scan_ev || !f->w.sqrtw
-        || !f->w.delta || !f->w.work || !f->w.sub || !f->w.keep || !f->w.jtj || !f->w.grad || !f->w.colmax || !f->w.x || !f->w.x2
+        || !f->w.delta || !f->w.work || !f->w.sub || !f->w.keep || !f->w.jtj || !f->w.lm.x || !f->w.lm.xt || !f->w.lm.h
+        || !f->w.lm.r || !f->w.lm.rt || !f->w.lm.J || !f->w.lm.A || !f->w.lm.L || !f->w.lm.g
+        || !f->w.lm.D2 || !f->w.grad || !f->w.colmax || !f->w.x || !f->w.x2 || !f->w.x0
         || !f->w.r || !f->w.r2 || !f->order || depth_order(f) != LF_OK)
         goto nomem;
     par.trs = f->trs;
@@ -321,10 +334,21 @@ lf_fit_free(lf_fit *f)
     free(f->w.sub);
     free(f->w.keep);
     free(f->w.jtj);
+    gsl_vector_free(f->w.lm.x);
+    gsl_vector_free(f->w.lm.xt);
+    gsl_vector_free(f->w.lm.h);
+    gsl_vector_free(f->w.lm.r);
+    gsl_vector_free(f->w.lm.rt);
+    gsl_matrix_free(f->w.lm.J);
+    free(f->w.lm.A);
+    free(f->w.lm.L);
+    free(f->w.lm.g);
+    free(f->w.lm.D2);
     free(f->w.grad);
     free(f->w.colmax);
     gsl_vector_free(f->w.x);
     gsl_vector_free(f->w.x2);
+    gsl_vector_free(f->w.x0);
     gsl_vector_free(f->w.r);
     gsl_vector_free(f->w.r2);
     if (f->gsl != NULL)

@@ -18,7 +18,60 @@
 
 #include "fit.h"
 
-/* Why GSL stopped, in words; sets *converged. */
+/* ---- the solver: lm.c for "lm" with the analytic Jacobian, else GSL ---- */
+
+static gsl_vector *
+cur_x(lf_fit *f)
+{
+    return f->w.own ? f->w.lm.x : gsl_multifit_nlinear_position(f->gsl);
+}
+
+static gsl_vector *
+cur_r(lf_fit *f)
+{
+    return f->w.own ? f->w.lm.r : gsl_multifit_nlinear_residual(f->gsl);
+}
+
+static gsl_matrix *
+cur_J(lf_fit *f)
+{
+    return f->w.own ? f->w.lm.J : gsl_multifit_nlinear_jac(f->gsl);
+}
+
+static size_t
+cur_niter(lf_fit *f)
+{
+    return f->w.own ? f->w.lm.niter : gsl_multifit_nlinear_niter(f->gsl);
+}
+
+static size_t
+cur_evals(lf_fit *f)
+{
+    return f->w.own ? f->w.lm.nevalf + f->w.lm.nevaldf : f->fdf.nevalf + f->fdf.nevaldf;
+}
+
+static int
+solver_init(lf_fit *f, const gsl_vector *x, int allow_own)
+{
+    f->w.own = allow_own && f->fdf.df != NULL && strcmp(f->set.method, "lm") == 0;
+    return f->w.own ? lf_fit_lm_init(f, x) : gsl_multifit_nlinear_init(x, &f->fdf, f->gsl);
+}
+
+static int
+solver_iterate(lf_fit *f)
+{
+    return f->w.own ? lf_fit_lm_iterate(f) : gsl_multifit_nlinear_iterate(f->gsl);
+}
+
+static int
+solver_test(lf_fit *f, int *info)
+{
+    return f->w.own ? lf_fit_lm_test(f, f->set.xtol, f->set.gtol, info)
+                    : gsl_multifit_nlinear_test(f->set.xtol, f->set.gtol, f->set.ftol, info,
+                                                f->gsl);
+}
+
+/* Why the solver stopped, in words; sets *converged. */
 static void
 stop_reason(int status, int info, size_t maxiter, char *buf, size_t n,
             int *converged)
@@ -43,8 +96,8 @@ stop_reason(int status, int info, size_t maxiter, char *buf, size_t n,
 static int
 at_minimum(lf_fit *f)
 {
-    gsl_vector *r = gsl_multifit_nlinear_residual(f->gsl);
-    gsl_matrix *J = gsl_multifit_nlinear_jac(f->gsl);
+    gsl_vector *r = cur_r(f);
+    gsl_matrix *J = cur_J(f);
     size_t i, k;
     double rn = gsl_blas_dnrm2(r);
 
@@ -97,10 +150,9 @@ no_descent(lf_fit *f, gsl_vector *x)
 
 /* After each iteration: remember the cost. */
 static void
-track_cost(const size_t iter, void *params, const gsl_multifit_nlinear_workspace *w)
+track_cost(lf_fit *f, size_t iter)
 {
-    lf_fit *f = params;
-    double r = gsl_blas_dnrm2(gsl_multifit_nlinear_residual(w));
+    double r = gsl_blas_dnrm2(cur_r(f));
     f->w.cost_hist[iter % (FIT_FLAT_ITERS + 1)] = 0.5 * r * r;
 }
 
@@ -119,24 +171,36 @@ track_cost(const size_t iter, void *params, const gsl_multifit_nlinear_workspace
 static int
 examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
 {
-    const gsl_matrix *J = gsl_multifit_nlinear_jac(f->gsl);
-    const gsl_vector *r = gsl_multifit_nlinear_residual(f->gsl);
+    const gsl_matrix *J = cur_J(f);
+    const gsl_vector *r = cur_r(f);
     const size_t n = J->size1, p = J->size2;
     double *A = f->w.jtj, *g = f->w.grad, *big = f->w.colmax, top = 0.0, low = HUGE_VAL;
     size_t i, k, l;
 
     *dchi2 = HUGE_VAL;
-    memset(A, 0, p * p * sizeof *A);
     for (k = 0; k < p; k++)
-        g[k] = big[k] = 0.0;
-    for (i = 0; i < n; i++) {
-        const double *row = J->data + i * J->tda, ri = r->data[i * r->stride];
-        for (k = 0; k < p; k++) {
-            double a = row[k];
-            big[k] = fmax(big[k], fabs(a));
-            g[k] += a * ri;
-            for (l = 0; l <= k; l++)
-                A[k * p + l] += a * row[l];
+        big[k] = 0.0;
+    if (f->w.own) {         /* lm.c has J^T J and J^T r already */
+        memcpy(A, f->w.lm.A, p * p * sizeof *A);
+        memcpy(g, f->w.lm.g, p * sizeof *g);
+        for (i = 0; i < n; i++) {
+            const double *row = J->data + i * J->tda;
+            for (k = 0; k < p; k++)
+                big[k] = fmax(big[k], fabs(row[k]));
+        }
+    } else {
+        memset(A, 0, p * p * sizeof *A);
+        for (k = 0; k < p; k++)
+            g[k] = 0.0;
+        for (i = 0; i < n; i++) {
+            const double *row = J->data + i * J->tda, ri = r->data[i * r->stride];
+            for (k = 0; k < p; k++) {
+                double a = row[k];
+                big[k] = fmax(big[k], fabs(a));
+                g[k] += a * ri;
+                for (l = 0; l <= k; l++)
+                    A[k * p + l] += a * row[l];
+            }
         }
     }
     for (k = 0; k < p; k++) {
@@ -199,13 +263,17 @@ drive(lf_fit *f, int *info, size_t *dead)
             *info = FIT_INFO_CHI2;
             return GSL_SUCCESS;
         }
-        status = gsl_multifit_nlinear_iterate(f->gsl);
+        status = solver_iterate(f);
         if (status == GSL_ENOPROG && iter == 0) {
             *info = status;
             return GSL_EMAXITER;
         }
-        track_cost(iter, f, f->gsl);
-        status = gsl_multifit_nlinear_test(f->set.xtol, f->set.gtol, f->set.ftol, info, f->gsl);
+        if (status != GSL_SUCCESS && status != GSL_ENOPROG)
+            return status;
+        track_cost(f, iter);
+        /* lm.c's GSL_ENOPROG (no step accepted) ends the run; GSL's
+         * driver goes on after its first iteration, and so does this loop */
+        status = status == GSL_ENOPROG && f->w.own ? GSL_ENOPROG : solver_test(f, info);
     } while (status == GSL_CONTINUE && ++iter < f->set.max_iter);
     if (iter >= f->set.max_iter && status != GSL_SUCCESS)
         status = GSL_EMAXITER;
@@ -216,7 +284,7 @@ drive(lf_fit *f, int *info, size_t *dead)
 static void
 take_position(lf_fit *f, gsl_vector *x)
 {
-    gsl_vector_memcpy(x, gsl_multifit_nlinear_position(f->gsl));
+    gsl_vector_memcpy(x, cur_x(f));
 }
 
 int
@@ -228,14 +296,27 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
     const size_t nwhy = sizeof run->why;
 
     *converged = 0;
-    status = gsl_multifit_nlinear_init(x, &f->fdf, f->gsl);
+    gsl_vector_memcpy(f->w.x0, x);
+    status = solver_init(f, x, 1);
     if (status != GSL_SUCCESS)
         return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the starting point (%s)",
                        gsl_strerror(status));
     status = drive(f, &info, &dead);
-    iters = gsl_multifit_nlinear_niter(f->gsl);
+    if (f->w.own && status != GSL_SUCCESS && status != GSL_EBADFUNC) {
+        /* lm.c stalled (at a kink of the cost, where steps are rejected or
+         * creep): the same start with GSL's trust region, whose path
+         * differs there */
+        run->iters += cur_niter(f);
+        run->evals += cur_evals(f);
+        status = solver_init(f, f->w.x0, 0);
+        if (status != GSL_SUCCESS)
+            return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the starting "
+                           "point (%s)", gsl_strerror(status));
+        status = drive(f, &info, &dead);
+    }
+    iters = cur_niter(f);
     run->iters += iters;
-    run->evals += f->fdf.nevalf + f->fdf.nevaldf;
+    run->evals += cur_evals(f);
     if (status == GSL_EBADFUNC) {
         take_position(f, x);
         if ((int) dead == f->imat[FIT_W]) {
@@ -273,13 +354,13 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
          * residuals as they are */
         size_t more;
         f->fdf.df = NULL;
-        status = gsl_multifit_nlinear_init(x, &f->fdf, f->gsl);
+        status = solver_init(f, x, 0);
         if (status == GSL_SUCCESS)
             status = drive(f, &info, &dead);
-        f->fdf.df = lf_fit_jacobian;
-        more = gsl_multifit_nlinear_niter(f->gsl);
+        more = cur_niter(f);
         run->iters += more;
-        run->evals += f->fdf.nevalf + f->fdf.nevaldf;
+        run->evals += cur_evals(f);
+        f->fdf.df = lf_fit_jacobian;
         if (status == GSL_EMAXITER && info == GSL_ENOPROG && more < f->set.max_iter)
             status = GSL_ENOPROG;
         stop_reason(status, info, f->set.max_iter, why, nwhy, converged);
