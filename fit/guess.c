@@ -26,7 +26,7 @@
 
 #include "fit.h"
 
-#define GUESS_GOLDEN 20
+#define GUESS_GOLDEN 10
 
 /* ---- noise ------------------------------------------------------------ */
 
