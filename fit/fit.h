@@ -177,9 +177,14 @@ struct lf_fit {
     fit_work w;
     /* the solver */
     const gsl_multifit_nlinear_trs *trs;
-    gsl_multifit_nlinear_workspace *gsl;
+    gsl_multifit_nlinear_parameters gsl_par;
+    gsl_multifit_nlinear_workspace *gsl;   /* NULL until lf_fit_gsl */
     gsl_multifit_nlinear_fdf fdf;
 };
+
+/* layout.c: GSL's workspace, made on first use (the "lm" method with the
+ * analytic Jacobian may never need it); LF_ENOMEM when it cannot be. */
+int lf_fit_gsl(lf_fit *f);
 
 /* problem.c: the parameter mapping, residuals and Jacobian */
 int lf_fit_problem_setup(lf_fit *f, lf_error *err);

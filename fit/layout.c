@@ -287,14 +287,13 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
         || !f->w.lm.D2 || !f->w.grad || !f->w.colmax || !f->w.x || !f->w.x2 || !f->w.x0
         || !f->w.r || !f->w.r2 || !f->order || depth_order(f) != LF_OK)
         goto nomem;
-    par.trs = f->trs;
-    par.scale = gsl_multifit_nlinear_scale_more;
-    par.solver = gsl_multifit_nlinear_solver_cholesky;
-    par.fdtype = settings->jacobian == LF_JAC_CENTRAL ? GSL_MULTIFIT_NLINEAR_CTRDIFF
-                                                      : GSL_MULTIFIT_NLINEAR_FWDIFF;
-    f->gsl = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &par, f->nres, f->np);
-    if (f->gsl == NULL)
-        goto nomem;
+    /* GSL's workspace: made when a run first needs it (lf_fit_gsl) */
+    f->gsl_par = par;
+    f->gsl_par.trs = f->trs;
+    f->gsl_par.scale = gsl_multifit_nlinear_scale_more;
+    f->gsl_par.solver = gsl_multifit_nlinear_solver_cholesky;
+    f->gsl_par.fdtype = settings->jacobian == LF_JAC_CENTRAL ? GSL_MULTIFIT_NLINEAR_CTRDIFF
+                                                             : GSL_MULTIFIT_NLINEAR_FWDIFF;
     f->fdf.f = lf_fit_residuals;
     f->fdf.df = settings->jacobian == LF_JAC_ANALYTIC ? lf_fit_jacobian : NULL;
     f->fdf.fvv = NULL;
@@ -356,3 +355,12 @@ lf_fit_free(lf_fit *f)
     free(f);
 }
 
+
+int
+lf_fit_gsl(lf_fit *f)
+{
+    if (f->gsl == NULL)
+        f->gsl = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &f->gsl_par, f->nres,
+                                            f->np);
+    return f->gsl != NULL ? LF_OK : LF_ENOMEM;
+}

@@ -54,7 +54,11 @@ static int
 solver_init(lf_fit *f, const gsl_vector *x, int allow_own)
 {
     f->w.own = allow_own && f->fdf.df != NULL && strcmp(f->set.method, "lm") == 0;
-    return f->w.own ? lf_fit_lm_init(f, x) : gsl_multifit_nlinear_init(x, &f->fdf, f->gsl);
+    if (f->w.own)
+        return lf_fit_lm_init(f, x);
+    if (lf_fit_gsl(f) != LF_OK)
+        return GSL_ENOMEM;
+    return gsl_multifit_nlinear_init(x, &f->fdf, f->gsl);
 }
 
 static int
