@@ -36,9 +36,10 @@ PROG := $(BUILD)/layerfit
 
 DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev gnuplot-nox
 # wanted by some tests (the report test loads the page in headless
-# Chromium, the example test uses pkg-config), which skip with a note
+# Chromium, the example test uses pkg-config, `layerfit bench` runs the
+# scipy and lmfit peers), which skip with a note
 # when they are missing: installed when possible, never required
-OPT_DEBS := chromium pkgconf
+OPT_DEBS := chromium pkgconf python3-scipy python3-lmfit
 
 .PHONY: all deps demo check tests sanitize install uninstall clean bench-batch bench bench-quick
 
@@ -47,6 +48,18 @@ all: $(PROG) $(LIB)
 $(BUILD)/%.o: %.c $(HEADERS)
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -c $< -o $@
+
+# The command sees the library's public header only, as it would an
+# installed one: build/include holds a copy of src/layerfit.h and nothing
+# else, and src/ and fit/ are not on the command's include path.
+CLI_CFLAGS := $(filter-out -Isrc -Ifit,$(ALL_CFLAGS)) -I$(BUILD)/include
+$(BUILD)/include/layerfit.h: src/layerfit.h
+	@mkdir -p $(dir $@)
+	cp $< $@
+
+$(BUILD)/src/cli/%.o: src/cli/%.c $(BUILD)/include/layerfit.h $(wildcard src/cli/*.h)
+	@mkdir -p $(dir $@)
+	$(CC) $(CLI_CFLAGS) -c $< -o $@
 
 $(LIB): $(LIB_OBJ)
 	@rm -f $@

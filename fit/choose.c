@@ -91,9 +91,7 @@ typedef struct {
     double *d;              /* nres: the difference vector */
     double *coef;           /* np */
     double *se;             /* FIT_NMAT: sqrt(sum V^2/S^2) of w, E*, nu */
-    gsl_matrix *J, *V;
-    gsl_vector *S, *D;
-    size_t rank;
+    fit_decomp dec;         /* of the Jacobian at the origin */
     bias *thin, *half_b, *cur;  /* per curve */
     double *ab_lo, *ab_hi;      /* a/b range in contact */
 } chooser;
@@ -123,10 +121,7 @@ chooser_free(chooser *c)
     free(c->cur);
     free(c->ab_lo);
     free(c->ab_hi);
-    gsl_matrix_free(c->J);
-    gsl_matrix_free(c->V);
-    gsl_vector_free(c->S);
-    gsl_vector_free(c->D);
+    lf_fit_decomp_free(&c->dec);
 }
 
 static int
@@ -156,13 +151,9 @@ chooser_alloc(chooser *c, lf_fit *f, const lf_choose_settings *cs)
     c->cur = calloc(nc, sizeof *c->cur);
     c->ab_lo = calloc(nc, sizeof *c->ab_lo);
     c->ab_hi = calloc(nc, sizeof *c->ab_hi);
-    c->J = gsl_matrix_alloc(f->nres, f->np);
-    c->V = gsl_matrix_alloc(f->np, f->np);
-    c->S = gsl_vector_alloc(f->np);
-    c->D = gsl_vector_alloc(f->np);
     if (!c->rung || !c->fixed || !c->P_exact || !c->exact_ok || !c->ev || !c->d || !c->coef
         || !c->se || !c->thin || !c->half_b || !c->cur || !c->ab_lo || !c->ab_hi
-        || !c->J || !c->V || !c->S || !c->D)
+        || lf_fit_decomp_alloc(&c->dec, f->nres, f->np) != LF_OK)
         return LF_ENOMEM;
     return LF_OK;
 }
@@ -189,7 +180,7 @@ origin_at(lf_fit *f, const lf_fit_result *res)
         if (c->islope >= 0)
             c->slope = res->value[c->islope];
     }
-    fit_set_origin(f);
+    lf_fit_set_origin(f);
 }
 
 static int
@@ -202,55 +193,35 @@ set_model(lf_fit *f, size_t j, const lf_model_type *t, lf_error *err)
     lf_model_free(f->c[j].model);
     f->c[j].model = m;
     f->c[j].data.model = t;
-    f->xcache_ok = 0;
+    f->w.xcache_ok = 0;
     return LF_OK;
 }
 
-/* The weighted Jacobian at the origin, column-scaled and decomposed; the
- * standard errors of the material parameters in scaled units. */
+/* The shared decomposition (decomp.c) at the origin; the standard errors
+ * of the material parameters in scaled units. */
 static int
 decompose(chooser *c)
 {
     lf_fit *f = c->f;
-    gsl_vector *x = gsl_vector_alloc(f->np);
-    size_t k, l;
-    int i;
+    gsl_vector *x = f->w.x2;
+    size_t l;
+    int i, status;
 
-    if (x == NULL)
-        return LF_ENOMEM;
     gsl_vector_set_all(x, 1.0);
-    if (fit_jacobian_physical(f, x->data, c->J) != GSL_SUCCESS) {
-        gsl_vector_free(x);
-        return LF_ENUMERIC;
-    }
-    gsl_vector_free(x);
-    for (k = 0; k < f->np; k++) {
-        gsl_vector_view col = gsl_matrix_column(c->J, k);
-        double dn = gsl_blas_dnrm2(&col.vector);
-        gsl_vector_set(c->D, k, dn);
-        if (dn > 0)
-            gsl_vector_scale(&col.vector, 1.0 / dn);
-    }
-    if (gsl_linalg_SV_decomp_jacobi(c->J, c->V, c->S) != GSL_SUCCESS)
-        return LF_ENUMERIC;
-    c->rank = 0;
-    for (k = 0; k < f->np; k++)
-        if (gsl_vector_get(c->S, k) > f->set.rcond * gsl_vector_get(c->S, 0))
-            c->rank++;
+    status = lf_fit_decomp_run(&c->dec, f, x->data, f->set.rcond);
+    if (status != LF_OK)
+        return status;
     for (i = 0; i < FIT_NMAT; i++) {
         int p = f->imat[i];
-        double se = 0.0, nullw = 0.0;
+        double se = 0.0;
         c->se[i] = 0.0;
-        if (p < 0 || !(gsl_vector_get(c->D, (size_t) p) > 0))
+        if (p < 0 || !(gsl_vector_get(c->dec.D, (size_t) p) > 0))
             continue;
-        for (l = 0; l < f->np; l++) {
-            double v = gsl_matrix_get(c->V, (size_t) p, l);
-            if (l < c->rank)
-                se += v * v / (gsl_vector_get(c->S, l) * gsl_vector_get(c->S, l));
-            else
-                nullw += v * v;
+        for (l = 0; l < c->dec.rank; l++) {
+            double v = gsl_matrix_get(c->dec.V, (size_t) p, l);
+            se += v * v / (gsl_vector_get(c->dec.S, l) * gsl_vector_get(c->dec.S, l));
         }
-        if (nullw <= 0.01)   /* determined, as in uncertainty.c */
+        if (lf_fit_decomp_nullw(&c->dec, (size_t) p) <= 0.01)   /* determined, as in uncertainty.c */
             c->se[i] = sqrt(se);
     }
     return LF_OK;
@@ -261,23 +232,18 @@ static void
 project(chooser *c, bias *b)
 {
     lf_fit *f = c->f;
-    size_t l, i;
+    size_t l;
     int m;
 
-    for (l = 0; l < c->rank; l++) {
-        double s = 0.0;
-        for (i = 0; i < f->nres; i++)
-            s += gsl_matrix_get(c->J, i, l) * c->d[i];
-        c->coef[l] = s / gsl_vector_get(c->S, l);
-    }
+    lf_fit_decomp_project(&c->dec, c->d, c->coef);
     for (m = 0; m < FIT_NMAT; m++) {
         int p = f->imat[m];
         double s = 0.0;
         b->r[m] = 0.0;
         if (p < 0 || c->se[m] == 0.0)
             continue;
-        for (l = 0; l < c->rank; l++)
-            s += gsl_matrix_get(c->V, (size_t) p, l) * c->coef[l];
+        for (l = 0; l < c->dec.rank; l++)
+            s += gsl_matrix_get(c->dec.V, (size_t) p, l) * c->coef[l];
         b->r[m] = s / c->se[m];
     }
     b->ok = 1;
@@ -318,7 +284,7 @@ curve_bias(chooser *c, size_t j, int rung, bias *b)
         if ((m = instance(c, j, rung)) == NULL)
             return LF_OK;
         fc->model = m;
-        f->xcache_ok = 0;
+        f->w.xcache_ok = 0;
         c->base_ok = 0;
     }
     if (!c->base_ok || swapped)
@@ -326,13 +292,13 @@ curve_bias(chooser *c, size_t j, int rung, bias *b)
     if (status == LF_OK) {
         memset(c->d, 0, f->nres * sizeof *c->d);
         for (i = 0; i < fc->data.n; i++)
-            c->d[fc->row + i] = (c->P_exact[fc->row + i] - f->ev[fc->row + i].P) / fc->sigma;
+            c->d[fc->row + i] = (c->P_exact[fc->row + i] - f->w.ev[fc->row + i].P) / fc->sigma;
         project(c, b);
         c->base_ok = !swapped;
     }
     if (swapped) {
         fc->model = saved;
-        f->xcache_ok = 0;
+        f->w.xcache_ok = 0;
     }
     return status;
 }
@@ -364,7 +330,7 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
         c->ab_lo[j] = HUGE_VAL;
         c->ab_hi[j] = 0.0;
         for (i = 0; i < fc->data.n; i++) {
-            double a = f->ev[fc->row + i].a;
+            double a = f->w.ev[fc->row + i].a;
             if (a > 0) {
                 c->ab_lo[j] = fmin(c->ab_lo[j], a / b);
                 c->ab_hi[j] = fmax(c->ab_hi[j], a / b);
@@ -373,9 +339,9 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
         c->exact_ok[j] = 1;
         if (c->rung[j] == RUNG_EXACT) {
             for (i = 0; i < fc->data.n; i++)
-                c->P_exact[fc->row + i] = f->ev[fc->row + i].P;
+                c->P_exact[fc->row + i] = f->w.ev[fc->row + i].P;
         } else if (ex == NULL || lf_model_eval(ex, &f->mat, fc->data.branch, fc->data.n,
-                                                f->delta + fc->row, c->ev, NULL) != LF_OK) {
+                                                f->w.delta + fc->row, c->ev, NULL) != LF_OK) {
             c->exact_ok[j] = 0;   /* e.g. nu above the exact model's range */
         } else {
             for (i = 0; i < fc->data.n; i++)
@@ -580,7 +546,7 @@ lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *
             goto done;
         if (!changed)
             break;
-        fit_status = fit_solve(f, &next, err);
+        fit_status = lf_fit_solve(f, NULL, 1, &next, err);
         if (fit_status != LF_OK && fit_status != LF_ENOCONV) {
             status = fit_status;
             goto done;

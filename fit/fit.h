@@ -1,6 +1,14 @@
-/* fit.h: the fitter's internal header, shared by problem.c (parameter
- * mapping, residuals, Jacobian), guess.c (initial guess), driver.c (GSL)
- * and uncertainty.c (covariance and identifiability).  Not installed.
+/* fit.h: the fitter's internal header (not installed), one file per piece
+ * in the way of GSL's multifit_nlinear:
+ *   layout.c      settings, the problem's layout and workspace (alloc/free)
+ *   problem.c     parameter mapping, residuals, Jacobian
+ *   guess.c       the automatic start (a fit_start)
+ *   solve.c       the iteration and its stopping rules (lm.c: Levenberg-
+ *                 Marquardt on the normal matrix; GSL for the other methods)
+ *   edge_scan.c, second_start.c, reweight.c, loo.c   the policies
+ *   driver.c      one run: start, solve, policies, assessment
+ *   decomp.c      the decomposition shared by uncertainty.c and choose.c
+ *   uncertainty.c covariance and identifiability;  choose.c the model choice
  *
  * Three sets of coordinates:
  *  - physical ("rep", what reports and the covariance use):
@@ -20,6 +28,8 @@
 
 enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
 
+/* ---- every tolerance the solve and its policies stop on ---------------- */
+
 /* An iteration limit reached with the cost (half chi2, the residuals being
  * in units of the noise) fallen by less than FIT_FLAT_REL of itself or
  * FIT_FLAT_ABS over the last FIT_FLAT_ITERS iterations counts as
@@ -29,9 +39,48 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
 #define FIT_FLAT_ITERS 20
 #define FIT_FLAT_REL 1e-8
 #define FIT_FLAT_ABS 1e-3
+/* Converged when a Gauss-Newton step from the current point would lower
+ * chi2 (residuals in units of the noise) by less than FIT_CHI2_STEP: the
+ * estimates are then within sqrt(FIT_CHI2_STEP) standard errors of the
+ * minimum of the local quadratic, and further iterations only chase
+ * rounding.  GSL's own tests (the settings' xtol, gtol, ftol) stay in
+ * force for data so clean that this one cannot be met. */
+#define FIT_CHI2_STEP 1e-10
+#define FIT_INFO_CHI2 3     /* the stop reason's code for that test */
+/* A stop with no progress is a minimum when every scaled gradient
+ * component is below FIT_GRAD_ROUNDING |J_k| |r| (rounding level)... */
+#define FIT_GRAD_ROUNDING 1e-8
+/* ... or when no coordinate step of these sizes (internal units) lowers
+ * the cost by more than FIT_DESCENT_REL of itself. */
+#define FIT_DESCENT_STEPS { 1e-4, 1e-6, 1e-8 }
+#define FIT_DESCENT_REL 1e-12
+/* A Jacobian column below FIT_DEAD_COLUMN of the largest belongs to a
+ * parameter that no longer changes the fit (internal coordinates are all
+ * of order one). */
+#define FIT_DEAD_COLUMN 1e-12
+/* Contact-edge scan: at most FIT_MAX_SCANS rounds, each trying the edge
+ * between FIT_SCAN_HALF pairs of neighbouring points either side. */
+#define FIT_MAX_SCANS 4
+#define FIT_SCAN_HALF 8
+/* Robust reweighting: at most FIT_MAX_REWEIGHT rounds, until no weight's
+ * square root moves by more than FIT_REWEIGHT_TOL. */
+#define FIT_MAX_REWEIGHT 50
+#define FIT_REWEIGHT_TOL 1e-4
+/* A second start wins when converged like the first and its cost is lower
+ * by FIT_SECOND_WIN_REL; a converged run beats an unconverged one within
+ * FIT_SECOND_TIE_REL; an unconverged one needs FIT_SECOND_CLEAR_REL. */
+#define FIT_SECOND_WIN_REL 1e-9
+#define FIT_SECOND_TIE_REL 1e-6
+#define FIT_SECOND_CLEAR_REL 1e-4
+/* The guess's runner-up w is a second start when its cost is within
+ * FIT_ALT_COST_RATIO of the best's and it differs by more than
+ * FIT_ALT_LOG_SEP in ln w. */
+#define FIT_ALT_COST_RATIO 3.0
+#define FIT_ALT_LOG_SEP 0.1
 
 #define GUESS_GRID 40          /* uniform nodes of a profile search */
 #define GUESS_NODES (GUESS_GRID + 1)
+#define GUESS_NSUB 64          /* points of a curve's subsample in the guess */
 
 /* What the first stage of the guess learned from one curve alone. */
 typedef struct {
@@ -39,7 +88,8 @@ typedef struct {
     int sees_w;     /* 0 for k = 2 with free z0 and F0 and no baseline */
 } curve_guess;
 
-/* One curve inside the fit. */
+/* One curve inside the fit: its data and layout (fixed at alloc), then the
+ * offsets of the origin. */
 typedef struct {
     lf_fit_curve data;
     lf_model *model;
@@ -48,13 +98,68 @@ typedef struct {
     double eps;          /* derivative guard width at detachment, m */
     double sigma;        /* noise sd, N */
     int iz0, iF0, islope;   /* index in x, or -1 when held */
-    double z0, F0, slope;   /* held values or the guess (physical) */
+    double z0, F0, slope;   /* held values or the origin's (physical) */
     curve_guess guess;
 } fit_curve;
 
+/* Where a solve begins, as lf_fit_guess found it.  The origin of the fit is
+ * set at mat (with every curve's offsets profiled there). */
+typedef struct {
+    lf_material mat;       /* the start: the automatic guess, with the
+                              settings' guesses where given */
+    lf_material automatic; /* the automatic guess alone */
+    int user;              /* 1: a settings guess replaced part of it */
+    double alt_w;          /* the guess's runner-up w, a second start, or NaN */
+} fit_start;
+
+/* Levenberg-Marquardt's own state (lm.c), for the "lm" method with the
+ * analytic Jacobian. */
+#define FIT_LM_MU0 1e-3        /* initial damping over the largest scaled diagonal */
+#define FIT_LM_MAX_REJECT 15   /* rejected steps in a row that mean no progress */
+typedef struct {
+    gsl_vector *x, *r;      /* np, nres: the current point */
+    gsl_vector *xt, *rt;    /* np, nres: the trial point (the previous one
+                               after an accepted step) */
+    gsl_vector *h;          /* np: the step */
+    gsl_matrix *J;          /* nres x np at x */
+    double *A, *L;          /* np x np: J^T J and a Cholesky factor */
+    double *g, *D2;         /* np: J^T r, squared scaling */
+    double cost, mu, nu, last_step;
+    size_t niter, nevalf, nevaldf;
+} fit_lm;
+
+/* Scratch, sized once at alloc: nothing allocates inside a run. */
+typedef struct {
+    lf_eval *ev;         /* ndata: model at the last residual evaluation */
+    lf_eval *scan_ev;    /* ndata: scratch of the contact-point scan */
+    double *sqrtw;       /* ndata: square roots of the robust loss's point
+                            weights (1 for least squares) */
+    double *delta;       /* ndata: indentations */
+    double *xcache;      /* np: the x of ev[]; xcache_ok when valid */
+    int xcache_ok;
+    double *work;        /* max(ndata, 2 GUESS_NSUB): scratch */
+    double *sub;         /* 3 GUESS_NSUB + GUESS_NODES: subsample, nodes */
+    gsl_vector *x, *r;   /* np, nres: a solution and its residuals */
+    gsl_vector *x2, *r2; /* np, nres: a trial point and its residuals */
+    gsl_vector *x0;      /* np: where an iteration started */
+    double *keep;        /* 3 ncurves: offsets kept aside */
+    double *jtj;         /* np x np: J^T J and its Cholesky factor */
+    double *grad, *colmax;  /* np: J^T r and column maxima */
+    double cost_hist[FIT_FLAT_ITERS + 1]; /* cost after each iteration, cyclic */
+    fit_lm lm;
+    int own;             /* 1: lm.c holds the solver's state, 0: GSL */
+} fit_work;
+
+/* A run's running totals and its verdict. */
+typedef struct {
+    size_t iters, evals;
+    int converged;
+    char why[160];
+} fit_run;
+
 struct lf_fit {
-    lf_fit_settings set;
-    const gsl_multifit_nlinear_trs *trs;
+    lf_fit_settings set;    /* copied at alloc, never changed */
+    /* the problem's layout, fixed at alloc */
     size_t ncurves;
     fit_curve *c;
     size_t ndata;        /* data rows */
@@ -64,64 +169,119 @@ struct lf_fit {
     int nu_prior;        /* 1 when a prior row is present */
     int nu_determinable; /* the plan alone determines nu */
     int any_bonded, any_frictionless;
-    lf_material mat;     /* held values, then the guess, then the fit */
-    lf_material auto_mat; /* the automatic guess */
-    int user_start;      /* 1 when the settings' guess replaced some of it */
-    double alt_w;        /* the guess's runner-up w, a second start, or NaN */
-    int no_loo;          /* 1: a leave-one-out refit, which makes none itself */
-    double cost_hist[FIT_FLAT_ITERS + 1]; /* cost after each iteration, cyclic */
-    double *x0_internal; /* np: internal coordinates at the guess */
-    lf_eval *ev;         /* ndata: model at the last residual evaluation */
-    lf_eval *scan_ev;    /* ndata: scratch of the contact-point scan */
-    double *sqrtw;       /* ndata: square roots of the robust loss's point
-                            weights (1 for least squares) */
-    double *delta;       /* ndata: indentations */
-    double *xcache;      /* np: the x of ev[]; xcache_ok when valid */
-    int xcache_ok;
-    double *work;        /* max(ndata, 2 nsub_max): scratch */
     size_t *order;       /* ndata: each curve's points by depth (ties in
                             file order), indices within the curve */
-    size_t nsub_max;     /* scratch size of the guess's subsample */
-    double *sub;         /* 3 nsub_max + GUESS_NODES: subsample, nodes */
-    gsl_multifit_nlinear_workspace *gsl;
+    /* the origin: x = 1 stands for mat and each curve's z0, F0, slope */
+    lf_material mat;
+    double *x0_internal; /* np: internal coordinates at the origin */
+    fit_work w;
+    /* the solver */
+    const gsl_multifit_nlinear_trs *trs;
+    gsl_multifit_nlinear_parameters gsl_par;
+    gsl_multifit_nlinear_workspace *gsl;   /* NULL until lf_fit_gsl */
     gsl_multifit_nlinear_fdf fdf;
-    size_t nfev;         /* residual evaluations of the current run */
 };
 
-/* problem.c */
-int fit_problem_setup(lf_fit *f, lf_error *err);
-/* Map x to the material and per-curve offsets. */
-void fit_unpack(const lf_fit *f, const double *x, lf_material *mat,
-                double *z0, double *F0, double *slope, size_t j);
-/* Put the guess (f->mat, f->c[j].z0/F0/slope) into internal coordinates. */
-void fit_set_origin(lf_fit *f);
-int fit_residuals(const gsl_vector *x, void *params, gsl_vector *r);
-int fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J);
-/* Jacobian with respect to the physical coordinates, rows weighted. */
-int fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J);
-double fit_nu_of_u(double u);
-double fit_u_of_nu(double nu);
-double fit_dnu_du(double u);
+/* layout.c: GSL's workspace, made on first use (the "lm" method with the
+ * analytic Jacobian may never need it); LF_ENOMEM when it cannot be. */
+int lf_fit_gsl(lf_fit *f);
 
-/* guess.c */
-int fit_guess(lf_fit *f, lf_error *err);
+/* problem.c: the parameter mapping, residuals and Jacobian */
+int lf_fit_problem_setup(lf_fit *f, lf_error *err);
+/* Map x to the material and per-curve offsets. */
+void lf_fit_unpack(const lf_fit *f, const double *x, lf_material *mat,
+                double *z0, double *F0, double *slope, size_t j);
+/* Put the origin (f->mat, f->c[j].z0/F0/slope) into internal coordinates. */
+void lf_fit_set_origin(lf_fit *f);
+/* Make the point x the origin: material and offsets into f, x = 1. */
+void lf_fit_rebase(lf_fit *f, gsl_vector *x);
+int lf_fit_residuals(const gsl_vector *x, void *params, gsl_vector *r);
+int lf_fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J);
+/* Jacobian with respect to the physical coordinates, rows weighted. */
+int lf_fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J);
+/* Half the sum of squared residuals at x (into r); HUGE_VAL if not computable. */
+double lf_fit_cost(lf_fit *f, const gsl_vector *x, gsl_vector *r);
+double lf_fit_nu_of_u(double u);
+double lf_fit_u_of_nu(double nu);
+double lf_fit_dnu_du(double u);
+
+/* guess.c: the automatic start.  Fills *start and sets the origin there. */
+int lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err);
 /* Profile every curve's offsets at f->mat and make that the origin. */
-void fit_guess_offsets(lf_fit *f);
+void lf_fit_guess_offsets(lf_fit *f);
 /* Noise sd of a curve from how far each point's force lies from the line
  * through its neighbours in depth (order: indices by depth). */
-double fit_noise_sigma(const double *depth, const double *force, const size_t *order,
+double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,
                        size_t n, double *work);
 
-/* driver.c: the least-squares solve from the origin set by fit_guess or
- * fit_set_origin, then fit_assess; fills res as lf_fit_run does. */
-int fit_solve(lf_fit *f, lf_fit_result *res, lf_error *err);
+/* solve.c: the trust-region iteration from x (overwritten with where it
+ * stopped) and its stopping rules; adds to run's totals and sets its
+ * verdict.  after_scan: x is a converged solution moved by a policy (the
+ * contact-edge scan, a reweighting), which sits at a kink of the cost. */
+int lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error *err);
+
+/* lm.c: init at x (residuals, Jacobian, scaling, damping); one accepted
+ * step (GSL_SUCCESS) or GSL_ENOPROG; GSL's step and gradient tests on the
+ * step just taken. */
+int lf_fit_lm_init(lf_fit *f, const gsl_vector *x);
+int lf_fit_lm_iterate(lf_fit *f);
+int lf_fit_lm_test(const lf_fit *f, double xtol, double gtol, int *info);
+
+/* Policies, each run only when the data call for it. */
+/* edge_scan.c: solve from the origin (x = 1), then move each free contact
+ * point across neighbouring data points and solve again while that lowers
+ * the cost. */
+int lf_fit_solve_scanned(lf_fit *f, gsl_vector *x, int from_origin, fit_run *run, lf_error *err);
+/* second_start.c: solve again from material `from` (offsets profiled) and
+ * keep the lower-cost of that and the solution at x; *ratio > 1 when the
+ * new start won (the loser's cost over the winner's), else 1. */
+int lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *run,
+                     double *ratio, lf_error *err);
+/* reweight.c: a robust loss by iteratively reweighted least squares from
+ * the solution at x. */
+int lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_error *err);
+/* loo.c: when every one of three or more curves disagrees with the joint
+ * fit, refit without each in turn and name the culprit in res's warnings. */
+void lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res);
+
+/* driver.c: the solve from the origin (with start: the automatic guess's
+ * start and second starts; NULL: a warm start from the current origin),
+ * the policies, then lf_fit_assess; fills res as lf_fit_run does.
+ * with_loo: 0 for a leave-one-out refit itself. */
+int lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res,
+              lf_error *err);
+
+/* decomp.c: the one decomposition of the column-scaled physical Jacobian
+ * that the uncertainty and the model choice share:
+ *     J D^-1 = Q R,  R = U S V^T,
+ * D the column norms; rank counts singular values above rcond S_0. */
+typedef struct {
+    size_t n, p, rank;
+    gsl_matrix *QR;      /* n x p: Householder QR of J D^-1 */
+    gsl_vector *tau;     /* p */
+    gsl_matrix *U, *V;   /* p x p */
+    gsl_vector *S, *D;   /* p */
+    gsl_vector *work;    /* p */
+    gsl_vector *qtd;     /* n: scratch of lf_fit_decomp_project */
+} fit_decomp;
+
+int lf_fit_decomp_alloc(fit_decomp *d, size_t n, size_t p);
+void lf_fit_decomp_free(fit_decomp *d);
+/* Decompose the physical Jacobian of f at x. */
+int lf_fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond);
+/* Weight of parameter k in the undetermined directions (1 for a column of
+ * zeros). */
+double lf_fit_decomp_nullw(const fit_decomp *d, size_t k);
+/* coef[l] = (U_l . v) / S_l for l < rank, U the left singular vectors of
+ * J D^-1 (v of length n). */
+void lf_fit_decomp_project(fit_decomp *d, const double *v, double *coef);
 
 /* uncertainty.c */
 /* Wald-Wolfowitz runs test of the signs of curve j's residuals in order of
  * depth: about N(0, 1) when the model fits; below FIT_RUNS_Z_BAD, the
  * curve's shape is not the model's. */
 #define FIT_RUNS_Z_BAD (-4.0)
-double fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res);
-int fit_assess(lf_fit *f, const double *x, lf_fit_result *res, lf_error *err);
+double lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res);
+int lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *res, lf_error *err);
 
 #endif

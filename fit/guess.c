@@ -26,15 +26,59 @@
 
 #include "fit.h"
 
-#define GUESS_GOLDEN 20
+#define GUESS_GOLDEN 10
 
 /* ---- noise ------------------------------------------------------------ */
 
-static int
-cmp_double(const void *a, const void *b)
+/* The k-th smallest of v[0..n-1] (v reordered), by quickselect. */
+static double
+select_kth(double *v, size_t n, size_t k)
 {
-    double x = *(const double *) a, y = *(const double *) b;
-    return (x > y) - (x < y);
+    size_t lo = 0, hi = n - 1;
+
+    while (hi > lo) {
+        double pivot = v[lo + (hi - lo) / 2];
+        size_t i = lo, j = hi;
+        while (i <= j) {
+            while (v[i] < pivot)
+                i++;
+            while (v[j] > pivot)
+                j--;
+            if (i <= j) {
+                double t = v[i];
+                v[i] = v[j];
+                v[j] = t;
+                i++;
+                if (j == 0)
+                    break;
+                j--;
+            }
+        }
+        if (k <= j)
+            hi = j;
+        else if (k >= i)
+            lo = i;
+        else
+            return v[k];
+    }
+    return v[k];
+}
+
+/* The median of v[0..n-1], n > 0 (v reordered): the same number a sort
+ * would give, in linear time. */
+static double
+median(double *v, size_t n)
+{
+    double upper = select_kth(v, n, n / 2), lower;
+    size_t i;
+
+    if (n % 2)
+        return upper;
+    /* after the selection every v[i], i < n/2, is <= upper */
+    lower = v[0];
+    for (i = 1; i < n / 2; i++)
+        lower = fmax(lower, v[i]);
+    return 0.5 * (lower + upper);
 }
 
 /* Noise sd from the points' departures from the line through their two
@@ -47,7 +91,7 @@ cmp_double(const void *a, const void *b)
  * depth makes it independent of the order of the rows and right for
  * repeated depths.  work holds n. */
 double
-fit_noise_sigma(const double *depth, const double *force, const size_t *order, size_t n,
+lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order, size_t n,
                 double *work)
 {
     size_t i, m = 0;
@@ -65,8 +109,7 @@ fit_noise_sigma(const double *depth, const double *force, const size_t *order, s
     }
     if (m == 0)
         return fbig > 0 ? fbig : 1.0;
-    qsort(work, m, sizeof *work, cmp_double);
-    med = m % 2 ? work[m / 2] : 0.5 * (work[m / 2 - 1] + work[m / 2]);
+    med = median(work, m);
     med /= 0.6745;
     /* noise-free data: keep the weight finite */
     return fmax(med, fbig > 0 ? 1e-12 * fbig : 1e-300);
@@ -287,21 +330,19 @@ make_nodes(const profile *p, double lo, double hi, size_t n, int with_data,
 
     for (i = 0; i < n; i++)
         node[m++] = lo + (hi - lo) * (double) i / (double) n;
-    if (with_data) {
-        size_t start = m;
+    if (with_data) {            /* the subsample is in order of depth already */
         for (i = 0; i < p->n; i++)
             if (p->z[i] >= hi)
                 node[m++] = p->z[i];
-        qsort(node + start, m - start, sizeof *node, cmp_double);
     } else {
         node[m++] = hi;
     }
     return m;
 }
 
-/* The per-curve profile set up on a subsample of at most f->nsub_max
+/* The per-curve profile set up on a subsample of at most GUESS_NSUB
  * points of curve j, taken in order of depth (so the order of the rows
- * does not matter): nsub_max/4 points spread over the shallowest eighth
+ * does not matter): GUESS_NSUB/4 points spread over the shallowest eighth
  * of the points (where contact ends and the baseline starts, which a
  * sparse sample would miss) and evenly spaced points among the rest. */
 static void
@@ -309,12 +350,12 @@ profile_init(lf_fit *f, size_t j, profile *p)
 {
     const fit_curve *c = &f->c[j];
     const double k = c->data.probe.k, R = c->data.probe.R;
-    const size_t n = c->data.n, nshallow = f->nsub_max / 4;
+    const size_t n = c->data.n, nshallow = GUESS_NSUB / 4;
     const size_t *ord = f->order + c->row;     /* by depth */
     size_t i, m = 0;
-    double *z = f->sub, *F = f->sub + f->nsub_max;
+    double *z = f->w.sub, *F = f->w.sub + GUESS_NSUB;
 
-    if (n <= f->nsub_max) {            /* a small curve: every point */
+    if (n <= GUESS_NSUB) {            /* a small curve: every point */
         for (i = 0; i < n; i++) {
             z[i] = c->data.depth[ord[i]];
             F[i] = c->data.force[ord[i]];
@@ -324,7 +365,7 @@ profile_init(lf_fit *f, size_t j, profile *p)
         /* nshallow evenly among the shallowest eighth (at least nshallow
          * points), then evenly in depth order among the rest */
         size_t low = n / 8 > nshallow ? n / 8 : nshallow;
-        size_t rest = n - low, want = f->nsub_max - nshallow;
+        size_t rest = n - low, want = GUESS_NSUB - nshallow;
         for (i = 0; i < nshallow; i++) {
             size_t q = (i * (low - 1)) / (nshallow - 1);
             z[m] = c->data.depth[ord[q]];
@@ -340,7 +381,7 @@ profile_init(lf_fit *f, size_t j, profile *p)
     p->z = z;
     p->F = F;
     p->n = m;
-    p->phi = f->work;
+    p->phi = f->w.work;
     p->k = k;
     p->K = M_PI / c->data.probe.b * pow(k, (k + 2.0) / k) / (k + 2.0)
            * pow(R, 2.0 * (k - 1.0) / k);
@@ -369,7 +410,7 @@ guess_curve(lf_fit *f, size_t j, curve_guess *g)
     double zmin, zmax, span, rss;
     profile p;
     size_t i, nbase = 0, nn;
-    double *node = f->sub + 2 * f->nsub_max;
+    double *node = f->w.sub + 2 * GUESS_NSUB;
 
     depth_range(c, &zmin, &zmax);
     span = zmax - zmin;
@@ -426,7 +467,7 @@ offsets_at(lf_fit *f, int store)
     for (j = 0; j < f->ncurves; j++) {
         fit_curve *c = &f->c[j];
         double zmin, zmax, span, rss, M = lf_thin_Z(c->data.probe.base, m->nu) * m->Estar;
-        double *node = f->sub + 2 * f->nsub_max;
+        double *node = f->w.sub + 2 * GUESS_NSUB;
         size_t nn;
         profile p;
 
@@ -462,12 +503,13 @@ offsets_at(lf_fit *f, int store)
 }
 
 int
-fit_guess(lf_fit *f, lf_error *err)
+lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
 {
     size_t j, nf = 0, nb = 0, nw = 0;
     double lnMf = 0, lnMb = 0, lnw = 0, wfloor = HUGE_VAL;
     lf_material *m = &f->mat;
 
+    start->alt_w = NAN;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
         double w_j;
@@ -518,13 +560,13 @@ fit_guess(lf_fit *f, lf_error *err)
             m->w = wc;
             cost = offsets_at(f, 0);
             if (cost < best || (cost == best && wc < wbest)) {
-                if (!(fabs(log(wc / wbest)) < 0.1)) {
+                if (!(fabs(log(wc / wbest)) < FIT_ALT_LOG_SEP)) {
                     second = best;
                     wsecond = wbest;
                 }
                 best = cost;
                 wbest = wc;
-            } else if (cost < second && !(fabs(log(wc / wbest)) < 0.1)) {
+            } else if (cost < second && !(fabs(log(wc / wbest)) < FIT_ALT_LOG_SEP)) {
                 second = cost;
                 wsecond = wc;
             }
@@ -534,32 +576,32 @@ fit_guess(lf_fit *f, lf_error *err)
          * contact point is free: its kinks make the other basins */
         for (i = 0, any_z0 = 0; i < f->ncurves; i++)
             any_z0 |= f->c[i].iz0 >= 0;
-        f->alt_w = any_z0 && second <= 3.0 * best && isfinite(wsecond) ? wsecond : NAN;
+        start->alt_w = any_z0 && second <= FIT_ALT_COST_RATIO * best && isfinite(wsecond)
+                       ? wsecond : NAN;
     }
     /* the user's starting point, where given, replaces the automatic one */
-    if (f->imat[FIT_W] < 0)
-        f->alt_w = NAN;
-    f->auto_mat = *m;
-    f->user_start = 0;
+    start->automatic = *m;
+    start->user = 0;
     if (f->imat[FIT_W] >= 0 && !isnan(f->set.w.guess)) {
         m->w = f->set.w.guess;
-        f->user_start = 1;
+        start->user = 1;
     }
     if (f->imat[FIT_E] >= 0 && !isnan(f->set.Estar.guess)) {
         m->Estar = f->set.Estar.guess;
-        f->user_start = 1;
+        start->user = 1;
     }
     if (f->imat[FIT_NU] >= 0 && !isnan(f->set.nu.guess)) {
         m->nu = f->set.nu.guess;
-        f->user_start = 1;
+        start->user = 1;
     }
-    fit_guess_offsets(f);
+    start->mat = *m;
+    lf_fit_guess_offsets(f);
     return LF_OK;
 }
 
 void
-fit_guess_offsets(lf_fit *f)
+lf_fit_guess_offsets(lf_fit *f)
 {
     offsets_at(f, 1);
-    fit_set_origin(f);
+    lf_fit_set_origin(f);
 }

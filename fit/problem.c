@@ -10,22 +10,24 @@
 #include <math.h>
 #include <string.h>
 
+#include <gsl/gsl_blas.h>
+
 #include "fit.h"
 
 double
-fit_nu_of_u(double u)
+lf_fit_nu_of_u(double u)
 {
     return 0.25 * (1.0 + tanh(u));
 }
 
 double
-fit_u_of_nu(double nu)
+lf_fit_u_of_nu(double nu)
 {
     return atanh(4.0 * nu - 1.0);
 }
 
 double
-fit_dnu_du(double u)
+lf_fit_dnu_du(double u)
 {
     double t = tanh(u);
     return 0.25 * (1.0 - t * t);
@@ -46,7 +48,7 @@ exp_clamped(double v)
 }
 
 void
-fit_unpack(const lf_fit *f, const double *x, lf_material *mat, double *z0,
+lf_fit_unpack(const lf_fit *f, const double *x, lf_material *mat, double *z0,
            double *F0, double *slope, size_t j)
 {
     const fit_curve *c;
@@ -57,7 +59,7 @@ fit_unpack(const lf_fit *f, const double *x, lf_material *mat, double *z0,
     if (f->imat[FIT_E] >= 0)
         mat->Estar = exp_clamped(internal(f, x, f->imat[FIT_E]));
     if (f->imat[FIT_NU] >= 0)
-        mat->nu = fit_nu_of_u(internal(f, x, f->imat[FIT_NU]));
+        mat->nu = lf_fit_nu_of_u(internal(f, x, f->imat[FIT_NU]));
     if (j >= f->ncurves)
         return;
     c = &f->c[j];
@@ -67,7 +69,7 @@ fit_unpack(const lf_fit *f, const double *x, lf_material *mat, double *z0,
 }
 
 void
-fit_set_origin(lf_fit *f)
+lf_fit_set_origin(lf_fit *f)
 {
     size_t j;
 
@@ -76,7 +78,7 @@ fit_set_origin(lf_fit *f)
     if (f->imat[FIT_E] >= 0)
         f->x0_internal[f->imat[FIT_E]] = log(f->mat.Estar);
     if (f->imat[FIT_NU] >= 0)
-        f->x0_internal[f->imat[FIT_NU]] = fit_u_of_nu(f->mat.nu);
+        f->x0_internal[f->imat[FIT_NU]] = lf_fit_u_of_nu(f->mat.nu);
     for (j = 0; j < f->ncurves; j++) {
         fit_curve *c = &f->c[j];
         if (c->iz0 >= 0)
@@ -86,11 +88,11 @@ fit_set_origin(lf_fit *f)
         if (c->islope >= 0)
             f->x0_internal[c->islope] = c->slope * c->L / c->Fs;
     }
-    f->xcache_ok = 0;
+    f->w.xcache_ok = 0;
 }
 
 int
-fit_problem_setup(lf_fit *f, lf_error *err)
+lf_fit_problem_setup(lf_fit *f, lf_error *err)
 {
     const lf_fit_settings *s = &f->set;
     size_t j, row = 0;
@@ -164,25 +166,25 @@ eval_all(lf_fit *f, const double *x)
     lf_material mat;
     double z0, F0, slope;
 
-    if (f->xcache_ok && memcmp(x, f->xcache, f->np * sizeof *x) == 0)
+    if (f->w.xcache_ok && memcmp(x, f->w.xcache, f->np * sizeof *x) == 0)
         return LF_OK;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
-        double *delta = f->delta + c->row;
-        fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+        double *delta = f->w.delta + c->row;
+        lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         for (i = 0; i < c->data.n; i++)
             delta[i] = c->data.depth[i] - z0;
         if (lf_model_eval(c->model, &mat, c->data.branch, c->data.n, delta,
-                          f->ev + c->row, NULL) != LF_OK)
+                          f->w.ev + c->row, NULL) != LF_OK)
             return LF_ENUMERIC;
     }
-    memcpy(f->xcache, x, f->np * sizeof *x);
-    f->xcache_ok = 1;
+    memcpy(f->w.xcache, x, f->np * sizeof *x);
+    f->w.xcache_ok = 1;
     return LF_OK;
 }
 
 int
-fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
+lf_fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
 {
     lf_fit *f = params;
     const double *x = xv->data;
@@ -190,23 +192,22 @@ fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
     lf_material mat;
     double z0, F0, slope;
 
-    f->nfev++;
     if (eval_all(f, x) != LF_OK)
         return GSL_EDOM;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
-        fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+        lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         for (i = 0; i < c->data.n; i++) {
             size_t k = c->row + i;
-            double v = (f->ev[k].P + F0 + slope * f->delta[k] - c->data.force[i]) / c->sigma
-                       * f->sqrtw[k];
+            double v = (f->w.ev[k].P + F0 + slope * f->w.delta[k] - c->data.force[i]) / c->sigma
+                       * f->w.sqrtw[k];
             if (!isfinite(v))
                 return GSL_EDOM;
-            gsl_vector_set(r, k, v);
+            r->data[k * r->stride] = v;
         }
     }
     if (f->nu_prior) {
-        fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
+        lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
         gsl_vector_set(r, f->ndata, (mat.nu - f->set.nu.value) / f->set.nu.prior_sd);
     }
     return GSL_SUCCESS;
@@ -219,27 +220,21 @@ static lf_eval
 guarded(const lf_fit *f, const fit_curve *c, const lf_material *mat,
         double delta_detach, size_t k)
 {
-    lf_eval e = f->ev[k];
-    double d = f->delta[k];
+    lf_eval e = f->w.ev[k];
+    double d = f->w.delta[k];
 
     if (c->data.branch == LF_BRANCH_UNLOAD && d > delta_detach
         && d < delta_detach + c->eps) {
         double d2 = delta_detach + c->eps;
         if (lf_model_eval(c->model, mat, c->data.branch, 1, &d2, &e, NULL) != LF_OK)
-            e = f->ev[k];
+            e = f->w.ev[k];
     }
     return e;
 }
 
-static void
-put(gsl_matrix *J, size_t row, int col, double v)
-{
-    if (col >= 0)
-        gsl_matrix_set(J, row, (size_t) col, v);
-}
-
-/* Fill J, rows weighted by 1/sigma.  physical = 0: derivatives with respect
- * to the internal coordinates (= x); 1: with respect to w, E*, nu, z0, F0, s. */
+/* Fill J, rows weighted by 1/sigma, each row written in place (J's data,
+ * row by row).  physical = 0: derivatives with respect to the internal
+ * coordinates (= x); 1: with respect to w, E*, nu, z0, F0, s. */
 static int
 fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
 {
@@ -247,18 +242,18 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
     lf_material mat;
     double z0, F0, slope, u = 0.0;
     double sw, sE, snu;
+    const int iw = f->imat[FIT_W], iE = f->imat[FIT_E], inu = f->imat[FIT_NU];
 
     if (eval_all(f, x) != LF_OK)
         return GSL_EDOM;
-    gsl_matrix_set_zero(J);
-    fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
-    if (f->imat[FIT_NU] >= 0)
-        u = internal(f, x, f->imat[FIT_NU]);
+    lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
+    if (inu >= 0)
+        u = internal(f, x, inu);
     /* d(internal)/d(physical) is 1/w, 1/E*, du/dnu; the model gives
      * dP/dln w, dP/dln E*, dP/dnu. */
     sw = physical ? 1.0 / mat.w : 1.0;
     sE = physical ? 1.0 / mat.Estar : 1.0;
-    snu = physical ? 1.0 : fit_dnu_du(u);
+    snu = physical ? 1.0 : lf_fit_dnu_du(u);
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
         double sz = physical ? 1.0 : c->L, sF = physical ? 1.0 : c->Fs;
@@ -266,35 +261,75 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
         double ddet = -HUGE_VAL;
         lf_pulloff po;
 
-        fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+        lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         if (c->data.branch == LF_BRANCH_UNLOAD
             && lf_model_pulloff(c->model, &mat, &po, NULL) == LF_OK)
             ddet = po.delta_detach;
         for (i = 0; i < c->data.n; i++) {
             size_t k = c->row + i;
+            double *row = J->data + k * J->tda;
             lf_eval e = guarded(f, c, &mat, ddet, k);
-            double ws = f->sqrtw[k] / c->sigma;
-            put(J, k, f->imat[FIT_W], e.dP_dlogw * sw * ws);
-            put(J, k, f->imat[FIT_E], e.dP_dlogE * sE * ws);
-            put(J, k, f->imat[FIT_NU], e.dP_dnu * snu * ws);
-            put(J, k, c->iz0, -(e.dP_ddelta + slope) * sz * ws);
-            put(J, k, c->iF0, sF * ws);
-            put(J, k, c->islope, f->delta[k] * ss * ws);
+            double ws = f->w.sqrtw[k] / c->sigma;
+            memset(row, 0, f->np * sizeof *row);
+            if (iw >= 0)
+                row[iw] = e.dP_dlogw * sw * ws;
+            if (iE >= 0)
+                row[iE] = e.dP_dlogE * sE * ws;
+            if (inu >= 0)
+                row[inu] = e.dP_dnu * snu * ws;
+            if (c->iz0 >= 0)
+                row[c->iz0] = -(e.dP_ddelta + slope) * sz * ws;
+            if (c->iF0 >= 0)
+                row[c->iF0] = sF * ws;
+            if (c->islope >= 0)
+                row[c->islope] = f->w.delta[k] * ss * ws;
         }
     }
-    if (f->nu_prior)
-        put(J, f->ndata, f->imat[FIT_NU], snu / f->set.nu.prior_sd);
+    if (f->nu_prior) {
+        double *row = J->data + f->ndata * J->tda;
+        memset(row, 0, f->np * sizeof *row);
+        row[inu] = snu / f->set.nu.prior_sd;
+    }
     return GSL_SUCCESS;
 }
 
 int
-fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J)
+lf_fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J)
 {
     return fill_jacobian(params, x->data, J, 0);
 }
 
 int
-fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J)
+lf_fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J)
 {
     return fill_jacobian(f, x, J, 1);
+}
+
+double
+lf_fit_cost(lf_fit *f, const gsl_vector *x, gsl_vector *r)
+{
+    double n;
+    if (lf_fit_residuals(x, f, r) != GSL_SUCCESS)
+        return HUGE_VAL;
+    n = gsl_blas_dnrm2(r);
+    return 0.5 * n * n;
+}
+
+void
+lf_fit_rebase(lf_fit *f, gsl_vector *x)
+{
+    lf_material mat;
+    double z0, F0, slope;
+    size_t j;
+
+    for (j = 0; j < f->ncurves; j++) {
+        lf_fit_unpack(f, x->data, &mat, &z0, &F0, &slope, j);
+        f->c[j].z0 = z0;
+        f->c[j].F0 = F0;
+        f->c[j].slope = slope;
+    }
+    lf_fit_unpack(f, x->data, &mat, &z0, &F0, &slope, f->ncurves);
+    f->mat = mat;
+    lf_fit_set_origin(f);
+    gsl_vector_set_all(x, 1.0);
 }

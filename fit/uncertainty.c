@@ -3,7 +3,8 @@
  *
  * J is the weighted Jacobian with respect to the physical parameters (w,
  * E*, nu, then z0, F0, s of each curve).  Its columns are scaled to unit
- * norm, Js = J D^-1, and decomposed, Js = U S V^T (one-sided Jacobi SVD).
+ * norm, Js = J D^-1, and decomposed, Js = U S V^T (decomp.c, shared with
+ * the model choice).
  * Rule: a singular value below rcond * S_max (settings, default 1e-7)
  * marks a direction the data do not determine; a parameter whose squared
  * components along those directions sum to more than 0.01 is "not
@@ -138,77 +139,37 @@ name_parameters(const lf_fit *f, lf_fit_result *r)
     }
 }
 
-/* SVD of the column-scaled Jacobian; fills the covariance, singular values
- * and nullw[k], the weight of parameter k in the undetermined directions. */
+/* The shared decomposition (decomp.c) at x: the covariance, singular
+ * values and nullw[k], the weight of parameter k in the undetermined
+ * directions. */
 static int
 decompose(lf_fit *f, const double *x, lf_fit_result *r, double *nullw)
 {
-    size_t n = f->nres, p = f->np, i, k, l, rank = 0;
-    gsl_matrix *J = gsl_matrix_alloc(n, p), *V = gsl_matrix_alloc(p, p);
-    gsl_vector *S = gsl_vector_alloc(p), *D = gsl_vector_alloc(p), *D2 = gsl_vector_alloc(p);
-    gsl_matrix *Rsq = gsl_matrix_alloc(p, p);
-    int status = LF_OK;
+    size_t p = f->np, i, k, l;
+    fit_decomp d;
     double s2 = r->chi2 / (double) r->dof;
+    int status;
 
-    if (!J || !V || !S || !D || !D2 || !Rsq) {
-        status = LF_ENOMEM;
+    if (lf_fit_decomp_alloc(&d, f->nres, p) != LF_OK)
+        return LF_ENOMEM;
+    status = lf_fit_decomp_run(&d, f, x, f->set.rcond);
+    if (status != LF_OK)
         goto done;
-    }
-    if (fit_jacobian_physical(f, x, J) != GSL_SUCCESS) {
-        status = LF_ENUMERIC;
-        goto done;
-    }
     for (k = 0; k < p; k++) {
-        gsl_vector_view col = gsl_matrix_column(J, k);
-        double d = gsl_blas_dnrm2(&col.vector);
-        gsl_vector_set(D, k, d);
-        if (d > 0)
-            gsl_vector_scale(&col.vector, 1.0 / d);
-    }
-    /* J = Q R first: the SVD of the small R has J's singular values and
-     * right vectors, at a fraction of the cost of a one-sided Jacobi SVD
-     * of the tall J */
-    if (n >= p) {
-        gsl_vector_view tau = gsl_vector_subvector(D2, 0, p);
-        if (gsl_linalg_QR_decomp(J, &tau.vector) != GSL_SUCCESS) {
-            status = LF_ENUMERIC;
-            goto done;
-        }
-        gsl_matrix_set_zero(Rsq);
-        for (i = 0; i < p; i++)
-            for (k = i; k < p; k++)
-                gsl_matrix_set(Rsq, i, k, gsl_matrix_get(J, i, k));
-    }
-    if (gsl_linalg_SV_decomp_jacobi(n >= p ? Rsq : J, V, S) != GSL_SUCCESS) {
-        status = LF_ENUMERIC;
-        goto done;
-    }
-    for (k = 0; k < p; k++) {
-        r->singular[k] = gsl_vector_get(S, k) / gsl_vector_get(S, 0);
-        if (r->singular[k] > f->set.rcond)
-            rank++;
-    }
-    for (k = 0; k < p; k++) {
-        nullw[k] = gsl_vector_get(D, k) > 0 ? 0.0 : 1.0;
-        for (l = rank; l < p; l++)
-            nullw[k] += gsl_matrix_get(V, k, l) * gsl_matrix_get(V, k, l);
+        r->singular[k] = gsl_vector_get(d.S, k) / gsl_vector_get(d.S, 0);
+        nullw[k] = lf_fit_decomp_nullw(&d, k);
     }
     for (i = 0; i < p; i++)
         for (k = 0; k < p; k++) {
-            double c = 0.0, di = gsl_vector_get(D, i), dk = gsl_vector_get(D, k);
-            for (l = 0; l < rank; l++) {
-                double sl = gsl_vector_get(S, l);
-                c += gsl_matrix_get(V, i, l) * gsl_matrix_get(V, k, l) / (sl * sl);
+            double c = 0.0, di = gsl_vector_get(d.D, i), dk = gsl_vector_get(d.D, k);
+            for (l = 0; l < d.rank; l++) {
+                double sl = gsl_vector_get(d.S, l);
+                c += gsl_matrix_get(d.V, i, l) * gsl_matrix_get(d.V, k, l) / (sl * sl);
             }
             r->cov[i * p + k] = di > 0 && dk > 0 ? s2 * c / (di * dk) : NAN;
         }
 done:
-    gsl_matrix_free(J);
-    gsl_matrix_free(V);
-    gsl_vector_free(S);
-    gsl_vector_free(D);
-    gsl_vector_free(D2);
-    gsl_matrix_free(Rsq);
+    lf_fit_decomp_free(&d);
     return status;
 }
 
@@ -264,7 +225,7 @@ k2_without_baseline(const lf_fit *f)
         if (fabs(c->data.probe.k - 2.0) > 1e-9 || c->iz0 < 0 || c->iF0 < 0)
             return 0;
         for (i = 0; i < c->data.n; i++)
-            nout += f->ev[c->row + i].a == 0.0;
+            nout += f->w.ev[c->row + i].a == 0.0;
         if ((double) nout >= 0.1 * (double) c->data.n)
             return 0;
     }
@@ -338,7 +299,7 @@ explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
 }
 
 double
-fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
+lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
 {
     const fit_curve *c = &f->c[j];
     const size_t *ord = f->order + c->row;
@@ -386,11 +347,11 @@ consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_resul
     }
     cr->downweighted = 0;
     for (i = 0; i < c->data.n; i++)
-        cr->downweighted += f->sqrtw[c->row + i] * f->sqrtw[c->row + i] < 0.5;
+        cr->downweighted += f->w.sqrtw[c->row + i] * f->w.sqrtw[c->row + i] < 0.5;
     own = (size_t) (c->iz0 >= 0) + (size_t) (c->iF0 >= 0) + (size_t) (c->islope >= 0);
     cr->chi2_per_point = chi2 / (double) c->data.n;
     cr->p_value = c->data.n > own ? gsl_cdf_chisq_Q(chi2, (double) (c->data.n - own)) : NAN;
-    cr->runs_z = fit_runs_z(f, j, res);
+    cr->runs_z = lf_fit_runs_z(f, j, res);
     /* the noise sd is itself estimated (to some 10% for 300 points), so
      * chi2 alone flags only a gross excess; the runs test does not depend
      * on it */
@@ -407,7 +368,7 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
     double z0, F0, slope, ss = 0.0, amin = HUGE_VAL, b = c->data.probe.b;
     size_t i;
 
-    fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+    lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
     cr->name = c->data.name;
     cr->probe = c->data.probe;
     cr->branch = c->data.branch;
@@ -429,12 +390,12 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
     cr->sigma = c->sigma;
     for (i = 0; i < c->data.n; i++) {
         size_t k = c->row + i;
-        double e = gsl_vector_get(res, k) * c->sigma / f->sqrtw[k];
+        double e = gsl_vector_get(res, k) * c->sigma / f->w.sqrtw[k];
         ss += e * e;
         cr->fitted[i] = c->data.force[i] + e;
-        cr->contact_radius[i] = f->ev[k].a;
-        if (f->ev[k].a > 0)
-            amin = fmin(amin, f->ev[k].a);
+        cr->contact_radius[i] = f->w.ev[k].a;
+        if (f->w.ev[k].a > 0)
+            amin = fmin(amin, f->w.ev[k].a);
     }
     cr->rms = sqrt(ss / (double) c->data.n);
     if (lf_model_pulloff(c->model, &mat, &cr->pulloff, NULL) != LF_OK)
@@ -490,7 +451,7 @@ agreement(const lf_fit *f, lf_fit_result *r)
 }
 
 int
-fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
+lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
 {
     size_t p = f->np, i, k, j;
     gsl_vector *res = gsl_vector_alloc(f->nres);
@@ -504,7 +465,7 @@ fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
         status = lf_fail(err, LF_ENOMEM, "out of memory assessing a fit");
         goto done;
     }
-    if (fit_residuals(&xv.vector, f, res) != GSL_SUCCESS) {
+    if (lf_fit_residuals(&xv.vector, f, res) != GSL_SUCCESS) {
         status = lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the solution");
         goto done;
     }
@@ -518,11 +479,11 @@ fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
         goto done;
     }
     name_parameters(f, r);
-    fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
+    lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
     f->mat = mat;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
-        fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+        lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         if (c->iz0 >= 0) r->value[c->iz0] = z0;
         if (c->iF0 >= 0) r->value[c->iF0] = F0;
         if (c->islope >= 0) r->value[c->islope] = slope;

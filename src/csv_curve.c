@@ -369,11 +369,13 @@ static void
 warn_monotonic(const reader *rd)
 {
     const lf_curve *c = rd->c;
-    int seg;
-    for (seg = LF_SEG_LOAD; seg <= LF_SEG_UNLOAD; seg++) {
+    static const int segs[2] = { LF_SEG_LOAD, LF_SEG_UNLOAD };   /* load first */
+    int seg, q;
+    for (q = 0; q < 2; q++) {
         size_t i, prev = 0, back = 0;
         int have = 0;
         long first = 0;
+        seg = segs[q];
         for (i = 0; i < c->n; i++) {
             if (c->segment[i] != seg)
                 continue;

@@ -107,9 +107,11 @@ typedef enum {
     LF_BASE_BONDED = 1        /* layer bonded to the rigid base */
 } lf_base;
 
+/* The branch a curve's points follow, which is also the segment of a lab
+ * curve they come from (lf_segment below is the same enum). */
 typedef enum {
-    LF_BRANCH_UNLOAD = 0,     /* retract: contact kept down to detachment */
-    LF_BRANCH_LOAD = 1        /* approach: contact made at delta = 0 */
+    LF_BRANCH_UNLOAD = 0,     /* retract / withdraw: contact kept down to detachment */
+    LF_BRANCH_LOAD = 1        /* approach / extend: contact made at delta = 0 */
 } lf_branch;
 
 /* What is known about one probe and the layer under it. */
@@ -575,10 +577,10 @@ int lf_crb(const lf_design_curve *curves, size_t ncurves, const lf_material *tru
  * Lab data: curves and fit plans (readers in src/csv_curve.c, src/plan.c)
  * --------------------------------------------------------------------- */
 
-typedef enum {
-    LF_SEG_LOAD = 0,     /* approach / extend */
-    LF_SEG_UNLOAD = 1    /* retract / withdraw */
-} lf_segment;
+/* A curve's segment is the branch its points follow: one enum. */
+typedef lf_branch lf_segment;
+#define LF_SEG_UNLOAD LF_BRANCH_UNLOAD   /* retract / withdraw */
+#define LF_SEG_LOAD LF_BRANCH_LOAD       /* approach / extend */
 
 typedef struct {
     char *key;
@@ -925,6 +927,95 @@ int lf_design_sweep(const lf_design_settings *s, size_t n,
                     const lf_design_candidate *cand, lf_design_factor factor,
                     size_t which, size_t nv, const double *values,
                     lf_design_result *out, lf_error *err);
+
+/* ------------------------------------------------------------------------
+ * From a plan to a fit's input (src/fit_input.c)
+ *
+ * The one step from a plan and its curve files to the curves a fit takes,
+ * for the command's single and batch fits and for programs alike.
+ *
+ * nu (one rule): a plan's nu column is the layer's Poisson ratio.  Every row
+ * that gives nu, whatever its interface, must give the same value (one
+ * material, one nu), else LF_EDATA naming the row; that value is in->nu
+ * (NaN when no row gives one).  lf_fit_input_apply_nu then holds nu at it
+ * unless the settings already hold nu (a value from the command line wins).
+ *
+ * Ownership: the input owns its arrays (points, names) and releases them in
+ * lf_fit_input_free; in->curves may be handed to lf_fit_alloc,
+ * lf_fit_driver or lf_fit_choose_driver while the input lives.  The plan
+ * may be freed once the input is made.
+ * --------------------------------------------------------------------- */
+
+typedef struct {
+    int segment;          /* -1 (default): each row's segment; else the
+                             lf_segment of every curve */
+    double z0, F0;        /* NaN (default): each row's (held where the plan
+                             gives one, else fitted); else held for every
+                             curve, m and N */
+    const lf_read_opts *read;  /* how to read the curve files; NULL = defaults */
+    size_t min_points;    /* fewest points of a segment (default 5) */
+    unsigned open_flags;  /* lf_input_read flags for the curve files: 0
+                             (default) regular files only; LF_INPUT_STREAM
+                             also a pipe or FIFO (a file named by a user) */
+} lf_input_settings;
+
+lf_input_settings lf_input_settings_default(void);
+
+typedef struct {
+    size_t n;
+    lf_fit_curve *curves; /* n curves: the points of their segment in SI */
+    double nu;            /* the plan's nu, or NaN */
+    double x, y;          /* where the first curve sits on a force map, m:
+                             its file's "# x:" and "# y:" lines, else NaN */
+    double **points;      /* owned storage: 2 n arrays (depth, force) */
+    char **names;         /* owned storage: n curve paths */
+    char (*sha256)[65];   /* n SHA-256 digests (hex) of the curve files as read */
+} lf_fit_input;
+
+/* Read the curves of rows[0..nrows-1] of the plan (rows NULL: every row,
+ * nrows ignored) into in.  Each file is read once, whole, from a descriptor
+ * checked when it is opened (lf_input_read with s->open_flags), and its
+ * SHA-256 kept in in->sha256.  Warnings of the readers are appended to warn
+ * (may be NULL).  On failure in holds nothing and err names the file, line
+ * and column where it can (LF_EIO, LF_EFORMAT, LF_EUNIT, LF_EDATA). */
+int lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
+                           const lf_input_settings *s, lf_fit_input *in,
+                           lf_warnings *warn, lf_error *err);
+/* The same for one curve file with a probe given by the caller (no plan:
+ * in->nu is NaN; the segment is s->segment, unload when -1). */
+int lf_fit_input_from_curve(const char *path, const lf_probe *probe,
+                            const lf_input_settings *s, lf_fit_input *in,
+                            lf_warnings *warn, lf_error *err);
+/* Hold nu at in->nu when that is a number and the settings do not already
+ * hold nu. */
+void lf_fit_input_apply_nu(const lf_fit_input *in, lf_fit_settings *settings);
+/* Release what the input owns (NULL and an empty input allowed). */
+void lf_fit_input_free(lf_fit_input *in);
+
+/* ------------------------------------------------------------------------
+ * Tables (src/table.c): a CSV file read whole, every cell as text -- e.g.
+ * the output of `layerfit fit --batch`.  The same line layer as the curve
+ * and plan readers (delimiter from the header, '#' comments, quotes).
+ * Ownership: *out is the caller's, released by lf_table_free.
+ * --------------------------------------------------------------------- */
+
+typedef struct {
+    size_t nrows, ncols;
+    long header_line;     /* the line of the header */
+    char **names;         /* ncols header cells */
+    char **cells;         /* nrows x ncols, row-major; "" where a row is short */
+    long *line;           /* nrows: the line where each row starts */
+    long *col;            /* nrows x ncols: the character column of each cell
+                             (0 where a row is short) */
+} lf_table;
+
+int lf_table_read(const char *path, lf_table **out, lf_error *err);
+void lf_table_free(lf_table *t);
+/* The index of the column named name, or -1. */
+long lf_table_column(const lf_table *t, const char *name);
+/* A number in a cell: LF_OK with *v, or LF_OK with *v = NaN for an empty
+ * cell; LF_EFORMAT (and *v = NaN) when the cell is not a number. */
+int lf_table_number(const char *cell, double *v);
 
 #ifdef __cplusplus
 }

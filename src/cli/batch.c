@@ -215,25 +215,11 @@ units_free(unit_list *u)
 
 typedef struct {
     const lf_fit_settings *settings;
+    const lf_choose_settings *choose;
+    const lf_input_settings *input;
     int json;
     int auto_model;        /* lf_fit_choose_driver instead of lf_fit_driver */
 } batch_config;
-
-/* Where a curve sits on a force map: "# x: 10 um" and "# y: ..." lines of
- * its file, NaN when absent or unreadable. */
-static double
-meta_length(const lf_curve *c, const char *key)
-{
-    size_t i;
-    for (i = 0; i < c->nmeta; i++)
-        if (strcmp(c->meta[i].key, key) == 0) {
-            double v;
-            lf_error err;
-            if (lf_units_parse(c->meta[i].value, LF_Q_LENGTH, &v, &err) == LF_OK)
-                return v;
-        }
-    return NAN;
-}
 
 static void
 format_error(char *buf, size_t n, const lf_error *err)
@@ -398,9 +384,7 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
 {
     const lf_plan *plan = ul->plan;
     size_t first = ul->start[u], n = ul->start[u + 1] - first, j;
-    lf_curve **curve = calloc(n, sizeof *curve);
-    lf_fit_curve *fc = calloc(n, sizeof *fc);
-    double **data = calloc(2 * n, sizeof *data);
+    lf_fit_input in;
     lf_fit_settings s = *cfg->settings;
     lf_fit_result res;
     lf_error err;
@@ -409,75 +393,36 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
     char ebuf[1200];
     const char *sample = plan->rows[ul->row[first]].sample;
     const char *status = "error";
-    double x = NAN, y = NAN, nu_row = NAN;
+    double x = NAN, y = NAN;
     int st = LF_EINVAL, have_res = 0, failed = 1, firstw = 1;
 
     lf_error_clear(&err);
     if (uf.name == NULL || uf.sha == NULL) {
         free(uf.name);
         free(uf.sha);
-        free(curve);
-        free(fc);
-        free(data);
         out->failed = 1;
         return 1;
     }
+    memset(&in, 0, sizeof in);
     for (j = 0; j < n; j++)
         uf.name[j] = plan->rows[ul->row[first + j]].file;
     join_names(&files, &uf);
-    if (curve == NULL || fc == NULL || data == NULL) {
-        snprintf(ebuf, sizeof ebuf, "out of memory");
+    /* the one step from a plan to a fit's input, the one rule for nu: each
+     * curve a regular file checked when it is opened, the same checks as
+     * `layerfit check`; whatever goes wrong is this fit's row */
+    if (lf_fit_input_from_plan(plan, ul->row + first, n, cfg->input, &in, NULL, &err) != LF_OK) {
+        format_error(ebuf, sizeof ebuf, &err);
         goto row;
     }
-    for (j = 0; j < n; j++) {
-        const lf_plan_row *pr = &plan->rows[ul->row[first + j]];
-        size_t m;
-
-        /* a regular file, checked when opened; the same checks as `check` */
-        if (cli_curve_load(pr->file, 0, NULL, pr->segment, &curve[j], uf.sha[j], NULL, &err)
-            != LF_OK) {
-            format_error(ebuf, sizeof ebuf, &err);
-            goto row;
-        }
-        if (j == 0) {
-            x = meta_length(curve[j], "x");
-            y = meta_length(curve[j], "y");
-        }
-        if (isfinite(pr->nu)) {
-            if (isfinite(nu_row) && nu_row != pr->nu) {
-                snprintf(ebuf, sizeof ebuf, "%s:%ld: sample '%s' gives two values of nu",
-                         plan->path, pr->line, sample);
-                goto row;
-            }
-            nu_row = pr->nu;
-        }
-        m = lf_curve_segment(curve[j], pr->segment, NULL, NULL);
-        data[2 * j] = malloc(m * sizeof(double));
-        data[2 * j + 1] = malloc(m * sizeof(double));
-        if (data[2 * j] == NULL || data[2 * j + 1] == NULL) {
-            snprintf(ebuf, sizeof ebuf, "out of memory");
-            goto row;
-        }
-        lf_curve_segment(curve[j], pr->segment, data[2 * j], data[2 * j + 1]);
-        fc[j].name = pr->file;
-        fc[j].n = m;
-        fc[j].depth = data[2 * j];
-        fc[j].force = data[2 * j + 1];
-        fc[j].probe = pr->probe;
-        fc[j].branch = pr->segment == LF_SEG_LOAD ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD;
-        fc[j].z0 = pr->z0;
-        fc[j].F0 = pr->F0;
-    }
-    if (isfinite(nu_row) && s.nu.mode != LF_PARAM_FIXED) {
-        s.nu.mode = LF_PARAM_FIXED;
-        s.nu.value = nu_row;
-    }
-    if (cfg->auto_model) {
-        lf_choose_settings choose = lf_choose_settings_default();
-        st = lf_fit_choose_driver(&s, &choose, n, fc, &res, &err);
-    } else {
-        st = lf_fit_driver(&s, n, fc, &res, &err);
-    }
+    for (j = 0; j < n; j++)
+        memcpy(uf.sha[j], in.sha256[j], sizeof uf.sha[j]);
+    x = in.x;
+    y = in.y;
+    lf_fit_input_apply_nu(&in, &s);
+    if (cfg->auto_model)
+        st = lf_fit_choose_driver(&s, cfg->choose, n, in.curves, &res, &err);
+    else
+        st = lf_fit_driver(&s, n, in.curves, &res, &err);
     if (st == LF_OK || st == LF_ENOCONV) {
         have_res = 1;
         status = st == LF_OK ? "ok" : "noconv";
@@ -522,13 +467,7 @@ row:
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status, "", num,
                 sizeof num / sizeof num[0], "", ebuf);
     }
-    for (j = 0; curve != NULL && j < n; j++)
-        lf_curve_free(curve[j]);
-    for (j = 0; data != NULL && j < 2 * n; j++)
-        free(data[j]);
-    free(curve);
-    free(fc);
-    free(data);
+    lf_fit_input_free(&in);
     free(files.s);
     free(ident.s);
     free(msg.s);
@@ -608,6 +547,8 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     double t0 = cli_now(), last = 0.0;
 
     cfg.settings = settings;
+    cfg.choose = &o->choose;
+    cfg.input = &o->input;
     cfg.json = 0;
     cfg.auto_model = o->auto_model;
     if (o->out != NULL) {
@@ -704,24 +645,22 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
 int
 cli_fit_batch(int argc, char **argv)
 {
-    const char *plan = NULL, *out = NULL, *shard = NULL, *model = "thin", *method = "lm",
-               *jacobian = "analytic";
-    long threads_opt = -1, max_iter = -1;
-    int npos, help = 0, slope = 0, quiet = 0, progress = 0;
-    double nu = NAN, fix_nu = NAN, max_ba = NAN;
-    const cli_opt opts[] = {
+    const char *plan = NULL, *out = NULL, *shard = NULL;
+    long threads_opt = -1;
+    int npos, help = 0, quiet = 0, progress = 0;
+    cli_fit_args fa;
+    cli_opt opts[6 + CLI_FIT_NOPTS + 1] = {
         { "batch", CLI_STRING, &plan }, { "out", CLI_STRING, &out },
         { "threads", CLI_COUNT, &threads_opt }, { "shard", CLI_STRING, &shard },
         { "progress", CLI_FLAG, &progress }, { "quiet", CLI_FLAG, &quiet },
-        { "model", CLI_STRING, &model }, { "method", CLI_STRING, &method },
-        { "jacobian", CLI_STRING, &jacobian }, { "slope", CLI_FLAG, &slope },
-        { "nu", CLI_NUMBER, &nu }, { "fix-nu", CLI_NUMBER, &fix_nu },
-        { "max-b-over-a", CLI_NUMBER, &max_ba }, { "max-iter", CLI_COUNT, &max_iter },
-        { NULL, 0, NULL }
     };
     lf_fit_settings s = lf_fit_settings_default();
     cli_batch_opts o;
+    size_t no;
 
+    cli_fit_args_init(&fa);
+    no = 6 + cli_fit_opts(&fa, opts + 6);
+    opts[no].name = NULL;
     cli_parse("fit", argc, argv, opts, &npos, &help);
     if (help) {
         printf("usage: layerfit fit --batch PLAN.csv [--out FILE.csv|FILE.jsonl] [--threads N]\n"
@@ -737,34 +676,23 @@ cli_fit_batch(int argc, char **argv)
                "                    output of the whole plan\n"
                "  --progress        progress bar on stderr even when it is not a terminal\n"
                "  --quiet           no progress bar\n"
-               "fit options as for a single fit: --model, --method, --jacobian, --slope,\n"
-               "  --nu/--fix-nu NU, --max-b-over-a X, --max-iter N\n\n"
-               "Every problem with one curve (a missing or unreadable file included) is\n"
+               "fit options, as for a single fit and with the same defaults:\n",
+               CLI_MAX_THREADS);
+        fputs(cli_fit_help, stdout);
+        printf("\nEvery problem with one curve (a missing or unreadable file included) is\n"
                "that fit's row; the batch goes on.  --out FILE gets FILE.provenance.json.\n\n"
                "exit status: 0 every fit ok; 3 some fits failed (rows with status error or\n"
                "noconv; stderr says how many); 2 bad command line or plan (nothing fitted);\n"
-               "1 a failure of the run itself (e.g. the output could not be written)\n",
-               CLI_MAX_THREADS);
+               "1 a failure of the run itself (e.g. the output could not be written)\n");
         return CLI_EXIT_OK;
     }
     if (npos > 0)
         cli_die(CLI_EXIT_USAGE, "fit: --batch takes the plan as its value; unexpected '%s'", argv[0]);
     if (plan == NULL || *plan == '\0')
         cli_die(CLI_EXIT_USAGE, "fit: --batch needs a plan (e.g. --batch plan.csv)");
-    o.auto_model = cli_fit_options(model, method, jacobian, max_ba, &s);
-    s.fit_slope = slope;
-    if (max_iter == 0)
-        cli_die(CLI_EXIT_USAGE, "fit: --max-iter must be at least 1");
-    if (max_iter > 0)
-        s.max_iter = (size_t) max_iter;
-    if (!isnan(fix_nu))
-        nu = fix_nu;
-    if (!isnan(nu)) {
-        if (!(nu >= 0.0 && nu < 0.5))
-            cli_die(CLI_EXIT_USAGE, "fit: nu must lie in [0, 0.5) (got %g)", nu);
-        s.nu.mode = LF_PARAM_FIXED;
-        s.nu.value = nu;
-    }
+    o.choose = lf_choose_settings_default();
+    o.input = lf_input_settings_default();
+    o.auto_model = cli_fit_settings(&fa, &s, &o.choose, &o.input);
     o.plan = plan;
     o.out = out;
     o.shard = shard;

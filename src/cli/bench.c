@@ -517,12 +517,19 @@ run_throughput(bench_throughput *tp, size_t batch)
 
 /* ---- scipy.optimize.least_squares on the same data ------------------- */
 
+/* The peers of tests/bench/peer_scipy.py, in its order; the first is the
+ * headline (scipy's most favourable case: MINPACK's LM from the truth). */
+static const char *const peer_names[] = { "lm-truth", "trf-truth", "lm-auto", "trf-auto",
+                                          "lmfit-truth" };
+#define NPEER (sizeof peer_names / sizeof peer_names[0])
+
 typedef struct {
     int ran;
     char note[300];
-    double time_us[NSCENES][NNOISE];
-    double err_w[NSCENES][NNOISE], err_E[NSCENES][NNOISE], err_nu[NSCENES][NNOISE];
-    double conv[NSCENES][NNOISE];
+    double time_us[NPEER][NSCENES][NNOISE];
+    double err_w[NPEER][NSCENES][NNOISE], err_E[NPEER][NSCENES][NNOISE];
+    double err_nu[NPEER][NSCENES][NNOISE];
+    double conv[NPEER][NSCENES][NNOISE];
 } bench_peer;
 
 static int
@@ -600,14 +607,15 @@ run_peer(bench_peer *peer, const char *script_opt, const int *use_scene, size_t 
     char script[4200], dir[] = "/tmp/layerfit-bench-XXXXXX", cmd[9000], line[512];
     gsl_rng *rng;
     FILE *p;
-    size_t si, ni;
+    size_t si, ni, q;
     int rc;
 
     memset(peer, 0, sizeof *peer);
-    for (si = 0; si < NSCENES; si++)
-        for (ni = 0; ni < NNOISE; ni++)
-            peer->time_us[si][ni] = peer->err_w[si][ni] = peer->err_E[si][ni]
-                = peer->err_nu[si][ni] = peer->conv[si][ni] = NAN;
+    for (q = 0; q < NPEER; q++)
+        for (si = 0; si < NSCENES; si++)
+            for (ni = 0; ni < NNOISE; ni++)
+                peer->time_us[q][si][ni] = peer->err_w[q][si][ni] = peer->err_E[q][si][ni]
+                    = peer->err_nu[q][si][ni] = peer->conv[q][si][ni] = NAN;
     if (!find_script(script_opt, script, sizeof script)) {
         snprintf(peer->note, sizeof peer->note, "skipped: peer script %.250s not found", script);
         return;
@@ -637,18 +645,23 @@ run_peer(bench_peer *peer, const char *script_opt, const int *use_scene, size_t 
     p = popen(cmd, "r");
     if (p == NULL)
         cli_die(CLI_EXIT_FAIL, "bench: cannot run %s", PYTHON);
-    /* "case S N time_us err_w err_E err_nu conv" per case; other lines are
-     * kept as the note when the script fails */
+    /* "case S N time_us err_w err_E err_nu conv PEER" per case and peer;
+     * other lines are kept as the note when the script fails */
     while (fgets(line, sizeof line, p) != NULL) {
         size_t a, b;
         double t, ew, eE, en, cv;
-        if (sscanf(line, "case %zu %zu %lf %lf %lf %lf %lf", &a, &b, &t, &ew, &eE, &en, &cv) == 7
-            && a < NSCENES && b < NNOISE) {
-            peer->time_us[a][b] = t;
-            peer->err_w[a][b] = ew;
-            peer->err_E[a][b] = eE;
-            peer->err_nu[a][b] = en;
-            peer->conv[a][b] = cv;
+        char name[64];
+        if (sscanf(line, "case %zu %zu %lf %lf %lf %lf %lf %63s", &a, &b, &t, &ew, &eE, &en, &cv,
+                   name) == 8 && a < NSCENES && b < NNOISE) {
+            for (q = 0; q < NPEER && strcmp(name, peer_names[q]) != 0; q++)
+                ;
+            if (q == NPEER)
+                continue;
+            peer->time_us[q][a][b] = t;
+            peer->err_w[q][a][b] = ew;
+            peer->err_E[q][a][b] = eE;
+            peer->err_nu[q][a][b] = en;
+            peer->conv[q][a][b] = cv;
             peer->ran = 1;
         } else {
             /* anything else is the script complaining: pass it on */
@@ -667,11 +680,46 @@ run_peer(bench_peer *peer, const char *script_opt, const int *use_scene, size_t 
             snprintf(peer->note, sizeof peer->note, "the peer script failed (status %d)", rc);
     } else {
         snprintf(peer->note, sizeof peer->note, "scipy.optimize.least_squares (%.200s), %zu seeds, "
-                 "started from the truth", script, nseeds);
+                 "method lm, started from the truth", script, nseeds);
     }
 }
 
 /* ---- output ---------------------------------------------------------- */
+
+/* Every peer's time per fit over layerfit's (above 1: the peer is slower)
+ * and its w error over layerfit's, for the baseline rows. */
+static void
+print_peers(const bench_peer *peer, const bench_row *rows, size_t nrows)
+{
+    size_t i, q;
+
+    printf("\nAll peers on the same data: time per fit over layerfit's (x) and RMS w error\n"
+           "over layerfit's (e); lm/trf = scipy least_squares methods, -truth started\n"
+           "from the truth, -auto from a simple automatic start (its cost included),\n"
+           "lmfit = lmfit.minimize leastsq with finite differences:\n");
+    printf("%-13s %-5s", "scene", "noise");
+    for (q = 0; q < NPEER; q++)
+        printf(" %15s", peer_names[q]);
+    printf("\n");
+    for (i = 0; i < nrows; i++) {
+        const bench_row *r = &rows[i];
+        char nz[16];
+        if (r->config != 0)
+            continue;
+        snprintf(nz, sizeof nz, "%g%%", 100 * noise_levels[r->noise]);
+        printf("%-13s %-5s", scenes[r->scene].name, nz);
+        for (q = 0; q < NPEER; q++) {
+            double t = peer->time_us[q][r->scene][r->noise], e = peer->err_w[q][r->scene][r->noise];
+            char cell[32];
+            if (isnan(t))
+                snprintf(cell, sizeof cell, "-");
+            else
+                snprintf(cell, sizeof cell, "%.1fx %.2fe", t / r->time_us, e / r->err_w);
+            printf(" %15s", cell);
+        }
+        printf("\n");
+    }
+}
 
 static void
 pct(char *buf, size_t n, double x)
@@ -982,18 +1030,19 @@ cli_bench(int argc, char **argv)
                 if (r->config != 0)
                     continue;
                 pct(a, sizeof a, r->err_w);
-                pct(b, sizeof b, peer.err_w[r->scene][r->noise]);
+                pct(b, sizeof b, peer.err_w[0][r->scene][r->noise]);
                 pct(c, sizeof c, r->err_E);
-                pct(d, sizeof d, peer.err_E[r->scene][r->noise]);
+                pct(d, sizeof d, peer.err_E[0][r->scene][r->noise]);
                 snprintf(e, sizeof e, r->nu_free ? "%.2g" : "-", r->err_nu);
-                snprintf(f, sizeof f, r->nu_free ? "%.2g" : "-", peer.err_nu[r->scene][r->noise]);
+                snprintf(f, sizeof f, r->nu_free ? "%.2g" : "-", peer.err_nu[0][r->scene][r->noise]);
                 snprintf(nz, sizeof nz, "%g%%", 100 * noise_levels[r->noise]);
                 printf("%-13s %-5s %10.1f %10.1f %7.1f %8s %8s %8s %8s %8s %8s\n",
-                       scenes[r->scene].name, nz, r->time_us, peer.time_us[r->scene][r->noise],
-                       peer.time_us[r->scene][r->noise] / r->time_us, a, b, c, d, e, f);
+                       scenes[r->scene].name, nz, r->time_us, peer.time_us[0][r->scene][r->noise],
+                       peer.time_us[0][r->scene][r->noise] / r->time_us, a, b, c, d, e, f);
             }
             printf("ratio: scipy time per fit over layerfit's (layerfit includes its own guess;\n"
                    "scipy starts from the truth, its most favourable start).\n");
+            print_peers(&peer, rows, nrows);
         }
     }
 

@@ -93,11 +93,25 @@ int cli_map(int argc, char **argv);
 /* `layerfit design`: what a planned test would measure (design.c). */
 int cli_design(int argc, char **argv);
 
-/* The fit settings a single fit and a batch share (fit.c): model name
- * ("auto" sets the thin model and returns 1), trust-region method,
- * Jacobian and the b/a warning limit (NaN: default).  Bad values exit 2. */
-int cli_fit_options(const char *model, const char *method, const char *jacobian,
-                    double max_ba, lf_fit_settings *s);
+/* The fit options a single fit and a batch share: one table, one set of
+ * defaults (fit.c).  cli_fit_args_init sets the defaults; cli_fit_opts puts
+ * the table's entries into opts (room for CLI_FIT_NOPTS) and returns how
+ * many; cli_fit_settings checks the values and fills the fit, model-choice
+ * and input settings, returning 1 for --model auto.  Bad values exit 2. */
+typedef struct {
+    const char *method, *jacobian, *model, *segment, *loss;
+    double nu, fix_nu, fix_z0, fix_F0, max_ba, model_tol;
+    double guess_w, guess_E, guess_nu, loss_scale;
+    long max_iter;
+    int slope;
+} cli_fit_args;
+#define CLI_FIT_NOPTS 20
+void cli_fit_args_init(cli_fit_args *a);
+size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
+int cli_fit_settings(const cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
+                     lf_input_settings *is);
+/* The fit options' help lines, shared by both usage texts. */
+extern const char cli_fit_help[];
 
 /* Batch fitting (batch.c). */
 #define CLI_MAX_THREADS 1024      /* --threads is 1..CLI_MAX_THREADS */
@@ -108,6 +122,8 @@ typedef struct {
     long threads;          /* 0: all cores */
     int progress;          /* 1 on, 0 off, -1 when stderr is a terminal */
     int auto_model;        /* 1: choose each fit's models (lf_fit_choose_driver) */
+    lf_choose_settings choose;  /* the model choice's settings */
+    lf_input_settings input;    /* segment, held offsets */
 } cli_batch_opts;
 /* Fit every fit of the plan with the settings; returns the exit status
  * (CLI_EXIT_OK, or CLI_EXIT_SOME_FAILED with a summary line on stderr). */

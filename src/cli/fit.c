@@ -19,18 +19,25 @@ static const char usage_text[] =
     "options:\n"
     "  --json FILE          the result in SI as JSON\n"
     "  --curves FILE        per point: depth, force, fitted force, residual, contact radius\n"
-    "  --method M           lm (default), lmaccel, dogleg, ddogleg, subspace2D\n"
-    "  --jacobian J         analytic (default), forward, central\n"
+    "  --plot DIR           figures (PNG, SVG) with their gnuplot scripts and data\n"
+    "  --report FILE.html   one self-contained page: tables, warnings, figures\n"
+    "  --batch PLAN.csv     every curve or sample an independent fit (see --batch --help)\n"
+    "fit options (the same, with the same defaults, for --batch):\n";
+
+const char cli_fit_help[] =
     "  --model NAME         auto (default), thin, exact or halfspace; auto picks per curve\n"
     "                       the cheapest model whose bias on w, E*, nu is below --model-tol\n"
     "  --model-tol X        bias allowed to a cheaper model, in standard errors (0.2)\n"
-    "  --fix-nu NU          hold nu (also --nu); a plan's nu column does the same\n"
+    "  --method M           lm (default), lmaccel, dogleg, ddogleg, subspace2D\n"
+    "  --jacobian J         analytic (default), forward, central\n"
+    "  --fix-nu NU          hold nu (also --nu); a plan's nu column does the same (every\n"
+    "                       row that gives nu must give the same value; the option wins)\n"
     "  --fix-z0 LENGTH      hold every curve's contact point\n"
     "  --fix-F0 FORCE       hold every curve's force offset\n"
     "  --slope              fit a baseline slope per curve\n"
     "  --max-iter N         iterations allowed (200)\n"
     "  --max-b-over-a X     warn where b/a exceeds X (0.1)\n"
-    "  --segment S          unload (default) or load\n"
+    "  --segment S          unload or load for every curve (default: the plan's, unload)\n"
     "  --guess-w ADH        start the iteration at this w (e.g. 10mJ/m2) instead of\n"
     "                       the automatic guess\n"
     "  --guess-E PRESSURE   start at this E* (e.g. 1GPa)\n"
@@ -38,91 +45,29 @@ static const char usage_text[] =
     "  --loss L             linear (least squares, default), huber or cauchy: robust\n"
     "                       losses down-weight outliers (iteratively reweighted)\n"
     "  --loss-scale X       where the robust loss bends, in noise sd (1.345 huber,\n"
-    "                       2.385 cauchy)\n"
-    "  --plot DIR           figures (PNG, SVG) with their gnuplot scripts and data\n"
-    "  --report FILE.html   one self-contained page: tables, warnings, figures\n"
-    "  --batch PLAN.csv     every curve or sample an independent fit (see --batch --help)\n"
+    "                       2.385 cauchy)\n";
+
+static const char exit_text[] =
     "exit status: 0 converged; 3 not converged (report still written); 2 bad command\n"
     "line or input file; 1 a failure of the run itself (e.g. an output not written)\n";
 
 typedef struct {
-    const char *json, *curves, *method, *jacobian, *model, *interface, *segment;
-    double k, R, b, nu, fix_nu, fix_z0, fix_F0, max_ba, model_tol;
-    long max_iter;
-    int slope;
-    double guess_w, guess_E, guess_nu;
-    const char *loss;
-    double loss_scale;
+    const char *json, *curves, *interface;
+    double k, R, b;
 } fit_args;
 
-/* The data of the run: curves as read, and the arrays handed to the fit. */
-typedef struct {
-    size_t n;
-    lf_fit_curve *fc;
-    double **depth, **force;
-    char **names;
-} fit_data;
-
+/* Read the plan (or the single curve) into in (lf_fit_input_from_plan:
+ * the one step from a plan to a fit's input, the one rule for nu). */
 static void
-add_curve(fit_data *d, const char *path, unsigned flags, lf_segment seg,
-          const lf_probe *probe, double z0, double F0)
+read_input(const char *path, const fit_args *a, const lf_input_settings *is, lf_fit_input *in)
 {
-    lf_curve *c = NULL;
     lf_warnings warn = { 0, NULL };
     lf_error err;
-    char sha[65];
-    size_t n, j = d->n;
-
-    /* a curve named on the command line may be a pipe; one in a plan must
-     * be a regular file.  Same checks as `layerfit check` (cli_curve_load). */
-    cli_input_guard("fit", path);
-    if (cli_curve_load(path, flags, NULL, seg, &c, sha,
-                       &warn, &err) != LF_OK)
-        cli_die_error(err.status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, &err);
-    cli_input_note(path, sha);
-    cli_print_warnings(&warn);
-    lf_warnings_free(&warn);
-    n = lf_curve_segment(c, seg, NULL, NULL);
-    d->depth[j] = malloc(n * sizeof **d->depth);
-    d->force[j] = malloc(n * sizeof **d->force);
-    d->names[j] = malloc(strlen(path) + 1);
-    if (!d->depth[j] || !d->force[j] || !d->names[j])
-        cli_die(CLI_EXIT_FAIL, "fit: out of memory");
-    strcpy(d->names[j], path);
-    lf_curve_segment(c, seg, d->depth[j], d->force[j]);
-    lf_curve_free(c);
-    d->fc[j].name = d->names[j];
-    d->fc[j].n = n;
-    d->fc[j].depth = d->depth[j];
-    d->fc[j].force = d->force[j];
-    d->fc[j].probe = *probe;
-    d->fc[j].branch = seg == LF_SEG_LOAD ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD;
-    d->fc[j].z0 = z0;
-    d->fc[j].F0 = F0;
-    d->n++;
-}
-
-static void
-data_alloc(fit_data *d, size_t n)
-{
-    d->n = 0;
-    d->fc = calloc(n, sizeof *d->fc);
-    d->depth = calloc(n, sizeof *d->depth);
-    d->force = calloc(n, sizeof *d->force);
-    d->names = calloc(n, sizeof *d->names);
-    if (!d->fc || !d->depth || !d->force || !d->names)
-        cli_die(CLI_EXIT_FAIL, "fit: out of memory");
-}
-
-/* Read the plan (or the single curve) into d; sets the nu held by the plan. */
-static void
-read_input(const char *path, const fit_args *a, lf_segment seg_opt, int seg_given,
-           fit_data *d, double *plan_nu)
-{
-    *plan_nu = NAN;
+    lf_input_settings one = *is;
+    size_t j;
+    int status;
     if (!isnan(a->k)) {
         lf_probe p;
-        lf_error err;
         int base;
         if (isnan(a->R) || isnan(a->b) || a->interface == NULL)
             cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
@@ -136,28 +81,23 @@ read_input(const char *path, const fit_args *a, lf_segment seg_opt, int seg_give
         p.base = (lf_base) base;
         if (lf_probe_check(&p, &err) != LF_OK)
             cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
-        data_alloc(d, 1);
-        add_curve(d, path, LF_INPUT_STREAM, seg_opt, &p, a->fix_z0, a->fix_F0);
+        /* a curve named on the command line may be a pipe (read once) */
+        one.open_flags = LF_INPUT_STREAM;
+        cli_input_guard("fit", path);
+        status = lf_fit_input_from_curve(path, &p, &one, in, &warn, &err);
     } else {
         lf_plan *plan = cli_plan_load("fit", path);
-        size_t i;
-        for (i = 0; i < plan->n; i++)   /* no output may replace a curve */
-            cli_input_guard("fit", plan->rows[i].file);
-        data_alloc(d, plan->n);
-        for (i = 0; i < plan->n; i++) {
-            const lf_plan_row *row = &plan->rows[i];
-            if (!isnan(row->nu) && row->probe.base == LF_BASE_BONDED) {
-                if (!isnan(*plan_nu) && *plan_nu != row->nu)
-                    cli_die(CLI_EXIT_USAGE, "fit: %s:%ld: nu %g differs from an earlier row's %g "
-                            "(one material, one nu)", plan->path, row->line, row->nu, *plan_nu);
-                *plan_nu = row->nu;
-            }
-            add_curve(d, row->file, 0, seg_given ? seg_opt : row->segment, &row->probe,
-                      isnan(a->fix_z0) ? row->z0 : a->fix_z0,
-                      isnan(a->fix_F0) ? row->F0 : a->fix_F0);
-        }
+        for (j = 0; j < plan->n; j++)   /* no output may replace a curve */
+            cli_input_guard("fit", plan->rows[j].file);
+        status = lf_fit_input_from_plan(plan, NULL, 0, is, in, &warn, &err);
         lf_plan_free(plan);
     }
+    cli_print_warnings(&warn);
+    lf_warnings_free(&warn);
+    if (status != LF_OK)
+        cli_die_error(status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, &err);
+    for (j = 0; j < in->n; j++)     /* provenance: each curve as it was read */
+        cli_input_note(in->names[j], in->sha256[j]);
 }
 
 /* --json and --curves: through the atomic writer (output.c). */
@@ -185,36 +125,117 @@ write_file(const char *path, void (*writer)(FILE *, const report_input *, const 
     cli_write_file("fit", path, fit_output_write, &o);
 }
 
-int
-cli_fit_options(const char *model, const char *method, const char *jacobian,
-                double max_ba, lf_fit_settings *s)
+void
+cli_fit_args_init(cli_fit_args *a)
 {
-    int model_auto = strcmp(model, "auto") == 0;
+    a->method = "lm";
+    a->jacobian = "analytic";
+    a->model = "auto";
+    a->segment = NULL;
+    a->loss = "linear";
+    a->nu = a->fix_nu = a->fix_z0 = a->fix_F0 = a->max_ba = a->model_tol = NAN;
+    a->guess_w = a->guess_E = a->guess_nu = a->loss_scale = NAN;
+    a->max_iter = -1;
+    a->slope = 0;
+}
+
+size_t
+cli_fit_opts(cli_fit_args *a, cli_opt *opts)
+{
+    const cli_opt table[] = {
+        { "method", CLI_STRING, &a->method }, { "jacobian", CLI_STRING, &a->jacobian },
+        { "model", CLI_STRING, &a->model }, { "segment", CLI_STRING, &a->segment },
+        { "nu", CLI_NUMBER, &a->nu }, { "fix-nu", CLI_NUMBER, &a->fix_nu },
+        { "fix-z0", CLI_LENGTH, &a->fix_z0 }, { "fix-F0", CLI_FORCE, &a->fix_F0 },
+        { "max-b-over-a", CLI_NUMBER, &a->max_ba }, { "model-tol", CLI_NUMBER, &a->model_tol },
+        { "slope", CLI_FLAG, &a->slope }, { "max-iter", CLI_COUNT, &a->max_iter },
+        { "guess-w", CLI_ADHESION, &a->guess_w }, { "guess-E", CLI_PRESSURE, &a->guess_E },
+        { "guess-nu", CLI_NUMBER, &a->guess_nu }, { "loss", CLI_STRING, &a->loss },
+        { "loss-scale", CLI_NUMBER, &a->loss_scale },
+    };
+    size_t n = sizeof table / sizeof table[0];
+
+    memcpy(opts, table, sizeof table);
+    return n;
+}
+
+int
+cli_fit_settings(const cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
+                 lf_input_settings *is)
+{
+    int model_auto = strcmp(a->model, "auto") == 0;
+    double nu;
     size_t i;
 
-    s->model = model_auto ? &lf_model_thin : lf_model_type_find(model);
+    s->model = model_auto ? &lf_model_thin : lf_model_type_find(a->model);
     if (s->model == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: unknown model '%s' (auto, thin, exact, halfspace)", model);
+        cli_die(CLI_EXIT_USAGE, "fit: unknown model '%s' (auto, thin, exact, halfspace)", a->model);
     for (i = 0; lf_fit_methods[i] != NULL; i++)
-        if (strcmp(lf_fit_methods[i], method) == 0)
+        if (strcmp(lf_fit_methods[i], a->method) == 0)
             break;
     if (lf_fit_methods[i] == NULL)
         cli_die(CLI_EXIT_USAGE, "fit: unknown method '%s' (lm, lmaccel, dogleg, ddogleg, subspace2D)",
-                method);
-    s->method = method;
-    if (strcmp(jacobian, "analytic") == 0)
+                a->method);
+    s->method = a->method;
+    if (strcmp(a->jacobian, "analytic") == 0)
         s->jacobian = LF_JAC_ANALYTIC;
-    else if (strcmp(jacobian, "forward") == 0)
+    else if (strcmp(a->jacobian, "forward") == 0)
         s->jacobian = LF_JAC_FORWARD;
-    else if (strcmp(jacobian, "central") == 0)
+    else if (strcmp(a->jacobian, "central") == 0)
         s->jacobian = LF_JAC_CENTRAL;
     else
         cli_die(CLI_EXIT_USAGE, "fit: --jacobian must be analytic, forward or central (got '%s')",
-                jacobian);
-    if (!isnan(max_ba)) {
-        if (!(max_ba > 0))
+                a->jacobian);
+    if (!isnan(a->max_ba)) {
+        if (!(a->max_ba > 0))
             cli_die(CLI_EXIT_USAGE, "fit: --max-b-over-a must be > 0 (e.g. --max-b-over-a 0.1)");
-        s->max_b_over_a = max_ba;
+        s->max_b_over_a = a->max_ba;
+    }
+    if (!isnan(a->model_tol)) {
+        if (!(a->model_tol > 0) || !isfinite(a->model_tol))
+            cli_die(CLI_EXIT_USAGE, "fit: --model-tol must be a number > 0 (e.g. --model-tol 0.2)");
+        if (!model_auto)
+            cli_die(CLI_EXIT_USAGE, "fit: --model-tol applies to --model auto only");
+        cs->tol = a->model_tol;
+    }
+    if (a->segment != NULL) {
+        if (strcmp(a->segment, "unload") == 0)
+            is->segment = LF_SEG_UNLOAD;
+        else if (strcmp(a->segment, "load") == 0)
+            is->segment = LF_SEG_LOAD;
+        else
+            cli_die(CLI_EXIT_USAGE, "fit: --segment must be unload or load (got '%s')", a->segment);
+    }
+    is->z0 = a->fix_z0;
+    is->F0 = a->fix_F0;
+    is->min_points = CLI_MIN_POINTS;    /* the same test as `layerfit check` */
+    s->fit_slope = a->slope;
+    if (!isnan(a->guess_w) && !(a->guess_w > 0))
+        cli_die(CLI_EXIT_USAGE, "fit: --guess-w must be > 0 (e.g. --guess-w 10mJ/m2)");
+    if (!isnan(a->guess_E) && !(a->guess_E > 0))
+        cli_die(CLI_EXIT_USAGE, "fit: --guess-E must be > 0 (e.g. --guess-E 1GPa)");
+    if (!isnan(a->guess_nu) && !(a->guess_nu > 0 && a->guess_nu < 0.5))
+        cli_die(CLI_EXIT_USAGE, "fit: --guess-nu must lie in (0, 0.5) (e.g. --guess-nu 0.3)");
+    if (lf_loss_find(a->loss) < 0)
+        cli_die(CLI_EXIT_USAGE, "fit: --loss must be linear, huber or cauchy (got '%s')", a->loss);
+    s->loss = (lf_loss) lf_loss_find(a->loss);
+    if (!isnan(a->loss_scale) && !(a->loss_scale > 0))
+        cli_die(CLI_EXIT_USAGE, "fit: --loss-scale must be > 0 (e.g. --loss-scale 1.345)");
+    s->loss_scale = a->loss_scale;
+    s->w.guess = a->guess_w;
+    s->Estar.guess = a->guess_E;
+    s->nu.guess = a->guess_nu;
+    if (a->max_iter == 0)
+        cli_die(CLI_EXIT_USAGE, "fit: --max-iter must be >= 1");
+    if (a->max_iter > 0)
+        s->max_iter = (size_t) a->max_iter;
+    /* nu from the command line holds it (and wins over a plan's nu column) */
+    nu = !isnan(a->fix_nu) ? a->fix_nu : a->nu;
+    if (!isnan(nu)) {
+        if (!(nu >= 0 && nu < 0.5))
+            cli_die(CLI_EXIT_USAGE, "fit: nu must lie in [0, 0.5) (got %g)", nu);
+        s->nu.mode = LF_PARAM_FIXED;
+        s->nu.value = nu;
     }
     return model_auto;
 }
@@ -222,41 +243,34 @@ cli_fit_options(const char *model, const char *method, const char *jacobian,
 int
 cli_fit(int argc, char **argv)
 {
-    fit_args a = { NULL, NULL, "lm", "analytic", "auto", NULL, NULL,
-                   NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, -1, 0, NAN, NAN, NAN,
-                   "linear", NAN };
+    fit_args a = { NULL, NULL, NULL, NAN, NAN, NAN };
+    cli_fit_args fa;
     const char *plot_dir = NULL, *report_html = NULL;
-    const cli_opt opts[] = {
+    cli_opt opts[8 + CLI_FIT_NOPTS + 1] = {
         { "json", CLI_STRING, &a.json }, { "curves", CLI_STRING, &a.curves },
-        { "method", CLI_STRING, &a.method }, { "jacobian", CLI_STRING, &a.jacobian },
-        { "model", CLI_STRING, &a.model }, { "interface", CLI_STRING, &a.interface },
-        { "segment", CLI_STRING, &a.segment }, { "k", CLI_NUMBER, &a.k },
-        { "R", CLI_LENGTH, &a.R }, { "b", CLI_LENGTH, &a.b }, { "nu", CLI_NUMBER, &a.nu },
-        { "fix-nu", CLI_NUMBER, &a.fix_nu }, { "fix-z0", CLI_LENGTH, &a.fix_z0 },
-        { "fix-F0", CLI_FORCE, &a.fix_F0 }, { "max-b-over-a", CLI_NUMBER, &a.max_ba },
-        { "model-tol", CLI_NUMBER, &a.model_tol },
-        { "slope", CLI_FLAG, &a.slope }, { "max-iter", CLI_COUNT, &a.max_iter },
-        { "guess-w", CLI_ADHESION, &a.guess_w }, { "guess-E", CLI_PRESSURE, &a.guess_E },
-        { "guess-nu", CLI_NUMBER, &a.guess_nu }, { "loss", CLI_STRING, &a.loss },
-        { "loss-scale", CLI_NUMBER, &a.loss_scale },
+        { "interface", CLI_STRING, &a.interface }, { "k", CLI_NUMBER, &a.k },
+        { "R", CLI_LENGTH, &a.R }, { "b", CLI_LENGTH, &a.b },
         { "plot", CLI_STRING, &plot_dir }, { "report", CLI_STRING, &report_html },
-        { NULL, CLI_FLAG, NULL }
     };
-    int npos, help, status, seg_given = 0;
-    lf_segment seg = LF_SEG_UNLOAD;
+    int npos, help, status;
     lf_fit_settings set = lf_fit_settings_default();
     lf_choose_settings choose = lf_choose_settings_default();
+    lf_input_settings is = lf_input_settings_default();
     int model_auto;
-    fit_data d = { 0, NULL, NULL, NULL, NULL };
+    lf_fit_input d;
     lf_fit_result r;
     lf_error err;
     report_input in;
-    double plan_nu, nu;
-    size_t i;
+    size_t no;
 
+    cli_fit_args_init(&fa);
+    no = 8 + cli_fit_opts(&fa, opts + 8);
+    opts[no].name = NULL;
     cli_parse("fit", argc, argv, opts, &npos, &help);
     if (help) {
         fputs(usage_text, stdout);
+        fputs(cli_fit_help, stdout);
+        fputs(exit_text, stdout);
         return CLI_EXIT_OK;
     }
     if (npos != 1)
@@ -265,69 +279,27 @@ cli_fit(int argc, char **argv)
     cli_output_note("fit", a.json);
     cli_output_note("fit", a.curves);
     cli_output_note("fit", report_html);
-    if (a.segment != NULL) {
-        seg_given = 1;
-        if (strcmp(a.segment, "unload") == 0)
-            seg = LF_SEG_UNLOAD;
-        else if (strcmp(a.segment, "load") == 0)
-            seg = LF_SEG_LOAD;
-        else
-            cli_die(CLI_EXIT_USAGE, "fit: --segment must be unload or load (got '%s')", a.segment);
-    }
-    model_auto = cli_fit_options(a.model, a.method, a.jacobian, a.max_ba, &set);
-    if (!isnan(a.model_tol)) {
-        if (!(a.model_tol > 0) || !isfinite(a.model_tol))
-            cli_die(CLI_EXIT_USAGE, "fit: --model-tol must be a number > 0 (e.g. --model-tol 0.2)");
-        if (!model_auto)
-            cli_die(CLI_EXIT_USAGE, "fit: --model-tol applies to --model auto only");
-        choose.tol = a.model_tol;
-    }
-    set.fit_slope = a.slope;
-    if (!isnan(a.guess_w) && !(a.guess_w > 0))
-        cli_die(CLI_EXIT_USAGE, "fit: --guess-w must be > 0 (e.g. --guess-w 10mJ/m2)");
-    if (!isnan(a.guess_E) && !(a.guess_E > 0))
-        cli_die(CLI_EXIT_USAGE, "fit: --guess-E must be > 0 (e.g. --guess-E 1GPa)");
-    if (!isnan(a.guess_nu) && !(a.guess_nu > 0 && a.guess_nu < 0.5))
-        cli_die(CLI_EXIT_USAGE, "fit: --guess-nu must lie in (0, 0.5) (e.g. --guess-nu 0.3)");
-    if (lf_loss_find(a.loss) < 0)
-        cli_die(CLI_EXIT_USAGE, "fit: --loss must be linear, huber or cauchy (got '%s')", a.loss);
-    set.loss = (lf_loss) lf_loss_find(a.loss);
-    if (!isnan(a.loss_scale) && !(a.loss_scale > 0))
-        cli_die(CLI_EXIT_USAGE, "fit: --loss-scale must be > 0 (e.g. --loss-scale 1.345)");
-    set.loss_scale = a.loss_scale;
-    set.w.guess = a.guess_w;
-    set.Estar.guess = a.guess_E;
-    set.nu.guess = a.guess_nu;
-    if (a.max_iter == 0)
-        cli_die(CLI_EXIT_USAGE, "fit: --max-iter must be >= 1");
-    if (a.max_iter > 0)
-        set.max_iter = (size_t) a.max_iter;
-    read_input(argv[0], &a, seg, seg_given, &d, &plan_nu);
-    nu = !isnan(a.fix_nu) ? a.fix_nu : !isnan(a.nu) ? a.nu : plan_nu;
-    if (!isnan(nu)) {
-        if (!(nu >= 0 && nu < 0.5))
-            cli_die(CLI_EXIT_USAGE, "fit: nu must lie in [0, 0.5) (got %g)", nu);
-        set.nu.mode = LF_PARAM_FIXED;
-        set.nu.value = nu;
-    }
+    model_auto = cli_fit_settings(&fa, &set, &choose, &is);
+    read_input(argv[0], &a, &is, &d);
+    lf_fit_input_apply_nu(&d, &set);
     if (model_auto)
-        status = lf_fit_choose_driver(&set, &choose, d.n, d.fc, &r, &err);
+        status = lf_fit_choose_driver(&set, &choose, d.n, d.curves, &r, &err);
     else
-        status = lf_fit_driver(&set, d.n, d.fc, &r, &err);
+        status = lf_fit_driver(&set, d.n, d.curves, &r, &err);
     if (status != LF_OK && status != LF_ENOCONV)
         cli_die(status == LF_EDATA || status == LF_EINVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL,
                 "fit: %s", err.msg);
     if (!model_auto && set.model != &lf_model_thin) {
         lf_error terr;
-        int st = lf_fit_compare_thin(&set, d.n, d.fc, &r, &terr);
+        int st = lf_fit_compare_thin(&set, d.n, d.curves, &r, &terr);
         if (st != LF_OK)
             fprintf(stderr, "layerfit: warning: the thin-layer comparison fit failed: %s\n",
                     terr.msg);
     }
     in.settings = &set;
-    in.model_request = a.model;
+    in.model_request = fa.model;
     in.model_tol = model_auto ? choose.tol : NAN;
-    in.curves = d.fc;
+    in.curves = d.curves;
     report_text(stdout, &in, &r);
     if (a.json != NULL)
         write_file(a.json, report_json, &in, &r);
@@ -335,18 +307,10 @@ cli_fit(int argc, char **argv)
         write_file(a.curves, report_curves, &in, &r);
         cli_provenance_sidecar("fit", a.curves);
     }
-    cli_fit_figures(plot_dir, report_html, d.n, d.fc, &r);
+    cli_fit_figures(plot_dir, report_html, d.n, d.curves, &r);
     if (status == LF_ENOCONV)
         fprintf(stderr, "layerfit: fit: %s\n", r.stop_reason);
     lf_fit_result_free(&r);
-    for (i = 0; i < d.n; i++) {
-        free(d.depth[i]);
-        free(d.force[i]);
-        free(d.names[i]);
-    }
-    free(d.fc);
-    free(d.depth);
-    free(d.force);
-    free(d.names);
+    lf_fit_input_free(&d);
     return status == LF_OK ? CLI_EXIT_OK : CLI_EXIT_NOCONV;
 }

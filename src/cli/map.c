@@ -19,7 +19,6 @@
 #include <gsl/gsl_rng.h>
 
 #include "cli.h"
-#include "csvsplit.h"
 #include "plot.h"
 
 /* ------------------------------------------------------------------------
@@ -176,58 +175,46 @@ static const char *const mcol_name[NMCOL] = { "x_m", "y_m", "w_J_m2", "Estar_Pa"
 
 typedef struct {
     const char *path;
-    long col[NMCOL];
-    size_t n, cap;
+    size_t n;
     double (*v)[4];        /* x, y, w, E* (NaN where the fit failed) */
     size_t skipped;        /* rows without a position */
 } map_reader;
 
-static int
-map_record(void *ctx, const lf_csv_record *r, lf_error *err)
+/* The positions and estimates of a batch result (lf_table_read). */
+static void
+map_read(map_reader *m)
 {
-    map_reader *m = ctx;
-    double v[4];
-    size_t i;
+    lf_table *t = NULL;
+    lf_error err;
+    long col[NMCOL];
+    size_t i, r;
 
-    if (r->index == 0) {
-        for (i = 0; i < NMCOL; i++)
-            m->col[i] = -1;
-        for (i = 0; i < r->n; i++) {
-            size_t c;
-            for (c = 0; c < NMCOL; c++)
-                if (strcmp(r->text[i], mcol_name[c]) == 0)
-                    m->col[c] = (long) i;
+    if (lf_table_read(m->path, &t, &err) != LF_OK)
+        cli_die_error(CLI_EXIT_USAGE, &err);
+    for (i = 0; i < NMCOL; i++)
+        if ((col[i] = lf_table_column(t, mcol_name[i])) < 0)
+            cli_die(CLI_EXIT_USAGE, "%s:%ld: no column '%s': expected the CSV output of "
+                    "'layerfit fit --batch PLAN --out RESULT.csv'", m->path, t->header_line,
+                    mcol_name[i]);
+    m->v = malloc((t->nrows ? t->nrows : 1) * sizeof *m->v);
+    if (m->v == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    for (r = 0; r < t->nrows; r++) {
+        char *const *row = t->cells + r * t->ncols;
+        double v[4];
+        for (i = 0; i < 4; i++)
+            if (lf_table_number(row[col[i]], &v[i]) != LF_OK)
+                cli_die(CLI_EXIT_USAGE, "%s:%ld:%ld: '%s' is not a number", m->path,
+                        t->line[r], t->col[r * t->ncols + (size_t) col[i]], row[col[i]]);
+        if (!isfinite(v[0]) || !isfinite(v[1])) {
+            m->skipped++;
+            continue;
         }
-        for (i = 0; i < NMCOL; i++)
-            if (m->col[i] < 0)
-                return lf_fail_at(err, LF_EFORMAT, m->path, r->line, 0,
-                                  "no column '%s': expected the CSV output of "
-                                  "'layerfit fit --batch PLAN --out RESULT.csv'", mcol_name[i]);
-        return LF_OK;
+        if (strcmp(row[col[MC_STATUS]], "ok") != 0)
+            v[2] = v[3] = NAN;
+        memcpy(m->v[m->n++], v, sizeof v);
     }
-    for (i = 0; i < 4; i++) {
-        long c = m->col[i];
-        v[i] = NAN;
-        if (c < (long) r->n && lf_csv_number(r->text[c], 0, &v[i]) == LF_NUM_BAD)
-            return lf_fail_at(err, LF_EFORMAT, m->path, r->fline[c], r->fcol[c],
-                              "'%s' is not a number", r->text[c]);
-    }
-    if (!isfinite(v[0]) || !isfinite(v[1])) {
-        m->skipped++;
-        return LF_OK;
-    }
-    if (m->col[MC_STATUS] >= (long) r->n || strcmp(r->text[m->col[MC_STATUS]], "ok") != 0)
-        v[2] = v[3] = NAN;
-    if (m->n == m->cap) {
-        size_t cap = m->cap ? 2 * m->cap : 1024;
-        double (*nv)[4] = realloc(m->v, cap * sizeof *nv);
-        if (nv == NULL)
-            return lf_fail(err, LF_ENOMEM, "out of memory");
-        m->v = nv;
-        m->cap = cap;
-    }
-    memcpy(m->v[m->n++], v, sizeof v);
-    return LF_OK;
+    lf_table_free(t);
 }
 
 static int
@@ -299,8 +286,6 @@ static int
 draw_map(const char *result, const char *image)
 {
     map_reader m;
-    lf_csv_handler h;
-    lf_error err;
     double *ux, *uy, *grid, Escale;
     const char *Eunit;
     size_t nx, ny, i;
@@ -324,11 +309,7 @@ draw_map(const char *result, const char *image)
     cli_input_note(result, NULL);
     memset(&m, 0, sizeof m);
     m.path = result;
-    h.ctx = &m;
-    h.record = map_record;
-    h.comment = NULL;
-    if (lf_csv_read_file(result, &h, &err) != LF_OK)
-        cli_die_error(CLI_EXIT_USAGE, &err);
+    map_read(&m);
     if (m.n == 0)
         cli_die(CLI_EXIT_USAGE, "map: %s has no rows with a position (x_m, y_m): "
                 "the curve files need '# x: ...' and '# y: ...' lines", result);

@@ -4,11 +4,24 @@ speed and accuracy comparison can be rerun by anyone.  Run it with Debian's
 python3-scipy (/usr/bin/python3).  Two modes:
 
 peer_scipy.py DIR (used by `layerfit bench`): fit every case file
-DIR/case_S_N.txt the bench wrote and print, per case, one line
+DIR/case_S_N.txt the bench wrote with each peer and print, per case and
+peer, one line
 
-    case S N median_time_us rms_rel_err_w rms_rel_err_E rms_abs_err_nu converged_fraction
+    case S N median_time_us rms_rel_err_w rms_rel_err_E rms_abs_err_nu converged_fraction PEER
 
-(err_nu is nan when nu is not fitted).  Case file: '# key values' header
+(err_nu is nan when nu is not fitted).  The peers:
+    lm-truth, trf-truth   scipy least_squares, method 'lm' (MINPACK) or
+                          'trf', analytic Jacobian, from the truth
+    lm-auto, trf-auto     the same from a simple automatic start (below),
+                          its cost included in the time
+    lmfit-truth           lmfit.minimize (Debian python3-lmfit), 'leastsq'
+                          with its own finite-difference Jacobian, from the
+                          truth; skipped when lmfit is missing
+The simple automatic start, per curve, from the data alone: F0 = the force
+of the shallowest point, the deepest point gives M with the closed form,
+the lowest force its pull-off P_po = -C (2c/k)^(2/k) c, hence c, w = M c^2
+/ (2b) and z0 (two passes); w and E* are the geometric means over the
+curves (E* from frictionless curves where there are any).  Case file: '# key values' header
 lines (scene, noise, truth w E nu, free_nu, free_offsets, seeds, ncurves,
 then 'curve j k R b base' and 'offsets j z0 F0'), then rows 'seed curve z F'.
 Parameters: ln w, ln E*, u = atanh(4 nu - 1) when nu is free, then z0 and F0
@@ -40,6 +53,11 @@ import time
 
 import numpy as np
 from scipy.optimize import least_squares
+
+try:
+    import lmfit
+except ImportError:     # Debian python3-lmfit; its peer is then skipped
+    lmfit = None
 
 
 # ---- plan mode (bench_fit.c) -------------------------------------------
@@ -143,7 +161,7 @@ def curve_model(k, R, b, bonded, w, E, nu, z, z0):
     return P, dlogw, dlogM, ddelta, dlogZ_dnu
 
 
-def fit_one(head, rows):
+def fit_one(head, rows, peer):
     curves = head["curves"]
     free_nu = bool(head["free_nu"])
     free_off = bool(head["free_offsets"])
@@ -190,38 +208,99 @@ def fit_one(head, rows):
             blocks.append(J / scale[j])
         return np.vstack(blocks)
 
-    x0 = [math.log(w0), math.log(E0)]
-    if free_nu:
-        x0.append(math.atanh(4 * nu0 - 1))
-    if free_off:
-        for j in range(len(curves)):
-            z0, F0 = head["offsets"][j]
-            x0 += [z0 / L[j], F0 / scale[j]]
+    def auto_start():
+        """The simple automatic start described at the top."""
+        lw, lE, nw, nE, offs = 0.0, 0.0, 0, 0, []
+        any_fl = any(not cv[3] for cv in curves)
+        for j, (k, R, b, bonded) in enumerate(curves):
+            zz, ff = z[j], F[j]
+            if free_off:
+                F0 = ff[np.argmin(zz)]
+                z0 = 0.0
+            else:
+                z0, F0 = head["offsets"][j]
+            C1 = math.pi / b * k ** ((k + 2) / k) / (k + 2) * R ** (2 * (k - 1) / k)
+            Pmin = min(float(np.min(ff)) - F0, -1e-300)
+            zm = float(zz[np.argmin(ff)])
+            c = 0.0
+            for _ in range(2):
+                d1 = max(float(np.max(zz)) - z0 + c, 1e-300)
+                M = max((float(np.max(ff)) - F0) / (C1 * d1 ** (2 / k) * max(d1 - (k + 2) / k * c, 1e-300)), 1e-300)
+                c = (-Pmin / (C1 * M * (2 / k) ** (2 / k))) ** (k / (k + 2))
+                if free_off:
+                    z0 = zm + c - 2 * c / k
+            Z = (1 - nu0) ** 2 / (1 - 2 * nu0) if bonded else 1.0
+            if not bonded or not any_fl:
+                lE += math.log(M / Z)
+                nE += 1
+            lw += math.log(M * c * c / (2 * b))
+            nw += 1
+            offs.append((z0, F0))
+        return math.exp(lw / nw), math.exp(lE / nE), offs
+
+    def start(auto):
+        if auto:
+            w_s, E_s, offs = auto_start()
+        else:
+            w_s, E_s, offs = w0, E0, [head["offsets"].get(j, (0.0, 0.0)) for j in range(len(curves))]
+        x0 = [math.log(w_s), math.log(E_s)]
+        if free_nu:
+            x0.append(math.atanh(4 * (0.3 if auto else nu0) - 1))
+        if free_off:
+            for j in range(len(curves)):
+                x0 += [offs[j][0] / L[j], offs[j][1] / scale[j]]
+        return np.array(x0)
+
     t = time.perf_counter()
-    sol = least_squares(res, np.array(x0), jac=jac, method="trf", x_scale="jac")
+    if peer == "lmfit-truth":
+        x0 = start(False)
+        pars = lmfit.Parameters()
+        for i, v in enumerate(x0):
+            pars.add("p%d" % i, value=float(v))
+        out = lmfit.minimize(lambda P: res(np.array([P["p%d" % i].value for i in range(len(x0))])),
+                             pars, method="leastsq")
+        x = np.array([out.params["p%d" % i].value for i in range(len(x0))])
+        ok = bool(out.success)
+    else:
+        method, auto = peer.split("-")
+        x0 = start(auto == "auto")
+        sol = least_squares(res, x0, jac=jac, method=method,
+                            x_scale="jac" if method == "trf" else 1.0)
+        x, ok = sol.x, sol.status > 0
     t = time.perf_counter() - t
-    w, E, nu = unpack(sol.x)
-    return t, sol.status > 0, w, E, nu
+    w, E, nu = unpack(x)
+    return t, ok and math.isfinite(w) and math.isfinite(E), w, E, nu
+
+
+PEERS = ["lm-truth", "trf-truth", "lm-auto", "trf-auto", "lmfit-truth"]
 
 
 def bench_main():
+    peers = [p for p in PEERS if lmfit is not None or not p.startswith("lmfit")]
     for path in sorted(glob.glob(os.path.join(sys.argv[1], "case_*_*.txt"))):
         s, n = os.path.basename(path)[5:-4].split("_")
         head, data = read_case(path)
         w0, E0, nu0 = head["truth"]
-        times, ew, eE, en, conv = [], [], [], [], 0
-        for seed in range(int(head["seeds"])):
-            t, ok, w, E, nu = fit_one(head, data[data[:, 0] == seed])
-            times.append(t)
-            if ok:
-                conv += 1
-                ew.append(w / w0 - 1)
-                eE.append(E / E0 - 1)
-                en.append(nu - nu0)
-        rms = lambda v: math.sqrt(sum(e * e for e in v) / len(v)) if v else float("nan")
-        print("case %s %s %.6g %.6g %.6g %s %.6g" % (
-            s, n, 1e6 * float(np.median(times)), rms(ew), rms(eE),
-            "%.6g" % rms(en) if head["free_nu"] else "nan", conv / len(times)))
+        rows = [data[data[:, 0] == seed] for seed in range(int(head["seeds"]))]
+        for peer in peers:
+            times, ew, eE, en, conv = [], [], [], [], 0
+            for r in rows:
+                with np.errstate(all="ignore"):
+                    try:
+                        t, ok, w, E, nu = fit_one(head, r, peer)
+                    except (ValueError, ArithmeticError, np.linalg.LinAlgError):
+                        t, ok, w, E, nu = float("nan"), False, 0.0, 0.0, 0.0
+                times.append(t)
+                if ok:
+                    conv += 1
+                    ew.append(w / w0 - 1)
+                    eE.append(E / E0 - 1)
+                    en.append(nu - nu0)
+            rms = lambda v: math.sqrt(sum(e * e for e in v) / len(v)) if v else float("nan")
+            print("case %s %s %.6g %.6g %.6g %s %.6g %s" % (
+                s, n, 1e6 * float(np.nanmedian(times)), rms(ew), rms(eE),
+                "%.6g" % rms(en) if head["free_nu"] else "nan", conv / len(times), peer))
+            sys.stdout.flush()
 
 
 def main():

@@ -27,7 +27,11 @@ cmp -s "$tmp/r1.jsonl" "$tmp/r2.jsonl" && ok || bad "--threads 1 and 2 give diff
 [ "$(wc -l < "$tmp/r1.csv")" -eq 65 ] && ok || bad "header + 64 rows"
 [ "$(wc -l < "$tmp/r1.jsonl")" -eq 64 ] && ok || bad "64 JSON lines"
 has "CSV header" "$tmp/r1.csv" "fit,sample,file,curves,status,model,x_m,y_m,w_J_m2,w_se_J_m2"
-has "thin model by default in a batch" "$tmp/r1.csv" ",ok,thin,"
+# the model is auto by default, as for a single fit; thin on request
+run_ok fit --batch "$tmp/fm/plan.csv" --model thin --threads 2 --out "$tmp/thin.csv"
+has "thin model on request in a batch" "$tmp/thin.csv" ",ok,thin,"
+run_ok fit --batch "$tmp/fm/plan.csv" --model auto --threads 2 --out "$tmp/r3.csv"
+cmp -s "$tmp/r1.csv" "$tmp/r3.csv" && ok || bad "a batch's default model is auto, as a single fit's"
 has "JSON null for NaN" "$tmp/r1.jsonl" '"nu": null'
 # --model auto: each fit chooses its models like a single fit, and says which
 run_ok fit --batch "$top/datasets/plan.csv" --model auto --threads 2 --out "$tmp/auto.csv"

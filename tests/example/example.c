@@ -4,7 +4,6 @@
  *   cc example.c $(pkg-config --cflags --libs layerfit) -o example
  *   ./example datasets/plan.csv
  */
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -15,11 +14,11 @@ int
 main(int argc, char **argv)
 {
     lf_plan *plan = NULL;
-    lf_fit_curve *fc;
+    lf_fit_input in;
     lf_fit_result res;
     lf_fit_settings settings = lf_fit_settings_default();
     lf_error err;
-    size_t i, j;
+    size_t j;
     int status;
 
     if (argc != 2) {
@@ -33,42 +32,21 @@ main(int argc, char **argv)
         fprintf(stderr, "%s:%ld: %s\n", err.file, err.line, err.msg);
         return 1;
     }
-    fc = calloc(plan->n, sizeof *fc);
-    for (i = 0; i < plan->n; i++) {
-        const lf_plan_row *row = &plan->rows[i];
-        lf_curve *c;
-        size_t n;
-        double *depth, *force;
-
-        if (lf_curve_read(row->file, NULL, &c, NULL, &err) != LF_OK) {
-            fprintf(stderr, "%s:%ld: %s\n", err.file, err.line, err.msg);
-            return 1;
-        }
-        /* the points of the segment the plan names, in SI units */
-        n = lf_curve_segment(c, row->segment, NULL, NULL);
-        depth = malloc(n * sizeof *depth);
-        force = malloc(n * sizeof *force);
-        lf_curve_segment(c, row->segment, depth, force);
-        lf_curve_free(c);
-
-        fc[i].name = row->file;
-        fc[i].n = n;
-        fc[i].depth = depth;
-        fc[i].force = force;
-        fc[i].probe = row->probe;
-        fc[i].branch = row->segment == LF_SEG_LOAD ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD;
-        fc[i].z0 = row->z0;    /* NaN: fitted */
-        fc[i].F0 = row->F0;
-        if (!isnan(row->nu)) {   /* the plan knows nu */
-            settings.nu.mode = LF_PARAM_FIXED;
-            settings.nu.value = row->nu;
-        }
+    /* its curves: the points of the segment each row names, in SI units,
+     * with the row's probe and held offsets (NULL settings: as the plan says) */
+    status = lf_fit_input_from_plan(plan, NULL, 0, NULL, &in, NULL, &err);
+    lf_plan_free(plan);         /* the input owns what it needs */
+    if (status != LF_OK) {
+        fprintf(stderr, "%s:%ld: %s\n", err.file, err.line, err.msg);
+        return 1;
     }
+    lf_fit_input_apply_nu(&in, &settings);   /* the plan's nu, if it gives one */
 
     /* one joint fit: w, E* (and nu where the curves determine it) shared */
-    status = lf_fit_driver(&settings, plan->n, fc, &res, &err);
+    status = lf_fit_driver(&settings, in.n, in.curves, &res, &err);
     if (status != LF_OK && status != LF_ENOCONV) {
         fprintf(stderr, "fit: %s\n", err.msg);
+        lf_fit_input_free(&in);
         return 1;
     }
     printf("converged: %s\n", res.converged ? "yes" : "no");
@@ -81,11 +59,6 @@ main(int argc, char **argv)
                res.curves[j].pulloff.P_po, res.curves[j].pulloff.a_po);
 
     lf_fit_result_free(&res);   /* the result owns its arrays */
-    for (i = 0; i < plan->n; i++) {
-        free((double *) fc[i].depth);
-        free((double *) fc[i].force);
-    }
-    free(fc);
-    lf_plan_free(plan);         /* after the fit: fc[].name points into it */
+    lf_fit_input_free(&in);     /* after the fit: the curves point into it */
     return status == LF_OK ? 0 : 3;
 }

@@ -1,0 +1,366 @@
+/* layout.c: a fit's settings defaults, the problem's layout (which rows
+ * and parameters belong to which curve, each curve's scales, noise and
+ * depth order) and the workspace, all sized once from the curves in
+ * lf_fit_alloc; runs reuse them and allocate nothing.
+ *
+ * GSL's error handler must be off in the calling program (the layerfit
+ * command and the tests turn it off); every GSL status is checked. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+
+#include "fit.h"
+
+static const struct {
+    const char *name;
+    const gsl_multifit_nlinear_trs *const *trs;
+} methods[] = {
+    { "lm", &gsl_multifit_nlinear_trs_lm },
+    { "lmaccel", &gsl_multifit_nlinear_trs_lmaccel },
+    { "dogleg", &gsl_multifit_nlinear_trs_dogleg },
+    { "ddogleg", &gsl_multifit_nlinear_trs_ddogleg },
+    { "subspace2D", &gsl_multifit_nlinear_trs_subspace2D },
+};
+
+const char *const lf_fit_methods[] = {
+    "lm", "lmaccel", "dogleg", "ddogleg", "subspace2D", NULL
+};
+
+lf_fit_settings
+lf_fit_settings_default(void)
+{
+    lf_fit_settings s;
+    memset(&s, 0, sizeof s);
+    s.model = &lf_model_thin;
+    s.method = "lm";
+    s.jacobian = LF_JAC_ANALYTIC;
+    s.w.mode = s.Estar.mode = s.nu.mode = LF_PARAM_AUTO;
+    s.w.value = s.Estar.value = NAN;
+    s.nu.value = 0.3;
+    s.w.prior_sd = s.Estar.prior_sd = s.nu.prior_sd = NAN;
+    s.w.guess = s.Estar.guess = s.nu.guess = NAN;
+    s.fit_slope = 0;
+    s.max_iter = 200;
+    s.xtol = 1e-11;
+    s.gtol = 1e-12;
+    s.ftol = 0.0;
+    s.rcond = 1e-7;
+    s.max_b_over_a = 0.1;
+    s.loss = LF_LOSS_LINEAR;
+    s.loss_scale = NAN;
+    return s;
+}
+
+static int
+check_curve(const lf_fit_curve *c, size_t j, lf_error *err)
+{
+    size_t i;
+    const char *name = c->name ? c->name : "";
+
+    if (lf_probe_check(&c->probe, err) != LF_OK)
+        return lf_fail(err, LF_EINVAL, "curve %zu (%s): %s", j + 1, name, err ? err->msg : "bad probe");
+    if (c->branch != LF_BRANCH_UNLOAD && c->branch != LF_BRANCH_LOAD)
+        return lf_fail(err, LF_EINVAL, "curve %zu (%s): unknown branch", j + 1, name);
+    if (c->n < 5 || c->depth == NULL || c->force == NULL)
+        return lf_fail(err, LF_EDATA, "curve %zu (%s): %zu points, a fit needs at least 5",
+                       j + 1, name, c->n);
+    for (i = 0; i < c->n; i++)
+        if (!isfinite(c->depth[i]) || !isfinite(c->force[i]))
+            return lf_fail(err, LF_EDATA, "curve %zu (%s): point %zu is not finite",
+                           j + 1, name, i + 1);
+    if (!(isfinite(c->z0) || isnan(c->z0)) || !(isfinite(c->F0) || isnan(c->F0)))
+        return lf_fail(err, LF_EINVAL, "curve %zu (%s): held z0 and F0 must be finite",
+                       j + 1, name);
+    return LF_OK;
+}
+
+typedef struct {
+    double z;
+    size_t i;
+} depth_index;
+
+static int
+cmp_depth_index(const void *a, const void *b)
+{
+    const depth_index *x = a, *y = b;
+    if (x->z != y->z)
+        return (x->z > y->z) - (x->z < y->z);
+    return (x->i > y->i) - (x->i < y->i);
+}
+
+/* order[0..n-1]: the points of z by depth, ties in file order.  Curves
+ * recorded in order of depth (either way) need no sort; di is scratch for
+ * the others. */
+static void
+sort_by_depth(const double *z, size_t n, size_t *order, depth_index *di)
+{
+    size_t i, up = 1, down = 1;
+
+    for (i = 1; i < n && (up || down); i++) {
+        up &= z[i] >= z[i - 1];
+        down &= z[i] <= z[i - 1];
+    }
+    if (up) {
+        for (i = 0; i < n; i++)
+            order[i] = i;
+        return;
+    }
+    if (down) {     /* reversed, each run of equal depths kept in file order */
+        size_t m = 0, end = n;
+        while (end > 0) {
+            size_t a = end - 1;
+            while (a > 0 && z[a - 1] == z[end - 1])
+                a--;
+            for (i = a; i < end; i++)
+                order[m++] = i;
+            end = a;
+        }
+        return;
+    }
+    for (i = 0; i < n; i++) {
+        di[i].z = z[i];
+        di[i].i = i;
+    }
+    qsort(di, n, sizeof *di, cmp_depth_index);
+    for (i = 0; i < n; i++)
+        order[i] = di[i].i;
+}
+
+/* f->order: each curve's points sorted by depth, ties in file order, so
+ * that nothing the fit computes depends on the order of the rows. */
+static int
+depth_order(lf_fit *f)
+{
+    size_t j, nmax = 0;
+    depth_index *di;
+
+    for (j = 0; j < f->ncurves; j++)
+        nmax = f->c[j].data.n > nmax ? f->c[j].data.n : nmax;
+    di = malloc(nmax * sizeof *di);
+    if (di == NULL)
+        return LF_ENOMEM;
+    for (j = 0; j < f->ncurves; j++)
+        sort_by_depth(f->c[j].data.depth, f->c[j].data.n, f->order + f->c[j].row, di);
+    free(di);
+    return LF_OK;
+}
+
+const char *
+lf_loss_name(lf_loss loss)
+{
+    switch (loss) {
+    case LF_LOSS_HUBER:  return "huber";
+    case LF_LOSS_CAUCHY: return "cauchy";
+    default:             return "linear";
+    }
+}
+
+int
+lf_loss_find(const char *name)
+{
+    int l;
+    for (l = LF_LOSS_LINEAR; l <= LF_LOSS_CAUCHY; l++)
+        if (strcmp(name, lf_loss_name((lf_loss) l)) == 0)
+            return l;
+    return -1;
+}
+
+/* Depth span, force scale, guard width and noise of each curve. */
+static int
+curve_scales(lf_fit *f, lf_error *err)
+{
+    size_t i, j;
+
+    for (j = 0; j < f->ncurves; j++) {
+        fit_curve *c = &f->c[j];
+        double zmin = HUGE_VAL, zmax = -HUGE_VAL, fbig = 0.0;
+        for (i = 0; i < c->data.n; i++) {
+            zmin = fmin(zmin, c->data.depth[i]);
+            zmax = fmax(zmax, c->data.depth[i]);
+            fbig = fmax(fbig, fabs(c->data.force[i]));
+        }
+        if (!(zmax > zmin) || !(fbig > 0))
+            return lf_fail(err, LF_EDATA, "curve %zu (%s): depth or force does not vary",
+                           j + 1, c->data.name ? c->data.name : "");
+        c->L = zmax - zmin;
+        c->Fs = fbig;
+        c->eps = 1e-3 * c->L / (double) (c->data.n - 1);
+        c->sigma = lf_fit_noise_sigma(c->data.depth, c->data.force, f->order + c->row, c->data.n,
+                                   f->w.work);
+    }
+    return LF_OK;
+}
+
+lf_fit *
+lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
+             const lf_fit_curve *curves, lf_error *err)
+{
+    lf_fit *f;
+    gsl_multifit_nlinear_parameters par = gsl_multifit_nlinear_default_parameters();
+    size_t j, nm = sizeof methods / sizeof methods[0], im;
+
+    if (settings->model == NULL || settings->method == NULL) {
+        lf_fail(err, LF_EINVAL, "fit settings need a model and a method");
+        return NULL;
+    }
+    for (im = 0; im < nm; im++)
+        if (strcmp(methods[im].name, settings->method) == 0)
+            break;
+    if (im == nm) {
+        lf_fail(err, LF_EINVAL, "unknown method '%s' (lm, lmaccel, dogleg, ddogleg, subspace2D)",
+                settings->method);
+        return NULL;
+    }
+    if (settings->jacobian > LF_JAC_CENTRAL || settings->max_iter == 0
+        || !(settings->rcond > 0 && settings->rcond < 1)
+        || !(settings->max_b_over_a > 0)) {
+        lf_fail(err, LF_EINVAL, "fit settings out of range (jacobian, max_iter, rcond, max_b_over_a)");
+        return NULL;
+    }
+    if (settings->loss > LF_LOSS_CAUCHY
+        || !(isnan(settings->loss_scale) || (settings->loss_scale > 0 && isfinite(settings->loss_scale)))) {
+        lf_fail(err, LF_EINVAL, "fit settings out of range (loss, loss_scale > 0)");
+        return NULL;
+    }
+    if (ncurves == 0) {
+        lf_fail(err, LF_EDATA, "no curves to fit");
+        return NULL;
+    }
+    for (j = 0; j < ncurves; j++)
+        if (check_curve(&curves[j], j, err) != LF_OK)
+            return NULL;
+    f = calloc(1, sizeof *f);
+    if (f == NULL)
+        goto nomem;
+    f->set = *settings;
+    f->trs = *methods[im].trs;
+    f->ncurves = ncurves;
+    f->c = calloc(ncurves, sizeof *f->c);
+    if (f->c == NULL)
+        goto nomem;
+    for (j = 0; j < ncurves; j++) {
+        f->c[j].data = curves[j];
+        f->c[j].model = lf_model_alloc(curves[j].model ? curves[j].model : settings->model,
+                                       &curves[j].probe, err);
+        if (f->c[j].model == NULL) {
+            lf_fit_free(f);
+            return NULL;
+        }
+    }
+    if (lf_fit_problem_setup(f, err) != LF_OK) {
+        lf_fit_free(f);
+        return NULL;
+    }
+    f->x0_internal = calloc(f->np, sizeof *f->x0_internal);
+    f->w.xcache = calloc(f->np, sizeof *f->w.xcache);
+    f->w.ev = calloc(f->ndata, sizeof *f->w.ev);
+    f->w.scan_ev = calloc(f->ndata, sizeof *f->w.scan_ev);
+    f->w.sqrtw = malloc(f->ndata * sizeof *f->w.sqrtw);
+    f->w.delta = calloc(f->ndata, sizeof *f->w.delta);
+    f->w.work = calloc(f->ndata > 2 * GUESS_NSUB ? f->ndata : 2 * GUESS_NSUB, sizeof *f->w.work);
+    f->w.sub = calloc(3 * GUESS_NSUB + GUESS_NODES, sizeof *f->w.sub);
+    f->w.keep = calloc(3 * ncurves, sizeof *f->w.keep);
+    f->w.jtj = calloc(f->np * f->np, sizeof *f->w.jtj);
+    f->w.lm.x = gsl_vector_alloc(f->np);
+    f->w.lm.xt = gsl_vector_alloc(f->np);
+    f->w.lm.h = gsl_vector_alloc(f->np);
+    f->w.lm.r = gsl_vector_alloc(f->nres);
+    f->w.lm.rt = gsl_vector_alloc(f->nres);
+    f->w.lm.J = gsl_matrix_alloc(f->nres, f->np);
+    f->w.lm.A = calloc(f->np * f->np, sizeof *f->w.lm.A);
+    f->w.lm.L = calloc(f->np * f->np, sizeof *f->w.lm.L);
+    f->w.lm.g = calloc(f->np, sizeof *f->w.lm.g);
+    f->w.lm.D2 = calloc(f->np, sizeof *f->w.lm.D2);
+    f->w.grad = calloc(f->np, sizeof *f->w.grad);
+    f->w.colmax = calloc(f->np, sizeof *f->w.colmax);
+    f->w.x = gsl_vector_alloc(f->np);
+    f->w.x2 = gsl_vector_alloc(f->np);
+    f->w.x0 = gsl_vector_alloc(f->np);
+    f->w.r = gsl_vector_alloc(f->nres);
+    f->w.r2 = gsl_vector_alloc(f->nres);
+    f->order = malloc(f->ndata * sizeof *f->order);
+    if (!f->x0_internal || !f->w.xcache || !f->w.ev || !f->w.scan_ev || !f->w.sqrtw
+        || !f->w.delta || !f->w.work || !f->w.sub || !f->w.keep || !f->w.jtj || !f->w.lm.x || !f->w.lm.xt || !f->w.lm.h
+        || !f->w.lm.r || !f->w.lm.rt || !f->w.lm.J || !f->w.lm.A || !f->w.lm.L || !f->w.lm.g
+        || !f->w.lm.D2 || !f->w.grad || !f->w.colmax || !f->w.x || !f->w.x2 || !f->w.x0
+        || !f->w.r || !f->w.r2 || !f->order || depth_order(f) != LF_OK)
+        goto nomem;
+    /* GSL's workspace: made when a run first needs it (lf_fit_gsl) */
+    f->gsl_par = par;
+    f->gsl_par.trs = f->trs;
+    f->gsl_par.scale = gsl_multifit_nlinear_scale_more;
+    f->gsl_par.solver = gsl_multifit_nlinear_solver_cholesky;
+    f->gsl_par.fdtype = settings->jacobian == LF_JAC_CENTRAL ? GSL_MULTIFIT_NLINEAR_CTRDIFF
+                                                             : GSL_MULTIFIT_NLINEAR_FWDIFF;
+    f->fdf.f = lf_fit_residuals;
+    f->fdf.df = settings->jacobian == LF_JAC_ANALYTIC ? lf_fit_jacobian : NULL;
+    f->fdf.fvv = NULL;
+    f->fdf.n = f->nres;
+    f->fdf.p = f->np;
+    f->fdf.params = f;
+    if (curve_scales(f, err) != LF_OK) {
+        lf_fit_free(f);
+        return NULL;
+    }
+    return f;
+nomem:
+    lf_fit_free(f);
+    lf_fail(err, LF_ENOMEM, "out of memory allocating a fit");
+    return NULL;
+}
+
+void
+lf_fit_free(lf_fit *f)
+{
+    size_t j;
+
+    if (f == NULL)
+        return;
+    if (f->c != NULL)
+        for (j = 0; j < f->ncurves; j++)
+            lf_model_free(f->c[j].model);
+    free(f->c);
+    free(f->x0_internal);
+    free(f->order);
+    free(f->w.xcache);
+    free(f->w.ev);
+    free(f->w.scan_ev);
+    free(f->w.sqrtw);
+    free(f->w.delta);
+    free(f->w.work);
+    free(f->w.sub);
+    free(f->w.keep);
+    free(f->w.jtj);
+    gsl_vector_free(f->w.lm.x);
+    gsl_vector_free(f->w.lm.xt);
+    gsl_vector_free(f->w.lm.h);
+    gsl_vector_free(f->w.lm.r);
+    gsl_vector_free(f->w.lm.rt);
+    gsl_matrix_free(f->w.lm.J);
+    free(f->w.lm.A);
+    free(f->w.lm.L);
+    free(f->w.lm.g);
+    free(f->w.lm.D2);
+    free(f->w.grad);
+    free(f->w.colmax);
+    gsl_vector_free(f->w.x);
+    gsl_vector_free(f->w.x2);
+    gsl_vector_free(f->w.x0);
+    gsl_vector_free(f->w.r);
+    gsl_vector_free(f->w.r2);
+    if (f->gsl != NULL)
+        gsl_multifit_nlinear_free(f->gsl);
+    free(f);
+}
+
+
+int
+lf_fit_gsl(lf_fit *f)
+{
+    if (f->gsl == NULL)
+        f->gsl = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &f->gsl_par, f->nres,
+                                            f->np);
+    return f->gsl != NULL ? LF_OK : LF_ENOMEM;
+}

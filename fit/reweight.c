@@ -1,0 +1,48 @@
+/* reweight.c: a robust loss, a policy run only when the settings ask for
+ * one.  Contract: from the least-squares solution at x, iteratively
+ * reweighted least squares until the weights settle.
+ *
+ * With u the residual in units of loss_scale noise sd, the weights are
+ * min(1, 1/|u|) (Huber) or 1/(1 + u^2) (Cauchy); each round refits from
+ * where the last ended, until no weight's square root moves by more than
+ * FIT_REWEIGHT_TOL (at most FIT_MAX_REWEIGHT rounds). */
+#include <math.h>
+#include <stdio.h>
+
+#include "fit.h"
+
+int
+lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_error *err)
+{
+    const double scale = !isnan(f->set.loss_scale) ? f->set.loss_scale
+                         : f->set.loss == LF_LOSS_HUBER ? 1.345 : 2.385;
+    gsl_vector *r = f->w.r;
+    size_t round, k;
+    int status = LF_OK;
+
+    for (round = 0; round < FIT_MAX_REWEIGHT; round++) {
+        double moved = 0.0;
+        if (lf_fit_residuals(x, f, r) != GSL_SUCCESS)
+            return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated while reweighting");
+        for (k = 0; k < f->ndata; k++) {
+            double u = fabs(gsl_vector_get(r, k) / f->w.sqrtw[k]) / scale, wt, s;
+            wt = f->set.loss == LF_LOSS_HUBER ? (u <= 1.0 ? 1.0 : 1.0 / u) : 1.0 / (1.0 + u * u);
+            s = sqrt(wt);
+            moved = fmax(moved, fabs(s - f->w.sqrtw[k]));
+            f->w.sqrtw[k] = s;
+        }
+        f->w.xcache_ok = 0;
+        *rounds = round + 1;
+        if (moved < FIT_REWEIGHT_TOL)
+            break;
+        status = lf_fit_solve_scanned(f, x, 0, run, err);
+        if (status != LF_OK)
+            return status;
+    }
+    if (round == FIT_MAX_REWEIGHT) {
+        run->converged = 0;
+        snprintf(run->why, sizeof run->why,
+                 "not converged: the robust weights still move after %d rounds", FIT_MAX_REWEIGHT);
+    }
+    return status;
+}

@@ -1,0 +1,82 @@
+/* second_start.c: a second start, a policy for costs with more than one
+ * basin.  Contract: solve again from another material (the user's guess
+ * against the automatic one, or the guess's runner-up w), every curve's
+ * offsets profiled there, and keep whichever solution has the lower cost.
+ *
+ * The cost has kinks wherever a point crosses the contact edge, so a start
+ * a factor of a few off can end in another minimum.  A start whose
+ * material the first solution already lies next to (within FIT_ALT_LOG_SEP
+ * in ln w and ln E*) would find that solution again and is not run. */
+#include <math.h>
+#include <string.h>
+
+#include "fit.h"
+
+/* 1 when the material at x is within FIT_ALT_LOG_SEP of `from` in ln w and
+ * ln E* (and nu within FIT_ALT_LOG_SEP / 4, its range being a quarter). */
+static int
+same_basin(lf_fit *f, const gsl_vector *x, const lf_material *from)
+{
+    lf_material m;
+    double z0, F0, slope;
+
+    lf_fit_unpack(f, x->data, &m, &z0, &F0, &slope, f->ncurves);
+    return fabs(log(m.w / from->w)) < FIT_ALT_LOG_SEP
+           && fabs(log(m.Estar / from->Estar)) < FIT_ALT_LOG_SEP
+           && fabs(m.nu - from->nu) < 0.25 * FIT_ALT_LOG_SEP;
+}
+
+int
+lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *run,
+                 double *ratio, lf_error *err)
+{
+    double cost_first, cost_second, *keep = f->w.keep;
+    lf_material mat_first;
+    fit_run second;
+    int status, win;
+    size_t j;
+
+    *ratio = 1.0;
+    if (same_basin(f, x, from))
+        return LF_OK;
+    cost_first = lf_fit_cost(f, x, f->w.r);
+    lf_fit_rebase(f, x);
+    mat_first = f->mat;
+    for (j = 0; j < f->ncurves; j++) {
+        keep[3 * j] = f->c[j].z0;
+        keep[3 * j + 1] = f->c[j].F0;
+        keep[3 * j + 2] = f->c[j].slope;
+    }
+    f->mat = *from;
+    lf_fit_guess_offsets(f);
+    memset(&second, 0, sizeof second);
+    status = lf_fit_solve_scanned(f, x, 1, &second, err);
+    run->iters += second.iters;
+    run->evals += second.evals;
+    if (status != LF_OK)
+        return status;
+    cost_second = lf_fit_cost(f, x, f->w.r);
+    /* a converged run beats an unconverged one at about the same cost; else
+     * the lower cost wins, an unconverged run only by a clear margin */
+    win = (second.converged && !run->converged
+           && cost_second <= cost_first * (1.0 + FIT_SECOND_TIE_REL))
+          || (second.converged == run->converged
+              && cost_second < cost_first * (1.0 - FIT_SECOND_WIN_REL))
+          || (!second.converged && run->converged
+              && cost_second < cost_first * (1.0 - FIT_SECOND_CLEAR_REL));
+    if (win) {
+        *ratio = cost_first / cost_second;
+        run->converged = second.converged;
+        memcpy(run->why, second.why, sizeof run->why);
+        return LF_OK;
+    }
+    f->mat = mat_first;
+    for (j = 0; j < f->ncurves; j++) {
+        f->c[j].z0 = keep[3 * j];
+        f->c[j].F0 = keep[3 * j + 1];
+        f->c[j].slope = keep[3 * j + 2];
+    }
+    lf_fit_set_origin(f);
+    gsl_vector_set_all(x, 1.0);
+    return LF_OK;
+}

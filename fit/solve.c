@@ -1,0 +1,389 @@
+/* solve.c: the trust-region iteration (GSL's gsl_multifit_nlinear, the
+ * method chosen in the settings) and its stopping rules, every tolerance
+ * named in fit.h.  Converged means one of:
+ *  - GSL's tests on the step (xtol) or the gradient (gtol);
+ *  - no step lowers the cost and the scaled gradient is at rounding level
+ *    (FIT_GRAD_ROUNDING), or no coordinate step does (FIT_DESCENT_*): a
+ *    kink where a point meets the contact edge;
+ *  - the iteration limit with the cost flat (FIT_FLAT_*);
+ *  - w driven to where it no longer changes the fit (FIT_DEAD_COLUMN),
+ *    which the assessment reports as a bound.
+ * Everything else is "not converged", with the reason in words. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_blas.h>
+#include <gsl/gsl_errno.h>
+
+#include "fit.h"
+
+/* ---- the solver: lm.c for "lm" with the analytic Jacobian, else GSL ---- */
+
+static gsl_vector *
+cur_x(lf_fit *f)
+{
+    return f->w.own ? f->w.lm.x : gsl_multifit_nlinear_position(f->gsl);
+}
+
+static gsl_vector *
+cur_r(lf_fit *f)
+{
+    return f->w.own ? f->w.lm.r : gsl_multifit_nlinear_residual(f->gsl);
+}
+
+static gsl_matrix *
+cur_J(lf_fit *f)
+{
+    return f->w.own ? f->w.lm.J : gsl_multifit_nlinear_jac(f->gsl);
+}
+
+static size_t
+cur_niter(lf_fit *f)
+{
+    return f->w.own ? f->w.lm.niter : gsl_multifit_nlinear_niter(f->gsl);
+}
+
+static size_t
+cur_evals(lf_fit *f)
+{
+    return f->w.own ? f->w.lm.nevalf + f->w.lm.nevaldf : f->fdf.nevalf + f->fdf.nevaldf;
+}
+
+static int
+solver_init(lf_fit *f, const gsl_vector *x, int allow_own)
+{
+    f->w.own = allow_own && f->fdf.df != NULL && strcmp(f->set.method, "lm") == 0;
+    if (f->w.own)
+        return lf_fit_lm_init(f, x);
+    if (lf_fit_gsl(f) != LF_OK)
+        return GSL_ENOMEM;
+    return gsl_multifit_nlinear_init(x, &f->fdf, f->gsl);
+}
+
+static int
+solver_iterate(lf_fit *f)
+{
+    return f->w.own ? lf_fit_lm_iterate(f) : gsl_multifit_nlinear_iterate(f->gsl);
+}
+
+static int
+solver_test(lf_fit *f, int *info)
+{
+    return f->w.own ? lf_fit_lm_test(f, f->set.xtol, f->set.gtol, info)
+                    : gsl_multifit_nlinear_test(f->set.xtol, f->set.gtol, f->set.ftol, info,
+                                                f->gsl);
+}
+
+/* Why the solver stopped, in words; sets *converged. */
+static void
+stop_reason(int status, int info, size_t maxiter, char *buf, size_t n,
+            int *converged)
+{
+    *converged = 0;
+    if (status == GSL_SUCCESS) {
+        *converged = 1;
+        snprintf(buf, n, "converged (%s)", info == FIT_INFO_CHI2 ? "chi2 within reach of its minimum"
+                                           : info == 1 ? "small step" : "small gradient");
+    } else if (status == GSL_EMAXITER) {
+        snprintf(buf, n, "not converged: %zu iterations reached", maxiter);
+    } else if (status == GSL_ENOPROG) {
+        snprintf(buf, n, "not converged: no further progress possible");
+    } else {
+        snprintf(buf, n, "not converged: %s", gsl_strerror(status));
+    }
+}
+
+/* GSL gives up (ENOPROG) when no step lowers the cost any more; at an exact
+ * zero-residual solution this is success.  Accept it when the scaled
+ * gradient is at rounding level. */
+static int
+at_minimum(lf_fit *f)
+{
+    gsl_vector *r = cur_r(f);
+    gsl_matrix *J = cur_J(f);
+    size_t i, k;
+    double rn = gsl_blas_dnrm2(r);
+
+    for (k = 0; k < f->np; k++) {
+        double g = 0.0, cn = 0.0;
+        for (i = 0; i < f->nres; i++) {
+            double jik = gsl_matrix_get(J, i, k);
+            g += jik * gsl_vector_get(r, i);
+            cn += jik * jik;
+        }
+        if (fabs(g) > FIT_GRAD_ROUNDING * sqrt(cn) * rn + 1e-300)
+            return 0;
+    }
+    return 1;
+}
+
+/* No coordinate step of +-h (internal units: relative for w and E*,
+ * fractions of the depth span and force scale for the offsets) lowers the
+ * cost at x: a minimum, smooth or at a kink of the model, where GSL's
+ * gradient test need not pass. */
+static int
+no_descent(lf_fit *f, gsl_vector *x)
+{
+    static const double h[] = FIT_DESCENT_STEPS;
+    const size_t nh = sizeof h / sizeof h[0];
+    gsl_vector *r = f->w.r2;
+    double c0, rn;
+    size_t k, q;
+    int sign, ok = 1;
+
+    if (lf_fit_residuals(x, f, r) != GSL_SUCCESS)
+        return 0;
+    rn = gsl_blas_dnrm2(r);
+    c0 = rn * rn;
+    for (k = 0; k < f->np && ok; k++) {
+        double xk = gsl_vector_get(x, k);
+        for (q = 0; q < nh && ok; q++)
+            for (sign = -1; sign <= 1 && ok; sign += 2) {
+                gsl_vector_set(x, k, xk + sign * h[q]);
+                if (lf_fit_residuals(x, f, r) == GSL_SUCCESS) {
+                    rn = gsl_blas_dnrm2(r);
+                    ok = !(rn * rn < c0 * (1.0 - FIT_DESCENT_REL));
+                }
+            }
+        gsl_vector_set(x, k, xk);
+    }
+    f->w.xcache_ok = 0;
+    return ok;
+}
+
+/* After each iteration: remember the cost. */
+static void
+track_cost(lf_fit *f, size_t iter)
+{
+    double r = gsl_blas_dnrm2(cur_r(f));
+    f->w.cost_hist[iter % (FIT_FLAT_ITERS + 1)] = 0.5 * r * r;
+}
+
+/* The solver's Jacobian J and residuals r at its position, examined once
+ * per iteration (rows read in place):
+ *  - returns 0 when a column is not finite or negligible (below
+ *    FIT_DEAD_COLUMN of the largest), with that column in *which.  A
+ *    parameter that stops mattering (w driven towards zero leaves its
+ *    column near zero) sends GSL's subspace2D method into an endless loop
+ *    solving a quartic of NaNs; the other methods stall;
+ *  - *dchi2 = g^T (J^T J)^-1 g, g = J^T r: the decrease of chi2 that a full
+ *    Gauss-Newton step predicts, which is also the squared distance to the
+ *    minimum of the local quadratic measured in standard errors (residuals
+ *    are in units of the noise).  HUGE_VAL when J^T J is not positive
+ *    definite. */
+static int
+examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
+{
+    const gsl_matrix *J = cur_J(f);
+    const gsl_vector *r = cur_r(f);
+    const size_t n = J->size1, p = J->size2;
+    double *A = f->w.jtj, *g = f->w.grad, *big = f->w.colmax, top = 0.0, low = HUGE_VAL;
+    size_t i, k, l;
+
+    *dchi2 = HUGE_VAL;
+    for (k = 0; k < p; k++)
+        big[k] = 0.0;
+    if (f->w.own) {         /* lm.c has J^T J and J^T r already */
+        memcpy(A, f->w.lm.A, p * p * sizeof *A);
+        memcpy(g, f->w.lm.g, p * sizeof *g);
+        for (i = 0; i < n; i++) {
+            const double *row = J->data + i * J->tda;
+            for (k = 0; k < p; k++)
+                big[k] = fmax(big[k], fabs(row[k]));
+        }
+    } else {
+        memset(A, 0, p * p * sizeof *A);
+        for (k = 0; k < p; k++)
+            g[k] = 0.0;
+        for (i = 0; i < n; i++) {
+            const double *row = J->data + i * J->tda, ri = r->data[i * r->stride];
+            for (k = 0; k < p; k++) {
+                double a = row[k];
+                big[k] = fmax(big[k], fabs(a));
+                g[k] += a * ri;
+                for (l = 0; l <= k; l++)
+                    A[k * p + l] += a * row[l];
+            }
+        }
+    }
+    for (k = 0; k < p; k++) {
+        if (!isfinite(big[k]) || !isfinite(g[k]))
+            return 0;
+        top = fmax(top, big[k]);
+        if (big[k] < low) {
+            low = big[k];
+            *which = k;
+        }
+    }
+    if (!(low > FIT_DEAD_COLUMN * top))
+        return 0;
+    /* Cholesky of J^T J (lower triangle), then |L^-1 g|^2 */
+    for (k = 0; k < p; k++) {
+        for (l = 0; l <= k; l++) {
+            double sum = A[k * p + l];
+            size_t q;
+            for (q = 0; q < l; q++)
+                sum -= A[k * p + q] * A[l * p + q];
+            if (l == k) {
+                if (!(sum > 1e-14 * A[k * p + k]) || !(sum > 0))
+                    return 1;
+                A[k * p + k] = sqrt(sum);
+            } else {
+                A[k * p + l] = sum / A[l * p + l];
+            }
+        }
+    }
+    *dchi2 = 0.0;
+    for (k = 0; k < p; k++) {
+        double y = g[k];
+        for (l = 0; l < k; l++)
+            y -= A[k * p + l] * g[l];
+        g[k] = y / A[k * p + k];
+        *dchi2 += g[k] * g[k];
+    }
+    return 1;
+}
+
+/* gsl_multifit_nlinear_driver with the Jacobian examined before each
+ * iteration and the cost recorded after it.  Stops with GSL_SUCCESS and
+ * *info = FIT_INFO_CHI2 when a Gauss-Newton step would lower chi2 by less
+ * than FIT_CHI2_STEP (the estimates are then within sqrt(FIT_CHI2_STEP)
+ * standard errors of the minimum), else by GSL's tests.  An unusable
+ * Jacobian ends the run with GSL_EBADFUNC and the negligible column in
+ * *dead. */
+static int
+drive(lf_fit *f, int *info, size_t *dead)
+{
+    size_t iter = 0;
+    int status;
+    double dchi2;
+
+    *info = 0;
+    do {
+        if (!examine_jacobian(f, dead, &dchi2))
+            return GSL_EBADFUNC;
+        if (dchi2 <= FIT_CHI2_STEP) {
+            *info = FIT_INFO_CHI2;
+            return GSL_SUCCESS;
+        }
+        status = solver_iterate(f);
+        if (status == GSL_ENOPROG && iter == 0) {
+            *info = status;
+            return GSL_EMAXITER;
+        }
+        if (status != GSL_SUCCESS && status != GSL_ENOPROG)
+            return status;
+        track_cost(f, iter);
+        /* lm.c's GSL_ENOPROG (no step accepted) ends the run; GSL's
+         * driver goes on after its first iteration, and so does this loop */
+        status = status == GSL_ENOPROG && f->w.own ? GSL_ENOPROG : solver_test(f, info);
+    } while (status == GSL_CONTINUE && ++iter < f->set.max_iter);
+    if (iter >= f->set.max_iter && status != GSL_SUCCESS)
+        status = GSL_EMAXITER;
+    return status;
+}
+
+/* x = the solver's position */
+static void
+take_position(lf_fit *f, gsl_vector *x)
+{
+    gsl_vector_memcpy(x, cur_x(f));
+}
+
+int
+lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error *err)
+{
+    int status, info = 0, *converged = &run->converged;
+    size_t dead = 0, iters;
+    char *why = run->why;
+    const size_t nwhy = sizeof run->why;
+
+    *converged = 0;
+    gsl_vector_memcpy(f->w.x0, x);
+    status = solver_init(f, x, 1);
+    if (status != GSL_SUCCESS)
+        return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the starting point (%s)",
+                       gsl_strerror(status));
+    status = drive(f, &info, &dead);
+    if (f->w.own && status != GSL_SUCCESS && status != GSL_EBADFUNC) {
+        /* lm.c stalled (at a kink of the cost, where steps are rejected or
+         * creep): the same start with GSL's trust region, whose path
+         * differs there */
+        run->iters += cur_niter(f);
+        run->evals += cur_evals(f);
+        status = solver_init(f, f->w.x0, 0);
+        if (status != GSL_SUCCESS)
+            return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the starting "
+                           "point (%s)", gsl_strerror(status));
+        status = drive(f, &info, &dead);
+    }
+    iters = cur_niter(f);
+    run->iters += iters;
+    run->evals += cur_evals(f);
+    if (status == GSL_EBADFUNC) {
+        take_position(f, x);
+        if ((int) dead == f->imat[FIT_W]) {
+            /* the assessment reports w as bounded or undetermined */
+            *converged = 1;
+            snprintf(why, nwhy, "converged (w driven towards zero, where it no longer "
+                     "changes the fit)");
+        } else {
+            snprintf(why, nwhy, "not converged: parameter %zu no longer changes the fit", dead + 1);
+        }
+        return LF_OK;
+    }
+    if (status == GSL_EMAXITER && iters > FIT_FLAT_ITERS) {
+        /* GSL numbers the iteration that just ended iters - 1 */
+        double now = f->w.cost_hist[(iters - 1) % (FIT_FLAT_ITERS + 1)];
+        double then = f->w.cost_hist[iters % (FIT_FLAT_ITERS + 1)];
+        if (then - now <= fmax(FIT_FLAT_REL * now, FIT_FLAT_ABS)) {
+            take_position(f, x);
+            *converged = 1;
+            snprintf(why, nwhy, "converged (chi2 fell by %.2g over the last %d iterations)",
+                     2.0 * (then - now), FIT_FLAT_ITERS);
+            return LF_OK;
+        }
+    }
+    /* GSL reports "no step lowers the cost from the start" as EMAXITER
+     * with info ENOPROG.  after_scan: x is a converged solution moved by
+     * the contact-point scan or a reweighting */
+    if (status == GSL_EMAXITER && info == GSL_ENOPROG && iters < f->set.max_iter)
+        status = GSL_ENOPROG;
+    stop_reason(status, info, f->set.max_iter, why, nwhy, converged);
+    take_position(f, x);
+    if (status == GSL_ENOPROG && !at_minimum(f) && f->fdf.df != NULL && !no_descent(f, x)) {
+        /* the analytic derivatives, guarded at the contact edge, can point
+         * nowhere useful there: go on with finite differences, which see the
+         * residuals as they are */
+        size_t more;
+        f->fdf.df = NULL;
+        status = solver_init(f, x, 0);
+        if (status == GSL_SUCCESS)
+            status = drive(f, &info, &dead);
+        more = cur_niter(f);
+        run->iters += more;
+        run->evals += cur_evals(f);
+        f->fdf.df = lf_fit_jacobian;
+        if (status == GSL_EMAXITER && info == GSL_ENOPROG && more < f->set.max_iter)
+            status = GSL_ENOPROG;
+        stop_reason(status, info, f->set.max_iter, why, nwhy, converged);
+        take_position(f, x);
+    }
+    if (status == GSL_ENOPROG && !at_minimum(f) && !after_scan && no_descent(f, x)) {
+        *converged = 1;
+        snprintf(why, nwhy, "converged (no step lowers the cost: a kink where a point meets "
+                 "the contact edge)");
+        return LF_OK;
+    }
+    if (status == GSL_ENOPROG && (at_minimum(f) || after_scan)) {
+        /* after the contact-point scan the cost sits at a kink of the
+         * model, where the gradient need not vanish */
+        *converged = 1;
+        snprintf(why, nwhy, after_scan ? "converged (no step lowers the cost from the previous "
+                 "solution)" : "converged (no further decrease at a stationary point)");
+    }
+    take_position(f, x);
+    return LF_OK;
+}
+

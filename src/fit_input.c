@@ -1,0 +1,187 @@
+/* fit_input.c: the one step from a plan (or one curve file) to the curves
+ * a fit takes -- read each curve file, keep the points of its segment in
+ * SI, attach the row's probe, branch and held offsets, and apply the one
+ * nu rule of layerfit.h.  The input owns everything it points to. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "internal.h"
+
+lf_input_settings
+lf_input_settings_default(void)
+{
+    lf_input_settings s;
+    s.segment = -1;
+    s.z0 = s.F0 = NAN;
+    s.read = NULL;
+    s.min_points = 5;
+    s.open_flags = 0;
+    return s;
+}
+
+void
+lf_fit_input_free(lf_fit_input *in)
+{
+    size_t j;
+
+    if (in == NULL)
+        return;
+    if (in->points != NULL)
+        for (j = 0; j < 2 * in->n; j++)
+            free(in->points[j]);
+    if (in->names != NULL)
+        for (j = 0; j < in->n; j++)
+            free(in->names[j]);
+    free(in->points);
+    free(in->names);
+    free(in->sha256);
+    free(in->curves);
+    memset(in, 0, sizeof *in);
+}
+
+static int
+input_alloc(lf_fit_input *in, size_t n)
+{
+    memset(in, 0, sizeof *in);
+    in->nu = in->x = in->y = NAN;
+    in->n = n;
+    in->curves = calloc(n ? n : 1, sizeof *in->curves);
+    in->points = calloc(2 * n + 1, sizeof *in->points);
+    in->names = calloc(n ? n : 1, sizeof *in->names);
+    in->sha256 = calloc(n ? n : 1, sizeof *in->sha256);
+    return in->curves && in->points && in->names && in->sha256 ? LF_OK : LF_ENOMEM;
+}
+
+/* A "# key: value" length of the curve's file, or NaN. */
+static double
+meta_length(const lf_curve *c, const char *key)
+{
+    size_t i;
+    for (i = 0; i < c->nmeta; i++)
+        if (strcmp(c->meta[i].key, key) == 0) {
+            double v;
+            if (lf_units_parse(c->meta[i].value, LF_Q_LENGTH, &v, NULL) == LF_OK)
+                return v;
+        }
+    return NAN;
+}
+
+/* Curve j of in from the file at path. */
+static int
+add_curve(lf_fit_input *in, size_t j, const char *path, lf_segment seg, const lf_probe *probe,
+          double z0, double F0, const lf_input_settings *s, lf_warnings *warn, lf_error *err)
+{
+    lf_curve *c = NULL;
+    lf_fit_curve *fc = &in->curves[j];
+    lf_input file;
+    size_t n;
+    int status;
+
+    /* read once, whole, from a checked descriptor: what is parsed is what
+     * is hashed */
+    if ((status = lf_input_read(path, s->open_flags, &file, err)) != LF_OK)
+        return status;
+    memcpy(in->sha256[j], file.sha256, sizeof in->sha256[j]);
+    status = lf_curve_parse(file.data, file.len, 0, path, s->read, &c, warn, err);
+    lf_input_free(&file);
+    if (status != LF_OK)
+        return status;
+    if ((status = lf_curve_check_fit(c, seg, s->min_points, err)) != LF_OK) {
+        lf_curve_free(c);
+        return status;
+    }
+    if (j == 0) {
+        in->x = meta_length(c, "x");
+        in->y = meta_length(c, "y");
+    }
+    n = lf_curve_segment(c, seg, NULL, NULL);
+    in->points[2 * j] = malloc(n * sizeof(double));
+    in->points[2 * j + 1] = malloc(n * sizeof(double));
+    in->names[j] = malloc(strlen(path) + 1);
+    if (!in->points[2 * j] || !in->points[2 * j + 1] || !in->names[j]) {
+        lf_curve_free(c);
+        return lf_fail(err, LF_ENOMEM, "out of memory reading %s", path);
+    }
+    strcpy(in->names[j], path);
+    lf_curve_segment(c, seg, in->points[2 * j], in->points[2 * j + 1]);
+    lf_curve_free(c);
+    fc->name = in->names[j];
+    fc->n = n;
+    fc->depth = in->points[2 * j];
+    fc->force = in->points[2 * j + 1];
+    fc->probe = *probe;
+    fc->branch = seg;
+    fc->z0 = isnan(s->z0) ? z0 : s->z0;
+    fc->F0 = isnan(s->F0) ? F0 : s->F0;
+    fc->model = NULL;
+    return LF_OK;
+}
+
+int
+lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
+                       const lf_input_settings *s, lf_fit_input *in, lf_warnings *warn,
+                       lf_error *err)
+{
+    lf_input_settings def = lf_input_settings_default();
+    size_t j, n = rows ? nrows : plan->n;
+    int status;
+
+    if (s == NULL)
+        s = &def;
+    if (input_alloc(in, n) != LF_OK) {
+        lf_fit_input_free(in);
+        return lf_fail(err, LF_ENOMEM, "out of memory");
+    }
+    for (j = 0; j < n; j++) {
+        const lf_plan_row *row = &plan->rows[rows ? rows[j] : j];
+        if (!isnan(row->nu)) {
+            if (!isnan(in->nu) && in->nu != row->nu) {
+                double earlier = in->nu;
+                lf_fit_input_free(in);
+                return lf_fail_at(err, LF_EDATA, plan->path, row->line, 0,
+                                  "nu %g differs from an earlier row's %g (one material, "
+                                  "one nu)", row->nu, earlier);
+            }
+            in->nu = row->nu;
+        }
+        status = add_curve(in, j, row->file, s->segment >= 0 ? (lf_segment) s->segment
+                           : row->segment, &row->probe, row->z0, row->F0, s, warn, err);
+        if (status != LF_OK) {
+            lf_fit_input_free(in);
+            return status;
+        }
+    }
+    return LF_OK;
+}
+
+int
+lf_fit_input_from_curve(const char *path, const lf_probe *probe, const lf_input_settings *s,
+                        lf_fit_input *in, lf_warnings *warn, lf_error *err)
+{
+    lf_input_settings def = lf_input_settings_default();
+    int status;
+
+    if (s == NULL)
+        s = &def;
+    if ((status = lf_probe_check(probe, err)) != LF_OK)
+        return status;
+    if (input_alloc(in, 1) != LF_OK) {
+        lf_fit_input_free(in);
+        return lf_fail(err, LF_ENOMEM, "out of memory");
+    }
+    status = add_curve(in, 0, path, s->segment >= 0 ? (lf_segment) s->segment : LF_SEG_UNLOAD,
+                       probe, NAN, NAN, s, warn, err);
+    if (status != LF_OK)
+        lf_fit_input_free(in);
+    return status;
+}
+
+void
+lf_fit_input_apply_nu(const lf_fit_input *in, lf_fit_settings *settings)
+{
+    if (!isnan(in->nu) && settings->nu.mode != LF_PARAM_FIXED) {
+        settings->nu.mode = LF_PARAM_FIXED;
+        settings->nu.value = in->nu;
+    }
+}
