@@ -17,34 +17,25 @@
  *    compressibility length l/h of physics.md section 5 (every frictionless
  *    layer and bonded nu <= 0.45), and only approximate beyond.
  *
- * Cache.  A process-wide list of immutable tables keyed by (k, base, nu),
- * guarded by one mutex: a missing table is built under the lock (other
- * threads wait; no table is built twice), published, and never modified or
- * freed until lf_exact_cache_clear().
+ * Store.  A process-wide list of immutable tables keyed by (k, base, nu):
+ * looked up without a lock (the head and the links are published with
+ * release stores and read with acquire loads); a missing table is read
+ * from the disk cache (exact_cache.c) or built with no lock held, then
+ * published under a short mutex that only links it in.  Two threads asking
+ * for the same missing table may both build it; the second to publish frees
+ * its copy and takes the first.  Tables are never modified or freed until
+ * lf_exact_cache_clear().  A model object (model_exact.c) keeps the
+ * pointers it needs, so its evaluations do not search the list at all.
  */
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <time.h>
 
 #include "exact.h"
 
-#define NFUN 4
-
-struct lf_exact_table {
-    double k;
-    lf_base base;
-    double nu;
-    size_t n;            /* nodes */
-    double l0, h;        /* l_i = l0 + i h */
-    double *F;           /* ln f_j(l_i) at F[NFUN i + j] */
-    double *G;           /* d ln f_j / dl */
-    double f0[NFUN];     /* half-space values */
-    double flo[NFUN], dflo[NFUN];   /* f and f' at TAU_MIN */
-    double thin_c[NFUN], thin_pow[NFUN]; /* f_thin = c tau^pow */
-    double alpha[NFUN], beta[NFUN];      /* tail above TAU_MAX */
-    lf_exact_table *next;  /* cache list */
-};
+#define NFUN LF_EXACT_NFUN
 
 static double
 now_seconds(void)
@@ -71,7 +62,6 @@ lf_exact_table_build(const lf_exact_kernel *kr, double k, lf_base base, double n
 {
     lf_exact_table *t;
     double lmin = log(LF_EXACT_TAU_MIN), lmax = log(LF_EXACT_TAU_MAX);
-    double kap = lf_exact_kappa(k), Z = lf_thin_Z(base, nu);
     size_t i;
     int j, status;
 
@@ -115,6 +105,17 @@ lf_exact_table_build(const lf_exact_kernel *kr, double k, lf_base base, double n
             }
         }
     }
+    lf_exact_table_finish(t);
+    *out = t;
+    return LF_OK;
+}
+
+void
+lf_exact_table_finish(lf_exact_table *t)
+{
+    double k = t->k, kap = lf_exact_kappa(k), Z = lf_thin_Z(t->base, t->nu);
+    int j;
+
     t->f0[0] = t->f0[1] = t->f0[2] = 1.0;
     t->f0[3] = k / (k + 1.0);
     t->thin_c[0] = 0.5 * M_PI * Z;               t->thin_pow[0] = 1.0;
@@ -131,8 +132,6 @@ lf_exact_table_build(const lf_exact_kernel *kr, double k, lf_base base, double n
         t->beta[j] = bs2 / (sm * sm);
         t->alpha[j] = (r0 - bs2) / sm;
     }
-    *out = t;
-    return LF_OK;
 }
 
 /* ln f_j and d ln f_j / dtau at tau. */
@@ -190,11 +189,11 @@ lf_exact_table_eval(const lf_exact_table *t, double tau, double f[4], double df[
     }
 }
 
-/* ---------------------------------------------------------------- cache */
+/* ---------------------------------------------------------------- store */
 
-static pthread_mutex_t cache_lock = PTHREAD_MUTEX_INITIALIZER;
-static lf_exact_table *cache_head = NULL;
-static double last_build = 0.0;
+static pthread_mutex_t publish_lock = PTHREAD_MUTEX_INITIALIZER;
+static _Atomic(lf_exact_table *) store_head = NULL;
+static _Atomic(double) last_build = 0.0;
 
 double
 lf_exact_nu_node(int i)
@@ -202,6 +201,38 @@ lf_exact_nu_node(int i)
     double ymin = 0.5 * log(1.0 - 2.0 * LF_EXACT_NU_MAX);
     double y = ymin * (double) i / (double) (LF_EXACT_NY - 1);
     return 0.5 * (1.0 - exp(2.0 * y));
+}
+
+static lf_exact_table *
+store_find(double k, lf_base base, double nu)
+{
+    lf_exact_table *t;
+
+    for (t = atomic_load_explicit(&store_head, memory_order_acquire); t != NULL; t = t->next)
+        if (t->k == k && t->base == base && t->nu == nu)
+            return t;
+    return NULL;
+}
+
+/* Link t in unless an equal table got there first (then t is freed and
+ * that one returned). */
+static const lf_exact_table *
+store_publish(lf_exact_table *t)
+{
+    lf_exact_table *old;
+
+    pthread_mutex_lock(&publish_lock);
+    old = store_find(t->k, t->base, t->nu);
+    if (old == NULL) {
+        t->next = atomic_load_explicit(&store_head, memory_order_relaxed);
+        atomic_store_explicit(&store_head, t, memory_order_release);
+    }
+    pthread_mutex_unlock(&publish_lock);
+    if (old != NULL) {
+        lf_exact_table_free(t);
+        return old;
+    }
+    return t;
 }
 
 int
@@ -215,42 +246,37 @@ lf_exact_table_get(double k, lf_base base, double nu, const lf_exact_table **out
 
     if (base == LF_BASE_FRICTIONLESS)
         nu = 0.0;
-    *out = NULL;
-    if (pthread_mutex_lock(&cache_lock) != 0)
-        return lf_fail(err, LF_ENUMERIC, "cannot lock the table cache");
-    for (t = cache_head; t != NULL; t = t->next)
-        if (t->k == k && t->base == base && t->nu == nu)
-            break;
+    *out = store_find(k, base, nu);
+    if (*out != NULL)
+        return LF_OK;
+    t = lf_exact_disk_load(k, base, nu, LF_EXACT_STEP, 1.0);
     if (t == NULL) {
         t0 = now_seconds();
         status = lf_exact_kernel_alloc(&kr, base, nu, err);
         if (status == LF_OK)
             status = lf_exact_table_build(kr, k, base, nu, LF_EXACT_STEP, 1.0, &t, err);
         lf_exact_kernel_free(kr);
-        if (status != LF_OK) {
-            pthread_mutex_unlock(&cache_lock);
+        if (status != LF_OK)
             return status;
-        }
-        t->next = cache_head;
-        cache_head = t;
-        last_build = now_seconds() - t0;
+        atomic_store(&last_build, now_seconds() - t0);
+        lf_exact_disk_save(t, LF_EXACT_STEP, 1.0);
     }
-    pthread_mutex_unlock(&cache_lock);
-    *out = t;
+    *out = store_publish(t);
     return LF_OK;
 }
 
 int
-lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu, lf_error *err)
+lf_exact_mix_weights(lf_exact_mix *mx, lf_base base, double nu, lf_error *err)
 {
     double ymin = 0.5 * log(1.0 - 2.0 * LF_EXACT_NU_MAX), hy, y, q, dydnu;
-    int i0, m, status;
+    int i0, m;
 
     if (base == LF_BASE_FRICTIONLESS) {
         mx->m = 1;
+        mx->node0 = 0;
         mx->wl[0] = 1.0;
         mx->dwl[0] = 0.0;
-        return lf_exact_table_get(k, base, 0.0, &mx->t[0], err);
+        return LF_OK;
     }
     if (!(nu >= 0.0 && nu <= LF_EXACT_NU_MAX))
         return lf_fail(err, LF_EINVAL, "the exact bonded model covers 0 <= nu <= %g (got %g)",
@@ -267,6 +293,7 @@ lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu, lf_error 
     if (i0 > LF_EXACT_NY - 3)
         i0 = LF_EXACT_NY - 3;
     mx->m = 4;
+    mx->node0 = i0;
     for (m = 0; m < 4; m++) {
         double w = 1.0, dw = 0.0;
         int j, l;
@@ -289,7 +316,21 @@ lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu, lf_error 
         }
         mx->wl[m] = w;
         mx->dwl[m] = dw * (-dydnu / hy);  /* dq/dnu = -dy/dnu / hy */
-        status = lf_exact_table_get(k, base, lf_exact_nu_node(i0 + m), &mx->t[m], err);
+    }
+    return LF_OK;
+}
+
+int
+lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu, lf_error *err)
+{
+    int m, status = lf_exact_mix_weights(mx, base, nu, err);
+
+    if (status != LF_OK)
+        return status;
+    if (base == LF_BASE_FRICTIONLESS)
+        return lf_exact_table_get(k, base, 0.0, &mx->t[0], err);
+    for (m = 0; m < 4; m++) {
+        status = lf_exact_table_get(k, base, lf_exact_nu_node(mx->node0 + m), &mx->t[m], err);
         if (status != LF_OK)
             return status;
     }
@@ -325,21 +366,17 @@ lf_exact_cache_clear(void)
 {
     lf_exact_table *t, *next;
 
-    pthread_mutex_lock(&cache_lock);
-    for (t = cache_head; t != NULL; t = next) {
+    pthread_mutex_lock(&publish_lock);
+    t = atomic_exchange(&store_head, NULL);
+    pthread_mutex_unlock(&publish_lock);
+    for (; t != NULL; t = next) {
         next = t->next;
         lf_exact_table_free(t);
     }
-    cache_head = NULL;
-    pthread_mutex_unlock(&cache_lock);
 }
 
 double
 lf_exact_last_build_seconds(void)
 {
-    double s;
-    pthread_mutex_lock(&cache_lock);
-    s = last_build;
-    pthread_mutex_unlock(&cache_lock);
-    return s;
+    return atomic_load(&last_build);
 }

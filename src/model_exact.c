@@ -21,9 +21,48 @@
  * reaches tau -> 0 at delta = 0.
  */
 #include <math.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 
 #include "exact.h"
+
+/* The model object's state: the tables it uses, resolved from the process
+ * store when the model is made (frictionless) or prepared for a nu range
+ * (bonded), so that eval reads them with one atomic load and no lock.
+ * Slot 0 holds the frictionless table, slot i + 1 the bonded nu node i
+ * (-1 .. LF_EXACT_NY).  A slot, once set, always holds the same pointer
+ * (the store hands out one table per key). */
+typedef struct {
+    _Atomic(const lf_exact_table *) tab[LF_EXACT_NY + 2];
+} exact_state;
+
+/* The table of nu node `node` (ignored when frictionless), from the state
+ * or, the first time, from the store. */
+static int
+resolve(exact_state *st, const lf_probe *pr, int node, const lf_exact_table **out,
+        lf_error *err)
+{
+    int bonded = pr->base == LF_BASE_BONDED, slot = bonded ? node + 1 : 0, status;
+
+    *out = atomic_load_explicit(&st->tab[slot], memory_order_acquire);
+    if (*out != NULL)
+        return LF_OK;
+    status = lf_exact_table_get(pr->k, pr->base, bonded ? lf_exact_nu_node(node) : 0.0, out, err);
+    if (status == LF_OK)
+        atomic_store_explicit(&st->tab[slot], *out, memory_order_release);
+    return status;
+}
+
+/* The interpolation at nu from the model's tables. */
+static int
+state_mix(exact_state *st, const lf_probe *pr, double nu, lf_exact_mix *mx, lf_error *err)
+{
+    int m, status = lf_exact_mix_weights(mx, pr->base, nu, err);
+
+    for (m = 0; m < mx->m && status == LF_OK; m++)
+        status = resolve(st, pr, mx->node0 + m, &mx->t[m], err);
+    return status;
+}
 
 /* Everything one (probe, material) pair needs. */
 typedef struct {
@@ -108,15 +147,18 @@ find_detach(exact_ctx *c)
     c->delta_det = pt.delta;
 }
 
+/* st: the model's state, or NULL to take the tables from the store. */
 static int
-ctx_init(exact_ctx *c, const lf_probe *pr, const lf_material *m, lf_error *err)
+ctx_init(exact_ctx *c, exact_state *st, const lf_probe *pr, const lf_material *m,
+         lf_error *err)
 {
     double kap, B;
     int status;
 
     if (pr->base == LF_BASE_BONDED && m->nu > LF_EXACT_NU_MAX)
         return lf_fail(err, LF_EINVAL, "exact model: nu must be <= %g", LF_EXACT_NU_MAX);
-    status = lf_exact_mix_init(&c->mix, pr->k, pr->base, m->nu, err);
+    status = st != NULL ? state_mix(st, pr, m->nu, &c->mix, err)
+                        : lf_exact_mix_init(&c->mix, pr->k, pr->base, m->nu, err);
     if (status != LF_OK)
         return status;
     kap = lf_exact_kappa(pr->k);
@@ -210,17 +252,45 @@ fill_point(const exact_ctx *c, double tau, int bonded, lf_eval *e)
 static int
 exact_alloc(void **state, const lf_probe *probe, lf_error *err)
 {
-    lf_exact_mix mix;
-    int status;
+    exact_state *st = calloc(1, sizeof *st);
+    const lf_exact_table *t;
+    int i, status;
 
     *state = NULL;
-    /* build (or find) the frictionless table now; bonded node tables are
-     * built when a nu first needs them */
-    if (probe->base == LF_BASE_FRICTIONLESS) {
-        status = lf_exact_mix_init(&mix, probe->k, probe->base, 0.0, err);
-        if (status != LF_OK)
-            return status;
+    if (st == NULL)
+        return lf_fail(err, LF_ENOMEM, "out of memory (exact model)");
+    for (i = 0; i < LF_EXACT_NY + 2; i++)
+        atomic_init(&st->tab[i], NULL);
+    /* the frictionless table now; bonded node tables when a nu range is
+     * prepared (or first needed) */
+    if (probe->base == LF_BASE_FRICTIONLESS && (status = resolve(st, probe, 0, &t, err)) != LF_OK) {
+        free(st);
+        return status;
     }
+    *state = st;
+    return LF_OK;
+}
+
+static int
+exact_prepare(void *state, const lf_probe *probe, double nu_lo, double nu_hi, lf_error *err)
+{
+    lf_exact_mix lo, hi;
+    const lf_exact_table *t;
+    int i, status;
+
+    if (probe->base != LF_BASE_BONDED)
+        return LF_OK;
+    nu_lo = fmax(nu_lo, 0.0);
+    nu_hi = fmin(nu_hi, LF_EXACT_NU_MAX);
+    if (!(nu_lo <= nu_hi))
+        return lf_fail(err, LF_EINVAL, "the exact bonded model covers 0 <= nu <= %g",
+                       LF_EXACT_NU_MAX);
+    if ((status = lf_exact_mix_weights(&lo, probe->base, nu_lo, err)) != LF_OK
+        || (status = lf_exact_mix_weights(&hi, probe->base, nu_hi, err)) != LF_OK)
+        return status;
+    for (i = lo.node0; i <= hi.node0 + 3; i++)
+        if ((status = resolve(state, probe, i, &t, err)) != LF_OK)
+            return status;
     return LF_OK;
 }
 
@@ -239,8 +309,7 @@ exact_eval(void *state, const lf_probe *probe, const lf_material *mat,
     int bonded = probe->base == LF_BASE_BONDED;
     double u_prev = NAN;   /* warm start: data come in order */
 
-    (void) state;
-    if (ctx_init(&c, probe, mat, NULL) != LF_OK)
+    if (ctx_init(&c, state, probe, mat, NULL) != LF_OK)
         return LF_EINVAL;
     for (i = 0; i < n; i++) {
         lf_eval *e = &out[i];
@@ -266,8 +335,7 @@ exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
     double u, u_lo, u_hi;
     int i;
 
-    (void) state;
-    if (ctx_init(&c, probe, mat, NULL) != LF_OK)
+    if (ctx_init(&c, state, probe, mat, NULL) != LF_OK)
         return LF_EINVAL;
     out->c = 0.0;
     if (!isfinite(c.u_det)) {
@@ -320,7 +388,8 @@ const lf_model_type lf_model_exact = {
     exact_alloc,
     exact_free,
     exact_eval,
-    exact_pulloff
+    exact_pulloff,
+    2, LF_SCOPE_ANY, 0.0, 1, exact_prepare
 };
 
 /* ---------------------------------------------------------------- helpers */
@@ -364,7 +433,7 @@ lf_exact_thin_difference(const lf_probe *probe, const lf_material *mat,
         return status;
     if (!(ab_min > 0 && ab_max > ab_min && isfinite(ab_max)))
         return lf_fail(err, LF_EINVAL, "need 0 < a/b min < a/b max (got %g, %g)", ab_min, ab_max);
-    status = ctx_init(&c, probe, mat, err);
+    status = ctx_init(&c, NULL, probe, mat, err);
     if (status != LF_OK)
         return status;
     u0 = log(ab_min);
