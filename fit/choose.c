@@ -40,18 +40,21 @@ lf_choose_settings_default(void)
 /* Models from the cheapest up. */
 enum { RUNG_THIN = 0, RUNG_HALFSPACE, RUNG_EXACT, NRUNG };
 
+/* The rungs by the models' scope in the model table: the cheapest thin-
+ * layer model, the cheapest half-space model, the reference (any
+ * thickness). */
 static const lf_model_type *
 rung_type(int rung)
 {
-    return rung == RUNG_THIN ? &lf_model_thin
-           : rung == RUNG_HALFSPACE ? &lf_model_halfspace : &lf_model_exact;
+    return lf_model_type_cheapest(rung == RUNG_THIN ? LF_SCOPE_THIN
+                                  : rung == RUNG_HALFSPACE ? LF_SCOPE_HALFSPACE : LF_SCOPE_ANY);
 }
 
 static int
 rung_of(const lf_model_type *t)
 {
-    return t == &lf_model_thin ? RUNG_THIN : t == &lf_model_halfspace ? RUNG_HALFSPACE
-                                                                      : RUNG_EXACT;
+    return t->scope == LF_SCOPE_THIN ? RUNG_THIN : t->scope == LF_SCOPE_HALFSPACE ? RUNG_HALFSPACE
+                                                                                : RUNG_EXACT;
 }
 
 /* Bias over se of w, E*, nu (0 where not fitted or not determined). */
@@ -96,6 +99,8 @@ typedef struct {
     size_t rank;
     bias *thin, *half_b, *cur;  /* per curve */
     double *ab_lo, *ab_hi;      /* a/b range in contact */
+    int *bounded;           /* per curve: thin judged by a bound, no exact table */
+    int no_bound;           /* 1: the bounds did not settle the choice */
 } chooser;
 
 static void
@@ -123,6 +128,7 @@ chooser_free(chooser *c)
     free(c->cur);
     free(c->ab_lo);
     free(c->ab_hi);
+    free(c->bounded);
     gsl_matrix_free(c->J);
     gsl_matrix_free(c->V);
     gsl_vector_free(c->S);
@@ -156,12 +162,13 @@ chooser_alloc(chooser *c, lf_fit *f, const lf_choose_settings *cs)
     c->cur = calloc(nc, sizeof *c->cur);
     c->ab_lo = calloc(nc, sizeof *c->ab_lo);
     c->ab_hi = calloc(nc, sizeof *c->ab_hi);
+    c->bounded = calloc(nc, sizeof *c->bounded);
     c->J = gsl_matrix_alloc(f->nres, f->np);
     c->V = gsl_matrix_alloc(f->np, f->np);
     c->S = gsl_vector_alloc(f->np);
     c->D = gsl_vector_alloc(f->np);
     if (!c->rung || !c->fixed || !c->P_exact || !c->exact_ok || !c->ev || !c->d || !c->coef
-        || !c->se || !c->thin || !c->half_b || !c->cur || !c->ab_lo || !c->ab_hi
+        || !c->se || !c->thin || !c->half_b || !c->cur || !c->ab_lo || !c->ab_hi || !c->bounded
         || !c->J || !c->V || !c->S || !c->D)
         return LF_ENOMEM;
     return LF_OK;
@@ -283,6 +290,68 @@ project(chooser *c, bias *b)
     b->ok = 1;
 }
 
+/* Bias over se bounds of curve j on the thin-layer model when the exact
+ * model's functions are within e^eps of their thin-layer limits: with
+ * bound_i >= |P_exact - P_thin| at each point (lf_exact_thin_bound),
+ * |bias_p| / se_p <= sum_i |((J^T J)^+ J^T)_pi| bound_i / sigma / se_p. */
+static void
+thin_bias_bound(chooser *c, size_t j, double eps, bias *b)
+{
+    lf_fit *f = c->f;
+    fit_curve *fc = &f->c[j];
+    size_t i, l;
+    int m;
+
+    memset(b, 0, sizeof *b);
+    if (lf_exact_thin_bound(&fc->data.probe, &f->mat, eps, fc->data.branch, fc->data.n,
+                            f->delta + fc->row, c->d + fc->row, NULL) != LF_OK)
+        return;
+    for (m = 0; m < FIT_NMAT; m++) {
+        int p = f->imat[m];
+        double s = 0.0;
+        if (p < 0 || c->se[m] == 0.0)
+            continue;
+        for (i = 0; i < fc->data.n; i++) {
+            double g = 0.0;
+            for (l = 0; l < c->rank; l++)
+                g += gsl_matrix_get(c->V, (size_t) p, l) * gsl_matrix_get(c->J, fc->row + i, l)
+                     / gsl_vector_get(c->S, l);
+            s += fabs(g) * c->d[fc->row + i] / fc->sigma;
+        }
+        b->r[m] = s / c->se[m];
+    }
+    b->ok = 1;
+}
+
+/* Whether curve j, on the thin-layer model, is settled without the exact
+ * model's tables: the bias bound at the eps the exact functions actually
+ * deviate by (a few direct solves, lf_exact_thin_deviation) is below
+ * tol / 2.  The bound is linear in eps to first order, so the eps that
+ * would do is known first, and no solve is made when it is out of reach
+ * (below 1e-3: a/b in the hundreds).  Fills c->thin[j] with the bounds. */
+static int
+thin_bounded(chooser *c, size_t j)
+{
+    lf_fit *f = c->f;
+    fit_curve *fc = &f->c[j];
+    const double eps1 = 1e-2;
+    double eps, need;
+    bias b;
+
+    if (!(c->ab_hi[j] > 0))
+        return 0;
+    thin_bias_bound(c, j, eps1, &b);
+    need = b.ok ? eps1 * 0.5 * c->cs->tol / fmax(bias_max(&b, NULL), 1e-300) : 0.0;
+    if (!(need >= 1e-3)
+        || lf_exact_thin_deviation(&fc->data.probe, &f->mat, fc->data.branch, c->ab_lo[j],
+                                   c->ab_hi[j], fc->data.n, f->delta + fc->row, &eps,
+                                   NULL) != LF_OK
+        || !(eps < need))
+        return 0;
+    thin_bias_bound(c, j, eps, &c->thin[j]);
+    return c->thin[j].ok && bias_max(&c->thin[j], NULL) < 0.5 * c->cs->tol;
+}
+
 /* The model instance of curve j for a rung, made when first needed. */
 static lf_model *
 instance(chooser *c, size_t j, int rung)
@@ -346,7 +415,7 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
 {
     lf_fit *f = c->f;
     const double tol = c->cs->tol;
-    double total[FIT_NMAT] = { 0 };
+    double total[FIT_NMAT] = { 0 }, slack = 0.0;
     size_t j, i;
     int status, m;
 
@@ -360,7 +429,7 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *fc = &f->c[j];
         double b = fc->data.probe.b;
-        lf_model *ex = c->rung[j] == RUNG_EXACT ? NULL : instance(c, j, RUNG_EXACT);
+        lf_model *ex;
         c->ab_lo[j] = HUGE_VAL;
         c->ab_hi[j] = 0.0;
         for (i = 0; i < fc->data.n; i++) {
@@ -371,6 +440,16 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
             }
         }
         c->exact_ok[j] = 1;
+        /* a curve the thin-layer model fits well enough by a bound needs
+         * no exact table */
+        c->bounded[j] = c->rung[j] == RUNG_THIN && !c->no_bound && thin_bounded(c, j);
+        if (c->bounded[j]) {
+            memset(&c->cur[j], 0, sizeof c->cur[j]);
+            c->cur[j].ok = 1;
+            slack += bias_max(&c->thin[j], NULL);
+            continue;
+        }
+        ex = c->rung[j] == RUNG_EXACT ? NULL : instance(c, j, RUNG_EXACT);
         if (c->rung[j] == RUNG_EXACT) {
             for (i = 0; i < fc->data.n; i++)
                 c->P_exact[fc->row + i] = f->ev[fc->row + i].P;
@@ -385,8 +464,9 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
     /* the current models first (one decomposition), then thin where it is
      * not the current model */
     for (j = 0; j < f->ncurves && status == LF_OK; j++) {
-        status = curve_bias(c, j, c->rung[j], &c->cur[j]);
-        if (c->rung[j] == RUNG_THIN)
+        if (!c->bounded[j])
+            status = curve_bias(c, j, c->rung[j], &c->cur[j]);
+        if (c->rung[j] == RUNG_THIN && !c->bounded[j])
             c->thin[j] = c->cur[j];
         if (c->rung[j] == RUNG_HALFSPACE)
             c->half_b[j] = c->cur[j];
@@ -403,7 +483,12 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
         size_t jw = f->ncurves;
         double worst = 0.0;
         memcpy(tb.r, total, sizeof total);
-        *total_max = bias_max(&tb, NULL);
+        *total_max = bias_max(&tb, NULL) + slack;
+        if (*total_max >= tol && slack > 0) {
+            /* the bounds alone do not settle it: judge by the exact model */
+            c->no_bound = 1;
+            return assess(c, allow_change, changed, total_max, err);
+        }
         if (!allow_change || *total_max < tol)
             break;
         for (j = 0; j < f->ncurves; j++) {
@@ -417,7 +502,8 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
             break;      /* nothing left to move */
         for (m = 0; m < FIT_NMAT; m++)
             total[m] -= c->cur[jw].r[m];
-        if (c->rung[jw] == RUNG_THIN && c->cs->halfspace && f->c[jw].data.probe.k > 0.5)
+        if (c->rung[jw] == RUNG_THIN && c->cs->halfspace
+            && f->c[jw].data.probe.k > rung_type(RUNG_HALFSPACE)->k_above)
             status = curve_bias(c, jw, RUNG_HALFSPACE, &c->half_b[jw]);
         if (c->rung[jw] == RUNG_THIN && c->half_b[jw].ok
             && bias_max(&c->half_b[jw], NULL) < fmin(tol, worst)) {
@@ -466,7 +552,8 @@ explain(const chooser *c, size_t j, char *buf, size_t n)
     switch (c->rung[j]) {
     case RUNG_THIN:
         snprintf(buf, n, "the thin-layer model biases %s by at most %.2g se%s "
-                 "(tolerance %.2g se)", mat_names[wt], bt, range, tol);
+                 "(tolerance %.2g se%s)", mat_names[wt], bt, range, tol,
+                 c->bounded[j] ? "; a bound, no exact table needed" : "");
         break;
     case RUNG_HALFSPACE:
         snprintf(buf, n, "the thin-layer model would bias %s by %.2g se%s, the half-space "
@@ -515,7 +602,7 @@ lf_fit_compare_thin(const lf_fit_settings *settings, size_t ncurves,
         cv[j] = curves[j];
         cv[j].model = NULL;
     }
-    s.model = &lf_model_thin;
+    s.model = rung_type(RUNG_THIN);
     status = lf_fit_driver(&s, ncurves, cv, &thin, err);
     free(cv);
     if (status != LF_OK && status != LF_ENOCONV)
@@ -550,8 +637,8 @@ lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *
     for (j = 0; j < ncurves; j++) {
         cv[j] = curves[j];
         if (cv[j].model == NULL)
-            cv[j].model = &lf_model_thin;
-        else if (cv[j].model != &lf_model_thin)
+            cv[j].model = rung_type(RUNG_THIN);
+        else if (cv[j].model != rung_type(RUNG_THIN))
             first_all_thin = 0;
     }
     f = lf_fit_alloc(settings, ncurves, cv, err);

@@ -123,6 +123,9 @@ void lf_exact_table_eval(const lf_exact_table *t, double tau, double f[4],
 int lf_exact_table_get(double k, lf_base base, double nu,
                        const lf_exact_table **out, lf_error *err);
 void lf_exact_cache_clear(void);
+/* The table of (k, base, nu) if it is in the store or on disk (then it is
+ * published in the store); NULL otherwise.  Never builds. */
+const lf_exact_table *lf_exact_table_find(double k, lf_base base, double nu);
 
 /* ---- tables on disk (exact_cache.c) ---- */
 

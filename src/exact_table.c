@@ -235,6 +235,21 @@ store_publish(lf_exact_table *t)
     return t;
 }
 
+const lf_exact_table *
+lf_exact_table_find(double k, lf_base base, double nu)
+{
+    const lf_exact_table *t;
+    lf_exact_table *d;
+
+    if (base == LF_BASE_FRICTIONLESS)
+        nu = 0.0;
+    if ((t = store_find(k, base, nu)) != NULL)
+        return t;
+    if ((d = lf_exact_disk_load(k, base, nu, LF_EXACT_STEP, 1.0)) == NULL)
+        return NULL;
+    return store_publish(d);
+}
+
 int
 lf_exact_table_get(double k, lf_base base, double nu, const lf_exact_table **out,
                    lf_error *err)

@@ -457,3 +457,198 @@ lf_exact_thin_difference(const lf_probe *probe, const lf_material *mat,
     *max_rel = Pmax > 0.0 ? dmax / Pmax : 0.0;
     return LF_OK;
 }
+
+/* ---------------------------------------------------------------- thin check */
+
+/* The functions f = {s, e, d, p} and their tau-derivatives from the tables
+ * when they are in the store or on disk (never built), else from direct
+ * solves with one kernel. */
+typedef struct {
+    lf_exact_mix mx;
+    int cached;
+    lf_exact_kernel *kr;
+    double k;
+} fsource;
+
+static int
+fsource_init(fsource *fs, double k, lf_base base, double nu, lf_error *err)
+{
+    int m;
+
+    fs->k = k;
+    fs->kr = NULL;
+    fs->cached = lf_exact_mix_weights(&fs->mx, base, nu, err) == LF_OK;
+    if (!fs->cached)
+        return err ? err->status : LF_EINVAL;
+    for (m = 0; m < fs->mx.m && fs->cached; m++)
+        fs->cached = (fs->mx.t[m] = lf_exact_table_find(k, base, base == LF_BASE_BONDED
+                                          ? lf_exact_nu_node(fs->mx.node0 + m) : 0.0)) != NULL;
+    return fs->cached ? LF_OK : lf_exact_kernel_alloc(&fs->kr, base, nu, err);
+}
+
+static int
+fsource_at(fsource *fs, double tau, double f[4], double df[4])
+{
+    lf_exact_point pt;
+    int status;
+
+    if (fs->cached) {
+        lf_exact_mix_eval(&fs->mx, tau, f, df, NULL);
+        return LF_OK;
+    }
+    status = lf_exact_solve(fs->kr, fs->k, tau, lf_exact_nodes(tau), &pt, NULL);
+    f[0] = pt.s; f[1] = pt.e; f[2] = pt.d; f[3] = pt.p;
+    df[0] = pt.ds; df[1] = pt.de; df[2] = pt.dd; df[3] = pt.dp;
+    return status;
+}
+
+/* max_j |ln(f_j / f_thin_j)| at tau. */
+static double
+log_dev(const double f[4], double k, double Z, double tau)
+{
+    double kap = lf_exact_kappa(k), th[4], m = 0.0;
+    int j;
+
+    th[0] = 0.5 * M_PI * Z * tau;
+    th[1] = sqrt(M_PI * Z * tau);
+    th[2] = 1.0 / kap;
+    th[3] = 0.5 * M_PI * Z * tau * k / (kap * (k + 2.0));
+    for (j = 0; j < 4; j++)
+        m = fmax(m, fabs(log(f[j] / th[j])));
+    return m;
+}
+
+/* ddelta/dtau of the exact model (exact_ctx's A1, A2) at tau, and delta. */
+static double
+ddelta_at(double k, double A1, double A2, double tau, const double f[4], const double df[4],
+          double *delta)
+{
+    double tk = pow(tau, k), st = sqrt(tau);
+    *delta = A1 * tk * f[2] - A2 * st / f[1];
+    return A1 * (k * tk / tau * f[2] + tk * df[2]) - A2 * (0.5 / (st * f[1]) - st * df[1] / (f[1] * f[1]));
+}
+
+/* The exact model's detachment below tau_hi (ln tau scan and bisection as
+ * find_detach): 0 when ddelta/dtau > 0 at tau_hi and a detachment is found
+ * above TAU_MIN. */
+static int
+detach_direct(fsource *fs, double k, double A1, double A2, double tau_hi, double *delta_det)
+{
+    double f[4], df[4], u, lo, hi, d;
+    int i;
+
+    if (fsource_at(fs, tau_hi, f, df) != LF_OK || !(ddelta_at(k, A1, A2, tau_hi, f, df, &d) > 0))
+        return 0;
+    hi = log(tau_hi);
+    for (u = hi - 0.25; u > log(LF_EXACT_TAU_MIN); u -= 0.25) {
+        if (fsource_at(fs, exp(u), f, df) != LF_OK)
+            return 0;
+        if (ddelta_at(k, A1, A2, exp(u), f, df, &d) <= 0)
+            break;
+        hi = u;
+    }
+    if (u <= log(LF_EXACT_TAU_MIN))
+        return 0;
+    lo = u;
+    for (i = 0; i < 30; i++) {
+        double um = 0.5 * (lo + hi);
+        if (fsource_at(fs, exp(um), f, df) != LF_OK)
+            return 0;
+        if (ddelta_at(k, A1, A2, exp(um), f, df, &d) <= 0)
+            lo = um;
+        else
+            hi = um;
+    }
+    if (fsource_at(fs, exp(hi), f, df) != LF_OK)
+        return 0;
+    ddelta_at(k, A1, A2, exp(hi), f, df, delta_det);
+    return 1;
+}
+
+int
+lf_exact_thin_deviation(const lf_probe *pr, const lf_material *mat, lf_branch branch,
+                        double ab_min, double ab_max, size_t n, const double *delta,
+                        double *eps, lf_error *err)
+{
+    fsource fs;
+    double k = pr->k, t[2], dev[2], f[4], df[4], c, delta_det = -HUGE_VAL, margin;
+    size_t i;
+    int status, past = 0, ok;
+
+    *eps = INFINITY;
+    if ((status = lf_probe_check(pr, err)) != LF_OK
+        || (status = lf_material_check(mat, pr->base, err)) != LF_OK)
+        return status;
+    if (!(ab_min > 0 && ab_max >= ab_min && isfinite(ab_max)))
+        return lf_fail(err, LF_EINVAL, "thin deviation needs 0 < a/b min <= max (got %g, %g)",
+                       ab_min, ab_max);
+    if ((status = fsource_init(&fs, k, pr->base, mat->nu, err)) != LF_OK)
+        return status;
+    c = sqrt(2.0 * pr->b * mat->w / (lf_thin_Z(pr->base, mat->nu) * mat->Estar));
+    /* the deviation a little below the range (the exact radius at the same
+     * delta differs), and its fall with a/b; past TAU_MAX taken there */
+    t[0] = fmin(0.8 * ab_min, LF_EXACT_TAU_MAX);
+    t[1] = fmin(fmax(ab_max, 2.0 * ab_min), LF_EXACT_TAU_MAX);
+    for (i = 0; i < 2; i++) {
+        if ((status = fsource_at(&fs, t[i], f, df)) != LF_OK)
+            goto done;
+        dev[i] = log_dev(f, k, lf_thin_Z(pr->base, mat->nu), t[i]);
+    }
+    ok = isfinite(dev[0]) && dev[0] < 0.1 && (t[1] == t[0] || dev[1] <= dev[0]);
+    /* where the thin layer has let go (unloading past delta = -c) the exact
+     * model must have let go too; and it must touch where the thin one does */
+    for (i = 0; i < n; i++)
+        past |= branch == LF_BRANCH_UNLOAD ? delta[i] + c <= 0.0 : delta[i] >= 0.0;
+    if (ok && past && mat->w > 0) {
+        double kap = lf_exact_kappa(k), B = 1.0 / (k * pow(pr->R, k - 1.0));
+        ok = detach_direct(&fs, k, B * kap * pow(pr->b, k),
+                           sqrt(2.0 * M_PI * pr->b * mat->w / mat->Estar), t[0], &delta_det);
+    }
+    margin = 1e-6 * (fabs(delta_det) + c);
+    for (i = 0; i < n && ok && past; i++) {
+        int thin_off = branch == LF_BRANCH_LOAD ? delta[i] < 0.0 : delta[i] + c <= 0.0;
+        if (branch == LF_BRANCH_UNLOAD)
+            ok = thin_off ? delta[i] < delta_det - margin : delta[i] > delta_det + margin;
+        else
+            ok = thin_off || delta[i] > delta_det + margin;
+    }
+    if (ok)
+        *eps = dev[0];
+    else
+        status = lf_fail(err, LF_EDATA, "no bound: the layer is not thin enough over a/b %g-%g",
+                         ab_min, ab_max);
+done:
+    lf_exact_kernel_free(fs.kr);
+    return status;
+}
+
+int
+lf_exact_thin_bound(const lf_probe *pr, const lf_material *mat, double eps, lf_branch branch,
+                    size_t n, const double *delta, double *bound, lf_error *err)
+{
+    double c, ep;
+    size_t i;
+    int status;
+
+    if ((status = lf_probe_check(pr, err)) != LF_OK
+        || (status = lf_material_check(mat, pr->base, err)) != LF_OK)
+        return status;
+    if (!(eps >= 0 && eps < 0.5))
+        return lf_fail(err, LF_EINVAL, "thin bound needs 0 <= eps < 0.5 (got %g)", eps);
+    c = sqrt(2.0 * pr->b * mat->w / (lf_thin_Z(pr->base, mat->nu) * mat->Estar));
+    ep = expm1(2.0 * eps);   /* a product of two functions off by e^eps each */
+    for (i = 0; i < n; i++) {
+        double d1 = delta[i] + c, Ssh;
+        lf_eval th;
+        if (branch == LF_BRANCH_LOAD ? delta[i] < 0.0 : d1 <= 0.0) {
+            bound[i] = 0.0;   /* no contact (lf_exact_thin_deviation checks the exact one) */
+            continue;
+        }
+        if (lf_model_thin.eval(NULL, pr, mat, branch, 1, &delta[i], &th) != LF_OK)
+            return lf_fail(err, LF_EINVAL, "thin model failed");
+        /* thin layer: P = P1 - S c with S c = -k delta1 (dP/dln w) / c */
+        Ssh = c > 0 ? fabs(pr->k * d1 * th.dP_dlogw / c) : 0.0;
+        bound[i] = ep * (fabs(th.P) + 2.0 * Ssh + fabs(th.dP_ddelta) * (d1 + c));
+    }
+    return LF_OK;
+}
