@@ -99,8 +99,6 @@ typedef struct {
     size_t rank;
     bias *thin, *half_b, *cur;  /* per curve */
     double *ab_lo, *ab_hi;      /* a/b range in contact */
-    int *bounded;           /* per curve: thin judged by a bound, no exact table */
-    int no_bound;           /* 1: the bounds did not settle the choice */
 } chooser;
 
 static void
@@ -128,7 +126,6 @@ chooser_free(chooser *c)
     free(c->cur);
     free(c->ab_lo);
     free(c->ab_hi);
-    free(c->bounded);
     gsl_matrix_free(c->J);
     gsl_matrix_free(c->V);
     gsl_vector_free(c->S);
@@ -162,13 +159,12 @@ chooser_alloc(chooser *c, lf_fit *f, const lf_choose_settings *cs)
     c->cur = calloc(nc, sizeof *c->cur);
     c->ab_lo = calloc(nc, sizeof *c->ab_lo);
     c->ab_hi = calloc(nc, sizeof *c->ab_hi);
-    c->bounded = calloc(nc, sizeof *c->bounded);
     c->J = gsl_matrix_alloc(f->nres, f->np);
     c->V = gsl_matrix_alloc(f->np, f->np);
     c->S = gsl_vector_alloc(f->np);
     c->D = gsl_vector_alloc(f->np);
     if (!c->rung || !c->fixed || !c->P_exact || !c->exact_ok || !c->ev || !c->d || !c->coef
-        || !c->se || !c->thin || !c->half_b || !c->cur || !c->ab_lo || !c->ab_hi || !c->bounded
+        || !c->se || !c->thin || !c->half_b || !c->cur || !c->ab_lo || !c->ab_hi
         || !c->J || !c->V || !c->S || !c->D)
         return LF_ENOMEM;
     return LF_OK;
@@ -290,68 +286,6 @@ project(chooser *c, bias *b)
     b->ok = 1;
 }
 
-/* Bias over se bounds of curve j on the thin-layer model when the exact
- * model's functions are within e^eps of their thin-layer limits: with
- * bound_i >= |P_exact - P_thin| at each point (lf_exact_thin_bound),
- * |bias_p| / se_p <= sum_i |((J^T J)^+ J^T)_pi| bound_i / sigma / se_p. */
-static void
-thin_bias_bound(chooser *c, size_t j, double eps, bias *b)
-{
-    lf_fit *f = c->f;
-    fit_curve *fc = &f->c[j];
-    size_t i, l;
-    int m;
-
-    memset(b, 0, sizeof *b);
-    if (lf_exact_thin_bound(&fc->data.probe, &f->mat, eps, fc->data.branch, fc->data.n,
-                            f->delta + fc->row, c->d + fc->row, NULL) != LF_OK)
-        return;
-    for (m = 0; m < FIT_NMAT; m++) {
-        int p = f->imat[m];
-        double s = 0.0;
-        if (p < 0 || c->se[m] == 0.0)
-            continue;
-        for (i = 0; i < fc->data.n; i++) {
-            double g = 0.0;
-            for (l = 0; l < c->rank; l++)
-                g += gsl_matrix_get(c->V, (size_t) p, l) * gsl_matrix_get(c->J, fc->row + i, l)
-                     / gsl_vector_get(c->S, l);
-            s += fabs(g) * c->d[fc->row + i] / fc->sigma;
-        }
-        b->r[m] = s / c->se[m];
-    }
-    b->ok = 1;
-}
-
-/* Whether curve j, on the thin-layer model, is settled without the exact
- * model's tables: the bias bound at the eps the exact functions actually
- * deviate by (a few direct solves, lf_exact_thin_deviation) is below
- * tol / 2.  The bound is linear in eps to first order, so the eps that
- * would do is known first, and no solve is made when it is out of reach
- * (below 1e-3: a/b in the hundreds).  Fills c->thin[j] with the bounds. */
-static int
-thin_bounded(chooser *c, size_t j)
-{
-    lf_fit *f = c->f;
-    fit_curve *fc = &f->c[j];
-    const double eps1 = 1e-2;
-    double eps, need;
-    bias b;
-
-    if (!(c->ab_hi[j] > 0))
-        return 0;
-    thin_bias_bound(c, j, eps1, &b);
-    need = b.ok ? eps1 * 0.5 * c->cs->tol / fmax(bias_max(&b, NULL), 1e-300) : 0.0;
-    if (!(need >= 1e-3)
-        || lf_exact_thin_deviation(&fc->data.probe, &f->mat, fc->data.branch, c->ab_lo[j],
-                                   c->ab_hi[j], fc->data.n, f->delta + fc->row, &eps,
-                                   NULL) != LF_OK
-        || !(eps < need))
-        return 0;
-    thin_bias_bound(c, j, eps, &c->thin[j]);
-    return c->thin[j].ok && bias_max(&c->thin[j], NULL) < 0.5 * c->cs->tol;
-}
-
 /* The model instance of curve j for a rung, made when first needed. */
 static lf_model *
 instance(chooser *c, size_t j, int rung)
@@ -415,7 +349,7 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
 {
     lf_fit *f = c->f;
     const double tol = c->cs->tol;
-    double total[FIT_NMAT] = { 0 }, slack = 0.0;
+    double total[FIT_NMAT] = { 0 };
     size_t j, i;
     int status, m;
 
@@ -440,15 +374,12 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
             }
         }
         c->exact_ok[j] = 1;
-        /* a curve the thin-layer model fits well enough by a bound needs
-         * no exact table */
-        c->bounded[j] = c->rung[j] == RUNG_THIN && !c->no_bound && thin_bounded(c, j);
-        if (c->bounded[j]) {
-            memset(&c->cur[j], 0, sizeof c->cur[j]);
-            c->cur[j].ok = 1;
-            slack += bias_max(&c->thin[j], NULL);
+        /* a curve wholly in the thin-layer regime (a/b beyond the exact
+         * model's tables) is compared without building any table */
+        if (c->rung[j] != RUNG_EXACT && c->ab_lo[j] < HUGE_VAL
+            && lf_exact_far_eval(&fc->data.probe, &f->mat, fc->data.branch, fc->data.n,
+                                 f->delta + fc->row, c->P_exact + fc->row, NULL) == LF_OK)
             continue;
-        }
         ex = c->rung[j] == RUNG_EXACT ? NULL : instance(c, j, RUNG_EXACT);
         if (c->rung[j] == RUNG_EXACT) {
             for (i = 0; i < fc->data.n; i++)
@@ -464,9 +395,8 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
     /* the current models first (one decomposition), then thin where it is
      * not the current model */
     for (j = 0; j < f->ncurves && status == LF_OK; j++) {
-        if (!c->bounded[j])
-            status = curve_bias(c, j, c->rung[j], &c->cur[j]);
-        if (c->rung[j] == RUNG_THIN && !c->bounded[j])
+        status = curve_bias(c, j, c->rung[j], &c->cur[j]);
+        if (c->rung[j] == RUNG_THIN)
             c->thin[j] = c->cur[j];
         if (c->rung[j] == RUNG_HALFSPACE)
             c->half_b[j] = c->cur[j];
@@ -483,12 +413,7 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
         size_t jw = f->ncurves;
         double worst = 0.0;
         memcpy(tb.r, total, sizeof total);
-        *total_max = bias_max(&tb, NULL) + slack;
-        if (*total_max >= tol && slack > 0) {
-            /* the bounds alone do not settle it: judge by the exact model */
-            c->no_bound = 1;
-            return assess(c, allow_change, changed, total_max, err);
-        }
+        *total_max = bias_max(&tb, NULL);
         if (!allow_change || *total_max < tol)
             break;
         for (j = 0; j < f->ncurves; j++) {
@@ -552,8 +477,7 @@ explain(const chooser *c, size_t j, char *buf, size_t n)
     switch (c->rung[j]) {
     case RUNG_THIN:
         snprintf(buf, n, "the thin-layer model biases %s by at most %.2g se%s "
-                 "(tolerance %.2g se%s)", mat_names[wt], bt, range, tol,
-                 c->bounded[j] ? "; a bound, no exact table needed" : "");
+                 "(tolerance %.2g se)", mat_names[wt], bt, range, tol);
         break;
     case RUNG_HALFSPACE:
         snprintf(buf, n, "the thin-layer model would bias %s by %.2g se%s, the half-space "

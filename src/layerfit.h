@@ -250,24 +250,17 @@ int lf_exact_thin_ratio(double k, lf_base base, double nu, double tau,
 int lf_exact_thin_difference(const lf_probe *probe, const lf_material *mat,
                              double ab_min, double ab_max, double *max_rel,
                              lf_error *err);
-/* A bound on the thin-layer model's error without building the exact
- * model's tables (what the `auto` choice asks first).  With f = s, e, d, p
- * the exact model's functions of a/b (src/exact.h) and f_thin their
- * thin-layer limits, lf_exact_thin_deviation gives *eps = max |ln(f/f_thin)|
- * at 0.8 ab_min, from the tables when they are in memory or on disk, else
- * from direct solves (no table is built), when eps < 0.1, it falls with a/b
- * up to ab_max, and the exact model touches (and has let go) at the
- * indentations delta[] of the branch where the thin one does; else LF_EDATA
- * (no bound claimed).  lf_exact_thin_bound: for each delta[i], a bound on
- * |P_exact - P_thin| to first order when every f is within a factor e^eps
- * of f_thin (closed form, no solve). */
-int lf_exact_thin_deviation(const lf_probe *probe, const lf_material *mat,
-                            lf_branch branch, double ab_min, double ab_max,
-                            size_t n, const double *delta, double *eps,
-                            lf_error *err);
-int lf_exact_thin_bound(const lf_probe *probe, const lf_material *mat, double eps,
-                        lf_branch branch, size_t n, const double *delta,
-                        double *bound, lf_error *err);
+/* The exact model's forces P[i] at indentations delta[i] of a curve whose
+ * contact lies wholly beyond a/b = 100, where the model is the thin-layer
+ * form times exp(alpha/tau + beta/tau^2) matched at a/b = 100: from the
+ * frictionless table when it is at hand, else from one solve there, so no
+ * table is built (what the `auto` choice uses for very thin layers).  Equal
+ * to the model's forces to rounding (frictionless) or to the tables'
+ * interpolation in nu, ~1e-7 (bonded).  LF_EDATA when a point is not beyond
+ * 100 (or past the thin-layer detachment on unloading). */
+int lf_exact_far_eval(const lf_probe *probe, const lf_material *mat,
+                      lf_branch branch, size_t n, const double *delta,
+                      double *P, lf_error *err);
 /* Classical half-space JKR pull-off contact radius of a sphere of radius R,
  * (9 pi R^2 w / (8 E*))^(1/3), for comparison. */
 double lf_jkr_sphere_a_po(double R, double w, double Estar);

@@ -23,6 +23,7 @@
 #include <math.h>
 #include <stdatomic.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "exact.h"
 
@@ -458,197 +459,116 @@ lf_exact_thin_difference(const lf_probe *probe, const lf_material *mat,
     return LF_OK;
 }
 
-/* ---------------------------------------------------------------- thin check */
+/* ------------------------------------------------------- beyond the tables */
 
-/* The functions f = {s, e, d, p} and their tau-derivatives from the tables
- * when they are in the store or on disk (never built), else from direct
- * solves with one kernel. */
-typedef struct {
-    lf_exact_mix mx;
-    int cached;
-    lf_exact_kernel *kr;
-    double k;
-} fsource;
-
-static int
-fsource_init(fsource *fs, double k, lf_base base, double nu, lf_error *err)
+int
+lf_exact_far_eval(const lf_probe *pr, const lf_material *mat, lf_branch branch, size_t n,
+                  const double *delta, double *P, lf_error *err)
 {
-    int m;
-
-    fs->k = k;
-    fs->kr = NULL;
-    fs->cached = lf_exact_mix_weights(&fs->mx, base, nu, err) == LF_OK;
-    if (!fs->cached)
-        return err ? err->status : LF_EINVAL;
-    for (m = 0; m < fs->mx.m && fs->cached; m++)
-        fs->cached = (fs->mx.t[m] = lf_exact_table_find(k, base, base == LF_BASE_BONDED
-                                          ? lf_exact_nu_node(fs->mx.node0 + m) : 0.0)) != NULL;
-    return fs->cached ? LF_OK : lf_exact_kernel_alloc(&fs->kr, base, nu, err);
-}
-
-static int
-fsource_at(fsource *fs, double tau, double f[4], double df[4])
-{
+    lf_exact_table tail;
+    lf_exact_kernel *kr = NULL;
     lf_exact_point pt;
-    int status;
-
-    if (fs->cached) {
-        lf_exact_mix_eval(&fs->mx, tau, f, df, NULL);
-        return LF_OK;
-    }
-    status = lf_exact_solve(fs->kr, fs->k, tau, lf_exact_nodes(tau), &pt, NULL);
-    f[0] = pt.s; f[1] = pt.e; f[2] = pt.d; f[3] = pt.p;
-    df[0] = pt.ds; df[1] = pt.de; df[2] = pt.dd; df[3] = pt.dp;
-    return status;
-}
-
-/* max_j |ln(f_j / f_thin_j)| at tau. */
-static double
-log_dev(const double f[4], double k, double Z, double tau)
-{
-    double kap = lf_exact_kappa(k), th[4], m = 0.0;
-    int j;
-
-    th[0] = 0.5 * M_PI * Z * tau;
-    th[1] = sqrt(M_PI * Z * tau);
-    th[2] = 1.0 / kap;
-    th[3] = 0.5 * M_PI * Z * tau * k / (kap * (k + 2.0));
-    for (j = 0; j < 4; j++)
-        m = fmax(m, fabs(log(f[j] / th[j])));
-    return m;
-}
-
-/* ddelta/dtau of the exact model (exact_ctx's A1, A2) at tau, and delta. */
-static double
-ddelta_at(double k, double A1, double A2, double tau, const double f[4], const double df[4],
-          double *delta)
-{
-    double tk = pow(tau, k), st = sqrt(tau);
-    *delta = A1 * tk * f[2] - A2 * st / f[1];
-    return A1 * (k * tk / tau * f[2] + tk * df[2]) - A2 * (0.5 / (st * f[1]) - st * df[1] / (f[1] * f[1]));
-}
-
-/* The exact model's detachment below tau_hi (ln tau scan and bisection as
- * find_detach): 0 when ddelta/dtau > 0 at tau_hi and a detachment is found
- * above TAU_MIN. */
-static int
-detach_direct(fsource *fs, double k, double A1, double A2, double tau_hi, double *delta_det)
-{
-    double f[4], df[4], u, lo, hi, d;
-    int i;
-
-    if (fsource_at(fs, tau_hi, f, df) != LF_OK || !(ddelta_at(k, A1, A2, tau_hi, f, df, &d) > 0))
-        return 0;
-    hi = log(tau_hi);
-    for (u = hi - 0.25; u > log(LF_EXACT_TAU_MIN); u -= 0.25) {
-        if (fsource_at(fs, exp(u), f, df) != LF_OK)
-            return 0;
-        if (ddelta_at(k, A1, A2, exp(u), f, df, &d) <= 0)
-            break;
-        hi = u;
-    }
-    if (u <= log(LF_EXACT_TAU_MIN))
-        return 0;
-    lo = u;
-    for (i = 0; i < 30; i++) {
-        double um = 0.5 * (lo + hi);
-        if (fsource_at(fs, exp(um), f, df) != LF_OK)
-            return 0;
-        if (ddelta_at(k, A1, A2, exp(um), f, df, &d) <= 0)
-            lo = um;
-        else
-            hi = um;
-    }
-    if (fsource_at(fs, exp(hi), f, df) != LF_OK)
-        return 0;
-    ddelta_at(k, A1, A2, exp(hi), f, df, delta_det);
-    return 1;
-}
-
-int
-lf_exact_thin_deviation(const lf_probe *pr, const lf_material *mat, lf_branch branch,
-                        double ab_min, double ab_max, size_t n, const double *delta,
-                        double *eps, lf_error *err)
-{
-    fsource fs;
-    double k = pr->k, t[2], dev[2], f[4], df[4], c, delta_det = -HUGE_VAL, margin;
+    exact_ctx c;
+    double F[2 * LF_EXACT_NFUN], G[2 * LF_EXACT_NFUN], f[4], df[4], tau = LF_EXACT_TAU_MAX;
+    double kap, B, Mth, cth, umin = log(LF_EXACT_TAU_MAX);
+    const lf_exact_table *tt[4];
+    lf_exact_mix mx;
     size_t i;
-    int status, past = 0, ok;
-
-    *eps = INFINITY;
-    if ((status = lf_probe_check(pr, err)) != LF_OK
-        || (status = lf_material_check(mat, pr->base, err)) != LF_OK)
-        return status;
-    if (!(ab_min > 0 && ab_max >= ab_min && isfinite(ab_max)))
-        return lf_fail(err, LF_EINVAL, "thin deviation needs 0 < a/b min <= max (got %g, %g)",
-                       ab_min, ab_max);
-    if ((status = fsource_init(&fs, k, pr->base, mat->nu, err)) != LF_OK)
-        return status;
-    c = sqrt(2.0 * pr->b * mat->w / (lf_thin_Z(pr->base, mat->nu) * mat->Estar));
-    /* the deviation a little below the range (the exact radius at the same
-     * delta differs), and its fall with a/b; past TAU_MAX taken there */
-    t[0] = fmin(0.8 * ab_min, LF_EXACT_TAU_MAX);
-    t[1] = fmin(fmax(ab_max, 2.0 * ab_min), LF_EXACT_TAU_MAX);
-    for (i = 0; i < 2; i++) {
-        if ((status = fsource_at(&fs, t[i], f, df)) != LF_OK)
-            goto done;
-        dev[i] = log_dev(f, k, lf_thin_Z(pr->base, mat->nu), t[i]);
-    }
-    ok = isfinite(dev[0]) && dev[0] < 0.1 && (t[1] == t[0] || dev[1] <= dev[0]);
-    /* where the thin layer has let go (unloading past delta = -c) the exact
-     * model must have let go too; and it must touch where the thin one does */
-    for (i = 0; i < n; i++)
-        past |= branch == LF_BRANCH_UNLOAD ? delta[i] + c <= 0.0 : delta[i] >= 0.0;
-    if (ok && past && mat->w > 0) {
-        double kap = lf_exact_kappa(k), B = 1.0 / (k * pow(pr->R, k - 1.0));
-        ok = detach_direct(&fs, k, B * kap * pow(pr->b, k),
-                           sqrt(2.0 * M_PI * pr->b * mat->w / mat->Estar), t[0], &delta_det);
-    }
-    margin = 1e-6 * (fabs(delta_det) + c);
-    for (i = 0; i < n && ok && past; i++) {
-        int thin_off = branch == LF_BRANCH_LOAD ? delta[i] < 0.0 : delta[i] + c <= 0.0;
-        if (branch == LF_BRANCH_UNLOAD)
-            ok = thin_off ? delta[i] < delta_det - margin : delta[i] > delta_det + margin;
-        else
-            ok = thin_off || delta[i] > delta_det + margin;
-    }
-    if (ok)
-        *eps = dev[0];
-    else
-        status = lf_fail(err, LF_EDATA, "no bound: the layer is not thin enough over a/b %g-%g",
-                         ab_min, ab_max);
-done:
-    lf_exact_kernel_free(fs.kr);
-    return status;
-}
-
-int
-lf_exact_thin_bound(const lf_probe *pr, const lf_material *mat, double eps, lf_branch branch,
-                    size_t n, const double *delta, double *bound, lf_error *err)
-{
-    double c, ep;
-    size_t i;
-    int status;
+    int j, m, status, cached;
 
     if ((status = lf_probe_check(pr, err)) != LF_OK
-        || (status = lf_material_check(mat, pr->base, err)) != LF_OK)
+        || (status = lf_material_check(mat, pr->base, err)) != LF_OK
+        || (status = lf_exact_mix_weights(&mx, pr->base, mat->nu, err)) != LF_OK)
         return status;
-    if (!(eps >= 0 && eps < 0.5))
-        return lf_fail(err, LF_EINVAL, "thin bound needs 0 <= eps < 0.5 (got %g)", eps);
-    c = sqrt(2.0 * pr->b * mat->w / (lf_thin_Z(pr->base, mat->nu) * mat->Estar));
-    ep = expm1(2.0 * eps);   /* a product of two functions off by e^eps each */
+    /* quick refusal before any solve: every point beyond TAU_MAX by the
+     * thin-layer radius a = (k R^(k-1) (delta + c))^(1/k) with a margin */
+    Mth = lf_thin_Z(pr->base, mat->nu) * mat->Estar;
+    cth = sqrt(2.0 * pr->b * mat->w / Mth);
     for (i = 0; i < n; i++) {
-        double d1 = delta[i] + c, Ssh;
-        lf_eval th;
-        if (branch == LF_BRANCH_LOAD ? delta[i] < 0.0 : d1 <= 0.0) {
-            bound[i] = 0.0;   /* no contact (lf_exact_thin_deviation checks the exact one) */
+        double d1 = delta[i] + cth;
+        if (branch == LF_BRANCH_LOAD && delta[i] < 0.0)
+            continue;
+        if (!(d1 > 0.0) || pow(pr->k * pow(pr->R, pr->k - 1.0) * d1, 1.0 / pr->k)
+                               < 1.2 * LF_EXACT_TAU_MAX * pr->b)
+            return lf_fail(err, LF_EDATA, "point %zu is not beyond a/b = %g", i, LF_EXACT_TAU_MAX);
+    }
+    /* value and slope at TAU_MAX: from the table if it is at hand
+     * (frictionless), else one solve at the tables' own node count.  Bonded
+     * layers always solve at nu: the tables' interpolation in nu differs
+     * from it by ~1e-7, and the answer must not depend on what is cached */
+    cached = pr->base == LF_BASE_FRICTIONLESS;
+    for (m = 0; m < mx.m && cached; m++)
+        cached = (tt[m] = lf_exact_table_find(pr->k, pr->base, pr->base == LF_BASE_BONDED
+                                              ? lf_exact_nu_node(mx.node0 + m) : 0.0)) != NULL;
+    if (cached) {
+        for (m = 0; m < mx.m; m++)
+            mx.t[m] = tt[m];
+        lf_exact_mix_eval(&mx, tau, f, df, NULL);
+    } else {
+        status = lf_exact_kernel_alloc(&kr, pr->base, mat->nu, err);
+        if (status == LF_OK)
+            status = lf_exact_solve(kr, pr->k, tau, lf_exact_nodes(tau), &pt, err);
+        lf_exact_kernel_free(kr);
+        if (status != LF_OK)
+            return status;
+        f[0] = pt.s; f[1] = pt.e; f[2] = pt.d; f[3] = pt.p;
+        df[0] = pt.ds; df[1] = pt.de; df[2] = pt.dd; df[3] = pt.dp;
+    }
+    /* a two-node table whose last node is TAU_MAX: beyond it the tables'
+     * own tail (exact_table.c), the only part used here */
+    memset(&tail, 0, sizeof tail);
+    tail.k = pr->k;
+    tail.base = pr->base;
+    tail.nu = pr->base == LF_BASE_BONDED ? mat->nu : 0.0;
+    tail.n = 2;
+    tail.h = 1.0;
+    tail.l0 = log(tau) - 1.0;
+    tail.F = F;
+    tail.G = G;
+    for (j = 0; j < LF_EXACT_NFUN; j++) {
+        F[j] = F[LF_EXACT_NFUN + j] = log(f[j]);
+        G[j] = G[LF_EXACT_NFUN + j] = tau * df[j] / f[j];
+        tail.flo[j] = f[j];
+        tail.dflo[j] = df[j];
+    }
+    lf_exact_table_finish(&tail);
+    memset(&c, 0, sizeof c);
+    c.mix.m = 1;
+    c.mix.t[0] = &tail;
+    c.mix.wl[0] = 1.0;
+    kap = lf_exact_kappa(pr->k);
+    B = 1.0 / (pr->k * pow(pr->R, pr->k - 1.0));
+    c.k = pr->k;
+    c.h = pr->b;
+    c.Estar = mat->Estar;
+    c.A1 = B * kap * pow(pr->b, pr->k);
+    c.A2 = sqrt(2.0 * M_PI * pr->b * mat->w / mat->Estar);
+    c.F1 = 2.0 * mat->Estar * B * kap * pow(pr->b, pr->k + 1.0);
+    /* Newton in ln tau on the monotonic part of the branch, never below
+     * TAU_MAX (the root there is the stable branch's: delta rises with tau
+     * from the detachment up) */
+    for (i = 0; i < n; i++) {
+        exact_pt e;
+        double u = log(pow(pr->k * pow(pr->R, pr->k - 1.0) * (delta[i] + cth), 1.0 / pr->k) / pr->b);
+        int it, done = 0;
+        if (branch == LF_BRANCH_LOAD && delta[i] < 0.0) {
+            P[i] = 0.0;
             continue;
         }
-        if (lf_model_thin.eval(NULL, pr, mat, branch, 1, &delta[i], &th) != LF_OK)
-            return lf_fail(err, LF_EINVAL, "thin model failed");
-        /* thin layer: P = P1 - S c with S c = -k delta1 (dP/dln w) / c */
-        Ssh = c > 0 ? fabs(pr->k * d1 * th.dP_dlogw / c) : 0.0;
-        bound[i] = ep * (fabs(th.P) + 2.0 * Ssh + fabs(th.dP_ddelta) * (d1 + c));
+        for (it = 0; it < 100 && !done; it++) {
+            double g, un;
+            curve_at(&c, exp(u), 0, &e);
+            g = e.delta - delta[i];
+            if (!(e.ddelta > 0.0))
+                break;
+            un = u - g / (e.ddelta * exp(u));
+            done = fabs(g) <= 1e-14 * (fabs(e.delta + e.shift) + fabs(e.shift)) || fabs(un - u) < 1e-13;
+            u = fmax(un, umin);
+        }
+        if (!done || u <= umin)
+            return lf_fail(err, LF_EDATA, "point %zu is not beyond a/b = %g", i, LF_EXACT_TAU_MAX);
+        curve_at(&c, exp(u), 0, &e);
+        P[i] = e.P;
     }
     return LF_OK;
 }
