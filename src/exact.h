@@ -95,6 +95,7 @@ struct lf_exact_table {
     /* derived (lf_exact_table_finish) */
     double f0[LF_EXACT_NFUN];                         /* half-space values */
     double thin_c[LF_EXACT_NFUN], thin_pow[LF_EXACT_NFUN]; /* f_thin = c tau^pow */
+    double lthin_c[LF_EXACT_NFUN];                         /* ln thin_c */
     double alpha[LF_EXACT_NFUN], beta[LF_EXACT_NFUN];      /* tail above TAU_MAX */
     lf_exact_table *next;  /* the process store's list */
 };
@@ -167,6 +168,9 @@ int lf_exact_mix_weights(lf_exact_mix *mx, lf_base base, double nu, lf_error *er
 /* f, df (d/dtau) and dfn (d/dnu; may be NULL) at tau. */
 void lf_exact_mix_eval(const lf_exact_mix *mx, double tau, double f[4],
                        double df[4], double dfn[4]);
+/* The same with l = ln tau given (saves the logarithm). */
+void lf_exact_mix_eval_l(const lf_exact_mix *mx, double l, double tau, double f[4],
+                         double df[4], double dfn[4]);
 
 /* Build statistics of the last table built in this process (bench). */
 double lf_exact_last_build_seconds(void);

@@ -122,6 +122,8 @@ lf_exact_table_finish(lf_exact_table *t)
     t->thin_c[1] = sqrt(M_PI * Z);               t->thin_pow[1] = 0.5;
     t->thin_c[2] = 1.0 / kap;                    t->thin_pow[2] = 0.0;
     t->thin_c[3] = 0.5 * M_PI * Z * k / (kap * (k + 2.0)); t->thin_pow[3] = 1.0;
+    for (j = 0; j < NFUN; j++)
+        t->lthin_c[j] = log(t->thin_c[j]);
     for (j = 0; j < NFUN; j++) {
         double sm = 1.0 / LF_EXACT_TAU_MAX;
         double r0 = t->F[NFUN * (t->n - 1) + (size_t) j]
@@ -134,45 +136,79 @@ lf_exact_table_finish(lf_exact_table *t)
     }
 }
 
-/* ln f_j and d ln f_j / dtau at tau. */
+/* Where l = ln tau falls in a table's grid, and the cubic Hermite basis
+ * there: shared by the tables of a mix, which have one grid. */
+typedef struct {
+    int region;              /* -1 below TAU_MIN, 0 inside, 1 above TAU_MAX */
+    size_t i;
+    double tau, l;
+    double h00, h10, h01, h11, g00, g10, g11;
+} table_pos;
+
 static void
-table_eval_log(const lf_exact_table *t, double tau, double F[4], double G[4])
+table_pos_at(const lf_exact_table *t, double l, double tau, table_pos *p)
 {
+    double q, u;
+
+    p->tau = tau;
+    p->l = l;
+    p->region = tau < LF_EXACT_TAU_MIN ? -1 : tau > LF_EXACT_TAU_MAX ? 1 : 0;
+    if (p->region != 0)
+        return;
+    q = (l - t->l0) / t->h;
+    p->i = q <= 0.0 ? 0 : (size_t) q;
+    if (p->i >= t->n - 1)
+        p->i = t->n - 2;
+    u = q - (double) p->i;
+    p->h00 = (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u);
+    p->h10 = u * (1.0 - u) * (1.0 - u);
+    p->h01 = u * u * (3.0 - 2.0 * u);
+    p->h11 = u * u * (u - 1.0);
+    p->g00 = 6.0 * u * (u - 1.0);
+    p->g10 = (1.0 - u) * (1.0 - 3.0 * u);
+    p->g11 = u * (3.0 * u - 2.0);
+}
+
+/* ln f_j and d ln f_j / dtau at a position. */
+static void
+table_eval_pos(const lf_exact_table *t, const table_pos *p, double F[4], double G[4])
+{
+    double tau = p->tau;
     int j;
 
-    if (tau < LF_EXACT_TAU_MIN) {
+    if (p->region < 0) {
         for (j = 0; j < NFUN; j++) {
             double slope = (t->flo[j] - t->f0[j]) / LF_EXACT_TAU_MIN;
             double f = t->f0[j] + slope * tau;
             F[j] = log(f);
             G[j] = slope / f;
         }
-    } else if (tau > LF_EXACT_TAU_MAX) {
-        double sg = 1.0 / tau, lt = log(tau);
+    } else if (p->region > 0) {
+        double sg = 1.0 / tau;
         for (j = 0; j < NFUN; j++) {
-            F[j] = log(t->thin_c[j]) + t->thin_pow[j] * lt
+            F[j] = t->lthin_c[j] + t->thin_pow[j] * p->l
                    + t->alpha[j] * sg + t->beta[j] * sg * sg;
             G[j] = sg * (t->thin_pow[j] - t->alpha[j] * sg - 2.0 * t->beta[j] * sg * sg);
         }
     } else {
-        double q = (log(tau) - t->l0) / t->h, u, h00, h10, h01, h11, g00, g10, g11;
-        size_t i = q <= 0.0 ? 0 : (size_t) q;
-        if (i >= t->n - 1)
-            i = t->n - 2;
-        u = q - (double) i;
-        h00 = (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u);
-        h10 = u * (1.0 - u) * (1.0 - u);
-        h01 = u * u * (3.0 - 2.0 * u);
-        h11 = u * u * (u - 1.0);
-        g00 = 6.0 * u * (u - 1.0);
-        g10 = (1.0 - u) * (1.0 - 3.0 * u);
-        g11 = u * (3.0 * u - 2.0);
+        const double *Fa = t->F + NFUN * p->i, *Ga = t->G + NFUN * p->i;
         for (j = 0; j < NFUN; j++) {
-            size_t a = NFUN * i + (size_t) j, b = a + NFUN;
-            F[j] = h00 * t->F[a] + h01 * t->F[b] + t->h * (h10 * t->G[a] + h11 * t->G[b]);
-            G[j] = ((g00 * (t->F[a] - t->F[b])) / t->h + g10 * t->G[a] + g11 * t->G[b]) / tau;
+            F[j] = p->h00 * Fa[j] + p->h01 * Fa[j + NFUN]
+                   + t->h * (p->h10 * Ga[j] + p->h11 * Ga[j + NFUN]);
+            G[j] = ((p->g00 * (Fa[j] - Fa[j + NFUN])) / t->h + p->g10 * Ga[j]
+                    + p->g11 * Ga[j + NFUN]) / tau;
         }
     }
+}
+
+/* ln f_j and d ln f_j / dtau at tau. */
+static void
+table_eval_log(const lf_exact_table *t, double tau, double F[4], double G[4])
+{
+    table_pos p;
+
+    table_pos_at(t, log(tau), tau, &p);
+    table_eval_pos(t, &p, F, G);
 }
 
 void
@@ -353,15 +389,20 @@ lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu, lf_error 
 }
 
 void
-lf_exact_mix_eval(const lf_exact_mix *mx, double tau, double f[4], double df[4],
-                  double dfn[4])
+lf_exact_mix_eval_l(const lf_exact_mix *mx, double l, double tau, double f[4], double df[4],
+                    double dfn[4])
 {
     double F[4] = {0, 0, 0, 0}, G[4] = {0, 0, 0, 0}, H[4] = {0, 0, 0, 0};
+    table_pos p;
     int m, j;
 
+    table_pos_at(mx->t[0], l, tau, &p);
     for (m = 0; m < mx->m; m++) {
         double Fm[4], Gm[4];
-        table_eval_log(mx->t[m], tau, Fm, Gm);
+        const lf_exact_table *t = mx->t[m];
+        if (m > 0 && (t->n != mx->t[0]->n || t->l0 != mx->t[0]->l0 || t->h != mx->t[0]->h))
+            table_pos_at(t, l, tau, &p);     /* another grid (not made by the store) */
+        table_eval_pos(t, &p, Fm, Gm);
         for (j = 0; j < NFUN; j++) {
             F[j] += mx->wl[m] * Fm[j];
             G[j] += mx->wl[m] * Gm[j];
@@ -374,6 +415,13 @@ lf_exact_mix_eval(const lf_exact_mix *mx, double tau, double f[4], double df[4],
         if (dfn != NULL)
             dfn[j] = f[j] * H[j];
     }
+}
+
+void
+lf_exact_mix_eval(const lf_exact_mix *mx, double tau, double f[4], double df[4],
+                  double dfn[4])
+{
+    lf_exact_mix_eval_l(mx, log(tau), tau, f, df, dfn);
 }
 
 void

@@ -82,14 +82,15 @@ typedef struct {
     double ddelta_nu, dP_nu;           /* d/dnu at fixed tau */
 } exact_pt;
 
+/* u = ln tau */
 static void
-curve_at(const exact_ctx *c, double tau, int want_nu, exact_pt *o)
+curve_at(const exact_ctx *c, double u, int want_nu, exact_pt *o)
 {
     double f[4], df[4], dn[4];
-    double s, e, d, p, tk = pow(tau, c->k), st = sqrt(tau);
+    double tau = exp(u), s, e, d, p, tk = exp(c->k * u), st = sqrt(tau);
     double twoEh = 2.0 * c->Estar * c->h;
 
-    lf_exact_mix_eval(&c->mix, tau, f, df, want_nu ? dn : NULL);
+    lf_exact_mix_eval_l(&c->mix, u, tau, f, df, want_nu ? dn : NULL);
     s = f[0]; e = f[1]; d = f[2]; p = f[3];
     o->shift = c->A2 * st / e;
     o->delta = c->A1 * tk * d - o->shift;
@@ -127,7 +128,7 @@ find_detach(exact_ctx *c)
     if (c->A2 == 0.0)
         return;
     for (u = log(1e4); u > U_LOW; u -= 0.25) {
-        curve_at(c, exp(u), 0, &pt);
+        curve_at(c, u, 0, &pt);
         if (pt.ddelta <= 0.0)
             break;
     }
@@ -137,14 +138,14 @@ find_detach(exact_ctx *c)
     u_hi = u + 0.25;
     for (i = 0; i < 60 && u_hi - u_lo > 1e-14; i++) {
         double um = 0.5 * (u_lo + u_hi);
-        curve_at(c, exp(um), 0, &pt);
+        curve_at(c, um, 0, &pt);
         if (pt.ddelta <= 0.0)
             u_lo = um;
         else
             u_hi = um;
     }
     c->u_det = u_hi;
-    curve_at(c, exp(u_hi), 0, &pt);
+    curve_at(c, u_hi, 0, &pt);
     c->delta_det = pt.delta;
 }
 
@@ -176,9 +177,10 @@ ctx_init(exact_ctx *c, exact_state *st, const lf_probe *pr, const lf_material *m
 
 /* ln tau on the stable branch where delta(tau) = target (> delta_det):
  * Newton in ln tau from `guess` (NAN: none), safeguarded by bisection on a
- * bracket [lo, hi] with delta(lo) < target <= delta(hi). */
+ * bracket [lo, hi] with delta(lo) < target <= delta(hi).  *out receives the
+ * curve at the returned ln tau (with the nu derivatives when want_nu). */
 static double
-invert(const exact_ctx *c, double target, double guess)
+invert(const exact_ctx *c, double target, double guess, int want_nu, exact_pt *out)
 {
     exact_pt pt;
     double lo = isfinite(c->u_det) ? c->u_det : U_LOW, hi, u, step = 0.25;
@@ -187,14 +189,14 @@ invert(const exact_ctx *c, double target, double guess)
     u = guess;
     if (!(u > lo && u < U_HIGH)) /* first guess from the half-space form */
         u = fmin(fmax(log(fmax(target - c->delta_det, 1e-300) / c->A1) / c->k, lo + 0.5), U_HIGH);
-    curve_at(c, exp(u), 0, &pt);
+    curve_at(c, u, want_nu, &pt);
     if (pt.delta >= target) {
         hi = u;
     } else {
         exact_pt pt_u = pt;
         lo = u;
         for (hi = u + step; hi < U_HIGH; hi += step, step *= 2.0) {
-            curve_at(c, exp(hi), 0, &pt);
+            curve_at(c, hi, want_nu, &pt);
             if (pt.delta >= target)
                 break;
             lo = hi;
@@ -205,7 +207,7 @@ invert(const exact_ctx *c, double target, double guess)
             pt = pt_u;
         } else {
             u = 0.5 * (lo + hi);
-            curve_at(c, exp(u), 0, &pt);
+            curve_at(c, u, want_nu, &pt);
         }
     }
     for (i = 0; i < 100; i++) {
@@ -221,22 +223,25 @@ invert(const exact_ctx *c, double target, double guess)
          * two terms nearly cancel near detachment): chasing g further only
          * bisects rounding noise */
         if (fabs(g) <= 1e-14 * (fabs(pt.delta + pt.shift) + fabs(pt.shift)))
-            return u;
+            break;
+        /* the next step is below the rounding of ln tau: the point at u
+         * stands (its curve is at hand) */
         if (fabs(un - u) < 1e-13 || hi - lo < 1e-14)
-            return un;
+            break;
         u = un;
-        curve_at(c, exp(u), 0, &pt);
+        curve_at(c, u, want_nu, &pt);
     }
+    *out = pt;
     return u;
 }
 
+/* The evaluation at ln tau = u from the curve there. */
 static void
-fill_point(const exact_ctx *c, double tau, int bonded, lf_eval *e)
+fill_point(const exact_ctx *c, double u, const exact_pt *p, int bonded, lf_eval *e)
 {
-    exact_pt pt;
-    double dPdd;
+    exact_pt pt = *p;
+    double dPdd, tau = exp(u);
 
-    curve_at(c, tau, bonded, &pt);
     dPdd = pt.dP / pt.ddelta;
     if (!(pt.ddelta > 0.0))
         dPdd = LF_BIG;
@@ -308,7 +313,8 @@ exact_eval(void *state, const lf_probe *probe, const lf_material *mat,
     exact_ctx c;
     size_t i;
     int bonded = probe->base == LF_BASE_BONDED;
-    double u_prev = NAN;   /* warm start: data come in order */
+    double u_prev = NAN, d_prev = NAN, du_dd = 0.0;   /* warm start: data come in order */
+    exact_pt pt;
 
     if (ctx_init(&c, state, probe, mat, NULL) != LF_OK)
         return LF_EINVAL;
@@ -321,8 +327,12 @@ exact_eval(void *state, const lf_probe *probe, const lf_material *mat,
             e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
             continue;
         }
-        u_prev = invert(&c, delta[i], u_prev);
-        fill_point(&c, exp(u_prev), bonded, e);
+        /* first-order predictor from the previous point on the branch */
+        u_prev = invert(&c, delta[i], isfinite(d_prev) ? u_prev + du_dd * (delta[i] - d_prev) : u_prev,
+                        bonded, &pt);
+        fill_point(&c, u_prev, &pt, bonded, e);
+        d_prev = delta[i];
+        du_dd = pt.ddelta > 0.0 ? 1.0 / (pt.ddelta * exp(u_prev)) : 0.0;
     }
     return LF_OK;
 }
@@ -344,7 +354,7 @@ exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
         out->delta_po = out->P_po = out->a_po = out->sigma_po = out->P_jump = 0.0;
         return LF_OK;
     }
-    curve_at(&c, exp(c.u_det), 0, &pt);
+    curve_at(&c, c.u_det, 0, &pt);
     out->delta_detach = pt.delta;
     out->P_detach = pt.P;
     out->a_detach = exp(c.u_det) * c.h;
@@ -354,7 +364,7 @@ exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
         u_hi = u_lo;
     } else {
         for (u = c.u_det + 0.05; u < U_HIGH; u += 0.05) {
-            curve_at(&c, exp(u), 0, &pt);
+            curve_at(&c, u, 0, &pt);
             if (pt.dP >= 0.0)
                 break;
             u_lo = u;
@@ -362,20 +372,20 @@ exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
         u_hi = u;
         for (i = 0; i < 60 && u_hi - u_lo > 1e-14; i++) {
             double um = 0.5 * (u_lo + u_hi);
-            curve_at(&c, exp(um), 0, &pt);
+            curve_at(&c, um, 0, &pt);
             if (pt.dP >= 0.0)
                 u_hi = um;
             else
                 u_lo = um;
         }
     }
-    curve_at(&c, exp(u_hi), 0, &pt);
+    curve_at(&c, u_hi, 0, &pt);
     out->delta_po = pt.delta;
     out->P_po = pt.P;
     out->a_po = exp(u_hi) * c.h;
     out->sigma_po = -out->P_po / (M_PI * out->a_po * out->a_po);
     if (c.delta_det < 0.0) {
-        curve_at(&c, exp(invert(&c, 0.0, NAN)), 0, &pt);
+        invert(&c, 0.0, NAN, 0, &pt);
         out->P_jump = pt.P;
     } else {
         out->P_jump = 0.0;
@@ -447,7 +457,7 @@ lf_exact_thin_difference(const lf_probe *probe, const lf_material *mat,
         exact_pt pt;
         lf_eval th;
         double d;
-        curve_at(&c, exp(u0 + (u1 - u0) * i / n), 0, &pt);
+        curve_at(&c, u0 + (u1 - u0) * i / n, 0, &pt);
         d = pt.delta;
         status = lf_model_thin.eval(NULL, probe, mat, LF_BRANCH_UNLOAD, 1, &d, &th);
         if (status != LF_OK)
@@ -557,7 +567,7 @@ lf_exact_far_eval(const lf_probe *pr, const lf_material *mat, lf_branch branch, 
         }
         for (it = 0; it < 100 && !done; it++) {
             double g, un;
-            curve_at(&c, exp(u), 0, &e);
+            curve_at(&c, u, 0, &e);
             g = e.delta - delta[i];
             if (!(e.ddelta > 0.0))
                 break;
@@ -567,7 +577,7 @@ lf_exact_far_eval(const lf_probe *pr, const lf_material *mat, lf_branch branch, 
         }
         if (!done || u <= umin)
             return lf_fail(err, LF_EDATA, "point %zu is not beyond a/b = %g", i, LF_EXACT_TAU_MAX);
-        curve_at(&c, exp(u), 0, &e);
+        curve_at(&c, u, 0, &e);
         P[i] = e.P;
     }
     return LF_OK;
