@@ -152,13 +152,29 @@ double lf_exact_nu_node(int i);
  * built on demand through the cache by lf_exact_mix_init, which is the only
  * step that may allocate.  dfn receives d/dnu of the interpolant, so
  * derivatives in nu are those of the values returned. */
+typedef struct lf_exact_premix lf_exact_premix;
 typedef struct {
     int m;                         /* tables in use, 1 or 4 */
     int node0;                     /* bonded: nu node of t[0] (-1 .. NY-3) */
     const lf_exact_table *t[4];
     double wl[4];                  /* Lagrange weights at y(nu) */
     double dwl[4];                 /* their d/dnu */
+    const lf_exact_premix *pm;     /* the same flattened, or NULL */
 } lf_exact_mix;
+
+/* A bonded mix flattened for its nu (the weights are fixed for one
+ * material, and ln f mixes linearly): pre holds sum_m w_m ln f_m on the
+ * common grid and in the tail above TAU_MAX, pre_nu sum_m dw_m ln f_m, so
+ * that one table is read instead of four (below TAU_MIN the four are still
+ * used).  Fits on the stack (no allocation). */
+#define LF_EXACT_NMAX 128
+struct lf_exact_premix {
+    lf_exact_table pre, pre_nu;
+    double buf[4][LF_EXACT_NFUN * LF_EXACT_NMAX];
+};
+/* Flatten mx into pm and point mx->pm at it; nothing when mx has one table
+ * or the tables' grids differ or exceed LF_EXACT_NMAX nodes. */
+void lf_exact_premix_init(lf_exact_premix *pm, lf_exact_mix *mx);
 
 int lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu,
                       lf_error *err);

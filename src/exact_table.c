@@ -322,6 +322,7 @@ lf_exact_mix_weights(lf_exact_mix *mx, lf_base base, double nu, lf_error *err)
     double ymin = 0.5 * log(1.0 - 2.0 * LF_EXACT_NU_MAX), hy, y, q, dydnu;
     int i0, m;
 
+    mx->pm = NULL;
     if (base == LF_BASE_FRICTIONLESS) {
         mx->m = 1;
         mx->node0 = 0;
@@ -396,6 +397,21 @@ lf_exact_mix_eval_l(const lf_exact_mix *mx, double l, double tau, double f[4], d
     table_pos p;
     int m, j;
 
+    if (mx->pm != NULL && tau >= LF_EXACT_TAU_MIN) {
+        table_pos_at(&mx->pm->pre, l, tau, &p);
+        table_eval_pos(&mx->pm->pre, &p, F, G);
+        if (dfn != NULL) {
+            double Gn[4];
+            table_eval_pos(&mx->pm->pre_nu, &p, H, Gn);
+        }
+        for (j = 0; j < NFUN; j++) {
+            f[j] = exp(F[j]);
+            df[j] = f[j] * G[j];
+            if (dfn != NULL)
+                dfn[j] = f[j] * H[j];
+        }
+        return;
+    }
     table_pos_at(mx->t[0], l, tau, &p);
     for (m = 0; m < mx->m; m++) {
         double Fm[4], Gm[4];
@@ -415,6 +431,59 @@ lf_exact_mix_eval_l(const lf_exact_mix *mx, double l, double tau, double f[4], d
         if (dfn != NULL)
             dfn[j] = f[j] * H[j];
     }
+}
+
+void
+lf_exact_premix_init(lf_exact_premix *pm, lf_exact_mix *mx)
+{
+    const lf_exact_table *t0 = mx->t[0];
+    lf_exact_table *pre = &pm->pre, *nu = &pm->pre_nu;
+    size_t i, nn;
+    int m, j;
+
+    mx->pm = NULL;
+    if (mx->m < 2 || t0->n > LF_EXACT_NMAX)
+        return;
+    for (m = 1; m < mx->m; m++)
+        if (mx->t[m]->n != t0->n || mx->t[m]->l0 != t0->l0 || mx->t[m]->h != t0->h)
+            return;
+    nn = NFUN * t0->n;
+    *pre = *t0;
+    *nu = *t0;
+    pre->F = pm->buf[0];
+    pre->G = pm->buf[1];
+    nu->F = pm->buf[2];
+    nu->G = pm->buf[3];
+    for (i = 0; i < nn; i++) {
+        double a = 0.0, b = 0.0, c = 0.0, d = 0.0;
+        for (m = 0; m < mx->m; m++) {
+            a += mx->wl[m] * mx->t[m]->F[i];
+            b += mx->wl[m] * mx->t[m]->G[i];
+            c += mx->dwl[m] * mx->t[m]->F[i];
+            d += mx->dwl[m] * mx->t[m]->G[i];
+        }
+        pre->F[i] = a;
+        pre->G[i] = b;
+        nu->F[i] = c;
+        nu->G[i] = d;
+    }
+    for (j = 0; j < NFUN; j++) {
+        pre->lthin_c[j] = pre->thin_pow[j] = pre->alpha[j] = pre->beta[j] = 0.0;
+        nu->lthin_c[j] = nu->thin_pow[j] = nu->alpha[j] = nu->beta[j] = 0.0;
+        for (m = 0; m < mx->m; m++) {
+            const lf_exact_table *t = mx->t[m];
+            pre->lthin_c[j] += mx->wl[m] * t->lthin_c[j];
+            pre->thin_pow[j] += mx->wl[m] * t->thin_pow[j];
+            pre->alpha[j] += mx->wl[m] * t->alpha[j];
+            pre->beta[j] += mx->wl[m] * t->beta[j];
+            nu->lthin_c[j] += mx->dwl[m] * t->lthin_c[j];
+            nu->thin_pow[j] += mx->dwl[m] * t->thin_pow[j];
+            nu->alpha[j] += mx->dwl[m] * t->alpha[j];
+            nu->beta[j] += mx->dwl[m] * t->beta[j];
+        }
+    }
+    pre->next = nu->next = NULL;
+    mx->pm = pm;
 }
 
 void

@@ -68,6 +68,7 @@ state_mix(exact_state *st, const lf_probe *pr, double nu, lf_exact_mix *mx, lf_e
 /* Everything one (probe, material) pair needs. */
 typedef struct {
     lf_exact_mix mix;
+    lf_exact_premix premix;   /* bonded: the mix flattened for this nu */
     double k, h, Estar;
     double A1, A2, F1;
     double u_det;     /* ln tau at detachment, -INFINITY when none */
@@ -163,6 +164,7 @@ ctx_init(exact_ctx *c, exact_state *st, const lf_probe *pr, const lf_material *m
                         : lf_exact_mix_init(&c->mix, pr->k, pr->base, m->nu, err);
     if (status != LF_OK)
         return status;
+    lf_exact_premix_init(&c->premix, &c->mix);
     kap = lf_exact_kappa(pr->k);
     B = 1.0 / (pr->k * pow(pr->R, pr->k - 1.0));
     c->k = pr->k;
