@@ -327,6 +327,43 @@ model_resolves(void)
     lf_model_free(mod);
 }
 
+/* The flattened bonded mix gives the four tables' values and nu slopes. */
+static void
+premix_same(void)
+{
+    lf_exact_mix mx, flat;
+    static lf_exact_premix pm;
+    double tt[] = { 2e-3, 0.04, 0.9, 7.0, 63.0, 250.0 }, nus[] = { 0.0, 0.21, 0.4, 0.49 }, md = 0.0;
+    size_t i, n;
+    int j;
+
+    for (n = 0; n < 4; n++) {
+        if (!t_int(lf_exact_mix_init(&mx, 2.0, LF_BASE_BONDED, nus[n], NULL), LF_OK, "mix nu %g", nus[n]))
+            continue;
+        flat = mx;
+        lf_exact_premix_init(&pm, &flat);
+        t_true(flat.pm == &pm && mx.pm == NULL, "flattened (nu %g)", nus[n]);
+        for (i = 0; i < sizeof tt / sizeof tt[0]; i++) {
+            double f[4], df[4], dn[4], g[4], dg[4], gn[4];
+            lf_exact_mix_eval(&mx, tt[i], f, df, dn);
+            lf_exact_mix_eval(&flat, tt[i], g, dg, gn);
+            for (j = 0; j < 4; j++) {
+                /* dn = f sum_m dw_m ln f_m: its rounding is that of the
+                 * terms, not of their (nearly cancelling) sum */
+                double dscale = 0.0;
+                int m;
+                for (m = 0; m < mx.m; m++)
+                    dscale += fabs(mx.dwl[m] * log(f[j])) + fabs(mx.dwl[m]);
+                md = fmax(md, fabs(g[j] - f[j]) / f[j]);
+                /* d ln f / d ln tau is O(1): df on the scale f / tau */
+                md = fmax(md, fabs(dg[j] - df[j]) / (fabs(df[j]) + f[j] / tt[i]));
+                md = fmax(md, fabs(gn[j] - dn[j]) / (f[j] * dscale));
+            }
+        }
+    }
+    t_true(md < 1e-11, "flattened mix = four tables (max rel diff %.2g)", md);
+}
+
 /* ---- 5. list, clear, folder ---------------------------------------------- */
 
 static void
@@ -495,6 +532,7 @@ main(void)
         damaged(all[i]);
     two_processes();
     model_resolves();
+    premix_same();
     list_clear();
     far_eval();
     auto_needs();
