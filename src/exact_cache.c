@@ -424,6 +424,21 @@ is_temp_name(const char *name)
     return name[0] == '.' && strstr(name, SUFFIX ".") != NULL;
 }
 
+/* The cache folder's name in dir and its listing in *d (NULL when the
+ * folder does not exist yet). */
+static int
+open_folder(char *dir, size_t n, DIR **d, lf_error *err)
+{
+    int status;
+
+    *d = NULL;
+    if ((status = lf_cache_dir(dir, n, err)) != LF_OK)
+        return status;
+    if ((*d = opendir(dir)) == NULL && errno != ENOENT)
+        return lf_fail(err, LF_EIO, "cannot read %s: %s", dir, strerror(errno));
+    return LF_OK;
+}
+
 int
 lf_cache_list(lf_cache_entry **out, size_t *count, lf_error *err)
 {
@@ -436,11 +451,8 @@ lf_cache_list(lf_cache_entry **out, size_t *count, lf_error *err)
 
     *out = NULL;
     *count = 0;
-    if ((status = lf_cache_dir(dir, sizeof dir, err)) != LF_OK)
+    if ((status = open_folder(dir, sizeof dir, &d, err)) != LF_OK || d == NULL)
         return status;
-    if ((d = opendir(dir)) == NULL)
-        return errno == ENOENT ? LF_OK
-                               : lf_fail(err, LF_EIO, "cannot read %s: %s", dir, strerror(errno));
     while ((de = readdir(d)) != NULL) {
         char path[4352];
         unsigned char *buf;
@@ -498,12 +510,8 @@ lf_cache_clear(size_t *removed, lf_error *err)
     int status;
 
     *removed = 0;
-    if ((status = lf_cache_dir(dir, sizeof dir, err)) != LF_OK)
+    if ((status = open_folder(dir, sizeof dir, &d, err)) != LF_OK || d == NULL)
         return status;
-    if ((d = opendir(dir)) == NULL)
-        return errno == ENOENT ? LF_OK
-                               : lf_fail(err, LF_EIO, "cannot read %s: %s", dir, strerror(errno));
-    status = LF_OK;
     while ((de = readdir(d)) != NULL) {
         char path[4352];
         if (!is_table_name(de->d_name) && !is_temp_name(de->d_name))

@@ -111,6 +111,26 @@ static const char *fname = "exact-k2.5-frictionless.lft";
 
 /* ---- 1. a hit is the fresh build ----------------------------------------- */
 
+/* Forget the tables in memory, get (k, base, nu) again: it must come from
+ * its file (a hit) and equal ref bit for bit. */
+static void
+read_back(double k, lf_base base, double nu, double ref[NT][8], const char *what)
+{
+    const lf_exact_table *t;
+    lf_cache_stats s0, s1;
+    double v[NT][8];
+
+    lf_exact_cache_clear();
+    s0 = stats();
+    t_int(lf_exact_table_get(k, base, nu, &t, NULL), LF_OK, "%s: read back", what);
+    s1 = stats();
+    t_int((long) (s1.hits - s0.hits), 1, "%s: a hit", what);
+    t_int((long) (s1.written - s0.written), 0, "%s: nothing written on a hit", what);
+    values(t, v);
+    t_true(memcmp(v, ref, sizeof v) == 0, "%s: table from the file bit-identical to a fresh build",
+           what);
+}
+
 static double fresh[NT][8];
 
 static void
@@ -139,15 +159,24 @@ hit_is_fresh(void)
     t_true(stat(p, &sb) == 0 && sb.st_size > HDR, "file %s there", fname);
     values(t, v);
     t_true(memcmp(v, fresh, sizeof v) == 0, "built with the cache on = built without");
+    read_back(2.5, LF_BASE_FRICTIONLESS, 0.0, fresh, "second start");
+}
+
+/* The exact model's forces from a fresh model, with the tables in memory
+ * forgotten first and the cache on or off. */
+static void
+forces(const lf_probe *p, const lf_material *m, int cache_on, size_t n, const double *d,
+       lf_eval *out)
+{
+    lf_model *mod;
 
     lf_exact_cache_clear();
-    s0 = stats();
-    t_int(lf_exact_table_get(2.5, LF_BASE_FRICTIONLESS, 0.0, &t, NULL), LF_OK, "read back");
-    s1 = stats();
-    t_int((long) (s1.hits - s0.hits), 1, "second process start: a hit");
-    t_int((long) (s1.written - s0.written), 0, "nothing written on a hit");
-    values(t, v);
-    t_true(memcmp(v, fresh, sizeof v) == 0, "table from the file bit-identical to a fresh build");
+    lf_cache_set_enabled(cache_on);
+    mod = lf_model_alloc(&lf_model_exact, p, NULL);
+    t_true(mod != NULL, "model, cache %s", cache_on ? "on" : "off");
+    t_int(lf_model_eval(mod, m, LF_BRANCH_UNLOAD, n, d, out, NULL), LF_OK, "forces");
+    lf_model_free(mod);
+    lf_cache_set_enabled(1);
 }
 
 /* The model's forces, with and without the cache, are bit-identical. */
@@ -158,20 +187,9 @@ model_hit_is_fresh(void)
     lf_material m = { 10e-3, 1e9, 0.3 };
     double d[5] = { -2e-9, 0.0, 5e-9, 20e-9, 60e-9 };
     lf_eval a[5], b[5];
-    lf_model *mod;
 
-    lf_exact_cache_clear();
-    lf_cache_set_enabled(0);
-    mod = lf_model_alloc(&lf_model_exact, &p, NULL);
-    t_true(mod != NULL, "model without cache");
-    lf_model_eval(mod, &m, LF_BRANCH_UNLOAD, 5, d, a, NULL);
-    lf_model_free(mod);
-    lf_exact_cache_clear();
-    lf_cache_set_enabled(1);
-    mod = lf_model_alloc(&lf_model_exact, &p, NULL);
-    t_true(mod != NULL, "model from the cache");
-    lf_model_eval(mod, &m, LF_BRANCH_UNLOAD, 5, d, b, NULL);
-    lf_model_free(mod);
+    forces(&p, &m, 0, 5, d, a);
+    forces(&p, &m, 1, 5, d, b);
     t_true(memcmp(a, b, sizeof a) == 0, "forces from a cached table bit-identical");
 }
 
@@ -222,11 +240,7 @@ damaged(damage how)
     t_int((long) (s1.written - s0.written), 1, "%s: rebuilt and rewritten", what);
     values(t, v);
     t_true(memcmp(v, fresh, sizeof v) == 0, "%s: rebuilt table identical to a fresh build", what);
-    lf_exact_cache_clear();
-    s0 = stats();
-    lf_exact_table_get(2.5, LF_BASE_FRICTIONLESS, 0.0, &t, NULL);
-    s1 = stats();
-    t_int((long) (s1.hits - s0.hits), 1, "%s: the rewritten file is used", what);
+    read_back(2.5, LF_BASE_FRICTIONLESS, 0.0, fresh, what);
 }
 
 /* ---- 3. two processes at once -------------------------------------------- */
@@ -235,8 +249,7 @@ static void
 two_processes(void)
 {
     const lf_exact_table *t;
-    lf_cache_stats s0, s1;
-    double v[NT][8], ref[NT][8];
+    double ref[NT][8];
     pid_t pid[2];
     int i, st, ok = 1;
     size_t n, removed;
@@ -263,13 +276,7 @@ two_processes(void)
     t_int((long) n, 1, "one file left (no temporary files: %zu entries)", n);
     t_true(n == 1 && e[0].valid, "and it is whole");
     free(e);
-    lf_exact_cache_clear();
-    s0 = stats();
-    lf_exact_table_get(1.5, LF_BASE_BONDED, 0.3, &t, NULL);
-    s1 = stats();
-    t_int((long) (s1.hits - s0.hits), 1, "read back");
-    values(t, v);
-    t_true(memcmp(v, ref, sizeof v) == 0, "the racers' file bit-identical to a fresh build");
+    read_back(1.5, LF_BASE_BONDED, 0.3, ref, "the racers' file");
 }
 
 /* ---- 4. the model object keeps its tables --------------------------------- */
@@ -310,17 +317,9 @@ model_resolves(void)
           "evaluations in the prepared range read or build nothing");
     /* a fresh model from the files gives the same forces */
     lf_model_free(mod);
-    lf_exact_cache_clear();
     m.nu = 0.31;
-    lf_cache_set_enabled(0);
-    mod = lf_model_alloc(&lf_model_exact, &p, NULL);
-    lf_model_eval(mod, &m, LF_BRANCH_UNLOAD, 4, d, a, NULL);
-    lf_model_free(mod);
-    lf_exact_cache_clear();
-    lf_cache_set_enabled(1);
-    mod = lf_model_alloc(&lf_model_exact, &p, NULL);
-    lf_model_eval(mod, &m, LF_BRANCH_UNLOAD, 4, d, b, NULL);
-    lf_model_free(mod);
+    forces(&p, &m, 0, 4, d, a);
+    forces(&p, &m, 1, 4, d, b);
     t_true(memcmp(a, b, sizeof a) == 0, "bonded forces from cached tables bit-identical");
     mod = lf_model_alloc(&lf_model_exact, &p, NULL);
     t_int(lf_model_prepare(mod, 0.3, 0.2, NULL), LF_EINVAL, "empty nu range refused");
