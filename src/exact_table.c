@@ -32,6 +32,7 @@
 #include <stdatomic.h>
 #include <stdlib.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "exact.h"
 
@@ -55,6 +56,50 @@ lf_exact_table_free(lf_exact_table *t)
     free(t);
 }
 
+/* One share of a table's nodes: i = first, first + stride, ... */
+typedef struct {
+    const lf_exact_kernel *kr;
+    lf_exact_table *t;
+    double node_factor;
+    size_t first, stride;
+    int status;
+    lf_error err;
+} build_share;
+
+static void *
+build_nodes(void *arg)
+{
+    build_share *b = arg;
+    lf_exact_table *t = b->t;
+    size_t i;
+    int j;
+
+    b->status = LF_OK;
+    for (i = b->first; i < t->n && b->status == LF_OK; i += b->stride) {
+        double tau = exp(t->l0 + (double) i * t->h);
+        size_t N = (size_t) ceil(b->node_factor * (double) lf_exact_nodes(tau));
+        lf_exact_point pt;
+        double f[NFUN], df[NFUN];
+
+        b->status = lf_exact_solve(b->kr, t->k, tau, N, &pt, &b->err);
+        if (b->status != LF_OK)
+            break;
+        f[0] = pt.s; f[1] = pt.e; f[2] = pt.d; f[3] = pt.p;
+        df[0] = pt.ds; df[1] = pt.de; df[2] = pt.dd; df[3] = pt.dp;
+        for (j = 0; j < NFUN; j++) {
+            t->F[NFUN * i + (size_t) j] = log(f[j]);
+            t->G[NFUN * i + (size_t) j] = tau * df[j] / f[j];
+            if (i == 0) {
+                t->flo[j] = f[j];
+                t->dflo[j] = df[j];
+            }
+        }
+    }
+    return NULL;
+}
+
+#define BUILD_THREADS 8
+
 int
 lf_exact_table_build(const lf_exact_kernel *kr, double k, lf_base base, double nu,
                      double step, double node_factor, lf_exact_table **out,
@@ -62,8 +107,11 @@ lf_exact_table_build(const lf_exact_kernel *kr, double k, lf_base base, double n
 {
     lf_exact_table *t;
     double lmin = log(LF_EXACT_TAU_MIN), lmax = log(LF_EXACT_TAU_MAX);
-    size_t i;
-    int j, status;
+    build_share sh[BUILD_THREADS];
+    pthread_t th[BUILD_THREADS];
+    int started[BUILD_THREADS] = { 0 };
+    long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
+    size_t m, nt = ncpu > 1 ? (size_t) (ncpu < BUILD_THREADS ? ncpu : BUILD_THREADS) : 1;
 
     *out = NULL;
     if (!(step > 0.0) || !(node_factor > 0.0))
@@ -83,28 +131,33 @@ lf_exact_table_build(const lf_exact_kernel *kr, double k, lf_base base, double n
         lf_exact_table_free(t);
         return lf_fail(err, LF_ENOMEM, "out of memory (exact table)");
     }
-    for (i = 0; i < t->n; i++) {
-        double tau = exp(t->l0 + (double) i * t->h);
-        size_t N = (size_t) ceil(node_factor * (double) lf_exact_nodes(tau));
-        lf_exact_point pt;
-        double f[NFUN], df[NFUN];
-
-        status = lf_exact_solve(kr, k, tau, N, &pt, err);
-        if (status != LF_OK) {
-            lf_exact_table_free(t);
-            return status;
-        }
-        f[0] = pt.s; f[1] = pt.e; f[2] = pt.d; f[3] = pt.p;
-        df[0] = pt.ds; df[1] = pt.de; df[2] = pt.dd; df[3] = pt.dp;
-        for (j = 0; j < NFUN; j++) {
-            t->F[NFUN * i + (size_t) j] = log(f[j]);
-            t->G[NFUN * i + (size_t) j] = tau * df[j] / f[j];
-            if (i == 0) {
-                t->flo[j] = f[j];
-                t->dflo[j] = df[j];
-            }
-        }
+    /* the nodes are independent solves: shared round-robin (the costly
+     * large-tau ones spread out) among up to one thread per core; each
+     * node is computed the same way whatever the number of threads */
+    for (m = 0; m < nt; m++) {
+        sh[m].kr = kr;
+        sh[m].t = t;
+        sh[m].node_factor = node_factor;
+        sh[m].first = m;
+        sh[m].stride = nt;
+        lf_error_clear(&sh[m].err);
     }
+    for (m = 1; m < nt; m++)
+        started[m] = pthread_create(&th[m], NULL, build_nodes, &sh[m]) == 0;
+    build_nodes(&sh[0]);
+    for (m = 1; m < nt; m++) {
+        if (started[m])
+            pthread_join(th[m], NULL);
+        else
+            build_nodes(&sh[m]);
+    }
+    for (m = 0; m < nt; m++)
+        if (sh[m].status != LF_OK) {
+            if (err != NULL)
+                *err = sh[m].err;
+            lf_exact_table_free(t);
+            return sh[m].status;
+        }
     lf_exact_table_finish(t);
     *out = t;
     return LF_OK;
