@@ -121,8 +121,8 @@ static void
 find_detach(exact_ctx *c)
 {
     exact_pt pt;
-    double u, u_hi, u_lo;
-    int i;
+    double u, u_hi, u_lo, f_lo, f_hi;
+    int i, side = 0;
 
     c->u_det = -INFINITY;
     c->delta_det = 0.0;
@@ -137,13 +137,29 @@ find_detach(exact_ctx *c)
         return; /* monotonic down to a -> 0 (k < 1/2) */
     u_lo = u;
     u_hi = u + 0.25;
-    for (i = 0; i < 60 && u_hi - u_lo > 1e-14; i++) {
-        double um = 0.5 * (u_lo + u_hi);
+    f_lo = pt.ddelta;
+    curve_at(c, u_hi, 0, &pt);
+    f_hi = pt.ddelta;
+    /* Illinois (regula falsi that halves the stale end's value): the
+     * bracket ddelta(u_lo) <= 0 < ddelta(u_hi) kept, superlinear */
+    for (i = 0; i < 100 && u_hi - u_lo > 1e-14; i++) {
+        double um = (u_lo * f_hi - u_hi * f_lo) / (f_hi - f_lo);
+        if (!(um > u_lo && um < u_hi))
+            um = 0.5 * (u_lo + u_hi);
         curve_at(c, um, 0, &pt);
-        if (pt.ddelta <= 0.0)
+        if (pt.ddelta <= 0.0) {
             u_lo = um;
-        else
+            f_lo = pt.ddelta;
+            if (side < 0)
+                f_hi *= 0.5;
+            side = -1;
+        } else {
             u_hi = um;
+            f_hi = pt.ddelta;
+            if (side > 0)
+                f_lo *= 0.5;
+            side = 1;
+        }
     }
     c->u_det = u_hi;
     curve_at(c, u_hi, 0, &pt);
