@@ -24,6 +24,7 @@ static const char usage_text[] =
     "  --model NAME         auto (default), thin, exact or halfspace; auto picks per curve\n"
     "                       the cheapest model whose bias on w, E*, nu is below --model-tol\n"
     "  --model-tol X        bias allowed to a cheaper model, in standard errors (0.2)\n"
+    "  --no-cache           neither read nor write the exact model's tables on disk\n"
     "  --fix-nu NU          hold nu (also --nu); a plan's nu column does the same\n"
     "  --fix-z0 LENGTH      hold every curve's contact point\n"
     "  --fix-F0 FORCE       hold every curve's force offset\n"
