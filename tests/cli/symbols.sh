@@ -29,6 +29,12 @@ if [ -s "$tmp/badsyms" ]; then
 else
     ok
 fi
+# and every lf_ name is declared in a header of src/ (public or internal)
+undeclared=""
+for s in $(grep '^src ' "$tmp/syms" | awk '$3 ~ /^lf_/ { print $3 }' | sort -u); do
+    grep -qw -- "$s" "$top"/src/*.h || undeclared="$undeclared $s"
+done
+if [ -z "$undeclared" ]; then ok; else bad "exported but declared in no header of src/:$undeclared"; fi
 nfit=$(grep '^fit ' "$tmp/syms" | awk '$3 !~ /^lf_/ && $3 !~ /^__/' | wc -l)
 echo "note: fit/ objects export $nfit names without the lf_ prefix (not checked here)"
 summary
