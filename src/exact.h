@@ -187,6 +187,9 @@ void lf_exact_mix_eval(const lf_exact_mix *mx, double tau, double f[4],
 /* The same with l = ln tau given (saves the logarithm). */
 void lf_exact_mix_eval_l(const lf_exact_mix *mx, double l, double tau, double f[4],
                          double df[4], double dfn[4]);
+/* ln f, d ln f/dtau and d ln f/dnu (H may be NULL) at l = ln tau. */
+void lf_exact_mix_eval_log(const lf_exact_mix *mx, double l, double tau, double F[4],
+                           double G[4], double H[4]);
 
 /* Build statistics of the last table built in this process (bench). */
 double lf_exact_last_build_seconds(void);

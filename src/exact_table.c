@@ -443,27 +443,25 @@ lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu, lf_error 
 }
 
 void
-lf_exact_mix_eval_l(const lf_exact_mix *mx, double l, double tau, double f[4], double df[4],
-                    double dfn[4])
+lf_exact_mix_eval_log(const lf_exact_mix *mx, double l, double tau, double F[4], double G[4],
+                      double H[4])
 {
-    double F[4] = {0, 0, 0, 0}, G[4] = {0, 0, 0, 0}, H[4] = {0, 0, 0, 0};
     table_pos p;
     int m, j;
 
     if (mx->pm != NULL && tau >= LF_EXACT_TAU_MIN) {
         table_pos_at(&mx->pm->pre, l, tau, &p);
         table_eval_pos(&mx->pm->pre, &p, F, G);
-        if (dfn != NULL) {
+        if (H != NULL) {
             double Gn[4];
             table_eval_pos(&mx->pm->pre_nu, &p, H, Gn);
         }
-        for (j = 0; j < NFUN; j++) {
-            f[j] = exp(F[j]);
-            df[j] = f[j] * G[j];
-            if (dfn != NULL)
-                dfn[j] = f[j] * H[j];
-        }
         return;
+    }
+    for (j = 0; j < NFUN; j++) {
+        F[j] = G[j] = 0.0;
+        if (H != NULL)
+            H[j] = 0.0;
     }
     table_pos_at(mx->t[0], l, tau, &p);
     for (m = 0; m < mx->m; m++) {
@@ -475,9 +473,20 @@ lf_exact_mix_eval_l(const lf_exact_mix *mx, double l, double tau, double f[4], d
         for (j = 0; j < NFUN; j++) {
             F[j] += mx->wl[m] * Fm[j];
             G[j] += mx->wl[m] * Gm[j];
-            H[j] += mx->dwl[m] * Fm[j];
+            if (H != NULL)
+                H[j] += mx->dwl[m] * Fm[j];
         }
     }
+}
+
+void
+lf_exact_mix_eval_l(const lf_exact_mix *mx, double l, double tau, double f[4], double df[4],
+                    double dfn[4])
+{
+    double F[4], G[4], H[4];
+    int j;
+
+    lf_exact_mix_eval_log(mx, l, tau, F, G, dfn != NULL ? H : NULL);
     for (j = 0; j < NFUN; j++) {
         f[j] = exp(F[j]);
         df[j] = f[j] * G[j];

@@ -83,30 +83,28 @@ typedef struct {
     double ddelta_nu, dP_nu;           /* d/dnu at fixed tau */
 } exact_pt;
 
-/* u = ln tau */
+/* u = ln tau.  Each product of a power of tau and a tabulated function
+ * is one exponential of a sum of logarithms; the tau-derivatives follow as
+ * value times the sum of the logarithmic derivatives (G = f'/f). */
 static void
 curve_at(const exact_ctx *c, double u, int want_nu, exact_pt *o)
 {
-    double f[4], df[4], dn[4];
-    double tau = exp(u), s, e, d, p, tk = exp(c->k * u), st = sqrt(tau);
-    double twoEh = 2.0 * c->Estar * c->h;
+    double F[4], G[4], H[4];
+    double tau = exp(u), it = 1.0 / tau, k = c->k, D1, Ssh;
 
-    lf_exact_mix_eval_l(&c->mix, u, tau, f, df, want_nu ? dn : NULL);
-    s = f[0]; e = f[1]; d = f[2]; p = f[3];
-    o->shift = c->A2 * st / e;
-    o->delta = c->A1 * tk * d - o->shift;
-    o->ddelta = c->A1 * (c->k * tk / tau * d + tk * df[2])
-                - c->A2 * (0.5 / (st * e) - st * df[1] / (e * e));
-    o->S = twoEh * tau * s;
-    o->P1 = c->F1 * tk * tau * p;
-    o->P = o->P1 - o->S * o->shift;
-    /* S shift = 2 E* h A2 tau^(3/2) s/e */
-    o->dP = c->F1 * ((c->k + 1.0) * tk * p + tk * tau * df[3])
-            - twoEh * c->A2 * (1.5 * st * s / e + tau * st * (df[0] / e - s * df[1] / (e * e)));
+    lf_exact_mix_eval_log(&c->mix, u, tau, F, G, want_nu ? H : NULL);
+    D1 = c->A1 * exp(k * u + F[2]);                    /* A1 tau^k d */
+    o->shift = c->A2 * exp(0.5 * u - F[1]);            /* A2 sqrt(tau) / e */
+    o->S = 2.0 * c->Estar * c->h * exp(u + F[0]);      /* 2 E* h tau s */
+    o->P1 = c->F1 * exp((k + 1.0) * u + F[3]);         /* F1 tau^(k+1) p */
+    Ssh = o->S * o->shift;
+    o->delta = D1 - o->shift;
+    o->ddelta = D1 * (k * it + G[2]) - o->shift * (0.5 * it - G[1]);
+    o->P = o->P1 - Ssh;
+    o->dP = o->P1 * ((k + 1.0) * it + G[3]) - Ssh * (1.5 * it + G[0] - G[1]);
     if (want_nu) {
-        o->ddelta_nu = c->A1 * tk * dn[2] + c->A2 * st * dn[1] / (e * e);
-        o->dP_nu = c->F1 * tk * tau * dn[3]
-                   - twoEh * c->A2 * tau * st * (dn[0] / e - s * dn[1] / (e * e));
+        o->ddelta_nu = D1 * H[2] + o->shift * H[1];
+        o->dP_nu = o->P1 * H[3] - Ssh * (H[0] - H[1]);
     } else {
         o->ddelta_nu = o->dP_nu = 0.0;
     }
