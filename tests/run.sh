@@ -6,7 +6,7 @@ top=$(cd "$(dirname "$0")/.." && pwd)
 total_pass=0; total_fail=0; broken=""
 log=$(mktemp); cache=$(mktemp -d); trap 'rm -f "$log"; rm -rf "$cache"' EXIT
 # the exact model's tables go to a cache of the run's own, never the user's
-XDG_CACHE_HOME=$cache; export XDG_CACHE_HOME
+XDG_CACHE_HOME=$cache; LAYERFIT_TEST_CACHE=1; export XDG_CACHE_HOME LAYERFIT_TEST_CACHE
 run_one() {
     name=$1; shift
     "$@" >"$log" 2>&1; rc=$?
