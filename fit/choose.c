@@ -292,8 +292,14 @@ instance(chooser *c, size_t j, int rung)
 {
     lf_model **slot = &c->inst[rung][j];
 
-    if (*slot == NULL)
+    if (*slot == NULL) {
         *slot = lf_model_alloc(rung_type(rung), &c->f->c[j].data.probe, NULL);
+        /* its tables for the current nu resolved now, not in eval */
+        if (*slot != NULL && lf_model_prepare(*slot, c->f->mat.nu, c->f->mat.nu, NULL) != LF_OK) {
+            lf_model_free(*slot);
+            *slot = NULL;
+        }
+    }
     return *slot;
 }
 
