@@ -40,18 +40,21 @@ lf_choose_settings_default(void)
 /* Models from the cheapest up. */
 enum { RUNG_THIN = 0, RUNG_HALFSPACE, RUNG_EXACT, NRUNG };
 
+/* The rungs by the models' scope in the model table: the cheapest thin-
+ * layer model, the cheapest half-space model, the reference (any
+ * thickness). */
 static const lf_model_type *
 rung_type(int rung)
 {
-    return rung == RUNG_THIN ? &lf_model_thin
-           : rung == RUNG_HALFSPACE ? &lf_model_halfspace : &lf_model_exact;
+    return lf_model_type_cheapest(rung == RUNG_THIN ? LF_SCOPE_THIN
+                                  : rung == RUNG_HALFSPACE ? LF_SCOPE_HALFSPACE : LF_SCOPE_ANY);
 }
 
 static int
 rung_of(const lf_model_type *t)
 {
-    return t == &lf_model_thin ? RUNG_THIN : t == &lf_model_halfspace ? RUNG_HALFSPACE
-                                                                      : RUNG_EXACT;
+    return t->scope == LF_SCOPE_THIN ? RUNG_THIN : t->scope == LF_SCOPE_HALFSPACE ? RUNG_HALFSPACE
+                                                                                : RUNG_EXACT;
 }
 
 /* Bias over se of w, E*, nu (0 where not fitted or not determined). */
@@ -255,8 +258,14 @@ instance(chooser *c, size_t j, int rung)
 {
     lf_model **slot = &c->inst[rung][j];
 
-    if (*slot == NULL)
+    if (*slot == NULL) {
         *slot = lf_model_alloc(rung_type(rung), &c->f->c[j].data.probe, NULL);
+        /* its tables for the current nu resolved now, not in eval */
+        if (*slot != NULL && lf_model_prepare(*slot, c->f->mat.nu, c->f->mat.nu, NULL) != LF_OK) {
+            lf_model_free(*slot);
+            *slot = NULL;
+        }
+    }
     return *slot;
 }
 
@@ -326,7 +335,7 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *fc = &f->c[j];
         double b = fc->data.probe.b;
-        lf_model *ex = c->rung[j] == RUNG_EXACT ? NULL : instance(c, j, RUNG_EXACT);
+        lf_model *ex;
         c->ab_lo[j] = HUGE_VAL;
         c->ab_hi[j] = 0.0;
         for (i = 0; i < fc->data.n; i++) {
@@ -337,6 +346,13 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
             }
         }
         c->exact_ok[j] = 1;
+        /* a curve wholly in the thin-layer regime (a/b beyond the exact
+         * model's tables) is compared without building any table */
+        if (c->rung[j] != RUNG_EXACT && c->ab_lo[j] < HUGE_VAL
+            && lf_exact_far_eval(&fc->data.probe, &f->mat, fc->data.branch, fc->data.n,
+                                 f->w.delta + fc->row, c->P_exact + fc->row, NULL) == LF_OK)
+            continue;
+        ex = c->rung[j] == RUNG_EXACT ? NULL : instance(c, j, RUNG_EXACT);
         if (c->rung[j] == RUNG_EXACT) {
             for (i = 0; i < fc->data.n; i++)
                 c->P_exact[fc->row + i] = f->w.ev[fc->row + i].P;
@@ -383,7 +399,8 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
             break;      /* nothing left to move */
         for (m = 0; m < FIT_NMAT; m++)
             total[m] -= c->cur[jw].r[m];
-        if (c->rung[jw] == RUNG_THIN && c->cs->halfspace && f->c[jw].data.probe.k > 0.5)
+        if (c->rung[jw] == RUNG_THIN && c->cs->halfspace
+            && f->c[jw].data.probe.k > rung_type(RUNG_HALFSPACE)->k_above)
             status = curve_bias(c, jw, RUNG_HALFSPACE, &c->half_b[jw]);
         if (c->rung[jw] == RUNG_THIN && c->half_b[jw].ok
             && bias_max(&c->half_b[jw], NULL) < fmin(tol, worst)) {
@@ -481,7 +498,7 @@ lf_fit_compare_thin(const lf_fit_settings *settings, size_t ncurves,
         cv[j] = curves[j];
         cv[j].model = NULL;
     }
-    s.model = &lf_model_thin;
+    s.model = rung_type(RUNG_THIN);
     status = lf_fit_driver(&s, ncurves, cv, &thin, err);
     free(cv);
     if (status != LF_OK && status != LF_ENOCONV)
@@ -516,8 +533,8 @@ lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *
     for (j = 0; j < ncurves; j++) {
         cv[j] = curves[j];
         if (cv[j].model == NULL)
-            cv[j].model = &lf_model_thin;
-        else if (cv[j].model != &lf_model_thin)
+            cv[j].model = rung_type(RUNG_THIN);
+        else if (cv[j].model != rung_type(RUNG_THIN))
             first_all_thin = 0;
     }
     f = lf_fit_alloc(settings, ncurves, cv, err);

@@ -78,7 +78,27 @@ size_t lf_exact_nodes(double tau);
 /* Default spacing of the table in ln tau. */
 #define LF_EXACT_STEP 0.1
 
+#define LF_EXACT_NFUN 4
+
+/* One table: ln f_j and d ln f_j/dl at the nodes (from the solves, what a
+ * table file holds), and what lf_exact_table_finish derives from them. */
 typedef struct lf_exact_table lf_exact_table;
+struct lf_exact_table {
+    double k;
+    lf_base base;
+    double nu;           /* 0 when frictionless */
+    size_t n;            /* nodes */
+    double l0, h;        /* l_i = l0 + i h */
+    double *F;           /* ln f_j(l_i) at F[NFUN i + j] */
+    double *G;           /* d ln f_j / dl */
+    double flo[LF_EXACT_NFUN], dflo[LF_EXACT_NFUN];   /* f and f' at TAU_MIN */
+    /* derived (lf_exact_table_finish) */
+    double f0[LF_EXACT_NFUN];                         /* half-space values */
+    double thin_c[LF_EXACT_NFUN], thin_pow[LF_EXACT_NFUN]; /* f_thin = c tau^pow */
+    double lthin_c[LF_EXACT_NFUN];                         /* ln thin_c */
+    double alpha[LF_EXACT_NFUN], beta[LF_EXACT_NFUN];      /* tail above TAU_MAX */
+    lf_exact_table *next;  /* the process store's list */
+};
 
 /* Build one table from a kernel: nodes every `step` in ln tau, Nystrom
  * with node_factor * lf_exact_nodes(tau) nodes (1 = the default).  Owned
@@ -87,20 +107,40 @@ int lf_exact_table_build(const lf_exact_kernel *kr, double k, lf_base base,
                          double nu, double step, double node_factor,
                          lf_exact_table **out, lf_error *err);
 void lf_exact_table_free(lf_exact_table *t);
+/* Fill the derived members from k, base, nu, n, l0, h, F, G, flo, dflo. */
+void lf_exact_table_finish(lf_exact_table *t);
 
 /* Functions at tau from one table: f[4] = {s, e, d, p}, df[4] their
  * tau-derivatives (df may be NULL). */
 void lf_exact_table_eval(const lf_exact_table *t, double tau, double f[4],
                          double df[4]);
 
-/* The process cache.  Tables are immutable once published and live until
+/* The process store.  Tables are immutable once published and live until
  * lf_exact_cache_clear() (tests only; not thread-safe against users).
- * lf_exact_table_get returns the table of (k, base, nu) building it under
- * the cache's mutex if missing.  nu is used as given (bonded), ignored for
+ * lf_exact_table_get returns the table of (k, base, nu): from memory
+ * without a lock, else from the disk cache, else built (no lock held while
+ * reading or building).  nu is used as given (bonded), ignored for
  * frictionless. */
 int lf_exact_table_get(double k, lf_base base, double nu,
                        const lf_exact_table **out, lf_error *err);
 void lf_exact_cache_clear(void);
+/* The table of (k, base, nu) if it is in the store or on disk (then it is
+ * published in the store); NULL otherwise.  Never builds. */
+const lf_exact_table *lf_exact_table_find(double k, lf_base base, double nu);
+
+/* ---- tables on disk (exact_cache.c) ---- */
+
+/* The table of (k, base, nu) built with (step, node_factor) from its file
+ * in the cache folder, or NULL when the cache is off, the file is missing,
+ * or it is stale or corrupt (then counted in the stats; the caller builds
+ * the table and saves it again).  Never prints. */
+lf_exact_table *lf_exact_disk_load(double k, lf_base base, double nu, double step,
+                                   double node_factor);
+/* Write t to the cache folder atomically (temporary file in the same
+ * folder, then rename).  Failures are counted, never fatal. */
+void lf_exact_disk_save(const lf_exact_table *t, double step, double node_factor);
+/* FNV-1a 64-bit hash of n bytes (the files' checksum). */
+unsigned long long lf_exact_disk_checksum(const void *p, size_t n);
 
 /* The bonded nu grid: node i (-1 .. LF_EXACT_NY) and its nu; nodes -1 and
  * LF_EXACT_NY are ghosts just outside [0, LF_EXACT_NU_MAX]. */
@@ -112,18 +152,44 @@ double lf_exact_nu_node(int i);
  * built on demand through the cache by lf_exact_mix_init, which is the only
  * step that may allocate.  dfn receives d/dnu of the interpolant, so
  * derivatives in nu are those of the values returned. */
+typedef struct lf_exact_premix lf_exact_premix;
 typedef struct {
     int m;                         /* tables in use, 1 or 4 */
+    int node0;                     /* bonded: nu node of t[0] (-1 .. NY-3) */
     const lf_exact_table *t[4];
     double wl[4];                  /* Lagrange weights at y(nu) */
     double dwl[4];                 /* their d/dnu */
+    const lf_exact_premix *pm;     /* the same flattened, or NULL */
 } lf_exact_mix;
+
+/* A bonded mix flattened for its nu (the weights are fixed for one
+ * material, and ln f mixes linearly): pre holds sum_m w_m ln f_m on the
+ * common grid and in the tail above TAU_MAX, pre_nu sum_m dw_m ln f_m, so
+ * that one table is read instead of four (below TAU_MIN the four are still
+ * used).  Fits on the stack (no allocation). */
+#define LF_EXACT_NMAX 128
+struct lf_exact_premix {
+    lf_exact_table pre, pre_nu;
+    double buf[4][LF_EXACT_NFUN * LF_EXACT_NMAX];
+};
+/* Flatten mx into pm and point mx->pm at it; nothing when mx has one table
+ * or the tables' grids differ or exceed LF_EXACT_NMAX nodes. */
+void lf_exact_premix_init(lf_exact_premix *pm, lf_exact_mix *mx);
 
 int lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu,
                       lf_error *err);
+/* The same without the tables: m, node0 and the weights only (t[] is left
+ * for the caller; model_exact.c fills it from its model object). */
+int lf_exact_mix_weights(lf_exact_mix *mx, lf_base base, double nu, lf_error *err);
 /* f, df (d/dtau) and dfn (d/dnu; may be NULL) at tau. */
 void lf_exact_mix_eval(const lf_exact_mix *mx, double tau, double f[4],
                        double df[4], double dfn[4]);
+/* The same with l = ln tau given (saves the logarithm). */
+void lf_exact_mix_eval_l(const lf_exact_mix *mx, double l, double tau, double f[4],
+                         double df[4], double dfn[4]);
+/* ln f, d ln f/dtau and d ln f/dnu (H may be NULL) at l = ln tau. */
+void lf_exact_mix_eval_log(const lf_exact_mix *mx, double l, double tau, double F[4],
+                           double G[4], double H[4]);
 
 /* Build statistics of the last table built in this process (bench). */
 double lf_exact_last_build_seconds(void);

@@ -17,34 +17,26 @@
  *    compressibility length l/h of physics.md section 5 (every frictionless
  *    layer and bonded nu <= 0.45), and only approximate beyond.
  *
- * Cache.  A process-wide list of immutable tables keyed by (k, base, nu),
- * guarded by one mutex: a missing table is built under the lock (other
- * threads wait; no table is built twice), published, and never modified or
- * freed until lf_exact_cache_clear().
+ * Store.  A process-wide list of immutable tables keyed by (k, base, nu):
+ * looked up without a lock (the head and the links are published with
+ * release stores and read with acquire loads); a missing table is read
+ * from the disk cache (exact_cache.c) or built with no lock held, then
+ * published under a short mutex that only links it in.  Two threads asking
+ * for the same missing table may both build it; the second to publish frees
+ * its copy and takes the first.  Tables are never modified or freed until
+ * lf_exact_cache_clear().  A model object (model_exact.c) keeps the
+ * pointers it needs, so its evaluations do not search the list at all.
  */
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <time.h>
+#include <unistd.h>
 
 #include "exact.h"
 
-#define NFUN 4
-
-struct lf_exact_table {
-    double k;
-    lf_base base;
-    double nu;
-    size_t n;            /* nodes */
-    double l0, h;        /* l_i = l0 + i h */
-    double *F;           /* ln f_j(l_i) at F[NFUN i + j] */
-    double *G;           /* d ln f_j / dl */
-    double f0[NFUN];     /* half-space values */
-    double flo[NFUN], dflo[NFUN];   /* f and f' at TAU_MIN */
-    double thin_c[NFUN], thin_pow[NFUN]; /* f_thin = c tau^pow */
-    double alpha[NFUN], beta[NFUN];      /* tail above TAU_MAX */
-    lf_exact_table *next;  /* cache list */
-};
+#define NFUN LF_EXACT_NFUN
 
 static double
 now_seconds(void)
@@ -64,6 +56,50 @@ lf_exact_table_free(lf_exact_table *t)
     free(t);
 }
 
+/* One share of a table's nodes: i = first, first + stride, ... */
+typedef struct {
+    const lf_exact_kernel *kr;
+    lf_exact_table *t;
+    double node_factor;
+    size_t first, stride;
+    int status;
+    lf_error err;
+} build_share;
+
+static void *
+build_nodes(void *arg)
+{
+    build_share *b = arg;
+    lf_exact_table *t = b->t;
+    size_t i;
+    int j;
+
+    b->status = LF_OK;
+    for (i = b->first; i < t->n && b->status == LF_OK; i += b->stride) {
+        double tau = exp(t->l0 + (double) i * t->h);
+        size_t N = (size_t) ceil(b->node_factor * (double) lf_exact_nodes(tau));
+        lf_exact_point pt;
+        double f[NFUN], df[NFUN];
+
+        b->status = lf_exact_solve(b->kr, t->k, tau, N, &pt, &b->err);
+        if (b->status != LF_OK)
+            break;
+        f[0] = pt.s; f[1] = pt.e; f[2] = pt.d; f[3] = pt.p;
+        df[0] = pt.ds; df[1] = pt.de; df[2] = pt.dd; df[3] = pt.dp;
+        for (j = 0; j < NFUN; j++) {
+            t->F[NFUN * i + (size_t) j] = log(f[j]);
+            t->G[NFUN * i + (size_t) j] = tau * df[j] / f[j];
+            if (i == 0) {
+                t->flo[j] = f[j];
+                t->dflo[j] = df[j];
+            }
+        }
+    }
+    return NULL;
+}
+
+#define BUILD_THREADS 8
+
 int
 lf_exact_table_build(const lf_exact_kernel *kr, double k, lf_base base, double nu,
                      double step, double node_factor, lf_exact_table **out,
@@ -71,9 +107,11 @@ lf_exact_table_build(const lf_exact_kernel *kr, double k, lf_base base, double n
 {
     lf_exact_table *t;
     double lmin = log(LF_EXACT_TAU_MIN), lmax = log(LF_EXACT_TAU_MAX);
-    double kap = lf_exact_kappa(k), Z = lf_thin_Z(base, nu);
-    size_t i;
-    int j, status;
+    build_share sh[BUILD_THREADS];
+    pthread_t th[BUILD_THREADS];
+    int started[BUILD_THREADS] = { 0 };
+    long ncpu = sysconf(_SC_NPROCESSORS_ONLN);
+    size_t m, nt = ncpu > 1 ? (size_t) (ncpu < BUILD_THREADS ? ncpu : BUILD_THREADS) : 1;
 
     *out = NULL;
     if (!(step > 0.0) || !(node_factor > 0.0))
@@ -93,34 +131,52 @@ lf_exact_table_build(const lf_exact_kernel *kr, double k, lf_base base, double n
         lf_exact_table_free(t);
         return lf_fail(err, LF_ENOMEM, "out of memory (exact table)");
     }
-    for (i = 0; i < t->n; i++) {
-        double tau = exp(t->l0 + (double) i * t->h);
-        size_t N = (size_t) ceil(node_factor * (double) lf_exact_nodes(tau));
-        lf_exact_point pt;
-        double f[NFUN], df[NFUN];
-
-        status = lf_exact_solve(kr, k, tau, N, &pt, err);
-        if (status != LF_OK) {
-            lf_exact_table_free(t);
-            return status;
-        }
-        f[0] = pt.s; f[1] = pt.e; f[2] = pt.d; f[3] = pt.p;
-        df[0] = pt.ds; df[1] = pt.de; df[2] = pt.dd; df[3] = pt.dp;
-        for (j = 0; j < NFUN; j++) {
-            t->F[NFUN * i + (size_t) j] = log(f[j]);
-            t->G[NFUN * i + (size_t) j] = tau * df[j] / f[j];
-            if (i == 0) {
-                t->flo[j] = f[j];
-                t->dflo[j] = df[j];
-            }
-        }
+    /* the nodes are independent solves: shared round-robin (the costly
+     * large-tau ones spread out) among up to one thread per core; each
+     * node is computed the same way whatever the number of threads */
+    for (m = 0; m < nt; m++) {
+        sh[m].kr = kr;
+        sh[m].t = t;
+        sh[m].node_factor = node_factor;
+        sh[m].first = m;
+        sh[m].stride = nt;
+        lf_error_clear(&sh[m].err);
     }
+    for (m = 1; m < nt; m++)
+        started[m] = pthread_create(&th[m], NULL, build_nodes, &sh[m]) == 0;
+    build_nodes(&sh[0]);
+    for (m = 1; m < nt; m++) {
+        if (started[m])
+            pthread_join(th[m], NULL);
+        else
+            build_nodes(&sh[m]);
+    }
+    for (m = 0; m < nt; m++)
+        if (sh[m].status != LF_OK) {
+            if (err != NULL)
+                *err = sh[m].err;
+            lf_exact_table_free(t);
+            return sh[m].status;
+        }
+    lf_exact_table_finish(t);
+    *out = t;
+    return LF_OK;
+}
+
+void
+lf_exact_table_finish(lf_exact_table *t)
+{
+    double k = t->k, kap = lf_exact_kappa(k), Z = lf_thin_Z(t->base, t->nu);
+    int j;
+
     t->f0[0] = t->f0[1] = t->f0[2] = 1.0;
     t->f0[3] = k / (k + 1.0);
     t->thin_c[0] = 0.5 * M_PI * Z;               t->thin_pow[0] = 1.0;
     t->thin_c[1] = sqrt(M_PI * Z);               t->thin_pow[1] = 0.5;
     t->thin_c[2] = 1.0 / kap;                    t->thin_pow[2] = 0.0;
     t->thin_c[3] = 0.5 * M_PI * Z * k / (kap * (k + 2.0)); t->thin_pow[3] = 1.0;
+    for (j = 0; j < NFUN; j++)
+        t->lthin_c[j] = log(t->thin_c[j]);
     for (j = 0; j < NFUN; j++) {
         double sm = 1.0 / LF_EXACT_TAU_MAX;
         double r0 = t->F[NFUN * (t->n - 1) + (size_t) j]
@@ -131,49 +187,81 @@ lf_exact_table_build(const lf_exact_kernel *kr, double k, lf_base base, double n
         t->beta[j] = bs2 / (sm * sm);
         t->alpha[j] = (r0 - bs2) / sm;
     }
-    *out = t;
-    return LF_OK;
 }
 
-/* ln f_j and d ln f_j / dtau at tau. */
+/* Where l = ln tau falls in a table's grid, and the cubic Hermite basis
+ * there: shared by the tables of a mix, which have one grid. */
+typedef struct {
+    int region;              /* -1 below TAU_MIN, 0 inside, 1 above TAU_MAX */
+    size_t i;
+    double tau, l;
+    double h00, h10, h01, h11, g00, g10, g11;
+} table_pos;
+
 static void
-table_eval_log(const lf_exact_table *t, double tau, double F[4], double G[4])
+table_pos_at(const lf_exact_table *t, double l, double tau, table_pos *p)
 {
+    double q, u;
+
+    p->tau = tau;
+    p->l = l;
+    p->region = tau < LF_EXACT_TAU_MIN ? -1 : tau > LF_EXACT_TAU_MAX ? 1 : 0;
+    if (p->region != 0)
+        return;
+    q = (l - t->l0) / t->h;
+    p->i = q <= 0.0 ? 0 : (size_t) q;
+    if (p->i >= t->n - 1)
+        p->i = t->n - 2;
+    u = q - (double) p->i;
+    p->h00 = (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u);
+    p->h10 = u * (1.0 - u) * (1.0 - u);
+    p->h01 = u * u * (3.0 - 2.0 * u);
+    p->h11 = u * u * (u - 1.0);
+    p->g00 = 6.0 * u * (u - 1.0);
+    p->g10 = (1.0 - u) * (1.0 - 3.0 * u);
+    p->g11 = u * (3.0 * u - 2.0);
+}
+
+/* ln f_j and d ln f_j / dtau at a position. */
+static void
+table_eval_pos(const lf_exact_table *t, const table_pos *p, double F[4], double G[4])
+{
+    double tau = p->tau;
     int j;
 
-    if (tau < LF_EXACT_TAU_MIN) {
+    if (p->region < 0) {
         for (j = 0; j < NFUN; j++) {
             double slope = (t->flo[j] - t->f0[j]) / LF_EXACT_TAU_MIN;
             double f = t->f0[j] + slope * tau;
             F[j] = log(f);
             G[j] = slope / f;
         }
-    } else if (tau > LF_EXACT_TAU_MAX) {
-        double sg = 1.0 / tau, lt = log(tau);
+    } else if (p->region > 0) {
+        double sg = 1.0 / tau;
         for (j = 0; j < NFUN; j++) {
-            F[j] = log(t->thin_c[j]) + t->thin_pow[j] * lt
+            F[j] = t->lthin_c[j] + t->thin_pow[j] * p->l
                    + t->alpha[j] * sg + t->beta[j] * sg * sg;
             G[j] = sg * (t->thin_pow[j] - t->alpha[j] * sg - 2.0 * t->beta[j] * sg * sg);
         }
     } else {
-        double q = (log(tau) - t->l0) / t->h, u, h00, h10, h01, h11, g00, g10, g11;
-        size_t i = q <= 0.0 ? 0 : (size_t) q;
-        if (i >= t->n - 1)
-            i = t->n - 2;
-        u = q - (double) i;
-        h00 = (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u);
-        h10 = u * (1.0 - u) * (1.0 - u);
-        h01 = u * u * (3.0 - 2.0 * u);
-        h11 = u * u * (u - 1.0);
-        g00 = 6.0 * u * (u - 1.0);
-        g10 = (1.0 - u) * (1.0 - 3.0 * u);
-        g11 = u * (3.0 * u - 2.0);
+        const double *Fa = t->F + NFUN * p->i, *Ga = t->G + NFUN * p->i;
         for (j = 0; j < NFUN; j++) {
-            size_t a = NFUN * i + (size_t) j, b = a + NFUN;
-            F[j] = h00 * t->F[a] + h01 * t->F[b] + t->h * (h10 * t->G[a] + h11 * t->G[b]);
-            G[j] = ((g00 * (t->F[a] - t->F[b])) / t->h + g10 * t->G[a] + g11 * t->G[b]) / tau;
+            F[j] = p->h00 * Fa[j] + p->h01 * Fa[j + NFUN]
+                   + t->h * (p->h10 * Ga[j] + p->h11 * Ga[j + NFUN]);
+            G[j] = ((p->g00 * (Fa[j] - Fa[j + NFUN])) / t->h + p->g10 * Ga[j]
+                    + p->g11 * Ga[j + NFUN]) / tau;
         }
     }
+}
+
+/* ln f_j and d ln f_j / dtau at tau. */
+static void
+table_eval_log(const lf_exact_table *t, double tau, double F[4], double G[4])
+{
+    table_pos p;
+
+    table_pos_at(t, log(tau), tau, &p);
+    table_eval_pos(t, &p, F, G);
 }
 
 void
@@ -190,11 +278,11 @@ lf_exact_table_eval(const lf_exact_table *t, double tau, double f[4], double df[
     }
 }
 
-/* ---------------------------------------------------------------- cache */
+/* ---------------------------------------------------------------- store */
 
-static pthread_mutex_t cache_lock = PTHREAD_MUTEX_INITIALIZER;
-static lf_exact_table *cache_head = NULL;
-static double last_build = 0.0;
+static pthread_mutex_t publish_lock = PTHREAD_MUTEX_INITIALIZER;
+static _Atomic(lf_exact_table *) store_head = NULL;
+static _Atomic(double) last_build = 0.0;
 
 double
 lf_exact_nu_node(int i)
@@ -202,6 +290,53 @@ lf_exact_nu_node(int i)
     double ymin = 0.5 * log(1.0 - 2.0 * LF_EXACT_NU_MAX);
     double y = ymin * (double) i / (double) (LF_EXACT_NY - 1);
     return 0.5 * (1.0 - exp(2.0 * y));
+}
+
+static lf_exact_table *
+store_find(double k, lf_base base, double nu)
+{
+    lf_exact_table *t;
+
+    for (t = atomic_load_explicit(&store_head, memory_order_acquire); t != NULL; t = t->next)
+        if (t->k == k && t->base == base && t->nu == nu)
+            return t;
+    return NULL;
+}
+
+/* Link t in unless an equal table got there first (then t is freed and
+ * that one returned). */
+static const lf_exact_table *
+store_publish(lf_exact_table *t)
+{
+    lf_exact_table *old;
+
+    pthread_mutex_lock(&publish_lock);
+    old = store_find(t->k, t->base, t->nu);
+    if (old == NULL) {
+        t->next = atomic_load_explicit(&store_head, memory_order_relaxed);
+        atomic_store_explicit(&store_head, t, memory_order_release);
+    }
+    pthread_mutex_unlock(&publish_lock);
+    if (old != NULL) {
+        lf_exact_table_free(t);
+        return old;
+    }
+    return t;
+}
+
+const lf_exact_table *
+lf_exact_table_find(double k, lf_base base, double nu)
+{
+    const lf_exact_table *t;
+    lf_exact_table *d;
+
+    if (base == LF_BASE_FRICTIONLESS)
+        nu = 0.0;
+    if ((t = store_find(k, base, nu)) != NULL)
+        return t;
+    if ((d = lf_exact_disk_load(k, base, nu, LF_EXACT_STEP, 1.0)) == NULL)
+        return NULL;
+    return store_publish(d);
 }
 
 int
@@ -215,42 +350,38 @@ lf_exact_table_get(double k, lf_base base, double nu, const lf_exact_table **out
 
     if (base == LF_BASE_FRICTIONLESS)
         nu = 0.0;
-    *out = NULL;
-    if (pthread_mutex_lock(&cache_lock) != 0)
-        return lf_fail(err, LF_ENUMERIC, "cannot lock the table cache");
-    for (t = cache_head; t != NULL; t = t->next)
-        if (t->k == k && t->base == base && t->nu == nu)
-            break;
+    *out = store_find(k, base, nu);
+    if (*out != NULL)
+        return LF_OK;
+    t = lf_exact_disk_load(k, base, nu, LF_EXACT_STEP, 1.0);
     if (t == NULL) {
         t0 = now_seconds();
         status = lf_exact_kernel_alloc(&kr, base, nu, err);
         if (status == LF_OK)
             status = lf_exact_table_build(kr, k, base, nu, LF_EXACT_STEP, 1.0, &t, err);
         lf_exact_kernel_free(kr);
-        if (status != LF_OK) {
-            pthread_mutex_unlock(&cache_lock);
+        if (status != LF_OK)
             return status;
-        }
-        t->next = cache_head;
-        cache_head = t;
-        last_build = now_seconds() - t0;
+        atomic_store(&last_build, now_seconds() - t0);
+        lf_exact_disk_save(t, LF_EXACT_STEP, 1.0);
     }
-    pthread_mutex_unlock(&cache_lock);
-    *out = t;
+    *out = store_publish(t);
     return LF_OK;
 }
 
 int
-lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu, lf_error *err)
+lf_exact_mix_weights(lf_exact_mix *mx, lf_base base, double nu, lf_error *err)
 {
     double ymin = 0.5 * log(1.0 - 2.0 * LF_EXACT_NU_MAX), hy, y, q, dydnu;
-    int i0, m, status;
+    int i0, m;
 
+    mx->pm = NULL;
     if (base == LF_BASE_FRICTIONLESS) {
         mx->m = 1;
+        mx->node0 = 0;
         mx->wl[0] = 1.0;
         mx->dwl[0] = 0.0;
-        return lf_exact_table_get(k, base, 0.0, &mx->t[0], err);
+        return LF_OK;
     }
     if (!(nu >= 0.0 && nu <= LF_EXACT_NU_MAX))
         return lf_fail(err, LF_EINVAL, "the exact bonded model covers 0 <= nu <= %g (got %g)",
@@ -267,6 +398,7 @@ lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu, lf_error 
     if (i0 > LF_EXACT_NY - 3)
         i0 = LF_EXACT_NY - 3;
     mx->m = 4;
+    mx->node0 = i0;
     for (m = 0; m < 4; m++) {
         double w = 1.0, dw = 0.0;
         int j, l;
@@ -289,7 +421,21 @@ lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu, lf_error 
         }
         mx->wl[m] = w;
         mx->dwl[m] = dw * (-dydnu / hy);  /* dq/dnu = -dy/dnu / hy */
-        status = lf_exact_table_get(k, base, lf_exact_nu_node(i0 + m), &mx->t[m], err);
+    }
+    return LF_OK;
+}
+
+int
+lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu, lf_error *err)
+{
+    int m, status = lf_exact_mix_weights(mx, base, nu, err);
+
+    if (status != LF_OK)
+        return status;
+    if (base == LF_BASE_FRICTIONLESS)
+        return lf_exact_table_get(k, base, 0.0, &mx->t[0], err);
+    for (m = 0; m < 4; m++) {
+        status = lf_exact_table_get(k, base, lf_exact_nu_node(mx->node0 + m), &mx->t[m], err);
         if (status != LF_OK)
             return status;
     }
@@ -297,21 +443,50 @@ lf_exact_mix_init(lf_exact_mix *mx, double k, lf_base base, double nu, lf_error 
 }
 
 void
-lf_exact_mix_eval(const lf_exact_mix *mx, double tau, double f[4], double df[4],
-                  double dfn[4])
+lf_exact_mix_eval_log(const lf_exact_mix *mx, double l, double tau, double F[4], double G[4],
+                      double H[4])
 {
-    double F[4] = {0, 0, 0, 0}, G[4] = {0, 0, 0, 0}, H[4] = {0, 0, 0, 0};
+    table_pos p;
     int m, j;
 
+    if (mx->pm != NULL && tau >= LF_EXACT_TAU_MIN) {
+        table_pos_at(&mx->pm->pre, l, tau, &p);
+        table_eval_pos(&mx->pm->pre, &p, F, G);
+        if (H != NULL) {
+            double Gn[4];
+            table_eval_pos(&mx->pm->pre_nu, &p, H, Gn);
+        }
+        return;
+    }
+    for (j = 0; j < NFUN; j++) {
+        F[j] = G[j] = 0.0;
+        if (H != NULL)
+            H[j] = 0.0;
+    }
+    table_pos_at(mx->t[0], l, tau, &p);
     for (m = 0; m < mx->m; m++) {
         double Fm[4], Gm[4];
-        table_eval_log(mx->t[m], tau, Fm, Gm);
+        const lf_exact_table *t = mx->t[m];
+        if (m > 0 && (t->n != mx->t[0]->n || t->l0 != mx->t[0]->l0 || t->h != mx->t[0]->h))
+            table_pos_at(t, l, tau, &p);     /* another grid (not made by the store) */
+        table_eval_pos(t, &p, Fm, Gm);
         for (j = 0; j < NFUN; j++) {
             F[j] += mx->wl[m] * Fm[j];
             G[j] += mx->wl[m] * Gm[j];
-            H[j] += mx->dwl[m] * Fm[j];
+            if (H != NULL)
+                H[j] += mx->dwl[m] * Fm[j];
         }
     }
+}
+
+void
+lf_exact_mix_eval_l(const lf_exact_mix *mx, double l, double tau, double f[4], double df[4],
+                    double dfn[4])
+{
+    double F[4], G[4], H[4];
+    int j;
+
+    lf_exact_mix_eval_log(mx, l, tau, F, G, dfn != NULL ? H : NULL);
     for (j = 0; j < NFUN; j++) {
         f[j] = exp(F[j]);
         df[j] = f[j] * G[j];
@@ -321,25 +496,81 @@ lf_exact_mix_eval(const lf_exact_mix *mx, double tau, double f[4], double df[4],
 }
 
 void
+lf_exact_premix_init(lf_exact_premix *pm, lf_exact_mix *mx)
+{
+    const lf_exact_table *t0 = mx->t[0];
+    lf_exact_table *pre = &pm->pre, *nu = &pm->pre_nu;
+    size_t i, nn;
+    int m, j;
+
+    mx->pm = NULL;
+    if (mx->m < 2 || t0->n > LF_EXACT_NMAX)
+        return;
+    for (m = 1; m < mx->m; m++)
+        if (mx->t[m]->n != t0->n || mx->t[m]->l0 != t0->l0 || mx->t[m]->h != t0->h)
+            return;
+    nn = NFUN * t0->n;
+    *pre = *t0;
+    *nu = *t0;
+    pre->F = pm->buf[0];
+    pre->G = pm->buf[1];
+    nu->F = pm->buf[2];
+    nu->G = pm->buf[3];
+    for (i = 0; i < nn; i++) {
+        double a = 0.0, b = 0.0, c = 0.0, d = 0.0;
+        for (m = 0; m < mx->m; m++) {
+            a += mx->wl[m] * mx->t[m]->F[i];
+            b += mx->wl[m] * mx->t[m]->G[i];
+            c += mx->dwl[m] * mx->t[m]->F[i];
+            d += mx->dwl[m] * mx->t[m]->G[i];
+        }
+        pre->F[i] = a;
+        pre->G[i] = b;
+        nu->F[i] = c;
+        nu->G[i] = d;
+    }
+    for (j = 0; j < NFUN; j++) {
+        pre->lthin_c[j] = pre->thin_pow[j] = pre->alpha[j] = pre->beta[j] = 0.0;
+        nu->lthin_c[j] = nu->thin_pow[j] = nu->alpha[j] = nu->beta[j] = 0.0;
+        for (m = 0; m < mx->m; m++) {
+            const lf_exact_table *t = mx->t[m];
+            pre->lthin_c[j] += mx->wl[m] * t->lthin_c[j];
+            pre->thin_pow[j] += mx->wl[m] * t->thin_pow[j];
+            pre->alpha[j] += mx->wl[m] * t->alpha[j];
+            pre->beta[j] += mx->wl[m] * t->beta[j];
+            nu->lthin_c[j] += mx->dwl[m] * t->lthin_c[j];
+            nu->thin_pow[j] += mx->dwl[m] * t->thin_pow[j];
+            nu->alpha[j] += mx->dwl[m] * t->alpha[j];
+            nu->beta[j] += mx->dwl[m] * t->beta[j];
+        }
+    }
+    pre->next = nu->next = NULL;
+    mx->pm = pm;
+}
+
+void
+lf_exact_mix_eval(const lf_exact_mix *mx, double tau, double f[4], double df[4],
+                  double dfn[4])
+{
+    lf_exact_mix_eval_l(mx, log(tau), tau, f, df, dfn);
+}
+
+void
 lf_exact_cache_clear(void)
 {
     lf_exact_table *t, *next;
 
-    pthread_mutex_lock(&cache_lock);
-    for (t = cache_head; t != NULL; t = next) {
+    pthread_mutex_lock(&publish_lock);
+    t = atomic_exchange(&store_head, NULL);
+    pthread_mutex_unlock(&publish_lock);
+    for (; t != NULL; t = next) {
         next = t->next;
         lf_exact_table_free(t);
     }
-    cache_head = NULL;
-    pthread_mutex_unlock(&cache_lock);
 }
 
 double
 lf_exact_last_build_seconds(void)
 {
-    double s;
-    pthread_mutex_lock(&cache_lock);
-    s = last_build;
-    pthread_mutex_unlock(&cache_lock);
-    return s;
+    return atomic_load(&last_build);
 }

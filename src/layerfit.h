@@ -158,11 +158,22 @@ typedef struct {
 
 typedef struct lf_model lf_model;
 
+/* Which layers a model is meant for: what the `auto` choice, the b/a
+ * warnings and the help text go by (never the model's name). */
+typedef enum {
+    LF_SCOPE_ANY = 0,        /* any thickness: the reference others are judged by */
+    LF_SCOPE_THIN = 1,       /* assumes a thin layer, b << a */
+    LF_SCOPE_HALFSPACE = 2   /* assumes a thick layer, b >> a */
+} lf_model_scope;
+
 /* A forward model is one entry of this table.  Entries share one contract:
  *  alloc  prepares state for one probe (may be NULL when none is needed);
  *  eval   fills out[0..n-1] for indentations delta[0..n-1]; must not
  *         allocate; returns LF_EINVAL for materials outside the domain;
- *  pulloff fills the derived quantities. */
+ *  pulloff fills the derived quantities;
+ *  prepare (may be NULL) readies the state for nu in [nu_lo, nu_hi], so
+ *         that eval needs nothing more (lf_model_prepare).
+ * Adding a model is one file and one line in lf_model_types (src/model.c). */
 typedef struct {
     const char *name;        /* "thin", "exact", "halfspace" */
     const char *description; /* one line for reports */
@@ -172,6 +183,12 @@ typedef struct {
                 lf_branch branch, size_t n, const double *delta, lf_eval *out);
     int (*pulloff)(void *state, const lf_probe *probe, const lf_material *mat,
                    lf_pulloff *out);
+    int cost;                /* rank of a fit's cost, 0 = cheapest */
+    lf_model_scope scope;    /* the layers it is meant for */
+    double k_above;          /* needs k > k_above (0: any k > 0) */
+    int uses_tables;         /* 1: set-up may build tables (kept on disk) */
+    int (*prepare)(void *state, const lf_probe *probe, double nu_lo,
+                   double nu_hi, lf_error *err);
 } lf_model_type;
 
 extern const lf_model_type lf_model_thin;      /* the seed paper, b << a */
@@ -206,6 +223,16 @@ int lf_model_eval(const lf_model *m, const lf_material *mat, lf_branch branch,
                   size_t n, const double *delta, lf_eval *out, lf_error *err);
 int lf_model_pulloff(const lf_model *m, const lf_material *mat,
                      lf_pulloff *out, lf_error *err);
+/* Ready the model for materials with nu in [nu_lo, nu_hi] (bonded layers;
+ * ignored for frictionless ones): the exact model resolves the tables of
+ * those nu into the model object here (reading or building them, which may
+ * take a while the first time), so that lf_model_eval takes no lock and
+ * allocates nothing.  Without it the exact bonded model resolves the
+ * tables of a nu on the first evaluation that needs them (once per model).
+ * Safe to call from several threads. */
+int lf_model_prepare(lf_model *m, double nu_lo, double nu_hi, lf_error *err);
+/* The cheapest model of a scope in lf_model_types (NULL if none). */
+const lf_model_type *lf_model_type_cheapest(lf_model_scope scope);
 
 /* Closed-form helpers of the thin-layer model (seed paper). */
 double lf_thin_Z(lf_base base, double nu);      /* 1, or (1-nu)^2/(1-2nu) */
@@ -225,6 +252,17 @@ int lf_exact_thin_ratio(double k, lf_base base, double nu, double tau,
 int lf_exact_thin_difference(const lf_probe *probe, const lf_material *mat,
                              double ab_min, double ab_max, double *max_rel,
                              lf_error *err);
+/* The exact model's forces P[i] at indentations delta[i] of a curve whose
+ * contact lies wholly beyond a/b = 100, where the model is the thin-layer
+ * form times exp(alpha/tau + beta/tau^2) matched at a/b = 100: from the
+ * frictionless table when it is at hand, else from one solve there, so no
+ * table is built (what the `auto` choice uses for very thin layers).  Equal
+ * to the model's forces to rounding (frictionless) or to the tables'
+ * interpolation in nu, ~1e-7 (bonded).  LF_EDATA when a point is not beyond
+ * 100 (or past the thin-layer detachment on unloading). */
+int lf_exact_far_eval(const lf_probe *probe, const lf_material *mat,
+                      lf_branch branch, size_t n, const double *delta,
+                      double *P, lf_error *err);
 /* Classical half-space JKR pull-off contact radius of a sphere of radius R,
  * (9 pi R^2 w / (8 E*))^(1/3), for comparison. */
 double lf_jkr_sphere_a_po(double R, double w, double Estar);
@@ -510,6 +548,45 @@ int lf_fit_choose_driver(const lf_fit_settings *settings,
 int lf_fit_compare_thin(const lf_fit_settings *settings, size_t ncurves,
                         const lf_fit_curve *curves, lf_fit_result *res,
                         lf_error *err);
+
+/* ------------------------------------------------------------------------
+ * Model tables kept on disk (src/exact_cache.c)
+ *
+ * The exact model's tables (one per k and base, and per node of a nu grid
+ * for bonded layers; about 0.1 s each to build) are kept between runs in
+ * $XDG_CACHE_HOME/layerfit, else $HOME/.cache/layerfit, one file each,
+ * written atomically.  A file is used only when its version, key, grid,
+ * sizes and checksum match and every number is finite; a stale or corrupt
+ * file is ignored and rewritten.  The cache is on unless the environment
+ * variable LAYERFIT_NO_CACHE is set (non-empty and not "0") or
+ * lf_cache_set_enabled(0) is called (process-wide, before the first model
+ * is made).  Writing failures are not errors (the table is still used);
+ * lf_cache_stats_get counts them: hits (tables read), misses (no file),
+ * rejected (stale or corrupt files), written, write_failed.
+ * --------------------------------------------------------------------- */
+
+typedef struct {
+    unsigned long hits, misses, rejected, written, write_failed;
+} lf_cache_stats;
+
+typedef struct {
+    char name[256];          /* file name in the folder */
+    long long bytes;         /* its size */
+    int valid;               /* 1: usable by this version */
+    char what[200];          /* the table it holds, or why it is not usable */
+} lf_cache_entry;
+
+void lf_cache_set_enabled(int on);
+int lf_cache_enabled(void);
+void lf_cache_stats_get(lf_cache_stats *stats);
+/* The folder (whether or not it exists); LF_EINVAL when there is none. */
+int lf_cache_dir(char *buf, size_t n, lf_error *err);
+/* The table files in the folder (none when it does not exist); *entries is
+ * the caller's, released with free(). */
+int lf_cache_list(lf_cache_entry **entries, size_t *count, lf_error *err);
+/* Remove the table files (and temporary files left by writers); the folder
+ * and anything else in it stay. */
+int lf_cache_clear(size_t *removed, lf_error *err);
 
 /* ------------------------------------------------------------------------
  * Synthetic data (src/simulate.c)

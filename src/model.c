@@ -55,6 +55,18 @@ lf_material_check(const lf_material *m, lf_base base, lf_error *err)
     return LF_OK;
 }
 
+const lf_model_type *
+lf_model_type_cheapest(lf_model_scope scope)
+{
+    const lf_model_type *best = NULL;
+    size_t i;
+
+    for (i = 0; lf_model_types[i] != NULL; i++)
+        if (lf_model_types[i]->scope == scope && (best == NULL || lf_model_types[i]->cost < best->cost))
+            best = lf_model_types[i];
+    return best;
+}
+
 lf_model *
 lf_model_alloc(const lf_model_type *type, const lf_probe *probe, lf_error *err)
 {
@@ -132,6 +144,16 @@ lf_model_pulloff(const lf_model *m, const lf_material *mat, lf_pulloff *out,
     if (status != LF_OK)
         return lf_fail(err, status, "model %s: no pull-off", m->type->name);
     return LF_OK;
+}
+
+int
+lf_model_prepare(lf_model *m, double nu_lo, double nu_hi, lf_error *err)
+{
+    if (!(nu_lo <= nu_hi))
+        return lf_fail(err, LF_EINVAL, "nu range [%g, %g] is empty", nu_lo, nu_hi);
+    if (m->type->prepare == NULL || m->probe.base != LF_BASE_BONDED)
+        return LF_OK;
+    return m->type->prepare(m->state, &m->probe, nu_lo, nu_hi, err);
 }
 
 double

@@ -180,5 +180,6 @@ const lf_model_type lf_model_halfspace = {
     hs_alloc,
     NULL,
     hs_eval,
-    hs_pulloff
+    hs_pulloff,
+    1, LF_SCOPE_HALFSPACE, 0.5, 0, NULL
 };

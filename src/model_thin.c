@@ -165,5 +165,6 @@ const lf_model_type lf_model_thin = {
     NULL,
     NULL,
     thin_eval,
-    thin_pulloff
+    thin_pulloff,
+    0, LF_SCOPE_THIN, 0.0, 0, NULL
 };

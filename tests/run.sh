@@ -4,7 +4,9 @@
 build=${1:-build}
 top=$(cd "$(dirname "$0")/.." && pwd)
 total_pass=0; total_fail=0; broken=""
-log=$(mktemp); trap 'rm -f "$log"' EXIT
+log=$(mktemp); cache=$(mktemp -d); trap 'rm -f "$log"; rm -rf "$cache"' EXIT
+# the exact model's tables go to a cache of the run's own, never the user's
+XDG_CACHE_HOME=$cache; LAYERFIT_TEST_CACHE=1; export XDG_CACHE_HOME LAYERFIT_TEST_CACHE
 run_one() {
     name=$1; shift
     "$@" >"$log" 2>&1; rc=$?

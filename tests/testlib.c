@@ -5,9 +5,46 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <unistd.h>
+
+#include "layerfit.h"
 #include "testlib.h"
 
 static long passed, failed;
+
+/* A test never touches the user's cache of exact-model tables: unless
+ * tests/run.sh gave the whole run one folder (LAYERFIT_TEST_CACHE set), a
+ * test program makes its own XDG_CACHE_HOME before main and removes it at
+ * exit. */
+static char own_cache[64];
+
+static void
+drop_own_cache(void)
+{
+    char sub[96];
+    size_t removed;
+    lf_cache_clear(&removed, NULL);
+    snprintf(sub, sizeof sub, "%s/layerfit", own_cache);
+    rmdir(sub);
+    rmdir(own_cache);
+}
+
+#if defined(__GNUC__)
+__attribute__((constructor))
+#endif
+static void
+own_cache_folder(void)
+{
+    if (getenv("LAYERFIT_TEST_CACHE") != NULL)
+        return;
+    snprintf(own_cache, sizeof own_cache, "/tmp/layerfit-test-XXXXXX");
+    if (mkdtemp(own_cache) == NULL) {
+        lf_cache_set_enabled(0);
+        return;
+    }
+    setenv("XDG_CACHE_HOME", own_cache, 1);
+    atexit(drop_own_cache);
+}
 
 static int
 report(int ok, const char *detail, const char *fmt, va_list ap)

@@ -30,6 +30,7 @@ const char cli_fit_help[] =
     "  --model-tol X        bias allowed to a cheaper model, in standard errors (0.2)\n"
     "  --method M           lm (default), lmaccel, dogleg, ddogleg, subspace2D\n"
     "  --jacobian J         analytic (default), forward, central\n"
+    "  --no-cache           neither read nor write the exact model's tables on disk\n"
     "  --fix-nu NU          hold nu (also --nu); a plan's nu column does the same (every\n"
     "                       row that gives nu must give the same value; the option wins)\n"
     "  --fix-z0 LENGTH      hold every curve's contact point\n"

@@ -14,6 +14,7 @@ static const cli_command commands[] = {
     { "design", "what a planned test would measure: predicted errors, best probes", cli_design },
     { "map", "heat maps of w and E* from a batch fit; synthetic force maps", cli_map },
     { "bench", "what a fit costs and how accurate it is (against the Cramer-Rao bound)", cli_bench },
+    { "cache", "list or clear the exact model's tables kept between runs", cli_cache },
     { NULL, NULL, NULL }
 };
 
@@ -27,7 +28,25 @@ usage(FILE *f)
     for (c = commands; c->name != NULL; c++)
         fprintf(f, "  %-10s %s\n", c->name, c->summary);
     fprintf(f, "\n'layerfit COMMAND --help' describes each command.\n"
-               "Every dimensional value takes a unit: --b 1um, --E 1GPa, --w 10mJ/m2.\n");
+               "Every dimensional value takes a unit: --b 1um, --E 1GPa, --w 10mJ/m2.\n"
+               "--no-cache (anywhere on the line): do not read or write the exact\n"
+               "model's tables on disk (see 'layerfit cache --help').\n");
+}
+
+/* Take the global options out of argv: --no-cache. */
+static int
+global_options(int argc, char **argv)
+{
+    int i, n = 1;
+
+    for (i = 1; i < argc; i++) {
+        if (strcmp(argv[i], "--no-cache") == 0)
+            lf_cache_set_enabled(0);
+        else
+            argv[n++] = argv[i];
+    }
+    argv[n] = NULL;
+    return n;
 }
 
 /* A report lost on a full disk is a failure: stdout is checked at the end. */
@@ -46,6 +65,7 @@ main(int argc, char **argv)
 
     gsl_set_error_handler_off();
     cli_set_command_line(argc, argv);
+    argc = global_options(argc, argv);
     if (argc < 2) {
         usage(stderr);
         return CLI_EXIT_USAGE;

@@ -154,7 +154,8 @@ print_summary(const model_summary *s)
     printf("mean tension     |sigma_po| = %s  (Eq. 18)\n", cli_human(b1, sizeof b1, po->sigma_po, "Pa"));
     printf("jump-in force    %s  (loading, at contact)\n", cli_human(b1, sizeof b1, po->P_jump, "N"));
     printf("b/a at pull-off  %.4g%s\n", s->probe.b / po->a_po,
-           s->probe.b / po->a_po > 0.1 ? "  (thin-layer assumption b << a strained)" : "");
+           s->type->scope == LF_SCOPE_THIN && s->probe.b / po->a_po > 0.1
+           ? "  (thin-layer assumption b << a strained)" : "");
     printf("JKR sphere a_po  %s  (half-space, (9 pi R^2 w/(8 E*))^(1/3), for comparison)\n",
            cli_human(b1, sizeof b1, lf_jkr_sphere_a_po(s->probe.R, s->mat.w, s->mat.Estar), "m"));
     if (!isnan(s->b_cr)) {
@@ -272,7 +273,18 @@ cli_model(int argc, char **argv)
 
     cli_parse("model", argc, argv, opts, &npos, &help);
     if (help) {
+        const lf_model_type *const *t;
+        int cost, top = 0;
         fputs(model_help, stdout);
+        printf("\nmodels (--model NAME), from the cheapest:\n");
+        for (t = lf_model_types; *t != NULL; t++)
+            top = (*t)->cost > top ? (*t)->cost : top;
+        for (cost = 0; cost <= top; cost++)
+            for (t = lf_model_types; *t != NULL; t++)
+                if ((*t)->cost == cost)
+                    printf("  %-10s %s%s\n", (*t)->name, (*t)->description,
+                           (*t)->scope == LF_SCOPE_THIN ? "; assumes b << a"
+                           : (*t)->scope == LF_SCOPE_HALFSPACE ? "; assumes b >> a" : "");
         return CLI_EXIT_OK;
     }
     if (npos > 0)

@@ -46,6 +46,7 @@ run(const bscene *b)
     lf_fit_curve cv[2];
     lf_error err;
     double t0, tb, times[3] = { 0 }, ew[3] = { 0 }, eE[3] = { 0 };
+    size_t nev[3] = { 0 };
     const char *names[3] = { "thin", "exact", "auto" };
     char chosen[64] = "";
     size_t j, i;
@@ -93,6 +94,7 @@ run(const bscene *b)
                 return;
             }
             if (i == REPEAT) {
+                nev[m] = r.evaluations;
                 ew[m] = (r.w.value - mat.w) / r.w.se;
                 eE[m] = (r.Estar.value - mat.Estar) / r.Estar.se;
                 if (m == 2) {
@@ -107,6 +109,8 @@ run(const bscene *b)
     }
     printf("%-40s fit time thin %.2f ms, exact %.2f ms (%.1fx thin), auto %.2f ms [%s]\n",
            b->label, 1e3 * times[0], 1e3 * times[1], times[1] / times[0], 1e3 * times[2], chosen);
+    printf("%-40s model evaluations per fit: thin %zu, exact %zu (time per evaluation %.1fx)\n",
+           "", nev[0], nev[1], (times[1] / (double) nev[1]) / (times[0] / (double) nev[0]));
     printf("%-40s error in se: thin w %+.2f E* %+.2f | exact w %+.2f E* %+.2f | auto w %+.2f E* %+.2f\n",
            "", ew[0], eE[0], ew[1], eE[1], ew[2], eE[2]);
 }

@@ -83,4 +83,14 @@ if command -v gnuplot >/dev/null 2>&1; then
     run_ok model --figure 3 --plot "$tmp/fig3.svg"
     has "svg drawn" "$tmp/fig3.svg" "<svg"
 fi
+# the models listed from the model table, cheapest first, with their scope
+run_ok model --help
+has "help lists thin with its assumption" "$tmp/out" "  thin       thin-layer closed form"
+has "help lists exact" "$tmp/out" "  exact      finite-thickness layer"
+has "help names the half-space assumption" "$tmp/out" "; assumes b >> a"
+# the b << a note belongs to thin-layer models only (b/a at pull-off ~0.5 here)
+LAYERFIT_NO_CACHE=1 run_ok model --model exact --k 2 --R 1mm --b 1um --w 10mJ/m2 --E 1GPa --summary
+if grep -q "thin-layer assumption" "$tmp/out"; then bad "exact model summary warns about b << a"; else ok; fi
+run_ok model --model thin --k 2 --R 1mm --b 1um --w 10mJ/m2 --E 1GPa --summary
+has "thin model summary warns about b << a" "$tmp/out" "thin-layer assumption b << a strained"
 summary
