@@ -329,8 +329,11 @@ exact_eval(void *state, const lf_probe *probe, const lf_material *mat,
     exact_ctx c;
     size_t i;
     int bonded = probe->base == LF_BASE_BONDED;
-    double u_prev = NAN, d_prev = NAN, du_dd = 0.0;   /* warm start: data come in order */
+    /* warm start: data come in order; u(delta) extrapolated to second
+     * order from the slopes du/ddelta at the last two points */
+    double u_prev = NAN, d_prev = NAN, du_dd = 0.0, d_prev2 = NAN, du_dd2 = 0.0;
     exact_pt pt;
+    double guess;
 
     if (ctx_init(&c, state, probe, mat, NULL) != LF_OK)
         return LF_EINVAL;
@@ -344,9 +347,17 @@ exact_eval(void *state, const lf_probe *probe, const lf_material *mat,
             continue;
         }
         /* first-order predictor from the previous point on the branch */
-        u_prev = invert(&c, delta[i], isfinite(d_prev) ? u_prev + du_dd * (delta[i] - d_prev) : u_prev,
-                        bonded, &pt);
+        guess = u_prev;
+        if (isfinite(d_prev)) {
+            double h = delta[i] - d_prev, curv = 0.0;
+            if (isfinite(d_prev2) && d_prev != d_prev2)
+                curv = (du_dd - du_dd2) / (d_prev - d_prev2);
+            guess = u_prev + h * (du_dd + 0.5 * curv * h);
+        }
+        u_prev = invert(&c, delta[i], guess, bonded, &pt);
         fill_point(&c, u_prev, &pt, bonded, e);
+        d_prev2 = d_prev;
+        du_dd2 = du_dd;
         d_prev = delta[i];
         du_dd = pt.ddelta > 0.0 ? 1.0 / (pt.ddelta * exp(u_prev)) : 0.0;
     }
