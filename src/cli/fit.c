@@ -9,9 +9,11 @@
 #include "cli.h"
 #include "report.h"
 
+
 static const char usage_text[] =
     "usage: layerfit fit PLAN.csv [options]\n"
     "       layerfit fit CURVE.csv --k K --R LENGTH --b LENGTH --interface I [options]\n"
+    "       layerfit fit EXPORT.txt --model halfspace --k 2 [--R LENGTH] [options]\n"
     "\n"
     "Fits w, E* and (where the plan determines it) nu jointly to every curve,\n"
     "with each curve's contact point z0 and force offset F0 free unless fixed.\n"
@@ -42,6 +44,12 @@ static const char usage_text[] =
     "  --plot DIR           figures (PNG, SVG) with their gnuplot scripts and data\n"
     "  --report FILE.html   one self-contained page: tables, warnings, figures\n"
     "  --batch PLAN.csv     every curve or sample an independent fit (see --batch --help)\n"
+    "  --format NAME        the curve files' format instead of sniffing (csv, chiaro, jpk,\n"
+    "                       workshop, ntmdt, hysitron, text; see layerfit check)\n"
+    "  --spring-constant K  cantilever spring constant where a file states none (0.032N/m)\n"
+    "  --sensitivity S      deflection sensitivity where a file states none (61nm/nA)\n"
+    "  a single curve takes R from its file's header when --R is absent; with\n"
+    "  --model halfspace it needs no --b (not used) and no --interface\n"
     "exit status: 0 converged, 3 not converged (report still written), 1 failure, 2 bad input\n";
 
 typedef struct {
@@ -52,6 +60,7 @@ typedef struct {
     double guess_w, guess_E, guess_nu;
     const char *loss;
     double loss_scale;
+    lf_read_opts read;          /* --format, --spring-constant, --sensitivity */
 } fit_args;
 
 /* The data of the run: curves as read, and the arrays handed to the fit. */
@@ -62,17 +71,45 @@ typedef struct {
     char **names;
 } fit_data;
 
+/* R from the curve file's header where neither option nor plan gives one
+ * (probe R NaN); says where it came from. */
 static void
-add_curve(fit_data *d, const char *path, lf_segment seg, const lf_probe *probe,
-          double z0, double F0)
+probe_from_file(lf_probe *p, const lf_curve *c, const char *path)
+{
+    char buf[48];
+    lf_error err;
+    if (!isnan(p->R))
+        return;
+    if (!(c->R > 0))
+        cli_die(CLI_EXIT_USAGE, "fit: %s: no probe radius: the file states none (give --R, "
+                "e.g. --R 8um, or an R in the plan)", path);
+    p->R = c->R;
+    if (lf_probe_check(p, &err) != LF_OK && !isnan(p->b))
+        cli_die(CLI_EXIT_USAGE, "fit: %s: %s", path, err.msg);
+    printf("%s: R = %s from the file header (%s export)\n", path,
+           cli_human(buf, sizeof buf, p->R, "m"), c->format ? c->format : "?");
+}
+
+static void
+add_curve(fit_data *d, const char *path, lf_segment seg, const lf_probe *probe_in,
+          double z0, double F0, const lf_read_opts *ro)
 {
     lf_curve *c = NULL;
     lf_warnings warn = { 0, NULL };
     lf_error err;
     size_t n, j = d->n;
+    lf_probe pr = *probe_in, *probe = &pr;
 
-    if (lf_curve_read(path, NULL, &c, &warn, &err) != LF_OK)
+    if (lf_curve_read(path, ro, &c, &warn, &err) != LF_OK)
         cli_die_error(CLI_EXIT_USAGE, &err);
+    probe_from_file(probe, c, path);
+    if (isnan(probe->b)) {
+        /* the half-space model uses no thickness; the automatic start
+         * (thin-layer profiling, fit/guess.c) needs a length scale */
+        probe->b = probe->R;
+        printf("%s: half-space model: no layer thickness or interface used (b shown = R, "
+               "only a length scale for the automatic start)\n", path);
+    }
     cli_print_warnings(&warn);
     lf_warnings_free(&warn);
     if (lf_curve_check_fit(c, seg, 5, &err) != LF_OK)
@@ -119,20 +156,32 @@ read_input(const char *path, const fit_args *a, lf_segment seg_opt, int seg_give
         lf_probe p;
         lf_error err;
         int base;
-        if (isnan(a->R) || isnan(a->b) || a->interface == NULL)
-            cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
-                    "(e.g. --k 2 --R 1mm --b 1um --interface frictionless)");
-        base = cli_base(a->interface);
-        if (base < 0)
-            cli_die(CLI_EXIT_USAGE, "fit: unknown interface '%s' (frictionless or bonded)", a->interface);
+        /* a half-space has no thickness and no interface: b is a stand-in
+         * that no half-space formula uses */
+        int halfspace = strcmp(a->model, "halfspace") == 0;
+        if (isnan(a->b) && halfspace && a->interface == NULL) {
+            p.b = 1.0;             /* NaN after the check: R, see add_curve */
+            base = LF_BASE_FRICTIONLESS;
+        } else {
+            if (isnan(a->b) || a->interface == NULL)
+                cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
+                        "(e.g. --k 2 --R 1mm --b 1um --interface frictionless)");
+            base = cli_base(a->interface);
+            if (base < 0)
+                cli_die(CLI_EXIT_USAGE, "fit: unknown interface '%s' (frictionless or bonded)",
+                        a->interface);
+            p.b = a->b;
+        }
         p.k = a->k;
-        p.R = a->R;
-        p.b = a->b;
+        p.R = isnan(a->R) ? 1.0 : a->R;    /* checked with the file's R below */
         p.base = (lf_base) base;
         if (lf_probe_check(&p, &err) != LF_OK)
             cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
+        p.R = a->R;
+        if (isnan(a->b) && halfspace && a->interface == NULL)
+            p.b = NAN;
         data_alloc(d, 1);
-        add_curve(d, path, seg_opt, &p, a->fix_z0, a->fix_F0);
+        add_curve(d, path, seg_opt, &p, a->fix_z0, a->fix_F0, &a->read);
     } else {
         lf_plan *plan = NULL;
         lf_warnings warn = { 0, NULL };
@@ -151,9 +200,14 @@ read_input(const char *path, const fit_args *a, lf_segment seg_opt, int seg_give
                             "(one material, one nu)", plan->path, row->line, row->nu, *plan_nu);
                 *plan_nu = row->nu;
             }
-            add_curve(d, row->file, seg_given ? seg_opt : row->segment, &row->probe,
-                      isnan(a->fix_z0) ? row->z0 : a->fix_z0,
-                      isnan(a->fix_F0) ? row->F0 : a->fix_F0);
+            {
+                lf_read_opts ro = a->read;
+                if (ro.format == NULL && row->format != NULL && row->format[0] != '\0')
+                    ro.format = row->format;
+                add_curve(d, row->file, seg_given ? seg_opt : row->segment, &row->probe,
+                          isnan(a->fix_z0) ? row->z0 : a->fix_z0,
+                          isnan(a->fix_F0) ? row->F0 : a->fix_F0, &ro);
+            }
         }
         lf_plan_free(plan);
     }
@@ -210,8 +264,8 @@ cli_fit(int argc, char **argv)
 {
     fit_args a = { NULL, NULL, "lm", "analytic", "auto", NULL, NULL,
                    NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, -1, 0, NAN, NAN, NAN,
-                   "linear", NAN };
-    const char *plot_dir = NULL, *report_html = NULL;
+                   "linear", NAN, { NULL, NULL, 0, NULL, NAN, NAN, 0 } };
+    const char *plot_dir = NULL, *report_html = NULL, *kc = NULL, *sens = NULL;
     const cli_opt opts[] = {
         { "json", CLI_STRING, &a.json }, { "curves", CLI_STRING, &a.curves },
         { "method", CLI_STRING, &a.method }, { "jacobian", CLI_STRING, &a.jacobian },
@@ -226,6 +280,8 @@ cli_fit(int argc, char **argv)
         { "guess-nu", CLI_NUMBER, &a.guess_nu }, { "loss", CLI_STRING, &a.loss },
         { "loss-scale", CLI_NUMBER, &a.loss_scale },
         { "plot", CLI_STRING, &plot_dir }, { "report", CLI_STRING, &report_html },
+        { "format", CLI_STRING, &a.read.format }, { "spring-constant", CLI_STRING, &kc },
+        { "sensitivity", CLI_STRING, &sens },
         { NULL, CLI_FLAG, NULL }
     };
     int npos, help, status, seg_given = 0;
@@ -240,11 +296,14 @@ cli_fit(int argc, char **argv)
     double plan_nu, nu;
     size_t i;
 
+    lf_read_opts_default(&a.read);
     cli_parse("fit", argc, argv, opts, &npos, &help);
     if (help) {
         fputs(usage_text, stdout);
         return CLI_EXIT_OK;
     }
+    if (lf_read_opts_constants(&a.read, kc, sens, &err) != LF_OK)
+        cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
     if (npos != 1)
         cli_die(CLI_EXIT_USAGE, "fit: give one plan or curve file (see 'layerfit fit --help')");
     cli_fit_figures_check(plot_dir, report_html);

@@ -35,7 +35,8 @@ fuzz_curve(const char *buf, size_t len, size_t chunk, int skip_bad_rows)
     else if (sa == LF_OK) {
         size_t nl = lf_curve_segment(a, LF_SEG_LOAD, NULL, NULL);
         size_t nu = lf_curve_segment(a, LF_SEG_UNLOAD, NULL, NULL);
-        bad = a->n == 0 || a->n != b->n || nl + nu != a->n
+        size_t nh = lf_curve_segment(a, LF_SEG_HOLD, NULL, NULL);
+        bad = a->n == 0 || a->n != b->n || nl + nu + nh != a->n
             || memcmp(a->depth, b->depth, a->n * sizeof *a->depth) != 0
             || memcmp(a->force, b->force, a->n * sizeof *a->force) != 0;
         if (lf_curve_check_fit(a, LF_SEG_UNLOAD, 6, &ea) != LF_OK && ea.msg[0] == '\0')
