@@ -23,7 +23,7 @@ def model(R, w, E, lo, hi, n, branch):
     return [float(r[0]) for r in rows], [float(r[1]) for r in rows]
 
 
-def profile(R="8um", w="1mJ/m2", E="25kPa", lo="-0.6um", hi="3um", n=30, nhold=12):
+def profile(R="8um", w="1mJ/m2", E="25kPa", lo="-2um", hi="3um", n=40, nhold=12):
     """delta (m), force (N), segment of approach, hold, retract, in time order."""
     dl, fl = model(R, w, E, lo, hi, n, "load")
     du, fu = model(R, w, E, lo, hi, n, "unload")
@@ -118,9 +118,9 @@ def workshop(name, force):
 
 
 def ntmdt():
-    k, sens, z0 = 0.032, 61e-9 / 1e-9, 2000e-9    # sensitivity 61 nm/nA in m/A
-    dd, ff = model("8um", "1mJ/m2", "25kPa", "-0.6um", "3um", 400, "unload")
-    dl, fl = model("8um", "1mJ/m2", "25kPa", "-0.6um", "3um", 400, "load")
+    k, sens, z0 = 1.0, 61e-9 / 1e-9, 2000e-9    # 1 N/m; 61 nm/nA in m/A
+    dd, ff = model("8um", "1mJ/m2", "25kPa", "-2um", "3um", 2000, "unload")
+    dl, fl = model("8um", "1mJ/m2", "25kPa", "-2um", "3um", 2000, "load")
 
     def solve(h, dgrid, fgrid):
         # delta with delta = -(h + F(delta)/k) - z0, by bisection on the grid
@@ -136,7 +136,7 @@ def ntmdt():
 
     rows = []
     for i in range(40):                      # deepest height first
-        h = -(2.8e-6 + z0) + i * (3.3e-6 / 39)
+        h = -(3.2e-6 + z0) + i * (5e-6 / 39)
         fa, fr = solve(h, dl, fl), solve(h, dd, ff)
         cells = ["%.4f" % (h * 1e9), "%.4f" % (fa / k / sens * 1e9), "%.4f" % (fr / k / sens * 1e9)]
         if i < 3:                            # Nova's padding: a copied value
@@ -146,7 +146,7 @@ def ntmdt():
 
 
 def hysitron():
-    d, f, seg = profile(R="5um", w="50mJ/m2", E="2GPa", lo="-2nm", hi="60nm", n=30, nhold=0)
+    d, f, seg = profile(R="5um", w="50mJ/m2", E="2GPa", lo="-10nm", hi="60nm", n=30, nhold=0)
     rows = ["Thu Feb  1 10:00:00 2024\n", "\n", "Number of Points = %d\n" % (len(d) + 12),
             "Depth (nm)\tLoad (\u00b5N)\tTime (s)\tDepth (V)\tLoad (V)\n"]
     t = 0.0

@@ -224,6 +224,10 @@ typedef struct {
     int auto_model;        /* lf_fit_choose_driver instead of lf_fit_driver */
 } batch_config;
 
+/* How curve files are read (--format, --spring-constant, --sensitivity):
+ * set once before the fits start, then only read by the threads. */
+static lf_read_opts batch_read_opts;
+
 /* Where a curve sits on a force map: "# x: 10 um" and "# y: ..." lines of
  * its file, NaN when absent or unreadable. */
 static double
@@ -373,7 +377,10 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
         const lf_plan_row *pr = &plan->rows[ul->row[first + j]];
         size_t m;
 
-        if (lf_curve_read(pr->file, NULL, &curve[j], NULL, &err) != LF_OK
+        lf_read_opts ro = batch_read_opts;
+        if (ro.format == NULL && pr->format != NULL && pr->format[0] != '\0')
+            ro.format = pr->format;
+        if (lf_curve_read(pr->file, &ro, &curve[j], NULL, &err) != LF_OK
             || lf_curve_check_fit(curve[j], pr->segment, 5, &err) != LF_OK) {
             format_error(ebuf, sizeof ebuf, &err);
             goto row;
@@ -636,6 +643,8 @@ cli_fit_batch(int argc, char **argv)
     long threads = 0, max_iter = -1;
     int npos, help = 0, slope = 0, quiet = 0, progress = 0;
     double nu = NAN, fix_nu = NAN, max_ba = NAN;
+    const char *format = NULL, *kc = NULL, *sens = NULL;
+    lf_error err;
     const cli_opt opts[] = {
         { "batch", CLI_STRING, &plan }, { "out", CLI_STRING, &out },
         { "threads", CLI_COUNT, &threads }, { "shard", CLI_STRING, &shard },
@@ -644,6 +653,8 @@ cli_fit_batch(int argc, char **argv)
         { "jacobian", CLI_STRING, &jacobian }, { "slope", CLI_FLAG, &slope },
         { "nu", CLI_NUMBER, &nu }, { "fix-nu", CLI_NUMBER, &fix_nu },
         { "max-b-over-a", CLI_NUMBER, &max_ba }, { "max-iter", CLI_COUNT, &max_iter },
+        { "format", CLI_STRING, &format }, { "spring-constant", CLI_STRING, &kc },
+        { "sensitivity", CLI_STRING, &sens },
         { NULL, 0, NULL }
     };
     lf_fit_settings s = lf_fit_settings_default();
@@ -665,7 +676,8 @@ cli_fit_batch(int argc, char **argv)
                "  --progress        progress bar on stderr even when it is not a terminal\n"
                "  --quiet           no progress bar\n"
                "fit options as for a single fit: --model, --method, --jacobian, --slope,\n"
-               "  --nu/--fix-nu NU, --max-b-over-a X, --max-iter N\n\n"
+               "  --nu/--fix-nu NU, --max-b-over-a X, --max-iter N; how curves are read:\n"
+               "  --format NAME, --spring-constant K, --sensitivity S\n\n"
                "exit status: 0 every fit ok; N (1..%d) the number of fits that failed;\n"
                "2 also for a bad command line or plan (then nothing is fitted)\n",
                CLI_BATCH_MAX_FAILED);
@@ -675,6 +687,10 @@ cli_fit_batch(int argc, char **argv)
         cli_die(CLI_EXIT_USAGE, "fit: --batch takes the plan as its value; unexpected '%s'", argv[0]);
     if (plan == NULL || *plan == '\0')
         cli_die(CLI_EXIT_USAGE, "fit: --batch needs a plan (e.g. --batch plan.csv)");
+    lf_read_opts_default(&batch_read_opts);
+    batch_read_opts.format = format;
+    if (lf_read_opts_constants(&batch_read_opts, kc, sens, &err) != LF_OK)
+        cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
     o.auto_model = cli_fit_options(model, method, jacobian, max_ba, &s);
     s.fit_slope = slope;
     if (max_iter == 0)
