@@ -155,7 +155,7 @@ bench-fit: $(BUILD)/bench_fit
 # tests/test_fuzz_regress.c).
 FUZZ_SECONDS ?= 20
 FUZZ_CC ?= clang
-FUZZ_TARGETS := curve plan
+FUZZ_TARGETS := curve plan chiaro jpk workshop ntmdt hysitron text
 FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all
 
 .PHONY: fuzz fuzz-build

@@ -206,6 +206,10 @@ process_line(splitter *s, char *t, size_t n)
                                           "binary data: control byte 0x%02X (expected "
                                           "a text CSV file)", c);
     }
+    if (s->h->line != NULL) {
+        t[n] = '\0';
+        return s->status = s->h->line(s->h->ctx, s->lineno, t, n, s->err);
+    }
     if (!s->in_record) {
         for (b = 0; b < n && is_blank((unsigned char) t[b]); b++)
             ;
@@ -351,23 +355,35 @@ lf_csv_read_buffer(const char *buf, size_t len, size_t chunk, const char *name,
     return stop(&s);
 }
 
+FILE *
+lf_input_open(const char *path, lf_error *err)
+{
+    struct stat st;
+    FILE *f = fopen(path, "rb");
+    if (f == NULL) {
+        lf_fail_at(err, LF_EIO, path, 0, 0, "cannot open: %s", strerror(errno));
+        return NULL;
+    }
+    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(f);
+        lf_fail_at(err, LF_EIO, path, 0, 0, "is a directory (expected a CSV file)");
+        return NULL;
+    }
+    return f;
+}
+
 int
 lf_csv_read_file(const char *path, const lf_csv_handler *h, lf_error *err)
 {
     char block[65536];
-    struct stat st;
     splitter s;
     FILE *f;
     size_t n;
 
     lf_error_clear(err);
-    f = fopen(path, "rb");
+    f = lf_input_open(path, err);
     if (f == NULL)
-        return lf_fail_at(err, LF_EIO, path, 0, 0, "cannot open: %s", strerror(errno));
-    if (fstat(fileno(f), &st) == 0 && S_ISDIR(st.st_mode)) {
-        fclose(f);
-        return lf_fail_at(err, LF_EIO, path, 0, 0, "is a directory (expected a CSV file)");
-    }
+        return err != NULL ? err->status : LF_EIO;
     if (start(&s, path, h, err) == LF_OK) {
         while (s.status == LF_OK && (n = fread(block, 1, sizeof block, f)) > 0)
             feed(&s, block, n);
@@ -377,6 +393,14 @@ lf_csv_read_file(const char *path, const lf_csv_handler *h, lf_error *err)
     }
     fclose(f);
     return stop(&s);
+}
+
+int
+lf_csv_read_input(const lf_input *in, const lf_csv_handler *h, lf_error *err)
+{
+    if (in->path != NULL)
+        return lf_csv_read_file(in->path, h, err);
+    return lf_csv_read_buffer(in->buf ? in->buf : "", in->len, in->chunk, in->name, h, err);
 }
 
 /* ---------------------------------------------------------------------- */

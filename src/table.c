@@ -95,6 +95,7 @@ lf_table_read(const char *path, lf_table **out, lf_error *err)
     h.ctx = &rd;
     h.record = table_record;
     h.comment = NULL;
+    h.line = NULL;
     status = lf_csv_read_file(path, &h, err);
     if (status != LF_OK) {
         lf_table_free(rd.t);
