@@ -184,6 +184,12 @@ double lf_fit_dnu_du(double u);
 int lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err);
 /* Profile every curve's offsets at f->mat and make that the origin. */
 void lf_fit_guess_offsets(lf_fit *f);
+/* guess_model.c: the start of a model with no thickness (half-space) from
+ * its own force law: 1 when every curve's model is such a model; the
+ * material (0 when no curve gives one); the offsets at f->mat. */
+int lf_fit_guess_by_model(const lf_fit *f);
+int lf_fit_guess_model(lf_fit *f);
+void lf_fit_guess_model_offsets(lf_fit *f);
 /* Noise sd of a curve from how far each point's force lies from the line
  * through its neighbours in depth (order: indices by depth). */
 double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,

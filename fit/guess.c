@@ -508,6 +508,7 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
     size_t j, nf = 0, nb = 0, nw = 0;
     double lnMf = 0, lnMb = 0, lnw = 0, wfloor = HUGE_VAL;
     lf_material *m = &f->mat;
+    int by_model;
 
     start->alt_w = NAN;
     for (j = 0; j < f->ncurves; j++) {
@@ -540,7 +541,9 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
     if (f->imat[FIT_E] >= 0)
         m->Estar = nf > 0 ? exp(lnMf / (double) nf)
                           : exp(lnMb / (double) nb) / lf_thin_Z(LF_BASE_BONDED, m->nu);
-    if (f->imat[FIT_W] >= 0) {
+    /* a model with no thickness: its own force law (guess_model.c) */
+    by_model = lf_fit_guess_by_model(f) && lf_fit_guess_model(f);
+    if (f->imat[FIT_W] >= 0 && !by_model) {
         /* candidates: each curve's own w, their geometric mean and the
          * floor; the one whose offsets fit all curves best wins (ties to
          * the smaller w, so the order of the curves does not matter) */
@@ -602,6 +605,10 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
 void
 lf_fit_guess_offsets(lf_fit *f)
 {
+    if (lf_fit_guess_by_model(f)) {
+        lf_fit_guess_model_offsets(f);
+        return;
+    }
     offsets_at(f, 1);
     lf_fit_set_origin(f);
 }
