@@ -120,7 +120,7 @@ typedef struct {
     double *delta;       /* ndata: indentations */
     double *xcache;      /* np: the x of ev[]; xcache_ok when valid */
     int xcache_ok;
-    double *work;        /* max(ndata, 2 GUESS_NSUB): scratch */
+    double *work;        /* max(2 ndata, 2 GUESS_NSUB): scratch */
     double *sub;         /* 3 GUESS_NSUB + GUESS_NODES: subsample, nodes */
     gsl_vector *x, *r;   /* np, nres: a solution and its residuals */
     gsl_vector *x2, *r2; /* np, nres: a trial point and its residuals */
@@ -249,6 +249,17 @@ double lf_fit_decomp_nullw(const fit_decomp *d, size_t k);
 /* coef[l] = (U_l . v) / S_l for l < rank, U the left singular vectors of
  * J D^-1 (v of length n). */
 void lf_fit_decomp_project(fit_decomp *d, const double *v, double *coef);
+
+/* noise.c: the integrated autocorrelation time of e[0..n-1] (1 for white
+ * noise); the noise model of curve j at the residuals res (units of sigma):
+ * fills cr's corr_time, n_eff, noise_sd, chi2_per_point, runs_z,
+ * misfit_rel, consistent, agreement (cr->rms must be set); returns tau. */
+double lf_fit_corr_time(const double *e, size_t n);
+/* Curve j's correlation time (1: white) and noise sd at the residuals res. */
+void lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau,
+                        double *noise);
+double lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res,
+                          lf_fit_curve_result *cr);
 
 /* uncertainty.c */
 /* Wald-Wolfowitz runs test of the signs of curve j's residuals in order of

@@ -396,6 +396,19 @@ typedef struct {
     int consistent;         /* 0: the curve disagrees (runs_z < -4, or
                                chi2_per_point > 4) */
     size_t downweighted;    /* robust loss: points weighted below 1/2 */
+    /* The noise model of real data (fit/noise.c): filtered, oversampled
+     * curves have correlated neighbouring residuals.  From the residuals'
+     * autocorrelation in file order: */
+    double corr_time;       /* integrated autocorrelation time, points (1 for
+                               white noise) */
+    double n_eff;           /* n / corr_time: independent points */
+    double noise_sd;        /* the data's noise sd at the correlation lag
+                               (model-free), N: >= sigma */
+    double misfit_rel;      /* rms residual / the curve's force range */
+    int agreement;          /* 2: within the noise; 1: systematic deviations
+                               below 5% of the force range (the model
+                               describes the shape, not within the noise);
+                               0: disagrees */
     lf_warnings warnings;
 } lf_fit_curve_result;
 
@@ -426,7 +439,10 @@ typedef struct {
                                Jacobian, relative to the largest */
     double chi2;            /* weighted sum of squares at the solution */
     size_t dof;             /* residuals - free parameters */
-    double se_scale;        /* sqrt(chi2/dof), the factor applied to se */
+    double se_scale;        /* sqrt(chi2/dof * corr_time), the factor
+                               applied to se */
+    double corr_time;       /* the residuals' autocorrelation time, pooled
+                               (1 for white noise; fit/noise.c) */
     size_t iterations, evaluations;
     int converged;
     char stop_reason[160];

@@ -142,9 +142,15 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                 cli_human(b, sizeof b, cr->probe.b, "m"), cli_base_name(cr->probe.base),
                 branch_name(cr->branch), cr->n);
         fprintf(f, "      z0 = %s%s, F0 = %s%s, noise %s, rms residual %s\n",
-                cli_human(a, sizeof a, cr->z0, "m"), cr->z0_free ? "" : " (fixed)",
-                cli_human(b, sizeof b, cr->F0, "N"), cr->F0_free ? "" : " (fixed)",
+                isnan(cr->z0) ? "not determined" : cli_human(a, sizeof a, cr->z0, "m"),
+                cr->z0_free ? "" : " (fixed)",
+                isnan(cr->F0) ? "not determined" : cli_human(b, sizeof b, cr->F0, "N"),
+                cr->F0_free ? "" : " (fixed)",
                 cli_human(c, sizeof c, cr->sigma, "N"), cli_human(d, sizeof d, cr->rms, "N"));
+        if (cr->corr_time > 1.5)
+            fprintf(f, "      correlated noise: one independent point in %.3g (%.0f of %zu), "
+                    "noise %s at that lag\n", cr->corr_time, cr->n_eff, cr->n,
+                    cli_human(a, sizeof a, cr->noise_sd, "N"));
         fprintf(f, "      pull-off %s, contact radius %s, mean tension %s\n",
                 cli_human(a, sizeof a, cr->pulloff.P_po, "N"),
                 cli_human(b, sizeof b, cr->pulloff.a_po, "m"),
@@ -153,9 +159,15 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                 cr->b_over_a_min_contact, cr->b_over_a_pulloff);
         if (cr->model != NULL)
             fprintf(f, "      model %s: %s\n", cr->model, cr->model_reason);
-        fprintf(f, "      agreement: chi2/point %.3g (p = %.2g), runs test z = %.2f: %s\n",
-                cr->chi2_per_point, cr->p_value, cr->runs_z,
-                cr->consistent ? "consistent" : "DISAGREES");
+        if (cr->agreement == 1)
+            fprintf(f, "      agreement: chi2/point %.3g (p = %.2g), runs test z = %.2f: the model "
+                    "describes the shape, with systematic deviations of %.2g%% of the force "
+                    "range (beyond the noise)\n", cr->chi2_per_point, cr->p_value, cr->runs_z,
+                    100.0 * cr->misfit_rel);
+        else
+            fprintf(f, "      agreement: chi2/point %.3g (p = %.2g), runs test z = %.2f: %s\n",
+                    cr->chi2_per_point, cr->p_value, cr->runs_z,
+                    cr->consistent ? "consistent" : "DISAGREES");
         if (cr->downweighted > 0)
             fprintf(f, "      %zu points down-weighted by the %s loss\n", cr->downweighted,
                     r->loss);
@@ -313,7 +325,8 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
             { "b_over_a_min_contact", c->b_over_a_min_contact },
             { "b_over_a_pulloff", c->b_over_a_pulloff },
             { "chi2_per_point", c->chi2_per_point }, { "p_value", c->p_value },
-            { "runs_z", c->runs_z }
+            { "runs_z", c->runs_z }, { "corr_time", c->corr_time }, { "n_eff", c->n_eff },
+            { "noise_sd", c->noise_sd }, { "misfit_rel", c->misfit_rel }
         };
         for (i = 0; i < sizeof num / sizeof num[0]; i++) {
             fprintf(f, ", \"%s\": ", num[i].key);
@@ -324,6 +337,8 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
                 cli_base_name(c->probe.base), branch_name(c->branch), c->n,
                 c->z0_free ? "true" : "false", c->F0_free ? "true" : "false",
                 c->consistent ? "true" : "false", c->downweighted);
+        fprintf(f, ", \"agreement\": \"%s\"", c->agreement == 2 ? "within the noise"
+                : c->agreement == 1 ? "systematic deviations" : "disagrees");
         fputs(",\n     \"model\": ", f);
         jstr(f, c->model);
         fputs(", \"model_reason\": ", f);
