@@ -218,6 +218,12 @@ int lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_e
  * fit, refit without each in turn and name the culprit in res's warnings. */
 void lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res);
 
+/* verdict.c: refuse a curve with no contact signal (LF_EDATA); at the end
+ * of a solve, continue a stalled one, call a stall or offsets far outside
+ * the data not converged, and a minimum within rounding converged. */
+int lf_fit_refuse_degenerate(const lf_fit *f, lf_error *err);
+int lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err);
+
 /* driver.c: the solve from the origin (with start: the automatic guess's
  * start and second starts; NULL: a warm start from the current origin),
  * the policies, then lf_fit_assess; fills res as lf_fit_run does.
