@@ -536,7 +536,7 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
             m->nu = nu_of_Z(exp(lnMb / (double) nb - lnMf / (double) nf));
         else if (!isfinite(m->nu))
             m->nu = 0.3;
-        m->nu = fmin(fmax(m->nu, 0.02), 0.48);
+        m->nu = fmin(fmax(m->nu, 0.02), 0.4999);
     }
     if (f->imat[FIT_E] >= 0)
         m->Estar = nf > 0 ? exp(lnMf / (double) nf)

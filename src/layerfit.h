@@ -352,6 +352,9 @@ typedef struct {
     int free;               /* 1 when fitted */
     int determined;         /* 1 when the data fix it (or it was fixed) */
     int upper_bound_only;   /* w: the data only bound it from above */
+    const char *interval_method; /* how ci95 was found: "linear (Wald)" or
+                               "profile likelihood" (lf_fit_profile); NULL
+                               when not profiled (linear) */
 } lf_fit_estimate;
 
 typedef struct {
@@ -441,6 +444,7 @@ typedef struct {
     size_t dof;             /* residuals - free parameters */
     double se_scale;        /* sqrt(chi2/dof * corr_time), the factor
                                applied to se */
+    size_t profile_fits;    /* fits made by lf_fit_profile (0: none) */
     double corr_time;       /* the residuals' autocorrelation time, pooled
                                (1 for white noise; fit/noise.c) */
     size_t iterations, evaluations;
@@ -469,6 +473,17 @@ lf_fit *lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
  * other statuses on errors (res is then empty). */
 int lf_fit_run(lf_fit *fit, lf_fit_result *res, lf_error *err);
 void lf_fit_free(lf_fit *fit);
+
+/* Profile-likelihood 95% intervals of w, E* and nu (fit/profile.c) for a
+ * result res of lf_fit_driver / lf_fit_choose_driver on these settings and
+ * curves: each free, determined one is profiled at its linear (Wald)
+ * endpoints, and where the rise of chi2 there is not 3.84 s^2 within 25%
+ * (always: in any case) its interval is replaced by the profile's, which
+ * may be asymmetric; e->interval_method names the method.  An upper side
+ * the profile never closes marks w or E* not determined.  Costs a few fits
+ * per parameter (res->profile_fits). */
+int lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
+                   lf_fit_result *res, int always, lf_error *err);
 void lf_fit_result_free(lf_fit_result *res);
 /* alloc + run + free */
 int lf_fit_driver(const lf_fit_settings *settings, size_t ncurves,

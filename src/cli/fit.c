@@ -322,6 +322,12 @@ cli_fit(int argc, char **argv)
             fprintf(stderr, "layerfit: warning: the thin-layer comparison fit failed: %s\n",
                     terr.msg);
     }
+    {
+        /* profile-likelihood intervals where the linear ones are unreliable */
+        lf_error perr;
+        if (lf_fit_profile(&set, d.n, d.curves, &r, 0, &perr) != LF_OK)
+            fprintf(stderr, "layerfit: warning: profile-likelihood intervals: %s\n", perr.msg);
+    }
     in.settings = &set;
     in.model_request = fa.model;
     in.model_tol = model_auto ? choose.tol : NAN;

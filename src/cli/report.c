@@ -23,6 +23,12 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
                 cli_human(hi, sizeof hi, e->ci95[1], unit));
         return;
     }
+    if (!e->determined && e->free && isfinite(e->ci95[0]) && isnan(e->ci95[1])) {
+        fprintf(f, "  %-4s not determined: the data bound it only from below, %s < %s "
+                "(95%%, profile likelihood)\n", name,
+                unit[0] ? cli_human(lo, sizeof lo, e->ci95[0], unit) : "", name);
+        return;
+    }
     if (!e->determined) {
         fprintf(f, "  %-4s not determined%s%s\n", name, why_not ? ": " : "", why_not ? why_not : "");
         return;
@@ -35,13 +41,16 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
         return;
     }
     if (unit[0] == '\0')
-        fprintf(f, "  %-4s = %.4f +- %.2g   95%% [%.4f, %.4f]\n", name, e->value, e->se,
+        fprintf(f, "  %-4s = %.4f +- %.2g   95%% [%.4f, %.4f]", name, e->value, e->se,
                 e->ci95[0], e->ci95[1]);
     else
-        fprintf(f, "  %-4s = %s +- %s (%.2g%%)   95%% [%s, %s]\n", name,
+        fprintf(f, "  %-4s = %s +- %s (%.2g%%)   95%% [%s, %s]", name,
                 cli_human(v, sizeof v, e->value, unit), cli_human(s, sizeof s, e->se, unit),
                 100.0 * e->se / e->value, cli_human(lo, sizeof lo, e->ci95[0], unit),
                 cli_human(hi, sizeof hi, e->ci95[1], unit));
+    if (e->interval_method != NULL && strcmp(e->interval_method, "profile likelihood") == 0)
+        fputs(" (profile likelihood)", f);
+    fputc('\n', f);
 }
 
 static void
@@ -245,7 +254,9 @@ jestimate(FILE *f, const char *name, const lf_fit_estimate *e, int last)
     jnum(f, e->ci95[0]);
     fputs(", ", f);
     jnum(f, e->ci95[1]);
-    fprintf(f, "], \"free\": %s, \"determined\": %s, \"upper_bound_only\": %s}%s\n",
+    fprintf(f, "], \"ci95_method\": \"%s\"",
+            e->interval_method != NULL ? e->interval_method : "linear (Wald)");
+    fprintf(f, ", \"free\": %s, \"determined\": %s, \"upper_bound_only\": %s}%s\n",
             e->free ? "true" : "false", e->determined ? "true" : "false",
             e->upper_bound_only ? "true" : "false", last ? "" : ",");
 }
