@@ -184,6 +184,8 @@ double lf_fit_dnu_du(double u);
 int lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err);
 /* Profile every curve's offsets at f->mat and make that the origin. */
 void lf_fit_guess_offsets(lf_fit *f);
+/* The median of v[0..n-1], n > 0 (v reordered), in linear time (guess.c). */
+double lf_fit_median(double *v, size_t n);
 /* guess_model.c: the start of a model with no thickness (half-space) from
  * its own force law: 1 when every curve's model is such a model; the
  * material (0 when no curve gives one); the offsets at f->mat. */

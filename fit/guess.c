@@ -66,8 +66,8 @@ select_kth(double *v, size_t n, size_t k)
 
 /* The median of v[0..n-1], n > 0 (v reordered): the same number a sort
  * would give, in linear time. */
-static double
-median(double *v, size_t n)
+double
+lf_fit_median(double *v, size_t n)
 {
     double upper = select_kth(v, n, n / 2), lower;
     size_t i;
@@ -109,7 +109,7 @@ lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order
     }
     if (m == 0)
         return fbig > 0 ? fbig : 1.0;
-    med = median(work, m);
+    med = lf_fit_median(work, m);
     med /= 0.6745;
     /* noise-free data: keep the weight finite */
     return fmax(med, fbig > 0 ? 1e-12 * fbig : 1e-300);

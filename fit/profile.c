@@ -22,6 +22,7 @@
  * best fit's material and offsets (per curve with the model the fit used). */
 #include <math.h>
 #include <stdlib.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "fit.h"
@@ -42,6 +43,18 @@ typedef struct {
     size_t fits;
 } prof;
 
+/* The fitted value of the parameter called name (the solution, even where
+ * the report says "not determined"), else fallback. */
+static double
+best_value(const lf_fit_result *r, const char *name, double fallback)
+{
+    size_t k;
+    for (k = 0; k < r->npar; k++)
+        if (strcmp(r->names[k], name) == 0 && isfinite(r->value[k]))
+            return r->value[k];
+    return fallback;
+}
+
 /* chi2 minus the best chi2 with parameter `which` held at v (NaN on a
  * failed fit). */
 static double
@@ -60,9 +73,13 @@ rise(prof *p, double v)
     g = lf_fit_alloc(&s, p->nc, p->cc, NULL);
     if (g == NULL)
         return NAN;
-    g->mat.w = p->best->w.value;
-    g->mat.Estar = p->best->Estar.value;
-    g->mat.nu = isfinite(p->best->nu.value) ? p->best->nu.value : g->mat.nu;
+    g->mat.w = best_value(p->best, "w", p->best->w.value);
+    g->mat.Estar = best_value(p->best, "E*", p->best->Estar.value);
+    g->mat.nu = best_value(p->best, "nu", p->best->nu.value);
+    if (!isfinite(g->mat.nu))
+        g->mat.nu = p->s->nu.value;
+    if (!isfinite(g->mat.w))
+        g->mat.w = 0.0;
     if (p->which == FIT_W)
         g->mat.w = v;
     else if (p->which == FIT_E)
@@ -70,16 +87,23 @@ rise(prof *p, double v)
     else
         g->mat.nu = v;
     for (j = 0; j < p->nc; j++) {
-        const lf_fit_curve_result *cr = &p->best->curves[j];
-        if (g->c[j].iz0 >= 0 && isfinite(cr->z0))
-            g->c[j].z0 = cr->z0;
+        char name[32];
+        double z0, F0, sl;
+        snprintf(name, sizeof name, "z0[%zu]", j + 1);
+        z0 = best_value(p->best, name, p->best->curves[j].z0);
+        snprintf(name, sizeof name, "F0[%zu]", j + 1);
+        F0 = best_value(p->best, name, p->best->curves[j].F0);
+        snprintf(name, sizeof name, "s[%zu]", j + 1);
+        sl = best_value(p->best, name, p->best->curves[j].slope);
+        if (g->c[j].iz0 >= 0 && isfinite(z0))
+            g->c[j].z0 = z0;
         else if (g->c[j].iz0 >= 0)
             offsets_known = 0;
-        if (g->c[j].iF0 >= 0 && isfinite(cr->F0))
-            g->c[j].F0 = cr->F0;
+        if (g->c[j].iF0 >= 0 && isfinite(F0))
+            g->c[j].F0 = F0;
         else if (g->c[j].iF0 >= 0)
             offsets_known = 0;
-        g->c[j].slope = isfinite(cr->slope) ? cr->slope : 0.0;
+        g->c[j].slope = isfinite(sl) ? sl : 0.0;
     }
     if (offsets_known)
         lf_fit_set_origin(g);
@@ -148,13 +172,23 @@ profile_one(prof *p, lf_fit_estimate *e, int always)
     double t_hat, se_t, tmin, tmax, lo, hi, r_lo, r_hi;
     int open_lo = 0, open_hi = 0;
 
-    if (!e->free || !e->determined || e->upper_bound_only || !(e->se > 0))
+    int bound_only = e->upper_bound_only && p->which == FIT_W;
+
+    if (!e->free || (!e->determined && !bound_only) || (!bound_only && !(e->se > 0)))
         return 0;
     if (p->which == FIT_NU) {
         t_hat = e->value;
         se_t = e->se;
         tmin = 0.0;
         tmax = 0.5 - 1e-9;
+    } else if (bound_only) {
+        /* w below two se: the solution's w, however small, and steps of a
+         * factor e^0.5 */
+        double w = best_value(p->best, "w", 0.0);
+        t_hat = log(fmax(w, 1e-3 * e->ci95[1]));
+        se_t = 0.5 / Z95;
+        tmin = t_hat - PROFILE_LOG_RANGE;
+        tmax = t_hat + PROFILE_LOG_RANGE;
     } else {
         t_hat = log(e->value);
         se_t = e->se / e->value;
@@ -162,15 +196,24 @@ profile_one(prof *p, lf_fit_estimate *e, int always)
         tmax = t_hat + PROFILE_LOG_RANGE;
     }
     e->interval_method = "linear (Wald)";
-    r_lo = t_hat - Z95 * se_t > tmin ? rise(p, param_of(p, t_hat - Z95 * se_t)) : NAN;
-    r_hi = t_hat + Z95 * se_t < tmax ? rise(p, param_of(p, t_hat + Z95 * se_t)) : NAN;
-    if (!always && fabs(r_lo / p->thr - 1.0) < PROFILE_TOL && fabs(r_hi / p->thr - 1.0) < PROFILE_TOL)
-        return 0;
+    if (!bound_only && !always) {
+        r_lo = t_hat - Z95 * se_t > tmin ? rise(p, param_of(p, t_hat - Z95 * se_t)) : NAN;
+        r_hi = t_hat + Z95 * se_t < tmax ? rise(p, param_of(p, t_hat + Z95 * se_t)) : NAN;
+        if (fabs(r_lo / p->thr - 1.0) < PROFILE_TOL && fabs(r_hi / p->thr - 1.0) < PROFILE_TOL)
+            return 0;
+    }
     lo = search_side(p, t_hat, fmin(Z95 * se_t, 0.5 * (t_hat - tmin)), -1, tmin, tmax, &open_lo);
     hi = search_side(p, t_hat, fmin(Z95 * se_t, 0.5 * (tmax - t_hat)), +1, tmin, tmax, &open_hi);
     e->interval_method = "profile likelihood";
     e->ci95[0] = open_lo && p->which == FIT_W ? 0.0 : param_of(p, lo);
     e->ci95[1] = param_of(p, hi);
+    if (bound_only && !open_lo) {
+        /* the profile closes below: the data do bound w from below */
+        e->upper_bound_only = 0;
+        e->determined = 1;
+        e->value = exp(t_hat);
+        e->se = e->value * (hi - lo) / (2.0 * Z95);   /* the interval's width */
+    }
     if (p->which == FIT_NU) {
         e->ci95[0] = fmax(e->ci95[0], 0.0);
         e->ci95[1] = fmin(e->ci95[1], 0.5);

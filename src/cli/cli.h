@@ -85,6 +85,8 @@ int cli_fit(int argc, char **argv);
 int cli_simulate(int argc, char **argv);
 /* `layerfit bench`: speed against error (bench.c). */
 int cli_bench(int argc, char **argv);
+/* `layerfit bench --coverage`: interval coverage over seeds (coverage.c). */
+int cli_coverage(size_t nseeds, const char *scene_name);
 /* `layerfit model --figure N [--plot FILE]` (figure.c). */
 int cli_figure(int figure, const char *plot);
 int cli_check(int argc, char **argv);
