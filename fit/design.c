@@ -365,7 +365,7 @@ static int
 dplan_load(const char *path, const char *buf, size_t len, const char *name,
            lf_design_plan **out, lf_error *err)
 {
-    lf_csv_handler h;
+    lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
     dplan_reader rd;
     int st;
 

@@ -68,6 +68,8 @@ lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res
     }
     if (status == LF_OK && f->set.loss != LF_LOSS_LINEAR)
         status = lf_fit_reweight(f, x, &run, &res->reweightings, err);
+    if (status == LF_OK)
+        status = lf_fit_honest_end(f, x, &run, err);
     res->iterations = run.iters;
     if (status != LF_OK) {
         lf_warnings_free(&res->warnings);
@@ -117,6 +119,9 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
 
     memset(res, 0, sizeof *res);
     f->w.xcache_ok = 0;
+    status = lf_fit_refuse_degenerate(f, err);
+    if (status != LF_OK)
+        return status;
     status = lf_fit_guess(f, &start, err);
     if (status != LF_OK)
         return status;

@@ -137,7 +137,7 @@ typedef struct {
     double *delta;       /* ndata: indentations */
     double *xcache;      /* np: the x of ev[]; xcache_ok when valid */
     int xcache_ok;
-    double *work;        /* max(ndata, 2 GUESS_NSUB): scratch */
+    double *work;        /* max(2 ndata, 2 GUESS_NSUB): scratch */
     double *sub;         /* 3 GUESS_NSUB + GUESS_NODES: subsample, nodes */
     gsl_vector *x, *r;   /* np, nres: a solution and its residuals */
     gsl_vector *x2, *r2; /* np, nres: a trial point and its residuals */
@@ -209,6 +209,14 @@ double lf_fit_dnu_du(double u);
 int lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err);
 /* Profile every curve's offsets at f->mat and make that the origin. */
 void lf_fit_guess_offsets(lf_fit *f);
+/* The median of v[0..n-1], n > 0 (v reordered), in linear time (guess.c). */
+double lf_fit_median(double *v, size_t n);
+/* guess_model.c: the start of a model with no thickness (half-space) from
+ * its own force law: 1 when every curve's model is such a model; the
+ * material (0 when no curve gives one); the offsets at f->mat. */
+int lf_fit_guess_by_model(const lf_fit *f);
+int lf_fit_guess_model(lf_fit *f);
+void lf_fit_guess_model_offsets(lf_fit *f);
 /* Noise sd of a curve from how far each point's force lies from the line
  * through its neighbours in depth (order: indices by depth). */
 double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,
@@ -244,6 +252,12 @@ int lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_e
  * fit, refit without each in turn and name the culprit in res's warnings. */
 void lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res);
 
+/* verdict.c: refuse a curve with no contact signal (LF_EDATA); at the end
+ * of a solve, continue a stalled one, call a stall or offsets far outside
+ * the data not converged, and a minimum within rounding converged. */
+int lf_fit_refuse_degenerate(const lf_fit *f, lf_error *err);
+int lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err);
+
 /* driver.c: the solve from the origin (with start: the automatic guess's
  * start and second starts; NULL: a warm start from the current origin),
  * the policies, then lf_fit_assess; fills res as lf_fit_run does.
@@ -275,6 +289,17 @@ double lf_fit_decomp_nullw(const fit_decomp *d, size_t k);
 /* coef[l] = (U_l . v) / S_l for l < rank, U the left singular vectors of
  * J D^-1 (v of length n). */
 void lf_fit_decomp_project(fit_decomp *d, const double *v, double *coef);
+
+/* noise.c: the integrated autocorrelation time of e[0..n-1] (1 for white
+ * noise); the noise model of curve j at the residuals res (units of sigma):
+ * fills cr's corr_time, n_eff, noise_sd, chi2_per_point, runs_z,
+ * misfit_rel, consistent, agreement (cr->rms must be set); returns tau. */
+double lf_fit_corr_time(const double *e, size_t n);
+/* Curve j's correlation time (1: white) and noise sd at the residuals res. */
+void lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau,
+                        double *noise);
+double lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res,
+                          lf_fit_curve_result *cr);
 
 /* uncertainty.c */
 /* Wald-Wolfowitz runs test of the signs of curve j's residuals in order of

@@ -66,8 +66,8 @@ select_kth(double *v, size_t n, size_t k)
 
 /* The median of v[0..n-1], n > 0 (v reordered): the same number a sort
  * would give, in linear time. */
-static double
-median(double *v, size_t n)
+double
+lf_fit_median(double *v, size_t n)
 {
     double upper = select_kth(v, n, n / 2), lower;
     size_t i;
@@ -109,7 +109,7 @@ lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order
     }
     if (m == 0)
         return fbig > 0 ? fbig : 1.0;
-    med = median(work, m);
+    med = lf_fit_median(work, m);
     med /= 0.6745;
     /* noise-free data: keep the weight finite */
     return fmax(med, fbig > 0 ? 1e-12 * fbig : 1e-300);
@@ -508,6 +508,7 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
     size_t j, nf = 0, nb = 0, nw = 0;
     double lnMf = 0, lnMb = 0, lnw = 0, wfloor = HUGE_VAL;
     lf_material *m = &f->mat;
+    int by_model;
 
     start->alt_w = NAN;
     for (j = 0; j < f->ncurves; j++) {
@@ -535,12 +536,14 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
             m->nu = nu_of_Z(exp(lnMb / (double) nb - lnMf / (double) nf));
         else if (!isfinite(m->nu))
             m->nu = 0.3;
-        m->nu = fmin(fmax(m->nu, 0.02), 0.48);
+        m->nu = fmin(fmax(m->nu, 0.02), 0.4999);
     }
     if (f->imat[FIT_E] >= 0)
         m->Estar = nf > 0 ? exp(lnMf / (double) nf)
                           : exp(lnMb / (double) nb) / lf_thin_Z(LF_BASE_BONDED, m->nu);
-    if (f->imat[FIT_W] >= 0) {
+    /* a model with no thickness: its own force law (guess_model.c) */
+    by_model = lf_fit_guess_by_model(f) && lf_fit_guess_model(f);
+    if (f->imat[FIT_W] >= 0 && !by_model) {
         /* candidates: each curve's own w, their geometric mean and the
          * floor; the one whose offsets fit all curves best wins (ties to
          * the smaller w, so the order of the curves does not matter) */
@@ -602,6 +605,10 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
 void
 lf_fit_guess_offsets(lf_fit *f)
 {
+    if (lf_fit_guess_by_model(f)) {
+        lf_fit_guess_model_offsets(f);
+        return;
+    }
     offsets_at(f, 1);
     lf_fit_set_origin(f);
 }

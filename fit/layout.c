@@ -259,7 +259,7 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     f->w.scan_ev = calloc(f->ndata, sizeof *f->w.scan_ev);
     f->w.sqrtw = malloc(f->ndata * sizeof *f->w.sqrtw);
     f->w.delta = calloc(f->ndata, sizeof *f->w.delta);
-    f->w.work = calloc(f->ndata > 2 * GUESS_NSUB ? f->ndata : 2 * GUESS_NSUB, sizeof *f->w.work);
+    f->w.work = calloc(2 * f->ndata > 2 * GUESS_NSUB ? 2 * f->ndata : 2 * GUESS_NSUB, sizeof *f->w.work);
     f->w.sub = calloc(3 * GUESS_NSUB + GUESS_NODES, sizeof *f->w.sub);
     f->w.keep = calloc(3 * ncurves, sizeof *f->w.keep);
     f->w.jtj = calloc(f->np * f->np, sizeof *f->w.jtj);

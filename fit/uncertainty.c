@@ -147,7 +147,7 @@ decompose(lf_fit *f, const double *x, lf_fit_result *r, double *nullw)
 {
     size_t p = f->np, i, k, l;
     fit_decomp d;
-    double s2 = r->chi2 / (double) r->dof;
+    double s2 = r->se_scale * r->se_scale;
     int status;
 
     if (lf_fit_decomp_alloc(&d, f->nres, p) != LF_OK)
@@ -171,6 +171,21 @@ decompose(lf_fit *f, const double *x, lf_fit_result *r, double *nullw)
 done:
     lf_fit_decomp_free(&d);
     return status;
+}
+
+/* The residuals' autocorrelation time, pooled over the curves by their
+ * points (noise.c). */
+static double
+pooled_corr_time(lf_fit *f, const gsl_vector *res)
+{
+    double sum = 0.0, tau, noise;
+    size_t j, n = 0;
+    for (j = 0; j < f->ncurves; j++) {
+        lf_fit_curve_noise(f, j, res, &tau, &noise);
+        sum += tau * (double) f->c[j].data.n;
+        n += f->c[j].data.n;
+    }
+    return n > 0 ? sum / (double) n : 1.0;
 }
 
 /* M = Z(nu) E* of the bonded curves and its error from the covariance
@@ -222,11 +237,16 @@ k2_without_baseline(const lf_fit *f)
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
         size_t nout = 0;
-        if (fabs(c->data.probe.k - 2.0) > 1e-9 || c->iz0 < 0 || c->iF0 < 0)
+        /* the thin layer's k = 2 force is M K ((z - z0)^2 - c^2) + F0 in
+         * contact: w (through c) only shifts it, like F0.  Points past
+         * detachment (the baseline) measure F0 and so w: with a few of them
+         * the Jacobian decides (nullw) */
+        if (fabs(c->data.probe.k - 2.0) > 1e-9 || c->iz0 < 0 || c->iF0 < 0
+            || lf_model_get_type(c->model) != &lf_model_thin)
             return 0;
         for (i = 0; i < c->data.n; i++)
             nout += f->w.ev[c->row + i].a == 0.0;
-        if ((double) nout >= 0.1 * (double) c->data.n)
+        if (nout >= 3)
             return 0;
     }
     return 1;
@@ -349,13 +369,16 @@ consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_resul
     for (i = 0; i < c->data.n; i++)
         cr->downweighted += f->w.sqrtw[c->row + i] * f->w.sqrtw[c->row + i] < 0.5;
     own = (size_t) (c->iz0 >= 0) + (size_t) (c->iF0 >= 0) + (size_t) (c->islope >= 0);
-    cr->chi2_per_point = chi2 / (double) c->data.n;
-    cr->p_value = c->data.n > own ? gsl_cdf_chisq_Q(chi2, (double) (c->data.n - own)) : NAN;
-    cr->runs_z = lf_fit_runs_z(f, j, res);
-    /* the noise sd is itself estimated (to some 10% for 300 points), so
-     * chi2 alone flags only a gross excess; the runs test does not depend
-     * on it */
-    cr->consistent = !(cr->runs_z < FIT_RUNS_Z_BAD || cr->chi2_per_point > 4.0);
+    (void) chi2;
+    /* chi2 per point and the runs test against the noise model of the data
+     * (noise.c: correlated noise, its own sd and independent points); the
+     * noise sd is itself estimated (to some 10% for 300 points), so chi2
+     * alone flags only a gross excess; the runs test does not depend on it */
+    lf_fit_noise_model(f, j, res, cr);
+    cr->p_value = cr->n_eff > (double) own + 1.0
+                  ? gsl_cdf_chisq_Q(cr->chi2_per_point * (double) c->data.n / cr->corr_time,
+                                    cr->n_eff - (double) own)
+                  : NAN;
 }
 
 static void
@@ -472,7 +495,10 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
     r->chi2 = gsl_blas_dnrm2(res);
     r->chi2 *= r->chi2;
     r->dof = f->nres - p;
-    r->se_scale = sqrt(r->chi2 / (double) r->dof);
+    /* correlated noise: errors grow by the residuals' autocorrelation time
+     * (noise.c), pooled over the curves by their points */
+    r->corr_time = pooled_corr_time(f, res);
+    r->se_scale = sqrt(r->chi2 / (double) r->dof * r->corr_time);
     status = decompose(f, x, r, nullw);
     if (status != LF_OK) {
         status = lf_fail(err, status, "the Jacobian at the solution cannot be decomposed");
@@ -549,7 +575,11 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
         assess_curve(f, x, j, r, nullw, res);
     agreement(f, r);
     explain(f, r, nullw);
-    if (r->chi2 / (double) r->dof > 2.0)
+    if (r->corr_time > 1.5)
+        lf_warn(&r->warnings, "neighbouring residuals are correlated (filtered or oversampled "
+                "data): about one independent point in %.3g; standard errors include that "
+                "factor (scaled by %.3g in all)", r->corr_time, r->se_scale);
+    else if (r->chi2 / (double) r->dof > 2.0)
         lf_warn(&r->warnings, "chi2/dof = %.3g: the residuals exceed the point-to-point noise "
                 "(model misfit or correlated noise); standard errors are scaled by %.3g",
                 r->chi2 / (double) r->dof, r->se_scale);

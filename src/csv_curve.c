@@ -12,7 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "csvsplit.h"
+#include "readers.h"
 
 enum { COL_DEPTH, COL_FORCE, COL_TIME, COL_SEGMENT, NCOL };
 
@@ -50,12 +50,16 @@ lf_read_opts_default(lf_read_opts *o)
     o->depth_unit = NULL;
     o->force_unit = NULL;
     o->skip_bad_rows = 0;
+    o->format = NULL;
+    o->spring_constant = NAN;
+    o->sensitivity = NAN;
+    o->sensitivity_per_amp = 0;
 }
 
 const char *
 lf_segment_name(lf_segment seg)
 {
-    return seg == LF_SEG_LOAD ? "load" : "unload";
+    return seg == LF_SEG_LOAD ? "load" : seg == LF_SEG_HOLD ? "hold" : "unload";
 }
 
 int
@@ -351,18 +355,6 @@ on_comment(void *ctx, long line, const char *text, int before_header, lf_error *
     return LF_OK;
 }
 
-/* Without a segment column: loading up to the deepest point, unloading
- * from it on (the first deepest point, in file order). */
-static void
-split_at_deepest(lf_curve *c)
-{
-    size_t i, deepest = 0;
-    for (i = 1; i < c->n; i++)
-        if (c->depth[i] > c->depth[deepest])
-            deepest = i;
-    for (i = 0; i < c->n; i++)
-        c->segment[i] = (unsigned char) (i < deepest ? LF_SEG_LOAD : LF_SEG_UNLOAD);
-}
 
 /* Warn where depth runs backwards within a segment. */
 static void
@@ -411,8 +403,8 @@ finish(reader *rd, lf_error *err)
         return lf_fail_at(err, LF_EDATA, rd->name, rd->header_line, 0,
                           "header but no data rows (expected one row of %s and %s "
                           "per point below it)", rd->head[COL_DEPTH], rd->head[COL_FORCE]);
-    if (rd->col[COL_SEGMENT] < 0)
-        split_at_deepest(rd->c);
+    if (rd->col[COL_SEGMENT] < 0)   /* a hold at the deepest point, if any */
+        lf_segments_from_profile(rd->c, rd->c->depth, rd->c->force, "depth");
     if (rd->dropped > 0)
         lf_warn(rd->warn, "%s:%ld: dropped %ld comment line%s (first here; only "
                 "'# key: value' lines above the header are kept, as metadata)",
@@ -424,65 +416,50 @@ finish(reader *rd, lf_error *err)
     return LF_OK;
 }
 
-/* Shared by lf_curve_read and lf_curve_parse: buf == NULL reads the file. */
 static int
-curve_load(const char *path, const char *buf, size_t len, size_t chunk,
-           const char *name, const lf_read_opts *o, lf_curve **out,
-           lf_warnings *warn, lf_error *err)
+csv_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings *warn,
+         lf_error *err)
 {
-    lf_csv_handler h;
-    lf_warnings local = { 0, NULL };
+    lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
     reader rd;
-    int status;
-    size_t i;
+    int status, role;
 
-    *out = NULL;
     memset(&rd, 0, sizeof rd);
-    rd.name = name ? name : "";
-    if (o != NULL)
-        rd.opts = *o;
-    else
-        lf_read_opts_default(&rd.opts);
-    rd.warn = &local;
-    rd.c = calloc(1, sizeof *rd.c);
-    if (rd.c == NULL || (rd.c->file = lf_strdup(rd.name)) == NULL) {
-        lf_curve_free(rd.c);
-        return lf_fail_at(err, LF_ENOMEM, rd.name, 0, 0, "out of memory");
-    }
+    rd.name = in->name;
+    rd.opts = *o;
+    rd.warn = warn;
+    rd.c = c;
     h.ctx = &rd;
     h.record = on_record;
     h.comment = on_comment;
-    status = buf == NULL ? lf_csv_read_file(path, &h, err)
-                         : lf_csv_read_buffer(buf, len, chunk, rd.name, &h, err);
+    h.line = NULL;
+    status = lf_csv_read_input(in, &h, err);
     if (status == LF_OK)
         status = finish(&rd, err);
-    if (status != LF_OK) {
-        lf_curve_free(rd.c);
-        lf_warnings_free(&local);
+    if (status != LF_OK)
         return status;
-    }
-    /* warnings reach the caller only with a curve */
-    for (i = 0; i < local.n; i++)
-        lf_warn(warn, "%s", local.msg[i]);
-    lf_warnings_free(&local);
-    *out = rd.c;
+    for (role = 0; role < COL_SEGMENT; role++)
+        if (rd.col[role] >= 0)
+            lf_warn(&c->info, "%s: column %ld '%s', x %.6g to SI", roles[role].what,
+                    rd.col[role] + 1, rd.head[role], rd.factor[role]);
+    if (rd.col[COL_SEGMENT] >= 0)
+        lf_warn(&c->info, "segments: from the column '%s'", rd.head[COL_SEGMENT]);
     return LF_OK;
 }
 
-int
-lf_curve_read(const char *path, const lf_read_opts *o, lf_curve **out,
-              lf_warnings *warn, lf_error *err)
+/* Anything not claimed by an instrument's reader is tried as CSV. */
+static int
+csv_sniff(const char *head, size_t len)
 {
-    return curve_load(path, NULL, 0, 0, path, o, out, warn, err);
+    (void) head;
+    (void) len;
+    return 1;
 }
 
-int
-lf_curve_parse(const char *buf, size_t len, size_t chunk, const char *name,
-               const lf_read_opts *o, lf_curve **out, lf_warnings *warn,
-               lf_error *err)
-{
-    return curve_load(NULL, buf ? buf : "", len, chunk, name, o, out, warn, err);
-}
+const lf_reader_type lf_reader_csv = {
+    "csv", "CSV with a header row on line 1 naming depth and force (datasets/README.md)",
+    csv_sniff, csv_read
+};
 
 void
 lf_curve_free(lf_curve *c)
@@ -501,6 +478,7 @@ lf_curve_free(lf_curve *c)
     free(c->time);
     free(c->segment);
     free(c->line);
+    lf_warnings_free(&c->info);
     free(c);
 }
 

@@ -207,6 +207,10 @@ process_line(splitter *s, char *t, size_t n)
                                           "binary data: control byte 0x%02X (expected "
                                           "a text CSV file)", c);
     }
+    if (s->h->line != NULL) {
+        t[n] = '\0';
+        return s->status = s->h->line(s->h->ctx, s->lineno, t, n, s->err);
+    }
     if (!s->in_record) {
         for (b = 0; b < n && is_blank((unsigned char) t[b]); b++)
             ;
@@ -381,6 +385,12 @@ lf_csv_read_file(const char *path, const lf_csv_handler *h, lf_error *err)
     }
     close(fd);
     return stop(&s);
+}
+
+int
+lf_csv_read_input(const lf_source *in, const lf_csv_handler *h, lf_error *err)
+{
+    return lf_csv_read_buffer(in->buf ? in->buf : "", in->len, in->chunk, in->name, h, err);
 }
 
 /* ---------------------------------------------------------------------- */

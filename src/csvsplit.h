@@ -13,6 +13,8 @@
 #ifndef LF_CSVSPLIT_H
 #define LF_CSVSPLIT_H
 
+#include <stdio.h>
+
 #include "internal.h"
 
 #define LF_CSV_MAX_LINE (1024L * 1024L)   /* bytes in a line, or in a record */
@@ -36,6 +38,11 @@ typedef struct {
     /* text after the '#', trimmed; before_header is 1 until the header */
     int (*comment)(void *ctx, long line, const char *text, int before_header,
                    lf_error *err);
+    /* Raw line mode (the instrument readers): when not NULL, every physical
+     * line (a UTF-8 byte order mark dropped, blank lines included, NUL-
+     * terminated, writable) goes here instead, and record and comment are
+     * never called. */
+    int (*line)(void *ctx, long line, char *text, size_t n, lf_error *err);
 } lf_csv_handler;
 
 /* Read the file at path in blocks.  Messages name the file by path. */
@@ -43,6 +50,8 @@ int lf_csv_read_file(const char *path, const lf_csv_handler *h, lf_error *err);
 /* Read buf[0..len-1], handed over in pieces of chunk bytes (0 = at once). */
 int lf_csv_read_buffer(const char *buf, size_t len, size_t chunk,
                        const char *name, const lf_csv_handler *h, lf_error *err);
+/* lf_csv_read_buffer on a reader's source. */
+int lf_csv_read_input(const lf_source *in, const lf_csv_handler *h, lf_error *err);
 
 /* Split a header cell into a name and a unit: "depth_nm", "Depth (nm)",
  * "Indentation [um]", "depth / nm" give ("depth"|"Depth"|..., "nm"); a cell

@@ -36,6 +36,8 @@ lf_fit_input_free(lf_fit_input *in)
     free(in->points);
     free(in->names);
     free(in->sha256);
+    free(in->R_source);
+    free(in->format);
     free(in->curves);
     memset(in, 0, sizeof *in);
 }
@@ -50,7 +52,10 @@ input_alloc(lf_fit_input *in, size_t n)
     in->points = calloc(2 * n + 1, sizeof *in->points);
     in->names = calloc(n ? n : 1, sizeof *in->names);
     in->sha256 = calloc(n ? n : 1, sizeof *in->sha256);
-    return in->curves && in->points && in->names && in->sha256 ? LF_OK : LF_ENOMEM;
+    in->R_source = calloc(n ? n : 1, sizeof *in->R_source);
+    in->format = calloc(n ? n : 1, sizeof *in->format);
+    return in->curves && in->points && in->names && in->sha256 && in->R_source && in->format
+           ? LF_OK : LF_ENOMEM;
 }
 
 /* A "# key: value" length of the curve's file, or NaN. */
@@ -67,27 +72,61 @@ meta_length(const lf_curve *c, const char *key)
     return NAN;
 }
 
-/* Curve j of in from the file at path. */
+/* The probe of a curve: R from the file's header where the caller gives
+ * none (NaN), b = R as a stand-in where the caller gives no thickness (NaN:
+ * a half-space, which uses none), then checked. */
+static int
+resolve_probe(lf_probe *p, const lf_curve *c, const char *path, const char *given,
+              const char **R_source, lf_error *err)
+{
+    lf_error e;
+    *R_source = given;
+    if (isnan(p->R)) {
+        if (!(c->R > 0 && isfinite(c->R)))
+            return lf_fail(err, LF_EDATA, "%s: no probe radius: the file states none (give --R, "
+                           "e.g. --R 8um, or an R in the plan)", path);
+        p->R = c->R;
+        *R_source = "file header";
+    }
+    if (isnan(p->b))
+        p->b = p->R;
+    if (lf_probe_check(p, &e) != LF_OK)
+        return lf_fail(err, e.status, "%s: %s", path, e.msg);
+    return LF_OK;
+}
+
+/* Curve j of in from the file at path; format is the plan's format column
+ * ("" or NULL: the settings' format, else sniffed). */
 static int
 add_curve(lf_fit_input *in, size_t j, const char *path, lf_segment seg, const lf_probe *probe,
-          double z0, double F0, const lf_input_settings *s, lf_warnings *warn, lf_error *err)
+          const char *given, const char *format, double z0, double F0,
+          const lf_input_settings *s, lf_warnings *warn, lf_error *err)
 {
     lf_curve *c = NULL;
     lf_fit_curve *fc = &in->curves[j];
+    lf_read_opts ro;
+    lf_probe p = *probe;
     lf_input file;
     size_t n;
     int status;
 
+    if (s->read != NULL)
+        ro = *s->read;
+    else
+        lf_read_opts_default(&ro);
+    if (ro.format == NULL && format != NULL && format[0] != '\0')
+        ro.format = format;
     /* read once, whole, from a checked descriptor: what is parsed is what
      * is hashed */
     if ((status = lf_input_read(path, s->open_flags, &file, err)) != LF_OK)
         return status;
     memcpy(in->sha256[j], file.sha256, sizeof in->sha256[j]);
-    status = lf_curve_parse(file.data, file.len, 0, path, s->read, &c, warn, err);
+    status = lf_curve_parse(file.data, file.len, 0, path, &ro, &c, warn, err);
     lf_input_free(&file);
     if (status != LF_OK)
         return status;
-    if ((status = lf_curve_check_fit(c, seg, s->min_points, err)) != LF_OK) {
+    if ((status = lf_curve_check_fit(c, seg, s->min_points, err)) != LF_OK
+        || (status = resolve_probe(&p, c, path, given, &in->R_source[j], err)) != LF_OK) {
         lf_curve_free(c);
         return status;
     }
@@ -104,13 +143,14 @@ add_curve(lf_fit_input *in, size_t j, const char *path, lf_segment seg, const lf
         return lf_fail(err, LF_ENOMEM, "out of memory reading %s", path);
     }
     strcpy(in->names[j], path);
+    in->format[j] = c->format;
     lf_curve_segment(c, seg, in->points[2 * j], in->points[2 * j + 1]);
     lf_curve_free(c);
     fc->name = in->names[j];
     fc->n = n;
     fc->depth = in->points[2 * j];
     fc->force = in->points[2 * j + 1];
-    fc->probe = *probe;
+    fc->probe = p;
     fc->branch = seg;
     fc->z0 = isnan(s->z0) ? z0 : s->z0;
     fc->F0 = isnan(s->F0) ? F0 : s->F0;
@@ -146,7 +186,8 @@ lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
             in->nu = row->nu;
         }
         status = add_curve(in, j, row->file, s->segment >= 0 ? (lf_segment) s->segment
-                           : row->segment, &row->probe, row->z0, row->F0, s, warn, err);
+                           : row->segment, &row->probe, "plan", row->format, row->z0, row->F0,
+                            s, warn, err);
         if (status != LF_OK) {
             lf_fit_input_free(in);
             return status;
@@ -164,14 +205,14 @@ lf_fit_input_from_curve(const char *path, const lf_probe *probe, const lf_input_
 
     if (s == NULL)
         s = &def;
-    if ((status = lf_probe_check(probe, err)) != LF_OK)
+    if (!isnan(probe->R) && !isnan(probe->b) && (status = lf_probe_check(probe, err)) != LF_OK)
         return status;
     if (input_alloc(in, 1) != LF_OK) {
         lf_fit_input_free(in);
         return lf_fail(err, LF_ENOMEM, "out of memory");
     }
     status = add_curve(in, 0, path, s->segment >= 0 ? (lf_segment) s->segment : LF_SEG_UNLOAD,
-                       probe, NAN, NAN, s, warn, err);
+                       probe, "option", NULL, NAN, NAN, s, warn, err);
     if (status != LF_OK)
         lf_fit_input_free(in);
     return status;

@@ -82,7 +82,12 @@ typedef enum {
     LF_Q_ADHESION,    /* J/m^2 = N/m (work of adhesion) */
     LF_Q_PRESSURE,    /* Pa (modulus, strength) */
     LF_Q_TIME,        /* s */
-    LF_Q_DIMENSIONLESS
+    LF_Q_DIMENSIONLESS,
+    LF_Q_STIFFNESS,   /* N/m (cantilever spring constant) */
+    LF_Q_SENS_VOLT,   /* m/V (deflection sensitivity of a voltage signal) */
+    LF_Q_SENS_AMP,    /* m/A (deflection sensitivity of a current signal) */
+    LF_Q_VOLTAGE,     /* V (a raw signal) */
+    LF_Q_CURRENT      /* A (a raw signal) */
 } lf_quantity;
 
 /* The SI unit symbol of a quantity ("m", "N", "J/m^2", "Pa", "s", ""). */
@@ -385,6 +390,9 @@ typedef struct {
     int free;               /* 1 when fitted */
     int determined;         /* 1 when the data fix it (or it was fixed) */
     int upper_bound_only;   /* w: the data only bound it from above */
+    const char *interval_method; /* how ci95 was found: "linear (Wald)" or
+                               "profile likelihood" (lf_fit_profile); NULL
+                               when not profiled (linear) */
 } lf_fit_estimate;
 
 typedef struct {
@@ -429,6 +437,19 @@ typedef struct {
     int consistent;         /* 0: the curve disagrees (runs_z < -4, or
                                chi2_per_point > 4) */
     size_t downweighted;    /* robust loss: points weighted below 1/2 */
+    /* The noise model of real data (fit/noise.c): filtered, oversampled
+     * curves have correlated neighbouring residuals.  From the residuals'
+     * autocorrelation in file order: */
+    double corr_time;       /* integrated autocorrelation time, points (1 for
+                               white noise) */
+    double n_eff;           /* n / corr_time: independent points */
+    double noise_sd;        /* the data's noise sd at the correlation lag
+                               (model-free), N: >= sigma */
+    double misfit_rel;      /* rms residual / the curve's force range */
+    int agreement;          /* 2: within the noise; 1: systematic deviations
+                               below 5% of the force range (the model
+                               describes the shape, not within the noise);
+                               0: disagrees */
     lf_warnings warnings;
 } lf_fit_curve_result;
 
@@ -459,7 +480,11 @@ typedef struct {
                                Jacobian, relative to the largest */
     double chi2;            /* weighted sum of squares at the solution */
     size_t dof;             /* residuals - free parameters */
-    double se_scale;        /* sqrt(chi2/dof), the factor applied to se */
+    double se_scale;        /* sqrt(chi2/dof * corr_time), the factor
+                               applied to se */
+    size_t profile_fits;    /* fits made by lf_fit_profile (0: none) */
+    double corr_time;       /* the residuals' autocorrelation time, pooled
+                               (1 for white noise; fit/noise.c) */
     size_t iterations, evaluations;
     int converged;
     char stop_reason[160];
@@ -486,6 +511,17 @@ lf_fit *lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
  * other statuses on errors (res is then empty). */
 int lf_fit_run(lf_fit *fit, lf_fit_result *res, lf_error *err);
 void lf_fit_free(lf_fit *fit);
+
+/* Profile-likelihood 95% intervals of w, E* and nu (fit/profile.c) for a
+ * result res of lf_fit_driver / lf_fit_choose_driver on these settings and
+ * curves: each free, determined one is profiled at its linear (Wald)
+ * endpoints, and where the rise of chi2 there is not 3.84 s^2 within 25%
+ * (always: in any case) its interval is replaced by the profile's, which
+ * may be asymmetric; e->interval_method names the method.  An upper side
+ * the profile never closes marks w or E* not determined.  Costs a few fits
+ * per parameter (res->profile_fits). */
+int lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
+                   lf_fit_result *res, int always, lf_error *err);
 void lf_fit_result_free(lf_fit_result *res);
 /* alloc + run + free */
 int lf_fit_driver(const lf_fit_settings *settings, size_t ncurves,
@@ -658,6 +694,8 @@ int lf_crb(const lf_design_curve *curves, size_t ncurves, const lf_material *tru
 typedef lf_branch lf_segment;
 #define LF_SEG_UNLOAD LF_BRANCH_UNLOAD   /* retract / withdraw */
 #define LF_SEG_LOAD LF_BRANCH_LOAD       /* approach / extend */
+#define LF_SEG_HOLD ((lf_segment) 2)     /* hold / pause / dwell at the deepest point:
+                                            never fitted, reported */
 
 typedef struct {
     char *key;
@@ -675,7 +713,16 @@ typedef struct {
     unsigned char *segment;   /* lf_segment of each point */
     long *line;               /* source line of each point, for messages */
     size_t nmeta;
-    lf_meta *meta;            /* "# key: value" lines before the header */
+    lf_meta *meta;            /* "# key: value" lines before the header, or
+                                 the instrument's header lines (UTF-8) */
+    /* What the reader found (src/reader.c and src/read_*.c): */
+    const char *format;       /* the reader's name ("csv", "chiaro", ...) */
+    double R;                 /* probe radius stated in the file, m, or NaN */
+    double spring_constant;   /* cantilever k used for the conversions, N/m,
+                                 or NaN when none was needed */
+    double sensitivity;       /* deflection sensitivity used, m/V or m/A, or NaN */
+    lf_warnings info;         /* what was detected, for `layerfit check`:
+                                 columns and units, conversions, segments */
 } lf_curve;
 
 /* One row of a fit plan: which curve, and what is known about it.
@@ -689,6 +736,7 @@ typedef struct {
     char *sample;             /* material group, "" when not given */
     double z0;                /* contact point offset, m, if the plan fixes it, else NaN */
     double F0;                /* force offset, N, if the plan fixes it, else NaN */
+    char *format;             /* the curve file's reader name, "" = sniffed */
 } lf_plan_row;
 
 typedef struct {
@@ -708,10 +756,21 @@ typedef struct {
     const char *force_unit;   /* unit of the force column; NULL = from header */
     int skip_bad_rows;        /* skip rows with missing cells (with a warning)
                                  instead of failing */
+    const char *format;       /* reader name (lf_reader_types); NULL = sniffed */
+    double spring_constant;   /* N/m, used when the file states none; NaN */
+    double sensitivity;       /* m/V or m/A (sensitivity_per_amp), used when
+                                 the file states none; NaN */
+    int sensitivity_per_amp;  /* 1: sensitivity is in m/A, 0: in m/V */
 } lf_read_opts;
 
-/* Fill o with the defaults: units from the header, bad rows are errors. */
+/* Fill o with the defaults: units from the header, bad rows are errors,
+ * format sniffed, no constants. */
 void lf_read_opts_default(lf_read_opts *o);
+/* Set o's spring constant ("0.032N/m") and deflection sensitivity
+ * ("61nm/nA" or "50nm/V") from text, either may be NULL.  LF_EUNIT or
+ * LF_EINVAL with a message naming the option on a bad value. */
+int lf_read_opts_constants(lf_read_opts *o, const char *spring_constant,
+                           const char *sensitivity, lf_error *err);
 
 /* Read one curve CSV (format in datasets/README.md).  On success *out is a
  * new curve owned by the caller (lf_curve_free) and warnings, if any, are
@@ -779,7 +838,7 @@ size_t lf_curve_segment(const lf_curve *c, lf_segment seg, double *depth,
 int lf_curve_check_fit(const lf_curve *c, lf_segment seg, size_t min_points,
                        lf_error *err);
 
-/* The name of a segment ("load", "unload"). */
+/* The name of a segment ("load", "unload", "hold"). */
 const char *lf_segment_name(lf_segment seg);
 
 /* ------------------------------------------------------------------------
@@ -1047,6 +1106,9 @@ typedef struct {
     double **points;      /* owned storage: 2 n arrays (depth, force) */
     char **names;         /* owned storage: n curve paths */
     char (*sha256)[65];   /* n SHA-256 digests (hex) of the curve files as read */
+    const char **R_source;  /* n: where each probe radius came from: "option"
+                               (the caller's probe), "plan" or "file header" */
+    const char **format;    /* n: the reader of each file ("csv", "jpk", ...) */
 } lf_fit_input;
 
 /* Read the curves of rows[0..nrows-1] of the plan (rows NULL: every row,
@@ -1059,7 +1121,11 @@ int lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows
                            const lf_input_settings *s, lf_fit_input *in,
                            lf_warnings *warn, lf_error *err);
 /* The same for one curve file with a probe given by the caller (no plan:
- * in->nu is NaN; the segment is s->segment, unload when -1). */
+ * in->nu is NaN; the segment is s->segment, unload when -1).  A probe R of
+ * NaN is taken from the file's header (LF_EDATA when it states none); a b
+ * of NaN (no layer: half-space models only) becomes R, a stand-in no
+ * half-space formula uses.  A plan row's format column chooses its reader
+ * unless s->read names one. */
 int lf_fit_input_from_curve(const char *path, const lf_probe *probe,
                             const lf_input_settings *s, lf_fit_input *in,
                             lf_warnings *warn, lf_error *err);
@@ -1093,6 +1159,42 @@ long lf_table_column(const lf_table *t, const char *name);
 /* A number in a cell: LF_OK with *v, or LF_OK with *v = NaN for an empty
  * cell; LF_EFORMAT (and *v = NaN) when the cell is not a number. */
 int lf_table_number(const char *cell, double *v);
+
+/* ------------------------------------------------------------------------
+ * Instrument readers (src/reader.c, one src/read_*.c file per format)
+ *
+ * Each format is one entry of lf_reader_types: sniff looks at the first
+ * bytes of a file (at most LF_SNIFF_BYTES) and says how sure it is that the
+ * file is its own (0 = not mine, 100 = certain); read parses the whole
+ * input, from a file or from memory in chunks, into a curve in SI with its
+ * metadata.  lf_curve_read / lf_curve_parse use o->format when given, else
+ * the entry with the highest score ("csv" on a tie or when none claims it).
+ * --------------------------------------------------------------------- */
+
+#define LF_SNIFF_BYTES 65536
+
+/* Where a reader takes its bytes from: buf[0..len-1], handed over in pieces
+ * of chunk bytes (0 = at once); name is used in messages.  Files are read
+ * whole first, from a checked descriptor (lf_input_read), so a reader never
+ * opens anything itself. */
+typedef struct {
+    const char *buf;
+    size_t len, chunk;
+    const char *name;
+} lf_source;
+
+typedef struct {
+    const char *name;         /* "csv", "chiaro", "jpk", ... (--format) */
+    const char *description;  /* one line for `layerfit check --help` */
+    int (*sniff)(const char *head, size_t len);
+    int (*read)(const lf_source *in, const lf_read_opts *o, lf_curve *c,
+                lf_warnings *warn, lf_error *err);
+} lf_reader_type;
+
+extern const lf_reader_type *const lf_reader_types[];  /* NULL-terminated */
+const lf_reader_type *lf_reader_find(const char *name);  /* NULL if unknown */
+/* The reader sniffing picks for these first bytes (never NULL). */
+const lf_reader_type *lf_reader_sniff(const char *head, size_t len);
 
 #ifdef __cplusplus
 }

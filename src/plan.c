@@ -13,7 +13,8 @@
 
 #include "csvsplit.h"
 
-enum { P_FILE, P_K, P_R, P_B, P_INTERFACE, P_NU, P_SEGMENT, P_SAMPLE, P_Z0, P_F0, NPCOL };
+enum { P_FILE, P_K, P_R, P_B, P_INTERFACE, P_NU, P_SEGMENT, P_SAMPLE, P_Z0, P_F0, P_FORMAT,
+       NPCOL };
 
 typedef enum { TEXT, NUMBER, FREE_NUMBER } cell_kind;  /* FREE_NUMBER: empty/NaN = free */
 
@@ -33,6 +34,7 @@ static const struct {
     [P_SAMPLE]    = { "sample", TEXT, LF_Q_DIMENSIONLESS, 0 },
     [P_Z0]        = { "z0", FREE_NUMBER, LF_Q_LENGTH, 0 },
     [P_F0]        = { "F0", FREE_NUMBER, LF_Q_FORCE, 0 },
+    [P_FORMAT]    = { "format", TEXT, LF_Q_DIMENSIONLESS, 0 },  /* empty: sniffed */
 };
 
 #define COLUMNS_HINT "a plan has the columns file,k,R,b,interface and may add nu,segment,sample,z0,F0"
@@ -333,10 +335,17 @@ plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
         return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
                           "unknown interface '%s' (expected frictionless or bonded)",
                           lf_csv_excerpt(r->text[k], buf, sizeof buf));
+    k = rd->col[P_FORMAT];
+    if (k >= 0 && r->text[k][0] != '\0' && lf_reader_find(r->text[k]) == NULL)
+        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                          "unknown format '%s' (csv, chiaro, jpk, workshop, ntmdt, hysitron, "
+                          "text; or empty to detect it)",
+                          lf_csv_excerpt(r->text[k], buf, sizeof buf));
     k = rd->col[P_SAMPLE];
     row->sample = lf_strdup(k >= 0 ? r->text[k] : "");
+    row->format = lf_strdup(rd->col[P_FORMAT] >= 0 ? r->text[rd->col[P_FORMAT]] : "");
     p->n++;          /* from here on the row is owned by the plan */
-    if (row->sample == NULL)
+    if (row->sample == NULL || row->format == NULL)
         return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
     if ((status = plan_number(rd, r, P_K, &row->probe.k, err)) != LF_OK
         || (status = plan_number(rd, r, P_R, &row->probe.R, err)) != LF_OK
@@ -375,7 +384,7 @@ plan_load(const char *path, const char *buf, size_t len, size_t chunk,
           const char *name, const char *dir, lf_plan **out, lf_warnings *warn,
           lf_error *err)
 {
-    lf_csv_handler h;
+    lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
     plan_reader rd;
     int status;
     size_t i;
@@ -393,6 +402,7 @@ plan_load(const char *path, const char *buf, size_t len, size_t chunk,
     h.ctx = &rd;
     h.record = plan_record;
     h.comment = NULL;
+    h.line = NULL;
     status = buf == NULL ? lf_csv_read_file(path, &h, err)
                          : lf_csv_read_buffer(buf, len, chunk, rd.name, &h, err);
     if (status == LF_OK && !rd.have_header)
@@ -452,6 +462,7 @@ lf_plan_free(lf_plan *p)
     for (i = 0; i < p->n; i++) {
         free(p->rows[i].file);
         free(p->rows[i].sample);
+        free(p->rows[i].format);
     }
     free(p->rows);
     free(p->path);
@@ -477,7 +488,7 @@ int
 lf_file_kind_parse(const char *buf, size_t len, const char *name, lf_file_kind *kind,
                    lf_error *err)
 {
-    lf_csv_handler h;
+    lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
     *kind = LF_FILE_CURVE;
     h.ctx = kind;
     h.record = kind_record;
@@ -488,10 +499,11 @@ lf_file_kind_parse(const char *buf, size_t len, const char *name, lf_file_kind *
 int
 lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err)
 {
-    lf_csv_handler h;
+    lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
     *kind = LF_FILE_CURVE;
     h.ctx = kind;
     h.record = kind_record;
     h.comment = NULL;
+    h.line = NULL;
     return lf_csv_read_file(path, &h, err);
 }

@@ -84,7 +84,7 @@ int
 lf_table_read(const char *path, lf_table **out, lf_error *err)
 {
     table_reader rd;
-    lf_csv_handler h;
+    lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
     int status;
 
     *out = NULL;
@@ -95,6 +95,7 @@ lf_table_read(const char *path, lf_table **out, lf_error *err)
     h.ctx = &rd;
     h.record = table_record;
     h.comment = NULL;
+    h.line = NULL;
     status = lf_csv_read_file(path, &h, err);
     if (status != LF_OK) {
         lf_table_free(rd.t);

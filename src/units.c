@@ -30,6 +30,11 @@ static const struct {
     [LF_Q_PRESSURE]      = { "Pa", "Pa", "a pressure or modulus", "1GPa" },
     [LF_Q_TIME]          = { "s", "s", "a time", "1s" },
     [LF_Q_DIMENSIONLESS] = { "1", "", "a pure number", "0.3" },
+    [LF_Q_STIFFNESS]     = { "N/m", "N/m", "a spring constant (force per length)", "0.032N/m" },
+    [LF_Q_SENS_VOLT]     = { "m/V", "m/V", "a sensitivity (length per volt)", "50nm/V" },
+    [LF_Q_SENS_AMP]      = { "m/A", "m/A", "a sensitivity (length per ampere)", "61nm/nA" },
+    [LF_Q_VOLTAGE]       = { "V", "V", "a voltage", "1V" },
+    [LF_Q_CURRENT]       = { "A", "A", "a current", "1nA" },
 };
 #define NQUANT (sizeof quantities / sizeof quantities[0])
 
@@ -63,8 +68,9 @@ static const char *
 unit_noun(const ut_unit *u)
 {
     size_t q;
-    for (q = 0; q < NQUANT - 1; q++) {
-        ut_unit *si = ut_parse(units_system, quantities[q].si, UT_ASCII);
+    for (q = 0; q < NQUANT; q++) {
+        ut_unit *si = q == LF_Q_DIMENSIONLESS ? NULL
+                    : ut_parse(units_system, quantities[q].si, UT_ASCII);
         int same = si != NULL && ut_are_convertible(u, si);
         ut_free(si);
         if (same)

@@ -48,6 +48,48 @@ replay(const char *sub)
     return n;
 }
 
+/* Replay the seeds of each instrument reader's fuzz target, and every
+ * regression input, through that reader forced. */
+static void
+replay_readers(void)
+{
+    static const char *const readers[] = { "chiaro", "jpk", "workshop", "ntmdt", "hysitron",
+                                           "text", NULL };
+    char dir[1200], path[2400];
+    size_t r;
+    for (r = 0; readers[r] != NULL; r++) {
+        const char *subs[2];
+        size_t s;
+        int n = 0;
+        subs[0] = readers[r];
+        subs[1] = "regress";
+        for (s = 0; s < 2; s++) {
+            struct dirent *e;
+            DIR *d;
+            snprintf(dir, sizeof dir, "%s/../fuzz/%s", data, subs[s]);
+            if ((d = opendir(dir)) == NULL)
+                continue;
+            while ((e = readdir(d)) != NULL) {
+                size_t len = 0, chunk;
+                int bad = 0;
+                char *buf;
+                if (e->d_name[0] == '.' || strstr(e->d_name, ".md") != NULL)
+                    continue;
+                snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+                if ((buf = slurp(path, &len)) == NULL)
+                    continue;
+                for (chunk = 1; chunk <= 13; chunk++)
+                    bad |= fuzz_reader(readers[r], buf, len, chunk, (int) chunk & 1);
+                t_int(bad, 0, "%s/%s: %s reader consistent", subs[s], e->d_name, readers[r]);
+                free(buf);
+                n += s == 0;
+            }
+            closedir(d);
+        }
+        t_true(n > 0, "%s seeds present", readers[r]);
+    }
+}
+
 int
 main(int argc, char **argv)
 {
@@ -56,5 +98,6 @@ main(int argc, char **argv)
     t_true(replay("regress") > 0, "regression inputs present");
     t_true(replay("curve") > 0, "curve seeds present");
     t_true(replay("plan") > 0, "plan seeds present");
+    replay_readers();
     return t_summary();
 }

@@ -55,7 +55,11 @@ static const char bench_help[] =
     "  --plot FILE        draw error against time per fit (log-log) with gnuplot\n"
     "  --scipy SCRIPT     the peer script (default tests/bench/peer_scipy.py, found\n"
     "                     next to the working directory or the program)\n"
-    "  --no-scipy         skip the scipy comparison\n";
+    "  --no-scipy         skip the scipy comparison\n"
+    "  --coverage         instead: how often the 95% intervals (linear or profile\n"
+    "                     likelihood, as `layerfit fit` makes them) hold the truth, and\n"
+    "                     the RMS error over the Cramer-Rao bound (--seeds N, default\n"
+    "                     200; --scene paper-offsets, mixed-nu or soft-coating)\n";
 
 #define MAXC 3           /* curves per scene at most */
 #define PYTHON "/usr/bin/python3"
@@ -879,10 +883,10 @@ int
 cli_bench(int argc, char **argv)
 {
     const char *csv = NULL, *plot = NULL, *scene_name = NULL, *script = NULL;
-    int quick = 0, no_scipy = 0, help = 0, npos;
+    int quick = 0, no_scipy = 0, help = 0, npos, coverage = 0;
     long seeds = -1, batch = -1;
     const cli_opt opts[] = {
-        { "quick", CLI_FLAG, &quick },
+        { "quick", CLI_FLAG, &quick }, { "coverage", CLI_FLAG, &coverage },
         { "seeds", CLI_COUNT, &seeds },
         { "batch", CLI_COUNT, &batch },
         { "scene", CLI_STRING, &scene_name },
@@ -909,6 +913,8 @@ cli_bench(int argc, char **argv)
         cli_die(CLI_EXIT_USAGE, "bench: unexpected argument '%s' (see 'layerfit bench --help')",
                 argv[0]);
     nseeds = seeds >= 0 ? (size_t) seeds : quick ? 10 : 200;
+    if (coverage)
+        return cli_coverage(nseeds, scene_name);
     nbatch = batch >= 0 ? (size_t) batch : quick ? 256 : 4096;
     if (nseeds < 2)
         cli_die(CLI_EXIT_USAGE, "bench: --seeds: at least 2 seeds are needed (e.g. --seeds 50)");

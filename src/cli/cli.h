@@ -87,6 +87,8 @@ int cli_simulate(int argc, char **argv);
 /* `layerfit bench`: speed against error (bench.c). */
 int cli_bench(int argc, char **argv);
 int cli_cache(int argc, char **argv);
+/* `layerfit bench --coverage`: interval coverage over seeds (coverage.c). */
+int cli_coverage(size_t nseeds, const char *scene_name);
 /* `layerfit model --figure N [--plot FILE]` (figure.c). */
 int cli_figure(int figure, const char *plot);
 int cli_check(int argc, char **argv);
@@ -105,11 +107,13 @@ typedef struct {
     double guess_w, guess_E, guess_nu, loss_scale;
     long max_iter;
     int slope;
+    const char *format, *spring_constant, *sensitivity;  /* how curves are read */
+    lf_read_opts read;    /* filled by cli_fit_settings; is->read points here */
 } cli_fit_args;
-#define CLI_FIT_NOPTS 20
+#define CLI_FIT_NOPTS 24
 void cli_fit_args_init(cli_fit_args *a);
 size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
-int cli_fit_settings(const cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
+int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
                      lf_input_settings *is);
 /* The fit options' help lines, shared by both usage texts. */
 extern const char cli_fit_help[];

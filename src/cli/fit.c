@@ -12,6 +12,7 @@
 static const char usage_text[] =
     "usage: layerfit fit PLAN.csv [options]\n"
     "       layerfit fit CURVE.csv --k K --R LENGTH --b LENGTH --interface I [options]\n"
+    "       layerfit fit EXPORT.txt --model halfspace --k 2 [--R LENGTH] [options]\n"
     "\n"
     "Fits w, E* and (where the plan determines it) nu jointly to every curve,\n"
     "with each curve's contact point z0 and force offset F0 free unless fixed.\n"
@@ -22,6 +23,8 @@ static const char usage_text[] =
     "  --plot DIR           figures (PNG, SVG) with their gnuplot scripts and data\n"
     "  --report FILE.html   one self-contained page: tables, warnings, figures\n"
     "  --batch PLAN.csv     every curve or sample an independent fit (see --batch --help)\n"
+    "  a single curve takes R from its file's header when --R is absent; with\n"
+    "  --model halfspace it needs no --b (not used) and no --interface\n"
     "fit options (the same, with the same defaults, for --batch):\n";
 
 const char cli_fit_help[] =
@@ -46,7 +49,12 @@ const char cli_fit_help[] =
     "  --loss L             linear (least squares, default), huber or cauchy: robust\n"
     "                       losses down-weight outliers (iteratively reweighted)\n"
     "  --loss-scale X       where the robust loss bends, in noise sd (1.345 huber,\n"
-    "                       2.385 cauchy)\n";
+    "                       2.385 cauchy)\n"
+    "how curve files are read (also for --batch; a plan's format column per row):\n"
+    "  --format NAME        the curve files' format instead of sniffing (csv, chiaro, jpk,\n"
+    "                       workshop, ntmdt, hysitron, text; see layerfit check)\n"
+    "  --spring-constant K  cantilever spring constant where a file states none (0.032N/m)\n"
+    "  --sensitivity S      deflection sensitivity where a file states none (61nm/nA)\n";
 
 static const char exit_text[] =
     "exit status: 0 converged; 3 not converged (report still written); 2 bad command\n"
@@ -57,10 +65,25 @@ typedef struct {
     double k, R, b;
 } fit_args;
 
+/* "FILE: R = 8 um from the file header" for each curve whose probe radius
+ * was read from its file. */
+static void
+print_R_sources(const lf_fit_input *in)
+{
+    char buf[48];
+    size_t j;
+    for (j = 0; j < in->n; j++)
+        if (in->R_source[j] != NULL && strcmp(in->R_source[j], "file header") == 0)
+            printf("%s: R = %s from the file header (%s export)\n", in->curves[j].name,
+                   cli_human(buf, sizeof buf, in->curves[j].probe.R, "m"),
+                   in->format[j] != NULL ? in->format[j] : "?");
+}
+
 /* Read the plan (or the single curve) into in (lf_fit_input_from_plan:
  * the one step from a plan to a fit's input, the one rule for nu). */
 static void
-read_input(const char *path, const fit_args *a, const lf_input_settings *is, lf_fit_input *in)
+read_input(const char *path, const fit_args *a, const char *model, const lf_input_settings *is,
+           lf_fit_input *in)
 {
     lf_warnings warn = { 0, NULL };
     lf_error err;
@@ -69,23 +92,33 @@ read_input(const char *path, const fit_args *a, const lf_input_settings *is, lf_
     int status;
     if (!isnan(a->k)) {
         lf_probe p;
-        int base;
-        if (isnan(a->R) || isnan(a->b) || a->interface == NULL)
-            cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
-                    "(e.g. --k 2 --R 1mm --b 1um --interface frictionless)");
-        base = cli_base(a->interface);
-        if (base < 0)
-            cli_die(CLI_EXIT_USAGE, "fit: unknown interface '%s' (frictionless or bonded)", a->interface);
+        int base = LF_BASE_FRICTIONLESS;
+        /* a half-space has no thickness and no interface: b NaN, a stand-in
+         * (R) that no half-space formula uses; R NaN: from the file header */
+        int halfspace = strcmp(model, "halfspace") == 0;
+        if (!(halfspace && isnan(a->b) && a->interface == NULL)) {
+            if (isnan(a->b) || a->interface == NULL)
+                cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
+                        "(e.g. --k 2 --R 1mm --b 1um --interface frictionless)");
+            base = cli_base(a->interface);
+            if (base < 0)
+                cli_die(CLI_EXIT_USAGE, "fit: unknown interface '%s' (frictionless or bonded)",
+                        a->interface);
+        }
         p.k = a->k;
-        p.R = a->R;
-        p.b = a->b;
+        p.R = isnan(a->R) ? 1.0 : a->R;    /* checked with the file's R after reading */
+        p.b = isnan(a->b) ? p.R : a->b;
         p.base = (lf_base) base;
         if (lf_probe_check(&p, &err) != LF_OK)
             cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
+        p.R = a->R;
+        p.b = a->b;
         /* a curve named on the command line may be a pipe (read once) */
         one.open_flags = LF_INPUT_STREAM;
         cli_input_guard("fit", path);
         status = lf_fit_input_from_curve(path, &p, &one, in, &warn, &err);
+        if (status == LF_OK && isnan(a->b))
+            printf("%s: half-space model: no layer thickness or interface used\n", path);
     } else {
         lf_plan *plan = cli_plan_load("fit", path);
         for (j = 0; j < plan->n; j++)   /* no output may replace a curve */
@@ -95,10 +128,13 @@ read_input(const char *path, const fit_args *a, const lf_input_settings *is, lf_
     }
     cli_print_warnings(&warn);
     lf_warnings_free(&warn);
+    if (status != LF_OK && err.file[0] == '\0')
+        cli_die(status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, "fit: %s", err.msg);
     if (status != LF_OK)
         cli_die_error(status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, &err);
     for (j = 0; j < in->n; j++)     /* provenance: each curve as it was read */
         cli_input_note(in->names[j], in->sha256[j]);
+    print_R_sources(in);
 }
 
 /* --json and --curves: through the atomic writer (output.c). */
@@ -138,6 +174,8 @@ cli_fit_args_init(cli_fit_args *a)
     a->guess_w = a->guess_E = a->guess_nu = a->loss_scale = NAN;
     a->max_iter = -1;
     a->slope = 0;
+    a->format = a->spring_constant = a->sensitivity = NULL;
+    lf_read_opts_default(&a->read);
 }
 
 size_t
@@ -153,6 +191,8 @@ cli_fit_opts(cli_fit_args *a, cli_opt *opts)
         { "guess-w", CLI_ADHESION, &a->guess_w }, { "guess-E", CLI_PRESSURE, &a->guess_E },
         { "guess-nu", CLI_NUMBER, &a->guess_nu }, { "loss", CLI_STRING, &a->loss },
         { "loss-scale", CLI_NUMBER, &a->loss_scale },
+        { "format", CLI_STRING, &a->format }, { "spring-constant", CLI_STRING, &a->spring_constant },
+        { "sensitivity", CLI_STRING, &a->sensitivity },
     };
     size_t n = sizeof table / sizeof table[0];
 
@@ -161,12 +201,13 @@ cli_fit_opts(cli_fit_args *a, cli_opt *opts)
 }
 
 int
-cli_fit_settings(const cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
+cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
                  lf_input_settings *is)
 {
     int model_auto = strcmp(a->model, "auto") == 0;
     double nu;
     size_t i;
+    lf_error err;
 
     s->model = model_auto ? &lf_model_thin : lf_model_type_find(a->model);
     if (s->model == NULL)
@@ -210,6 +251,13 @@ cli_fit_settings(const cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *
     is->z0 = a->fix_z0;
     is->F0 = a->fix_F0;
     is->min_points = CLI_MIN_POINTS;    /* the same test as `layerfit check` */
+    if (a->format != NULL && lf_reader_find(a->format) == NULL)
+        cli_die(CLI_EXIT_USAGE, "fit: unknown format '%s' (csv, chiaro, jpk, workshop, ntmdt, "
+                "hysitron, text)", a->format);
+    a->read.format = a->format;
+    if (lf_read_opts_constants(&a->read, a->spring_constant, a->sensitivity, &err) != LF_OK)
+        cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
+    is->read = &a->read;
     s->fit_slope = a->slope;
     if (!isnan(a->guess_w) && !(a->guess_w > 0))
         cli_die(CLI_EXIT_USAGE, "fit: --guess-w must be > 0 (e.g. --guess-w 10mJ/m2)");
@@ -281,7 +329,7 @@ cli_fit(int argc, char **argv)
     cli_output_note("fit", a.curves);
     cli_output_note("fit", report_html);
     model_auto = cli_fit_settings(&fa, &set, &choose, &is);
-    read_input(argv[0], &a, &is, &d);
+    read_input(argv[0], &a, fa.model, &is, &d);
     lf_fit_input_apply_nu(&d, &set);
     if (model_auto)
         status = lf_fit_choose_driver(&set, &choose, d.n, d.curves, &r, &err);
@@ -296,6 +344,12 @@ cli_fit(int argc, char **argv)
         if (st != LF_OK)
             fprintf(stderr, "layerfit: warning: the thin-layer comparison fit failed: %s\n",
                     terr.msg);
+    }
+    {
+        /* profile-likelihood intervals where the linear ones are unreliable */
+        lf_error perr;
+        if (lf_fit_profile(&set, d.n, d.curves, &r, 0, &perr) != LF_OK)
+            fprintf(stderr, "layerfit: warning: profile-likelihood intervals: %s\n", perr.msg);
     }
     in.settings = &set;
     in.model_request = fa.model;

@@ -194,6 +194,8 @@ parameter_row(FILE *f, const char *name, const lf_fit_estimate *e, const char *u
         } else {
             fprintf(f, "%.4f &ndash; %.4f", e->ci95[0], e->ci95[1]);
         }
+        if (e->interval_method != NULL && strcmp(e->interval_method, "profile likelihood") == 0)
+            fputs(" (profile likelihood)", f);
         fputs("</td>", f);
     } else {
         fputs("<td class=\"na\">&ndash;</td>", f);

@@ -67,6 +67,18 @@ draw_material(const lf_fit_result *res, lf_material *m)
     return isfinite(m->w) && isfinite(m->Estar) ? 0 : -1;
 }
 
+/* A value for a title: "not determined" for NaN (no NaN ever reaches a
+ * figure's text). */
+static const char *
+value_text(char *buf, size_t n, double x, const char *unit)
+{
+    if (!isfinite(x)) {
+        snprintf(buf, n, "not determined");
+        return buf;
+    }
+    return cli_human(buf, n, x, unit);
+}
+
 /* One curve's model on a grid of indentations, in instrument coordinates. */
 typedef struct {
     double z[GRID], F[GRID], delta[GRID];
@@ -79,7 +91,9 @@ static void
 model_for(const lf_fit_curve *c, const lf_fit_curve_result *cr, const lf_fit_result *res,
           model_curve *mc)
 {
-    const lf_model_type *type = lf_model_type_find(res->model ? res->model : "thin");
+    /* each curve's own model (under --model auto the fit's is "mixed") */
+    const lf_model_type *type = lf_model_type_find(cr->model != NULL ? cr->model
+                                                   : res->model ? res->model : "thin");
     lf_material mat;
     lf_model *model;
     lf_eval ev[GRID];
@@ -288,11 +302,31 @@ curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
         snprintf(title, sizeof title, "%s: k = %g, R = %s, b = %s, %s;  w = %s, E* = %s",
                  base_name(c->name), c->probe.k, cli_human(buf, sizeof buf, c->probe.R, "m"),
                  cli_human(pb, sizeof pb, c->probe.b, "m"), cli_base_name(c->probe.base),
-                 cli_human(wb, sizeof wb, res->w.value, "J/m²"),
-                 cli_human(Eb, sizeof Eb, res->Estar.value, "Pa"));
+                 value_text(wb, sizeof wb, res->w.value, "J/m²"),
+                 value_text(Eb, sizeof Eb, res->Estar.value, "Pa"));
         fputs("set multiplot title ", g);
         cli_gnuplot_string(g, title);
         fputs(" noenhanced\n", g);
+    }
+    /* the main and residual panels share one x axis: the data's depths
+     * and the model's */
+    {
+        double xlo = HUGE_VAL, xhi = -HUGE_VAL;
+        for (i = 0; i < c->n; i++) {
+            xlo = fmin(xlo, c->depth[i]);
+            xhi = fmax(xhi, c->depth[i]);
+        }
+        if (mc->have)
+            for (i = 0; i < GRID; i++) {
+                xlo = fmin(xlo, mc->z[i]);
+                xhi = fmax(xhi, mc->z[i]);
+            }
+        if (!(xhi > xlo)) {
+            double h = fabs(xlo) > 0 ? 1e-3 * fabs(xlo) : 1e-9;
+            xlo -= h;
+            xhi += h;
+        }
+        fprintf(g, "set xrange [%.9g:%.9g]\n", xlo * 1e9, xhi * 1e9);
     }
     fprintf(g, "set lmargin at screen 0.09\nset rmargin at screen 0.60\n"
                "set tmargin at screen 0.90\nset bmargin at screen 0.36\n"
@@ -305,19 +339,41 @@ curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
                "unset key\n", fu);
     fprintf(g, "plot '%s.dat' index 0 using 1:4 with points pt 7 ps 0.4 lc rgb '%s', "
                "0 with lines lc rgb '#444444' dt 3\n", base, palette[0]);
-    if (isfinite(mc->F_po) && cr->pulloff.delta_po > cr->pulloff.delta_detach) {
-        /* from just past detachment to a few pull-off widths into contact */
-        double span = cr->pulloff.delta_po - cr->pulloff.delta_detach;
-        double s = isfinite(cr->slope) ? cr->slope : 0.0;
-        double x0 = cr->pulloff.delta_detach - 0.4 * span, x1 = cr->pulloff.delta_po + 3.0 * span;
-        double y0 = 1.6 * cr->pulloff.P_po, y1 = -1.6 * cr->pulloff.P_po;
+    if (isfinite(mc->F_po) && isfinite(cr->pulloff.delta_detach)
+        && cr->pulloff.delta_po >= cr->pulloff.delta_detach) {
+        /* from just past detachment to a few pull-off widths into contact,
+         * at least a twentieth of the data's depth span (w -> 0 shrinks
+         * the pull-off to a point); the force range from the data and the
+         * model inside that window */
+        double s = isfinite(cr->slope) ? cr->slope : 0.0, dlo = HUGE_VAL, dhi = -HUGE_VAL;
+        double span, x0, x1, y0 = HUGE_VAL, y1 = -HUGE_VAL, pad;
+        for (i = 0; i < c->n; i++) {
+            dlo = fmin(dlo, c->depth[i] - cr->z0);
+            dhi = fmax(dhi, c->depth[i] - cr->z0);
+        }
+        span = fmax(cr->pulloff.delta_po - cr->pulloff.delta_detach, 0.05 * (dhi - dlo));
+        x0 = cr->pulloff.delta_detach - 0.4 * span;
+        x1 = cr->pulloff.delta_po + 3.0 * span;
+        for (i = 0; i < c->n; i++) {
+            double dd = c->depth[i] - cr->z0;
+            if (dd >= x0 && dd <= x1) {
+                y0 = fmin(y0, c->force[i]);
+                y1 = fmax(y1, c->force[i]);
+            }
+        }
+        y0 = fmin(y0, mc->F_po);
+        y1 = fmax(y1, cr->F0 + s * x1);
+        pad = 0.1 * (y1 - y0);
+        if (!(pad > 0))
+            pad = fabs(y0) > 0 ? 0.1 * fabs(y0) : 1e-12;
+        y0 -= pad;
+        y1 += pad;
         fprintf(g, "set lmargin at screen 0.70\nset rmargin at screen 0.98\n"
                    "set tmargin at screen 0.90\nset bmargin at screen 0.36\n"
                    "set title 'around pull-off'\nset xlabel 'depth z (nm)'\n"
                    "set ylabel 'force (%s)'\n", fu);
         fprintf(g, "set xrange [%.9g:%.9g]\nset yrange [%.9g:%.9g]\n",
-                (x0 + cr->z0) * 1e9, (x1 + cr->z0) * 1e9,
-                (y0 + cr->F0 + s * x0) / fs, (y1 + cr->F0 + s * x1) / fs);
+                (x0 + cr->z0) * 1e9, (x1 + cr->z0) * 1e9, y0 / fs, y1 / fs);
         curve_layers(g, base, nst, nun, nbase, mc->have, 1, 0, "");
         fprintf(g, "unset title\nset autoscale\n");
     }
@@ -398,8 +454,8 @@ overview_figure(const char *dir, const char *base, size_t nc, const lf_fit_curve
     }
     script_head(g, base, "every curve of a joint fit on shared axes", 1000, 700);
     fprintf(g, "set title \"%zu curve%s, w = %s, E* = %s, %s model\" noenhanced\n", nc,
-            nc == 1 ? "" : "s", cli_human(wb, sizeof wb, res->w.value, "J/m²"),
-            cli_human(Eb, sizeof Eb, res->Estar.value, "Pa"), res->model ? res->model : "");
+            nc == 1 ? "" : "s", value_text(wb, sizeof wb, res->w.value, "J/m²"),
+            value_text(Eb, sizeof Eb, res->Estar.value, "Pa"), res->model ? res->model : "");
     fprintf(g, "set xlabel 'indentation δ = z - z_0 (nm)'\nset ylabel 'force - F_0 (%s)'\n"
                "set key outside right top noenhanced\n", fu);
     fprintf(g, "plot ");

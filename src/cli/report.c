@@ -23,6 +23,12 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
                 cli_human(hi, sizeof hi, e->ci95[1], unit));
         return;
     }
+    if (!e->determined && e->free && isfinite(e->ci95[0]) && isnan(e->ci95[1])) {
+        fprintf(f, "  %-4s not determined: the data bound it only from below, %s < %s "
+                "(95%%, profile likelihood)\n", name,
+                unit[0] ? cli_human(lo, sizeof lo, e->ci95[0], unit) : "", name);
+        return;
+    }
     if (!e->determined) {
         fprintf(f, "  %-4s not determined%s%s\n", name, why_not ? ": " : "", why_not ? why_not : "");
         return;
@@ -35,13 +41,16 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
         return;
     }
     if (unit[0] == '\0')
-        fprintf(f, "  %-4s = %.4f +- %.2g   95%% [%.4f, %.4f]\n", name, e->value, e->se,
+        fprintf(f, "  %-4s = %.4f +- %.2g   95%% [%.4f, %.4f]", name, e->value, e->se,
                 e->ci95[0], e->ci95[1]);
     else
-        fprintf(f, "  %-4s = %s +- %s (%.2g%%)   95%% [%s, %s]\n", name,
+        fprintf(f, "  %-4s = %s +- %s (%.2g%%)   95%% [%s, %s]", name,
                 cli_human(v, sizeof v, e->value, unit), cli_human(s, sizeof s, e->se, unit),
                 100.0 * e->se / e->value, cli_human(lo, sizeof lo, e->ci95[0], unit),
                 cli_human(hi, sizeof hi, e->ci95[1], unit));
+    if (e->interval_method != NULL && strcmp(e->interval_method, "profile likelihood") == 0)
+        fputs(" (profile likelihood)", f);
+    fputc('\n', f);
 }
 
 static void
@@ -143,9 +152,15 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                 cli_human(b, sizeof b, cr->probe.b, "m"), cli_base_name(cr->probe.base),
                 branch_name(cr->branch), cr->n);
         fprintf(f, "      z0 = %s%s, F0 = %s%s, noise %s, rms residual %s\n",
-                cli_human(a, sizeof a, cr->z0, "m"), cr->z0_free ? "" : " (fixed)",
-                cli_human(b, sizeof b, cr->F0, "N"), cr->F0_free ? "" : " (fixed)",
+                isnan(cr->z0) ? "not determined" : cli_human(a, sizeof a, cr->z0, "m"),
+                cr->z0_free ? "" : " (fixed)",
+                isnan(cr->F0) ? "not determined" : cli_human(b, sizeof b, cr->F0, "N"),
+                cr->F0_free ? "" : " (fixed)",
                 cli_human(c, sizeof c, cr->sigma, "N"), cli_human(d, sizeof d, cr->rms, "N"));
+        if (cr->corr_time > 1.5)
+            fprintf(f, "      correlated noise: one independent point in %.3g (%.0f of %zu), "
+                    "noise %s at that lag\n", cr->corr_time, cr->n_eff, cr->n,
+                    cli_human(a, sizeof a, cr->noise_sd, "N"));
         fprintf(f, "      pull-off %s, contact radius %s, mean tension %s\n",
                 cli_human(a, sizeof a, cr->pulloff.P_po, "N"),
                 cli_human(b, sizeof b, cr->pulloff.a_po, "m"),
@@ -154,9 +169,15 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                 cr->b_over_a_min_contact, cr->b_over_a_pulloff);
         if (cr->model != NULL)
             fprintf(f, "      model %s: %s\n", cr->model, cr->model_reason);
-        fprintf(f, "      agreement: chi2/point %.3g (p = %.2g), runs test z = %.2f: %s\n",
-                cr->chi2_per_point, cr->p_value, cr->runs_z,
-                cr->consistent ? "consistent" : "DISAGREES");
+        if (cr->agreement == 1)
+            fprintf(f, "      agreement: chi2/point %.3g (p = %.2g), runs test z = %.2f: the model "
+                    "describes the shape, with systematic deviations of %.2g%% of the force "
+                    "range (beyond the noise)\n", cr->chi2_per_point, cr->p_value, cr->runs_z,
+                    100.0 * cr->misfit_rel);
+        else
+            fprintf(f, "      agreement: chi2/point %.3g (p = %.2g), runs test z = %.2f: %s\n",
+                    cr->chi2_per_point, cr->p_value, cr->runs_z,
+                    cr->consistent ? "consistent" : "DISAGREES");
         if (cr->downweighted > 0)
             fprintf(f, "      %zu points down-weighted by the %s loss\n", cr->downweighted,
                     r->loss);
@@ -237,7 +258,9 @@ jestimate(FILE *f, const char *name, const lf_fit_estimate *e, int last)
     jnum(f, e->ci95[0]);
     fputs(", ", f);
     jnum(f, e->ci95[1]);
-    fprintf(f, "], \"free\": %s, \"determined\": %s, \"upper_bound_only\": %s}%s\n",
+    fprintf(f, "], \"ci95_method\": \"%s\"",
+            e->interval_method != NULL ? e->interval_method : "linear (Wald)");
+    fprintf(f, ", \"free\": %s, \"determined\": %s, \"upper_bound_only\": %s}%s\n",
             e->free ? "true" : "false", e->determined ? "true" : "false",
             e->upper_bound_only ? "true" : "false", last ? "" : ",");
 }
@@ -317,7 +340,8 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
             { "b_over_a_min_contact", c->b_over_a_min_contact },
             { "b_over_a_pulloff", c->b_over_a_pulloff },
             { "chi2_per_point", c->chi2_per_point }, { "p_value", c->p_value },
-            { "runs_z", c->runs_z }
+            { "runs_z", c->runs_z }, { "corr_time", c->corr_time }, { "n_eff", c->n_eff },
+            { "noise_sd", c->noise_sd }, { "misfit_rel", c->misfit_rel }
         };
         for (i = 0; i < sizeof num / sizeof num[0]; i++) {
             fprintf(f, ", \"%s\": ", num[i].key);
@@ -328,6 +352,8 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
                 cli_base_name(c->probe.base), branch_name(c->branch), c->n,
                 c->z0_free ? "true" : "false", c->F0_free ? "true" : "false",
                 c->consistent ? "true" : "false", c->downweighted);
+        fprintf(f, ", \"agreement\": \"%s\"", c->agreement == 2 ? "within the noise"
+                : c->agreement == 1 ? "systematic deviations" : "disagrees");
         fputs(",\n     \"model\": ", f);
         jstr(f, c->model);
         fputs(", \"model_reason\": ", f);

@@ -35,11 +35,51 @@ fuzz_curve(const char *buf, size_t len, size_t chunk, int skip_bad_rows)
     else if (sa == LF_OK) {
         size_t nl = lf_curve_segment(a, LF_SEG_LOAD, NULL, NULL);
         size_t nu = lf_curve_segment(a, LF_SEG_UNLOAD, NULL, NULL);
-        bad = a->n == 0 || a->n != b->n || nl + nu != a->n
+        size_t nh = lf_curve_segment(a, LF_SEG_HOLD, NULL, NULL);
+        bad = a->n == 0 || a->n != b->n || nl + nu + nh != a->n
             || memcmp(a->depth, b->depth, a->n * sizeof *a->depth) != 0
             || memcmp(a->force, b->force, a->n * sizeof *a->force) != 0;
         if (lf_curve_check_fit(a, LF_SEG_UNLOAD, 6, &ea) != LF_OK && ea.msg[0] == '\0')
             bad = 1;
+    }
+    lf_curve_free(a);
+    lf_curve_free(b);
+    lf_warnings_free(&w);
+    return bad;
+}
+
+/* One instrument reader, forced by name, on buf whole and in pieces, with
+ * a spring constant and a sensitivity given (so that the AFM conversions
+ * run; per_amp picks m/A or m/V).  Every point must be finite and in one
+ * of the three segments. */
+static inline int
+fuzz_reader(const char *format, const char *buf, size_t len, size_t chunk, int per_amp)
+{
+    lf_read_opts o;
+    lf_curve *a = NULL, *b = NULL;
+    lf_error ea, eb;
+    lf_warnings w = { 0, NULL };
+    int sa, sb, bad = 0;
+    size_t i;
+
+    lf_read_opts_default(&o);
+    o.format = format;
+    o.spring_constant = 0.05;
+    o.sensitivity = per_amp ? 61.0 : 5e-8;
+    o.sensitivity_per_amp = per_amp;
+    o.skip_bad_rows = (int) (len & 1);
+    sa = lf_curve_parse(buf, len, 0, "fuzz.txt", &o, &a, &w, &ea);
+    sb = lf_curve_parse(buf, len, chunk, "fuzz.txt", &o, &b, NULL, &eb);
+    if (sa != sb || (sa != LF_OK && !fuzz_same_error(&ea, &eb)))
+        bad = 1;
+    else if (sa == LF_OK) {
+        bad = a->n == 0 || a->n != b->n || strcmp(a->format, format) != 0
+            || memcmp(a->depth, b->depth, a->n * sizeof *a->depth) != 0
+            || memcmp(a->force, b->force, a->n * sizeof *a->force) != 0
+            || memcmp(a->segment, b->segment, a->n) != 0;
+        for (i = 0; !bad && i < a->n; i++)
+            bad = !(a->depth[i] - a->depth[i] == 0) || !(a->force[i] - a->force[i] == 0)
+                || a->segment[i] > LF_SEG_HOLD;
     }
     lf_curve_free(a);
     lf_curve_free(b);

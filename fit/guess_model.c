@@ -1,0 +1,204 @@
+/* guess_model.c: the automatic start of a model with no thickness (the
+ * half-space), made with that model's own force law, so that nothing the
+ * model ignores (the layer thickness b) moves it.
+ *
+ * The thin-layer profile of guess.c finds, per curve, what does not depend
+ * on the model's stiffness scale: the force offset F0 and where contact
+ * ends.  From the data, sorted by depth, three features follow:
+ *   the pull-off point  (z_po, F_min): the least force (unloading), or the
+ *                       jump into contact (loading);
+ *   the deepest point   (z_max, F_max);
+ * and the model in use gives, for a material, its pull-off force P_po and
+ * indentation delta_po (lf_model_pulloff; P_jump at delta = 0 for loading)
+ * and its force at any indentation.  The material solves
+ *   P_po(E*, w)                       = F_min - F0      (w, for each E*)
+ *   P(z_max - z_po + delta_po; E*, w) = F_max - F0      (E*)
+ * by nested bisection in ln w and ln E* (both monotone).  With no adhesion
+ * seen (|F_min - F0| below three noise sd) w is set to the value whose
+ * pull-off is one noise sd and the contact point is the thin profile's.
+ * Curves are combined by geometric means, then every curve's contact point
+ * is placed so that its pull-off lands on the data's. */
+#include <math.h>
+#include <string.h>
+
+#include "fit.h"
+
+#define BISECT_STEPS 80
+
+/* 1 when every curve's model has no thickness (uses no b). */
+int
+lf_fit_guess_by_model(const lf_fit *f)
+{
+    size_t j;
+    for (j = 0; j < f->ncurves; j++)
+        if (lf_model_get_type(f->c[j].model) != &lf_model_halfspace)
+            return 0;
+    return f->ncurves > 0;
+}
+
+/* Pull-off force (or the jump force when loading) and its indentation. */
+static int
+pull(const fit_curve *c, const lf_material *m, double *P, double *delta)
+{
+    lf_pulloff po;
+    if (lf_model_pulloff(c->model, m, &po, NULL) != LF_OK)
+        return 0;
+    if (c->data.branch == LF_BRANCH_LOAD) {
+        *P = po.P_jump;
+        *delta = 0.0;
+    } else {
+        *P = po.P_po;
+        *delta = po.delta_po;
+    }
+    return isfinite(*P) && isfinite(*delta);
+}
+
+/* The w (at E*) whose pull-off force is target (< 0). */
+static double
+w_for_pulloff(const fit_curve *c, double Estar, double nu, double target)
+{
+    double lo = log(1e-300 + 1e-18 * Estar * c->data.probe.R), hi = log(1e6 * Estar * c->data.probe.R);
+    size_t i;
+    for (i = 0; i < BISECT_STEPS; i++) {
+        double mid = 0.5 * (lo + hi), P, d;
+        lf_material m = { exp(mid), Estar, nu };
+        if (!pull(c, &m, &P, &d))
+            hi = mid;
+        else if (P > target)        /* too little adhesion */
+            lo = mid;
+        else
+            hi = mid;
+    }
+    return exp(0.5 * (lo + hi));
+}
+
+/* The model's force at indentation delta, or NaN. */
+static double
+force_at(const fit_curve *c, const lf_material *m, double delta)
+{
+    lf_eval e;
+    if (lf_model_eval(c->model, m, c->data.branch, 1, &delta, &e, NULL) != LF_OK)
+        return NAN;
+    return e.P;
+}
+
+/* The features of curve j's data. */
+static void
+features(const lf_fit *f, size_t j, double F0, double *zpo, double *Fmin, double *zmax,
+         double *Fmax)
+{
+    const fit_curve *c = &f->c[j];
+    const size_t *ord = f->order + c->row;
+    size_t i, n = c->data.n, ntop = n / 50 + 1;
+    double s = 0.0;
+
+    *Fmin = HUGE_VAL;
+    *zpo = NAN;
+    for (i = 0; i < n; i++)
+        if (c->data.force[i] < *Fmin) {
+            *Fmin = c->data.force[i];
+            *zpo = c->data.depth[i];
+        }
+    /* the deepest points, averaged against the noise */
+    for (i = n - ntop; i < n; i++)
+        s += c->data.force[ord[i]];
+    *Fmax = s / (double) ntop;
+    *zmax = c->data.depth[ord[n - ntop / 2 - 1]];
+    (void) F0;
+}
+
+/* The material of one curve; 0 when the data give no contact. */
+static int
+curve_material(const lf_fit *f, size_t j, double nu, lf_material *out)
+{
+    const fit_curve *c = &f->c[j];
+    double F0 = c->iF0 >= 0 ? c->guess.F0 : c->F0;
+    double zpo, Fmin, zmax, Fmax, Ppo, rise, lo, hi, z0ref;
+    int adhesive;
+    size_t i;
+
+    features(f, j, F0, &zpo, &Fmin, &zmax, &Fmax);
+    Ppo = Fmin - F0;
+    adhesive = Ppo < -3.0 * c->sigma && zmax > zpo;
+    rise = Fmax - F0;
+    if (!(rise > 3.0 * c->sigma))
+        return 0;
+    if (!adhesive) {
+        /* contact from the thin profile's contact point, a pull-off of one
+         * noise sd */
+        z0ref = c->iz0 >= 0 ? c->guess.z0 : c->z0;
+        if (!(zmax > z0ref))
+            return 0;
+    } else {
+        z0ref = NAN;
+    }
+    lo = log(1e-6);
+    hi = log(1e15);
+    for (i = 0; i < BISECT_STEPS; i++) {
+        double mid = 0.5 * (lo + hi), E = exp(mid), w, P, d, Pmax;
+        lf_material m;
+        w = w_for_pulloff(c, E, nu, adhesive ? Ppo : -c->sigma);
+        m.w = w;
+        m.Estar = E;
+        m.nu = nu;
+        if (!pull(c, &m, &P, &d)) {
+            hi = mid;
+            continue;
+        }
+        Pmax = adhesive ? force_at(c, &m, zmax - zpo + d) : force_at(c, &m, zmax - z0ref);
+        if (!isfinite(Pmax) || Pmax > rise)
+            hi = mid;
+        else
+            lo = mid;
+    }
+    out->Estar = exp(0.5 * (lo + hi));
+    out->w = w_for_pulloff(c, out->Estar, nu, adhesive ? Ppo : -c->sigma);
+    out->nu = nu;
+    return isfinite(out->Estar) && isfinite(out->w);
+}
+
+void
+lf_fit_guess_model_offsets(lf_fit *f)
+{
+    size_t j;
+
+    for (j = 0; j < f->ncurves; j++) {
+        fit_curve *c = &f->c[j];
+        double F0 = c->iF0 >= 0 ? c->guess.F0 : c->F0;
+        double zpo, Fmin, zmax, Fmax, P, d;
+        features(f, j, F0, &zpo, &Fmin, &zmax, &Fmax);
+        c->slope = 0.0;
+        if (c->iF0 >= 0)
+            c->F0 = F0;
+        if (c->iz0 < 0)
+            continue;
+        if (Fmin - F0 < -3.0 * c->sigma && pull(c, &f->mat, &P, &d))
+            c->z0 = zpo - d;
+        else
+            c->z0 = c->guess.z0;
+    }
+    lf_fit_set_origin(f);
+}
+
+int
+lf_fit_guess_model(lf_fit *f)
+{
+    size_t j, n = 0;
+    double lnE = 0.0, lnw = 0.0, nu = isfinite(f->mat.nu) ? f->mat.nu : 0.3;
+
+    for (j = 0; j < f->ncurves; j++) {
+        lf_material m;
+        if (!curve_material(f, j, nu, &m))
+            continue;
+        lnE += log(m.Estar);
+        lnw += log(m.w);
+        n++;
+    }
+    if (n == 0)
+        return 0;
+    if (f->imat[FIT_E] >= 0)
+        f->mat.Estar = exp(lnE / (double) n);
+    if (f->imat[FIT_W] >= 0)
+        f->mat.w = exp(lnw / (double) n);
+    return 1;
+}

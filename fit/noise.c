@@ -1,0 +1,195 @@
+/* noise.c: a noise model for real curves.
+ *
+ * Instruments filter and oversample, so neighbouring points carry nearly the
+ * same noise: the point-to-point noise estimate (guess.c) is then far too
+ * small, every chi2 is huge and every standard error too small.  At the
+ * solution, per curve, with e_i the residuals in file (time) order:
+ *   rho_k   their autocorrelation at lag k;
+ *   tau     = 1 + 2 sum_{k=1..K} rho_k, the integrated autocorrelation
+ *           time, summed while rho_k stays above 2/sqrt(n) (what white noise
+ *           of n points can show by chance): tau = 1 for white noise;
+ *   n_eff   = n / tau, the independent points: the variance of a
+ *           least-squares estimate grows by about tau over the white-noise
+ *           formula (exactly so for a mean), so standard errors are scaled
+ *           by sqrt(tau) (pooled over the curves by their points);
+ *   noise   the data's own noise sd at lag m = ceil(tau), from the line
+ *           through the neighbours m points away in depth (the estimate of
+ *           guess.c at that stride), model-free: neighbours beyond the
+ *           correlation carry independent noise.
+ * The agreement of a curve with the model is then judged against that noise
+ * (chi2 per point and the runs test of every m-th residual), and where it
+ * fails, the deviation is also put against the curve's force range:
+ * below 5% the model describes the shape with systematic deviations, above
+ * it the fit is broken.  For white noise all of this reduces to the plain
+ * test. */
+#include <math.h>
+#include <stdlib.h>
+
+#include "fit.h"
+
+#define NOISE_MAX_LAG 400
+#define AGREE_REL 0.05
+#define NOISE_GROWTH 1.3
+
+/* The median of |v| over 0.6745 (v reordered). */
+static double
+mad_sd(double *v, size_t n)
+{
+    size_t i, k = n / 2;
+    double lo, hi;
+    if (n == 0)
+        return NAN;
+    for (i = 0; i < n; i++)
+        v[i] = fabs(v[i]);
+    /* simple selection by partial sort: n is at most a curve */
+    for (lo = 0, hi = 0, i = 0; i < n; i++)
+        hi = fmax(hi, v[i]);
+    /* bisection on the value: count of |v| <= t */
+    for (i = 0; i < 60; i++) {
+        double t = 0.5 * (lo + hi);
+        size_t j, cnt = 0;
+        for (j = 0; j < n; j++)
+            cnt += v[j] <= t;
+        if (cnt > k)
+            hi = t;
+        else
+            lo = t;
+    }
+    return 0.5 * (lo + hi) / 0.6745;
+}
+
+double
+lf_fit_corr_time(const double *e, size_t n)
+{
+    size_t k, K = n / 4 < NOISE_MAX_LAG ? n / 4 : NOISE_MAX_LAG, i;
+    double mean = 0.0, c0 = 0.0, tau = 1.0, thr;
+
+    if (n < 8)
+        return 1.0;
+    thr = 2.0 / sqrt((double) n);
+    for (i = 0; i < n; i++)
+        mean += e[i];
+    mean /= (double) n;
+    for (i = 0; i < n; i++)
+        c0 += (e[i] - mean) * (e[i] - mean);
+    if (!(c0 > 0))
+        return 1.0;
+    for (k = 1; k <= K; k++) {
+        double ck = 0.0, rho;
+        for (i = 0; i + k < n; i++)
+            ck += (e[i] - mean) * (e[i + k] - mean);
+        rho = ck / c0;
+        if (!(rho > thr))
+            break;
+        tau += 2.0 * rho;
+    }
+    return fmin(tau, (double) n / 4.0);
+}
+
+/* The noise sd of the residuals e (file order) at stride m in depth order:
+ * the departure of each from the line through its neighbours m points away
+ * (guess.c's estimate at that stride), robust (median).  A smooth misfit
+ * hardly shows at small strides; correlated noise shows fully once m
+ * exceeds its correlation. */
+static double
+noise_at_lag(const fit_curve *c, const size_t *ord, const double *e, size_t m, double *work)
+{
+    size_t i, cnt = 0, n = c->data.n;
+    const double *z = c->data.depth;
+    for (i = m; i + m < n; i++) {
+        size_t a = ord[i - m], b = ord[i], d = ord[i + m];
+        double h0 = z[b] - z[a], h1 = z[d] - z[b], h = h0 + h1, q;
+        if (!(h > 0))
+            continue;
+        q = e[b] - (e[a] * h1 + e[d] * h0) / h;
+        work[cnt++] = q / sqrt(1.0 + (h0 * h0 + h1 * h1) / (h * h));
+    }
+    return cnt > 0 ? mad_sd(work, cnt) : NAN;
+}
+
+void
+lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau_out,
+                   double *noise_out)
+{
+    const fit_curve *c = &f->c[j];
+    const size_t *ord = f->order + c->row;
+    size_t n = c->data.n, i, m;
+    double *e = f->w.work, *work = f->w.work + n, s1, sm, tau;
+
+    for (i = 0; i < n; i++)
+        e[i] = gsl_vector_get(res, c->row + i) * c->sigma / f->w.sqrtw[c->row + i];
+    /* the plateau of the residuals' noise over strides 1, 2, 4, ...: where
+     * doubling the stride no longer raises it by NOISE_GROWTH */
+    s1 = sm = noise_at_lag(c, ord, e, 1, work);
+    for (m = 1; 4 * m < n / 2; m *= 2) {
+        double s2 = noise_at_lag(c, ord, e, 2 * m, work);
+        if (!(s2 > NOISE_GROWTH * sm)) {
+            sm = fmax(sm, s2);
+            break;
+        }
+        sm = s2;
+    }
+    if (!(s1 > 0) || !(sm > 0)) {
+        *tau_out = 1.0;
+        *noise_out = c->sigma;
+        return;
+    }
+    /* the correlation time: the residuals' own, but no more than the noise
+     * variance the plateau shows over the point-to-point one (a smooth misfit
+     * makes residuals correlated without raising the plateau) */
+    tau = m == 1 ? 1.0 : fmin(lf_fit_corr_time(e, n), fmax(1.0, (sm * sm) / (s1 * s1)));
+    *tau_out = fmax(tau, 1.0);
+    *noise_out = m == 1 ? c->sigma : fmax(c->sigma, sm);
+}
+
+double
+lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_result *cr)
+{
+    const fit_curve *c = &f->c[j];
+    const size_t *ord = f->order + c->row;
+    size_t n = c->data.n, i, m, npos = 0, nneg = 0, runs = 0;
+    double tau, noise, Fmin = HUGE_VAL, Fmax = -HUGE_VAL, chi2 = 0.0, rms;
+    int last = 0;
+
+    lf_fit_curve_noise(f, j, res, &tau, &noise);
+    m = (size_t) ceil(tau - 1e-9);
+    if (m < 1)
+        m = 1;
+    cr->corr_time = tau;
+    cr->n_eff = (double) n / tau;
+    cr->noise_sd = noise;
+    /* against that noise: chi2 per point and the runs test of every m-th
+     * residual in depth order */
+    for (i = 0; i < n; i++) {
+        double u = gsl_vector_get(res, c->row + i) * c->sigma / noise;
+        chi2 += u * u;
+        Fmin = fmin(Fmin, c->data.force[i]);
+        Fmax = fmax(Fmax, c->data.force[i]);
+    }
+    rms = cr->rms;
+    for (i = 0; i < n; i += m) {
+        double u = gsl_vector_get(res, c->row + ord[i]);
+        int sgn = u > 0 ? 1 : u < 0 ? -1 : 0;
+        if (sgn == 0)
+            continue;
+        if (sgn > 0)
+            npos++;
+        else
+            nneg++;
+        if (sgn != last)
+            runs++;
+        last = sgn;
+    }
+    if (npos + nneg >= 2) {
+        double nn = (double) (npos + nneg), mu = 2.0 * (double) npos * (double) nneg / nn + 1.0;
+        double var = (mu - 1.0) * (mu - 2.0) / (nn - 1.0);
+        cr->runs_z = var > 0 ? ((double) runs - mu) / sqrt(var) : 0.0;
+    } else {
+        cr->runs_z = 0.0;
+    }
+    cr->chi2_per_point = chi2 / (double) n;
+    cr->misfit_rel = Fmax > Fmin ? rms / (Fmax - Fmin) : NAN;
+    cr->consistent = !(cr->runs_z < FIT_RUNS_Z_BAD || cr->chi2_per_point > 4.0);
+    cr->agreement = cr->consistent ? 2 : cr->misfit_rel < AGREE_REL ? 1 : 0;
+    return tau;
+}

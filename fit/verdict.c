@@ -1,0 +1,183 @@
+/* verdict.c: an honest end.  The solver's own stopping rules say when it
+ * stopped; these checks say whether where it stopped is an answer.
+ *
+ *   refuse     before fitting: a curve whose force does not rise above its
+ *              noise (a constant force, no contact signal) is refused with
+ *              a message: there is nothing to fit.
+ *   offsets    a free force offset F0 more than one force range outside
+ *              the data's forces, or a free contact point z0 more than two
+ *              depth spans outside the data's depths (a curve wholly in
+ *              contact puts z0 before its first point), is not an answer: not
+ *              converged, and why.
+ *   stall      at the end, the Gauss-Newton step from the solution predicts
+ *              how much chi2 could still fall.  When it is more than one
+ *              (scaled) standard error's worth and a step along it really
+ *              lowers the cost, the solve continues from there; if it still
+ *              could fall that much, the fit stalled: not converged.  When
+ *              a run that stopped short (e.g. "no further progress") sits
+ *              where that step would lower chi2 by less than FIT_ROUNDING_SE2
+ *              standard errors squared, it is at a minimum within rounding:
+ *              converged. */
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+#include <gsl/gsl_linalg.h>
+
+#include "fit.h"
+
+#define FIT_MIN_SIGNAL 8.0       /* force range over noise sd below which a
+                                    curve has no contact signal */
+#define FIT_ROUNDING_SE2 1e-4    /* GN decrease, in se^2, of a minimum */
+#define FIT_STALL_SE2 1.0        /* GN decrease, in se^2, of a stall */
+
+int
+lf_fit_refuse_degenerate(const lf_fit *f, lf_error *err)
+{
+    size_t j, i;
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        double lo = HUGE_VAL, hi = -HUGE_VAL;
+        for (i = 0; i < c->data.n; i++) {
+            lo = fmin(lo, c->data.force[i]);
+            hi = fmax(hi, c->data.force[i]);
+        }
+        if (!(hi - lo > FIT_MIN_SIGNAL * c->sigma) || !(hi > lo))
+            return lf_fail(err, LF_EDATA, "curve %zu (%s): no contact signal: the force varies "
+                           "by only %.3g N (%.3g times its noise sd %.3g N); nothing to fit",
+                           j + 1, c->data.name ? c->data.name : "", hi - lo,
+                           c->sigma > 0 ? (hi - lo) / c->sigma : 0.0, c->sigma);
+    }
+    return LF_OK;
+}
+
+/* 1 (with why) when an offset at x lies far outside curve j's data. */
+static int
+offsets_outside(const lf_fit *f, const double *x, char *why, size_t nwhy)
+{
+    size_t j, i;
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        lf_material m;
+        double z0, F0, s, flo = HUGE_VAL, fhi = -HUGE_VAL, zlo = HUGE_VAL, zhi = -HUGE_VAL;
+        lf_fit_unpack(f, x, &m, &z0, &F0, &s, j);
+        for (i = 0; i < c->data.n; i++) {
+            flo = fmin(flo, c->data.force[i]);
+            fhi = fmax(fhi, c->data.force[i]);
+            zlo = fmin(zlo, c->data.depth[i]);
+            zhi = fmax(zhi, c->data.depth[i]);
+        }
+        if (c->iF0 >= 0 && !(F0 >= flo - (fhi - flo) && F0 <= fhi + (fhi - flo))) {
+            snprintf(why, nwhy, "not converged: curve %zu's force offset F0 = %.4g N lies far "
+                     "outside its forces [%.4g, %.4g] N", j + 1, F0, flo, fhi);
+            return 1;
+        }
+        if (c->iz0 >= 0 && !(z0 >= zlo - 2.0 * (zhi - zlo) && z0 <= zhi + 2.0 * (zhi - zlo))) {
+            snprintf(why, nwhy, "not converged: curve %zu's contact point z0 = %.4g m lies far "
+                     "outside its depths [%.4g, %.4g] m", j + 1, z0, zlo, zhi);
+            return 1;
+        }
+    }
+    return 0;
+}
+
+/* The Gauss-Newton step at x (internal coordinates, into step) and the
+ * decrease of chi2 it predicts; NaN when it cannot be computed. */
+static double
+gn_step(lf_fit *f, const gsl_vector *x, gsl_vector *step)
+{
+    size_t n = f->nres, p = f->np, i, l;
+    gsl_matrix *J = gsl_matrix_alloc(n, p), *V = gsl_matrix_alloc(p, p);
+    gsl_vector *S = gsl_vector_alloc(p), *work = gsl_vector_alloc(p), *r = gsl_vector_alloc(n);
+    double dec = NAN;
+
+    if (!J || !V || !S || !work || !r)
+        goto done;
+    if (lf_fit_residuals(x, f, r) != GSL_SUCCESS || lf_fit_jacobian(x, f, J) != GSL_SUCCESS)
+        goto done;
+    if (gsl_linalg_SV_decomp(J, V, S, work) != GSL_SUCCESS)
+        goto done;
+    /* J = U S V^T (U in J): step = -V S^-1 U^T r over the determined
+     * directions; the decrease of chi2 = sum (U_l . r)^2 */
+    gsl_vector_set_zero(step);
+    dec = 0.0;
+    for (l = 0; l < p; l++) {
+        double sl = gsl_vector_get(S, l), ur = 0.0;
+        if (!(sl > 1e-10 * gsl_vector_get(S, 0)))
+            continue;
+        for (i = 0; i < n; i++)
+            ur += gsl_matrix_get(J, i, l) * gsl_vector_get(r, i);
+        dec += ur * ur;
+        for (i = 0; i < p; i++)
+            step->data[i] -= gsl_matrix_get(V, i, l) * ur / sl;
+    }
+done:
+    gsl_matrix_free(J);
+    gsl_matrix_free(V);
+    gsl_vector_free(S);
+    gsl_vector_free(work);
+    gsl_vector_free(r);
+    return dec;
+}
+
+int
+lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
+{
+    gsl_vector *step = gsl_vector_alloc(f->np), *trial = gsl_vector_alloc(f->np);
+    double chi2, s2, dec;
+    int status = LF_OK, round;
+
+    if (step == NULL || trial == NULL) {
+        gsl_vector_free(step);
+        gsl_vector_free(trial);
+        return lf_fail(err, LF_ENOMEM, "out of memory");
+    }
+    for (round = 0; round < 2; round++) {
+        chi2 = 2.0 * lf_fit_cost(f, x, f->w.r);
+        s2 = fmax(1.0, chi2 / (double) (f->nres > f->np ? f->nres - f->np : 1));
+        dec = gn_step(f, x, step);
+        if (!isfinite(dec))
+            break;
+        if (!run->converged && dec < FIT_ROUNDING_SE2 * s2
+            && strstr(run->why, "iterations reached") == NULL) {
+            run->converged = 1;
+            snprintf(run->why, sizeof run->why, "converged (at a minimum within rounding: a "
+                     "Gauss-Newton step would lower chi2 by only %.2g)", dec);
+            break;
+        }
+        if (!(dec > FIT_STALL_SE2 * s2))
+            break;
+        /* a real step down?  halve until the cost falls, at most 30 times */
+        {
+            double c0 = 0.5 * chi2, t = 1.0, c1 = HUGE_VAL;
+            int h;
+            for (h = 0; h < 30; h++, t *= 0.5) {
+                size_t i;
+                for (i = 0; i < f->np; i++)
+                    trial->data[i] = x->data[i] + t * step->data[i];
+                c1 = lf_fit_cost(f, trial, f->w.r2);
+                if (c1 < c0 - 0.25 * FIT_STALL_SE2 * s2)
+                    break;
+            }
+            if (h == 30)
+                break;          /* a kink: no step lowers the cost */
+            if (round == 1) {
+                run->converged = 0;
+                snprintf(run->why, sizeof run->why, "not converged: stalled away from a "
+                         "minimum (a step still lowers chi2 by %.3g, %.3g standard errors "
+                         "squared)", 2.0 * (c0 - c1), 2.0 * (c0 - c1) / s2);
+                break;
+            }
+            gsl_vector_memcpy(x, trial);
+            f->w.xcache_ok = 0;
+            status = lf_fit_solve_scanned(f, x, 0, run, err);
+            if (status != LF_OK)
+                break;
+        }
+    }
+    if (status == LF_OK && offsets_outside(f, x->data, run->why, sizeof run->why))
+        run->converged = 0;
+    gsl_vector_free(step);
+    gsl_vector_free(trial);
+    return status;
+}

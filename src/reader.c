@@ -1,0 +1,428 @@
+/* reader.c: the table of instrument readers, choosing one (by name or by
+ * sniffing the first bytes), and what all readers share: building a curve,
+ * its metadata, the final checks and the constants of the AFM conversions
+ * (force F = k d from a deflection d in m, or in V or A through a
+ * sensitivity in m/V or m/A). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "readers.h"
+
+/* Order breaks ties of the sniff scores: csv first keeps the CSV reader for
+ * whatever no instrument claims. */
+const lf_reader_type *const lf_reader_types[] = {
+    &lf_reader_csv,
+    &lf_reader_chiaro,
+    &lf_reader_jpk,
+    &lf_reader_workshop,
+    &lf_reader_ntmdt,
+    &lf_reader_hysitron,
+    &lf_reader_text,
+    NULL
+};
+
+const lf_reader_type *
+lf_reader_find(const char *name)
+{
+    size_t i;
+    for (i = 0; lf_reader_types[i] != NULL; i++)
+        if (lf_csv_ieq(lf_reader_types[i]->name, name))
+            return lf_reader_types[i];
+    return NULL;
+}
+
+const lf_reader_type *
+lf_reader_sniff(const char *head, size_t len)
+{
+    const lf_reader_type *best = &lf_reader_csv;
+    int score = 0;
+    size_t i;
+    if (len > LF_SNIFF_BYTES)
+        len = LF_SNIFF_BYTES;
+    for (i = 0; lf_reader_types[i] != NULL; i++) {
+        int s = lf_reader_types[i]->sniff(head, len);
+        if (s > score) {
+            score = s;
+            best = lf_reader_types[i];
+        }
+    }
+    return best;
+}
+
+static int
+unknown_format(const char *name, const char *format, lf_error *err)
+{
+    char list[256];
+    size_t i, len = 0;
+    list[0] = '\0';
+    for (i = 0; lf_reader_types[i] != NULL; i++)
+        len += (size_t) snprintf(list + len, len < sizeof list ? sizeof list - len : 0,
+                                 "%s%s", i ? ", " : "", lf_reader_types[i]->name);
+    return lf_fail_at(err, LF_EINVAL, name, 0, 0, "unknown format '%s' (one of: %s)",
+                      format, list);
+}
+
+/* Read with reader r into a new curve. */
+static int
+run_reader(const lf_reader_type *r, const lf_source *in, const lf_read_opts *o,
+           lf_curve **out, lf_warnings *warn, lf_error *err)
+{
+    lf_warnings local = { 0, NULL };
+    lf_read_opts def;
+    lf_curve *c;
+    int status;
+    size_t i;
+
+    if (o == NULL) {
+        lf_read_opts_default(&def);
+        o = &def;
+    }
+    lf_error_clear(err);
+    c = lf_curve_new(in->name, r->name);
+    if (c == NULL)
+        return lf_fail_at(err, LF_ENOMEM, in->name, 0, 0, "out of memory");
+    status = r->read(in, o, c, &local, err);
+    if (status != LF_OK) {
+        lf_curve_free(c);
+        lf_warnings_free(&local);
+        return status;
+    }
+    for (i = 0; i < local.n; i++)   /* warnings reach the caller only with a curve */
+        lf_warn(warn, "%s", local.msg[i]);
+    lf_warnings_free(&local);
+    *out = c;
+    return LF_OK;
+}
+
+static const lf_reader_type *
+choose(const lf_read_opts *o, const char *head, size_t len, const char *name,
+       lf_error *err)
+{
+    const lf_reader_type *r;
+    if (o == NULL || o->format == NULL || o->format[0] == '\0')
+        return lf_reader_sniff(head, len);
+    r = lf_reader_find(o->format);
+    if (r == NULL)
+        unknown_format(name, o->format, err);
+    return r;
+}
+
+int
+lf_curve_read(const char *path, const lf_read_opts *o, lf_curve **out,
+              lf_warnings *warn, lf_error *err)
+{
+    lf_input file;
+    int status;
+
+    *out = NULL;
+    lf_error_clear(err);
+    /* read once, whole, from a descriptor checked when it was opened: the
+     * bytes sniffed are the bytes parsed */
+    if ((status = lf_input_read(path, 0, &file, err)) != LF_OK)
+        return status;
+    status = lf_curve_parse(file.data, file.len, 0, path, o, out, warn, err);
+    lf_input_free(&file);
+    return status;
+}
+
+int
+lf_curve_parse(const char *buf, size_t len, size_t chunk, const char *name,
+               const lf_read_opts *o, lf_curve **out, lf_warnings *warn,
+               lf_error *err)
+{
+    const lf_reader_type *r;
+    lf_source in;
+
+    *out = NULL;
+    lf_error_clear(err);
+    r = choose(o, buf ? buf : "", buf ? len : 0, name ? name : "", err);
+    if (r == NULL)
+        return LF_EINVAL;
+    in.buf = buf ? buf : "";
+    in.len = buf ? len : 0;
+    in.chunk = chunk;
+    in.name = name ? name : "";
+    return run_reader(r, &in, o, out, warn, err);
+}
+
+/* ---------------------------------------------------------------------- */
+
+lf_curve *
+lf_curve_new(const char *name, const char *format)
+{
+    lf_curve *c = calloc(1, sizeof *c);
+    if (c == NULL)
+        return NULL;
+    c->file = lf_strdup(name ? name : "");
+    if (c->file == NULL) {
+        free(c);
+        return NULL;
+    }
+    c->format = format;
+    c->R = c->spring_constant = c->sensitivity = NAN;
+    return c;
+}
+
+int
+lf_curve_reserve(lf_curve *c, size_t n, int with_time)
+{
+    void *p;
+    if (n == 0)
+        n = 1;
+#define GROW(member)                                                 \
+    if ((p = realloc(c->member, n * sizeof *c->member)) == NULL)     \
+        return -1;                                                   \
+    c->member = p;
+    GROW(depth)
+    GROW(force)
+    GROW(segment)
+    GROW(line)
+    if (with_time) {
+        GROW(time)
+    }
+#undef GROW
+    return 0;
+}
+
+static int
+valid_utf8(const unsigned char *s)
+{
+    while (*s) {
+        size_t n = s[0] < 0x80 ? 1 : (s[0] >= 0xC2 && s[0] <= 0xDF) ? 2
+                 : (s[0] >= 0xE0 && s[0] <= 0xEF) ? 3 : (s[0] >= 0xF0 && s[0] <= 0xF4) ? 4 : 0;
+        size_t i;
+        if (n == 0)
+            return 0;
+        for (i = 1; i < n; i++)
+            if ((s[i] & 0xC0) != 0x80)
+                return 0;
+        s += n;
+    }
+    return 1;
+}
+
+void
+lf_latin1_to_utf8(const char *src, char *dst, size_t n)
+{
+    const unsigned char *s = (const unsigned char *) src;
+    size_t w = 0;
+    if (n == 0)
+        return;
+    if (valid_utf8(s)) {
+        size_t len = strlen(src);
+        if (len >= n) {         /* cut at a character boundary */
+            len = n - 1;
+            while (len > 0 && (s[len] & 0xC0) == 0x80)
+                len--;
+        }
+        memcpy(dst, src, len);
+        dst[len] = '\0';
+        return;
+    }
+    for (; *s && w + 3 < n; s++) {
+        if (*s < 0x80) {
+            dst[w++] = (char) *s;
+        } else {
+            dst[w++] = (char) (0xC0 | (*s >> 6));
+            dst[w++] = (char) (0x80 | (*s & 0x3F));
+        }
+    }
+    dst[w] = '\0';
+}
+
+const char *
+lf_curve_meta(const lf_curve *c, const char *key)
+{
+    size_t i;
+    for (i = 0; i < c->nmeta; i++)
+        if (strcmp(c->meta[i].key, key) == 0)
+            return c->meta[i].value;
+    return NULL;
+}
+
+int
+lf_curve_add_meta(lf_curve *c, const char *key, const char *value)
+{
+    char k[256], v[512];
+    lf_meta *m;
+
+    lf_latin1_to_utf8(key, k, sizeof k);
+    lf_latin1_to_utf8(value, v, sizeof v);
+    if (lf_curve_meta(c, k) != NULL)
+        return 0;
+    m = realloc(c->meta, (c->nmeta + 1) * sizeof *m);
+    if (m == NULL)
+        return -1;
+    c->meta = m;
+    m = &c->meta[c->nmeta];
+    m->key = lf_strdup(k);
+    m->value = lf_strdup(v);
+    if (m->key == NULL || m->value == NULL) {
+        free(m->key);
+        free(m->value);
+        return -1;
+    }
+    c->nmeta++;
+    return 0;
+}
+
+int
+lf_curve_finish(lf_curve *c, lf_warnings *warn, lf_error *err)
+{
+    size_t i, n[3] = { 0, 0, 0 };
+    int seg;
+
+    if (c->n == 0)
+        return lf_fail_at(err, LF_EDATA, c->file, 0, 0,
+                          "no data rows (expected one row of numbers per point)");
+    for (i = 0; i < c->n; i++) {
+        if (!isfinite(c->depth[i]) || !isfinite(c->force[i]))
+            return lf_fail_at(err, LF_EFORMAT, c->file, c->line[i], 0,
+                              "a depth or force here is not finite after conversion "
+                              "to SI (check the units and constants)");
+        n[c->segment[i] <= LF_SEG_HOLD ? c->segment[i] : 0]++;
+    }
+    for (seg = LF_SEG_LOAD; seg <= LF_SEG_UNLOAD; seg++) {
+        size_t prev = 0, back = 0;
+        int have = 0;
+        long first = 0;
+        double lo = INFINITY, hi = -INFINITY, tol;
+        for (i = 0; i < c->n; i++)
+            if (c->segment[i] == seg) {
+                lo = fmin(lo, c->depth[i]);
+                hi = fmax(hi, c->depth[i]);
+            }
+        /* a measured depth jitters: only steps back beyond 1% of the
+         * segment's range are worth a word */
+        tol = 0.01 * (hi - lo);
+        for (i = 0; i < c->n; i++) {
+            if (c->segment[i] != seg)
+                continue;
+            if (have && (seg == LF_SEG_LOAD ? c->depth[i] < c->depth[prev] - tol
+                                            : c->depth[i] > c->depth[prev] + tol))
+                if (back++ == 0)
+                    first = c->line[i];
+            prev = i;
+            have = 1;
+        }
+        if (back > 0)
+            lf_warn(warn, "%s:%ld: depth %s at %zu of the %zu points of the %sing "
+                    "segment (first here)", c->file, first,
+                    seg == LF_SEG_LOAD ? "decreases" : "increases", back, n[seg],
+                    lf_segment_name((lf_segment) seg));
+    }
+    return LF_OK;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int
+lf_afm_spring_constant(lf_curve *c, double file_k, const char *file_key,
+                       const lf_read_opts *o, const char *why, lf_error *err)
+{
+    double opt = o ? o->spring_constant : NAN;
+    if (isfinite(file_k) && file_k > 0) {
+        c->spring_constant = file_k;
+        lf_warn(&c->info, "spring constant %.6g N/m (file header '%s')", file_k, file_key);
+        return LF_OK;
+    }
+    if (isfinite(opt) && opt > 0) {
+        c->spring_constant = opt;
+        lf_warn(&c->info, "spring constant %.6g N/m (option --spring-constant)", opt);
+        return LF_OK;
+    }
+    return lf_fail_at(err, LF_EDATA, c->file, 0, 0,
+                      "the cantilever spring constant is not in the file and is needed "
+                      "%s (give it: --spring-constant 0.032N/m)", why);
+}
+
+int
+lf_afm_sensitivity(lf_curve *c, double file_s, const char *file_key, int per_amp,
+                   const lf_read_opts *o, lf_error *err)
+{
+    const char *u = per_amp ? "m/A" : "m/V";
+    if (isfinite(file_s) && file_s > 0) {
+        c->sensitivity = file_s;
+        lf_warn(&c->info, "sensitivity %.6g %s (file header '%s')", file_s, u, file_key);
+        return LF_OK;
+    }
+    if (o != NULL && isfinite(o->sensitivity) && o->sensitivity > 0) {
+        if (o->sensitivity_per_amp != per_amp)
+            return lf_fail_at(err, LF_EUNIT, c->file, 0, 0,
+                              "--sensitivity is per %s, but the deflection here is in %s "
+                              "(give it in %s, e.g. --sensitivity %s)",
+                              o->sensitivity_per_amp ? "ampere" : "volt",
+                              per_amp ? "amperes" : "volts", u,
+                              per_amp ? "61nm/nA" : "50nm/V");
+        c->sensitivity = o->sensitivity;
+        lf_warn(&c->info, "sensitivity %.6g %s (option --sensitivity)", o->sensitivity, u);
+        return LF_OK;
+    }
+    return lf_fail_at(err, LF_EDATA, c->file, 0, 0,
+                      "the deflection sensitivity is not in the file and is needed to "
+                      "turn the deflection signal (%s) into a length (give it: "
+                      "--sensitivity %s)", per_amp ? "A" : "V",
+                      per_amp ? "61nm/nA" : "50nm/V");
+}
+
+int
+lf_meta_number(const lf_curve *c, const char *key, lf_quantity q, double *si)
+{
+    const char *v = lf_curve_meta(c, key), *comma;
+    char name[128], unit[64], num[64];
+    double x, f = 1.0;
+    size_t n;
+
+    if (v == NULL)
+        return -1;
+    n = strcspn(v, " \t");
+    if (n == 0 || n >= sizeof num)
+        return -1;
+    memcpy(num, v, n);
+    num[n] = '\0';
+    if (lf_csv_number(num, 1, &x) != LF_NUM_OK)
+        return -1;
+    if ((comma = strrchr(key, ',')) != NULL && strchr(key, '(') == NULL) {
+        lf_latin1_to_utf8(comma + 1 + strspn(comma + 1, " "), unit, sizeof unit);
+        if (strchr(unit, 0xB5) || strstr(unit, "\xC2\xB5")) {   /* µ */
+            char *p = strstr(unit, "\xC2\xB5");
+            if (p != NULL) {
+                *p = 'u';
+                memmove(p + 1, p + 2, strlen(p + 2) + 1);
+            }
+        }
+    } else {
+        lf_csv_header_cell(key, name, sizeof name, unit, sizeof unit);
+    }
+    if (q != LF_Q_DIMENSIONLESS && lf_units_factor(unit, q, &f, NULL) != LF_OK)
+        return -1;
+    *si = x * f;
+    return isfinite(*si) ? 0 : -1;
+}
+
+int
+lf_read_opts_constants(lf_read_opts *o, const char *spring_constant,
+                       const char *sensitivity, lf_error *err)
+{
+    lf_error e;
+    if (spring_constant != NULL) {
+        if (lf_units_parse(spring_constant, LF_Q_STIFFNESS, &o->spring_constant, &e) != LF_OK)
+            return lf_fail(err, e.status, "--spring-constant: %s", e.msg);
+        if (!(o->spring_constant > 0))
+            return lf_fail(err, LF_EINVAL, "--spring-constant must be > 0 (e.g. 0.032N/m)");
+    }
+    if (sensitivity != NULL) {
+        o->sensitivity_per_amp = 1;
+        if (lf_units_parse(sensitivity, LF_Q_SENS_AMP, &o->sensitivity, NULL) != LF_OK) {
+            o->sensitivity_per_amp = 0;
+            if (lf_units_parse(sensitivity, LF_Q_SENS_VOLT, &o->sensitivity, &e) != LF_OK)
+                return lf_fail(err, e.status, "--sensitivity: '%s' is not a length per "
+                               "volt or per ampere (e.g. 61nm/nA or 50nm/V)", sensitivity);
+        }
+        if (!(o->sensitivity > 0))
+            return lf_fail(err, LF_EINVAL, "--sensitivity must be > 0 (e.g. 61nm/nA)");
+    }
+    return LF_OK;
+}
