@@ -56,9 +56,7 @@ static int
 jpk_sniff(const char *head, size_t len)
 {
     char buf[8192];
-    size_t n = len < sizeof buf - 1 ? len : sizeof buf - 1;
-    memcpy(buf, head, n);
-    buf[n] = '\0';
+    lf_sniff_text(head, len, buf, sizeof buf);
     if (strncmp(buf, "# TEXT EXPORT", 13) == 0)
         return 90;
     if (strstr(buf, "\n# columns: ") != NULL && strstr(buf, "\n# units: ") != NULL)

@@ -110,10 +110,7 @@ ntmdt_read(const lf_input *in, const lf_read_opts *o, lf_curve *c, lf_warnings *
     if (pa > 0 || pr > 0)
         lf_warn(&c->info, "dropped padded rows at the start of the export: %zu approach, "
                 "%zu retract (a constant copied value)", pa, pr);
-    if (t.skipped > 0)
-        lf_warn(warn, "%s:%ld: skipped %ld row%s with missing cells (first here)", in->name,
-                t.first_skipped, t.skipped, t.skipped == 1 ? "" : "s");
-    status = lf_curve_finish(c, warn, err);
+    return lf_table_finish(&t, c, warn, err);
 done:
     lf_table_free(&t);
     return status;
