@@ -627,7 +627,8 @@ typedef struct {
     double z0;                /* contact point offset, m, if the plan fixes it, else NaN */
     double F0;                /* force offset, N, if the plan fixes it, else NaN */
     char *format;             /* the curve file's reader name, "" = sniffed */
-} lf_plan_row;
+} lf_plan_row;               /* probe.R is NaN where the plan's R cell says
+                                "header": the curve file's header gives it */
 
 typedef struct {
     char *path;               /* the plan's own path */

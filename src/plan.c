@@ -283,6 +283,14 @@ probe_column(const plan_reader *rd, const char *msg)
     return -1;
 }
 
+/* An R cell reading "header": the probe radius stated in the curve file's
+ * header (NaN in the plan row). */
+static int
+R_from_header(const plan_reader *rd, const lf_csv_record *r)
+{
+    return rd->col[P_R] >= 0 && lf_csv_ieq(r->text[rd->col[P_R]], "header");
+}
+
 static int
 plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
 {
@@ -351,13 +359,19 @@ plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     if (row->sample == NULL || row->format == NULL)
         return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
     if ((status = plan_number(rd, r, P_K, &row->probe.k, err)) != LF_OK
-        || (status = plan_number(rd, r, P_R, &row->probe.R, err)) != LF_OK
+        || (!R_from_header(rd, r)
+            && (status = plan_number(rd, r, P_R, &row->probe.R, err)) != LF_OK)
         || (status = plan_number(rd, r, P_B, &row->probe.b, err)) != LF_OK
         || (status = plan_number(rd, r, P_NU, &row->nu, err)) != LF_OK
         || (status = plan_number(rd, r, P_Z0, &row->z0, err)) != LF_OK
         || (status = plan_number(rd, r, P_F0, &row->F0, err)) != LF_OK)
         return status;
-    if (lf_probe_check(&row->probe, &e) != LF_OK) {
+    if (R_from_header(rd, r))      /* checked with the curve's R by the fit */
+        row->probe.R = 1.0;
+    status = lf_probe_check(&row->probe, &e);
+    if (R_from_header(rd, r))
+        row->probe.R = NAN;
+    if (status != LF_OK) {
         k = probe_column(rd, e.msg);
         return lf_fail_at(err, e.status, rd->name, r->line, k >= 0 ? r->fcol[k] : 0,
                           "%s", e.msg);

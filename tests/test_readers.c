@@ -420,6 +420,31 @@ test_vendor_details(void)
     t_int(lf_read_opts_constants(&o, NULL, "61nm", &err), LF_EUNIT, "sensitivity as a length");
 }
 
+/* Plans: a format column, and R taken from the curve's header. */
+static void
+test_plan_columns(void)
+{
+    static const char good[] = "file,k,R,b,interface,format\n"
+                               "chiaro.txt,2,header,8um,frictionless,\n"
+                               "jpk_volts.txt,2,8um,8um,frictionless,JPK\n";
+    static const char bad[] = "file,k,R,b,interface,format\nchiaro.txt,2,1um,8um,frictionless,x\n";
+    lf_plan *p = NULL;
+    lf_error err;
+    if (t_int(lf_plan_parse(good, strlen(good), 0, "p.csv", vendors, &p, NULL, &err), LF_OK,
+              "plan with format and R header parses (%s)", err.msg)) {
+        t_true(isnan(p->rows[0].probe.R), "plan: R 'header' is NaN in the row");
+        t_str(p->rows[0].format, "", "plan: empty format = sniffed");
+        t_str(p->rows[1].format, "JPK", "plan: format kept");
+        t_rel(p->rows[1].probe.R, 8e-6, 1e-15, "plan: R given");
+    }
+    lf_plan_free(p);
+    p = NULL;
+    t_int(lf_plan_parse(bad, strlen(bad), 0, "p.csv", vendors, &p, NULL, &err), LF_EFORMAT,
+          "plan: unknown format refused");
+    t_int(err.column, 35, "plan: the message points at the format cell");
+    lf_plan_free(p);
+}
+
 /* ---- the real exports ------------------------------------------------- */
 
 static int
@@ -697,6 +722,7 @@ main(int argc, char **argv)
     snprintf(real, sizeof real, "%s/../../../shared/realdata", data);
     test_vendors();
     test_vendor_details();
+    test_plan_columns();
     if (real_present()) {
         test_real_chiaro();
         test_real_others();

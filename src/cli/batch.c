@@ -410,6 +410,14 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
         fc[j].depth = data[2 * j];
         fc[j].force = data[2 * j + 1];
         fc[j].probe = pr->probe;
+        if (isnan(fc[j].probe.R)) {       /* R "header" in the plan */
+            if (!(curve[j]->R > 0)) {
+                snprintf(ebuf, sizeof ebuf, "%s:%ld: R 'header', but %s states no probe "
+                         "radius", plan->path, pr->line, pr->file);
+                goto row;
+            }
+            fc[j].probe.R = curve[j]->R;
+        }
         fc[j].branch = pr->segment == LF_SEG_LOAD ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD;
         fc[j].z0 = pr->z0;
         fc[j].F0 = pr->F0;

@@ -86,11 +86,12 @@ print_curve(const lf_curve *c, lf_segment seg)
 }
 
 static void
-print_probe(const lf_plan_row *r)
+print_probe(const lf_plan_row *r, const lf_curve *c)
 {
     char R[48], b[48];
-    printf("  %-9s k = %g, R = %s, b = %s, %s\n", "probe", r->probe.k,
-           cli_human(R, sizeof R, r->probe.R, "m"), cli_human(b, sizeof b, r->probe.b, "m"),
+    printf("  %-9s k = %g, R = %s%s, b = %s, %s\n", "probe", r->probe.k,
+           cli_human(R, sizeof R, isnan(r->probe.R) ? c->R : r->probe.R, "m"),
+           isnan(r->probe.R) ? " (file header)" : "", cli_human(b, sizeof b, r->probe.b, "m"),
            cli_base_name(r->probe.base));
     if (r->sample[0] != '\0')
         printf("  %-9s %s\n", "sample", r->sample);
@@ -150,9 +151,20 @@ cli_check(int argc, char **argv)
     for (i = 0; i < ncurves && status == LF_OK; i++) {
         const char *path = plan ? plan->rows[i].file : argv[0];
         lf_segment seg = plan ? plan->rows[i].segment : LF_SEG_UNLOAD;
-        status = lf_curve_read(path, &o, &curves[i], &warn, &err);
+        lf_read_opts ro = o;
+        if (plan && ro.format == NULL && plan->rows[i].format[0] != '\0')
+            ro.format = plan->rows[i].format;
+        status = lf_curve_read(path, &ro, &curves[i], &warn, &err);
         if (status == LF_OK)
             status = lf_curve_check_fit(curves[i], seg, CHECK_MIN_POINTS, &err);
+        if (status == LF_OK && plan && isnan(plan->rows[i].probe.R) && !(curves[i]->R > 0)) {
+            snprintf(err.file, sizeof err.file, "%s", plan->path);
+            err.line = plan->rows[i].line;
+            err.column = 0;
+            snprintf(err.msg, sizeof err.msg, "R 'header', but %s states no probe radius "
+                     "(give R in the plan)", path);
+            status = err.status = LF_EDATA;
+        }
     }
     if (status == LF_OK) {
         cli_print_warnings(&warn);
@@ -161,7 +173,7 @@ cli_check(int argc, char **argv)
         for (i = 0; i < ncurves; i++) {
             if (plan != NULL) {
                 printf("%s (plan line %ld)\n", plan->rows[i].file, plan->rows[i].line);
-                print_probe(&plan->rows[i]);
+                print_probe(&plan->rows[i], curves[i]);
             } else {
                 printf("curve %s\n", curves[i]->file);
             }

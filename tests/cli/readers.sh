@@ -58,6 +58,19 @@ printf 'file,k,R,b,interface,format\nchiaro.txt,2,8um,8um,frictionless,bruker\n'
 cp "$v/chiaro.txt" "$tmp/"
 expect_fail 2 "layerfit: $tmp/badplan.csv:2:35: unknown format 'bruker' (csv, chiaro, jpk, workshop, ntmdt, hysitron, text; or empty to detect it)" check "$tmp/badplan.csv"
 
+# R from the curve file's header in a plan
+printf 'file,k,R,b,interface,format\n%s,2,header,8um,frictionless,\n%s,2,8um,8um,frictionless,jpk\n' \
+    "$v/chiaro.txt" "$v/jpk_volts.txt" >"$tmp/hplan.csv"
+run_ok check "$tmp/hplan.csv" && \
+    has "plan R header: check shows it" "$tmp/out" "k = 2, R = 8 µm (file header), b = 8 µm"
+run_ok fit "$tmp/hplan.csv" --model halfspace --json "$tmp/h.json" && {
+    has "plan R header: fit says it" "$tmp/out" "chiaro.txt: R = 8 µm from the file header (chiaro export)"
+    w=$(sed -n 's/.*"w": {"value": \([^,]*\),.*/\1/p' "$tmp/h.json")
+    near "plan R header: w" "$w" 1e-3 1e-4
+}
+printf 'file,k,R,b,interface\n%s,2,header,8um,frictionless\n' "$v/jpk_volts.txt" >"$tmp/hplan2.csv"
+expect_fail 2 "layerfit: $tmp/hplan2.csv:2: R 'header', but $v/jpk_volts.txt states no probe radius (give R in the plan)" check "$tmp/hplan2.csv"
+
 # batch fits read exports too
 run_ok fit --batch "$v/plan.csv" --model halfspace --threads 1 --out "$tmp/b.csv" && \
     has "batch: three ok rows" "$tmp/b.csv" ",ok,"
