@@ -81,7 +81,6 @@ header_line(jpk *j, long line, char *text, lf_error *err)
 {
     char *colon, *key, *value;
     size_t n;
-    (void) err;
 
     key = text + 1;
     key += strspn(key, " \t");
@@ -93,6 +92,10 @@ header_line(jpk *j, long line, char *text, lf_error *err)
         return LF_OK;
     *colon = '\0';
     value = colon + 1 + strspn(colon + 1, " \t");
+    if (strcmp(key, "segmentIndex") == 0 && strcmp(value, "0") == 0 && j->c->n > 0)
+        return lf_fail_at(err, LF_EFORMAT, j->name, line, 0,
+                          "a second curve begins here (segmentIndex 0 again): one curve per "
+                          "file (export the curves of a force map one by one)");
     if (strcmp(key, "columns") == 0) {
         snprintf(j->cols, sizeof j->cols, "%s", value);
         j->resolved = 0;

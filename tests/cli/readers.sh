@@ -32,6 +32,9 @@ expect_fail 2 "layerfit: $v/chiaro.txt: unknown format 'nanoscope' (one of: csv,
 expect_fail 2 "layerfit: $v/jpk_force.txt:12:1: a row of numbers before any row naming the columns (expected a header such as 'Depth (nm)<TAB>Load (uN)' just above the data)" check --format hysitron "$v/jpk_force.txt"
 expect_fail 2 "layerfit: $v/hysitron.txt:4: Chiaro table without a depth (expected Load (uN) or Cantilever (nm), and Piezo (nm) with Cantilever (nm), or Indentation (nm))" check --format chiaro "$v/hysitron.txt"
 
+(cat "$v/jpk_force.txt"; tail -n +3 "$v/jpk_force.txt") >"$tmp/two.txt"
+expect_fail 2 "layerfit: $tmp/two.txt:127: a second curve begins here (segmentIndex 0 again): one curve per file (export the curves of a force map one by one)" check "$tmp/two.txt"
+
 # fit an export directly: R from the header, no --b for a half-space
 run_ok fit "$v/chiaro.txt" --model halfspace --k 2 --json "$tmp/c.json" && {
     has "fit chiaro: R from the header" "$tmp/out" "chiaro.txt: R = 8 µm from the file header (chiaro export)"
