@@ -69,7 +69,7 @@ ntmdt_read(const lf_input *in, const lf_read_opts *o, lf_curve *c, lf_warnings *
     if (status != LF_OK)
         goto done;
     if (t.ncol != 3) {
-        status = lf_fail_at(err, LF_EFORMAT, in->name, t.line[0], 0,
+        status = lf_fail_at(err, LF_EFORMAT, in->name, t.n > 0 ? t.line[0] : 0, 0,
                             "%zu columns (an NT-MDT export has 3: height (nm), deflection "
                             "approach (nA), deflection retract (nA))", t.ncol);
         goto done;
