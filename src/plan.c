@@ -505,7 +505,22 @@ int
 lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err)
 {
     lf_csv_handler h;
+    char *head;
+    size_t len;
+    FILE *f;
+
     *kind = LF_FILE_CURVE;
+    /* an instrument's export is a curve, whatever its first line holds */
+    if ((f = lf_input_open(path, err)) == NULL)
+        return err != NULL ? err->status : LF_EIO;
+    head = malloc(LF_SNIFF_BYTES);
+    len = head != NULL ? fread(head, 1, LF_SNIFF_BYTES, f) : 0;
+    fclose(f);
+    if (head != NULL && strcmp(lf_reader_sniff(head, len)->name, "csv") != 0) {
+        free(head);
+        return LF_OK;
+    }
+    free(head);
     h.ctx = kind;
     h.record = kind_record;
     h.comment = NULL;

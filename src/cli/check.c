@@ -139,7 +139,12 @@ cli_check(int argc, char **argv)
     if (npos != 1)
         cli_die(CLI_EXIT_USAGE, "check: expected one file, a plan or a curve "
                 "(e.g. layerfit check plan.csv)");
-    status = lf_file_kind_of(argv[0], &kind, &err);
+    if (o.format != NULL) {         /* a forced format reads a curve */
+        kind = LF_FILE_CURVE;
+        status = LF_OK;
+    } else {
+        status = lf_file_kind_of(argv[0], &kind, &err);
+    }
     if (status == LF_OK && kind == LF_FILE_PLAN) {
         status = lf_plan_read(argv[0], &plan, &warn, &err);
         ncurves = status == LF_OK ? plan->n : 0;
