@@ -21,6 +21,8 @@ hysitron_sniff(const char *head, size_t len)
         return 90;
     if (strstr(buf, "Depth (nm)\tLoad (") != NULL && strstr(buf, "\tDepth (V)") != NULL)
         return 70;
+    if (strstr(buf, "\nDepth (nm)\tLoad (") != NULL && strstr(buf, "\tTime (s)") != NULL)
+        return 50;
     return 0;
 }
 
