@@ -9,7 +9,6 @@
 #include "cli.h"
 #include "report.h"
 
-
 static const char usage_text[] =
     "usage: layerfit fit PLAN.csv [options]\n"
     "       layerfit fit CURVE.csv --k K --R LENGTH --b LENGTH --interface I [options]\n"
