@@ -197,22 +197,9 @@ read_header(reader *rd, const lf_csv_record *r, lf_error *err)
 static int
 grow_points(reader *rd)
 {
-    lf_curve *c = rd->c;
     size_t cap = rd->cap ? 2 * rd->cap : 256;
-    void *p;
-
-#define GROW(member)                                          \
-    if ((p = realloc(c->member, cap * sizeof *c->member)) == NULL) \
-        return -1;                                            \
-    c->member = p;
-    GROW(depth)
-    GROW(force)
-    GROW(segment)
-    GROW(line)
-    if (rd->col[COL_TIME] >= 0) {
-        GROW(time)
-    }
-#undef GROW
+    if (lf_curve_reserve(rd->c, cap, rd->col[COL_TIME] >= 0) != 0)
+        return -1;
     rd->cap = cap;
     return 0;
 }

@@ -737,7 +737,8 @@ typedef struct {
     double z0;                /* contact point offset, m, if the plan fixes it, else NaN */
     double F0;                /* force offset, N, if the plan fixes it, else NaN */
     char *format;             /* the curve file's reader name, "" = sniffed */
-} lf_plan_row;
+} lf_plan_row;               /* probe.R is NaN where the plan's R cell says
+                                "header": the curve file's header gives it */
 
 typedef struct {
     char *path;               /* the plan's own path */
@@ -772,7 +773,9 @@ void lf_read_opts_default(lf_read_opts *o);
 int lf_read_opts_constants(lf_read_opts *o, const char *spring_constant,
                            const char *sensitivity, lf_error *err);
 
-/* Read one curve CSV (format in datasets/README.md).  On success *out is a
+/* Read one curve file: layerfit's CSV (format in datasets/README.md) or an
+ * instrument's export, the reader named by o->format or sniffed from the
+ * first bytes (see lf_reader_types below).  On success *out is a
  * new curve owned by the caller (lf_curve_free) and warnings, if any, are
  * appended to warn (may be NULL).  On failure *out is NULL and err names the
  * file, line and column (column = character in the line, 1-based) with

@@ -280,6 +280,14 @@ probe_column(const plan_reader *rd, const char *msg)
     return -1;
 }
 
+/* An R cell reading "header": the probe radius stated in the curve file's
+ * header (NaN in the plan row). */
+static int
+R_from_header(const plan_reader *rd, const lf_csv_record *r)
+{
+    return rd->col[P_R] >= 0 && lf_csv_ieq(r->text[rd->col[P_R]], "header");
+}
+
 static int
 plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
 {
@@ -348,13 +356,19 @@ plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     if (row->sample == NULL || row->format == NULL)
         return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
     if ((status = plan_number(rd, r, P_K, &row->probe.k, err)) != LF_OK
-        || (status = plan_number(rd, r, P_R, &row->probe.R, err)) != LF_OK
+        || (!R_from_header(rd, r)
+            && (status = plan_number(rd, r, P_R, &row->probe.R, err)) != LF_OK)
         || (status = plan_number(rd, r, P_B, &row->probe.b, err)) != LF_OK
         || (status = plan_number(rd, r, P_NU, &row->nu, err)) != LF_OK
         || (status = plan_number(rd, r, P_Z0, &row->z0, err)) != LF_OK
         || (status = plan_number(rd, r, P_F0, &row->F0, err)) != LF_OK)
         return status;
-    if (lf_probe_check(&row->probe, &e) != LF_OK) {
+    if (R_from_header(rd, r))      /* checked with the curve's R by the fit */
+        row->probe.R = 1.0;
+    status = lf_probe_check(&row->probe, &e);
+    if (R_from_header(rd, r))
+        row->probe.R = NAN;
+    if (status != LF_OK) {
         k = probe_column(rd, e.msg);
         return lf_fail_at(err, e.status, rd->name, r->line, k >= 0 ? r->fcol[k] : 0,
                           "%s", e.msg);
@@ -490,20 +504,26 @@ lf_file_kind_parse(const char *buf, size_t len, const char *name, lf_file_kind *
 {
     lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
     *kind = LF_FILE_CURVE;
+    buf = buf ? buf : "";
+    /* an instrument's export is a curve, whatever its first line holds */
+    if (strcmp(lf_reader_sniff(buf, len < LF_SNIFF_BYTES ? len : LF_SNIFF_BYTES)->name,
+               "csv") != 0)
+        return LF_OK;
     h.ctx = kind;
     h.record = kind_record;
-    h.comment = NULL;
-    return lf_csv_read_buffer(buf ? buf : "", len, 0, name, &h, err);
+    return lf_csv_read_buffer(buf, len, 0, name, &h, err);
 }
 
 int
 lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err)
 {
-    lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
+    lf_input in;
+    int status;
+
     *kind = LF_FILE_CURVE;
-    h.ctx = kind;
-    h.record = kind_record;
-    h.comment = NULL;
-    h.line = NULL;
-    return lf_csv_read_file(path, &h, err);
+    if ((status = lf_input_read(path, 0, &in, err)) != LF_OK)
+        return status;
+    status = lf_file_kind_parse(in.data, in.len, path, kind, err);
+    lf_input_free(&in);
+    return status;
 }

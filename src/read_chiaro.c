@@ -21,10 +21,8 @@ static int
 chiaro_sniff(const char *head, size_t len)
 {
     char buf[4096];
-    size_t n = len < sizeof buf - 1 ? len : sizeof buf - 1;
     const char *p;
-    memcpy(buf, head, n);
-    buf[n] = '\0';
+    lf_sniff_text(head, len, buf, sizeof buf);
     /* the table header, within the first few kB */
     for (p = buf; (p = strstr(p, "Time (s)\tLoad (")) != NULL; p++)
         if (strstr(p, "Cantilever (") != NULL || strstr(p, "Piezo (") != NULL)
@@ -116,10 +114,7 @@ chiaro_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings
     } else {
         lf_segments_from_profile(c, c->depth, NULL, "depth");
     }
-    if (t.skipped > 0)
-        lf_warn(warn, "%s:%ld: skipped %ld row%s with missing cells (first here)", in->name,
-                t.first_skipped, t.skipped, t.skipped == 1 ? "" : "s");
-    status = lf_curve_finish(c, warn, err);
+    return lf_text_table_finish(&t, c, warn, err);
 done:
     lf_text_table_free(&t);
     return status;

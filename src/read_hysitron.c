@@ -16,33 +16,18 @@ static int
 hysitron_sniff(const char *head, size_t len)
 {
     char buf[4096];
-    size_t n = len < sizeof buf - 1 ? len : sizeof buf - 1;
-    memcpy(buf, head, n);
-    buf[n] = '\0';
+    lf_sniff_text(head, len, buf, sizeof buf);
     if (strstr(buf, "Number of Points = ") != NULL && strstr(buf, "Depth (nm)\tLoad (") != NULL)
         return 90;
     if (strstr(buf, "Depth (nm)\tLoad (") != NULL && strstr(buf, "\tDepth (V)") != NULL)
         return 70;
+    if (strstr(buf, "\nDepth (nm)\tLoad (") != NULL && strstr(buf, "\tTime (s)") != NULL)
+        return 50;
     return 0;
-}
-
-static int
-hysitron_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings *warn,
-              lf_error *err)
-{
-    lf_text_table t;
-    int status;
-    memset(&t, 0, sizeof t);
-    t.skip_bad_rows = o->skip_bad_rows;
-    status = lf_text_table_read(&t, in, c, err);
-    if (status == LF_OK)
-        status = lf_text_curve(&t, in, o, c, warn, err);
-    lf_text_table_free(&t);
-    return status;
 }
 
 const lf_reader_type lf_reader_hysitron = {
     "hysitron", "Hysitron nanoindenter text export (Depth (nm), Load (uN), Time (s), raw "
     "voltages ignored)",
-    hysitron_sniff, hysitron_read
+    hysitron_sniff, lf_text_read
 };

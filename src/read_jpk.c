@@ -56,9 +56,7 @@ static int
 jpk_sniff(const char *head, size_t len)
 {
     char buf[8192];
-    size_t n = len < sizeof buf - 1 ? len : sizeof buf - 1;
-    memcpy(buf, head, n);
-    buf[n] = '\0';
+    lf_sniff_text(head, len, buf, sizeof buf);
     if (strncmp(buf, "# TEXT EXPORT", 13) == 0)
         return 90;
     if (strstr(buf, "\n# columns: ") != NULL && strstr(buf, "\n# units: ") != NULL)
@@ -83,7 +81,6 @@ header_line(jpk *j, long line, char *text, lf_error *err)
 {
     char *colon, *key, *value;
     size_t n;
-    (void) err;
 
     key = text + 1;
     key += strspn(key, " \t");
@@ -95,6 +92,10 @@ header_line(jpk *j, long line, char *text, lf_error *err)
         return LF_OK;
     *colon = '\0';
     value = colon + 1 + strspn(colon + 1, " \t");
+    if (strcmp(key, "segmentIndex") == 0 && strcmp(value, "0") == 0 && j->c->n > 0)
+        return lf_fail_at(err, LF_EFORMAT, j->name, line, 0,
+                          "a second curve begins here (segmentIndex 0 again): one curve per "
+                          "file (export the curves of a force map one by one)");
     if (strcmp(key, "columns") == 0) {
         snprintf(j->cols, sizeof j->cols, "%s", value);
         j->resolved = 0;

@@ -69,7 +69,7 @@ ntmdt_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings 
     if (status != LF_OK)
         goto done;
     if (t.ncol != 3) {
-        status = lf_fail_at(err, LF_EFORMAT, in->name, t.line[0], 0,
+        status = lf_fail_at(err, LF_EFORMAT, in->name, t.n > 0 ? t.line[0] : 0, 0,
                             "%zu columns (an NT-MDT export has 3: height (nm), deflection "
                             "approach (nA), deflection retract (nA))", t.ncol);
         goto done;
@@ -110,10 +110,7 @@ ntmdt_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings 
     if (pa > 0 || pr > 0)
         lf_warn(&c->info, "dropped padded rows at the start of the export: %zu approach, "
                 "%zu retract (a constant copied value)", pa, pr);
-    if (t.skipped > 0)
-        lf_warn(warn, "%s:%ld: skipped %ld row%s with missing cells (first here)", in->name,
-                t.first_skipped, t.skipped, t.skipped == 1 ? "" : "s");
-    status = lf_curve_finish(c, warn, err);
+    return lf_text_table_finish(&t, c, warn, err);
 done:
     lf_text_table_free(&t);
     return status;

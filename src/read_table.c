@@ -406,3 +406,24 @@ lf_text_table_factor(const lf_text_table *t, int j, lf_quantity q, double *facto
                           "column '%s': %s", t->cell[j], e.msg);
     return LF_OK;
 }
+
+int
+lf_text_table_finish(lf_text_table *t, lf_curve *c, lf_warnings *warn, lf_error *err)
+{
+    int status;
+    if (t->skipped > 0)
+        lf_warn(warn, "%s:%ld: skipped %ld row%s with missing cells (first here)",
+                t->name_file, t->first_skipped, t->skipped, t->skipped == 1 ? "" : "s");
+    status = lf_curve_finish(c, warn, err);
+    lf_text_table_free(t);
+    return status;
+}
+
+const char *
+lf_sniff_text(const char *head, size_t len, char *buf, size_t n)
+{
+    size_t m = len < n - 1 ? len : n - 1;
+    memcpy(buf, head, m);
+    buf[m] = '\0';
+    return buf;
+}

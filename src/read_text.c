@@ -119,10 +119,7 @@ lf_text_curve(lf_text_table *t, const lf_source *in, const lf_read_opts *o, lf_c
                 "minimum (it may hide the pull-off)", in->name, t->cell[jd],
                 lf_count_at_min(c->depth, c->n));
     lf_segments_from_profile(c, c->depth, c->force, "depth (or load)");
-    if (t->skipped > 0)
-        lf_warn(warn, "%s:%ld: skipped %ld row%s with missing cells (first here)", in->name,
-                t->first_skipped, t->skipped, t->skipped == 1 ? "" : "s");
-    return lf_curve_finish(c, warn, err);
+    return LF_OK;
 }
 
 /* Whether word occurs in line, any case. */
@@ -177,9 +174,9 @@ text_sniff(const char *head, size_t len)
     return 0;
 }
 
-static int
-text_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings *warn,
-          lf_error *err)
+int
+lf_text_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings *warn,
+             lf_error *err)
 {
     lf_text_table t;
     int status;
@@ -188,6 +185,8 @@ text_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings *
     status = lf_text_table_read(&t, in, c, err);
     if (status == LF_OK)
         status = lf_text_curve(&t, in, o, c, warn, err);
+    if (status == LF_OK)
+        return lf_text_table_finish(&t, c, warn, err);
     lf_text_table_free(&t);
     return status;
 }
@@ -195,5 +194,5 @@ text_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings *
 const lf_reader_type lf_reader_text = {
     "text", "delimited text with metadata lines above the column header (tab, ';', ',' or "
     "spaces; decimal comma)",
-    text_sniff, text_read
+    text_sniff, lf_text_read
 };

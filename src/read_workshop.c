@@ -23,9 +23,7 @@ static int
 workshop_sniff(const char *head, size_t len)
 {
     char buf[8192];
-    size_t n = len < sizeof buf - 1 ? len : sizeof buf - 1;
-    memcpy(buf, head, n);
-    buf[n] = '\0';
+    lf_sniff_text(head, len, buf, sizeof buf);
     if (strstr(buf, "Extend Z-Sense") != NULL && strstr(buf, "Retract Z-Sense") != NULL)
         return 90;
     if (strncmp(buf, "Force-Distance Curve", 20) == 0)
@@ -128,10 +126,7 @@ workshop_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnin
             "positive), from '%s' / '%s'", t.cell[jz[0]], t.cell[jz[1]]);
     lf_warn(&c->info, "segments: side-by-side columns, extend %zu and retract %zu points",
             t.n, t.n);
-    if (t.skipped > 0)
-        lf_warn(warn, "%s:%ld: skipped %ld row%s with missing cells (first here)", in->name,
-                t.first_skipped, t.skipped, t.skipped == 1 ? "" : "s");
-    status = lf_curve_finish(c, warn, err);
+    return lf_text_table_finish(&t, c, warn, err);
 done:
     lf_text_table_free(&t);
     return status;

@@ -385,14 +385,9 @@ lf_meta_number(const lf_curve *c, const char *key, lf_quantity q, double *si)
     if (lf_csv_number(num, 1, &x) != LF_NUM_OK)
         return -1;
     if ((comma = strrchr(key, ',')) != NULL && strchr(key, '(') == NULL) {
-        lf_latin1_to_utf8(comma + 1 + strspn(comma + 1, " "), unit, sizeof unit);
-        if (strchr(unit, 0xB5) || strstr(unit, "\xC2\xB5")) {   /* µ */
-            char *p = strstr(unit, "\xC2\xB5");
-            if (p != NULL) {
-                *p = 'u';
-                memmove(p + 1, p + 2, strlen(p + 2) + 1);
-            }
-        }
+        /* "Force Constant, nN/nm": the unit after the comma, µ as 'u' */
+        snprintf(name, sizeof name, "x (%s)", comma + 1 + strspn(comma + 1, " "));
+        lf_csv_header_cell(name, num, sizeof num, unit, sizeof unit);
     } else {
         lf_csv_header_cell(key, name, sizeof name, unit, sizeof unit);
     }

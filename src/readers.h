@@ -105,6 +105,15 @@ void lf_text_table_free(lf_text_table *t);
 /* The column whose header name is one of names (any case, NULL-ended), or
  * -1; with prefix, names need only begin the header name. */
 int lf_text_table_find(const lf_text_table *t, const char *const *names, int prefix);
+/* The end of a table reader: warns about skipped rows, then
+ * lf_curve_finish; frees the table. */
+int lf_text_table_finish(lf_text_table *t, lf_curve *c, lf_warnings *warn, lf_error *err);
+/* The first bytes of a file as a string (at most n - 1), for sniffing. */
+const char *lf_sniff_text(const char *head, size_t len, char *buf, size_t n);
+/* Read a table and convert it as generic text (the text and hysitron
+ * readers). */
+int lf_text_read(const lf_source *in, const lf_read_opts *o, lf_curve *c,
+                 lf_warnings *warn, lf_error *err);
 /* The SI factor of column j for quantity q, an error naming the column. */
 int lf_text_table_factor(const lf_text_table *t, int j, lf_quantity q, double *factor,
                     lf_error *err);

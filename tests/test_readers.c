@@ -420,6 +420,98 @@ test_vendor_details(void)
     t_int(lf_read_opts_constants(&o, NULL, "61nm", &err), LF_EUNIT, "sensitivity as a length");
 }
 
+/* A text held in memory, parsed at every chunk size the same way. */
+static lf_curve *
+parse_all_ways(const char *text, const lf_read_opts *o, lf_error *err)
+{
+    lf_curve *c = NULL;
+    reference r;
+    size_t len = strlen(text), chunk;
+    long bad = 0;
+    r.path = "mem.txt";
+    r.o = o;
+    r.status = lf_curve_parse(text, len, 0, "mem.txt", o, &c, NULL, err);
+    r.ref = c;
+    r.err = err;
+    for (chunk = 1; chunk <= len; chunk++)
+        bad += differs(&r, text, len, chunk) != 0;
+    t_int(bad, 0, "the same result with each of %zu chunk sizes", len);
+    return c;
+}
+
+/* The generic text reader and the sniffing that sends text to it. */
+static void
+test_generic_text(void)
+{
+    static const char tab_comma[] =
+        "Instrument X export\r\nDate: 2024-02-01\r\n\r\n"
+        "Depth (nm)\tForce (nN)\tTime (s)\r\n"
+        "0\t0,5\t0\r\n10,5\t2,25\t0,1\r\n20\t7\t0,2\r\n15\t4\t0,3\r\n5\t-1,5\t0,4\r\n";
+    static const char semi[] =
+        "operator = nobody\nindentation [um];load [mN]\n0,1;0,2\n0,3;0,4\n0,2;0,1\n";
+    static const char plain[] = "depth_nm,force_uN\n1,2\n3,4\n2,1\n";
+    static const char numbers_first[] = "1\t2\n3\t4\n";
+    lf_read_opts o;
+    lf_error err;
+    lf_curve *c;
+
+    t_str(lf_reader_sniff(tab_comma, strlen(tab_comma))->name, "text", "sniff: header on line 4");
+    t_str(lf_reader_sniff(semi, strlen(semi))->name, "text", "sniff: header on line 2");
+    t_str(lf_reader_sniff(plain, strlen(plain))->name, "csv", "sniff: plain CSV stays csv");
+    c = parse_all_ways(tab_comma, NULL, &err);
+    if (t_true(c != NULL, "tab, decimal comma reads (%s)", err.msg)) {
+        t_str(c->format, "text", "tab comma: format");
+        t_int((long) c->n, 5, "tab comma: points");
+        t_rel(c->depth[1], 10.5e-9, 1e-15, "tab comma: 10,5 nm");
+        t_rel(c->force[4], -1.5e-9, 1e-15, "tab comma: -1,5 nN");
+        t_rel(c->time[3], 0.3, 1e-15, "tab comma: time");
+        t_int(c->line[0], 5, "tab comma: first point's line");
+        t_str(meta(c, "Date"), "2024-02-01", "tab comma: 'Key: value' metadata");
+        t_true(has_info(c, "header on line 4, delimiter tab, decimal comma"), "tab comma: info");
+        t_int((long) count_seg(c, LF_SEG_LOAD), 2, "tab comma: load before the deepest");
+    }
+    lf_curve_free(c);
+    c = parse_all_ways(semi, NULL, &err);
+    if (t_true(c != NULL, "semicolon, decimal comma reads (%s)", err.msg)) {
+        t_rel(c->depth[1], 0.3e-6, 1e-15, "semicolon: um");
+        t_rel(c->force[0], 0.2e-3, 1e-15, "semicolon: mN");
+        t_str(meta(c, "operator"), "nobody", "semicolon: 'Key = value' metadata");
+    }
+    lf_curve_free(c);
+    lf_read_opts_default(&o);
+    o.format = "text";
+    c = parse_all_ways(numbers_first, &o, &err);
+    t_true(c == NULL, "text: numbers before a header refused");
+    t_contains(err.msg, "a row of numbers before any row naming the columns", "text: message");
+    t_int(err.line, 1, "text: message line");
+    lf_curve_free(c);
+}
+
+/* Plans: a format column, and R taken from the curve's header. */
+static void
+test_plan_columns(void)
+{
+    static const char good[] = "file,k,R,b,interface,format\n"
+                               "chiaro.txt,2,header,8um,frictionless,\n"
+                               "jpk_volts.txt,2,8um,8um,frictionless,JPK\n";
+    static const char bad[] = "file,k,R,b,interface,format\nchiaro.txt,2,1um,8um,frictionless,x\n";
+    lf_plan *p = NULL;
+    lf_error err;
+    if (t_int(lf_plan_parse(good, strlen(good), 0, "p.csv", vendors, &p, NULL, &err), LF_OK,
+              "plan with format and R header parses (%s)", err.msg)) {
+        t_true(isnan(p->rows[0].probe.R), "plan: R 'header' is NaN in the row");
+        t_str(p->rows[0].format, "", "plan: empty format = sniffed");
+        t_str(p->rows[1].format, "JPK", "plan: format kept");
+        t_rel(p->rows[1].probe.R, 8e-6, 1e-15, "plan: R given");
+    }
+    lf_plan_free(p);
+    p = NULL;
+    t_int(lf_plan_parse(bad, strlen(bad), 0, "p.csv", vendors, &p, NULL, &err), LF_EFORMAT,
+          "plan: unknown format refused");
+    t_int(err.column, 35, "plan: the message points at the format cell");
+    lf_plan_free(p);
+}
+
 /* ---- the real exports ------------------------------------------------- */
 
 static int
@@ -697,6 +789,8 @@ main(int argc, char **argv)
     snprintf(real, sizeof real, "%s/../../../shared/realdata", data);
     test_vendors();
     test_vendor_details();
+    test_plan_columns();
+    test_generic_text();
     if (real_present()) {
         test_real_chiaro();
         test_real_others();

@@ -82,11 +82,12 @@ print_curve(const lf_curve *c, lf_segment seg)
 }
 
 static void
-print_probe(const lf_plan_row *r)
+print_probe(const lf_plan_row *r, const lf_curve *c)
 {
     char R[48], b[48];
-    printf("  %-9s k = %g, R = %s, b = %s, %s\n", "probe", r->probe.k,
-           cli_human(R, sizeof R, r->probe.R, "m"), cli_human(b, sizeof b, r->probe.b, "m"),
+    printf("  %-9s k = %g, R = %s%s, b = %s, %s\n", "probe", r->probe.k,
+           cli_human(R, sizeof R, isnan(r->probe.R) ? c->R : r->probe.R, "m"),
+           isnan(r->probe.R) ? " (file header)" : "", cli_human(b, sizeof b, r->probe.b, "m"),
            cli_base_name(r->probe.base));
     if (r->sample[0] != '\0')
         printf("  %-9s %s\n", "sample", r->sample);
@@ -137,10 +138,14 @@ cli_check(int argc, char **argv)
                 "(e.g. layerfit check plan.csv)");
     /* the file named here is read once, whole (it may be a pipe or a
      * FIFO, read as a stream), then parsed; the curves a plan names must be
-     * regular files.  The same checks as a fit (cli_curve_load). */
+     * regular files.  The same checks as a fit (cli_curve_load).  A forced
+     * format reads a curve. */
     status = lf_input_read(argv[0], LF_INPUT_STREAM, &in, &err);
     if (status == LF_OK) {
-        status = lf_file_kind_parse(in.data, in.len, argv[0], &kind, &err);
+        if (o.format != NULL)
+            kind = LF_FILE_CURVE;
+        else
+            status = lf_file_kind_parse(in.data, in.len, argv[0], &kind, &err);
         if (status == LF_OK && kind == LF_FILE_PLAN) {
             status = cli_plan_from(&in, argv[0], &plan, &warn, &err);
             ncurves = status == LF_OK ? plan->n : 0;
@@ -151,10 +156,13 @@ cli_check(int argc, char **argv)
     if (status == LF_OK && (curves = calloc(ncurves, sizeof *curves)) == NULL)
         cli_die(CLI_EXIT_FAIL, "out of memory");
     for (i = 0; i < ncurves && status == LF_OK; i++) {
+        lf_read_opts ro = o;
+        if (plan && ro.format == NULL && plan->rows[i].format[0] != '\0')
+            ro.format = plan->rows[i].format;
         if (plan == NULL)
-            status = cli_curve_from(&in, argv[0], &o, LF_SEG_UNLOAD, &curves[i], &warn, &err);
+            status = cli_curve_from(&in, argv[0], &ro, LF_SEG_UNLOAD, &curves[i], &warn, &err);
         else
-            status = cli_curve_load(plan->rows[i].file, 0, &o, plan->rows[i].segment,
+            status = cli_curve_load(plan->rows[i].file, 0, &ro, plan->rows[i].segment,
                                     &curves[i], NULL, &warn, &err);
         if (status != LF_OK && plan != NULL && err.line == 0) {
             /* a file that cannot be read: say which row names it */
@@ -165,6 +173,14 @@ cli_check(int argc, char **argv)
             snprintf(err.file, sizeof err.file, "%s", plan->path);
             err.line = plan->rows[i].line;
         }
+        if (status == LF_OK && plan && isnan(plan->rows[i].probe.R) && !(curves[i]->R > 0)) {
+            snprintf(err.file, sizeof err.file, "%s", plan->path);
+            err.line = plan->rows[i].line;
+            err.column = 0;
+            snprintf(err.msg, sizeof err.msg, "R 'header', but %s states no probe radius "
+                     "(give R in the plan)", plan->rows[i].file);
+            status = err.status = LF_EDATA;
+        }
     }
     lf_input_free(&in);
     if (status == LF_OK) {
@@ -174,7 +190,7 @@ cli_check(int argc, char **argv)
         for (i = 0; i < ncurves; i++) {
             if (plan != NULL) {
                 printf("%s (plan line %ld)\n", plan->rows[i].file, plan->rows[i].line);
-                print_probe(&plan->rows[i]);
+                print_probe(&plan->rows[i], curves[i]);
             } else {
                 printf("curve %s\n", curves[i]->file);
             }

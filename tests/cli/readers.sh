@@ -32,6 +32,9 @@ expect_fail 2 "layerfit: $v/chiaro.txt: unknown format 'nanoscope' (one of: csv,
 expect_fail 2 "layerfit: $v/jpk_force.txt:12:1: a row of numbers before any row naming the columns (expected a header such as 'Depth (nm)<TAB>Load (uN)' just above the data)" check --format hysitron "$v/jpk_force.txt"
 expect_fail 2 "layerfit: $v/hysitron.txt:4: Chiaro table without a depth (expected Load (uN) or Cantilever (nm), and Piezo (nm) with Cantilever (nm), or Indentation (nm))" check --format chiaro "$v/hysitron.txt"
 
+(cat "$v/jpk_force.txt"; tail -n +3 "$v/jpk_force.txt") >"$tmp/two.txt"
+expect_fail 2 "layerfit: $tmp/two.txt:127: a second curve begins here (segmentIndex 0 again): one curve per file (export the curves of a force map one by one)" check "$tmp/two.txt"
+
 # fit an export directly: R from the header, no --b for a half-space
 run_ok fit "$v/chiaro.txt" --model halfspace --k 2 --json "$tmp/c.json" && {
     has "fit chiaro: R from the header" "$tmp/out" "chiaro.txt: R = 8 µm from the file header (chiaro export)"
@@ -57,6 +60,19 @@ run_ok fit "$v/plan.csv" --model halfspace --json "$tmp/p.json" && {
 printf 'file,k,R,b,interface,format\nchiaro.txt,2,8um,8um,frictionless,bruker\n' >"$tmp/badplan.csv"
 cp "$v/chiaro.txt" "$tmp/"
 expect_fail 2 "layerfit: $tmp/badplan.csv:2:35: unknown format 'bruker' (csv, chiaro, jpk, workshop, ntmdt, hysitron, text; or empty to detect it)" check "$tmp/badplan.csv"
+
+# R from the curve file's header in a plan
+printf 'file,k,R,b,interface,format\n%s,2,header,8um,frictionless,\n%s,2,8um,8um,frictionless,jpk\n' \
+    "$v/chiaro.txt" "$v/jpk_volts.txt" >"$tmp/hplan.csv"
+run_ok check "$tmp/hplan.csv" && \
+    has "plan R header: check shows it" "$tmp/out" "k = 2, R = 8 µm (file header), b = 8 µm"
+run_ok fit "$tmp/hplan.csv" --model halfspace --json "$tmp/h.json" && {
+    has "plan R header: fit says it" "$tmp/out" "chiaro.txt: R = 8 µm from the file header (chiaro export)"
+    w=$(sed -n 's/.*"w": {"value": \([^,]*\),.*/\1/p' "$tmp/h.json")
+    near "plan R header: w" "$w" 1e-3 1e-4
+}
+printf 'file,k,R,b,interface\n%s,2,header,8um,frictionless\n' "$v/jpk_volts.txt" >"$tmp/hplan2.csv"
+expect_fail 2 "layerfit: $tmp/hplan2.csv:2: R 'header', but $v/jpk_volts.txt states no probe radius (give R in the plan)" check "$tmp/hplan2.csv"
 
 # batch fits read exports too
 run_ok fit --batch "$v/plan.csv" --model halfspace --threads 1 --out "$tmp/b.csv" && \
