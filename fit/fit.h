@@ -142,7 +142,8 @@ typedef struct {
     gsl_vector *x, *r;   /* np, nres: a solution and its residuals */
     gsl_vector *x2, *r2; /* np, nres: a trial point and its residuals */
     gsl_vector *x0;      /* np: where an iteration started */
-    double *keep;        /* 3 ncurves: offsets kept aside */
+    double *keep;        /* 3 ncurves: offsets kept aside by a second start */
+    double *off;         /* 4 ncurves: the guess's offsets (a trial's, the best's) */
     double *jtj;         /* np x np: J^T J and its Cholesky factor */
     double *grad, *colmax;  /* np: J^T r and column maxima */
     double cost_hist[FIT_FLAT_ITERS + 1]; /* cost after each iteration, cyclic */

@@ -456,9 +456,11 @@ nu_of_Z(double Z)
 
 /* Stage 2: every curve's z0 and F0 at the material f->mat, the contact
  * offset c_j following from it, M and F0 linear.  Returns the total
- * weighted sum of squares on the subsamples; stores z0 and F0 when store. */
+ * weighted sum of squares on the subsamples; puts z0 and F0 of curve j
+ * into off[2 j], off[2 j + 1] (the stage-1 values where the profile
+ * fails). */
 static double
-offsets_at(lf_fit *f, int store)
+offsets_at(lf_fit *f, double *off)
 {
     const lf_material *m = &f->mat;
     double total = 0.0;
@@ -484,22 +486,39 @@ offsets_at(lf_fit *f, int store)
             rss = profile_cost(&p, c->z0);
         }
         total += rss / (c->sigma * c->sigma);
-        if (!store)
-            continue;
-        c->slope = 0.0;
-        if (rss < HUGE_VAL) {
-            if (c->iz0 >= 0)
-                c->z0 = p.z0;
-            if (c->iF0 >= 0)
-                c->F0 = p.F0;
-        } else {
-            if (c->iz0 >= 0)
-                c->z0 = c->guess.z0;
-            if (c->iF0 >= 0)
-                c->F0 = c->guess.F0;
-        }
+        off[2 * j] = rss < HUGE_VAL ? p.z0 : c->guess.z0;
+        off[2 * j + 1] = rss < HUGE_VAL ? p.F0 : c->guess.F0;
     }
     return total;
+}
+
+/* Make the offsets off (from offsets_at) the origin's, with f->mat. */
+static void
+set_offsets(lf_fit *f, const double *off)
+{
+    size_t j;
+
+    for (j = 0; j < f->ncurves; j++) {
+        fit_curve *c = &f->c[j];
+        c->slope = 0.0;
+        if (c->iz0 >= 0)
+            c->z0 = off[2 * j];
+        if (c->iF0 >= 0)
+            c->F0 = off[2 * j + 1];
+    }
+    lf_fit_set_origin(f);
+}
+
+/* Candidate i of the start's w: curve i's own, then the mean, then the
+ * floor. */
+static double
+candidate_w(const lf_fit *f, size_t i, double wmean, double wfloor)
+{
+    if (i < f->ncurves) {
+        const fit_curve *c = &f->c[i];
+        return c->guess.M * c->guess.c * c->guess.c / (2.0 * c->data.probe.b);
+    }
+    return i == f->ncurves ? wmean : wfloor;
 }
 
 int
@@ -507,6 +526,8 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
 {
     size_t j, nf = 0, nb = 0, nw = 0;
     double lnMf = 0, lnMb = 0, lnw = 0, wfloor = HUGE_VAL;
+    double *off = f->w.off, *off_best = f->w.off + 2 * f->ncurves;
+    int have_best = 0;
     lf_material *m = &f->mat;
 
     start->alt_w = NAN;
@@ -545,20 +566,19 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
          * floor; the one whose offsets fit all curves best wins (ties to
          * the smaller w, so the order of the curves does not matter) */
         double best = HUGE_VAL, wbest = wfloor, second = HUGE_VAL, wsecond = NAN;
-        size_t ncand = f->ncurves + 2, i;
+        const double wmean = nw > 0 ? exp(lnw / (double) nw) : 0.0;
+        size_t ncand = f->ncurves + 2, i, q;
         int any_z0;
         for (i = 0; i < ncand; i++) {
-            double wc, cost;
-            if (i < f->ncurves) {
-                const fit_curve *c = &f->c[i];
-                wc = c->guess.M * c->guess.c * c->guess.c / (2.0 * c->data.probe.b);
-            } else {
-                wc = i == f->ncurves ? (nw > 0 ? exp(lnw / (double) nw) : 0.0) : wfloor;
-            }
+            double wc = candidate_w(f, i, wmean, wfloor), cost;
             if (!(wc >= wfloor) || !isfinite(wc))
                 continue;
+            for (q = 0; q < i && candidate_w(f, q, wmean, wfloor) != wc; q++)
+                ;
+            if (q < i)
+                continue;           /* the same w again (one curve: its own w is the mean) */
             m->w = wc;
-            cost = offsets_at(f, 0);
+            cost = offsets_at(f, off);
             if (cost < best || (cost == best && wc < wbest)) {
                 if (!(fabs(log(wc / wbest)) < FIT_ALT_LOG_SEP)) {
                     second = best;
@@ -566,6 +586,8 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
                 }
                 best = cost;
                 wbest = wc;
+                memcpy(off_best, off, 2 * f->ncurves * sizeof *off);
+                have_best = 1;
             } else if (cost < second && !(fabs(log(wc / wbest)) < FIT_ALT_LOG_SEP)) {
                 second = cost;
                 wsecond = wc;
@@ -595,13 +617,16 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
         start->user = 1;
     }
     start->mat = *m;
-    lf_fit_guess_offsets(f);
+    if (have_best && !start->user)
+        set_offsets(f, off_best);   /* profiled at this material already */
+    else
+        lf_fit_guess_offsets(f);
     return LF_OK;
 }
 
 void
 lf_fit_guess_offsets(lf_fit *f)
 {
-    offsets_at(f, 1);
-    lf_fit_set_origin(f);
+    offsets_at(f, f->w.off);
+    set_offsets(f, f->w.off);
 }

@@ -262,6 +262,7 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     f->w.work = calloc(f->ndata > 2 * GUESS_NSUB ? f->ndata : 2 * GUESS_NSUB, sizeof *f->w.work);
     f->w.sub = calloc(3 * GUESS_NSUB + GUESS_NODES, sizeof *f->w.sub);
     f->w.keep = calloc(3 * ncurves, sizeof *f->w.keep);
+    f->w.off = calloc(4 * ncurves, sizeof *f->w.off);
     f->w.jtj = calloc(f->np * f->np, sizeof *f->w.jtj);
     f->w.lm.x = gsl_vector_alloc(f->np);
     f->w.lm.xt = gsl_vector_alloc(f->np);
@@ -282,7 +283,7 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     f->w.r2 = gsl_vector_alloc(f->nres);
     f->order = malloc(f->ndata * sizeof *f->order);
     if (!f->x0_internal || !f->w.xcache || !f->w.ev || !f->w.scan_ev || !f->w.sqrtw
-        || !f->w.delta || !f->w.work || !f->w.sub || !f->w.keep || !f->w.jtj || !f->w.lm.x || !f->w.lm.xt || !f->w.lm.h
+        || !f->w.delta || !f->w.work || !f->w.sub || !f->w.keep || !f->w.off || !f->w.jtj || !f->w.lm.x || !f->w.lm.xt || !f->w.lm.h
         || !f->w.lm.r || !f->w.lm.rt || !f->w.lm.J || !f->w.lm.A || !f->w.lm.L || !f->w.lm.g
         || !f->w.lm.D2 || !f->w.grad || !f->w.colmax || !f->w.x || !f->w.x2 || !f->w.x0
         || !f->w.r || !f->w.r2 || !f->order || depth_order(f) != LF_OK)
@@ -332,6 +333,7 @@ lf_fit_free(lf_fit *f)
     free(f->w.work);
     free(f->w.sub);
     free(f->w.keep);
+    free(f->w.off);
     free(f->w.jtj);
     gsl_vector_free(f->w.lm.x);
     gsl_vector_free(f->w.lm.xt);
