@@ -239,7 +239,8 @@ profile_cost(profile *p, double s)
         double d1 = p->z[i] - zd;
         int in = p->branch == LF_BRANCH_LOAD && p->kind != PROFILE_ZD
                  ? p->z[i] >= zc : p->z[i] > zc;
-        double g = in && d1 > 0 ? pow(d1, e2) : 0.0;
+        /* pow(d1, 1) is d1 exactly: k = 2 needs no pow */
+        double g = in && d1 > 0 ? (e2 == 1.0 ? d1 : pow(d1, e2)) : 0.0;
         if (g > 0)
             ncontact++;
         if (p->kind == PROFILE_ZD) {
