@@ -128,7 +128,8 @@ typedef struct {
     size_t niter, nevalf, nevaldf;
 } fit_lm;
 
-/* Scratch, sized once at alloc: nothing allocates inside a run. */
+/* Scratch, sized once at alloc (one block, layout.c): nothing allocates
+ * inside a run. */
 typedef struct {
     lf_eval *ev;         /* ndata: model at the last residual evaluation */
     lf_eval *scan_ev;    /* ndata: scratch of the contact-point scan */
@@ -149,6 +150,9 @@ typedef struct {
     double cost_hist[FIT_FLAT_ITERS + 1]; /* cost after each iteration, cyclic */
     fit_lm lm;
     int own;             /* 1: lm.c holds the solver's state, 0: GSL */
+    double *block;       /* one allocation holding every number above */
+    gsl_vector vectors[10];  /* the views x, r, ... into block */
+    gsl_matrix matrix;       /* lm.J's view */
 } fit_work;
 
 /* A run's running totals and its verdict. */
