@@ -40,12 +40,14 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
 #define FIT_FLAT_REL 1e-8
 #define FIT_FLAT_ABS 1e-3
 /* Converged when a Gauss-Newton step from the current point would lower
- * chi2 (residuals in units of the noise) by less than FIT_CHI2_STEP: the
- * estimates are then within sqrt(FIT_CHI2_STEP) standard errors of the
- * minimum of the local quadratic, and further iterations only chase
- * rounding.  GSL's own tests (the settings' xtol, gtol, ftol) stay in
- * force for data so clean that this one cannot be met. */
-#define FIT_CHI2_STEP 1e-10
+ * chi2 (residuals in units of the noise) by less than FIT_CHI2_STEP times
+ * chi2/dof: the estimates are then within sqrt(FIT_CHI2_STEP) = 1e-3 of
+ * their reported standard errors (which are scaled by sqrt(chi2/dof)) of
+ * the minimum of the local quadratic, and further iterations only chase
+ * rounding.  On noise-free data chi2/dof is tiny and so is the step this
+ * allows.  GSL's own tests (the settings' xtol, gtol, ftol) stay in force
+ * for data so clean that this one cannot be met. */
+#define FIT_CHI2_STEP 1e-6
 #define FIT_INFO_CHI2 3     /* the stop reason's code for that test */
 /* A stop with no progress is a minimum when every scaled gradient
  * component is below FIT_GRAD_ROUNDING |J_k| |r| (rounding level)... */

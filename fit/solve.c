@@ -245,11 +245,21 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
     return 1;
 }
 
+/* chi2 / dof at the solver's position: the square of the factor by which
+ * the reported standard errors are scaled. */
+static double
+chi2_per_dof(lf_fit *f)
+{
+    double rn = gsl_blas_dnrm2(cur_r(f));
+    return rn * rn / (double) (f->nres - f->np);
+}
+
 /* gsl_multifit_nlinear_driver with the Jacobian examined before each
  * iteration and the cost recorded after it.  Stops with GSL_SUCCESS and
  * *info = FIT_INFO_CHI2 when a Gauss-Newton step would lower chi2 by less
- * than FIT_CHI2_STEP (the estimates are then within sqrt(FIT_CHI2_STEP)
- * standard errors of the minimum), else by GSL's tests.  An unusable
+ * than FIT_CHI2_STEP chi2/dof (the estimates are then within
+ * sqrt(FIT_CHI2_STEP) of their reported standard errors of the minimum),
+ * else by GSL's tests.  An unusable
  * Jacobian ends the run with GSL_EBADFUNC and the negligible column in
  * *dead. */
 static int
@@ -263,7 +273,7 @@ drive(lf_fit *f, int *info, size_t *dead)
     do {
         if (!examine_jacobian(f, dead, &dchi2))
             return GSL_EBADFUNC;
-        if (dchi2 <= FIT_CHI2_STEP) {
+        if (dchi2 <= FIT_CHI2_STEP * chi2_per_dof(f)) {
             *info = FIT_INFO_CHI2;
             return GSL_SUCCESS;
         }
