@@ -49,6 +49,11 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
  * for data so clean that this one cannot be met. */
 #define FIT_CHI2_STEP 1e-6
 #define FIT_INFO_CHI2 3     /* the stop reason's code for that test */
+/* lm.c only: also converged when the last accepted step moved every
+ * estimate by less than sqrt(FIT_CHI2_STEP) of its standard error and
+ * lowered chi2 by less than FIT_CHI2_STEP chi2/dof (a creep along a kink
+ * of the cost, where the Gauss-Newton test need not pass). */
+#define FIT_INFO_CREEP 4
 /* A stop with no progress is a minimum when every scaled gradient
  * component is below FIT_GRAD_ROUNDING |J_k| |r| (rounding level)... */
 #define FIT_GRAD_ROUNDING 1e-8
@@ -126,7 +131,7 @@ typedef struct {
     gsl_matrix *J;          /* nres x np at x */
     double *A, *L;          /* np x np: J^T J and a Cholesky factor */
     double *g, *D2;         /* np: J^T r, squared scaling */
-    double cost, mu, nu, last_step;
+    double cost, cost_prev, mu, nu, last_step;
     size_t niter, nevalf, nevaldf;
 } fit_lm;
 
@@ -149,6 +154,7 @@ typedef struct {
     double *off;         /* 4 ncurves: the guess's offsets (a trial's, the best's) */
     double *jtj;         /* np x np: J^T J and its Cholesky factor */
     double *grad, *colmax;  /* np: J^T r and column maxima */
+    double *ainv;        /* np: the diagonal of (J^T J)^-1 */
     double cost_hist[FIT_FLAT_ITERS + 1]; /* cost after each iteration, cyclic */
     fit_lm lm;
     int own;             /* 1: lm.c holds the solver's state, 0: GSL */

@@ -150,6 +150,7 @@ lf_fit_lm_iterate(lf_fit *f)
             double t = 2.0 * rho - 1.0;
             gsl_vector_swap(lm->x, lm->xt);
             gsl_vector_swap(lm->r, lm->rt);
+            lm->cost_prev = lm->cost;
             lm->nevaldf++;
             if (lf_fit_jacobian(lm->x, f, lm->J) != GSL_SUCCESS)
                 return GSL_EDOM;

@@ -84,6 +84,7 @@ stop_reason(int status, int info, size_t maxiter, char *buf, size_t n,
     if (status == GSL_SUCCESS) {
         *converged = 1;
         snprintf(buf, n, "converged (%s)", info == FIT_INFO_CHI2 ? "chi2 within reach of its minimum"
+                                           : info == FIT_INFO_CREEP ? "steps far below the standard errors"
                                            : info == 1 ? "small step" : "small gradient");
     } else if (status == GSL_EMAXITER) {
         snprintf(buf, n, "not converged: %zu iterations reached", maxiter);
@@ -182,8 +183,10 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
     size_t i, k, l;
 
     *dchi2 = HUGE_VAL;
-    for (k = 0; k < p; k++)
+    for (k = 0; k < p; k++) {
         big[k] = 0.0;
+        f->w.ainv[k] = NAN;
+    }
     if (f->w.own) {         /* lm.c has J^T J and J^T r already */
         memcpy(A, f->w.lm.A, p * p * sizeof *A);
         memcpy(g, f->w.lm.g, p * sizeof *g);
@@ -242,6 +245,43 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
         g[k] = y / A[k * p + k];
         *dchi2 += g[k] * g[k];
     }
+    /* the diagonal of (J^T J)^-1: |L^-1 e_k|^2, with big[] as scratch */
+    for (k = 0; k < p; k++) {
+        double sum = 0.0;
+        for (l = 0; l < p; l++) {
+            double y = l == k ? 1.0 : 0.0;
+            size_t q;
+            if (l < k) {
+                big[l] = 0.0;
+                continue;
+            }
+            for (q = k; q < l; q++)
+                y -= A[l * p + q] * big[q];
+            big[l] = y / A[l * p + l];
+            sum += big[l] * big[l];
+        }
+        f->w.ainv[k] = sum;
+    }
+    return 1;
+}
+
+/* lm.c's last accepted step, from x_prev to x, moved every parameter by
+ * less than sqrt(FIT_CHI2_STEP) of its standard error (sqrt(chi2/dof
+ * (J^T J)^-1_kk) at x) and lowered chi2 by less than FIT_CHI2_STEP
+ * chi2/dof: a creep (at a kink of the cost the Gauss-Newton test need not
+ * pass) that no longer moves any estimate. */
+static int
+creeping(lf_fit *f, double chi2dof)
+{
+    const fit_lm *lm = &f->w.lm;
+    const double tol = sqrt(FIT_CHI2_STEP);
+    size_t k;
+
+    if (!f->w.own || lm->niter == 0 || !(2.0 * (lm->cost_prev - lm->cost) <= FIT_CHI2_STEP * chi2dof))
+        return 0;
+    for (k = 0; k < f->np; k++)
+        if (!(fabs(lm->x->data[k] - lm->xt->data[k]) <= tol * sqrt(chi2dof * f->w.ainv[k])))
+            return 0;
     return 1;
 }
 
@@ -267,14 +307,19 @@ drive(lf_fit *f, int *info, size_t *dead)
 {
     size_t iter = 0;
     int status;
-    double dchi2;
+    double dchi2, chi2dof;
 
     *info = 0;
     do {
         if (!examine_jacobian(f, dead, &dchi2))
             return GSL_EBADFUNC;
-        if (dchi2 <= FIT_CHI2_STEP * chi2_per_dof(f)) {
+        chi2dof = chi2_per_dof(f);
+        if (dchi2 <= FIT_CHI2_STEP * chi2dof) {
             *info = FIT_INFO_CHI2;
+            return GSL_SUCCESS;
+        }
+        if (creeping(f, chi2dof)) {
+            *info = FIT_INFO_CREEP;
             return GSL_SUCCESS;
         }
         status = solver_iterate(f);
