@@ -189,7 +189,7 @@ linear_fit(const profile *p, size_t ncol, double *b)
 {
     double A[3][3] = { { 0 } }, rhs[3] = { 0 }, row[3];
     size_t i, r, s, m = ncol + (size_t) p->F0_free;
-    double rss = 0.0;
+    double yy = 0.0, fit = 0.0;
 
     for (i = 0; i < p->n; i++) {
         double y = p->F[i] - (p->F0_free ? 0.0 : p->F0_held);
@@ -197,6 +197,7 @@ linear_fit(const profile *p, size_t ncol, double *b)
             row[r] = p->phi[r * p->n + i];
         if (p->F0_free)
             row[ncol] = 1.0;
+        yy += y * y;
         for (r = 0; r < m; r++) {
             rhs[r] += row[r] * y;
             for (s = 0; s <= r; s++)
@@ -208,15 +209,10 @@ linear_fit(const profile *p, size_t ncol, double *b)
             A[r][s] = A[s][r];
     if (!solve_small(m, A, rhs, b))
         return HUGE_VAL;
-    for (i = 0; i < p->n; i++) {
-        double y = p->F[i] - (p->F0_free ? 0.0 : p->F0_held), e = y;
-        for (r = 0; r < ncol; r++)
-            e -= b[r] * p->phi[r * p->n + i];
-        if (p->F0_free)
-            e -= b[ncol];
-        rss += e * e;
-    }
-    return rss;
+    /* |y - X b|^2 = y^T y - b^T X^T y at the least-squares b: one pass */
+    for (r = 0; r < m; r++)
+        fit += b[r] * rhs[r];
+    return fmax(yy - fit, 0.0);
 }
 
 /* The residual sum of squares at trial value s of the profiled parameter;
