@@ -131,7 +131,7 @@ typedef struct {
     gsl_matrix *J;          /* nres x np at x */
     double *A, *L;          /* np x np: J^T J and a Cholesky factor */
     double *g, *D2;         /* np: J^T r, squared scaling */
-    double cost, cost_prev, mu, nu, last_step;
+    double cost, cost_prev, mu, nu;
     size_t niter, nevalf, nevaldf;
 } fit_lm;
 

@@ -187,26 +187,38 @@ solve_small(size_t p, double A[3][3], double *rhs, double *sol)
 static double
 linear_fit(const profile *p, size_t ncol, double *b)
 {
-    double A[3][3] = { { 0 } }, rhs[3] = { 0 }, row[3];
-    size_t i, r, s, m = ncol + (size_t) p->F0_free;
+    double A[3][3] = { { 0 } }, rhs[3] = { 0 };
+    double a00 = 0, a10 = 0, a11 = 0, a20 = 0, a21 = 0, a22 = 0, r0 = 0, r1 = 0, r2 = 0;
+    const double one = p->F0_free ? 1.0 : 0.0, held = p->F0_free ? 0.0 : p->F0_held;
+    const double *phi0 = p->phi, *phi1 = p->phi + p->n;
+    size_t i, r, m = ncol + (size_t) p->F0_free;
     double yy = 0.0, fit = 0.0;
 
+    /* the columns x0 = phi0, then phi1 (ncol = 2), then the constant of a
+     * free F0; unrolled, branch-free sums (unused terms add zeros) */
     for (i = 0; i < p->n; i++) {
-        double y = p->F[i] - (p->F0_free ? 0.0 : p->F0_held);
-        for (r = 0; r < ncol; r++)
-            row[r] = p->phi[r * p->n + i];
-        if (p->F0_free)
-            row[ncol] = 1.0;
+        const double y = p->F[i] - held, x0 = phi0[i];
+        const double x1 = ncol > 1 ? phi1[i] : one, x2 = ncol > 1 ? one : 0.0;
         yy += y * y;
-        for (r = 0; r < m; r++) {
-            rhs[r] += row[r] * y;
-            for (s = 0; s <= r; s++)
-                A[r][s] += row[r] * row[s];
-        }
+        a00 += x0 * x0;
+        a10 += x1 * x0;
+        a11 += x1 * x1;
+        a20 += x2 * x0;
+        a21 += x2 * x1;
+        a22 += x2 * x2;
+        r0 += x0 * y;
+        r1 += x1 * y;
+        r2 += x2 * y;
     }
-    for (r = 0; r < m; r++)
-        for (s = r + 1; s < m; s++)
-            A[r][s] = A[s][r];
+    A[0][0] = a00;
+    A[1][0] = A[0][1] = a10;
+    A[1][1] = a11;
+    A[2][0] = A[0][2] = a20;
+    A[2][1] = A[1][2] = a21;
+    A[2][2] = a22;
+    rhs[0] = r0;
+    rhs[1] = r1;
+    rhs[2] = r2;
     if (!solve_small(m, A, rhs, b))
         return HUGE_VAL;
     /* |y - X b|^2 = y^T y - b^T X^T y at the least-squares b: one pass */

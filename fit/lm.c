@@ -113,7 +113,6 @@ lf_fit_lm_init(lf_fit *f, const gsl_vector *x)
             lm->D2[k] = 1.0;
     lm->mu = FIT_LM_MU0 * (big > 0 ? big : 1.0);
     lm->nu = 2.0;
-    lm->last_step = HUGE_VAL;
     return GSL_SUCCESS;
 }
 
