@@ -157,8 +157,8 @@ no_descent(lf_fit *f, gsl_vector *x)
 static void
 track_cost(lf_fit *f, size_t iter)
 {
-    double r = gsl_blas_dnrm2(cur_r(f));
-    f->w.cost_hist[iter % (FIT_FLAT_ITERS + 1)] = 0.5 * r * r;
+    double r = f->w.own ? 0.0 : gsl_blas_dnrm2(cur_r(f));
+    f->w.cost_hist[iter % (FIT_FLAT_ITERS + 1)] = f->w.own ? f->w.lm.cost : 0.5 * r * r;
 }
 
 /* The solver's Jacobian J and residuals r at its position, examined once
@@ -290,8 +290,8 @@ creeping(lf_fit *f, double chi2dof)
 static double
 chi2_per_dof(lf_fit *f)
 {
-    double rn = gsl_blas_dnrm2(cur_r(f));
-    return rn * rn / (double) (f->nres - f->np);
+    double rn = f->w.own ? 0.0 : gsl_blas_dnrm2(cur_r(f));
+    return (f->w.own ? 2.0 * f->w.lm.cost : rn * rn) / (double) (f->nres - f->np);
 }
 
 /* gsl_multifit_nlinear_driver with the Jacobian examined before each
