@@ -329,6 +329,15 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
         lf_fit_free(f);
         return NULL;
     }
+    /* nu held: each model resolves what it needs for that nu now (the
+     * exact model's tables), so that no evaluation of the run builds or
+     * looks up anything; a free nu is resolved as the fit meets it */
+    if (f->imat[FIT_NU] < 0 && isfinite(f->mat.nu))
+        for (j = 0; j < ncurves; j++)
+            if (lf_model_prepare(f->c[j].model, f->mat.nu, f->mat.nu, err) != LF_OK) {
+                lf_fit_free(f);
+                return NULL;
+            }
     f->order = malloc(f->ndata * sizeof *f->order);
     f->w.ev = calloc(2 * f->ndata, sizeof *f->w.ev);
     if (f->order == NULL || f->w.ev == NULL || work_alloc(f) != LF_OK
