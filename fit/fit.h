@@ -40,13 +40,20 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
 #define FIT_FLAT_REL 1e-8
 #define FIT_FLAT_ABS 1e-3
 /* Converged when a Gauss-Newton step from the current point would lower
- * chi2 (residuals in units of the noise) by less than FIT_CHI2_STEP: the
- * estimates are then within sqrt(FIT_CHI2_STEP) standard errors of the
- * minimum of the local quadratic, and further iterations only chase
- * rounding.  GSL's own tests (the settings' xtol, gtol, ftol) stay in
- * force for data so clean that this one cannot be met. */
-#define FIT_CHI2_STEP 1e-10
+ * chi2 (residuals in units of the noise) by less than FIT_CHI2_STEP times
+ * chi2/dof: the estimates are then within sqrt(FIT_CHI2_STEP) = 1e-3 of
+ * their reported standard errors (which are scaled by sqrt(chi2/dof)) of
+ * the minimum of the local quadratic, and further iterations only chase
+ * rounding.  On noise-free data chi2/dof is tiny and so is the step this
+ * allows.  GSL's own tests (the settings' xtol, gtol, ftol) stay in force
+ * for data so clean that this one cannot be met. */
+#define FIT_CHI2_STEP 1e-6
 #define FIT_INFO_CHI2 3     /* the stop reason's code for that test */
+/* lm.c only: also converged when the last accepted step moved every
+ * estimate by less than sqrt(FIT_CHI2_STEP) of its standard error and
+ * lowered chi2 by less than FIT_CHI2_STEP chi2/dof (a creep along a kink
+ * of the cost, where the Gauss-Newton test need not pass). */
+#define FIT_INFO_CREEP 4
 /* A stop with no progress is a minimum when every scaled gradient
  * component is below FIT_GRAD_ROUNDING |J_k| |r| (rounding level)... */
 #define FIT_GRAD_ROUNDING 1e-8
@@ -124,11 +131,12 @@ typedef struct {
     gsl_matrix *J;          /* nres x np at x */
     double *A, *L;          /* np x np: J^T J and a Cholesky factor */
     double *g, *D2;         /* np: J^T r, squared scaling */
-    double cost, mu, nu, last_step;
+    double cost, cost_prev, mu, nu;
     size_t niter, nevalf, nevaldf;
 } fit_lm;
 
-/* Scratch, sized once at alloc: nothing allocates inside a run. */
+/* Scratch, sized once at alloc (one block, layout.c): nothing allocates
+ * inside a run. */
 typedef struct {
     lf_eval *ev;         /* ndata: model at the last residual evaluation */
     lf_eval *scan_ev;    /* ndata: scratch of the contact-point scan */
@@ -142,12 +150,17 @@ typedef struct {
     gsl_vector *x, *r;   /* np, nres: a solution and its residuals */
     gsl_vector *x2, *r2; /* np, nres: a trial point and its residuals */
     gsl_vector *x0;      /* np: where an iteration started */
-    double *keep;        /* 3 ncurves: offsets kept aside */
+    double *keep;        /* 3 ncurves: offsets kept aside by a second start */
+    double *off;         /* 4 ncurves: the guess's offsets (a trial's, the best's) */
     double *jtj;         /* np x np: J^T J and its Cholesky factor */
     double *grad, *colmax;  /* np: J^T r and column maxima */
+    double *ainv;        /* np: the diagonal of (J^T J)^-1 */
     double cost_hist[FIT_FLAT_ITERS + 1]; /* cost after each iteration, cyclic */
     fit_lm lm;
     int own;             /* 1: lm.c holds the solver's state, 0: GSL */
+    double *block;       /* one allocation holding every number above */
+    gsl_vector vectors[10];  /* the views x, r, ... into block */
+    gsl_matrix matrix;       /* lm.J's view */
 } fit_work;
 
 /* A run's running totals and its verdict. */

@@ -187,36 +187,44 @@ solve_small(size_t p, double A[3][3], double *rhs, double *sol)
 static double
 linear_fit(const profile *p, size_t ncol, double *b)
 {
-    double A[3][3] = { { 0 } }, rhs[3] = { 0 }, row[3];
-    size_t i, r, s, m = ncol + (size_t) p->F0_free;
-    double rss = 0.0;
+    double A[3][3] = { { 0 } }, rhs[3] = { 0 };
+    double a00 = 0, a10 = 0, a11 = 0, a20 = 0, a21 = 0, a22 = 0, r0 = 0, r1 = 0, r2 = 0;
+    const double one = p->F0_free ? 1.0 : 0.0, held = p->F0_free ? 0.0 : p->F0_held;
+    const double *phi0 = p->phi, *phi1 = p->phi + p->n;
+    size_t i, r, m = ncol + (size_t) p->F0_free;
+    double yy = 0.0, fit = 0.0;
 
+    /* the columns x0 = phi0, then phi1 (ncol = 2), then the constant of a
+     * free F0; unrolled, branch-free sums (unused terms add zeros) */
     for (i = 0; i < p->n; i++) {
-        double y = p->F[i] - (p->F0_free ? 0.0 : p->F0_held);
-        for (r = 0; r < ncol; r++)
-            row[r] = p->phi[r * p->n + i];
-        if (p->F0_free)
-            row[ncol] = 1.0;
-        for (r = 0; r < m; r++) {
-            rhs[r] += row[r] * y;
-            for (s = 0; s <= r; s++)
-                A[r][s] += row[r] * row[s];
-        }
+        const double y = p->F[i] - held, x0 = phi0[i];
+        const double x1 = ncol > 1 ? phi1[i] : one, x2 = ncol > 1 ? one : 0.0;
+        yy += y * y;
+        a00 += x0 * x0;
+        a10 += x1 * x0;
+        a11 += x1 * x1;
+        a20 += x2 * x0;
+        a21 += x2 * x1;
+        a22 += x2 * x2;
+        r0 += x0 * y;
+        r1 += x1 * y;
+        r2 += x2 * y;
     }
-    for (r = 0; r < m; r++)
-        for (s = r + 1; s < m; s++)
-            A[r][s] = A[s][r];
+    A[0][0] = a00;
+    A[1][0] = A[0][1] = a10;
+    A[1][1] = a11;
+    A[2][0] = A[0][2] = a20;
+    A[2][1] = A[1][2] = a21;
+    A[2][2] = a22;
+    rhs[0] = r0;
+    rhs[1] = r1;
+    rhs[2] = r2;
     if (!solve_small(m, A, rhs, b))
         return HUGE_VAL;
-    for (i = 0; i < p->n; i++) {
-        double y = p->F[i] - (p->F0_free ? 0.0 : p->F0_held), e = y;
-        for (r = 0; r < ncol; r++)
-            e -= b[r] * p->phi[r * p->n + i];
-        if (p->F0_free)
-            e -= b[ncol];
-        rss += e * e;
-    }
-    return rss;
+    /* |y - X b|^2 = y^T y - b^T X^T y at the least-squares b: one pass */
+    for (r = 0; r < m; r++)
+        fit += b[r] * rhs[r];
+    return fmax(yy - fit, 0.0);
 }
 
 /* The residual sum of squares at trial value s of the profiled parameter;
@@ -239,7 +247,8 @@ profile_cost(profile *p, double s)
         double d1 = p->z[i] - zd;
         int in = p->branch == LF_BRANCH_LOAD && p->kind != PROFILE_ZD
                  ? p->z[i] >= zc : p->z[i] > zc;
-        double g = in && d1 > 0 ? pow(d1, e2) : 0.0;
+        /* pow(d1, 1) is d1 exactly: k = 2 needs no pow */
+        double g = in && d1 > 0 ? (e2 == 1.0 ? d1 : pow(d1, e2)) : 0.0;
         if (g > 0)
             ncontact++;
         if (p->kind == PROFILE_ZD) {
@@ -456,9 +465,11 @@ nu_of_Z(double Z)
 
 /* Stage 2: every curve's z0 and F0 at the material f->mat, the contact
  * offset c_j following from it, M and F0 linear.  Returns the total
- * weighted sum of squares on the subsamples; stores z0 and F0 when store. */
+ * weighted sum of squares on the subsamples; puts z0 and F0 of curve j
+ * into off[2 j], off[2 j + 1] (the stage-1 values where the profile
+ * fails). */
 static double
-offsets_at(lf_fit *f, int store)
+offsets_at(lf_fit *f, double *off)
 {
     const lf_material *m = &f->mat;
     double total = 0.0;
@@ -484,22 +495,39 @@ offsets_at(lf_fit *f, int store)
             rss = profile_cost(&p, c->z0);
         }
         total += rss / (c->sigma * c->sigma);
-        if (!store)
-            continue;
-        c->slope = 0.0;
-        if (rss < HUGE_VAL) {
-            if (c->iz0 >= 0)
-                c->z0 = p.z0;
-            if (c->iF0 >= 0)
-                c->F0 = p.F0;
-        } else {
-            if (c->iz0 >= 0)
-                c->z0 = c->guess.z0;
-            if (c->iF0 >= 0)
-                c->F0 = c->guess.F0;
-        }
+        off[2 * j] = rss < HUGE_VAL ? p.z0 : c->guess.z0;
+        off[2 * j + 1] = rss < HUGE_VAL ? p.F0 : c->guess.F0;
     }
     return total;
+}
+
+/* Make the offsets off (from offsets_at) the origin's, with f->mat. */
+static void
+set_offsets(lf_fit *f, const double *off)
+{
+    size_t j;
+
+    for (j = 0; j < f->ncurves; j++) {
+        fit_curve *c = &f->c[j];
+        c->slope = 0.0;
+        if (c->iz0 >= 0)
+            c->z0 = off[2 * j];
+        if (c->iF0 >= 0)
+            c->F0 = off[2 * j + 1];
+    }
+    lf_fit_set_origin(f);
+}
+
+/* Candidate i of the start's w: curve i's own, then the mean, then the
+ * floor. */
+static double
+candidate_w(const lf_fit *f, size_t i, double wmean, double wfloor)
+{
+    if (i < f->ncurves) {
+        const fit_curve *c = &f->c[i];
+        return c->guess.M * c->guess.c * c->guess.c / (2.0 * c->data.probe.b);
+    }
+    return i == f->ncurves ? wmean : wfloor;
 }
 
 int
@@ -507,6 +535,8 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
 {
     size_t j, nf = 0, nb = 0, nw = 0;
     double lnMf = 0, lnMb = 0, lnw = 0, wfloor = HUGE_VAL;
+    double *off = f->w.off, *off_best = f->w.off + 2 * f->ncurves;
+    int have_best = 0;
     lf_material *m = &f->mat;
     int by_model;
 
@@ -548,20 +578,19 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
          * floor; the one whose offsets fit all curves best wins (ties to
          * the smaller w, so the order of the curves does not matter) */
         double best = HUGE_VAL, wbest = wfloor, second = HUGE_VAL, wsecond = NAN;
-        size_t ncand = f->ncurves + 2, i;
+        const double wmean = nw > 0 ? exp(lnw / (double) nw) : 0.0;
+        size_t ncand = f->ncurves + 2, i, q;
         int any_z0;
         for (i = 0; i < ncand; i++) {
-            double wc, cost;
-            if (i < f->ncurves) {
-                const fit_curve *c = &f->c[i];
-                wc = c->guess.M * c->guess.c * c->guess.c / (2.0 * c->data.probe.b);
-            } else {
-                wc = i == f->ncurves ? (nw > 0 ? exp(lnw / (double) nw) : 0.0) : wfloor;
-            }
+            double wc = candidate_w(f, i, wmean, wfloor), cost;
             if (!(wc >= wfloor) || !isfinite(wc))
                 continue;
+            for (q = 0; q < i && candidate_w(f, q, wmean, wfloor) != wc; q++)
+                ;
+            if (q < i)
+                continue;           /* the same w again (one curve: its own w is the mean) */
             m->w = wc;
-            cost = offsets_at(f, 0);
+            cost = offsets_at(f, off);
             if (cost < best || (cost == best && wc < wbest)) {
                 if (!(fabs(log(wc / wbest)) < FIT_ALT_LOG_SEP)) {
                     second = best;
@@ -569,6 +598,8 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
                 }
                 best = cost;
                 wbest = wc;
+                memcpy(off_best, off, 2 * f->ncurves * sizeof *off);
+                have_best = 1;
             } else if (cost < second && !(fabs(log(wc / wbest)) < FIT_ALT_LOG_SEP)) {
                 second = cost;
                 wsecond = wc;
@@ -598,7 +629,10 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
         start->user = 1;
     }
     start->mat = *m;
-    lf_fit_guess_offsets(f);
+    if (have_best && !start->user)
+        set_offsets(f, off_best);   /* profiled at this material already */
+    else
+        lf_fit_guess_offsets(f);
     return LF_OK;
 }
 
@@ -609,6 +643,6 @@ lf_fit_guess_offsets(lf_fit *f)
         lf_fit_guess_model_offsets(f);
         return;
     }
-    offsets_at(f, 1);
-    lf_fit_set_origin(f);
+    offsets_at(f, f->w.off);
+    set_offsets(f, f->w.off);
 }

@@ -193,6 +193,82 @@ curve_scales(lf_fit *f, lf_error *err)
     return LF_OK;
 }
 
+/* The workspace's numbers, carved from one block (fit_work lists what
+ * each holds); vectors and matrices are views into it. */
+static double *
+take(double **at, size_t n)
+{
+    double *p = *at;
+    *at += n;
+    return p;
+}
+
+static gsl_vector *
+take_vector(gsl_vector *v, double **at, size_t n)
+{
+    v->size = n;
+    v->stride = 1;
+    v->data = take(at, n);
+    v->block = NULL;
+    v->owner = 0;
+    return v;
+}
+
+static int
+work_alloc(lf_fit *f)
+{
+    fit_work *w = &f->w;
+    const size_t np = f->np, nd = f->ndata, nr = f->nres, nc = f->ncurves;
+    const size_t nwork = 2 * nd > 2 * GUESS_NSUB ? 2 * nd : 2 * GUESS_NSUB;
+    size_t total = 2 * np                      /* x0_internal, xcache */
+                   + 2 * nd + nwork + 3 * GUESS_NSUB + GUESS_NODES   /* sqrtw, delta, work, sub */
+                   + 7 * nc                    /* keep, off */
+                   + 3 * np * np + 5 * np      /* jtj, lm.A, lm.L; lm.g, lm.D2, grad, colmax, ainv */
+                   + 6 * np + 4 * nr           /* lm.x, xt, h, x, x2, x0; lm.r, rt, r, r2 */
+                   + nr * np;                  /* lm.J */
+    double *at;
+    gsl_vector *v = w->vectors;
+
+    w->block = calloc(total, sizeof *w->block);
+    if (w->block == NULL)
+        return LF_ENOMEM;
+    at = w->block;
+    f->x0_internal = take(&at, np);
+    w->xcache = take(&at, np);
+    w->sqrtw = take(&at, nd);
+    w->delta = take(&at, nd);
+    w->work = take(&at, nwork);
+    w->sub = take(&at, 3 * GUESS_NSUB + GUESS_NODES);
+    w->keep = take(&at, 3 * nc);
+    w->off = take(&at, 4 * nc);
+    w->jtj = take(&at, np * np);
+    w->lm.A = take(&at, np * np);
+    w->lm.L = take(&at, np * np);
+    w->lm.g = take(&at, np);
+    w->lm.D2 = take(&at, np);
+    w->grad = take(&at, np);
+    w->colmax = take(&at, np);
+    w->ainv = take(&at, np);
+    w->lm.x = take_vector(v++, &at, np);
+    w->lm.xt = take_vector(v++, &at, np);
+    w->lm.h = take_vector(v++, &at, np);
+    w->x = take_vector(v++, &at, np);
+    w->x2 = take_vector(v++, &at, np);
+    w->x0 = take_vector(v++, &at, np);
+    w->lm.r = take_vector(v++, &at, nr);
+    w->lm.rt = take_vector(v++, &at, nr);
+    w->r = take_vector(v++, &at, nr);
+    w->r2 = take_vector(v++, &at, nr);
+    w->lm.J = &w->matrix;
+    w->matrix.size1 = nr;
+    w->matrix.size2 = np;
+    w->matrix.tda = np;
+    w->matrix.data = take(&at, nr * np);
+    w->matrix.block = NULL;
+    w->matrix.owner = 0;
+    return LF_OK;
+}
+
 lf_fit *
 lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
              const lf_fit_curve *curves, lf_error *err)
@@ -253,40 +329,21 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
         lf_fit_free(f);
         return NULL;
     }
-    f->x0_internal = calloc(f->np, sizeof *f->x0_internal);
-    f->w.xcache = calloc(f->np, sizeof *f->w.xcache);
-    f->w.ev = calloc(f->ndata, sizeof *f->w.ev);
-    f->w.scan_ev = calloc(f->ndata, sizeof *f->w.scan_ev);
-    f->w.sqrtw = malloc(f->ndata * sizeof *f->w.sqrtw);
-    f->w.delta = calloc(f->ndata, sizeof *f->w.delta);
-    f->w.work = calloc(2 * f->ndata > 2 * GUESS_NSUB ? 2 * f->ndata : 2 * GUESS_NSUB, sizeof *f->w.work);
-    f->w.sub = calloc(3 * GUESS_NSUB + GUESS_NODES, sizeof *f->w.sub);
-    f->w.keep = calloc(3 * ncurves, sizeof *f->w.keep);
-    f->w.jtj = calloc(f->np * f->np, sizeof *f->w.jtj);
-    f->w.lm.x = gsl_vector_alloc(f->np);
-    f->w.lm.xt = gsl_vector_alloc(f->np);
-    f->w.lm.h = gsl_vector_alloc(f->np);
-    f->w.lm.r = gsl_vector_alloc(f->nres);
-    f->w.lm.rt = gsl_vector_alloc(f->nres);
-    f->w.lm.J = gsl_matrix_alloc(f->nres, f->np);
-    f->w.lm.A = calloc(f->np * f->np, sizeof *f->w.lm.A);
-    f->w.lm.L = calloc(f->np * f->np, sizeof *f->w.lm.L);
-    f->w.lm.g = calloc(f->np, sizeof *f->w.lm.g);
-    f->w.lm.D2 = calloc(f->np, sizeof *f->w.lm.D2);
-    f->w.grad = calloc(f->np, sizeof *f->w.grad);
-    f->w.colmax = calloc(f->np, sizeof *f->w.colmax);
-    f->w.x = gsl_vector_alloc(f->np);
-    f->w.x2 = gsl_vector_alloc(f->np);
-    f->w.x0 = gsl_vector_alloc(f->np);
-    f->w.r = gsl_vector_alloc(f->nres);
-    f->w.r2 = gsl_vector_alloc(f->nres);
+    /* nu held: each model resolves what it needs for that nu now (the
+     * exact model's tables), so that no evaluation of the run builds or
+     * looks up anything; a free nu is resolved as the fit meets it */
+    if (f->imat[FIT_NU] < 0 && isfinite(f->mat.nu))
+        for (j = 0; j < ncurves; j++)
+            if (lf_model_prepare(f->c[j].model, f->mat.nu, f->mat.nu, err) != LF_OK) {
+                lf_fit_free(f);
+                return NULL;
+            }
     f->order = malloc(f->ndata * sizeof *f->order);
-    if (!f->x0_internal || !f->w.xcache || !f->w.ev || !f->w.scan_ev || !f->w.sqrtw
-        || !f->w.delta || !f->w.work || !f->w.sub || !f->w.keep || !f->w.jtj || !f->w.lm.x || !f->w.lm.xt || !f->w.lm.h
-        || !f->w.lm.r || !f->w.lm.rt || !f->w.lm.J || !f->w.lm.A || !f->w.lm.L || !f->w.lm.g
-        || !f->w.lm.D2 || !f->w.grad || !f->w.colmax || !f->w.x || !f->w.x2 || !f->w.x0
-        || !f->w.r || !f->w.r2 || !f->order || depth_order(f) != LF_OK)
+    f->w.ev = calloc(2 * f->ndata, sizeof *f->w.ev);
+    if (f->order == NULL || f->w.ev == NULL || work_alloc(f) != LF_OK
+        || depth_order(f) != LF_OK)
         goto nomem;
+    f->w.scan_ev = f->w.ev + f->ndata;
     /* GSL's workspace: made when a run first needs it (lf_fit_gsl) */
     f->gsl_par = par;
     f->gsl_par.trs = f->trs;
@@ -322,34 +379,9 @@ lf_fit_free(lf_fit *f)
         for (j = 0; j < f->ncurves; j++)
             lf_model_free(f->c[j].model);
     free(f->c);
-    free(f->x0_internal);
     free(f->order);
-    free(f->w.xcache);
     free(f->w.ev);
-    free(f->w.scan_ev);
-    free(f->w.sqrtw);
-    free(f->w.delta);
-    free(f->w.work);
-    free(f->w.sub);
-    free(f->w.keep);
-    free(f->w.jtj);
-    gsl_vector_free(f->w.lm.x);
-    gsl_vector_free(f->w.lm.xt);
-    gsl_vector_free(f->w.lm.h);
-    gsl_vector_free(f->w.lm.r);
-    gsl_vector_free(f->w.lm.rt);
-    gsl_matrix_free(f->w.lm.J);
-    free(f->w.lm.A);
-    free(f->w.lm.L);
-    free(f->w.lm.g);
-    free(f->w.lm.D2);
-    free(f->w.grad);
-    free(f->w.colmax);
-    gsl_vector_free(f->w.x);
-    gsl_vector_free(f->w.x2);
-    gsl_vector_free(f->w.x0);
-    gsl_vector_free(f->w.r);
-    gsl_vector_free(f->w.r2);
+    free(f->w.block);
     if (f->gsl != NULL)
         gsl_multifit_nlinear_free(f->gsl);
     free(f);

@@ -113,7 +113,6 @@ lf_fit_lm_init(lf_fit *f, const gsl_vector *x)
             lm->D2[k] = 1.0;
     lm->mu = FIT_LM_MU0 * (big > 0 ? big : 1.0);
     lm->nu = 2.0;
-    lm->last_step = HUGE_VAL;
     return GSL_SUCCESS;
 }
 
@@ -150,6 +149,7 @@ lf_fit_lm_iterate(lf_fit *f)
             double t = 2.0 * rho - 1.0;
             gsl_vector_swap(lm->x, lm->xt);
             gsl_vector_swap(lm->r, lm->rt);
+            lm->cost_prev = lm->cost;
             lm->nevaldf++;
             if (lf_fit_jacobian(lm->x, f, lm->J) != GSL_SUCCESS)
                 return GSL_EDOM;

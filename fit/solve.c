@@ -84,6 +84,7 @@ stop_reason(int status, int info, size_t maxiter, char *buf, size_t n,
     if (status == GSL_SUCCESS) {
         *converged = 1;
         snprintf(buf, n, "converged (%s)", info == FIT_INFO_CHI2 ? "chi2 within reach of its minimum"
+                                           : info == FIT_INFO_CREEP ? "steps far below the standard errors"
                                            : info == 1 ? "small step" : "small gradient");
     } else if (status == GSL_EMAXITER) {
         snprintf(buf, n, "not converged: %zu iterations reached", maxiter);
@@ -156,8 +157,8 @@ no_descent(lf_fit *f, gsl_vector *x)
 static void
 track_cost(lf_fit *f, size_t iter)
 {
-    double r = gsl_blas_dnrm2(cur_r(f));
-    f->w.cost_hist[iter % (FIT_FLAT_ITERS + 1)] = 0.5 * r * r;
+    double r = f->w.own ? 0.0 : gsl_blas_dnrm2(cur_r(f));
+    f->w.cost_hist[iter % (FIT_FLAT_ITERS + 1)] = f->w.own ? f->w.lm.cost : 0.5 * r * r;
 }
 
 /* The solver's Jacobian J and residuals r at its position, examined once
@@ -182,8 +183,10 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
     size_t i, k, l;
 
     *dchi2 = HUGE_VAL;
-    for (k = 0; k < p; k++)
+    for (k = 0; k < p; k++) {
         big[k] = 0.0;
+        f->w.ainv[k] = NAN;
+    }
     if (f->w.own) {         /* lm.c has J^T J and J^T r already */
         memcpy(A, f->w.lm.A, p * p * sizeof *A);
         memcpy(g, f->w.lm.g, p * sizeof *g);
@@ -242,14 +245,61 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
         g[k] = y / A[k * p + k];
         *dchi2 += g[k] * g[k];
     }
+    /* the diagonal of (J^T J)^-1: |L^-1 e_k|^2, with big[] as scratch */
+    for (k = 0; k < p; k++) {
+        double sum = 0.0;
+        for (l = 0; l < p; l++) {
+            double y = l == k ? 1.0 : 0.0;
+            size_t q;
+            if (l < k) {
+                big[l] = 0.0;
+                continue;
+            }
+            for (q = k; q < l; q++)
+                y -= A[l * p + q] * big[q];
+            big[l] = y / A[l * p + l];
+            sum += big[l] * big[l];
+        }
+        f->w.ainv[k] = sum;
+    }
     return 1;
+}
+
+/* lm.c's last accepted step, from x_prev to x, moved every parameter by
+ * less than sqrt(FIT_CHI2_STEP) of its standard error (sqrt(chi2/dof
+ * (J^T J)^-1_kk) at x) and lowered chi2 by less than FIT_CHI2_STEP
+ * chi2/dof: a creep (at a kink of the cost the Gauss-Newton test need not
+ * pass) that no longer moves any estimate. */
+static int
+creeping(lf_fit *f, double chi2dof)
+{
+    const fit_lm *lm = &f->w.lm;
+    const double tol = sqrt(FIT_CHI2_STEP);
+    size_t k;
+
+    if (!f->w.own || lm->niter == 0 || !(2.0 * (lm->cost_prev - lm->cost) <= FIT_CHI2_STEP * chi2dof))
+        return 0;
+    for (k = 0; k < f->np; k++)
+        if (!(fabs(lm->x->data[k] - lm->xt->data[k]) <= tol * sqrt(chi2dof * f->w.ainv[k])))
+            return 0;
+    return 1;
+}
+
+/* chi2 / dof at the solver's position: the square of the factor by which
+ * the reported standard errors are scaled. */
+static double
+chi2_per_dof(lf_fit *f)
+{
+    double rn = f->w.own ? 0.0 : gsl_blas_dnrm2(cur_r(f));
+    return (f->w.own ? 2.0 * f->w.lm.cost : rn * rn) / (double) (f->nres - f->np);
 }
 
 /* gsl_multifit_nlinear_driver with the Jacobian examined before each
  * iteration and the cost recorded after it.  Stops with GSL_SUCCESS and
  * *info = FIT_INFO_CHI2 when a Gauss-Newton step would lower chi2 by less
- * than FIT_CHI2_STEP (the estimates are then within sqrt(FIT_CHI2_STEP)
- * standard errors of the minimum), else by GSL's tests.  An unusable
+ * than FIT_CHI2_STEP chi2/dof (the estimates are then within
+ * sqrt(FIT_CHI2_STEP) of their reported standard errors of the minimum),
+ * else by GSL's tests.  An unusable
  * Jacobian ends the run with GSL_EBADFUNC and the negligible column in
  * *dead. */
 static int
@@ -257,14 +307,19 @@ drive(lf_fit *f, int *info, size_t *dead)
 {
     size_t iter = 0;
     int status;
-    double dchi2;
+    double dchi2, chi2dof;
 
     *info = 0;
     do {
         if (!examine_jacobian(f, dead, &dchi2))
             return GSL_EBADFUNC;
-        if (dchi2 <= FIT_CHI2_STEP) {
+        chi2dof = chi2_per_dof(f);
+        if (dchi2 <= FIT_CHI2_STEP * chi2dof) {
             *info = FIT_INFO_CHI2;
+            return GSL_SUCCESS;
+        }
+        if (creeping(f, chi2dof)) {
+            *info = FIT_INFO_CREEP;
             return GSL_SUCCESS;
         }
         status = solver_iterate(f);

@@ -510,6 +510,72 @@ auto_needs(void)
     scene_free(&s);
 }
 
+/* A fit with nu held resolves its models' tables when it is made
+ * (lf_fit_alloc prepares them): the run itself reads and builds nothing,
+ * even after the process store has forgotten every table. */
+static void
+fit_prepares(void)
+{
+    enum { N = 60 };
+    lf_probe p = { 2.0, 1e-3, 3e-6, LF_BASE_BONDED };
+    lf_material m = { 10e-3, 1e9, 0.33 };
+    double d[N], F[N];
+    lf_eval ev[N];
+    lf_fit_settings set = lf_fit_settings_default();
+    lf_fit_curve c;
+    lf_fit_result r;
+    lf_cache_stats s0, s1;
+    lf_error err;
+    lf_model *mod;
+    lf_fit *f;
+    size_t i, removed;
+    int status;
+
+    lf_cache_clear(&removed, NULL);
+    lf_exact_cache_clear();
+    mod = lf_model_alloc(&lf_model_exact, &p, NULL);
+    t_true(mod != NULL, "fit_prepares: model");
+    if (mod == NULL)
+        return;
+    for (i = 0; i < N; i++)
+        d[i] = -4e-9 + 54e-9 * (double) i / (N - 1);
+    t_int(lf_model_eval(mod, &m, LF_BRANCH_UNLOAD, N, d, ev, NULL), LF_OK, "fit_prepares: data");
+    lf_model_free(mod);
+    for (i = 0; i < N; i++)
+        F[i] = ev[i].P;
+    memset(&c, 0, sizeof c);
+    c.name = "bonded";
+    c.n = N;
+    c.depth = d;
+    c.force = F;
+    c.probe = p;
+    c.branch = LF_BRANCH_UNLOAD;
+    c.z0 = 0.0;
+    c.F0 = 0.0;
+    set.model = &lf_model_exact;
+    set.nu.mode = LF_PARAM_FIXED;
+    set.nu.value = m.nu;
+    lf_exact_cache_clear();     /* no model alive: the tables are on disk only */
+    s0 = stats();
+    f = lf_fit_alloc(&set, 1, &c, &err);
+    t_true(f != NULL, "fit_prepares: fit made (%s)", f ? "ok" : err.msg);
+    if (f == NULL)
+        return;
+    s1 = stats();
+    t_true(s1.hits > s0.hits, "making the fit read its tables (%lu)", s1.hits - s0.hits);
+    s0 = s1;
+    status = lf_fit_run(f, &r, &err);
+    s1 = stats();
+    t_true(status == LF_OK, "fit_prepares: converged (%s)", status ? err.msg : "ok");
+    t_int((long) (s1.hits + s1.misses + s1.written - s0.hits - s0.misses - s0.written), 0,
+          "a fit with nu held reads and builds no table while it runs");
+    if (status == LF_OK || status == LF_ENOCONV) {
+        t_rel(r.w.value, m.w, 1e-5, "fit_prepares: w recovered");
+        lf_fit_result_free(&r);
+    }
+    lf_fit_free(f);
+}
+
 int
 main(void)
 {
@@ -535,6 +601,7 @@ main(void)
     list_clear();
     far_eval();
     auto_needs();
+    fit_prepares();
     lf_exact_cache_clear();
     lf_cache_clear(&removed, NULL);
     rmdir(cdir);

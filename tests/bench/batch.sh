@@ -4,7 +4,8 @@
 # 16 384 curves of 300 points), with 1 thread and with all cores, and on a
 # 16 times smaller map to show that memory does not grow with the number of
 # curves.  Reported, not asserted.  The map is generated once into
-# build/bench-forcemap-SIDE-POINTS.
+# build/bench-forcemap-SIDE-POINTS.  FIT_ARGS (e.g. "--model thin") are
+# passed to every fit; the default model is auto, as for a single fit.
 LF=${1:-build/layerfit}
 side=${2:-128}
 points=${3:-300}
@@ -23,12 +24,12 @@ gen "$small" $((side / 4))
 run() {   # run LABEL PLAN THREADS
     out=$(mktemp); log=$(mktemp)
     if [ -x /usr/bin/time ]; then
-        /usr/bin/time -v "$LF" fit --batch "$2" --threads "$3" --quiet --out "$out.csv" 2>"$log"
+        /usr/bin/time -v "$LF" fit --batch "$2" --threads "$3" --quiet --out "$out.csv" $FIT_ARGS 2>"$log"
         wall=$(sed -n 's/.*Elapsed (wall clock) time (h:mm:ss or m:ss): //p' "$log")
         rss=$(sed -n 's/.*Maximum resident set size (kbytes): //p' "$log")
     else
         t0=$(date +%s.%N)
-        "$LF" fit --batch "$2" --threads "$3" --quiet --out "$out.csv" 2>"$log"
+        "$LF" fit --batch "$2" --threads "$3" --quiet --out "$out.csv" $FIT_ARGS 2>"$log"
         wall=$(echo "$(date +%s.%N) - $t0" | bc); rss="?"
     fi
     n=$(($(wc -l < "$out.csv") - 1))
@@ -37,7 +38,7 @@ run() {   # run LABEL PLAN THREADS
         "$1" "$n" "$3" "$wall" "$rss" "$failed"
     rm -f "$out" "$out.csv" "$log"
 }
-echo "machine: $cores core(s); layerfit $("$LF" --version)"
+echo "machine: $cores core(s); layerfit $("$LF" --version); fit options: ${FIT_ARGS:-(defaults)}"
 run "map $((side / 4))x$((side / 4)), $points points" "$small/plan.csv" "$cores"
 run "map ${side}x$side, $points points" "$dir/plan.csv" 1
 run "map ${side}x$side, $points points" "$dir/plan.csv" "$cores"
