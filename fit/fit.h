@@ -148,6 +148,7 @@ struct lf_fit {
     int imat[FIT_NMAT];  /* index in x of ln w, ln E*, u, or -1 */
     int nu_prior;        /* 1 when a prior row is present */
     int nu_determinable; /* the plan alone determines nu */
+    int k2_degenerate;   /* set by lf_fit_assess: w and F0 not separable */
     int any_bonded, any_frictionless;
     size_t *order;       /* ndata: each curve's points by depth (ties in
                             file order), indices within the curve */
@@ -219,6 +220,10 @@ int lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_e
 /* loo.c: when every one of three or more curves disagrees with the joint
  * fit, refit without each in turn and name the culprit in res's warnings. */
 void lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res);
+
+/* profile.c: 1 when chi2 with w held at factor times the solution's rises
+ * by less than 3.84 s^2 (the data do not bound w from above). */
+int lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor);
 
 /* verdict.c: refuse a curve with no contact signal (LF_EDATA); at the end
  * of a solve, continue a stalled one, call a stall or offsets far outside

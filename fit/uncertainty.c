@@ -232,24 +232,34 @@ estimate_M(const lf_fit *f, const lf_fit_result *r, const lf_material *mat,
 static int
 k2_without_baseline(const lf_fit *f)
 {
-    size_t i, j;
+    return f->k2_degenerate;
+}
 
+/* The thin layer's k = 2 force is M K ((z - z0)^2 - c^2) + F0 in contact:
+ * w (through c) only shifts it, like F0.  Points past detachment (the
+ * baseline) measure F0 and so w.  Decided from the data: with fewer than
+ * three points out of contact at the solution, or when chi2 with w held
+ * 55 times higher (every point then in contact) rises by less than 3.84
+ * s^2 (the profile, profile.c), w and F0 are not separable. */
+static int
+k2_rule(lf_fit *f, const lf_fit_result *r)
+{
+    size_t i, j;
+    int few = 0;
+
+    if (f->imat[FIT_W] < 0)
+        return 0;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
         size_t nout = 0;
-        /* the thin layer's k = 2 force is M K ((z - z0)^2 - c^2) + F0 in
-         * contact: w (through c) only shifts it, like F0.  Points past
-         * detachment (the baseline) measure F0 and so w: with a few of them
-         * the Jacobian decides (nullw) */
         if (fabs(c->data.probe.k - 2.0) > 1e-9 || c->iz0 < 0 || c->iF0 < 0
             || lf_model_get_type(c->model) != &lf_model_thin)
             return 0;
         for (i = 0; i < c->data.n; i++)
             nout += f->w.ev[c->row + i].a == 0.0;
-        if (nout >= 3)
-            return 0;
+        few |= nout < 3;
     }
-    return 1;
+    return few || lf_fit_w_open_above(f, r, exp(4.0));
 }
 
 /* What the data cannot determine, in words. */
@@ -518,6 +528,14 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
     if (f->imat[FIT_W] >= 0) r->value[f->imat[FIT_W]] = mat.w;
     if (f->imat[FIT_E] >= 0) r->value[f->imat[FIT_E]] = mat.Estar;
     if (f->imat[FIT_NU] >= 0) r->value[f->imat[FIT_NU]] = mat.nu;
+    /* the k = 2 degeneracy, decided from the data (profile.c refits from
+     * these values; the model's evaluations ev[] are those at x again after) */
+    f->k2_degenerate = 0;
+    f->k2_degenerate = k2_rule(f, r);
+    if (lf_fit_residuals(&xv.vector, f, res) != GSL_SUCCESS) {
+        status = lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the solution");
+        goto done;
+    }
     estimate_M(f, r, &mat, nullw, &r->M);
 
     /* w */

@@ -18,7 +18,7 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
 {
     char v[48], s[48], lo[48], hi[48];
 
-    if (e->upper_bound_only) {
+    if (e->upper_bound_only && isfinite(e->ci95[1])) {
         fprintf(f, "  %-4s < %s (95%%, one-sided): adhesion below the noise\n", name,
                 cli_human(hi, sizeof hi, e->ci95[1], unit));
         return;
