@@ -107,12 +107,36 @@ features(const lf_fit *f, size_t j, double F0, double *zpo, double *Fmin, double
     (void) F0;
 }
 
+/* The force offset of curve j: where the shallowest tenth of the points
+ * (at least 5) all lie shallower than the least force, they are the
+ * baseline past detachment and their median is F0; else the thin profile's
+ * F0 (guess.c), kept within the data's forces. */
+static double
+offset_F0(const lf_fit *f, size_t j)
+{
+    const fit_curve *c = &f->c[j];
+    const size_t *ord = f->order + c->row;
+    size_t i, n = c->data.n, m = n / 10 > 5 ? n / 10 : 5;
+    double zpo, Fmin, zmax, Fmax, F0;
+
+    if (c->iF0 < 0)
+        return c->F0;
+    features(f, j, 0.0, &zpo, &Fmin, &zmax, &Fmax);
+    if (m < n && c->data.depth[ord[m - 1]] < zpo) {
+        for (i = 0; i < m; i++)
+            f->w.work[i] = c->data.force[ord[i]];
+        return lf_fit_median(f->w.work, m);
+    }
+    F0 = c->guess.F0;
+    return fmin(fmax(F0, Fmin), Fmax);
+}
+
 /* The material of one curve; 0 when the data give no contact. */
 static int
 curve_material(const lf_fit *f, size_t j, double nu, lf_material *out)
 {
     const fit_curve *c = &f->c[j];
-    double F0 = c->iF0 >= 0 ? c->guess.F0 : c->F0;
+    double F0 = offset_F0(f, j);
     double zpo, Fmin, zmax, Fmax, Ppo, rise, lo, hi, z0ref;
     int adhesive;
     size_t i;
@@ -164,7 +188,7 @@ lf_fit_guess_model_offsets(lf_fit *f)
 
     for (j = 0; j < f->ncurves; j++) {
         fit_curve *c = &f->c[j];
-        double F0 = c->iF0 >= 0 ? c->guess.F0 : c->F0;
+        double F0 = offset_F0(f, j);
         double zpo, Fmin, zmax, Fmax, P, d;
         features(f, j, F0, &zpo, &Fmin, &zmax, &Fmax);
         c->slope = 0.0;

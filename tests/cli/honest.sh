@@ -90,6 +90,20 @@ real="$top/../shared/realdata"
 if [ ! -d "$real" ]; then
     echo "skipped: ../shared/realdata not found"
 else
+    # the NT-MDT gel (no R in the file: 5 um given; the file's k and sensitivity as afmformats')
+    nt="$real/fmt-ntmdt-txt-fd_2015_01_17_gel4-0,1_mQ_adh_6B_Curve_DFL_Height_51.txt"
+    for b in 100um 200um 1mm 1m; do
+        "$LF" fit "$nt" --model halfspace --k 2 --R 5um --b "$b" --interface frictionless \
+            --spring-constant 0.055N/m --sensitivity 61nm/nA --json "$tmp/nt_$b.json" \
+            >"$tmp/out" 2>"$tmp/err" || bad "ntmdt b=$b: exit $?"
+        no_nan "ntmdt b=$b: report" "$tmp/out"
+    done
+    for b in 200um 1mm 1m; do
+        near "ntmdt: E* independent of b ($b)" "$(jval "$tmp/nt_$b.json" Estar)" \
+            "$(jval "$tmp/nt_100um.json" Estar)" 1e-3
+        near "ntmdt: w independent of b ($b)" "$(jval "$tmp/nt_$b.json" w)" \
+            "$(jval "$tmp/nt_100um.json" w)" 1e-3
+    done
     for peg in "$real/10 wv pc PEGFN S-1 X-1 Y-1 I-1.txt" "$real/10 wv pc PEGFN S-1 X-1 Y-2 I-1.txt"; do
         n=$(basename "$peg")
         # the half-space answer does not depend on b, which it ignores
