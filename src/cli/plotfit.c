@@ -293,10 +293,15 @@ curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
      * around pull-off, where the paper's Fig. 3 draws the branches */
     fprintf(g, "set multiplot title \"%s: k = %g, R = %s, ", tb, c->probe.k,
             cli_human(buf, sizeof buf, c->probe.R, "m"));
-    fprintf(g, "b = %s, %s;  w = %s, E* = %s\" noenhanced\n",
-            cli_human(buf, sizeof buf, c->probe.b, "m"), cli_base_name(c->probe.base),
-            value_text(wb, sizeof wb, res->w.value, "J/m²"),
-            value_text(Eb, sizeof Eb, res->Estar.value, "Pa"));
+    if (cr->model != NULL && strcmp(cr->model, "halfspace") == 0)
+        fprintf(g, "half-space;  w = %s, E* = %s\" noenhanced\n",
+                value_text(wb, sizeof wb, res->w.value, "J/m²"),
+                value_text(Eb, sizeof Eb, res->Estar.value, "Pa"));
+    else
+        fprintf(g, "b = %s, %s;  w = %s, E* = %s\" noenhanced\n",
+                cli_human(buf, sizeof buf, c->probe.b, "m"), cli_base_name(c->probe.base),
+                value_text(wb, sizeof wb, res->w.value, "J/m²"),
+                value_text(Eb, sizeof Eb, res->Estar.value, "Pa"));
     /* the main and residual panels share one x axis: the data's depths
      * and the model's */
     {
