@@ -280,6 +280,8 @@ double lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res,
  * curve's shape is not the model's. */
 #define FIT_RUNS_Z_BAD (-4.0)
 double lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res);
+/* The same over every stride-th residual in depth order (noise.c). */
+double lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, size_t stride);
 int lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *res, lf_error *err);
 
 #endif

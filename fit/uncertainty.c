@@ -329,7 +329,7 @@ explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
 }
 
 double
-lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
+lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, size_t stride)
 {
     const fit_curve *c = &f->c[j];
     const size_t *ord = f->order + c->row;
@@ -337,7 +337,7 @@ lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
     double mu, var, nn;
     int last = 0;
 
-    for (i = 0; i < c->data.n; i++) {
+    for (i = 0; i < c->data.n; i += stride) {
         double u = gsl_vector_get(res, c->row + ord[i]);
         int sgn = u > 0 ? 1 : u < 0 ? -1 : 0;
         if (sgn == 0)
@@ -356,6 +356,12 @@ lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
     mu = 2.0 * (double) npos * (double) nneg / nn + 1.0;
     var = (mu - 1.0) * (mu - 2.0) / (nn - 1.0);
     return var > 0 ? ((double) runs - mu) / sqrt(var) : 0.0;
+}
+
+double
+lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
+{
+    return lf_fit_runs_z_stride(f, j, res, 1);
 }
 
 /* Does curve j agree with the material fitted to all curves?  Its
