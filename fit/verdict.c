@@ -159,7 +159,10 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
                      "Gauss-Newton step would lower chi2 by only %.2g)", dec);
             break;
         }
-        if (!(dec > FIT_STALL_SE2 * s2))
+        /* a run the solver stopped for its own limits (iterations, no
+         * progress) keeps its verdict; only a claimed convergence is
+         * checked for a stall */
+        if (!run->converged || !(dec > FIT_STALL_SE2 * s2))
             break;
         /* a real step down?  halve until the cost falls, at most 30 times */
         {
