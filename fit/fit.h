@@ -149,6 +149,8 @@ struct lf_fit {
     int nu_prior;        /* 1 when a prior row is present */
     int nu_determinable; /* the plan alone determines nu */
     int k2_degenerate;   /* set by lf_fit_assess: w and F0 not separable */
+    int start_by_model;  /* the start's offsets from the model's force law
+                            (guess_model.c), not the thin profile */
     int any_bonded, any_frictionless;
     size_t *order;       /* ndata: each curve's points by depth (ties in
                             file order), indices within the curve */
@@ -193,6 +195,9 @@ double lf_fit_median(double *v, size_t n);
 int lf_fit_guess_by_model(const lf_fit *f);
 int lf_fit_guess_model(lf_fit *f);
 void lf_fit_guess_model_offsets(lf_fit *f);
+/* For exact-model curves: keep the thin profile's start or the model's,
+ * whichever costs less (sets f->start_by_model). */
+void lf_fit_guess_compare_model(lf_fit *f);
 /* Noise sd of a curve from how far each point's force lies from the line
  * through its neighbours in depth (order: indices by depth). */
 double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,

@@ -1,5 +1,6 @@
 /* guess_model.c: the automatic start of a model with no thickness (the
- * half-space), made with that model's own force law, so that nothing the
+ * half-space), and a candidate start of the exact model (which a thick
+ * layer makes a half-space), made with that model's own force law, so that nothing the
  * model ignores (the layer thickness b) moves it.
  *
  * The thin-layer profile of guess.c finds, per curve, what does not depend
@@ -225,4 +226,41 @@ lf_fit_guess_model(lf_fit *f)
     if (f->imat[FIT_W] >= 0)
         f->mat.w = exp(lnw / (double) n);
     return 1;
+}
+
+void
+lf_fit_guess_compare_model(lf_fit *f)
+{
+    lf_material thin = f->mat;
+    double a, b;
+    size_t j;
+    int any = 0;
+
+    f->start_by_model = 0;
+    for (j = 0; j < f->ncurves; j++) {
+        const lf_model_type *t = lf_model_get_type(f->c[j].model);
+        if (t == &lf_model_thin)
+            return;
+        any |= t != &lf_model_halfspace;
+    }
+    if (!any)
+        return;
+    /* the thin profile's start, at its own offsets */
+    lf_fit_guess_offsets(f);
+    gsl_vector_set_all(f->w.x, 1.0);
+    f->w.xcache_ok = 0;
+    a = lf_fit_cost(f, f->w.x, f->w.r);
+    if (!lf_fit_guess_model(f)) {
+        f->mat = thin;
+        return;
+    }
+    lf_fit_guess_model_offsets(f);
+    gsl_vector_set_all(f->w.x, 1.0);
+    f->w.xcache_ok = 0;
+    b = lf_fit_cost(f, f->w.x, f->w.r);
+    if (b < a)
+        f->start_by_model = 1;
+    else
+        f->mat = thin;
+    f->w.xcache_ok = 0;
 }
