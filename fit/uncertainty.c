@@ -455,9 +455,14 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
     if (cr->downweighted > 0)
         lf_warn(&cr->warnings, "%zu points weigh less than half under the %s loss (outliers)",
                 cr->downweighted, lf_loss_name(f->set.loss));
-    if (cr->rms > 1.5 * c->sigma)
+    /* against the noise model's sd (noise.c: = sigma for white noise) */
+    if (cr->rms > 1.5 * cr->noise_sd && cr->agreement == 1)
         lf_warn(&cr->warnings, "residuals are %.2g times the noise estimated from the data: "
-                "the model does not describe this curve well", cr->rms / c->sigma);
+                "the model describes the shape, not every feature of this curve",
+                cr->rms / cr->noise_sd);
+    else if (cr->rms > 1.5 * cr->noise_sd)
+        lf_warn(&cr->warnings, "residuals are %.2g times the noise estimated from the data: "
+                "the model does not describe this curve well", cr->rms / cr->noise_sd);
 }
 
 /* Name the curves that disagree with the material fitted to all of them. */
