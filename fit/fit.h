@@ -181,6 +181,9 @@ struct lf_fit {
     int imat[FIT_NMAT];  /* index in x of ln w, ln E*, u, or -1 */
     int nu_prior;        /* 1 when a prior row is present */
     int nu_determinable; /* the plan alone determines nu */
+    int k2_degenerate;   /* set by lf_fit_assess: w and F0 not separable */
+    int start_by_model;  /* the start's offsets from the model's force law
+                            (guess_model.c), not the thin profile */
     int any_bonded, any_frictionless;
     size_t *order;       /* ndata: each curve's points by depth (ties in
                             file order), indices within the curve */
@@ -230,6 +233,9 @@ double lf_fit_median(double *v, size_t n);
 int lf_fit_guess_by_model(const lf_fit *f);
 int lf_fit_guess_model(lf_fit *f);
 void lf_fit_guess_model_offsets(lf_fit *f);
+/* For exact-model curves: keep the thin profile's start or the model's,
+ * whichever costs less (sets f->start_by_model). */
+void lf_fit_guess_compare_model(lf_fit *f);
 /* Noise sd of a curve from how far each point's force lies from the line
  * through its neighbours in depth (order: indices by depth). */
 double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,
@@ -264,6 +270,10 @@ int lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_e
 /* loo.c: when every one of three or more curves disagrees with the joint
  * fit, refit without each in turn and name the culprit in res's warnings. */
 void lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res);
+
+/* profile.c: 1 when chi2 with w held at factor times the solution's rises
+ * by less than 3.84 s^2 (the data do not bound w from above). */
+int lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor);
 
 /* verdict.c: refuse a curve with no contact signal (LF_EDATA); at the end
  * of a solve, continue a stalled one, call a stall or offsets far outside
@@ -320,6 +330,8 @@ double lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res,
  * curve's shape is not the model's. */
 #define FIT_RUNS_Z_BAD (-4.0)
 double lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res);
+/* The same over every stride-th residual in depth order (noise.c). */
+double lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, size_t stride);
 int lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *res, lf_error *err);
 
 #endif

@@ -613,6 +613,10 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
         start->alt_w = any_z0 && second <= FIT_ALT_COST_RATIO * best && isfinite(wsecond)
                        ? wsecond : NAN;
     }
+    /* the exact model: the thin profile's start or its own force law's,
+     * whichever fits better (guess_model.c) */
+    if (!by_model)
+        lf_fit_guess_compare_model(f);
     /* the user's starting point, where given, replaces the automatic one */
     start->automatic = *m;
     start->user = 0;
@@ -639,7 +643,7 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
 void
 lf_fit_guess_offsets(lf_fit *f)
 {
-    if (lf_fit_guess_by_model(f)) {
+    if (f->start_by_model || lf_fit_guess_by_model(f)) {
         lf_fit_guess_model_offsets(f);
         return;
     }

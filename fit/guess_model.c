@@ -1,5 +1,6 @@
 /* guess_model.c: the automatic start of a model with no thickness (the
- * half-space), made with that model's own force law, so that nothing the
+ * half-space), and a candidate start of the exact model (which a thick
+ * layer makes a half-space), made with that model's own force law, so that nothing the
  * model ignores (the layer thickness b) moves it.
  *
  * The thin-layer profile of guess.c finds, per curve, what does not depend
@@ -107,12 +108,36 @@ features(const lf_fit *f, size_t j, double F0, double *zpo, double *Fmin, double
     (void) F0;
 }
 
+/* The force offset of curve j: where the shallowest tenth of the points
+ * (at least 5) all lie shallower than the least force, they are the
+ * baseline past detachment and their median is F0; else the thin profile's
+ * F0 (guess.c), kept within the data's forces. */
+static double
+offset_F0(const lf_fit *f, size_t j)
+{
+    const fit_curve *c = &f->c[j];
+    const size_t *ord = f->order + c->row;
+    size_t i, n = c->data.n, m = n / 10 > 5 ? n / 10 : 5;
+    double zpo, Fmin, zmax, Fmax, F0;
+
+    if (c->iF0 < 0)
+        return c->F0;
+    features(f, j, 0.0, &zpo, &Fmin, &zmax, &Fmax);
+    if (m < n && c->data.depth[ord[m - 1]] < zpo) {
+        for (i = 0; i < m; i++)
+            f->w.work[i] = c->data.force[ord[i]];
+        return lf_fit_median(f->w.work, m);
+    }
+    F0 = c->guess.F0;
+    return fmin(fmax(F0, Fmin), Fmax);
+}
+
 /* The material of one curve; 0 when the data give no contact. */
 static int
 curve_material(const lf_fit *f, size_t j, double nu, lf_material *out)
 {
     const fit_curve *c = &f->c[j];
-    double F0 = c->iF0 >= 0 ? c->guess.F0 : c->F0;
+    double F0 = offset_F0(f, j);
     double zpo, Fmin, zmax, Fmax, Ppo, rise, lo, hi, z0ref;
     int adhesive;
     size_t i;
@@ -164,7 +189,7 @@ lf_fit_guess_model_offsets(lf_fit *f)
 
     for (j = 0; j < f->ncurves; j++) {
         fit_curve *c = &f->c[j];
-        double F0 = c->iF0 >= 0 ? c->guess.F0 : c->F0;
+        double F0 = offset_F0(f, j);
         double zpo, Fmin, zmax, Fmax, P, d;
         features(f, j, F0, &zpo, &Fmin, &zmax, &Fmax);
         c->slope = 0.0;
@@ -201,4 +226,41 @@ lf_fit_guess_model(lf_fit *f)
     if (f->imat[FIT_W] >= 0)
         f->mat.w = exp(lnw / (double) n);
     return 1;
+}
+
+void
+lf_fit_guess_compare_model(lf_fit *f)
+{
+    lf_material thin = f->mat;
+    double a, b;
+    size_t j;
+    int any = 0;
+
+    f->start_by_model = 0;
+    for (j = 0; j < f->ncurves; j++) {
+        const lf_model_type *t = lf_model_get_type(f->c[j].model);
+        if (t == &lf_model_thin)
+            return;
+        any |= t != &lf_model_halfspace;
+    }
+    if (!any)
+        return;
+    /* the thin profile's start, at its own offsets */
+    lf_fit_guess_offsets(f);
+    gsl_vector_set_all(f->w.x, 1.0);
+    f->w.xcache_ok = 0;
+    a = lf_fit_cost(f, f->w.x, f->w.r);
+    if (!lf_fit_guess_model(f)) {
+        f->mat = thin;
+        return;
+    }
+    lf_fit_guess_model_offsets(f);
+    gsl_vector_set_all(f->w.x, 1.0);
+    f->w.xcache_ok = 0;
+    b = lf_fit_cost(f, f->w.x, f->w.r);
+    if (b < a)
+        f->start_by_model = 1;
+    else
+        f->mat = thin;
+    f->w.xcache_ok = 0;
 }

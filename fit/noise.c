@@ -146,10 +146,8 @@ double
 lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_result *cr)
 {
     const fit_curve *c = &f->c[j];
-    const size_t *ord = f->order + c->row;
-    size_t n = c->data.n, i, m, npos = 0, nneg = 0, runs = 0;
+    size_t n = c->data.n, i, m;
     double tau, noise, Fmin = HUGE_VAL, Fmax = -HUGE_VAL, chi2 = 0.0, rms;
-    int last = 0;
 
     lf_fit_curve_noise(f, j, res, &tau, &noise);
     m = (size_t) ceil(tau - 1e-9);
@@ -167,26 +165,7 @@ lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curv
         Fmax = fmax(Fmax, c->data.force[i]);
     }
     rms = cr->rms;
-    for (i = 0; i < n; i += m) {
-        double u = gsl_vector_get(res, c->row + ord[i]);
-        int sgn = u > 0 ? 1 : u < 0 ? -1 : 0;
-        if (sgn == 0)
-            continue;
-        if (sgn > 0)
-            npos++;
-        else
-            nneg++;
-        if (sgn != last)
-            runs++;
-        last = sgn;
-    }
-    if (npos + nneg >= 2) {
-        double nn = (double) (npos + nneg), mu = 2.0 * (double) npos * (double) nneg / nn + 1.0;
-        double var = (mu - 1.0) * (mu - 2.0) / (nn - 1.0);
-        cr->runs_z = var > 0 ? ((double) runs - mu) / sqrt(var) : 0.0;
-    } else {
-        cr->runs_z = 0.0;
-    }
+    cr->runs_z = lf_fit_runs_z_stride(f, j, res, m);
     cr->chi2_per_point = chi2 / (double) n;
     cr->misfit_rel = Fmax > Fmin ? rms / (Fmax - Fmin) : NAN;
     cr->consistent = !(cr->runs_z < FIT_RUNS_Z_BAD || cr->chi2_per_point > 4.0);

@@ -222,6 +222,10 @@ profile_one(prof *p, lf_fit_estimate *e, int always)
         /* the data do not bound it from above */
         e->determined = 0;
         e->ci95[1] = NAN;
+        if (bound_only) {
+            e->upper_bound_only = 0;
+            e->ci95[0] = NAN;
+        }
     }
     return 1;
 }
@@ -262,4 +266,36 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
     res->profile_fits = p.fits;
     free(p.cc);
     return LF_OK;
+}
+
+int
+lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor)
+{
+    prof p;
+    size_t j;
+    double w, up;
+    int open;
+
+    if (f->imat[FIT_W] < 0)
+        return 0;
+    w = r->value[f->imat[FIT_W]];
+    if (!(w > 0) || !(r->se_scale > 0))
+        return 0;
+    memset(&p, 0, sizeof p);
+    p.cc = malloc(f->ncurves * sizeof *p.cc);
+    if (p.cc == NULL)
+        return 0;
+    for (j = 0; j < f->ncurves; j++) {
+        p.cc[j] = f->c[j].data;
+        p.cc[j].model = lf_model_get_type(f->c[j].model);
+    }
+    p.s = &f->set;
+    p.nc = f->ncurves;
+    p.best = r;
+    p.which = FIT_W;
+    p.thr = CHI2_95 * r->se_scale * r->se_scale;
+    up = rise(&p, w * factor);
+    open = isfinite(up) && up < p.thr;
+    free(p.cc);
+    return open;
 }

@@ -232,24 +232,40 @@ estimate_M(const lf_fit *f, const lf_fit_result *r, const lf_material *mat,
 static int
 k2_without_baseline(const lf_fit *f)
 {
-    size_t i, j;
+    return f->k2_degenerate;
+}
 
+/* The thin layer's k = 2 force is M K ((z - z0)^2 - c^2) + F0 in contact:
+ * w (through c) only shifts it, like F0; a model of finite thickness (the
+ * exact one) nearly keeps that form where the layer is thin.  Points past detachment (the
+ * baseline) measure F0 and so w.  Decided from the data: with fewer than
+ * three points out of contact at the solution, or when chi2 with w held
+ * 55 times higher (every point then in contact) rises by less than 3.84
+ * s^2 (the profile, profile.c), w and F0 are not separable. */
+static int
+k2_rule(lf_fit *f, const lf_fit_result *r)
+{
+    size_t i, j;
+    int few = 0;
+
+    int all_thin = 1;
+
+    if (f->imat[FIT_W] < 0)
+        return 0;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
         size_t nout = 0;
-        /* the thin layer's k = 2 force is M K ((z - z0)^2 - c^2) + F0 in
-         * contact: w (through c) only shifts it, like F0.  Points past
-         * detachment (the baseline) measure F0 and so w: with a few of them
-         * the Jacobian decides (nullw) */
-        if (fabs(c->data.probe.k - 2.0) > 1e-9 || c->iz0 < 0 || c->iF0 < 0
-            || lf_model_get_type(c->model) != &lf_model_thin)
+        if (fabs(c->data.probe.k - 2.0) > 1e-9 || c->iz0 < 0 || c->iF0 < 0)
             return 0;
+        all_thin &= lf_model_get_type(c->model) == &lf_model_thin;
         for (i = 0; i < c->data.n; i++)
             nout += f->w.ev[c->row + i].a == 0.0;
-        if (nout >= 3)
-            return 0;
+        few |= nout < 3;
     }
-    return 1;
+    /* under the thin model the parabola is exact: too few points out of
+     * contact settle it; under a model of finite thickness the curve only
+     * nearly is one, and the profile decides */
+    return (all_thin && few) || lf_fit_w_open_above(f, r, exp(4.0));
 }
 
 /* What the data cannot determine, in words. */
@@ -319,7 +335,7 @@ explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
 }
 
 double
-lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
+lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, size_t stride)
 {
     const fit_curve *c = &f->c[j];
     const size_t *ord = f->order + c->row;
@@ -327,7 +343,7 @@ lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
     double mu, var, nn;
     int last = 0;
 
-    for (i = 0; i < c->data.n; i++) {
+    for (i = 0; i < c->data.n; i += stride) {
         double u = gsl_vector_get(res, c->row + ord[i]);
         int sgn = u > 0 ? 1 : u < 0 ? -1 : 0;
         if (sgn == 0)
@@ -346,6 +362,12 @@ lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
     mu = 2.0 * (double) npos * (double) nneg / nn + 1.0;
     var = (mu - 1.0) * (mu - 2.0) / (nn - 1.0);
     return var > 0 ? ((double) runs - mu) / sqrt(var) : 0.0;
+}
+
+double
+lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
+{
+    return lf_fit_runs_z_stride(f, j, res, 1);
 }
 
 /* Does curve j agree with the material fitted to all curves?  Its
@@ -439,9 +461,14 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
     if (cr->downweighted > 0)
         lf_warn(&cr->warnings, "%zu points weigh less than half under the %s loss (outliers)",
                 cr->downweighted, lf_loss_name(f->set.loss));
-    if (cr->rms > 1.5 * c->sigma)
+    /* against the noise model's sd (noise.c: = sigma for white noise) */
+    if (cr->rms > 1.5 * cr->noise_sd && cr->agreement == 1)
         lf_warn(&cr->warnings, "residuals are %.2g times the noise estimated from the data: "
-                "the model does not describe this curve well", cr->rms / c->sigma);
+                "the model describes the shape, not every feature of this curve",
+                cr->rms / cr->noise_sd);
+    else if (cr->rms > 1.5 * cr->noise_sd)
+        lf_warn(&cr->warnings, "residuals are %.2g times the noise estimated from the data: "
+                "the model does not describe this curve well", cr->rms / cr->noise_sd);
 }
 
 /* Name the curves that disagree with the material fitted to all of them. */
@@ -518,6 +545,14 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
     if (f->imat[FIT_W] >= 0) r->value[f->imat[FIT_W]] = mat.w;
     if (f->imat[FIT_E] >= 0) r->value[f->imat[FIT_E]] = mat.Estar;
     if (f->imat[FIT_NU] >= 0) r->value[f->imat[FIT_NU]] = mat.nu;
+    /* the k = 2 degeneracy, decided from the data (profile.c refits from
+     * these values; the model's evaluations ev[] are those at x again after) */
+    f->k2_degenerate = 0;
+    f->k2_degenerate = k2_rule(f, r);
+    if (lf_fit_residuals(&xv.vector, f, res) != GSL_SUCCESS) {
+        status = lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the solution");
+        goto done;
+    }
     estimate_M(f, r, &mat, nullw, &r->M);
 
     /* w */

@@ -1,9 +1,10 @@
 /* verdict.c: an honest end.  The solver's own stopping rules say when it
  * stopped; these checks say whether where it stopped is an answer.
  *
- *   refuse     before fitting: a curve whose force does not rise above its
- *              noise (a constant force, no contact signal) is refused with
- *              a message: there is nothing to fit.
+ *   refuse     before fitting: a curve whose force is constant, or does
+ *              not rise above its noise (2 sqrt(2 ln n) + 2 sd) and is not correlated with
+ *              depth either (|r| < 3/sqrt(n)), has no contact signal and is
+ *              refused with a message: there is nothing to fit.
  *   offsets    a free force offset F0 more than one force range outside
  *              the data's forces, or a free contact point z0 more than two
  *              depth spans outside the data's depths (a curve wholly in
@@ -26,8 +27,6 @@
 
 #include "fit.h"
 
-#define FIT_MIN_SIGNAL 8.0       /* force range over noise sd below which a
-                                    curve has no contact signal */
 #define FIT_ROUNDING_SE2 1e-4    /* GN decrease, in se^2, of a minimum */
 #define FIT_STALL_SE2 1.0        /* GN decrease, in se^2, of a stall */
 
@@ -37,12 +36,27 @@ lf_fit_refuse_degenerate(const lf_fit *f, lf_error *err)
     size_t j, i;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
-        double lo = HUGE_VAL, hi = -HUGE_VAL;
+        double lo = HUGE_VAL, hi = -HUGE_VAL, mz = 0, mf = 0, szz = 0, sff = 0, szf = 0, rho;
         for (i = 0; i < c->data.n; i++) {
             lo = fmin(lo, c->data.force[i]);
             hi = fmax(hi, c->data.force[i]);
+            mz += c->data.depth[i];
+            mf += c->data.force[i];
         }
-        if (!(hi - lo > FIT_MIN_SIGNAL * c->sigma) || !(hi > lo))
+        mz /= (double) c->data.n;
+        mf /= (double) c->data.n;
+        for (i = 0; i < c->data.n; i++) {
+            double dz = c->data.depth[i] - mz, df = c->data.force[i] - mf;
+            szz += dz * dz;
+            sff += df * df;
+            szf += dz * df;
+        }
+        /* the force's correlation with depth: a contact signal rises with
+         * depth even where the noise estimate is inflated (few points) */
+        rho = szz > 0 && sff > 0 ? szf / sqrt(szz * sff) : 0.0;
+        /* pure noise of n points spans about 2 sqrt(2 ln n) sd */
+        if (!(hi > lo) || (!(hi - lo > (2.0 * sqrt(2.0 * log((double) c->data.n)) + 2.0) * c->sigma)
+                           && fabs(rho) < 3.0 / sqrt((double) c->data.n)))
             return lf_fail(err, LF_EDATA, "curve %zu (%s): no contact signal: the force varies "
                            "by only %.3g N (%.3g times its noise sd %.3g N); nothing to fit",
                            j + 1, c->data.name ? c->data.name : "", hi - lo,
@@ -145,7 +159,10 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
                      "Gauss-Newton step would lower chi2 by only %.2g)", dec);
             break;
         }
-        if (!(dec > FIT_STALL_SE2 * s2))
+        /* a run the solver stopped for its own limits (iterations, no
+         * progress) keeps its verdict; only a claimed convergence is
+         * checked for a stall */
+        if (!run->converged || !(dec > FIT_STALL_SE2 * s2))
             break;
         /* a real step down?  halve until the cost falls, at most 30 times */
         {

@@ -108,15 +108,7 @@ static const double noise_levels[] = { 0.001, 0.01, 0.05 };
 static int
 scene_free_nu(const bench_scene *s)
 {
-    size_t j;
-    int fr = 0, bo = 0;
-    for (j = 0; j < s->ncurves; j++) {
-        if (s->probe[j].base == LF_BASE_BONDED)
-            bo = 1;
-        else
-            fr = 1;
-    }
-    return fr && bo;
+    return cli_probes_free_nu(s->probe, s->ncurves);
 }
 
 /* ---- configurations -------------------------------------------------- */

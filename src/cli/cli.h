@@ -68,6 +68,9 @@ void cli_parse(const char *cmd, int argc, char **argv, const cli_opt *opts,
 /* Parse an interface word ("frictionless", "bonded"); -1 if unknown. */
 int cli_base(const char *word);
 const char *cli_base_name(lf_base base);
+/* 1 when the named model uses no layer thickness or interface (its
+ * scope in the model table is the half-space). */
+int cli_model_ignores_b(const char *model);
 
 /* Monotonic wall-clock time in seconds, for progress and benchmarks. */
 double cli_now(void);
@@ -89,6 +92,8 @@ int cli_bench(int argc, char **argv);
 int cli_cache(int argc, char **argv);
 /* `layerfit bench --coverage`: interval coverage over seeds (coverage.c). */
 int cli_coverage(size_t nseeds, const char *scene_name);
+/* 1 when the probes are frictionless and bonded together: nu is fitted. */
+int cli_probes_free_nu(const lf_probe *p, size_t n);
 /* `layerfit model --figure N [--plot FILE]` (figure.c). */
 int cli_figure(int figure, const char *plot);
 int cli_check(int argc, char **argv);

@@ -74,13 +74,13 @@ covers_wald(const lf_fit_estimate *e, double t, int logscale)
     return fabs(t - e->value) <= Z95 * e->se;
 }
 
-static int
-free_nu_of(const cov_scene *s)
+int
+cli_probes_free_nu(const lf_probe *p, size_t n)
 {
     size_t j;
     int fr = 0, bo = 0;
-    for (j = 0; j < s->ncurves; j++) {
-        if (s->probe[j].base == LF_BASE_BONDED)
+    for (j = 0; j < n; j++) {
+        if (p[j].base == LF_BASE_BONDED)
             bo = 1;
         else
             fr = 1;
@@ -99,7 +99,7 @@ run_scene(const cov_scene *s, size_t nseeds, size_t points, cov_tally *t)
     lf_crb_result crb;
     lf_error err;
     size_t j, i, seed;
-    int free_nu = free_nu_of(s);
+    int free_nu = cli_probes_free_nu(s->probe, s->ncurves);
 
     memset(t, 0, sizeof *t);
     for (j = 0; j < s->ncurves; j++) {

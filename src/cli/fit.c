@@ -95,7 +95,7 @@ read_input(const char *path, const fit_args *a, const char *model, const lf_inpu
         int base = LF_BASE_FRICTIONLESS;
         /* a half-space has no thickness and no interface: b NaN, a stand-in
          * (R) that no half-space formula uses; R NaN: from the file header */
-        int halfspace = strcmp(model, "halfspace") == 0;
+        int halfspace = cli_model_ignores_b(model);
         if (!(halfspace && isnan(a->b) && a->interface == NULL)) {
             if (isnan(a->b) || a->interface == NULL)
                 cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "

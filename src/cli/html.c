@@ -215,8 +215,13 @@ parameters(FILE *f, const lf_fit_result *r)
     parameter_row(f, "nu (Poisson&#39;s ratio)", &r->nu, "");
     if (isfinite(r->M.value))
         parameter_row(f, "M = Z E* (bonded curves)", &r->M, "Pa");
-    fprintf(f, "</table>\n<p>Standard errors are scaled by sqrt(chi²/dof) = %.3g.</p>\n"
-               "</section>\n", r->se_scale);
+    if (r->corr_time > 1.5)
+        fprintf(f, "</table>\n<p>Standard errors are scaled by sqrt(chi²/dof &times; "
+                   "correlation time %.3g) = %.3g: neighbouring residuals are correlated.</p>\n"
+                   "</section>\n", r->corr_time, r->se_scale);
+    else
+        fprintf(f, "</table>\n<p>Standard errors are scaled by sqrt(chi²/dof) = %.3g.</p>\n"
+                   "</section>\n", r->se_scale);
 }
 
 static void

@@ -298,11 +298,15 @@ curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
      * around pull-off, where the paper's Fig. 3 draws the branches.  The
      * title holds the file name: a gnuplot string, never script text. */
     {
-        char pb[64], title[1400];
-        snprintf(title, sizeof title, "%s: k = %g, R = %s, b = %s, %s;  w = %s, E* = %s",
+        char pb[64], title[1400], layer[160];
+        if (cli_model_ignores_b(cr->model))
+            snprintf(layer, sizeof layer, "half-space");
+        else
+            snprintf(layer, sizeof layer, "b = %s, %s",
+                     cli_human(pb, sizeof pb, c->probe.b, "m"), cli_base_name(c->probe.base));
+        snprintf(title, sizeof title, "%s: k = %g, R = %s, %s;  w = %s, E* = %s",
                  base_name(c->name), c->probe.k, cli_human(buf, sizeof buf, c->probe.R, "m"),
-                 cli_human(pb, sizeof pb, c->probe.b, "m"), cli_base_name(c->probe.base),
-                 value_text(wb, sizeof wb, res->w.value, "J/m²"),
+                 layer, value_text(wb, sizeof wb, res->w.value, "J/m²"),
                  value_text(Eb, sizeof Eb, res->Estar.value, "Pa"));
         fputs("set multiplot title ", g);
         cli_gnuplot_string(g, title);

@@ -18,7 +18,7 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
 {
     char v[48], s[48], lo[48], hi[48];
 
-    if (e->upper_bound_only) {
+    if (e->upper_bound_only && isfinite(e->ci95[1])) {
         fprintf(f, "  %-4s < %s (95%%, one-sided): adhesion below the noise\n", name,
                 cli_human(hi, sizeof hi, e->ci95[1], unit));
         return;
@@ -120,7 +120,12 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
         fprintf(f, "robust loss %s (%zu reweighting rounds)\n", r->loss, r->reweightings);
     if (!r->converged)
         fprintf(f, "*** NOT CONVERGED: the values below are where the fit stopped ***\n");
-    fprintf(f, "\nmaterial (+- one standard error, scaled by sqrt(chi2/dof) = %.3g)\n", r->se_scale);
+    if (r->corr_time > 1.5)
+        fprintf(f, "\nmaterial (+- one standard error, scaled by sqrt(chi2/dof x correlation "
+                "time %.3g) = %.3g)\n", r->corr_time, r->se_scale);
+    else
+        fprintf(f, "\nmaterial (+- one standard error, scaled by sqrt(chi2/dof) = %.3g)\n",
+                r->se_scale);
     text_estimate(f, "w", &r->w, "J/m^2", "it cannot be told from the force offset");
     text_estimate(f, "E*", &r->Estar, "Pa", r->M.determined ? "only M = Z*E* is" : NULL);
     text_estimate(f, "nu", &r->nu, "", "the plan does not determine it");
@@ -148,9 +153,15 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
         const lf_fit_curve_result *cr = &r->curves[j];
         fprintf(f, "  [%zu] ", j + 1);
         cli_put_clean(f, cr->name);
-        fprintf(f, ": k = %g, R = %s, b = %s, %s, %s branch, %zu points\n", cr->probe.k, cli_human(a, sizeof a, cr->probe.R, "m"),
-                cli_human(b, sizeof b, cr->probe.b, "m"), cli_base_name(cr->probe.base),
-                branch_name(cr->branch), cr->n);
+        if (cli_model_ignores_b(cr->model))
+            fprintf(f, ": k = %g, R = %s, half-space (no b), %s branch, %zu points\n",
+                    cr->probe.k, cli_human(a, sizeof a, cr->probe.R, "m"),
+                    branch_name(cr->branch), cr->n);
+        else
+            fprintf(f, ": k = %g, R = %s, b = %s, %s, %s branch, %zu points\n", cr->probe.k,
+                    cli_human(a, sizeof a, cr->probe.R, "m"),
+                    cli_human(b, sizeof b, cr->probe.b, "m"), cli_base_name(cr->probe.base),
+                    branch_name(cr->branch), cr->n);
         fprintf(f, "      z0 = %s%s, F0 = %s%s, noise %s, rms residual %s\n",
                 isnan(cr->z0) ? "not determined" : cli_human(a, sizeof a, cr->z0, "m"),
                 cr->z0_free ? "" : " (fixed)",

@@ -153,6 +153,13 @@ cli_base(const char *word)
     return -1;
 }
 
+int
+cli_model_ignores_b(const char *model)
+{
+    const lf_model_type *t = model != NULL ? lf_model_type_find(model) : NULL;
+    return t != NULL && t->scope == LF_SCOPE_HALFSPACE;
+}
+
 const char *
 cli_base_name(lf_base base)
 {

@@ -1,0 +1,166 @@
+# honest.sh: fits that never lie (issue 14): starts made with the model in
+# use, honest ends, the noise model of real curves, profile-likelihood
+# intervals, identifiability from the data, figures on real data.
+. "$(dirname "$0")/common"
+
+# no_nan NAME FILE: no NaN of any spelling in a text output
+no_nan() {
+    if grep -qiE '(^|[^a-z])-?nan([^a-z]|$)' "$2"; then bad "$1: NaN in $2: $(grep -iE '(^|[^a-z])-?nan([^a-z]|$)' "$2" | head -n 1)"
+    else ok; fi
+}
+
+# value NAME JSON: a material value from the JSON report
+jval() { sed -n "s/^ *\"$2\": {\"value\": \([^,]*\),.*/\1/p" "$1" | head -n 1; }
+
+# ---- degenerate input is refused ------------------------------------------
+printf 'depth_m,force_N\n' > "$tmp/flat.csv"
+i=60; while [ $i -gt 0 ]; do echo "$i.0e-9,1e-6" >> "$tmp/flat.csv"; i=$((i - 1)); done
+"$LF" fit "$tmp/flat.csv" --k 2 --R 1mm --b 1um --interface frictionless >"$tmp/out" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "constant force: exit $rc, want 2 (refused)"
+has "constant force: said why" "$tmp/err" "no contact signal"
+
+# ---- bonded nu = 0.49999: converged only at a real minimum -----------------
+run_ok simulate --out "$tmp/nu5" --w 12.3mJ/m2 --E 1.85GPa --nu 0.49999 --noise 0.002 --seed 1 \
+    k=2,R=1mm,b=1um,interface=frictionless k=2,R=1mm,b=1um,interface=bonded \
+    k=3,R=1mm,b=1um,interface=bonded
+"$LF" fit "$tmp/nu5/plan.csv" --json "$tmp/nu5.json" >"$tmp/out" 2>"$tmp/err"; rc=$?
+chi=$(sed -n 's/^chi2\/dof = .* = \([0-9.e+]*\) .*/\1/p' "$tmp/out")
+if [ "$rc" -eq 0 ]; then
+    near "nu = 0.49999: converged means chi2/dof near 1" "$chi" 1 0.5
+else
+    [ "$rc" -eq 3 ] && ok || bad "nu = 0.49999: exit $rc"
+fi
+
+# ---- the k = 2 rule: a recorded baseline measures F0 and so w ---------------
+run_ok simulate --out "$tmp/k2" --w 12.3mJ/m2 --E 1.85GPa --noise 0.002 --seed 1 --z0 3nm --F0 1uN \
+    --past-c 1.3 k=2,R=1mm,b=1um,interface=frictionless
+run_ok fit "$tmp/k2/plan.csv" --model thin
+if grep -qF "cannot separate w from the force offset" "$tmp/out"; then
+    bad "k = 2 with a baseline: the rule fired"; else ok; fi
+no_nan "k = 2 with a baseline: report" "$tmp/out"
+if grep -qE '^  w +=' "$tmp/out"; then ok; else bad "k = 2 with a baseline: w not reported"; fi
+# without a baseline the data cannot separate them: said so, no nan
+run_ok simulate --out "$tmp/k2n" --w 12.3mJ/m2 --E 1.85GPa --noise 0.002 --seed 1 --past-c 0.5 \
+    k=2,R=1mm,b=1um,interface=frictionless
+"$LF" fit "$tmp/k2n/plan.csv" --model thin >"$tmp/out" 2>"$tmp/err"
+if grep -qE '^  w +not determined' "$tmp/out"; then ok; else bad "k = 2 without a baseline: w said determined: $(grep '^  w' "$tmp/out")"; fi
+no_nan "k = 2 without a baseline: report" "$tmp/out"
+
+# ---- profile likelihood: named where used, asymmetric, in JSON -------------
+run_ok simulate --out "$tmp/po" --w 10mJ/m2 --E 1GPa --noise 0.01 --seed 5 --past-c 0.9 \
+    --z0 3nm --F0 10uN k=2,R=1mm,b=1um,interface=frictionless k=3,R=1mm,b=1um,interface=frictionless
+run_ok fit "$tmp/po/plan.csv" --model thin --json "$tmp/po.json" --report "$tmp/po.html"
+has "profile: named in the report" "$tmp/out" "(profile likelihood)"
+has "profile: named in the JSON" "$tmp/po.json" "\"ci95_method\": \"profile likelihood\""
+has "profile: named in the HTML" "$tmp/po.html" "(profile likelihood)"
+no_nan "profile: report" "$tmp/out"
+lo=$(sed -n 's/^ *"w": {.*"ci95": \[\([^,]*\), \([^]]*\)\].*/\1/p' "$tmp/po.json")
+hi=$(sed -n 's/^ *"w": {.*"ci95": \[\([^,]*\), \([^]]*\)\].*/\2/p' "$tmp/po.json")
+wv=$(jval "$tmp/po.json" w)
+if awk -v l="$lo" -v h="$hi" -v v="$wv" 'BEGIN { a = log(h / v); b = log(v / l);
+        d = a - b; if (d < 0) d = -d; exit !(l > 0 && a > 0 && b > 0 && d > 0.05 * (a + b)) }'
+then ok; else bad "profile: w's interval [$lo, $hi] around $wv is not asymmetric in ln w"; fi
+
+# ---- coverage, a small seeded run (the 200-seed run: make coverage) --------
+run_ok bench --coverage --seeds 40 --scene paper-offsets
+cw=$(sed -n 's/^  w   covered *\([0-9.]*\)% (linear alone *\([0-9.]*\)%.*/\1/p' "$tmp/out")
+cl=$(sed -n 's/^  w   covered *\([0-9.]*\)% (linear alone *\([0-9.]*\)%.*/\2/p' "$tmp/out")
+if awk -v c="$cw" -v l="$cl" 'BEGIN { exit !(c >= 85 && c >= l + 30) }'; then ok
+else bad "coverage (40 seeds, paper's probes, offsets free): w covered $cw% (linear $cl%)"; fi
+has "coverage: every fit converged" "$tmp/out" "converged 40 of 40"
+run_ok bench --coverage --seeds 40 --scene mixed-nu
+cn=$(sed -n 's/^  nu  covered *\([0-9.]*\)%.*/\1/p' "$tmp/out")
+rn=$(sed -n 's/^  nu  covered.* = \([0-9.]*\) x the bound.*/\1/p' "$tmp/out")
+if awk -v c="$cn" -v r="$rn" 'BEGIN { exit !(c >= 85 && r <= 1.2) }'; then ok
+else bad "coverage (40 seeds, mixed set): nu covered $cn%, RMS $rn x the bound"; fi
+
+# ---- figures under --model auto: each curve drawn with its own model -------
+if command -v gnuplot >/dev/null 2>&1; then
+    run_ok simulate --out "$tmp/mx" --w 12.3mJ/m2 --E 1.85GPa --noise 0.002 --seed 2 \
+        k=2,R=1mm,b=1um,interface=frictionless k=3,R=1mm,b=1um,interface=frictionless
+    "$LF" fit "$tmp/mx/plan.csv" --plot "$tmp/mxp" >"$tmp/out" 2>"$tmp/err"
+    if grep -q "empty x range" "$tmp/err"; then bad "auto figures: gnuplot: empty x range"; else ok; fi
+    awk '/^# index 1/ { on = 1; next } /^# index 2/ { on = 0 } on && $1 != "NaN" && NF == 2 { n++ }
+         END { exit !(n > 10) }' "$tmp/mxp/curve1.dat" && ok || bad "auto figures: no model curve drawn"
+    for gp in "$tmp"/mxp/*.gp; do no_nan "auto figures: $(basename "$gp")" "$gp"; done
+fi
+
+# ---- real exports -----------------------------------------------------------
+real="$top/../shared/realdata"
+if [ ! -d "$real" ]; then
+    echo "skipped: ../shared/realdata not found"
+else
+    # the NT-MDT gel (no R in the file: 5 um given; the file's k and sensitivity as afmformats')
+    nt="$real/fmt-ntmdt-txt-fd_2015_01_17_gel4-0,1_mQ_adh_6B_Curve_DFL_Height_51.txt"
+    for b in 100um 200um 1mm 1m; do
+        "$LF" fit "$nt" --model halfspace --k 2 --R 5um --b "$b" --interface frictionless \
+            --spring-constant 0.055N/m --sensitivity 61nm/nA --json "$tmp/nt_$b.json" \
+            >"$tmp/out" 2>"$tmp/err" || bad "ntmdt b=$b: exit $?"
+        no_nan "ntmdt b=$b: report" "$tmp/out"
+    done
+    for b in 200um 1mm 1m; do
+        near "ntmdt: E* independent of b ($b)" "$(jval "$tmp/nt_$b.json" Estar)" \
+            "$(jval "$tmp/nt_100um.json" Estar)" 1e-3
+        near "ntmdt: w independent of b ($b)" "$(jval "$tmp/nt_$b.json" w)" \
+            "$(jval "$tmp/nt_100um.json" w)" 1e-3
+    done
+    for peg in "$real/10 wv pc PEGFN S-1 X-1 Y-1 I-1.txt" "$real/10 wv pc PEGFN S-1 X-1 Y-2 I-1.txt"; do
+        n=$(basename "$peg")
+        # the half-space answer does not depend on b, which it ignores
+        for b in 100um 1mm 1m; do
+            "$LF" fit "$peg" --model halfspace --k 2 --b "$b" --interface frictionless \
+                --json "$tmp/b_$b.json" >"$tmp/out" 2>"$tmp/err" || bad "$n b=$b: exit $?"
+        done
+        run_ok fit "$peg" --model halfspace --k 2 --json "$tmp/hs.json" --curves "$tmp/hs.csv" \
+            --plot "$tmp/hsp"
+        cp "$tmp/out" "$tmp/hs.txt"
+        E=$(jval "$tmp/hs.json" Estar); w=$(jval "$tmp/hs.json" w)
+        for b in 100um 1mm 1m; do
+            near "$n: E* independent of b ($b)" "$(jval "$tmp/b_$b.json" Estar)" "$E" 1e-3
+            near "$n: w independent of b ($b)" "$(jval "$tmp/b_$b.json" w)" "$w" 1e-3
+        done
+        # E* against the instrument's Hertz value in the header
+        Eh=$(sed -n 's/^E\[eff\] (Pa)\t\([0-9.]*\).*/\1/p' "$peg" | tr -d '\r')
+        near "$n: E* within 20% of the header's Hertz E[eff] $Eh Pa" "$E" "$Eh" 0.2
+        # w against the measured pull-off force: |P_po| = 1.5 pi R w (R = 8 um)
+        F0=$(sed -n 's/^ *"F0": \([^,]*\),.*/\1/p' "$tmp/hs.json" | head -n 1)
+        [ -n "$F0" ] || F0=$(grep -o '"F0": [^,]*' "$tmp/hs.json" | head -n 1 | sed 's/"F0": //')
+        wpo=$(awk -F, -v f0="$F0" 'NR > 1 && (m == "" || $2 < m) { m = $2 }
+              END { printf "%.6g", (f0 - m) / (1.5 * 3.141592653589793 * 8e-6) }' "$tmp/hs.csv")
+        near "$n: w within 30% of the pull-off's $wpo J/m^2" "$w" "$wpo" 0.3
+        # the noise model: a good fit is not "DISAGREES", errors account for correlation
+        if grep -q "DISAGREES" "$tmp/hs.txt"; then bad "$n: a good fit said DISAGREES"; else ok; fi
+        has "$n: correlated noise found" "$tmp/hs.txt" "correlated noise: one independent point in"
+        no_nan "$n: report" "$tmp/hs.txt"
+        for gp in "$tmp"/hsp/*.gp; do [ -f "$gp" ] && no_nan "$n: figure $(basename "$gp")" "$gp"; done
+        # the exact model with b = 1 m is a half-space: its answer, or an honest failure
+        "$LF" fit "$peg" --model exact --k 2 --b 1m --interface frictionless --json "$tmp/ex.json" \
+            >"$tmp/out" 2>"$tmp/err"; rc=$?
+        if [ "$rc" -eq 0 ]; then
+            near "$n: exact, b = 1 m: E* of the half-space" "$(jval "$tmp/ex.json" Estar)" "$E" 0.01
+        elif [ "$rc" -eq 3 ]; then
+            has "$n: exact, b = 1 m: why not converged" "$tmp/err" "not converged"
+        else
+            bad "$n: exact, b = 1 m: exit $rc"
+        fi
+        # a broken fit (a force offset held 30 nN off) is told apart
+        "$LF" fit "$peg" --model halfspace --k 2 --fix-F0 30nN >"$tmp/out" 2>"$tmp/err"
+        has "$n: a broken fit disagrees" "$tmp/out" "DISAGREES"
+        # a deliberately bad start: recovered, or reported as failed, never a good fit elsewhere
+        "$LF" fit "$peg" --model halfspace --k 2 --guess-w 1J/m2 --guess-E 1GPa --json "$tmp/bad.json" \
+            >"$tmp/out" 2>"$tmp/err"; rc=$?
+        if [ "$rc" -eq 0 ]; then
+            near "$n: bad start recovered: E*" "$(jval "$tmp/bad.json" Estar)" "$E" 0.01
+            near "$n: bad start recovered: w" "$(jval "$tmp/bad.json" w)" "$w" 0.01
+        else
+            [ "$rc" -eq 3 ] && ok || bad "$n: bad start: exit $rc"
+        fi
+        # a robust loss does not throw most of a real curve away
+        run_ok fit "$peg" --model halfspace --k 2 --loss cauchy --json "$tmp/c.json"
+        dw=$(grep -o '"downweighted": [0-9]*' "$tmp/c.json" | head -n 1 | sed 's/.*: //')
+        np=$(grep -o '"points": [0-9]*' "$tmp/c.json" | head -n 1 | sed 's/.*: //')
+        if [ -n "$dw" ] && [ "$((2 * dw))" -lt "$np" ]; then ok
+        else bad "$n: cauchy down-weights $dw of $np points"; fi
+    done
+fi
+summary
