@@ -67,10 +67,14 @@ lf_csv_segment_word(const char *w)
 {
     static const char *const load[] = { "load", "loading", "approach", "extend", NULL };
     static const char *const unload[] = { "unload", "unloading", "retract", "withdraw", NULL };
+    static const char *const hold[] = { "hold", "holding", "pause", "dwell", NULL };
     size_t i;
     for (i = 0; load[i] != NULL; i++)
         if (lf_csv_ieq(w, load[i]))
             return LF_SEG_LOAD;
+    for (i = 0; hold[i] != NULL; i++)
+        if (lf_csv_ieq(w, hold[i]))
+            return LF_SEG_HOLD;
     for (i = 0; unload[i] != NULL; i++)
         if (lf_csv_ieq(w, unload[i]))
             return LF_SEG_UNLOAD;
@@ -258,7 +262,8 @@ read_row(reader *rd, const lf_csv_record *r, lf_error *err)
             if (seg < 0)
                 return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
                                   "unknown segment '%s' (expected load, approach, "
-                                  "extend, unload, retract or withdraw)",
+                                  "extend, hold, pause, dwell, unload, retract or "
+                                  "withdraw)",
                                   lf_csv_excerpt(t, buf, sizeof buf));
             continue;
         }

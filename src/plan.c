@@ -332,6 +332,11 @@ plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
             return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
                                 "unknown segment '%s' (expected unload or load)",
                                 lf_csv_excerpt(r->text[k], buf, sizeof buf));
+        if (word == LF_SEG_HOLD)
+            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                                "segment '%s' is a hold, which is never fitted "
+                                "(expected unload or load)",
+                                lf_csv_excerpt(r->text[k], buf, sizeof buf));
         row->segment = (lf_segment) word;
     }
     k = rd->col[P_INTERFACE];

@@ -165,7 +165,9 @@ test_bad_memory(void)
         { "file,k,R,b,interface\ncurve_comma.csv,2,1mm,0um,frictionless\n", LF_EINVAL, 2, 23, "b must be a finite length > 0 (got 0 m)" },
         { "file,k,R,b,interface,nu\ncurve_comma.csv,2,1mm,1um,bonded,0.7\n", LF_EINVAL, 2, 34, "nu must lie in [0, 0.5) for a bonded layer (got 0.7) (leave nu empty to fit it)" },
         { "file,k,R,b,interface,nu\ncurve_comma.csv,2,1mm,1um,frictionless,0.7\n", LF_EINVAL, 2, 40, "nu must lie in (-1, 0.5] (got 0.7)" },
-        { "file,k,R,b,interface,segment\ncurve_comma.csv,2,1mm,1um,bonded,hold\n", LF_EFORMAT, 2, 34, "unknown segment 'hold' (expected unload or load)" },
+        { "file,k,R,b,interface,segment\ncurve_comma.csv,2,1mm,1um,bonded,hold\n", LF_EFORMAT, 2, 34, "segment 'hold' is a hold, which is never fitted (expected unload or load)" },
+        { "file,k,R,b,interface,segment\ncurve_comma.csv,2,1mm,1um,bonded,Dwell\n", LF_EFORMAT, 2, 34, "segment 'Dwell' is a hold, which is never fitted (expected unload or load)" },
+        { "file,k,R,b,interface,segment\ncurve_comma.csv,2,1mm,1um,bonded,sideways\n", LF_EFORMAT, 2, 34, "unknown segment 'sideways' (expected unload or load)" },
         { "file,k,R,b,interface\ncurve_comma.csv,2,1mm,1um\n", LF_EFORMAT, 2, 1, "row has 4 cells, the header 5 (give each column a cell; leave optional ones empty)" },
         { "file,k,R,b,interface\n,2,1mm,1um,bonded\n", LF_EFORMAT, 2, 1, "empty file cell (name the curve's CSV file, relative to the plan's folder)" },
         { "file,k,R,b,interface,segment\ncurve_comma.csv,2,1mm,1um,bonded,unload\n"

@@ -55,7 +55,7 @@ expect 2 "layerfit: $b/curve_ragged.csv:3:4: row has 2 cells, the header 3 (ever
 expect 2 "layerfit: $b/curve_ragged_long.csv:3:5: row has 3 cells, the header 2 (is the delimiter ',' used inside a number? quote such cells)" check $b/curve_ragged_long.csv
 expect 2 "layerfit: $b/curve_quote.csv:3:3: quote opened here is never closed (end the field with \")" check $b/curve_quote.csv
 expect 2 "layerfit: $b/curve_bad_quote.csv:3:4: malformed quotes (quote a whole field, and double the quotes inside it: \"a \"\"b\"\"\")" check $b/curve_bad_quote.csv
-expect 2 "layerfit: $b/curve_segment_word.csv:3:5: unknown segment 'hold' (expected load, approach, extend, unload, retract or withdraw)" check $b/curve_segment_word.csv
+expect 2 "layerfit: $b/curve_segment_word.csv:3:5: unknown segment 'creep' (expected load, approach, extend, hold, pause, dwell, unload, retract or withdraw)" check $b/curve_segment_word.csv
 { echo depth_nm,force_uN; echo 1,2; head -c 1048577 /dev/zero | tr '\0' 7; echo; } >"$tmp/long.csv"
 expect 2 "layerfit: $tmp/long.csv:3: line longer than 1 MiB (lines must end within 1048576 bytes; is this a CSV file?)" check "$tmp/long.csv"
 # data a fit cannot use
