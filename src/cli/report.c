@@ -102,6 +102,23 @@ text_thin(FILE *f, const lf_fit_result *r)
     fprintf(f, "%s\n", t->converged ? "" : " [that fit did not converge]");
 }
 
+/* "      from: R file header, spring constant 0.032 N/m file header, ...":
+ * where a curve's probe radius, thickness and AFM constants came from. */
+static void
+origin_text(FILE *f, const lf_curve_origin *o)
+{
+    fprintf(f, "      from: R %s, b %s", o->R != NULL ? o->R : "option",
+            o->b != NULL ? o->b : "none (half-space)");
+    if (o->spring_constant_source != NULL)
+        fprintf(f, ", spring constant %.4g N/m %s", o->spring_constant,
+                o->spring_constant_source);
+    if (o->sensitivity_source != NULL)
+        fprintf(f, ", sensitivity %.4g %s %s", o->sensitivity * 1e9,
+                o->sensitivity_unit != NULL && strcmp(o->sensitivity_unit, "m/A") == 0
+                ? "nm/A" : "nm/V", o->sensitivity_source);
+    fputc('\n', f);
+}
+
 void
 report_text(FILE *f, const report_input *in, const lf_fit_result *r)
 {
@@ -148,9 +165,16 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
         const lf_fit_curve_result *cr = &r->curves[j];
         fprintf(f, "  [%zu] ", j + 1);
         cli_put_clean(f, cr->name);
+        if (in->origin != NULL && j < r->ncurves && in->origin[j].b == NULL)
+            fprintf(f, ": k = %g, R = %s, no layer (half-space), %s branch, %zu points\n",
+                    cr->probe.k, cli_human(a, sizeof a, cr->probe.R, "m"),
+                    branch_name(cr->branch), cr->n);
+        else
         fprintf(f, ": k = %g, R = %s, b = %s, %s, %s branch, %zu points\n", cr->probe.k, cli_human(a, sizeof a, cr->probe.R, "m"),
                 cli_human(b, sizeof b, cr->probe.b, "m"), cli_base_name(cr->probe.base),
                 branch_name(cr->branch), cr->n);
+        if (in->origin != NULL)
+            origin_text(f, &in->origin[j]);
         fprintf(f, "      z0 = %s%s, F0 = %s%s, noise %s, rms residual %s\n",
                 isnan(cr->z0) ? "not determined" : cli_human(a, sizeof a, cr->z0, "m"),
                 cr->z0_free ? "" : " (fixed)",
@@ -200,6 +224,16 @@ jnum(FILE *f, double x)
         cli_print_double(f, x);
     else
         fputs("null", f);
+}
+
+/* A JSON string, or null for NULL. */
+static void
+jstr_or_null(FILE *f, const char *s)
+{
+    if (s == NULL)
+        fputs("null", f);
+    else
+        cli_json_string(f, s);
 }
 
 /* A JSON array of n numbers. */
@@ -332,7 +366,8 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
         fputs("    {", f);
         cli_json_name(f, "file", c->name);
         const struct { const char *key; double v; } num[] = {
-            { "k", c->probe.k }, { "R", c->probe.R }, { "b", c->probe.b },
+            { "k", c->probe.k }, { "R", c->probe.R },
+            { "b", in->origin != NULL && in->origin[j].b == NULL ? NAN : c->probe.b },
             { "z0", c->z0 }, { "z0_stderr", c->z0_se }, { "F0", c->F0 },
             { "F0_stderr", c->F0_se }, { "noise_sigma", c->sigma }, { "rms", c->rms },
             { "P_po", c->pulloff.P_po }, { "a_po", c->pulloff.a_po },
@@ -360,6 +395,23 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
         jstr(f, c->model_reason);
         fputs(", \"thin_bias_in_se\": ", f);
         jnum(f, c->thin_bias);
+        if (in->origin != NULL) {
+            const lf_curve_origin *o = &in->origin[j];
+            fputs(",\n     \"R_source\": ", f);
+            jstr_or_null(f, o->R);
+            fputs(", \"b_source\": ", f);
+            jstr_or_null(f, o->b);
+            fputs(", \"spring_constant\": ", f);
+            jnum(f, o->spring_constant);
+            fputs(", \"spring_constant_source\": ", f);
+            jstr_or_null(f, o->spring_constant_source);
+            fputs(", \"sensitivity\": ", f);
+            jnum(f, o->sensitivity);
+            fputs(", \"sensitivity_unit\": ", f);
+            jstr_or_null(f, o->sensitivity_source != NULL ? o->sensitivity_unit : NULL);
+            fputs(", \"sensitivity_source\": ", f);
+            jstr_or_null(f, o->sensitivity_source);
+        }
         fputs(", \"warnings\": ", f);
         jwarnings(f, &c->warnings);
         fprintf(f, "}%s\n", j + 1 < r->ncurves ? "," : "");
