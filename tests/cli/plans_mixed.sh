@@ -64,4 +64,28 @@ run_ok fit "$top/tests/data/curve_hold_column.csv" --k 2 --R 1mm --b 1um --inter
     has "single with a layer: sources" "$tmp/out" "from: R option, b option"
     has "single json with a layer" "$tmp/l.json" '"R_source": "option", "b_source": "option", "spring_constant": null, "spring_constant_source": null'
 }
+
+# real exports, as exported: a Chiaro and a JPK file in one plan, no layer
+real=$top/../shared/realdata
+if [ -d "$real" ]; then
+    printf 'file,k,R,b,interface,sample\n%s,2,header,,,peg\n%s,2,8um,,,gel\n' \
+        "$real/10 wv pc PEGFN S-1 X-1 Y-1 I-1.txt" "$real/force-save-2021.06.30-13.48.08.425.txt" \
+        >"$tmp/real.csv"
+    run_ok check "$tmp/real.csv" && {
+        has "real: chiaro found" "$tmp/out" "  format    chiaro"
+        has "real: jpk found" "$tmp/out" "  format    jpk"
+    }
+    run_ok fit --batch "$tmp/real.csv" --model halfspace --threads 1 --out "$tmp/real.jsonl" && {
+        n=$(grep -c '"status": "ok"' "$tmp/real.jsonl")
+        [ "$n" -eq 2 ] && ok || bad "real batch: two ok fits (got $n)"
+        if grep -qiw "nan" "$tmp/real.jsonl"; then bad "real batch: no NaN"; else ok; fi
+    }
+    printf 'file,k,R,b,interface\n%s,2,header,,\n' "$real/10 wv pc PEGFN S-1 X-1 Y-1 I-1.txt" >"$tmp/peg.csv"
+    run_ok fit "$tmp/peg.csv" --model halfspace --json "$tmp/peg.json" && {
+        has "real: R from the header, said" "$tmp/out" "from: R file header, b none (half-space), spring constant 0.032 N/m file header"
+        has "real json: sources" "$tmp/peg.json" '"R_source": "file header", "b_source": null'
+    }
+else
+    echo "skipped: ../shared/realdata not found"
+fi
 summary
