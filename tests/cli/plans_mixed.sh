@@ -65,6 +65,15 @@ run_ok fit "$top/tests/data/curve_hold_column.csv" --k 2 --R 1mm --b 1um --inter
     has "single json with a layer" "$tmp/l.json" '"R_source": "option", "b_source": "option", "spring_constant": null, "spring_constant_source": null'
 }
 
+# AFM Workshop: a constant left at the software's unset default of 1 is said
+# to be so, and the option it needs is named
+sed 's/^Force Constant, nN\/nm:\t0.032000/Force Constant, nN\/nm:\t1.000000/; s/^Light Lever Gain, mV\/nm:\t2.500000/Light Lever Gain, mV\/nm:\t1.000000/' \
+    "$v/workshop_tb.csv" >"$tmp/ws1.csv"
+expect_fail 2 "layerfit: $tmp/ws1.csv: the file's 'Force Constant, nN/nm' reads '1.000000', not a calibrated value (1 is the software's unset default), and the cantilever spring constant is needed to convert the signals (give it: --spring-constant 0.032N/m)" check "$tmp/ws1.csv"
+expect_fail 2 "layerfit: $tmp/ws1.csv: the file's 'Light Lever Gain, mV/nm' reads '1.000000', not a calibrated value (1 is the software's unset default), and the deflection sensitivity is needed to convert the signals (give it: --sensitivity 50nm/V)" check --spring-constant 0.032N/m "$tmp/ws1.csv"
+run_ok check --spring-constant 0.032N/m --sensitivity 400nm/V "$tmp/ws1.csv" && \
+    has "workshop unset defaults: the options used" "$tmp/out" "sensitivity 4e-07 m/V (option --sensitivity)"
+
 # real exports, as exported: a Chiaro and a JPK file in one plan, no layer
 real=$top/../shared/realdata
 if [ -d "$real" ]; then
