@@ -1138,7 +1138,10 @@ typedef struct {
  * checked when it is opened (lf_input_read with s->open_flags), and its
  * SHA-256 kept in in->sha256.  Warnings of the readers are appended to warn
  * (may be NULL).  On failure in holds nothing and err names the file, line
- * and column where it can (LF_EIO, LF_EFORMAT, LF_EUNIT, LF_EDATA). */
+ * and column where it can (LF_EIO, LF_EFORMAT, LF_EUNIT, LF_EDATA).  A row
+ * without a layer (b NaN: empty b and interface cells) gets b = R, a
+ * stand-in no half-space formula uses, and origin[j].b NULL: such rows suit
+ * half-space fits only, which the caller checks (the model is its choice). */
 int lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
                            const lf_input_settings *s, lf_fit_input *in,
                            lf_warnings *warn, lf_error *err);
