@@ -189,6 +189,7 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                 cli_human(a, sizeof a, cr->pulloff.P_po, "N"),
                 cli_human(b, sizeof b, cr->pulloff.a_po, "m"),
                 cli_human(c, sizeof c, cr->pulloff.sigma_po, "Pa"));
+        if (in->origin == NULL || in->origin[j].b != NULL)  /* no layer: no b/a */
         fprintf(f, "      b/a = %.3g at the shallowest contact point, %.3g at pull-off\n",
                 cr->b_over_a_min_contact, cr->b_over_a_pulloff);
         if (cr->model != NULL)
@@ -363,17 +364,18 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
     fputs(",\n  \"curves\": [\n", f);
     for (j = 0; j < r->ncurves; j++) {
         const lf_fit_curve_result *c = &r->curves[j];
+        int no_layer = in->origin != NULL && in->origin[j].b == NULL;  /* b a stand-in */
         fputs("    {", f);
         cli_json_name(f, "file", c->name);
         const struct { const char *key; double v; } num[] = {
             { "k", c->probe.k }, { "R", c->probe.R },
-            { "b", in->origin != NULL && in->origin[j].b == NULL ? NAN : c->probe.b },
+            { "b", no_layer ? NAN : c->probe.b },
             { "z0", c->z0 }, { "z0_stderr", c->z0_se }, { "F0", c->F0 },
             { "F0_stderr", c->F0_se }, { "noise_sigma", c->sigma }, { "rms", c->rms },
             { "P_po", c->pulloff.P_po }, { "a_po", c->pulloff.a_po },
             { "sigma_po", c->pulloff.sigma_po },
-            { "b_over_a_min_contact", c->b_over_a_min_contact },
-            { "b_over_a_pulloff", c->b_over_a_pulloff },
+            { "b_over_a_min_contact", no_layer ? NAN : c->b_over_a_min_contact },
+            { "b_over_a_pulloff", no_layer ? NAN : c->b_over_a_pulloff },
             { "chi2_per_point", c->chi2_per_point }, { "p_value", c->p_value },
             { "runs_z", c->runs_z }, { "corr_time", c->corr_time }, { "n_eff", c->n_eff },
             { "noise_sd", c->noise_sd }, { "misfit_rel", c->misfit_rel }

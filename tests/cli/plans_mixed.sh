@@ -34,6 +34,8 @@ run_ok fit "$tmp/plan.csv" --model halfspace --json "$tmp/p.json" && {
     has "report: csv sources" "$tmp/out" "from: R plan, b none (half-space)"
     if grep -q "the thin-layer model would give" "$tmp/out"; then
         bad "no thin-layer comparison without a layer thickness"; else ok; fi
+    if grep -q "b/a = " "$tmp/out"; then bad "no b/a without a layer"; else ok; fi
+    has "json: no b/a without a layer" "$tmp/p.json" '"b_over_a_min_contact": null, "b_over_a_pulloff": null'
     has "json: R source" "$tmp/p.json" '"R_source": "file header", "b_source": null, "spring_constant": 0.032, "spring_constant_source": "file header", "sensitivity": null'
     has "json: sensitivity source" "$tmp/p.json" '"sensitivity": 5e-08, "sensitivity_unit": "m/V", "sensitivity_source": "file header"'
     has "json: no layer, b null" "$tmp/p.json" '"R": 8e-06, "b": null'
@@ -62,6 +64,7 @@ run_ok fit "$v/workshop_force.csv" --model halfspace --k 2 --R 8um --spring-cons
 }
 run_ok fit "$top/tests/data/curve_hold_column.csv" --k 2 --R 1mm --b 1um --interface frictionless --model thin --json "$tmp/l.json" && {
     has "single with a layer: sources" "$tmp/out" "from: R option, b option"
+    has "single with a layer: b/a said" "$tmp/out" "b/a = "
     has "single json with a layer" "$tmp/l.json" '"R_source": "option", "b_source": "option", "spring_constant": null, "spring_constant_source": null'
 }
 
