@@ -397,22 +397,23 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
         jstr(f, c->model_reason);
         fputs(", \"thin_bias_in_se\": ", f);
         jnum(f, c->thin_bias);
-        if (in->origin != NULL) {
+        if (in->origin != NULL) {   /* where R, b and the AFM constants came from */
             const lf_curve_origin *o = &in->origin[j];
-            fputs(",\n     \"R_source\": ", f);
-            jstr_or_null(f, o->R);
-            fputs(", \"b_source\": ", f);
-            jstr_or_null(f, o->b);
-            fputs(", \"spring_constant\": ", f);
-            jnum(f, o->spring_constant);
-            fputs(", \"spring_constant_source\": ", f);
-            jstr_or_null(f, o->spring_constant_source);
-            fputs(", \"sensitivity\": ", f);
-            jnum(f, o->sensitivity);
-            fputs(", \"sensitivity_unit\": ", f);
-            jstr_or_null(f, o->sensitivity_source != NULL ? o->sensitivity_unit : NULL);
-            fputs(", \"sensitivity_source\": ", f);
-            jstr_or_null(f, o->sensitivity_source);
+            const struct { const char *key, *s; int num; double v; } src[] = {
+                { "R_source", o->R, 0, 0 }, { "b_source", o->b, 0, 0 },
+                { "spring_constant", NULL, 1, o->spring_constant },
+                { "spring_constant_source", o->spring_constant_source, 0, 0 },
+                { "sensitivity", NULL, 1, o->sensitivity },
+                { "sensitivity_unit", o->sensitivity_source ? o->sensitivity_unit : NULL, 0, 0 },
+                { "sensitivity_source", o->sensitivity_source, 0, 0 },
+            };
+            for (i = 0; i < sizeof src / sizeof src[0]; i++) {
+                fprintf(f, "%s\"%s\": ", i == 0 ? ",\n     " : ", ", src[i].key);
+                if (src[i].num)
+                    jnum(f, src[i].v);
+                else
+                    jstr_or_null(f, src[i].s);
+            }
         }
         fputs(", \"warnings\": ", f);
         jwarnings(f, &c->warnings);
