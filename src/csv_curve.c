@@ -39,6 +39,8 @@ typedef struct {
     long col[NCOL];             /* index of each role's column, or -1 */
     char head[NCOL][64];        /* its header cell, for messages */
     double factor[NCOL];
+    char unit[NCOL][64];        /* the unit each column is read in */
+    const char *unit_from[NCOL];    /* where that unit came from */
     int decimal_comma;
     long ncomments, dropped, first_dropped;
     long skipped, first_skipped;
@@ -67,10 +69,14 @@ lf_csv_segment_word(const char *w)
 {
     static const char *const load[] = { "load", "loading", "approach", "extend", NULL };
     static const char *const unload[] = { "unload", "unloading", "retract", "withdraw", NULL };
+    static const char *const hold[] = { "hold", "holding", "pause", "dwell", NULL };
     size_t i;
     for (i = 0; load[i] != NULL; i++)
         if (lf_csv_ieq(w, load[i]))
             return LF_SEG_LOAD;
+    for (i = 0; hold[i] != NULL; i++)
+        if (lf_csv_ieq(w, hold[i]))
+            return LF_SEG_HOLD;
     for (i = 0; unload[i] != NULL; i++)
         if (lf_csv_ieq(w, unload[i]))
             return LF_SEG_UNLOAD;
@@ -103,11 +109,14 @@ column_unit(reader *rd, int role, const char *header_unit, long line, long col,
         lf_warn(rd->warn, "%s:%ld:%ld: the header gives '%s' for %s; the unit "
                 "given in the options, '%s', is used", rd->name, line, col,
                 header_unit, roles[role].what, opt);
+    rd->unit_from[role] = opt != NULL ? "from --" : "from the header";
     if (role == COL_TIME && unit[0] == '\0') {
         lf_warn(rd->warn, "%s:%ld:%ld: time column '%s' has no unit; seconds "
                 "assumed", rd->name, line, col, rd->head[role]);
         unit = "s";
+        rd->unit_from[role] = "assumed";
     }
+    lf_csv_excerpt(unit, rd->unit[role], sizeof rd->unit[role]);
     if (unit[0] == '\0')
         return lf_fail_at(err, LF_EUNIT, rd->name, line, col,
                           "%s column '%s' has no unit (name it in the header, "
@@ -137,6 +146,40 @@ name_list(int role, char *buf, size_t n)
                                  roles[role].names[i]);
     }
     return buf;
+}
+
+/* What the header says, for `layerfit check`: the columns used, their units
+ * and the factor to SI, and the columns left out. */
+static void
+header_info(reader *rd, const lf_csv_record *r)
+{
+    static const char *const si[NCOL] = { "m", "N", "s", "" };
+    char buf[64], name[256], unit[256];
+    lf_warnings *info = &rd->c->info;
+    size_t i;
+    int role;
+
+    lf_warn(info, "header: line %ld, delimiter %s%s", r->line,
+            r->delim == '\t' ? "tab" : r->delim == ';' ? "';'" : "','",
+            rd->decimal_comma ? ", decimal comma" : "");
+    for (role = 0; role < COL_SEGMENT; role++) {
+        if (rd->col[role] < 0)
+            continue;
+        if (strcmp(rd->unit_from[role], "from --") == 0)
+            lf_warn(info, "%s: column %ld '%s' in %s (from --%s-unit), x %.6g to %s",
+                    roles[role].what, rd->col[role] + 1, rd->head[role], rd->unit[role],
+                    roles[role].what, rd->factor[role], si[role]);
+        else
+            lf_warn(info, "%s: column %ld '%s' in %s (%s), x %.6g to %s",
+                    roles[role].what, rd->col[role] + 1, rd->head[role], rd->unit[role],
+                    rd->unit_from[role], rd->factor[role], si[role]);
+    }
+    for (i = 0; i < r->n; i++) {
+        lf_csv_header_cell(r->text[i], name, sizeof name, unit, sizeof unit);
+        if (role_of(name) < 0)
+            lf_warn(info, "ignored: column %zu '%s'", i + 1,
+                    lf_csv_excerpt(r->text[i], buf, sizeof buf));
+    }
 }
 
 static int
@@ -191,6 +234,7 @@ read_header(reader *rd, const lf_csv_record *r, lf_error *err)
         if (status != LF_OK)
             return status;
     }
+    header_info(rd, r);
     return LF_OK;
 }
 
@@ -258,7 +302,8 @@ read_row(reader *rd, const lf_csv_record *r, lf_error *err)
             if (seg < 0)
                 return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
                                   "unknown segment '%s' (expected load, approach, "
-                                  "extend, unload, retract or withdraw)",
+                                  "extend, hold, pause, dwell, unload, retract or "
+                                  "withdraw)",
                                   lf_csv_excerpt(t, buf, sizeof buf));
             continue;
         }
@@ -409,7 +454,7 @@ csv_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings *w
 {
     lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
     reader rd;
-    int status, role;
+    int status;
 
     memset(&rd, 0, sizeof rd);
     rd.name = in->name;
@@ -425,12 +470,14 @@ csv_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings *w
         status = finish(&rd, err);
     if (status != LF_OK)
         return status;
-    for (role = 0; role < COL_SEGMENT; role++)
-        if (rd.col[role] >= 0)
-            lf_warn(&c->info, "%s: column %ld '%s', x %.6g to SI", roles[role].what,
-                    rd.col[role] + 1, rd.head[role], rd.factor[role]);
     if (rd.col[COL_SEGMENT] >= 0)
-        lf_warn(&c->info, "segments: from the column '%s'", rd.head[COL_SEGMENT]);
+        lf_warn(&c->info, "segments: from column %ld '%s' (load %zu, hold %zu, unload "
+                "%zu points)", rd.col[COL_SEGMENT] + 1, rd.head[COL_SEGMENT], lf_curve_segment(c, LF_SEG_LOAD, NULL, NULL),
+                lf_curve_segment(c, LF_SEG_HOLD, NULL, NULL),
+                lf_curve_segment(c, LF_SEG_UNLOAD, NULL, NULL));
+    if (rd.skipped > 0)
+        lf_warn(&c->info, "skipped: %ld row%s with missing cells (--skip-bad-rows)",
+                rd.skipped, rd.skipped == 1 ? "" : "s");
     return LF_OK;
 }
 

@@ -60,8 +60,9 @@ int lf_csv_read_input(const lf_source *in, const lf_csv_handler *h, lf_error *er
 void lf_csv_header_cell(const char *cell, char *name, size_t nname,
                         char *unit, size_t nunit);
 
-/* The segment a word names (load, loading, approach, extend / unload,
- * unloading, retract, withdraw; any case), or -1. */
+/* The segment a word names (load, loading, approach, extend / hold,
+ * holding, pause, dwell / unload, unloading, retract, withdraw; any case),
+ * or -1. */
 int lf_csv_segment_word(const char *word);
 
 /* Case-insensitive ASCII equality. */

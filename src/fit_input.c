@@ -38,6 +38,7 @@ lf_fit_input_free(lf_fit_input *in)
     free(in->sha256);
     free(in->R_source);
     free(in->format);
+    free(in->origin);
     free(in->curves);
     memset(in, 0, sizeof *in);
 }
@@ -54,8 +55,9 @@ input_alloc(lf_fit_input *in, size_t n)
     in->sha256 = calloc(n ? n : 1, sizeof *in->sha256);
     in->R_source = calloc(n ? n : 1, sizeof *in->R_source);
     in->format = calloc(n ? n : 1, sizeof *in->format);
+    in->origin = calloc(n ? n : 1, sizeof *in->origin);
     return in->curves && in->points && in->names && in->sha256 && in->R_source && in->format
-           ? LF_OK : LF_ENOMEM;
+           && in->origin ? LF_OK : LF_ENOMEM;
 }
 
 /* A "# key: value" length of the curve's file, or NaN. */
@@ -144,6 +146,13 @@ add_curve(lf_fit_input *in, size_t j, const char *path, lf_segment seg, const lf
     }
     strcpy(in->names[j], path);
     in->format[j] = c->format;
+    in->origin[j].R = in->R_source[j];
+    in->origin[j].b = isnan(probe->b) ? NULL : given;
+    in->origin[j].spring_constant = c->spring_constant;
+    in->origin[j].spring_constant_source = c->spring_constant_source;
+    in->origin[j].sensitivity = c->sensitivity;
+    in->origin[j].sensitivity_unit = c->sensitivity_unit;
+    in->origin[j].sensitivity_source = c->sensitivity_source;
     lf_curve_segment(c, seg, in->points[2 * j], in->points[2 * j + 1]);
     lf_curve_free(c);
     fc->name = in->names[j];

@@ -721,6 +721,9 @@ typedef struct {
     double spring_constant;   /* cantilever k used for the conversions, N/m,
                                  or NaN when none was needed */
     double sensitivity;       /* deflection sensitivity used, m/V or m/A, or NaN */
+    const char *spring_constant_source;  /* "file header", "option", or NULL */
+    const char *sensitivity_source;      /* "file header", "option", or NULL */
+    const char *sensitivity_unit;        /* "m/V" or "m/A" (with a sensitivity) */
     lf_warnings info;         /* what was detected, for `layerfit check`:
                                  columns and units, conversions, segments */
 } lf_curve;
@@ -738,7 +741,9 @@ typedef struct {
     double F0;                /* force offset, N, if the plan fixes it, else NaN */
     char *format;             /* the curve file's reader name, "" = sniffed */
 } lf_plan_row;               /* probe.R is NaN where the plan's R cell says
-                                "header": the curve file's header gives it */
+                                "header": the curve file's header gives it;
+                                probe.b is NaN where the b and interface cells
+                                are empty: no layer, for half-space fits only */
 
 typedef struct {
     char *path;               /* the plan's own path */
@@ -1100,6 +1105,19 @@ typedef struct {
 
 lf_input_settings lf_input_settings_default(void);
 
+/* Where the probe values and AFM constants of one curve came from, for the
+ * reports. */
+typedef struct {
+    const char *R;            /* "option", "plan" or "file header" */
+    const char *b;            /* "option" or "plan"; NULL: no layer (a
+                                 half-space fit; probe b is a stand-in, R) */
+    double spring_constant;   /* N/m used to convert the file's signals, or NaN */
+    const char *spring_constant_source;  /* "file header", "option", or NULL */
+    double sensitivity;       /* m/V or m/A used, or NaN */
+    const char *sensitivity_unit;        /* "m/V" or "m/A" */
+    const char *sensitivity_source;      /* "file header", "option", or NULL */
+} lf_curve_origin;
+
 typedef struct {
     size_t n;
     lf_fit_curve *curves; /* n curves: the points of their segment in SI */
@@ -1112,6 +1130,7 @@ typedef struct {
     const char **R_source;  /* n: where each probe radius came from: "option"
                                (the caller's probe), "plan" or "file header" */
     const char **format;    /* n: the reader of each file ("csv", "jpk", ...) */
+    lf_curve_origin *origin;  /* n: where each curve's probe and constants came from */
 } lf_fit_input;
 
 /* Read the curves of rows[0..nrows-1] of the plan (rows NULL: every row,
@@ -1119,7 +1138,10 @@ typedef struct {
  * checked when it is opened (lf_input_read with s->open_flags), and its
  * SHA-256 kept in in->sha256.  Warnings of the readers are appended to warn
  * (may be NULL).  On failure in holds nothing and err names the file, line
- * and column where it can (LF_EIO, LF_EFORMAT, LF_EUNIT, LF_EDATA). */
+ * and column where it can (LF_EIO, LF_EFORMAT, LF_EUNIT, LF_EDATA).  A row
+ * without a layer (b NaN: empty b and interface cells) gets b = R, a
+ * stand-in no half-space formula uses, and origin[j].b NULL: such rows suit
+ * half-space fits only, which the caller checks (the model is its choice). */
 int lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
                            const lf_input_settings *s, lf_fit_input *in,
                            lf_warnings *warn, lf_error *err);

@@ -288,6 +288,14 @@ R_from_header(const plan_reader *rd, const lf_csv_record *r)
     return rd->col[P_R] >= 0 && lf_csv_ieq(r->text[rd->col[P_R]], "header");
 }
 
+/* An empty b cell: no layer (NaN in the plan row), for half-space fits
+ * only; the interface cell is then empty too. */
+static int
+no_layer(const plan_reader *rd, const lf_csv_record *r)
+{
+    return r->text[rd->col[P_B]][0] == '\0';
+}
+
 static int
 plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
 {
@@ -332,10 +340,21 @@ plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
             return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
                                 "unknown segment '%s' (expected unload or load)",
                                 lf_csv_excerpt(r->text[k], buf, sizeof buf));
+        if (word == LF_SEG_HOLD)
+            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                                "segment '%s' is a hold, which is never fitted "
+                                "(expected unload or load)",
+                                lf_csv_excerpt(r->text[k], buf, sizeof buf));
         row->segment = (lf_segment) word;
     }
     k = rd->col[P_INTERFACE];
-    if (lf_csv_ieq(r->text[k], "frictionless"))
+    if (no_layer(rd, r) != (r->text[k][0] == '\0'))
+        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                          "b and interface go together: give both for a layer, or leave "
+                          "both empty for a half-space (fit with --model halfspace)");
+    if (no_layer(rd, r))
+        row->probe.base = LF_BASE_FRICTIONLESS;     /* not used by a half-space */
+    else if (lf_csv_ieq(r->text[k], "frictionless"))
         row->probe.base = LF_BASE_FRICTIONLESS;
     else if (lf_csv_ieq(r->text[k], "bonded"))
         row->probe.base = LF_BASE_BONDED;
@@ -358,16 +377,21 @@ plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     if ((status = plan_number(rd, r, P_K, &row->probe.k, err)) != LF_OK
         || (!R_from_header(rd, r)
             && (status = plan_number(rd, r, P_R, &row->probe.R, err)) != LF_OK)
-        || (status = plan_number(rd, r, P_B, &row->probe.b, err)) != LF_OK
+        || (!no_layer(rd, r)
+            && (status = plan_number(rd, r, P_B, &row->probe.b, err)) != LF_OK)
         || (status = plan_number(rd, r, P_NU, &row->nu, err)) != LF_OK
         || (status = plan_number(rd, r, P_Z0, &row->z0, err)) != LF_OK
         || (status = plan_number(rd, r, P_F0, &row->F0, err)) != LF_OK)
         return status;
     if (R_from_header(rd, r))      /* checked with the curve's R by the fit */
         row->probe.R = 1.0;
+    if (no_layer(rd, r))
+        row->probe.b = 1.0;
     status = lf_probe_check(&row->probe, &e);
     if (R_from_header(rd, r))
         row->probe.R = NAN;
+    if (no_layer(rd, r))
+        row->probe.b = NAN;
     if (status != LF_OK) {
         k = probe_column(rd, e.msg);
         return lf_fail_at(err, e.status, rd->name, r->line, k >= 0 ? r->fcol[k] : 0,

@@ -73,6 +73,7 @@ chiaro_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings
     }
     if (lf_meta_number(c, "k (N/m)", LF_Q_STIFFNESS, &k) == 0 && k > 0 && jl >= 0) {
         c->spring_constant = k;
+        c->spring_constant_source = "file header";
         lf_warn(&c->info, "spring constant %.6g N/m (file header 'k (N/m)'; the file's "
                 "Load is already k x Cantilever)", k);
     }

@@ -47,6 +47,20 @@ constant(const lf_curve *c, const char *key, lf_quantity q, lf_warnings *info)
     return x;
 }
 
+/* A needed constant whose header line holds the unset default (or no
+ * number): say so, rather than that the file has none. */
+static int
+unset_default(const lf_curve *c, const char *key, const char *what, const char *example,
+              lf_error *err)
+{
+    char buf[64];
+    return lf_fail_at(err, LF_EDATA, c->file, 0, 0,
+                      "the file's '%s' reads '%s', not a calibrated value (1 is the "
+                      "software's unset default), and the %s is needed to convert the "
+                      "signals (give it: %s)", key,
+                      lf_csv_excerpt(lf_curve_meta(c, key), buf, sizeof buf), what, example);
+}
+
 static int
 workshop_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings *warn,
               lf_error *err)
@@ -87,6 +101,12 @@ workshop_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnin
     if (!is_force && (status = lf_text_table_factor(&t, jd[0], LF_Q_VOLTAGE, &fd, err)) != LF_OK)
         goto done;
     k = constant(c, "Force Constant, nN/nm", LF_Q_STIFFNESS, &c->info);
+    if (isnan(k) && lf_curve_meta(c, "Force Constant, nN/nm") != NULL
+        && !(isfinite(o->spring_constant) && o->spring_constant > 0)) {
+        status = unset_default(c, "Force Constant, nN/nm", "cantilever spring constant",
+                               "--spring-constant 0.032N/m", err);
+        goto done;
+    }
     if ((status = lf_afm_spring_constant(c, k, "Force Constant, nN/nm", o, is_force
                                          ? "to turn the force into a deflection for the "
                                            "tip-sample separation"
@@ -97,6 +117,12 @@ workshop_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnin
         gain = constant(c, "Light Lever Gain, mV/nm", LF_Q_DIMENSIONLESS, &c->info);
         if (isfinite(gain) && gain > 0)
             sens = 1e-6 / gain;
+        if (isnan(gain) && lf_curve_meta(c, "Light Lever Gain, mV/nm") != NULL
+            && !(isfinite(o->sensitivity) && o->sensitivity > 0)) {
+            status = unset_default(c, "Light Lever Gain, mV/nm", "deflection sensitivity",
+                                   "--sensitivity 50nm/V", err);
+            goto done;
+        }
         if ((status = lf_afm_sensitivity(c, sens, "Light Lever Gain, mV/nm", 0, o, err)) != LF_OK)
             goto done;
     }

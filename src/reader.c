@@ -325,11 +325,13 @@ lf_afm_spring_constant(lf_curve *c, double file_k, const char *file_key,
     double opt = o ? o->spring_constant : NAN;
     if (isfinite(file_k) && file_k > 0) {
         c->spring_constant = file_k;
+        c->spring_constant_source = "file header";
         lf_warn(&c->info, "spring constant %.6g N/m (file header '%s')", file_k, file_key);
         return LF_OK;
     }
     if (isfinite(opt) && opt > 0) {
         c->spring_constant = opt;
+        c->spring_constant_source = "option";
         lf_warn(&c->info, "spring constant %.6g N/m (option --spring-constant)", opt);
         return LF_OK;
     }
@@ -345,6 +347,8 @@ lf_afm_sensitivity(lf_curve *c, double file_s, const char *file_key, int per_amp
     const char *u = per_amp ? "m/A" : "m/V";
     if (isfinite(file_s) && file_s > 0) {
         c->sensitivity = file_s;
+        c->sensitivity_source = "file header";
+        c->sensitivity_unit = u;
         lf_warn(&c->info, "sensitivity %.6g %s (file header '%s')", file_s, u, file_key);
         return LF_OK;
     }
@@ -357,6 +361,8 @@ lf_afm_sensitivity(lf_curve *c, double file_s, const char *file_key, int per_amp
                               per_amp ? "amperes" : "volts", u,
                               per_amp ? "61nm/nA" : "50nm/V");
         c->sensitivity = o->sensitivity;
+        c->sensitivity_source = "option";
+        c->sensitivity_unit = u;
         lf_warn(&c->info, "sensitivity %.6g %s (option --sensitivity)", o->sensitivity, u);
         return LF_OK;
     }

@@ -168,6 +168,36 @@ test_tab_segments(void)
     lf_warnings_free(&w);
 }
 
+/* Hold words in a segment column mark a hold: kept, counted, never fitted. */
+static void
+test_hold_column(void)
+{
+    lf_warnings w = { 0, NULL };
+    lf_error err;
+    double d[16], f[16];
+    size_t n;
+    lf_curve *c = read_all_ways("curve_hold_column.csv", NULL, &w, &err);
+
+    if (!t_true(c != NULL, "curve_hold_column.csv reads (%s)", err.msg))
+        return;
+    t_int((long) c->n, 15, "hold column: every point kept");
+    t_int((long) lf_curve_segment(c, LF_SEG_LOAD, NULL, NULL), 5, "hold column: load points");
+    t_int((long) lf_curve_segment(c, LF_SEG_HOLD, NULL, NULL), 4,
+          "hold column: hold, Pause, DWELL, holding are holds");
+    n = lf_curve_segment(c, LF_SEG_UNLOAD, d, f);
+    t_int((long) n, 6, "hold column: unload points");
+    t_rel(d[0], 16e-9, 1e-12, "hold column: unloading starts after the hold");
+    t_rel(f[0], 7.5e-6, 1e-12, "hold column: force of the first unloading point");
+    t_int(c->segment[5], LF_SEG_HOLD, "hold column: line 7 is a hold");
+    t_int(c->segment[9], LF_SEG_UNLOAD, "hold column: 'retract' after the hold unloads");
+    t_int((long) w.n, 0, "hold column: no warning (the hold's constant depth is not "
+          "a backwards step)");
+    t_true(lf_curve_check_fit(c, LF_SEG_UNLOAD, 5, &err) == LF_OK,
+           "hold column: the unloading segment can be fitted");
+    lf_curve_free(c);
+    lf_warnings_free(&w);
+}
+
 static void
 test_semicolon(void)
 {
@@ -287,7 +317,7 @@ test_bad_memory(void)
         { "depth_nm\tforce_uN\n1\t2\t3\n", LF_EFORMAT, 2, 5, "row has 3 cells, the header 2 (is the delimiter '\\t' used inside a number? quote such cells)" },
         { "depth_nm,force_uN\n1,\"2\n\n3,4\n", LF_EFORMAT, 2, 3, "quote opened here is never closed (end the field with \")" },
         { "depth_nm,force_uN\n1,\"2\"x\n", LF_EFORMAT, 2, 6, "malformed quotes (quote a whole field, and double the quotes inside it: \"a \"\"b\"\"\")" },
-        { "depth_nm,force_uN,Segment\n1,2,dwell\n", LF_EFORMAT, 2, 5, "unknown segment 'dwell' (expected load, approach, extend, unload, retract or withdraw)" },
+        { "depth_nm,force_uN,Segment\n1,2,creep\n", LF_EFORMAT, 2, 5, "unknown segment 'creep' (expected load, approach, extend, hold, pause, dwell, unload, retract or withdraw)" },
         { "1.5,2\n", LF_EFORMAT, 1, 1, "the first row is data, not a header (start with a header naming the columns, e.g. depth_nm,force_uN)" },
         { "x,y\n", LF_EFORMAT, 1, 1, "no depth column in the header (name one depth, indentation, displacement or delta, with its unit, e.g. depth_nm)" },
         { "\xff\xfe" "d\0", LF_EFORMAT, 1, 1, "UTF-16 text (save the file as UTF-8 CSV)" },
@@ -402,6 +432,7 @@ main(int argc, char **argv)
     test_comma();
     test_paren_crlf();
     test_tab_segments();
+    test_hold_column();
     test_semicolon();
     test_options();
     test_bad_files();

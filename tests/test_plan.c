@@ -144,6 +144,28 @@ test_memory(void)
     lf_plan_free(p);
 }
 
+/* Empty b and interface cells: no layer (b NaN), for half-space fits; a
+ * row with a layer beside it keeps its own. */
+static void
+test_no_layer(void)
+{
+    static const char no_layer[] = "file,k,R,b,interface\n"
+                                   "curve_comma.csv,2,8um,,\n"
+                                   "curve_bracket.tsv,2,8um,1um,bonded\n";
+    lf_plan *p = NULL;
+    lf_error err;
+
+    t_int(lf_plan_parse(no_layer, sizeof no_layer - 1, 0, "nl.csv", data, &p, NULL, &err),
+          LF_OK, "empty b and interface cells are read (%s)", err.msg);
+    if (p != NULL && p->n == 2) {
+        t_true(isnan(p->rows[0].probe.b), "no layer: b is NaN");
+        t_rel(p->rows[0].probe.R, 8e-6, 1e-15, "no layer: R kept");
+        t_rel(p->rows[1].probe.b, 1e-6, 1e-15, "the next row keeps its b");
+        t_int(p->rows[1].probe.base, LF_BASE_BONDED, "the next row keeps its interface");
+    }
+    lf_plan_free(p);
+}
+
 static void
 test_bad_memory(void)
 {
@@ -165,7 +187,11 @@ test_bad_memory(void)
         { "file,k,R,b,interface\ncurve_comma.csv,2,1mm,0um,frictionless\n", LF_EINVAL, 2, 23, "b must be a finite length > 0 (got 0 m)" },
         { "file,k,R,b,interface,nu\ncurve_comma.csv,2,1mm,1um,bonded,0.7\n", LF_EINVAL, 2, 34, "nu must lie in [0, 0.5) for a bonded layer (got 0.7) (leave nu empty to fit it)" },
         { "file,k,R,b,interface,nu\ncurve_comma.csv,2,1mm,1um,frictionless,0.7\n", LF_EINVAL, 2, 40, "nu must lie in (-1, 0.5] (got 0.7)" },
-        { "file,k,R,b,interface,segment\ncurve_comma.csv,2,1mm,1um,bonded,hold\n", LF_EFORMAT, 2, 34, "unknown segment 'hold' (expected unload or load)" },
+        { "file,k,R,b,interface,segment\ncurve_comma.csv,2,1mm,1um,bonded,hold\n", LF_EFORMAT, 2, 34, "segment 'hold' is a hold, which is never fitted (expected unload or load)" },
+        { "file,k,R,b,interface,segment\ncurve_comma.csv,2,1mm,1um,bonded,Dwell\n", LF_EFORMAT, 2, 34, "segment 'Dwell' is a hold, which is never fitted (expected unload or load)" },
+        { "file,k,R,b,interface\ncurve_comma.csv,2,1mm,1um,\n", LF_EFORMAT, 2, 27, "b and interface go together: give both for a layer, or leave both empty for a half-space (fit with --model halfspace)" },
+        { "file,k,R,b,interface\ncurve_comma.csv,2,1mm,,frictionless\n", LF_EFORMAT, 2, 24, "b and interface go together: give both for a layer, or leave both empty for a half-space (fit with --model halfspace)" },
+        { "file,k,R,b,interface,segment\ncurve_comma.csv,2,1mm,1um,bonded,sideways\n", LF_EFORMAT, 2, 34, "unknown segment 'sideways' (expected unload or load)" },
         { "file,k,R,b,interface\ncurve_comma.csv,2,1mm,1um\n", LF_EFORMAT, 2, 1, "row has 4 cells, the header 5 (give each column a cell; leave optional ones empty)" },
         { "file,k,R,b,interface\n,2,1mm,1um,bonded\n", LF_EFORMAT, 2, 1, "empty file cell (name the curve's CSV file, relative to the plan's folder)" },
         { "file,k,R,b,interface,segment\ncurve_comma.csv,2,1mm,1um,bonded,unload\n"
@@ -309,6 +335,7 @@ main(int argc, char **argv)
     find_data(argv[0]);
     test_good();
     test_memory();
+    test_no_layer();
     test_bad_memory();
     test_bad_files();
     test_curve_checked_when_read();

@@ -350,6 +350,11 @@ test_vendor_details(void)
     if (t_int(lf_curve_read(path, NULL, &c, NULL, &err), LF_OK, "jpk volts reads")) {
         t_rel(c->spring_constant, 0.032, 1e-15, "jpk: k from the header");
         t_rel(c->sensitivity, 5e-8, 1e-15, "jpk: sensitivity from the header");
+        t_str(c->spring_constant_source ? c->spring_constant_source : "(null)", "file header",
+              "jpk: the spring constant's source");
+        t_str(c->sensitivity_source ? c->sensitivity_source : "(null)", "file header",
+              "jpk: the sensitivity's source");
+        t_str(c->sensitivity_unit ? c->sensitivity_unit : "(null)", "m/V", "jpk: per volt");
         if (raw_line(path, c->line[c->n - 1], line, sizeof line)
             && (n = numbers(line, 0, v, 8)) == 5) {
             double d = v[2] * 5e-8;       /* columns: height measuredHeight vDeflection ... */
@@ -393,6 +398,11 @@ test_vendor_details(void)
     t_contains(err.msg, "per volt", "ntmdt: says the sensitivity is of the wrong kind");
     lf_read_opts_constants(&o, NULL, "61nm/nA", &err);
     if (t_int(lf_curve_read(path, &o, &c, NULL, &err), LF_OK, "ntmdt with both reads")) {
+        t_str(c->spring_constant_source ? c->spring_constant_source : "(null)", "option",
+              "ntmdt: the spring constant from the option, said");
+        t_str(c->sensitivity_source ? c->sensitivity_source : "(null)", "option",
+              "ntmdt: the sensitivity from the option, said");
+        t_str(c->sensitivity_unit ? c->sensitivity_unit : "(null)", "m/A", "ntmdt: per ampere");
         /* approach: the last row first; retract: the last row last */
         if (raw_line(path, c->line[0], line, sizeof line) && numbers(line, 1, v, 8) == 3) {
             double d = v[1] * 1e-9 * 61.0;

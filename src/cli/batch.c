@@ -573,6 +573,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
 #endif
     cli_output_note("fit", o->out);
     plan = cli_plan_load("fit", o->plan);
+    cli_plan_need_layers(plan, o->auto_model ? "auto" : settings->model->name);
     for (i = 0; i < plan->n; i++)      /* no output may replace a curve */
         cli_input_guard("fit", plan->rows[i].file);
     if (units_make(plan, &ul) != 0)

@@ -59,9 +59,9 @@ print_curve(const lf_curve *c, lf_segment seg)
     size_t i, nload = lf_curve_segment(c, LF_SEG_LOAD, NULL, NULL);
     size_t nhold = lf_curve_segment(c, LF_SEG_HOLD, NULL, NULL);
 
-    /* the CSV layout is layerfit's own (datasets/README.md): its report
-     * stays as it was; an instrument's export says what was made of it */
-    if (c->format != NULL && strcmp(c->format, "csv") != 0) {
+    /* every file says what was made of it: format, columns and units,
+     * conversions, segments */
+    if (c->format != NULL) {
         printf("  %-9s %s\n", "format", c->format);
         for (i = 0; i < c->info.n; i++)
             printf("  %-9s %s\n", "found", c->info.msg[i]);
@@ -85,10 +85,14 @@ static void
 print_probe(const lf_plan_row *r, const lf_curve *c)
 {
     char R[48], b[48];
+    if (isnan(r->probe.b))          /* no layer: a half-space fit only */
+        snprintf(b, sizeof b, "none");
     printf("  %-9s k = %g, R = %s%s, b = %s, %s\n", "probe", r->probe.k,
            cli_human(R, sizeof R, isnan(r->probe.R) ? c->R : r->probe.R, "m"),
-           isnan(r->probe.R) ? " (file header)" : "", cli_human(b, sizeof b, r->probe.b, "m"),
-           cli_base_name(r->probe.base));
+           isnan(r->probe.R) ? " (file header)" : "",
+           isnan(r->probe.b) ? b : cli_human(b, sizeof b, r->probe.b, "m"),
+           isnan(r->probe.b) ? "no interface (--model halfspace only)"
+                             : cli_base_name(r->probe.base));
     if (r->sample[0] != '\0')
         printf("  %-9s %s\n", "sample", r->sample);
     print_free("nu", r->nu, "");

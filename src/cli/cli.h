@@ -262,4 +262,7 @@ int cli_plan_from(const lf_input *in, const char *path, lf_plan **out, lf_warnin
                   lf_error *err);
 /* Read a plan (stream allowed), note it as an input; dies with status 2. */
 lf_plan *cli_plan_load(const char *cmd, const char *path);
+/* Exit with status 2 naming the first row of plan without b and interface
+ * (no layer) unless the fit's model is the half-space (model: its name). */
+void cli_plan_need_layers(const lf_plan *plan, const char *model);
 #endif

@@ -121,6 +121,7 @@ read_input(const char *path, const fit_args *a, const char *model, const lf_inpu
             printf("%s: half-space model: no layer thickness or interface used\n", path);
     } else {
         lf_plan *plan = cli_plan_load("fit", path);
+        cli_plan_need_layers(plan, model);
         for (j = 0; j < plan->n; j++)   /* no output may replace a curve */
             cli_input_guard("fit", plan->rows[j].file);
         status = lf_fit_input_from_plan(plan, NULL, 0, is, in, &warn, &err);
@@ -310,7 +311,7 @@ cli_fit(int argc, char **argv)
     lf_fit_result r;
     lf_error err;
     report_input in;
-    size_t no;
+    size_t no, j;
 
     cli_fit_args_init(&fa);
     no = 8 + cli_fit_opts(&fa, opts + 8);
@@ -338,7 +339,9 @@ cli_fit(int argc, char **argv)
     if (status != LF_OK && status != LF_ENOCONV)
         cli_die(status == LF_EDATA || status == LF_EINVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL,
                 "fit: %s", err.msg);
-    if (!model_auto && set.model != &lf_model_thin) {
+    for (j = 0; j < d.n && d.origin[j].b != NULL; j++)
+        ;           /* a curve without a layer has no thin-layer comparison */
+    if (!model_auto && set.model != &lf_model_thin && j == d.n) {
         lf_error terr;
         int st = lf_fit_compare_thin(&set, d.n, d.curves, &r, &terr);
         if (st != LF_OK)
@@ -355,6 +358,7 @@ cli_fit(int argc, char **argv)
     in.model_request = fa.model;
     in.model_tol = model_auto ? choose.tol : NAN;
     in.curves = d.curves;
+    in.origin = d.origin;
     report_text(stdout, &in, &r);
     if (a.json != NULL)
         write_file(a.json, report_json, &in, &r);

@@ -2,6 +2,7 @@
  * checked when it is opened (lf_input_read), so that what is parsed is what
  * is hashed for provenance, and a pipe named on the command line is read
  * exactly once. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -56,6 +57,27 @@ cli_plan_from(const lf_input *in, const char *path, lf_plan **out, lf_warnings *
     status = lf_plan_parse(in->data, in->len, 0, path, dir, out, warn, err);
     free(dir);
     return status;
+}
+
+void
+cli_plan_need_layers(const lf_plan *plan, const char *model)
+{
+    lf_error err;
+    size_t i;
+    if (strcmp(model, "halfspace") == 0)
+        return;
+    for (i = 0; i < plan->n; i++) {
+        if (!isnan(plan->rows[i].probe.b))
+            continue;
+        err.status = LF_EDATA;
+        err.line = plan->rows[i].line;
+        err.column = 0;
+        snprintf(err.file, sizeof err.file, "%s", plan->path);
+        snprintf(err.msg, sizeof err.msg, "b and interface are empty (no layer): only "
+                 "the half-space model needs neither; the model '%s' needs both (give "
+                 "them, or fit with --model halfspace)", model);
+        cli_die_error(CLI_EXIT_USAGE, &err);
+    }
 }
 
 lf_plan *

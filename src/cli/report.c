@@ -102,6 +102,23 @@ text_thin(FILE *f, const lf_fit_result *r)
     fprintf(f, "%s\n", t->converged ? "" : " [that fit did not converge]");
 }
 
+/* "      from: R file header, spring constant 0.032 N/m file header, ...":
+ * where a curve's probe radius, thickness and AFM constants came from. */
+static void
+origin_text(FILE *f, const lf_curve_origin *o)
+{
+    fprintf(f, "      from: R %s, b %s", o->R != NULL ? o->R : "option",
+            o->b != NULL ? o->b : "none (half-space)");
+    if (o->spring_constant_source != NULL)
+        fprintf(f, ", spring constant %.4g N/m %s", o->spring_constant,
+                o->spring_constant_source);
+    if (o->sensitivity_source != NULL)
+        fprintf(f, ", sensitivity %.4g %s %s", o->sensitivity * 1e9,
+                o->sensitivity_unit != NULL && strcmp(o->sensitivity_unit, "m/A") == 0
+                ? "nm/A" : "nm/V", o->sensitivity_source);
+    fputc('\n', f);
+}
+
 void
 report_text(FILE *f, const report_input *in, const lf_fit_result *r)
 {
@@ -153,8 +170,8 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
         const lf_fit_curve_result *cr = &r->curves[j];
         fprintf(f, "  [%zu] ", j + 1);
         cli_put_clean(f, cr->name);
-        if (cli_model_ignores_b(cr->model))
-            fprintf(f, ": k = %g, R = %s, half-space (no b), %s branch, %zu points\n",
+        if (cli_model_ignores_b(cr->model) || (in->origin != NULL && in->origin[j].b == NULL))
+            fprintf(f, ": k = %g, R = %s, no layer (half-space), %s branch, %zu points\n",
                     cr->probe.k, cli_human(a, sizeof a, cr->probe.R, "m"),
                     branch_name(cr->branch), cr->n);
         else
@@ -162,6 +179,8 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                     cli_human(a, sizeof a, cr->probe.R, "m"),
                     cli_human(b, sizeof b, cr->probe.b, "m"), cli_base_name(cr->probe.base),
                     branch_name(cr->branch), cr->n);
+        if (in->origin != NULL)
+            origin_text(f, &in->origin[j]);
         fprintf(f, "      z0 = %s%s, F0 = %s%s, noise %s, rms residual %s\n",
                 isnan(cr->z0) ? "not determined" : cli_human(a, sizeof a, cr->z0, "m"),
                 cr->z0_free ? "" : " (fixed)",
@@ -176,6 +195,7 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                 cli_human(a, sizeof a, cr->pulloff.P_po, "N"),
                 cli_human(b, sizeof b, cr->pulloff.a_po, "m"),
                 cli_human(c, sizeof c, cr->pulloff.sigma_po, "Pa"));
+        if (in->origin == NULL || in->origin[j].b != NULL)  /* no layer: no b/a */
         fprintf(f, "      b/a = %.3g at the shallowest contact point, %.3g at pull-off\n",
                 cr->b_over_a_min_contact, cr->b_over_a_pulloff);
         if (cr->model != NULL)
@@ -211,6 +231,16 @@ jnum(FILE *f, double x)
         cli_print_double(f, x);
     else
         fputs("null", f);
+}
+
+/* A JSON string, or null for NULL. */
+static void
+jstr_or_null(FILE *f, const char *s)
+{
+    if (s == NULL)
+        fputs("null", f);
+    else
+        cli_json_string(f, s);
 }
 
 /* A JSON array of n numbers. */
@@ -340,16 +370,18 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
     fputs(",\n  \"curves\": [\n", f);
     for (j = 0; j < r->ncurves; j++) {
         const lf_fit_curve_result *c = &r->curves[j];
+        int no_layer = in->origin != NULL && in->origin[j].b == NULL;  /* b a stand-in */
         fputs("    {", f);
         cli_json_name(f, "file", c->name);
         const struct { const char *key; double v; } num[] = {
-            { "k", c->probe.k }, { "R", c->probe.R }, { "b", c->probe.b },
+            { "k", c->probe.k }, { "R", c->probe.R },
+            { "b", no_layer ? NAN : c->probe.b },
             { "z0", c->z0 }, { "z0_stderr", c->z0_se }, { "F0", c->F0 },
             { "F0_stderr", c->F0_se }, { "noise_sigma", c->sigma }, { "rms", c->rms },
             { "P_po", c->pulloff.P_po }, { "a_po", c->pulloff.a_po },
             { "sigma_po", c->pulloff.sigma_po },
-            { "b_over_a_min_contact", c->b_over_a_min_contact },
-            { "b_over_a_pulloff", c->b_over_a_pulloff },
+            { "b_over_a_min_contact", no_layer ? NAN : c->b_over_a_min_contact },
+            { "b_over_a_pulloff", no_layer ? NAN : c->b_over_a_pulloff },
             { "chi2_per_point", c->chi2_per_point }, { "p_value", c->p_value },
             { "runs_z", c->runs_z }, { "corr_time", c->corr_time }, { "n_eff", c->n_eff },
             { "noise_sd", c->noise_sd }, { "misfit_rel", c->misfit_rel }
@@ -371,6 +403,24 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
         jstr(f, c->model_reason);
         fputs(", \"thin_bias_in_se\": ", f);
         jnum(f, c->thin_bias);
+        if (in->origin != NULL) {   /* where R, b and the AFM constants came from */
+            const lf_curve_origin *o = &in->origin[j];
+            const struct { const char *key, *s; int num; double v; } src[] = {
+                { "R_source", o->R, 0, 0 }, { "b_source", o->b, 0, 0 },
+                { "spring_constant", NULL, 1, o->spring_constant },
+                { "spring_constant_source", o->spring_constant_source, 0, 0 },
+                { "sensitivity", NULL, 1, o->sensitivity },
+                { "sensitivity_unit", o->sensitivity_source ? o->sensitivity_unit : NULL, 0, 0 },
+                { "sensitivity_source", o->sensitivity_source, 0, 0 },
+            };
+            for (i = 0; i < sizeof src / sizeof src[0]; i++) {
+                fprintf(f, "%s\"%s\": ", i == 0 ? ",\n     " : ", ", src[i].key);
+                if (src[i].num)
+                    jnum(f, src[i].v);
+                else
+                    jstr_or_null(f, src[i].s);
+            }
+        }
         fputs(", \"warnings\": ", f);
         jwarnings(f, &c->warnings);
         fprintf(f, "}%s\n", j + 1 < r->ncurves ? "," : "");

@@ -13,6 +13,8 @@ typedef struct {
     const lf_fit_curve *curves;    /* the data, for the curves CSV */
     const char *model_request;     /* --model as given ("auto", "exact", ...) */
     double model_tol;              /* --model-tol of auto, NaN otherwise */
+    const lf_curve_origin *origin; /* where each curve's probe R, b and AFM
+                                      constants came from, or NULL */
 } report_input;
 
 /* People: values with units (cli_human), errors, intervals, correlations,

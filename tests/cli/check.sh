@@ -55,7 +55,7 @@ expect 2 "layerfit: $b/curve_ragged.csv:3:4: row has 2 cells, the header 3 (ever
 expect 2 "layerfit: $b/curve_ragged_long.csv:3:5: row has 3 cells, the header 2 (is the delimiter ',' used inside a number? quote such cells)" check $b/curve_ragged_long.csv
 expect 2 "layerfit: $b/curve_quote.csv:3:3: quote opened here is never closed (end the field with \")" check $b/curve_quote.csv
 expect 2 "layerfit: $b/curve_bad_quote.csv:3:4: malformed quotes (quote a whole field, and double the quotes inside it: \"a \"\"b\"\"\")" check $b/curve_bad_quote.csv
-expect 2 "layerfit: $b/curve_segment_word.csv:3:5: unknown segment 'hold' (expected load, approach, extend, unload, retract or withdraw)" check $b/curve_segment_word.csv
+expect 2 "layerfit: $b/curve_segment_word.csv:3:5: unknown segment 'creep' (expected load, approach, extend, hold, pause, dwell, unload, retract or withdraw)" check $b/curve_segment_word.csv
 { echo depth_nm,force_uN; echo 1,2; head -c 1048577 /dev/zero | tr '\0' 7; echo; } >"$tmp/long.csv"
 expect 2 "layerfit: $tmp/long.csv:3: line longer than 1 MiB (lines must end within 1048576 bytes; is this a CSV file?)" check "$tmp/long.csv"
 # data a fit cannot use
@@ -84,6 +84,11 @@ expect 2 "layerfit: tests/data/curve_nounit.csv: --depth-unit: unit 'N' is a for
 d=tests/data
 expect 0 "" check $d/curve_comma.csv
 stdout_is "curve $d/curve_comma.csv
+  format    csv
+  found     header: line 3, delimiter ','
+  found     depth: column 1 'depth_nm' in nm (from the header), x 1e-09 to m
+  found     force: column 2 'force_uN' in uN (from the header), x 1e-06 to N
+  found     segments from the depth profile: split at its extreme (line 8), no hold
   points    10 (load 4, unload 6)
   depth     -6 nm .. 30 nm
   force     -3.5 µN .. 85.25 µN
@@ -91,6 +96,31 @@ stdout_is "curve $d/curve_comma.csv
   metadata  instrument: Synthetic Indenter 3000
   metadata  tip: sphere, R = 1 mm"
 expect 0 "" check --depth-unit=nm --force-unit uN $d/curve_nounit.csv
+stdout_is "curve $d/curve_nounit.csv
+  format    csv
+  found     header: line 1, delimiter ','
+  found     depth: column 1 'Depth' in nm (from --depth-unit), x 1e-09 to m
+  found     force: column 2 'Force' in uN (from --force-unit), x 1e-06 to N
+  found     segments from the depth profile: split at its extreme (line 5), no hold
+  points    9 (load 3, unload 6)
+  depth     -2 nm .. 3 nm
+  force     -1 µN .. 9 µN
+  fit       unload segment, 6 points"
+# hold words in a segment column: a hold, counted, never fitted
+expect 0 "" check $d/curve_hold_column.csv
+stdout_is "curve $d/curve_hold_column.csv
+  format    csv
+  found     header: line 2, delimiter ','
+  found     depth: column 2 'Depth (nm)' in nm (from the header), x 1e-09 to m
+  found     force: column 3 'Load (µN)' in uN (from the header), x 1e-06 to N
+  found     time: column 1 'Time (s)' in s (from the header), x 1 to s
+  found     segments: from column 4 'Segment' (load 5, hold 4, unload 6 points)
+  points    15 (load 5, hold 4 (not fitted), unload 6)
+  depth     -2 nm .. 20 nm
+  force     -900 nN .. 12 µN
+  time      0 s .. 14 s
+  fit       unload segment, 6 points
+  metadata  instrument: synthetic creep test with a marked hold"
 expect 2 "layerfit: $d/curve_skip.csv:3:3: empty force cell (every row needs a cell in each column; --skip-bad-rows skips such rows)" check $d/curve_skip.csv
 expect 0 "layerfit: warning: $d/curve_skip.csv:3: skipped 2 rows with missing cells (first here)" check --skip-bad-rows $d/curve_skip.csv
 expect 0 "layerfit: warning: $d/curve_paren_crlf.csv:5: dropped 1 comment line (first here; only '# key: value' lines above the header are kept, as metadata)
@@ -102,6 +132,11 @@ $d/curve_comma.csv (plan line 3)
   nu        free
   z0        free
   F0        free
+  format    csv
+  found     header: line 3, delimiter ','
+  found     depth: column 1 'depth_nm' in nm (from the header), x 1e-09 to m
+  found     force: column 2 'force_uN' in uN (from the header), x 1e-06 to N
+  found     segments from the depth profile: split at its extreme (line 8), no hold
   points    10 (load 4, unload 6)
   depth     -6 nm .. 30 nm
   force     -3.5 µN .. 85.25 µN
@@ -114,6 +149,13 @@ $d/curve_paren_crlf.csv (plan line 4)
   nu        free
   z0        15 nm (fixed)
   F0        free
+  format    csv
+  found     header: line 1, delimiter ','
+  found     depth: column 1 'Depth (nm)' in nm (from the header), x 1e-09 to m
+  found     force: column 2 'Load (µN)' in uN (from the header), x 1e-06 to N
+  found     time: column 3 'Time (s)' in s (from the header), x 1 to s
+  found     ignored: column 4 'Note'
+  found     segments from the depth profile: split at its extreme (line 8), no hold
   points    9 (load 3, unload 6)
   depth     -6 nm .. 30 nm
   force     -500 nN .. 9 µN
@@ -125,6 +167,11 @@ $d/curve_bracket.tsv (plan line 5)
   nu        0.35 (fixed)
   z0        free
   F0        -2 µN (fixed)
+  format    csv
+  found     header: line 2, delimiter tab
+  found     depth: column 1 'Indentation [um]' in um (from the header), x 1e-06 to m
+  found     force: column 2 'Force [mN]' in mN (from the header), x 0.001 to N
+  found     segments: from column 3 'segment' (load 6, hold 0, unload 7 points)
   points    13 (load 6, unload 7)
   depth     -4 nm .. 20 nm
   force     -10 µN .. 310 µN
@@ -136,6 +183,11 @@ $d/curve_semicolon.csv (plan line 6)
   nu        free
   z0        free
   F0        free
+  format    csv
+  found     header: line 1, delimiter ';', decimal comma
+  found     depth: column 1 'displacement_m' in m (from the header), x 1 to m
+  found     force: column 2 'force_N' in N (from the header), x 1 to N
+  found     segments from the depth profile: split at its extreme (line 4), no hold
   points    8 (load 2, unload 6)
   depth     -1 nm .. 30 nm
   force     -500 nN .. 10 µN
