@@ -64,14 +64,27 @@ thin_setup(const lf_probe *p, const lf_material *m)
     return t;
 }
 
-/* The powers of delta1 one point needs, from one logarithm: pow() costs
- * about a log and an exp, and three of them dominated a fit's time.  For
- * k = 2 (the paraboloid, the common case) they are exact without any. */
+/* The powers of delta1 one point needs.  pow() costs about a log and an
+ * exp; all three powers follow from one root r = delta1^(1/k):
+ * delta1^(2/k) = r^2, delta1^(2/k-1) = r^2 / delta1, a = (k R^(k-1))^(1/k) r.
+ * The root is exact or square roots for k = 1, 2, 4, exp(log(delta1) / k)
+ * for any other k > 2 (glibc's cbrt is slower than that for k = 3).  For other k < 2,
+ * where r^2 / delta1 would lose digits as r^2 underflows, the powers come
+ * from one logarithm as before. */
+typedef enum {
+    ROOT_ONE,      /* k = 1: r = delta1 */
+    ROOT_SQRT,     /* k = 2 */
+    ROOT_SQRT2,    /* k = 4 */
+    ROOT_EXP,      /* other k > 2 */
+    ROOT_LOG       /* other k < 2: each power from log(delta1) */
+} root_kind;
+
 typedef struct {
+    root_kind kind;
     double inv_k;      /* 1/k */
     double e1;         /* 2/k - 1 */
     double log_rk;     /* ln(k R^(k-1)) */
-    int paraboloid;    /* k == 2 */
+    double ak;         /* (k R^(k-1))^(1/k) */
 } thin_powers;
 
 static thin_powers
@@ -81,26 +94,56 @@ powers_setup(const lf_probe *p)
     w.inv_k = 1.0 / p->k;
     w.e1 = 2.0 / p->k - 1.0;
     w.log_rk = log(p->k) + (p->k - 1.0) * log(p->R);
-    w.paraboloid = p->k == 2.0;
+    w.ak = exp(w.inv_k * w.log_rk);
+    if (p->k == 1.0) {
+        w.kind = ROOT_ONE;
+        w.ak = 1.0;
+    } else if (p->k == 2.0) {
+        w.kind = ROOT_SQRT;
+        w.ak = sqrt(2.0 * p->R);
+    } else if (p->k == 4.0) {
+        w.kind = ROOT_SQRT2;
+        w.ak = sqrt(sqrt(4.0 * p->R * p->R * p->R));
+    } else {
+        w.kind = p->k > 2.0 ? ROOT_EXP : ROOT_LOG;
+    }
     return w;
 }
 
-/* g = delta1^(2/k-1) (capped), p2 = delta1^(2/k), a = (k R^(k-1) delta1)^(1/k). */
-static void
-powers_at(const thin_powers *w, double rk, double d1, double *g, double *p2, double *a)
+/* g = delta1^(2/k-1) (capped), p2 = delta1^(2/k), a = (k R^(k-1) delta1)^(1/k);
+ * d1 > 0. */
+static inline void
+powers_at(const thin_powers *w, double d1, double *g, double *p2, double *a)
 {
-    double l;
+    double r, l;
 
-    if (w->paraboloid) {
+    switch (w->kind) {
+    case ROOT_ONE:
+        *g = d1;
+        *p2 = d1 * d1;
+        *a = d1;
+        return;
+    case ROOT_SQRT:
         *g = 1.0;
         *p2 = d1;
-        *a = sqrt(rk * d1);
+        *a = w->ak * sqrt(d1);
+        return;
+    case ROOT_SQRT2:
+        r = sqrt(sqrt(d1));
+        break;
+    case ROOT_EXP:
+        r = exp(w->inv_k * log(d1));
+        break;
+    default:
+        l = log(d1);
+        *g = fmin(exp(w->e1 * l), LF_BIG);
+        *p2 = *g < LF_BIG ? d1 * *g : exp((w->e1 + 1.0) * l);
+        *a = exp(w->inv_k * (w->log_rk + l));
         return;
     }
-    l = log(d1);
-    *g = fmin(exp(w->e1 * l), LF_BIG);
-    *p2 = *g < LF_BIG ? d1 * *g : exp((w->e1 + 1.0) * l);
-    *a = exp(w->inv_k * (w->log_rk + l));
+    *p2 = r * r;
+    *g = fmin(*p2 / d1, LF_BIG);
+    *a = w->ak * r;
 }
 
 static int
@@ -110,7 +153,9 @@ thin_eval(void *state, const lf_probe *p, const lf_material *m,
     const thin_consts t = thin_setup(p, m);
     const thin_powers pw = powers_setup(p);
     const double k = p->k, kk = (k + 2.0) / k;
-    const double rk = k * pow(p->R, k - 1.0);
+    const double Ckk = t.C * kk, kkc = kk * t.c, c2k = 2.0 * t.c / k;
+    const double wcoef = -Ckk / k * t.c * t.c;
+    const int load = branch == LF_BRANCH_LOAD;
     size_t i;
 
     (void) state;
@@ -118,18 +163,18 @@ thin_eval(void *state, const lf_probe *p, const lf_material *m,
         lf_eval *e = &out[i];
         double d1 = delta[i] + t.c, g, p2;
 
-        if (d1 <= 0.0 || (branch == LF_BRANCH_LOAD && delta[i] < 0.0)) {
+        if (d1 <= 0.0 || (load && delta[i] < 0.0)) {
             e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
             continue;
         }
-        powers_at(&pw, rk, d1, &g, &p2, &e->a);     /* g = delta1^(2/k-1) */
+        powers_at(&pw, d1, &g, &p2, &e->a);     /* g = delta1^(2/k-1) */
         if (t.c > 0.0) {
-            e->P = t.C * p2 * (d1 - kk * t.c);
-            e->dP_ddelta = lf_capped(t.C * kk * g * (d1 - 2.0 * t.c / k));
-            e->dP_dlogw = lf_capped(-t.C * kk / k * t.c * t.c * g);
+            e->P = t.C * p2 * (d1 - kkc);
+            e->dP_ddelta = lf_capped(Ckk * g * (d1 - c2k));
+            e->dP_dlogw = lf_capped(wcoef * g);
         } else {
             e->P = t.C * p2 * d1;
-            e->dP_ddelta = t.C * kk * p2;
+            e->dP_ddelta = Ckk * p2;
             e->dP_dlogw = 0.0;
         }
         e->dP_dlogE = lf_capped(e->P - e->dP_dlogw);
