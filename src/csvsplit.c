@@ -183,12 +183,37 @@ parse_byte(splitter *s, char c, long col)
     return s->status;
 }
 
+/* A whole record on one line without quotes (the usual data row): split
+ * at the delimiter here, as libcsv would, without a call per byte.  libcsv
+ * stays where it was, between records. */
+static int
+split_line(splitter *s, char *t, size_t n)
+{
+    size_t i, start = 0;
+    long col = 0;
+
+    for (i = 0; i < n && s->status == LF_OK; i++) {
+        if (((unsigned char) t[i] & 0xC0) != 0x80)
+            col++;
+        if (t[i] == s->delim) {
+            s->cur_col = col;
+            on_field(t + start, i - start, s);
+            start = i + 1;
+        }
+    }
+    s->cur_col = col + 1;
+    on_field(t + start, n - start, s);
+    on_record('\n', s);
+    return s->status;
+}
+
 /* Handle one complete physical line, without its terminator. */
 static int
 process_line(splitter *s, char *t, size_t n)
 {
     size_t i, b;
     long col = 0;
+    int fresh = !s->in_record;   /* the line starts a record */
 
     if (s->lineno == 1) {
         if (n >= 2 && ((unsigned char) t[0] == 0xFF || (unsigned char) t[0] == 0xFE)
@@ -240,6 +265,8 @@ process_line(splitter *s, char *t, size_t n)
         return s->status = lf_fail_at(s->err, LF_EFORMAT, s->name, s->fstart_line,
                                       s->fstart_col, "row longer than 1 MiB (is a "
                                       "quote left open here?)");
+    if (fresh && memchr(t, '"', n) == NULL)
+        return split_line(s, t, n);
     col = 0;
     for (i = 0; i < n && s->status == LF_OK; i++) {
         if (((unsigned char) t[i] & 0xC0) != 0x80)
@@ -266,27 +293,29 @@ end_line(splitter *s)
 static int
 feed(splitter *s, const char *buf, size_t n)
 {
-    size_t i;
-    for (i = 0; i < n && s->status == LF_OK; i++) {
+    size_t i = 0, j;
+    while (i < n && s->status == LF_OK) {
         char c = buf[i];
-        if (c == '\n' && s->prev_cr) {
-            s->prev_cr = 0;
-            continue;
-        }
-        s->prev_cr = c == '\r';
         if (c == '\n' || c == '\r') {
-            end_line(s);
+            if (!(c == '\n' && s->prev_cr))     /* an LF after a CR is eaten */
+                end_line(s);
+            s->prev_cr = c == '\r';
+            i++;
             continue;
         }
-        if (s->len >= (size_t) LF_CSV_MAX_LINE)
+        for (j = i + 1; j < n && buf[j] != '\n' && buf[j] != '\r'; j++)
+            ;
+        s->prev_cr = 0;
+        if (s->len + (j - i) > (size_t) LF_CSV_MAX_LINE)
             return s->status = lf_fail_at(s->err, LF_EFORMAT, s->name, s->lineno, 0,
                                           "line longer than 1 MiB (lines must end "
                                           "within %ld bytes; is this a CSV file?)",
                                           LF_CSV_MAX_LINE);
-        if (s->len + 1 >= s->cap
-            && grow((void **) &s->line, &s->cap, s->len + 2, 1) != 0)
+        if (grow((void **) &s->line, &s->cap, s->len + (j - i) + 2, 1) != 0)
             return nomem(s);
-        s->line[s->len++] = c;
+        memcpy(s->line + s->len, buf + i, j - i);
+        s->len += j - i;
+        i = j;
     }
     return s->status;
 }
@@ -485,7 +514,8 @@ lf_csv_number(const char *text, int decimal_comma, double *value)
     memcpy(buf, text, n + 1);
     lf_csv_decimal_point(buf, decimal_comma);
     p = buf + (buf[0] == '+' || buf[0] == '-');
-    if (lf_csv_ieq(p, "nan") || lf_csv_ieq(p, "inf") || lf_csv_ieq(p, "infinity"))
+    if ((tolower((unsigned char) *p) == 'n' || tolower((unsigned char) *p) == 'i')
+        && (lf_csv_ieq(p, "nan") || lf_csv_ieq(p, "inf") || lf_csv_ieq(p, "infinity")))
         return LF_NUM_NONFINITE;
     for (i = 0; i < n; i++) {
         char c = buf[i];
