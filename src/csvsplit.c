@@ -499,6 +499,54 @@ lf_csv_decimal_point(char *text, int decimal_comma)
         *comma = '.';
 }
 
+/* The value of a plain decimal [sign] digits [. digits] [e [sign] digits]
+ * of at most 15 significant digits whose scale is 10^-22 to 10^22, in one
+ * correctly rounded multiplication or division of two exact doubles
+ * (Clinger's fast path), hence the same double as strtod.  0 for any other
+ * text (strtod reads it). */
+static int
+fast_decimal(const char *t, size_t n, double *value)
+{
+    static const double p10[] = {
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11,
+        1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22
+    };
+    const char *p = t, *end = t + n;
+    unsigned long long m = 0;
+    int neg = 0, sig = 0, digits = 0, scale = 0, e = 0, eneg = 0, edigits = 0;
+    double v;
+
+    if (p < end && (*p == '+' || *p == '-'))
+        neg = *p++ == '-';
+    for (; p < end && *p >= '0' && *p <= '9'; p++, digits++)
+        if (sig > 0 || *p != '0')
+            m = m * 10 + (unsigned) (*p - '0'), sig++;
+    if (p < end && *p == '.')
+        for (p++; p < end && *p >= '0' && *p <= '9'; p++, digits++, scale--)
+            if (sig > 0 || *p != '0')
+                m = m * 10 + (unsigned) (*p - '0'), sig++;
+    if (digits == 0 || sig > 15)
+        return 0;
+    if (p < end && (*p == 'e' || *p == 'E')) {
+        p++;
+        if (p < end && (*p == '+' || *p == '-'))
+            eneg = *p++ == '-';
+        for (; p < end && *p >= '0' && *p <= '9' && edigits < 5; p++, edigits++)
+            e = e * 10 + (*p - '0');
+        if (edigits == 0)
+            return 0;
+    }
+    if (p != end)
+        return 0;
+    scale += eneg ? -e : e;
+    if (scale > 22 || scale < -22)
+        return 0;
+    v = (double) m;
+    v = scale >= 0 ? v * p10[scale] : v / p10[-scale];
+    *value = neg ? -v : v;
+    return 1;
+}
+
 int
 lf_csv_number(const char *text, int decimal_comma, double *value)
 {
@@ -526,6 +574,8 @@ lf_csv_number(const char *text, int decimal_comma, double *value)
     }
     if (!digits)
         return LF_NUM_BAD;
+    if (fast_decimal(buf, n, value))
+        return LF_NUM_OK;
     errno = 0;
     *value = strtod(buf, &end);
     if (end != buf + n)
