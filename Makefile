@@ -215,3 +215,13 @@ bench-quick: $(PROG)
 
 bench: $(PROG)
 	$(PROG) bench --csv $(BUILD)/bench.csv --plot $(BUILD)/bench.svg
+
+# The cost of one thin-model evaluation over 300 points (not part of
+# `make check`).
+$(BUILD)/tests/bench/bench_thin: tests/bench/bench_thin.c $(LIB) $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
+.PHONY: bench-thin
+bench-thin: $(BUILD)/tests/bench/bench_thin
+	$(BUILD)/tests/bench/bench_thin

@@ -183,12 +183,37 @@ parse_byte(splitter *s, char c, long col)
     return s->status;
 }
 
+/* A whole record on one line without quotes (the usual data row): split
+ * at the delimiter here, as libcsv would, without a call per byte.  libcsv
+ * stays where it was, between records. */
+static int
+split_line(splitter *s, char *t, size_t n)
+{
+    size_t i, start = 0;
+    long col = 0;
+
+    for (i = 0; i < n && s->status == LF_OK; i++) {
+        if (((unsigned char) t[i] & 0xC0) != 0x80)
+            col++;
+        if (t[i] == s->delim) {
+            s->cur_col = col;
+            on_field(t + start, i - start, s);
+            start = i + 1;
+        }
+    }
+    s->cur_col = col + 1;
+    on_field(t + start, n - start, s);
+    on_record('\n', s);
+    return s->status;
+}
+
 /* Handle one complete physical line, without its terminator. */
 static int
 process_line(splitter *s, char *t, size_t n)
 {
     size_t i, b;
     long col = 0;
+    int fresh = !s->in_record;   /* the line starts a record */
 
     if (s->lineno == 1) {
         if (n >= 2 && ((unsigned char) t[0] == 0xFF || (unsigned char) t[0] == 0xFE)
@@ -244,6 +269,8 @@ process_line(splitter *s, char *t, size_t n)
         return s->status = lf_fail_at(s->err, LF_EFORMAT, s->name, s->fstart_line,
                                       s->fstart_col, "row longer than 1 MiB (is a "
                                       "quote left open here?)");
+    if (fresh && memchr(t, '"', n) == NULL)
+        return split_line(s, t, n);
     col = 0;
     for (i = 0; i < n && s->status == LF_OK; i++) {
         if (((unsigned char) t[i] & 0xC0) != 0x80)
@@ -270,27 +297,29 @@ end_line(splitter *s)
 static int
 feed(splitter *s, const char *buf, size_t n)
 {
-    size_t i;
-    for (i = 0; i < n && s->status == LF_OK; i++) {
+    size_t i = 0, j;
+    while (i < n && s->status == LF_OK) {
         char c = buf[i];
-        if (c == '\n' && s->prev_cr) {
-            s->prev_cr = 0;
-            continue;
-        }
-        s->prev_cr = c == '\r';
         if (c == '\n' || c == '\r') {
-            end_line(s);
+            if (!(c == '\n' && s->prev_cr))     /* an LF after a CR is eaten */
+                end_line(s);
+            s->prev_cr = c == '\r';
+            i++;
             continue;
         }
-        if (s->len >= (size_t) LF_CSV_MAX_LINE)
+        for (j = i + 1; j < n && buf[j] != '\n' && buf[j] != '\r'; j++)
+            ;
+        s->prev_cr = 0;
+        if (s->len + (j - i) > (size_t) LF_CSV_MAX_LINE)
             return s->status = lf_fail_at(s->err, LF_EFORMAT, s->name, s->lineno, 0,
                                           "line longer than 1 MiB (lines must end "
                                           "within %ld bytes; is this a CSV file?)",
                                           LF_CSV_MAX_LINE);
-        if (s->len + 1 >= s->cap
-            && grow((void **) &s->line, &s->cap, s->len + 2, 1) != 0)
+        if (grow((void **) &s->line, &s->cap, s->len + (j - i) + 2, 1) != 0)
             return nomem(s);
-        s->line[s->len++] = c;
+        memcpy(s->line + s->len, buf + i, j - i);
+        s->len += j - i;
+        i = j;
     }
     return s->status;
 }
@@ -480,6 +509,54 @@ lf_csv_decimal_point(char *text, int decimal_comma)
         *comma = '.';
 }
 
+/* The value of a plain decimal [sign] digits [. digits] [e [sign] digits]
+ * of at most 15 significant digits whose scale is 10^-22 to 10^22, in one
+ * correctly rounded multiplication or division of two exact doubles
+ * (Clinger's fast path), hence the same double as strtod.  0 for any other
+ * text (strtod reads it). */
+static int
+fast_decimal(const char *t, size_t n, double *value)
+{
+    static const double p10[] = {
+        1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11,
+        1e12, 1e13, 1e14, 1e15, 1e16, 1e17, 1e18, 1e19, 1e20, 1e21, 1e22
+    };
+    const char *p = t, *end = t + n;
+    unsigned long long m = 0;
+    int neg = 0, sig = 0, digits = 0, scale = 0, e = 0, eneg = 0, edigits = 0;
+    double v;
+
+    if (p < end && (*p == '+' || *p == '-'))
+        neg = *p++ == '-';
+    for (; p < end && *p >= '0' && *p <= '9'; p++, digits++)
+        if (sig > 0 || *p != '0')
+            m = m * 10 + (unsigned) (*p - '0'), sig++;
+    if (p < end && *p == '.')
+        for (p++; p < end && *p >= '0' && *p <= '9'; p++, digits++, scale--)
+            if (sig > 0 || *p != '0')
+                m = m * 10 + (unsigned) (*p - '0'), sig++;
+    if (digits == 0 || sig > 15)
+        return 0;
+    if (p < end && (*p == 'e' || *p == 'E')) {
+        p++;
+        if (p < end && (*p == '+' || *p == '-'))
+            eneg = *p++ == '-';
+        for (; p < end && *p >= '0' && *p <= '9' && edigits < 5; p++, edigits++)
+            e = e * 10 + (*p - '0');
+        if (edigits == 0)
+            return 0;
+    }
+    if (p != end)
+        return 0;
+    scale += eneg ? -e : e;
+    if (scale > 22 || scale < -22)
+        return 0;
+    v = (double) m;
+    v = scale >= 0 ? v * p10[scale] : v / p10[-scale];
+    *value = neg ? -v : v;
+    return 1;
+}
+
 int
 lf_csv_number(const char *text, int decimal_comma, double *value)
 {
@@ -495,7 +572,8 @@ lf_csv_number(const char *text, int decimal_comma, double *value)
     memcpy(buf, text, n + 1);
     lf_csv_decimal_point(buf, decimal_comma);
     p = buf + (buf[0] == '+' || buf[0] == '-');
-    if (lf_csv_ieq(p, "nan") || lf_csv_ieq(p, "inf") || lf_csv_ieq(p, "infinity"))
+    if ((tolower((unsigned char) *p) == 'n' || tolower((unsigned char) *p) == 'i')
+        && (lf_csv_ieq(p, "nan") || lf_csv_ieq(p, "inf") || lf_csv_ieq(p, "infinity")))
         return LF_NUM_NONFINITE;
     for (i = 0; i < n; i++) {
         char c = buf[i];
@@ -506,6 +584,8 @@ lf_csv_number(const char *text, int decimal_comma, double *value)
     }
     if (!digits)
         return LF_NUM_BAD;
+    if (fast_decimal(buf, n, value))
+        return LF_NUM_OK;
     errno = 0;
     *value = strtod(buf, &end);
     if (end != buf + n)

@@ -16,6 +16,8 @@
  *   dP/dln M  = P - dP/dln w,   dP/dnu = dP/dln M * dln Z/dnu.
  */
 #include <math.h>
+#include <stdint.h>
+#include <string.h>
 
 #include "internal.h"
 
@@ -64,14 +66,29 @@ thin_setup(const lf_probe *p, const lf_material *m)
     return t;
 }
 
-/* The powers of delta1 one point needs, from one logarithm: pow() costs
- * about a log and an exp, and three of them dominated a fit's time.  For
- * k = 2 (the paraboloid, the common case) they are exact without any. */
+/* The powers of delta1 one point needs.  pow() costs about a log and an
+ * exp; all three powers follow from one root r = delta1^(1/k):
+ * delta1^(2/k) = r^2, delta1^(2/k-1) = r^2 / delta1, a = (k R^(k-1))^(1/k) r.
+ * The root is exact or square roots for k = 1, 2, 4, from a few
+ * multiplications for k = 3 (inv_cbrt), exp(log(delta1) / k) for any other
+ * k > 2.  For other k < 2,
+ * where r^2 / delta1 would lose digits as r^2 underflows, the powers come
+ * from one logarithm as before. */
+typedef enum {
+    ROOT_ONE,      /* k = 1: r = delta1 */
+    ROOT_SQRT,     /* k = 2 */
+    ROOT_CBRT,     /* k = 3 */
+    ROOT_SQRT2,    /* k = 4 */
+    ROOT_EXP,      /* other k > 2 */
+    ROOT_LOG       /* other k < 2: each power from log(delta1) */
+} root_kind;
+
 typedef struct {
+    root_kind kind;
     double inv_k;      /* 1/k */
     double e1;         /* 2/k - 1 */
     double log_rk;     /* ln(k R^(k-1)) */
-    int paraboloid;    /* k == 2 */
+    double ak;         /* (k R^(k-1))^(1/k) */
 } thin_powers;
 
 static thin_powers
@@ -81,27 +98,90 @@ powers_setup(const lf_probe *p)
     w.inv_k = 1.0 / p->k;
     w.e1 = 2.0 / p->k - 1.0;
     w.log_rk = log(p->k) + (p->k - 1.0) * log(p->R);
-    w.paraboloid = p->k == 2.0;
+    w.ak = exp(w.inv_k * w.log_rk);
+    if (p->k == 1.0) {
+        w.kind = ROOT_ONE;
+        w.ak = 1.0;
+    } else if (p->k == 2.0) {
+        w.kind = ROOT_SQRT;
+        w.ak = sqrt(2.0 * p->R);
+    } else if (p->k == 3.0) {
+        w.kind = ROOT_CBRT;
+    } else if (p->k == 4.0) {
+        w.kind = ROOT_SQRT2;
+        w.ak = sqrt(sqrt(4.0 * p->R * p->R * p->R));
+    } else {
+        w.kind = p->k > 2.0 ? ROOT_EXP : ROOT_LOG;
+    }
     return w;
 }
 
-/* g = delta1^(2/k-1) (capped), p2 = delta1^(2/k), a = (k R^(k-1) delta1)^(1/k). */
-static void
-powers_at(const thin_powers *w, double rk, double d1, double *g, double *p2, double *a)
+/* x^(-1/3) for 1e-300 <= x <= 1e300 without a library call (glibc's cbrt
+ * is slower than a log and an exp): a first guess from the bits of x, its
+ * exponent divided by -3 (0x5540... is 1023 * 4/3 in the exponent field,
+ * lowered to even out the guess's error, at most 4%), then four Newton
+ * steps y <- y (4 - x y^3) / 3, each squaring the error: 2 ulp at most. */
+static inline double
+inv_cbrt(double x)
 {
-    double l;
+    uint64_t i;
+    double y;
+    int s;
 
-    if (w->paraboloid) {
+    memcpy(&i, &x, sizeof i);
+    i = UINT64_C(0x553F000000000000) - i / 3;
+    memcpy(&y, &i, sizeof y);
+    for (s = 0; s < 4; s++)
+        y *= (4.0 - (x * y) * (y * y)) * (1.0 / 3.0);
+    return y;
+}
+
+/* g = delta1^(2/k-1) (capped), p2 = delta1^(2/k), a = (k R^(k-1) delta1)^(1/k);
+ * d1 > 0; y = inv_cbrt(d1) for k = 3 (unused otherwise). */
+static inline void
+powers_at(const thin_powers *w, double d1, double y, double *g, double *p2, double *a)
+{
+    double r, l;
+
+    switch (w->kind) {
+    case ROOT_ONE:
+        *g = d1;
+        *p2 = d1 * d1;
+        *a = d1;
+        return;
+    case ROOT_SQRT:
         *g = 1.0;
         *p2 = d1;
-        *a = sqrt(rk * d1);
+        *a = w->ak * sqrt(d1);
+        return;
+    case ROOT_CBRT:
+        if (d1 >= 1e-300 && d1 <= 1e300) {
+            *g = y;                          /* delta1^(-1/3) */
+            *p2 = d1 * *g;
+            *a = w->ak * (*p2 * *g);
+            return;
+        }
+        r = exp(w->inv_k * log(d1));
+        break;
+    case ROOT_SQRT2:
+        r = sqrt(sqrt(d1));
+        break;
+    case ROOT_EXP:
+        r = exp(w->inv_k * log(d1));
+        break;
+    default:
+        l = log(d1);
+        *g = fmin(exp(w->e1 * l), LF_BIG);
+        *p2 = *g < LF_BIG ? d1 * *g : exp((w->e1 + 1.0) * l);
+        *a = exp(w->inv_k * (w->log_rk + l));
         return;
     }
-    l = log(d1);
-    *g = fmin(exp(w->e1 * l), LF_BIG);
-    *p2 = *g < LF_BIG ? d1 * *g : exp((w->e1 + 1.0) * l);
-    *a = exp(w->inv_k * (w->log_rk + l));
+    *p2 = r * r;
+    *g = fmin(*p2 / d1, LF_BIG);
+    *a = w->ak * r;
 }
+
+#define BLOCK 64   /* points whose k = 3 roots are taken together */
 
 static int
 thin_eval(void *state, const lf_probe *p, const lf_material *m,
@@ -110,30 +190,43 @@ thin_eval(void *state, const lf_probe *p, const lf_material *m,
     const thin_consts t = thin_setup(p, m);
     const thin_powers pw = powers_setup(p);
     const double k = p->k, kk = (k + 2.0) / k;
-    const double rk = k * pow(p->R, k - 1.0);
-    size_t i;
+    const double Ckk = t.C * kk, kkc = kk * t.c, c2k = 2.0 * t.c / k;
+    const double wcoef = -Ckk / k * t.c * t.c;
+    const int load = branch == LF_BRANCH_LOAD;
+    double y[BLOCK] = { 0.0 };
+    size_t i0;
 
     (void) state;
-    for (i = 0; i < n; i++) {
-        lf_eval *e = &out[i];
-        double d1 = delta[i] + t.c, g, p2;
+    for (i0 = 0; i0 < n; i0 += BLOCK) {
+        size_t nb = n - i0 < BLOCK ? n - i0 : BLOCK, j;
+        /* k = 3: the roots of a block first, in a loop of independent
+         * multiplications that the processor overlaps */
+        if (pw.kind == ROOT_CBRT)
+            for (j = 0; j < nb; j++) {
+                double x = delta[i0 + j] + t.c;
+                y[j] = inv_cbrt(x >= 1e-300 && x <= 1e300 ? x : 1.0);
+            }
+        for (j = 0; j < nb; j++) {
+            lf_eval *e = &out[i0 + j];
+            double d1 = delta[i0 + j] + t.c, g, p2;
 
-        if (d1 <= 0.0 || (branch == LF_BRANCH_LOAD && delta[i] < 0.0)) {
-            e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
-            continue;
+            if (d1 <= 0.0 || (load && delta[i0 + j] < 0.0)) {
+                e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
+                continue;
+            }
+            powers_at(&pw, d1, y[j], &g, &p2, &e->a);     /* g = delta1^(2/k-1) */
+            if (t.c > 0.0) {
+                e->P = t.C * p2 * (d1 - kkc);
+                e->dP_ddelta = lf_capped(Ckk * g * (d1 - c2k));
+                e->dP_dlogw = lf_capped(wcoef * g);
+            } else {
+                e->P = t.C * p2 * d1;
+                e->dP_ddelta = Ckk * p2;
+                e->dP_dlogw = 0.0;
+            }
+            e->dP_dlogE = lf_capped(e->P - e->dP_dlogw);
+            e->dP_dnu = lf_capped(e->dP_dlogE * t.dlogZ);
         }
-        powers_at(&pw, rk, d1, &g, &p2, &e->a);     /* g = delta1^(2/k-1) */
-        if (t.c > 0.0) {
-            e->P = t.C * p2 * (d1 - kk * t.c);
-            e->dP_ddelta = lf_capped(t.C * kk * g * (d1 - 2.0 * t.c / k));
-            e->dP_dlogw = lf_capped(-t.C * kk / k * t.c * t.c * g);
-        } else {
-            e->P = t.C * p2 * d1;
-            e->dP_ddelta = t.C * kk * p2;
-            e->dP_dlogw = 0.0;
-        }
-        e->dP_dlogE = lf_capped(e->P - e->dP_dlogw);
-        e->dP_dnu = lf_capped(e->dP_dlogE * t.dlogZ);
     }
     return LF_OK;
 }
