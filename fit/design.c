@@ -34,6 +34,7 @@
 #include <gsl/gsl_vector.h>
 
 #include "csvsplit.h"
+#include "fit.h"
 
 #define NL 5                    /* local columns: ln w, ln E*, nu, z0, F0 */
 enum { C_W = 0, C_E, C_NU, C_Z0, C_F0 };
@@ -1078,30 +1079,14 @@ explain(const setwork *w, lf_design_result *r, int w_null, int F0_null, int any_
     for (j = 0; j < w->ns; j++)
         if (fabs(w->d->p[w->idx[j]].c.probe.k - 2.0) > 1e-9)
             all_k2 = 0;
-    if (any_b && !any_f && !r->nu.determined && !s->fix_nu) {
-        if (r->M.determined)
-            lf_warn(&r->identifiability,
-                    "only bonded curves: the data fix M = Z*E* (to %.2g%%) and w; nu is not "
-                    "determined, so neither is E* (fix nu or add a frictionless curve)",
-                    100.0 * r->M.rel);
-        else
-            lf_warn(&r->identifiability,
-                    "only bonded curves: nu is not determined (fix nu or add a frictionless curve)");
-    }
-    if (!any_b && !s->fix_nu)
+    if (any_b && !any_f && !r->nu.determined && !s->fix_nu && r->M.determined)
         lf_warn(&r->identifiability,
-                "frictionless curves do not depend on nu: nu is not determined "
-                "(add a bonded curve of the same material to measure it)");
-    if (w_null && F0_null) {
-        if (all_k2)
-            lf_warn(&r->identifiability,
-                    "k = 2 alone with free F0 and z0 cannot separate w from the force offset "
-                    "(record the baseline past detachment, add a probe with k != 2, or fix F0)");
-        else
-            lf_warn(&r->identifiability,
-                    "w cannot be separated from the force offsets (record the baseline past "
-                    "detachment or fix F0)");
-    }
+                "only bonded curves: the data fix M = Z*E* (to %.2g%%) and w; nu is not "
+                "determined, so neither is E* (fix nu or add a frictionless curve)",
+                100.0 * r->M.rel);
+    lf_fit_say_undetermined(&r->identifiability,
+                            any_b && !any_f && !r->nu.determined && !s->fix_nu && !r->M.determined,
+                            !any_b && !s->fix_nu, w_null && F0_null, all_k2);
     buf[0] = '\0';
     for (j = 0; j < w->ns; j++) {
         const char *name = w->d->p[w->idx[j]].c.name;

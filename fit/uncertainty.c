@@ -268,6 +268,23 @@ k2_rule(lf_fit *f, const lf_fit_result *r)
     return (all_thin && few) || lf_fit_w_open_above(f, r, exp(4.0));
 }
 
+void
+lf_fit_say_undetermined(lf_warnings *out, int bonded_only, int nu_unseen, int w_with_F0,
+                        int all_k2)
+{
+    if (bonded_only)
+        lf_warn(out, "only bonded curves: nu is not determined (fix nu or add a frictionless curve)");
+    if (nu_unseen)
+        lf_warn(out, "frictionless curves do not depend on nu: nu is not determined "
+                "(add a bonded curve of the same material to measure it)");
+    if (w_with_F0 && all_k2)
+        lf_warn(out, "k = 2 alone with free F0 and z0 cannot separate w from the force offset "
+                "(record the baseline past detachment, add a probe with k != 2, or fix F0)");
+    else if (w_with_F0)
+        lf_warn(out, "w cannot be separated from the force offsets (record the baseline past "
+                "detachment or fix F0)");
+}
+
 /* What the data cannot determine, in words. */
 static void
 explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
@@ -286,30 +303,16 @@ explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
     if (f->imat[FIT_W] >= 0 && k2_without_baseline(f))
         w_null = F0_null = 1;
     if (f->any_bonded && !f->any_frictionless && !r->nu.determined
-        && f->set.Estar.mode != LF_PARAM_FIXED) {
-        if (r->M.determined)
-            lf_warn(&r->identifiability,
-                    "only bonded curves: the data fix M = Z*E* = %.4g Pa (se %.2g Pa) and w; "
-                    "nu is not determined (fix nu or add a frictionless curve)",
-                    r->M.value, r->M.se);
-        else
-            lf_warn(&r->identifiability,
-                    "only bonded curves: nu is not determined (fix nu or add a frictionless curve)");
-    }
-    if (!f->any_bonded && f->set.nu.mode != LF_PARAM_FIXED)
+        && f->set.Estar.mode != LF_PARAM_FIXED && r->M.determined)
         lf_warn(&r->identifiability,
-                "frictionless curves do not depend on nu: nu is not determined "
-                "(add a bonded curve of the same material to measure it)");
-    if (w_null && F0_null) {
-        if (all_k2)
-            lf_warn(&r->identifiability,
-                    "k = 2 alone with free F0 and z0 cannot separate w from the force offset "
-                    "(record the baseline past detachment, add a probe with k != 2, or fix F0)");
-        else
-            lf_warn(&r->identifiability,
-                    "w cannot be separated from the force offsets (record the baseline past "
-                    "detachment or fix F0)");
-    }
+                "only bonded curves: the data fix M = Z*E* = %.4g Pa (se %.2g Pa) and w; "
+                "nu is not determined (fix nu or add a frictionless curve)",
+                r->M.value, r->M.se);
+    lf_fit_say_undetermined(&r->identifiability,
+                            f->any_bonded && !f->any_frictionless && !r->nu.determined
+                                && f->set.Estar.mode != LF_PARAM_FIXED && !r->M.determined,
+                            !f->any_bonded && f->set.nu.mode != LF_PARAM_FIXED,
+                            w_null && F0_null, all_k2);
     if (r->w.upper_bound_only)
         lf_warn(&r->identifiability, "adhesion below the noise: w < %.4g J/m^2 (95%%)",
                 r->w.ci95[1]);
