@@ -337,8 +337,13 @@ curves_table(FILE *f, const lf_fit_result *r)
         td_text(f, c->name ? c->name : "");
         td_num(f, c->probe.k, 6, "");
         td_human(f, c->probe.R, "m");
-        td_human(f, c->probe.b, "m");
-        td_text(f, cli_base_name(c->probe.base));
+        if (cli_model_ignores_b(c->model)) {   /* b inside is only a stand-in */
+            td_text(f, "none");
+            td_text(f, "half-space");
+        } else {
+            td_human(f, c->probe.b, "m");
+            td_text(f, cli_base_name(c->probe.base));
+        }
         td_text(f, c->branch == LF_BRANCH_LOAD ? "load" : "unload");
         fprintf(f, "<td class=\"num\">%zu</td>", c->n);
         td_estimate(f, c->z0, c->z0_se, c->z0_free, "m");
@@ -348,7 +353,10 @@ curves_table(FILE *f, const lf_fit_result *r)
         td_num(f, c->sigma > 0 ? c->rms / c->sigma : NAN, 3, "");
         td_human(f, c->pulloff.P_po, "N");
         td_human(f, c->pulloff.a_po, "m");
-        td_num(f, c->b_over_a_pulloff, 3, "");
+        if (cli_model_ignores_b(c->model))
+            td_text(f, "none");
+        else
+            td_num(f, c->b_over_a_pulloff, 3, "");
         fputs("</tr>\n", f);
     }
     fputs("</table></div>\n</section>\n", f);
