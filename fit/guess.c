@@ -286,6 +286,23 @@ profile_cost(profile *p, double s)
     return rss;
 }
 
+/* The solution profile_cost leaves in p, kept so that the minimum's need
+ * not be computed again. */
+typedef struct {
+    double M, c, z0, F0;
+} profile_sol;
+
+static double
+profile_cost_kept(profile *p, double s, profile_sol *sol)
+{
+    double v = profile_cost(p, s);
+    sol->M = p->M;
+    sol->c = p->c;
+    sol->z0 = p->z0;
+    sol->F0 = p->F0;
+    return v;
+}
+
 /* Minimise profile_cost over the sorted nodes: the best node, then golden
  * section between its neighbours.  Leaves the solution of the minimum in
  * p.  Returns the minimum (HUGE_VAL when no trial was valid). */
@@ -293,39 +310,48 @@ static double
 profile_min(profile *p, const double *node, size_t nn)
 {
     const double g = 0.5 * (sqrt(5.0) - 1.0);
-    double best = HUGE_VAL, a, bnd, x1, x2, f1, f2, sbest;
+    double best = HUGE_VAL, a, bnd, x1, x2, f1, f2;
+    profile_sol sbest = { 0 }, s1, s2, trial;
     size_t i, ib = 0;
 
     for (i = 0; i < nn; i++) {
-        double v = profile_cost(p, node[i]);
+        double v = profile_cost_kept(p, node[i], &trial);
         if (v < best) {
             best = v;
             ib = i;
+            sbest = trial;
         }
     }
     if (best == HUGE_VAL)
         return best;
-    sbest = node[ib];
     a = node[ib > 0 ? ib - 1 : 0];
     bnd = node[ib + 1 < nn ? ib + 1 : nn - 1];
     x1 = bnd - g * (bnd - a);
     x2 = a + g * (bnd - a);
-    f1 = profile_cost(p, x1);
-    f2 = profile_cost(p, x2);
+    f1 = profile_cost_kept(p, x1, &s1);
+    f2 = profile_cost_kept(p, x2, &s2);
     for (i = 0; i < GUESS_GOLDEN; i++) {
         if (f1 <= f2) {
-            bnd = x2; x2 = x1; f2 = f1;
+            bnd = x2; x2 = x1; f2 = f1; s2 = s1;
             x1 = bnd - g * (bnd - a);
-            f1 = profile_cost(p, x1);
+            f1 = profile_cost_kept(p, x1, &s1);
         } else {
-            a = x1; x1 = x2; f1 = f2;
+            a = x1; x1 = x2; f1 = f2; s1 = s2;
             x2 = a + g * (bnd - a);
-            f2 = profile_cost(p, x2);
+            f2 = profile_cost_kept(p, x2, &s2);
         }
     }
-    if (fmin(f1, f2) <= best)
-        sbest = f1 <= f2 ? x1 : x2;
-    return profile_cost(p, sbest);
+    /* the cost is a function of the trial value alone: the kept solution
+     * is what evaluating it again would give */
+    if (fmin(f1, f2) <= best) {
+        best = fmin(f1, f2);
+        sbest = f1 <= f2 ? s1 : s2;
+    }
+    p->M = sbest.M;
+    p->c = sbest.c;
+    p->z0 = sbest.z0;
+    p->F0 = sbest.F0;
+    return best;
 }
 
 /* Nodes for a search: n uniform in [lo, hi), then (when with_data) the
