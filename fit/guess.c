@@ -134,6 +134,8 @@ typedef struct {
     double z0_held;        /* PROFILE_C */
     double c_held;         /* PROFILE_Z0 */
     profile_kind kind;
+    double yy, sy;         /* sums of y^2 and y, y = F - (F0 held or 0) */
+    size_t lo, hi;         /* phi is zero outside [lo, hi) at the last trial */
     /* solution at the last trial */
     double M, c, z0, F0;
 } profile;
@@ -183,7 +185,11 @@ solve_small(size_t p, double A[3][3], double *rhs, double *sol)
 
 /* Least squares on the basis phi[0..ncol-1] (per point, 0 out of contact)
  * plus a constant when F0 is free.  Returns the residual sum of squares
- * (HUGE_VAL when singular) and the coefficients in b (F0 last). */
+ * (HUGE_VAL when singular) and the coefficients in b (F0 last).  The sums
+ * run over [p->lo, p->hi) only, where phi may be nonzero: the zero terms
+ * outside add nothing, and the sums of the constant column alone (n, y)
+ * are p's, taken once in the same order, so every sum is the one over all
+ * points to the last bit. */
 static double
 linear_fit(const profile *p, size_t ncol, double *b)
 {
@@ -196,19 +202,29 @@ linear_fit(const profile *p, size_t ncol, double *b)
 
     /* the columns x0 = phi0, then phi1 (ncol = 2), then the constant of a
      * free F0; unrolled, branch-free sums (unused terms add zeros) */
-    for (i = 0; i < p->n; i++) {
+    for (i = p->lo; i < p->hi; i++) {
         const double y = p->F[i] - held, x0 = phi0[i];
         const double x1 = ncol > 1 ? phi1[i] : one, x2 = ncol > 1 ? one : 0.0;
-        yy += y * y;
         a00 += x0 * x0;
         a10 += x1 * x0;
-        a11 += x1 * x1;
         a20 += x2 * x0;
-        a21 += x2 * x1;
-        a22 += x2 * x2;
         r0 += x0 * y;
-        r1 += x1 * y;
-        r2 += x2 * y;
+        if (ncol > 1) {
+            a11 += x1 * x1;
+            a21 += x2 * x1;
+            r1 += x1 * y;
+        }
+    }
+    /* the constant column's own sums over all points (+0 when F0 is held) */
+    yy = p->yy;
+    if (p->F0_free) {
+        if (ncol > 1) {
+            a22 = (double) p->n;
+            r2 = p->sy;
+        } else {
+            a11 = (double) p->n;
+            r1 = p->sy;
+        }
     }
     A[0][0] = a00;
     A[1][0] = A[0][1] = a10;
@@ -243,14 +259,19 @@ profile_cost(profile *p, double s)
     default:         c = p->c_held; z0 = s; zd = z0 - c; break;
     }
     zc = (p->branch == LF_BRANCH_LOAD && p->kind != PROFILE_ZD) ? z0 : zd;
+    p->lo = p->n;
+    p->hi = 0;
     for (i = 0; i < p->n; i++) {
         double d1 = p->z[i] - zd;
         int in = p->branch == LF_BRANCH_LOAD && p->kind != PROFILE_ZD
                  ? p->z[i] >= zc : p->z[i] > zc;
         /* pow(d1, 1) is d1 exactly: k = 2 needs no pow */
         double g = in && d1 > 0 ? (e2 == 1.0 ? d1 : pow(d1, e2)) : 0.0;
-        if (g > 0)
+        if (g > 0) {
             ncontact++;
+            p->lo = i < p->lo ? i : p->lo;
+            p->hi = i + 1;
+        }
         if (p->kind == PROFILE_ZD) {
             p->phi[i] = p->K * g * d1;
             p->phi[p->n + i] = p->K * g;
@@ -286,6 +307,23 @@ profile_cost(profile *p, double s)
     return rss;
 }
 
+/* The solution profile_cost leaves in p, kept so that the minimum's need
+ * not be computed again. */
+typedef struct {
+    double M, c, z0, F0;
+} profile_sol;
+
+static double
+profile_cost_kept(profile *p, double s, profile_sol *sol)
+{
+    double v = profile_cost(p, s);
+    sol->M = p->M;
+    sol->c = p->c;
+    sol->z0 = p->z0;
+    sol->F0 = p->F0;
+    return v;
+}
+
 /* Minimise profile_cost over the sorted nodes: the best node, then golden
  * section between its neighbours.  Leaves the solution of the minimum in
  * p.  Returns the minimum (HUGE_VAL when no trial was valid). */
@@ -293,39 +331,48 @@ static double
 profile_min(profile *p, const double *node, size_t nn)
 {
     const double g = 0.5 * (sqrt(5.0) - 1.0);
-    double best = HUGE_VAL, a, bnd, x1, x2, f1, f2, sbest;
+    double best = HUGE_VAL, a, bnd, x1, x2, f1, f2;
+    profile_sol sbest = { 0 }, s1, s2, trial;
     size_t i, ib = 0;
 
     for (i = 0; i < nn; i++) {
-        double v = profile_cost(p, node[i]);
+        double v = profile_cost_kept(p, node[i], &trial);
         if (v < best) {
             best = v;
             ib = i;
+            sbest = trial;
         }
     }
     if (best == HUGE_VAL)
         return best;
-    sbest = node[ib];
     a = node[ib > 0 ? ib - 1 : 0];
     bnd = node[ib + 1 < nn ? ib + 1 : nn - 1];
     x1 = bnd - g * (bnd - a);
     x2 = a + g * (bnd - a);
-    f1 = profile_cost(p, x1);
-    f2 = profile_cost(p, x2);
+    f1 = profile_cost_kept(p, x1, &s1);
+    f2 = profile_cost_kept(p, x2, &s2);
     for (i = 0; i < GUESS_GOLDEN; i++) {
         if (f1 <= f2) {
-            bnd = x2; x2 = x1; f2 = f1;
+            bnd = x2; x2 = x1; f2 = f1; s2 = s1;
             x1 = bnd - g * (bnd - a);
-            f1 = profile_cost(p, x1);
+            f1 = profile_cost_kept(p, x1, &s1);
         } else {
-            a = x1; x1 = x2; f1 = f2;
+            a = x1; x1 = x2; f1 = f2; s1 = s2;
             x2 = a + g * (bnd - a);
-            f2 = profile_cost(p, x2);
+            f2 = profile_cost_kept(p, x2, &s2);
         }
     }
-    if (fmin(f1, f2) <= best)
-        sbest = f1 <= f2 ? x1 : x2;
-    return profile_cost(p, sbest);
+    /* the cost is a function of the trial value alone: the kept solution
+     * is what evaluating it again would give */
+    if (fmin(f1, f2) <= best) {
+        best = fmin(f1, f2);
+        sbest = f1 <= f2 ? s1 : s2;
+    }
+    p->M = sbest.M;
+    p->c = sbest.c;
+    p->z0 = sbest.z0;
+    p->F0 = sbest.F0;
+    return best;
 }
 
 /* Nodes for a search: n uniform in [lo, hi), then (when with_data) the
@@ -397,6 +444,11 @@ profile_init(lf_fit *f, size_t j, profile *p)
     p->branch = c->data.branch;
     p->F0_free = c->iF0 >= 0;
     p->F0_held = c->F0;
+    for (i = 0; i < m; i++) {      /* in linear_fit's order */
+        const double y = F[i] - (p->F0_free ? 0.0 : p->F0_held);
+        p->yy += y * y;
+        p->sy += y;
+    }
 }
 
 static void
