@@ -75,6 +75,18 @@ solver_test(lf_fit *f, int *info)
                                                 f->gsl);
 }
 
+/* A solver status in words.  GSL_EDOM comes from our own residual and
+ * Jacobian callbacks (problem.c): the model cannot be evaluated at the
+ * parameters tried. */
+static const char *
+status_words(int status)
+{
+    if (status == GSL_EDOM)
+        return "the model cannot be evaluated at the parameters the solver tried "
+               "(outside the model's domain)";
+    return gsl_strerror(status);
+}
+
 /* Why the solver stopped, in words; sets *converged. */
 static void
 stop_reason(int status, int info, size_t maxiter, char *buf, size_t n,
@@ -91,7 +103,7 @@ stop_reason(int status, int info, size_t maxiter, char *buf, size_t n,
     } else if (status == GSL_ENOPROG) {
         snprintf(buf, n, "not converged: no further progress possible");
     } else {
-        snprintf(buf, n, "not converged: %s", gsl_strerror(status));
+        snprintf(buf, n, "not converged: %s", status_words(status));
     }
 }
 
@@ -359,7 +371,7 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
     status = solver_init(f, x, 1);
     if (status != GSL_SUCCESS)
         return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the starting point (%s)",
-                       gsl_strerror(status));
+                       status_words(status));
     status = drive(f, &info, &dead);
     if (f->w.own && status != GSL_SUCCESS && status != GSL_EBADFUNC) {
         /* lm.c stalled (at a kink of the cost, where steps are rejected or
@@ -370,7 +382,7 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
         status = solver_init(f, f->w.x0, 0);
         if (status != GSL_SUCCESS)
             return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the starting "
-                           "point (%s)", gsl_strerror(status));
+                           "point (%s)", status_words(status));
         status = drive(f, &info, &dead);
     }
     iters = cur_niter(f);
