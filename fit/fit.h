@@ -334,10 +334,11 @@ double lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res);
 double lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, size_t stride);
 /* The plain words, shared by the assessment and layerfit design
  * (fit/design.c), for: only bonded curves leaving nu undetermined (the
- * plain form; the caller says M where it is determined), frictionless
- * curves that do not see nu, and w inseparable from the force offsets. */
-void lf_fit_say_undetermined(lf_warnings *out, int bonded_only, int nu_unseen, int w_with_F0,
-                             int all_k2);
+ * plain form; the caller says M where it is determined), curves that do
+ * not see nu (nu_unseen_by names them: "frictionless", "half-space"; NULL:
+ * none), and w inseparable from the force offsets. */
+void lf_fit_say_undetermined(lf_warnings *out, int bonded_only, const char *nu_unseen_by,
+                             int w_with_F0, int all_k2);
 int lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *res, lf_error *err);
 
 #endif

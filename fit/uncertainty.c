@@ -269,14 +269,14 @@ k2_rule(lf_fit *f, const lf_fit_result *r)
 }
 
 void
-lf_fit_say_undetermined(lf_warnings *out, int bonded_only, int nu_unseen, int w_with_F0,
-                        int all_k2)
+lf_fit_say_undetermined(lf_warnings *out, int bonded_only, const char *nu_unseen_by,
+                        int w_with_F0, int all_k2)
 {
     if (bonded_only)
         lf_warn(out, "only bonded curves: nu is not determined (fix nu or add a frictionless curve)");
-    if (nu_unseen)
-        lf_warn(out, "frictionless curves do not depend on nu: nu is not determined "
-                "(add a bonded curve of the same material to measure it)");
+    if (nu_unseen_by != NULL)
+        lf_warn(out, "%s curves do not depend on nu: nu is not determined "
+                "(add a bonded curve of the same material to measure it)", nu_unseen_by);
     if (w_with_F0 && all_k2)
         lf_warn(out, "k = 2 alone with free F0 and z0 cannot separate w from the force offset "
                 "(record the baseline past detachment, add a probe with k != 2, or fix F0)");
@@ -292,11 +292,13 @@ explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
     char buf[800];
     size_t k, j, len = 0;
     int all_k2 = 1, w_null = f->imat[FIT_W] >= 0 && nullw[f->imat[FIT_W]] > 0.01;
-    int F0_null = 0, other = 0;
+    int F0_null = 0, other = 0, all_halfspace = 1;
 
     for (j = 0; j < f->ncurves; j++) {
         if (fabs(f->c[j].data.probe.k - 2.0) > 1e-9)
             all_k2 = 0;
+        if (lf_model_get_type(f->c[j].model)->scope != LF_SCOPE_HALFSPACE)
+            all_halfspace = 0;
         if (f->c[j].iF0 >= 0 && nullw[f->c[j].iF0] > 0.01)
             F0_null = 1;
     }
@@ -311,7 +313,8 @@ explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
     lf_fit_say_undetermined(&r->identifiability,
                             f->any_bonded && !f->any_frictionless && !r->nu.determined
                                 && f->set.Estar.mode != LF_PARAM_FIXED && !r->M.determined,
-                            !f->any_bonded && f->set.nu.mode != LF_PARAM_FIXED,
+                            !f->any_bonded && f->set.nu.mode != LF_PARAM_FIXED
+                                ? (all_halfspace ? "half-space" : "frictionless") : NULL,
                             w_null && F0_null, all_k2);
     if (r->w.upper_bound_only)
         lf_warn(&r->identifiability, "adhesion below the noise: w < %.4g J/m^2 (95%%)",

@@ -65,6 +65,7 @@ run_ok fit "$v/workshop_force.csv" --model halfspace --k 2 --R 8um --spring-cons
         *"<td>none</td><td>half-space</td>"*) ok ;;
         *) bad "report: the half-space curve's row shows a layer: $row" ;;
     esac
+    has "half-space: nu unseen, said of half-space curves" "$tmp/out" "half-space curves do not depend on nu"
     has "single: option sources" "$tmp/out" "from: R option, b none (half-space), spring constant 0.032 N/m option"
     has "single json: option sources" "$tmp/w.json" '"R_source": "option", "b_source": null, "spring_constant": 0.032, "spring_constant_source": "option"'
 }
