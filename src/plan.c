@@ -507,7 +507,8 @@ lf_plan_free(lf_plan *p)
     free(p);
 }
 
-/* lf_file_kind_of: the header alone decides. */
+/* lf_file_kind_parse: for a CSV (not an instrument export), the header
+ * alone decides: a "file" column makes it a plan. */
 static int
 kind_record(void *ctx, const lf_csv_record *r, lf_error *err)
 {
