@@ -196,7 +196,7 @@ set_model(lf_fit *f, size_t j, const lf_model_type *t, lf_error *err)
     lf_model_free(f->c[j].model);
     f->c[j].model = m;
     f->c[j].data.model = t;
-    f->w.xcache_ok = 0;
+    lf_fit_invalidate(f);
     return LF_OK;
 }
 
@@ -293,7 +293,7 @@ curve_bias(chooser *c, size_t j, int rung, bias *b)
         if ((m = instance(c, j, rung)) == NULL)
             return LF_OK;
         fc->model = m;
-        f->w.xcache_ok = 0;
+        lf_fit_invalidate(f);
         c->base_ok = 0;
     }
     if (!c->base_ok || swapped)
@@ -307,7 +307,7 @@ curve_bias(chooser *c, size_t j, int rung, bias *b)
     }
     if (swapped) {
         fc->model = saved;
-        f->w.xcache_ok = 0;
+        lf_fit_invalidate(f);
     }
     return status;
 }

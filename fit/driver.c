@@ -40,7 +40,7 @@ lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res
 
     memset(res, 0, sizeof *res);
     memset(&run, 0, sizeof run);
-    f->w.xcache_ok = 0;
+    lf_fit_invalidate(f);
     for (i = 0; i < f->ndata; i++)
         f->w.sqrtw[i] = 1.0;
     status = lf_fit_solve_scanned(f, x, 1, &run, err);
@@ -118,7 +118,7 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
     fit_start start;
 
     memset(res, 0, sizeof *res);
-    f->w.xcache_ok = 0;
+    lf_fit_invalidate(f);
     status = lf_fit_refuse_degenerate(f, err);
     if (status != LF_OK)
         return status;

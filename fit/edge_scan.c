@@ -107,7 +107,7 @@ lf_fit_solve_scanned(lf_fit *f, gsl_vector *x, int from_origin, fit_run *run, lf
 
     if (from_origin) {
         gsl_vector_set_all(x, 1.0);
-        f->w.xcache_ok = 0;
+        lf_fit_invalidate(f);
     }
     status = lf_fit_iterate(f, x, !from_origin, run, err);
     for (scan = 0; status == LF_OK && scan < FIT_MAX_SCANS && edge_scan(f, x); scan++)

@@ -155,6 +155,9 @@ typedef struct {
     double *jtj;         /* np x np: J^T J and its Cholesky factor */
     double *grad, *colmax;  /* np: J^T r and column maxima */
     double *ainv;        /* np: the diagonal of (J^T J)^-1 */
+    double *gn_x;        /* np: where the solver last examined its Jacobian */
+    double gn_dchi2, gn_chi2;  /* there: the Gauss-Newton decrease, chi2 */
+    int gn_ok;           /* 1: gn_* hold for the current weights and origin */
     double cost_hist[FIT_FLAT_ITERS + 1]; /* cost after each iteration, cyclic */
     fit_lm lm;
     int own;             /* 1: lm.c holds the solver's state, 0: GSL */
@@ -227,6 +230,9 @@ int lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err);
 void lf_fit_guess_offsets(lf_fit *f);
 /* The median of v[0..n-1], n > 0 (v reordered), in linear time (guess.c). */
 double lf_fit_median(double *v, size_t n);
+double lf_fit_select_kth(double *v, size_t n, size_t k);
+/* Weights, origin or model changed: what was computed at an x is stale. */
+void lf_fit_invalidate(lf_fit *f);
 /* guess_model.c: the start of a model with no thickness (half-space) from
  * its own force law: 1 when every curve's model is such a model; the
  * material (0 when no curve gives one); the offsets at f->mat. */

@@ -30,9 +30,9 @@
 
 /* ---- noise ------------------------------------------------------------ */
 
-/* The k-th smallest of v[0..n-1] (v reordered), by quickselect. */
-static double
-select_kth(double *v, size_t n, size_t k)
+/* The k-th smallest of v[0..n-1] (0-based; v reordered), by quickselect. */
+double
+lf_fit_select_kth(double *v, size_t n, size_t k)
 {
     size_t lo = 0, hi = n - 1;
 
@@ -69,7 +69,7 @@ select_kth(double *v, size_t n, size_t k)
 double
 lf_fit_median(double *v, size_t n)
 {
-    double upper = select_kth(v, n, n / 2), lower;
+    double upper = lf_fit_select_kth(v, n, n / 2), lower;
     size_t i;
 
     if (n % 2)
@@ -248,7 +248,7 @@ linear_fit(const profile *p, size_t ncol, double *b)
 static double
 profile_cost(profile *p, double s)
 {
-    const double k = p->k, e2 = 2.0 / k, kk = (k + 2.0) / k;
+    const double k = p->k, kk = (k + 2.0) / k;
     size_t i, ncontact = 0;
     double b[3], rss;
     double zd, c, z0, zc;   /* zc: contact for z > zc (>= for loading) */
@@ -265,8 +265,7 @@ profile_cost(profile *p, double s)
         double d1 = p->z[i] - zd;
         int in = p->branch == LF_BRANCH_LOAD && p->kind != PROFILE_ZD
                  ? p->z[i] >= zc : p->z[i] > zc;
-        /* pow(d1, 1) is d1 exactly: k = 2 needs no pow */
-        double g = in && d1 > 0 ? (e2 == 1.0 ? d1 : pow(d1, e2)) : 0.0;
+        double g = in && d1 > 0 ? lf_pow_2k(d1, k) : 0.0;
         if (g > 0) {
             ncontact++;
             p->lo = i < p->lo ? i : p->lo;

@@ -248,7 +248,7 @@ lf_fit_guess_compare_model(lf_fit *f)
     /* the thin profile's start, at its own offsets */
     lf_fit_guess_offsets(f);
     gsl_vector_set_all(f->w.x, 1.0);
-    f->w.xcache_ok = 0;
+    lf_fit_invalidate(f);
     a = lf_fit_cost(f, f->w.x, f->w.r);
     if (!lf_fit_guess_model(f)) {
         f->mat = thin;
@@ -256,11 +256,11 @@ lf_fit_guess_compare_model(lf_fit *f)
     }
     lf_fit_guess_model_offsets(f);
     gsl_vector_set_all(f->w.x, 1.0);
-    f->w.xcache_ok = 0;
+    lf_fit_invalidate(f);
     b = lf_fit_cost(f, f->w.x, f->w.r);
     if (b < a)
         f->start_by_model = 1;
     else
         f->mat = thin;
-    f->w.xcache_ok = 0;
+    lf_fit_invalidate(f);
 }

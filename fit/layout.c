@@ -223,7 +223,7 @@ work_alloc(lf_fit *f)
     size_t total = 2 * np                      /* x0_internal, xcache */
                    + 2 * nd + nwork + 3 * GUESS_NSUB + GUESS_NODES   /* sqrtw, delta, work, sub */
                    + 7 * nc                    /* keep, off */
-                   + 3 * np * np + 5 * np      /* jtj, lm.A, lm.L; lm.g, lm.D2, grad, colmax, ainv */
+                   + 3 * np * np + 6 * np      /* jtj, lm.A, lm.L; lm.g, lm.D2, grad, colmax, ainv, gn_x */
                    + 6 * np + 4 * nr           /* lm.x, xt, h, x, x2, x0; lm.r, rt, r, r2 */
                    + nr * np;                  /* lm.J */
     double *at;
@@ -249,6 +249,7 @@ work_alloc(lf_fit *f)
     w->grad = take(&at, np);
     w->colmax = take(&at, np);
     w->ainv = take(&at, np);
+    w->gn_x = take(&at, np);
     w->lm.x = take_vector(v++, &at, np);
     w->lm.xt = take_vector(v++, &at, np);
     w->lm.h = take_vector(v++, &at, np);

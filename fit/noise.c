@@ -31,31 +31,16 @@
 #define AGREE_REL 0.05
 #define NOISE_GROWTH 1.3
 
-/* The median of |v| over 0.6745 (v reordered). */
+/* The (upper) median of |v| over 0.6745 (v reordered). */
 static double
 mad_sd(double *v, size_t n)
 {
-    size_t i, k = n / 2;
-    double lo, hi;
+    size_t i;
     if (n == 0)
         return NAN;
     for (i = 0; i < n; i++)
         v[i] = fabs(v[i]);
-    /* simple selection by partial sort: n is at most a curve */
-    for (lo = 0, hi = 0, i = 0; i < n; i++)
-        hi = fmax(hi, v[i]);
-    /* bisection on the value: count of |v| <= t */
-    for (i = 0; i < 60; i++) {
-        double t = 0.5 * (lo + hi);
-        size_t j, cnt = 0;
-        for (j = 0; j < n; j++)
-            cnt += v[j] <= t;
-        if (cnt > k)
-            hi = t;
-        else
-            lo = t;
-    }
-    return 0.5 * (lo + hi) / 0.6745;
+    return lf_fit_select_kth(v, n, n / 2) / 0.6745;
 }
 
 double

@@ -69,6 +69,13 @@ lf_fit_unpack(const lf_fit *f, const double *x, lf_material *mat, double *z0,
 }
 
 void
+lf_fit_invalidate(lf_fit *f)
+{
+    f->w.xcache_ok = 0;
+    f->w.gn_ok = 0;
+}
+
+void
 lf_fit_set_origin(lf_fit *f)
 {
     size_t j;
@@ -88,7 +95,7 @@ lf_fit_set_origin(lf_fit *f)
         if (c->islope >= 0)
             f->x0_internal[c->islope] = c->slope * c->L / c->Fs;
     }
-    f->w.xcache_ok = 0;
+    lf_fit_invalidate(f);
 }
 
 int

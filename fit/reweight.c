@@ -58,7 +58,7 @@ lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_error
             moved = fmax(moved, fabs(s - f->w.sqrtw[k]));
             f->w.sqrtw[k] = s;
         }
-        f->w.xcache_ok = 0;
+        lf_fit_invalidate(f);
         *rounds = round + 1;
         if (moved < FIT_REWEIGHT_TOL)
             break;

@@ -306,6 +306,20 @@ chi2_per_dof(lf_fit *f)
     return (f->w.own ? 2.0 * f->w.lm.cost : rn * rn) / (double) (f->nres - f->np);
 }
 
+/* What the verdict (verdict.c) asks at the end, kept where the Jacobian is
+ * examined: the Gauss-Newton decrease of chi2 at the solver's position, from
+ * the analytic Jacobian, when J^T J is positive definite. */
+static void
+remember_gn(lf_fit *f, double dchi2, double chi2dof)
+{
+    f->w.gn_ok = f->fdf.df != NULL && dchi2 < HUGE_VAL;
+    if (!f->w.gn_ok)
+        return;
+    memcpy(f->w.gn_x, cur_x(f)->data, f->np * sizeof *f->w.gn_x);
+    f->w.gn_dchi2 = dchi2;
+    f->w.gn_chi2 = chi2dof * (double) (f->nres - f->np);
+}
+
 /* gsl_multifit_nlinear_driver with the Jacobian examined before each
  * iteration and the cost recorded after it.  Stops with GSL_SUCCESS and
  * *info = FIT_INFO_CHI2 when a Gauss-Newton step would lower chi2 by less
@@ -326,6 +340,7 @@ drive(lf_fit *f, int *info, size_t *dead)
         if (!examine_jacobian(f, dead, &dchi2))
             return GSL_EBADFUNC;
         chi2dof = chi2_per_dof(f);
+        remember_gn(f, dchi2, chi2dof);
         if (dchi2 <= FIT_CHI2_STEP * chi2dof) {
             *info = FIT_INFO_CHI2;
             return GSL_SUCCESS;

@@ -70,7 +70,7 @@ thin_setup(const lf_probe *p, const lf_material *m)
  * exp; all three powers follow from one root r = delta1^(1/k):
  * delta1^(2/k) = r^2, delta1^(2/k-1) = r^2 / delta1, a = (k R^(k-1))^(1/k) r.
  * The root is exact or square roots for k = 1, 2, 4, from a few
- * multiplications for k = 3 (inv_cbrt), exp(log(delta1) / k) for any other
+ * multiplications for k = 3 (lf_inv_cbrt), exp(log(delta1) / k) for any other
  * k > 2.  For other k < 2,
  * where r^2 / delta1 would lose digits as r^2 underflows, the powers come
  * from one logarithm as before. */
@@ -116,28 +116,8 @@ powers_setup(const lf_probe *p)
     return w;
 }
 
-/* x^(-1/3) for 1e-300 <= x <= 1e300 without a library call (glibc's cbrt
- * is slower than a log and an exp): a first guess from the bits of x, its
- * exponent divided by -3 (0x5540... is 1023 * 4/3 in the exponent field,
- * lowered to even out the guess's error, at most 4%), then four Newton
- * steps y <- y (4 - x y^3) / 3, each squaring the error: 2 ulp at most. */
-static inline double
-inv_cbrt(double x)
-{
-    uint64_t i;
-    double y;
-    int s;
-
-    memcpy(&i, &x, sizeof i);
-    i = UINT64_C(0x553F000000000000) - i / 3;
-    memcpy(&y, &i, sizeof y);
-    for (s = 0; s < 4; s++)
-        y *= (4.0 - (x * y) * (y * y)) * (1.0 / 3.0);
-    return y;
-}
-
 /* g = delta1^(2/k-1) (capped), p2 = delta1^(2/k), a = (k R^(k-1) delta1)^(1/k);
- * d1 > 0; y = inv_cbrt(d1) for k = 3 (unused otherwise). */
+ * d1 > 0; y = lf_inv_cbrt(d1) for k = 3 (unused otherwise). */
 static inline void
 powers_at(const thin_powers *w, double d1, double y, double *g, double *p2, double *a)
 {
@@ -204,7 +184,7 @@ thin_eval(void *state, const lf_probe *p, const lf_material *m,
         if (pw.kind == ROOT_CBRT)
             for (j = 0; j < nb; j++) {
                 double x = delta[i0 + j] + t.c;
-                y[j] = inv_cbrt(x >= 1e-300 && x <= 1e300 ? x : 1.0);
+                y[j] = lf_inv_cbrt(x >= 1e-300 && x <= 1e300 ? x : 1.0);
             }
         for (j = 0; j < nb; j++) {
             lf_eval *e = &out[i0 + j];
