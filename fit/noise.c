@@ -128,13 +128,13 @@ lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau
 }
 
 double
-lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_result *cr)
+lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, double tau, double noise,
+                   lf_fit_curve_result *cr)
 {
     const fit_curve *c = &f->c[j];
     size_t n = c->data.n, i, m;
-    double tau, noise, Fmin = HUGE_VAL, Fmax = -HUGE_VAL, chi2 = 0.0, rms;
+    double Fmin = HUGE_VAL, Fmax = -HUGE_VAL, chi2 = 0.0, rms;
 
-    lf_fit_curve_noise(f, j, res, &tau, &noise);
     m = (size_t) ceil(tau - 1e-9);
     if (m < 1)
         m = 1;

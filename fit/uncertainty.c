@@ -182,6 +182,8 @@ pooled_corr_time(lf_fit *f, const gsl_vector *res)
     size_t j, n = 0;
     for (j = 0; j < f->ncurves; j++) {
         lf_fit_curve_noise(f, j, res, &tau, &noise);
+        f->w.noise_tau[j] = tau;      /* for consistency() */
+        f->w.noise_sd[j] = noise;
         sum += tau * (double) f->c[j].data.n;
         n += f->c[j].data.n;
     }
@@ -402,7 +404,7 @@ consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_resul
      * (noise.c: correlated noise, its own sd and independent points); the
      * noise sd is itself estimated (to some 10% for 300 points), so chi2
      * alone flags only a gross excess; the runs test does not depend on it */
-    lf_fit_noise_model(f, j, res, cr);
+    lf_fit_noise_model(f, j, res, f->w.noise_tau[j], f->w.noise_sd[j], cr);
     cr->p_value = cr->n_eff > (double) own + 1.0
                   ? gsl_cdf_chisq_Q(cr->chi2_per_point * (double) c->data.n / cr->corr_time,
                                     cr->n_eff - (double) own)
