@@ -125,7 +125,6 @@ typedef enum {
 
 typedef struct {
     const double *z, *F;   /* subsample */
-    double *phi;           /* 2 * n scratch */
     size_t n;
     double k, K;
     lf_branch branch;
@@ -135,7 +134,6 @@ typedef struct {
     double c_held;         /* PROFILE_Z0 */
     profile_kind kind;
     double yy, sy;         /* sums of y^2 and y, y = F - (F0 held or 0) */
-    size_t lo, hi;         /* phi is zero outside [lo, hi) at the last trial */
     /* solution at the last trial */
     double M, c, z0, F0;
 } profile;
@@ -183,72 +181,61 @@ solve_small(size_t p, double A[3][3], double *rhs, double *sol)
     return 1;
 }
 
-/* Least squares on the basis phi[0..ncol-1] (per point, 0 out of contact)
- * plus a constant when F0 is free.  Returns the residual sum of squares
- * (HUGE_VAL when singular) and the coefficients in b (F0 last).  The sums
- * run over [p->lo, p->hi) only, where phi may be nonzero: the zero terms
- * outside add nothing, and the sums of the constant column alone (n, y)
- * are p's, taken once in the same order, so every sum is the one over all
- * points to the last bit. */
+/* The sums of the normal equations of one trial: the columns x0 = phi0,
+ * x1 = phi1 (PROFILE_ZD only) and the constant of a free F0, over the
+ * points in contact (phi is zero elsewhere, and the constant column's own
+ * sums n, y, y^2 are the profile's, taken once). */
+typedef struct {
+    double a00, a10, a20, a11, a21, r0, r1;
+} trial_sums;
+
+/* Least squares on the basis phi0 (, phi1 when ncol = 2) plus a constant
+ * when F0 is free, from the sums t of the trial.  Returns the residual sum
+ * of squares (HUGE_VAL when singular) and the coefficients in b (F0
+ * last). */
 static double
-linear_fit(const profile *p, size_t ncol, double *b)
+linear_fit(const profile *p, size_t ncol, const trial_sums *t, double *b)
 {
     double A[3][3] = { { 0 } }, rhs[3] = { 0 };
-    double a00 = 0, a10 = 0, a11 = 0, a20 = 0, a21 = 0, a22 = 0, r0 = 0, r1 = 0, r2 = 0;
-    const double one = p->F0_free ? 1.0 : 0.0, held = p->F0_free ? 0.0 : p->F0_held;
-    const double *phi0 = p->phi, *phi1 = p->phi + p->n;
-    size_t i, r, m = ncol + (size_t) p->F0_free;
-    double yy = 0.0, fit = 0.0;
+    size_t r, m = ncol + (size_t) p->F0_free;
+    double fit = 0.0;
 
-    /* the columns x0 = phi0, then phi1 (ncol = 2), then the constant of a
-     * free F0; unrolled, branch-free sums (unused terms add zeros) */
-    for (i = p->lo; i < p->hi; i++) {
-        const double y = p->F[i] - held, x0 = phi0[i];
-        const double x1 = ncol > 1 ? phi1[i] : one, x2 = ncol > 1 ? one : 0.0;
-        a00 += x0 * x0;
-        a10 += x1 * x0;
-        a20 += x2 * x0;
-        r0 += x0 * y;
-        if (ncol > 1) {
-            a11 += x1 * x1;
-            a21 += x2 * x1;
-            r1 += x1 * y;
+    A[0][0] = t->a00;
+    rhs[0] = t->r0;
+    if (ncol > 1) {
+        A[1][0] = A[0][1] = t->a10;
+        A[1][1] = t->a11;
+        rhs[1] = t->r1;
+        if (p->F0_free) {
+            A[2][0] = A[0][2] = t->a20;
+            A[2][1] = A[1][2] = t->a21;
+            A[2][2] = (double) p->n;
+            rhs[2] = p->sy;
         }
+    } else if (p->F0_free) {
+        A[1][0] = A[0][1] = t->a20;
+        A[1][1] = (double) p->n;
+        rhs[1] = p->sy;
     }
-    /* the constant column's own sums over all points (+0 when F0 is held) */
-    yy = p->yy;
-    if (p->F0_free) {
-        if (ncol > 1) {
-            a22 = (double) p->n;
-            r2 = p->sy;
-        } else {
-            a11 = (double) p->n;
-            r1 = p->sy;
-        }
-    }
-    A[0][0] = a00;
-    A[1][0] = A[0][1] = a10;
-    A[1][1] = a11;
-    A[2][0] = A[0][2] = a20;
-    A[2][1] = A[1][2] = a21;
-    A[2][2] = a22;
-    rhs[0] = r0;
-    rhs[1] = r1;
-    rhs[2] = r2;
     if (!solve_small(m, A, rhs, b))
         return HUGE_VAL;
     /* |y - X b|^2 = y^T y - b^T X^T y at the least-squares b: one pass */
     for (r = 0; r < m; r++)
         fit += b[r] * rhs[r];
-    return fmax(yy - fit, 0.0);
+    return fmax(p->yy - fit, 0.0);
 }
 
 /* The residual sum of squares at trial value s of the profiled parameter;
- * fills p->M, c, z0, F0. */
+ * fills p->M, c, z0, F0.  One pass over the subsample builds the basis at
+ * each point and adds it into the sums of the normal equations. */
 static double
 profile_cost(profile *p, double s)
 {
-    const double k = p->k, kk = (k + 2.0) / k;
+    const double k = p->k, kk = (k + 2.0) / k, K = p->K;
+    const double held = p->F0_free ? 0.0 : p->F0_held;
+    const int zd_kind = p->kind == PROFILE_ZD;
+    const int from_z0 = p->branch == LF_BRANCH_LOAD && !zd_kind;
+    trial_sums t = { 0, 0, 0, 0, 0, 0, 0 };
     size_t i, ncontact = 0;
     double b[3], rss;
     double zd, c, z0, zc;   /* zc: contact for z > zc (>= for loading) */
@@ -258,49 +245,55 @@ profile_cost(profile *p, double s)
     case PROFILE_C:  c = fmax(s, 0.0); z0 = p->z0_held; zd = z0 - c; break;
     default:         c = p->c_held; z0 = s; zd = z0 - c; break;
     }
-    zc = (p->branch == LF_BRANCH_LOAD && p->kind != PROFILE_ZD) ? z0 : zd;
-    p->lo = p->n;
-    p->hi = 0;
+    zc = from_z0 ? z0 : zd;
     for (i = 0; i < p->n; i++) {
-        double d1 = p->z[i] - zd;
-        int in = p->branch == LF_BRANCH_LOAD && p->kind != PROFILE_ZD
-                 ? p->z[i] >= zc : p->z[i] > zc;
-        double g = in && d1 > 0 ? lf_pow_2k(d1, k) : 0.0;
-        if (g > 0) {
-            ncontact++;
-            p->lo = i < p->lo ? i : p->lo;
-            p->hi = i + 1;
-        }
-        if (p->kind == PROFILE_ZD) {
-            p->phi[i] = p->K * g * d1;
-            p->phi[p->n + i] = p->K * g;
+        const double d1 = p->z[i] - zd;
+        const int in = from_z0 ? p->z[i] >= zc : p->z[i] > zc;
+        double g, x0, y;
+        if (!in || !(d1 > 0))
+            continue;
+        g = lf_pow_2k(d1, k);
+        if (!(g > 0))
+            continue;
+        ncontact++;
+        y = p->F[i] - held;
+        if (zd_kind) {
+            const double x1 = K * g;
+            x0 = K * g * d1;
+            t.a11 += x1 * x1;
+            t.a21 += x1;
+            t.r1 += x1 * y;
+            t.a10 += x1 * x0;
         } else {
-            p->phi[i] = p->K * g * (d1 - kk * c);
+            x0 = K * g * (d1 - kk * c);
         }
+        t.a00 += x0 * x0;
+        t.a20 += x0;
+        t.r0 += x0 * y;
     }
     if (ncontact < 3)
         return HUGE_VAL;
-    if (p->kind != PROFILE_ZD) {
-        rss = linear_fit(p, 1, b);
+    if (!zd_kind) {
+        rss = linear_fit(p, 1, &t, b);
         p->M = b[0];
         p->F0 = p->F0_free ? b[1] : p->F0_held;
         p->c = c;
         p->z0 = z0;
         return p->M > 0 ? rss : HUGE_VAL;
     }
-    rss = linear_fit(p, 2, b);
+    rss = linear_fit(p, 2, &t, b);
     if (rss < HUGE_VAL && b[0] > 0 && b[1] <= 0) {
         p->M = b[0];
         p->c = -b[1] / (kk * b[0]);
         p->F0 = p->F0_free ? b[2] : p->F0_held;
     } else {            /* no adhesion: c = 0, alpha and F0 only */
-        double t[2];
-        rss = linear_fit(p, 1, t);
-        if (!(rss < HUGE_VAL && t[0] > 0))
+        double u[2];
+        rss = linear_fit(p, 1, &t, u);
+        if (!(rss < HUGE_VAL && u[0] > 0))
             return HUGE_VAL;
-        p->M = t[0];
+        p->M = u[0];
         p->c = 0.0;
-        p->F0 = p->F0_free ? t[1] : p->F0_held;
+        p->F0 = p->F0_free ? u[1] : p->F0_held;
     }
     p->z0 = zd + p->c;
     return rss;
@@ -436,7 +429,6 @@ profile_init(lf_fit *f, size_t j, profile *p)
     p->z = z;
     p->F = F;
     p->n = m;
-    p->phi = f->w.work;
     p->k = k;
     p->K = M_PI / c->data.probe.b * pow(k, (k + 2.0) / k) / (k + 2.0)
            * pow(R, 2.0 * (k - 1.0) / k);

@@ -42,6 +42,8 @@ typedef struct {
     char unit[NCOL][64];        /* the unit each column is read in */
     const char *unit_from[NCOL];    /* where that unit came from */
     int decimal_comma;
+    char seg_word[16];     /* the last segment cell's text and its segment */
+    int seg_last;
     long ncomments, dropped, first_dropped;
     long skipped, first_skipped;
 } reader;
@@ -298,7 +300,16 @@ read_row(reader *rd, const lf_csv_record *r, lf_error *err)
             return bad_row(rd, r, r->fcol[k], err, what);
         }
         if (role == COL_SEGMENT) {
+            /* a segment's word repeats on every one of its rows */
+            if (strcmp(t, rd->seg_word) == 0) {
+                seg = rd->seg_last;
+                continue;
+            }
             seg = lf_csv_segment_word(t);
+            if (seg >= 0 && strlen(t) < sizeof rd->seg_word) {
+                strcpy(rd->seg_word, t);
+                rd->seg_last = seg;
+            }
             if (seg < 0)
                 return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
                                   "unknown segment '%s' (expected load, approach, "

@@ -2,7 +2,9 @@
  * once per process (pthread_once) and udunits2's own messages are silenced,
  * since the library never prints.  udunits2's parser keeps global state, so
  * every call into it holds units_lock: readers may run in parallel threads
- * (layerfit fit --batch). */
+ * (layerfit fit --batch).  A batch reads the same few units in every file,
+ * and udunits2 parses one in about ten microseconds, so the last
+ * UNITS_MEMO good conversions are kept (under the same lock). */
 #include <ctype.h>
 #include <errno.h>
 #include <math.h>
@@ -37,6 +39,38 @@ static const struct {
     [LF_Q_CURRENT]       = { "A", "A", "a current", "1nA" },
 };
 #define NQUANT (sizeof quantities / sizeof quantities[0])
+
+#define UNITS_MEMO 16
+static struct {
+    lf_quantity q;
+    char unit[48];         /* trimmed; "" marks a free slot */
+    double factor;
+} memo[UNITS_MEMO];
+static size_t memo_next;
+
+/* The memo's factor of unit for q (units_lock held); 0 when not kept. */
+static int
+memo_find(const char *unit, lf_quantity q, double *factor)
+{
+    size_t i;
+    for (i = 0; i < UNITS_MEMO; i++)
+        if (memo[i].unit[0] != '\0' && memo[i].q == q && strcmp(memo[i].unit, unit) == 0) {
+            *factor = memo[i].factor;
+            return 1;
+        }
+    return 0;
+}
+
+static void
+memo_keep(const char *unit, lf_quantity q, double factor)
+{
+    if (strlen(unit) >= sizeof memo[0].unit)
+        return;
+    memo[memo_next].q = q;
+    strcpy(memo[memo_next].unit, unit);
+    memo[memo_next].factor = factor;
+    memo_next = (memo_next + 1) % UNITS_MEMO;
+}
 
 static void
 units_load(void)
@@ -107,6 +141,10 @@ lf_units_factor(const char *unit, lf_quantity q, double *factor, lf_error *err)
                        quantities[q].noun, quantities[q].example);
     }
     pthread_mutex_lock(&units_lock);
+    if (memo_find(name, q, factor)) {
+        pthread_mutex_unlock(&units_lock);
+        return LF_OK;
+    }
     u = ut_parse(units_system, name, UT_UTF8);
     if (u == NULL) {
         status = lf_fail(err, LF_EUNIT, "unknown unit '%s' (expected %s such as %s)",
@@ -127,6 +165,8 @@ lf_units_factor(const char *unit, lf_quantity q, double *factor, lf_error *err)
     *factor = cv_convert_double(cv, 1.0);
     if (!(isfinite(*factor) && *factor > 0.0))
         status = lf_fail(err, LF_EUNIT, "unit '%s' has no usable scale", name);
+    else
+        memo_keep(name, q, *factor);
 done:
     cv_free(cv);
     ut_free(si);
