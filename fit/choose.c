@@ -341,8 +341,8 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
         for (i = 0; i < fc->data.n; i++) {
             double a = f->w.ev[fc->row + i].a;
             if (a > 0) {
-                c->ab_lo[j] = fmin(c->ab_lo[j], a / b);
-                c->ab_hi[j] = fmax(c->ab_hi[j], a / b);
+                c->ab_lo[j] = lf_fmin(c->ab_lo[j], a / b);
+                c->ab_hi[j] = lf_fmax(c->ab_hi[j], a / b);
             }
         }
         c->exact_ok[j] = 1;
@@ -403,7 +403,7 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
             && f->c[jw].data.probe.k > rung_type(RUNG_HALFSPACE)->k_above)
             status = curve_bias(c, jw, RUNG_HALFSPACE, &c->half_b[jw]);
         if (c->rung[jw] == RUNG_THIN && c->half_b[jw].ok
-            && bias_max(&c->half_b[jw], NULL) < fmin(tol, worst)) {
+            && bias_max(&c->half_b[jw], NULL) < lf_fmin(tol, worst)) {
             c->rung[jw] = RUNG_HALFSPACE;
             c->cur[jw] = c->half_b[jw];
         } else {

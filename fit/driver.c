@@ -181,11 +181,11 @@ lf_fit_check_jacobian(lf_fit *f, const lf_material *mat, double *max_rel_err,
         }
         for (i = 0; i < f->nres; i++) {
             double fd = (gsl_vector_get(r1, i) - gsl_vector_get(r2, i)) / (2 * h);
-            colmax = fmax(colmax, fabs(gsl_matrix_get(J, i, k)));
-            worst = fmax(worst, fabs(fd - gsl_matrix_get(J, i, k)));
+            colmax = lf_fmax(colmax, fabs(gsl_matrix_get(J, i, k)));
+            worst = lf_fmax(worst, fabs(fd - gsl_matrix_get(J, i, k)));
         }
         if (colmax > 0)
-            *max_rel_err = fmax(*max_rel_err, worst / colmax);
+            *max_rel_err = lf_fmax(*max_rel_err, worst / colmax);
     }
 done:
     gsl_vector_free(x);

@@ -77,7 +77,7 @@ lf_fit_median(double *v, size_t n)
     /* after the selection every v[i], i < n/2, is <= upper */
     lower = v[0];
     for (i = 1; i < n / 2; i++)
-        lower = fmax(lower, v[i]);
+        lower = lf_fmax(lower, v[i]);
     return 0.5 * (lower + upper);
 }
 
@@ -98,7 +98,7 @@ lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order
     double fbig = 0.0, med;
 
     for (i = 0; i < n; i++)
-        fbig = fmax(fbig, fabs(force[i]));
+        fbig = lf_fmax(fbig, fabs(force[i]));
     for (i = 1; i + 1 < n; i++) {
         size_t a = order[i - 1], b = order[i], c = order[i + 1];
         double h0 = depth[b] - depth[a], h1 = depth[c] - depth[b], h = h0 + h1, e;
@@ -112,7 +112,7 @@ lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order
     med = lf_fit_median(work, m);
     med /= 0.6745;
     /* noise-free data: keep the weight finite */
-    return fmax(med, fbig > 0 ? 1e-12 * fbig : 1e-300);
+    return lf_fmax(med, fbig > 0 ? 1e-12 * fbig : 1e-300);
 }
 
 /* ---- one curve --------------------------------------------------------- */
@@ -222,7 +222,7 @@ linear_fit(const profile *p, size_t ncol, const trial_sums *t, double *b)
     /* |y - X b|^2 = y^T y - b^T X^T y at the least-squares b: one pass */
     for (r = 0; r < m; r++)
         fit += b[r] * rhs[r];
-    return fmax(p->yy - fit, 0.0);
+    return lf_fmax(p->yy - fit, 0.0);
 }
 
 /* The residual sum of squares at trial value s of the profiled parameter;
@@ -235,24 +235,34 @@ profile_cost(profile *p, double s)
     const double held = p->F0_free ? 0.0 : p->F0_held;
     const int zd_kind = p->kind == PROFILE_ZD;
     const int from_z0 = p->branch == LF_BRANCH_LOAD && !zd_kind;
-    trial_sums t = { 0, 0, 0, 0, 0, 0, 0 };
+    trial_sums t;
+    /* the sums in registers: a struct whose address is taken lives in
+     * memory, and every addition would wait for the last store */
+    double a00 = 0, a10 = 0, a20 = 0, a11 = 0, a21 = 0, r0 = 0, r1 = 0;
     size_t i, ncontact = 0;
-    double b[3], rss;
+    double b[3], rss, root[GUESS_NSUB];
     double zd, c, z0, zc;   /* zc: contact for z > zc (>= for loading) */
 
     switch (p->kind) {
     case PROFILE_ZD: zd = s; c = 0.0; z0 = s; zc = s; break;
-    case PROFILE_C:  c = fmax(s, 0.0); z0 = p->z0_held; zd = z0 - c; break;
+    case PROFILE_C:  c = lf_fmax(s, 0.0); z0 = p->z0_held; zd = z0 - c; break;
     default:         c = p->c_held; z0 = s; zd = z0 - c; break;
     }
     zc = from_z0 ? z0 : zd;
+    /* k = 3: every point's root first, in a loop of independent
+     * multiplications that the processor overlaps (as the thin model) */
+    if (k == 3.0)
+        for (i = 0; i < p->n; i++) {
+            const double d1 = p->z[i] - zd;
+            root[i] = lf_inv_cbrt(d1 >= 1e-300 && d1 <= 1e300 ? d1 : 1.0);
+        }
     for (i = 0; i < p->n; i++) {
         const double d1 = p->z[i] - zd;
         const int in = from_z0 ? p->z[i] >= zc : p->z[i] > zc;
         double g, x0, y;
         if (!in || !(d1 > 0))
             continue;
-        g = lf_pow_2k(d1, k);
+        g = k == 3.0 && d1 >= 1e-300 && d1 <= 1e300 ? d1 * root[i] : lf_pow_2k(d1, k);
         if (!(g > 0))
             continue;
         ncontact++;
@@ -260,17 +270,24 @@ profile_cost(profile *p, double s)
         if (zd_kind) {
             const double x1 = K * g;
             x0 = K * g * d1;
-            t.a11 += x1 * x1;
-            t.a21 += x1;
-            t.r1 += x1 * y;
-            t.a10 += x1 * x0;
+            a11 += x1 * x1;
+            a21 += x1;
+            r1 += x1 * y;
+            a10 += x1 * x0;
         } else {
             x0 = K * g * (d1 - kk * c);
         }
-        t.a00 += x0 * x0;
-        t.a20 += x0;
-        t.r0 += x0 * y;
+        a00 += x0 * x0;
+        a20 += x0;
+        r0 += x0 * y;
     }
+    t.a00 = a00;
+    t.a10 = a10;
+    t.a20 = a20;
+    t.a11 = a11;
+    t.a21 = a21;
+    t.r0 = r0;
+    t.r1 = r1;
     if (ncontact < 3)
         return HUGE_VAL;
     if (!zd_kind) {
@@ -356,8 +373,8 @@ profile_min(profile *p, const double *node, size_t nn)
     }
     /* the cost is a function of the trial value alone: the kept solution
      * is what evaluating it again would give */
-    if (fmin(f1, f2) <= best) {
-        best = fmin(f1, f2);
+    if (lf_fmin(f1, f2) <= best) {
+        best = lf_fmin(f1, f2);
         sbest = f1 <= f2 ? s1 : s2;
     }
     p->M = sbest.M;
@@ -449,8 +466,8 @@ depth_range(const fit_curve *c, double *zmin, double *zmax)
     *zmin = HUGE_VAL;
     *zmax = -HUGE_VAL;
     for (i = 0; i < c->data.n; i++) {
-        *zmin = fmin(*zmin, c->data.depth[i]);
-        *zmax = fmax(*zmax, c->data.depth[i]);
+        *zmin = lf_fmin(*zmin, c->data.depth[i]);
+        *zmax = lf_fmax(*zmax, c->data.depth[i]);
     }
 }
 
@@ -598,7 +615,7 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
             nb++;
         }
         w_j = c->guess.M * c->guess.c * c->guess.c / (2.0 * c->data.probe.b);
-        wfloor = fmin(wfloor, c->guess.M * 1e-6 * c->L * c->L / (2.0 * c->data.probe.b));
+        wfloor = lf_fmin(wfloor, c->guess.M * 1e-6 * c->L * c->L / (2.0 * c->data.probe.b));
         if (w_j > 0 && c->guess.sees_w) {
             lnw += log(w_j);
             nw++;
@@ -609,7 +626,7 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
             m->nu = nu_of_Z(exp(lnMb / (double) nb - lnMf / (double) nf));
         else if (!isfinite(m->nu))
             m->nu = 0.3;
-        m->nu = fmin(fmax(m->nu, 0.02), 0.4999);
+        m->nu = lf_fmin(lf_fmax(m->nu, 0.02), 0.4999);
     }
     if (f->imat[FIT_E] >= 0)
         m->Estar = nf > 0 ? exp(lnMf / (double) nf)

@@ -129,7 +129,7 @@ offset_F0(const lf_fit *f, size_t j)
         return lf_fit_median(f->w.work, m);
     }
     F0 = c->guess.F0;
-    return fmin(fmax(F0, Fmin), Fmax);
+    return lf_fmin(lf_fmax(F0, Fmin), Fmax);
 }
 
 /* The material of one curve; 0 when the data give no contact. */

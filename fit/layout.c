@@ -177,9 +177,9 @@ curve_scales(lf_fit *f, lf_error *err)
         fit_curve *c = &f->c[j];
         double zmin = HUGE_VAL, zmax = -HUGE_VAL, fbig = 0.0;
         for (i = 0; i < c->data.n; i++) {
-            zmin = fmin(zmin, c->data.depth[i]);
-            zmax = fmax(zmax, c->data.depth[i]);
-            fbig = fmax(fbig, fabs(c->data.force[i]));
+            zmin = lf_fmin(zmin, c->data.depth[i]);
+            zmax = lf_fmax(zmax, c->data.depth[i]);
+            fbig = lf_fmax(fbig, fabs(c->data.force[i]));
         }
         if (!(zmax > zmin) || !(fbig > 0))
             return lf_fail(err, LF_EDATA, "curve %zu (%s): depth or force does not vary",

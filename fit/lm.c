@@ -85,7 +85,7 @@ normal_equations(lf_fit *f)
     }
     lm->cost = 0.5 * ss;
     for (k = 0; k < p; k++)
-        lm->D2[k] = fmax(lm->D2[k], lm->A[k * p + k]);
+        lm->D2[k] = lf_fmax(lm->D2[k], lm->A[k * p + k]);
 }
 
 int
@@ -107,7 +107,7 @@ lf_fit_lm_init(lf_fit *f, const gsl_vector *x)
     normal_equations(f);
     for (k = 0; k < p; k++)
         if (lm->D2[k] > 0)
-            big = fmax(big, lm->A[k * p + k] / lm->D2[k]);
+            big = lf_fmax(big, lm->A[k * p + k] / lm->D2[k]);
     for (k = 0; k < p; k++)
         if (!(lm->D2[k] > 0))
             lm->D2[k] = 1.0;
@@ -154,7 +154,7 @@ lf_fit_lm_iterate(lf_fit *f)
             if (lf_fit_jacobian(lm->x, f, lm->J) != GSL_SUCCESS)
                 return GSL_EDOM;
             normal_equations(f);
-            lm->mu *= fmax(1.0 / 3.0, 1.0 - t * t * t);
+            lm->mu *= lf_fmax(1.0 / 3.0, 1.0 - t * t * t);
             lm->nu = 2.0;
             lm->niter++;
             return GSL_SUCCESS;
@@ -179,13 +179,13 @@ lf_fit_lm_test(const lf_fit *f, double xtol, double gtol, int *info)
     for (k = 0; k < f->np; k++) {
         double xk = lm->x->data[k], dx = fabs(xk - lm->xt->data[k]);
         small_step &= dx <= xtol * (fabs(xk) + xtol);
-        gmax = fmax(gmax, fabs(lm->g[k]) * fmax(fabs(xk), 1.0));
+        gmax = lf_fmax(gmax, fabs(lm->g[k]) * lf_fmax(fabs(xk), 1.0));
     }
     if (small_step) {
         *info = 1;
         return GSL_SUCCESS;
     }
-    if (gmax <= gtol * fmax(lm->cost, 1.0)) {
+    if (gmax <= gtol * lf_fmax(lm->cost, 1.0)) {
         *info = 2;
         return GSL_SUCCESS;
     }

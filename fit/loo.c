@@ -43,7 +43,7 @@ lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res)
             worst[j] = 0.0;
             for (i = 0; i < m; i++) {
                 ok &= r.curves[i].consistent;
-                worst[j] = fmax(worst[j], r.curves[i].chi2_per_point);
+                worst[j] = lf_fmax(worst[j], r.curves[i].chi2_per_point);
             }
             mat[j].w = r.w.value;
             mat[j].Estar = r.Estar.value;

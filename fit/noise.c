@@ -68,7 +68,7 @@ lf_fit_corr_time(const double *e, size_t n)
             break;
         tau += 2.0 * rho;
     }
-    return fmin(tau, (double) n / 4.0);
+    return lf_fmin(tau, (double) n / 4.0);
 }
 
 /* The noise sd of the residuals e (file order) at stride m in depth order:
@@ -109,7 +109,7 @@ lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau
     for (m = 1; 4 * m < n / 2; m *= 2) {
         double s2 = noise_at_lag(c, ord, e, 2 * m, work);
         if (!(s2 > NOISE_GROWTH * sm)) {
-            sm = fmax(sm, s2);
+            sm = lf_fmax(sm, s2);
             break;
         }
         sm = s2;
@@ -122,9 +122,9 @@ lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau
     /* the correlation time: the residuals' own, but no more than the noise
      * variance the plateau shows over the point-to-point one (a smooth misfit
      * makes residuals correlated without raising the plateau) */
-    tau = m == 1 ? 1.0 : fmin(lf_fit_corr_time(e, n), fmax(1.0, (sm * sm) / (s1 * s1)));
-    *tau_out = fmax(tau, 1.0);
-    *noise_out = m == 1 ? c->sigma : fmax(c->sigma, sm);
+    tau = m == 1 ? 1.0 : lf_fmin(lf_fit_corr_time(e, n), lf_fmax(1.0, (sm * sm) / (s1 * s1)));
+    *tau_out = lf_fmax(tau, 1.0);
+    *noise_out = m == 1 ? c->sigma : lf_fmax(c->sigma, sm);
 }
 
 double
@@ -146,8 +146,8 @@ lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, double tau,
     for (i = 0; i < n; i++) {
         double u = gsl_vector_get(res, c->row + i) * c->sigma / noise;
         chi2 += u * u;
-        Fmin = fmin(Fmin, c->data.force[i]);
-        Fmax = fmax(Fmax, c->data.force[i]);
+        Fmin = lf_fmin(Fmin, c->data.force[i]);
+        Fmax = lf_fmax(Fmax, c->data.force[i]);
     }
     rms = cr->rms;
     cr->runs_z = lf_fit_runs_z_stride(f, j, res, m);

@@ -44,7 +44,7 @@ internal(const lf_fit *f, const double *x, int i)
 static double
 exp_clamped(double v)
 {
-    return exp(fmin(fmax(v, -700.0), 700.0));
+    return exp(lf_fmin(lf_fmax(v, -700.0), 700.0));
 }
 
 void

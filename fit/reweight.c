@@ -42,7 +42,7 @@ lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_error
         for (i = 0; i < c->data.n; i++)
             f->w.work[i] = fabs(gsl_vector_get(r, c->row + i));
         mad = 1.4826 * lf_fit_median(f->w.work, c->data.n);   /* units of sigma */
-        inflate[j] = fmax(1.0, fmax(noise / c->sigma, mad));
+        inflate[j] = lf_fmax(1.0, lf_fmax(noise / c->sigma, mad));
     }
     for (round = 0; round < FIT_MAX_REWEIGHT; round++) {
         double moved = 0.0;
@@ -55,7 +55,7 @@ lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_error
             double u = fabs(gsl_vector_get(r, k) / f->w.sqrtw[k]) / (scale * inflate[j]), wt, s;
             wt = f->set.loss == LF_LOSS_HUBER ? (u <= 1.0 ? 1.0 : 1.0 / u) : 1.0 / (1.0 + u * u);
             s = sqrt(wt);
-            moved = fmax(moved, fabs(s - f->w.sqrtw[k]));
+            moved = lf_fmax(moved, fabs(s - f->w.sqrtw[k]));
             f->w.sqrtw[k] = s;
         }
         lf_fit_invalidate(f);

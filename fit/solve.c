@@ -205,7 +205,7 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
         for (i = 0; i < n; i++) {
             const double *row = J->data + i * J->tda;
             for (k = 0; k < p; k++)
-                big[k] = fmax(big[k], fabs(row[k]));
+                big[k] = lf_fmax(big[k], fabs(row[k]));
         }
     } else {
         memset(A, 0, p * p * sizeof *A);
@@ -215,7 +215,7 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
             const double *row = J->data + i * J->tda, ri = r->data[i * r->stride];
             for (k = 0; k < p; k++) {
                 double a = row[k];
-                big[k] = fmax(big[k], fabs(a));
+                big[k] = lf_fmax(big[k], fabs(a));
                 g[k] += a * ri;
                 for (l = 0; l <= k; l++)
                     A[k * p + l] += a * row[l];
@@ -225,7 +225,7 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
     for (k = 0; k < p; k++) {
         if (!isfinite(big[k]) || !isfinite(g[k]))
             return 0;
-        top = fmax(top, big[k]);
+        top = lf_fmax(top, big[k]);
         if (big[k] < low) {
             low = big[k];
             *which = k;
@@ -419,7 +419,7 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
         /* GSL numbers the iteration that just ended iters - 1 */
         double now = f->w.cost_hist[(iters - 1) % (FIT_FLAT_ITERS + 1)];
         double then = f->w.cost_hist[iters % (FIT_FLAT_ITERS + 1)];
-        if (then - now <= fmax(FIT_FLAT_REL * now, FIT_FLAT_ABS)) {
+        if (then - now <= lf_fmax(FIT_FLAT_REL * now, FIT_FLAT_ABS)) {
             take_position(f, x);
             *converged = 1;
             snprintf(why, nwhy, "converged (chi2 fell by %.2g over the last %d iterations)",

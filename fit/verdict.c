@@ -38,8 +38,8 @@ lf_fit_refuse_degenerate(const lf_fit *f, lf_error *err)
         const fit_curve *c = &f->c[j];
         double lo = HUGE_VAL, hi = -HUGE_VAL, mz = 0, mf = 0, szz = 0, sff = 0, szf = 0, rho;
         for (i = 0; i < c->data.n; i++) {
-            lo = fmin(lo, c->data.force[i]);
-            hi = fmax(hi, c->data.force[i]);
+            lo = lf_fmin(lo, c->data.force[i]);
+            hi = lf_fmax(hi, c->data.force[i]);
             mz += c->data.depth[i];
             mf += c->data.force[i];
         }
@@ -76,10 +76,10 @@ offsets_outside(const lf_fit *f, const double *x, char *why, size_t nwhy)
         double z0, F0, s, flo = HUGE_VAL, fhi = -HUGE_VAL, zlo = HUGE_VAL, zhi = -HUGE_VAL;
         lf_fit_unpack(f, x, &m, &z0, &F0, &s, j);
         for (i = 0; i < c->data.n; i++) {
-            flo = fmin(flo, c->data.force[i]);
-            fhi = fmax(fhi, c->data.force[i]);
-            zlo = fmin(zlo, c->data.depth[i]);
-            zhi = fmax(zhi, c->data.depth[i]);
+            flo = lf_fmin(flo, c->data.force[i]);
+            fhi = lf_fmax(fhi, c->data.force[i]);
+            zlo = lf_fmin(zlo, c->data.depth[i]);
+            zhi = lf_fmax(zhi, c->data.depth[i]);
         }
         if (c->iF0 >= 0 && !(F0 >= flo - (fhi - flo) && F0 <= fhi + (fhi - flo))) {
             snprintf(why, nwhy, "not converged: curve %zu's force offset F0 = %.4g N lies far "
@@ -151,7 +151,7 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
          * step itself is needed only when it would be taken */
         int known = f->w.gn_ok && memcmp(f->w.gn_x, x->data, f->np * sizeof *x->data) == 0;
         chi2 = known ? f->w.gn_chi2 : 2.0 * lf_fit_cost(f, x, f->w.r);
-        s2 = fmax(1.0, chi2 / (double) (f->nres > f->np ? f->nres - f->np : 1));
+        s2 = lf_fmax(1.0, chi2 / (double) (f->nres > f->np ? f->nres - f->np : 1));
         dec = known ? f->w.gn_dchi2 : gn_step(f, x, step);
         if (!isfinite(dec))
             break;

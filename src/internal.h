@@ -54,13 +54,16 @@ lf_inv_cbrt(double x)
 {
     uint64_t i;
     double y;
-    int s;
 
     memcpy(&i, &x, sizeof i);
     i = UINT64_C(0x553F000000000000) - i / 3;
     memcpy(&y, &i, sizeof y);
-    for (s = 0; s < 4; s++)
-        y *= (4.0 - (x * y) * (y * y)) * (1.0 / 3.0);
+    /* written out: a loop here stays a loop, and its branch keeps the
+     * processor from overlapping the roots of neighbouring points */
+    y *= (4.0 - (x * y) * (y * y)) * (1.0 / 3.0);
+    y *= (4.0 - (x * y) * (y * y)) * (1.0 / 3.0);
+    y *= (4.0 - (x * y) * (y * y)) * (1.0 / 3.0);
+    y *= (4.0 - (x * y) * (y * y)) * (1.0 / 3.0);
     return y;
 }
 
@@ -78,6 +81,21 @@ lf_pow_2k(double x, double k)
     if (k == 3.0 && x >= 1e-300 && x <= 1e300)
         return x * lf_inv_cbrt(x);
     return pow(x, 2.0 / k);
+}
+
+/* fmax and fmin as the C library defines them for NaN (the other argument),
+ * inline: glibc's are calls, and the fit's loops over points make thousands
+ * of them. */
+static inline double
+lf_fmax(double a, double b)
+{
+    return a > b || isnan(b) ? a : b;
+}
+
+static inline double
+lf_fmin(double a, double b)
+{
+    return a < b || isnan(b) ? a : b;
 }
 
 #endif
