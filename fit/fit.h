@@ -85,7 +85,7 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
 #define FIT_ALT_COST_RATIO 3.0
 #define FIT_ALT_LOG_SEP 0.1
 
-#define GUESS_GRID 40          /* uniform nodes of a profile search */
+#define GUESS_GRID 20          /* uniform nodes of a profile search */
 #define GUESS_NODES (GUESS_GRID + 1)
 #define GUESS_NSUB 64          /* points of a curve's subsample in the guess */
 
