@@ -53,6 +53,20 @@ print_free(const char *label, double v, const char *unit)
 }
 
 /* What was found in one curve; seg is the segment a fit would use. */
+
+/* A metadata value as shown: an instrument's "NaN" (a setting it left
+ * unset) is said in words, never passed on as a number. */
+static const char *
+meta_value(const char *v)
+{
+    const char *t = v + strspn(v, " \t");
+    if (*t == '+' || *t == '-')
+        t++;
+    if ((t[0] == 'n' || t[0] == 'N') && (t[1] == 'a' || t[1] == 'A') && (t[2] == 'n' || t[2] == 'N')
+        && t[3 + strspn(t + 3, " \t\r")] == '\0')
+        return "not a number (unset in the file)";
+    return v;
+}
 static void
 print_curve(const lf_curve *c, lf_segment seg)
 {
@@ -78,7 +92,7 @@ print_curve(const lf_curve *c, lf_segment seg)
     printf("  %-9s %s segment, %zu points\n", "fit", lf_segment_name(seg),
            lf_curve_segment(c, seg, NULL, NULL));
     for (i = 0; i < c->nmeta; i++)
-        printf("  %-9s %s: %s\n", "metadata", c->meta[i].key, c->meta[i].value);
+        printf("  %-9s %s: %s\n", "metadata", c->meta[i].key, meta_value(c->meta[i].value));
 }
 
 static void

@@ -90,6 +90,13 @@ real="$top/../shared/realdata"
 if [ ! -d "$real" ]; then
     echo "skipped: ../shared/realdata not found"
 else
+    # check on every export: metadata an instrument left unset ("NaN") is
+    # said in words, no NaN is passed on
+    for f in "$real"/*; do
+        case "$f" in *.md) continue ;; esac
+        "$LF" check "$f" >"$tmp/out" 2>"$tmp/err"
+        no_nan "check $(basename "$f")" "$tmp/out"
+    done
     # the NT-MDT gel (no R in the file: 5 um given; the file's k and sensitivity as afmformats')
     nt="$real/fmt-ntmdt-txt-fd_2015_01_17_gel4-0,1_mQ_adh_6B_Curve_DFL_Height_51.txt"
     for b in 100um 200um 1mm 1m; do
