@@ -18,7 +18,9 @@ endif
 OPT     ?= -O2 -g
 # project flags first, the user's CFLAGS after them
 OPENMP  ?= -fopenmp
-ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE $(WARN) $(OPT) $(OPENMP) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
+# HAVE_INLINE: GSL's element accessors (gsl_vector_get, ...) inline, range
+# checks kept
+ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE -DHAVE_INLINE $(WARN) $(OPT) $(OPENMP) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
 LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lnettle -lpthread -lm
 ALL_LDFLAGS := $(OPENMP) $(SANFLAGS) $(LDFLAGS)
 

@@ -261,6 +261,13 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
     sw = physical ? 1.0 / mat.w : 1.0;
     sE = physical ? 1.0 / mat.Estar : 1.0;
     snu = physical ? 1.0 : lf_fit_dnu_du(u);
+    /* the zeros of every row at once (a call per row costs more than the
+     * row's numbers) */
+    if (J->tda == J->size2)
+        memset(J->data, 0, J->size1 * J->size2 * sizeof *J->data);
+    else
+        for (i = 0; i < J->size1; i++)
+            memset(J->data + i * J->tda, 0, J->size2 * sizeof *J->data);
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
         double sz = physical ? 1.0 : c->L, sF = physical ? 1.0 : c->Fs;
@@ -277,7 +284,6 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
             double *row = J->data + k * J->tda;
             lf_eval e = guarded(f, c, &mat, ddet, k);
             double ws = f->w.sqrtw[k] / c->sigma;
-            memset(row, 0, f->np * sizeof *row);
             if (iw >= 0)
                 row[iw] = e.dP_dlogw * sw * ws;
             if (iE >= 0)
@@ -292,11 +298,8 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
                 row[c->islope] = f->w.delta[k] * ss * ws;
         }
     }
-    if (f->nu_prior) {
-        double *row = J->data + f->ndata * J->tda;
-        memset(row, 0, f->np * sizeof *row);
-        row[inu] = snu / f->set.nu.prior_sd;
-    }
+    if (f->nu_prior)
+        J->data[f->ndata * J->tda + (size_t) inu] = snu / f->set.nu.prior_sd;
     return GSL_SUCCESS;
 }
 
