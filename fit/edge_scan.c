@@ -58,7 +58,8 @@ edge_scan(lf_fit *f, gsl_vector *x)
         lf_material mat;
         lf_pulloff po;
         double z0, F0, slope, edge, best, bestz0, bestF0, F0c;
-        size_t lo, hi, q, n = c->data.n, pos;
+        size_t n = c->data.n, pos;
+        int dir;
 
         if (c->iz0 < 0 || n < 3)
             continue;
@@ -73,19 +74,33 @@ edge_scan(lf_fit *f, gsl_vector *x)
         best = curve_cost(f, j, &mat, z0, &F0c, slope);
         bestz0 = z0;
         bestF0 = F0c;
-        lo = pos > FIT_SCAN_HALF ? pos - FIT_SCAN_HALF : 1;
-        hi = pos + FIT_SCAN_HALF < n ? pos + FIT_SCAN_HALF : n - 1;
-        for (q = lo; q <= hi; q++) {
-            double zq = 0.5 * (c->data.depth[ord[q - 1]] + c->data.depth[ord[q]]);
-            double z0q = c->data.branch == LF_BRANCH_UNLOAD ? zq - po.delta_detach : zq;
-            double F0q = F0, v;
-            if (!(c->data.depth[ord[q]] > c->data.depth[ord[q - 1]]))
-                continue;
-            v = curve_cost(f, j, &mat, z0q, &F0q, slope);
-            if (v < best * (1.0 - 1e-12)) {
-                best = v;
-                bestz0 = z0q;
-                bestF0 = F0q;
+        /* the edge's own interval, then outwards each way until
+         * FIT_SCAN_PATIENCE positions in a row have not beaten the best
+         * (over the positions the cost is a bowl roughened by the noise) or
+         * FIT_SCAN_HALF have been tried */
+        for (dir = 0; dir <= 2; dir++) {
+            long step = dir == 1 ? -1 : 1, q = (long) pos + (dir == 0 ? 0 : step);
+            size_t tried, worse = 0;
+            for (tried = 0; tried < (dir == 0 ? 1u : (size_t) FIT_SCAN_HALF)
+                            && worse < FIT_SCAN_PATIENCE; tried++, q += step) {
+                double zq, z0q, F0q = F0, v;
+                if (q < 1 || q > (long) n - 1)
+                    break;
+                if (!(c->data.depth[ord[q]] > c->data.depth[ord[q - 1]])) {
+                    worse++;
+                    continue;
+                }
+                zq = 0.5 * (c->data.depth[ord[q - 1]] + c->data.depth[ord[q]]);
+                z0q = c->data.branch == LF_BRANCH_UNLOAD ? zq - po.delta_detach : zq;
+                v = curve_cost(f, j, &mat, z0q, &F0q, slope);
+                if (v < best * (1.0 - 1e-12)) {
+                    best = v;
+                    bestz0 = z0q;
+                    bestF0 = F0q;
+                    worse = 0;
+                } else {
+                    worse++;
+                }
             }
         }
         if (bestz0 != z0) {

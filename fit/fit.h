@@ -69,6 +69,7 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
  * between FIT_SCAN_HALF pairs of neighbouring points either side. */
 #define FIT_MAX_SCANS 4
 #define FIT_SCAN_HALF 8
+#define FIT_SCAN_PATIENCE 3
 /* Robust reweighting: at most FIT_MAX_REWEIGHT rounds, until no weight's
  * square root moves by more than FIT_REWEIGHT_TOL. */
 #define FIT_MAX_REWEIGHT 50
