@@ -74,24 +74,20 @@ lf_design_settings_default(void)
 enum { D_NAME, D_K, D_R, D_B, D_INTERFACE, D_DMAX, D_DMIN, D_POINTS, D_BASELINE,
        D_Z0, D_F0, D_SEGMENT, D_NOISE, NDCOL };
 
-static const struct {
-    const char *name;
-    lf_quantity q;
-    int required;
-} dcols[NDCOL] = {
-    [D_NAME]      = { "name", LF_Q_DIMENSIONLESS, 0 },
-    [D_K]         = { "k", LF_Q_DIMENSIONLESS, 1 },
-    [D_R]         = { "R", LF_Q_LENGTH, 1 },
-    [D_B]         = { "b", LF_Q_LENGTH, 1 },
-    [D_INTERFACE] = { "interface", LF_Q_DIMENSIONLESS, 1 },
-    [D_DMAX]      = { "delta_max", LF_Q_LENGTH, 0 },
-    [D_DMIN]      = { "delta_min", LF_Q_LENGTH, 0 },
-    [D_POINTS]    = { "points", LF_Q_DIMENSIONLESS, 0 },
-    [D_BASELINE]  = { "baseline", LF_Q_LENGTH, 0 },
-    [D_Z0]        = { "z0", LF_Q_DIMENSIONLESS, 0 },
-    [D_F0]        = { "F0", LF_Q_DIMENSIONLESS, 0 },
-    [D_SEGMENT]   = { "segment", LF_Q_DIMENSIONLESS, 0 },
-    [D_NOISE]     = { "noise", LF_Q_FORCE, 0 },
+static const lf_csv_column dcols[NDCOL] = {
+    [D_NAME]      = { "name", LF_Q_DIMENSIONLESS, 0, NULL },
+    [D_K]         = { "k", LF_Q_DIMENSIONLESS, 1, NULL },
+    [D_R]         = { "R", LF_Q_LENGTH, 1, NULL },
+    [D_B]         = { "b", LF_Q_LENGTH, 1, NULL },
+    [D_INTERFACE] = { "interface", LF_Q_DIMENSIONLESS, 1, NULL },
+    [D_DMAX]      = { "delta_max", LF_Q_LENGTH, 0, NULL },
+    [D_DMIN]      = { "delta_min", LF_Q_LENGTH, 0, NULL },
+    [D_POINTS]    = { "points", LF_Q_DIMENSIONLESS, 0, NULL },
+    [D_BASELINE]  = { "baseline", LF_Q_LENGTH, 0, NULL },
+    [D_Z0]        = { "z0", LF_Q_DIMENSIONLESS, 0, NULL },
+    [D_F0]        = { "F0", LF_Q_DIMENSIONLESS, 0, NULL },
+    [D_SEGMENT]   = { "segment", LF_Q_DIMENSIONLESS, 0, NULL },
+    [D_NOISE]     = { "noise", LF_Q_FORCE, 0, "give 1% or 2uN in each cell" },
 };
 
 #define DCOLUMNS_HINT "a design plan has the columns k,R,b,interface and may add " \
@@ -113,94 +109,26 @@ typedef struct {
 static int
 dplan_header(dplan_reader *rd, const lf_csv_record *r, lf_error *err)
 {
-    char name[256], unit[256], buf[64];
-    size_t i;
-    int c;
-
     rd->have_header = 1;
     rd->header_line = r->line;
     rd->ncols = r->n;
     rd->decimal_comma = r->delim == ';';
-    for (c = 0; c < NDCOL; c++)
-        rd->col[c] = -1;
-    for (i = 0; i < r->n; i++) {
-        lf_error e;
-        /* a whole cell that names a column has no unit ("delta_max" is
-         * not delta in the unit "max"); else split "delta_max_nm" */
-        for (c = 0; c < NDCOL; c++)
-            if (lf_csv_ieq(r->text[i], dcols[c].name))
-                break;
-        if (c < NDCOL) {
-            snprintf(name, sizeof name, "%s", dcols[c].name);
-            unit[0] = '\0';
-        } else {
-            lf_csv_header_cell(r->text[i], name, sizeof name, unit, sizeof unit);
-            for (c = 0; c < NDCOL; c++)
-                if (lf_csv_ieq(name, dcols[c].name))
-                    break;
-        }
-        if (c == NDCOL && !lf_csv_is_text(r))
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->line, 1, LF_CSV_NOT_TEXT);
-        if (c == NDCOL)
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[i], r->fcol[i],
-                              "unknown column '%s' (" DCOLUMNS_HINT ")",
-                              lf_csv_excerpt(r->text[i], buf, sizeof buf));
-        if (rd->col[c] >= 0)
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[i], r->fcol[i],
-                              "second %s column (keep one)", dcols[c].name);
-        rd->col[c] = (long) i;
-        rd->factor[c] = 1.0;
-        if (unit[0] == '\0')
-            continue;
-        if (dcols[c].q == LF_Q_DIMENSIONLESS || c == D_NOISE)
-            return lf_fail_at(err, LF_EUNIT, rd->name, r->fline[i], r->fcol[i],
-                              "column %s takes no unit in its header (name it '%s'%s)",
-                              dcols[c].name, dcols[c].name,
-                              c == D_NOISE ? "; give 1% or 2uN in each cell" : "");
-        if (lf_units_factor(unit, dcols[c].q, &rd->factor[c], &e) != LF_OK)
-            return lf_fail_at(err, e.status, rd->name, r->fline[i], r->fcol[i],
-                              "column %s: %s", dcols[c].name, e.msg);
-        rd->has_unit[c] = 1;
-    }
-    for (c = 0; c < NDCOL; c++)
-        if (dcols[c].required && rd->col[c] < 0)
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->line, 1,
-                              "no %s column in the header (" DCOLUMNS_HINT ")", dcols[c].name);
-    return LF_OK;
+    return lf_csv_columns(rd->name, r, dcols, NDCOL, DCOLUMNS_HINT, rd->col, rd->factor,
+                          rd->has_unit, err);
 }
 
 /* A number with its unit from the header or the cell, into SI.  An empty
  * cell (or an absent column) leaves *v at NaN. */
 static int
-dplan_number(dplan_reader *rd, const lf_csv_record *r, int c, lf_quantity q, double *v,
-             lf_error *err)
+dplan_number(dplan_reader *rd, const lf_csv_record *r, int c, double *v, lf_error *err)
 {
     long k = rd->col[c];
-    char text[128], buf[64];
-    lf_error e;
-    int st;
 
     *v = NAN;
     if (k < 0 || r->text[k][0] == '\0')
         return LF_OK;
-    if (q == LF_Q_DIMENSIONLESS || rd->has_unit[c]) {
-        st = lf_csv_number(r->text[k], rd->decimal_comma, v);
-        if (st == LF_NUM_OK) {
-            *v *= rd->factor[c];
-            return LF_OK;
-        }
-        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                          "%s '%s' is not a %snumber%s", dcols[c].name,
-                          lf_csv_excerpt(r->text[k], buf, sizeof buf),
-                          st == LF_NUM_NONFINITE ? "finite " : "",
-                          rd->has_unit[c] ? " (the header gives the unit)" : "");
-    }
-    snprintf(text, sizeof text, "%s", r->text[k]);
-    lf_csv_decimal_point(text, rd->decimal_comma);
-    if (lf_units_parse(text, q, v, &e) != LF_OK)
-        return lf_fail_at(err, e.status, rd->name, r->fline[k], r->fcol[k], "%s: %s",
-                          dcols[c].name, e.msg);
-    return LF_OK;
+    return lf_csv_cell_number(rd->name, r, k, &dcols[c], rd->has_unit[c], rd->factor[c],
+                              rd->decimal_comma, v, err);
 }
 
 /* "free" (or empty) -> 1, "fixed"/"known" -> 0, else -1. */
@@ -319,18 +247,18 @@ dplan_row(dplan_reader *rd, const lf_csv_record *r, lf_error *err)
         row->baseline = NAN;
     else if (k >= 0 && !(r->text[k][0] == '\0' || lf_csv_ieq(r->text[k], "no")
                          || lf_csv_ieq(r->text[k], "n"))) {
-        if ((st = dplan_number(rd, r, D_BASELINE, LF_Q_LENGTH, &row->baseline, err)) != LF_OK)
+        if ((st = dplan_number(rd, r, D_BASELINE, &row->baseline, err)) != LF_OK)
             return st;
         if (!(row->baseline >= 0))
             return lf_fail_at(err, LF_EINVAL, rd->name, r->fline[k], r->fcol[k],
                               "baseline must be yes, no or a length >= 0 (e.g. 20nm)");
     }
-    if ((st = dplan_number(rd, r, D_K, LF_Q_DIMENSIONLESS, &row->probe.k, err)) != LF_OK
-        || (st = dplan_number(rd, r, D_R, LF_Q_LENGTH, &row->probe.R, err)) != LF_OK
-        || (st = dplan_number(rd, r, D_B, LF_Q_LENGTH, &row->probe.b, err)) != LF_OK
-        || (st = dplan_number(rd, r, D_DMAX, LF_Q_LENGTH, &row->delta_max, err)) != LF_OK
-        || (st = dplan_number(rd, r, D_DMIN, LF_Q_LENGTH, &row->delta_min, err)) != LF_OK
-        || (st = dplan_number(rd, r, D_POINTS, LF_Q_DIMENSIONLESS, &pts, err)) != LF_OK
+    if ((st = dplan_number(rd, r, D_K, &row->probe.k, err)) != LF_OK
+        || (st = dplan_number(rd, r, D_R, &row->probe.R, err)) != LF_OK
+        || (st = dplan_number(rd, r, D_B, &row->probe.b, err)) != LF_OK
+        || (st = dplan_number(rd, r, D_DMAX, &row->delta_max, err)) != LF_OK
+        || (st = dplan_number(rd, r, D_DMIN, &row->delta_min, err)) != LF_OK
+        || (st = dplan_number(rd, r, D_POINTS, &pts, err)) != LF_OK
         || (st = dplan_noise(rd, r, row, err)) != LF_OK)
         return st;
     p->n++;

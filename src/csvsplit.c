@@ -658,3 +658,97 @@ lf_csv_excerpt(const char *text, char *buf, size_t n)
     buf[w] = '\0';
     return buf;
 }
+
+int
+lf_csv_columns(const char *file, const lf_csv_record *r, const lf_csv_column *cols,
+               int ncols, const char *hint, long *col, double *factor, int *has_unit,
+               lf_error *err)
+{
+    char name[256], unit[256], buf[64];
+    size_t i;
+    int c;
+
+    for (c = 0; c < ncols; c++) {
+        col[c] = -1;
+        factor[c] = 1.0;
+        has_unit[c] = 0;
+    }
+    for (i = 0; i < r->n; i++) {
+        lf_error e;
+        for (c = 0; c < ncols; c++)
+            if (lf_csv_ieq(r->text[i], cols[c].name))
+                break;
+        if (c < ncols) {
+            unit[0] = '\0';
+        } else {
+            lf_csv_header_cell(r->text[i], name, sizeof name, unit, sizeof unit);
+            for (c = 0; c < ncols; c++)
+                if (lf_csv_ieq(name, cols[c].name))
+                    break;
+        }
+        if (c == ncols && !lf_csv_is_text(r))
+            return lf_fail_at(err, LF_EFORMAT, file, r->line, 1, LF_CSV_NOT_TEXT);
+        if (c == ncols)
+            return lf_fail_at(err, LF_EFORMAT, file, r->fline[i], r->fcol[i],
+                              "unknown column '%s' (%s)", lf_csv_excerpt(r->text[i], buf, sizeof buf),
+                              hint);
+        if (col[c] >= 0)
+            return lf_fail_at(err, LF_EFORMAT, file, r->fline[i], r->fcol[i],
+                              "second %s column (keep one)", cols[c].name);
+        col[c] = (long) i;
+        if (unit[0] == '\0')
+            continue;
+        if (cols[c].q == LF_Q_DIMENSIONLESS || cols[c].unit_in_cells != NULL)
+            return lf_fail_at(err, LF_EUNIT, file, r->fline[i], r->fcol[i],
+                              "column %s takes no unit in its header (name it '%s'%s%s)",
+                              cols[c].name, cols[c].name, cols[c].unit_in_cells ? "; " : "",
+                              cols[c].unit_in_cells ? cols[c].unit_in_cells : "");
+        if (lf_units_factor(unit, cols[c].q, &factor[c], &e) != LF_OK)
+            return lf_fail_at(err, e.status, file, r->fline[i], r->fcol[i],
+                              "column %s: %s", cols[c].name, e.msg);
+        has_unit[c] = 1;
+    }
+    for (c = 0; c < ncols; c++)
+        if (cols[c].required && col[c] < 0)
+            return lf_fail_at(err, LF_EFORMAT, file, r->line, 1,
+                              "no %s column in the header (%s)", cols[c].name, hint);
+    return LF_OK;
+}
+
+int
+lf_csv_cell_number(const char *file, const lf_csv_record *r, long k,
+                   const lf_csv_column *col, int has_unit, double factor,
+                   int decimal_comma, double *v, lf_error *err)
+{
+    const char *t = r->text[k];
+    char *text, buf[64];
+    lf_error e;
+    int status;
+
+    if (col->q == LF_Q_DIMENSIONLESS || has_unit) {
+        status = lf_csv_number(t, decimal_comma, v);
+        if (status == LF_NUM_OK) {
+            *v *= factor;
+            return LF_OK;
+        }
+        if (status == LF_NUM_NONFINITE)
+            return lf_fail_at(err, LF_EFORMAT, file, r->fline[k], r->fcol[k],
+                              "%s '%s' is not a finite number", col->name,
+                              lf_csv_excerpt(t, buf, sizeof buf));
+        return lf_fail_at(err, LF_EFORMAT, file, r->fline[k], r->fcol[k],
+                          "%s '%s' is not a number (%s)", col->name,
+                          lf_csv_excerpt(t, buf, sizeof buf),
+                          has_unit ? "the header gives the unit, so a bare "
+                          "number such as 1.5" : "e.g. 2");
+    }
+    /* a copy as long as the cell: a cut cell could read as another value */
+    if ((text = lf_strdup(t)) == NULL)
+        return lf_fail_at(err, LF_ENOMEM, file, r->line, 0, "out of memory");
+    lf_csv_decimal_point(text, decimal_comma);
+    status = lf_units_parse(text, col->q, v, &e);
+    free(text);
+    if (status != LF_OK)
+        return lf_fail_at(err, e.status, file, r->fline[k], r->fcol[k], "%s: %s",
+                          col->name, e.msg);
+    return LF_OK;
+}

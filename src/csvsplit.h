@@ -81,6 +81,35 @@ void lf_csv_decimal_point(char *text, int decimal_comma);
  * not is most likely binary data). */
 int lf_csv_is_text(const lf_csv_record *r);
 
+/* One column a table's header may name (a plan's, a design plan's): its
+ * name, the quantity of its numbers (LF_Q_DIMENSIONLESS: plain numbers or
+ * text), whether the header must name it, and, for a quantity whose unit
+ * goes in each cell rather than the header, what to write there. */
+typedef struct {
+    const char *name;
+    lf_quantity q;
+    int required;
+    const char *unit_in_cells;    /* NULL: a unit in the header is taken */
+} lf_csv_column;
+
+/* Map header record r of file onto cols[0..ncols-1]: col[c] the field of
+ * column c (-1 when absent), factor[c] the factor of its header unit to
+ * SI (1 without one), has_unit[c] whether it had one.  A whole cell that
+ * names a column has no unit ("delta_max" is not delta in the unit
+ * "max"); other cells are split by lf_csv_header_cell.  hint lists the
+ * columns, for messages.  LF_OK, or a message with the cell's place. */
+int lf_csv_columns(const char *file, const lf_csv_record *r, const lf_csv_column *cols,
+                   int ncols, const char *hint, long *col, double *factor, int *has_unit,
+                   lf_error *err);
+
+/* The number in the non-empty cell k of record r, of column col, in SI: a
+ * bare number in the header's unit (has_unit: factor) or of a pure number,
+ * else a number with its own unit ("1.5mm").  LF_OK, or a message with
+ * the cell's place. */
+int lf_csv_cell_number(const char *file, const lf_csv_record *r, long k,
+                       const lf_csv_column *col, int has_unit, double factor,
+                       int decimal_comma, double *v, lf_error *err);
+
 /* The message for a header that is not text. */
 #define LF_CSV_NOT_TEXT "binary data or text that is not UTF-8 (expected a CSV text file)"
 

@@ -18,23 +18,25 @@ enum { P_FILE, P_K, P_R, P_B, P_INTERFACE, P_NU, P_SEGMENT, P_SAMPLE, P_Z0, P_F0
 
 typedef enum { TEXT, NUMBER, FREE_NUMBER } cell_kind;  /* FREE_NUMBER: empty/NaN = free */
 
-static const struct {
-    const char *name;
-    cell_kind kind;
-    lf_quantity q;
-    int required;
-} pcols[NPCOL] = {
-    [P_FILE]      = { "file", TEXT, LF_Q_DIMENSIONLESS, 1 },
-    [P_K]         = { "k", NUMBER, LF_Q_DIMENSIONLESS, 1 },
-    [P_R]         = { "R", NUMBER, LF_Q_LENGTH, 1 },
-    [P_B]         = { "b", NUMBER, LF_Q_LENGTH, 1 },
-    [P_INTERFACE] = { "interface", TEXT, LF_Q_DIMENSIONLESS, 1 },
-    [P_NU]        = { "nu", FREE_NUMBER, LF_Q_DIMENSIONLESS, 0 },
-    [P_SEGMENT]   = { "segment", TEXT, LF_Q_DIMENSIONLESS, 0 },
-    [P_SAMPLE]    = { "sample", TEXT, LF_Q_DIMENSIONLESS, 0 },
-    [P_Z0]        = { "z0", FREE_NUMBER, LF_Q_LENGTH, 0 },
-    [P_F0]        = { "F0", FREE_NUMBER, LF_Q_FORCE, 0 },
-    [P_FORMAT]    = { "format", TEXT, LF_Q_DIMENSIONLESS, 0 },  /* empty: sniffed */
+static const lf_csv_column pcols[NPCOL] = {
+    [P_FILE]      = { "file", LF_Q_DIMENSIONLESS, 1, NULL },
+    [P_K]         = { "k", LF_Q_DIMENSIONLESS, 1, NULL },
+    [P_R]         = { "R", LF_Q_LENGTH, 1, NULL },
+    [P_B]         = { "b", LF_Q_LENGTH, 1, NULL },
+    [P_INTERFACE] = { "interface", LF_Q_DIMENSIONLESS, 1, NULL },
+    [P_NU]        = { "nu", LF_Q_DIMENSIONLESS, 0, NULL },
+    [P_SEGMENT]   = { "segment", LF_Q_DIMENSIONLESS, 0, NULL },
+    [P_SAMPLE]    = { "sample", LF_Q_DIMENSIONLESS, 0, NULL },
+    [P_Z0]        = { "z0", LF_Q_LENGTH, 0, NULL },
+    [P_F0]        = { "F0", LF_Q_FORCE, 0, NULL },
+    [P_FORMAT]    = { "format", LF_Q_DIMENSIONLESS, 0, NULL },  /* empty: sniffed */
+};
+
+/* What each column's cells hold. */
+static const cell_kind pkind[NPCOL] = {
+    [P_FILE] = TEXT, [P_K] = NUMBER, [P_R] = NUMBER, [P_B] = NUMBER, [P_INTERFACE] = TEXT,
+    [P_NU] = FREE_NUMBER, [P_SEGMENT] = TEXT, [P_SAMPLE] = TEXT, [P_Z0] = FREE_NUMBER,
+    [P_F0] = FREE_NUMBER, [P_FORMAT] = TEXT,
 };
 
 #define COLUMNS_HINT "a plan has the columns file,k,R,b,interface and may add nu,segment,sample,z0,F0"
@@ -116,50 +118,12 @@ seen_before(plan_reader *rd, size_t idx, size_t *dup)
 static int
 plan_header(plan_reader *rd, const lf_csv_record *r, lf_error *err)
 {
-    char name[256], unit[256], buf[64];
-    size_t i;
-    int c;
-
     rd->have_header = 1;
     rd->header_line = r->line;
     rd->ncols = r->n;
     rd->decimal_comma = r->delim == ';';
-    for (c = 0; c < NPCOL; c++)
-        rd->col[c] = -1;
-    for (i = 0; i < r->n; i++) {
-        lf_error e;
-        lf_csv_header_cell(r->text[i], name, sizeof name, unit, sizeof unit);
-        for (c = 0; c < NPCOL; c++)
-            if (lf_csv_ieq(name, pcols[c].name))
-                break;
-        if (c == NPCOL && !lf_csv_is_text(r))
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->line, 1, LF_CSV_NOT_TEXT);
-        if (c == NPCOL)
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[i], r->fcol[i],
-                              "unknown column '%s' (" COLUMNS_HINT ")",
-                              lf_csv_excerpt(r->text[i], buf, sizeof buf));
-        if (rd->col[c] >= 0)
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[i], r->fcol[i],
-                              "second %s column (keep one)", pcols[c].name);
-        rd->col[c] = (long) i;
-        rd->factor[c] = 1.0;
-        if (unit[0] == '\0')
-            continue;
-        if (pcols[c].q == LF_Q_DIMENSIONLESS)
-            return lf_fail_at(err, LF_EUNIT, rd->name, r->fline[i], r->fcol[i],
-                              "column %s takes no unit (name it '%s')",
-                              pcols[c].name, pcols[c].name);
-        if (lf_units_factor(unit, pcols[c].q, &rd->factor[c], &e) != LF_OK)
-            return lf_fail_at(err, e.status, rd->name, r->fline[i], r->fcol[i],
-                              "column %s: %s", pcols[c].name, e.msg);
-        rd->has_unit[c] = 1;
-    }
-    for (c = 0; c < NPCOL; c++)
-        if (pcols[c].required && rd->col[c] < 0)
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->line, 1,
-                              "no %s column in the header (" COLUMNS_HINT ")",
-                              pcols[c].name);
-    return LF_OK;
+    return lf_csv_columns(rd->name, r, pcols, NPCOL, COLUMNS_HINT, rd->col, rd->factor,
+                          rd->has_unit, err);
 }
 
 /* A numeric cell in SI: a bare number in the header's unit, or a number
@@ -168,47 +132,20 @@ static int
 plan_number(plan_reader *rd, const lf_csv_record *r, int c, double *v, lf_error *err)
 {
     long k = rd->col[c];
-    char *text, buf[64];
     const char *t;
-    lf_error e;
-    int status;
 
     *v = NAN;
     if (k < 0)
         return LF_OK;
     t = r->text[k];
-    if (pcols[c].kind == FREE_NUMBER && (t[0] == '\0' || lf_csv_ieq(t, "nan")))
+    if (pkind[c] == FREE_NUMBER && (t[0] == '\0' || lf_csv_ieq(t, "nan")))
         return LF_OK;
     if (t[0] == '\0')
         return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
                           "empty %s cell (every row needs %s)", pcols[c].name,
                           pcols[c].name);
-    if (pcols[c].q == LF_Q_DIMENSIONLESS || rd->has_unit[c]) {
-        status = lf_csv_number(t, rd->decimal_comma, v);
-        if (status == LF_NUM_OK) {
-            *v *= rd->factor[c];
-            return LF_OK;
-        }
-        if (status == LF_NUM_NONFINITE)
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                              "%s '%s' is not a finite number", pcols[c].name,
-                              lf_csv_excerpt(t, buf, sizeof buf));
-        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                          "%s '%s' is not a number (%s)", pcols[c].name,
-                          lf_csv_excerpt(t, buf, sizeof buf),
-                          rd->has_unit[c] ? "the header gives the unit, so a bare "
-                          "number such as 1.5" : "e.g. 2");
-    }
-    /* a copy as long as the cell: a cut cell could read as another value */
-    if ((text = lf_strdup(t)) == NULL)
-        return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
-    lf_csv_decimal_point(text, rd->decimal_comma);
-    status = lf_units_parse(text, pcols[c].q, v, &e);
-    free(text);
-    if (status != LF_OK)
-        return lf_fail_at(err, e.status, rd->name, r->fline[k], r->fcol[k], "%s: %s",
-                          pcols[c].name, e.msg);
-    return LF_OK;
+    return lf_csv_cell_number(rd->name, r, k, &pcols[c], rd->has_unit[c], rd->factor[c],
+                              rd->decimal_comma, v, err);
 }
 
 /* The curve path of a row, against the plan's folder. */

@@ -177,7 +177,7 @@ test_bad_memory(void)
     } cases[] = {
         { "", LF_EFORMAT, 0, 0, "empty plan (expected a header such as file,k,R_mm,b_um,interface and one row per curve)" },
         { "file,k,R_mm,b_um,interface\n", LF_EDATA, 1, 0, "header but no rows (list one curve per row below it)" },
-        { "file,k_mm,R_mm,b_um,interface\n", LF_EUNIT, 1, 6, "column k takes no unit (name it 'k')" },
+        { "file,k_mm,R_mm,b_um,interface\n", LF_EUNIT, 1, 6, "column k takes no unit in its header (name it 'k')" },
         { "file,k,R_s,b_um,interface\n", LF_EUNIT, 1, 8, "column R: unit 's' is a time, not a length (e.g. 1um)" },
         { "file,k,R,b,interface,k\n", LF_EFORMAT, 1, 22, "second k column (keep one)" },
         { "file,k,R,b,interface\ncurve_comma.csv,2,1,1um,frictionless\n", LF_EUNIT, 2, 19, "R: '1' has no unit (e.g. 1um)" },
