@@ -50,7 +50,8 @@ static const char bench_help[] =
     "  --quick            few seeds and a small batch (for CI: seconds)\n"
     "  --seeds N          seeds per row (default 200, --quick 10)\n"
     "  --batch N          curves in the throughput batch (default 4096, --quick 256)\n"
-    "  --scene NAME       only this scene (two-probe, mixed-nu, soft-coating, single-k2)\n"
+    "  --scene NAME       only this scene (two-probe, paper-offsets, mixed-nu,\n"
+    "                     soft-coating, single-k2)\n"
     "  --csv FILE         write the table as CSV (SI, one row per scene/noise/config)\n"
     "  --plot FILE        draw error against time per fit (log-log) with gnuplot\n"
     "  --scipy SCRIPT     the peer script (default tests/bench/peer_scipy.py, found\n"
@@ -84,6 +85,9 @@ static const bench_scene scenes[] = {
       "delta -0.9c..50 nm; z0, F0 known",
       2, { PAPER_PROBE(2.0, LF_BASE_FRICTIONLESS), PAPER_PROBE(3.0, LF_BASE_FRICTIONLESS) },
       { 10e-3, 1e9, 0.3 }, 0.9, 50e-9, 0 },
+    { "paper-offsets", "the two-probe scene (the paper's probes) with z0 and F0 free",
+      2, { PAPER_PROBE(2.0, LF_BASE_FRICTIONLESS), PAPER_PROBE(3.0, LF_BASE_FRICTIONLESS) },
+      { 10e-3, 1e9, 0.3 }, 0.9, 50e-9, 1 },
     { "mixed-nu", "k = 2 frictionless + k = 3 bonded, nu = 0.3 (nu determined); paper's "
       "w, E*, R, b; z0, F0 known",
       2, { PAPER_PROBE(2.0, LF_BASE_FRICTIONLESS), PAPER_PROBE(3.0, LF_BASE_BONDED) },
@@ -916,8 +920,8 @@ cli_bench(int argc, char **argv)
         for (si = 0; si < NSCENES && !use_scene[si]; si++)
             ;
         if (si == NSCENES)
-            cli_die(CLI_EXIT_USAGE, "bench: --scene: unknown scene '%s' (two-probe, mixed-nu, "
-                    "soft-coating, single-k2)", scene_name);
+            cli_die(CLI_EXIT_USAGE, "bench: --scene: unknown scene '%s' (two-probe, "
+                    "paper-offsets, mixed-nu, soft-coating, single-k2)", scene_name);
     }
     if (plot != NULL && !plot_have_gnuplot())
         cli_die(CLI_EXIT_USAGE, "bench: --plot: gnuplot is not installed: %s", PLOT_INSTALL_HINT);

@@ -3,11 +3,11 @@
 # in a sane range.  No timing is asserted (only that times are positive).
 . "$(dirname "$0")/common"
 
-scenes="two-probe mixed-nu soft-coating single-k2"
+scenes="two-probe paper-offsets mixed-nu soft-coating single-k2"
 configs="baseline lmaccel dogleg ddogleg subspace2D jac=forward jac=central guess=naive3x points=100 points=1000 points=3000"
 
 run_ok bench --help && has "bench --help" "$tmp/out" "usage: layerfit bench"
-expect_fail 2 "layerfit: bench: --scene: unknown scene 'foo' (two-probe, mixed-nu, soft-coating, single-k2)" \
+expect_fail 2 "layerfit: bench: --scene: unknown scene 'foo' (two-probe, paper-offsets, mixed-nu, soft-coating, single-k2)" \
     bench --scene foo
 expect_fail 2 "layerfit: bench: --seeds: at least 2 seeds are needed (e.g. --seeds 50)" bench --seeds 1
 expect_fail 2 "layerfit: bench: unexpected argument 'now' (see 'layerfit bench --help')" bench now
@@ -24,7 +24,7 @@ if run_ok bench --quick --no-scipy --batch 32 --csv "$tmp/bench.csv" $plot; then
     f="$tmp/bench.csv"
     has "csv header" "$f" "scene,noise_rel,factor,config,method,jacobian,guess,points,seeds,time_us,"
     nconf=$(echo $configs | wc -w)
-    near "csv rows" "$(awk 'END { print NR - 1 }' "$f")" $((4 * 3 * nconf)) 0
+    near "csv rows" "$(awk 'END { print NR - 1 }' "$f")" $((5 * 3 * nconf)) 0
     for s in $scenes; do for n in 0.001 0.01 0.05; do for c in $configs; do
         k=$(awk -F, -v s="$s" -v n="$n" -v c="$c" '$1 == s && $2 == n && $4 == c' "$f" | wc -l)
         [ "$k" -eq 1 ] && ok || bad "csv: $k rows for $s, noise $n, $c (want 1)"
