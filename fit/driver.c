@@ -4,7 +4,8 @@
  *   start      lf_fit_guess (guess.c), or the current origin (a warm start)
  *   solve      lf_fit_solve_scanned (solve.c + edge_scan.c)
  *   policies   a second start from the automatic guess when the user gave
- *              one, or from the guess's runner-up w (second_start.c);
+ *              one, or from the guess's runner-up w, or from a higher w when
+ *              a few shallow points end out of contact (second_start.c);
  *              robust reweighting when the loss is not linear
  *              (reweight.c); leave-one-out when every one of three or more
  *              curves disagrees (loo.c)
@@ -65,6 +66,15 @@ lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res
         double ratio;
         alt.w = start->alt_w;
         status = lf_fit_second_start(f, x, &alt, &run, &ratio, err);
+    }
+    if (status == LF_OK && start != NULL && f->imat[FIT_W] >= 0 && lf_fit_edge_doubt(f, x)) {
+        /* a few shallow points out of contact: w (and with it the contact
+         * radius at detachment) may be stuck low; start again higher */
+        lf_material up;
+        double z0, F0, slope, ratio;
+        lf_fit_unpack(f, x->data, &up, &z0, &F0, &slope, f->ncurves);
+        up.w *= FIT_EDGE_W_UP;
+        status = lf_fit_second_start(f, x, &up, &run, &ratio, err);
     }
     if (status == LF_OK && f->set.loss != LF_LOSS_LINEAR)
         status = lf_fit_reweight(f, x, &run, &res->reweightings, err);

@@ -85,6 +85,11 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
  * FIT_ALT_LOG_SEP in ln w. */
 #define FIT_ALT_COST_RATIO 3.0
 #define FIT_ALT_LOG_SEP 0.1
+/* A second start from FIT_EDGE_W_UP times the w found, when a curve with a
+ * free contact point has fewer than FIT_EDGE_FEW_OUT points (but some) out
+ * of contact (second_start.c). */
+#define FIT_EDGE_FEW_OUT 8
+#define FIT_EDGE_W_UP 3.0
 
 #define GUESS_GRID 20          /* uniform nodes of a profile search */
 #define GUESS_NODES (GUESS_GRID + 1)
@@ -270,6 +275,10 @@ int lf_fit_solve_scanned(lf_fit *f, gsl_vector *x, int from_origin, fit_run *run
 /* second_start.c: solve again from material `from` (offsets profiled) and
  * keep the lower-cost of that and the solution at x; *ratio > 1 when the
  * new start won (the loser's cost over the winner's), else 1. */
+/* 1 when a curve with a free contact point has between 1 and
+ * FIT_EDGE_FEW_OUT - 1 points out of contact at x: a minimum that a start
+ * from a higher w may beat. */
+int lf_fit_edge_doubt(lf_fit *f, const gsl_vector *x);
 int lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *run,
                      double *ratio, lf_error *err);
 /* reweight.c: a robust loss by iteratively reweighted least squares from

@@ -4,7 +4,12 @@
  * offsets profiled there, and keep whichever solution has the lower cost.
  *
  * The cost has kinks wherever a point crosses the contact edge, so a start
- * a factor of a few off can end in another minimum.  A start whose
+ * a factor of a few off can end in another minimum.  One such minimum is
+ * common enough to look for: w too low, and with it the contact radius at
+ * detachment, so that a few of a curve's shallowest points fall out of
+ * contact where the data have no baseline to say so (a true baseline
+ * leaves many points out).  lf_fit_edge_doubt finds it; the driver then
+ * starts again from FIT_EDGE_W_UP times the w found.  A start whose
  * material the first solution already lies next to (within FIT_ALT_LOG_SEP
  * in ln w and ln E*) would find that solution again and is not run. */
 #include <math.h>
@@ -79,4 +84,30 @@ lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *
     lf_fit_set_origin(f);
     gsl_vector_set_all(x, 1.0);
     return LF_OK;
+}
+
+int
+lf_fit_edge_doubt(lf_fit *f, const gsl_vector *x)
+{
+    size_t j, i;
+
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        lf_material m;
+        lf_pulloff po;
+        double z0, F0, slope, edge;
+        size_t out = 0;
+
+        if (c->iz0 < 0)
+            continue;
+        lf_fit_unpack(f, x->data, &m, &z0, &F0, &slope, j);
+        if (lf_model_pulloff(c->model, &m, &po, NULL) != LF_OK)
+            continue;
+        edge = c->data.branch == LF_BRANCH_UNLOAD ? z0 + po.delta_detach : z0;
+        for (i = 0; i < c->data.n; i++)
+            out += c->data.depth[i] < edge;
+        if (out > 0 && out < FIT_EDGE_FEW_OUT)
+            return 1;
+    }
+    return 0;
 }
