@@ -43,9 +43,42 @@ curve_cost(lf_fit *f, size_t j, const lf_material *mat, double z0, double *F0,
     return isfinite(ss) ? ss : HUGE_VAL;
 }
 
-/* For each free contact point, try placing the edge between each pair of
- * neighbouring points within FIT_SCAN_HALF of where it is, the force offset re-solved, the rest held;
- * move x to the best when it lowers the cost.  Returns 1 if it moved. */
+/* The best placement of curve j's edge so far, as the scan finds it. */
+typedef struct {
+    double cost, z0, F0;
+} edge_best;
+
+/* Try curve j's edge between its points ord[q - 1] and ord[q] in depth (the
+ * material mat held, the force offset re-solved): 1 when that beats *b
+ * (then b holds it), else 0. */
+static int
+try_edge(lf_fit *f, size_t j, long q, const lf_material *mat, const lf_pulloff *po, double F0,
+         double slope, edge_best *b)
+{
+    const fit_curve *c = &f->c[j];
+    const size_t *ord = f->order + c->row;
+    double zq, z0q, F0q = F0, v;
+
+    if (q < 1 || q > (long) c->data.n - 1
+        || !(c->data.depth[ord[q]] > c->data.depth[ord[q - 1]]))
+        return 0;
+    zq = 0.5 * (c->data.depth[ord[q - 1]] + c->data.depth[ord[q]]);
+    z0q = c->data.branch == LF_BRANCH_UNLOAD ? zq - po->delta_detach : zq;
+    v = curve_cost(f, j, mat, z0q, &F0q, slope);
+    if (!(v < b->cost * (1.0 - 1e-12)))
+        return 0;
+    b->cost = v;
+    b->z0 = z0q;
+    b->F0 = F0q;
+    return 1;
+}
+
+/* For each free contact point, try placing the edge in its own interval
+ * between neighbouring points, then outwards each way until
+ * FIT_SCAN_PATIENCE positions in a row have not beaten the best (over the
+ * positions the cost is a bowl roughened by the noise) or FIT_SCAN_HALF have
+ * been tried; the force offset re-solved, the rest held.  Move x to the best
+ * when it lowers the cost.  Returns 1 if it moved. */
 static int
 edge_scan(lf_fit *f, gsl_vector *x)
 {
@@ -57,8 +90,9 @@ edge_scan(lf_fit *f, gsl_vector *x)
         const size_t *ord = f->order + c->row;
         lf_material mat;
         lf_pulloff po;
-        double z0, F0, slope, edge, best, bestz0, bestF0, F0c;
-        size_t n = c->data.n, pos;
+        edge_best b;
+        double z0, F0, slope, edge;
+        size_t n = c->data.n, pos, d, worse;
         int dir;
 
         if (c->iz0 < 0 || n < 3)
@@ -70,44 +104,22 @@ edge_scan(lf_fit *f, gsl_vector *x)
         edge = c->data.branch == LF_BRANCH_UNLOAD ? z0 + po.delta_detach : z0;
         for (pos = 0; pos < n && c->data.depth[ord[pos]] < edge; pos++)
             ;
-        F0c = F0;
-        best = curve_cost(f, j, &mat, z0, &F0c, slope);
-        bestz0 = z0;
-        bestF0 = F0c;
-        /* the edge's own interval, then outwards each way until
-         * FIT_SCAN_PATIENCE positions in a row have not beaten the best
-         * (over the positions the cost is a bowl roughened by the noise) or
-         * FIT_SCAN_HALF have been tried */
-        for (dir = 0; dir <= 2; dir++) {
-            long step = dir == 1 ? -1 : 1, q = (long) pos + (dir == 0 ? 0 : step);
-            size_t tried, worse = 0;
-            for (tried = 0; tried < (dir == 0 ? 1u : (size_t) FIT_SCAN_HALF)
-                            && worse < FIT_SCAN_PATIENCE; tried++, q += step) {
-                double zq, z0q, F0q = F0, v;
+        b.F0 = F0;
+        b.cost = curve_cost(f, j, &mat, z0, &b.F0, slope);
+        b.z0 = z0;
+        try_edge(f, j, (long) pos, &mat, &po, F0, slope, &b);
+        for (dir = -1; dir <= 1; dir += 2)
+            for (d = 1, worse = 0; d <= FIT_SCAN_HALF && worse < FIT_SCAN_PATIENCE; d++) {
+                long q = (long) pos + dir * (long) d;
                 if (q < 1 || q > (long) n - 1)
                     break;
-                if (!(c->data.depth[ord[q]] > c->data.depth[ord[q - 1]])) {
-                    worse++;
-                    continue;
-                }
-                zq = 0.5 * (c->data.depth[ord[q - 1]] + c->data.depth[ord[q]]);
-                z0q = c->data.branch == LF_BRANCH_UNLOAD ? zq - po.delta_detach : zq;
-                v = curve_cost(f, j, &mat, z0q, &F0q, slope);
-                if (v < best * (1.0 - 1e-12)) {
-                    best = v;
-                    bestz0 = z0q;
-                    bestF0 = F0q;
-                    worse = 0;
-                } else {
-                    worse++;
-                }
+                worse = try_edge(f, j, q, &mat, &po, F0, slope, &b) ? 0 : worse + 1;
             }
-        }
-        if (bestz0 != z0) {
+        if (b.z0 != z0) {
             /* back to x: internal = x0 + x - 1, z0 = L internal, F0 = Fs internal */
-            gsl_vector_set(x, (size_t) c->iz0, bestz0 / c->L - f->x0_internal[c->iz0] + 1.0);
+            gsl_vector_set(x, (size_t) c->iz0, b.z0 / c->L - f->x0_internal[c->iz0] + 1.0);
             if (c->iF0 >= 0)
-                gsl_vector_set(x, (size_t) c->iF0, bestF0 / c->Fs - f->x0_internal[c->iF0] + 1.0);
+                gsl_vector_set(x, (size_t) c->iF0, b.F0 / c->Fs - f->x0_internal[c->iF0] + 1.0);
             moved = 1;
         }
     }
