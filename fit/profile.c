@@ -25,6 +25,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <gsl/gsl_cdf.h>
+
 #include "fit.h"
 
 #define Z95 1.959963984540054
@@ -32,6 +34,14 @@
 #define PROFILE_TOL 0.25
 #define PROFILE_LOG_RANGE 12.0
 #define PROFILE_BISECT 10
+/* past the first crossing, the search goes on until the rise exceeds this
+ * many times the threshold (7.7 s^2 for 95%: p = 0.006) */
+#define PROFILE_FAR 2.0
+/* a profile point lower than the best fit by this fraction of the
+ * threshold means the best fit was not the global minimum */
+#define PROFILE_LOWER 0.01
+/* refits from a lower profile point, at most */
+#define PROFILE_MAX_REFITS 3
 
 typedef struct {
     const lf_fit_settings *s;
@@ -39,8 +49,14 @@ typedef struct {
     lf_fit_curve *cc;          /* the curves, each with its fitted model */
     const lf_fit_result *best;
     int which;                 /* FIT_W, FIT_E, FIT_NU */
-    double thr;                /* 3.84 s^2 */
+    int linear;                /* searched in the parameter itself, not its log */
+    double thr;                /* the threshold of the rise, s^2 F(1, n_eff - p) */
     size_t fits;
+    /* the lowest profile point below the best fit's chi2, if any: the best
+     * fit was then not the global minimum (refit_from_lower) */
+    double lower_chi2;
+    lf_material lower_mat;
+    double *lower_off;         /* 3 ncurves: z0, F0, slope */
 } prof;
 
 /* The fitted value of the parameter called name (the solution, even where
@@ -113,6 +129,21 @@ rise(prof *p, double v)
     p->fits++;
     if (st == LF_OK || st == LF_ENOCONV) {
         out = r.chi2 - p->best->chi2;
+        if (st == LF_OK && out < -PROFILE_LOWER * p->thr && r.chi2 < p->lower_chi2
+            && p->lower_off != NULL) {
+            /* lower than the best fit: keep where, to refit from there */
+            p->lower_chi2 = r.chi2;
+            p->lower_mat = g->mat;
+            for (j = 0; j < p->nc; j++) {
+                char name[32];
+                snprintf(name, sizeof name, "z0[%zu]", j + 1);
+                p->lower_off[3 * j] = best_value(&r, name, p->cc[j].z0);
+                snprintf(name, sizeof name, "F0[%zu]", j + 1);
+                p->lower_off[3 * j + 1] = best_value(&r, name, p->cc[j].F0);
+                snprintf(name, sizeof name, "s[%zu]", j + 1);
+                p->lower_off[3 * j + 2] = best_value(&r, name, 0.0);
+            }
+        }
         lf_fit_result_free(&r);
     }
     lf_fit_free(g);
@@ -123,38 +154,45 @@ rise(prof *p, double v)
 static double
 param_of(const prof *p, double t)
 {
-    return p->which == FIT_NU ? t : exp(t);
+    return p->which == FIT_NU || p->linear ? t : exp(t);
 }
 
-/* The point on one side (dir = -1 or +1) where the profile reaches the
- * threshold, from t_hat with first step h; *open when it never does. */
+/* The point on one side (dir = -1 or +1) where the profile leaves the
+ * confidence set for good, from t_hat with first step h; *open when it
+ * never does within [tmin, tmax].  Steps double until the rise reaches the
+ * threshold; a weak parameter's profile can dip below it again further out
+ * (kinks where points enter or leave contact), so the search goes on in
+ * steps of a quarter of the distance so far until the rise exceeds
+ * PROFILE_FAR times the threshold, and a dip moves the side out to it (the
+ * interval is the hull of the set where the rise stays below the threshold).
+ * The last crossing is then bisected. */
 static double
 search_side(prof *p, double t_hat, double h, int dir, double tmin, double tmax, int *open)
 {
-    double a = 0.0, b = h, ra;
-    int i;
+    double a = 0.0, b = 0.0, d = 0.0, step = h, edge = dir < 0 ? t_hat - tmin : tmax - t_hat;
+    int i, crossed = 0;
 
     *open = 0;
     for (;;) {
-        double t = t_hat + dir * b, rb;
-        if (t <= tmin || t >= tmax) {
-            t = dir < 0 ? tmin : tmax;
-            rb = rise(p, param_of(p, t));
-            if (!(rb >= p->thr)) {
-                *open = 1;
-                return t;
-            }
-            b = fabs(t - t_hat);
-            break;
+        double rd;
+        d = fmin(d + step, edge);
+        rd = rise(p, param_of(p, t_hat + dir * d));
+        if (!isfinite(rd) || rd >= p->thr) {
+            if (!crossed || b <= a)
+                b = d;                  /* the first point above after a */
+            crossed = 1;
+        } else {
+            a = d;                      /* inside (again) */
+            b = 0.0;
         }
-        rb = rise(p, param_of(p, t));
-        if (rb >= p->thr || !isfinite(rb))
+        if (d >= edge || !isfinite(rd) || (crossed && rd >= PROFILE_FAR * p->thr))
             break;
-        a = b;
-        b *= 2.0;
+        step = crossed ? 0.25 * d : 2.0 * step;
     }
-    ra = 0.0;
-    (void) ra;
+    if (!crossed || b <= a) {
+        *open = 1;
+        return t_hat + dir * edge;
+    }
     for (i = 0; i < PROFILE_BISECT; i++) {
         double m = 0.5 * (a + b), rm = rise(p, param_of(p, t_hat + dir * m));
         if (rm >= p->thr || !isfinite(rm))
@@ -174,6 +212,7 @@ profile_one(prof *p, lf_fit_estimate *e, int always)
 
     int bound_only = e->upper_bound_only && p->which == FIT_W;
 
+    p->linear = 0;
     if (!e->free || (!e->determined && !bound_only) || (!bound_only && !(e->se > 0)))
         return 0;
     if (p->which == FIT_NU) {
@@ -182,13 +221,15 @@ profile_one(prof *p, lf_fit_estimate *e, int always)
         tmin = 0.0;
         tmax = 0.5 - 1e-9;
     } else if (bound_only) {
-        /* w below two se: the solution's w, however small, and steps of a
-         * factor e^0.5 */
-        double w = best_value(p->best, "w", 0.0);
-        t_hat = log(fmax(w, 1e-3 * e->ci95[1]));
-        se_t = 0.5 / Z95;
-        tmin = t_hat - PROFILE_LOG_RANGE;
-        tmax = t_hat + PROFILE_LOG_RANGE;
+        /* w below two se: near 0 the profile is searched in w itself (its
+         * log would stretch the flat part below), from the solution's w
+         * down to 0 and up in steps from a quarter of the one-sided bound */
+        double w = fmax(best_value(p->best, "w", 0.0), 0.0);
+        p->linear = 1;
+        t_hat = w;
+        se_t = 0.25 * e->ci95[1] / Z95;
+        tmin = 0.0;
+        tmax = exp(PROFILE_LOG_RANGE) * fmax(w, e->ci95[1]);
     } else {
         t_hat = log(e->value);
         se_t = e->se / e->value;
@@ -211,8 +252,8 @@ profile_one(prof *p, lf_fit_estimate *e, int always)
         /* the profile closes below: the data do bound w from below */
         e->upper_bound_only = 0;
         e->determined = 1;
-        e->value = exp(t_hat);
-        e->se = e->value * (hi - lo) / (2.0 * Z95);   /* the interval's width */
+        e->value = t_hat;
+        e->se = (hi - lo) / (2.0 * Z95);   /* the interval's width */
     }
     if (p->which == FIT_NU) {
         e->ci95[0] = fmax(e->ci95[0], 0.0);
@@ -230,12 +271,81 @@ profile_one(prof *p, lf_fit_estimate *e, int always)
     return 1;
 }
 
+/* The threshold of the rise of chi2: s^2 times the 95% point of F(1, m),
+ * m = n_eff - p the degrees of freedom s^2 is estimated with (n_eff the
+ * independent points, noise.c): the likelihood-ratio test with the noise
+ * level estimated from the residuals (3.84 s^2 when m is large). */
+static double
+threshold(const lf_fit_result *r)
+{
+    double n_eff = (double) (r->dof + r->npar) / (r->corr_time >= 1.0 ? r->corr_time : 1.0);
+    double m = n_eff - (double) r->npar;
+    return r->se_scale * r->se_scale * (m >= 1.0 ? gsl_cdf_fdist_Pinv(0.95, 1.0, m) : HUGE_VAL);
+}
+
+/* The profile found chi2 below the best fit's: that was not the global
+ * minimum.  Refit with every parameter free from the lower point; when that
+ * converges lower, it replaces *res (what the model choice said is kept)
+ * and 1 is returned: the profiles start again from the new minimum. */
+static int
+refit_from_lower(prof *p, lf_fit_result *res)
+{
+    static const char *const pname[FIT_NMAT] = { "w", "E*", "nu" };
+    lf_fit *g = lf_fit_alloc(p->s, p->nc, p->cc, NULL);
+    lf_fit_result nr;
+    size_t j;
+    int st;
+
+    if (g == NULL)
+        return 0;
+    g->mat = p->lower_mat;
+    for (j = 0; j < p->nc; j++) {
+        if (g->c[j].iz0 >= 0 && isfinite(p->lower_off[3 * j]))
+            g->c[j].z0 = p->lower_off[3 * j];
+        if (g->c[j].iF0 >= 0 && isfinite(p->lower_off[3 * j + 1]))
+            g->c[j].F0 = p->lower_off[3 * j + 1];
+        g->c[j].slope = isfinite(p->lower_off[3 * j + 2]) ? p->lower_off[3 * j + 2] : 0.0;
+    }
+    lf_fit_set_origin(g);
+    st = lf_fit_solve(g, NULL, 1, &nr, NULL);
+    p->fits++;
+    lf_fit_free(g);
+    if (st != LF_OK) {
+        if (st == LF_ENOCONV)
+            lf_fit_result_free(&nr);
+        return 0;
+    }
+    if (!(nr.chi2 < res->chi2 - PROFILE_LOWER * p->thr)) {
+        lf_fit_result_free(&nr);
+        return 0;
+    }
+    lf_warn(&nr.warnings, "the profile of %s passed below the first fit's minimum (chi2 %.6g, "
+            "here %.6g): the fit was continued from there", pname[p->which], res->chi2,
+            nr.chi2);
+    nr.model_rounds = res->model_rounds;
+    nr.thin = res->thin;
+    nr.iterations += res->iterations;
+    nr.evaluations += res->evaluations;
+    for (j = 0; j < p->nc; j++) {
+        memcpy(nr.curves[j].model_reason, res->curves[j].model_reason,
+               sizeof nr.curves[j].model_reason);
+        nr.curves[j].thin_bias = res->curves[j].thin_bias;
+        memcpy(nr.curves[j].thin_bias_se, res->curves[j].thin_bias_se,
+               sizeof nr.curves[j].thin_bias_se);
+    }
+    lf_fit_result_free(res);
+    *res = nr;
+    return 1;
+}
+
 int
 lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
                lf_fit_result *res, int always, lf_error *err)
 {
+    static const int which[FIT_NMAT] = { FIT_W, FIT_E, FIT_NU };
     prof p;
-    size_t j;
+    size_t j, fits = 0;
+    int round, k;
 
     if (res == NULL || res->ncurves != ncurves)
         return lf_fail(err, LF_EINVAL, "lf_fit_profile: the result is not of these curves");
@@ -243,8 +353,12 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
         return LF_OK;       /* chi2 of a robust loss is not a likelihood */
     memset(&p, 0, sizeof p);
     p.cc = malloc((ncurves ? ncurves : 1) * sizeof *p.cc);
-    if (p.cc == NULL)
+    p.lower_off = malloc((ncurves ? 3 * ncurves : 1) * sizeof *p.lower_off);
+    if (p.cc == NULL || p.lower_off == NULL) {
+        free(p.cc);
+        free(p.lower_off);
         return lf_fail(err, LF_ENOMEM, "out of memory");
+    }
     for (j = 0; j < ncurves; j++) {
         p.cc[j] = curves[j];
         if (res->curves[j].model != NULL) {
@@ -255,16 +369,26 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
     }
     p.s = settings;
     p.nc = ncurves;
-    p.best = res;
-    p.thr = CHI2_95 * res->se_scale * res->se_scale;
-    p.which = FIT_W;
-    profile_one(&p, &res->w, always);
-    p.which = FIT_E;
-    profile_one(&p, &res->Estar, always);
-    p.which = FIT_NU;
-    profile_one(&p, &res->nu, always);
-    res->profile_fits = p.fits;
+    for (round = 0;; round++) {
+        lf_fit_estimate *e[FIT_NMAT] = { &res->w, &res->Estar, &res->nu };
+        p.best = res;
+        p.thr = threshold(res);
+        p.lower_chi2 = res->chi2;
+        for (k = 0; k < FIT_NMAT && !(p.lower_chi2 < res->chi2); k++) {
+            p.which = which[k];
+            profile_one(&p, e[k], always);
+        }
+        /* a lower point: refit there (only a converged fit is a minimum
+         * to improve on) and profile again */
+        if (p.lower_chi2 < res->chi2 && round < PROFILE_MAX_REFITS && res->converged
+            && refit_from_lower(&p, res))
+            continue;
+        break;
+    }
+    fits += p.fits;
+    res->profile_fits = fits;
     free(p.cc);
+    free(p.lower_off);
     return LF_OK;
 }
 
@@ -293,7 +417,7 @@ lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor)
     p.nc = f->ncurves;
     p.best = r;
     p.which = FIT_W;
-    p.thr = CHI2_95 * r->se_scale * r->se_scale;
+    p.thr = threshold(r);
     up = rise(&p, w * factor);
     open = isfinite(up) && up < p.thr;
     free(p.cc);
