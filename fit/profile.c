@@ -25,6 +25,7 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <gsl/gsl_blas.h>
 #include <gsl/gsl_cdf.h>
 
 #include "fit.h"
@@ -33,7 +34,7 @@
 #define CHI2_95 3.841458820694124
 #define PROFILE_TOL 0.25
 #define PROFILE_LOG_RANGE 12.0
-#define PROFILE_BISECT 10
+#define PROFILE_BISECT 6
 /* past the first crossing, the search goes on until the rise exceeds this
  * many times the threshold (7.7 s^2 for 95%: p = 0.006) */
 #define PROFILE_FAR 2.0
@@ -203,6 +204,82 @@ search_side(prof *p, double t_hat, double h, int dir, double tmin, double tmax, 
     return t_hat + dir * 0.5 * (a + b);
 }
 
+/* The screen of LF_PROFILE_SCREEN: chi2 at the two ends of the linear
+ * interval along the linear path (every other free parameter moved by its
+ * regression on this one, from the covariance), one evaluation of the
+ * model each, no fit.  A model linear over the interval rises by
+ * 3.84 se_scale^2 there; 1 when both rises are within PROFILE_TOL of the
+ * threshold (the linear interval stands without refits), 0 when not or
+ * when the path leaves the parameters' domain. */
+static int
+linear_holds(prof *p, const lf_fit_result *res, const char *name)
+{
+    lf_fit *g;
+    gsl_vector *r;
+    size_t i, j, np = res->npar, k = np;
+    int side, holds = 1;
+
+    for (i = 0; i < np; i++)
+        if (strcmp(res->names[i], name) == 0)
+            k = i;
+    if (k == np || !(res->cov[k * np + k] > 0))
+        return 0;
+    g = lf_fit_alloc(p->s, p->nc, p->cc, NULL);
+    if (g == NULL)
+        return 0;
+    r = gsl_vector_alloc(g->nres);
+    if (r == NULL || g->np != np) {
+        gsl_vector_free(r);
+        lf_fit_free(g);
+        return 0;
+    }
+    for (i = 0; i < g->ndata; i++)
+        g->w.sqrtw[i] = 1.0;        /* least squares (as lf_fit_solve sets) */
+    for (side = -1; side <= 1 && holds; side += 2) {
+        double d = side * Z95 * sqrt(res->cov[k * np + k]), cost;
+        lf_material mat = { res->w.value, res->Estar.value, res->nu.value };
+        mat.w = best_value(res, "w", res->w.value);
+        mat.Estar = best_value(res, "E*", res->Estar.value);
+        mat.nu = best_value(res, "nu", isfinite(res->nu.value) ? res->nu.value
+                                                                : p->s->nu.value);
+        for (j = 0; j < p->nc; j++)
+            g->c[j].slope = 0.0;
+        for (i = 0; i < np; i++) {
+            double c = res->cov[i * np + k] / res->cov[k * np + k];
+            double v = res->value[i] + c * d;
+            size_t jj;
+            if (!isfinite(v)) {
+                holds = 0;
+                break;
+            }
+            if (strcmp(res->names[i], "w") == 0)
+                mat.w = v;
+            else if (strcmp(res->names[i], "E*") == 0)
+                mat.Estar = v;
+            else if (strcmp(res->names[i], "nu") == 0)
+                mat.nu = v;
+            else if (sscanf(res->names[i], "z0[%zu]", &jj) == 1 && jj >= 1 && jj <= p->nc)
+                g->c[jj - 1].z0 = v;
+            else if (sscanf(res->names[i], "F0[%zu]", &jj) == 1 && jj >= 1 && jj <= p->nc)
+                g->c[jj - 1].F0 = v;
+            else if (sscanf(res->names[i], "s[%zu]", &jj) == 1 && jj >= 1 && jj <= p->nc)
+                g->c[jj - 1].slope = v;
+        }
+        if (!holds || !(mat.w > 0) || !(mat.Estar > 0) || !(mat.nu >= 0.0 && mat.nu < 0.5)) {
+            holds = 0;
+            break;
+        }
+        g->mat = mat;
+        lf_fit_set_origin(g);
+        gsl_vector_set_all(g->w.x, 1.0);
+        cost = lf_fit_cost(g, g->w.x, r);
+        holds = isfinite(cost) && fabs((2.0 * cost - res->chi2) / p->thr - 1.0) < PROFILE_TOL;
+    }
+    gsl_vector_free(r);
+    lf_fit_free(g);
+    return holds;
+}
+
 /* Profile one estimate; 1 when its interval changed. */
 static int
 profile_one(prof *p, lf_fit_estimate *e, int always)
@@ -237,7 +314,10 @@ profile_one(prof *p, lf_fit_estimate *e, int always)
         tmax = t_hat + PROFILE_LOG_RANGE;
     }
     e->interval_method = "linear (Wald)";
-    if (!bound_only && !always) {
+    if (!bound_only && always == LF_PROFILE_SCREEN
+        && linear_holds(p, p->best, p->which == FIT_W ? "w" : p->which == FIT_E ? "E*" : "nu"))
+        return 0;
+    if (!bound_only && always != LF_PROFILE_ALWAYS) {
         r_lo = t_hat - Z95 * se_t > tmin ? rise(p, param_of(p, t_hat - Z95 * se_t)) : NAN;
         r_hi = t_hat + Z95 * se_t < tmax ? rise(p, param_of(p, t_hat + Z95 * se_t)) : NAN;
         if (fabs(r_lo / p->thr - 1.0) < PROFILE_TOL && fabs(r_hi / p->thr - 1.0) < PROFILE_TOL)

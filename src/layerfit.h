@@ -520,6 +520,13 @@ void lf_fit_free(lf_fit *fit);
  * may be asymmetric; e->interval_method names the method.  An upper side
  * the profile never closes marks w or E* not determined.  Costs a few fits
  * per parameter (res->profile_fits). */
+/* The modes of lf_fit_profile's `always`: the check by refits at the linear
+ * endpoints (0), the profile in any case (1), or first the cheap screen of
+ * many fits (`fit --batch`): chi2 at those endpoints along the linear path,
+ * no refit, and the check only where that rise is not the threshold's. */
+#define LF_PROFILE_CHECK 0
+#define LF_PROFILE_ALWAYS 1
+#define LF_PROFILE_SCREEN 2
 int lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
                    lf_fit_result *res, int always, lf_error *err);
 void lf_fit_result_free(lf_fit_result *res);
