@@ -527,6 +527,12 @@ void lf_fit_free(lf_fit *fit);
 #define LF_PROFILE_CHECK 0
 #define LF_PROFILE_ALWAYS 1
 #define LF_PROFILE_SCREEN 2
+/* Or'ed into a mode: the threshold of each profile that is used is
+ * calibrated by a parametric bootstrap (200 data sets from the fit, each
+ * fitted free and held: some 400 fits per parameter), for likelihoods that
+ * are not regular (points at the contact edge of a k > 2 probe).  Slow; off
+ * in `layerfit fit`. */
+#define LF_PROFILE_CALIBRATE 4
 int lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
                    lf_fit_result *res, int always, lf_error *err);
 void lf_fit_result_free(lf_fit_result *res);
