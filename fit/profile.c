@@ -5,18 +5,26 @@
  * data are weak (offsets free, few probes) it is not, and the interval
  * covers the truth far less often than 95%.  The profile of a parameter is
  * chi2 minimised over every other parameter with that one held; its 95%
- * interval is where the profile stays within 3.84 s^2 of the minimum (s^2 =
- * se_scale^2: the noise scale and its correlation, uncertainty.c).
+ * interval is where the profile's rise stays below the threshold s^2
+ * F(1, n_eff - p) (s^2 = se_scale^2: the noise scale and its correlation,
+ * uncertainty.c; n_eff the independent points; 3.84 s^2 for many points).
  *
- * Rule: the profile is evaluated at the two Wald endpoints first.  When
- * both rises are within PROFILE_TOL of 3.84 s^2, the curvature bears out
- * the linear interval and it stays ("linear (Wald)").  Otherwise each side
- * is searched outwards (doubling the step) until the profile reaches the
- * threshold, then bisected: the interval is asymmetric where the data are.
- * A side the profile never reaches within PROFILE_LOG_RANGE (ln units) of
- * w or E*, or up to nu's bounds, is open: w's lower bound then is 0, nu's
- * the bound of its range; an open upper side of w or E* means the data do
- * not bound it, and the estimate is marked not determined.
+ * Rule: the profile is evaluated at the two Wald endpoints first (in the
+ * batch's screen mode, chi2 along the linear path there first, no refit).
+ * When both rises are within PROFILE_TOL of the threshold, the curvature
+ * bears out the linear interval and it stays ("linear (Wald)").  Otherwise
+ * each side is searched outwards (doubling the step) until the profile
+ * reaches the threshold, and on past it until the rise is PROFILE_FAR
+ * times the threshold (a weak parameter's profile can dip below it again:
+ * the interval is the hull of the set below), then the last crossing is
+ * bisected: the interval is asymmetric where the data are.  A w below two
+ * se is searched in w itself, down to 0.  A side the profile never leaves
+ * within PROFILE_LOG_RANGE (ln units) of w or E*, or up to nu's bounds, is
+ * open: w's lower bound then is 0, nu's the bound of its range; an open
+ * upper side of w or E* means the data do not bound it, and the estimate
+ * is marked not determined.  A profile point below the best fit's chi2
+ * means the fit stopped in a local minimum: it is continued from there,
+ * replaces the result, and the profiles start again.
  *
  * Each profile point is a fit with the parameter held, warm-started at the
  * best fit's material and offsets (per curve with the model the fit used). */
@@ -25,7 +33,6 @@
 #include <stdio.h>
 #include <string.h>
 
-#include <gsl/gsl_blas.h>
 #include <gsl/gsl_cdf.h>
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
@@ -35,7 +42,6 @@
 #include "fit.h"
 
 #define Z95 1.959963984540054
-#define CHI2_95 3.841458820694124
 #define PROFILE_TOL 0.25
 #define PROFILE_LOG_RANGE 12.0
 #define PROFILE_BISECT 6
