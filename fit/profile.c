@@ -5,18 +5,26 @@
  * data are weak (offsets free, few probes) it is not, and the interval
  * covers the truth far less often than 95%.  The profile of a parameter is
  * chi2 minimised over every other parameter with that one held; its 95%
- * interval is where the profile stays within 3.84 s^2 of the minimum (s^2 =
- * se_scale^2: the noise scale and its correlation, uncertainty.c).
+ * interval is where the profile's rise stays below the threshold s^2
+ * F(1, n_eff - p) (s^2 = se_scale^2: the noise scale and its correlation,
+ * uncertainty.c; n_eff the independent points; 3.84 s^2 for many points).
  *
- * Rule: the profile is evaluated at the two Wald endpoints first.  When
- * both rises are within PROFILE_TOL of 3.84 s^2, the curvature bears out
- * the linear interval and it stays ("linear (Wald)").  Otherwise each side
- * is searched outwards (doubling the step) until the profile reaches the
- * threshold, then bisected: the interval is asymmetric where the data are.
- * A side the profile never reaches within PROFILE_LOG_RANGE (ln units) of
- * w or E*, or up to nu's bounds, is open: w's lower bound then is 0, nu's
- * the bound of its range; an open upper side of w or E* means the data do
- * not bound it, and the estimate is marked not determined.
+ * Rule: the profile is evaluated at the two Wald endpoints first (in the
+ * batch's screen mode, chi2 along the linear path there first, no refit).
+ * When both rises are within PROFILE_TOL of the threshold, the curvature
+ * bears out the linear interval and it stays ("linear (Wald)").  Otherwise
+ * each side is searched outwards (doubling the step) until the profile
+ * reaches the threshold, and on past it until the rise is PROFILE_FAR
+ * times the threshold (a weak parameter's profile can dip below it again:
+ * the interval is the hull of the set below), then the last crossing is
+ * bisected: the interval is asymmetric where the data are.  A w below two
+ * se is searched in w itself, down to 0.  A side the profile never leaves
+ * within PROFILE_LOG_RANGE (ln units) of w or E*, or up to nu's bounds, is
+ * open: w's lower bound then is 0, nu's the bound of its range; an open
+ * upper side of w or E* means the data do not bound it, and the estimate
+ * is marked not determined.  A profile point below the best fit's chi2
+ * means the fit stopped in a local minimum: it is continued from there,
+ * replaces the result, and the profiles start again.
  *
  * Each profile point is a fit with the parameter held, warm-started at the
  * best fit's material and offsets (per curve with the model the fit used). */
@@ -25,13 +33,29 @@
 #include <stdio.h>
 #include <string.h>
 
+#include <gsl/gsl_cdf.h>
+#include <gsl/gsl_randist.h>
+#include <gsl/gsl_rng.h>
+#include <gsl/gsl_sort.h>
+#include <gsl/gsl_statistics_double.h>
+
 #include "fit.h"
 
 #define Z95 1.959963984540054
-#define CHI2_95 3.841458820694124
 #define PROFILE_TOL 0.25
 #define PROFILE_LOG_RANGE 12.0
-#define PROFILE_BISECT 10
+#define PROFILE_BISECT 6
+/* past the first crossing, the search goes on until the rise exceeds this
+ * many times the threshold (7.7 s^2 for 95%: p = 0.006) */
+#define PROFILE_FAR 2.0
+/* a profile point lower than the best fit by this fraction of the
+ * threshold means the best fit was not the global minimum */
+#define PROFILE_LOWER 0.01
+/* refits from a lower profile point, at most */
+#define PROFILE_MAX_REFITS 3
+/* the threshold's calibration: data sets and their seed */
+#define PROFILE_BOOT 200
+#define PROFILE_BOOT_SEED 20141u
 
 typedef struct {
     const lf_fit_settings *s;
@@ -39,8 +63,16 @@ typedef struct {
     lf_fit_curve *cc;          /* the curves, each with its fitted model */
     const lf_fit_result *best;
     int which;                 /* FIT_W, FIT_E, FIT_NU */
-    double thr;                /* 3.84 s^2 */
+    int linear;                /* searched in the parameter itself, not its log */
+    int mode;                  /* LF_PROFILE_CHECK, _ALWAYS or _SCREEN */
+    int calibrate;             /* LF_PROFILE_CALIBRATE was asked */
+    double thr;                /* the threshold of the rise, s^2 F(1, n_eff - p) */
     size_t fits;
+    /* the lowest profile point below the best fit's chi2, if any: the best
+     * fit was then not the global minimum (refit_from_lower) */
+    double lower_chi2;
+    lf_material lower_mat;
+    double *lower_off;         /* 3 ncurves: z0, F0, slope */
 } prof;
 
 /* The fitted value of the parameter called name (the solution, even where
@@ -61,15 +93,18 @@ static double
 rise(prof *p, double v)
 {
     lf_fit_settings s = *p->s;
-    lf_fit_param *par = p->which == FIT_W ? &s.w : p->which == FIT_E ? &s.Estar : &s.nu;
+    lf_fit_param *par = p->which == FIT_W ? &s.w : p->which == FIT_E ? &s.Estar
+                        : p->which == FIT_NU ? &s.nu : NULL;
     lf_fit_result r;
     lf_fit *g;
     size_t j;
     int st, offsets_known = 1;
     double out = NAN;
 
-    par->mode = LF_PARAM_FIXED;
-    par->value = v;
+    if (par != NULL) {
+        par->mode = LF_PARAM_FIXED;
+        par->value = v;
+    }
     g = lf_fit_alloc(&s, p->nc, p->cc, NULL);
     if (g == NULL)
         return NAN;
@@ -84,7 +119,7 @@ rise(prof *p, double v)
         g->mat.w = v;
     else if (p->which == FIT_E)
         g->mat.Estar = v;
-    else
+    else if (p->which == FIT_NU)
         g->mat.nu = v;
     for (j = 0; j < p->nc; j++) {
         char name[32];
@@ -113,6 +148,21 @@ rise(prof *p, double v)
     p->fits++;
     if (st == LF_OK || st == LF_ENOCONV) {
         out = r.chi2 - p->best->chi2;
+        if (st == LF_OK && out < -PROFILE_LOWER * p->thr && r.chi2 < p->lower_chi2
+            && p->lower_off != NULL) {
+            /* lower than the best fit: keep where, to refit from there */
+            p->lower_chi2 = r.chi2;
+            p->lower_mat = g->mat;
+            for (j = 0; j < p->nc; j++) {
+                char name[32];
+                snprintf(name, sizeof name, "z0[%zu]", j + 1);
+                p->lower_off[3 * j] = best_value(&r, name, p->cc[j].z0);
+                snprintf(name, sizeof name, "F0[%zu]", j + 1);
+                p->lower_off[3 * j + 1] = best_value(&r, name, p->cc[j].F0);
+                snprintf(name, sizeof name, "s[%zu]", j + 1);
+                p->lower_off[3 * j + 2] = best_value(&r, name, 0.0);
+            }
+        }
         lf_fit_result_free(&r);
     }
     lf_fit_free(g);
@@ -123,38 +173,45 @@ rise(prof *p, double v)
 static double
 param_of(const prof *p, double t)
 {
-    return p->which == FIT_NU ? t : exp(t);
+    return p->which == FIT_NU || p->linear ? t : exp(t);
 }
 
-/* The point on one side (dir = -1 or +1) where the profile reaches the
- * threshold, from t_hat with first step h; *open when it never does. */
+/* The point on one side (dir = -1 or +1) where the profile leaves the
+ * confidence set for good, from t_hat with first step h; *open when it
+ * never does within [tmin, tmax].  Steps double until the rise reaches the
+ * threshold; a weak parameter's profile can dip below it again further out
+ * (kinks where points enter or leave contact), so the search goes on in
+ * steps of a quarter of the distance so far until the rise exceeds
+ * PROFILE_FAR times the threshold, and a dip moves the side out to it (the
+ * interval is the hull of the set where the rise stays below the threshold).
+ * The last crossing is then bisected. */
 static double
 search_side(prof *p, double t_hat, double h, int dir, double tmin, double tmax, int *open)
 {
-    double a = 0.0, b = h, ra;
-    int i;
+    double a = 0.0, b = 0.0, d = 0.0, step = h, edge = dir < 0 ? t_hat - tmin : tmax - t_hat;
+    int i, crossed = 0;
 
     *open = 0;
     for (;;) {
-        double t = t_hat + dir * b, rb;
-        if (t <= tmin || t >= tmax) {
-            t = dir < 0 ? tmin : tmax;
-            rb = rise(p, param_of(p, t));
-            if (!(rb >= p->thr)) {
-                *open = 1;
-                return t;
-            }
-            b = fabs(t - t_hat);
-            break;
+        double rd;
+        d = fmin(d + step, edge);
+        rd = rise(p, param_of(p, t_hat + dir * d));
+        if (!isfinite(rd) || rd >= p->thr) {
+            if (!crossed || b <= a)
+                b = d;                  /* the first point above after a */
+            crossed = 1;
+        } else {
+            a = d;                      /* inside (again) */
+            b = 0.0;
         }
-        rb = rise(p, param_of(p, t));
-        if (rb >= p->thr || !isfinite(rb))
+        if (d >= edge || !isfinite(rd) || (crossed && rd >= PROFILE_FAR * p->thr))
             break;
-        a = b;
-        b *= 2.0;
+        step = crossed ? 0.25 * d : 2.0 * step;
     }
-    ra = 0.0;
-    (void) ra;
+    if (!crossed || b <= a) {
+        *open = 1;
+        return t_hat + dir * edge;
+    }
     for (i = 0; i < PROFILE_BISECT; i++) {
         double m = 0.5 * (a + b), rm = rise(p, param_of(p, t_hat + dir * m));
         if (rm >= p->thr || !isfinite(rm))
@@ -165,15 +222,162 @@ search_side(prof *p, double t_hat, double h, int dir, double tmin, double tmax, 
     return t_hat + dir * 0.5 * (a + b);
 }
 
+/* The screen of LF_PROFILE_SCREEN: chi2 at the two ends of the linear
+ * interval along the linear path (every other free parameter moved by its
+ * regression on this one, from the covariance), one evaluation of the
+ * model each, no fit.  A model linear over the interval rises by
+ * 3.84 se_scale^2 there; 1 when both rises are within PROFILE_TOL of the
+ * threshold (the linear interval stands without refits), 0 when not or
+ * when the path leaves the parameters' domain. */
+static int
+linear_holds(prof *p, const lf_fit_result *res, const char *name)
+{
+    lf_fit *g;
+    gsl_vector *r;
+    size_t i, j, np = res->npar, k = np;
+    int side, holds = 1;
+
+    for (i = 0; i < np; i++)
+        if (strcmp(res->names[i], name) == 0)
+            k = i;
+    if (k == np || !(res->cov[k * np + k] > 0))
+        return 0;
+    g = lf_fit_alloc(p->s, p->nc, p->cc, NULL);
+    if (g == NULL)
+        return 0;
+    r = gsl_vector_alloc(g->nres);
+    if (r == NULL || g->np != np) {
+        gsl_vector_free(r);
+        lf_fit_free(g);
+        return 0;
+    }
+    for (i = 0; i < g->ndata; i++)
+        g->w.sqrtw[i] = 1.0;        /* least squares (as lf_fit_solve sets) */
+    for (side = -1; side <= 1 && holds; side += 2) {
+        double d = side * Z95 * sqrt(res->cov[k * np + k]), cost;
+        lf_material mat = { res->w.value, res->Estar.value, res->nu.value };
+        mat.w = best_value(res, "w", res->w.value);
+        mat.Estar = best_value(res, "E*", res->Estar.value);
+        mat.nu = best_value(res, "nu", isfinite(res->nu.value) ? res->nu.value
+                                                                : p->s->nu.value);
+        for (j = 0; j < p->nc; j++)
+            g->c[j].slope = 0.0;
+        for (i = 0; i < np; i++) {
+            double c = res->cov[i * np + k] / res->cov[k * np + k];
+            double v = res->value[i] + c * d;
+            size_t jj;
+            if (!isfinite(v)) {
+                holds = 0;
+                break;
+            }
+            if (strcmp(res->names[i], "w") == 0)
+                mat.w = v;
+            else if (strcmp(res->names[i], "E*") == 0)
+                mat.Estar = v;
+            else if (strcmp(res->names[i], "nu") == 0)
+                mat.nu = v;
+            else if (sscanf(res->names[i], "z0[%zu]", &jj) == 1 && jj >= 1 && jj <= p->nc)
+                g->c[jj - 1].z0 = v;
+            else if (sscanf(res->names[i], "F0[%zu]", &jj) == 1 && jj >= 1 && jj <= p->nc)
+                g->c[jj - 1].F0 = v;
+            else if (sscanf(res->names[i], "s[%zu]", &jj) == 1 && jj >= 1 && jj <= p->nc)
+                g->c[jj - 1].slope = v;
+        }
+        if (!holds || !(mat.w > 0) || !(mat.Estar > 0) || !(mat.nu >= 0.0 && mat.nu < 0.5)) {
+            holds = 0;
+            break;
+        }
+        g->mat = mat;
+        lf_fit_set_origin(g);
+        gsl_vector_set_all(g->w.x, 1.0);
+        cost = lf_fit_cost(g, g->w.x, r);
+        holds = isfinite(cost) && fabs((2.0 * cost - res->chi2) / p->thr - 1.0) < PROFILE_TOL;
+    }
+    gsl_vector_free(r);
+    lf_fit_free(g);
+    return holds;
+}
+
+/* The threshold's calibration where the profile is used: the rise's 95%
+ * point under data like these.  Near the contact edge the force has an
+ * infinite slope (k > 2), the information on the offsets and w gathers in
+ * the few points closest to it, and the rise at the truth no longer follows
+ * F(1, m): its 95% point can lie 15% higher (the paper's probes with free
+ * offsets: the profile interval then covers 93%).  So B data sets are drawn
+ * from the fitted curves with white Gaussian noise of each curve's fitted
+ * level (seeded: the same answer every run), each is fitted with
+ * everything free and with the parameter held at its estimate (both warm
+ * started at the fit), and the rise over chi2/dof is collected; the
+ * threshold is multiplied by its 95% point over F's (never below 1: the
+ * calibration widens, it does not narrow; a bootstrap of B = 200 sets its
+ * point to some 10%). */
+static double
+calibrate(prof *p, double v_hat)
+{
+    const lf_fit_result *res = p->best;
+    lf_fit_curve *boot = malloc(p->nc * sizeof *boot), *data = p->cc;
+    double **force = calloc(p->nc, sizeof *force), *t = malloc(PROFILE_BOOT * sizeof *t);
+    double s2 = res->chi2 / (double) res->dof, kappa = 1.0, f95;
+    double *lower = p->lower_off;
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    size_t j, i, b, nt = 0;
+    int which = p->which, ok = boot && force && t && rng;
+
+    for (j = 0; ok && j < p->nc; j++) {
+        force[j] = malloc(data[j].n * sizeof *force[j]);
+        ok = force[j] != NULL && res->curves[j].fitted != NULL && res->curves[j].n == data[j].n;
+        if (ok) {
+            boot[j] = data[j];
+            boot[j].force = force[j];
+        }
+    }
+    if (!ok || !(s2 > 0))
+        goto done;
+    gsl_rng_set(rng, PROFILE_BOOT_SEED);
+    p->cc = boot;
+    p->lower_off = NULL;        /* a lower point of made-up data means nothing */
+    for (b = 0; b < PROFILE_BOOT; b++) {
+        double free_chi2, held_chi2;
+        for (j = 0; j < p->nc; j++) {
+            double sd = res->curves[j].sigma * sqrt(s2);
+            for (i = 0; i < data[j].n; i++)
+                force[j][i] = res->curves[j].fitted[i] + sd * gsl_ran_gaussian(rng, 1.0);
+        }
+        p->which = -1;
+        free_chi2 = rise(p, NAN) + res->chi2;
+        p->which = which;
+        held_chi2 = rise(p, v_hat) + res->chi2;
+        if (isfinite(free_chi2) && isfinite(held_chi2) && free_chi2 > 0)
+            t[nt++] = fmax(held_chi2 - free_chi2, 0.0) / (free_chi2 / (double) res->dof);
+    }
+    p->cc = data;
+    p->lower_off = lower;
+    f95 = gsl_cdf_fdist_Pinv(0.95, 1.0, (double) res->dof);
+    if (nt >= PROFILE_BOOT / 2) {
+        gsl_sort(t, 1, nt);
+        kappa = fmax(1.0, gsl_stats_quantile_from_sorted_data(t, 1, nt, 0.95) / f95);
+    }
+done:
+    p->which = which;
+    for (j = 0; force != NULL && j < p->nc; j++)
+        free(force[j]);
+    free(force);
+    free(boot);
+    free(t);
+    gsl_rng_free(rng);
+    return kappa;
+}
+
 /* Profile one estimate; 1 when its interval changed. */
 static int
-profile_one(prof *p, lf_fit_estimate *e, int always)
+profile_one(prof *p, lf_fit_estimate *e)
 {
-    double t_hat, se_t, tmin, tmax, lo, hi, r_lo, r_hi;
+    double t_hat, se_t, tmin, tmax, lo, hi, r_lo, r_hi, thr;
     int open_lo = 0, open_hi = 0;
 
     int bound_only = e->upper_bound_only && p->which == FIT_W;
 
+    p->linear = 0;
     if (!e->free || (!e->determined && !bound_only) || (!bound_only && !(e->se > 0)))
         return 0;
     if (p->which == FIT_NU) {
@@ -182,13 +386,15 @@ profile_one(prof *p, lf_fit_estimate *e, int always)
         tmin = 0.0;
         tmax = 0.5 - 1e-9;
     } else if (bound_only) {
-        /* w below two se: the solution's w, however small, and steps of a
-         * factor e^0.5 */
-        double w = best_value(p->best, "w", 0.0);
-        t_hat = log(fmax(w, 1e-3 * e->ci95[1]));
-        se_t = 0.5 / Z95;
-        tmin = t_hat - PROFILE_LOG_RANGE;
-        tmax = t_hat + PROFILE_LOG_RANGE;
+        /* w below two se: near 0 the profile is searched in w itself (its
+         * log would stretch the flat part below), from the solution's w
+         * down to 0 and up in steps from a quarter of the one-sided bound */
+        double w = fmax(best_value(p->best, "w", 0.0), 0.0);
+        p->linear = 1;
+        t_hat = w;
+        se_t = 0.25 * e->ci95[1] / Z95;
+        tmin = 0.0;
+        tmax = exp(PROFILE_LOG_RANGE) * fmax(w, e->ci95[1]);
     } else {
         t_hat = log(e->value);
         se_t = e->se / e->value;
@@ -196,14 +402,21 @@ profile_one(prof *p, lf_fit_estimate *e, int always)
         tmax = t_hat + PROFILE_LOG_RANGE;
     }
     e->interval_method = "linear (Wald)";
-    if (!bound_only && !always) {
+    if (!bound_only && p->mode == LF_PROFILE_SCREEN
+        && linear_holds(p, p->best, p->which == FIT_W ? "w" : p->which == FIT_E ? "E*" : "nu"))
+        return 0;
+    if (!bound_only && p->mode != LF_PROFILE_ALWAYS) {
         r_lo = t_hat - Z95 * se_t > tmin ? rise(p, param_of(p, t_hat - Z95 * se_t)) : NAN;
         r_hi = t_hat + Z95 * se_t < tmax ? rise(p, param_of(p, t_hat + Z95 * se_t)) : NAN;
         if (fabs(r_lo / p->thr - 1.0) < PROFILE_TOL && fabs(r_hi / p->thr - 1.0) < PROFILE_TOL)
             return 0;
     }
+    thr = p->thr;
+    if (p->calibrate)
+        p->thr *= calibrate(p, param_of(p, t_hat));
     lo = search_side(p, t_hat, fmin(Z95 * se_t, 0.5 * (t_hat - tmin)), -1, tmin, tmax, &open_lo);
     hi = search_side(p, t_hat, fmin(Z95 * se_t, 0.5 * (tmax - t_hat)), +1, tmin, tmax, &open_hi);
+    p->thr = thr;
     e->interval_method = "profile likelihood";
     e->ci95[0] = open_lo && p->which == FIT_W ? 0.0 : param_of(p, lo);
     e->ci95[1] = param_of(p, hi);
@@ -211,8 +424,8 @@ profile_one(prof *p, lf_fit_estimate *e, int always)
         /* the profile closes below: the data do bound w from below */
         e->upper_bound_only = 0;
         e->determined = 1;
-        e->value = exp(t_hat);
-        e->se = e->value * (hi - lo) / (2.0 * Z95);   /* the interval's width */
+        e->value = t_hat;
+        e->se = (hi - lo) / (2.0 * Z95);   /* the interval's width */
     }
     if (p->which == FIT_NU) {
         e->ci95[0] = fmax(e->ci95[0], 0.0);
@@ -230,12 +443,81 @@ profile_one(prof *p, lf_fit_estimate *e, int always)
     return 1;
 }
 
+/* The threshold of the rise of chi2: s^2 times the 95% point of F(1, m),
+ * m = n_eff - p the degrees of freedom s^2 is estimated with (n_eff the
+ * independent points, noise.c): the likelihood-ratio test with the noise
+ * level estimated from the residuals (3.84 s^2 when m is large). */
+static double
+threshold(const lf_fit_result *r)
+{
+    double n_eff = (double) (r->dof + r->npar) / (r->corr_time >= 1.0 ? r->corr_time : 1.0);
+    double m = n_eff - (double) r->npar;
+    return r->se_scale * r->se_scale * (m >= 1.0 ? gsl_cdf_fdist_Pinv(0.95, 1.0, m) : HUGE_VAL);
+}
+
+/* The profile found chi2 below the best fit's: that was not the global
+ * minimum.  Refit with every parameter free from the lower point; when that
+ * converges lower, it replaces *res (what the model choice said is kept)
+ * and 1 is returned: the profiles start again from the new minimum. */
+static int
+refit_from_lower(prof *p, lf_fit_result *res)
+{
+    static const char *const pname[FIT_NMAT] = { "w", "E*", "nu" };
+    lf_fit *g = lf_fit_alloc(p->s, p->nc, p->cc, NULL);
+    lf_fit_result nr;
+    size_t j;
+    int st;
+
+    if (g == NULL)
+        return 0;
+    g->mat = p->lower_mat;
+    for (j = 0; j < p->nc; j++) {
+        if (g->c[j].iz0 >= 0 && isfinite(p->lower_off[3 * j]))
+            g->c[j].z0 = p->lower_off[3 * j];
+        if (g->c[j].iF0 >= 0 && isfinite(p->lower_off[3 * j + 1]))
+            g->c[j].F0 = p->lower_off[3 * j + 1];
+        g->c[j].slope = isfinite(p->lower_off[3 * j + 2]) ? p->lower_off[3 * j + 2] : 0.0;
+    }
+    lf_fit_set_origin(g);
+    st = lf_fit_solve(g, NULL, 1, &nr, NULL);
+    p->fits++;
+    lf_fit_free(g);
+    if (st != LF_OK) {
+        if (st == LF_ENOCONV)
+            lf_fit_result_free(&nr);
+        return 0;
+    }
+    if (!(nr.chi2 < res->chi2 - PROFILE_LOWER * p->thr)) {
+        lf_fit_result_free(&nr);
+        return 0;
+    }
+    lf_warn(&nr.warnings, "the profile of %s passed below the first fit's minimum (chi2 %.6g, "
+            "here %.6g): the fit was continued from there", pname[p->which], res->chi2,
+            nr.chi2);
+    nr.model_rounds = res->model_rounds;
+    nr.thin = res->thin;
+    nr.iterations += res->iterations;
+    nr.evaluations += res->evaluations;
+    for (j = 0; j < p->nc; j++) {
+        memcpy(nr.curves[j].model_reason, res->curves[j].model_reason,
+               sizeof nr.curves[j].model_reason);
+        nr.curves[j].thin_bias = res->curves[j].thin_bias;
+        memcpy(nr.curves[j].thin_bias_se, res->curves[j].thin_bias_se,
+               sizeof nr.curves[j].thin_bias_se);
+    }
+    lf_fit_result_free(res);
+    *res = nr;
+    return 1;
+}
+
 int
 lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
                lf_fit_result *res, int always, lf_error *err)
 {
+    static const int which[FIT_NMAT] = { FIT_W, FIT_E, FIT_NU };
     prof p;
-    size_t j;
+    size_t j, fits = 0;
+    int round, k;
 
     if (res == NULL || res->ncurves != ncurves)
         return lf_fail(err, LF_EINVAL, "lf_fit_profile: the result is not of these curves");
@@ -243,8 +525,12 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
         return LF_OK;       /* chi2 of a robust loss is not a likelihood */
     memset(&p, 0, sizeof p);
     p.cc = malloc((ncurves ? ncurves : 1) * sizeof *p.cc);
-    if (p.cc == NULL)
+    p.lower_off = malloc((ncurves ? 3 * ncurves : 1) * sizeof *p.lower_off);
+    if (p.cc == NULL || p.lower_off == NULL) {
+        free(p.cc);
+        free(p.lower_off);
         return lf_fail(err, LF_ENOMEM, "out of memory");
+    }
     for (j = 0; j < ncurves; j++) {
         p.cc[j] = curves[j];
         if (res->curves[j].model != NULL) {
@@ -255,16 +541,28 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
     }
     p.s = settings;
     p.nc = ncurves;
-    p.best = res;
-    p.thr = CHI2_95 * res->se_scale * res->se_scale;
-    p.which = FIT_W;
-    profile_one(&p, &res->w, always);
-    p.which = FIT_E;
-    profile_one(&p, &res->Estar, always);
-    p.which = FIT_NU;
-    profile_one(&p, &res->nu, always);
-    res->profile_fits = p.fits;
+    p.mode = always & 3;
+    p.calibrate = (always & LF_PROFILE_CALIBRATE) != 0;
+    for (round = 0;; round++) {
+        lf_fit_estimate *e[FIT_NMAT] = { &res->w, &res->Estar, &res->nu };
+        p.best = res;
+        p.thr = threshold(res);
+        p.lower_chi2 = res->chi2;
+        for (k = 0; k < FIT_NMAT && !(p.lower_chi2 < res->chi2); k++) {
+            p.which = which[k];
+            profile_one(&p, e[k]);
+        }
+        /* a lower point: refit there (only a converged fit is a minimum
+         * to improve on) and profile again */
+        if (p.lower_chi2 < res->chi2 && round < PROFILE_MAX_REFITS && res->converged
+            && refit_from_lower(&p, res))
+            continue;
+        break;
+    }
+    fits += p.fits;
+    res->profile_fits = fits;
     free(p.cc);
+    free(p.lower_off);
     return LF_OK;
 }
 
@@ -293,7 +591,7 @@ lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor)
     p.nc = f->ncurves;
     p.best = r;
     p.which = FIT_W;
-    p.thr = CHI2_95 * r->se_scale * r->se_scale;
+    p.thr = threshold(r);
     up = rise(&p, w * factor);
     open = isfinite(up) && up < p.thr;
     free(p.cc);

@@ -18,7 +18,14 @@
  *              a run that stopped short (e.g. "no further progress") sits
  *              where that step would lower chi2 by less than FIT_ROUNDING_SE2
  *              standard errors squared, it is at a minimum within rounding:
- *              converged. */
+ *              converged.  Where no step along the Gauss-Newton direction
+ *              lowers the cost (a kink, or a direction the linear model
+ *              gets wrong), or the convergence was claimed by the solver's
+ *              own step or gradient test (tolerances the user sets), the
+ *              solver is restarted from the solution (made the origin) with
+ *              the default tolerances and budget: if that lowers chi2
+ *              by more than a quarter se^2, it was not a minimum either
+ *              (continued once, then a stall). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -148,14 +155,15 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
     }
     for (round = 0; round < 2; round++) {
         /* the solver's last look at its Jacobian, when it was here: the
-         * step itself is needed only when it would be taken */
+         * step itself is needed only when it would be tried */
         int known = f->w.gn_ok && memcmp(f->w.gn_x, x->data, f->np * sizeof *x->data) == 0;
+        double c0, c1 = HUGE_VAL;
+        int lower = 0;
         chi2 = known ? f->w.gn_chi2 : 2.0 * lf_fit_cost(f, x, f->w.r);
         s2 = lf_fmax(1.0, chi2 / (double) (f->nres > f->np ? f->nres - f->np : 1));
+        c0 = 0.5 * chi2;
         dec = known ? f->w.gn_dchi2 : gn_step(f, x, step);
-        if (!isfinite(dec))
-            break;
-        if (known && run->converged && dec > FIT_STALL_SE2 * s2)
+        if (known && isfinite(dec) && run->converged && dec > FIT_STALL_SE2 * s2)
             dec = gn_step(f, x, step);
         if (!isfinite(dec))
             break;
@@ -169,11 +177,11 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
         /* a run the solver stopped for its own limits (iterations, no
          * progress) keeps its verdict; only a claimed convergence is
          * checked for a stall */
-        if (!run->converged || !(dec > FIT_STALL_SE2 * s2))
+        if (!run->converged)
             break;
-        /* a real step down?  halve until the cost falls, at most 30 times */
-        {
-            double c0 = 0.5 * chi2, t = 1.0, c1 = HUGE_VAL;
+        if (dec > FIT_STALL_SE2 * s2) {
+            /* a real step down?  halve until the cost falls, at most 30 times */
+            double t = 1.0;
             int h;
             for (h = 0; h < 30; h++, t *= 0.5) {
                 size_t i;
@@ -183,21 +191,57 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
                 if (c1 < c0 - 0.25 * FIT_STALL_SE2 * s2)
                     break;
             }
-            if (h == 30)
-                break;          /* a kink: no step lowers the cost */
-            if (round == 1) {
-                run->converged = 0;
-                snprintf(run->why, sizeof run->why, "not converged: stalled away from a "
-                         "minimum (a step still lowers chi2 by %.3g, %.3g standard errors "
-                         "squared)", 2.0 * (c0 - c1), 2.0 * (c0 - c1) / s2);
-                break;
-            }
-            gsl_vector_memcpy(x, trial);
-            lf_fit_invalidate(f);
-            status = lf_fit_solve_scanned(f, x, 0, run, err);
+            lower = h < 30;
+        }
+        if (!lower && (dec > FIT_STALL_SE2 * s2 || strstr(run->why, "(small step)") != NULL
+                       || strstr(run->why, "(small gradient)") != NULL)) {
+            /* no step along it (a kink, or a direction the linear model gets
+             * wrong), or a convergence claimed by the solver's own step or
+             * gradient test (their tolerances are the user's): the solver
+             * restarted from here decides */
+            fit_run again;
+            lf_fit_settings user = f->set, def = lf_fit_settings_default();
+            memset(&again, 0, sizeof again);
+            /* from a fresh origin at x (the solver's scaling starts anew) */
+            lf_fit_rebase(f, x);
+            gsl_vector_memcpy(trial, x);
+            f->w.xcache_ok = 0;
+            /* with the default tolerances and budget: the judge's own */
+            f->set.xtol = def.xtol;
+            f->set.gtol = def.gtol;
+            f->set.ftol = def.ftol;
+            f->set.max_iter = def.max_iter;
+            status = lf_fit_solve_scanned(f, trial, 0, &again, err);
+            f->set = user;
             if (status != LF_OK)
                 break;
+            run->iters += again.iters;
+            run->evals += again.evals;
+            c1 = lf_fit_cost(f, trial, f->w.r2);
+            lower = c1 < c0 - 0.25 * FIT_STALL_SE2 * s2;
+            if (lower && round == 0) {
+                /* the restart went on from there: its verdict stands, checked
+                 * again in the next round */
+                gsl_vector_memcpy(x, trial);
+                run->converged = again.converged;
+                snprintf(run->why, sizeof run->why, "%s", again.why);
+                continue;
+            }
         }
+        if (!lower)
+            break;
+        if (round == 1) {
+            run->converged = 0;
+            snprintf(run->why, sizeof run->why, "not converged: stalled away from a "
+                     "minimum (a step still lowers chi2 by %.3g, %.3g standard errors "
+                     "squared)", 2.0 * (c0 - c1), 2.0 * (c0 - c1) / s2);
+            break;
+        }
+        gsl_vector_memcpy(x, trial);
+        lf_fit_invalidate(f);
+        status = lf_fit_solve_scanned(f, x, 0, run, err);
+        if (status != LF_OK)
+            break;
     }
     if (status == LF_OK && offsets_outside(f, x->data, run->why, sizeof run->why))
         run->converged = 0;

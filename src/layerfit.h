@@ -519,7 +519,24 @@ void lf_fit_free(lf_fit *fit);
  * (always: in any case) its interval is replaced by the profile's, which
  * may be asymmetric; e->interval_method names the method.  An upper side
  * the profile never closes marks w or E* not determined.  Costs a few fits
- * per parameter (res->profile_fits). */
+ * per parameter (res->profile_fits).  The threshold is s^2 F(1, n_eff - p)
+ * (3.84 s^2 for many points) and the interval the hull of the values below
+ * it.  A profile point below res's own chi2 (res stopped in a local
+ * minimum): res is replaced by the fit continued from there (converged fits
+ * only; a warning says so, the model choice's notes are kept). */
+/* The modes of lf_fit_profile's `always`: the check by refits at the linear
+ * endpoints (0), the profile in any case (1), or first the cheap screen of
+ * many fits (`fit --batch`): chi2 at those endpoints along the linear path,
+ * no refit, and the check only where that rise is not the threshold's. */
+#define LF_PROFILE_CHECK 0
+#define LF_PROFILE_ALWAYS 1
+#define LF_PROFILE_SCREEN 2
+/* Or'ed into a mode: the threshold of each profile that is used is
+ * calibrated by a parametric bootstrap (200 data sets from the fit, each
+ * fitted free and held: some 400 fits per parameter), for likelihoods that
+ * are not regular (points at the contact edge of a k > 2 probe).  Slow; off
+ * in `layerfit fit`. */
+#define LF_PROFILE_CALIBRATE 4
 int lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
                    lf_fit_result *res, int always, lf_error *err);
 void lf_fit_result_free(lf_fit_result *res);

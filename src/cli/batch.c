@@ -254,7 +254,10 @@ static const char *const columns[] = {
     "fit", "sample", "file", "curves", "status", "model", "x_m", "y_m",
     "w_J_m2", "w_se_J_m2", "w_upper_bound", "Estar_Pa", "Estar_se_Pa",
     "nu", "nu_se", "M_Pa", "M_se_Pa", "corr_w_Estar", "chi2_dof",
-    "rms_N", "P_po_N", "iterations", "identifiability", "message", "sha256", NULL
+    "rms_N", "P_po_N", "iterations",
+    "w_ci95_lo_J_m2", "w_ci95_hi_J_m2", "Estar_ci95_lo_Pa", "Estar_ci95_hi_Pa",
+    "nu_ci95_lo", "nu_ci95_hi", "w_ci95_method", "Estar_ci95_method", "nu_ci95_method",
+    "identifiability", "message", "sha256", NULL
 };
 
 /* Sum of squared residuals relative to the points, over all curves. */
@@ -291,6 +294,22 @@ typedef struct {
     double value;
 } num_field;
 
+/* The text columns between the numbers and identifiability. */
+#define NTEXT 3
+static const char *const text_keys[NTEXT] = {
+    "w_ci95_method", "Estar_ci95_method", "nu_ci95_method"
+};
+
+/* How an estimate's 95% interval was found: "" when it has none (held, or
+ * not determined and not bounded). */
+static const char *
+ci_method(const lf_fit_estimate *e)
+{
+    if (!e->free || !(isfinite(e->ci95[0]) || isfinite(e->ci95[1])))
+        return "";
+    return e->interval_method != NULL ? e->interval_method : "linear (Wald)";
+}
+
 /* The curves of one fit: names and SHA-256 of what was read ("" if not). */
 typedef struct {
     size_t n;
@@ -324,8 +343,8 @@ join_names(sbuf *b, const unit_files *uf)
 static void
 put_row(sbuf *b, const batch_config *cfg, size_t fit_no, const char *sample,
         const char *files, const unit_files *uf, size_t ncurves, const char *status,
-        const char *model, const num_field *num, size_t nnum, const char *ident,
-        const char *msg)
+        const char *model, const num_field *num, size_t nnum, const char *const *text,
+        const char *ident, const char *msg)
 {
     int json = cfg->json;
     size_t i;
@@ -344,6 +363,10 @@ put_row(sbuf *b, const batch_config *cfg, size_t fit_no, const char *sample,
     for (i = 0; i < nnum; i++) {
         sb_printf(b, json ? ", \"%s\": " : ",", num[i].key);
         sb_number(b, num[i].value, json);
+    }
+    for (i = 0; i < NTEXT; i++) {
+        sb_printf(b, json ? ", \"%s\": " : ",", text_keys[i]);
+        sb_text(b, text[i], json);
     }
     sb_printf(b, json ? ", \"identifiability\": " : ",");
     sb_text(b, ident, json);
@@ -424,6 +447,11 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
     else
         st = lf_fit_driver(&s, n, in.curves, &res, &err);
     if (st == LF_OK || st == LF_ENOCONV) {
+        /* profile-likelihood intervals where the linear ones are unreliable,
+         * as a single fit makes them, after the cheap screen (a failure keeps
+         * the linear ones) */
+        lf_error perr;
+        (void) lf_fit_profile(&s, n, in.curves, &res, LF_PROFILE_SCREEN, &perr);
         have_res = 1;
         status = st == LF_OK ? "ok" : "noconv";
         failed = st != LF_OK;
@@ -445,7 +473,15 @@ row:
             { "rms_N", rms_all(&res) },
             { "P_po_N", res.ncurves ? res.curves[0].pulloff.P_po : NAN },
             { "iterations", (double) res.iterations },
+            { "w_ci95_lo_J_m2", res.w.free ? res.w.ci95[0] : NAN },
+            { "w_ci95_hi_J_m2", res.w.free ? res.w.ci95[1] : NAN },
+            { "Estar_ci95_lo_Pa", res.Estar.free ? res.Estar.ci95[0] : NAN },
+            { "Estar_ci95_hi_Pa", res.Estar.free ? res.Estar.ci95[1] : NAN },
+            { "nu_ci95_lo", res.nu.free ? res.nu.ci95[0] : NAN },
+            { "nu_ci95_hi", res.nu.free ? res.nu.ci95[1] : NAN },
         };
+        const char *text[NTEXT] = { ci_method(&res.w), ci_method(&res.Estar),
+                                    ci_method(&res.nu) };
         firstw = 1;
         join_warnings(&ident, &res.identifiability, &firstw);
         firstw = 1;
@@ -454,7 +490,7 @@ row:
             join_warnings(&msg, &res.curves[j].warnings, &firstw);
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status,
                 res.model ? res.model : "", num,
-                sizeof num / sizeof num[0], ident.s ? ident.s : "", msg.s ? msg.s : "");
+                sizeof num / sizeof num[0], text, ident.s ? ident.s : "", msg.s ? msg.s : "");
         lf_fit_result_free(&res);
     } else {
         num_field num[] = {
@@ -463,9 +499,12 @@ row:
             { "Estar_Pa", NAN }, { "Estar_se_Pa", NAN }, { "nu", NAN }, { "nu_se", NAN },
             { "M_Pa", NAN }, { "M_se_Pa", NAN }, { "corr_w_Estar", NAN },
             { "chi2_dof", NAN }, { "rms_N", NAN }, { "P_po_N", NAN }, { "iterations", NAN },
+            { "w_ci95_lo_J_m2", NAN }, { "w_ci95_hi_J_m2", NAN }, { "Estar_ci95_lo_Pa", NAN },
+            { "Estar_ci95_hi_Pa", NAN }, { "nu_ci95_lo", NAN }, { "nu_ci95_hi", NAN },
         };
+        const char *text[NTEXT] = { "", "", "" };
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status, "", num,
-                sizeof num / sizeof num[0], "", ebuf);
+                sizeof num / sizeof num[0], text, "", ebuf);
     }
     lf_fit_input_free(&in);
     free(files.s);

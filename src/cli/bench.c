@@ -60,7 +60,9 @@ static const char bench_help[] =
     "  --coverage         instead: how often the 95% intervals (linear or profile\n"
     "                     likelihood, as `layerfit fit` makes them) hold the truth, and\n"
     "                     the RMS error over the Cramer-Rao bound (--seeds N, default\n"
-    "                     200; --scene paper-offsets, mixed-nu or soft-coating)\n";
+    "                     200; --scene paper-offsets, mixed-nu or soft-coating)\n"
+    "  --calibrate        with --coverage: profile thresholds calibrated by a\n"
+    "                     parametric bootstrap (200 refits per profile; slow)\n";
 
 #define MAXC 3           /* curves per scene at most */
 #define PYTHON "/usr/bin/python3"
@@ -879,10 +881,11 @@ int
 cli_bench(int argc, char **argv)
 {
     const char *csv = NULL, *plot = NULL, *scene_name = NULL, *script = NULL;
-    int quick = 0, no_scipy = 0, help = 0, npos, coverage = 0;
+    int quick = 0, no_scipy = 0, help = 0, npos, coverage = 0, calibrate = 0;
     long seeds = -1, batch = -1;
     const cli_opt opts[] = {
         { "quick", CLI_FLAG, &quick }, { "coverage", CLI_FLAG, &coverage },
+        { "calibrate", CLI_FLAG, &calibrate },
         { "seeds", CLI_COUNT, &seeds },
         { "batch", CLI_COUNT, &batch },
         { "scene", CLI_STRING, &scene_name },
@@ -910,7 +913,7 @@ cli_bench(int argc, char **argv)
                 argv[0]);
     nseeds = seeds >= 0 ? (size_t) seeds : quick ? 10 : 200;
     if (coverage)
-        return cli_coverage(nseeds, scene_name);
+        return cli_coverage(nseeds, scene_name, calibrate);
     nbatch = batch >= 0 ? (size_t) batch : quick ? 256 : 4096;
     if (nseeds < 2)
         cli_die(CLI_EXIT_USAGE, "bench: --seeds: at least 2 seeds are needed (e.g. --seeds 50)");

@@ -91,7 +91,7 @@ int cli_simulate(int argc, char **argv);
 int cli_bench(int argc, char **argv);
 int cli_cache(int argc, char **argv);
 /* `layerfit bench --coverage`: interval coverage over seeds (coverage.c). */
-int cli_coverage(size_t nseeds, const char *scene_name);
+int cli_coverage(size_t nseeds, const char *scene_name, int calibrate);
 /* 1 when the probes are frictionless and bonded together: nu is fitted. */
 int cli_probes_free_nu(const lf_probe *p, size_t n);
 /* `layerfit model --figure N [--plot FILE]` (figure.c). */

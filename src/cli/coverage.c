@@ -90,7 +90,7 @@ cli_probes_free_nu(const lf_probe *p, size_t n)
 
 /* Run scene s over nseeds seeds into t. */
 static void
-run_scene(const cov_scene *s, size_t nseeds, size_t points, cov_tally *t)
+run_scene(const cov_scene *s, size_t nseeds, size_t points, int calibrate, cov_tally *t)
 {
     double *depth[MAXCC], *force[MAXCC], *delta[MAXCC], sigma[MAXCC], z0[MAXCC], F0[MAXCC];
     lf_model *model[MAXCC];
@@ -173,7 +173,8 @@ run_scene(const cov_scene *s, size_t nseeds, size_t points, cov_tally *t)
             int k, wald[3];
             for (k = 0; k < 3; k++)
                 wald[k] = covers_wald(e[k], truth[k], k < 2);
-            lf_fit_profile(&fs, s->ncurves, fc, &r, 0, NULL);
+            lf_fit_profile(&fs, s->ncurves, fc, &r,
+                           LF_PROFILE_CHECK | (calibrate ? LF_PROFILE_CALIBRATE : 0), NULL);
             for (k = 0; k < 3; k++) {
                 if (k == 2 && !free_nu)
                     continue;
@@ -200,14 +201,15 @@ run_scene(const cov_scene *s, size_t nseeds, size_t points, cov_tally *t)
 }
 
 int
-cli_coverage(size_t nseeds, const char *scene_name)
+cli_coverage(size_t nseeds, const char *scene_name, int calibrate)
 {
     static const char *pname[3] = { "w", "E*", "nu" };
     size_t si;
     int any = 0;
 
     printf("coverage of 95%% intervals over %zu seeds (target 93-97%%; RMS error over the "
-           "Cramer-Rao bound, target <= 1.2 where the bound is below 20%%)\n", nseeds);
+           "Cramer-Rao bound, target <= 1.2 where the bound is below 20%%)%s\n", nseeds,
+           calibrate ? "; profile thresholds calibrated by the bootstrap" : "");
     for (si = 0; si < NCOV; si++) {
         const cov_scene *s = &cov_scenes[si];
         cov_tally t;
@@ -215,7 +217,7 @@ cli_coverage(size_t nseeds, const char *scene_name)
         if (scene_name != NULL && strcmp(scene_name, s->name) != 0)
             continue;
         any = 1;
-        run_scene(s, nseeds, 300, &t);
+        run_scene(s, nseeds, 300, calibrate, &t);
         printf("\n%s: %s\n  converged %zu of %zu\n", s->name, s->what, t.conv, t.n);
         for (k = 0; k < 3; k++) {
             double rms;
