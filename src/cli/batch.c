@@ -219,6 +219,7 @@ typedef struct {
     const lf_input_settings *input;
     int json;
     int auto_model;        /* lf_fit_choose_driver instead of lf_fit_driver */
+    int linear_only;       /* --intervals linear: no profile-likelihood check */
 } batch_config;
 
 static void
@@ -451,7 +452,10 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
          * as a single fit makes them, after the cheap screen (a failure keeps
          * the linear ones) */
         lf_error perr;
-        (void) lf_fit_profile(&s, n, in.curves, &res, LF_PROFILE_SCREEN, &perr);
+        if (cfg->linear_only)
+            cli_intervals_unchecked(&res);
+        else
+            (void) lf_fit_profile(&s, n, in.curves, &res, LF_PROFILE_SCREEN, &perr);
         have_res = 1;
         status = st == LF_OK ? "ok" : "noconv";
         failed = st != LF_OK;
@@ -590,6 +594,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     cfg.input = &o->input;
     cfg.json = 0;
     cfg.auto_model = o->auto_model;
+    cfg.linear_only = o->linear_only;
     if (o->out != NULL) {
         if (ends_with(o->out, ".jsonl"))
             cfg.json = 1;
@@ -733,6 +738,7 @@ cli_fit_batch(int argc, char **argv)
     o.choose = lf_choose_settings_default();
     o.input = lf_input_settings_default();
     o.auto_model = cli_fit_settings(&fa, &s, &o.choose, &o.input);
+    o.linear_only = fa.linear_only;
     o.plan = plan;
     o.out = out;
     o.shard = shard;

@@ -108,6 +108,8 @@ int cli_design(int argc, char **argv);
  * and input settings, returning 1 for --model auto.  Bad values exit 2. */
 typedef struct {
     const char *method, *jacobian, *model, *segment, *loss;
+    const char *intervals;    /* auto: profile likelihood where needed; linear */
+    int linear_only;          /* --intervals linear (set by cli_fit_settings) */
     double nu, fix_nu, fix_z0, fix_F0, max_ba, model_tol;
     double guess_w, guess_E, guess_nu, loss_scale;
     long max_iter;
@@ -115,6 +117,11 @@ typedef struct {
     const char *format, *spring_constant, *sensitivity;  /* how curves are read */
     lf_read_opts read;    /* filled by cli_fit_settings; is->read points here */
 } cli_fit_args;
+
+/* What --intervals linear leaves: the method of every linear interval is
+ * said to be unchecked. */
+#define CLI_LINEAR_UNCHECKED "linear (Wald), not checked"
+void cli_intervals_unchecked(lf_fit_result *r);
 #define CLI_FIT_NOPTS 24
 void cli_fit_args_init(cli_fit_args *a);
 size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
@@ -132,6 +139,7 @@ typedef struct {
     long threads;          /* 0: all cores */
     int progress;          /* 1 on, 0 off, -1 when stderr is a terminal */
     int auto_model;        /* 1: choose each fit's models (lf_fit_choose_driver) */
+    int linear_only;       /* --intervals linear */
     lf_choose_settings choose;  /* the model choice's settings */
     lf_input_settings input;    /* segment, held offsets */
 } cli_batch_opts;

@@ -50,6 +50,9 @@ const char cli_fit_help[] =
     "                       losses down-weight outliers (iteratively reweighted)\n"
     "  --loss-scale X       where the robust loss bends, in noise sd (1.345 huber,\n"
     "                       2.385 cauchy)\n"
+    "  --intervals I        auto (default): profile-likelihood intervals where the\n"
+    "                       linear ones are unreliable; linear: skip that check (faster\n"
+    "                       batches; every interval then says 'not checked')\n"
     "how curve files are read (also for --batch; a plan's format column per row):\n"
     "  --format NAME        the curve files' format instead of sniffing (csv, chiaro, jpk,\n"
     "                       workshop, ntmdt, hysitron, text; see layerfit check)\n"
@@ -171,6 +174,8 @@ cli_fit_args_init(cli_fit_args *a)
     a->model = "auto";
     a->segment = NULL;
     a->loss = "linear";
+    a->intervals = "auto";
+    a->linear_only = 0;
     a->nu = a->fix_nu = a->fix_z0 = a->fix_F0 = a->max_ba = a->model_tol = NAN;
     a->guess_w = a->guess_E = a->guess_nu = a->loss_scale = NAN;
     a->max_iter = -1;
@@ -191,7 +196,7 @@ cli_fit_opts(cli_fit_args *a, cli_opt *opts)
         { "slope", CLI_FLAG, &a->slope }, { "max-iter", CLI_COUNT, &a->max_iter },
         { "guess-w", CLI_ADHESION, &a->guess_w }, { "guess-E", CLI_PRESSURE, &a->guess_E },
         { "guess-nu", CLI_NUMBER, &a->guess_nu }, { "loss", CLI_STRING, &a->loss },
-        { "loss-scale", CLI_NUMBER, &a->loss_scale },
+        { "loss-scale", CLI_NUMBER, &a->loss_scale }, { "intervals", CLI_STRING, &a->intervals },
         { "format", CLI_STRING, &a->format }, { "spring-constant", CLI_STRING, &a->spring_constant },
         { "sensitivity", CLI_STRING, &a->sensitivity },
     };
@@ -199,6 +204,17 @@ cli_fit_opts(cli_fit_args *a, cli_opt *opts)
 
     memcpy(opts, table, sizeof table);
     return n;
+}
+
+/* --intervals linear: no estimate's linear interval was checked. */
+void
+cli_intervals_unchecked(lf_fit_result *r)
+{
+    lf_fit_estimate *e[3] = { &r->w, &r->Estar, &r->nu };
+    size_t k;
+    for (k = 0; k < 3; k++)
+        if (e[k]->free && e[k]->interval_method == NULL)
+            e[k]->interval_method = CLI_LINEAR_UNCHECKED;
 }
 
 int
@@ -241,6 +257,12 @@ cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
             cli_die(CLI_EXIT_USAGE, "fit: --model-tol applies to --model auto only");
         cs->tol = a->model_tol;
     }
+    if (strcmp(a->intervals, "auto") == 0)
+        a->linear_only = 0;
+    else if (strcmp(a->intervals, "linear") == 0)
+        a->linear_only = 1;
+    else
+        cli_die(CLI_EXIT_USAGE, "fit: --intervals must be auto or linear (got '%s')", a->intervals);
     if (a->segment != NULL) {
         if (strcmp(a->segment, "unload") == 0)
             is->segment = LF_SEG_UNLOAD;
@@ -348,7 +370,9 @@ cli_fit(int argc, char **argv)
             fprintf(stderr, "layerfit: warning: the thin-layer comparison fit failed: %s\n",
                     terr.msg);
     }
-    {
+    if (fa.linear_only) {
+        cli_intervals_unchecked(&r);
+    } else {
         /* profile-likelihood intervals where the linear ones are unreliable */
         lf_error perr;
         if (lf_fit_profile(&set, d.n, d.curves, &r, 0, &perr) != LF_OK)

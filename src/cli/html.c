@@ -196,6 +196,8 @@ parameter_row(FILE *f, const char *name, const lf_fit_estimate *e, const char *u
         }
         if (e->interval_method != NULL && strcmp(e->interval_method, "profile likelihood") == 0)
             fputs(" (profile likelihood)", f);
+        else if (e->interval_method != NULL && strcmp(e->interval_method, CLI_LINEAR_UNCHECKED) == 0)
+            fputs(" (linear, not checked)", f);
         fputs("</td>", f);
     } else {
         fputs("<td class=\"na\">&ndash;</td>", f);

@@ -50,6 +50,8 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
                 cli_human(hi, sizeof hi, e->ci95[1], unit));
     if (e->interval_method != NULL && strcmp(e->interval_method, "profile likelihood") == 0)
         fputs(" (profile likelihood)", f);
+    else if (e->interval_method != NULL && strcmp(e->interval_method, CLI_LINEAR_UNCHECKED) == 0)
+        fputs(" (linear, not checked: --intervals linear)", f);
     fputc('\n', f);
 }
 

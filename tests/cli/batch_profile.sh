@@ -82,4 +82,20 @@ fi
 printf 'file,k,R,b,interface\nmissing.csv,2,1mm,1um,frictionless\n' > "$tmp/miss.csv"
 "$LF" fit --batch "$tmp/miss.csv" --out "$tmp/miss.out.csv" 2>/dev/null
 has "a failed row: empty interval cells" "$tmp/miss.out.csv" ",,,,,,,,,"
+# --intervals linear: no check, and every interval says so (the numbers
+# themselves are those of the default run)
+if [ -x "$PY" ]; then
+    run_ok fit --batch "$tmp/fm/plan.csv" --model thin --threads 2 --intervals linear --out "$tmp/lin.csv"
+    "$PY" -c 'import csv, sys
+rows = [r for r in csv.DictReader(open(sys.argv[1])) if r["status"] == "ok"]
+m = set(r["w_ci95_method"] for r in rows) - {""}
+sys.exit(0 if m == {"linear (Wald), not checked"} else 1)' "$tmp/lin.csv" && ok \
+        || bad "--intervals linear: a row's w method is not 'linear (Wald), not checked'"
+    cut -d, -f1-21 "$tmp/b1.csv" > "$tmp/a"; cut -d, -f1-21 "$tmp/lin.csv" > "$tmp/b"
+    cmp -s "$tmp/a" "$tmp/b" && ok || bad "--intervals linear changes the estimates"
+    run_ok fit "$tmp/fm/one.csv" --model thin --intervals linear
+    has "single fit: --intervals linear said" "$tmp/out" "(linear, not checked: --intervals linear)"
+    expect_fail 2 "layerfit: fit: --intervals must be auto or linear (got 'both')" \
+        fit "$tmp/fm/one.csv" --model thin --intervals both
+fi
 summary
