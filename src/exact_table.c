@@ -37,6 +37,8 @@
 #include "exact.h"
 
 #define NFUN LF_EXACT_NFUN
+#define LN_TAU_MIN log(LF_EXACT_TAU_MIN)   /* folded by the compiler */
+#define LN_TAU_MAX log(LF_EXACT_TAU_MAX)
 
 static double
 now_seconds(void)
@@ -250,6 +252,88 @@ table_eval_pos(const lf_exact_table *t, const table_pos *p, double F[4], double 
                    + t->h * (p->h10 * Ga[j] + p->h11 * Ga[j + NFUN]);
             G[j] = ((p->g00 * (Fa[j] - Fa[j + NFUN])) / t->h + p->g10 * Ga[j]
                     + p->g11 * Ga[j + NFUN]) / tau;
+        }
+    }
+}
+
+/* ln f_j and g_j = d ln f_j / dl at l = ln tau: the same functions as
+ * table_eval_pos, with derivatives in l (no tau needed inside the grid,
+ * where the tables store d ln f/dl). */
+static void
+table_eval_l(const lf_exact_table *t, double l, double F[4], double g[4])
+{
+    int j;
+
+    if (l < LN_TAU_MIN) {
+        double tau = exp(l);
+        for (j = 0; j < NFUN; j++) {
+            double slope = (t->flo[j] - t->f0[j]) / LF_EXACT_TAU_MIN;
+            double f = t->f0[j] + slope * tau;
+            F[j] = log(f);
+            g[j] = slope * tau / f;
+        }
+    } else if (l > LN_TAU_MAX) {
+        double sg = exp(-l);
+        for (j = 0; j < NFUN; j++) {
+            F[j] = t->lthin_c[j] + t->thin_pow[j] * l + t->alpha[j] * sg + t->beta[j] * sg * sg;
+            g[j] = t->thin_pow[j] - t->alpha[j] * sg - 2.0 * t->beta[j] * sg * sg;
+        }
+    } else {
+        double q = (l - t->l0) / t->h, u, h00, h01, h10, h11, g00, g10, g11;
+        size_t i = q <= 0.0 ? 0 : (size_t) q;
+        const double *Fa, *Ga;
+        if (i >= t->n - 1)
+            i = t->n - 2;
+        u = q - (double) i;
+        h01 = u * u * (3.0 - 2.0 * u);
+        h00 = 1.0 - h01;
+        h10 = u * (1.0 - u) * (1.0 - u);
+        h11 = u * u * (u - 1.0);
+        g00 = 6.0 * u * (u - 1.0) / t->h;
+        g10 = (1.0 - u) * (1.0 - 3.0 * u);
+        g11 = u * (3.0 * u - 2.0);
+        Fa = t->F + NFUN * i;
+        Ga = t->G + NFUN * i;
+        for (j = 0; j < NFUN; j++) {
+            F[j] = h00 * Fa[j] + h01 * Fa[j + NFUN] + t->h * (h10 * Ga[j] + h11 * Ga[j + NFUN]);
+            g[j] = g00 * (Fa[j] - Fa[j + NFUN]) + g10 * Ga[j] + g11 * Ga[j + NFUN];
+        }
+    }
+}
+
+void
+lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g[4], double H[4])
+{
+    int m, j;
+
+    if (mx->pm != NULL && l >= LN_TAU_MIN) {
+        table_eval_l(&mx->pm->pre, l, F, g);
+        if (H != NULL) {
+            double gn[4];
+            table_eval_l(&mx->pm->pre_nu, l, H, gn);
+        }
+        return;
+    }
+    if (mx->m == 1) {
+        table_eval_l(mx->t[0], l, F, g);
+        if (H != NULL)
+            for (j = 0; j < NFUN; j++)
+                H[j] = mx->dwl[0] * F[j];
+        return;
+    }
+    for (j = 0; j < NFUN; j++) {
+        F[j] = g[j] = 0.0;
+        if (H != NULL)
+            H[j] = 0.0;
+    }
+    for (m = 0; m < mx->m; m++) {
+        double Fm[4], gm[4];
+        table_eval_l(mx->t[m], l, Fm, gm);
+        for (j = 0; j < NFUN; j++) {
+            F[j] += mx->wl[m] * Fm[j];
+            g[j] += mx->wl[m] * gm[j];
+            if (H != NULL)
+                H[j] += mx->dwl[m] * Fm[j];
         }
     }
 }
