@@ -256,11 +256,12 @@ table_eval_pos(const lf_exact_table *t, const table_pos *p, double F[4], double 
     }
 }
 
-/* ln f_j and g_j = d ln f_j / dl at l = ln tau: the same functions as
- * table_eval_pos, with derivatives in l (no tau needed inside the grid,
- * where the tables store d ln f/dl). */
+/* ln f_j, g_j = d ln f_j / dl and, if dg is not NULL, dg_j = d g_j/dl at
+ * l = ln tau: the same functions as table_eval_pos, with derivatives in l
+ * (no tau needed inside the grid, where the tables store d ln f/dl).
+ * dg is the second derivative of the piecewise cubic (a step at nodes). */
 static void
-table_eval_l(const lf_exact_table *t, double l, double F[4], double g[4])
+table_eval_l(const lf_exact_table *t, double l, double F[4], double g[4], double dg[4])
 {
     int j;
 
@@ -271,15 +272,19 @@ table_eval_l(const lf_exact_table *t, double l, double F[4], double g[4])
             double f = t->f0[j] + slope * tau;
             F[j] = log(f);
             g[j] = slope * tau / f;
+            if (dg != NULL)
+                dg[j] = g[j] * (1.0 - g[j]);
         }
     } else if (l > LN_TAU_MAX) {
         double sg = exp(-l);
         for (j = 0; j < NFUN; j++) {
             F[j] = t->lthin_c[j] + t->thin_pow[j] * l + t->alpha[j] * sg + t->beta[j] * sg * sg;
             g[j] = t->thin_pow[j] - t->alpha[j] * sg - 2.0 * t->beta[j] * sg * sg;
+            if (dg != NULL)
+                dg[j] = t->alpha[j] * sg + 4.0 * t->beta[j] * sg * sg;
         }
     } else {
-        double q = (l - t->l0) / t->h, u, h00, h01, h10, h11, g00, g10, g11;
+        double ih = 1.0 / t->h, q = (l - t->l0) * ih, u, h00, h01, h10, h11, g00, g10, g11;
         size_t i = q <= 0.0 ? 0 : (size_t) q;
         const double *Fa, *Ga;
         if (i >= t->n - 1)
@@ -289,7 +294,7 @@ table_eval_l(const lf_exact_table *t, double l, double F[4], double g[4])
         h00 = 1.0 - h01;
         h10 = u * (1.0 - u) * (1.0 - u);
         h11 = u * u * (u - 1.0);
-        g00 = 6.0 * u * (u - 1.0) / t->h;
+        g00 = 6.0 * u * (u - 1.0) * ih;
         g10 = (1.0 - u) * (1.0 - 3.0 * u);
         g11 = u * (3.0 * u - 2.0);
         Fa = t->F + NFUN * i;
@@ -298,24 +303,31 @@ table_eval_l(const lf_exact_table *t, double l, double F[4], double g[4])
             F[j] = h00 * Fa[j] + h01 * Fa[j + NFUN] + t->h * (h10 * Ga[j] + h11 * Ga[j + NFUN]);
             g[j] = g00 * (Fa[j] - Fa[j + NFUN]) + g10 * Ga[j] + g11 * Ga[j + NFUN];
         }
+        if (dg != NULL) {
+            double c00 = (12.0 * u - 6.0) * ih * ih, c10 = (6.0 * u - 4.0) * ih,
+                   c11 = (6.0 * u - 2.0) * ih;
+            for (j = 0; j < NFUN; j++)
+                dg[j] = c00 * (Fa[j] - Fa[j + NFUN]) + c10 * Ga[j] + c11 * Ga[j + NFUN];
+        }
     }
 }
 
 void
-lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g[4], double H[4])
+lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g[4], double dg[4],
+                    double H[4])
 {
     int m, j;
 
     if (mx->pm != NULL && l >= LN_TAU_MIN) {
-        table_eval_l(&mx->pm->pre, l, F, g);
+        table_eval_l(&mx->pm->pre, l, F, g, dg);
         if (H != NULL) {
             double gn[4];
-            table_eval_l(&mx->pm->pre_nu, l, H, gn);
+            table_eval_l(&mx->pm->pre_nu, l, H, gn, NULL);
         }
         return;
     }
     if (mx->m == 1) {
-        table_eval_l(mx->t[0], l, F, g);
+        table_eval_l(mx->t[0], l, F, g, dg);
         if (H != NULL)
             for (j = 0; j < NFUN; j++)
                 H[j] = mx->dwl[0] * F[j];
@@ -323,15 +335,19 @@ lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g[4], 
     }
     for (j = 0; j < NFUN; j++) {
         F[j] = g[j] = 0.0;
+        if (dg != NULL)
+            dg[j] = 0.0;
         if (H != NULL)
             H[j] = 0.0;
     }
     for (m = 0; m < mx->m; m++) {
-        double Fm[4], gm[4];
-        table_eval_l(mx->t[m], l, Fm, gm);
+        double Fm[4], gm[4], dgm[4];
+        table_eval_l(mx->t[m], l, Fm, gm, dg != NULL ? dgm : NULL);
         for (j = 0; j < NFUN; j++) {
             F[j] += mx->wl[m] * Fm[j];
             g[j] += mx->wl[m] * gm[j];
+            if (dg != NULL)
+                dg[j] += mx->wl[m] * dgm[j];
             if (H != NULL)
                 H[j] += mx->dwl[m] * Fm[j];
         }

@@ -78,6 +78,7 @@ typedef struct {
     lf_exact_mix mix;
     lf_exact_premix premix;       /* bonded: the mix flattened for this nu */
     double r[3][GRID_N];          /* rho_d, rho_p, rho_0 at the nodes */
+    double dr[3][GRID_N];         /* their u-derivatives */
 } mixdata;
 
 /* A cache slot of the model object: immutable while READY; readers hold a
@@ -182,6 +183,26 @@ rho_of(int which, double k, double u, const double F[4], const double g[4])
     return (k - 0.5) * u + (which == RHO_D ? F[2] + F[1] : F[3] - F[0] + F[1]) + log(num / den);
 }
 
+/* d rho/du from g and dg = dg/du (NAN where rho is infinite). */
+static double
+drho_of(int which, double k, const double g[4], const double dg[4])
+{
+    double base = k - 0.5 + (which == RHO_P ? g[3] - g[0] + g[1] : g[2] + g[1]);
+
+    switch (which) {
+    case RHO_D:
+        if (!(k + g[2] > 0.0 && 0.5 - g[1] > 0.0))
+            return NAN;
+        return base + dg[2] / (k + g[2]) + dg[1] / (0.5 - g[1]);
+    case RHO_P:
+        if (!(k + 1.0 + g[3] > 0.0 && 1.5 + g[0] - g[1] > 0.0))
+            return NAN;
+        return base + dg[3] / (k + 1.0 + g[3]) - (dg[0] - dg[1]) / (1.5 + g[0] - g[1]);
+    default:
+        return base;
+    }
+}
+
 /* Fill md for nu (k the probe's): the tables from the state (or the store
  * when st is NULL), the flattened mix, the grid. */
 static int
@@ -196,10 +217,12 @@ mixdata_build(mixdata *md, exact_state *st, const lf_probe *pr, double nu, lf_er
         return status;
     lf_exact_premix_init(&md->premix, &md->mix);
     for (i = 0; i < GRID_N; i++) {
-        double F[4], g[4], u = GRID_U0 + GRID_HU * i;
-        lf_exact_mix_eval_u(&md->mix, u, F, g, NULL);
-        for (w = 0; w < 3; w++)
+        double F[4], g[4], dg[4], u = GRID_U0 + GRID_HU * i;
+        lf_exact_mix_eval_u(&md->mix, u, F, g, dg, NULL);
+        for (w = 0; w < 3; w++) {
             md->r[w][i] = rho_of(w, pr->k, u, F, g);
+            md->dr[w][i] = drho_of(w, pr->k, g, dg);
+        }
     }
     return LF_OK;
 }
@@ -330,6 +353,11 @@ typedef struct {
     double ddelta_nu, dP_nu;           /* d/dnu at fixed tau */
 } exact_pt;
 
+/* The mix at one u: ln f, g = d ln f/du, dg = dg/du. */
+typedef struct {
+    double u, F[4], g[4], dg[4];
+} mixval;
+
 /* Everything one (probe, material) pair needs. */
 typedef struct {
     const lf_exact_mix *mx;
@@ -340,17 +368,19 @@ typedef struct {
     double u_det;         /* ln tau at detachment, -INFINITY when none */
     double delta_det;
     exact_pt det;         /* the curve at u_det (when finite) */
+    mixval vdet;          /* the mix near it: u_det = vdet.u + du_det */
+    double du_det;
 } exact_ctx;
 
 /* Each product of a power of tau and a tabulated function is one
  * exponential of a sum of logarithms; the u-derivatives follow as value
- * times the sum of the logarithmic derivatives. */
+ * times the sum of the logarithmic derivatives.  H: d ln f/dnu, or NULL. */
 static void
-curve_at(const exact_ctx *c, double u, int want_nu, exact_pt *o)
+curve_from(const exact_ctx *c, double u, const double F[4], const double g[4],
+           const double *H, exact_pt *o)
 {
-    double F[4], g[4], H[4], k = c->k, D1;
+    double k = c->k, D1;
 
-    lf_exact_mix_eval_u(c->mx, u, F, g, want_nu ? H : NULL);
     D1 = c->A1 * exp(k * u + F[2]);                    /* A1 tau^k d */
     o->shift = c->A2 * exp(0.5 * u - F[1]);            /* A2 sqrt(tau) / e */
     o->Ssh = c->Sc * exp(1.5 * u + F[0] - F[1]);       /* S shift */
@@ -362,12 +392,21 @@ curve_at(const exact_ctx *c, double u, int want_nu, exact_pt *o)
     o->dd = D1 * (k + g[2]) - o->shift * o->gsh;
     o->P = o->P1 - o->Ssh;
     o->dP = o->P1 * o->gP1 - o->Ssh * o->gSsh;
-    if (want_nu) {
+    if (H != NULL) {
         o->ddelta_nu = D1 * H[2] + o->shift * H[1];
         o->dP_nu = o->P1 * H[3] - o->Ssh * (H[0] - H[1]);
     } else {
         o->ddelta_nu = o->dP_nu = 0.0;
     }
+}
+
+static void
+curve_at(const exact_ctx *c, double u, int want_nu, exact_pt *o)
+{
+    double F[4], g[4], H[4];
+
+    lf_exact_mix_eval_u(c->mx, u, F, g, NULL, want_nu ? H : NULL);
+    curve_from(c, u, F, g, want_nu ? H : NULL, o);
 }
 
 /* The curve carried from u to u + du to first order (|du| tiny): the
@@ -388,43 +427,80 @@ cond_at(const exact_ctx *c, int which, double u)
 {
     double F[4], g[4];
 
-    lf_exact_mix_eval_u(c->mx, u, F, g, NULL);
+    lf_exact_mix_eval_u(c->mx, u, F, g, NULL, NULL);
     return rho_of(which, c->k, u, F, g) - c->L;
 }
 
-/* The root of cond_at(which, .) in [lo, hi], f(lo) = flo <= 0 < fhi =
- * f(hi): Illinois (regula falsi that halves the stale end's value; falls
- * back to bisection where a value is infinite).  Returns the last u with
- * f > 0, the side the branches keep. */
+/* The root of cond(which) in [lo, hi] (<= 0 at lo, > 0 at hi) by Newton
+ * in u from u (bisection where a step leaves the bracket or the slope is
+ * not positive).  *v receives the mix at the last point evaluated; the
+ * root is v->u + *du, |*du| <= ROOT_TAYLOR: the last Newton step, which
+ * leaves an error ~ du^2 and is applied to the curve to first order
+ * (curve_advance) rather than evaluated. */
+#define ROOT_TAYLOR 1e-7
 static double
-cond_root(const exact_ctx *c, int which, double lo, double hi, double flo, double fhi)
+cond_newton(const exact_ctx *c, int which, double lo, double hi, double u, mixval *v,
+            double *du)
 {
-    int i, side = 0;
+    int i;
 
-    for (i = 0; i < 200 && hi - lo > 1e-14 * fmax(1.0, fabs(lo)); i++) {
-        double um = (lo * fhi - hi * flo) / (fhi - flo), f;
-        if (!(um > lo && um < hi))
-            um = 0.5 * (lo + hi);
-        f = cond_at(c, which, um);
-        /* at the rounding of rho - ln lambda (terms of size |ln lambda|):
-         * u is known to ~1e-14 and the bracket need not close further */
-        if (fabs(f) <= 1e-14 * (1.0 + fabs(c->L)))
-            return um;
-        if (f <= 0.0) {
-            lo = um;
-            flo = f;
-            if (side < 0)
-                fhi *= 0.5;
-            side = -1;
-        } else {
-            hi = um;
-            fhi = f;
-            if (side > 0)
-                flo *= 0.5;
-            side = 1;
+    for (i = 0; i < 200; i++) {
+        double f, d, un;
+        if (!(u > lo && u < hi))
+            u = 0.5 * (lo + hi);
+        v->u = u;
+        lf_exact_mix_eval_u(c->mx, u, v->F, v->g, v->dg, NULL);
+        f = rho_of(which, c->k, u, v->F, v->g) - c->L;
+        d = drho_of(which, c->k, v->g, v->dg);
+        if (f <= 0.0)
+            lo = u;
+        else
+            hi = u;
+        un = u - f / d;
+        if (d > 0.0 && fabs(un - u) <= ROOT_TAYLOR) {
+            *du = un - u;
+            return un;
         }
+        if (hi - lo <= 1e-14 * fmax(1.0, fabs(lo)))
+            break;
+        u = d > 0.0 && un > lo && un < hi ? un : 0.5 * (lo + hi);
     }
-    return hi;
+    *du = 0.0;
+    return v->u;
+}
+
+/* A start for the root in grid cell [u_i, u_i+1] (values and slopes of
+ * cond at both nodes): the zero of the cell's cubic Hermite model. */
+static double
+cell_start(const exact_ctx *c, int which, int i)
+{
+    const double *r = c->md->r[which], *dr = c->md->dr[which];
+    double f0 = r[i] - c->L, f1 = r[i + 1] - c->L, s0 = dr[i] * GRID_HU, s1 = dr[i + 1] * GRID_HU;
+    double t = f0 / (f0 - f1);
+    int it;
+
+    if (!(t >= 0.0 && t <= 1.0))
+        t = 0.5;
+    if (isfinite(s0) && isfinite(s1))
+        for (it = 0; it < 4; it++) {
+            double t2 = t * t, t3 = t2 * t;
+            double p = (2.0 * t3 - 3.0 * t2 + 1.0) * f0 + (t3 - 2.0 * t2 + t) * s0
+                       + (3.0 * t2 - 2.0 * t3) * f1 + (t3 - t2) * s1;
+            double dp = 6.0 * (t2 - t) * (f0 - f1) + (3.0 * t2 - 4.0 * t + 1.0) * s0
+                        + (3.0 * t2 - 2.0 * t) * s1;
+            if (!(dp > 0.0))
+                break;
+            t = fmin(fmax(t - p / dp, 0.0), 1.0);
+        }
+    return GRID_U0 + GRID_HU * (i + t);
+}
+
+/* The regula falsi point of a bracket (its middle if that fails). */
+static double
+falsi(double lo, double hi, double flo, double fhi)
+{
+    double u = (lo * fhi - hi * flo) / (fhi - flo);
+    return u > lo && u < hi ? u : 0.5 * (lo + hi);
 }
 
 /* From lo (f(lo) = *flo <= 0) up in doubling steps to the first u with
@@ -448,10 +524,11 @@ cond_up(const exact_ctx *c, int which, double *lo, double *flo, double *hi, doub
 }
 
 /* The first crossing of cond(which) from <= 0 to > 0 above lo (where it
- * is <= 0): below the grid in steps of 0.25, then along the grid's nodes,
- * then beyond it.  Returns the root, or U_HIGH when there is none. */
+ * is flo <= 0): below the grid in steps of 0.25, then along the grid's
+ * nodes, then beyond it.  Returns the root (U_HIGH when there is none)
+ * with *v and *du as cond_newton's. */
 static double
-cond_first_above(const exact_ctx *c, int which, double lo, double flo)
+cond_first_above(const exact_ctx *c, int which, double lo, double flo, mixval *v, double *du)
 {
     const double *r = c->md->r[which];
     double hi, fhi;
@@ -461,32 +538,36 @@ cond_first_above(const exact_ctx *c, int which, double lo, double flo)
         hi = fmin(lo + 0.25, GRID_U0);
         fhi = hi == GRID_U0 ? r[0] - c->L : cond_at(c, which, hi);
         if (fhi > 0.0)
-            return cond_root(c, which, lo, hi, flo, fhi);
+            return cond_newton(c, which, lo, hi, falsi(lo, hi, flo, fhi), v, du);
         lo = hi;
         flo = fhi;
     }
-    j = (int) floor((lo - GRID_U0) / GRID_HU) + 1;
-    for (; j < GRID_N; j++) {
+    for (j = (int) floor((lo - GRID_U0) / GRID_HU) + 1; j < GRID_N; j++) {
         double uj = GRID_U0 + GRID_HU * j;
         if (uj <= lo)
             continue;
         if (r[j] - c->L > 0.0)
-            return cond_root(c, which, lo, uj, flo, r[j] - c->L);
+            return cond_newton(c, which, lo, uj, cell_start(c, which, j - 1), v, du);
         lo = uj;
         flo = r[j] - c->L;
     }
-    if (!cond_up(c, which, &lo, &flo, &hi, &fhi))
+    if (!cond_up(c, which, &lo, &flo, &hi, &fhi)) {
+        v->u = U_HIGH;
+        lf_exact_mix_eval_u(c->mx, U_HIGH, v->F, v->g, v->dg, NULL);
+        *du = 0.0;
         return U_HIGH;
-    return cond_root(c, which, lo, hi, flo, fhi);
+    }
+    return cond_newton(c, which, lo, hi, falsi(lo, hi, flo, fhi), v, du);
 }
 
 /* The start of the stable branch: the largest u with ddelta/du = 0, from
- * the grid (down from its top), or beyond it. */
+ * the grid (down from its top), or beyond it.  c->vdet keeps the mix
+ * there for the pull-off (c->u_det = vdet.u + du_det). */
 static void
 find_detach(exact_ctx *c)
 {
     const double *r = c->md->r[RHO_D];
-    double lo, hi, flo, fhi;
+    double lo, hi, flo, fhi, start;
     int i;
 
     c->u_det = -INFINITY;
@@ -499,17 +580,13 @@ find_detach(exact_ctx *c)
         /* delta falls with a at the grid's top: the end lies beyond */
         lo = GRID_U0 + GRID_HU * i;
         flo = r[i] - c->L;
-        if (!cond_up(c, RHO_D, &lo, &flo, &hi, &fhi)) {
-            c->u_det = U_HIGH;
-            curve_at(c, c->u_det, 0, &c->det);
-            c->delta_det = c->det.delta;
-            return;
-        }
+        if (!cond_up(c, RHO_D, &lo, &flo, &hi, &fhi))
+            lo = hi = U_HIGH;
+        start = falsi(lo, hi, flo, fhi);
     } else if (i >= 0) {
         lo = GRID_U0 + GRID_HU * i;
         hi = lo + GRID_HU;
-        flo = r[i] - c->L;
-        fhi = r[i + 1] - c->L;
+        start = cell_start(c, RHO_D, i);
     } else {
         /* delta rises with a over the whole grid: below it, rho_d is
          * (k - 1/2) u + O(tau), monotone for k above 1/2 (one bracket),
@@ -532,9 +609,18 @@ find_detach(exact_ctx *c)
             if (lo <= U_LOW)
                 return; /* monotonic down to a -> 0 (k < 1/2) */
         }
+        start = falsi(lo, hi, flo, fhi);
     }
-    c->u_det = cond_root(c, RHO_D, lo, hi, flo, fhi);
-    curve_at(c, c->u_det, 0, &c->det);
+    if (lo == hi) {
+        c->vdet.u = lo;
+        lf_exact_mix_eval_u(c->mx, lo, c->vdet.F, c->vdet.g, c->vdet.dg, NULL);
+        c->du_det = 0.0;
+        c->u_det = lo;
+    } else {
+        c->u_det = cond_newton(c, RHO_D, lo, hi, start, &c->vdet, &c->du_det);
+    }
+    curve_from(c, c->vdet.u, c->vdet.F, c->vdet.g, NULL, &c->det);
+    curve_advance(&c->det, c->du_det);
     c->delta_det = c->det.delta;
 }
 
@@ -786,8 +872,9 @@ exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
     exact_ctx c;
     exact_pt pt;
     mixdata local;
+    mixval v;
     slot *held;
-    double u_po;
+    double u_po, du;
 
     if (ctx_init(&c, state, probe, mat, &local, &held, NULL) != LF_OK)
         return LF_EINVAL;
@@ -802,8 +889,17 @@ exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
     out->P_detach = c.det.P;
     out->a_detach = exp(c.u_det) * c.h;
     /* force-controlled pull-off: first minimum of P(tau) above detachment */
-    u_po = c.det.dP >= 0.0 ? c.u_det : cond_first_above(&c, RHO_P, c.u_det, cond_at(&c, RHO_P, c.u_det));
-    curve_at(&c, u_po, 0, &pt);
+    if (c.det.dP >= 0.0) {
+        pt = c.det;
+        u_po = c.u_det;
+    } else {
+        const mixval *d = &c.vdet;
+        double f = rho_of(RHO_P, c.k, d->u, d->F, d->g) - c.L
+                   + drho_of(RHO_P, c.k, d->g, d->dg) * c.du_det;
+        u_po = cond_first_above(&c, RHO_P, c.u_det, fmin(f, 0.0), &v, &du);
+        curve_from(&c, v.u, v.F, v.g, NULL, &pt);
+        curve_advance(&pt, du);
+    }
     out->delta_po = pt.delta;
     out->P_po = pt.P;
     out->a_po = exp(u_po) * c.h;
@@ -811,8 +907,12 @@ exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
     out->P_jump = 0.0;
     if (c.delta_det < 0.0) {
         /* delta rises from delta_det < 0 above u_det: one crossing of 0 */
-        double uj = cond_first_above(&c, RHO_0, c.u_det, fmin(cond_at(&c, RHO_0, c.u_det), 0.0));
-        curve_at(&c, uj, 0, &pt);
+        const mixval *d = &c.vdet;
+        double f = rho_of(RHO_0, c.k, d->u, d->F, d->g) - c.L
+                   + drho_of(RHO_0, c.k, d->g, d->dg) * c.du_det;
+        cond_first_above(&c, RHO_0, c.u_det, fmin(f, 0.0), &v, &du);
+        curve_from(&c, v.u, v.F, v.g, NULL, &pt);
+        curve_advance(&pt, du);
         out->P_jump = pt.P;
     }
     mixdata_done(held);
