@@ -191,13 +191,13 @@ void lf_exact_mix_eval_l(const lf_exact_mix *mx, double l, double tau, double f[
 void lf_exact_mix_eval_log(const lf_exact_mix *mx, double l, double tau, double F[4],
                            double G[4], double H[4]);
 
-/* ln f, g = d ln f/dl, dg = dg/dl and H = d ln f/dnu (dg, H may be NULL)
- * at l = ln tau: the functions of lf_exact_mix_eval_log with derivatives
- * in l, which inside the tables' range needs no tau at all (model_exact.c
- * works in l).  dg is the interpolant's own second derivative (it steps
- * at the tables' nodes). */
+/* ln f, g = d ln f/dl, dg = dg/dl, H = d ln f/dnu and dH = dH/dl (dg, H,
+ * dH may be NULL; dH only with H) at l = ln tau: the functions of
+ * lf_exact_mix_eval_log with derivatives in l, which inside the tables'
+ * range needs no tau at all (model_exact.c works in l).  dg is the
+ * interpolant's own second derivative (it steps at the tables' nodes). */
 void lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g[4],
-                         double dg[4], double H[4]);
+                         double dg[4], double H[4], double dH[4]);
 
 /* The exact model's evaluation without its shortcuts (model_exact.c):
  * every indentation solved on its own by safeguarded Newton to rounding,

@@ -314,7 +314,7 @@ table_eval_l(const lf_exact_table *t, double l, double F[4], double g[4], double
 
 void
 lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g[4], double dg[4],
-                    double H[4])
+                    double H[4], double dH[4])
 {
     int m, j;
 
@@ -322,15 +322,18 @@ lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g[4], 
         table_eval_l(&mx->pm->pre, l, F, g, dg);
         if (H != NULL) {
             double gn[4];
-            table_eval_l(&mx->pm->pre_nu, l, H, gn, NULL);
+            table_eval_l(&mx->pm->pre_nu, l, H, dH != NULL ? dH : gn, NULL);
         }
         return;
     }
     if (mx->m == 1) {
         table_eval_l(mx->t[0], l, F, g, dg);
         if (H != NULL)
-            for (j = 0; j < NFUN; j++)
+            for (j = 0; j < NFUN; j++) {
                 H[j] = mx->dwl[0] * F[j];
+                if (dH != NULL)
+                    dH[j] = mx->dwl[0] * g[j];
+            }
         return;
     }
     for (j = 0; j < NFUN; j++) {
@@ -339,6 +342,8 @@ lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g[4], 
             dg[j] = 0.0;
         if (H != NULL)
             H[j] = 0.0;
+        if (dH != NULL)
+            dH[j] = 0.0;
     }
     for (m = 0; m < mx->m; m++) {
         double Fm[4], gm[4], dgm[4];
@@ -350,6 +355,8 @@ lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g[4], 
                 dg[j] += mx->wl[m] * dgm[j];
             if (H != NULL)
                 H[j] += mx->dwl[m] * Fm[j];
+            if (dH != NULL)
+                dH[j] += mx->dwl[m] * gm[j];
         }
     }
 }

@@ -37,12 +37,14 @@
  *
  * Evaluation.  Each indentation is inverted by Newton in u from a cubic
  * extrapolation of the previous points (data come in order).  Once a
- * Newton step is below STEP_TAYLOR the curve is carried to the root by
- * that step to first order instead of being evaluated there again: values
- * then differ from the converged ones by O(step^2) ~ 1e-16 relative, the
- * derivative columns (taken at the last evaluated point) by O(step) <= ~1e-8
- * relative, far below the tables' own accuracy in derivatives (3e-5,
- * tests/test_exact.c).
+ * Newton step du is small (|du| <= 1e-6 and |du| <= 1e-5 of the scale
+ * ddelta/du / (d2delta/du2) on which the slope changes) the root is taken
+ * one second-order step away and the curve is carried there by its
+ * second-order expansion instead of being evaluated again (the
+ * interpolant's own second derivatives, exact.h): the root and the values
+ * are then off by O(du^3) ~ 1e-18 relative, the derivative columns by
+ * O(du^2) <= ~1e-10, far below the tables' own accuracy in derivatives
+ * (3e-5, tests/test_exact.c).  lf_exact_eval_precise skips all this.
  */
 #include <math.h>
 #include <stdatomic.h>
@@ -62,8 +64,11 @@
 #define GRID_U0 log(LF_EXACT_TAU_MIN)
 #define GRID_HU ((log(LF_EXACT_TAU_MAX) - GRID_U0) / (GRID_N - 1))
 
-/* Newton steps in u below this are applied to first order (header). */
-#define STEP_TAYLOR 1e-8
+/* Newton steps in u below STEP_TAYLOR, and below CURV_TAYLOR of the
+ * scale on which ddelta/du changes, are finished to second order
+ * (header). */
+#define STEP_TAYLOR 1e-6
+#define CURV_TAYLOR 1e-5
 
 /* k from which rho_d rises with u below the tables (tau < TAU_MIN, where
  * it is (k - 1/2) u + O(tau)): there a single bracket decides. */
@@ -218,7 +223,7 @@ mixdata_build(mixdata *md, exact_state *st, const lf_probe *pr, double nu, lf_er
     lf_exact_premix_init(&md->premix, &md->mix);
     for (i = 0; i < GRID_N; i++) {
         double F[4], g[4], dg[4], u = GRID_U0 + GRID_HU * i;
-        lf_exact_mix_eval_u(&md->mix, u, F, g, dg, NULL);
+        lf_exact_mix_eval_u(&md->mix, u, F, g, dg, NULL, NULL);
         for (w = 0; w < 3; w++) {
             md->r[w][i] = rho_of(w, pr->k, u, F, g);
             md->dr[w][i] = drho_of(w, pr->k, g, dg);
@@ -351,6 +356,9 @@ typedef struct {
     double shift, Ssh, P1;             /* adhesive shift, S shift, P1 */
     double gsh, gSsh, gP1;             /* their d ln/du */
     double ddelta_nu, dP_nu;           /* d/dnu at fixed tau */
+    /* second order (curve_from with dg): d/du of dd, dP, gsh, gSsh, gP1,
+     * ddelta_nu, dP_nu */
+    double d2, P2, dgsh, dgSsh, dgP1, ddelta_nu_u, dP_nu_u;
 } exact_pt;
 
 /* The mix at one u: ln f, g = d ln f/du, dg = dg/du. */
@@ -374,22 +382,24 @@ typedef struct {
 
 /* Each product of a power of tau and a tabulated function is one
  * exponential of a sum of logarithms; the u-derivatives follow as value
- * times the sum of the logarithmic derivatives.  H: d ln f/dnu, or NULL. */
+ * times the sum of the logarithmic derivatives.  H: d ln f/dnu, or NULL;
+ * dg (with dH when H is given): the second-order terms too, else NULL. */
 static void
 curve_from(const exact_ctx *c, double u, const double F[4], const double g[4],
-           const double *H, exact_pt *o)
+           const double *dg, const double *H, const double *dH, exact_pt *o)
 {
-    double k = c->k, D1;
+    double k = c->k, D1, gD1;
 
     D1 = c->A1 * exp(k * u + F[2]);                    /* A1 tau^k d */
     o->shift = c->A2 * exp(0.5 * u - F[1]);            /* A2 sqrt(tau) / e */
     o->Ssh = c->Sc * exp(1.5 * u + F[0] - F[1]);       /* S shift */
     o->P1 = c->F1 * exp((k + 1.0) * u + F[3]);         /* F1 tau^(k+1) p */
+    gD1 = k + g[2];
     o->gsh = 0.5 - g[1];
     o->gSsh = 1.5 + g[0] - g[1];
     o->gP1 = k + 1.0 + g[3];
     o->delta = D1 - o->shift;
-    o->dd = D1 * (k + g[2]) - o->shift * o->gsh;
+    o->dd = D1 * gD1 - o->shift * o->gsh;
     o->P = o->P1 - o->Ssh;
     o->dP = o->P1 * o->gP1 - o->Ssh * o->gSsh;
     if (H != NULL) {
@@ -398,6 +408,21 @@ curve_from(const exact_ctx *c, double u, const double F[4], const double g[4],
     } else {
         o->ddelta_nu = o->dP_nu = 0.0;
     }
+    if (dg != NULL) {
+        /* (X e^G)'' = X (G'^2 + G'') for each product */
+        o->dgsh = -dg[1];
+        o->dgSsh = dg[0] - dg[1];
+        o->dgP1 = dg[3];
+        o->d2 = D1 * (gD1 * gD1 + dg[2]) - o->shift * (o->gsh * o->gsh + o->dgsh);
+        o->P2 = o->P1 * (o->gP1 * o->gP1 + o->dgP1) - o->Ssh * (o->gSsh * o->gSsh + o->dgSsh);
+        if (H != NULL) {
+            o->ddelta_nu_u = D1 * (gD1 * H[2] + dH[2]) + o->shift * (o->gsh * H[1] + dH[1]);
+            o->dP_nu_u = o->P1 * (o->gP1 * H[3] + dH[3])
+                         - o->Ssh * (o->gSsh * (H[0] - H[1]) + dH[0] - dH[1]);
+        } else {
+            o->ddelta_nu_u = o->dP_nu_u = 0.0;
+        }
+    }
 }
 
 static void
@@ -405,8 +430,18 @@ curve_at(const exact_ctx *c, double u, int want_nu, exact_pt *o)
 {
     double F[4], g[4], H[4];
 
-    lf_exact_mix_eval_u(c->mx, u, F, g, NULL, want_nu ? H : NULL);
-    curve_from(c, u, F, g, want_nu ? H : NULL, o);
+    lf_exact_mix_eval_u(c->mx, u, F, g, NULL, want_nu ? H : NULL, NULL);
+    curve_from(c, u, F, g, NULL, want_nu ? H : NULL, NULL, o);
+}
+
+/* The same with the second-order terms. */
+static void
+curve_at2(const exact_ctx *c, double u, int want_nu, exact_pt *o)
+{
+    double F[4], g[4], dg[4], H[4], dH[4];
+
+    lf_exact_mix_eval_u(c->mx, u, F, g, dg, want_nu ? H : NULL, want_nu ? dH : NULL);
+    curve_from(c, u, F, g, dg, want_nu ? H : NULL, want_nu ? dH : NULL, o);
 }
 
 /* The curve carried from u to u + du to first order (|du| tiny): the
@@ -421,13 +456,34 @@ curve_advance(exact_pt *o, double du)
     o->P1 *= 1.0 + o->gP1 * du;
 }
 
+/* The same to second order in du (a curve from curve_at2): values with
+ * errors O(du^3), the derivatives O(du^2). */
+static void
+curve_advance2(exact_pt *o, double du)
+{
+    double h = 0.5 * du * du;
+
+    o->delta += o->dd * du + o->d2 * h;
+    o->P += o->dP * du + o->P2 * h;
+    o->dd += o->d2 * du;
+    o->dP += o->P2 * du;
+    o->shift *= 1.0 + o->gsh * du + (o->gsh * o->gsh + o->dgsh) * h;
+    o->Ssh *= 1.0 + o->gSsh * du + (o->gSsh * o->gSsh + o->dgSsh) * h;
+    o->P1 *= 1.0 + o->gP1 * du + (o->gP1 * o->gP1 + o->dgP1) * h;
+    o->gsh += o->dgsh * du;
+    o->gSsh += o->dgSsh * du;
+    o->gP1 += o->dgP1 * du;
+    o->ddelta_nu += o->ddelta_nu_u * du;
+    o->dP_nu += o->dP_nu_u * du;
+}
+
 /* rho (header) minus ln lambda at u. */
 static double
 cond_at(const exact_ctx *c, int which, double u)
 {
     double F[4], g[4];
 
-    lf_exact_mix_eval_u(c->mx, u, F, g, NULL, NULL);
+    lf_exact_mix_eval_u(c->mx, u, F, g, NULL, NULL, NULL);
     return rho_of(which, c->k, u, F, g) - c->L;
 }
 
@@ -449,7 +505,7 @@ cond_newton(const exact_ctx *c, int which, double lo, double hi, double u, mixva
         if (!(u > lo && u < hi))
             u = 0.5 * (lo + hi);
         v->u = u;
-        lf_exact_mix_eval_u(c->mx, u, v->F, v->g, v->dg, NULL);
+        lf_exact_mix_eval_u(c->mx, u, v->F, v->g, v->dg, NULL, NULL);
         f = rho_of(which, c->k, u, v->F, v->g) - c->L;
         d = drho_of(which, c->k, v->g, v->dg);
         if (f <= 0.0)
@@ -553,7 +609,7 @@ cond_first_above(const exact_ctx *c, int which, double lo, double flo, mixval *v
     }
     if (!cond_up(c, which, &lo, &flo, &hi, &fhi)) {
         v->u = U_HIGH;
-        lf_exact_mix_eval_u(c->mx, U_HIGH, v->F, v->g, v->dg, NULL);
+        lf_exact_mix_eval_u(c->mx, U_HIGH, v->F, v->g, v->dg, NULL, NULL);
         *du = 0.0;
         return U_HIGH;
     }
@@ -613,13 +669,13 @@ find_detach(exact_ctx *c)
     }
     if (lo == hi) {
         c->vdet.u = lo;
-        lf_exact_mix_eval_u(c->mx, lo, c->vdet.F, c->vdet.g, c->vdet.dg, NULL);
+        lf_exact_mix_eval_u(c->mx, lo, c->vdet.F, c->vdet.g, c->vdet.dg, NULL, NULL);
         c->du_det = 0.0;
         c->u_det = lo;
     } else {
         c->u_det = cond_newton(c, RHO_D, lo, hi, start, &c->vdet, &c->du_det);
     }
-    curve_from(c, c->vdet.u, c->vdet.F, c->vdet.g, NULL, &c->det);
+    curve_from(c, c->vdet.u, c->vdet.F, c->vdet.g, NULL, NULL, NULL, &c->det);
     curve_advance(&c->det, c->du_det);
     c->delta_det = c->det.delta;
 }
@@ -684,7 +740,10 @@ invert(const exact_ctx *c, double target, double guess, int want_nu, int taylor,
         u = fmin(fmax(log(fmax(target - c->delta_det, 1e-300) / c->A1) / c->k, lo + 0.5), U_HIGH);
     for (i = 0; i < 200; i++) {
         double g, un;
-        curve_at(c, u, want_nu, &pt);
+        if (taylor)
+            curve_at2(c, u, want_nu, &pt);
+        else
+            curve_at(c, u, want_nu, &pt);
         g = pt.delta - target;
         if (g > 0.0)
             hi = u;
@@ -698,9 +757,14 @@ invert(const exact_ctx *c, double target, double guess, int want_nu, int taylor,
         un = pt.dd > 0.0 ? u - g / pt.dd : NAN;
         if (!(un > lo && un < hi)) {
             un = hi < U_HIGH ? 0.5 * (lo + hi) : fmin(lo + 1.0, U_HIGH);
-        } else if (taylor && fabs(un - u) <= STEP_TAYLOR) {
-            curve_advance(&pt, un - u);
-            u = un;
+        } else if (taylor && fabs(un - u) <= STEP_TAYLOR
+                   && fabs((un - u) * pt.d2) <= CURV_TAYLOR * pt.dd) {
+            /* the second-order step (the Newton step corrected by the
+             * curvature) and the curve carried there: header */
+            double du = un - u;
+            du -= 0.5 * pt.d2 * du * du / pt.dd;
+            curve_advance2(&pt, du);
+            u += du;
             break;
         }
         /* the next step is below the rounding of ln tau: the point at u
@@ -897,7 +961,7 @@ exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
         double f = rho_of(RHO_P, c.k, d->u, d->F, d->g) - c.L
                    + drho_of(RHO_P, c.k, d->g, d->dg) * c.du_det;
         u_po = cond_first_above(&c, RHO_P, c.u_det, fmin(f, 0.0), &v, &du);
-        curve_from(&c, v.u, v.F, v.g, NULL, &pt);
+        curve_from(&c, v.u, v.F, v.g, NULL, NULL, NULL, &pt);
         curve_advance(&pt, du);
     }
     out->delta_po = pt.delta;
@@ -911,7 +975,7 @@ exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
         double f = rho_of(RHO_0, c.k, d->u, d->F, d->g) - c.L
                    + drho_of(RHO_0, c.k, d->g, d->dg) * c.du_det;
         cond_first_above(&c, RHO_0, c.u_det, fmin(f, 0.0), &v, &du);
-        curve_from(&c, v.u, v.F, v.g, NULL, &pt);
+        curve_from(&c, v.u, v.F, v.g, NULL, NULL, NULL, &pt);
         curve_advance(&pt, du);
         out->P_jump = pt.P;
     }
