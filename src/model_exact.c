@@ -538,7 +538,7 @@ cell_start(const exact_ctx *c, int which, int i)
     if (!(t >= 0.0 && t <= 1.0))
         t = 0.5;
     if (isfinite(s0) && isfinite(s1))
-        for (it = 0; it < 4; it++) {
+        for (it = 0; it < 2; it++) {
             double t2 = t * t, t3 = t2 * t;
             double p = (2.0 * t3 - 3.0 * t2 + 1.0) * f0 + (t3 - 2.0 * t2 + t) * s0
                        + (3.0 * t2 - 2.0 * t3) * f1 + (t3 - t2) * s1;
