@@ -114,6 +114,7 @@ typedef struct {
  * use by eval or pulloff without allocating. */
 typedef struct {
     _Atomic(const lf_exact_table *) tab[LF_EXACT_NY + 2];
+    unsigned long long serial;    /* for the pull-off memo */
     probe_consts pc;
     _Atomic unsigned long clock;
     int nslot;
@@ -121,6 +122,37 @@ typedef struct {
 } exact_state;
 
 #define BONDED_SLOTS 4
+
+/* Serial numbers of model objects (never reused in a process). */
+static _Atomic unsigned long long serials;
+
+/* A pull-off is a pure function of the model object and the material: the
+ * last ones each thread computed are kept, direct-mapped by the model's
+ * serial number and the material's bits, so a repeated question is a
+ * look-up with the same bits as the answer it repeats.  Callers that
+ * bisect ask it often (fit/guess_model.c's nested bisections go on after
+ * their brackets stop moving in double precision: 40% of its calls). */
+#define MEMO_N 128
+typedef struct {
+    unsigned long long serial;    /* 0: empty */
+    uint64_t key[3];              /* w, E*, nu */
+    lf_pulloff po;
+} memo_entry;
+static _Thread_local memo_entry memo[MEMO_N];
+
+static memo_entry *
+memo_slot(unsigned long long serial, const lf_material *m, uint64_t key[3])
+{
+    uint64_t h;
+
+    memcpy(&key[0], &m->w, sizeof key[0]);
+    memcpy(&key[1], &m->Estar, sizeof key[1]);
+    memcpy(&key[2], &m->nu, sizeof key[2]);
+    h = key[0] * 0x9E3779B97F4A7C15ULL ^ key[1] * 0xC2B2AE3D27D4EB4FULL ^ key[2]
+        ^ serial * 0x165667B19E3779F9ULL;
+    h ^= h >> 29;
+    return &memo[h & (MEMO_N - 1)];
+}
 
 static void
 probe_consts_of(const lf_probe *pr, probe_consts *pc)
@@ -814,6 +846,7 @@ exact_alloc(void **state, const lf_probe *probe, lf_error *err)
         atomic_init(&st->slots[i].stamp, 0);
     }
     atomic_init(&st->clock, 1);
+    st->serial = atomic_fetch_add(&serials, 1) + 1;
     probe_consts_of(probe, &st->pc);
     /* the frictionless table now; bonded node tables when a nu range is
      * prepared (or first needed) */
@@ -930,8 +963,8 @@ lf_exact_eval_precise(const lf_probe *probe, const lf_material *mat, lf_branch b
 }
 
 static int
-exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
-              lf_pulloff *out)
+pulloff_compute(void *state, const lf_probe *probe, const lf_material *mat,
+                lf_pulloff *out)
 {
     exact_ctx c;
     exact_pt pt;
@@ -981,6 +1014,28 @@ exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
     }
     mixdata_done(held);
     return LF_OK;
+}
+
+static int
+exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
+              lf_pulloff *out)
+{
+    exact_state *st = state;
+    uint64_t key[3];
+    memo_entry *e = memo_slot(st->serial, mat, key);
+    int status;
+
+    if (e->serial == st->serial && memcmp(e->key, key, sizeof key) == 0) {
+        *out = e->po;
+        return LF_OK;
+    }
+    status = pulloff_compute(state, probe, mat, out);
+    if (status == LF_OK) {
+        e->serial = st->serial;
+        memcpy(e->key, key, sizeof key);
+        e->po = *out;
+    }
+    return status;
 }
 
 const lf_model_type lf_model_exact = {
