@@ -490,9 +490,9 @@ test_fast_path(void)
 }
 
 /* The per-nu data a model object keeps (a few slots, replaced least
- * recently used) never change an answer: the same material evaluated
- * before and after others, including from two threads at once, gives the
- * same bits. */
+ * recently used) and the pull-offs each thread keeps never change an
+ * answer: the same material evaluated before and after others, including
+ * from two threads at once, gives the same bits. */
 typedef struct {
     lf_model *mod;
     double nu0;
@@ -559,6 +559,30 @@ test_slots(void)
         slot_eval(fresh, 0.3, e1, &p1);
         t_true(slot_same(e0, &p0, e1, &p1), "nu = 0.3 in a fresh model: same bits");
         lf_model_free(fresh);
+    }
+    {
+        /* pull-offs are kept per model object: a new model (maybe at the
+         * freed one's address) with another probe answers for its own */
+        lf_probe p3 = {3.0, 1e-3, 1e-6, LF_BASE_BONDED};
+        lf_model *a = lf_model_alloc(&lf_model_exact, &pr, NULL), *b3, *c3;
+        lf_material m = {0.01, 1e9, 0.3};
+        lf_pulloff pa, pb, pc;
+        if (a != NULL) {
+            lf_model_pulloff(a, &m, &pa, NULL);
+            lf_model_free(a);
+        }
+        b3 = lf_model_alloc(&lf_model_exact, &p3, NULL);
+        c3 = lf_model_alloc(&lf_model_exact, &p3, NULL);
+        if (a != NULL && b3 != NULL && c3 != NULL) {
+            lf_model_pulloff(b3, &m, &pb, NULL);
+            lf_model_pulloff(c3, &m, &pc, NULL);
+            t_true(pb.P_po != pa.P_po && memcmp(&pb, &pc, sizeof pb) == 0,
+                   "a new model's pull-off is its own (k = 3: %g, k = 2: %g)", pb.P_po, pa.P_po);
+        } else {
+            t_true(0, "alloc");
+        }
+        lf_model_free(b3);
+        lf_model_free(c3);
     }
     for (i = 0; i < 2; i++) {
         job[i].mod = mod;
