@@ -256,58 +256,85 @@ table_eval_pos(const lf_exact_table *t, const table_pos *p, double F[4], double 
     }
 }
 
-/* ln f_j, g_j = d ln f_j / dl and, if dg is not NULL, dg_j = d g_j/dl at
- * l = ln tau: the same functions as table_eval_pos, with derivatives in l
- * (no tau needed inside the grid, where the tables store d ln f/dl).
- * dg is the second derivative of the piecewise cubic (a step at nodes). */
+/* Where l = ln tau falls in a table's grid (the tables of a mix share
+ * one) and what the evaluation there needs: the cubic Hermite basis and
+ * its first and second derivatives in l inside, tau or 1/tau outside. */
+typedef struct {
+    int region;              /* -1 below TAU_MIN, 0 inside, 1 above TAU_MAX */
+    size_t i;
+    double l, x;             /* x: tau below, 1/tau above */
+    double h00, h01, h10, h11, g00, g10, g11, c00, c10, c11;
+} lpos;
+
 static void
-table_eval_l(const lf_exact_table *t, double l, double F[4], double g[4], double dg[4])
+lpos_at(const lf_exact_table *t, double l, lpos *p)
+{
+    double ih, q, u;
+
+    p->l = l;
+    if (l < LN_TAU_MIN) {
+        p->region = -1;
+        p->x = exp(l);
+        return;
+    }
+    if (l > LN_TAU_MAX) {
+        p->region = 1;
+        p->x = exp(-l);
+        return;
+    }
+    p->region = 0;
+    ih = 1.0 / t->h;
+    q = (l - t->l0) * ih;
+    p->i = q <= 0.0 ? 0 : (size_t) q;
+    if (p->i >= t->n - 1)
+        p->i = t->n - 2;
+    u = q - (double) p->i;
+    p->h01 = u * u * (3.0 - 2.0 * u);
+    p->h00 = 1.0 - p->h01;
+    p->h10 = u * (1.0 - u) * (1.0 - u) * t->h;
+    p->h11 = u * u * (u - 1.0) * t->h;
+    p->g00 = 6.0 * u * (u - 1.0) * ih;
+    p->g10 = (1.0 - u) * (1.0 - 3.0 * u);
+    p->g11 = u * (3.0 * u - 2.0);
+    p->c00 = (12.0 * u - 6.0) * ih * ih;
+    p->c10 = (6.0 * u - 4.0) * ih;
+    p->c11 = (6.0 * u - 2.0) * ih;
+}
+
+/* ln f_j, g_j = d ln f_j / dl and, if dg is not NULL, dg_j = d g_j/dl at
+ * a position: the same functions as table_eval_pos, with derivatives in l
+ * (no tau needed inside the grid, where the tables store d ln f/dl).  dg
+ * is the second derivative of the piecewise cubic (a step at nodes). */
+static void
+table_apply(const lf_exact_table *t, const lpos *p, double F[4], double g[4], double dg[4])
 {
     int j;
 
-    if (l < LN_TAU_MIN) {
-        double tau = exp(l);
+    if (p->region < 0) {
         for (j = 0; j < NFUN; j++) {
             double slope = (t->flo[j] - t->f0[j]) / LF_EXACT_TAU_MIN;
-            double f = t->f0[j] + slope * tau;
+            double f = t->f0[j] + slope * p->x;
             F[j] = log(f);
-            g[j] = slope * tau / f;
+            g[j] = slope * p->x / f;
             if (dg != NULL)
                 dg[j] = g[j] * (1.0 - g[j]);
         }
-    } else if (l > LN_TAU_MAX) {
-        double sg = exp(-l);
+    } else if (p->region > 0) {
+        double sg = p->x;
         for (j = 0; j < NFUN; j++) {
-            F[j] = t->lthin_c[j] + t->thin_pow[j] * l + t->alpha[j] * sg + t->beta[j] * sg * sg;
+            F[j] = t->lthin_c[j] + t->thin_pow[j] * p->l + t->alpha[j] * sg + t->beta[j] * sg * sg;
             g[j] = t->thin_pow[j] - t->alpha[j] * sg - 2.0 * t->beta[j] * sg * sg;
             if (dg != NULL)
                 dg[j] = t->alpha[j] * sg + 4.0 * t->beta[j] * sg * sg;
         }
     } else {
-        double ih = 1.0 / t->h, q = (l - t->l0) * ih, u, h00, h01, h10, h11, g00, g10, g11;
-        size_t i = q <= 0.0 ? 0 : (size_t) q;
-        const double *Fa, *Ga;
-        if (i >= t->n - 1)
-            i = t->n - 2;
-        u = q - (double) i;
-        h01 = u * u * (3.0 - 2.0 * u);
-        h00 = 1.0 - h01;
-        h10 = u * (1.0 - u) * (1.0 - u);
-        h11 = u * u * (u - 1.0);
-        g00 = 6.0 * u * (u - 1.0) * ih;
-        g10 = (1.0 - u) * (1.0 - 3.0 * u);
-        g11 = u * (3.0 * u - 2.0);
-        Fa = t->F + NFUN * i;
-        Ga = t->G + NFUN * i;
+        const double *Fa = t->F + NFUN * p->i, *Ga = t->G + NFUN * p->i;
         for (j = 0; j < NFUN; j++) {
-            F[j] = h00 * Fa[j] + h01 * Fa[j + NFUN] + t->h * (h10 * Ga[j] + h11 * Ga[j + NFUN]);
-            g[j] = g00 * (Fa[j] - Fa[j + NFUN]) + g10 * Ga[j] + g11 * Ga[j + NFUN];
-        }
-        if (dg != NULL) {
-            double c00 = (12.0 * u - 6.0) * ih * ih, c10 = (6.0 * u - 4.0) * ih,
-                   c11 = (6.0 * u - 2.0) * ih;
-            for (j = 0; j < NFUN; j++)
-                dg[j] = c00 * (Fa[j] - Fa[j + NFUN]) + c10 * Ga[j] + c11 * Ga[j + NFUN];
+            double dF = Fa[j] - Fa[j + NFUN];
+            F[j] = p->h00 * Fa[j] + p->h01 * Fa[j + NFUN] + p->h10 * Ga[j] + p->h11 * Ga[j + NFUN];
+            g[j] = p->g00 * dF + p->g10 * Ga[j] + p->g11 * Ga[j + NFUN];
+            if (dg != NULL)
+                dg[j] = p->c00 * dF + p->c10 * Ga[j] + p->c11 * Ga[j + NFUN];
         }
     }
 }
@@ -316,18 +343,21 @@ void
 lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g[4], double dg[4],
                     double H[4], double dH[4])
 {
+    lpos p;
     int m, j;
 
-    if (mx->pm != NULL && l >= LN_TAU_MIN) {
-        table_eval_l(&mx->pm->pre, l, F, g, dg);
+    lpos_at(mx->t[0], l, &p);
+    if (mx->pm != NULL && p.region >= 0) {
+        /* pre_nu shares pre's grid (both copy t[0]'s) */
+        table_apply(&mx->pm->pre, &p, F, g, dg);
         if (H != NULL) {
             double gn[4];
-            table_eval_l(&mx->pm->pre_nu, l, H, dH != NULL ? dH : gn, NULL);
+            table_apply(&mx->pm->pre_nu, &p, H, dH != NULL ? dH : gn, NULL);
         }
         return;
     }
     if (mx->m == 1) {
-        table_eval_l(mx->t[0], l, F, g, dg);
+        table_apply(mx->t[0], &p, F, g, dg);
         if (H != NULL)
             for (j = 0; j < NFUN; j++) {
                 H[j] = mx->dwl[0] * F[j];
@@ -347,7 +377,11 @@ lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g[4], 
     }
     for (m = 0; m < mx->m; m++) {
         double Fm[4], gm[4], dgm[4];
-        table_eval_l(mx->t[m], l, Fm, gm, dg != NULL ? dgm : NULL);
+        const lf_exact_table *t = mx->t[m];
+        if (m > 0 && p.region == 0
+            && (t->n != mx->t[0]->n || t->l0 != mx->t[0]->l0 || t->h != mx->t[0]->h))
+            lpos_at(t, l, &p);     /* another grid (not made by the store) */
+        table_apply(t, &p, Fm, gm, dg != NULL ? dgm : NULL);
         for (j = 0; j < NFUN; j++) {
             F[j] += mx->wl[m] * Fm[j];
             g[j] += mx->wl[m] * gm[j];
