@@ -191,71 +191,6 @@ lf_exact_table_finish(lf_exact_table *t)
     }
 }
 
-/* Where l = ln tau falls in a table's grid, and the cubic Hermite basis
- * there: shared by the tables of a mix, which have one grid. */
-typedef struct {
-    int region;              /* -1 below TAU_MIN, 0 inside, 1 above TAU_MAX */
-    size_t i;
-    double tau, l;
-    double h00, h10, h01, h11, g00, g10, g11;
-} table_pos;
-
-static void
-table_pos_at(const lf_exact_table *t, double l, double tau, table_pos *p)
-{
-    double q, u;
-
-    p->tau = tau;
-    p->l = l;
-    p->region = tau < LF_EXACT_TAU_MIN ? -1 : tau > LF_EXACT_TAU_MAX ? 1 : 0;
-    if (p->region != 0)
-        return;
-    q = (l - t->l0) / t->h;
-    p->i = q <= 0.0 ? 0 : (size_t) q;
-    if (p->i >= t->n - 1)
-        p->i = t->n - 2;
-    u = q - (double) p->i;
-    p->h00 = (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u);
-    p->h10 = u * (1.0 - u) * (1.0 - u);
-    p->h01 = u * u * (3.0 - 2.0 * u);
-    p->h11 = u * u * (u - 1.0);
-    p->g00 = 6.0 * u * (u - 1.0);
-    p->g10 = (1.0 - u) * (1.0 - 3.0 * u);
-    p->g11 = u * (3.0 * u - 2.0);
-}
-
-/* ln f_j and d ln f_j / dtau at a position. */
-static void
-table_eval_pos(const lf_exact_table *t, const table_pos *p, double F[4], double G[4])
-{
-    double tau = p->tau;
-    int j;
-
-    if (p->region < 0) {
-        for (j = 0; j < NFUN; j++) {
-            double slope = (t->flo[j] - t->f0[j]) / LF_EXACT_TAU_MIN;
-            double f = t->f0[j] + slope * tau;
-            F[j] = log(f);
-            G[j] = slope / f;
-        }
-    } else if (p->region > 0) {
-        double sg = 1.0 / tau;
-        for (j = 0; j < NFUN; j++) {
-            F[j] = t->lthin_c[j] + t->thin_pow[j] * p->l
-                   + t->alpha[j] * sg + t->beta[j] * sg * sg;
-            G[j] = sg * (t->thin_pow[j] - t->alpha[j] * sg - 2.0 * t->beta[j] * sg * sg);
-        }
-    } else {
-        const double *Fa = t->F + NFUN * p->i, *Ga = t->G + NFUN * p->i;
-        for (j = 0; j < NFUN; j++) {
-            F[j] = p->h00 * Fa[j] + p->h01 * Fa[j + NFUN]
-                   + t->h * (p->h10 * Ga[j] + p->h11 * Ga[j + NFUN]);
-            G[j] = ((p->g00 * (Fa[j] - Fa[j + NFUN])) / t->h + p->g10 * Ga[j]
-                    + p->g11 * Ga[j + NFUN]) / tau;
-        }
-    }
-}
-
 /* Where l = ln tau falls in a table's grid (the tables of a mix share
  * one) and what the evaluation there needs: the cubic Hermite basis and
  * its first and second derivatives in l inside, tau or 1/tau outside. */
@@ -302,8 +237,8 @@ lpos_at(const lf_exact_table *t, double l, lpos *p)
 }
 
 /* ln f_j, g_j = d ln f_j / dl and, if dg is not NULL, dg_j = d g_j/dl at
- * a position: the same functions as table_eval_pos, with derivatives in l
- * (no tau needed inside the grid, where the tables store d ln f/dl).  dg
+ * a position, with derivatives in l (no tau needed inside the grid, where
+ * the tables store d ln f/dl).  dg
  * is the second derivative of the piecewise cubic (a step at nodes). */
 static void
 table_apply(const lf_exact_table *t, const lpos *p, double F[4], double g[4], double dg[4])
@@ -399,10 +334,13 @@ lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g[4], 
 static void
 table_eval_log(const lf_exact_table *t, double tau, double F[4], double G[4])
 {
-    table_pos p;
+    lpos p;
+    int j;
 
-    table_pos_at(t, log(tau), tau, &p);
-    table_eval_pos(t, &p, F, G);
+    lpos_at(t, log(tau), &p);
+    table_apply(t, &p, F, G, NULL);
+    for (j = 0; j < NFUN; j++)
+        G[j] /= tau;
 }
 
 void
@@ -587,37 +525,11 @@ void
 lf_exact_mix_eval_log(const lf_exact_mix *mx, double l, double tau, double F[4], double G[4],
                       double H[4])
 {
-    table_pos p;
-    int m, j;
+    int j;
 
-    if (mx->pm != NULL && tau >= LF_EXACT_TAU_MIN) {
-        table_pos_at(&mx->pm->pre, l, tau, &p);
-        table_eval_pos(&mx->pm->pre, &p, F, G);
-        if (H != NULL) {
-            double Gn[4];
-            table_eval_pos(&mx->pm->pre_nu, &p, H, Gn);
-        }
-        return;
-    }
-    for (j = 0; j < NFUN; j++) {
-        F[j] = G[j] = 0.0;
-        if (H != NULL)
-            H[j] = 0.0;
-    }
-    table_pos_at(mx->t[0], l, tau, &p);
-    for (m = 0; m < mx->m; m++) {
-        double Fm[4], Gm[4];
-        const lf_exact_table *t = mx->t[m];
-        if (m > 0 && (t->n != mx->t[0]->n || t->l0 != mx->t[0]->l0 || t->h != mx->t[0]->h))
-            table_pos_at(t, l, tau, &p);     /* another grid (not made by the store) */
-        table_eval_pos(t, &p, Fm, Gm);
-        for (j = 0; j < NFUN; j++) {
-            F[j] += mx->wl[m] * Fm[j];
-            G[j] += mx->wl[m] * Gm[j];
-            if (H != NULL)
-                H[j] += mx->dwl[m] * Fm[j];
-        }
-    }
+    lf_exact_mix_eval_u(mx, l, F, G, NULL, H, NULL);
+    for (j = 0; j < NFUN; j++)
+        G[j] /= tau;
 }
 
 void
