@@ -191,6 +191,21 @@ void lf_exact_mix_eval_l(const lf_exact_mix *mx, double l, double tau, double f[
 void lf_exact_mix_eval_log(const lf_exact_mix *mx, double l, double tau, double F[4],
                            double G[4], double H[4]);
 
+/* ln f, g = d ln f/dl, dg = dg/dl, H = d ln f/dnu and dH = dH/dl (dg, H,
+ * dH may be NULL; dH only with H) at l = ln tau: the functions of
+ * lf_exact_mix_eval_log with derivatives in l, which inside the tables'
+ * range needs no tau at all (model_exact.c works in l).  dg is the
+ * interpolant's own second derivative (it steps at the tables' nodes). */
+void lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g[4],
+                         double dg[4], double H[4], double dH[4]);
+
+/* The exact model's evaluation without its shortcuts (model_exact.c):
+ * every indentation solved on its own by safeguarded Newton to rounding,
+ * with tables from the store.  The reference the fast path is tested
+ * against (tests/test_exact.c). */
+int lf_exact_eval_precise(const lf_probe *probe, const lf_material *mat, lf_branch branch,
+                          size_t n, const double *delta, lf_eval *out, lf_error *err);
+
 /* Build statistics of the last table built in this process (bench). */
 double lf_exact_last_build_seconds(void);
 

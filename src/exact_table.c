@@ -37,6 +37,8 @@
 #include "exact.h"
 
 #define NFUN LF_EXACT_NFUN
+#define LN_TAU_MIN log(LF_EXACT_TAU_MIN)   /* folded by the compiler */
+#define LN_TAU_MAX log(LF_EXACT_TAU_MAX)
 
 static double
 now_seconds(void)
@@ -189,67 +191,141 @@ lf_exact_table_finish(lf_exact_table *t)
     }
 }
 
-/* Where l = ln tau falls in a table's grid, and the cubic Hermite basis
- * there: shared by the tables of a mix, which have one grid. */
+/* Where l = ln tau falls in a table's grid (the tables of a mix share
+ * one) and what the evaluation there needs: the cubic Hermite basis and
+ * its first and second derivatives in l inside, tau or 1/tau outside. */
 typedef struct {
     int region;              /* -1 below TAU_MIN, 0 inside, 1 above TAU_MAX */
     size_t i;
-    double tau, l;
-    double h00, h10, h01, h11, g00, g10, g11;
-} table_pos;
+    double l, x;             /* x: tau below, 1/tau above */
+    double h00, h01, h10, h11, g00, g10, g11, c00, c10, c11;
+} lpos;
 
 static void
-table_pos_at(const lf_exact_table *t, double l, double tau, table_pos *p)
+lpos_at(const lf_exact_table *t, double l, lpos *p)
 {
-    double q, u;
+    double ih, q, u;
 
-    p->tau = tau;
     p->l = l;
-    p->region = tau < LF_EXACT_TAU_MIN ? -1 : tau > LF_EXACT_TAU_MAX ? 1 : 0;
-    if (p->region != 0)
+    if (l < LN_TAU_MIN) {
+        p->region = -1;
+        p->x = exp(l);
         return;
-    q = (l - t->l0) / t->h;
+    }
+    if (l > LN_TAU_MAX) {
+        p->region = 1;
+        p->x = exp(-l);
+        return;
+    }
+    p->region = 0;
+    ih = 1.0 / t->h;
+    q = (l - t->l0) * ih;
     p->i = q <= 0.0 ? 0 : (size_t) q;
     if (p->i >= t->n - 1)
         p->i = t->n - 2;
     u = q - (double) p->i;
-    p->h00 = (1.0 + 2.0 * u) * (1.0 - u) * (1.0 - u);
-    p->h10 = u * (1.0 - u) * (1.0 - u);
     p->h01 = u * u * (3.0 - 2.0 * u);
-    p->h11 = u * u * (u - 1.0);
-    p->g00 = 6.0 * u * (u - 1.0);
+    p->h00 = 1.0 - p->h01;
+    p->h10 = u * (1.0 - u) * (1.0 - u) * t->h;
+    p->h11 = u * u * (u - 1.0) * t->h;
+    p->g00 = 6.0 * u * (u - 1.0) * ih;
     p->g10 = (1.0 - u) * (1.0 - 3.0 * u);
     p->g11 = u * (3.0 * u - 2.0);
+    p->c00 = (12.0 * u - 6.0) * ih * ih;
+    p->c10 = (6.0 * u - 4.0) * ih;
+    p->c11 = (6.0 * u - 2.0) * ih;
 }
 
-/* ln f_j and d ln f_j / dtau at a position. */
+/* ln f_j, g_j = d ln f_j / dl and, if dg is not NULL, dg_j = d g_j/dl at
+ * a position, with derivatives in l (no tau needed inside the grid, where
+ * the tables store d ln f/dl).  dg
+ * is the second derivative of the piecewise cubic (a step at nodes). */
 static void
-table_eval_pos(const lf_exact_table *t, const table_pos *p, double F[4], double G[4])
+table_apply(const lf_exact_table *t, const lpos *p, double F[4], double g[4], double dg[4])
 {
-    double tau = p->tau;
     int j;
 
     if (p->region < 0) {
         for (j = 0; j < NFUN; j++) {
             double slope = (t->flo[j] - t->f0[j]) / LF_EXACT_TAU_MIN;
-            double f = t->f0[j] + slope * tau;
+            double f = t->f0[j] + slope * p->x;
             F[j] = log(f);
-            G[j] = slope / f;
+            g[j] = slope * p->x / f;
+            if (dg != NULL)
+                dg[j] = g[j] * (1.0 - g[j]);
         }
     } else if (p->region > 0) {
-        double sg = 1.0 / tau;
+        double sg = p->x;
         for (j = 0; j < NFUN; j++) {
-            F[j] = t->lthin_c[j] + t->thin_pow[j] * p->l
-                   + t->alpha[j] * sg + t->beta[j] * sg * sg;
-            G[j] = sg * (t->thin_pow[j] - t->alpha[j] * sg - 2.0 * t->beta[j] * sg * sg);
+            F[j] = t->lthin_c[j] + t->thin_pow[j] * p->l + t->alpha[j] * sg + t->beta[j] * sg * sg;
+            g[j] = t->thin_pow[j] - t->alpha[j] * sg - 2.0 * t->beta[j] * sg * sg;
+            if (dg != NULL)
+                dg[j] = t->alpha[j] * sg + 4.0 * t->beta[j] * sg * sg;
         }
     } else {
         const double *Fa = t->F + NFUN * p->i, *Ga = t->G + NFUN * p->i;
         for (j = 0; j < NFUN; j++) {
-            F[j] = p->h00 * Fa[j] + p->h01 * Fa[j + NFUN]
-                   + t->h * (p->h10 * Ga[j] + p->h11 * Ga[j + NFUN]);
-            G[j] = ((p->g00 * (Fa[j] - Fa[j + NFUN])) / t->h + p->g10 * Ga[j]
-                    + p->g11 * Ga[j + NFUN]) / tau;
+            double dF = Fa[j] - Fa[j + NFUN];
+            F[j] = p->h00 * Fa[j] + p->h01 * Fa[j + NFUN] + p->h10 * Ga[j] + p->h11 * Ga[j + NFUN];
+            g[j] = p->g00 * dF + p->g10 * Ga[j] + p->g11 * Ga[j + NFUN];
+            if (dg != NULL)
+                dg[j] = p->c00 * dF + p->c10 * Ga[j] + p->c11 * Ga[j + NFUN];
+        }
+    }
+}
+
+void
+lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g[4], double dg[4],
+                    double H[4], double dH[4])
+{
+    lpos p;
+    int m, j;
+
+    lpos_at(mx->t[0], l, &p);
+    if (mx->pm != NULL && p.region >= 0) {
+        /* pre_nu shares pre's grid (both copy t[0]'s) */
+        table_apply(&mx->pm->pre, &p, F, g, dg);
+        if (H != NULL) {
+            double gn[4];
+            table_apply(&mx->pm->pre_nu, &p, H, dH != NULL ? dH : gn, NULL);
+        }
+        return;
+    }
+    if (mx->m == 1) {
+        table_apply(mx->t[0], &p, F, g, dg);
+        if (H != NULL)
+            for (j = 0; j < NFUN; j++) {
+                H[j] = mx->dwl[0] * F[j];
+                if (dH != NULL)
+                    dH[j] = mx->dwl[0] * g[j];
+            }
+        return;
+    }
+    for (j = 0; j < NFUN; j++) {
+        F[j] = g[j] = 0.0;
+        if (dg != NULL)
+            dg[j] = 0.0;
+        if (H != NULL)
+            H[j] = 0.0;
+        if (dH != NULL)
+            dH[j] = 0.0;
+    }
+    for (m = 0; m < mx->m; m++) {
+        double Fm[4], gm[4], dgm[4];
+        const lf_exact_table *t = mx->t[m];
+        if (m > 0 && p.region == 0
+            && (t->n != mx->t[0]->n || t->l0 != mx->t[0]->l0 || t->h != mx->t[0]->h))
+            lpos_at(t, l, &p);     /* another grid (not made by the store) */
+        table_apply(t, &p, Fm, gm, dg != NULL ? dgm : NULL);
+        for (j = 0; j < NFUN; j++) {
+            F[j] += mx->wl[m] * Fm[j];
+            g[j] += mx->wl[m] * gm[j];
+            if (dg != NULL)
+                dg[j] += mx->wl[m] * dgm[j];
+            if (H != NULL)
+                H[j] += mx->dwl[m] * Fm[j];
+            if (dH != NULL)
+                dH[j] += mx->dwl[m] * gm[j];
         }
     }
 }
@@ -258,10 +334,13 @@ table_eval_pos(const lf_exact_table *t, const table_pos *p, double F[4], double 
 static void
 table_eval_log(const lf_exact_table *t, double tau, double F[4], double G[4])
 {
-    table_pos p;
+    lpos p;
+    int j;
 
-    table_pos_at(t, log(tau), tau, &p);
-    table_eval_pos(t, &p, F, G);
+    lpos_at(t, log(tau), &p);
+    table_apply(t, &p, F, G, NULL);
+    for (j = 0; j < NFUN; j++)
+        G[j] /= tau;
 }
 
 void
@@ -446,37 +525,11 @@ void
 lf_exact_mix_eval_log(const lf_exact_mix *mx, double l, double tau, double F[4], double G[4],
                       double H[4])
 {
-    table_pos p;
-    int m, j;
+    int j;
 
-    if (mx->pm != NULL && tau >= LF_EXACT_TAU_MIN) {
-        table_pos_at(&mx->pm->pre, l, tau, &p);
-        table_eval_pos(&mx->pm->pre, &p, F, G);
-        if (H != NULL) {
-            double Gn[4];
-            table_eval_pos(&mx->pm->pre_nu, &p, H, Gn);
-        }
-        return;
-    }
-    for (j = 0; j < NFUN; j++) {
-        F[j] = G[j] = 0.0;
-        if (H != NULL)
-            H[j] = 0.0;
-    }
-    table_pos_at(mx->t[0], l, tau, &p);
-    for (m = 0; m < mx->m; m++) {
-        double Fm[4], Gm[4];
-        const lf_exact_table *t = mx->t[m];
-        if (m > 0 && (t->n != mx->t[0]->n || t->l0 != mx->t[0]->l0 || t->h != mx->t[0]->h))
-            table_pos_at(t, l, tau, &p);     /* another grid (not made by the store) */
-        table_eval_pos(t, &p, Fm, Gm);
-        for (j = 0; j < NFUN; j++) {
-            F[j] += mx->wl[m] * Fm[j];
-            G[j] += mx->wl[m] * Gm[j];
-            if (H != NULL)
-                H[j] += mx->dwl[m] * Fm[j];
-        }
-    }
+    lf_exact_mix_eval_u(mx, l, F, G, NULL, H, NULL);
+    for (j = 0; j < NFUN; j++)
+        G[j] /= tau;
 }
 
 void

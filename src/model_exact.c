@@ -2,14 +2,29 @@
  * thickness on a frictionless or bonded rigid base by a power-law punch,
  * from the Lebedev-Ufliand Fredholm equation (physics.md section 3).
  *
- * With a = tau h and the tabulated functions s, e, d, p of exact.h:
+ * With a = tau h, u = ln tau and the tabulated functions s, e, d, p of
+ * exact.h:
  *   delta1 = A1 tau^k d,             A1 = B kappa_k h^k,  B = 1/(k R^(k-1))
  *   shift  = A2 sqrt(tau) / e,       A2 = sqrt(2 pi h w / E*)
  *   delta  = delta1 - shift          (JKR edge condition)
- *   P      = F1 tau^(k+1) p - S shift,  F1 = 2 E* B kappa_k h^(k+1),
+ *   P      = F1 tau^(k+1) p - S shift,  F1 = 2 E* B kappa_k h^(k+1) = 2 E* h A1,
  *   S      = 2 E* h tau s            (flat-punch stiffness)
  * Derivatives at fixed delta follow from those at fixed tau and
- * dP/ddelta = (dP/dtau)/(ddelta/dtau).
+ * dP/ddelta = (dP/du)/(ddelta/du).
+ *
+ * One number per material.  Divided by A1 (delta) and F1 (P), the curve
+ * depends on the material only through lambda = A2/A1:
+ *   delta/A1 = tau^k d - lambda sqrt(tau)/e,
+ *   P/F1     = tau^(k+1) p - lambda tau^(3/2) s/e,
+ * so each of the conditions the branches need is "a function of tau alone
+ * equals ln lambda":
+ *   ddelta/du <= 0  iff  rho_d(u) = (k - 1/2) u + ln(d e) + ln((k + g_d)/(1/2 - g_e)) <= ln lambda
+ *   dP/du >= 0      iff  rho_p(u) = (k - 1/2) u + ln(p e/s) + ln((k + 1 + g_p)/(3/2 + g_s - g_e)) >= ln lambda
+ *   delta >= 0      iff  rho_0(u) = (k - 1/2) u + ln(d e) >= ln lambda
+ * (g = d ln f/du).  The three are tabulated once per (tables, nu) on a
+ * grid in u (a `mixdata`), so that finding the detachment, the pull-off
+ * and the jump of any material is a look-up along the grid and a short
+ * root-finding in one cell, not a scan of the curve.
  *
  * Branches.  delta(tau) has a minimum at small tau (the half-space
  * displacement-control instability, section 4): the unloading branch keeps
@@ -19,23 +34,136 @@
  * branch at delta = 0 (force P_jump), as in the thin-layer model; for
  * delta >= 0 both branches coincide.  Without adhesion (w = 0) the branch
  * reaches tau -> 0 at delta = 0.
+ *
+ * Evaluation.  Each indentation is inverted by Newton in u from a cubic
+ * extrapolation of the previous points (data come in order).  Once a
+ * Newton step du is small (|du| <= 1e-6 and |du| <= 1e-5 of the scale
+ * ddelta/du / (d2delta/du2) on which the slope changes) the root is taken
+ * one second-order step away and the curve is carried there by its
+ * second-order expansion instead of being evaluated again (the
+ * interpolant's own second derivatives, exact.h): the root and the values
+ * are then off by O(du^3) ~ 1e-18 relative, the derivative columns by
+ * O(du^2) <= ~1e-10, far below the tables' own accuracy in derivatives
+ * (3e-5, tests/test_exact.c).  lf_exact_eval_precise skips all this.
  */
 #include <math.h>
 #include <stdatomic.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "exact.h"
 
+#define U_LOW (-60.0)   /* ln tau treated as contact vanishing */
+#define U_HIGH 30.0
+
+/* The grid of the per-material conditions: nodes u_i = GRID_U0 + i
+ * GRID_HU over the tables' range (outside it the tables' limits are
+ * smooth and monotone and are searched directly). */
+#define GRID_N LF_EXACT_NMAX
+#define GRID_U0 log(LF_EXACT_TAU_MIN)
+#define GRID_HU ((log(LF_EXACT_TAU_MAX) - GRID_U0) / (GRID_N - 1))
+
+/* Newton steps in u below STEP_TAYLOR, and below CURV_TAYLOR of the
+ * scale on which ddelta/du changes, are finished to second order
+ * (header). */
+#define STEP_TAYLOR 1e-6
+#define CURV_TAYLOR 1e-5
+
+/* k from which rho_d rises with u below the tables (tau < TAU_MIN, where
+ * it is (k - 1/2) u + O(tau)): there a single bracket decides. */
+#define K_MONOTONE 0.6
+
+enum { RHO_D, RHO_P, RHO_0 };
+
+/* The tables of one (probe, nu), flattened, and the three conditions at
+ * the grid's nodes. */
+typedef struct {
+    double nu;                    /* as asked for (0 when frictionless) */
+    lf_exact_mix mix;
+    lf_exact_premix premix;       /* bonded: the mix flattened for this nu */
+    double r[3][GRID_N];          /* rho_d, rho_p, rho_0 at the nodes */
+    double dr[3][GRID_N];         /* their u-derivatives */
+} mixdata;
+
+/* A cache slot of the model object: immutable while READY; readers hold a
+ * reference (counted in `word` with the state), a slot is rebuilt only
+ * when READY with no reference (compare-and-swap to BUILDING). */
+enum { SLOT_EMPTY = 0, SLOT_BUILDING = 1, SLOT_READY = 2 };
+#define SLOT_STATE 3UL
+#define SLOT_REF 4UL
+typedef struct {
+    _Atomic unsigned long word;   /* references * SLOT_REF + state */
+    _Atomic uint64_t key;         /* bits of nu while READY */
+    _Atomic unsigned long stamp;  /* last use, for replacement */
+    mixdata d;
+} slot;
+
+/* Per-probe constants. */
+typedef struct {
+    double k, h, A1, Fc;          /* Fc = F1/E* = 2 h A1 */
+} probe_consts;
+
 /* The model object's state: the tables it uses, resolved from the process
  * store when the model is made (frictionless) or prepared for a nu range
  * (bonded), so that eval reads them with one atomic load and no lock.
  * Slot 0 holds the frictionless table, slot i + 1 the bonded nu node i
- * (-1 .. LF_EXACT_NY).  A slot, once set, always holds the same pointer
- * (the store hands out one table per key). */
+ * (-1 .. LF_EXACT_NY).  A table slot, once set, always holds the same
+ * pointer (the store hands out one table per key).  Then the mixdata of
+ * the last few nu in use (one for frictionless layers), filled on first
+ * use by eval or pulloff without allocating. */
 typedef struct {
     _Atomic(const lf_exact_table *) tab[LF_EXACT_NY + 2];
+    unsigned long long serial;    /* for the pull-off memo */
+    probe_consts pc;
+    _Atomic unsigned long clock;
+    int nslot;
+    slot slots[];
 } exact_state;
+
+#define BONDED_SLOTS 4
+
+/* Serial numbers of model objects (never reused in a process). */
+static _Atomic unsigned long long serials;
+
+/* A pull-off is a pure function of the model object and the material: the
+ * last ones each thread computed are kept, direct-mapped by the model's
+ * serial number and the material's bits, so a repeated question is a
+ * look-up with the same bits as the answer it repeats.  Callers that
+ * bisect ask it often (fit/guess_model.c's nested bisections go on after
+ * their brackets stop moving in double precision: 40% of its calls). */
+#define MEMO_N 128
+typedef struct {
+    unsigned long long serial;    /* 0: empty */
+    uint64_t key[3];              /* w, E*, nu */
+    lf_pulloff po;
+} memo_entry;
+static _Thread_local memo_entry memo[MEMO_N];
+
+static memo_entry *
+memo_slot(unsigned long long serial, const lf_material *m, uint64_t key[3])
+{
+    uint64_t h;
+
+    memcpy(&key[0], &m->w, sizeof key[0]);
+    memcpy(&key[1], &m->Estar, sizeof key[1]);
+    memcpy(&key[2], &m->nu, sizeof key[2]);
+    h = key[0] * 0x9E3779B97F4A7C15ULL ^ key[1] * 0xC2B2AE3D27D4EB4FULL ^ key[2]
+        ^ serial * 0x165667B19E3779F9ULL;
+    h ^= h >> 29;
+    return &memo[h & (MEMO_N - 1)];
+}
+
+static void
+probe_consts_of(const lf_probe *pr, probe_consts *pc)
+{
+    double kap = lf_exact_kappa(pr->k), B = 1.0 / (pr->k * pow(pr->R, pr->k - 1.0));
+
+    pc->k = pr->k;
+    pc->h = pr->b;
+    pc->A1 = B * kap * pow(pr->b, pr->k);
+    pc->Fc = 2.0 * pr->b * pc->A1;
+}
 
 /* The table of nu node `node` (ignored when frictionless), from the state
  * or, the first time, from the store. */
@@ -43,14 +171,14 @@ static int
 resolve(exact_state *st, const lf_probe *pr, int node, const lf_exact_table **out,
         lf_error *err)
 {
-    int bonded = pr->base == LF_BASE_BONDED, slot = bonded ? node + 1 : 0, status;
+    int bonded = pr->base == LF_BASE_BONDED, slot_i = bonded ? node + 1 : 0, status;
 
-    *out = atomic_load_explicit(&st->tab[slot], memory_order_acquire);
+    *out = atomic_load_explicit(&st->tab[slot_i], memory_order_acquire);
     if (*out != NULL)
         return LF_OK;
     status = lf_exact_table_get(pr->k, pr->base, bonded ? lf_exact_nu_node(node) : 0.0, out, err);
     if (status == LF_OK)
-        atomic_store_explicit(&st->tab[slot], *out, memory_order_release);
+        atomic_store_explicit(&st->tab[slot_i], *out, memory_order_release);
     return status;
 }
 
@@ -65,187 +193,617 @@ state_mix(exact_state *st, const lf_probe *pr, double nu, lf_exact_mix *mx, lf_e
     return status;
 }
 
-/* Everything one (probe, material) pair needs. */
-typedef struct {
-    lf_exact_mix mix;
-    lf_exact_premix premix;   /* bonded: the mix flattened for this nu */
-    double k, h, Estar;
-    double A1, A2, F1;
-    double u_det;     /* ln tau at detachment, -INFINITY when none */
-    double delta_det;
-} exact_ctx;
-
-/* The curve at tau: delta, P, their tau-derivatives, and the partial
- * derivatives at fixed tau needed for the Jacobian. */
-typedef struct {
-    double delta, P, ddelta, dP;       /* d/dtau */
-    double shift, S, P1;               /* adhesive shift, stiffness, P1 */
-    double ddelta_nu, dP_nu;           /* d/dnu at fixed tau */
-} exact_pt;
-
-/* u = ln tau.  Each product of a power of tau and a tabulated function
- * is one exponential of a sum of logarithms; the tau-derivatives follow as
- * value times the sum of the logarithmic derivatives (G = f'/f). */
-static void
-curve_at(const exact_ctx *c, double u, int want_nu, exact_pt *o)
+/* The conditions of the header at u from the mix's ln f (F) and
+ * d ln f/du (g).  A factor that changes sign makes the condition hold or
+ * fail outright (+-INFINITY). */
+static double
+rho_of(int which, double k, double u, const double F[4], const double g[4])
 {
-    double F[4], G[4], H[4];
-    double tau = exp(u), it = 1.0 / tau, k = c->k, D1, Ssh;
+    double num, den;
 
-    lf_exact_mix_eval_log(&c->mix, u, tau, F, G, want_nu ? H : NULL);
-    D1 = c->A1 * exp(k * u + F[2]);                    /* A1 tau^k d */
-    o->shift = c->A2 * exp(0.5 * u - F[1]);            /* A2 sqrt(tau) / e */
-    o->S = 2.0 * c->Estar * c->h * exp(u + F[0]);      /* 2 E* h tau s */
-    o->P1 = c->F1 * exp((k + 1.0) * u + F[3]);         /* F1 tau^(k+1) p */
-    Ssh = o->S * o->shift;
-    o->delta = D1 - o->shift;
-    o->ddelta = D1 * (k * it + G[2]) - o->shift * (0.5 * it - G[1]);
-    o->P = o->P1 - Ssh;
-    o->dP = o->P1 * ((k + 1.0) * it + G[3]) - Ssh * (1.5 * it + G[0] - G[1]);
-    if (want_nu) {
-        o->ddelta_nu = D1 * H[2] + o->shift * H[1];
-        o->dP_nu = o->P1 * H[3] - Ssh * (H[0] - H[1]);
-    } else {
-        o->ddelta_nu = o->dP_nu = 0.0;
+    switch (which) {
+    case RHO_D:
+        num = k + g[2];
+        den = 0.5 - g[1];
+        break;
+    case RHO_P:
+        num = k + 1.0 + g[3];
+        den = 1.5 + g[0] - g[1];
+        break;
+    default:
+        return (k - 0.5) * u + F[2] + F[1];
+    }
+    if (!(den > 0.0))
+        return num > 0.0 ? INFINITY : -INFINITY;
+    if (!(num > 0.0))
+        return -INFINITY;
+    return (k - 0.5) * u + (which == RHO_D ? F[2] + F[1] : F[3] - F[0] + F[1]) + log(num / den);
+}
+
+/* d rho/du from g and dg = dg/du (NAN where rho is infinite). */
+static double
+drho_of(int which, double k, const double g[4], const double dg[4])
+{
+    double base = k - 0.5 + (which == RHO_P ? g[3] - g[0] + g[1] : g[2] + g[1]);
+
+    switch (which) {
+    case RHO_D:
+        if (!(k + g[2] > 0.0 && 0.5 - g[1] > 0.0))
+            return NAN;
+        return base + dg[2] / (k + g[2]) + dg[1] / (0.5 - g[1]);
+    case RHO_P:
+        if (!(k + 1.0 + g[3] > 0.0 && 1.5 + g[0] - g[1] > 0.0))
+            return NAN;
+        return base + dg[3] / (k + 1.0 + g[3]) - (dg[0] - dg[1]) / (1.5 + g[0] - g[1]);
+    default:
+        return base;
     }
 }
 
-#define U_LOW (-60.0)   /* ln tau treated as contact vanishing */
-#define U_HIGH 30.0
+/* Fill md for nu (k the probe's): the tables from the state (or the store
+ * when st is NULL), the flattened mix, the grid. */
+static int
+mixdata_build(mixdata *md, exact_state *st, const lf_probe *pr, double nu, lf_error *err)
+{
+    int i, w, status;
 
-/* The start of the stable branch: the largest tau with ddelta/dtau = 0,
- * scanning down in ln tau from the thin-layer regime. */
+    md->nu = nu;
+    status = st != NULL ? state_mix(st, pr, nu, &md->mix, err)
+                        : lf_exact_mix_init(&md->mix, pr->k, pr->base, nu, err);
+    if (status != LF_OK)
+        return status;
+    lf_exact_premix_init(&md->premix, &md->mix);
+    for (i = 0; i < GRID_N; i++) {
+        double F[4], g[4], dg[4], u = GRID_U0 + GRID_HU * i;
+        lf_exact_mix_eval_u(&md->mix, u, F, g, dg, NULL, NULL);
+        for (w = 0; w < 3; w++) {
+            md->r[w][i] = rho_of(w, pr->k, u, F, g);
+            md->dr[w][i] = drho_of(w, pr->k, g, dg);
+        }
+    }
+    return LF_OK;
+}
+
+static uint64_t
+key_of(double nu)
+{
+    uint64_t b;
+    memcpy(&b, &nu, sizeof b);
+    return b;
+}
+
+/* A READY slot of nu with a reference taken, or NULL. */
+static slot *
+slot_find(exact_state *st, double nu)
+{
+    uint64_t key = key_of(nu);
+    int i;
+
+    for (i = 0; i < st->nslot; i++) {
+        slot *s = &st->slots[i];
+        unsigned long w = atomic_load_explicit(&s->word, memory_order_acquire);
+        while ((w & SLOT_STATE) == SLOT_READY
+               && atomic_load_explicit(&s->key, memory_order_relaxed) == key) {
+            if (atomic_compare_exchange_weak_explicit(&s->word, &w, w + SLOT_REF,
+                                                      memory_order_acquire, memory_order_relaxed)) {
+                /* the key cannot change while a reference is held */
+                if (atomic_load_explicit(&s->key, memory_order_relaxed) == key) {
+                    atomic_store_explicit(&s->stamp,
+                                          atomic_fetch_add_explicit(&st->clock, 1, memory_order_relaxed),
+                                          memory_order_relaxed);
+                    return s;
+                }
+                atomic_fetch_sub_explicit(&s->word, SLOT_REF, memory_order_release);
+                break;
+            }
+        }
+    }
+    return NULL;
+}
+
+/* A slot switched to BUILDING for the caller: an empty one, else the least
+ * recently used one nobody reads; NULL when every slot is in use. */
+static slot *
+slot_claim(exact_state *st)
+{
+    slot *old = NULL;
+    unsigned long best = 0;
+    int i;
+
+    for (i = 0; i < st->nslot; i++) {
+        slot *s = &st->slots[i];
+        unsigned long w = atomic_load_explicit(&s->word, memory_order_relaxed);
+        if (w == SLOT_EMPTY
+            && atomic_compare_exchange_strong_explicit(&s->word, &w, SLOT_BUILDING,
+                                                       memory_order_acquire, memory_order_relaxed))
+            return s;
+        if (w == SLOT_READY) {
+            unsigned long t = atomic_load_explicit(&s->stamp, memory_order_relaxed);
+            if (old == NULL || t < best) {
+                old = s;
+                best = t;
+            }
+        }
+    }
+    if (old != NULL) {
+        unsigned long w = SLOT_READY;
+        if (atomic_compare_exchange_strong_explicit(&old->word, &w, SLOT_BUILDING,
+                                                    memory_order_acquire, memory_order_relaxed))
+            return old;
+    }
+    return NULL;
+}
+
+/* The mixdata of nu for one call: from a slot of the state (*held then
+ * holds a reference, released by mixdata_done), built into a fresh slot,
+ * or, with no state or no free slot, built into *local. */
+static int
+mixdata_get(exact_state *st, const lf_probe *pr, double nu, mixdata *local,
+            const mixdata **out, slot **held, lf_error *err)
+{
+    slot *s;
+    int status;
+
+    *held = NULL;
+    if (pr->base != LF_BASE_BONDED)
+        nu = 0.0;
+    if (st != NULL) {
+        if ((s = slot_find(st, nu)) != NULL) {
+            *held = s;
+            *out = &s->d;
+            return LF_OK;
+        }
+        if ((s = slot_claim(st)) != NULL) {
+            status = mixdata_build(&s->d, st, pr, nu, err);
+            if (status != LF_OK) {
+                atomic_store_explicit(&s->word, SLOT_EMPTY, memory_order_release);
+                return status;
+            }
+            atomic_store_explicit(&s->key, key_of(nu), memory_order_relaxed);
+            atomic_store_explicit(&s->stamp,
+                                  atomic_fetch_add_explicit(&st->clock, 1, memory_order_relaxed),
+                                  memory_order_relaxed);
+            atomic_store_explicit(&s->word, SLOT_READY + SLOT_REF, memory_order_release);
+            *held = s;
+            *out = &s->d;
+            return LF_OK;
+        }
+    }
+    status = mixdata_build(local, st, pr, nu, err);
+    *out = local;
+    return status;
+}
+
+static void
+mixdata_done(slot *held)
+{
+    if (held != NULL)
+        atomic_fetch_sub_explicit(&held->word, SLOT_REF, memory_order_release);
+}
+
+/* The curve at ln tau = u: delta, P, their u-derivatives, and the parts at
+ * fixed tau needed for the Jacobian. */
+typedef struct {
+    double delta, P, dd, dP;           /* d/du */
+    double shift, Ssh, P1;             /* adhesive shift, S shift, P1 */
+    double gsh, gSsh, gP1;             /* their d ln/du */
+    double ddelta_nu, dP_nu;           /* d/dnu at fixed tau */
+    /* second order (curve_from with dg): d/du of dd, dP, gsh, gSsh, gP1,
+     * ddelta_nu, dP_nu */
+    double d2, P2, dgsh, dgSsh, dgP1, ddelta_nu_u, dP_nu_u;
+} exact_pt;
+
+/* The mix at one u: ln f, g = d ln f/du, dg = dg/du. */
+typedef struct {
+    double u, F[4], g[4], dg[4];
+} mixval;
+
+/* Everything one (probe, material) pair needs. */
+typedef struct {
+    const lf_exact_mix *mx;
+    const mixdata *md;    /* the grid of the conditions (NULL: none) */
+    double k, h;
+    double A1, A2, F1, Sc;  /* Sc = 2 E* h A2: S shift = Sc tau^(3/2) s/e */
+    double L;             /* ln lambda = ln (A2/A1) */
+    double u_det;         /* ln tau at detachment, -INFINITY when none */
+    double delta_det;
+    exact_pt det;         /* the curve at u_det (when finite) */
+    mixval vdet;          /* the mix near it: u_det = vdet.u + du_det */
+    double du_det;
+} exact_ctx;
+
+/* Each product of a power of tau and a tabulated function is one
+ * exponential of a sum of logarithms; the u-derivatives follow as value
+ * times the sum of the logarithmic derivatives.  H: d ln f/dnu, or NULL;
+ * dg (with dH when H is given): the second-order terms too, else NULL. */
+static void
+curve_from(const exact_ctx *c, double u, const double F[4], const double g[4],
+           const double *dg, const double *H, const double *dH, exact_pt *o)
+{
+    double k = c->k, D1, gD1;
+
+    D1 = c->A1 * exp(k * u + F[2]);                    /* A1 tau^k d */
+    o->shift = c->A2 * exp(0.5 * u - F[1]);            /* A2 sqrt(tau) / e */
+    o->Ssh = c->Sc * exp(1.5 * u + F[0] - F[1]);       /* S shift */
+    o->P1 = c->F1 * exp((k + 1.0) * u + F[3]);         /* F1 tau^(k+1) p */
+    gD1 = k + g[2];
+    o->gsh = 0.5 - g[1];
+    o->gSsh = 1.5 + g[0] - g[1];
+    o->gP1 = k + 1.0 + g[3];
+    o->delta = D1 - o->shift;
+    o->dd = D1 * gD1 - o->shift * o->gsh;
+    o->P = o->P1 - o->Ssh;
+    o->dP = o->P1 * o->gP1 - o->Ssh * o->gSsh;
+    if (H != NULL) {
+        o->ddelta_nu = D1 * H[2] + o->shift * H[1];
+        o->dP_nu = o->P1 * H[3] - o->Ssh * (H[0] - H[1]);
+    } else {
+        o->ddelta_nu = o->dP_nu = 0.0;
+    }
+    if (dg != NULL) {
+        /* (X e^G)'' = X (G'^2 + G'') for each product */
+        o->dgsh = -dg[1];
+        o->dgSsh = dg[0] - dg[1];
+        o->dgP1 = dg[3];
+        o->d2 = D1 * (gD1 * gD1 + dg[2]) - o->shift * (o->gsh * o->gsh + o->dgsh);
+        o->P2 = o->P1 * (o->gP1 * o->gP1 + o->dgP1) - o->Ssh * (o->gSsh * o->gSsh + o->dgSsh);
+        if (H != NULL) {
+            o->ddelta_nu_u = D1 * (gD1 * H[2] + dH[2]) + o->shift * (o->gsh * H[1] + dH[1]);
+            o->dP_nu_u = o->P1 * (o->gP1 * H[3] + dH[3])
+                         - o->Ssh * (o->gSsh * (H[0] - H[1]) + dH[0] - dH[1]);
+        } else {
+            o->ddelta_nu_u = o->dP_nu_u = 0.0;
+        }
+    }
+}
+
+static void
+curve_at(const exact_ctx *c, double u, int want_nu, exact_pt *o)
+{
+    double F[4], g[4], H[4];
+
+    lf_exact_mix_eval_u(c->mx, u, F, g, NULL, want_nu ? H : NULL, NULL);
+    curve_from(c, u, F, g, NULL, want_nu ? H : NULL, NULL, o);
+}
+
+/* The same with the second-order terms. */
+static void
+curve_at2(const exact_ctx *c, double u, int want_nu, exact_pt *o)
+{
+    double F[4], g[4], dg[4], H[4], dH[4];
+
+    lf_exact_mix_eval_u(c->mx, u, F, g, dg, want_nu ? H : NULL, want_nu ? dH : NULL);
+    curve_from(c, u, F, g, dg, want_nu ? H : NULL, want_nu ? dH : NULL, o);
+}
+
+/* The curve carried from u to u + du to first order (|du| tiny): the
+ * derivatives stay those at u. */
+static void
+curve_advance(exact_pt *o, double du)
+{
+    o->delta += o->dd * du;
+    o->P += o->dP * du;
+    o->shift *= 1.0 + o->gsh * du;
+    o->Ssh *= 1.0 + o->gSsh * du;
+    o->P1 *= 1.0 + o->gP1 * du;
+}
+
+/* The same to second order in du (a curve from curve_at2): values with
+ * errors O(du^3), the derivatives O(du^2). */
+static void
+curve_advance2(exact_pt *o, double du)
+{
+    double h = 0.5 * du * du;
+
+    o->delta += o->dd * du + o->d2 * h;
+    o->P += o->dP * du + o->P2 * h;
+    o->dd += o->d2 * du;
+    o->dP += o->P2 * du;
+    o->shift *= 1.0 + o->gsh * du + (o->gsh * o->gsh + o->dgsh) * h;
+    o->Ssh *= 1.0 + o->gSsh * du + (o->gSsh * o->gSsh + o->dgSsh) * h;
+    o->P1 *= 1.0 + o->gP1 * du + (o->gP1 * o->gP1 + o->dgP1) * h;
+    o->gsh += o->dgsh * du;
+    o->gSsh += o->dgSsh * du;
+    o->gP1 += o->dgP1 * du;
+    o->ddelta_nu += o->ddelta_nu_u * du;
+    o->dP_nu += o->dP_nu_u * du;
+}
+
+/* rho (header) minus ln lambda at u. */
+static double
+cond_at(const exact_ctx *c, int which, double u)
+{
+    double F[4], g[4];
+
+    lf_exact_mix_eval_u(c->mx, u, F, g, NULL, NULL, NULL);
+    return rho_of(which, c->k, u, F, g) - c->L;
+}
+
+/* The root of cond(which) in [lo, hi] (<= 0 at lo, > 0 at hi) by Newton
+ * in u from u (bisection where a step leaves the bracket or the slope is
+ * not positive).  *v receives the mix at the last point evaluated; the
+ * root is v->u + *du, |*du| <= ROOT_TAYLOR: the last Newton step, which
+ * leaves an error ~ du^2 and is applied to the curve to first order
+ * (curve_advance) rather than evaluated. */
+#define ROOT_TAYLOR 1e-7
+static double
+cond_newton(const exact_ctx *c, int which, double lo, double hi, double u, mixval *v,
+            double *du)
+{
+    int i;
+
+    for (i = 0; i < 200; i++) {
+        double f, d, un;
+        if (!(u > lo && u < hi))
+            u = 0.5 * (lo + hi);
+        v->u = u;
+        lf_exact_mix_eval_u(c->mx, u, v->F, v->g, v->dg, NULL, NULL);
+        f = rho_of(which, c->k, u, v->F, v->g) - c->L;
+        d = drho_of(which, c->k, v->g, v->dg);
+        if (f <= 0.0)
+            lo = u;
+        else
+            hi = u;
+        un = u - f / d;
+        if (d > 0.0 && fabs(un - u) <= ROOT_TAYLOR) {
+            *du = un - u;
+            return un;
+        }
+        if (hi - lo <= 1e-14 * fmax(1.0, fabs(lo)))
+            break;
+        u = d > 0.0 && un > lo && un < hi ? un : 0.5 * (lo + hi);
+    }
+    *du = 0.0;
+    return v->u;
+}
+
+/* A start for the root in grid cell [u_i, u_i+1] (values and slopes of
+ * cond at both nodes): the zero of the cell's cubic Hermite model. */
+static double
+cell_start(const exact_ctx *c, int which, int i)
+{
+    const double *r = c->md->r[which], *dr = c->md->dr[which];
+    double f0 = r[i] - c->L, f1 = r[i + 1] - c->L, s0 = dr[i] * GRID_HU, s1 = dr[i + 1] * GRID_HU;
+    double t = f0 / (f0 - f1);
+    int it;
+
+    if (!(t >= 0.0 && t <= 1.0))
+        t = 0.5;
+    if (isfinite(s0) && isfinite(s1))
+        for (it = 0; it < 2; it++) {
+            double t2 = t * t, t3 = t2 * t;
+            double p = (2.0 * t3 - 3.0 * t2 + 1.0) * f0 + (t3 - 2.0 * t2 + t) * s0
+                       + (3.0 * t2 - 2.0 * t3) * f1 + (t3 - t2) * s1;
+            double dp = 6.0 * (t2 - t) * (f0 - f1) + (3.0 * t2 - 4.0 * t + 1.0) * s0
+                        + (3.0 * t2 - 2.0 * t) * s1;
+            if (!(dp > 0.0))
+                break;
+            t = fmin(fmax(t - p / dp, 0.0), 1.0);
+        }
+    return GRID_U0 + GRID_HU * (i + t);
+}
+
+/* The regula falsi point of a bracket (its middle if that fails). */
+static double
+falsi(double lo, double hi, double flo, double fhi)
+{
+    double u = (lo * fhi - hi * flo) / (fhi - flo);
+    return u > lo && u < hi ? u : 0.5 * (lo + hi);
+}
+
+/* From lo (f(lo) = *flo <= 0) up in doubling steps to the first u with
+ * f > 0: the bracket [*lo, *hi].  0 when f stays <= 0 up to U_HIGH. */
+static int
+cond_up(const exact_ctx *c, int which, double *lo, double *flo, double *hi, double *fhi)
+{
+    double step = 0.25;
+
+    for (;;) {
+        *hi = fmin(*lo + step, U_HIGH);
+        *fhi = cond_at(c, which, *hi);
+        if (*fhi > 0.0)
+            return 1;
+        if (*hi >= U_HIGH)
+            return 0;
+        *lo = *hi;
+        *flo = *fhi;
+        step *= 2.0;
+    }
+}
+
+/* The first crossing of cond(which) from <= 0 to > 0 above lo (where it
+ * is flo <= 0): below the grid in steps of 0.25, then along the grid's
+ * nodes, then beyond it.  Returns the root (U_HIGH when there is none)
+ * with *v and *du as cond_newton's. */
+static double
+cond_first_above(const exact_ctx *c, int which, double lo, double flo, mixval *v, double *du)
+{
+    const double *r = c->md->r[which];
+    double hi, fhi;
+    int j;
+
+    while (lo < GRID_U0) {
+        hi = fmin(lo + 0.25, GRID_U0);
+        fhi = hi == GRID_U0 ? r[0] - c->L : cond_at(c, which, hi);
+        if (fhi > 0.0)
+            return cond_newton(c, which, lo, hi, falsi(lo, hi, flo, fhi), v, du);
+        lo = hi;
+        flo = fhi;
+    }
+    for (j = (int) floor((lo - GRID_U0) / GRID_HU) + 1; j < GRID_N; j++) {
+        double uj = GRID_U0 + GRID_HU * j;
+        if (uj <= lo)
+            continue;
+        if (r[j] - c->L > 0.0)
+            return cond_newton(c, which, lo, uj, cell_start(c, which, j - 1), v, du);
+        lo = uj;
+        flo = r[j] - c->L;
+    }
+    if (!cond_up(c, which, &lo, &flo, &hi, &fhi)) {
+        v->u = U_HIGH;
+        lf_exact_mix_eval_u(c->mx, U_HIGH, v->F, v->g, v->dg, NULL, NULL);
+        *du = 0.0;
+        return U_HIGH;
+    }
+    return cond_newton(c, which, lo, hi, falsi(lo, hi, flo, fhi), v, du);
+}
+
+/* The start of the stable branch: the largest u with ddelta/du = 0, from
+ * the grid (down from its top), or beyond it.  c->vdet keeps the mix
+ * there for the pull-off (c->u_det = vdet.u + du_det). */
 static void
 find_detach(exact_ctx *c)
 {
-    exact_pt pt;
-    double u, u_hi, u_lo, f_lo, f_hi;
-    int i, side = 0;
+    const double *r = c->md->r[RHO_D];
+    double lo, hi, flo, fhi, start;
+    int i;
 
     c->u_det = -INFINITY;
     c->delta_det = 0.0;
     if (c->A2 == 0.0)
         return;
-    for (u = log(1e4); u > U_LOW; u -= 0.25) {
-        curve_at(c, u, 0, &pt);
-        if (pt.ddelta <= 0.0)
-            break;
-    }
-    if (u <= U_LOW)
-        return; /* monotonic down to a -> 0 (k < 1/2) */
-    u_lo = u;
-    u_hi = u + 0.25;
-    f_lo = pt.ddelta;
-    curve_at(c, u_hi, 0, &pt);
-    f_hi = pt.ddelta;
-    /* Illinois (regula falsi that halves the stale end's value): the
-     * bracket ddelta(u_lo) <= 0 < ddelta(u_hi) kept, superlinear */
-    for (i = 0; i < 100 && u_hi - u_lo > 1e-14; i++) {
-        double um = (u_lo * f_hi - u_hi * f_lo) / (f_hi - f_lo);
-        if (!(um > u_lo && um < u_hi))
-            um = 0.5 * (u_lo + u_hi);
-        curve_at(c, um, 0, &pt);
-        if (pt.ddelta <= 0.0) {
-            u_lo = um;
-            f_lo = pt.ddelta;
-            if (side < 0)
-                f_hi *= 0.5;
-            side = -1;
+    for (i = GRID_N - 1; i >= 0 && r[i] - c->L > 0.0; i--)
+        ;
+    if (i == GRID_N - 1) {
+        /* delta falls with a at the grid's top: the end lies beyond */
+        lo = GRID_U0 + GRID_HU * i;
+        flo = r[i] - c->L;
+        if (!cond_up(c, RHO_D, &lo, &flo, &hi, &fhi))
+            lo = hi = U_HIGH;
+        start = falsi(lo, hi, flo, fhi);
+    } else if (i >= 0) {
+        lo = GRID_U0 + GRID_HU * i;
+        hi = lo + GRID_HU;
+        start = cell_start(c, RHO_D, i);
+    } else {
+        /* delta rises with a over the whole grid: below it, rho_d is
+         * (k - 1/2) u + O(tau), monotone for k above 1/2 (one bracket),
+         * searched down in steps of 0.25 otherwise */
+        hi = GRID_U0;
+        fhi = r[0] - c->L;
+        if (c->k >= K_MONOTONE) {
+            lo = U_LOW;
+            flo = cond_at(c, RHO_D, lo);
+            if (flo > 0.0)
+                return;
         } else {
-            u_hi = um;
-            f_hi = pt.ddelta;
-            if (side > 0)
-                f_lo *= 0.5;
-            side = 1;
+            for (lo = hi - 0.25; lo > U_LOW; lo -= 0.25) {
+                flo = cond_at(c, RHO_D, lo);
+                if (flo <= 0.0)
+                    break;
+                hi = lo;
+                fhi = flo;
+            }
+            if (lo <= U_LOW)
+                return; /* monotonic down to a -> 0 (k < 1/2) */
         }
+        start = falsi(lo, hi, flo, fhi);
     }
-    c->u_det = u_hi;
-    curve_at(c, u_hi, 0, &pt);
-    c->delta_det = pt.delta;
+    if (lo == hi) {
+        c->vdet.u = lo;
+        lf_exact_mix_eval_u(c->mx, lo, c->vdet.F, c->vdet.g, c->vdet.dg, NULL, NULL);
+        c->du_det = 0.0;
+        c->u_det = lo;
+    } else {
+        c->u_det = cond_newton(c, RHO_D, lo, hi, start, &c->vdet, &c->du_det);
+    }
+    curve_from(c, c->vdet.u, c->vdet.F, c->vdet.g, NULL, NULL, NULL, &c->det);
+    curve_advance(&c->det, c->du_det);
+    c->delta_det = c->det.delta;
 }
 
-/* st: the model's state, or NULL to take the tables from the store. */
+/* Fill c for a material from the mixdata md (its tables and its grid). */
+static void
+ctx_set(exact_ctx *c, const mixdata *md, const probe_consts *pc, const lf_material *m)
+{
+    c->md = md;
+    c->mx = &md->mix;
+    c->k = pc->k;
+    c->h = pc->h;
+    c->A1 = pc->A1;
+    c->F1 = m->Estar * pc->Fc;
+    c->A2 = sqrt(2.0 * M_PI * pc->h * m->w / m->Estar);
+    c->Sc = 2.0 * m->Estar * pc->h * c->A2;
+    c->L = log(c->A2 / c->A1);
+    find_detach(c);
+}
+
+/* st: the model's state, or NULL to take the tables from the store.  The
+ * mixdata may land in *local (then c points into it); *held is released
+ * with mixdata_done when the caller is finished with c. */
 static int
 ctx_init(exact_ctx *c, exact_state *st, const lf_probe *pr, const lf_material *m,
-         lf_error *err)
+         mixdata *local, slot **held, lf_error *err)
 {
-    double kap, B;
+    probe_consts pcl;
+    const probe_consts *pc = &pcl;
+    const mixdata *md;
     int status;
 
+    *held = NULL;
     if (pr->base == LF_BASE_BONDED && m->nu > LF_EXACT_NU_MAX)
         return lf_fail(err, LF_EINVAL, "exact model: nu must be <= %g", LF_EXACT_NU_MAX);
-    status = st != NULL ? state_mix(st, pr, m->nu, &c->mix, err)
-                        : lf_exact_mix_init(&c->mix, pr->k, pr->base, m->nu, err);
-    if (status != LF_OK)
+    if ((status = mixdata_get(st, pr, m->nu, local, &md, held, err)) != LF_OK)
         return status;
-    lf_exact_premix_init(&c->premix, &c->mix);
-    kap = lf_exact_kappa(pr->k);
-    B = 1.0 / (pr->k * pow(pr->R, pr->k - 1.0));
-    c->k = pr->k;
-    c->h = pr->b;
-    c->Estar = m->Estar;
-    c->A1 = B * kap * pow(pr->b, pr->k);
-    c->A2 = sqrt(2.0 * M_PI * pr->b * m->w / m->Estar);
-    c->F1 = 2.0 * m->Estar * B * kap * pow(pr->b, pr->k + 1.0);
-    find_detach(c);
+    if (st != NULL)
+        pc = &st->pc;
+    else
+        probe_consts_of(pr, &pcl);
+    ctx_set(c, md, pc, m);
     return LF_OK;
 }
 
 /* ln tau on the stable branch where delta(tau) = target (> delta_det):
  * Newton in ln tau from `guess` (NAN: none), safeguarded by bisection on a
- * bracket [lo, hi] with delta(lo) < target <= delta(hi).  *out receives the
- * curve at the returned ln tau (with the nu derivatives when want_nu). */
+ * bracket [lo, hi] with delta(lo) < target <= delta(hi) (hi = U_HIGH until
+ * a point above the target is seen: then steps of at most one e-fold).
+ * *out receives the curve at the returned ln tau (with the nu derivatives
+ * when want_nu).  taylor: finish a step below STEP_TAYLOR to first order
+ * (header) instead of evaluating once more. */
 static double
-invert(const exact_ctx *c, double target, double guess, int want_nu, exact_pt *out)
+invert(const exact_ctx *c, double target, double guess, int want_nu, int taylor, exact_pt *out)
 {
     exact_pt pt;
-    double lo = isfinite(c->u_det) ? c->u_det : U_LOW, hi, u, step = 0.25;
+    double lo = isfinite(c->u_det) ? c->u_det : U_LOW, hi = U_HIGH, u;
     int i;
 
     u = guess;
-    if (!(u > lo && u < U_HIGH)) /* first guess from the half-space form */
+    if (!(u > lo && u < hi)) /* first guess from the half-space form */
         u = fmin(fmax(log(fmax(target - c->delta_det, 1e-300) / c->A1) / c->k, lo + 0.5), U_HIGH);
-    curve_at(c, u, want_nu, &pt);
-    if (pt.delta >= target) {
-        hi = u;
-    } else {
-        exact_pt pt_u = pt;
-        lo = u;
-        for (hi = u + step; hi < U_HIGH; hi += step, step *= 2.0) {
-            curve_at(c, hi, want_nu, &pt);
-            if (pt.delta >= target)
-                break;
-            lo = hi;
-        }
-        if (hi >= U_HIGH)
-            hi = U_HIGH;
-        if (lo == u) {         /* keep the guess: Newton from there */
-            pt = pt_u;
-        } else {
-            u = 0.5 * (lo + hi);
+    for (i = 0; i < 200; i++) {
+        double g, un;
+        if (taylor)
+            curve_at2(c, u, want_nu, &pt);
+        else
             curve_at(c, u, want_nu, &pt);
-        }
-    }
-    for (i = 0; i < 100; i++) {
-        double g = pt.delta - target, gp = pt.ddelta * exp(u), un;
+        g = pt.delta - target;
         if (g > 0.0)
             hi = u;
         else
             lo = u;
-        un = (gp > 0.0) ? u - g / gp : 0.5 * (lo + hi);
-        if (!(un > lo && un < hi))
-            un = 0.5 * (lo + hi);
         /* done at the rounding level of delta = A1 tau^k d - shift (the
          * two terms nearly cancel near detachment): chasing g further only
          * bisects rounding noise */
         if (fabs(g) <= 1e-14 * (fabs(pt.delta + pt.shift) + fabs(pt.shift)))
             break;
+        un = pt.dd > 0.0 ? u - g / pt.dd : NAN;
+        if (!(un > lo && un < hi)) {
+            un = hi < U_HIGH ? 0.5 * (lo + hi) : fmin(lo + 1.0, U_HIGH);
+        } else if (taylor && fabs(un - u) <= STEP_TAYLOR
+                   && fabs((un - u) * pt.d2) <= CURV_TAYLOR * pt.dd) {
+            /* the second-order step (the Newton step corrected by the
+             * curvature) and the curve carried there: header */
+            double du = un - u;
+            du -= 0.5 * pt.d2 * du * du / pt.dd;
+            curve_advance2(&pt, du);
+            u += du;
+            break;
+        }
         /* the next step is below the rounding of ln tau: the point at u
          * stands (its curve is at hand) */
         if (fabs(un - u) < 1e-13 || hi - lo < 1e-14)
             break;
         u = un;
-        curve_at(c, u, want_nu, &pt);
     }
     *out = pt;
     return u;
@@ -255,34 +813,41 @@ invert(const exact_ctx *c, double target, double guess, int want_nu, exact_pt *o
 static void
 fill_point(const exact_ctx *c, double u, const exact_pt *p, int bonded, lf_eval *e)
 {
-    exact_pt pt = *p;
-    double dPdd, tau = exp(u);
+    double dPdd = p->dP / p->dd;
 
-    dPdd = pt.dP / pt.ddelta;
-    if (!(pt.ddelta > 0.0))
+    if (!(p->dd > 0.0))
         dPdd = LF_BIG;
-    e->P = pt.P;
-    e->a = tau * c->h;
+    e->P = p->P;
+    e->a = exp(u) * c->h;
     e->dP_ddelta = lf_capped(dPdd);
     /* at fixed tau: d delta/dln w = -shift/2, dP/dln w = -S shift/2;
      * d delta/dln E = +shift/2, dP/dln E = P1 - S shift/2 */
-    e->dP_dlogw = lf_capped(-0.5 * pt.S * pt.shift + dPdd * 0.5 * pt.shift);
-    e->dP_dlogE = lf_capped(pt.P1 - 0.5 * pt.S * pt.shift - dPdd * 0.5 * pt.shift);
-    e->dP_dnu = bonded ? lf_capped(pt.dP_nu - dPdd * pt.ddelta_nu) : 0.0;
+    e->dP_dlogw = lf_capped(-0.5 * p->Ssh + dPdd * 0.5 * p->shift);
+    e->dP_dlogE = lf_capped(p->P1 - 0.5 * p->Ssh - dPdd * 0.5 * p->shift);
+    e->dP_dnu = bonded ? lf_capped(p->dP_nu - dPdd * p->ddelta_nu) : 0.0;
 }
 
 static int
 exact_alloc(void **state, const lf_probe *probe, lf_error *err)
 {
-    exact_state *st = calloc(1, sizeof *st);
+    int i, status, nslot = probe->base == LF_BASE_BONDED ? BONDED_SLOTS : 1;
+    exact_state *st = calloc(1, sizeof *st + (size_t) nslot * sizeof(slot));
     const lf_exact_table *t;
-    int i, status;
 
     *state = NULL;
     if (st == NULL)
         return lf_fail(err, LF_ENOMEM, "out of memory (exact model)");
     for (i = 0; i < LF_EXACT_NY + 2; i++)
         atomic_init(&st->tab[i], NULL);
+    st->nslot = nslot;
+    for (i = 0; i < nslot; i++) {
+        atomic_init(&st->slots[i].word, SLOT_EMPTY);
+        atomic_init(&st->slots[i].key, 0);
+        atomic_init(&st->slots[i].stamp, 0);
+    }
+    atomic_init(&st->clock, 1);
+    st->serial = atomic_fetch_add(&serials, 1) + 1;
+    probe_consts_of(probe, &st->pc);
     /* the frictionless table now; bonded node tables when a nu range is
      * prepared (or first needed) */
     if (probe->base == LF_BASE_FRICTIONLESS && (status = resolve(st, probe, 0, &t, err)) != LF_OK) {
@@ -322,45 +887,132 @@ exact_free(void *state)
     free(state);
 }
 
+/* The evaluation of n indentations with a context (shared by the model's
+ * eval and lf_exact_eval_precise).  fast: warm starts and first-order
+ * finish (header); else every point is solved on its own to rounding. */
+static void
+eval_points(const exact_ctx *c, int bonded, int fast, lf_branch branch, size_t n,
+            const double *delta, lf_eval *out)
+{
+    /* warm start: data come in order; u(delta) extrapolated by the cubic
+     * through the last two points with their slopes du/ddelta */
+    double d1 = NAN, u1 = NAN, s1 = NAN, d2 = NAN, u2 = NAN, s2 = NAN;
+    double start = branch == LF_BRANCH_LOAD ? fmax(0.0, c->delta_det) : c->delta_det;
+    size_t i;
+
+    for (i = 0; i < n; i++) {
+        lf_eval *e = &out[i];
+        int touching = branch == LF_BRANCH_LOAD ? delta[i] >= start : delta[i] > start;
+        double guess = NAN, u;
+        exact_pt pt;
+
+        if (!touching || (!isfinite(c->u_det) && delta[i] <= 0.0)) {
+            e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
+            continue;
+        }
+        if (fast && isfinite(d2)) {
+            double hd = delta[i] - d2;
+            guess = u2 + hd * s2;
+            if (isfinite(d1) && d1 != d2) {
+                /* Hermite cubic on [d1, d2] in t = (delta - d1)/H */
+                double H = d2 - d1, t = (delta[i] - d1) / H, t2 = t * t, t3 = t2 * t;
+                guess = (2.0 * t3 - 3.0 * t2 + 1.0) * u1 + (t3 - 2.0 * t2 + t) * H * s1
+                        + (3.0 * t2 - 2.0 * t3) * u2 + (t3 - t2) * H * s2;
+            }
+        }
+        u = invert(c, delta[i], guess, bonded, fast, &pt);
+        fill_point(c, u, &pt, bonded, e);
+        if (pt.dd > 0.0 && delta[i] != d2) {
+            d1 = d2; u1 = u2; s1 = s2;
+            d2 = delta[i]; u2 = u; s2 = 1.0 / pt.dd;
+        }
+    }
+}
+
 static int
 exact_eval(void *state, const lf_probe *probe, const lf_material *mat,
            lf_branch branch, size_t n, const double *delta, lf_eval *out)
 {
     exact_ctx c;
-    size_t i;
-    int bonded = probe->base == LF_BASE_BONDED;
-    /* warm start: data come in order; u(delta) extrapolated to second
-     * order from the slopes du/ddelta at the last two points */
-    double u_prev = NAN, d_prev = NAN, du_dd = 0.0, d_prev2 = NAN, du_dd2 = 0.0;
-    exact_pt pt;
-    double guess;
+    mixdata local;
+    slot *held;
 
-    if (ctx_init(&c, state, probe, mat, NULL) != LF_OK)
+    if (ctx_init(&c, state, probe, mat, &local, &held, NULL) != LF_OK)
         return LF_EINVAL;
-    for (i = 0; i < n; i++) {
-        lf_eval *e = &out[i];
-        double start = branch == LF_BRANCH_LOAD ? fmax(0.0, c.delta_det) : c.delta_det;
-        int touching = branch == LF_BRANCH_LOAD ? delta[i] >= start : delta[i] > start;
+    eval_points(&c, probe->base == LF_BASE_BONDED, 1, branch, n, delta, out);
+    mixdata_done(held);
+    return LF_OK;
+}
 
-        if (!touching || (!isfinite(c.u_det) && delta[i] <= 0.0)) {
-            e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
-            continue;
-        }
-        /* first-order predictor from the previous point on the branch */
-        guess = u_prev;
-        if (isfinite(d_prev)) {
-            double h = delta[i] - d_prev, curv = 0.0;
-            if (isfinite(d_prev2) && d_prev != d_prev2)
-                curv = (du_dd - du_dd2) / (d_prev - d_prev2);
-            guess = u_prev + h * (du_dd + 0.5 * curv * h);
-        }
-        u_prev = invert(&c, delta[i], guess, bonded, &pt);
-        fill_point(&c, u_prev, &pt, bonded, e);
-        d_prev2 = d_prev;
-        du_dd2 = du_dd;
-        d_prev = delta[i];
-        du_dd = pt.ddelta > 0.0 ? 1.0 / (pt.ddelta * exp(u_prev)) : 0.0;
+int
+lf_exact_eval_precise(const lf_probe *probe, const lf_material *mat, lf_branch branch,
+                      size_t n, const double *delta, lf_eval *out, lf_error *err)
+{
+    exact_ctx c;
+    slot *held;
+    mixdata *local = malloc(sizeof *local);
+    int status;
+
+    if (local == NULL)
+        return lf_fail(err, LF_ENOMEM, "out of memory (exact model)");
+    status = ctx_init(&c, NULL, probe, mat, local, &held, err);
+    if (status == LF_OK)
+        eval_points(&c, probe->base == LF_BASE_BONDED, 0, branch, n, delta, out);
+    free(local);
+    return status;
+}
+
+static int
+pulloff_compute(void *state, const lf_probe *probe, const lf_material *mat,
+                lf_pulloff *out)
+{
+    exact_ctx c;
+    exact_pt pt;
+    mixdata local;
+    mixval v;
+    slot *held;
+    double u_po, du;
+
+    if (ctx_init(&c, state, probe, mat, &local, &held, NULL) != LF_OK)
+        return LF_EINVAL;
+    out->c = 0.0;
+    if (!isfinite(c.u_det)) {
+        out->delta_detach = out->P_detach = out->a_detach = 0.0;
+        out->delta_po = out->P_po = out->a_po = out->sigma_po = out->P_jump = 0.0;
+        mixdata_done(held);
+        return LF_OK;
     }
+    out->delta_detach = c.det.delta;
+    out->P_detach = c.det.P;
+    out->a_detach = exp(c.u_det) * c.h;
+    /* force-controlled pull-off: first minimum of P(tau) above detachment */
+    if (c.det.dP >= 0.0) {
+        pt = c.det;
+        u_po = c.u_det;
+    } else {
+        const mixval *d = &c.vdet;
+        double f = rho_of(RHO_P, c.k, d->u, d->F, d->g) - c.L
+                   + drho_of(RHO_P, c.k, d->g, d->dg) * c.du_det;
+        u_po = cond_first_above(&c, RHO_P, c.u_det, fmin(f, 0.0), &v, &du);
+        curve_from(&c, v.u, v.F, v.g, NULL, NULL, NULL, &pt);
+        curve_advance(&pt, du);
+    }
+    out->delta_po = pt.delta;
+    out->P_po = pt.P;
+    out->a_po = exp(u_po) * c.h;
+    out->sigma_po = -out->P_po / (M_PI * out->a_po * out->a_po);
+    out->P_jump = 0.0;
+    if (c.delta_det < 0.0) {
+        /* delta rises from delta_det < 0 above u_det: one crossing of 0 */
+        const mixval *d = &c.vdet;
+        double f = rho_of(RHO_0, c.k, d->u, d->F, d->g) - c.L
+                   + drho_of(RHO_0, c.k, d->g, d->dg) * c.du_det;
+        cond_first_above(&c, RHO_0, c.u_det, fmin(f, 0.0), &v, &du);
+        curve_from(&c, v.u, v.F, v.g, NULL, NULL, NULL, &pt);
+        curve_advance(&pt, du);
+        out->P_jump = pt.P;
+    }
+    mixdata_done(held);
     return LF_OK;
 }
 
@@ -368,56 +1020,22 @@ static int
 exact_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
               lf_pulloff *out)
 {
-    exact_ctx c;
-    exact_pt pt;
-    double u, u_lo, u_hi;
-    int i;
+    exact_state *st = state;
+    uint64_t key[3];
+    memo_entry *e = memo_slot(st->serial, mat, key);
+    int status;
 
-    if (ctx_init(&c, state, probe, mat, NULL) != LF_OK)
-        return LF_EINVAL;
-    out->c = 0.0;
-    if (!isfinite(c.u_det)) {
-        out->delta_detach = out->P_detach = out->a_detach = 0.0;
-        out->delta_po = out->P_po = out->a_po = out->sigma_po = out->P_jump = 0.0;
+    if (e->serial == st->serial && memcmp(e->key, key, sizeof key) == 0) {
+        *out = e->po;
         return LF_OK;
     }
-    curve_at(&c, c.u_det, 0, &pt);
-    out->delta_detach = pt.delta;
-    out->P_detach = pt.P;
-    out->a_detach = exp(c.u_det) * c.h;
-    /* force-controlled pull-off: first minimum of P(tau) above detachment */
-    u_lo = c.u_det;
-    if (pt.dP >= 0.0) {
-        u_hi = u_lo;
-    } else {
-        for (u = c.u_det + 0.05; u < U_HIGH; u += 0.05) {
-            curve_at(&c, u, 0, &pt);
-            if (pt.dP >= 0.0)
-                break;
-            u_lo = u;
-        }
-        u_hi = u;
-        for (i = 0; i < 60 && u_hi - u_lo > 1e-14; i++) {
-            double um = 0.5 * (u_lo + u_hi);
-            curve_at(&c, um, 0, &pt);
-            if (pt.dP >= 0.0)
-                u_hi = um;
-            else
-                u_lo = um;
-        }
+    status = pulloff_compute(state, probe, mat, out);
+    if (status == LF_OK) {
+        e->serial = st->serial;
+        memcpy(e->key, key, sizeof key);
+        e->po = *out;
     }
-    curve_at(&c, u_hi, 0, &pt);
-    out->delta_po = pt.delta;
-    out->P_po = pt.P;
-    out->a_po = exp(u_hi) * c.h;
-    out->sigma_po = -out->P_po / (M_PI * out->a_po * out->a_po);
-    if (c.delta_det < 0.0) {
-        invert(&c, 0.0, NAN, 0, &pt);
-        out->P_jump = pt.P;
-    } else {
-        out->P_jump = 0.0;
-    }
-    return LF_OK;
+    return status;
 }
 
 const lf_model_type lf_model_exact = {
@@ -462,6 +1080,8 @@ lf_exact_thin_difference(const lf_probe *probe, const lf_material *mat,
                          lf_error *err)
 {
     exact_ctx c;
+    mixdata *local;
+    slot *held;
     double u0, u1, Pmax = 0.0, dmax = 0.0;
     int status, i, n = 200;
 
@@ -471,16 +1091,16 @@ lf_exact_thin_difference(const lf_probe *probe, const lf_material *mat,
         return status;
     if (!(ab_min > 0 && ab_max > ab_min && isfinite(ab_max)))
         return lf_fail(err, LF_EINVAL, "need 0 < a/b min < a/b max (got %g, %g)", ab_min, ab_max);
-    status = ctx_init(&c, NULL, probe, mat, err);
-    if (status != LF_OK)
-        return status;
+    if ((local = malloc(sizeof *local)) == NULL)
+        return lf_fail(err, LF_ENOMEM, "out of memory (exact model)");
+    status = ctx_init(&c, NULL, probe, mat, local, &held, err);
     u0 = log(ab_min);
-    if (isfinite(c.u_det) && u0 < c.u_det)
+    if (status == LF_OK && isfinite(c.u_det) && u0 < c.u_det)
         u0 = c.u_det;
     u1 = log(ab_max);
-    if (u1 <= u0)
-        return lf_fail(err, LF_EINVAL, "a/b range lies below the detachment radius");
-    for (i = 0; i <= n; i++) {
+    if (status == LF_OK && u1 <= u0)
+        status = lf_fail(err, LF_EINVAL, "a/b range lies below the detachment radius");
+    for (i = 0; i <= n && status == LF_OK; i++) {
         exact_pt pt;
         lf_eval th;
         double d;
@@ -488,12 +1108,14 @@ lf_exact_thin_difference(const lf_probe *probe, const lf_material *mat,
         d = pt.delta;
         status = lf_model_thin.eval(NULL, probe, mat, LF_BRANCH_UNLOAD, 1, &d, &th);
         if (status != LF_OK)
-            return lf_fail(err, status, "thin model failed");
+            status = lf_fail(err, status, "thin model failed");
         Pmax = fmax(Pmax, fabs(pt.P));
         dmax = fmax(dmax, fabs(th.P - pt.P));
     }
-    *max_rel = Pmax > 0.0 ? dmax / Pmax : 0.0;
-    return LF_OK;
+    free(local);
+    if (status == LF_OK)
+        *max_rel = Pmax > 0.0 ? dmax / Pmax : 0.0;
+    return status;
 }
 
 /* ------------------------------------------------------- beyond the tables */
@@ -506,10 +1128,11 @@ lf_exact_far_eval(const lf_probe *pr, const lf_material *mat, lf_branch branch, 
     lf_exact_kernel *kr = NULL;
     lf_exact_point pt;
     exact_ctx c;
+    probe_consts pc;
     double F[2 * LF_EXACT_NFUN], G[2 * LF_EXACT_NFUN], f[4], df[4], tau = LF_EXACT_TAU_MAX;
-    double kap, B, Mth, cth, umin = log(LF_EXACT_TAU_MAX);
+    double Mth, cth, umin = log(LF_EXACT_TAU_MAX);
     const lf_exact_table *tt[4];
-    lf_exact_mix mx;
+    lf_exact_mix mx, one;
     size_t i;
     int j, m, status, cached;
 
@@ -570,17 +1193,19 @@ lf_exact_far_eval(const lf_probe *pr, const lf_material *mat, lf_branch branch, 
     }
     lf_exact_table_finish(&tail);
     memset(&c, 0, sizeof c);
-    c.mix.m = 1;
-    c.mix.t[0] = &tail;
-    c.mix.wl[0] = 1.0;
-    kap = lf_exact_kappa(pr->k);
-    B = 1.0 / (pr->k * pow(pr->R, pr->k - 1.0));
-    c.k = pr->k;
-    c.h = pr->b;
-    c.Estar = mat->Estar;
-    c.A1 = B * kap * pow(pr->b, pr->k);
+    memset(&one, 0, sizeof one);
+    one.m = 1;
+    one.t[0] = &tail;
+    one.wl[0] = 1.0;
+    probe_consts_of(pr, &pc);
+    c.mx = &one;
+    c.md = NULL;
+    c.k = pc.k;
+    c.h = pc.h;
+    c.A1 = pc.A1;
+    c.F1 = mat->Estar * pc.Fc;
     c.A2 = sqrt(2.0 * M_PI * pr->b * mat->w / mat->Estar);
-    c.F1 = 2.0 * mat->Estar * B * kap * pow(pr->b, pr->k + 1.0);
+    c.Sc = 2.0 * mat->Estar * pc.h * c.A2;
     /* Newton in ln tau on the monotonic part of the branch, never below
      * TAU_MAX (the root there is the stable branch's: delta rises with tau
      * from the detachment up) */
@@ -596,9 +1221,9 @@ lf_exact_far_eval(const lf_probe *pr, const lf_material *mat, lf_branch branch, 
             double g, un;
             curve_at(&c, u, 0, &e);
             g = e.delta - delta[i];
-            if (!(e.ddelta > 0.0))
+            if (!(e.dd > 0.0))
                 break;
-            un = u - g / (e.ddelta * exp(u));
+            un = u - g / e.dd;
             done = fabs(g) <= 1e-14 * (fabs(e.delta + e.shift) + fabs(e.shift)) || fabs(un - u) < 1e-13;
             u = fmax(un, umin);
         }

@@ -6,6 +6,7 @@
 #include <math.h>
 #include <pthread.h>
 #include <stdio.h>
+#include <string.h>
 
 #include <gsl/gsl_errno.h>
 
@@ -402,6 +403,199 @@ test_thin_limit(void)
     lf_model_free(mt);
 }
 
+/* The model's evaluation (warm starts, small Newton steps finished by a
+ * second-order expansion, per-nu data kept in the model object) against
+ * lf_exact_eval_precise, which solves every indentation on its own to
+ * rounding.  The finish leaves the root and the values O(du^3) ~ 1e-18
+ * from the converged ones (du <= 1e-6), so P and a must agree to 1e-12 of
+ * the curve's scale (a margin for the rounding of two different Newton
+ * paths, which ends |delta - target| anywhere below 1e-14 of delta's
+ * terms).  The derivative columns are carried O(du^2) <= ~1e-10 (du below
+ * 1e-5 of the scale on which ddelta/du changes, which also covers the
+ * divergence of dP/ddelta at detachment): they must agree to 1e-9 of
+ * their largest magnitude over the curve, and each to 1e-8 of itself
+ * wherever it is above 1e-3 of that largest value.  Both are 1e4 times
+ * below the tables' own accuracy in derivatives (3e-5, test_tables). */
+static void
+test_fast_path(void)
+{
+    struct { double k; lf_base b; double nu, bb, w, E; } c[] = {
+        {2.0, LF_BASE_FRICTIONLESS, 0.3, 1e-6, 0.01, 1e9},
+        {3.0, LF_BASE_FRICTIONLESS, 0.3, 1e-6, 0.05, 2e8},
+        {2.0, LF_BASE_BONDED, 0.45, 1e-6, 0.01, 1e9},
+        {3.0, LF_BASE_BONDED, 0.3, 2e-7, 0.002, 3e9},
+        {1.5, LF_BASE_BONDED, 0.1, 5e-6, 0.03, 1e8},
+        {1.0, LF_BASE_FRICTIONLESS, 0.3, 1e-6, 0.01, 1e9},
+        {2.0, LF_BASE_FRICTIONLESS, 0.3, 1e-6, 0.0, 1e9}};
+    enum { NP = 240 };
+    size_t ci;
+    int br, i, j;
+
+    for (ci = 0; ci < sizeof c / sizeof c[0]; ci++) {
+        lf_probe pr = {c[ci].k, 1e-3, c[ci].bb, c[ci].b};
+        lf_material m = {c[ci].w, c[ci].E, c[ci].nu};
+        lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
+        lf_pulloff po;
+        static double d[NP];
+        static lf_eval ef[NP], ep[NP];
+        double lo, hi;
+        if (mod == NULL || lf_model_pulloff(mod, &m, &po, NULL) != LF_OK) {
+            t_true(0, "alloc/pulloff case %zu", ci);
+            lf_model_free(mod);
+            continue;
+        }
+        /* from just past detachment to well into the thin-layer range,
+         * unevenly spaced, a few points repeated */
+        lo = po.delta_detach;
+        hi = fmax(60e-9, 4.0 * fabs(lo)) * pow(c[ci].bb / 1e-6, 0.5);
+        for (i = 0; i < NP; i++)
+            d[i] = lo + (hi - lo) * pow((i + 0.5 - (i % 37 == 5)) / NP, 1.7);
+        for (br = 0; br < 2; br++) {
+            lf_branch b = br ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD;
+            double smax[6] = {0}, emax[6] = {0}, pmax = 0.0;
+            int bad = -1;
+            t_int(lf_model_eval(mod, &m, b, NP, d, ef, NULL), LF_OK, "fast eval case %zu", ci);
+            t_int(lf_exact_eval_precise(&pr, &m, b, NP, d, ep, NULL), LF_OK, "precise eval case %zu", ci);
+            for (i = 0; i < NP; i++) {
+                double q[6] = {ep[i].P, ep[i].a, ep[i].dP_ddelta, ep[i].dP_dlogw, ep[i].dP_dlogE, ep[i].dP_dnu};
+                for (j = 0; j < 6; j++)
+                    smax[j] = fmax(smax[j], fabs(q[j]));
+            }
+            for (i = 0; i < NP; i++) {
+                double f[6] = {ef[i].P, ef[i].a, ef[i].dP_ddelta, ef[i].dP_dlogw, ef[i].dP_dlogE, ef[i].dP_dnu};
+                double q[6] = {ep[i].P, ep[i].a, ep[i].dP_ddelta, ep[i].dP_dlogw, ep[i].dP_dlogE, ep[i].dP_dnu};
+                for (j = 0; j < 6; j++) {
+                    double e = smax[j] > 0.0 ? fabs(f[j] - q[j]) / smax[j] : fabs(f[j] - q[j]);
+                    emax[j] = fmax(emax[j], e);
+                    if (j >= 2 && fabs(q[j]) > 1e-3 * smax[j]) {
+                        double r = fabs(f[j] / q[j] - 1.0);
+                        if (r > pmax) {
+                            pmax = r;
+                            bad = i;
+                        }
+                    }
+                }
+            }
+            t_true(emax[0] <= 1e-12 && emax[1] <= 1e-12,
+                   "fast path case %zu branch %d: P, a within %.1e, %.1e of scale (<= 1e-12)",
+                   ci, br, emax[0], emax[1]);
+            t_true(emax[2] <= 1e-9 && emax[3] <= 1e-9 && emax[4] <= 1e-9 && emax[5] <= 1e-9,
+                   "fast path case %zu branch %d: derivatives within %.1e %.1e %.1e %.1e of scale (<= 1e-9)",
+                   ci, br, emax[2], emax[3], emax[4], emax[5]);
+            t_true(pmax <= 1e-8, "fast path case %zu branch %d: derivatives within %.1e of themselves "
+                   "(<= 1e-8; worst point %d)", ci, br, pmax, bad);
+        }
+        lf_model_free(mod);
+    }
+}
+
+/* The per-nu data a model object keeps (a few slots, replaced least
+ * recently used) and the pull-offs each thread keeps never change an
+ * answer: the same material evaluated before and after others, including
+ * from two threads at once, gives the same bits. */
+typedef struct {
+    lf_model *mod;
+    double nu0;
+    int same;
+} slot_job;
+
+static void
+slot_eval(lf_model *mod, double nu, lf_eval *e, lf_pulloff *po)
+{
+    lf_material m = {0.01, 1e9, nu};
+    double d[5] = {-2e-9, 0.0, 5e-9, 2e-8, 6e-8};
+    lf_model_eval(mod, &m, LF_BRANCH_UNLOAD, 5, d, e, NULL);
+    lf_model_pulloff(mod, &m, po, NULL);
+}
+
+static int
+slot_same(const lf_eval *a, const lf_pulloff *pa, const lf_eval *b, const lf_pulloff *pb)
+{
+    return memcmp(a, b, 5 * sizeof *a) == 0 && memcmp(pa, pb, sizeof *pa) == 0;
+}
+
+static void *
+slot_thread(void *arg)
+{
+    slot_job *j = arg;
+    lf_eval e0[5], e[5];
+    lf_pulloff p0, p;
+    int r, i;
+    slot_eval(j->mod, j->nu0, e0, &p0);
+    j->same = 1;
+    for (r = 0; r < 200; r++)
+        for (i = 0; i < 7; i++) {
+            double nu = i == 0 ? j->nu0 : 0.05 * i + 0.01 * (r % 3);
+            slot_eval(j->mod, nu, e, &p);
+            if (nu == j->nu0)
+                j->same &= slot_same(e0, &p0, e, &p);
+        }
+    return NULL;
+}
+
+static void
+test_slots(void)
+{
+    lf_probe pr = {2.0, 1e-3, 1e-6, LF_BASE_BONDED};
+    lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL), *fresh;
+    lf_eval e0[5], e1[5];
+    lf_pulloff p0, p1;
+    pthread_t th[2];
+    slot_job job[2];
+    int i;
+    if (mod == NULL || lf_model_prepare(mod, 0.0, 0.45, NULL) != LF_OK) {
+        t_true(0, "alloc/prepare");
+        lf_model_free(mod);
+        return;
+    }
+    slot_eval(mod, 0.3, e0, &p0);
+    for (i = 0; i < 9; i++) {
+        slot_eval(mod, 0.04 * i, e1, &p1);
+    }
+    slot_eval(mod, 0.3, e1, &p1);
+    t_true(slot_same(e0, &p0, e1, &p1), "nu = 0.3 again after 9 others: same bits");
+    fresh = lf_model_alloc(&lf_model_exact, &pr, NULL);
+    if (fresh != NULL) {
+        slot_eval(fresh, 0.3, e1, &p1);
+        t_true(slot_same(e0, &p0, e1, &p1), "nu = 0.3 in a fresh model: same bits");
+        lf_model_free(fresh);
+    }
+    {
+        /* pull-offs are kept per model object: a new model (maybe at the
+         * freed one's address) with another probe answers for its own */
+        lf_probe p3 = {3.0, 1e-3, 1e-6, LF_BASE_BONDED};
+        lf_model *a = lf_model_alloc(&lf_model_exact, &pr, NULL), *b3, *c3;
+        lf_material m = {0.01, 1e9, 0.3};
+        lf_pulloff pa, pb, pc;
+        if (a != NULL) {
+            lf_model_pulloff(a, &m, &pa, NULL);
+            lf_model_free(a);
+        }
+        b3 = lf_model_alloc(&lf_model_exact, &p3, NULL);
+        c3 = lf_model_alloc(&lf_model_exact, &p3, NULL);
+        if (a != NULL && b3 != NULL && c3 != NULL) {
+            lf_model_pulloff(b3, &m, &pb, NULL);
+            lf_model_pulloff(c3, &m, &pc, NULL);
+            t_true(pb.P_po != pa.P_po && memcmp(&pb, &pc, sizeof pb) == 0,
+                   "a new model's pull-off is its own (k = 3: %g, k = 2: %g)", pb.P_po, pa.P_po);
+        } else {
+            t_true(0, "alloc");
+        }
+        lf_model_free(b3);
+        lf_model_free(c3);
+    }
+    for (i = 0; i < 2; i++) {
+        job[i].mod = mod;
+        job[i].nu0 = i ? 0.3 : 0.41;
+        pthread_create(&th[i], NULL, slot_thread, &job[i]);
+    }
+    for (i = 0; i < 2; i++) {
+        pthread_join(th[i], NULL);
+        t_true(job[i].same, "thread %d: its nu gives the same bits while the other changes nu", i);
+    }
+    lf_model_free(mod);
+}
+
 /* The cache under concurrent first use returns one table. */
 static const lf_exact_table *thread_tab[2];
 static void *
@@ -437,6 +631,8 @@ main(void)
     test_jkr_construction();
     test_jacobian();
     test_branches();
+    test_fast_path();
+    test_slots();
     test_thin_limit();
     test_threads();
     t_str(lf_model_type_find("exact")->name, "exact", "exact is registered");
