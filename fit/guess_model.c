@@ -24,7 +24,10 @@
 
 #include "fit.h"
 
-#define BISECT_STEPS 80
+/* Bisection steps in ln w and ln E*: their brackets span about 50, so 32
+ * halvings leave 1e-8, far below what a start needs (the solve polishes
+ * it); the nested search costs some 32 x 34 pull-offs. */
+#define BISECT_STEPS 32
 
 /* 1 when every curve's model has no thickness (uses no b). */
 int
