@@ -66,7 +66,9 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
  * of order one). */
 #define FIT_DEAD_COLUMN 1e-12
 /* Contact-edge scan: at most FIT_MAX_SCANS rounds, each trying the edge
- * between FIT_SCAN_HALF pairs of neighbouring points either side. */
+ * between pairs of neighbouring points outwards either side, until
+ * FIT_SCAN_PATIENCE in a row have not beaten the best, FIT_SCAN_HALF at
+ * most. */
 #define FIT_MAX_SCANS 4
 #define FIT_SCAN_HALF 8
 #define FIT_SCAN_PATIENCE 3
