@@ -240,7 +240,7 @@ profile_cost(profile *p, double s)
      * memory, and every addition would wait for the last store */
     double a00 = 0, a10 = 0, a20 = 0, a11 = 0, a21 = 0, r0 = 0, r1 = 0;
     size_t i, ncontact = 0;
-    double b[3], rss, root[GUESS_NSUB];
+    double b[3], rss;
     double zd, c, z0, zc;   /* zc: contact for z > zc (>= for loading) */
 
     switch (p->kind) {
@@ -249,20 +249,13 @@ profile_cost(profile *p, double s)
     default:         c = p->c_held; z0 = s; zd = z0 - c; break;
     }
     zc = from_z0 ? z0 : zd;
-    /* k = 3: every point's root first, in a loop of independent
-     * multiplications that the processor overlaps (as the thin model) */
-    if (k == 3.0)
-        for (i = 0; i < p->n; i++) {
-            const double d1 = p->z[i] - zd;
-            root[i] = lf_inv_cbrt(d1 >= 1e-300 && d1 <= 1e300 ? d1 : 1.0);
-        }
     for (i = 0; i < p->n; i++) {
         const double d1 = p->z[i] - zd;
         const int in = from_z0 ? p->z[i] >= zc : p->z[i] > zc;
         double g, x0, y;
         if (!in || !(d1 > 0))
             continue;
-        g = k == 3.0 && d1 >= 1e-300 && d1 <= 1e300 ? d1 * root[i] : lf_pow_2k(d1, k);
+        g = lf_pow_2k(d1, k);
         if (!(g > 0))
             continue;
         ncontact++;
