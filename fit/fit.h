@@ -163,7 +163,6 @@ typedef struct {
     double *jtj;         /* np x np: J^T J and its Cholesky factor */
     double *grad, *colmax;  /* np: J^T r and column maxima */
     double *ainv;        /* np: the diagonal of (J^T J)^-1 */
-    double *noise_tau, *noise_sd;  /* nc: each curve's noise at the solution (noise.c) */
     double *gn_x;        /* np: where the solver last examined its Jacobian */
     double gn_dchi2, gn_chi2;  /* there: the Gauss-Newton decrease, chi2 */
     int gn_ok;           /* 1: gn_* hold for the current weights and origin */
@@ -333,16 +332,16 @@ double lf_fit_decomp_nullw(const fit_decomp *d, size_t k);
 void lf_fit_decomp_project(fit_decomp *d, const double *v, double *coef);
 
 /* noise.c: the integrated autocorrelation time of e[0..n-1] (1 for white
- * noise); the noise model of curve j at the residuals res (units of sigma),
- * given its tau and noise sd from lf_fit_curve_noise at the same res:
- * fills cr's corr_time, n_eff, noise_sd, chi2_per_point, runs_z,
- * misfit_rel, consistent, agreement (cr->rms must be set); returns tau. */
+ * noise); the noise model of curve j at the residuals res (units of sigma):
+ * from cr's corr_time and noise_sd (lf_fit_curve_noise at the same res) and
+ * rms, which must be set, fills n_eff, chi2_per_point, runs_z, misfit_rel,
+ * consistent, agreement; returns tau. */
 double lf_fit_corr_time(const double *e, size_t n);
 /* Curve j's correlation time (1: white) and noise sd at the residuals res. */
 void lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau,
                         double *noise);
-double lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, double tau,
-                          double noise, lf_fit_curve_result *cr);
+double lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res,
+                          lf_fit_curve_result *cr);
 
 /* uncertainty.c */
 /* Wald-Wolfowitz runs test of the signs of curve j's residuals in order of

@@ -222,7 +222,7 @@ work_alloc(lf_fit *f)
     const size_t nwork = 2 * nd > 2 * GUESS_NSUB ? 2 * nd : 2 * GUESS_NSUB;
     size_t total = 2 * np                      /* x0_internal, xcache */
                    + 2 * nd + nwork + 3 * GUESS_NSUB + GUESS_NODES   /* sqrtw, delta, work, sub */
-                   + 9 * nc                    /* keep, off, noise_tau, noise_sd */
+                   + 7 * nc                    /* keep, off */
                    + 3 * np * np + 6 * np      /* jtj, lm.A, lm.L; lm.g, lm.D2, grad, colmax, ainv, gn_x */
                    + 6 * np + 4 * nr           /* lm.x, xt, h, x, x2, x0; lm.r, rt, r, r2 */
                    + nr * np;                  /* lm.J */
@@ -241,8 +241,6 @@ work_alloc(lf_fit *f)
     w->sub = take(&at, 3 * GUESS_NSUB + GUESS_NODES);
     w->keep = take(&at, 3 * nc);
     w->off = take(&at, 4 * nc);
-    w->noise_tau = take(&at, nc);
-    w->noise_sd = take(&at, nc);
     w->jtj = take(&at, np * np);
     w->lm.A = take(&at, np * np);
     w->lm.L = take(&at, np * np);

@@ -128,19 +128,17 @@ lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau
 }
 
 double
-lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, double tau, double noise,
-                   lf_fit_curve_result *cr)
+lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_result *cr)
 {
     const fit_curve *c = &f->c[j];
+    const double tau = cr->corr_time, noise = cr->noise_sd;
     size_t n = c->data.n, i, m;
     double Fmin = HUGE_VAL, Fmax = -HUGE_VAL, chi2 = 0.0, rms;
 
     m = (size_t) ceil(tau - 1e-9);
     if (m < 1)
         m = 1;
-    cr->corr_time = tau;
     cr->n_eff = (double) n / tau;
-    cr->noise_sd = noise;
     /* against that noise: chi2 per point and the runs test of every m-th
      * residual in depth order */
     for (i = 0; i < n; i++) {

@@ -174,17 +174,17 @@ done:
 }
 
 /* The residuals' autocorrelation time, pooled over the curves by their
- * points (noise.c). */
+ * points (noise.c); each curve's own, and its noise sd, go into r's curve
+ * records (the noise model of consistency() starts from them). */
 static double
-pooled_corr_time(lf_fit *f, const gsl_vector *res)
+pooled_corr_time(lf_fit *f, lf_fit_result *r, const gsl_vector *res)
 {
-    double sum = 0.0, tau, noise;
+    double sum = 0.0;
     size_t j, n = 0;
     for (j = 0; j < f->ncurves; j++) {
-        lf_fit_curve_noise(f, j, res, &tau, &noise);
-        f->w.noise_tau[j] = tau;      /* for consistency() */
-        f->w.noise_sd[j] = noise;
-        sum += tau * (double) f->c[j].data.n;
+        lf_fit_curve_result *cr = &r->curves[j];
+        lf_fit_curve_noise(f, j, res, &cr->corr_time, &cr->noise_sd);
+        sum += cr->corr_time * (double) f->c[j].data.n;
         n += f->c[j].data.n;
     }
     return n > 0 ? sum / (double) n : 1.0;
@@ -404,7 +404,7 @@ consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_resul
      * (noise.c: correlated noise, its own sd and independent points); the
      * noise sd is itself estimated (to some 10% for 300 points), so chi2
      * alone flags only a gross excess; the runs test does not depend on it */
-    lf_fit_noise_model(f, j, res, f->w.noise_tau[j], f->w.noise_sd[j], cr);
+    lf_fit_noise_model(f, j, res, cr);
     cr->p_value = cr->n_eff > (double) own + 1.0
                   ? gsl_cdf_chisq_Q(cr->chi2_per_point * (double) c->data.n / cr->corr_time,
                                     cr->n_eff - (double) own)
@@ -540,7 +540,7 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
     r->dof = f->nres - p;
     /* correlated noise: errors grow by the residuals' autocorrelation time
      * (noise.c), pooled over the curves by their points */
-    r->corr_time = pooled_corr_time(f, res);
+    r->corr_time = pooled_corr_time(f, r, res);
     r->se_scale = sqrt(r->chi2 / (double) r->dof * r->corr_time);
     status = decompose(f, x, r, nullw);
     if (status != LF_OK) {
