@@ -185,19 +185,13 @@ dplan_row(dplan_reader *rd, const lf_csv_record *r, lf_error *err)
     lf_design_plan *p = rd->plan;
     lf_design_candidate *row;
     char buf[64];
-    size_t n = r->n;
     double pts;
     long k;
     int st, word;
     lf_error e;
 
-    while (n > rd->ncols && r->text[n - 1][0] == '\0')
-        n--;
-    if (n != rd->ncols)
-        return lf_fail_at(err, LF_EFORMAT, rd->name, r->line,
-                          n > rd->ncols ? r->fcol[rd->ncols] : 1,
-                          "row has %zu cell%s, the header %zu (give each column "
-                          "a cell; leave optional ones empty)", n, n == 1 ? "" : "s", rd->ncols);
+    if ((st = lf_csv_row_cells(rd->name, r, rd->ncols, err)) != LF_OK)
+        return st;
     if (p->n == rd->cap) {
         size_t cap = rd->cap ? 2 * rd->cap : 16;
         lf_design_candidate *rows = realloc(p->rows, cap * sizeof *rows);
@@ -216,15 +210,9 @@ dplan_row(dplan_reader *rd, const lf_csv_record *r, lf_error *err)
         snprintf(row->name, sizeof row->name, "%s", r->text[k]);
     else
         snprintf(row->name, sizeof row->name, "row %zu", p->n + 1);
-    k = rd->col[D_INTERFACE];
-    if (lf_csv_ieq(r->text[k], "frictionless"))
-        row->probe.base = LF_BASE_FRICTIONLESS;
-    else if (lf_csv_ieq(r->text[k], "bonded"))
-        row->probe.base = LF_BASE_BONDED;
-    else
-        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                          "unknown interface '%s' (expected frictionless or bonded)",
-                          lf_csv_excerpt(r->text[k], buf, sizeof buf));
+    if ((st = lf_csv_cell_interface(rd->name, r, rd->col[D_INTERFACE], &row->probe.base, err))
+        != LF_OK)
+        return st;
     k = rd->col[D_SEGMENT];
     if (k >= 0 && r->text[k][0] != '\0') {
         word = lf_csv_segment_word(r->text[k]);

@@ -752,3 +752,34 @@ lf_csv_cell_number(const char *file, const lf_csv_record *r, long k,
                           col->name, e.msg);
     return LF_OK;
 }
+
+int
+lf_csv_row_cells(const char *file, const lf_csv_record *r, size_t ncols, lf_error *err)
+{
+    size_t n = r->n;
+
+    while (n > ncols && r->text[n - 1][0] == '\0')
+        n--;
+    if (n != ncols)
+        return lf_fail_at(err, LF_EFORMAT, file, r->line, n > ncols ? r->fcol[ncols] : 1,
+                          "row has %zu cell%s, the header %zu (give each column "
+                          "a cell; leave optional ones empty)", n, n == 1 ? "" : "s", ncols);
+    return LF_OK;
+}
+
+int
+lf_csv_cell_interface(const char *file, const lf_csv_record *r, long k, lf_base *base,
+                      lf_error *err)
+{
+    char buf[64];
+
+    if (lf_csv_ieq(r->text[k], "frictionless"))
+        *base = LF_BASE_FRICTIONLESS;
+    else if (lf_csv_ieq(r->text[k], "bonded"))
+        *base = LF_BASE_BONDED;
+    else
+        return lf_fail_at(err, LF_EFORMAT, file, r->fline[k], r->fcol[k],
+                          "unknown interface '%s' (expected frictionless or bonded)",
+                          lf_csv_excerpt(r->text[k], buf, sizeof buf));
+    return LF_OK;
+}

@@ -102,6 +102,16 @@ int lf_csv_columns(const char *file, const lf_csv_record *r, const lf_csv_column
                    int ncols, const char *hint, long *col, double *factor, int *has_unit,
                    lf_error *err);
 
+/* A table row of record r against a header of ncols columns: empty cells
+ * past the header's width are ignored, otherwise the count must match.
+ * LF_OK, or a message with the place. */
+int lf_csv_row_cells(const char *file, const lf_csv_record *r, size_t ncols, lf_error *err);
+
+/* The interface word in cell k of record r (frictionless or bonded, any
+ * case) into *base; LF_OK, or a message with the cell's place. */
+int lf_csv_cell_interface(const char *file, const lf_csv_record *r, long k, lf_base *base,
+                          lf_error *err);
+
 /* The number in the non-empty cell k of record r, of column col, in SI: a
  * bare number in the header's unit (has_unit: factor) or of a pure number,
  * else a number with its own unit ("1.5mm").  LF_OK, or a message with

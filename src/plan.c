@@ -240,18 +240,11 @@ plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     lf_plan_row *row;
     lf_error e;
     char buf[64];
-    size_t n = r->n;
     long k;
     int status, word;
 
-    while (n > rd->ncols && r->text[n - 1][0] == '\0')
-        n--;
-    if (n != rd->ncols)
-        return lf_fail_at(err, LF_EFORMAT, rd->name, r->line,
-                          n > rd->ncols ? r->fcol[rd->ncols] : 1,
-                          "row has %zu cell%s, the header %zu (give each column "
-                          "a cell; leave optional ones empty)", n, n == 1 ? "" : "s",
-                          rd->ncols);
+    if ((status = lf_csv_row_cells(rd->name, r, rd->ncols, err)) != LF_OK)
+        return status;
     if (p->n == rd->cap) {
         size_t cap = rd->cap ? 2 * rd->cap : 16;
         lf_plan_row *rows = realloc(p->rows, cap * sizeof *rows);
@@ -291,14 +284,8 @@ plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
                           "both empty for a half-space (fit with --model halfspace)");
     if (no_layer(rd, r))
         row->probe.base = LF_BASE_FRICTIONLESS;     /* not used by a half-space */
-    else if (lf_csv_ieq(r->text[k], "frictionless"))
-        row->probe.base = LF_BASE_FRICTIONLESS;
-    else if (lf_csv_ieq(r->text[k], "bonded"))
-        row->probe.base = LF_BASE_BONDED;
-    else
-        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                          "unknown interface '%s' (expected frictionless or bonded)",
-                          lf_csv_excerpt(r->text[k], buf, sizeof buf));
+    else if ((status = lf_csv_cell_interface(rd->name, r, k, &row->probe.base, err)) != LF_OK)
+        return status;
     k = rd->col[P_FORMAT];
     if (k >= 0 && r->text[k][0] != '\0' && lf_reader_find(r->text[k]) == NULL)
         return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
