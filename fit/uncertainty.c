@@ -501,13 +501,10 @@ agreement(const lf_fit *f, lf_fit_result *r)
                     "its k, R, b, interface and segment", j + 1, cr->name ? cr->name : "",
                     sqrt(cr->chi2_per_point), cr->chi2_per_point, cr->p_value, cr->runs_z);
         else if (cr->agreement == 1)
-            /* the verdict of noise.c: the shape is followed, within 5% of
-             * the force range, but not to the noise */
-            lf_warn(&r->warnings, "curve %zu (%s) follows the model's shape with systematic "
-                    "deviations of %.2g%% of its force range: its residuals are %.3g times its "
-                    "noise (chi2/point %.3g, p = %.2g; runs test z = %.3g)",
-                    j + 1, cr->name ? cr->name : "", 100.0 * cr->misfit_rel,
-                    sqrt(cr->chi2_per_point), cr->chi2_per_point, cr->p_value, cr->runs_z);
+            /* the verdict of noise.c, the shape followed within 5% of the
+             * force range but not to the noise: the curve's own warning
+             * (assess_curve) says so, once */
+            continue;
         else
             lf_warn(&r->warnings, "curve %zu (%s) is not described by the model: its residuals are "
                     "%.3g times its noise (chi2/point %.3g, p = %.2g; runs test z = %.3g)",
