@@ -481,10 +481,10 @@ prepare(const lf_design_settings *s, const lf_design_candidate *in, prepared *pp
     pp->fmax = 0.0;
     for (i = 0; i < n; i++) {
         P[i] = evx[i].P;
-        pp->fmax = fmax(pp->fmax, fabs(P[i]));
+        pp->fmax = lf_fmax(pp->fmax, fabs(P[i]));
         if (evx[i].a > 0) {
-            amin = fmin(amin, evx[i].a);
-            amax = fmax(amax, evx[i].a);
+            amin = lf_fmin(amin, evx[i].a);
+            amax = lf_fmax(amax, evx[i].a);
         }
     }
     if (!(pp->fmax > 0) || !isfinite(pp->fmax)) {
@@ -888,7 +888,7 @@ choose_models(setwork *w, lf_design_curve_info *info)
                 && (st = curve_bias(w, jw, RUNG_HALFSPACE, half[jw], &half_ok[jw])) != LF_OK)
                 goto done;
             if (w->rung[jw] == RUNG_THIN && half_ok[jw]
-                && max_abs3(half[jw], NULL) < fmin(tol, worst)) {
+                && max_abs3(half[jw], NULL) < lf_fmin(tol, worst)) {
                 w->rung[jw] = RUNG_HALFSPACE;
                 memcpy(cur[jw], half[jw], sizeof cur[jw]);
             } else {
@@ -1132,7 +1132,7 @@ eval_set(lf_design *d, size_t ns, const size_t *idx, lf_design_result *r)
         double dl = lf_thin_dlogZ_dnu(LF_BASE_BONDED, d->s.truth.nu);
         double var = cov[1][1] + (cols[2] >= 0 ? 2 * dl * cov[1][2] + dl * dl * cov[2][2] : 0.0);
         double M = lf_thin_Z(LF_BASE_BONDED, d->s.truth.nu) * d->s.truth.Estar;
-        estimate_set(&r->M, 1, var >= 0, M * sqrt(fmax(var, 0)), sqrt(fmax(var, 0)));
+        estimate_set(&r->M, 1, var >= 0, M * sqrt(lf_fmax(var, 0)), sqrt(lf_fmax(var, 0)));
     } else {
         estimate_set(&r->M, any_b, 0, NAN, NAN);
     }

@@ -194,7 +194,7 @@ search_side(prof *p, double t_hat, double h, int dir, double tmin, double tmax, 
     *open = 0;
     for (;;) {
         double rd;
-        d = fmin(d + step, edge);
+        d = lf_fmin(d + step, edge);
         rd = rise(p, param_of(p, t_hat + dir * d));
         if (!isfinite(rd) || rd >= p->thr) {
             if (!crossed || b <= a)
@@ -348,14 +348,14 @@ calibrate(prof *p, double v_hat)
         p->which = which;
         held_chi2 = rise(p, v_hat) + res->chi2;
         if (isfinite(free_chi2) && isfinite(held_chi2) && free_chi2 > 0)
-            t[nt++] = fmax(held_chi2 - free_chi2, 0.0) / (free_chi2 / (double) res->dof);
+            t[nt++] = lf_fmax(held_chi2 - free_chi2, 0.0) / (free_chi2 / (double) res->dof);
     }
     p->cc = data;
     p->lower_off = lower;
     f95 = gsl_cdf_fdist_Pinv(0.95, 1.0, (double) res->dof);
     if (nt >= PROFILE_BOOT / 2) {
         gsl_sort(t, 1, nt);
-        kappa = fmax(1.0, gsl_stats_quantile_from_sorted_data(t, 1, nt, 0.95) / f95);
+        kappa = lf_fmax(1.0, gsl_stats_quantile_from_sorted_data(t, 1, nt, 0.95) / f95);
     }
 done:
     p->which = which;
@@ -389,12 +389,12 @@ profile_one(prof *p, lf_fit_estimate *e)
         /* w below two se: near 0 the profile is searched in w itself (its
          * log would stretch the flat part below), from the solution's w
          * down to 0 and up in steps from a quarter of the one-sided bound */
-        double w = fmax(best_value(p->best, "w", 0.0), 0.0);
+        double w = lf_fmax(best_value(p->best, "w", 0.0), 0.0);
         p->linear = 1;
         t_hat = w;
         se_t = 0.25 * e->ci95[1] / Z95;
         tmin = 0.0;
-        tmax = exp(PROFILE_LOG_RANGE) * fmax(w, e->ci95[1]);
+        tmax = exp(PROFILE_LOG_RANGE) * lf_fmax(w, e->ci95[1]);
     } else {
         t_hat = log(e->value);
         se_t = e->se / e->value;
@@ -414,8 +414,8 @@ profile_one(prof *p, lf_fit_estimate *e)
     thr = p->thr;
     if (p->calibrate)
         p->thr *= calibrate(p, param_of(p, t_hat));
-    lo = search_side(p, t_hat, fmin(Z95 * se_t, 0.5 * (t_hat - tmin)), -1, tmin, tmax, &open_lo);
-    hi = search_side(p, t_hat, fmin(Z95 * se_t, 0.5 * (tmax - t_hat)), +1, tmin, tmax, &open_hi);
+    lo = search_side(p, t_hat, lf_fmin(Z95 * se_t, 0.5 * (t_hat - tmin)), -1, tmin, tmax, &open_lo);
+    hi = search_side(p, t_hat, lf_fmin(Z95 * se_t, 0.5 * (tmax - t_hat)), +1, tmin, tmax, &open_hi);
     p->thr = thr;
     e->interval_method = "profile likelihood";
     e->ci95[0] = open_lo && p->which == FIT_W ? 0.0 : param_of(p, lo);
@@ -428,8 +428,8 @@ profile_one(prof *p, lf_fit_estimate *e)
         e->se = (hi - lo) / (2.0 * Z95);   /* the interval's width */
     }
     if (p->which == FIT_NU) {
-        e->ci95[0] = fmax(e->ci95[0], 0.0);
-        e->ci95[1] = fmin(e->ci95[1], 0.5);
+        e->ci95[0] = lf_fmax(e->ci95[0], 0.0);
+        e->ci95[1] = lf_fmin(e->ci95[1], 0.5);
     }
     if (open_hi && p->which != FIT_NU) {
         /* the data do not bound it from above */

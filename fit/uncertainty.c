@@ -448,7 +448,7 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
         cr->fitted[i] = c->data.force[i] + e;
         cr->contact_radius[i] = f->w.ev[k].a;
         if (f->w.ev[k].a > 0)
-            amin = fmin(amin, f->w.ev[k].a);
+            amin = lf_fmin(amin, f->w.ev[k].a);
     }
     cr->rms = sqrt(ss / (double) c->data.n);
     if (lf_model_pulloff(c->model, &mat, &cr->pulloff, NULL) != LF_OK)
@@ -589,8 +589,8 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
         double se = se_of(r, f->imat[FIT_NU]);
         r->nu.value = mat.nu;
         r->nu.se = se;
-        r->nu.ci95[0] = fmax(mat.nu - Z95 * se, 0.0);
-        r->nu.ci95[1] = fmin(mat.nu + Z95 * se, 0.5);
+        r->nu.ci95[0] = lf_fmax(mat.nu - Z95 * se, 0.0);
+        r->nu.ci95[1] = lf_fmin(mat.nu + Z95 * se, 0.5);
         r->nu.free = 1;
         r->nu.determined = 1;
     } else if (f->imat[FIT_NU] >= 0) {
