@@ -203,9 +203,8 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
             lf_fit_settings user = f->set, def = lf_fit_settings_default();
             memset(&again, 0, sizeof again);
             /* from a fresh origin at x (the solver's scaling starts anew) */
-            lf_fit_rebase(f, x);
+            lf_fit_rebase(f, x);        /* (invalidates what was computed at x) */
             gsl_vector_memcpy(trial, x);
-            f->w.xcache_ok = 0;
             /* with the default tolerances and budget: the judge's own */
             f->set.xtol = def.xtol;
             f->set.gtol = def.gtol;
