@@ -110,6 +110,8 @@ typedef struct {
     lf_model *model;
     size_t row;          /* first residual row */
     double L, Fs;        /* depth span (m) and largest |force| (N) */
+    double zlo, zhi;     /* the data's shallowest and deepest depth, m */
+    double flo, fhi;     /* the data's smallest and largest force, N */
     double eps;          /* derivative guard width at detachment, m */
     double sigma;        /* noise sd, N */
     int iz0, iF0, islope;   /* index in x, or -1 when held */
@@ -139,6 +141,7 @@ typedef struct {
     gsl_matrix *J;          /* nres x np at x */
     double *A, *L;          /* np x np: J^T J and a Cholesky factor */
     double *g, *D2;         /* np: J^T r, squared scaling */
+    double *colmax;         /* np: max |J_ik| of each column at x */
     double cost, cost_prev, mu, nu;
     size_t niter, nevalf, nevaldf;
 } fit_lm;

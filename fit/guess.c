@@ -30,36 +30,41 @@
 
 /* ---- noise ------------------------------------------------------------ */
 
-/* The k-th smallest of v[0..n-1] (0-based; v reordered), by quickselect. */
+/* The k-th smallest of v[0..n-1] (0-based; v reordered), by quickselect
+ * with branch-free partitions (the data are noise, so a branch on each
+ * comparison would be mispredicted half the time).  Each round moves the
+ * values below the pivot (the median of three) to the front, then, if k
+ * lies beyond them, the values equal to it: the pivot is in the range, so
+ * every round shrinks it, also when many values are equal. */
 double
 lf_fit_select_kth(double *v, size_t n, size_t k)
 {
-    size_t lo = 0, hi = n - 1;
+    size_t lo = 0, hi = n;              /* k in [lo, hi) */
 
-    while (hi > lo) {
-        double pivot = v[lo + (hi - lo) / 2];
-        size_t i = lo, j = hi;
-        while (i <= j) {
-            while (v[i] < pivot)
-                i++;
-            while (v[j] > pivot)
-                j--;
-            if (i <= j) {
-                double t = v[i];
-                v[i] = v[j];
-                v[j] = t;
-                i++;
-                if (j == 0)
-                    break;
-                j--;
-            }
+    while (hi - lo > 1) {
+        double a = v[lo], b = v[lo + (hi - lo) / 2], c = v[hi - 1], pivot;
+        size_t i, j = lo;
+        pivot = a < b ? (b < c ? b : lf_fmax(a, c)) : (a < c ? a : lf_fmax(b, c));
+        for (i = lo; i < hi; i++) {     /* [lo, j) < pivot <= [j, i) */
+            double x = v[i];
+            v[i] = v[j];
+            v[j] = x;
+            j += x < pivot;
         }
-        if (k <= j)
+        if (k < j) {
             hi = j;
-        else if (k >= i)
-            lo = i;
-        else
-            return v[k];
+            continue;
+        }
+        lo = j;
+        for (i = lo; i < hi; i++) {     /* [lo, j) == pivot < [j, i) */
+            double x = v[i];
+            v[i] = v[j];
+            v[j] = x;
+            j += x <= pivot;
+        }
+        if (k < j || j == lo)           /* j == lo: a NaN pivot */
+            return pivot;
+        lo = j;
     }
     return v[k];
 }
@@ -452,16 +457,14 @@ profile_init(lf_fit *f, size_t j, profile *p)
     }
 }
 
+/* The shallowest and deepest depth of curve j (f->order sorts them). */
 static void
-depth_range(const fit_curve *c, double *zmin, double *zmax)
+depth_range(const lf_fit *f, size_t j, double *zmin, double *zmax)
 {
-    size_t i;
-    *zmin = HUGE_VAL;
-    *zmax = -HUGE_VAL;
-    for (i = 0; i < c->data.n; i++) {
-        *zmin = lf_fmin(*zmin, c->data.depth[i]);
-        *zmax = lf_fmax(*zmax, c->data.depth[i]);
-    }
+    const fit_curve *c = &f->c[j];
+    const size_t *ord = f->order + c->row;
+    *zmin = c->data.depth[ord[0]];
+    *zmax = c->data.depth[ord[c->data.n - 1]];
 }
 
 /* Stage 1 of curve j: M, c, and whether the curve sees adhesion. */
@@ -474,7 +477,7 @@ guess_curve(lf_fit *f, size_t j, curve_guess *g)
     size_t i, nbase = 0, nn;
     double *node = f->w.sub + 2 * GUESS_NSUB;
 
-    depth_range(c, &zmin, &zmax);
+    depth_range(f, j, &zmin, &zmax);
     span = zmax - zmin;
     profile_init(f, j, &p);
     if (c->iz0 >= 0) {
@@ -539,7 +542,7 @@ offsets_at(lf_fit *f, double *off)
         p.kind = PROFILE_Z0;
         p.c_held = sqrt(2.0 * c->data.probe.b * m->w / M);
         if (c->iz0 >= 0) {
-            depth_range(c, &zmin, &zmax);
+            depth_range(f, j, &zmin, &zmax);
             span = zmax - zmin;
             nn = make_nodes(&p, c->guess.z0 - 0.5 * span, c->guess.z0 + 0.5 * span,
                             GUESS_GRID, 0, node);

@@ -175,12 +175,18 @@ curve_scales(lf_fit *f, lf_error *err)
 
     for (j = 0; j < f->ncurves; j++) {
         fit_curve *c = &f->c[j];
-        double zmin = HUGE_VAL, zmax = -HUGE_VAL, fbig = 0.0;
+        double zmin = HUGE_VAL, zmax = -HUGE_VAL, flo = HUGE_VAL, fhi = -HUGE_VAL, fbig;
         for (i = 0; i < c->data.n; i++) {
             zmin = lf_fmin(zmin, c->data.depth[i]);
             zmax = lf_fmax(zmax, c->data.depth[i]);
-            fbig = lf_fmax(fbig, fabs(c->data.force[i]));
+            flo = lf_fmin(flo, c->data.force[i]);
+            fhi = lf_fmax(fhi, c->data.force[i]);
         }
+        fbig = lf_fmax(fabs(flo), fabs(fhi));
+        c->zlo = zmin;
+        c->zhi = zmax;
+        c->flo = flo;
+        c->fhi = fhi;
         if (!(zmax > zmin) || !(fbig > 0))
             return lf_fail(err, LF_EDATA, "curve %zu (%s): depth or force does not vary",
                            j + 1, c->data.name ? c->data.name : "");
@@ -223,7 +229,7 @@ work_alloc(lf_fit *f)
     size_t total = 2 * np                      /* x0_internal, xcache */
                    + 2 * nd + nwork + 3 * GUESS_NSUB + GUESS_NODES   /* sqrtw, delta, work, sub */
                    + 7 * nc                    /* keep, off */
-                   + 3 * np * np + 6 * np      /* jtj, lm.A, lm.L; lm.g, lm.D2, grad, colmax, ainv, gn_x */
+                   + 3 * np * np + 7 * np      /* jtj, lm.A, lm.L; lm.g, lm.D2, lm.colmax, grad, colmax, ainv, gn_x */
                    + 6 * np + 4 * nr           /* lm.x, xt, h, x, x2, x0; lm.r, rt, r, r2 */
                    + nr * np;                  /* lm.J */
     double *at;
@@ -246,6 +252,7 @@ work_alloc(lf_fit *f)
     w->lm.L = take(&at, np * np);
     w->lm.g = take(&at, np);
     w->lm.D2 = take(&at, np);
+    w->lm.colmax = take(&at, np);
     w->grad = take(&at, np);
     w->colmax = take(&at, np);
     w->ainv = take(&at, np);

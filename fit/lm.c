@@ -61,27 +61,74 @@ damped_solve(size_t p, const double *A, const double *D2, double mu, const doubl
     return 1;
 }
 
-/* A = J^T J (lower triangle), g = J^T r and cost = |r|^2 / 2 at the
- * current point; D2 grows to the squared column norms. */
+/* The sums of the normal equations over rows [0, n) of J (row stride
+ * tda): A += J^T J (lower triangle), g += J^T r, big = max |J_ik| per
+ * column; returns |r|^2.  P > 0: a compile-time column count (the
+ * constant lets the compiler keep the sums in registers); P = 0: p. */
+static inline double
+ne_sums(const double *J, size_t tda, const double *r, size_t n, size_t P, size_t p,
+        double *A, double *g, double *big)
+{
+    enum { PK = 6 };
+    double a[PK * PK] = { 0 }, gk[PK] = { 0 }, bk[PK] = { 0 }, ss = 0.0;
+    size_t i, k, l;
+
+    if (P == 0) {               /* any p: straight into A, g, big */
+        for (i = 0; i < n; i++) {
+            const double *row = J + i * tda, ri = r[i];
+            ss += ri * ri;
+            for (k = 0; k < p; k++) {
+                g[k] += row[k] * ri;
+                big[k] = lf_fmax(big[k], fabs(row[k]));
+                for (l = 0; l <= k; l++)
+                    A[k * p + l] += row[k] * row[l];
+            }
+        }
+        return ss;
+    }
+    for (i = 0; i < n; i++) {
+        const double *row = J + i * tda, ri = r[i];
+        ss += ri * ri;
+        for (k = 0; k < P; k++) {
+            gk[k] += row[k] * ri;
+            bk[k] = lf_fmax(bk[k], fabs(row[k]));
+            for (l = 0; l <= k; l++)
+                a[k * PK + l] += row[k] * row[l];
+        }
+    }
+    for (k = 0; k < P; k++) {
+        g[k] = gk[k];
+        big[k] = bk[k];
+        for (l = 0; l <= k; l++)
+            A[k * p + l] = a[k * PK + l];
+    }
+    return ss;
+}
+
+/* A = J^T J (lower triangle), g = J^T r, colmax = max |J_ik| per column
+ * and cost = |r|^2 / 2 at the current point; D2 grows to the squared
+ * column norms. */
 static void
 normal_equations(lf_fit *f)
 {
     fit_lm *lm = &f->w.lm;
     const gsl_matrix *J = lm->J;
     const size_t n = J->size1, p = J->size2;
-    size_t i, k, l;
-    double ss = 0.0;
+    const double *r = lm->r->data;
+    size_t k;
+    double ss;
 
     memset(lm->A, 0, p * p * sizeof *lm->A);
     memset(lm->g, 0, p * sizeof *lm->g);
-    for (i = 0; i < n; i++) {
-        const double *row = J->data + i * J->tda, ri = lm->r->data[i];
-        ss += ri * ri;
-        for (k = 0; k < p; k++) {
-            lm->g[k] += row[k] * ri;
-            for (l = 0; l <= k; l++)
-                lm->A[k * p + l] += row[k] * row[l];
-        }
+    memset(lm->colmax, 0, p * sizeof *lm->colmax);
+    switch (p) {
+    case 1: ss = ne_sums(J->data, J->tda, r, n, 1, p, lm->A, lm->g, lm->colmax); break;
+    case 2: ss = ne_sums(J->data, J->tda, r, n, 2, p, lm->A, lm->g, lm->colmax); break;
+    case 3: ss = ne_sums(J->data, J->tda, r, n, 3, p, lm->A, lm->g, lm->colmax); break;
+    case 4: ss = ne_sums(J->data, J->tda, r, n, 4, p, lm->A, lm->g, lm->colmax); break;
+    case 5: ss = ne_sums(J->data, J->tda, r, n, 5, p, lm->A, lm->g, lm->colmax); break;
+    case 6: ss = ne_sums(J->data, J->tda, r, n, 6, p, lm->A, lm->g, lm->colmax); break;
+    default: ss = ne_sums(J->data, J->tda, r, n, 0, p, lm->A, lm->g, lm->colmax); break;
     }
     lm->cost = 0.5 * ss;
     for (k = 0; k < p; k++)

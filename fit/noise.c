@@ -133,7 +133,8 @@ lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curv
     const fit_curve *c = &f->c[j];
     const double tau = cr->corr_time, noise = cr->noise_sd;
     size_t n = c->data.n, i, m;
-    double Fmin = HUGE_VAL, Fmax = -HUGE_VAL, chi2 = 0.0, rms;
+    const double Fmin = c->flo, Fmax = c->fhi;
+    double chi2 = 0.0, rms;
 
     m = (size_t) ceil(tau - 1e-9);
     if (m < 1)
@@ -144,8 +145,6 @@ lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curv
     for (i = 0; i < n; i++) {
         double u = gsl_vector_get(res, c->row + i) * c->sigma / noise;
         chi2 += u * u;
-        Fmin = lf_fmin(Fmin, c->data.force[i]);
-        Fmax = lf_fmax(Fmax, c->data.force[i]);
     }
     rms = cr->rms;
     cr->runs_z = lf_fit_runs_z_stride(f, j, res, m);

@@ -202,11 +202,7 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
     if (f->w.own) {         /* lm.c has J^T J and J^T r already */
         memcpy(A, f->w.lm.A, p * p * sizeof *A);
         memcpy(g, f->w.lm.g, p * sizeof *g);
-        for (i = 0; i < n; i++) {
-            const double *row = J->data + i * J->tda;
-            for (k = 0; k < p; k++)
-                big[k] = lf_fmax(big[k], fabs(row[k]));
-        }
+        memcpy(big, f->w.lm.colmax, p * sizeof *big);
     } else {
         memset(A, 0, p * p * sizeof *A);
         for (k = 0; k < p; k++)

@@ -351,18 +351,15 @@ lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, size_t st
     double mu, var, nn;
     int last = 0;
 
+    /* without branches: the signs are noise, a branch on each would be
+     * mispredicted half the time; a zero residual is skipped */
     for (i = 0; i < c->data.n; i += stride) {
         double u = gsl_vector_get(res, c->row + ord[i]);
-        int sgn = u > 0 ? 1 : u < 0 ? -1 : 0;
-        if (sgn == 0)
-            continue;
-        if (sgn > 0)
-            npos++;
-        else
-            nneg++;
-        if (sgn != last)
-            runs++;
-        last = sgn;
+        int pos = u > 0, neg = u < 0, sgn = pos - neg, nz = pos | neg;
+        npos += (size_t) pos;
+        nneg += (size_t) neg;
+        runs += (size_t) (nz & (sgn != last));
+        last = nz ? sgn : last;
     }
     nn = (double) (npos + nneg);
     if (nn < 2)

@@ -43,10 +43,9 @@ lf_fit_refuse_degenerate(const lf_fit *f, lf_error *err)
     size_t j, i;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
-        double lo = HUGE_VAL, hi = -HUGE_VAL, mz = 0, mf = 0, szz = 0, sff = 0, szf = 0, rho;
+        const double lo = c->flo, hi = c->fhi;
+        double mz = 0, mf = 0, szz = 0, sff = 0, szf = 0, rho;
         for (i = 0; i < c->data.n; i++) {
-            lo = lf_fmin(lo, c->data.force[i]);
-            hi = lf_fmax(hi, c->data.force[i]);
             mz += c->data.depth[i];
             mf += c->data.force[i];
         }
@@ -76,18 +75,13 @@ lf_fit_refuse_degenerate(const lf_fit *f, lf_error *err)
 static int
 offsets_outside(const lf_fit *f, const double *x, char *why, size_t nwhy)
 {
-    size_t j, i;
+    size_t j;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
         lf_material m;
-        double z0, F0, s, flo = HUGE_VAL, fhi = -HUGE_VAL, zlo = HUGE_VAL, zhi = -HUGE_VAL;
+        const double flo = c->flo, fhi = c->fhi, zlo = c->zlo, zhi = c->zhi;
+        double z0, F0, s;
         lf_fit_unpack(f, x, &m, &z0, &F0, &s, j);
-        for (i = 0; i < c->data.n; i++) {
-            flo = lf_fmin(flo, c->data.force[i]);
-            fhi = lf_fmax(fhi, c->data.force[i]);
-            zlo = lf_fmin(zlo, c->data.depth[i]);
-            zhi = lf_fmax(zhi, c->data.depth[i]);
-        }
         if (c->iF0 >= 0 && !(F0 >= flo - (fhi - flo) && F0 <= fhi + (fhi - flo))) {
             snprintf(why, nwhy, "not converged: curve %zu's force offset F0 = %.4g N lies far "
                      "outside its forces [%.4g, %.4g] N", j + 1, F0, flo, fhi);

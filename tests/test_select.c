@@ -1,0 +1,81 @@
+/* test_select.c: the k-th smallest value and the median (fit/guess.c),
+ * which every noise estimate rests on, against a sort: random values,
+ * values with many ties, sorted and reversed runs, a single value repeated,
+ * and every k of small arrays.  After the selection the values below k must
+ * be no larger than the k-th and those above no smaller (the median of an
+ * even count reads the lower half). */
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_rng.h>
+
+#include "fit.h"
+#include "testlib.h"
+
+#define NMAX 701
+
+static int
+cmp(const void *a, const void *b)
+{
+    double x = *(const double *) a, y = *(const double *) b;
+    return (x > y) - (x < y);
+}
+
+/* Fill v with n values of the given kind. */
+static void
+fill(double *v, size_t n, int kind, gsl_rng *rng)
+{
+    size_t i;
+    for (i = 0; i < n; i++)
+        switch (kind) {
+        case 0: v[i] = gsl_rng_uniform(rng) - 0.5; break;             /* distinct */
+        case 1: v[i] = (double) gsl_rng_uniform_int(rng, 4); break;    /* few values */
+        case 2: v[i] = (double) i; break;                               /* sorted */
+        case 3: v[i] = (double) (n - i); break;                         /* reversed */
+        case 4: v[i] = 2.5; break;                                      /* all equal */
+        default: v[i] = (double) (i % 7 == 0 ? 1 : 0); break;          /* mostly zeros */
+        }
+}
+
+int
+main(void)
+{
+    static const char *kinds[] = { "distinct", "few values", "sorted", "reversed",
+                                   "all equal", "mostly zeros" };
+    static double v[NMAX], s[NMAX];
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    size_t sizes[] = { 1, 2, 3, 4, 5, 8, 31, 64, 299, 300, 701 };
+    size_t is, k, i;
+    int kind, bad;
+
+    gsl_rng_set(rng, 7);
+    for (kind = 0; kind < 6; kind++)
+        for (is = 0; is < sizeof sizes / sizeof sizes[0]; is++) {
+            size_t n = sizes[is];
+            double med, want;
+            /* every k of small arrays, three of large ones */
+            for (k = 0; k < n; k += n <= 8 ? 1 : n / 3 + 1) {
+                fill(v, n, kind, rng);
+                memcpy(s, v, n * sizeof *v);
+                qsort(s, n, sizeof *s, cmp);
+                want = s[k];
+                t_rel(lf_fit_select_kth(v, n, k), want, 0, "%s, n = %zu: k = %zu", kinds[kind],
+                      n, k);
+                for (i = 0, bad = 0; i < n; i++)
+                    bad += i < k ? v[i] > want : i > k ? v[i] < want : v[i] != want;
+                t_int(bad, 0, "%s, n = %zu, k = %zu: partitioned around the k-th", kinds[kind],
+                      n, k);
+                qsort(v, n, sizeof *v, cmp);
+                t_int(memcmp(v, s, n * sizeof *v), 0, "%s, n = %zu, k = %zu: the same values",
+                      kinds[kind], n, k);
+            }
+            fill(v, n, kind, rng);
+            memcpy(s, v, n * sizeof *v);
+            qsort(s, n, sizeof *s, cmp);
+            want = n % 2 ? s[n / 2] : 0.5 * (s[n / 2 - 1] + s[n / 2]);
+            med = lf_fit_median(v, n);
+            t_rel(med, want, 1e-15, "%s, n = %zu: the median", kinds[kind], n);
+        }
+    gsl_rng_free(rng);
+    return t_summary();
+}
