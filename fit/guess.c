@@ -26,7 +26,11 @@
 
 #include "fit.h"
 
-#define GUESS_GOLDEN 10
+/* Brent's search after the grid: at most GUESS_BRENT trials, down to
+ * GUESS_XTOL of the bracket between the best node's neighbours */
+#define GUESS_BRENT 12
+#define GUESS_XTOL 2e-3
+#define GUESS_TIE_REL 1e-12
 
 /* ---- noise ------------------------------------------------------------ */
 
@@ -331,55 +335,94 @@ profile_cost_kept(profile *p, double s, profile_sol *sol)
     return v;
 }
 
-/* Minimise profile_cost over the sorted nodes: the best node, then golden
- * section between its neighbours.  Leaves the solution of the minimum in
- * p.  Returns the minimum (HUGE_VAL when no trial was valid). */
+/* Minimise profile_cost over the sorted nodes: the best node, then Brent's
+ * method (parabolic steps through the three best points, golden section
+ * where a parabola would leave the bracket or shrink it too slowly) between
+ * its neighbours, until the bracket is GUESS_XTOL of its first width or
+ * GUESS_BRENT trials are spent.  Leaves the solution of the minimum in p.
+ * Returns the minimum (HUGE_VAL when no trial was valid). */
 static double
 profile_min(profile *p, const double *node, size_t nn)
 {
-    const double g = 0.5 * (sqrt(5.0) - 1.0);
-    double best = HUGE_VAL, a, bnd, x1, x2, f1, f2;
-    profile_sol sbest = { 0 }, s1, s2, trial;
+    const double g2 = 0.5 * (3.0 - sqrt(5.0));     /* 1 - golden ratio */
+    double fx = HUGE_VAL, a, b, x, w, v, fw, fv, d = 0.0, e = 0.0, tol;
+    profile_sol sx = { 0 }, trial;
     size_t i, ib = 0;
 
     for (i = 0; i < nn; i++) {
-        double v = profile_cost_kept(p, node[i], &trial);
-        if (v < best) {
-            best = v;
+        double f = profile_cost_kept(p, node[i], &trial);
+        if (f < fx) {
+            fx = f;
             ib = i;
-            sbest = trial;
+            sx = trial;
         }
     }
-    if (best == HUGE_VAL)
-        return best;
+    if (fx == HUGE_VAL)
+        return fx;
     a = node[ib > 0 ? ib - 1 : 0];
-    bnd = node[ib + 1 < nn ? ib + 1 : nn - 1];
-    x1 = bnd - g * (bnd - a);
-    x2 = a + g * (bnd - a);
-    f1 = profile_cost_kept(p, x1, &s1);
-    f2 = profile_cost_kept(p, x2, &s2);
-    for (i = 0; i < GUESS_GOLDEN; i++) {
-        if (f1 <= f2) {
-            bnd = x2; x2 = x1; f2 = f1; s2 = s1;
-            x1 = bnd - g * (bnd - a);
-            f1 = profile_cost_kept(p, x1, &s1);
+    b = node[ib + 1 < nn ? ib + 1 : nn - 1];
+    x = w = v = node[ib];
+    fw = fv = fx;
+    tol = GUESS_XTOL * (b - a);
+    for (i = 0; i < GUESS_BRENT; i++) {
+        const double m = 0.5 * (a + b);
+        double u, fu, pn = 0.0, q = 0.0;
+        int parabola = 0;
+        if (fabs(x - m) <= 2.0 * tol - 0.5 * (b - a))
+            break;                      /* x within 2 tol of both ends */
+        if (fabs(e) > tol) {            /* the parabola through x, w, v */
+            double r = (x - w) * (fx - fv), olde = e;
+            q = (x - v) * (fx - fw);
+            pn = (x - v) * q - (x - w) * r;
+            q = 2.0 * (q - r);
+            if (q > 0)
+                pn = -pn;
+            q = fabs(q);
+            /* inside the bracket and less than half the step before last */
+            parabola = fabs(pn) < fabs(0.5 * q * olde) && pn > q * (a - x) && pn < q * (b - x);
+        }
+        if (parabola) {
+            e = d;
+            d = pn / q;
+            if ((x + d) - a < 2.0 * tol || b - (x + d) < 2.0 * tol)
+                d = x < m ? tol : -tol;
         } else {
-            a = x1; x1 = x2; f1 = f2; s1 = s2;
-            x2 = a + g * (bnd - a);
-            f2 = profile_cost_kept(p, x2, &s2);
+            e = x < m ? b - x : a - x;
+            d = g2 * e;
+        }
+        u = x + (fabs(d) >= tol ? d : d > 0 ? tol : -tol);
+        fu = profile_cost_kept(p, u, &trial);
+        /* within rounding of a tie, the smaller trial value: a flat profile
+         * (a parameter the data do not fix) ends at the bracket's low end */
+        if (fu < fx - GUESS_TIE_REL * fx || (fu <= fx + GUESS_TIE_REL * fx && u < x)) {
+            if (u < x)
+                b = x;
+            else
+                a = x;
+            v = w; fv = fw;
+            w = x; fw = fx;
+            x = u; fx = fu;
+            sx = trial;
+        } else {
+            if (u < x)
+                a = u;
+            else
+                b = u;
+            if (fu <= fw || w == x) {
+                v = w; fv = fw;
+                w = u; fw = fu;
+            } else if (fu <= fv || v == x || v == w) {
+                v = u; fv = fu;
+            }
         }
     }
     /* the cost is a function of the trial value alone: the kept solution
      * is what evaluating it again would give */
-    if (lf_fmin(f1, f2) <= best) {
-        best = lf_fmin(f1, f2);
-        sbest = f1 <= f2 ? s1 : s2;
-    }
-    p->M = sbest.M;
-    p->c = sbest.c;
-    p->z0 = sbest.z0;
-    p->F0 = sbest.F0;
-    return best;
+    p->M = sx.M;
+    p->c = sx.c;
+    p->z0 = sx.z0;
+    p->F0 = sx.F0;
+    return fx;
 }
 
 /* Nodes for a search: n uniform in [lo, hi), then (when with_data) the
