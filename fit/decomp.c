@@ -62,7 +62,13 @@ lf_fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond)
         return LF_ENUMERIC;
     for (k = 0; k < p; k++) {
         gsl_vector_view col = gsl_matrix_column(d->QR, k);
-        double dn = gsl_blas_dnrm2(&col.vector);
+        double ss = 0.0, dn;
+        for (i = 0; i < d->n; i++) {
+            const double v = d->QR->data[i * d->QR->tda + k];
+            ss += v * v;
+        }
+        /* the plain sum of squares unless it over- or underflowed */
+        dn = isfinite(ss) && ss > 1e-280 ? sqrt(ss) : gsl_blas_dnrm2(&col.vector);
         gsl_vector_set(d->D, k, dn);
         if (dn > 0)
             gsl_vector_scale(&col.vector, 1.0 / dn);

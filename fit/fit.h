@@ -93,7 +93,7 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
 #define FIT_EDGE_FEW_OUT 8
 #define FIT_EDGE_W_UP 3.0
 
-#define GUESS_GRID 20          /* uniform nodes of a profile search */
+#define GUESS_GRID 12          /* uniform nodes of a profile search */
 #define GUESS_NODES (GUESS_GRID + 1)
 #define GUESS_NSUB 64          /* points of a curve's subsample in the guess */
 

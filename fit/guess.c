@@ -113,8 +113,9 @@ lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order
         double h0 = depth[b] - depth[a], h1 = depth[c] - depth[b], h = h0 + h1, e;
         if (!(h > 0))
             continue;           /* three points at one depth: no line */
-        e = force[b] - (force[a] * h1 + force[c] * h0) / h;
-        work[m++] = fabs(e) / sqrt(1.0 + (h0 * h0 + h1 * h1) / (h * h));
+        /* e over its sd factor, with one root and one division */
+        e = (force[b] * h - force[a] * h1 - force[c] * h0) / sqrt(h * h + h0 * h0 + h1 * h1);
+        work[m++] = fabs(e);
     }
     if (m == 0)
         return fbig > 0 ? fbig : 1.0;

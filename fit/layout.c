@@ -175,12 +175,14 @@ curve_scales(lf_fit *f, lf_error *err)
 
     for (j = 0; j < f->ncurves; j++) {
         fit_curve *c = &f->c[j];
-        double zmin = HUGE_VAL, zmax = -HUGE_VAL, flo = HUGE_VAL, fhi = -HUGE_VAL, fbig;
-        for (i = 0; i < c->data.n; i++) {
-            zmin = lf_fmin(zmin, c->data.depth[i]);
-            zmax = lf_fmax(zmax, c->data.depth[i]);
-            flo = lf_fmin(flo, c->data.force[i]);
-            fhi = lf_fmax(fhi, c->data.force[i]);
+        /* every point is finite (check_curve) and f->order sorts the depths */
+        const double zmin = c->data.depth[f->order[c->row]];
+        const double zmax = c->data.depth[f->order[c->row + c->data.n - 1]];
+        double flo = c->data.force[0], fhi = flo, fbig;
+        for (i = 1; i < c->data.n; i++) {
+            const double F = c->data.force[i];
+            flo = F < flo ? F : flo;
+            fhi = F > fhi ? F : fhi;
         }
         fbig = lf_fmax(fabs(flo), fabs(fhi));
         c->zlo = zmin;

@@ -86,8 +86,8 @@ noise_at_lag(const fit_curve *c, const size_t *ord, const double *e, size_t m, d
         double h0 = z[b] - z[a], h1 = z[d] - z[b], h = h0 + h1, q;
         if (!(h > 0))
             continue;
-        q = e[b] - (e[a] * h1 + e[d] * h0) / h;
-        work[cnt++] = q / sqrt(1.0 + (h0 * h0 + h1 * h1) / (h * h));
+        q = (e[b] * h - e[a] * h1 - e[d] * h0) / sqrt(h * h + h0 * h0 + h1 * h1);
+        work[cnt++] = q;
     }
     return cnt > 0 ? mad_sd(work, cnt) : NAN;
 }
