@@ -123,7 +123,8 @@ edge_scan(lf_fit *f, gsl_vector *x)
             moved = 1;
         }
     }
-    f->w.xcache_ok = 0;
+    /* the scan's evaluations went to scan_ev and work: the cache of ev
+     * (keyed by x) still holds */
     return moved;
 }
 

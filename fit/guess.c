@@ -10,7 +10,7 @@
  * linear in (alpha, beta, F0) for a given z_d, with M = alpha and
  * c = -beta k / ((k+2) alpha).  So each curve is profiled over the single
  * nonlinear parameter z_d (variable projection: the linear parameters are
- * solved exactly at each trial), on a grid and then by golden section.
+ * solved exactly at each trial), on a grid and then by Brent's method.
  * When z0 is held, the profile runs over c instead; when c is held (second
  * stage) over z0, with M and F0 linear.
  *

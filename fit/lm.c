@@ -71,29 +71,19 @@ ne_sums(const double *J, size_t tda, const double *r, size_t n, size_t P, size_t
 {
     enum { PK = 6 };
     double a[PK * PK] = { 0 }, gk[PK] = { 0 }, bk[PK] = { 0 }, ss = 0.0;
+    /* a constant P: the sums in the local arrays, else straight in A, g, big */
+    const size_t m = P ? P : p, stride = P ? (size_t) PK : p;
+    double *sa = P ? a : A, *sg = P ? gk : g, *sb = P ? bk : big;
     size_t i, k, l;
 
-    if (P == 0) {               /* any p: straight into A, g, big */
-        for (i = 0; i < n; i++) {
-            const double *row = J + i * tda, ri = r[i];
-            ss += ri * ri;
-            for (k = 0; k < p; k++) {
-                g[k] += row[k] * ri;
-                big[k] = lf_fmax(big[k], fabs(row[k]));
-                for (l = 0; l <= k; l++)
-                    A[k * p + l] += row[k] * row[l];
-            }
-        }
-        return ss;
-    }
     for (i = 0; i < n; i++) {
         const double *row = J + i * tda, ri = r[i];
         ss += ri * ri;
-        for (k = 0; k < P; k++) {
-            gk[k] += row[k] * ri;
-            bk[k] = lf_fmax(bk[k], fabs(row[k]));
+        for (k = 0; k < m; k++) {
+            sg[k] += row[k] * ri;
+            sb[k] = lf_fmax(sb[k], fabs(row[k]));
             for (l = 0; l <= k; l++)
-                a[k * PK + l] += row[k] * row[l];
+                sa[k * stride + l] += row[k] * row[l];
         }
     }
     for (k = 0; k < P; k++) {
