@@ -177,25 +177,31 @@ param_of(const prof *p, double t)
 }
 
 /* The point on one side (dir = -1 or +1) where the profile leaves the
- * confidence set for good, from t_hat with first step h; *open when it
+ * confidence set for good, from t_hat with first step h, whose rise r_h
+ * (NaN: not known) the caller may have computed already; *open when it
  * never does within [tmin, tmax].  Steps double until the rise reaches the
  * threshold; a weak parameter's profile can dip below it again further out
  * (kinks where points enter or leave contact), so the search goes on in
  * steps of a quarter of the distance so far until the rise exceeds
  * PROFILE_FAR times the threshold, and a dip moves the side out to it (the
  * interval is the hull of the set where the rise stays below the threshold).
- * The last crossing is then bisected. */
+ * The last crossing is then bisected.  (Regula falsi on the square root
+ * of the rise, tried, saved a third of the fits and moved the paper-offsets
+ * coverage of w from 94.0% to 92.5%: at the kinks the rise is not smooth
+ * enough for interpolation to find the same crossing.) */
 static double
-search_side(prof *p, double t_hat, double h, int dir, double tmin, double tmax, int *open)
+search_side(prof *p, double t_hat, double h, double r_h, int dir, double tmin, double tmax,
+            int *open)
 {
-    double a = 0.0, b = 0.0, d = 0.0, step = h, edge = dir < 0 ? t_hat - tmin : tmax - t_hat;
+    double a = 0.0, b = 0.0, d = 0.0, step = h;
+    double edge = dir < 0 ? t_hat - tmin : tmax - t_hat;
     int i, crossed = 0;
 
     *open = 0;
     for (;;) {
         double rd;
         d = lf_fmin(d + step, edge);
-        rd = rise(p, param_of(p, t_hat + dir * d));
+        rd = d == h && isfinite(r_h) ? r_h : rise(p, param_of(p, t_hat + dir * d));
         if (!isfinite(rd) || rd >= p->thr) {
             if (!crossed || b <= a)
                 b = d;                  /* the first point above after a */
@@ -372,7 +378,7 @@ done:
 static int
 profile_one(prof *p, lf_fit_estimate *e)
 {
-    double t_hat, se_t, tmin, tmax, lo, hi, r_lo, r_hi, thr;
+    double t_hat, se_t, tmin, tmax, lo, hi, r_lo = NAN, r_hi = NAN, thr;
     int open_lo = 0, open_hi = 0;
 
     int bound_only = e->upper_bound_only && p->which == FIT_W;
@@ -414,8 +420,11 @@ profile_one(prof *p, lf_fit_estimate *e)
     thr = p->thr;
     if (p->calibrate)
         p->thr *= calibrate(p, param_of(p, t_hat));
-    lo = search_side(p, t_hat, lf_fmin(Z95 * se_t, 0.5 * (t_hat - tmin)), -1, tmin, tmax, &open_lo);
-    hi = search_side(p, t_hat, lf_fmin(Z95 * se_t, 0.5 * (tmax - t_hat)), +1, tmin, tmax, &open_hi);
+    /* the rises at the linear ends, where known, are each side's first step */
+    lo = search_side(p, t_hat, lf_fmin(Z95 * se_t, 0.5 * (t_hat - tmin)),
+                     Z95 * se_t <= 0.5 * (t_hat - tmin) ? r_lo : NAN, -1, tmin, tmax, &open_lo);
+    hi = search_side(p, t_hat, lf_fmin(Z95 * se_t, 0.5 * (tmax - t_hat)),
+                     Z95 * se_t <= 0.5 * (tmax - t_hat) ? r_hi : NAN, +1, tmin, tmax, &open_hi);
     p->thr = thr;
     e->interval_method = "profile likelihood";
     e->ci95[0] = open_lo && p->which == FIT_W ? 0.0 : param_of(p, lo);
