@@ -61,6 +61,9 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
  * the cost by more than FIT_DESCENT_REL of itself. */
 #define FIT_DESCENT_STEPS { 1e-4, 1e-6, 1e-8 }
 #define FIT_DESCENT_REL 1e-12
+/* A stall where a coordinate step still lowers the cost takes the best such
+ * step and solves on, at most FIT_NUDGES times (solve.c). */
+#define FIT_NUDGES 10
 /* A Jacobian column below FIT_DEAD_COLUMN of the largest belongs to a
  * parameter that no longer changes the fit (internal coordinates are all
  * of order one). */

@@ -65,7 +65,7 @@ damped_solve(size_t p, const double *A, const double *D2, double mu, const doubl
  * tda): A += J^T J (lower triangle), g += J^T r, big = max |J_ik| per
  * column; returns |r|^2.  P > 0: a compile-time column count (the
  * constant lets the compiler keep the sums in registers); P = 0: p. */
-static inline double
+LF_KERNEL double
 ne_sums(const double *J, size_t tda, const double *r, size_t n, size_t P, size_t p,
         double *A, double *g, double *big)
 {
@@ -80,8 +80,10 @@ ne_sums(const double *J, size_t tda, const double *r, size_t n, size_t P, size_t
         const double *row = J + i * tda, ri = r[i];
         ss += ri * ri;
         for (k = 0; k < m; k++) {
+            const double v = fabs(row[k]);
             sg[k] += row[k] * ri;
-            sb[k] = lf_fmax(sb[k], fabs(row[k]));
+            /* a NaN leaves the maximum (as lf_fmax would); it reaches g */
+            sb[k] = v > sb[k] ? v : sb[k];
             for (l = 0; l <= k; l++)
                 sa[k * stride + l] += row[k] * row[l];
         }

@@ -203,10 +203,11 @@ lf_fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
         return GSL_EDOM;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
+        const double inv_sigma = 1.0 / c->sigma;
         lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         for (i = 0; i < c->data.n; i++) {
             size_t k = c->row + i;
-            double v = (f->w.ev[k].P + F0 + slope * f->w.delta[k] - c->data.force[i]) / c->sigma
+            double v = (f->w.ev[k].P + F0 + slope * f->w.delta[k] - c->data.force[i]) * inv_sigma
                        * f->w.sqrtw[k];
             if (!isfinite(v))
                 return GSL_EDOM;
@@ -272,6 +273,7 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
         const fit_curve *c = &f->c[j];
         double sz = physical ? 1.0 : c->L, sF = physical ? 1.0 : c->Fs;
         double ss = physical ? 1.0 : c->Fs / c->L;
+        const double inv_sigma = 1.0 / c->sigma;
         double ddet = -HUGE_VAL;
         lf_pulloff po;
 
@@ -283,7 +285,7 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
             size_t k = c->row + i;
             double *row = J->data + k * J->tda;
             lf_eval e = guarded(f, c, &mat, ddet, k);
-            double ws = f->w.sqrtw[k] / c->sigma;
+            double ws = f->w.sqrtw[k] * inv_sigma;
             if (iw >= 0)
                 row[iw] = e.dP_dlogw * sw * ws;
             if (iE >= 0)

@@ -134,35 +134,68 @@ at_minimum(lf_fit *f)
 /* No coordinate step of +-h (internal units: relative for w and E*,
  * fractions of the depth span and force scale for the offsets) lowers the
  * cost at x: a minimum, smooth or at a kink of the model, where GSL's
- * gradient test need not pass. */
+ * gradient test need not pass.  With move, every step is tried, and x moves
+ * along the one that lowers the cost most, the step doubled while the cost
+ * keeps falling (when one does), and *gain is the fall of chi2 relative to
+ * chi2 / dof. */
 static int
-no_descent(lf_fit *f, gsl_vector *x)
+no_descent_move(lf_fit *f, gsl_vector *x, int move, double *gain)
 {
     static const double h[] = FIT_DESCENT_STEPS;
     const size_t nh = sizeof h / sizeof h[0];
     gsl_vector *r = f->w.r2;
-    double c0, rn;
-    size_t k, q;
+    double c0, rn, best, best_step = 0.0;
+    size_t k, q, best_k = 0;
     int sign, ok = 1;
 
     if (lf_fit_residuals(x, f, r) != GSL_SUCCESS)
         return 0;
     rn = gsl_blas_dnrm2(r);
     c0 = rn * rn;
-    for (k = 0; k < f->np && ok; k++) {
+    best = c0 * (1.0 - FIT_DESCENT_REL);
+    for (k = 0; k < f->np && (ok || move); k++) {
         double xk = gsl_vector_get(x, k);
-        for (q = 0; q < nh && ok; q++)
-            for (sign = -1; sign <= 1 && ok; sign += 2) {
+        for (q = 0; q < nh && (ok || move); q++)
+            for (sign = -1; sign <= 1 && (ok || move); sign += 2) {
                 gsl_vector_set(x, k, xk + sign * h[q]);
                 if (lf_fit_residuals(x, f, r) == GSL_SUCCESS) {
                     rn = gsl_blas_dnrm2(r);
-                    ok = !(rn * rn < c0 * (1.0 - FIT_DESCENT_REL));
+                    if (rn * rn < best) {
+                        ok = 0;
+                        best = rn * rn;
+                        best_k = k;
+                        best_step = sign * h[q];
+                    }
                 }
             }
         gsl_vector_set(x, k, xk);
     }
+    if (move && !ok) {
+        /* on along that coordinate, doubling the step while the cost falls */
+        double xk = gsl_vector_get(x, best_k);
+        int dbl;
+        for (dbl = 0; dbl < 40; dbl++) {
+            gsl_vector_set(x, best_k, xk + 2.0 * best_step);
+            if (lf_fit_residuals(x, f, r) != GSL_SUCCESS)
+                break;
+            rn = gsl_blas_dnrm2(r);
+            if (!(rn * rn < best))
+                break;
+            best = rn * rn;
+            best_step *= 2.0;
+        }
+        gsl_vector_set(x, best_k, xk + best_step);
+    }
+    if (gain != NULL)
+        *gain = c0 > 0 ? (c0 - lf_fmin(best, c0)) / (c0 / (double) (f->nres - f->np)) : 0.0;
     f->w.xcache_ok = 0;
     return ok;
+}
+
+static int
+no_descent(lf_fit *f, gsl_vector *x)
+{
+    return no_descent_move(f, x, 0, NULL);
 }
 
 /* After each iteration: remember the cost. */
@@ -373,7 +406,9 @@ int
 lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error *err)
 {
     int status, info = 0, *converged = &run->converged;
-    size_t dead = 0, iters;
+    size_t dead = 0, iters, nudge;
+    int kink = 0;
+    double gain = 0.0;
     char *why = run->why;
     const size_t nwhy = sizeof run->why;
 
@@ -448,7 +483,36 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
         stop_reason(status, info, f->set.max_iter, why, nwhy, converged);
         take_position(f, x);
     }
-    if (status == GSL_ENOPROG && !at_minimum(f) && !after_scan && no_descent(f, x)) {
+    for (nudge = 0; status == GSL_ENOPROG && nudge < FIT_NUDGES && !at_minimum(f)
+                    && !no_descent_move(f, x, 1, &gain); nudge++) {
+        /* the solver's steps, analytic and finite-difference, all rise, yet a
+         * coordinate step lowers the cost (a kink the quadratic model cannot
+         * see): take that step and solve on from there; a step that gains
+         * less than FIT_CHI2_STEP of chi2/dof is the rounding of a kink's
+         * minimum, where the Gauss-Newton test cannot pass */
+        size_t more;
+        if (gain < FIT_CHI2_STEP) {
+            kink = 1;
+            break;
+        }
+        status = solver_init(f, x, 1);
+        if (status != GSL_SUCCESS)
+            break;
+        status = drive(f, &info, &dead);
+        more = cur_niter(f);
+        run->iters += more;
+        run->evals += cur_evals(f);
+        if (status == GSL_EBADFUNC) {
+            status = GSL_ENOPROG;       /* judged below as the stall it ends */
+            take_position(f, x);
+            break;
+        }
+        if (status == GSL_EMAXITER && info == GSL_ENOPROG && more < f->set.max_iter)
+            status = GSL_ENOPROG;
+        stop_reason(status, info, f->set.max_iter, why, nwhy, converged);
+        take_position(f, x);
+    }
+    if (status == GSL_ENOPROG && !at_minimum(f) && !after_scan && (kink || no_descent(f, x))) {
         *converged = 1;
         snprintf(why, nwhy, "converged (no step lowers the cost: a kink where a point meets "
                  "the contact edge)");

@@ -10,8 +10,12 @@
 
 #if defined(__GNUC__)
 #define LF_PRINTF(a, b) __attribute__((format(printf, a, b)))
+/* a kernel written once and specialised at each call with constant
+ * arguments: inlined even where the compiler's size rule would not */
+#define LF_KERNEL static inline __attribute__((always_inline))
 #else
 #define LF_PRINTF(a, b)
+#define LF_KERNEL static inline
 #endif
 
 /* Fill err (if not NULL) with status and a formatted message; returns status
