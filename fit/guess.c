@@ -241,16 +241,8 @@ linear_fit(const profile *p, size_t ncol, const trial_sums *t, double *b)
 static inline double
 guess_pow_2k(double x, double k)
 {
-    if (k == 3.0 && x >= 1e-300 && x <= 1e300) {
-        uint64_t i;
-        double y;
-        memcpy(&i, &x, sizeof i);
-        i = UINT64_C(0x553F000000000000) - i / 3;
-        memcpy(&y, &i, sizeof y);
-        y *= (4.0 - (x * y) * (y * y)) * (1.0 / 3.0);
-        y *= (4.0 - (x * y) * (y * y)) * (1.0 / 3.0);
-        return x * y;
-    }
+    if (k == 3.0 && x >= 1e-300 && x <= 1e300)
+        return x * lf_inv_cbrt_step(x, lf_inv_cbrt_step(x, lf_inv_cbrt_seed(x)));
     return lf_pow_2k(x, k);
 }
 

@@ -52,9 +52,10 @@ lf_capped(double x)
  * is slower than a log and an exp): a first guess from the bits of x, its
  * exponent divided by -3 (0x5540... is 1023 * 4/3 in the exponent field,
  * lowered to even out the guess's error, at most 4%), then four Newton
- * steps y <- y (4 - x y^3) / 3, each squaring the error: 2 ulp at most. */
+ * steps y <- y (4 - x y^3) / 3, each squaring the error: 2 ulp at most.
+ * lf_inv_cbrt_seed is the first guess, lf_inv_cbrt_step one step. */
 static inline double
-lf_inv_cbrt(double x)
+lf_inv_cbrt_seed(double x)
 {
     uint64_t i;
     double y;
@@ -62,12 +63,27 @@ lf_inv_cbrt(double x)
     memcpy(&i, &x, sizeof i);
     i = UINT64_C(0x553F000000000000) - i / 3;
     memcpy(&y, &i, sizeof y);
+    return y;
+}
+
+/* One Newton step of y = x^(-1/3). */
+static inline double
+lf_inv_cbrt_step(double x, double y)
+{
+    return y * ((4.0 - (x * y) * (y * y)) * (1.0 / 3.0));
+}
+
+static inline double
+lf_inv_cbrt(double x)
+{
+    double y = lf_inv_cbrt_seed(x);
+
     /* written out: a loop here stays a loop, and its branch keeps the
      * processor from overlapping the roots of neighbouring points */
-    y *= (4.0 - (x * y) * (y * y)) * (1.0 / 3.0);
-    y *= (4.0 - (x * y) * (y * y)) * (1.0 / 3.0);
-    y *= (4.0 - (x * y) * (y * y)) * (1.0 / 3.0);
-    y *= (4.0 - (x * y) * (y * y)) * (1.0 / 3.0);
+    y = lf_inv_cbrt_step(x, y);
+    y = lf_inv_cbrt_step(x, y);
+    y = lf_inv_cbrt_step(x, y);
+    y = lf_inv_cbrt_step(x, y);
     return y;
 }
 
