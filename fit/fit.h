@@ -257,9 +257,10 @@ void lf_fit_guess_model_offsets(lf_fit *f);
  * whichever costs less (sets f->start_by_model). */
 void lf_fit_guess_compare_model(lf_fit *f);
 /* Noise sd of a curve from how far each point's force lies from the line
- * through its neighbours in depth (order: indices by depth). */
+ * through its neighbours in depth (order: indices by depth; fbig: the
+ * largest |force|). */
 double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,
-                       size_t n, double *work);
+                          size_t n, double fbig, double *work);
 
 /* solve.c: the trust-region iteration from x (overwritten with where it
  * stopped) and its stopping rules; adds to run's totals and sets its

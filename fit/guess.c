@@ -98,16 +98,15 @@ lf_fit_median(double *v, size_t n)
  * difference; 2 s^2 for a repeated depth), and the smooth signal adds only
  * about F'' h^2.  The median of |e| over its sd is 0.6745 s.  Order by
  * depth makes it independent of the order of the rows and right for
- * repeated depths.  work holds n. */
+ * repeated depths.  fbig is the largest |force| (the caller's scale);
+ * work holds n. */
 double
 lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order, size_t n,
-                double *work)
+                   double fbig, double *work)
 {
     size_t i, m = 0;
-    double fbig = 0.0, med;
+    double med;
 
-    for (i = 0; i < n; i++)
-        fbig = lf_fmax(fbig, fabs(force[i]));
     for (i = 1; i + 1 < n; i++) {
         size_t a = order[i - 1], b = order[i], c = order[i + 1];
         double h0 = depth[b] - depth[a], h1 = depth[c] - depth[b], h = h0 + h1, e;
@@ -512,28 +511,17 @@ profile_init(lf_fit *f, size_t j, profile *p)
     }
 }
 
-/* The shallowest and deepest depth of curve j (f->order sorts them). */
-static void
-depth_range(const lf_fit *f, size_t j, double *zmin, double *zmax)
-{
-    const fit_curve *c = &f->c[j];
-    const size_t *ord = f->order + c->row;
-    *zmin = c->data.depth[ord[0]];
-    *zmax = c->data.depth[ord[c->data.n - 1]];
-}
-
 /* Stage 1 of curve j: M, c, and whether the curve sees adhesion. */
 static int
 guess_curve(lf_fit *f, size_t j, curve_guess *g)
 {
     const fit_curve *c = &f->c[j];
-    double zmin, zmax, span, rss;
+    const double zmin = c->zlo, span = c->L;
+    double rss;
     profile p;
     size_t i, nbase = 0, nn;
     double *node = f->w.sub + 2 * GUESS_NSUB;
 
-    depth_range(f, j, &zmin, &zmax);
-    span = zmax - zmin;
     profile_init(f, j, &p);
     if (c->iz0 >= 0) {
         p.kind = PROFILE_ZD;
@@ -588,7 +576,7 @@ offsets_at(lf_fit *f, double *off)
 
     for (j = 0; j < f->ncurves; j++) {
         fit_curve *c = &f->c[j];
-        double zmin, zmax, span, rss, M = lf_thin_Z(c->data.probe.base, m->nu) * m->Estar;
+        double rss, M = lf_thin_Z(c->data.probe.base, m->nu) * m->Estar;
         double *node = f->w.sub + 2 * GUESS_NSUB;
         size_t nn;
         profile p;
@@ -597,9 +585,7 @@ offsets_at(lf_fit *f, double *off)
         p.kind = PROFILE_Z0;
         p.c_held = sqrt(2.0 * c->data.probe.b * m->w / M);
         if (c->iz0 >= 0) {
-            depth_range(f, j, &zmin, &zmax);
-            span = zmax - zmin;
-            nn = make_nodes(&p, c->guess.z0 - 0.5 * span, c->guess.z0 + 0.5 * span,
+            nn = make_nodes(&p, c->guess.z0 - 0.5 * c->L, c->guess.z0 + 0.5 * c->L,
                             GUESS_GRID, 0, node);
             rss = profile_min(&p, node, nn);
         } else {

@@ -196,7 +196,7 @@ curve_scales(lf_fit *f, lf_error *err)
         c->Fs = fbig;
         c->eps = 1e-3 * c->L / (double) (c->data.n - 1);
         c->sigma = lf_fit_noise_sigma(c->data.depth, c->data.force, f->order + c->row, c->data.n,
-                                   f->w.work);
+                                      fbig, f->w.work);
     }
     return LF_OK;
 }
