@@ -402,12 +402,36 @@ take_position(lf_fit *f, gsl_vector *x)
     gsl_vector_memcpy(x, cur_x(f));
 }
 
+/* Solve again from x after a stall (allow_own: lm.c may take it), its
+ * iterations and evaluations counted into run; GSL's "no step lowers the
+ * cost from the start" (EMAXITER, info ENOPROG) comes back as ENOPROG.
+ * *started is 0 (nothing run or counted) when the solver cannot start at
+ * x. */
+static int
+solve_again(lf_fit *f, gsl_vector *x, int allow_own, fit_run *run, int *info, size_t *dead,
+            int *started)
+{
+    size_t more;
+    int status = solver_init(f, x, allow_own);
+
+    *started = status == GSL_SUCCESS;
+    if (!*started)
+        return status;
+    status = drive(f, info, dead);
+    more = cur_niter(f);
+    run->iters += more;
+    run->evals += cur_evals(f);
+    if (status == GSL_EMAXITER && *info == GSL_ENOPROG && more < f->set.max_iter)
+        status = GSL_ENOPROG;
+    return status;
+}
+
 int
 lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error *err)
 {
     int status, info = 0, *converged = &run->converged;
     size_t dead = 0, iters, nudge;
-    int kink = 0;
+    int kink = 0, started;
     double gain = 0.0;
     char *why = run->why;
     const size_t nwhy = sizeof run->why;
@@ -469,17 +493,9 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
         /* the analytic derivatives, guarded at the contact edge, can point
          * nowhere useful there: go on with finite differences, which see the
          * residuals as they are */
-        size_t more;
         f->fdf.df = NULL;
-        status = solver_init(f, x, 0);
-        if (status == GSL_SUCCESS)
-            status = drive(f, &info, &dead);
-        more = cur_niter(f);
-        run->iters += more;
-        run->evals += cur_evals(f);
+        status = solve_again(f, x, 0, run, &info, &dead, &started);
         f->fdf.df = lf_fit_jacobian;
-        if (status == GSL_EMAXITER && info == GSL_ENOPROG && more < f->set.max_iter)
-            status = GSL_ENOPROG;
         stop_reason(status, info, f->set.max_iter, why, nwhy, converged);
         take_position(f, x);
     }
@@ -490,25 +506,18 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
          * see): take that step and solve on from there; a step that gains
          * less than FIT_CHI2_STEP of chi2/dof is the rounding of a kink's
          * minimum, where the Gauss-Newton test cannot pass */
-        size_t more;
         if (gain < FIT_CHI2_STEP) {
             kink = 1;
             break;
         }
-        status = solver_init(f, x, 1);
-        if (status != GSL_SUCCESS)
+        status = solve_again(f, x, 1, run, &info, &dead, &started);
+        if (!started)
             break;
-        status = drive(f, &info, &dead);
-        more = cur_niter(f);
-        run->iters += more;
-        run->evals += cur_evals(f);
         if (status == GSL_EBADFUNC) {
             status = GSL_ENOPROG;       /* judged below as the stall it ends */
             take_position(f, x);
             break;
         }
-        if (status == GSL_EMAXITER && info == GSL_ENOPROG && more < f->set.max_iter)
-            status = GSL_ENOPROG;
         stop_reason(status, info, f->set.max_iter, why, nwhy, converged);
         take_position(f, x);
     }
