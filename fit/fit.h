@@ -141,7 +141,6 @@ typedef struct {
     gsl_vector *xt, *rt;    /* np, nres: the trial point (the previous one
                                after an accepted step) */
     gsl_vector *h;          /* np: the step */
-    gsl_matrix *J;          /* nres x np at x */
     double *A, *L;          /* np x np: J^T J and a Cholesky factor */
     double *g, *D2;         /* np: J^T r, squared scaling */
     double *colmax;         /* np: max |J_ik| of each column at x */
@@ -177,7 +176,6 @@ typedef struct {
     int own;             /* 1: lm.c holds the solver's state, 0: GSL */
     double *block;       /* one allocation holding every number above */
     gsl_vector vectors[10];  /* the views x, r, ... into block */
-    gsl_matrix matrix;       /* lm.J's view */
 } fit_work;
 
 /* A run's running totals and its verdict. */
@@ -230,6 +228,13 @@ void lf_fit_set_origin(lf_fit *f);
 void lf_fit_rebase(lf_fit *f, gsl_vector *x);
 int lf_fit_residuals(const gsl_vector *x, void *params, gsl_vector *r);
 int lf_fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J);
+/* The normal equations of the internal coordinates at x, curve by curve
+ * from the model's evaluations (a curve's rows touch only the material's
+ * columns and its own offsets'), J never formed: A = J^T J (lower
+ * triangle), g = J^T r for the residuals r at x, colmax = max |J_ik| per
+ * column.  GSL_EDOM when the model cannot be evaluated. */
+int lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, double *A, double *g,
+                       double *colmax);
 /* Jacobian with respect to the physical coordinates, rows weighted. */
 int lf_fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J);
 /* Half the sum of squared residuals at x (into r); HUGE_VAL if not computable. */

@@ -232,8 +232,7 @@ work_alloc(lf_fit *f)
                    + 2 * nd + nwork + 3 * GUESS_NSUB + GUESS_NODES   /* sqrtw, delta, work, sub */
                    + 7 * nc                    /* keep, off */
                    + 3 * np * np + 7 * np      /* jtj, lm.A, lm.L; lm.g, lm.D2, lm.colmax, grad, colmax, ainv, gn_x */
-                   + 6 * np + 4 * nr           /* lm.x, xt, h, x, x2, x0; lm.r, rt, r, r2 */
-                   + nr * np;                  /* lm.J */
+                   + 6 * np + 4 * nr;          /* lm.x, xt, h, x, x2, x0; lm.r, rt, r, r2 */
     double *at;
     gsl_vector *v = w->vectors;
 
@@ -269,13 +268,6 @@ work_alloc(lf_fit *f)
     w->lm.rt = take_vector(v++, &at, nr);
     w->r = take_vector(v++, &at, nr);
     w->r2 = take_vector(v++, &at, nr);
-    w->lm.J = &w->matrix;
-    w->matrix.size1 = nr;
-    w->matrix.size2 = np;
-    w->matrix.tda = np;
-    w->matrix.data = take(&at, nr * np);
-    w->matrix.block = NULL;
-    w->matrix.owner = 0;
     return LF_OK;
 }
 

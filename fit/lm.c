@@ -1,5 +1,5 @@
 /* lm.c: the Levenberg-Marquardt iteration of the "lm" method, on the
- * small normal matrix.
+ * small normal matrix (formed without J, problem.c).
  *
  * A fit has a few parameters (2 to about 10) and hundreds of rows, so one
  * step is cheap once J is known: the step h solves
@@ -61,70 +61,27 @@ damped_solve(size_t p, const double *A, const double *D2, double mu, const doubl
     return 1;
 }
 
-/* The sums of the normal equations over rows [0, n) of J (row stride
- * tda): A += J^T J (lower triangle), g += J^T r, big = max |J_ik| per
- * column; returns |r|^2.  P > 0: a compile-time column count (the
- * constant lets the compiler keep the sums in registers); P = 0: p. */
-LF_KERNEL double
-ne_sums(const double *J, size_t tda, const double *r, size_t n, size_t P, size_t p,
-        double *A, double *g, double *big)
-{
-    enum { PK = 6 };
-    double a[PK * PK] = { 0 }, gk[PK] = { 0 }, bk[PK] = { 0 }, ss = 0.0;
-    /* a constant P: the sums in the local arrays, else straight in A, g, big */
-    const size_t m = P ? P : p, stride = P ? (size_t) PK : p;
-    double *sa = P ? a : A, *sg = P ? gk : g, *sb = P ? bk : big;
-    size_t i, k, l;
-
-    for (i = 0; i < n; i++) {
-        const double *row = J + i * tda, ri = r[i];
-        ss += ri * ri;
-        for (k = 0; k < m; k++) {
-            const double v = fabs(row[k]);
-            sg[k] += row[k] * ri;
-            /* a NaN leaves the maximum (as lf_fmax would); it reaches g */
-            sb[k] = v > sb[k] ? v : sb[k];
-            for (l = 0; l <= k; l++)
-                sa[k * stride + l] += row[k] * row[l];
-        }
-    }
-    for (k = 0; k < P; k++) {
-        g[k] = gk[k];
-        big[k] = bk[k];
-        for (l = 0; l <= k; l++)
-            A[k * p + l] = a[k * PK + l];
-    }
-    return ss;
-}
-
 /* A = J^T J (lower triangle), g = J^T r, colmax = max |J_ik| per column
- * and cost = |r|^2 / 2 at the current point; D2 grows to the squared
- * column norms. */
-static void
+ * and cost = |r|^2 / 2 at the current point (problem.c, J never formed);
+ * D2 grows to the squared column norms. */
+static int
 normal_equations(lf_fit *f)
 {
     fit_lm *lm = &f->w.lm;
-    const gsl_matrix *J = lm->J;
-    const size_t n = J->size1, p = J->size2;
+    const size_t n = f->nres, p = f->np;
     const double *r = lm->r->data;
-    size_t k;
-    double ss;
+    size_t i, k;
+    double ss = 0.0;
 
-    memset(lm->A, 0, p * p * sizeof *lm->A);
-    memset(lm->g, 0, p * sizeof *lm->g);
-    memset(lm->colmax, 0, p * sizeof *lm->colmax);
-    switch (p) {
-    case 1: ss = ne_sums(J->data, J->tda, r, n, 1, p, lm->A, lm->g, lm->colmax); break;
-    case 2: ss = ne_sums(J->data, J->tda, r, n, 2, p, lm->A, lm->g, lm->colmax); break;
-    case 3: ss = ne_sums(J->data, J->tda, r, n, 3, p, lm->A, lm->g, lm->colmax); break;
-    case 4: ss = ne_sums(J->data, J->tda, r, n, 4, p, lm->A, lm->g, lm->colmax); break;
-    case 5: ss = ne_sums(J->data, J->tda, r, n, 5, p, lm->A, lm->g, lm->colmax); break;
-    case 6: ss = ne_sums(J->data, J->tda, r, n, 6, p, lm->A, lm->g, lm->colmax); break;
-    default: ss = ne_sums(J->data, J->tda, r, n, 0, p, lm->A, lm->g, lm->colmax); break;
-    }
+    lm->nevaldf++;
+    if (lf_fit_normal_sums(f, lm->x->data, r, lm->A, lm->g, lm->colmax) != GSL_SUCCESS)
+        return GSL_EDOM;
+    for (i = 0; i < n; i++)
+        ss += r[i] * r[i];
     lm->cost = 0.5 * ss;
     for (k = 0; k < p; k++)
         lm->D2[k] = lf_fmax(lm->D2[k], lm->A[k * p + k]);
+    return GSL_SUCCESS;
 }
 
 int
@@ -139,11 +96,9 @@ lf_fit_lm_init(lf_fit *f, const gsl_vector *x)
     lm->nevalf++;
     if (lf_fit_residuals(lm->x, f, lm->r) != GSL_SUCCESS)
         return GSL_EDOM;
-    lm->nevaldf++;
-    if (lf_fit_jacobian(lm->x, f, lm->J) != GSL_SUCCESS)
-        return GSL_EDOM;
     memset(lm->D2, 0, p * sizeof *lm->D2);
-    normal_equations(f);
+    if (normal_equations(f) != GSL_SUCCESS)
+        return GSL_EDOM;
     for (k = 0; k < p; k++)
         if (lm->D2[k] > 0)
             big = lf_fmax(big, lm->A[k * p + k] / lm->D2[k]);
@@ -189,10 +144,8 @@ lf_fit_lm_iterate(lf_fit *f)
             gsl_vector_swap(lm->x, lm->xt);
             gsl_vector_swap(lm->r, lm->rt);
             lm->cost_prev = lm->cost;
-            lm->nevaldf++;
-            if (lf_fit_jacobian(lm->x, f, lm->J) != GSL_SUCCESS)
+            if (normal_equations(f) != GSL_SUCCESS)
                 return GSL_EDOM;
-            normal_equations(f);
             lm->mu *= lf_fmax(1.0 / 3.0, 1.0 - t * t * t);
             lm->nu = 2.0;
             lm->niter++;

@@ -305,6 +305,137 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
     return GSL_SUCCESS;
 }
 
+/* ---- the normal equations without J --------------------------------- */
+
+/* The six columns a curve's rows can touch, in the order of their entries
+ * t[] below: w, E*, nu (the material's), then the curve's own z0, F0 and
+ * slope.  A curve's map keeps the free ones: sel[q] names which of the six
+ * its q-th column is, mult[q] the factor of the internal coordinate (as in
+ * fill_jacobian), col[q] its index in x. */
+typedef struct {
+    size_t m;
+    int sel[6], col[6];
+    double mult[6];
+} row_map;
+
+/* Curve c's rows of J^T J (lower triangle, local 6 x 6), J^T r and the
+ * column maxima, M columns (a compile-time constant in each instance, so
+ * the sums stay in registers).  Row entries are those of fill_jacobian,
+ * guard at detachment included. */
+LF_KERNEL void
+curve_sums(const lf_fit *f, const fit_curve *c, const lf_material *mat, double ddet,
+           double slope, const row_map *map, size_t M, const double *r, double *sa,
+           double *sg, double *sb)
+{
+    const double inv_sigma = 1.0 / c->sigma, lo = ddet, hi = ddet + c->eps;
+    double a[36] = { 0 }, gk[6] = { 0 }, bk[6] = { 0 };
+    size_t i, q, l;
+
+    for (i = 0; i < c->data.n; i++) {
+        const size_t k = c->row + i;
+        const double d = f->w.delta[k], ws = f->w.sqrtw[k] * inv_sigma, ri = r[k];
+        const lf_eval *e = &f->w.ev[k];
+        lf_eval eg;
+        double t[6], v[6];
+        if (d > lo && d < hi) {     /* lo = -inf unless unloading */
+            double d2 = hi;
+            if (lf_model_eval(c->model, mat, c->data.branch, 1, &d2, &eg, NULL) == LF_OK)
+                e = &eg;
+        }
+        t[0] = e->dP_dlogw;
+        t[1] = e->dP_dlogE;
+        t[2] = e->dP_dnu;
+        t[3] = e->dP_ddelta + slope;
+        t[4] = 1.0;
+        t[5] = d;
+        for (q = 0; q < M; q++)
+            v[q] = t[map->sel[q]] * map->mult[q] * ws;
+        for (q = 0; q < M; q++) {
+            const double av = fabs(v[q]);
+            gk[q] += v[q] * ri;
+            /* a NaN leaves the maximum (as lf_fmax would); it reaches g */
+            bk[q] = av > bk[q] ? av : bk[q];
+            for (l = 0; l <= q; l++)
+                a[q * 6 + l] += v[q] * v[l];
+        }
+    }
+    for (q = 0; q < M; q++) {
+        sg[q] = gk[q];
+        sb[q] = bk[q];
+        for (l = 0; l <= q; l++)
+            sa[q * 6 + l] = a[q * 6 + l];
+    }
+}
+
+int
+lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, double *A, double *g,
+                   double *colmax)
+{
+    const size_t p = f->np;
+    const int im[3] = { f->imat[FIT_W], f->imat[FIT_E], f->imat[FIT_NU] };
+    lf_material mat;
+    double z0, F0, slope, snu = 1.0;
+    size_t j, q, l;
+
+    if (eval_all(f, x) != LF_OK)
+        return GSL_EDOM;
+    if (im[2] >= 0)
+        snu = lf_fit_dnu_du(internal(f, x, im[2]));
+    memset(A, 0, p * p * sizeof *A);
+    memset(g, 0, p * sizeof *g);
+    memset(colmax, 0, p * sizeof *colmax);
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        const int own[3] = { c->iz0, c->iF0, c->islope };
+        const double mult[6] = { 1.0, 1.0, snu, -c->L, c->Fs, c->Fs / c->L };
+        double sa[36], sg[6], sb[6], ddet = -HUGE_VAL;
+        row_map map;
+        lf_pulloff po;
+
+        map.m = 0;
+        for (q = 0; q < 6; q++) {
+            int col = q < 3 ? im[q] : own[q - 3];
+            if (col >= 0) {
+                map.sel[map.m] = (int) q;
+                map.col[map.m] = col;
+                map.mult[map.m++] = mult[q];
+            }
+        }
+        if (map.m == 0)
+            continue;
+        lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+        if (c->data.branch == LF_BRANCH_UNLOAD
+            && lf_model_pulloff(c->model, &mat, &po, NULL) == LF_OK)
+            ddet = po.delta_detach;
+        switch (map.m) {
+        case 1: curve_sums(f, c, &mat, ddet, slope, &map, 1, r, sa, sg, sb); break;
+        case 2: curve_sums(f, c, &mat, ddet, slope, &map, 2, r, sa, sg, sb); break;
+        case 3: curve_sums(f, c, &mat, ddet, slope, &map, 3, r, sa, sg, sb); break;
+        case 4: curve_sums(f, c, &mat, ddet, slope, &map, 4, r, sa, sg, sb); break;
+        case 5: curve_sums(f, c, &mat, ddet, slope, &map, 5, r, sa, sg, sb); break;
+        default: curve_sums(f, c, &mat, ddet, slope, &map, 6, r, sa, sg, sb); break;
+        }
+        for (q = 0; q < map.m; q++) {
+            const size_t cq = (size_t) map.col[q];
+            g[cq] += sg[q];
+            /* as the maximum above: a NaN in sb stays out, the sums carry it */
+            colmax[cq] = sb[q] > colmax[cq] ? sb[q] : colmax[cq];
+            for (l = 0; l <= q; l++) {
+                const size_t cl = (size_t) map.col[l];
+                A[cq > cl ? cq * p + cl : cl * p + cq] += sa[q * 6 + l];
+            }
+        }
+    }
+    if (f->nu_prior) {      /* the prior's row: snu / prior_sd in nu's column */
+        const size_t inu = (size_t) im[2];
+        const double v = snu / f->set.nu.prior_sd, ri = r[f->ndata];
+        A[inu * p + inu] += v * v;
+        g[inu] += v * ri;
+        colmax[inu] = lf_fmax(colmax[inu], fabs(v));
+    }
+    return GSL_SUCCESS;
+}
+
 int
 lf_fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J)
 {

@@ -32,10 +32,11 @@ cur_r(lf_fit *f)
     return f->w.own ? f->w.lm.r : gsl_multifit_nlinear_residual(f->gsl);
 }
 
+/* GSL's Jacobian at the current point (lm.c keeps J^T J and J^T r only). */
 static gsl_matrix *
-cur_J(lf_fit *f)
+gsl_J(lf_fit *f)
 {
-    return f->w.own ? f->w.lm.J : gsl_multifit_nlinear_jac(f->gsl);
+    return gsl_multifit_nlinear_jac(f->gsl);
 }
 
 static size_t
@@ -114,16 +115,21 @@ static int
 at_minimum(lf_fit *f)
 {
     gsl_vector *r = cur_r(f);
-    gsl_matrix *J = cur_J(f);
     size_t i, k;
     double rn = gsl_blas_dnrm2(r);
 
     for (k = 0; k < f->np; k++) {
         double g = 0.0, cn = 0.0;
-        for (i = 0; i < f->nres; i++) {
-            double jik = gsl_matrix_get(J, i, k);
-            g += jik * gsl_vector_get(r, i);
-            cn += jik * jik;
+        if (f->w.own) {     /* J^T r and the column's squared norm, from lm.c */
+            g = f->w.lm.g[k];
+            cn = f->w.lm.A[k * f->np + k];
+        } else {
+            const gsl_matrix *J = gsl_J(f);
+            for (i = 0; i < f->nres; i++) {
+                double jik = gsl_matrix_get(J, i, k);
+                g += jik * gsl_vector_get(r, i);
+                cn += jik * jik;
+            }
         }
         if (fabs(g) > FIT_GRAD_ROUNDING * sqrt(cn) * rn + 1e-300)
             return 0;
@@ -221,9 +227,8 @@ track_cost(lf_fit *f, size_t iter)
 static int
 examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
 {
-    const gsl_matrix *J = cur_J(f);
     const gsl_vector *r = cur_r(f);
-    const size_t n = J->size1, p = J->size2;
+    const size_t n = f->nres, p = f->np;
     double *A = f->w.jtj, *g = f->w.grad, *big = f->w.colmax, top = 0.0, low = HUGE_VAL;
     size_t i, k, l;
 
@@ -237,6 +242,7 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
         memcpy(g, f->w.lm.g, p * sizeof *g);
         memcpy(big, f->w.lm.colmax, p * sizeof *big);
     } else {
+        const gsl_matrix *J = gsl_J(f);
         memset(A, 0, p * p * sizeof *A);
         for (k = 0; k < p; k++)
             g[k] = 0.0;
