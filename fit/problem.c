@@ -348,13 +348,17 @@ curve_sums(const lf_fit *f, const fit_curve *c, const lf_material *mat, double d
         t[3] = e->dP_ddelta + slope;
         t[4] = 1.0;
         t[5] = d;
+        /* unrolled (M is constant): the sums stay in registers */
+#pragma GCC unroll 6
         for (q = 0; q < M; q++)
             v[q] = t[map->sel[q]] * map->mult[q] * ws;
+#pragma GCC unroll 6
         for (q = 0; q < M; q++) {
             const double av = fabs(v[q]);
             gk[q] += v[q] * ri;
             /* a NaN leaves the maximum (as lf_fmax would); it reaches g */
             bk[q] = av > bk[q] ? av : bk[q];
+#pragma GCC unroll 6
             for (l = 0; l <= q; l++)
                 a[q * 6 + l] += v[q] * v[l];
         }
