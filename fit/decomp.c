@@ -2,7 +2,8 @@
  * uncertainty (uncertainty.c) and the model choice (choose.c) share.
  *
  * J is the weighted Jacobian with respect to the physical parameters; its
- * columns are scaled to unit norm, Js = J D^-1, then Js = Q R (Householder)
+ * columns are scaled to unit norm, Js = J D^-1, then Js = Q R (Householder,
+ * our own sweep for a tall, narrow matrix, in GSL's storage)
  * and R = U_R S V^T (one-sided Jacobi SVD of the small p x p R), so that
  * Js = (Q U_R) S V^T: the singular values and right vectors of Js at a
  * fraction of the cost of an SVD of the tall Js.  A singular value below
@@ -51,6 +52,72 @@ lf_fit_decomp_free(fit_decomp *d)
     memset(d, 0, sizeof *d);
 }
 
+/* The Euclidean norm of column k of A (n rows from row r0, row stride
+ * tda): the plain sum of squares unless it over- or underflowed, then
+ * BLAS's scaled one. */
+static double
+column_norm(const double *A, size_t tda, size_t r0, size_t n, size_t k)
+{
+    double ss = 0.0;
+    size_t i;
+
+    for (i = r0; i < n; i++)
+        ss += A[i * tda + k] * A[i * tda + k];
+    if (isfinite(ss) && (ss > 1e-280 || ss == 0.0))
+        return sqrt(ss);
+    {
+        gsl_vector_const_view col = gsl_vector_const_view_array_with_stride(A + r0 * tda + k, tda,
+                                                                            n - r0);
+        return gsl_blas_dnrm2(&col.vector);
+    }
+}
+
+/* Householder QR of the n x p matrix A (row stride tda, n >= p) in place,
+ * stored as LAPACK and GSL store it (R on and above the diagonal, each
+ * reflector's vector below it with an implicit leading 1, H_k = I - tau_k
+ * v v^T), so that gsl_linalg_QR_QTvec applies Q^T.  A tall, narrow J: each
+ * reflector is applied to the columns on its right in one sweep of the
+ * rows for the dot products and one for the update (w: p scratch). */
+static void
+householder_qr(double *A, size_t tda, size_t n, size_t p, double *tau, double *w)
+{
+    size_t i, k, l;
+
+    for (k = 0; k < p; k++) {
+        double *akk = A + k * tda + k;
+        const double alpha = *akk, xnorm = column_norm(A, tda, k + 1, n, k);
+        double beta, scale;
+        if (xnorm == 0.0) {         /* nothing below the diagonal: H = I */
+            tau[k] = 0.0;
+            continue;
+        }
+        beta = -(alpha >= 0.0 ? 1.0 : -1.0) * hypot(alpha, xnorm);
+        tau[k] = (beta - alpha) / beta;
+        scale = 1.0 / (alpha - beta);   /* |alpha - beta| >= xnorm > 0 */
+        for (i = k + 1; i < n; i++)
+            A[i * tda + k] *= scale;
+        *akk = beta;
+        if (k + 1 == p)
+            break;
+        for (l = k + 1; l < p; l++)     /* w = tau (v^T A[k:, l]) */
+            w[l] = A[k * tda + l];
+        for (i = k + 1; i < n; i++) {
+            const double *row = A + i * tda;
+            for (l = k + 1; l < p; l++)
+                w[l] += row[k] * row[l];
+        }
+        for (l = k + 1; l < p; l++) {
+            w[l] *= tau[k];
+            A[k * tda + l] -= w[l];
+        }
+        for (i = k + 1; i < n; i++) {
+            double *row = A + i * tda;
+            for (l = k + 1; l < p; l++)
+                row[l] -= row[k] * w[l];
+        }
+    }
+}
+
 int
 lf_fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond)
 {
@@ -61,20 +128,13 @@ lf_fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond)
     if (lf_fit_jacobian_physical(f, x, d->QR) != GSL_SUCCESS)
         return LF_ENUMERIC;
     for (k = 0; k < p; k++) {
-        gsl_vector_view col = gsl_matrix_column(d->QR, k);
-        double ss = 0.0, dn;
-        for (i = 0; i < d->n; i++) {
-            const double v = d->QR->data[i * d->QR->tda + k];
-            ss += v * v;
-        }
-        /* the plain sum of squares unless it over- or underflowed */
-        dn = isfinite(ss) && ss > 1e-280 ? sqrt(ss) : gsl_blas_dnrm2(&col.vector);
+        const double dn = column_norm(d->QR->data, d->QR->tda, 0, d->n, k);
         gsl_vector_set(d->D, k, dn);
         if (dn > 0)
-            gsl_vector_scale(&col.vector, 1.0 / dn);
+            for (i = 0; i < d->n; i++)
+                d->QR->data[i * d->QR->tda + k] /= dn;
     }
-    if (gsl_linalg_QR_decomp(d->QR, d->tau) != GSL_SUCCESS)
-        return LF_ENUMERIC;
+    householder_qr(d->QR->data, d->QR->tda, d->n, p, d->tau->data, d->work->data);
     gsl_matrix_set_zero(d->U);
     for (i = 0; i < p; i++)
         for (k = i; k < p; k++)

@@ -221,47 +221,115 @@ lf_fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
     return GSL_SUCCESS;
 }
 
-/* The model's derivatives at point k, away from the edge where they blow up:
- * on unloading, a point closer than eps to detachment takes the
- * derivatives of the point eps inside contact. */
-static lf_eval
-guarded(const lf_fit *f, const fit_curve *c, const lf_material *mat,
-        double delta_detach, size_t k)
-{
-    lf_eval e = f->w.ev[k];
-    double d = f->w.delta[k];
+/* ---- the Jacobian, and the normal equations without it ---------------- */
 
-    if (c->data.branch == LF_BRANCH_UNLOAD && d > delta_detach
-        && d < delta_detach + c->eps) {
-        double d2 = delta_detach + c->eps;
-        if (lf_model_eval(c->model, mat, c->data.branch, 1, &d2, &e, NULL) != LF_OK)
-            e = f->w.ev[k];
+/* The six columns a curve's rows can touch, in the order of the entries
+ * row_entries() gives: w, E*, nu (the material's), then the curve's own
+ * z0, F0 and slope.  A curve's map keeps the free ones: sel[q] names which
+ * of the six its q-th column is, mult[q] the factor of the coordinate
+ * (internal or physical), col[q] its index in x.  Also what the rows
+ * need: the curve's material, slope and detachment point. */
+typedef struct {
+    size_t m;
+    int sel[6], col[6];
+    double mult[6];
+    lf_material mat;
+    double slope, ddet;
+} row_map;
+
+/* Curve j's map at x.  physical = 0: derivatives with respect to the
+ * internal coordinates (= x); 1: with respect to w, E*, nu, z0, F0, s.  The
+ * model gives dP/dln w, dP/dln E*, dP/dnu, and d(internal)/d(physical) is
+ * 1/w, 1/E*, du/dnu. */
+static void
+curve_map(const lf_fit *f, const double *x, size_t j, int physical, row_map *map)
+{
+    const fit_curve *c = &f->c[j];
+    const int im[3] = { f->imat[FIT_W], f->imat[FIT_E], f->imat[FIT_NU] };
+    const int own[3] = { c->iz0, c->iF0, c->islope };
+    double mult[6], z0, F0;
+    lf_pulloff po;
+    size_t q;
+
+    lf_fit_unpack(f, x, &map->mat, &z0, &F0, &map->slope, j);
+    mult[0] = physical ? 1.0 / map->mat.w : 1.0;
+    mult[1] = physical ? 1.0 / map->mat.Estar : 1.0;
+    mult[2] = physical || im[2] < 0 ? 1.0 : lf_fit_dnu_du(internal(f, x, im[2]));
+    mult[3] = physical ? -1.0 : -c->L;
+    mult[4] = physical ? 1.0 : c->Fs;
+    mult[5] = physical ? 1.0 : c->Fs / c->L;
+    map->m = 0;
+    for (q = 0; q < 6; q++) {
+        const int col = q < 3 ? im[q] : own[q - 3];
+        if (col >= 0) {
+            map->sel[map->m] = (int) q;
+            map->col[map->m] = col;
+            map->mult[map->m++] = mult[q];
+        }
     }
-    return e;
+    /* on unloading, a point closer than eps to detachment, where the
+     * derivatives blow up, takes those of the point eps inside contact */
+    map->ddet = -HUGE_VAL;
+    if (c->data.branch == LF_BRANCH_UNLOAD
+        && lf_model_pulloff(c->model, &map->mat, &po, NULL) == LF_OK)
+        map->ddet = po.delta_detach;
 }
 
-/* Fill J, rows weighted by 1/sigma, each row written in place (J's data,
- * row by row).  physical = 0: derivatives with respect to the internal
- * coordinates (= x); 1: with respect to w, E*, nu, z0, F0, s. */
+/* Row k's entries in the map's columns into v[0..M-1] (unweighted by
+ * sigma and the robust weight: ws multiplies them). */
+LF_KERNEL void
+row_entries(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M, size_t k,
+            double ws, double *v)
+{
+    const double d = f->w.delta[k];
+    const lf_eval *e = &f->w.ev[k];
+    lf_eval eg;
+    double t[6];
+    size_t q;
+
+    if (d > map->ddet && d < map->ddet + c->eps) {     /* ddet = -inf unless unloading */
+        double d2 = map->ddet + c->eps;
+        if (lf_model_eval(c->model, &map->mat, c->data.branch, 1, &d2, &eg, NULL) == LF_OK)
+            e = &eg;
+    }
+    t[0] = e->dP_dlogw;
+    t[1] = e->dP_dlogE;
+    t[2] = e->dP_dnu;
+    t[3] = e->dP_ddelta + map->slope;
+    t[4] = 1.0;
+    t[5] = d;
+#pragma GCC unroll 6
+    for (q = 0; q < M; q++)
+        v[q] = t[map->sel[q]] * map->mult[q] * ws;
+}
+
+/* Curve c's rows of J, M columns (a compile-time constant in each
+ * instance), into J's rows (zeros elsewhere already). */
+LF_KERNEL void
+curve_rows(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M, gsl_matrix *J)
+{
+    const double inv_sigma = 1.0 / c->sigma;
+    size_t i, q;
+
+    for (i = 0; i < c->data.n; i++) {
+        const size_t k = c->row + i;
+        double v[6], *row = J->data + k * J->tda;
+        row_entries(f, c, map, M, k, f->w.sqrtw[k] * inv_sigma, v);
+#pragma GCC unroll 6
+        for (q = 0; q < M; q++)
+            row[map->col[q]] = v[q];
+    }
+}
+
+/* Fill J, rows weighted by 1/sigma (physical as in curve_map). */
 static int
 fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
 {
     size_t i, j;
-    lf_material mat;
-    double z0, F0, slope, u = 0.0;
-    double sw, sE, snu;
-    const int iw = f->imat[FIT_W], iE = f->imat[FIT_E], inu = f->imat[FIT_NU];
+    row_map map;
 
     if (eval_all(f, x) != LF_OK)
         return GSL_EDOM;
-    lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
-    if (inu >= 0)
-        u = internal(f, x, inu);
-    /* d(internal)/d(physical) is 1/w, 1/E*, du/dnu; the model gives
-     * dP/dln w, dP/dln E*, dP/dnu. */
-    sw = physical ? 1.0 / mat.w : 1.0;
-    sE = physical ? 1.0 / mat.Estar : 1.0;
-    snu = physical ? 1.0 : lf_fit_dnu_du(u);
     /* the zeros of every row at once (a call per row costs more than the
      * row's numbers) */
     if (J->tda == J->size2)
@@ -271,87 +339,42 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
             memset(J->data + i * J->tda, 0, J->size2 * sizeof *J->data);
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
-        double sz = physical ? 1.0 : c->L, sF = physical ? 1.0 : c->Fs;
-        double ss = physical ? 1.0 : c->Fs / c->L;
-        const double inv_sigma = 1.0 / c->sigma;
-        double ddet = -HUGE_VAL;
-        lf_pulloff po;
-
-        lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
-        if (c->data.branch == LF_BRANCH_UNLOAD
-            && lf_model_pulloff(c->model, &mat, &po, NULL) == LF_OK)
-            ddet = po.delta_detach;
-        for (i = 0; i < c->data.n; i++) {
-            size_t k = c->row + i;
-            double *row = J->data + k * J->tda;
-            lf_eval e = guarded(f, c, &mat, ddet, k);
-            double ws = f->w.sqrtw[k] * inv_sigma;
-            if (iw >= 0)
-                row[iw] = e.dP_dlogw * sw * ws;
-            if (iE >= 0)
-                row[iE] = e.dP_dlogE * sE * ws;
-            if (inu >= 0)
-                row[inu] = e.dP_dnu * snu * ws;
-            if (c->iz0 >= 0)
-                row[c->iz0] = -(e.dP_ddelta + slope) * sz * ws;
-            if (c->iF0 >= 0)
-                row[c->iF0] = sF * ws;
-            if (c->islope >= 0)
-                row[c->islope] = f->w.delta[k] * ss * ws;
+        curve_map(f, x, j, physical, &map);
+        switch (map.m) {
+        case 0: break;
+        case 1: curve_rows(f, c, &map, 1, J); break;
+        case 2: curve_rows(f, c, &map, 2, J); break;
+        case 3: curve_rows(f, c, &map, 3, J); break;
+        case 4: curve_rows(f, c, &map, 4, J); break;
+        case 5: curve_rows(f, c, &map, 5, J); break;
+        default: curve_rows(f, c, &map, 6, J); break;
         }
     }
-    if (f->nu_prior)
+    if (f->nu_prior) {
+        const int inu = f->imat[FIT_NU];
+        const double snu = physical ? 1.0 : lf_fit_dnu_du(internal(f, x, inu));
         J->data[f->ndata * J->tda + (size_t) inu] = snu / f->set.nu.prior_sd;
+    }
     return GSL_SUCCESS;
 }
 
-/* ---- the normal equations without J --------------------------------- */
-
-/* The six columns a curve's rows can touch, in the order of their entries
- * t[] below: w, E*, nu (the material's), then the curve's own z0, F0 and
- * slope.  A curve's map keeps the free ones: sel[q] names which of the six
- * its q-th column is, mult[q] the factor of the internal coordinate (as in
- * fill_jacobian), col[q] its index in x. */
-typedef struct {
-    size_t m;
-    int sel[6], col[6];
-    double mult[6];
-} row_map;
-
 /* Curve c's rows of J^T J (lower triangle, local 6 x 6), J^T r and the
  * column maxima, M columns (a compile-time constant in each instance, so
- * the sums stay in registers).  Row entries are those of fill_jacobian,
- * guard at detachment included. */
+ * the sums stay in registers). */
 LF_KERNEL void
-curve_sums(const lf_fit *f, const fit_curve *c, const lf_material *mat, double ddet,
-           double slope, const row_map *map, size_t M, const double *r, double *sa,
-           double *sg, double *sb)
+curve_sums(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M,
+           const double *r, double *sa, double *sg, double *sb)
 {
-    const double inv_sigma = 1.0 / c->sigma, lo = ddet, hi = ddet + c->eps;
+    const double inv_sigma = 1.0 / c->sigma;
     double a[36] = { 0 }, gk[6] = { 0 }, bk[6] = { 0 };
     size_t i, q, l;
 
     for (i = 0; i < c->data.n; i++) {
         const size_t k = c->row + i;
-        const double d = f->w.delta[k], ws = f->w.sqrtw[k] * inv_sigma, ri = r[k];
-        const lf_eval *e = &f->w.ev[k];
-        lf_eval eg;
-        double t[6], v[6];
-        if (d > lo && d < hi) {     /* lo = -inf unless unloading */
-            double d2 = hi;
-            if (lf_model_eval(c->model, mat, c->data.branch, 1, &d2, &eg, NULL) == LF_OK)
-                e = &eg;
-        }
-        t[0] = e->dP_dlogw;
-        t[1] = e->dP_dlogE;
-        t[2] = e->dP_dnu;
-        t[3] = e->dP_ddelta + slope;
-        t[4] = 1.0;
-        t[5] = d;
+        const double ri = r[k];
+        double v[6];
+        row_entries(f, c, map, M, k, f->w.sqrtw[k] * inv_sigma, v);
         /* unrolled (M is constant): the sums stay in registers */
-#pragma GCC unroll 6
-        for (q = 0; q < M; q++)
-            v[q] = t[map->sel[q]] * map->mult[q] * ws;
 #pragma GCC unroll 6
         for (q = 0; q < M; q++) {
             const double av = fabs(v[q]);
@@ -376,48 +399,27 @@ lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, double *A, doubl
                    double *colmax)
 {
     const size_t p = f->np;
-    const int im[3] = { f->imat[FIT_W], f->imat[FIT_E], f->imat[FIT_NU] };
-    lf_material mat;
-    double z0, F0, slope, snu = 1.0;
     size_t j, q, l;
 
     if (eval_all(f, x) != LF_OK)
         return GSL_EDOM;
-    if (im[2] >= 0)
-        snu = lf_fit_dnu_du(internal(f, x, im[2]));
     memset(A, 0, p * p * sizeof *A);
     memset(g, 0, p * sizeof *g);
     memset(colmax, 0, p * sizeof *colmax);
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
-        const int own[3] = { c->iz0, c->iF0, c->islope };
-        const double mult[6] = { 1.0, 1.0, snu, -c->L, c->Fs, c->Fs / c->L };
-        double sa[36], sg[6], sb[6], ddet = -HUGE_VAL;
+        double sa[36], sg[6], sb[6];
         row_map map;
-        lf_pulloff po;
 
-        map.m = 0;
-        for (q = 0; q < 6; q++) {
-            int col = q < 3 ? im[q] : own[q - 3];
-            if (col >= 0) {
-                map.sel[map.m] = (int) q;
-                map.col[map.m] = col;
-                map.mult[map.m++] = mult[q];
-            }
-        }
-        if (map.m == 0)
-            continue;
-        lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
-        if (c->data.branch == LF_BRANCH_UNLOAD
-            && lf_model_pulloff(c->model, &mat, &po, NULL) == LF_OK)
-            ddet = po.delta_detach;
+        curve_map(f, x, j, 0, &map);
         switch (map.m) {
-        case 1: curve_sums(f, c, &mat, ddet, slope, &map, 1, r, sa, sg, sb); break;
-        case 2: curve_sums(f, c, &mat, ddet, slope, &map, 2, r, sa, sg, sb); break;
-        case 3: curve_sums(f, c, &mat, ddet, slope, &map, 3, r, sa, sg, sb); break;
-        case 4: curve_sums(f, c, &mat, ddet, slope, &map, 4, r, sa, sg, sb); break;
-        case 5: curve_sums(f, c, &mat, ddet, slope, &map, 5, r, sa, sg, sb); break;
-        default: curve_sums(f, c, &mat, ddet, slope, &map, 6, r, sa, sg, sb); break;
+        case 0: continue;
+        case 1: curve_sums(f, c, &map, 1, r, sa, sg, sb); break;
+        case 2: curve_sums(f, c, &map, 2, r, sa, sg, sb); break;
+        case 3: curve_sums(f, c, &map, 3, r, sa, sg, sb); break;
+        case 4: curve_sums(f, c, &map, 4, r, sa, sg, sb); break;
+        case 5: curve_sums(f, c, &map, 5, r, sa, sg, sb); break;
+        default: curve_sums(f, c, &map, 6, r, sa, sg, sb); break;
         }
         for (q = 0; q < map.m; q++) {
             const size_t cq = (size_t) map.col[q];
@@ -431,8 +433,9 @@ lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, double *A, doubl
         }
     }
     if (f->nu_prior) {      /* the prior's row: snu / prior_sd in nu's column */
-        const size_t inu = (size_t) im[2];
-        const double v = snu / f->set.nu.prior_sd, ri = r[f->ndata];
+        const size_t inu = (size_t) f->imat[FIT_NU];
+        const double v = lf_fit_dnu_du(internal(f, x, (int) inu)) / f->set.nu.prior_sd;
+        const double ri = r[f->ndata];
         A[inu * p + inu] += v * v;
         g[inu] += v * ri;
         colmax[inu] = lf_fmax(colmax[inu], fabs(v));
