@@ -119,18 +119,16 @@ householder_qr(double *A, size_t tda, size_t n, size_t p, double *tau, double *w
 }
 
 int
-lf_fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond)
+lf_fit_decomp_factor(fit_decomp *d, double rcond, int scale)
 {
     size_t i, k, p = d->p;
 
     if (d->n < p)
         return LF_EINVAL;
-    if (lf_fit_jacobian_physical(f, x, d->QR) != GSL_SUCCESS)
-        return LF_ENUMERIC;
     for (k = 0; k < p; k++) {
-        const double dn = column_norm(d->QR->data, d->QR->tda, 0, d->n, k);
+        const double dn = scale ? column_norm(d->QR->data, d->QR->tda, 0, d->n, k) : 1.0;
         gsl_vector_set(d->D, k, dn);
-        if (dn > 0)
+        if (scale && dn > 0)
             for (i = 0; i < d->n; i++)
                 d->QR->data[i * d->QR->tda + k] /= dn;
     }
@@ -146,6 +144,16 @@ lf_fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond)
         if (gsl_vector_get(d->S, k) > rcond * gsl_vector_get(d->S, 0))
             d->rank++;
     return LF_OK;
+}
+
+int
+lf_fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond)
+{
+    if (d->n < d->p)
+        return LF_EINVAL;
+    if (lf_fit_jacobian_physical(f, x, d->QR) != GSL_SUCCESS)
+        return LF_ENUMERIC;
+    return lf_fit_decomp_factor(d, rcond, 1);
 }
 
 double

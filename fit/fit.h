@@ -336,6 +336,10 @@ int lf_fit_decomp_alloc(fit_decomp *d, size_t n, size_t p);
 void lf_fit_decomp_free(fit_decomp *d);
 /* Decompose the physical Jacobian of f at x. */
 int lf_fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond);
+/* Decompose the n x p matrix d->QR holds, its columns scaled to unit norm
+ * first (scale = 1; D their norms) or not (D = 1: the singular values are
+ * the matrix's own). */
+int lf_fit_decomp_factor(fit_decomp *d, double rcond, int scale);
 /* Weight of parameter k in the undetermined directions (1 for a column of
  * zeros). */
 double lf_fit_decomp_nullw(const fit_decomp *d, size_t k);

@@ -97,41 +97,35 @@ offsets_outside(const lf_fit *f, const double *x, char *why, size_t nwhy)
 }
 
 /* The Gauss-Newton step at x (internal coordinates, into step) and the
- * decrease of chi2 it predicts; NaN when it cannot be computed. */
+ * decrease of chi2 it predicts; NaN when it cannot be computed.  From the
+ * SVD J = U S V^T (decomp.c, unscaled: QR, then the small R): step =
+ * -V S^-1 U^T r over the directions with S_l > 1e-10 S_0, and the decrease
+ * of chi2 = sum (U_l . r)^2 over them. */
 static double
 gn_step(lf_fit *f, const gsl_vector *x, gsl_vector *step)
 {
-    size_t n = f->nres, p = f->np, i, l;
-    gsl_matrix *J = gsl_matrix_alloc(n, p), *V = gsl_matrix_alloc(p, p);
-    gsl_vector *S = gsl_vector_alloc(p), *work = gsl_vector_alloc(p), *r = gsl_vector_alloc(n);
-    double dec = NAN;
+    const size_t p = f->np;
+    fit_decomp d;
+    double dec = NAN, *coef;
+    size_t i, l;
 
-    if (!J || !V || !S || !work || !r)
+    if (lf_fit_decomp_alloc(&d, f->nres, p) != LF_OK)
+        return NAN;
+    if (lf_fit_residuals(x, f, f->w.r2) != GSL_SUCCESS || lf_fit_jacobian(x, f, d.QR) != GSL_SUCCESS
+        || lf_fit_decomp_factor(&d, 1e-10, 0) != LF_OK)
         goto done;
-    if (lf_fit_residuals(x, f, r) != GSL_SUCCESS || lf_fit_jacobian(x, f, J) != GSL_SUCCESS)
-        goto done;
-    if (gsl_linalg_SV_decomp(J, V, S, work) != GSL_SUCCESS)
-        goto done;
-    /* J = U S V^T (U in J): step = -V S^-1 U^T r over the determined
-     * directions; the decrease of chi2 = sum (U_l . r)^2 */
+    coef = d.work->data;       /* the factorisation's scratch, free again */
+    lf_fit_decomp_project(&d, f->w.r2->data, coef);   /* (U_l . r) / S_l */
     gsl_vector_set_zero(step);
     dec = 0.0;
-    for (l = 0; l < p; l++) {
-        double sl = gsl_vector_get(S, l), ur = 0.0;
-        if (!(sl > 1e-10 * gsl_vector_get(S, 0)))
-            continue;
-        for (i = 0; i < n; i++)
-            ur += gsl_matrix_get(J, i, l) * gsl_vector_get(r, i);
-        dec += ur * ur;
+    for (l = 0; l < d.rank; l++) {
+        const double sl = gsl_vector_get(d.S, l);
+        dec += coef[l] * sl * coef[l] * sl;
         for (i = 0; i < p; i++)
-            step->data[i] -= gsl_matrix_get(V, i, l) * ur / sl;
+            step->data[i] -= gsl_matrix_get(d.V, i, l) * coef[l];
     }
 done:
-    gsl_matrix_free(J);
-    gsl_matrix_free(V);
-    gsl_vector_free(S);
-    gsl_vector_free(work);
-    gsl_vector_free(r);
+    lf_fit_decomp_free(&d);
     return dec;
 }
 
