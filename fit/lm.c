@@ -141,8 +141,11 @@ lf_fit_lm_iterate(lf_fit *f)
         rho = pred > 0 && isfinite(cost_t) ? (lm->cost - cost_t) / pred : -1.0;
         if (rho > 0) {
             double t = 2.0 * rho - 1.0;
-            gsl_vector_swap(lm->x, lm->xt);
-            gsl_vector_swap(lm->r, lm->rt);
+            gsl_vector *tx = lm->x, *tr = lm->r;     /* views: swap them, not their numbers */
+            lm->x = lm->xt;
+            lm->xt = tx;
+            lm->r = lm->rt;
+            lm->rt = tr;
             lm->cost_prev = lm->cost;
             if (normal_equations(f) != GSL_SUCCESS)
                 return GSL_EDOM;
