@@ -245,13 +245,14 @@ k2_without_baseline(const lf_fit *f)
  * 55 times higher (every point then in contact) rises by less than 3.84
  * s^2 (the profile, profile.c), w and F0 are not separable. */
 static int
-k2_rule(lf_fit *f, const lf_fit_result *r)
+k2_rule(lf_fit *f, const lf_fit_result *r, int *refitted)
 {
     size_t i, j;
     int few = 0;
 
     int all_thin = 1;
 
+    *refitted = 0;
     if (f->imat[FIT_W] < 0)
         return 0;
     for (j = 0; j < f->ncurves; j++) {
@@ -267,7 +268,10 @@ k2_rule(lf_fit *f, const lf_fit_result *r)
     /* under the thin model the parabola is exact: too few points out of
      * contact settle it; under a model of finite thickness the curve only
      * nearly is one, and the profile decides */
-    return (all_thin && few) || lf_fit_w_open_above(f, r, exp(4.0));
+    if (all_thin && few)
+        return 1;
+    *refitted = 1;      /* the profile's refit moves f's evaluations */
+    return lf_fit_w_open_above(f, r, exp(4.0));
 }
 
 void
@@ -518,7 +522,7 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
     gsl_vector_const_view xv = gsl_vector_const_view_array(x, p);
     double *nullw = NULL, z0, F0, slope;
     lf_material mat;
-    int status;
+    int status, refitted;
 
     if (res == NULL || (nullw = calloc(p, sizeof *nullw)) == NULL
         || alloc_result(f, r) != LF_OK) {
@@ -529,8 +533,9 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
         status = lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the solution");
         goto done;
     }
-    r->chi2 = gsl_blas_dnrm2(res);
-    r->chi2 *= r->chi2;
+    r->chi2 = 0.0;          /* the residuals are finite (lf_fit_residuals checks) */
+    for (i = 0; i < f->nres; i++)
+        r->chi2 += res->data[i] * res->data[i];
     r->dof = f->nres - p;
     /* correlated noise: errors grow by the residuals' autocorrelation time
      * (noise.c), pooled over the curves by their points */
@@ -558,8 +563,8 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
     /* the k = 2 degeneracy, decided from the data (profile.c refits from
      * these values; the model's evaluations ev[] are those at x again after) */
     f->k2_degenerate = 0;
-    f->k2_degenerate = k2_rule(f, r);
-    if (lf_fit_residuals(&xv.vector, f, res) != GSL_SUCCESS) {
+    f->k2_degenerate = k2_rule(f, r, &refitted);
+    if (refitted && lf_fit_residuals(&xv.vector, f, res) != GSL_SUCCESS) {
         status = lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the solution");
         goto done;
     }
