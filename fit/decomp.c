@@ -58,11 +58,16 @@ lf_fit_decomp_free(fit_decomp *d)
 static double
 column_norm(const double *A, size_t tda, size_t r0, size_t n, size_t k)
 {
-    double ss = 0.0;
+    double ss, s0 = 0.0, s1 = 0.0;       /* two sums: half the adds' latency */
     size_t i;
 
-    for (i = r0; i < n; i++)
-        ss += A[i * tda + k] * A[i * tda + k];
+    for (i = r0; i + 1 < n; i += 2) {
+        s0 += A[i * tda + k] * A[i * tda + k];
+        s1 += A[(i + 1) * tda + k] * A[(i + 1) * tda + k];
+    }
+    if (i < n)
+        s0 += A[i * tda + k] * A[i * tda + k];
+    ss = s0 + s1;
     if (isfinite(ss) && (ss > 1e-280 || ss == 0.0))
         return sqrt(ss);
     {
@@ -76,10 +81,9 @@ column_norm(const double *A, size_t tda, size_t r0, size_t n, size_t k)
  * stored as LAPACK and GSL store it (R on and above the diagonal, each
  * reflector's vector below it with an implicit leading 1, H_k = I - tau_k
  * v v^T), so that gsl_linalg_QR_QTvec applies Q^T.  A tall, narrow J: each
- * reflector is applied to the columns on its right in one sweep of the
- * rows for the dot products and one for the update (w: p scratch). */
+ * reflector is applied to the columns on its right one at a time. */
 static void
-householder_qr(double *A, size_t tda, size_t n, size_t p, double *tau, double *w)
+householder_qr(double *A, size_t tda, size_t n, size_t p, double *tau)
 {
     size_t i, k, l;
 
@@ -99,21 +103,16 @@ householder_qr(double *A, size_t tda, size_t n, size_t p, double *tau, double *w
         *akk = beta;
         if (k + 1 == p)
             break;
-        for (l = k + 1; l < p; l++)     /* w = tau (v^T A[k:, l]) */
-            w[l] = A[k * tda + l];
-        for (i = k + 1; i < n; i++) {
-            const double *row = A + i * tda;
-            for (l = k + 1; l < p; l++)
-                w[l] += row[k] * row[l];
-        }
+        /* each column on the right: w = tau (v^T A[k:, l]), A[k:, l] -= w v,
+         * column by column so that the sum stays in a register */
         for (l = k + 1; l < p; l++) {
-            w[l] *= tau[k];
-            A[k * tda + l] -= w[l];
-        }
-        for (i = k + 1; i < n; i++) {
-            double *row = A + i * tda;
-            for (l = k + 1; l < p; l++)
-                row[l] -= row[k] * w[l];
+            double wl = A[k * tda + l];
+            for (i = k + 1; i < n; i++)
+                wl += A[i * tda + k] * A[i * tda + l];
+            wl *= tau[k];
+            A[k * tda + l] -= wl;
+            for (i = k + 1; i < n; i++)
+                A[i * tda + l] -= A[i * tda + k] * wl;
         }
     }
 }
@@ -128,11 +127,13 @@ lf_fit_decomp_factor(fit_decomp *d, double rcond, int scale)
     for (k = 0; k < p; k++) {
         const double dn = scale ? column_norm(d->QR->data, d->QR->tda, 0, d->n, k) : 1.0;
         gsl_vector_set(d->D, k, dn);
-        if (scale && dn > 0)
+        if (scale && dn > 0) {
+            const double inv = 1.0 / dn;    /* a multiplication per element, not a division */
             for (i = 0; i < d->n; i++)
-                d->QR->data[i * d->QR->tda + k] /= dn;
+                d->QR->data[i * d->QR->tda + k] *= inv;
+        }
     }
-    householder_qr(d->QR->data, d->QR->tda, d->n, p, d->tau->data, d->work->data);
+    householder_qr(d->QR->data, d->QR->tda, d->n, p, d->tau->data);
     gsl_matrix_set_zero(d->U);
     for (i = 0; i < p; i++)
         for (k = i; k < p; k++)
