@@ -250,6 +250,8 @@ void lf_fit_guess_offsets(lf_fit *f);
 /* The median of v[0..n-1], n > 0 (v reordered), in linear time (guess.c). */
 double lf_fit_median(double *v, size_t n);
 double lf_fit_select_kth(double *v, size_t n, size_t k);
+/* The median of sqrt(v[i]), v[i] >= 0 (v reordered), rooting only the middle. */
+double lf_fit_median_sqrt(double *v, size_t n);
 /* Weights, origin or model changed: what was computed at an x is stale. */
 void lf_fit_invalidate(lf_fit *f);
 /* guess_model.c: the start of a model with no thickness (half-space) from

@@ -90,6 +90,24 @@ lf_fit_median(double *v, size_t n)
     return 0.5 * (lower + upper);
 }
 
+/* The median of sqrt(v[i]) over v[0..n-1] >= 0, n > 0 (v reordered): the
+ * root is monotone, so the selection runs on v and only the middle values
+ * are rooted (a noise estimate's departures are squared, not rooted, each:
+ * a division per point instead of a division and a square root). */
+double
+lf_fit_median_sqrt(double *v, size_t n)
+{
+    double upper = lf_fit_select_kth(v, n, n / 2), lower;
+    size_t i;
+
+    if (n % 2)
+        return sqrt(upper);
+    lower = v[0];
+    for (i = 1; i < n / 2; i++)
+        lower = lf_fmax(lower, v[i]);
+    return 0.5 * (sqrt(lower) + sqrt(upper));
+}
+
 /* Noise sd from the points' departures from the line through their two
  * neighbours in depth: with depths z0 <= z1 <= z2,
  *     e = F1 - (F0 (z2 - z1) + F2 (z1 - z0)) / (z2 - z0)
@@ -112,13 +130,14 @@ lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order
         double h0 = depth[b] - depth[a], h1 = depth[c] - depth[b], h = h0 + h1, e;
         if (!(h > 0))
             continue;           /* three points at one depth: no line */
-        /* e over its sd factor, with one root and one division */
-        e = (force[b] * h - force[a] * h1 - force[c] * h0) / sqrt(h * h + h0 * h0 + h1 * h1);
-        work[m++] = fabs(e);
+        /* (e over its sd factor)^2, one division (numerators are forces
+         * times depths in SI, far from overflowing when squared) */
+        e = force[b] * h - force[a] * h1 - force[c] * h0;
+        work[m++] = e * e / (h * h + h0 * h0 + h1 * h1);
     }
     if (m == 0)
         return fbig > 0 ? fbig : 1.0;
-    med = lf_fit_median(work, m);
+    med = lf_fit_median_sqrt(work, m);
     med /= 0.6745;
     /* noise-free data: keep the weight finite */
     return lf_fmax(med, fbig > 0 ? 1e-12 * fbig : 1e-300);

@@ -31,18 +31,6 @@
 #define AGREE_REL 0.05
 #define NOISE_GROWTH 1.3
 
-/* The (upper) median of |v| over 0.6745 (v reordered). */
-static double
-mad_sd(double *v, size_t n)
-{
-    size_t i;
-    if (n == 0)
-        return NAN;
-    for (i = 0; i < n; i++)
-        v[i] = fabs(v[i]);
-    return lf_fit_select_kth(v, n, n / 2) / 0.6745;
-}
-
 double
 lf_fit_corr_time(const double *e, size_t n)
 {
@@ -86,10 +74,11 @@ noise_at_lag(const fit_curve *c, const size_t *ord, const double *e, size_t m, d
         double h0 = z[b] - z[a], h1 = z[d] - z[b], h = h0 + h1, q;
         if (!(h > 0))
             continue;
-        q = (e[b] * h - e[a] * h1 - e[d] * h0) / sqrt(h * h + h0 * h0 + h1 * h1);
-        work[cnt++] = q;
+        q = e[b] * h - e[a] * h1 - e[d] * h0;
+        work[cnt++] = q * q / (h * h + h0 * h0 + h1 * h1);     /* squared: see guess.c */
     }
-    return cnt > 0 ? mad_sd(work, cnt) : NAN;
+    /* the (upper) median of |q| over 0.6745 */
+    return cnt > 0 ? sqrt(lf_fit_select_kth(work, cnt, cnt / 2)) / 0.6745 : NAN;
 }
 
 void
