@@ -152,7 +152,7 @@ typedef struct {
  * inside a run. */
 typedef struct {
     lf_eval *ev;         /* ndata: model at the last residual evaluation */
-    lf_eval *scan_ev;    /* ndata: scratch of the contact-point scan */
+    lf_eval *scan_ev;    /* the longest curve's n: scratch of the contact-point scan */
     double *sqrtw;       /* ndata: square roots of the robust loss's point
                             weights (1 for least squares) */
     double *delta;       /* ndata: indentations */

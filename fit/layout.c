@@ -277,7 +277,7 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
 {
     lf_fit *f;
     gsl_multifit_nlinear_parameters par = gsl_multifit_nlinear_default_parameters();
-    size_t j, nm = sizeof methods / sizeof methods[0], im;
+    size_t j, nm = sizeof methods / sizeof methods[0], im, nmax;
 
     if (settings->model == NULL || settings->method == NULL) {
         lf_fail(err, LF_EINVAL, "fit settings need a model and a method");
@@ -341,7 +341,11 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
                 return NULL;
             }
     f->order = malloc(f->ndata * sizeof *f->order);
-    f->w.ev = calloc(2 * f->ndata, sizeof *f->w.ev);
+    /* not zeroed: every reader of ev comes after an evaluation that wrote
+     * it (problem.c eval_all), and scan_ev is the scan's scratch */
+    for (j = 0, nmax = 0; j < ncurves; j++)
+        nmax = curves[j].n > nmax ? curves[j].n : nmax;
+    f->w.ev = malloc((f->ndata + nmax) * sizeof *f->w.ev);
     if (f->order == NULL || f->w.ev == NULL || work_alloc(f) != LF_OK
         || depth_order(f) != LF_OK)
         goto nomem;
