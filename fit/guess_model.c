@@ -24,10 +24,90 @@
 
 #include "fit.h"
 
-/* Bisection steps in ln w and ln E*: their brackets span about 50, so 32
- * halvings leave 1e-8, far below what a start needs (the solve polishes
- * it); the nested search costs some 32 x 34 pull-offs. */
-#define BISECT_STEPS 32
+/* The searches in ln w and ln E* (brackets of about 50): Brent's method on
+ * the logarithm of the matched force, nearly linear in either (a power
+ * law), down to ROOT_TOL; ROOT_MAXIT evaluations at most (bisection alone
+ * would need 32).  A few pull-offs per w, a few w per E*. */
+#define ROOT_TOL 1e-8
+#define ROOT_MAXIT 60
+/* the value of a trial the model cannot evaluate or whose force has the
+ * wrong sign: its side of the root, at about the bracket's scale */
+#define ROOT_SIDE 50.0
+
+typedef double (*root_fn)(double t, void *ctx);
+
+/* A zero of fn in [a, b], where fa = fn(a) and fb = fn(b) differ in sign:
+ * Brent's method (inverse quadratic or secant steps, bisection where
+ * those would not shrink the bracket fast enough), to within tol. */
+static double
+brent_zero(root_fn fn, void *ctx, double a, double b, double fa, double fb, double tol)
+{
+    double c = a, fc = fa, d = b - a, e = d;
+    int it;
+
+    for (it = 0; it < ROOT_MAXIT; it++) {
+        double tol1, xm;
+        if ((fb > 0) == (fc > 0)) {         /* keep the root between b and c */
+            c = a;
+            fc = fa;
+            d = e = b - a;
+        }
+        if (fabs(fc) < fabs(fb)) {          /* b the best so far */
+            a = b; b = c; c = a;
+            fa = fb; fb = fc; fc = fa;
+        }
+        tol1 = 2.0 * 2.2e-16 * fabs(b) + 0.5 * tol;
+        xm = 0.5 * (c - b);
+        if (fabs(xm) <= tol1 || fb == 0.0)
+            return b;
+        if (fabs(e) >= tol1 && fabs(fa) > fabs(fb)) {
+            double p, q, r, sr = fb / fa;
+            if (a == c) {                   /* secant */
+                p = 2.0 * xm * sr;
+                q = 1.0 - sr;
+            } else {                        /* inverse quadratic */
+                q = fa / fc;
+                r = fb / fc;
+                p = sr * (2.0 * xm * q * (q - r) - (b - a) * (r - 1.0));
+                q = (q - 1.0) * (r - 1.0) * (sr - 1.0);
+            }
+            if (p > 0)
+                q = -q;
+            else
+                p = -p;
+            if (2.0 * p < lf_fmin(3.0 * xm * q - fabs(tol1 * q), fabs(e * q))) {
+                e = d;
+                d = p / q;
+            } else {
+                d = xm;
+                e = d;
+            }
+        } else {
+            d = xm;
+            e = d;
+        }
+        a = b;
+        fa = fb;
+        b += fabs(d) > tol1 ? d : (xm > 0 ? tol1 : -tol1);
+        fb = fn(b, ctx);
+    }
+    return b;
+}
+
+/* The root of fn in [lo, hi], fn > 0 meaning "raise t": an end when fn
+ * does not change sign there (as bisection would end). */
+static double
+root_in(root_fn fn, void *ctx, double lo, double hi)
+{
+    double flo = fn(lo, ctx), fhi;
+
+    if (!(flo > 0))
+        return lo;
+    fhi = fn(hi, ctx);
+    if (fhi > 0)
+        return hi;
+    return brent_zero(fn, ctx, lo, hi, flo, fhi, ROOT_TOL);
+}
 
 /* 1 when every curve's model has no thickness (uses no b). */
 int
@@ -57,23 +137,37 @@ pull(const fit_curve *c, const lf_material *m, double *P, double *delta)
     return isfinite(*P) && isfinite(*delta);
 }
 
+typedef struct {
+    const fit_curve *c;
+    double Estar, nu, target;
+} w_search;
+
+/* ln(target / P_po) at w = e^t: > 0 while the pull-off is too weak. */
+static double
+w_gap(double t, void *ctx)
+{
+    const w_search *q = ctx;
+    lf_material m = { exp(t), q->Estar, q->nu };
+    double P, d;
+
+    if (!pull(q->c, &m, &P, &d))
+        return -ROOT_SIDE;          /* beyond the model: as too much adhesion */
+    if (!(P < 0))
+        return ROOT_SIDE;           /* no pull-off force yet: too little */
+    return log(q->target / P);
+}
+
 /* The w (at E*) whose pull-off force is target (< 0). */
 static double
 w_for_pulloff(const fit_curve *c, double Estar, double nu, double target)
 {
-    double lo = log(1e-300 + 1e-18 * Estar * c->data.probe.R), hi = log(1e6 * Estar * c->data.probe.R);
-    size_t i;
-    for (i = 0; i < BISECT_STEPS; i++) {
-        double mid = 0.5 * (lo + hi), P, d;
-        lf_material m = { exp(mid), Estar, nu };
-        if (!pull(c, &m, &P, &d))
-            hi = mid;
-        else if (P > target)        /* too little adhesion */
-            lo = mid;
-        else
-            hi = mid;
-    }
-    return exp(0.5 * (lo + hi));
+    w_search q;
+    q.c = c;
+    q.Estar = Estar;
+    q.nu = nu;
+    q.target = target;
+    return exp(root_in(w_gap, &q, log(1e-300 + 1e-18 * Estar * c->data.probe.R),
+                       log(1e6 * Estar * c->data.probe.R)));
 }
 
 /* The model's force at indentation delta, or NaN. */
@@ -135,15 +229,45 @@ offset_F0(const lf_fit *f, size_t j)
     return lf_fmin(lf_fmax(F0, Fmin), Fmax);
 }
 
+typedef struct {
+    const fit_curve *c;
+    double nu, target;     /* the pull-off force to match */
+    int adhesive;
+    double rise, reach;    /* the force to match at the deepest point, and
+                              its depth past the pull-off (or contact) */
+} E_search;
+
+/* ln(rise / P_max) at E* = e^t, w matching the pull-off: > 0 while the
+ * layer is too soft for the deepest force. */
+static double
+E_gap(double t, void *ctx)
+{
+    const E_search *q = ctx;
+    lf_material m;
+    double P, d, Pmax;
+
+    m.Estar = exp(t);
+    m.nu = q->nu;
+    m.w = w_for_pulloff(q->c, m.Estar, q->nu, q->target);
+    if (!pull(q->c, &m, &P, &d))
+        return -ROOT_SIDE;
+    Pmax = force_at(q->c, &m, q->reach + (q->adhesive ? d : 0.0));
+    if (!isfinite(Pmax))
+        return -ROOT_SIDE;
+    if (!(Pmax > 0))
+        return ROOT_SIDE;
+    return log(q->rise / Pmax);
+}
+
 /* The material of one curve; 0 when the data give no contact. */
 static int
 curve_material(const lf_fit *f, size_t j, double nu, lf_material *out)
 {
     const fit_curve *c = &f->c[j];
     double F0 = offset_F0(f, j);
-    double zpo, Fmin, zmax, Fmax, Ppo, rise, lo, hi, z0ref;
+    double zpo, Fmin, zmax, Fmax, Ppo, rise, z0ref;
     int adhesive;
-    size_t i;
+    E_search q;
 
     features(f, j, F0, &zpo, &Fmin, &zmax, &Fmax);
     Ppo = Fmin - F0;
@@ -160,26 +284,13 @@ curve_material(const lf_fit *f, size_t j, double nu, lf_material *out)
     } else {
         z0ref = NAN;
     }
-    lo = log(1e-6);
-    hi = log(1e15);
-    for (i = 0; i < BISECT_STEPS; i++) {
-        double mid = 0.5 * (lo + hi), E = exp(mid), w, P, d, Pmax;
-        lf_material m;
-        w = w_for_pulloff(c, E, nu, adhesive ? Ppo : -c->sigma);
-        m.w = w;
-        m.Estar = E;
-        m.nu = nu;
-        if (!pull(c, &m, &P, &d)) {
-            hi = mid;
-            continue;
-        }
-        Pmax = adhesive ? force_at(c, &m, zmax - zpo + d) : force_at(c, &m, zmax - z0ref);
-        if (!isfinite(Pmax) || Pmax > rise)
-            hi = mid;
-        else
-            lo = mid;
-    }
-    out->Estar = exp(0.5 * (lo + hi));
+    q.c = c;
+    q.nu = nu;
+    q.target = adhesive ? Ppo : -c->sigma;
+    q.adhesive = adhesive;
+    q.rise = rise;
+    q.reach = adhesive ? zmax - zpo : zmax - z0ref;
+    out->Estar = exp(root_in(E_gap, &q, log(1e-6), log(1e15)));
     out->w = w_for_pulloff(c, out->Estar, nu, adhesive ? Ppo : -c->sigma);
     out->nu = nu;
     return isfinite(out->Estar) && isfinite(out->w);
