@@ -10,66 +10,208 @@
 
 #include "fit.h"
 
-/* Curve j's weighted sum of squares (robust weights included) at material
- * mat and contact point z0, with its force offset (when free) at its best
- * value for them, returned in *F0; slope as given.  HUGE_VAL when the model cannot be evaluated. */
+/* Points past the edge that an interpolated scan evaluates with the
+ * model: the force's derivatives grow without bound towards the edge (a
+ * vertical tangent for k > 2), so the cubic interpolation holds only
+ * some points away from it. */
+#define SCAN_EXACT_NEAR 8
+
+/* What the scan of one curve holds: the material and the curve's offsets
+ * at x, the edge (the indentation where contact ends), whether costs come
+ * from interpolation, and the best placement so far. */
+typedef struct {
+    lf_material mat;
+    double z0, F0, slope;
+    double edge;
+    lf_pulloff po;
+    int interp;
+    double cost, best_z0, best_F0;
+} edge_scan_state;
+
+/* Curve j's weighted sum of squares (robust weights included) with the
+ * model's forces P[i] (file order) at contact point z0, its force offset
+ * (when free) at its best value for them, returned in *F0; slope as
+ * given.  HUGE_VAL when not finite. */
 static double
-curve_cost(lf_fit *f, size_t j, const lf_material *mat, double z0, double *F0,
-           double slope)
+cost_of(const lf_fit *f, size_t j, const double *P, double z0, double *F0, double slope)
 {
     const fit_curve *c = &f->c[j];
-    double *delta = f->w.work, sum = 0.0, ss = 0.0;
-    const double *sw = f->w.sqrtw + c->row;
+    const double *sw = f->w.sqrtw + c->row, *z = c->data.depth, *F = c->data.force;
+    double sum = 0.0, ss = 0.0;
+    size_t i, n = c->data.n;
+
+    if (c->iF0 >= 0) {
+        double wsum = 0.0;
+        for (i = 0; i < n; i++) {
+            double wt = sw[i] * sw[i];
+            sum += wt * (F[i] - P[i] - slope * (z[i] - z0));
+            wsum += wt;
+        }
+        *F0 = sum / wsum;
+    }
+    for (i = 0; i < n; i++) {
+        double r = (P[i] + *F0 + slope * (z[i] - z0) - F[i]) / c->sigma * sw[i];
+        ss += r * r;
+    }
+    return isfinite(ss) ? ss : HUGE_VAL;
+}
+
+/* The model's forces of curve j at contact point z0 (material mat) at
+ * every point, into P (file order); 0 when it cannot be evaluated. */
+static int
+model_forces(lf_fit *f, size_t j, const lf_material *mat, double z0, double *P)
+{
+    const fit_curve *c = &f->c[j];
+    double *delta = f->w.work + c->data.n;
     lf_eval *e = f->w.scan_ev;
     size_t i, n = c->data.n;
 
     for (i = 0; i < n; i++)
         delta[i] = c->data.depth[i] - z0;
     if (lf_model_eval(c->model, mat, c->data.branch, n, delta, e, NULL) != LF_OK)
-        return HUGE_VAL;
-    if (c->iF0 >= 0) {
-        double wsum = 0.0;
-        for (i = 0; i < n; i++) {
-            double wt = sw[i] * sw[i];
-            sum += wt * (c->data.force[i] - e[i].P - slope * delta[i]);
-            wsum += wt;
-        }
-        *F0 = sum / wsum;
-    }
-    for (i = 0; i < n; i++) {
-        double r = (e[i].P + *F0 + slope * delta[i] - c->data.force[i]) / c->sigma * sw[i];
-        ss += r * r;
-    }
-    return isfinite(ss) ? ss : HUGE_VAL;
+        return 0;
+    for (i = 0; i < n; i++)
+        P[i] = e[i].P;
+    return 1;
 }
 
-/* The best placement of curve j's edge so far, as the scan finds it. */
-typedef struct {
-    double cost, z0, F0;
-} edge_best;
+/* Where an interpolated scan takes the force at indentation t: 0 out of
+ * contact (P = 0), 1 from the model (near the edge, or deeper than the
+ * data at x), 2 by interpolation among the evaluations at x ([lo, hi]:
+ * the interpolation's range of indentations). */
+static int
+shifted_kind(double t, double edge, double lo, double hi)
+{
+    if (t < edge)
+        return 0;
+    return t >= lo && t <= hi ? 2 : 1;
+}
+
+/* Curve j's forces with its contact point moved from s->z0 to z0 (the
+ * material as at x), into P (file order), from the model's evaluations at
+ * x (f->w.ev, valid): each point's indentation t = z - z0 falls between
+ * two data points' indentations at x, where the cubic Hermite interpolant
+ * of their forces and slopes gives the force (error h^4 / 384 times the
+ * force's fourth derivative: far below the noise for data dense enough to
+ * fit); the model itself at the points near the edge or beyond the
+ * deepest indentation at x, in one call.  0 when the model cannot be
+ * evaluated. */
+static int
+shifted_forces(lf_fit *f, size_t j, const edge_scan_state *s, double z0, double *P)
+{
+    const fit_curve *c = &f->c[j];
+    const size_t n = c->data.n, *ord = f->order + c->row;
+    const lf_eval *ev = f->w.ev + c->row;
+    const double *z = c->data.depth;
+    double *dl = f->w.work + n, lo, hi;
+    lf_eval *out = f->w.scan_ev;
+    size_t q, qs, r, m = 0, k = 0;
+
+    /* interpolation from SCAN_EXACT_NEAR points past the first in contact */
+    for (qs = 0; qs < n && !(z[ord[qs]] - s->z0 > s->edge); qs++)
+        ;
+    qs += SCAN_EXACT_NEAR;
+    lo = qs < n ? z[ord[qs]] - s->z0 : HUGE_VAL;
+    hi = z[ord[n - 1]] - s->z0;
+    for (q = 0, r = qs; q < n; q++) {
+        const double t = z[ord[q]] - z0;
+        const lf_eval *a, *b;
+        double h, u, u2, u3;
+        switch (shifted_kind(t, s->edge, lo, hi)) {
+        case 0:
+            P[ord[q]] = 0.0;
+            continue;
+        case 1:
+            dl[m++] = t;
+            continue;
+        default:
+            break;
+        }
+        while (r + 1 < n && z[ord[r + 1]] - s->z0 <= t)
+            r++;                    /* d_r <= t < d_{r+1} (t = d_r at the top) */
+        a = &ev[ord[r]];
+        if (r + 1 >= n || t == z[ord[r]] - s->z0) {
+            P[ord[q]] = a->P;
+            continue;
+        }
+        b = &ev[ord[r + 1]];
+        h = (z[ord[r + 1]] - s->z0) - (z[ord[r]] - s->z0);
+        u = (t - (z[ord[r]] - s->z0)) / h;
+        u2 = u * u;
+        u3 = u2 * u;
+        P[ord[q]] = (2.0 * u3 - 3.0 * u2 + 1.0) * a->P + (u3 - 2.0 * u2 + u) * h * a->dP_ddelta
+                    + (3.0 * u2 - 2.0 * u3) * b->P + (u3 - u2) * h * b->dP_ddelta;
+    }
+    if (m > 0 && lf_model_eval(c->model, &s->mat, c->data.branch, m, dl, out, NULL) != LF_OK)
+        return 0;
+    for (q = 0; q < n && k < m; q++)      /* the model's, in the same order */
+        if (shifted_kind(z[ord[q]] - z0, s->edge, lo, hi) == 1)
+            P[ord[q]] = out[k++].P;
+    return 1;
+}
+
+/* Curve j's cost with its contact point at z0 (force offset re-solved
+ * into *F0); HUGE_VAL when the model cannot be evaluated. */
+static double
+curve_cost(lf_fit *f, size_t j, const edge_scan_state *s, double z0, double *F0)
+{
+    double *P = f->w.work;      /* P in work[0, n); the two above use work[n, 2n) */
+    int ok = s->interp ? shifted_forces(f, j, s, z0, P) : model_forces(f, j, &s->mat, z0, P);
+    return ok ? cost_of(f, j, P, z0, F0, s->slope) : HUGE_VAL;
+}
+
+/* Set up the scan of curve j at x; 0 when the model has no pull-off
+ * there.  Interpolated for a model dearer than the thin layer's, when the
+ * evaluations at x exist. */
+static int
+scan_state(lf_fit *f, size_t j, const double *x, edge_scan_state *s)
+{
+    const fit_curve *c = &f->c[j];
+
+    lf_fit_unpack(f, x, &s->mat, &s->z0, &s->F0, &s->slope, j);
+    if (lf_model_pulloff(c->model, &s->mat, &s->po, NULL) != LF_OK)
+        return 0;
+    s->edge = c->data.branch == LF_BRANCH_UNLOAD ? s->po.delta_detach : 0.0;
+    s->interp = lf_model_get_type(c->model)->cost > 0 && lf_fit_eval_at(f, x) == LF_OK;
+    return 1;
+}
+
+double
+lf_fit_scan_cost(lf_fit *f, size_t j, const gsl_vector *x, double z0, int interpolate)
+{
+    edge_scan_state s;
+    double F0;
+
+    if (!scan_state(f, j, x->data, &s))
+        return HUGE_VAL;
+    if (interpolate && lf_fit_eval_at(f, x->data) != LF_OK)
+        return HUGE_VAL;
+    s.interp = interpolate;
+    F0 = s.F0;
+    return curve_cost(f, j, &s, z0, &F0);
+}
 
 /* Try curve j's edge between its points ord[q - 1] and ord[q] in depth (the
- * material mat held, the force offset re-solved): 1 when that beats *b
- * (then b holds it), else 0. */
+ * material held, the force offset re-solved): 1 when that beats the best
+ * placement so far (then s holds it), else 0. */
 static int
-try_edge(lf_fit *f, size_t j, long q, const lf_material *mat, const lf_pulloff *po, double F0,
-         double slope, edge_best *b)
+try_edge(lf_fit *f, size_t j, long q, edge_scan_state *s)
 {
     const fit_curve *c = &f->c[j];
     const size_t *ord = f->order + c->row;
-    double zq, z0q, F0q = F0, v;
+    double zq, z0q, F0q = s->F0, v;
 
     if (q < 1 || q > (long) c->data.n - 1
         || !(c->data.depth[ord[q]] > c->data.depth[ord[q - 1]]))
         return 0;
     zq = 0.5 * (c->data.depth[ord[q - 1]] + c->data.depth[ord[q]]);
-    z0q = c->data.branch == LF_BRANCH_UNLOAD ? zq - po->delta_detach : zq;
-    v = curve_cost(f, j, mat, z0q, &F0q, slope);
-    if (!(v < b->cost * (1.0 - 1e-12)))
+    z0q = c->data.branch == LF_BRANCH_UNLOAD ? zq - s->po.delta_detach : zq;
+    v = curve_cost(f, j, s, z0q, &F0q);
+    if (!(v < s->cost * (1.0 - 1e-12)))
         return 0;
-    b->cost = v;
-    b->z0 = z0q;
-    b->F0 = F0q;
+    s->cost = v;
+    s->best_z0 = z0q;
+    s->best_F0 = F0q;
     return 1;
 }
 
@@ -88,38 +230,33 @@ edge_scan(lf_fit *f, gsl_vector *x)
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
         const size_t *ord = f->order + c->row;
-        lf_material mat;
-        lf_pulloff po;
-        edge_best b;
-        double z0, F0, slope, edge;
+        edge_scan_state s;
+        double edge;
         size_t n = c->data.n, pos, d, worse;
         int dir;
 
-        if (c->iz0 < 0 || n < 3)
-            continue;
-        lf_fit_unpack(f, x->data, &mat, &z0, &F0, &slope, j);
-        if (lf_model_pulloff(c->model, &mat, &po, NULL) != LF_OK)
+        if (c->iz0 < 0 || n < 3 || !scan_state(f, j, x->data, &s))
             continue;
         /* the edge in depth: detachment on unloading, z0 on loading */
-        edge = c->data.branch == LF_BRANCH_UNLOAD ? z0 + po.delta_detach : z0;
+        edge = s.z0 + s.edge;
         for (pos = 0; pos < n && c->data.depth[ord[pos]] < edge; pos++)
             ;
-        b.F0 = F0;
-        b.cost = curve_cost(f, j, &mat, z0, &b.F0, slope);
-        b.z0 = z0;
-        try_edge(f, j, (long) pos, &mat, &po, F0, slope, &b);
+        s.best_F0 = s.F0;
+        s.cost = curve_cost(f, j, &s, s.z0, &s.best_F0);
+        s.best_z0 = s.z0;
+        try_edge(f, j, (long) pos, &s);
         for (dir = -1; dir <= 1; dir += 2)
             for (d = 1, worse = 0; d <= FIT_SCAN_HALF && worse < FIT_SCAN_PATIENCE; d++) {
                 long q = (long) pos + dir * (long) d;
                 if (q < 1 || q > (long) n - 1)
                     break;
-                worse = try_edge(f, j, q, &mat, &po, F0, slope, &b) ? 0 : worse + 1;
+                worse = try_edge(f, j, q, &s) ? 0 : worse + 1;
             }
-        if (b.z0 != z0) {
+        if (s.best_z0 != s.z0) {
             /* back to x: internal = x0 + x - 1, z0 = L internal, F0 = Fs internal */
-            gsl_vector_set(x, (size_t) c->iz0, b.z0 / c->L - f->x0_internal[c->iz0] + 1.0);
+            gsl_vector_set(x, (size_t) c->iz0, s.best_z0 / c->L - f->x0_internal[c->iz0] + 1.0);
             if (c->iF0 >= 0)
-                gsl_vector_set(x, (size_t) c->iF0, b.F0 / c->Fs - f->x0_internal[c->iF0] + 1.0);
+                gsl_vector_set(x, (size_t) c->iF0, s.best_F0 / c->Fs - f->x0_internal[c->iF0] + 1.0);
             moved = 1;
         }
     }

@@ -226,6 +226,9 @@ void lf_fit_unpack(const lf_fit *f, const double *x, lf_material *mat,
 void lf_fit_set_origin(lf_fit *f);
 /* Make the point x the origin: material and offsets into f, x = 1. */
 void lf_fit_rebase(lf_fit *f, gsl_vector *x);
+/* The model at every point at x into f->w.ev (kept while x does not
+ * change); LF_ENUMERIC when it cannot be evaluated. */
+int lf_fit_eval_at(lf_fit *f, const double *x);
 int lf_fit_residuals(const gsl_vector *x, void *params, gsl_vector *r);
 int lf_fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J);
 /* The normal equations of the internal coordinates at x, curve by curve
@@ -287,6 +290,12 @@ int lf_fit_lm_test(const lf_fit *f, double xtol, double gtol, int *info);
  * point across neighbouring data points and solve again while that lowers
  * the cost. */
 int lf_fit_solve_scanned(lf_fit *f, gsl_vector *x, int from_origin, fit_run *run, lf_error *err);
+/* The scan's cost of curve j at x with its contact point moved to z0 (its
+ * force offset re-solved when free): by evaluating the model at every
+ * point (interpolate = 0), or from the evaluations at x with the model
+ * only near the edge (1, as the scan does for a model dearer than the
+ * thin layer's).  For tests. */
+double lf_fit_scan_cost(lf_fit *f, size_t j, const gsl_vector *x, double z0, int interpolate);
 /* second_start.c: solve again from material `from` (offsets profiled) and
  * keep the lower-cost of that and the solution at x; *ratio > 1 when the
  * new start won (the loser's cost over the winner's), else 1. */

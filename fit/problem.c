@@ -191,6 +191,12 @@ eval_all(lf_fit *f, const double *x)
 }
 
 int
+lf_fit_eval_at(lf_fit *f, const double *x)
+{
+    return eval_all(f, x);
+}
+
+int
 lf_fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
 {
     lf_fit *f = params;
