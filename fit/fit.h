@@ -197,6 +197,8 @@ struct lf_fit {
     int nu_prior;        /* 1 when a prior row is present */
     int nu_determinable; /* the plan alone determines nu */
     int k2_degenerate;   /* set by lf_fit_assess: w and F0 not separable */
+    double chi2_step;    /* the solve's precision in chi2/dof: FIT_CHI2_STEP,
+                            or a profile point's coarser one (profile.c) */
     int start_by_model;  /* the start's offsets from the model's force law
                             (guess_model.c), not the thin profile */
     int any_bonded, any_frictionless;

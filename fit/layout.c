@@ -313,6 +313,7 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     if (f == NULL)
         goto nomem;
     f->set = *settings;
+    f->chi2_step = FIT_CHI2_STEP;
     f->trs = *methods[im].trs;
     f->ncurves = ncurves;
     f->c = calloc(ncurves, sizeof *f->c);

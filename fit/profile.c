@@ -27,7 +27,8 @@
  * replaces the result, and the profiles start again.
  *
  * Each profile point is a fit with the parameter held, warm-started at the
- * best fit's material and offsets (per curve with the model the fit used). */
+ * best fit's material and offsets moved by their regression on the held
+ * parameter (start_value; per curve with the model the fit used). */
 #include <math.h>
 #include <stdlib.h>
 #include <stdio.h>
@@ -51,6 +52,12 @@
 /* a profile point lower than the best fit by this fraction of the
  * threshold means the best fit was not the global minimum */
 #define PROFILE_LOWER 0.01
+/* a profile point's precision in chi2/dof (the solve's FIT_CHI2_STEP is
+ * 1e-6): its rise is wanted against a threshold near 3.84 s^2, and a
+ * refit that creeps along a contact-edge kink stops once an iteration
+ * gains less than this (the creep's remaining gain is some 0.01, a
+ * shift of the interval's end below 1e-3 standard errors) */
+#define PROFILE_CHI2_STEP 1e-3
 /* refits from a lower profile point, at most */
 #define PROFILE_MAX_REFITS 3
 /* the threshold's calibration: data sets and their seed */
@@ -87,6 +94,50 @@ best_value(const lf_fit_result *r, const char *name, double fallback)
     return fallback;
 }
 
+/* Where the refit of a profile point starts: each other parameter at its
+ * best value moved by its regression on the held one, cov(k, held) /
+ * var(held) (v - best), the minimum of the local quadratic with the held
+ * one at v (offsets move with w and E*: with them held at their best
+ * values the refit creeps towards that minimum over many iterations).
+ * Within PROFILE_PREDICT_SE standard errors of the held parameter's best
+ * value, where the cost is near its quadratic; further out the best
+ * values themselves.  fallback where the fit has no value. */
+#define PROFILE_PREDICT_SE 4.0
+
+static double
+start_value(const prof *p, const char *name, double v, double fallback)
+{
+    const lf_fit_result *r = p->best;
+    const char *held = p->which == FIT_W ? "w" : p->which == FIT_E ? "E*" : "nu";
+    const size_t np = r->npar;
+    size_t k, h;
+    double var, c, dv;
+
+    for (k = 0; k < np && strcmp(r->names[k], name) != 0; k++)
+        ;
+    for (h = 0; h < np && strcmp(r->names[h], held) != 0; h++)
+        ;
+    if (k == np || !isfinite(r->value[k]))
+        return fallback;
+    if (h == np)
+        return r->value[k];
+    var = r->cov[h * np + h];
+    c = r->cov[k * np + h];
+    dv = v - r->value[h];
+    if (!(var > 0) || !isfinite(c) || !(fabs(dv) <= PROFILE_PREDICT_SE * sqrt(var)))
+        return r->value[k];
+    return r->value[k] + c / var * dv;
+}
+
+/* The start of a material parameter: the prediction where it keeps the
+ * parameter in its range (lo < x < hi), else the best value. */
+static double
+start_in(const prof *p, const char *name, double v, double fallback, double lo, double hi)
+{
+    double x = start_value(p, name, v, fallback), b = best_value(p->best, name, fallback);
+    return x > lo && x < hi ? x : b;
+}
+
 /* chi2 minus the best chi2 with parameter `which` held at v (NaN on a
  * failed fit). */
 static double
@@ -108,9 +159,10 @@ rise(prof *p, double v)
     g = lf_fit_alloc(&s, p->nc, p->cc, NULL);
     if (g == NULL)
         return NAN;
-    g->mat.w = best_value(p->best, "w", p->best->w.value);
-    g->mat.Estar = best_value(p->best, "E*", p->best->Estar.value);
-    g->mat.nu = best_value(p->best, "nu", p->best->nu.value);
+    g->chi2_step = PROFILE_CHI2_STEP;
+    g->mat.w = start_in(p, "w", v, p->best->w.value, 0.0, HUGE_VAL);
+    g->mat.Estar = start_in(p, "E*", v, p->best->Estar.value, 0.0, HUGE_VAL);
+    g->mat.nu = start_in(p, "nu", v, p->best->nu.value, 0.0, 0.5);
     if (!isfinite(g->mat.nu))
         g->mat.nu = p->s->nu.value;
     if (!isfinite(g->mat.w))
@@ -125,11 +177,11 @@ rise(prof *p, double v)
         char name[32];
         double z0, F0, sl;
         snprintf(name, sizeof name, "z0[%zu]", j + 1);
-        z0 = best_value(p->best, name, p->best->curves[j].z0);
+        z0 = start_value(p, name, v, p->best->curves[j].z0);
         snprintf(name, sizeof name, "F0[%zu]", j + 1);
-        F0 = best_value(p->best, name, p->best->curves[j].F0);
+        F0 = start_value(p, name, v, p->best->curves[j].F0);
         snprintf(name, sizeof name, "s[%zu]", j + 1);
-        sl = best_value(p->best, name, p->best->curves[j].slope);
+        sl = start_value(p, name, v, p->best->curves[j].slope);
         if (g->c[j].iz0 >= 0 && isfinite(z0))
             g->c[j].z0 = z0;
         else if (g->c[j].iz0 >= 0)

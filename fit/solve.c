@@ -313,18 +313,18 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
 }
 
 /* lm.c's last accepted step, from x_prev to x, moved every parameter by
- * less than sqrt(FIT_CHI2_STEP) of its standard error (sqrt(chi2/dof
- * (J^T J)^-1_kk) at x) and lowered chi2 by less than FIT_CHI2_STEP
- * chi2/dof: a creep (at a kink of the cost the Gauss-Newton test need not
+ * less than sqrt(chi2_step) of its standard error (sqrt(chi2/dof
+ * (J^T J)^-1_kk) at x) and lowered chi2 by less than chi2_step (FIT_CHI2_STEP
+ * unless the caller asked for less) chi2/dof: a creep (at a kink of the cost the Gauss-Newton test need not
  * pass) that no longer moves any estimate. */
 static int
 creeping(lf_fit *f, double chi2dof)
 {
     const fit_lm *lm = &f->w.lm;
-    const double tol = sqrt(FIT_CHI2_STEP);
+    const double tol = sqrt(f->chi2_step);
     size_t k;
 
-    if (!f->w.own || lm->niter == 0 || !(2.0 * (lm->cost_prev - lm->cost) <= FIT_CHI2_STEP * chi2dof))
+    if (!f->w.own || lm->niter == 0 || !(2.0 * (lm->cost_prev - lm->cost) <= f->chi2_step * chi2dof))
         return 0;
     for (k = 0; k < f->np; k++)
         if (!(fabs(lm->x->data[k] - lm->xt->data[k]) <= tol * sqrt(chi2dof * f->w.ainv[k])))
@@ -358,7 +358,7 @@ remember_gn(lf_fit *f, double dchi2, double chi2dof)
 /* gsl_multifit_nlinear_driver with the Jacobian examined before each
  * iteration and the cost recorded after it.  Stops with GSL_SUCCESS and
  * *info = FIT_INFO_CHI2 when a Gauss-Newton step would lower chi2 by less
- * than FIT_CHI2_STEP chi2/dof (the estimates are then within
+ * than chi2_step chi2/dof (FIT_CHI2_STEP: the estimates are then within
  * sqrt(FIT_CHI2_STEP) of their reported standard errors of the minimum),
  * else by GSL's tests.  An unusable
  * Jacobian ends the run with GSL_EBADFUNC and the negligible column in
@@ -376,7 +376,7 @@ drive(lf_fit *f, int *info, size_t *dead)
             return GSL_EBADFUNC;
         chi2dof = chi2_per_dof(f);
         remember_gn(f, dchi2, chi2dof);
-        if (dchi2 <= FIT_CHI2_STEP * chi2dof) {
+        if (dchi2 <= f->chi2_step * chi2dof) {
             *info = FIT_INFO_CHI2;
             return GSL_SUCCESS;
         }
@@ -510,9 +510,9 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
         /* the solver's steps, analytic and finite-difference, all rise, yet a
          * coordinate step lowers the cost (a kink the quadratic model cannot
          * see): take that step and solve on from there; a step that gains
-         * less than FIT_CHI2_STEP of chi2/dof is the rounding of a kink's
+         * less than chi2_step of chi2/dof is the rounding of a kink's
          * minimum, where the Gauss-Newton test cannot pass */
-        if (gain < FIT_CHI2_STEP) {
+        if (gain < f->chi2_step) {
             kink = 1;
             break;
         }
