@@ -99,9 +99,9 @@ best_value(const lf_fit_result *r, const char *name, double fallback)
  * var(held) (v - best), the minimum of the local quadratic with the held
  * one at v (offsets move with w and E*: with them held at their best
  * values the refit creeps towards that minimum over many iterations).
- * Within PROFILE_PREDICT_SE standard errors of the held parameter's best
- * value, where the cost is near its quadratic; further out the best
- * values themselves.  fallback where the fit has no value. */
+ * The held parameter's move counts up to PROFILE_PREDICT_SE of its
+ * standard errors (the cost is near its quadratic there; further out the
+ * start moves no further).  fallback where the fit has no value. */
 #define PROFILE_PREDICT_SE 4.0
 
 static double
@@ -123,9 +123,10 @@ start_value(const prof *p, const char *name, double v, double fallback)
         return r->value[k];
     var = r->cov[h * np + h];
     c = r->cov[k * np + h];
-    dv = v - r->value[h];
-    if (!(var > 0) || !isfinite(c) || !(fabs(dv) <= PROFILE_PREDICT_SE * sqrt(var)))
+    if (!(var > 0) || !isfinite(c))
         return r->value[k];
+    dv = lf_fmin(lf_fmax(v - r->value[h], -PROFILE_PREDICT_SE * sqrt(var)),
+                 PROFILE_PREDICT_SE * sqrt(var));
     return r->value[k] + c / var * dv;
 }
 
