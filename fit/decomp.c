@@ -150,8 +150,6 @@ lf_fit_decomp_factor(fit_decomp *d, double rcond, int scale)
 int
 lf_fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond)
 {
-    if (d->n < d->p)
-        return LF_EINVAL;
     if (lf_fit_jacobian_physical(f, x, d->QR) != GSL_SUCCESS)
         return LF_ENUMERIC;
     return lf_fit_decomp_factor(d, rcond, 1);

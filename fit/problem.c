@@ -309,6 +309,15 @@ row_entries(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M, s
         v[q] = t[map->sel[q]] * map->mult[q] * ws;
 }
 
+/* The nu prior's row (row ndata): its one entry, in nu's column, with
+ * respect to the internal coordinate u (physical = 0) or nu itself. */
+static double
+prior_entry(const lf_fit *f, const double *x, int physical)
+{
+    const double dnu = physical ? 1.0 : lf_fit_dnu_du(internal(f, x, f->imat[FIT_NU]));
+    return dnu / f->set.nu.prior_sd;
+}
+
 /* Curve c's rows of J, M columns (a compile-time constant in each
  * instance), into J's rows (zeros elsewhere already). */
 LF_KERNEL void
@@ -356,11 +365,8 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
         default: curve_rows(f, c, &map, 6, J); break;
         }
     }
-    if (f->nu_prior) {
-        const int inu = f->imat[FIT_NU];
-        const double snu = physical ? 1.0 : lf_fit_dnu_du(internal(f, x, inu));
-        J->data[f->ndata * J->tda + (size_t) inu] = snu / f->set.nu.prior_sd;
-    }
+    if (f->nu_prior)
+        J->data[f->ndata * J->tda + (size_t) f->imat[FIT_NU]] = prior_entry(f, x, physical);
     return GSL_SUCCESS;
 }
 
@@ -438,10 +444,9 @@ lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, double *A, doubl
             }
         }
     }
-    if (f->nu_prior) {      /* the prior's row: snu / prior_sd in nu's column */
+    if (f->nu_prior) {      /* the prior's row: one entry, in nu's column */
         const size_t inu = (size_t) f->imat[FIT_NU];
-        const double v = lf_fit_dnu_du(internal(f, x, (int) inu)) / f->set.nu.prior_sd;
-        const double ri = r[f->ndata];
+        const double v = prior_entry(f, x, 0), ri = r[f->ndata];
         A[inu * p + inu] += v * v;
         g[inu] += v * ri;
         colmax[inu] = lf_fmax(colmax[inu], fabs(v));
