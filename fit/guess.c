@@ -723,11 +723,16 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
         }
         m->w = wbest;
         /* a runner-up within a factor 3 in cost is a second start where a
-         * contact point is free: its kinks make the other basins */
+         * contact point is free: its kinks make the other basins.  Not the
+         * floor: a start at no adhesion ends, when w is determined, where
+         * the first did, after climbing ten e-folds of w (half the
+         * iterations of a fit with free offsets), and where w is not, in a
+         * minimum within a chi2 of the first's (bench, paper-offsets: the
+         * same errors and interval coverage without it) */
         for (i = 0, any_z0 = 0; i < f->ncurves; i++)
             any_z0 |= f->c[i].iz0 >= 0;
         start->alt_w = any_z0 && second <= FIT_ALT_COST_RATIO * best && isfinite(wsecond)
-                       ? wsecond : NAN;
+                       && wsecond != wfloor ? wsecond : NAN;
     }
     /* the exact model: the thin profile's start or its own force law's,
      * whichever fits better (guess_model.c) */
