@@ -313,18 +313,18 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
 }
 
 /* lm.c's last accepted step, from x_prev to x, moved every parameter by
- * less than sqrt(chi2_step) of its standard error (sqrt(chi2/dof
- * (J^T J)^-1_kk) at x) and lowered chi2 by less than chi2_step (FIT_CHI2_STEP
- * unless the caller asked for less) chi2/dof: a creep (at a kink of the cost the Gauss-Newton test need not
- * pass) that no longer moves any estimate. */
+ * less than sqrt(step) of its standard error (sqrt(chi2/dof (J^T J)^-1_kk)
+ * at x) and lowered chi2 by less than step chi2/dof, step the larger of
+ * FIT_CREEP_CHI2 and the solve's chi2_step: a creep (at a kink of the cost
+ * the Gauss-Newton test need not pass) that no longer moves any estimate. */
 static int
 creeping(lf_fit *f, double chi2dof)
 {
     const fit_lm *lm = &f->w.lm;
-    const double tol = sqrt(f->chi2_step);
+    const double step = lf_fmax(f->chi2_step, FIT_CREEP_CHI2), tol = sqrt(step);
     size_t k;
 
-    if (!f->w.own || lm->niter == 0 || !(2.0 * (lm->cost_prev - lm->cost) <= f->chi2_step * chi2dof))
+    if (!f->w.own || lm->niter == 0 || !(2.0 * (lm->cost_prev - lm->cost) <= step * chi2dof))
         return 0;
     for (k = 0; k < f->np; k++)
         if (!(fabs(lm->x->data[k] - lm->xt->data[k]) <= tol * sqrt(chi2dof * f->w.ainv[k])))
