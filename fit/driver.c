@@ -32,14 +32,14 @@ model_name(const lf_fit *f)
 }
 
 int
-lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res, lf_error *err)
+lf_fit_solve_run(lf_fit *f, const fit_start *start, fit_run *run_out, lf_warnings *warn,
+                 lf_error *err)
 {
     gsl_vector *x = f->w.x;
     fit_run run;
     int status;
     size_t i;
 
-    memset(res, 0, sizeof *res);
     memset(&run, 0, sizeof run);
     lf_fit_invalidate(f);
     for (i = 0; i < f->ndata; i++)
@@ -54,8 +54,8 @@ lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res
          * the automatic guess and the lower cost wins. */
         double ratio;
         status = lf_fit_second_start(f, x, &start->automatic, &run, &ratio, err);
-        if (status == LF_OK && ratio > 1.0)
-            lf_warn(&res->warnings, "the fit from the given starting point (w = %.4g J/m^2, "
+        if (status == LF_OK && ratio > 1.0 && warn != NULL)
+            lf_warn(warn, "the fit from the given starting point (w = %.4g J/m^2, "
                     "E* = %.4g Pa) ended at a cost %.4g times higher than from the automatic "
                     "guess; the result below starts from the automatic guess",
                     start->mat.w, start->mat.Estar, ratio);
@@ -77,10 +77,25 @@ lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res
         status = lf_fit_second_start(f, x, &up, &run, &ratio, err);
     }
     if (status == LF_OK && f->set.loss != LF_LOSS_LINEAR)
-        status = lf_fit_reweight(f, x, &run, &res->reweightings, err);
+        status = lf_fit_reweight(f, x, &run, err);
     if (status == LF_OK)
         status = lf_fit_honest_end(f, x, &run, err);
+    *run_out = run;
+    return status;
+}
+
+int
+lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res, lf_error *err)
+{
+    gsl_vector *x = f->w.x;
+    fit_run run;
+    int status;
+    size_t i;
+
+    memset(res, 0, sizeof *res);
+    status = lf_fit_solve_run(f, start, &run, &res->warnings, err);
     res->iterations = run.iters;
+    res->reweightings = run.reweightings;
     if (status != LF_OK) {
         lf_warnings_free(&res->warnings);
         return status;

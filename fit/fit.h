@@ -185,6 +185,7 @@ typedef struct {
 /* A run's running totals and its verdict. */
 typedef struct {
     size_t iters, evals;
+    size_t reweightings;    /* robust reweighting rounds (reweight.c) */
     int converged;
     char why[160];
 } fit_run;
@@ -313,7 +314,7 @@ int lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_r
                      double *ratio, lf_error *err);
 /* reweight.c: a robust loss by iteratively reweighted least squares from
  * the solution at x. */
-int lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_error *err);
+int lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err);
 /* loo.c: when every one of three or more curves disagrees with the joint
  * fit, refit without each in turn and name the culprit in res's warnings. */
 void lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res);
@@ -334,6 +335,11 @@ int lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err);
  * with_loo: 0 for a leave-one-out refit itself. */
 int lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res,
               lf_error *err);
+/* The same solve and policies without the assessment: the solution in
+ * f->w.x, the run's totals and verdict in *run (a profile point needs its
+ * chi2 alone); warn (or NULL) takes the policies' warnings. */
+int lf_fit_solve_run(lf_fit *f, const fit_start *start, fit_run *run, lf_warnings *warn,
+                     lf_error *err);
 
 /* decomp.c: the one decomposition of the column-scaled physical Jacobian
  * that the uncertainty and the model choice share:

@@ -147,11 +147,11 @@ rise(prof *p, double v)
     lf_fit_settings s = *p->s;
     lf_fit_param *par = p->which == FIT_W ? &s.w : p->which == FIT_E ? &s.Estar
                         : p->which == FIT_NU ? &s.nu : NULL;
-    lf_fit_result r;
+    fit_run run;
     lf_fit *g;
     size_t j;
     int st, offsets_known = 1;
-    double out = NAN;
+    double out = NAN, chi2;
 
     if (par != NULL) {
         par->mode = LF_PARAM_FIXED;
@@ -197,26 +197,26 @@ rise(prof *p, double v)
         lf_fit_set_origin(g);
     else
         lf_fit_guess_offsets(g);
-    st = lf_fit_solve(g, NULL, 0, &r, NULL);
+    /* the solve without the assessment: a point needs its chi2 alone */
+    st = lf_fit_solve_run(g, NULL, &run, NULL, NULL);
     p->fits++;
-    if (st == LF_OK || st == LF_ENOCONV) {
-        out = r.chi2 - p->best->chi2;
-        if (st == LF_OK && out < -PROFILE_LOWER * p->thr && r.chi2 < p->lower_chi2
+    chi2 = st == LF_OK ? 2.0 * lf_fit_cost(g, g->w.x, g->w.r) : HUGE_VAL;
+    if (isfinite(chi2)) {
+        out = chi2 - p->best->chi2;
+        if (run.converged && out < -PROFILE_LOWER * p->thr && chi2 < p->lower_chi2
             && p->lower_off != NULL) {
             /* lower than the best fit: keep where, to refit from there */
-            p->lower_chi2 = r.chi2;
-            p->lower_mat = g->mat;
+            double z0, F0, sl;
+            p->lower_chi2 = chi2;
+            lf_fit_unpack(g, g->w.x->data, &p->lower_mat, &z0, &F0, &sl, p->nc);
             for (j = 0; j < p->nc; j++) {
-                char name[32];
-                snprintf(name, sizeof name, "z0[%zu]", j + 1);
-                p->lower_off[3 * j] = best_value(&r, name, p->cc[j].z0);
-                snprintf(name, sizeof name, "F0[%zu]", j + 1);
-                p->lower_off[3 * j + 1] = best_value(&r, name, p->cc[j].F0);
-                snprintf(name, sizeof name, "s[%zu]", j + 1);
-                p->lower_off[3 * j + 2] = best_value(&r, name, 0.0);
+                lf_material m;
+                lf_fit_unpack(g, g->w.x->data, &m, &z0, &F0, &sl, j);
+                p->lower_off[3 * j] = z0;
+                p->lower_off[3 * j + 1] = F0;
+                p->lower_off[3 * j + 2] = sl;
             }
         }
-        lf_fit_result_free(&r);
     }
     lf_fit_free(g);
     return out;

@@ -19,7 +19,7 @@
 #include "fit.h"
 
 int
-lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_error *err)
+lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
 {
     const double scale = !isnan(f->set.loss_scale) ? f->set.loss_scale
                          : f->set.loss == LF_LOSS_HUBER ? 1.345 : 2.385;
@@ -59,7 +59,7 @@ lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, size_t *rounds, lf_error
             f->w.sqrtw[k] = s;
         }
         lf_fit_invalidate(f);
-        *rounds = round + 1;
+        run->reweightings = round + 1;
         if (moved < FIT_REWEIGHT_TOL)
             break;
         status = lf_fit_solve_scanned(f, x, 0, run, err);
