@@ -149,6 +149,10 @@ typedef struct {
     double *g, *D2;         /* np: J^T r, squared scaling */
     double *colmax;         /* np: max |J_ik| of each column at x */
     double cost, cost_prev, mu, nu;
+    double big;             /* max_k (J^T J)_kk / D_k^2 at the start */
+    double mu_first;        /* the damping of the first accepted step (NaN:
+                               none yet), relative to the largest scaled
+                               diagonal */
     size_t niter, nevalf, nevaldf;
 } fit_lm;
 
@@ -204,6 +208,9 @@ struct lf_fit {
     int k2_degenerate;   /* set by lf_fit_assess: w and F0 not separable */
     double chi2_step;    /* the solve's precision in chi2/dof: FIT_CHI2_STEP,
                             or a profile point's coarser one (profile.c) */
+    double mu0;          /* lm.c's first damping, relative to the largest
+                            scaled diagonal: FIT_LM_MU0, or where a profile's
+                            last refit took its first step (profile.c) */
     int start_by_model;  /* the start's offsets from the model's force law
                             (guess_model.c), not the thin profile */
     int any_bonded, any_frictionless;

@@ -314,6 +314,7 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
         goto nomem;
     f->set = *settings;
     f->chi2_step = FIT_CHI2_STEP;
+    f->mu0 = FIT_LM_MU0;
     f->trs = *methods[im].trs;
     f->ncurves = ncurves;
     f->c = calloc(ncurves, sizeof *f->c);

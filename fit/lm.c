@@ -10,8 +10,8 @@
  * non-linear least squares problems", 2004, eq. 3.14; GSL's lm.c does the
  * same): with rho the actual over the predicted decrease of the cost, an
  * accepted step (rho > 0) sets mu *= max(1/3, 1 - (2 rho - 1)^3), nu = 2;
- * a rejected one mu *= nu, nu *= 2.  mu starts at 1e-3 max_k (J^T J)_kk /
- * D_k^2.  After FIT_LM_MAX_REJECT rejections in a row the iteration
+ * a rejected one mu *= nu, nu *= 2.  mu starts at mu0 max_k (J^T J)_kk /
+ * D_k^2 (FIT_LM_MU0 = 1e-3, or a profile's own, profile.c).  After FIT_LM_MAX_REJECT rejections in a row the iteration
  * reports GSL_ENOPROG, as GSL's trust region does.
  *
  * Unlike GSL's driver it keeps no vectors it does not need, evaluates the
@@ -105,7 +105,10 @@ lf_fit_lm_init(lf_fit *f, const gsl_vector *x)
     for (k = 0; k < p; k++)
         if (!(lm->D2[k] > 0))
             lm->D2[k] = 1.0;
-    lm->mu = FIT_LM_MU0 * (big > 0 ? big : 1.0);
+    big = big > 0 ? big : 1.0;
+    lm->mu = f->mu0 * big;
+    lm->mu_first = NAN;
+    lm->big = big;
     lm->nu = 2.0;
     return GSL_SUCCESS;
 }
@@ -147,6 +150,8 @@ lf_fit_lm_iterate(lf_fit *f)
             lm->r = lm->rt;
             lm->rt = tr;
             lm->cost_prev = lm->cost;
+            if (lm->niter == 0)
+                lm->mu_first = lm->mu / lm->big;
             if (normal_equations(f) != GSL_SUCCESS)
                 return GSL_EDOM;
             lm->mu *= lf_fmax(1.0 / 3.0, 1.0 - t * t * t);

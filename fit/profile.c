@@ -77,6 +77,8 @@ typedef struct {
     int mode;                  /* LF_PROFILE_CHECK, _ALWAYS or _SCREEN */
     int calibrate;             /* LF_PROFILE_CALIBRATE was asked */
     double thr;                /* the threshold of the rise, s^2 F(1, n_eff - p) */
+    double mu0;                /* the damping at which this profile's last
+                                  refit took its first step (NaN: none) */
     size_t fits;
     /* the lowest profile point below the best fit's chi2, if any: the best
      * fit was then not the global minimum (refit_from_lower) */
@@ -164,6 +166,12 @@ rise(prof *p, double v)
     if (g == NULL)
         return NAN;
     g->chi2_step = PROFILE_CHI2_STEP;
+    /* a profile's points are neighbours, with the same kinks: each refit
+     * starts at the damping where the last one took its first step (the
+     * full Gauss-Newton step over a kink is otherwise rejected some four
+     * times first, each rejection an evaluation of the model) */
+    if (isfinite(p->mu0))
+        g->mu0 = p->mu0;
     g->mat.w = start_in(p, "w", v, p->best->w.value, 0.0, HUGE_VAL);
     g->mat.Estar = start_in(p, "E*", v, p->best->Estar.value, 0.0, HUGE_VAL);
     g->mat.nu = start_in(p, "nu", v, p->best->nu.value, 0.0, 0.5);
@@ -203,6 +211,8 @@ rise(prof *p, double v)
     /* the solve without the assessment: a point needs its chi2 alone */
     st = lf_fit_solve_run(g, NULL, &run, NULL, NULL);
     p->fits++;
+    if (g->w.own && isfinite(g->w.lm.mu_first))
+        p->mu0 = g->w.lm.mu_first;
     chi2 = st == LF_OK ? 2.0 * lf_fit_cost(g, g->w.x, g->w.r) : HUGE_VAL;
     if (isfinite(chi2)) {
         out = chi2 - p->best->chi2;
@@ -487,6 +497,7 @@ profile_one(prof *p, lf_fit_estimate *e)
     int bound_only = e->upper_bound_only && p->which == FIT_W;
 
     p->linear = 0;
+    p->mu0 = NAN;
     if (!e->free || (!e->determined && !bound_only) || (!bound_only && !(e->se > 0)))
         return 0;
     if (p->which == FIT_NU) {
@@ -692,6 +703,7 @@ lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor)
     if (!(w > 0) || !(r->se_scale > 0))
         return 0;
     memset(&p, 0, sizeof p);
+    p.mu0 = NAN;
     p.cc = malloc(f->ncurves * sizeof *p.cc);
     if (p.cc == NULL)
         return 0;
