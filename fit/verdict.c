@@ -36,6 +36,7 @@
 
 #define FIT_ROUNDING_SE2 1e-4    /* GN decrease, in se^2, of a minimum */
 #define FIT_STALL_SE2 1.0        /* GN decrease, in se^2, of a stall */
+#define FIT_STALL_SLOPE 16.0     /* the most a trial step may beat its slope by */
 
 int
 lf_fit_refuse_degenerate(const lf_fit *f, lf_error *err)
@@ -168,18 +169,26 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
         if (!run->converged)
             break;
         if (dec > FIT_STALL_SE2 * s2) {
-            /* a real step down?  halve until the cost falls, at most 30 times */
+            /* a real step down?  halve until the cost (half chi2) falls by
+             * want, while a step of t along the Gauss-Newton direction could
+             * give it: the cost falls by t dec to first order, and a fall
+             * FIT_STALL_SLOPE times that is not looked for (at a kink every
+             * trial fails, and thirty halvings cost thirty evaluations of
+             * the model) */
+            const double want = 0.25 * FIT_STALL_SE2 * s2;
             double t = 1.0;
             int h;
-            for (h = 0; h < 30; h++, t *= 0.5) {
+            lower = 0;
+            for (h = 0; h < 30 && FIT_STALL_SLOPE * t * dec >= want; h++, t *= 0.5) {
                 size_t i;
                 for (i = 0; i < f->np; i++)
                     trial->data[i] = x->data[i] + t * step->data[i];
                 c1 = lf_fit_cost(f, trial, f->w.r2);
-                if (c1 < c0 - 0.25 * FIT_STALL_SE2 * s2)
+                if (c1 < c0 - want) {
+                    lower = 1;
                     break;
+                }
             }
-            lower = h < 30;
         }
         if (!lower && (dec > FIT_STALL_SE2 * s2 || strstr(run->why, "(small step)") != NULL
                        || strstr(run->why, "(small gradient)") != NULL)) {
