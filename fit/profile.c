@@ -53,14 +53,14 @@
  * threshold means the best fit was not the global minimum */
 #define PROFILE_LOWER 0.01
 /* a profile point's precision in chi2/dof (the solve's FIT_CHI2_STEP is
- * 1e-6): its rise is wanted against a threshold near 3.84 s^2, to the
+ * 1e-6): its rise is wanted against a threshold near 3.84 s^2 to the
  * precision of the crossing's bracket (2^-PROFILE_BISECT of a step of
- * 1.96 se, some 1.5% of the threshold), and a refit that creeps along a
- * contact-edge kink stops once an iteration gains less than this: the
- * rise is then within some 0.3% of the threshold of its minimum, a shift
- * of the interval's end near 1e-3 standard errors (the demo's intervals
- * the same to the printed digits; coverage unchanged) */
-#define PROFILE_CHI2_STEP 1e-2
+ * 1.96 se: the rise there is known to some 3% of the threshold), and a
+ * refit that creeps along a contact-edge kink stops once an iteration
+ * gains less than this, 0.8% of the threshold: the end of the interval
+ * then moves by some 0.4% of its distance from the estimate (the demo's
+ * intervals the same to the printed digits; coverage unchanged) */
+#define PROFILE_CHI2_STEP 3e-2
 /* refits from a lower profile point, at most */
 #define PROFILE_MAX_REFITS 3
 /* the threshold's calibration: data sets and their seed */
