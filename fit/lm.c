@@ -11,8 +11,9 @@
  * same): with rho the actual over the predicted decrease of the cost, an
  * accepted step (rho > 0) sets mu *= max(1/3, 1 - (2 rho - 1)^3), nu = 2;
  * a rejected one mu *= nu, nu *= 2.  mu starts at mu0 max_k (J^T J)_kk /
- * D_k^2 (FIT_LM_MU0 = 1e-3, or a profile's own, profile.c).  After FIT_LM_MAX_REJECT rejections in a row the iteration
- * reports GSL_ENOPROG, as GSL's trust region does.
+ * D_k^2 (mu0 = FIT_LM_MU0 = 1e-3, or a profile's own, profile.c).  After
+ * FIT_LM_MAX_REJECT rejections in a row the iteration reports
+ * GSL_ENOPROG, as GSL's trust region does.
  *
  * Unlike GSL's driver it keeps no vectors it does not need, evaluates the
  * Jacobian only at accepted points (where the model evaluation of the
