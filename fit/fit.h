@@ -58,6 +58,14 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
  * instead of 1e-6, the same errors and interval coverage). */
 #define FIT_INFO_CREEP 4
 #define FIT_CREEP_CHI2 1e-4
+/* A second start whose iteration comes within FIT_SAME_SE standard errors
+ * of the first (converged) solution in every parameter, at a cost within
+ * FIT_SAME_COST of the first's (half chi2: below it by more, the start has
+ * found a lower minimum), has found its basin again and stops there (the
+ * first is kept; stop code FIT_INFO_BASIN). */
+#define FIT_INFO_BASIN 5
+#define FIT_SAME_SE 0.2
+#define FIT_SAME_COST 0.5
 /* A stop with no progress is a minimum when every scaled gradient
  * component is below FIT_GRAD_ROUNDING |J_k| |r| (rounding level)... */
 #define FIT_GRAD_ROUNDING 1e-8
@@ -179,6 +187,11 @@ typedef struct {
     double *gn_x;        /* np: where the solver last examined its Jacobian */
     double gn_dchi2, gn_chi2;  /* there: the Gauss-Newton decrease, chi2 */
     int gn_ok;           /* 1: gn_* hold for the current weights and origin */
+    /* a second start's stop in the first solution's basin (second_start.c) */
+    double *basin_x;     /* np: the first solution, internal coordinates */
+    double *basin_tol;   /* np: FIT_SAME_SE of its standard errors */
+    double basin_cost;   /* its cost */
+    int basin_on, basin_hit;
     double cost_hist[FIT_FLAT_ITERS + 1]; /* cost after each iteration, cyclic */
     fit_lm lm;
     int own;             /* 1: lm.c holds the solver's state, 0: GSL */

@@ -231,7 +231,8 @@ work_alloc(lf_fit *f)
     size_t total = 2 * np                      /* x0_internal, xcache */
                    + 2 * nd + nwork + 3 * GUESS_NSUB + GUESS_NODES   /* sqrtw, delta, work, sub */
                    + 7 * nc                    /* keep, off */
-                   + 3 * np * np + 7 * np      /* jtj, lm.A, lm.L; lm.g, lm.D2, lm.colmax, grad, colmax, ainv, gn_x */
+                   + 3 * np * np + 9 * np      /* jtj, lm.A, lm.L; lm.g, lm.D2, lm.colmax, grad,
+                                                  colmax, ainv, gn_x, basin_x, basin_tol */
                    + 6 * np + 4 * nr;          /* lm.x, xt, h, x, x2, x0; lm.r, rt, r, r2 */
     double *at;
     gsl_vector *v = w->vectors;
@@ -258,6 +259,8 @@ work_alloc(lf_fit *f)
     w->colmax = take(&at, np);
     w->ainv = take(&at, np);
     w->gn_x = take(&at, np);
+    w->basin_x = take(&at, np);
+    w->basin_tol = take(&at, np);
     w->lm.x = take_vector(v++, &at, np);
     w->lm.xt = take_vector(v++, &at, np);
     w->lm.h = take_vector(v++, &at, np);

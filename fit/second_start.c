@@ -31,6 +31,29 @@ same_basin(lf_fit *f, const gsl_vector *x, const lf_material *from)
            && fabs(m.nu - from->nu) < 0.25 * FIT_ALT_LOG_SEP;
 }
 
+/* The first solution x (cost `cost`, converged) as the basin the second
+ * start stops in: its internal coordinates and FIT_SAME_SE of each standard error
+ * (from the solver's last look at its Jacobian, which must have been at x;
+ * else no basin is set). */
+static void
+set_basin(lf_fit *f, const gsl_vector *x, double cost)
+{
+    const double chi2dof = 2.0 * cost / (double) (f->nres > f->np ? f->nres - f->np : 1);
+    size_t k;
+
+    f->w.basin_on = f->w.basin_hit = 0;
+    if (!f->w.gn_ok || memcmp(f->w.gn_x, x->data, f->np * sizeof *x->data) != 0)
+        return;
+    for (k = 0; k < f->np; k++) {
+        f->w.basin_x[k] = f->x0_internal[k] + x->data[k] - 1.0;
+        f->w.basin_tol[k] = FIT_SAME_SE * sqrt(chi2dof * f->w.ainv[k]);
+        if (!(f->w.basin_tol[k] > 0))
+            return;
+    }
+    f->w.basin_cost = cost;
+    f->w.basin_on = 1;
+}
+
 int
 lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *run,
                  double *ratio, lf_error *err)
@@ -38,13 +61,17 @@ lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *
     double cost_first, cost_second, *keep = f->w.keep;
     lf_material mat_first;
     fit_run second;
-    int status, win;
+    int status, win, same;
     size_t j;
 
     *ratio = 1.0;
     if (same_basin(f, x, from))
         return LF_OK;
     cost_first = lf_fit_cost(f, x, f->w.r);
+    if (run->converged)
+        set_basin(f, x, cost_first);
+    else
+        f->w.basin_on = f->w.basin_hit = 0;
     lf_fit_rebase(f, x);
     mat_first = f->mat;
     for (j = 0; j < f->ncurves; j++) {
@@ -56,11 +83,13 @@ lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *
     lf_fit_guess_offsets(f);
     memset(&second, 0, sizeof second);
     status = lf_fit_solve_scanned(f, x, 1, &second, err);
+    same = f->w.basin_hit;
+    f->w.basin_on = f->w.basin_hit = 0;
     run->iters += second.iters;
     run->evals += second.evals;
     if (status != LF_OK)
         return status;
-    cost_second = lf_fit_cost(f, x, f->w.r);
+    cost_second = same ? HUGE_VAL : lf_fit_cost(f, x, f->w.r);
     /* a converged run beats an unconverged one at about the same cost; else
      * the lower cost wins, an unconverged run only by a clear margin */
     win = (second.converged && !run->converged

@@ -98,6 +98,7 @@ stop_reason(int status, int info, size_t maxiter, char *buf, size_t n,
         *converged = 1;
         snprintf(buf, n, "converged (%s)", info == FIT_INFO_CHI2 ? "chi2 within reach of its minimum"
                                            : info == FIT_INFO_CREEP ? "steps far below the standard errors"
+                                           : info == FIT_INFO_BASIN ? "the first solution's basin"
                                            : info == 1 ? "small step" : "small gradient");
     } else if (status == GSL_EMAXITER) {
         snprintf(buf, n, "not converged: %zu iterations reached", maxiter);
@@ -355,6 +356,30 @@ remember_gn(lf_fit *f, double dchi2, double chi2dof)
     f->w.gn_chi2 = chi2dof * (double) (f->nres - f->np);
 }
 
+/* A second start's position back in the first solution's basin: every
+ * parameter within its tolerance of the first's (internal coordinates),
+ * the cost within FIT_SAME_COST of the first's (second_start.c). */
+static int
+in_basin(lf_fit *f)
+{
+    const double *x = cur_x(f)->data;
+    double cost;
+    size_t k;
+
+    if (f->w.own) {
+        cost = f->w.lm.cost;
+    } else {
+        double rn = gsl_blas_dnrm2(cur_r(f));
+        cost = 0.5 * rn * rn;
+    }
+    if (!(fabs(cost - f->w.basin_cost) <= FIT_SAME_COST))
+        return 0;       /* above it, or already lower: another minimum */
+    for (k = 0; k < f->np; k++)
+        if (!(fabs(f->x0_internal[k] + x[k] - 1.0 - f->w.basin_x[k]) <= f->w.basin_tol[k]))
+            return 0;
+    return 1;
+}
+
 /* gsl_multifit_nlinear_driver with the Jacobian examined before each
  * iteration and the cost recorded after it.  Stops with GSL_SUCCESS and
  * *info = FIT_INFO_CHI2 when a Gauss-Newton step would lower chi2 by less
@@ -392,6 +417,11 @@ drive(lf_fit *f, int *info, size_t *dead)
         if (status != GSL_SUCCESS && status != GSL_ENOPROG)
             return status;
         track_cost(f, iter);
+        if (f->w.basin_on && in_basin(f)) {
+            f->w.basin_hit = 1;
+            *info = FIT_INFO_BASIN;
+            return GSL_SUCCESS;
+        }
         /* lm.c's GSL_ENOPROG (no step accepted) ends the run; GSL's
          * driver goes on after its first iteration, and so does this loop */
         status = status == GSL_ENOPROG && f->w.own ? GSL_ENOPROG : solver_test(f, info);
