@@ -157,10 +157,8 @@ typedef struct {
     double *g, *D2;         /* np: J^T r, squared scaling */
     double *colmax;         /* np: max |J_ik| of each column at x */
     double cost, cost_prev, mu, nu;
-    double big;             /* max_k (J^T J)_kk / D_k^2 at the start */
     double mu_first;        /* the damping of the first accepted step (NaN:
-                               none yet), relative to the largest scaled
-                               diagonal */
+                               none yet) */
     size_t niter, nevalf, nevaldf;
 } fit_lm;
 
@@ -221,9 +219,9 @@ struct lf_fit {
     int k2_degenerate;   /* set by lf_fit_assess: w and F0 not separable */
     double chi2_step;    /* the solve's precision in chi2/dof: FIT_CHI2_STEP,
                             or a profile point's coarser one (profile.c) */
-    double mu0;          /* lm.c's first damping, relative to the largest
-                            scaled diagonal: FIT_LM_MU0, or where a profile's
-                            last refit took its first step (profile.c) */
+    double mu0;          /* lm.c's first damping (in units of the scaled
+                            diagonal): FIT_LM_MU0, or where a profile's last
+                            refit took its first step (profile.c) */
     int start_by_model;  /* the start's offsets from the model's force law
                             (guess_model.c), not the thin profile */
     int any_bonded, any_frictionless;
@@ -348,6 +346,9 @@ int lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor);
  * the data not converged, and a minimum within rounding converged. */
 int lf_fit_refuse_degenerate(const lf_fit *f, lf_error *err);
 int lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err);
+/* solve.c: 1 when the solver's last look at its Jacobian (gn_*, ainv) was
+ * at x, under the current weights and origin. */
+int lf_fit_gn_at(const lf_fit *f, const gsl_vector *x);
 
 /* driver.c: the solve from the origin (with start: the automatic guess's
  * start and second starts; NULL: a warm start from the current origin),

@@ -11,7 +11,8 @@
  * same): with rho the actual over the predicted decrease of the cost, an
  * accepted step (rho > 0) sets mu *= max(1/3, 1 - (2 rho - 1)^3), nu = 2;
  * a rejected one mu *= nu, nu *= 2.  mu starts at mu0 max_k (J^T J)_kk /
- * D_k^2 (mu0 = FIT_LM_MU0 = 1e-3, or a profile's own, profile.c).  After
+ * D_k^2 = mu0 (D^2 starts as J^T J's diagonal; mu0 = FIT_LM_MU0 = 1e-3, or
+ * a profile's own, profile.c).  After
  * FIT_LM_MAX_REJECT rejections in a row the iteration reports
  * GSL_ENOPROG, as GSL's trust region does.
  *
@@ -90,7 +91,6 @@ lf_fit_lm_init(lf_fit *f, const gsl_vector *x)
 {
     fit_lm *lm = &f->w.lm;
     size_t k, p = f->np;
-    double big = 0.0;
 
     gsl_vector_memcpy(lm->x, x);
     lm->niter = lm->nevalf = lm->nevaldf = 0;
@@ -101,15 +101,12 @@ lf_fit_lm_init(lf_fit *f, const gsl_vector *x)
     if (normal_equations(f) != GSL_SUCCESS)
         return GSL_EDOM;
     for (k = 0; k < p; k++)
-        if (lm->D2[k] > 0)
-            big = lf_fmax(big, lm->A[k * p + k] / lm->D2[k]);
-    for (k = 0; k < p; k++)
         if (!(lm->D2[k] > 0))
             lm->D2[k] = 1.0;
-    big = big > 0 ? big : 1.0;
-    lm->mu = f->mu0 * big;
+    /* D^2 is J^T J's diagonal here, so every scaled diagonal is 1 and mu
+     * is in units of it */
+    lm->mu = f->mu0;
     lm->mu_first = NAN;
-    lm->big = big;
     lm->nu = 2.0;
     return GSL_SUCCESS;
 }
@@ -152,7 +149,7 @@ lf_fit_lm_iterate(lf_fit *f)
             lm->rt = tr;
             lm->cost_prev = lm->cost;
             if (lm->niter == 0)
-                lm->mu_first = lm->mu / lm->big;
+                lm->mu_first = lm->mu;
             if (normal_equations(f) != GSL_SUCCESS)
                 return GSL_EDOM;
             lm->mu *= lf_fmax(1.0 / 3.0, 1.0 - t * t * t);

@@ -31,18 +31,18 @@ same_basin(lf_fit *f, const gsl_vector *x, const lf_material *from)
            && fabs(m.nu - from->nu) < 0.25 * FIT_ALT_LOG_SEP;
 }
 
-/* The first solution x (cost `cost`, converged) as the basin the second
- * start stops in: its internal coordinates and FIT_SAME_SE of each standard error
- * (from the solver's last look at its Jacobian, which must have been at x;
- * else no basin is set). */
+/* The first solution x (cost `cost`) as the basin the second start stops
+ * in, when it converged: its internal coordinates and FIT_SAME_SE of each
+ * standard error (from the solver's last look at its Jacobian, which must
+ * have been at x; else no basin is set). */
 static void
-set_basin(lf_fit *f, const gsl_vector *x, double cost)
+set_basin(lf_fit *f, const gsl_vector *x, double cost, int converged)
 {
     const double chi2dof = 2.0 * cost / (double) (f->nres > f->np ? f->nres - f->np : 1);
     size_t k;
 
     f->w.basin_on = f->w.basin_hit = 0;
-    if (!f->w.gn_ok || memcmp(f->w.gn_x, x->data, f->np * sizeof *x->data) != 0)
+    if (!converged || !lf_fit_gn_at(f, x))
         return;
     for (k = 0; k < f->np; k++) {
         f->w.basin_x[k] = f->x0_internal[k] + x->data[k] - 1.0;
@@ -68,10 +68,7 @@ lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *
     if (same_basin(f, x, from))
         return LF_OK;
     cost_first = lf_fit_cost(f, x, f->w.r);
-    if (run->converged)
-        set_basin(f, x, cost_first);
-    else
-        f->w.basin_on = f->w.basin_hit = 0;
+    set_basin(f, x, cost_first, run->converged);
     lf_fit_rebase(f, x);
     mat_first = f->mat;
     for (j = 0; j < f->ncurves; j++) {

@@ -205,12 +205,23 @@ no_descent(lf_fit *f, gsl_vector *x)
     return no_descent_move(f, x, 0, NULL);
 }
 
+/* The cost (half chi2) at the solver's position. */
+static double
+cur_cost(lf_fit *f)
+{
+    double r;
+
+    if (f->w.own)
+        return f->w.lm.cost;
+    r = gsl_blas_dnrm2(cur_r(f));
+    return 0.5 * r * r;
+}
+
 /* After each iteration: remember the cost. */
 static void
 track_cost(lf_fit *f, size_t iter)
 {
-    double r = f->w.own ? 0.0 : gsl_blas_dnrm2(cur_r(f));
-    f->w.cost_hist[iter % (FIT_FLAT_ITERS + 1)] = f->w.own ? f->w.lm.cost : 0.5 * r * r;
+    f->w.cost_hist[iter % (FIT_FLAT_ITERS + 1)] = cur_cost(f);
 }
 
 /* The solver's Jacobian J and residuals r at its position, examined once
@@ -338,8 +349,13 @@ creeping(lf_fit *f, double chi2dof)
 static double
 chi2_per_dof(lf_fit *f)
 {
-    double rn = f->w.own ? 0.0 : gsl_blas_dnrm2(cur_r(f));
-    return (f->w.own ? 2.0 * f->w.lm.cost : rn * rn) / (double) (f->nres - f->np);
+    return 2.0 * cur_cost(f) / (double) (f->nres - f->np);
+}
+
+int
+lf_fit_gn_at(const lf_fit *f, const gsl_vector *x)
+{
+    return f->w.gn_ok && memcmp(f->w.gn_x, x->data, f->np * sizeof *x->data) == 0;
 }
 
 /* What the verdict (verdict.c) asks at the end, kept where the Jacobian is
@@ -363,16 +379,9 @@ static int
 in_basin(lf_fit *f)
 {
     const double *x = cur_x(f)->data;
-    double cost;
     size_t k;
 
-    if (f->w.own) {
-        cost = f->w.lm.cost;
-    } else {
-        double rn = gsl_blas_dnrm2(cur_r(f));
-        cost = 0.5 * rn * rn;
-    }
-    if (!(fabs(cost - f->w.basin_cost) <= FIT_SAME_COST))
+    if (!(fabs(cur_cost(f) - f->w.basin_cost) <= FIT_SAME_COST))
         return 0;       /* above it, or already lower: another minimum */
     for (k = 0; k < f->np; k++)
         if (!(fabs(f->x0_internal[k] + x[k] - 1.0 - f->w.basin_x[k]) <= f->w.basin_tol[k]))

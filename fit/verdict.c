@@ -145,7 +145,7 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
     for (round = 0; round < 2; round++) {
         /* the solver's last look at its Jacobian, when it was here: the
          * step itself is needed only when it would be tried */
-        int known = f->w.gn_ok && memcmp(f->w.gn_x, x->data, f->np * sizeof *x->data) == 0;
+        int known = lf_fit_gn_at(f, x);
         double c0, c1 = HUGE_VAL;
         int lower = 0;
         chi2 = known ? f->w.gn_chi2 : 2.0 * lf_fit_cost(f, x, f->w.r);
