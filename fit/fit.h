@@ -118,6 +118,15 @@ typedef struct {
     int sees_w;     /* 0 for k = 2 with free z0 and F0 and no baseline */
 } curve_guess;
 
+/* A curve's subsample for the guess's profiles (guess.c), taken once at
+ * alloc: up to GUESS_NSUB points in order of depth, the basis's constant K
+ * and the sums of y^2 and y, y = F - held (the held F0, or 0). */
+typedef struct {
+    double *z, *F;
+    size_t n;
+    double K, held, yy, sy;
+} guess_sub;
+
 /* One curve inside the fit: its data and layout (fixed at alloc), then the
  * offsets of the origin. */
 typedef struct {
@@ -131,6 +140,7 @@ typedef struct {
     double sigma;        /* noise sd, N */
     int iz0, iF0, islope;   /* index in x, or -1 when held */
     double z0, F0, slope;   /* held values or the origin's (physical) */
+    guess_sub sub;
     curve_guess guess;
 } fit_curve;
 
@@ -173,7 +183,8 @@ typedef struct {
     double *xcache;      /* np: the x of ev[]; xcache_ok when valid */
     int xcache_ok;
     double *work;        /* max(2 ndata, 2 GUESS_NSUB): scratch */
-    double *sub;         /* 3 GUESS_NSUB + GUESS_NODES: subsample, nodes */
+    double *sub;         /* 2 GUESS_NSUB ncurves: the curves' subsamples */
+    double *node;        /* GUESS_NSUB + GUESS_NODES: a profile's nodes */
     gsl_vector *x, *r;   /* np, nres: a solution and its residuals */
     gsl_vector *x2, *r2; /* np, nres: a trial point and its residuals */
     gsl_vector *x0;      /* np: where an iteration started */
@@ -294,6 +305,7 @@ void lf_fit_guess_compare_model(lf_fit *f);
 /* Noise sd of a curve from how far each point's force lies from the line
  * through its neighbours in depth (order: indices by depth; fbig: the
  * largest |force|). */
+void lf_fit_guess_subsample(lf_fit *f, size_t j);
 double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,
                           size_t n, double fbig, double *work);
 

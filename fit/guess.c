@@ -264,37 +264,31 @@ guess_pow_2k(double x, double k)
     return lf_pow_2k(x, k);
 }
 
-/* The residual sum of squares at trial value s of the profiled parameter;
- * fills p->M, c, z0, F0.  One pass over the subsample builds the basis at
- * each point and adds it into the sums of the normal equations. */
-static double
-profile_cost(profile *p, double s)
+/* The sums of one trial over the points i0..n-1 of the subsample, all in
+ * contact (d1 = z - zd > 0 there).  KC is 2, 3 (d1 within the range of
+ * the fast cube root at both ends, so at every point: d1 grows with z) or
+ * 0 (any k, by guess_pow_2k); zd_kind the two-column basis.  Constants in
+ * each instance, so the loop over the points tests neither.  Returns the
+ * count of points with a positive basis. */
+LF_KERNEL size_t
+trial_loop(const profile *p, size_t i0, double zd, double c, double held, int KC,
+           int zd_kind, trial_sums *t)
 {
     const double k = p->k, kk = (k + 2.0) / k, K = p->K;
-    const double held = p->F0_free ? 0.0 : p->F0_held;
-    const int zd_kind = p->kind == PROFILE_ZD;
-    const int from_z0 = p->branch == LF_BRANCH_LOAD && !zd_kind;
-    trial_sums t;
     /* the sums in registers: a struct whose address is taken lives in
      * memory, and every addition would wait for the last store */
     double a00 = 0, a10 = 0, a20 = 0, a11 = 0, a21 = 0, r0 = 0, r1 = 0;
     size_t i, ncontact = 0;
-    double b[3], rss;
-    double zd, c, z0, zc;   /* zc: contact for z > zc (>= for loading) */
 
-    switch (p->kind) {
-    case PROFILE_ZD: zd = s; c = 0.0; z0 = s; zc = s; break;
-    case PROFILE_C:  c = lf_fmax(s, 0.0); z0 = p->z0_held; zd = z0 - c; break;
-    default:         c = p->c_held; z0 = s; zd = z0 - c; break;
-    }
-    zc = from_z0 ? z0 : zd;
-    for (i = 0; i < p->n; i++) {
+    for (i = i0; i < p->n; i++) {
         const double d1 = p->z[i] - zd;
-        const int in = from_z0 ? p->z[i] >= zc : p->z[i] > zc;
         double g, x0, y;
-        if (!in || !(d1 > 0))
-            continue;
-        g = guess_pow_2k(d1, k);
+        if (KC == 2)
+            g = d1;
+        else if (KC == 3)
+            g = d1 * lf_inv_cbrt_step(d1, lf_inv_cbrt_step(d1, lf_inv_cbrt_seed(d1)));
+        else
+            g = guess_pow_2k(d1, k);
         if (!(g > 0))
             continue;
         ncontact++;
@@ -313,13 +307,64 @@ profile_cost(profile *p, double s)
         a20 += x0;
         r0 += x0 * y;
     }
-    t.a00 = a00;
-    t.a10 = a10;
-    t.a20 = a20;
-    t.a11 = a11;
-    t.a21 = a21;
-    t.r0 = r0;
-    t.r1 = r1;
+    t->a00 = a00;
+    t->a10 = a10;
+    t->a20 = a20;
+    t->a11 = a11;
+    t->a21 = a21;
+    t->r0 = r0;
+    t->r1 = r1;
+    return ncontact;
+}
+
+/* The residual sum of squares at trial value s of the profiled parameter;
+ * fills p->M, c, z0, F0.  The points in contact are those deeper than the
+ * contact edge, the subsample's last ones (it is in order of depth): one
+ * pass over them builds the basis at each point and adds it into the sums
+ * of the normal equations. */
+static double
+profile_cost(profile *p, double s)
+{
+    const double k = p->k, kk = (k + 2.0) / k;
+    const double held = p->F0_free ? 0.0 : p->F0_held;
+    const int zd_kind = p->kind == PROFILE_ZD;
+    const int from_z0 = p->branch == LF_BRANCH_LOAD && !zd_kind;
+    trial_sums t;
+    size_t lo = 0, hi = p->n, ncontact;
+    int kc = 0;
+    double b[3], rss;
+    double zd, c, z0, zc;   /* zc: contact for z > zc (>= for loading) */
+
+    switch (p->kind) {
+    case PROFILE_ZD: zd = s; c = 0.0; z0 = s; zc = s; break;
+    case PROFILE_C:  c = lf_fmax(s, 0.0); z0 = p->z0_held; zd = z0 - c; break;
+    default:         c = p->c_held; z0 = s; zd = z0 - c; break;
+    }
+    zc = from_z0 ? z0 : zd;
+    /* the first point in contact with d1 > 0 (none when zd is NaN) */
+    while (lo < hi) {
+        const size_t mid = lo + (hi - lo) / 2;
+        const double z = p->z[mid];
+        if ((from_z0 ? z >= zc : z > zc) && z - zd > 0)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    if (lo < p->n) {
+        const double first = p->z[lo] - zd, last = p->z[p->n - 1] - zd;
+        if (k == 2.0)
+            kc = 2;
+        else if (k == 3.0 && first >= 1e-300 && last <= 1e300)
+            kc = 3;
+    }
+    if (zd_kind)
+        ncontact = kc == 2 ? trial_loop(p, lo, zd, c, held, 2, 1, &t)
+                 : kc == 3 ? trial_loop(p, lo, zd, c, held, 3, 1, &t)
+                           : trial_loop(p, lo, zd, c, held, 0, 1, &t);
+    else
+        ncontact = kc == 2 ? trial_loop(p, lo, zd, c, held, 2, 0, &t)
+                 : kc == 3 ? trial_loop(p, lo, zd, c, held, 3, 0, &t)
+                           : trial_loop(p, lo, zd, c, held, 0, 0, &t);
     if (ncontact < 3)
         return HUGE_VAL;
     if (!zd_kind) {
@@ -476,20 +521,39 @@ make_nodes(const profile *p, double lo, double hi, size_t n, int with_data,
     return m;
 }
 
-/* The per-curve profile set up on a subsample of at most GUESS_NSUB
- * points of curve j, taken in order of depth (so the order of the rows
- * does not matter): GUESS_NSUB/4 points spread over the shallowest eighth
- * of the points (where contact ends and the baseline starts, which a
- * sparse sample would miss) and evenly spaced points among the rest. */
+/* Curve j's subsample for the profiles: at most GUESS_NSUB points, taken
+ * in order of depth (so the order of the rows does not matter):
+ * GUESS_NSUB/4 points spread over the shallowest eighth of the points
+ * (where contact ends and the baseline starts, which a sparse sample would
+ * miss) and evenly spaced points among the rest.  Taken once (lf_fit_alloc,
+ * after the depth order): the profiles of every stage and candidate share
+ * it. */
+/* The sums of y^2 and y over the subsample, y = F - held, in linear_fit's
+ * order. */
 static void
-profile_init(lf_fit *f, size_t j, profile *p)
+sub_sums(guess_sub *sub, double held)
 {
-    const fit_curve *c = &f->c[j];
+    size_t i;
+
+    sub->held = held;
+    sub->yy = sub->sy = 0.0;
+    for (i = 0; i < sub->n; i++) {
+        const double y = sub->F[i] - held;
+        sub->yy += y * y;
+        sub->sy += y;
+    }
+}
+
+void
+lf_fit_guess_subsample(lf_fit *f, size_t j)
+{
+    fit_curve *c = &f->c[j];
     const double k = c->data.probe.k, R = c->data.probe.R;
+    const double held = c->iF0 >= 0 ? 0.0 : c->F0;
     const size_t n = c->data.n, nshallow = GUESS_NSUB / 4;
     const size_t *ord = f->order + c->row;     /* by depth */
     size_t i, m = 0;
-    double *z = f->w.sub, *F = f->w.sub + GUESS_NSUB;
+    double *z = f->w.sub + 2 * GUESS_NSUB * j, *F = z + GUESS_NSUB;
 
     if (n <= GUESS_NSUB) {            /* a small curve: every point */
         for (i = 0; i < n; i++) {
@@ -513,21 +577,34 @@ profile_init(lf_fit *f, size_t j, profile *p)
             F[m++] = c->data.force[ord[q]];
         }
     }
+    c->sub.z = z;
+    c->sub.F = F;
+    c->sub.n = m;
+    c->sub.K = M_PI / c->data.probe.b * pow(k, (k + 2.0) / k) / (k + 2.0)
+               * pow(R, 2.0 * (k - 1.0) / k);
+    sub_sums(&c->sub, held);
+}
+
+/* The per-curve profile on curve j's subsample. */
+static void
+profile_init(lf_fit *f, size_t j, profile *p)
+{
+    fit_curve *c = &f->c[j];
+    const double held = c->iF0 >= 0 ? 0.0 : c->F0;
+
+    if (held != c->sub.held)        /* a held F0 set anew since alloc */
+        sub_sums(&c->sub, held);
     memset(p, 0, sizeof *p);
-    p->z = z;
-    p->F = F;
-    p->n = m;
-    p->k = k;
-    p->K = M_PI / c->data.probe.b * pow(k, (k + 2.0) / k) / (k + 2.0)
-           * pow(R, 2.0 * (k - 1.0) / k);
+    p->z = c->sub.z;
+    p->F = c->sub.F;
+    p->n = c->sub.n;
+    p->k = c->data.probe.k;
+    p->K = c->sub.K;
     p->branch = c->data.branch;
     p->F0_free = c->iF0 >= 0;
     p->F0_held = c->F0;
-    for (i = 0; i < m; i++) {      /* in linear_fit's order */
-        const double y = F[i] - (p->F0_free ? 0.0 : p->F0_held);
-        p->yy += y * y;
-        p->sy += y;
-    }
+    p->yy = c->sub.yy;
+    p->sy = c->sub.sy;
 }
 
 /* Stage 1 of curve j: M, c, and whether the curve sees adhesion. */
@@ -539,7 +616,7 @@ guess_curve(lf_fit *f, size_t j, curve_guess *g)
     double rss;
     profile p;
     size_t i, nbase = 0, nn;
-    double *node = f->w.sub + 2 * GUESS_NSUB;
+    double *node = f->w.node;
 
     profile_init(f, j, &p);
     if (c->iz0 >= 0) {
@@ -596,7 +673,7 @@ offsets_at(lf_fit *f, double *off)
     for (j = 0; j < f->ncurves; j++) {
         fit_curve *c = &f->c[j];
         double rss, M = lf_thin_Z(c->data.probe.base, m->nu) * m->Estar;
-        double *node = f->w.sub + 2 * GUESS_NSUB;
+        double *node = f->w.node;
         size_t nn;
         profile p;
 

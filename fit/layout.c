@@ -197,6 +197,7 @@ curve_scales(lf_fit *f, lf_error *err)
         c->eps = 1e-3 * c->L / (double) (c->data.n - 1);
         c->sigma = lf_fit_noise_sigma(c->data.depth, c->data.force, f->order + c->row, c->data.n,
                                       fbig, f->w.work);
+        lf_fit_guess_subsample(f, j);
     }
     return LF_OK;
 }
@@ -229,7 +230,8 @@ work_alloc(lf_fit *f)
     const size_t np = f->np, nd = f->ndata, nr = f->nres, nc = f->ncurves;
     const size_t nwork = 2 * nd > 2 * GUESS_NSUB ? 2 * nd : 2 * GUESS_NSUB;
     size_t total = 2 * np                      /* x0_internal, xcache */
-                   + 2 * nd + nwork + 3 * GUESS_NSUB + GUESS_NODES   /* sqrtw, delta, work, sub */
+                   + 2 * nd + nwork                 /* sqrtw, delta, work */
+                   + (2 * nc + 1) * GUESS_NSUB + GUESS_NODES   /* sub, node */
                    + 7 * nc                    /* keep, off */
                    + 3 * np * np + 9 * np      /* jtj, lm.A, lm.L; lm.g, lm.D2, lm.colmax, grad,
                                                   colmax, ainv, gn_x, basin_x, basin_tol */
@@ -246,7 +248,8 @@ work_alloc(lf_fit *f)
     w->sqrtw = take(&at, nd);
     w->delta = take(&at, nd);
     w->work = take(&at, nwork);
-    w->sub = take(&at, 3 * GUESS_NSUB + GUESS_NODES);
+    w->sub = take(&at, 2 * GUESS_NSUB * nc);
+    w->node = take(&at, GUESS_NSUB + GUESS_NODES);
     w->keep = take(&at, 3 * nc);
     w->off = take(&at, 4 * nc);
     w->jtj = take(&at, np * np);
