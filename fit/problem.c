@@ -282,10 +282,11 @@ curve_map(const lf_fit *f, const double *x, size_t j, int physical, row_map *map
 }
 
 /* Row k's entries in the map's columns into v[0..M-1] (unweighted by
- * sigma and the robust weight: ws multiplies them). */
+ * sigma and the robust weight: ws multiplies them); sel is map->sel or, in
+ * the instances for the usual columns, a constant copy of it. */
 LF_KERNEL void
-row_entries(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M, size_t k,
-            double ws, double *v)
+row_entries(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M,
+            const int *sel, size_t k, double ws, double *v)
 {
     const double d = f->w.delta[k];
     const lf_eval *e = &f->w.ev[k];
@@ -306,7 +307,7 @@ row_entries(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M, s
     t[5] = d;
 #pragma GCC unroll 6
     for (q = 0; q < M; q++)
-        v[q] = t[map->sel[q]] * map->mult[q] * ws;
+        v[q] = t[sel[q]] * map->mult[q] * ws;
 }
 
 /* The nu prior's row (row ndata): its one entry, in nu's column, with
@@ -329,7 +330,7 @@ curve_rows(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M, gs
     for (i = 0; i < c->data.n; i++) {
         const size_t k = c->row + i;
         double v[6], *row = J->data + k * J->tda;
-        row_entries(f, c, map, M, k, f->w.sqrtw[k] * inv_sigma, v);
+        row_entries(f, c, map, M, map->sel, k, f->w.sqrtw[k] * inv_sigma, v);
 #pragma GCC unroll 6
         for (q = 0; q < M; q++)
             row[map->col[q]] = v[q];
@@ -372,10 +373,11 @@ fill_jacobian(lf_fit *f, const double *x, gsl_matrix *J, int physical)
 
 /* Curve c's rows of J^T J (lower triangle, local 6 x 6), J^T r and the
  * column maxima, M columns (a compile-time constant in each instance, so
- * the sums stay in registers). */
+ * the sums stay in registers; so is sel in the instances for the usual
+ * columns). */
 LF_KERNEL void
 curve_sums(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M,
-           const double *r, double *sa, double *sg, double *sb)
+           const int *sel, const double *r, double *sa, double *sg, double *sb)
 {
     const double inv_sigma = 1.0 / c->sigma;
     double a[36] = { 0 }, gk[6] = { 0 }, bk[6] = { 0 };
@@ -385,7 +387,7 @@ curve_sums(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M,
         const size_t k = c->row + i;
         const double ri = r[k];
         double v[6];
-        row_entries(f, c, map, M, k, f->w.sqrtw[k] * inv_sigma, v);
+        row_entries(f, c, map, M, sel, k, f->w.sqrtw[k] * inv_sigma, v);
         /* unrolled (M is constant): the sums stay in registers */
 #pragma GCC unroll 6
         for (q = 0; q < M; q++) {
@@ -406,6 +408,42 @@ curve_sums(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M,
     }
 }
 
+/* The columns a curve's rows touch most often, in row_entries' numbering:
+ * w and E*, with nu, with the curve's z0 and F0, with both. */
+static const int SEL_WE[] = { 0, 1 }, SEL_WEN[] = { 0, 1, 2 }, SEL_WEZF[] = { 0, 1, 3, 4 },
+                 SEL_WENZF[] = { 0, 1, 2, 3, 4 };
+
+static int
+sel_is(const row_map *map, const int *sel, size_t m)
+{
+    return map->m == m && memcmp(map->sel, sel, m * sizeof *sel) == 0;
+}
+
+/* curve_sums for the map's columns: an instance with constant columns for
+ * the usual ones, else one per count. */
+static void
+sums_of(const lf_fit *f, const fit_curve *c, const row_map *map, const double *r, double *sa,
+        double *sg, double *sb)
+{
+    if (sel_is(map, SEL_WE, 2))
+        curve_sums(f, c, map, 2, SEL_WE, r, sa, sg, sb);
+    else if (sel_is(map, SEL_WEZF, 4))
+        curve_sums(f, c, map, 4, SEL_WEZF, r, sa, sg, sb);
+    else if (sel_is(map, SEL_WEN, 3))
+        curve_sums(f, c, map, 3, SEL_WEN, r, sa, sg, sb);
+    else if (sel_is(map, SEL_WENZF, 5))
+        curve_sums(f, c, map, 5, SEL_WENZF, r, sa, sg, sb);
+    else
+        switch (map->m) {
+        case 1: curve_sums(f, c, map, 1, map->sel, r, sa, sg, sb); break;
+        case 2: curve_sums(f, c, map, 2, map->sel, r, sa, sg, sb); break;
+        case 3: curve_sums(f, c, map, 3, map->sel, r, sa, sg, sb); break;
+        case 4: curve_sums(f, c, map, 4, map->sel, r, sa, sg, sb); break;
+        case 5: curve_sums(f, c, map, 5, map->sel, r, sa, sg, sb); break;
+        default: curve_sums(f, c, map, 6, map->sel, r, sa, sg, sb); break;
+        }
+}
+
 int
 lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, double *A, double *g,
                    double *colmax)
@@ -424,15 +462,9 @@ lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, double *A, doubl
         row_map map;
 
         curve_map(f, x, j, 0, &map);
-        switch (map.m) {
-        case 0: continue;
-        case 1: curve_sums(f, c, &map, 1, r, sa, sg, sb); break;
-        case 2: curve_sums(f, c, &map, 2, r, sa, sg, sb); break;
-        case 3: curve_sums(f, c, &map, 3, r, sa, sg, sb); break;
-        case 4: curve_sums(f, c, &map, 4, r, sa, sg, sb); break;
-        case 5: curve_sums(f, c, &map, 5, r, sa, sg, sb); break;
-        default: curve_sums(f, c, &map, 6, r, sa, sg, sb); break;
-        }
+        if (map.m == 0)
+            continue;
+        sums_of(f, c, &map, r, sa, sg, sb);
         for (q = 0; q < map.m; q++) {
             const size_t cq = (size_t) map.col[q];
             g[cq] += sg[q];
