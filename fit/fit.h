@@ -302,10 +302,12 @@ void lf_fit_guess_model_offsets(lf_fit *f);
 /* For exact-model curves: keep the thin profile's start or the model's,
  * whichever costs less (sets f->start_by_model). */
 void lf_fit_guess_compare_model(lf_fit *f);
+/* Curve j's subsample for the guess's profiles (c->sub), taken once the
+ * depth order is known. */
+void lf_fit_guess_subsample(lf_fit *f, size_t j);
 /* Noise sd of a curve from how far each point's force lies from the line
  * through its neighbours in depth (order: indices by depth; fbig: the
  * largest |force|). */
-void lf_fit_guess_subsample(lf_fit *f, size_t j);
 double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,
                           size_t n, double fbig, double *work);
 

@@ -521,13 +521,6 @@ make_nodes(const profile *p, double lo, double hi, size_t n, int with_data,
     return m;
 }
 
-/* Curve j's subsample for the profiles: at most GUESS_NSUB points, taken
- * in order of depth (so the order of the rows does not matter):
- * GUESS_NSUB/4 points spread over the shallowest eighth of the points
- * (where contact ends and the baseline starts, which a sparse sample would
- * miss) and evenly spaced points among the rest.  Taken once (lf_fit_alloc,
- * after the depth order): the profiles of every stage and candidate share
- * it. */
 /* The sums of y^2 and y over the subsample, y = F - held, in linear_fit's
  * order. */
 static void
@@ -544,6 +537,13 @@ sub_sums(guess_sub *sub, double held)
     }
 }
 
+/* Curve j's subsample for the profiles: at most GUESS_NSUB points, taken
+ * in order of depth (so the order of the rows does not matter):
+ * GUESS_NSUB/4 points spread over the shallowest eighth of the points
+ * (where contact ends and the baseline starts, which a sparse sample would
+ * miss) and evenly spaced points among the rest.  Taken once (lf_fit_alloc,
+ * after the depth order): the profiles of every stage and candidate share
+ * it. */
 void
 lf_fit_guess_subsample(lf_fit *f, size_t j)
 {
