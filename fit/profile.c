@@ -221,10 +221,8 @@ rise(prof *p, double v)
             /* lower than the best fit: keep where, to refit from there */
             double z0, F0, sl;
             p->lower_chi2 = chi2;
-            lf_fit_unpack(g, g->w.x->data, &p->lower_mat, &z0, &F0, &sl, p->nc);
-            for (j = 0; j < p->nc; j++) {
-                lf_material m;
-                lf_fit_unpack(g, g->w.x->data, &m, &z0, &F0, &sl, j);
+            for (j = 0; j < p->nc; j++) {     /* the material with each curve's offsets */
+                lf_fit_unpack(g, g->w.x->data, &p->lower_mat, &z0, &F0, &sl, j);
                 p->lower_off[3 * j] = z0;
                 p->lower_off[3 * j + 1] = F0;
                 p->lower_off[3 * j + 2] = sl;

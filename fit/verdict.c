@@ -178,7 +178,6 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
             const double want = 0.25 * FIT_STALL_SE2 * s2;
             double t = 1.0;
             int h;
-            lower = 0;
             for (h = 0; h < 30 && FIT_STALL_SLOPE * t * dec >= want; h++, t *= 0.5) {
                 size_t i;
                 for (i = 0; i < f->np; i++)
