@@ -267,6 +267,9 @@ void lf_fit_rebase(lf_fit *f, gsl_vector *x);
 int lf_fit_eval_at(lf_fit *f, const double *x);
 int lf_fit_residuals(const gsl_vector *x, void *params, gsl_vector *r);
 int lf_fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J);
+/* The free force offsets (and slopes) of x moved to their least-squares
+ * values for the residuals r at x, x and r updated (variable projection). */
+void lf_fit_project_offsets(lf_fit *f, double *x, double *r);
 /* The normal equations of the internal coordinates at x, curve by curve
  * from the model's evaluations (a curve's rows touch only the material's
  * columns and its own offsets'), J never formed: A = J^T J (lower

@@ -16,6 +16,23 @@
  * FIT_LM_MAX_REJECT rejections in a row the iteration reports
  * GSL_ENOPROG, as GSL's trust region does.
  *
+ * From the second iteration of a solve on, each trial point's free force
+ * offsets (and slopes) are set to their least-squares values before its
+ * cost is taken (lf_fit_project_offsets, problem.c: the residuals are
+ * linear in them, so this costs no evaluation), and the gain ratio counts
+ * that decrease too, which lets the damping fall as fast as the valley of
+ * the other parameters allows (variable projection).  Without it a step
+ * that moves w or a contact point moves the offsets only along the
+ * linearisation, and the iteration creeps along the curved valley this
+ * leaves: with z0 and F0 free (paper-offsets) 25 -> 15 iterations per fit
+ * at 1% noise and 68 -> 21 at 5%, the minima found as often lower as
+ * before (chi2 lower in 193 of 1000 seeds, higher in 137, by more than 1
+ * in 14 and 1).  The first step of a solve is taken plain, so that its
+ * gain ratio measures the linear model alone before the damping follows
+ * the projected decrease: projecting from the first step left one seed of
+ * 90 in the hard-case suite (tests/test_hard.c, unsorted rows) at a kink
+ * of the cost 3.7 chi2 above the minimum the plain path finds.
+ *
  * Unlike GSL's driver it keeps no vectors it does not need, evaluates the
  * Jacobian only at accepted points (where the model evaluation of the
  * residuals is reused, problem.c caching it by x) and allocates nothing:
@@ -133,6 +150,8 @@ lf_fit_lm_iterate(lf_fit *f)
         pred *= 0.5;
         lm->nevalf++;
         if (lf_fit_residuals(lm->xt, f, lm->rt) == GSL_SUCCESS) {
+            if (lm->niter > 0)
+                lf_fit_project_offsets(f, lm->xt->data, lm->rt->data);
             for (i = 0; i < n; i++)
                 ss += lm->rt->data[i] * lm->rt->data[i];
             cost_t = 0.5 * ss;

@@ -227,6 +227,65 @@ lf_fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
     return GSL_SUCCESS;
 }
 
+/* Each curve's free force offset F0 (and slope) set to its least-squares
+ * value given the rest of x, from the residuals r at x: the residuals are
+ * linear in them, with columns Fs sqrtw/sigma (and Fs/L delta
+ * sqrtw/sigma), so this is a 1 x 1 (or 2 x 2) solve per curve, and x and
+ * r are updated in place.  The model's evaluation at x does not depend on
+ * them and stays valid: the cache follows x.  lm.c says why. */
+void
+lf_fit_project_offsets(lf_fit *f, double *x, double *r)
+{
+    const int cached = f->w.xcache_ok && memcmp(x, f->w.xcache, f->np * sizeof *x) == 0;
+    size_t i, j;
+
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        const double *sw = f->w.sqrtw + c->row, *d = f->w.delta + c->row;
+        const double *rr = r + c->row;
+        double saa = 0.0, sab = 0.0, sbb = 0.0, sar = 0.0, sbr = 0.0, da = 0.0, db = 0.0, det;
+        if (c->iF0 < 0 && c->islope < 0)
+            continue;
+        /* in units of the columns without their constant factors: a = sqrtw,
+         * b = delta sqrtw (their moves da, db in force/sigma units) */
+        for (i = 0; i < c->data.n; i++) {
+            const double a = sw[i], b = d[i] * sw[i];
+            saa += a * a;
+            sar += a * rr[i];
+            sab += a * b;
+            sbb += b * b;
+            sbr += b * rr[i];
+        }
+        if (c->iF0 >= 0 && c->islope >= 0) {
+            det = saa * sbb - sab * sab;
+            if (!(det > 1e-12 * saa * sbb))
+                continue;
+            da = -(sbb * sar - sab * sbr) / det;
+            db = -(saa * sbr - sab * sar) / det;
+        } else if (c->iF0 >= 0) {
+            if (!(saa > 0))
+                continue;
+            da = -sar / saa;
+        } else {
+            if (!(sbb > 0))
+                continue;
+            db = -sbr / sbb;
+        }
+        for (i = 0; i < c->data.n; i++)
+            r[c->row + i] += da * sw[i] + db * d[i] * sw[i];
+        if (c->iF0 >= 0)
+            x[c->iF0] += da * c->sigma / c->Fs;
+        if (c->islope >= 0)
+            x[c->islope] += db * c->sigma * c->L / c->Fs;
+        if (cached) {
+            if (c->iF0 >= 0)
+                f->w.xcache[c->iF0] = x[c->iF0];
+            if (c->islope >= 0)
+                f->w.xcache[c->islope] = x[c->islope];
+        }
+    }
+}
+
 /* ---- the Jacobian, and the normal equations without it ---------------- */
 
 /* The six columns a curve's rows can touch, in the order of the entries
