@@ -831,7 +831,9 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
         start->user = 1;
     }
     start->mat = *m;
-    if (have_best && !start->user)
+    if (f->start_by_model && !start->user)
+        ;                           /* the model's own start, offsets set with it */
+    else if (have_best && !start->user)
         set_offsets(f, off_best);   /* profiled at this material already */
     else
         lf_fit_guess_offsets(f);

@@ -238,6 +238,7 @@ work_alloc(lf_fit *f)
                    + 6 * np + 4 * nr;          /* lm.x, xt, h, x, x2, x0; lm.r, rt, r, r2 */
     double *at;
     gsl_vector *v = w->vectors;
+    size_t k;
 
     w->block = calloc(total, sizeof *w->block);
     if (w->block == NULL)
@@ -274,6 +275,10 @@ work_alloc(lf_fit *f)
     w->lm.rt = take_vector(v++, &at, nr);
     w->r = take_vector(v++, &at, nr);
     w->r2 = take_vector(v++, &at, nr);
+    /* least squares until a robust loss reweights: the guess's cost
+     * comparisons (guess_model.c) run before any solve */
+    for (k = 0; k < nd; k++)
+        w->sqrtw[k] = 1.0;
     return LF_OK;
 }
 

@@ -9,6 +9,7 @@
 
 #include <gsl/gsl_errno.h>
 
+#include "fit.h"
 #include "scene.h"
 #include "testlib.h"
 
@@ -203,6 +204,71 @@ held_and_errors(void)
     scene_free(&s);
 }
 
+/* The exact model's start (guess_model.c): the thin profile's start or the
+ * model's own force law's, whichever fits the curves' subsamples better.
+ * The comparison runs before any solve, so the workspace must begin with
+ * least-squares weights (it began with zeros, every cost was 0 and the
+ * thin start always won).  On a thick bonded layer the thin start is far
+ * off (its chi2 hundreds of times the model's start's); on a thin layer it
+ * is close.  Either way the start kept is the one whose full chi2 is the
+ * lower of the two. */
+static void
+model_start(void)
+{
+    static const double bs[] = { 1e-6, 20e-6 };
+    size_t i, k;
+
+    for (i = 0; i < sizeof bs / sizeof bs[0]; i++) {
+        scene s = scene_default("model start");
+        lf_fit *f;
+        lf_error err;
+        fit_start start;
+        double cost[2];
+        int kept = -1;
+
+        s.sim_model = &lf_model_exact;
+        s.fit.model = &lf_model_exact;
+        s.sim.noise = 0.002;
+        s.fit.nu.mode = LF_PARAM_FIXED;
+        s.fit.nu.value = s.mat.nu;
+        scene_add(&s, 2, 1e-3, bs[i], LF_BASE_BONDED);
+        scene_simulate(&s, 5);
+        f = lf_fit_alloc(&s.fit, s.n, s.curve, &err);
+        if (!t_true(f != NULL, "model start b = %g: alloc", bs[i])) {
+            scene_free(&s);
+            continue;
+        }
+        for (k = 0; k < f->ndata; k++)
+            if (f->w.sqrtw[k] != 1.0)
+                break;
+        t_int((long) k, (long) f->ndata, "model start b = %g: weights 1 before the guess", bs[i]);
+        t_int(lf_fit_guess(f, &start, &err), LF_OK, "model start b = %g: guess", bs[i]);
+        kept = f->start_by_model;
+        /* the full chi2 of both starts, the same way the guess makes them */
+        for (k = 0; k < 2; k++) {
+            f->start_by_model = 0;
+            f->mat = start.automatic;
+            if (k == 1 && !lf_fit_guess_model(f)) {
+                cost[k] = HUGE_VAL;
+                continue;
+            }
+            f->start_by_model = (int) k;
+            lf_fit_guess_offsets(f);
+            gsl_vector_set_all(f->w.x, 1.0);
+            lf_fit_invalidate(f);
+            cost[k] = lf_fit_cost(f, f->w.x, f->w.r);
+        }
+        t_true(cost[kept] <= cost[1 - kept], "model start b = %g: the start kept (%s, chi2 %.4g) "
+               "is the better of the two (other %.4g)", bs[i], kept ? "the model's" : "thin",
+               2 * cost[kept], 2 * cost[1 - kept]);
+        if (bs[i] > 10e-6)
+            t_int(kept, 1, "model start b = %g: a thick layer starts from the model's force law",
+                  bs[i]);
+        lf_fit_free(f);
+        scene_free(&s);
+    }
+}
+
 int
 main(void)
 {
@@ -211,5 +277,6 @@ main(void)
     jacobian();
     order_and_methods();
     held_and_errors();
+    model_start();
     return t_summary();
 }
