@@ -242,37 +242,46 @@ lf_fit_project_offsets(lf_fit *f, double *x, double *r)
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
         const double *sw = f->w.sqrtw + c->row, *d = f->w.delta + c->row;
-        const double *rr = r + c->row;
-        double saa = 0.0, sab = 0.0, sbb = 0.0, sar = 0.0, sbr = 0.0, da = 0.0, db = 0.0, det;
+        double *rr = r + c->row, saa = 0.0, sab = 0.0, sbb = 0.0, sar = 0.0, sbr = 0.0;
+        double da = 0.0, db = 0.0, det;
+        const size_t n = c->data.n;
         if (c->iF0 < 0 && c->islope < 0)
             continue;
-        /* in units of the columns without their constant factors: a = sqrtw,
-         * b = delta sqrtw (their moves da, db in force/sigma units) */
-        for (i = 0; i < c->data.n; i++) {
-            const double a = sw[i], b = d[i] * sw[i];
-            saa += a * a;
-            sar += a * rr[i];
-            sab += a * b;
-            sbb += b * b;
-            sbr += b * rr[i];
-        }
-        if (c->iF0 >= 0 && c->islope >= 0) {
-            det = saa * sbb - sab * sab;
-            if (!(det > 1e-12 * saa * sbb))
-                continue;
-            da = -(sbb * sar - sab * sbr) / det;
-            db = -(saa * sbr - sab * sar) / det;
-        } else if (c->iF0 >= 0) {
+        /* the columns without their constant factors: a = sqrtw, b = delta
+         * sqrtw (moves da, db in units of sigma) */
+        if (c->islope < 0) {            /* F0 alone: the usual case */
+            for (i = 0; i < n; i++) {
+                saa += sw[i] * sw[i];
+                sar += sw[i] * rr[i];
+            }
             if (!(saa > 0))
                 continue;
             da = -sar / saa;
+            for (i = 0; i < n; i++)
+                rr[i] += da * sw[i];
         } else {
-            if (!(sbb > 0))
-                continue;
-            db = -sbr / sbb;
+            for (i = 0; i < n; i++) {
+                const double a = sw[i], b = d[i] * sw[i];
+                saa += a * a;
+                sar += a * rr[i];
+                sab += a * b;
+                sbb += b * b;
+                sbr += b * rr[i];
+            }
+            if (c->iF0 >= 0) {
+                det = saa * sbb - sab * sab;
+                if (!(det > 1e-12 * saa * sbb))
+                    continue;
+                da = -(sbb * sar - sab * sbr) / det;
+                db = -(saa * sbr - sab * sar) / det;
+            } else {
+                if (!(sbb > 0))
+                    continue;
+                db = -sbr / sbb;
+            }
+            for (i = 0; i < n; i++)
+                rr[i] += (da + db * d[i]) * sw[i];
         }
-        for (i = 0; i < c->data.n; i++)
-            r[c->row + i] += da * sw[i] + db * d[i] * sw[i];
         if (c->iF0 >= 0)
             x[c->iF0] += da * c->sigma / c->Fs;
         if (c->islope >= 0)
