@@ -26,9 +26,10 @@
 
 /* The searches in ln w and ln E* (brackets of about 50): Brent's method on
  * the logarithm of the matched force, nearly linear in either (a power
- * law), down to ROOT_TOL; ROOT_MAXIT evaluations at most (bisection alone
- * would need 32).  A few pull-offs per w, a few w per E*. */
-#define ROOT_TOL 1e-8
+ * law), down to ROOT_TOL (1e-5 of w and E*: a start needs no more, and the
+ * fits from it are the same); ROOT_MAXIT evaluations at most (bisection
+ * alone would need 32).  A few pull-offs per w, a few w per E*. */
+#define ROOT_TOL 1e-5
 #define ROOT_MAXIT 60
 /* the value of a trial the model cannot evaluate or whose force has the
  * wrong sign: its side of the root, at about the bracket's scale */
