@@ -208,10 +208,11 @@ held_and_errors(void)
  * model's own force law's, whichever fits the curves' subsamples better.
  * The comparison runs before any solve, so the workspace must begin with
  * least-squares weights (it began with zeros, every cost was 0 and the
- * thin start always won).  On a thick bonded layer the thin start is far
- * off (its chi2 hundreds of times the model's start's); on a thin layer it
- * is close.  Either way the start kept is the one whose full chi2 is the
- * lower of the two. */
+ * thin start always won).  Here, on a 20 um bonded layer, the thin start
+ * is far off (its chi2 hundreds of times the model's start's) and the
+ * model's start must be kept; on 1 um the model's start is also the better
+ * one (half the chi2).  In both the start kept must be the one with the
+ * lower chi2 over all the points, not only the subsamples compared. */
 static void
 model_start(void)
 {
