@@ -346,8 +346,10 @@ lf_fit_guess_model(lf_fit *f)
 /* Half the sum of squared residuals, in units of each curve's noise, of
  * the curves' guess subsamples (guess.c: up to GUESS_NSUB points each, in
  * order of depth) at the origin's material and offsets; HUGE_VAL when the
- * model cannot be evaluated.  Enough to tell a good start from a bad one
- * at a fifth of a full evaluation's cost. */
+ * model cannot be evaluated.  Enough to tell a good start from a bad one;
+ * with the exact model the two cost about one full evaluation together
+ * (sparse points start its inversion less well), where the full costs
+ * cost two. */
 static double
 subsample_cost(lf_fit *f)
 {
