@@ -303,8 +303,9 @@ int lf_fit_guess_by_model(const lf_fit *f);
 int lf_fit_guess_model(lf_fit *f);
 void lf_fit_guess_model_offsets(lf_fit *f);
 /* For exact-model curves: keep the thin profile's start or the model's,
- * whichever costs less (sets f->start_by_model). */
-void lf_fit_guess_compare_model(lf_fit *f);
+ * whichever costs less (sets f->start_by_model).  thin_set: the curves'
+ * offsets are the thin profile's at f->mat already (else profiled here). */
+void lf_fit_guess_compare_model(lf_fit *f, int thin_set);
 /* Curve j's subsample for the guess's profiles (c->sub), taken once the
  * depth order is known. */
 void lf_fit_guess_subsample(lf_fit *f, size_t j);

@@ -812,9 +812,13 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
                        && wsecond != wfloor ? wsecond : NAN;
     }
     /* the exact model: the thin profile's start or its own force law's,
-     * whichever fits better (guess_model.c) */
-    if (!by_model)
-        lf_fit_guess_compare_model(f);
+     * whichever fits better (guess_model.c), from the offsets profiled at
+     * the winning w above */
+    if (!by_model) {
+        if (have_best)
+            set_offsets(f, off_best);
+        lf_fit_guess_compare_model(f, have_best);
+    }
     /* the user's starting point, where given, replaces the automatic one */
     start->automatic = *m;
     start->user = 0;

@@ -348,8 +348,7 @@ lf_fit_guess_model(lf_fit *f)
  * order of depth) at the origin's material and offsets; HUGE_VAL when the
  * model cannot be evaluated.  Enough to tell a good start from a bad one;
  * with the exact model the two cost about one full evaluation together
- * (sparse points start its inversion less well), where the full costs
- * cost two. */
+ * (sparse points start its inversion less well; full costs took two). */
 static double
 subsample_cost(lf_fit *f)
 {
@@ -373,7 +372,7 @@ subsample_cost(lf_fit *f)
 }
 
 void
-lf_fit_guess_compare_model(lf_fit *f)
+lf_fit_guess_compare_model(lf_fit *f, int thin_set)
 {
     lf_material thin = f->mat;
     double a, b;
@@ -392,7 +391,8 @@ lf_fit_guess_compare_model(lf_fit *f)
     /* the thin profile's start, at its own offsets, against the model's own
      * (evaluations into f->w.ev: the cache keyed by x is dropped) */
     lf_fit_invalidate(f);
-    lf_fit_guess_offsets(f);
+    if (!thin_set)
+        lf_fit_guess_offsets(f);
     a = subsample_cost(f);
     if (!lf_fit_guess_model(f)) {
         f->mat = thin;
