@@ -282,14 +282,14 @@ lf_fit_project_offsets(lf_fit *f, double *x, double *r)
             for (i = 0; i < n; i++)
                 rr[i] += (da + db * d[i]) * sw[i];
         }
-        if (c->iF0 >= 0)
+        if (c->iF0 >= 0) {
             x[c->iF0] += da * c->sigma / c->Fs;
-        if (c->islope >= 0)
-            x[c->islope] += db * c->sigma * c->L / c->Fs;
-        if (cached) {
-            if (c->iF0 >= 0)
+            if (cached)
                 f->w.xcache[c->iF0] = x[c->iF0];
-            if (c->islope >= 0)
+        }
+        if (c->islope >= 0) {
+            x[c->islope] += db * c->sigma * c->L / c->Fs;
+            if (cached)
                 f->w.xcache[c->islope] = x[c->islope];
         }
     }
