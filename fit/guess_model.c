@@ -12,9 +12,14 @@
  * and the model in use gives, for a material, its pull-off force P_po and
  * indentation delta_po (lf_model_pulloff; P_jump at delta = 0 for loading)
  * and its force at any indentation.  The material solves
- *   P_po(E*, w)                       = F_min - F0      (w, for each E*)
- *   P(z_max - z_po + delta_po; E*, w) = F_max - F0      (E*)
- * by nested bisection in ln w and ln E* (both monotone).  With no adhesion
+ *   P_po(E*, w)                       = F_min - F0
+ *   P(z_max - z_po + delta_po; E*, w) = F_max - F0.
+ * In linear elasticity with an adhesive edge every force is E* times a
+ * function of the geometry and w/E* (and nu), and every length a function
+ * of w/E*: so at a reference E*_r (the thin profile's) and w = x E*_r the
+ * pull-off fixes the scale, E* = E*_r (F_min - F0)/P_po, and the deepest
+ * force scaled by it must be the data's: one search in ln x (monotone), a
+ * pull-off and a force per trial.  With no adhesion
  * seen (|F_min - F0| below three noise sd) w is set to the value whose
  * pull-off is one noise sd and the contact point is the thin profile's.
  * Curves are combined by geometric means, then every curve's contact point
@@ -24,13 +29,15 @@
 
 #include "fit.h"
 
-/* The searches in ln w and ln E* (brackets of about 50): Brent's method on
- * the logarithm of the matched force, nearly linear in either (a power
- * law), down to ROOT_TOL (1e-5 of w and E*: a start needs no more, and the
- * fits from it are the same); ROOT_MAXIT evaluations at most (bisection
- * alone would need 32).  A few pull-offs per w, a few w per E*. */
+/* The searches in ln x and ln w (brackets of about 50): Brent's method on
+ * the logarithm of the matched force, nearly linear (a power law), down to
+ * ROOT_TOL (1e-5 of w and E*: a start needs no more, and the fits from it
+ * are the same); ROOT_MAXIT evaluations at most (bisection alone would
+ * need 32).  E* stays within [E_LOW, E_HIGH]. */
 #define ROOT_TOL 1e-5
 #define ROOT_MAXIT 60
+#define E_LOW 1e-6
+#define E_HIGH 1e15
 /* the value of a trial the model cannot evaluate or whose force has the
  * wrong sign: its side of the root, at about the bracket's scale */
 #define ROOT_SIDE 50.0
@@ -232,32 +239,33 @@ offset_F0(const lf_fit *f, size_t j)
 
 typedef struct {
     const fit_curve *c;
-    double nu, target;     /* the pull-off force to match */
+    double Eref, nu, target;   /* the pull-off force to match */
     int adhesive;
     double rise, reach;    /* the force to match at the deepest point, and
                               its depth past the pull-off (or contact) */
-} E_search;
+} x_search;
 
-/* ln(rise / P_max) at E* = e^t, w matching the pull-off: > 0 while the
- * layer is too soft for the deepest force. */
+/* The search in x = w/E* (header): at E* = Eref and w = e^t, the E* whose
+ * pull-off is the data's is Eref target/P_po; the force at the deepest
+ * point, scaled by the same factor, against the data's: ln(that / rise),
+ * > 0 while it is too large (too stiff: raise w/E*). */
 static double
-E_gap(double t, void *ctx)
+x_gap(double t, void *ctx)
 {
-    const E_search *q = ctx;
-    lf_material m;
+    const x_search *q = ctx;
+    lf_material m = { exp(t), q->Eref, q->nu };
     double P, d, Pmax;
 
-    m.Estar = exp(t);
-    m.nu = q->nu;
-    m.w = w_for_pulloff(q->c, m.Estar, q->nu, q->target);
     if (!pull(q->c, &m, &P, &d))
-        return -ROOT_SIDE;
+        return -ROOT_SIDE;          /* beyond the model: as too much adhesion */
+    if (!(P < 0))
+        return ROOT_SIDE;           /* no pull-off force yet: too little */
     Pmax = force_at(q->c, &m, q->reach + (q->adhesive ? d : 0.0));
     if (!isfinite(Pmax))
-        return -ROOT_SIDE;
-    if (!(Pmax > 0))
         return ROOT_SIDE;
-    return log(q->rise / Pmax);
+    if (!(Pmax > 0))
+        return -ROOT_SIDE;
+    return log(Pmax * (q->target / P) / q->rise);
 }
 
 /* The material of one curve; 0 when the data give no contact. */
@@ -266,9 +274,10 @@ curve_material(const lf_fit *f, size_t j, double nu, lf_material *out)
 {
     const fit_curve *c = &f->c[j];
     double F0 = offset_F0(f, j);
-    double zpo, Fmin, zmax, Fmax, Ppo, rise, z0ref;
+    double zpo, Fmin, zmax, Fmax, Ppo, rise, z0ref, R = c->data.probe.R, t, P, d;
     int adhesive;
-    E_search q;
+    x_search q;
+    lf_material m;
 
     features(f, j, F0, &zpo, &Fmin, &zmax, &Fmax);
     Ppo = Fmin - F0;
@@ -286,13 +295,26 @@ curve_material(const lf_fit *f, size_t j, double nu, lf_material *out)
         z0ref = NAN;
     }
     q.c = c;
+    q.Eref = f->mat.Estar > 0 && isfinite(f->mat.Estar) ? f->mat.Estar : 1e6;
     q.nu = nu;
     q.target = adhesive ? Ppo : -c->sigma;
     q.adhesive = adhesive;
     q.rise = rise;
     q.reach = adhesive ? zmax - zpo : zmax - z0ref;
-    out->Estar = exp(root_in(E_gap, &q, log(1e-6), log(1e15)));
-    out->w = w_for_pulloff(c, out->Estar, nu, adhesive ? Ppo : -c->sigma);
+    t = root_in(x_gap, &q, log(1e-300 + 1e-18 * q.Eref * R), log(1e6 * q.Eref * R));
+    m.w = exp(t);
+    m.Estar = q.Eref;
+    m.nu = nu;
+    if (!pull(c, &m, &P, &d) || !(P < 0))
+        return 0;
+    /* scaled to the E* whose pull-off is the data's, within the range the
+     * searches in E* took */
+    out->Estar = q.Eref * (q.target / P);
+    out->w = m.w * (q.target / P);
+    if (!(out->Estar >= E_LOW && out->Estar <= E_HIGH)) {
+        out->Estar = lf_fmin(lf_fmax(out->Estar, E_LOW), E_HIGH);
+        out->w = w_for_pulloff(c, out->Estar, nu, q.target);
+    }
     out->nu = nu;
     return isfinite(out->Estar) && isfinite(out->w);
 }
