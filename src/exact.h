@@ -98,6 +98,10 @@ struct lf_exact_table {
     double lthin_c[LF_EXACT_NFUN];                         /* ln thin_c */
     double alpha[LF_EXACT_NFUN], beta[LF_EXACT_NFUN];      /* tail above TAU_MAX */
     lf_exact_table *next;  /* the process store's list */
+    /* what the exact model derives from this table alone (model_exact.c,
+     * frictionless: the grid of its conditions), made by the first model
+     * object that uses the table and freed with it; NULL until then */
+    _Atomic(void *) derived;
 };
 
 /* Build one table from a kernel: nodes every `step` in ln tau, Nystrom

@@ -53,6 +53,7 @@ lf_exact_table_free(lf_exact_table *t)
 {
     if (t == NULL)
         return;
+    free(atomic_load(&t->derived));
     free(t->F);
     free(t->G);
     free(t);
@@ -565,6 +566,8 @@ lf_exact_premix_init(lf_exact_premix *pm, lf_exact_mix *mx)
     nn = NFUN * t0->n;
     *pre = *t0;
     *nu = *t0;
+    atomic_init(&pre->derived, NULL);
+    atomic_init(&nu->derived, NULL);
     pre->F = pm->buf[0];
     pre->G = pm->buf[1];
     nu->F = pm->buf[2];

@@ -334,9 +334,40 @@ slot_claim(exact_state *st)
     return NULL;
 }
 
-/* The mixdata of nu for one call: from a slot of the state (*held then
- * holds a reference, released by mixdata_done), built into a fresh slot,
- * or, with no state or no free slot, built into *local. */
+/* A frictionless table's mixdata, shared by every model object of the
+ * process that uses the table (it depends on the table alone): made by
+ * the first, published in the table by compare-and-swap (a table is
+ * otherwise immutable; `derived` is the one member written after it is
+ * published, once, from NULL).  NULL when out of memory: the model's own
+ * slot is used then. */
+static const mixdata *
+table_mixdata(exact_state *st, const lf_probe *pr, lf_error *err)
+{
+    lf_exact_table *t = (lf_exact_table *) atomic_load_explicit(&st->tab[0], memory_order_acquire);
+    void *md, *none = NULL;
+
+    if (t == NULL)
+        return NULL;
+    if ((md = atomic_load_explicit(&t->derived, memory_order_acquire)) != NULL)
+        return md;
+    if ((md = malloc(sizeof(mixdata))) == NULL)
+        return NULL;
+    if (mixdata_build(md, st, pr, 0.0, err) != LF_OK) {
+        free(md);
+        return NULL;
+    }
+    if (!atomic_compare_exchange_strong_explicit(&t->derived, &none, md, memory_order_acq_rel,
+                                                 memory_order_acquire)) {
+        free(md);           /* another model object's came first */
+        md = none;
+    }
+    return md;
+}
+
+/* The mixdata of nu for one call: a frictionless table's shared one, from
+ * a slot of the state (*held then holds a reference, released by
+ * mixdata_done), built into a fresh slot, or, with no state or no free
+ * slot, built into *local. */
 static int
 mixdata_get(exact_state *st, const lf_probe *pr, double nu, mixdata *local,
             const mixdata **out, slot **held, lf_error *err)
@@ -345,8 +376,15 @@ mixdata_get(exact_state *st, const lf_probe *pr, double nu, mixdata *local,
     int status;
 
     *held = NULL;
-    if (pr->base != LF_BASE_BONDED)
+    if (pr->base != LF_BASE_BONDED) {
+        const lf_exact_table *t;
         nu = 0.0;
+        if (st != NULL
+            && (t = atomic_load_explicit(&st->tab[0], memory_order_acquire)) != NULL
+            && (*out = atomic_load_explicit(&((lf_exact_table *) t)->derived,
+                                            memory_order_acquire)) != NULL)
+            return LF_OK;
+    }
     if (st != NULL) {
         if ((s = slot_find(st, nu)) != NULL) {
             *held = s;
@@ -850,9 +888,12 @@ exact_alloc(void **state, const lf_probe *probe, lf_error *err)
     probe_consts_of(probe, &st->pc);
     /* the frictionless table now; bonded node tables when a nu range is
      * prepared (or first needed) */
-    if (probe->base == LF_BASE_FRICTIONLESS && (status = resolve(st, probe, 0, &t, err)) != LF_OK) {
-        free(st);
-        return status;
+    if (probe->base == LF_BASE_FRICTIONLESS) {
+        if ((status = resolve(st, probe, 0, &t, err)) != LF_OK) {
+            free(st);
+            return status;
+        }
+        (void) table_mixdata(st, probe, NULL);
     }
     *state = st;
     return LF_OK;

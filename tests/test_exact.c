@@ -5,6 +5,7 @@
  * differences. */
 #include <math.h>
 #include <pthread.h>
+#include <stdatomic.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -618,6 +619,54 @@ test_threads(void)
     t_true(thread_tab[0] != NULL && thread_tab[0] == thread_tab[1], "one table per key across threads");
 }
 
+/* A frictionless table's grid of conditions is made once, by the first
+ * model object that uses the table, and shared: model objects made at
+ * once in two threads (racing to publish it) and one made after them give
+ * the same bits. */
+typedef struct {
+    lf_eval e[5];
+    lf_pulloff po;
+    int ok;
+} shared_job;
+
+static void *
+shared_thread(void *arg)
+{
+    shared_job *j = arg;
+    lf_probe pr = {1.5, 1e-3, 1e-6, LF_BASE_FRICTIONLESS};
+    lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
+    j->ok = mod != NULL;
+    if (mod != NULL)
+        slot_eval(mod, 0.3, j->e, &j->po);
+    lf_model_free(mod);
+    return NULL;
+}
+
+static void
+test_shared_conditions(void)
+{
+    pthread_t th[2];
+    shared_job job[3];
+    const lf_exact_table *t;
+    int i;
+
+    memset(job, 0, sizeof job);
+    for (i = 0; i < 2; i++)
+        pthread_create(&th[i], NULL, shared_thread, &job[i]);
+    for (i = 0; i < 2; i++)
+        pthread_join(th[i], NULL);
+    shared_thread(&job[2]);
+    t = lf_exact_table_find(1.5, LF_BASE_FRICTIONLESS, 0.0);
+    t_true(t != NULL && atomic_load(&((lf_exact_table *) t)->derived) != NULL,
+           "k = 1.5 frictionless: the table holds the conditions' grid its models made");
+    t_true(job[0].ok && job[1].ok && job[2].ok
+           && slot_same(job[0].e, &job[0].po, job[1].e, &job[1].po)
+           && slot_same(job[0].e, &job[0].po, job[2].e, &job[2].po),
+           "models made at once in two threads and one made after: the same bits");
+    t_true(job[0].po.P_po < 0 && job[0].e[4].P > 0, "and a pull-off and a force (%g, %g N)",
+           job[0].po.P_po, job[0].e[4].P);
+}
+
 int
 main(void)
 {
@@ -635,6 +684,7 @@ main(void)
     test_slots();
     test_thin_limit();
     test_threads();
+    test_shared_conditions();
     t_str(lf_model_type_find("exact")->name, "exact", "exact is registered");
     lf_exact_cache_clear();
     return t_summary();
