@@ -158,6 +158,7 @@ typedef struct {
  * analytic Jacobian. */
 #define FIT_LM_MU0 1e-3        /* initial damping over the largest scaled diagonal */
 #define FIT_LM_MAX_REJECT 15   /* rejected steps in a row that mean no progress */
+#define FIT_LM_MAX_LOG_STEP 2.3 /* the most a trial step moves ln w or ln E* (a factor 10) */
 typedef struct {
     gsl_vector *x, *r;      /* np, nres: the current point */
     gsl_vector *xt, *rt;    /* np, nres: the trial point (the previous one
