@@ -128,6 +128,11 @@ void lf_exact_table_eval(const lf_exact_table *t, double tau, double f[4],
 int lf_exact_table_get(double k, lf_base base, double nu,
                        const lf_exact_table **out, lf_error *err);
 void lf_exact_cache_clear(void);
+/* How many grids of the exact model's conditions (detachment, pull-off,
+ * jump) the process has built: one per frictionless table, shared by its
+ * model objects, and one per bonded model object and nu in use.  For tests
+ * and the curious. */
+unsigned long lf_exact_conditions_built(void);
 /* The table of (k, base, nu) if it is in the store or on disk (then it is
  * published in the store); NULL otherwise.  Never builds. */
 const lf_exact_table *lf_exact_table_find(double k, lf_base base, double nu);

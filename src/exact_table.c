@@ -564,6 +564,8 @@ lf_exact_premix_init(lf_exact_premix *pm, lf_exact_mix *mx)
         if (mx->t[m]->n != t0->n || mx->t[m]->l0 != t0->l0 || mx->t[m]->h != t0->h)
             return;
     nn = NFUN * t0->n;
+    /* a plain copy: a premix is made of bonded tables, which never hold
+     * `derived` (model_exact.c sets it on frictionless ones only) */
     *pre = *t0;
     *nu = *t0;
     atomic_init(&pre->derived, NULL);

@@ -130,8 +130,8 @@ static _Atomic unsigned long long serials;
  * last ones each thread computed are kept, direct-mapped by the model's
  * serial number and the material's bits, so a repeated question is a
  * look-up with the same bits as the answer it repeats.  Callers that
- * bisect ask it often (fit/guess_model.c's nested bisections go on after
- * their brackets stop moving in double precision: 40% of its calls). */
+ * search ask it again (fit/guess_model.c's root searches evaluate the
+ * pull-off at the root they return once more). */
 #define MEMO_N 128
 typedef struct {
     unsigned long long serial;    /* 0: empty */
@@ -240,6 +240,15 @@ drho_of(int which, double k, const double g[4], const double dg[4])
     }
 }
 
+/* Grids of conditions built in the process (lf_exact_conditions_built). */
+static _Atomic unsigned long conditions_built;
+
+unsigned long
+lf_exact_conditions_built(void)
+{
+    return atomic_load_explicit(&conditions_built, memory_order_relaxed);
+}
+
 /* Fill md for nu (k the probe's): the tables from the state (or the store
  * when st is NULL), the flattened mix, the grid. */
 static int
@@ -247,6 +256,7 @@ mixdata_build(mixdata *md, exact_state *st, const lf_probe *pr, double nu, lf_er
 {
     int i, w, status;
 
+    atomic_fetch_add_explicit(&conditions_built, 1, memory_order_relaxed);
     md->nu = nu;
     status = st != NULL ? state_mix(st, pr, nu, &md->mix, err)
                         : lf_exact_mix_init(&md->mix, pr->k, pr->base, nu, err);

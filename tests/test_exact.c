@@ -621,8 +621,9 @@ test_threads(void)
 
 /* A frictionless table's grid of conditions is made once, by the first
  * model object that uses the table, and shared: model objects made at
- * once in two threads (racing to publish it) and one made after them give
- * the same bits. */
+ * once in two threads (racing to publish it: both may build, one copy is
+ * kept) and one made after them give the same bits, and the one made
+ * after builds none. */
 typedef struct {
     lf_eval e[5];
     lf_pulloff po;
@@ -650,12 +651,19 @@ test_shared_conditions(void)
     const lf_exact_table *t;
     int i;
 
+    unsigned long n0, n1, n2;
+
     memset(job, 0, sizeof job);
+    n0 = lf_exact_conditions_built();
     for (i = 0; i < 2; i++)
         pthread_create(&th[i], NULL, shared_thread, &job[i]);
     for (i = 0; i < 2; i++)
         pthread_join(th[i], NULL);
+    n1 = lf_exact_conditions_built();
     shared_thread(&job[2]);
+    n2 = lf_exact_conditions_built();
+    t_true(n1 - n0 <= 2, "two models made at once: at most one grid each (%lu)", n1 - n0);
+    t_int((long) (n2 - n1), 0, "a model made after them builds no grid of its own");
     t = lf_exact_table_find(1.5, LF_BASE_FRICTIONLESS, 0.0);
     t_true(t != NULL && atomic_load(&((lf_exact_table *) t)->derived) != NULL,
            "k = 1.5 frictionless: the table holds the conditions' grid its models made");
