@@ -344,6 +344,23 @@ slot_claim(exact_state *st)
     return NULL;
 }
 
+/* st's frictionless table (NULL: not resolved); its `derived` is the one
+ * member written after it is published (table_mixdata). */
+static lf_exact_table *
+shared_table(exact_state *st)
+{
+    return (lf_exact_table *) atomic_load_explicit(&st->tab[0], memory_order_acquire);
+}
+
+/* The shared mixdata of st's frictionless table, NULL while there is
+ * none. */
+static const mixdata *
+shared_mixdata(exact_state *st)
+{
+    lf_exact_table *t = shared_table(st);
+    return t != NULL ? atomic_load_explicit(&t->derived, memory_order_acquire) : NULL;
+}
+
 /* A frictionless table's mixdata, shared by every model object of the
  * process that uses the table (it depends on the table alone): made by
  * the first, published in the table by compare-and-swap (a table is
@@ -353,13 +370,14 @@ slot_claim(exact_state *st)
 static const mixdata *
 table_mixdata(exact_state *st, const lf_probe *pr, lf_error *err)
 {
-    lf_exact_table *t = (lf_exact_table *) atomic_load_explicit(&st->tab[0], memory_order_acquire);
+    lf_exact_table *t = shared_table(st);
+    const mixdata *ready;
     void *md, *none = NULL;
 
     if (t == NULL)
         return NULL;
-    if ((md = atomic_load_explicit(&t->derived, memory_order_acquire)) != NULL)
-        return md;
+    if ((ready = shared_mixdata(st)) != NULL)
+        return ready;
     if ((md = malloc(sizeof(mixdata))) == NULL)
         return NULL;
     if (mixdata_build(md, st, pr, 0.0, err) != LF_OK) {
@@ -387,12 +405,8 @@ mixdata_get(exact_state *st, const lf_probe *pr, double nu, mixdata *local,
 
     *held = NULL;
     if (pr->base != LF_BASE_BONDED) {
-        const lf_exact_table *t;
         nu = 0.0;
-        if (st != NULL
-            && (t = atomic_load_explicit(&st->tab[0], memory_order_acquire)) != NULL
-            && (*out = atomic_load_explicit(&((lf_exact_table *) t)->derived,
-                                            memory_order_acquire)) != NULL)
+        if (st != NULL && (*out = shared_mixdata(st)) != NULL)
             return LF_OK;
     }
     if (st != NULL) {
