@@ -280,6 +280,10 @@ int lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, double *A, d
                        double *colmax);
 /* Jacobian with respect to the physical coordinates, rows weighted. */
 int lf_fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J);
+/* c[k] = the internal Jacobian's column k over the physical one at x (each
+ * internal coordinate's d(physical)/d(internal): w, E*, dnu/du, L, Fs,
+ * Fs/L; all > 0). */
+void lf_fit_internal_scale(const lf_fit *f, const double *x, double *c);
 /* Half the sum of squared residuals at x (into r); HUGE_VAL if not computable. */
 double lf_fit_cost(lf_fit *f, const gsl_vector *x, gsl_vector *r);
 double lf_fit_nu_of_u(double u);
@@ -399,6 +403,15 @@ int lf_fit_decomp_alloc(fit_decomp *d, size_t n, size_t p);
 void lf_fit_decomp_free(fit_decomp *d);
 /* Decompose the physical Jacobian of f at x. */
 int lf_fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond);
+/* The same S, V, D and rank from G = J^T J of the internal Jacobian (lower
+ * triangle, p x p), c[k] the factor of internal column k over the physical
+ * one (lf_fit_internal_scale), when every singular value of J D^-1 is above
+ * FIT_DECOMP_NORMAL_COND S_0 and FIT_DECOMP_NORMAL_MARGIN rcond S_0; else
+ * LF_ENUMERIC (then lf_fit_decomp_run).  d from lf_fit_decomp_alloc, n = 0
+ * allowed (no QR, no projection). */
+#define FIT_DECOMP_NORMAL_COND 1e-4
+#define FIT_DECOMP_NORMAL_MARGIN 1.01
+int lf_fit_decomp_normal(fit_decomp *d, const double *G, const double *c, double rcond);
 /* Decompose the n x p matrix d->QR holds, its columns scaled to unit norm
  * first (scale = 1; D their norms) or not (D = 1: the singular values are
  * the matrix's own). */

@@ -566,6 +566,31 @@ lf_fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J)
     return fill_jacobian(f, x, J, 1);
 }
 
+void
+lf_fit_internal_scale(const lf_fit *f, const double *x, double *c)
+{
+    lf_material mat;
+    double z0, F0, slope;
+    size_t j;
+
+    lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
+    if (f->imat[FIT_W] >= 0)
+        c[f->imat[FIT_W]] = mat.w;
+    if (f->imat[FIT_E] >= 0)
+        c[f->imat[FIT_E]] = mat.Estar;
+    if (f->imat[FIT_NU] >= 0)
+        c[f->imat[FIT_NU]] = lf_fit_dnu_du(internal(f, x, f->imat[FIT_NU]));
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *cv = &f->c[j];
+        if (cv->iz0 >= 0)
+            c[cv->iz0] = cv->L;
+        if (cv->iF0 >= 0)
+            c[cv->iF0] = cv->Fs;
+        if (cv->islope >= 0)
+            c[cv->islope] = cv->Fs / cv->L;
+    }
+}
+
 double
 lf_fit_cost(lf_fit *f, const gsl_vector *x, gsl_vector *r)
 {

@@ -143,16 +143,52 @@ name_parameters(const lf_fit *f, lf_fit_result *r)
  * values and nullw[k], the weight of parameter k in the undetermined
  * directions. */
 static int
-decompose(lf_fit *f, const double *x, lf_fit_result *r, double *nullw)
+normal_decompose(lf_fit *f, const double *x, const gsl_vector *res, fit_decomp *d)
+{
+    const size_t p = f->np;
+    const fit_lm *lm = &f->w.lm;
+    gsl_vector_const_view xv = gsl_vector_const_view_array(x, p);
+    double *G, *g, *c;
+    int status;
+
+    if (lf_fit_decomp_alloc(d, 0, p) != LF_OK)
+        return LF_ENOMEM;
+    if ((G = malloc((p * p + 2 * p) * sizeof *G)) == NULL)
+        return LF_ENOMEM;
+    g = G + p * p;
+    c = g + p;
+    /* J^T J at x: lm.c's own when its last look at the Jacobian was at x
+     * (the same origin and weights), else summed again (no evaluation: the
+     * model's at x are cached) */
+    if (f->w.own && lf_fit_gn_at(f, &xv.vector)
+        && memcmp(lm->x->data, x, p * sizeof *x) == 0)
+        memcpy(G, lm->A, p * p * sizeof *G);
+    else if (lf_fit_normal_sums(f, x, res->data, G, g, c) != GSL_SUCCESS) {
+        free(G);
+        return LF_ENUMERIC;
+    }
+    lf_fit_internal_scale(f, x, c);
+    status = lf_fit_decomp_normal(d, G, c, f->set.rcond);
+    free(G);
+    return status;
+}
+
+static int
+decompose(lf_fit *f, const double *x, const gsl_vector *res, lf_fit_result *r, double *nullw)
 {
     size_t p = f->np, i, k, l;
     fit_decomp d;
     double s2 = r->se_scale * r->se_scale;
     int status;
 
-    if (lf_fit_decomp_alloc(&d, f->nres, p) != LF_OK)
-        return LF_ENOMEM;
-    status = lf_fit_decomp_run(&d, f, x, f->set.rcond);
+    status = normal_decompose(f, x, res, &d);
+    if (status == LF_ENUMERIC) {
+        /* not well conditioned enough for J^T J: the QR of J */
+        lf_fit_decomp_free(&d);
+        if (lf_fit_decomp_alloc(&d, f->nres, p) != LF_OK)
+            return LF_ENOMEM;
+        status = lf_fit_decomp_run(&d, f, x, f->set.rcond);
+    }
     if (status != LF_OK)
         goto done;
     for (k = 0; k < p; k++) {
@@ -541,7 +577,7 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
      * (noise.c), pooled over the curves by their points */
     r->corr_time = pooled_corr_time(f, r, res);
     r->se_scale = sqrt(r->chi2 / (double) r->dof * r->corr_time);
-    status = decompose(f, x, r, nullw);
+    status = decompose(f, x, res, r, nullw);
     if (status != LF_OK) {
         status = lf_fail(err, status, "the Jacobian at the solution cannot be decomposed");
         goto done;

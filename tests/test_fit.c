@@ -5,6 +5,7 @@
  * finite-difference Jacobians, held parameters and argument errors. */
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <gsl/gsl_errno.h>
@@ -270,6 +271,118 @@ model_start(void)
     }
 }
 
+/* The covariance V S^-2 V^T / (D_i D_k) of a decomposition, p x p. */
+static void
+cov_of(const fit_decomp *d, double *cov)
+{
+    size_t i, k, l, p = d->p;
+
+    for (i = 0; i < p; i++)
+        for (k = 0; k < p; k++) {
+            double c = 0.0;
+            for (l = 0; l < d->rank; l++) {
+                double sl = gsl_vector_get(d->S, l);
+                c += gsl_matrix_get(d->V, i, l) * gsl_matrix_get(d->V, k, l) / (sl * sl);
+            }
+            cov[i * p + k] = c / (gsl_vector_get(d->D, i) * gsl_vector_get(d->D, k));
+        }
+}
+
+/* The decomposition from J^T J (decomp.c) against the QR of J at fitted
+ * solutions: the same singular values, column norms and covariance to
+ * rounding; refused where J^T J would lose the smallest singular value. */
+static void
+decomposition(void)
+{
+    enum { NS = 3 };
+    size_t q;
+
+    for (q = 0; q < NS; q++) {
+        scene s = scene_default(q == 0 ? "decomposition: two probes, offsets free"
+                                : q == 1 ? "decomposition: bonded, nu and slopes free"
+                                         : "decomposition: k = 3 alone");
+        lf_fit *f;
+        lf_fit_result res;
+        lf_error err;
+        fit_decomp a, b;
+        double *G, *g, *cm, *c, *r, *ca, *cb, emax = 0.0;
+        size_t p, k;
+
+        s.sim.noise = 0.01;
+        if (q == 1)
+            s.fit.fit_slope = 1;
+        scene_add(&s, q == 2 ? 3.0 : 2.0, 1e-3, 1e-6,
+                  q == 1 ? LF_BASE_BONDED : LF_BASE_FRICTIONLESS);
+        if (q < 2)
+            scene_add(&s, 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+        scene_simulate(&s, 5 + q);
+        f = lf_fit_alloc(&s.fit, s.n, s.curve, &err);
+        if (!t_true(f != NULL && lf_fit_run(f, &res, &err) == LF_OK, "%s: fit", s.label)) {
+            lf_fit_free(f);
+            scene_free(&s);
+            continue;
+        }
+        p = f->np;
+        G = malloc((p * p * 3 + 3 * p + f->nres) * sizeof *G);
+        g = G + p * p;
+        cm = g + p;
+        c = cm + p;
+        ca = c + p;
+        cb = ca + p * p;
+        r = cb + p * p;
+        {
+            gsl_vector_view rv = gsl_vector_view_array(r, f->nres);
+            gsl_vector_const_view xv = gsl_vector_const_view_array(f->w.x->data, p);
+            t_int(lf_fit_residuals(&xv.vector, f, &rv.vector), GSL_SUCCESS, "%s: residuals", s.label);
+        }
+        t_int(lf_fit_normal_sums(f, f->w.x->data, r, G, g, cm), GSL_SUCCESS, "%s: J^T J", s.label);
+        lf_fit_internal_scale(f, f->w.x->data, c);
+        t_int(lf_fit_decomp_alloc(&a, f->nres, p), LF_OK, "alloc");
+        t_int(lf_fit_decomp_alloc(&b, 0, p), LF_OK, "alloc");
+        t_int(lf_fit_decomp_run(&a, f, f->w.x->data, 1e-7), LF_OK, "%s: QR of J", s.label);
+        t_int(lf_fit_decomp_normal(&b, G, c, 1e-7), LF_OK, "%s: from J^T J (cond %.3g)",
+              s.label, gsl_vector_get(a.S, 0) / gsl_vector_get(a.S, p - 1));
+        t_int((long) b.rank, (long) a.rank, "%s: the same rank", s.label);
+        for (k = 0; k < p; k++) {
+            emax = fmax(emax, fabs(gsl_vector_get(b.S, k) / gsl_vector_get(a.S, k) - 1.0));
+            emax = fmax(emax, fabs(gsl_vector_get(b.D, k) / gsl_vector_get(a.D, k) - 1.0));
+        }
+        t_true(emax < 1e-10, "%s: singular values and column norms agree (%.1e)", s.label, emax);
+        cov_of(&a, ca);
+        cov_of(&b, cb);
+        emax = 0.0;
+        for (k = 0; k < p * p; k++)
+            emax = fmax(emax, fabs(cb[k] - ca[k])
+                                  / sqrt(ca[(k / p) * (p + 1)] * ca[(k % p) * (p + 1)]));
+        t_true(emax < 1e-9, "%s: covariances agree (%.1e of the standard errors' product)",
+               s.label, emax);
+        /* the fit's own covariance (from the solver's J^T J) is the QR's */
+        emax = 0.0;
+        for (k = 0; k < p * p; k++)
+            if (!isnan(res.cov[k]))
+                emax = fmax(emax, fabs(res.cov[k] / (res.se_scale * res.se_scale) - ca[k])
+                                      / sqrt(ca[(k / p) * (p + 1)] * ca[(k % p) * (p + 1)]));
+        t_true(emax < 1e-9, "%s: the fit's covariance is the QR's (%.1e)", s.label, emax);
+        lf_fit_result_free(&res);
+        /* rcond at the smallest singular value: the rank needs J */
+        t_int(lf_fit_decomp_normal(&b, G, c, gsl_vector_get(a.S, p - 1) / gsl_vector_get(a.S, 0)),
+              LF_ENUMERIC, "%s: rcond at the smallest singular value refused", s.label);
+        lf_fit_decomp_free(&a);
+        lf_fit_decomp_free(&b);
+        free(G);
+        lf_fit_free(f);
+        scene_free(&s);
+    }
+    {   /* two columns 1e-5 apart: cond(Js) 1.4e5, beyond the threshold */
+        fit_decomp d;
+        const double G[4] = { 1.0, 0.0, 1.0 - 5e-11, 1.0 }, c[2] = { 1.0, 1.0 };
+        t_int(lf_fit_decomp_alloc(&d, 0, 2), LF_OK, "alloc");
+        t_int(lf_fit_decomp_normal(&d, G, c, 1e-7), LF_ENUMERIC,
+              "columns 1e-5 apart: J^T J refused");
+        lf_fit_decomp_free(&d);
+    }
+}
+
 int
 main(void)
 {
@@ -279,5 +392,6 @@ main(void)
     order_and_methods();
     held_and_errors();
     model_start();
+    decomposition();
     return t_summary();
 }
