@@ -434,6 +434,11 @@ void lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double
                         double *noise);
 double lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res,
                           lf_fit_curve_result *cr);
+/* The noise sd of squared departures work[0..cnt) (v reordered): the upper
+ * median of their roots over 0.6745, NaN when cnt = 0; and whether it
+ * exceeds thr, without reordering (a count, exact). */
+double lf_fit_noise_of(double *work, size_t cnt);
+int lf_fit_noise_above(const double *work, size_t cnt, double thr);
 
 /* uncertainty.c */
 /* Wald-Wolfowitz runs test of the signs of curve j's residuals in order of

@@ -59,13 +59,14 @@ lf_fit_corr_time(const double *e, size_t n)
     return lf_fmin(tau, (double) n / 4.0);
 }
 
-/* The noise sd of the residuals e (file order) at stride m in depth order:
- * the departure of each from the line through its neighbours m points away
- * (guess.c's estimate at that stride), robust (median).  A smooth misfit
- * hardly shows at small strides; correlated noise shows fully once m
- * exceeds its correlation. */
-static double
-noise_at_lag(const fit_curve *c, const size_t *ord, const double *e, size_t m, double *work)
+/* The departures of the residuals e (file order) at stride m in depth
+ * order: of each from the line through its neighbours m points away
+ * (guess.c's estimate at that stride), squared over their variance factor
+ * (see guess.c), into work; returns their count.  A smooth misfit hardly
+ * shows at small strides; correlated noise shows fully once m exceeds its
+ * correlation. */
+static size_t
+departures(const fit_curve *c, const size_t *ord, const double *e, size_t m, double *work)
 {
     size_t i, cnt = 0, n = c->data.n;
     const double *z = c->data.depth;
@@ -75,10 +76,38 @@ noise_at_lag(const fit_curve *c, const size_t *ord, const double *e, size_t m, d
         if (!(h > 0))
             continue;
         q = e[b] * h - e[a] * h1 - e[d] * h0;
-        work[cnt++] = q * q / (h * h + h0 * h0 + h1 * h1);     /* squared: see guess.c */
+        work[cnt++] = q * q / (h * h + h0 * h0 + h1 * h1);
     }
-    /* the (upper) median of |q| over 0.6745 */
+    return cnt;
+}
+
+/* Their noise sd, robust: the (upper) median of |q| over 0.6745 (work
+ * reordered). */
+double
+lf_fit_noise_of(double *work, size_t cnt)
+{
     return cnt > 0 ? sqrt(lf_fit_select_kth(work, cnt, cnt / 2)) / 0.6745 : NAN;
+}
+
+/* lf_fit_noise_of(work, cnt) > thr, decided by counting instead of selecting:
+ * sqrt(x) / 0.6745 is non-decreasing in x (correctly rounded), so the upper
+ * median exceeds thr exactly when no more than cnt / 2 of the values do
+ * not.  Each value is put against (0.6745 thr)^2, and only one within
+ * 1e-12 of it through sqrt(x) / 0.6745 itself.  A NaN noise (no
+ * departures) does not exceed it. */
+int
+lf_fit_noise_above(const double *work, size_t cnt, double thr)
+{
+    const double t = 0.6745 * thr * (0.6745 * thr), lo = t * (1.0 - 1e-12), hi = t * (1.0 + 1e-12);
+    size_t i, not_above = 0;
+
+    if (cnt == 0)
+        return 0;
+    for (i = 0; i < cnt; i++) {
+        const double x = work[i];
+        not_above += x < lo || (!(x > hi) && !(sqrt(x) / 0.6745 > thr));
+    }
+    return not_above <= cnt / 2;
 }
 
 void
@@ -87,21 +116,24 @@ lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau
 {
     const fit_curve *c = &f->c[j];
     const size_t *ord = f->order + c->row;
-    size_t n = c->data.n, i, m;
+    size_t n = c->data.n, i, m, cnt;
     double *e = f->w.work, *work = f->w.work + n, s1, sm, tau;
 
     for (i = 0; i < n; i++)
         e[i] = gsl_vector_get(res, c->row + i) * c->sigma / f->w.sqrtw[c->row + i];
     /* the plateau of the residuals' noise over strides 1, 2, 4, ...: where
-     * doubling the stride no longer raises it by NOISE_GROWTH */
-    s1 = sm = noise_at_lag(c, ord, e, 1, work);
+     * doubling the stride no longer raises it by NOISE_GROWTH (at stride 2
+     * the question alone is asked, by counting: white noise stops there,
+     * and then the value does not matter) */
+    s1 = sm = lf_fit_noise_of(work, departures(c, ord, e, 1, work));
     for (m = 1; 4 * m < n / 2; m *= 2) {
-        double s2 = noise_at_lag(c, ord, e, 2 * m, work);
-        if (!(s2 > NOISE_GROWTH * sm)) {
-            sm = lf_fmax(sm, s2);
+        cnt = departures(c, ord, e, 2 * m, work);
+        if (!lf_fit_noise_above(work, cnt, NOISE_GROWTH * sm)) {
+            if (m > 1)
+                sm = lf_fmax(sm, lf_fit_noise_of(work, cnt));
             break;
         }
-        sm = s2;
+        sm = lf_fit_noise_of(work, cnt);
     }
     if (!(s1 > 0) || !(sm > 0)) {
         *tau_out = 1.0;

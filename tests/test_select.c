@@ -3,7 +3,9 @@
  * values with many ties, sorted and reversed runs, a single value repeated,
  * and every k of small arrays.  After the selection the values below k must
  * be no larger than the k-th and those above no smaller (the median of an
- * even count reads the lower half). */
+ * even count reads the lower half).  The noise sd's threshold question
+ * (fit/noise.c), answered by counting, against the selection. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -76,6 +78,30 @@ main(void)
             med = lf_fit_median(v, n);
             t_rel(med, want, 1e-15, "%s, n = %zu: the median", kinds[kind], n);
         }
+    /* the noise sd's question "above thr?" (noise.c) by counting, against
+     * the selection, with thr at, just below and just above the noise of
+     * squared departures (non-negative) of every kind, and at NaN */
+    for (kind = 0; kind < 6; kind++)
+        for (is = 0; is < sizeof sizes / sizeof sizes[0]; is++) {
+            size_t n = sizes[is];
+            double sd, thr[5];
+            int q;
+            fill(v, n, kind, rng);
+            for (i = 0; i < n; i++)
+                v[i] = v[i] * v[i];
+            memcpy(s, v, n * sizeof *v);
+            sd = lf_fit_noise_of(s, n);
+            thr[0] = sd;
+            thr[1] = nextafter(sd, 0.0);
+            thr[2] = nextafter(sd, HUGE_VAL);
+            thr[3] = sd * (1.0 - 1e-13);
+            thr[4] = NAN;
+            for (q = 0, bad = 0; q < 5; q++)
+                bad += lf_fit_noise_above(v, n, thr[q]) != (sd > thr[q]);
+            t_int(bad, 0, "%s, n = %zu: noise above a threshold, counted = selected", kinds[kind],
+                  n);
+        }
+    t_int(lf_fit_noise_above(v, 0, 1.0), 0, "no departures: not above");
     gsl_rng_free(rng);
     return t_summary();
 }
