@@ -267,10 +267,14 @@ void lf_fit_rebase(lf_fit *f, gsl_vector *x);
  * change); LF_ENUMERIC when it cannot be evaluated. */
 int lf_fit_eval_at(lf_fit *f, const double *x);
 int lf_fit_residuals(const gsl_vector *x, void *params, gsl_vector *r);
+/* lf_fit_residuals with their sum of squares, summed in row order (the
+ * bits of a separate sum over r). */
+int lf_fit_residuals_ss(lf_fit *f, const gsl_vector *x, gsl_vector *r, double *ss);
 int lf_fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J);
 /* The free force offsets (and slopes) of x moved to their least-squares
- * values for the residuals r at x, x and r updated (variable projection). */
-void lf_fit_project_offsets(lf_fit *f, double *x, double *r);
+ * values for the residuals r at x, x and r updated (variable projection);
+ * 0 when there are none (r untouched). */
+int lf_fit_project_offsets(lf_fit *f, double *x, double *r);
 /* The normal equations of the internal coordinates at x, curve by curve
  * from the model's evaluations (a curve's rows touch only the material's
  * columns and its own offsets'), J never formed: A = J^T J (lower

@@ -90,23 +90,19 @@ damped_solve(size_t p, const double *A, const double *D2, double mu, const doubl
 }
 
 /* A = J^T J (lower triangle), g = J^T r, colmax = max |J_ik| per column
- * and cost = |r|^2 / 2 at the current point (problem.c, J never formed);
- * D2 grows to the squared column norms. */
+ * at the current point (problem.c, J never formed), whose cost |r|^2 / 2
+ * the caller has; D2 grows to the squared column norms. */
 static int
-normal_equations(lf_fit *f)
+normal_equations(lf_fit *f, double cost)
 {
     fit_lm *lm = &f->w.lm;
-    const size_t n = f->nres, p = f->np;
-    const double *r = lm->r->data;
-    size_t i, k;
-    double ss = 0.0;
+    const size_t p = f->np;
+    size_t k;
 
     lm->nevaldf++;
-    if (lf_fit_normal_sums(f, lm->x->data, r, lm->A, lm->g, lm->colmax) != GSL_SUCCESS)
+    if (lf_fit_normal_sums(f, lm->x->data, lm->r->data, lm->A, lm->g, lm->colmax) != GSL_SUCCESS)
         return GSL_EDOM;
-    for (i = 0; i < n; i++)
-        ss += r[i] * r[i];
-    lm->cost = 0.5 * ss;
+    lm->cost = cost;
     for (k = 0; k < p; k++)
         lm->D2[k] = lf_fmax(lm->D2[k], lm->A[k * p + k]);
     return GSL_SUCCESS;
@@ -117,14 +113,15 @@ lf_fit_lm_init(lf_fit *f, const gsl_vector *x)
 {
     fit_lm *lm = &f->w.lm;
     size_t k, p = f->np;
+    double ss;
 
     gsl_vector_memcpy(lm->x, x);
     lm->niter = lm->nevalf = lm->nevaldf = 0;
     lm->nevalf++;
-    if (lf_fit_residuals(lm->x, f, lm->r) != GSL_SUCCESS)
+    if (lf_fit_residuals_ss(f, lm->x, lm->r, &ss) != GSL_SUCCESS)
         return GSL_EDOM;
     memset(lm->D2, 0, p * sizeof *lm->D2);
-    if (normal_equations(f) != GSL_SUCCESS)
+    if (normal_equations(f, 0.5 * ss) != GSL_SUCCESS)
         return GSL_EDOM;
     for (k = 0; k < p; k++)
         if (!(lm->D2[k] > 0))
@@ -196,11 +193,10 @@ lf_fit_lm_iterate(lf_fit *f)
         for (k = 0; k < p; k++)
             lm->xt->data[k] = lm->x->data[k] + lm->h->data[k];
         lm->nevalf++;
-        if (lf_fit_residuals(lm->xt, f, lm->rt) == GSL_SUCCESS) {
-            if (lm->niter > 0)
-                lf_fit_project_offsets(f, lm->xt->data, lm->rt->data);
-            for (i = 0; i < n; i++)
-                ss += lm->rt->data[i] * lm->rt->data[i];
+        if (lf_fit_residuals_ss(f, lm->xt, lm->rt, &ss) == GSL_SUCCESS) {
+            if (lm->niter > 0 && lf_fit_project_offsets(f, lm->xt->data, lm->rt->data))
+                for (i = 0, ss = 0.0; i < n; i++)
+                    ss += lm->rt->data[i] * lm->rt->data[i];
             cost_t = 0.5 * ss;
         } else {
             cost_t = HUGE_VAL;
@@ -216,7 +212,7 @@ lf_fit_lm_iterate(lf_fit *f)
             lm->cost_prev = lm->cost;
             if (lm->niter == 0)
                 lm->mu_first = lm->mu;
-            if (normal_equations(f) != GSL_SUCCESS)
+            if (normal_equations(f, cost_t) != GSL_SUCCESS)
                 return GSL_EDOM;
             lm->mu *= lf_fmax(1.0 / 3.0, 1.0 - t * t * t);
             lm->nu = 2.0;

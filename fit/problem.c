@@ -197,13 +197,12 @@ lf_fit_eval_at(lf_fit *f, const double *x)
 }
 
 int
-lf_fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
+lf_fit_residuals_ss(lf_fit *f, const gsl_vector *xv, gsl_vector *r, double *ss_out)
 {
-    lf_fit *f = params;
     const double *x = xv->data;
     size_t i, j;
     lf_material mat;
-    double z0, F0, slope;
+    double z0, F0, slope, ss = 0.0;
 
     if (eval_all(f, x) != LF_OK)
         return GSL_EDOM;
@@ -218,13 +217,25 @@ lf_fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
             if (!isfinite(v))
                 return GSL_EDOM;
             r->data[k * r->stride] = v;
+            ss += v * v;
         }
     }
     if (f->nu_prior) {
+        double v;
         lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
-        gsl_vector_set(r, f->ndata, (mat.nu - f->set.nu.value) / f->set.nu.prior_sd);
+        v = (mat.nu - f->set.nu.value) / f->set.nu.prior_sd;
+        gsl_vector_set(r, f->ndata, v);
+        ss += v * v;
     }
+    if (ss_out != NULL)
+        *ss_out = ss;
     return GSL_SUCCESS;
+}
+
+int
+lf_fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
+{
+    return lf_fit_residuals_ss(params, xv, r, NULL);
 }
 
 /* Each curve's free force offset F0 (and slope) set to its least-squares
@@ -233,11 +244,12 @@ lf_fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
  * sqrtw/sigma), so this is a 1 x 1 (or 2 x 2) solve per curve, and x and
  * r are updated in place.  The model's evaluation at x does not depend on
  * them and stays valid: the cache follows x.  lm.c says why. */
-void
+int
 lf_fit_project_offsets(lf_fit *f, double *x, double *r)
 {
     const int cached = f->w.xcache_ok && memcmp(x, f->w.xcache, f->np * sizeof *x) == 0;
     size_t i, j;
+    int any = 0;
 
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
@@ -247,6 +259,7 @@ lf_fit_project_offsets(lf_fit *f, double *x, double *r)
         const size_t n = c->data.n;
         if (c->iF0 < 0 && c->islope < 0)
             continue;
+        any = 1;
         /* the columns without their constant factors: a = sqrtw, b = delta
          * sqrtw (moves da, db in units of sigma) */
         if (c->islope < 0) {            /* F0 alone: the usual case */
@@ -293,6 +306,7 @@ lf_fit_project_offsets(lf_fit *f, double *x, double *r)
                 f->w.xcache[c->islope] = x[c->islope];
         }
     }
+    return any;
 }
 
 /* ---- the Jacobian, and the normal equations without it ---------------- */
