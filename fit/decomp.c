@@ -14,9 +14,10 @@
  * D from J^T J, which the solver has at hand, instead of from J: D^-1 J^T J
  * D^-1 = R^T R by Cholesky, then the SVD of R.  Forming J^T J squares the
  * condition number, so the smallest singular value's relative error grows
- * to about p eps cond(Js)^2 / 2 <= 3e-8 at the threshold's 1e4 (1e-15 at
- * the cond(Js) of 2 to 160 of the bench's two-probe scenes): far below the
- * digits reported.  Anything worse conditioned takes the QR of J. */
+ * to about p eps cond(Js)^2 / 2: 7e-8 for six parameters at the
+ * threshold's 1e4, below 2e-11 at the cond(Js) of 2 to 160 of the bench's
+ * two-probe scenes, far below the digits reported.  Anything worse
+ * conditioned takes the QR of J. */
 #include <math.h>
 #include <string.h>
 
