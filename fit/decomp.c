@@ -169,7 +169,9 @@ lf_fit_decomp_normal(fit_decomp *d, const double *G, const double *c, double rco
 
     for (k = 0; k < p; k++) {
         const double g = G[k * p + k];
-        if (!(g > 0) || !isfinite(g) || !(c[k] > 0) || !isfinite(c[k]))
+        /* a column whose squares underflow (w driven towards zero: w
+         * dP/dw ~ 1e-160) has lost its bits in G; the QR scales it first */
+        if (!(g > FIT_DECOMP_NORMAL_TINY) || !isfinite(g) || !(c[k] > 0) || !isfinite(c[k]))
             return LF_ENUMERIC;
         dk[k] = sqrt(g);
         gsl_vector_set(d->D, k, dk[k] / c[k]);

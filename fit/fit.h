@@ -410,11 +410,13 @@ int lf_fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond);
 /* The same S, V, D and rank from G = J^T J of the internal Jacobian (lower
  * triangle, p x p), c[k] the factor of internal column k over the physical
  * one (lf_fit_internal_scale), when every singular value of J D^-1 is above
- * FIT_DECOMP_NORMAL_COND S_0 and FIT_DECOMP_NORMAL_MARGIN rcond S_0; else
+ * FIT_DECOMP_NORMAL_COND S_0 and FIT_DECOMP_NORMAL_MARGIN rcond S_0 and no
+ * diagonal of G is below FIT_DECOMP_NORMAL_TINY (underflow); else
  * LF_ENUMERIC (then lf_fit_decomp_run).  d from lf_fit_decomp_alloc, n = 0
  * allowed (no QR, no projection). */
 #define FIT_DECOMP_NORMAL_COND 1e-4
 #define FIT_DECOMP_NORMAL_MARGIN 1.01
+#define FIT_DECOMP_NORMAL_TINY 1e-280  /* a diagonal of J^T J at most this: J's own */
 int lf_fit_decomp_normal(fit_decomp *d, const double *G, const double *c, double rcond);
 /* Decompose the n x p matrix d->QR holds, its columns scaled to unit norm
  * first (scale = 1; D their norms) or not (D = 1: the singular values are

@@ -373,6 +373,42 @@ decomposition(void)
         lf_fit_free(f);
         scene_free(&s);
     }
+    {   /* no adhesion in the data: w driven towards zero, where the squares
+         * of its column (w dP/dw) underflow in J^T J (seed 10: 1.8e-320);
+         * the fit's covariance must still be the QR's */
+        scene s = scene_default("decomposition: w driven towards zero");
+        lf_fit *f;
+        lf_fit_result res;
+        lf_error err;
+        fit_decomp a;
+        double *ca, emax = 0.0;
+        size_t p, k;
+        s.mat.w = 0.0;
+        s.sim.noise = 0.01;
+        scene_add(&s, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+        scene_add(&s, 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+        scene_simulate(&s, 10);
+        f = lf_fit_alloc(&s.fit, s.n, s.curve, &err);
+        if (t_true(f != NULL && lf_fit_run(f, &res, &err) == LF_OK, "%s: fit", s.label)) {
+            p = f->np;
+            ca = malloc(p * p * sizeof *ca);
+            t_int(lf_fit_decomp_alloc(&a, f->nres, p), LF_OK, "alloc");
+            t_int(lf_fit_decomp_run(&a, f, f->w.x->data, f->set.rcond), LF_OK, "%s: QR", s.label);
+            cov_of(&a, ca);
+            for (k = 0; k < p * p; k++)
+                if (!isnan(res.cov[k]))
+                    emax = fmax(emax, fabs(res.cov[k] / (res.se_scale * res.se_scale) - ca[k])
+                                          / sqrt(ca[(k / p) * (p + 1)] * ca[(k % p) * (p + 1)]));
+            t_true(res.value[0] < 1e-100 && emax < 1e-9,
+                   "%s (w %.2g): the fit's covariance is the QR's (%.1e)", s.label, res.value[0],
+                   emax);
+            lf_fit_decomp_free(&a);
+            lf_fit_result_free(&res);
+            free(ca);
+        }
+        lf_fit_free(f);
+        scene_free(&s);
+    }
     {   /* two columns 1e-5 apart: cond(Js) 1.4e5, beyond the threshold */
         fit_decomp d;
         const double G[4] = { 1.0, 0.0, 1.0 - 5e-11, 1.0 }, c[2] = { 1.0, 1.0 };
