@@ -325,30 +325,51 @@ typedef struct {
     double slope, ddet;
 } row_map;
 
-/* Curve j's map at x.  physical = 0: derivatives with respect to the
- * internal coordinates (= x); 1: with respect to w, E*, nu, z0, F0, s.  The
- * model gives dP/dln w, dP/dln E*, dP/dnu, and d(internal)/d(physical) is
- * 1/w, 1/E*, du/dnu. */
+/* The column in x of the six a curve's rows can touch (row_entries'
+ * order), -1 when it is held. */
+static int
+column_of(const lf_fit *f, size_t j, size_t q)
+{
+    const fit_curve *c = &f->c[j];
+    const int col[6] = { f->imat[FIT_W], f->imat[FIT_E], f->imat[FIT_NU], c->iz0, c->iF0,
+                         c->islope };
+    return col[q];
+}
+
+/* The factor of each of the six columns of curve j at x (material mat
+ * there) on the model's derivatives (dP/dln w, dP/dln E*, dP/dnu,
+ * dP/ddelta, 1, delta).  physical = 0: derivatives with respect to the
+ * internal coordinates (= x); 1: with respect to w, E*, nu, z0, F0, s
+ * (d(internal)/d(physical) is 1/w, 1/E*, du/dnu, 1/L, 1/Fs, L/Fs). */
+static void
+coordinate_mult(const lf_fit *f, const double *x, size_t j, const lf_material *mat,
+                int physical, double mult[6])
+{
+    const fit_curve *c = &f->c[j];
+    const int inu = f->imat[FIT_NU];
+
+    mult[0] = physical ? 1.0 / mat->w : 1.0;
+    mult[1] = physical ? 1.0 / mat->Estar : 1.0;
+    mult[2] = physical || inu < 0 ? 1.0 : lf_fit_dnu_du(internal(f, x, inu));
+    mult[3] = physical ? -1.0 : -c->L;
+    mult[4] = physical ? 1.0 : c->Fs;
+    mult[5] = physical ? 1.0 : c->Fs / c->L;
+}
+
+/* Curve j's map at x (physical as in coordinate_mult). */
 static void
 curve_map(const lf_fit *f, const double *x, size_t j, int physical, row_map *map)
 {
     const fit_curve *c = &f->c[j];
-    const int im[3] = { f->imat[FIT_W], f->imat[FIT_E], f->imat[FIT_NU] };
-    const int own[3] = { c->iz0, c->iF0, c->islope };
     double mult[6], z0, F0;
     lf_pulloff po;
     size_t q;
 
     lf_fit_unpack(f, x, &map->mat, &z0, &F0, &map->slope, j);
-    mult[0] = physical ? 1.0 / map->mat.w : 1.0;
-    mult[1] = physical ? 1.0 / map->mat.Estar : 1.0;
-    mult[2] = physical || im[2] < 0 ? 1.0 : lf_fit_dnu_du(internal(f, x, im[2]));
-    mult[3] = physical ? -1.0 : -c->L;
-    mult[4] = physical ? 1.0 : c->Fs;
-    mult[5] = physical ? 1.0 : c->Fs / c->L;
+    coordinate_mult(f, x, j, &map->mat, physical, mult);
     map->m = 0;
     for (q = 0; q < 6; q++) {
-        const int col = q < 3 ? im[q] : own[q - 3];
+        const int col = column_of(f, j, q);
         if (col >= 0) {
             map->sel[map->m] = (int) q;
             map->col[map->m] = col;
@@ -584,24 +605,18 @@ void
 lf_fit_internal_scale(const lf_fit *f, const double *x, double *c)
 {
     lf_material mat;
-    double z0, F0, slope;
-    size_t j;
+    double z0, F0, slope, mi[6], mp[6];
+    size_t j, q;
 
-    lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, f->ncurves);
-    if (f->imat[FIT_W] >= 0)
-        c[f->imat[FIT_W]] = mat.w;
-    if (f->imat[FIT_E] >= 0)
-        c[f->imat[FIT_E]] = mat.Estar;
-    if (f->imat[FIT_NU] >= 0)
-        c[f->imat[FIT_NU]] = lf_fit_dnu_du(internal(f, x, f->imat[FIT_NU]));
     for (j = 0; j < f->ncurves; j++) {
-        const fit_curve *cv = &f->c[j];
-        if (cv->iz0 >= 0)
-            c[cv->iz0] = cv->L;
-        if (cv->iF0 >= 0)
-            c[cv->iF0] = cv->Fs;
-        if (cv->islope >= 0)
-            c[cv->islope] = cv->Fs / cv->L;
+        lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+        coordinate_mult(f, x, j, &mat, 0, mi);
+        coordinate_mult(f, x, j, &mat, 1, mp);
+        for (q = 0; q < 6; q++) {
+            const int col = column_of(f, j, q);
+            if (col >= 0)
+                c[col] = mi[q] / mp[q];
+        }
     }
 }
 
