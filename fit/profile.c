@@ -13,7 +13,9 @@
  * batch's screen mode, chi2 along the linear path there first, no refit).
  * When both rises are within PROFILE_TOL of the threshold, the curvature
  * bears out the linear interval and it stays ("linear (Wald)").  Otherwise
- * each side is searched outwards (doubling the step) until the profile
+ * each side is searched outwards (doubling the step, or shorter where a
+ * quadratic profile would pass 2.5 times the threshold: grow_to) until the
+ * profile
  * reaches the threshold, and on past it until the rise is PROFILE_FAR
  * times the threshold (a weak parameter's profile can dip below it again:
  * the interval is the hull of the set below), then the last crossing is
@@ -49,6 +51,14 @@
 /* past the first crossing, the search goes on until the rise exceeds this
  * many times the threshold (7.7 s^2 for 95%: p = 0.006) */
 #define PROFILE_FAR 2.0
+/* inside the set, the step doubles, or where shorter, the next point aims
+ * where a quadratic profile would rise to this many times the threshold
+ * (past the crossing and the far rise in one refit, nearer the estimate
+ * than a doubled step, which can rise to nine times the threshold there at
+ * a far higher cost per refit), at least PROFILE_GROW_MIN times as far out
+ * as the last */
+#define PROFILE_AIM 2.5
+#define PROFILE_GROW_MIN 1.25
 /* a profile point lower than the best fit by this fraction of the
  * threshold means the best fit was not the global minimum */
 #define PROFILE_LOWER 0.01
@@ -241,9 +251,11 @@ param_of(const prof *p, double t)
 }
 
 /* The crossing of the threshold in [a, b] (distances from t_hat, the rise
- * ra < thr at a, rb >= thr or NaN at b), to the precision PROFILE_BISECT
- * bisections would give: the bracket is narrowed until it is 2^-BISECT of
- * its first width, and its midpoint returned.  Where the profile is
+ * ra < thr at a, rb >= thr or NaN at b), to tol: the bracket is narrowed
+ * until it is at most tol wide (search_side: 2^-PROFILE_BISECT of its
+ * width, what PROFILE_BISECT bisections give, or of the side's first step
+ * where the bracket is narrower), and its midpoint returned.  Where the
+ * profile is
  * quadratic the square root of the rise is linear in the distance, so each
  * trial aims where the straight line through the bracket's ends crosses
  * (false position, with the Illinois rule: an end that stays twice counts
@@ -253,9 +265,9 @@ param_of(const prof *p, double t)
  * points enter or leave contact, bends the line) make the next a
  * bisection: the answer is a crossing within bisection's final width. */
 static double
-cross_in(prof *p, double t_hat, int dir, double a, double ra, double b, double rb)
+cross_in(prof *p, double t_hat, int dir, double a, double ra, double b, double rb, double tol)
 {
-    const double tol = ldexp(b - a, -PROFILE_BISECT), sthr = sqrt(p->thr);
+    const double sthr = sqrt(p->thr);
     double ga = sqrt(lf_fmax(ra, 0.0)) - sthr, gb = isfinite(rb) ? sqrt(rb) - sthr : NAN;
     double width[3] = { HUGE_VAL, HUGE_VAL, HUGE_VAL };   /* 1, 2, 3 trials ago */
     int last = 0, i;
@@ -288,6 +300,15 @@ cross_in(prof *p, double t_hat, int dir, double a, double ra, double b, double r
         }
     }
     return t_hat + dir * 0.5 * (a + b);
+}
+
+/* The factor on the distance from the estimate that takes a rise r (at
+ * that distance, below the target) to the target where the profile is
+ * quadratic, at least PROFILE_GROW_MIN (HUGE_VAL where r <= 0). */
+static double
+grow_to(double r, double target)
+{
+    return r > 0.0 ? lf_fmax(sqrt(target / r), PROFILE_GROW_MIN) : HUGE_VAL;
 }
 
 /* The point on one side (dir = -1 or +1) where the profile leaves the
@@ -330,13 +351,13 @@ search_side(prof *p, double t_hat, double h, double r_h, int dir, double tmin, d
         }
         if (d >= edge || !isfinite(rd) || (crossed && rd >= PROFILE_FAR * p->thr))
             break;
-        step = crossed ? 0.25 * d : 2.0 * step;
+        step = crossed ? 0.25 * d : lf_fmin(2.0 * step, (grow_to(rd, PROFILE_AIM * p->thr) - 1.0) * d);
     }
     if (!crossed || b <= a) {
         *open = 1;
         return t_hat + dir * edge;
     }
-    return cross_in(p, t_hat, dir, a, ra, b, rb);
+    return cross_in(p, t_hat, dir, a, ra, b, rb, ldexp(lf_fmax(b - a, h), -PROFILE_BISECT));
 }
 
 /* The screen of LF_PROFILE_SCREEN: chi2 at the two ends of the linear
@@ -644,6 +665,15 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
         return lf_fail(err, LF_EINVAL, "lf_fit_profile: the result is not of these curves");
     if (settings->loss != LF_LOSS_LINEAR)
         return LF_OK;       /* chi2 of a robust loss is not a likelihood */
+    if (!res->converged) {
+        /* rises from a point that is no minimum measure nothing (they go
+         * negative where the fit would have gone on) */
+        lf_fit_estimate *e[FIT_NMAT] = { &res->w, &res->Estar, &res->nu };
+        for (k = 0; k < FIT_NMAT; k++)
+            if (e[k]->free)
+                e[k]->interval_method = LF_INTERVAL_AT_STOP;
+        return LF_OK;
+    }
     memset(&p, 0, sizeof p);
     p.cc = malloc((ncurves ? ncurves : 1) * sizeof *p.cc);
     p.lower_off = malloc((ncurves ? 3 * ncurves : 1) * sizeof *p.lower_off);

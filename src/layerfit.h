@@ -390,10 +390,17 @@ typedef struct {
     int free;               /* 1 when fitted */
     int determined;         /* 1 when the data fix it (or it was fixed) */
     int upper_bound_only;   /* w: the data only bound it from above */
-    const char *interval_method; /* how ci95 was found: "linear (Wald)" or
-                               "profile likelihood" (lf_fit_profile); NULL
-                               when not profiled (linear) */
+    const char *interval_method; /* how ci95 was found: "linear (Wald)",
+                               "profile likelihood" (lf_fit_profile) or
+                               LF_INTERVAL_AT_STOP; NULL when not profiled
+                               (linear) */
 } lf_fit_estimate;
+
+/* interval_method of a fit that did not converge: the linear interval at
+ * the point where it stopped (a profile's rises are measured from a
+ * minimum, and that point is none; lf_fit_profile makes no refits then) */
+#define LF_INTERVAL_AT_STOP "linear (Wald), where the fit stopped"
+
 
 typedef struct {
     const char *name;       /* the curve's label (not owned) */
@@ -523,7 +530,8 @@ void lf_fit_free(lf_fit *fit);
  * (3.84 s^2 for many points) and the interval the hull of the values below
  * it.  A profile point below res's own chi2 (res stopped in a local
  * minimum): res is replaced by the fit continued from there (converged fits
- * only; a warning says so, the model choice's notes are kept). */
+ * only; a warning says so, the model choice's notes are kept).  A fit that
+ * did not converge keeps its linear intervals, marked LF_INTERVAL_AT_STOP. */
 /* The modes of lf_fit_profile's `always`: the check by refits at the linear
  * endpoints (0), the profile in any case (1), or first the cheap screen of
  * many fits (`fit --batch`): chi2 at those endpoints along the linear path,

@@ -113,6 +113,31 @@ honest(scene *s, unsigned long seed, int k, const char *what, int st, lf_fit_res
     return ok;
 }
 
+/* lf_fit_profile on a fit r that did not converge: no refit, each free
+ * estimate's linear interval kept and marked LF_INTERVAL_AT_STOP (a
+ * profile's rises from a point that is no minimum measure nothing). */
+static int
+profile_skipped(scene *s, const lf_fit_settings *set, lf_fit_result *r)
+{
+    lf_fit_estimate *e[3] = { &r->w, &r->Estar, &r->nu };
+    double lo[3], hi[3];
+    lf_error err;
+    int k, ok;
+
+    for (k = 0; k < 3; k++) {
+        lo[k] = e[k]->ci95[0];
+        hi[k] = e[k]->ci95[1];
+    }
+    ok = lf_fit_profile(set, s->n, s->curve, r, LF_PROFILE_ALWAYS, &err) == LF_OK
+         && r->profile_fits == 0;
+    for (k = 0; k < 3; k++)
+        if (e[k]->free)
+            ok = ok && e[k]->interval_method != NULL
+                 && strcmp(e[k]->interval_method, LF_INTERVAL_AT_STOP) == 0
+                 && e[k]->ci95[0] == lo[k] && e[k]->ci95[1] == hi[k];
+    return ok;
+}
+
 /* Far from a minimum: four starts (w, E* and z0 moved from the solution)
  * of five data sets.  With one iteration, the fit ends not converged and
  * says why, unless it reached a minimum (w driven to zero is one in ln w).
@@ -128,6 +153,7 @@ stalled_fits_say_so(void)
     scene s = stall_scene();
     unsigned long seed;
     size_t budget_ok = 0, claim_ok = 0, claim_n = 0, stalled = 0, iters_said = 0, n = 0;
+    size_t no_profile = 0, no_profile_ok = 0;
     int k;
 
     for (seed = 1; seed <= 5; seed++) {
@@ -147,6 +173,10 @@ stalled_fits_say_so(void)
             if (st == LF_OK || st == LF_ENOCONV) {
                 budget_ok += honest(&s, seed, k, "one iteration", st, &r);
                 iters_said += !r.converged && strstr(r.stop_reason, "iterations reached");
+                if (!r.converged) {
+                    no_profile++;
+                    no_profile_ok += profile_skipped(&s, &set, &r);
+                }
                 lf_fit_result_free(&r);
             }
             /* the solver's step test passes after any one step */
@@ -175,6 +205,9 @@ stalled_fits_say_so(void)
     t_int((long) claim_ok, (long) claim_n, "stall: a claimed convergence the verdict rejects "
           "says why in words");
     t_true(iters_said > 0, "stall: 'iterations reached' said (%zu of %zu)", iters_said, n);
+    t_true(no_profile > 0 && no_profile_ok == no_profile, "stall: no profile of a fit that did "
+           "not converge: its linear intervals kept and marked so (%zu of %zu)", no_profile_ok,
+           no_profile);
     t_true(stalled > 0, "stall: 'stalled away from a minimum' said (%zu of %zu)", stalled, n);
     scene_free(&s);
 }

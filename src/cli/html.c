@@ -198,6 +198,8 @@ parameter_row(FILE *f, const char *name, const lf_fit_estimate *e, const char *u
             fputs(" (profile likelihood)", f);
         else if (e->interval_method != NULL && strcmp(e->interval_method, CLI_LINEAR_UNCHECKED) == 0)
             fputs(" (linear, not checked)", f);
+        else if (e->interval_method != NULL && strcmp(e->interval_method, LF_INTERVAL_AT_STOP) == 0)
+            fputs(" (linear, where the fit stopped)", f);
         fputs("</td>", f);
     } else {
         fputs("<td class=\"na\">&ndash;</td>", f);

@@ -52,6 +52,8 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
         fputs(" (profile likelihood)", f);
     else if (e->interval_method != NULL && strcmp(e->interval_method, CLI_LINEAR_UNCHECKED) == 0)
         fputs(" (linear, not checked: --intervals linear)", f);
+    else if (e->interval_method != NULL && strcmp(e->interval_method, LF_INTERVAL_AT_STOP) == 0)
+        fputs(" (linear, where the fit stopped; not profiled)", f);
     fputc('\n', f);
 }
 
