@@ -15,8 +15,7 @@
  * bears out the linear interval and it stays ("linear (Wald)").  Otherwise
  * each side is searched outwards (doubling the step, or shorter where a
  * quadratic profile would pass 2.5 times the threshold: grow_to) until the
- * profile
- * reaches the threshold, and on past it until the rise is PROFILE_FAR
+ * profile reaches the threshold, and on past it until the rise is PROFILE_FAR
  * times the threshold (a weak parameter's profile can dip below it again:
  * the interval is the hull of the set below), then the last crossing is
  * bisected: the interval is asymmetric where the data are.  A w below two
@@ -255,13 +254,12 @@ param_of(const prof *p, double t)
  * until it is at most tol wide (search_side: 2^-PROFILE_BISECT of its
  * width, what PROFILE_BISECT bisections give, or of the side's first step
  * where the bracket is narrower), and its midpoint returned.  Where the
- * profile is
- * quadratic the square root of the rise is linear in the distance, so each
- * trial aims where the straight line through the bracket's ends crosses
- * (false position, with the Illinois rule: an end that stays twice counts
- * half), just past it by a quarter of the final width towards the end that
- * moved last, so that two trials near the crossing close the bracket from
- * both sides.  Three trials that do not halve the bracket (a kink, where
+ * profile is quadratic the square root of the rise is linear in the
+ * distance, so each trial aims where the straight line through the
+ * bracket's ends crosses (false position, with the Illinois rule: an end
+ * that stays twice counts half), just past it by a quarter of the final
+ * width towards the end that moved last, so that two trials near the
+ * crossing close the bracket from both sides.  Three trials that do not halve the bracket (a kink, where
  * points enter or leave contact, bends the line) make the next a
  * bisection: the answer is a crossing within bisection's final width. */
 static double
