@@ -43,7 +43,7 @@ DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev gnuplot-nox
 # when they are missing: installed when possible, never required
 OPT_DEBS := chromium pkgconf python3-scipy python3-lmfit
 
-.PHONY: all deps demo check tests sanitize install uninstall clean bench-batch bench bench-quick coverage
+.PHONY: all deps demo check tests sanitize install uninstall clean bench-batch bench-demo bench bench-quick coverage
 
 all: $(PROG) $(LIB)
 
@@ -115,6 +115,11 @@ sanitize: deps
 # of 300 points (reported, not asserted).
 bench-batch: all
 	@sh tests/bench/batch.sh $(PROG)
+
+# The whole process: `fit --model auto` on the demo against `--model thin`
+# (alternated runs, medians), and one cold run (reported, not asserted).
+bench-demo: all
+	@sh tests/bench/demo_ratio.sh $(PROG)
 
 # How often the 95% intervals hold the truth over 200 seeds, and the RMS
 # error over the Cramer-Rao bound (reported; a 40-seed version is asserted
