@@ -313,11 +313,14 @@ grow_to(double r, double target)
  * confidence set for good, from t_hat with first step h, whose rise r_h
  * (NaN: not known) the caller may have computed already; *open when it
  * never does within [tmin, tmax].  Steps double until the rise reaches the
- * threshold; a weak parameter's profile can dip below it again further out
- * (kinks where points enter or leave contact), so the search goes on in
- * steps of a quarter of the distance so far until the rise exceeds
- * PROFILE_FAR times the threshold, and a dip moves the side out to it (the
- * interval is the hull of the set where the rise stays below the threshold).
+ * threshold, or are shorter where a quadratic profile would pass
+ * PROFILE_AIM times it sooner (grow_to); a weak parameter's profile can dip
+ * below it again further out (kinks where points enter or leave contact),
+ * so the search goes on until the rise exceeds PROFILE_FAR times the
+ * threshold, in steps of at least a quarter of the distance so far (aimed
+ * at PROFILE_AIM times the threshold above it, a quarter in a dip), and a
+ * dip moves the side out to it (the interval is the hull of the set where
+ * the rise stays below the threshold).
  * The last crossing is then found to bisection's precision (cross_in).
  * (Regula falsi on the square root of the rise, stopped when the rise was
  * near the threshold, moved the paper-offsets coverage of w from 94.0% to
@@ -349,7 +352,12 @@ search_side(prof *p, double t_hat, double h, double r_h, int dir, double tmin, d
         }
         if (d >= edge || !isfinite(rd) || (crossed && rd >= PROFILE_FAR * p->thr))
             break;
-        step = crossed ? 0.25 * d : lf_fmin(2.0 * step, (grow_to(rd, PROFILE_AIM * p->thr) - 1.0) * d);
+        if (!crossed)
+            step = lf_fmin(2.0 * step, (grow_to(rd, PROFILE_AIM * p->thr) - 1.0) * d);
+        else if (rd >= p->thr)
+            step = (grow_to(rd, PROFILE_AIM * p->thr) - 1.0) * d;    /* 0.25-0.58 d */
+        else
+            step = 0.25 * d;    /* in a dip */
     }
     if (!crossed || b <= a) {
         *open = 1;
