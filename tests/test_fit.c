@@ -288,6 +288,21 @@ cov_of(const fit_decomp *d, double *cov)
         }
 }
 
+/* The largest gap between the covariance cov / s2 and ref (p x p, NaN
+ * entries of cov skipped), in units of ref's standard errors' product. */
+static double
+cov_apart(const double *cov, double s2, const double *ref, size_t p)
+{
+    double emax = 0.0;
+    size_t k;
+
+    for (k = 0; k < p * p; k++)
+        if (!isnan(cov[k]))
+            emax = fmax(emax, fabs(cov[k] / s2 - ref[k])
+                                  / sqrt(ref[(k / p) * (p + 1)] * ref[(k % p) * (p + 1)]));
+    return emax;
+}
+
 /* The decomposition from J^T J (decomp.c) against the QR of J at fitted
  * solutions: the same singular values, column norms and covariance to
  * rounding; refused where J^T J would lose the smallest singular value. */
@@ -350,18 +365,11 @@ decomposition(void)
         t_true(emax < 1e-10, "%s: singular values and column norms agree (%.1e)", s.label, emax);
         cov_of(&a, ca);
         cov_of(&b, cb);
-        emax = 0.0;
-        for (k = 0; k < p * p; k++)
-            emax = fmax(emax, fabs(cb[k] - ca[k])
-                                  / sqrt(ca[(k / p) * (p + 1)] * ca[(k % p) * (p + 1)]));
+        emax = cov_apart(cb, 1.0, ca, p);
         t_true(emax < 1e-9, "%s: covariances agree (%.1e of the standard errors' product)",
                s.label, emax);
         /* the fit's own covariance (from the solver's J^T J) is the QR's */
-        emax = 0.0;
-        for (k = 0; k < p * p; k++)
-            if (!isnan(res.cov[k]))
-                emax = fmax(emax, fabs(res.cov[k] / (res.se_scale * res.se_scale) - ca[k])
-                                      / sqrt(ca[(k / p) * (p + 1)] * ca[(k % p) * (p + 1)]));
+        emax = cov_apart(res.cov, res.se_scale * res.se_scale, ca, p);
         t_true(emax < 1e-9, "%s: the fit's covariance is the QR's (%.1e)", s.label, emax);
         lf_fit_result_free(&res);
         /* rcond at the smallest singular value: the rank needs J */
@@ -381,8 +389,8 @@ decomposition(void)
         lf_fit_result res;
         lf_error err;
         fit_decomp a;
-        double *ca, emax = 0.0;
-        size_t p, k;
+        double *ca, emax;
+        size_t p;
         s.mat.w = 0.0;
         s.sim.noise = 0.01;
         scene_add(&s, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
@@ -395,10 +403,7 @@ decomposition(void)
             t_int(lf_fit_decomp_alloc(&a, f->nres, p), LF_OK, "alloc");
             t_int(lf_fit_decomp_run(&a, f, f->w.x->data, f->set.rcond), LF_OK, "%s: QR", s.label);
             cov_of(&a, ca);
-            for (k = 0; k < p * p; k++)
-                if (!isnan(res.cov[k]))
-                    emax = fmax(emax, fabs(res.cov[k] / (res.se_scale * res.se_scale) - ca[k])
-                                          / sqrt(ca[(k / p) * (p + 1)] * ca[(k % p) * (p + 1)]));
+            emax = cov_apart(res.cov, res.se_scale * res.se_scale, ca, p);
             t_true(res.value[0] < 1e-100 && emax < 1e-9,
                    "%s (w %.2g): the fit's covariance is the QR's (%.1e)", s.label, res.value[0],
                    emax);

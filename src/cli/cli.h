@@ -122,6 +122,9 @@ typedef struct {
  * said to be unchecked. */
 #define CLI_LINEAR_UNCHECKED "linear (Wald), not checked"
 void cli_intervals_unchecked(lf_fit_result *r);
+/* The words a report puts after an interval for how it was found (NULL: a
+ * checked linear interval, nothing said); brief: the HTML table's. */
+const char *cli_interval_words(const lf_fit_estimate *e, int brief);
 #define CLI_FIT_NOPTS 24
 void cli_fit_args_init(cli_fit_args *a);
 size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);

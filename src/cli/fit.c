@@ -217,6 +217,23 @@ cli_intervals_unchecked(lf_fit_result *r)
             e[k]->interval_method = CLI_LINEAR_UNCHECKED;
 }
 
+const char *
+cli_interval_words(const lf_fit_estimate *e, int brief)
+{
+    const char *m = e->interval_method;
+
+    if (m == NULL)
+        return NULL;
+    if (strcmp(m, "profile likelihood") == 0)
+        return "profile likelihood";
+    if (strcmp(m, CLI_LINEAR_UNCHECKED) == 0)
+        return brief ? "linear, not checked" : "linear, not checked: --intervals linear";
+    if (strcmp(m, LF_INTERVAL_AT_STOP) == 0)
+        return brief ? "linear, where the fit stopped"
+                     : "linear, where the fit stopped; not profiled";
+    return NULL;
+}
+
 int
 cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
                  lf_input_settings *is)

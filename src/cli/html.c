@@ -165,7 +165,7 @@ static void
 parameter_row(FILE *f, const char *name, const lf_fit_estimate *e, const char *unit)
 {
     char buf[64];
-    const char *status;
+    const char *status, *words;
 
     if (e->upper_bound_only)
         status = "upper bound only (adhesion below the noise)";
@@ -194,12 +194,8 @@ parameter_row(FILE *f, const char *name, const lf_fit_estimate *e, const char *u
         } else {
             fprintf(f, "%.4f &ndash; %.4f", e->ci95[0], e->ci95[1]);
         }
-        if (e->interval_method != NULL && strcmp(e->interval_method, "profile likelihood") == 0)
-            fputs(" (profile likelihood)", f);
-        else if (e->interval_method != NULL && strcmp(e->interval_method, CLI_LINEAR_UNCHECKED) == 0)
-            fputs(" (linear, not checked)", f);
-        else if (e->interval_method != NULL && strcmp(e->interval_method, LF_INTERVAL_AT_STOP) == 0)
-            fputs(" (linear, where the fit stopped)", f);
+        if ((words = cli_interval_words(e, 1)) != NULL)
+            fprintf(f, " (%s)", words);
         fputs("</td>", f);
     } else {
         fputs("<td class=\"na\">&ndash;</td>", f);

@@ -17,6 +17,7 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
               const char *unit, const char *why_not)
 {
     char v[48], s[48], lo[48], hi[48];
+    const char *words;
 
     if (e->upper_bound_only && isfinite(e->ci95[1])) {
         fprintf(f, "  %-4s < %s (95%%, one-sided): adhesion below the noise\n", name,
@@ -48,12 +49,8 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
                 cli_human(v, sizeof v, e->value, unit), cli_human(s, sizeof s, e->se, unit),
                 100.0 * e->se / e->value, cli_human(lo, sizeof lo, e->ci95[0], unit),
                 cli_human(hi, sizeof hi, e->ci95[1], unit));
-    if (e->interval_method != NULL && strcmp(e->interval_method, "profile likelihood") == 0)
-        fputs(" (profile likelihood)", f);
-    else if (e->interval_method != NULL && strcmp(e->interval_method, CLI_LINEAR_UNCHECKED) == 0)
-        fputs(" (linear, not checked: --intervals linear)", f);
-    else if (e->interval_method != NULL && strcmp(e->interval_method, LF_INTERVAL_AT_STOP) == 0)
-        fputs(" (linear, where the fit stopped; not profiled)", f);
+    if ((words = cli_interval_words(e, 0)) != NULL)
+        fprintf(f, " (%s)", words);
     fputc('\n', f);
 }
 
