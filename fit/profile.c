@@ -259,9 +259,10 @@ param_of(const prof *p, double t)
  * bracket's ends crosses (false position, with the Illinois rule: an end
  * that stays twice counts half), just past it by a quarter of the final
  * width towards the end that moved last, so that two trials near the
- * crossing close the bracket from both sides.  Three trials that do not halve the bracket (a kink, where
- * points enter or leave contact, bends the line) make the next a
- * bisection: the answer is a crossing within bisection's final width. */
+ * crossing close the bracket from both sides.  Three trials that do not
+ * halve the bracket (a kink, where points enter or leave contact, bends the
+ * line) make the next a bisection: the answer is a crossing within
+ * bisection's final width. */
 static double
 cross_in(prof *p, double t_hat, int dir, double a, double ra, double b, double rb, double tol)
 {

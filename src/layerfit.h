@@ -401,7 +401,6 @@ typedef struct {
  * minimum, and that point is none; lf_fit_profile makes no refits then) */
 #define LF_INTERVAL_AT_STOP "linear (Wald), where the fit stopped"
 
-
 typedef struct {
     const char *name;       /* the curve's label (not owned) */
     lf_probe probe;

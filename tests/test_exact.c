@@ -649,9 +649,8 @@ test_shared_conditions(void)
     pthread_t th[2];
     shared_job job[3];
     const lf_exact_table *t;
-    int i;
-
     unsigned long n0, n1, n2;
+    int i;
 
     memset(job, 0, sizeof job);
     n0 = lf_exact_conditions_built();
