@@ -229,26 +229,28 @@ work_alloc(lf_fit *f)
     fit_work *w = &f->w;
     const size_t np = f->np, nd = f->ndata, nr = f->nres, nc = f->ncurves;
     const size_t nwork = 2 * nd > 2 * GUESS_NSUB ? 2 * nd : 2 * GUESS_NSUB;
-    size_t total = 2 * np                      /* x0_internal, xcache */
-                   + 2 * nd + nwork                 /* sqrtw, delta, work */
-                   + (2 * nc + 1) * GUESS_NSUB + GUESS_NODES   /* sub, node */
-                   + 7 * nc                    /* keep, off */
-                   + 3 * np * np + 9 * np      /* jtj, lm.A, lm.L; lm.g, lm.D2, lm.colmax, grad,
-                                                  colmax, ainv, gn_x, basin_x, basin_tol */
-                   + 6 * np + 4 * nr;          /* lm.x, xt, h, x, x2, x0; lm.r, rt, r, r2 */
+    /* the parameter- and curve-sized numbers, zeroed; then those sized by
+     * the data, each written before it is read (zeroing them cost more
+     * than a model evaluation of small data) */
+    const size_t small = 2 * np                     /* x0_internal, xcache */
+                         + (2 * nc + 1) * GUESS_NSUB + GUESS_NODES   /* sub, node */
+                         + 7 * nc                   /* keep, off */
+                         + 3 * np * np + 9 * np     /* jtj, lm.A, lm.L; lm.g, lm.D2, lm.colmax,
+                                                       grad, colmax, ainv, gn_x, basin_x, basin_tol */
+                         + 6 * np;                  /* lm.x, xt, h, x, x2, x0 */
+    const size_t total = small + 2 * nd + nwork     /* sqrtw, delta, work */
+                         + 4 * nr;                  /* lm.r, rt, r, r2 */
     double *at;
     gsl_vector *v = w->vectors;
     size_t k;
 
-    w->block = calloc(total, sizeof *w->block);
+    w->block = malloc(total * sizeof *w->block);
     if (w->block == NULL)
         return LF_ENOMEM;
+    memset(w->block, 0, small * sizeof *w->block);
     at = w->block;
     f->x0_internal = take(&at, np);
     w->xcache = take(&at, np);
-    w->sqrtw = take(&at, nd);
-    w->delta = take(&at, nd);
-    w->work = take(&at, nwork);
     w->sub = take(&at, 2 * GUESS_NSUB * nc);
     w->node = take(&at, GUESS_NSUB + GUESS_NODES);
     w->keep = take(&at, 3 * nc);
@@ -271,6 +273,9 @@ work_alloc(lf_fit *f)
     w->x = take_vector(v++, &at, np);
     w->x2 = take_vector(v++, &at, np);
     w->x0 = take_vector(v++, &at, np);
+    w->sqrtw = take(&at, nd);
+    w->delta = take(&at, nd);
+    w->work = take(&at, nwork);
     w->lm.r = take_vector(v++, &at, nr);
     w->lm.rt = take_vector(v++, &at, nr);
     w->r = take_vector(v++, &at, nr);
