@@ -183,6 +183,11 @@ void cli_fit_figures(const char *plotdir, const char *report, size_t ncurves,
                      const lf_fit_curve *curves, const lf_fit_result *res);
 /* Check --plot and --report before fitting (exit 2 on a bad value). */
 void cli_fit_figures_check(const char *plotdir, const char *report);
+/* Note every file that --plot DIR will write for ncurves curves as an
+ * output (cli_output_note): once the inputs are read, so that one of them
+ * named like a figure (curve1.svg, overview.dat, provenance.json) is
+ * refused with exit status 2 before anything is written. */
+void cli_fit_figures_note(const char *plotdir, size_t ncurves);
 
 /* The command line as typed (shell-quoted), saved by main() for reports. */
 void cli_set_command_line(int argc, char **argv);
@@ -226,6 +231,9 @@ int cli_stdout_close(void);
  * with exit status 2 from whichever call comes second. */
 void cli_output_note(const char *cmd, const char *path);
 void cli_input_guard(const char *cmd, const char *path);
+/* 1 when path is the same file as a noted input (for files that are put in
+ * place by rename, such as gnuplot's images: checked again just before). */
+int cli_is_input(const char *path);
 /* Record an input (and its SHA-256, or NULL) for provenance and the guard. */
 void cli_input_note(const char *path, const char *sha256);
 size_t cli_inputs_count(void);

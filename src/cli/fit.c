@@ -370,6 +370,7 @@ cli_fit(int argc, char **argv)
     cli_output_note("fit", report_html);
     model_auto = cli_fit_settings(&fa, &set, &choose, &is);
     read_input(argv[0], &a, fa.model, &is, &d);
+    cli_fit_figures_note(plot_dir, d.n);
     lf_fit_input_apply_nu(&d, &set);
     if (model_auto)
         status = lf_fit_choose_driver(&set, &choose, d.n, d.curves, &r, &err);

@@ -80,6 +80,12 @@ same_as_input(const char *path)
     return NULL;
 }
 
+int
+cli_is_input(const char *path)
+{
+    return same_as_input(path) != NULL;
+}
+
 void
 cli_output_note(const char *cmd, const char *path)
 {

@@ -116,6 +116,12 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
         free(tmp);
         return -1;
     }
+    if (cli_is_input(file)) {
+        snprintf(msg, n, "output %s is an input: refusing to replace an input", file);
+        unlink(tmp);
+        free(tmp);
+        return -1;
+    }
     if (rename(tmp, file) != 0) {
         snprintf(msg, n, "cannot put %s in place: %s", file, strerror(errno));
         unlink(tmp);

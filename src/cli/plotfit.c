@@ -513,7 +513,10 @@ cli_draw_script(const char *dir, const char *script, const char *base,
         if (plot_path(from, sizeof from, tmp, name) != 0)
             continue;
         snprintf(name, sizeof name, "%s.%s", base, ext[e]);
-        if (status == 0 && (plot_path(to, sizeof to, dir, name) != 0 || rename(from, to) != 0)) {
+        if (status == 0 && plot_path(to, sizeof to, dir, name) == 0 && cli_is_input(to)) {
+            snprintf(msg, n, "output %s is an input: refusing to replace an input", to);
+            status = -1;
+        } else if (status == 0 && (plot_path(to, sizeof to, dir, name) != 0 || rename(from, to) != 0)) {
             snprintf(msg, n, "cannot put %s/%s in place: %s", dir, name, strerror(errno));
             status = -1;
         }
@@ -605,6 +608,28 @@ cli_fit_figures_check(const char *plotdir, const char *report)
         if (len < 5 || (strcmp(report + len - 5, ".html") != 0 && strcmp(report + len - 4, ".htm") != 0))
             cli_die(CLI_EXIT_USAGE, "fit: --report %s: the report is a web page, FILE.html", report);
     }
+}
+
+void
+cli_fit_figures_note(const char *plotdir, size_t ncurves)
+{
+    static const char *const ext[] = { "gp", "dat", "png", "svg" };
+    char path[4096], name[80];
+    size_t j, e;
+
+    if (plotdir == NULL)
+        return;
+    for (j = 0; j <= ncurves; j++)      /* the overview, then each curve */
+        for (e = 0; e < 4; e++) {
+            if (j == 0)
+                snprintf(name, sizeof name, "overview.%s", ext[e]);
+            else
+                snprintf(name, sizeof name, "curve%zu.%s", j, ext[e]);
+            if (plot_path(path, sizeof path, plotdir, name) == 0)
+                cli_output_note("fit", path);
+        }
+    if (plot_path(path, sizeof path, plotdir, "provenance.json") == 0)
+        cli_output_note("fit", path);
 }
 
 void

@@ -67,6 +67,25 @@ ln -s plan.csv "$tmp/s/link.csv"
 [ "$rc" -eq 2 ] && ok || bad "fit CURVE --curves CURVE: exit $rc, want 2"
 cmp -s "$good" "$tmp/c1.orig" && ok || bad "an output replaced a curve"
 cmp -s "$tmp/s/plan.csv" "$tmp/s/plan.orig" && ok || bad "an output replaced the plan"
+# --plot DIR: an input named like one of its files (an image gnuplot draws,
+# a script, its data, the provenance) is refused before anything is written
+mkdir -p "$tmp/pl"
+for nm in curve1.svg curve1.png overview.dat curve1.gp provenance.json; do
+    rm -rf "$tmp/pl"/* "$tmp/pl"/.layerfit-*
+    cp "$good" "$tmp/pl/$nm"
+    "$LF" fit "$tmp/pl/$nm" $PROBE --plot "$tmp/pl" >/dev/null 2>"$tmp/err"; rc=$?
+    [ "$rc" -eq 2 ] && ok || bad "--plot DIR over the input $nm: exit $rc, want 2"
+    has "--plot DIR over the input $nm refused" "$tmp/err" "refusing to replace an input"
+    cmp -s "$tmp/pl/$nm" "$good" && ok || bad "--plot DIR replaced the input $nm"
+    [ "$(ls -A "$tmp/pl")" = "$nm" ] && ok || bad "--plot DIR over $nm left files: $(ls -A "$tmp/pl")"
+done
+# ... also a curve of a plan
+rm -rf "$tmp/pl"/*
+cp "$good" "$tmp/pl/overview.svg"
+printf 'file,k,R_mm,b_um,interface\noverview.svg,2,1,1,frictionless\n' > "$tmp/pl/plan.csv"
+"$LF" fit "$tmp/pl/plan.csv" --plot "$tmp/pl" >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "--plot DIR over a plan's curve: exit $rc, want 2: $(cat "$tmp/err")"
+cmp -s "$tmp/pl/overview.svg" "$good" && ok || bad "--plot DIR replaced a plan's curve"
 
 # simulate and map --synthetic keep an earlier run unless --force
 cp "$tmp/s/truth.csv" "$tmp/truth.orig"
