@@ -18,7 +18,7 @@ static const char model_help[] =
     "\n"
     "  --k K              profile exponent (2 paraboloid, 1 cone, large k flat punch)\n"
     "  --R LEN            reference length of the profile, e.g. 1mm\n"
-    "  --b LEN            layer thickness, e.g. 1um\n"
+    "  --b LEN            layer thickness, e.g. 1um (not for --model halfspace)\n"
     "  --w ADH            work of adhesion, e.g. 10mJ/m2 (also J/m^2, N/m)\n"
     "  --E PRESSURE       effective modulus E* = E/(1-nu^2), e.g. 1GPa\n"
     "  --interface WORD   frictionless (default) or bonded\n"
@@ -51,6 +51,7 @@ typedef struct {
     double Z;
     double b_cr;          /* critical thickness, NaN without --sigma-th */
     double b_cr_over_a;   /* Eq. (20), NaN without --sigma-th */
+    int want_b_cr;        /* --sigma-th given */
 } model_summary;
 
 static void
@@ -75,14 +76,16 @@ make_model(const model_args *a, lf_probe *probe, lf_material *mat)
                 "(frictionless or bonded)", a->interface);
     need("k", a->k, "2");
     need("R", a->R, "1mm");
-    need("b", a->b, "1um");
+    if (type->scope != LF_SCOPE_HALFSPACE)   /* a half-space has no thickness */
+        need("b", a->b, "1um");
     need("w", a->w, "10mJ/m2");
     need("E", a->E, "1GPa");
     if (base == LF_BASE_BONDED && isnan(a->nu))
         cli_die(CLI_EXIT_USAGE, "model: --nu is required for a bonded layer (e.g. --nu 0.3)");
     probe->k = a->k;
     probe->R = a->R;
-    probe->b = a->b;
+    /* a half-space's b is only a stand-in that no formula of it uses */
+    probe->b = isnan(a->b) ? a->R : a->b;
     probe->base = (lf_base) base;
     mat->w = a->w;
     mat->Estar = a->E;
@@ -109,7 +112,8 @@ summarise(const lf_model *m, const model_args *a, model_summary *s)
     if (lf_model_pulloff(m, &s->mat, &s->po, &err) != LF_OK)
         cli_die_error(CLI_EXIT_FAIL, &err);
     s->b_cr = s->b_cr_over_a = NAN;
-    if (!isnan(a->sigma_th)) {
+    s->want_b_cr = !isnan(a->sigma_th);
+    if (!isnan(a->sigma_th) && s->mat.w > 0) {   /* w = 0: no pull-off stress */
         /* Eq. (19) and (20): the pull-off radius of a layer of thickness b_cr */
         lf_probe crit = s->probe;
         lf_pulloff po;
@@ -132,9 +136,13 @@ print_summary(const model_summary *s)
     const lf_pulloff *po = &s->po;
 
     printf("model            %s: %s\n", s->type->name, s->type->description);
-    printf("probe            k = %g, R = %s, b = %s, %s base",
-           s->probe.k, cli_human(b1, sizeof b1, s->probe.R, "m"),
-           cli_human(b2, sizeof b2, s->probe.b, "m"), cli_base_name(s->probe.base));
+    if (s->type->scope == LF_SCOPE_HALFSPACE)
+        printf("probe            k = %g, R = %s, half-space (no layer)",
+               s->probe.k, cli_human(b1, sizeof b1, s->probe.R, "m"));
+    else
+        printf("probe            k = %g, R = %s, b = %s, %s base",
+               s->probe.k, cli_human(b1, sizeof b1, s->probe.R, "m"),
+               cli_human(b2, sizeof b2, s->probe.b, "m"), cli_base_name(s->probe.base));
     if (s->probe.base == LF_BASE_BONDED)
         printf(", nu = %g (Z = %.6g)", s->mat.nu, s->Z);
     printf("\nmaterial         w = %s, E* = %s\n",
@@ -150,18 +158,28 @@ print_summary(const model_summary *s)
            cli_human(b1, sizeof b1, po->delta_po, "m"),
            cli_human(b2, sizeof b2, po->P_po, "N"),
            cli_human((char[64]){ 0 }, 64, po->a_po, "m"));
-    printf("P_po/(2 pi R w)  %.6g\n", po->P_po / (2 * M_PI * s->probe.R * s->mat.w));
+    if (s->mat.w > 0 && isfinite(po->P_po))
+        printf("P_po/(2 pi R w)  %.6g\n", po->P_po / (2 * M_PI * s->probe.R * s->mat.w));
+    else
+        printf("P_po/(2 pi R w)  undefined (no adhesion: w = 0)\n");
     printf("mean tension     |sigma_po| = %s  (Eq. 18)\n", cli_human(b1, sizeof b1, po->sigma_po, "Pa"));
     printf("jump-in force    %s  (loading, at contact)\n", cli_human(b1, sizeof b1, po->P_jump, "N"));
-    printf("b/a at pull-off  %.4g%s\n", s->probe.b / po->a_po,
-           s->type->scope == LF_SCOPE_THIN && s->probe.b / po->a_po > 0.1
-           ? "  (thin-layer assumption b << a strained)" : "");
+    if (s->type->scope == LF_SCOPE_HALFSPACE)
+        ;                       /* no layer: no b/a */
+    else if (po->a_po > 0 && isfinite(s->probe.b / po->a_po))
+        printf("b/a at pull-off  %.4g%s\n", s->probe.b / po->a_po,
+               s->type->scope == LF_SCOPE_THIN && s->probe.b / po->a_po > 0.1
+               ? "  (thin-layer assumption b << a strained)" : "");
+    else
+        printf("b/a at pull-off  undefined (no contact left at pull-off)\n");
     printf("JKR sphere a_po  %s  (half-space, (9 pi R^2 w/(8 E*))^(1/3), for comparison)\n",
            cli_human(b1, sizeof b1, lf_jkr_sphere_a_po(s->probe.R, s->mat.w, s->mat.Estar), "m"));
-    if (!isnan(s->b_cr)) {
+    if (isfinite(s->b_cr) && isfinite(s->b_cr_over_a)) {
         printf("critical b       %s  (Eq. 19: |sigma_po| reaches sigma_th)\n",
                cli_human(b1, sizeof b1, s->b_cr, "m"));
         printf("b_cr/a_po at b_cr %.4g  (Eq. 20)\n", s->b_cr_over_a);
+    } else if (s->want_b_cr) {
+        printf("critical b       undefined (no adhesion: w = 0, so no pull-off stress)\n");
     }
 }
 
@@ -185,7 +203,7 @@ print_json(const model_summary *s)
            cli_base_name(s->probe.base));
     json_num("k", s->probe.k, 0);
     json_num("R_m", s->probe.R, 0);
-    json_num("b_m", s->probe.b, 0);
+    json_num("b_m", s->type->scope == LF_SCOPE_HALFSPACE ? NAN : s->probe.b, 0);
     json_num("w_J_per_m2", s->mat.w, 0);
     json_num("Estar_Pa", s->mat.Estar, 0);
     json_num("nu", s->probe.base == LF_BASE_BONDED ? s->mat.nu : NAN, 0);
@@ -199,7 +217,7 @@ print_json(const model_summary *s)
     json_num("a_po_m", po->a_po, 0);
     json_num("sigma_po_Pa", po->sigma_po, 0);
     json_num("P_jump_N", po->P_jump, 0);
-    json_num("b_over_a_po", s->probe.b / po->a_po, 0);
+    json_num("b_over_a_po", s->type->scope == LF_SCOPE_HALFSPACE ? NAN : s->probe.b / po->a_po, 0);
     json_num("a_jkr_sphere_po_m", lf_jkr_sphere_a_po(s->probe.R, s->mat.w, s->mat.Estar), 0);
     json_num("b_cr_m", s->b_cr, 0);
     json_num("b_cr_over_a_po", s->b_cr_over_a, 1);
@@ -225,6 +243,8 @@ print_curve(const lf_model *m, const lf_material *mat, lf_branch branch,
     lf_eval *e = malloc((size_t) points * sizeof *e);
     double *delta = malloc((size_t) points * sizeof *delta);
     const double b = lf_model_get_probe(m)->b;
+    /* a half-space has no layer: its b_over_a is left empty */
+    const int layer = lf_model_get_type(m)->scope != LF_SCOPE_HALFSPACE;
     long i;
 
     if (e == NULL || delta == NULL)
@@ -241,7 +261,7 @@ print_curve(const lf_model *m, const lf_material *mat, lf_branch branch,
         putchar(',');
         cli_print_double(stdout, e[i].a);
         putchar(',');
-        if (e[i].a > 0)
+        if (layer && e[i].a > 0)
             cli_print_double(stdout, b / e[i].a);
         printf(",%d\n", e[i].a > 0 && e[i].dP_ddelta > 0);
     }

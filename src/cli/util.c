@@ -186,8 +186,12 @@ cli_human(char *buf, size_t n, double x, const char *unit)
     size_t i, last = sizeof pre / sizeof pre[0] - 1;
     double ax = fabs(x);
 
-    if (!isfinite(x) || x == 0.0) {
-        snprintf(buf, n, "%g %s", x, unit);
+    if (isnan(x)) {             /* no NaN reaches an output */
+        snprintf(buf, n, "undefined");
+        return buf;
+    }
+    if (isinf(x) || x == 0.0) {  /* "0", never "-0" */
+        snprintf(buf, n, "%s%s %s", x < 0 ? "-" : "", x == 0.0 ? "0" : "infinite", unit);
         return buf;
     }
     for (i = 0; i < last; i++)

@@ -93,4 +93,21 @@ LAYERFIT_NO_CACHE=1 run_ok model --model exact --k 2 --R 1mm --b 1um --w 10mJ/m2
 if grep -q "thin-layer assumption" "$tmp/out"; then bad "exact model summary warns about b << a"; else ok; fi
 run_ok model --model thin --k 2 --R 1mm --b 1um --w 10mJ/m2 --E 1GPa --summary
 has "thin model summary warns about b << a" "$tmp/out" "thin-layer assumption b << a strained"
+# w = 0 (accepted: no adhesion): the ratios over w and over the pull-off
+# radius are said to be undefined, never printed as nan, inf or -0
+for m in thin exact halfspace; do
+    LAYERFIT_NO_CACHE=1 run_ok model --model $m --k 2 --R 1mm --b 1um --w 0J/m2 --E 1GPa \
+        --summary --sigma-th 1MPa
+    if grep -qiE 'nan|inf|-0 ' "$tmp/out"; then
+        bad "model --model $m --w 0 --summary: $(grep -iE 'nan|inf|-0 ' "$tmp/out" | head -2)"
+    else ok; fi
+    has "model --model $m --w 0: pull-off ratio undefined" "$tmp/out" "P_po/(2 pi R w)  undefined"
+done
+# a half-space needs no --b and reports no layer
+run_ok model --model halfspace --k 2 --R 1mm --w 10mJ/m2 --E 1GPa --summary
+has "halfspace summary: no layer" "$tmp/out" "half-space (no layer)"
+if grep -q "b/a at pull-off" "$tmp/out"; then bad "halfspace summary gives b/a"; else ok; fi
+run_ok model --model halfspace --k 2 --R 1mm --w 10mJ/m2 --E 1GPa --points 5
+[ "$(tail -n +2 "$tmp/out" | cut -d, -f4 | tr -d '\n')" = "" ] && ok \
+    || bad "halfspace curve: b_over_a not empty: $(sed -n 2p "$tmp/out")"
 summary
