@@ -707,6 +707,9 @@ cli_fit_batch(int argc, char **argv)
     no = 6 + cli_fit_opts(&fa, opts + 6);
     opts[no].name = NULL;
     cli_parse("fit", argc, argv, opts, &npos, &help);
+    /* `fit --batch --help`: the help, not a plan called --help */
+    if (plan != NULL && (strcmp(plan, "--help") == 0 || strcmp(plan, "-h") == 0))
+        help = 1;
     if (help) {
         printf("usage: layerfit fit --batch PLAN.csv [--out FILE.csv|FILE.jsonl] [--threads N]\n"
                "                    [--shard I/N] [--progress|--quiet] [fit options]\n\n"

@@ -126,4 +126,7 @@ expect_fail 2 "layerfit: map: give one batch result (layerfit map RESULT.csv --p
 expect_fail 2 "layerfit: $tmp/fm/plan.csv:3: no column 'x_m': expected the CSV output of 'layerfit fit --batch PLAN --out RESULT.csv'" \
     map "$tmp/fm/plan.csv" --plot "$tmp/m.png"
 
+# `fit --batch --help` is the batch's help, not a plan called --help
+run_ok fit --batch --help
+has "fit --batch --help" "$tmp/out" "usage: layerfit fit --batch PLAN.csv"
 summary
