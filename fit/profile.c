@@ -153,6 +153,19 @@ start_in(const prof *p, const char *name, double v, double fallback, double lo, 
     return x > lo && x < hi ? x : b;
 }
 
+/* The 95% point of F(1, m), as the square of Student's t at 0.975 with m
+ * degrees of freedom (the same number): GSL 2.7's gsl_cdf_fdist_Pinv does
+ * not converge for some m (271, 407-409, 620, 817-820, ...: 274 of the
+ * m it was tried at up to 2e5) and returns NaN, which made every rise
+ * compare false and every profile "open"; the t quantile converges for
+ * every m (checked up to 2e5, and t^2 matches F's to 3e-12 elsewhere). */
+static double
+f95_one(double m)
+{
+    const double t = gsl_cdf_tdist_Pinv(0.975, m);
+    return t * t;
+}
+
 /* chi2 minus the best chi2 with parameter `which` held at v (NaN on a
  * failed fit). */
 static double
@@ -497,7 +510,7 @@ calibrate(prof *p, double v_hat)
     }
     p->cc = data;
     p->lower_off = lower;
-    f95 = gsl_cdf_fdist_Pinv(0.95, 1.0, (double) res->dof);
+    f95 = f95_one((double) res->dof);
     if (nt >= PROFILE_BOOT / 2) {
         gsl_sort(t, 1, nt);
         kappa = lf_fmax(1.0, gsl_stats_quantile_from_sorted_data(t, 1, nt, 0.95) / f95);
@@ -581,13 +594,24 @@ profile_one(prof *p, lf_fit_estimate *e)
         e->ci95[1] = lf_fmin(e->ci95[1], 0.5);
     }
     if (open_hi && p->which != FIT_NU) {
-        /* the data do not bound it from above */
+        /* the data do not bound it from above: no estimate to report, at
+         * most a lower bound (none when the profile is open below too: a
+         * w down to 0 or an E* down to the end of the search) */
         e->determined = 0;
+        e->value = e->se = NAN;
         e->ci95[1] = NAN;
+        if (open_lo)
+            e->ci95[0] = NAN;
         if (bound_only) {
             e->upper_bound_only = 0;
             e->ci95[0] = NAN;
         }
+    } else if (open_lo && p->which == FIT_E) {
+        /* bound from above only: the lower end would be the end of the
+         * search, not a bound of the data (w's lower end 0 is w's own) */
+        e->determined = 0;
+        e->value = e->se = NAN;
+        e->ci95[0] = NAN;
     }
     return 1;
 }
@@ -601,13 +625,17 @@ threshold(const lf_fit_result *r)
 {
     double n_eff = (double) (r->dof + r->npar) / (r->corr_time >= 1.0 ? r->corr_time : 1.0);
     double m = n_eff - (double) r->npar;
-    return r->se_scale * r->se_scale * (m >= 1.0 ? gsl_cdf_fdist_Pinv(0.95, 1.0, m) : HUGE_VAL);
+    return r->se_scale * r->se_scale * (m >= 1.0 ? f95_one(m) : HUGE_VAL);
 }
 
 /* The profile found chi2 below the best fit's: that was not the global
- * minimum.  Refit with every parameter free from the lower point; when that
- * converges lower, it replaces *res (what the model choice said is kept)
- * and 1 is returned: the profiles start again from the new minimum. */
+ * minimum.  Refit with every parameter free from the lower point.  When
+ * that converges lower, it replaces *res (what the model choice said is
+ * kept) and 1 is returned: the profiles start again from the new minimum.
+ * When it ends lower without converging, it replaces *res too, as a fit
+ * that did not converge (its intervals the linear ones where it stopped),
+ * and 2 is returned: the first fit's "converged" was a local minimum, and
+ * no minimum below it was reached.  0: res stands. */
 static int
 refit_from_lower(prof *p, lf_fit_result *res)
 {
@@ -631,18 +659,35 @@ refit_from_lower(prof *p, lf_fit_result *res)
     st = lf_fit_solve(g, NULL, 1, &nr, NULL);
     p->fits++;
     lf_fit_free(g);
-    if (st != LF_OK) {
-        if (st == LF_ENOCONV)
-            lf_fit_result_free(&nr);
+    if (st != LF_OK && st != LF_ENOCONV)
         return 0;
-    }
     if (!(nr.chi2 < res->chi2 - PROFILE_LOWER * p->thr)) {
         lf_fit_result_free(&nr);
         return 0;
     }
-    lf_warn(&nr.warnings, "the profile of %s passed below the first fit's minimum (chi2 %.6g, "
-            "here %.6g): the fit was continued from there", pname[p->which], res->chi2,
-            nr.chi2);
+    if (st == LF_OK) {
+        lf_warn(&nr.warnings, "the profile of %s passed below the first fit's minimum (chi2 "
+                "%.6g, here %.6g): the fit was continued from there", pname[p->which],
+                res->chi2, nr.chi2);
+    } else {
+        char why[sizeof nr.stop_reason];
+        lf_fit_estimate *e[FIT_NMAT] = { &nr.w, &nr.Estar, &nr.nu };
+        int k;
+        lf_warn(&nr.warnings, "the profile of %s passed below the first fit's minimum (chi2 "
+                "%.6g, at %s = %.6g held: %.6g), so that was a local minimum; the fit continued "
+                "from there stopped at chi2 %.6g without converging (%s): these are the numbers "
+                "where it stopped", pname[p->which], res->chi2, pname[p->which],
+                p->which == FIT_W ? p->lower_mat.w : p->which == FIT_E ? p->lower_mat.Estar
+                                                                        : p->lower_mat.nu,
+                p->lower_chi2, nr.chi2, nr.stop_reason);
+        snprintf(why, sizeof why, "%s", nr.stop_reason);
+        snprintf(nr.stop_reason, sizeof nr.stop_reason, "not converged: below a local "
+                 "minimum the fit went on and stopped (%.90s)",
+                 strncmp(why, "not converged: ", 15) == 0 ? why + 15 : why);
+        for (k = 0; k < FIT_NMAT; k++)
+            if (e[k]->free)
+                e[k]->interval_method = LF_INTERVAL_AT_STOP;
+    }
     nr.model_rounds = res->model_rounds;
     nr.thin = res->thin;
     nr.iterations += res->iterations;
@@ -656,7 +701,7 @@ refit_from_lower(prof *p, lf_fit_result *res)
     }
     lf_fit_result_free(res);
     *res = nr;
-    return 1;
+    return st == LF_OK ? 1 : 2;
 }
 
 int
@@ -713,7 +758,7 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
         /* a lower point: refit there (only a converged fit is a minimum
          * to improve on) and profile again */
         if (p.lower_chi2 < res->chi2 && round < PROFILE_MAX_REFITS && res->converged
-            && refit_from_lower(&p, res))
+            && refit_from_lower(&p, res) == 1)
             continue;
         break;
     }

@@ -386,7 +386,10 @@ typedef struct {
                                determined */
     double ci95[2];         /* 95% interval (log-normal for w and E*,
                                normal clipped to [0, 0.5] for nu); for an
-                               upper bound only: [0, bound] */
+                               upper bound only: [0, bound]; after a
+                               profile that does not close, the side it
+                               closes on and NaN for the other (value and
+                               se then NaN, determined 0) */
     int free;               /* 1 when fitted */
     int determined;         /* 1 when the data fix it (or it was fixed) */
     int upper_bound_only;   /* w: the data only bound it from above */

@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include <gsl/gsl_cdf.h>
+#include <gsl/gsl_errno.h>
 #include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
@@ -221,7 +222,7 @@ profile_intervals(void)
         else if (r.w.determined)
             hit += s.mat.w >= r.w.ci95[0] && s.mat.w <= r.w.ci95[1];
         else
-            hit += isfinite(r.w.ci95[0]) && s.mat.w >= r.w.ci95[0];
+            hit += !(s.mat.w < r.w.ci95[0]);   /* bounded below, or not at all */
         lf_fit_result_free(&r);
     }
     t_true(profiled >= n / 2, "profile: used where the linear interval fails (%zu of %zu)",
@@ -271,15 +272,17 @@ profile_holds_the_lr_set(void)
         held.w.value = s.mat.w;
         st = lf_fit_driver(&held, s.n, s.curve, &h, &err);
         if (st == LF_OK || st == LF_ENOCONV) {
-            thr = r.se_scale * r.se_scale
-                  * gsl_cdf_fdist_Pinv(0.95, 1.0, (double) r.dof / r.corr_time);
+            /* F(1, m)'s 95% point as t(m)'s 97.5% squared: GSL's
+             * gsl_cdf_fdist_Pinv fails to converge for some m */
+            double t = gsl_cdf_tdist_Pinv(0.975, (double) r.dof / r.corr_time);
+            thr = r.se_scale * r.se_scale * t * t;
             rise = h.chi2 - r.chi2;
             if (r.w.upper_bound_only)
                 in = s.mat.w <= r.w.ci95[1];
             else if (r.w.determined)
                 in = s.mat.w >= r.w.ci95[0] && s.mat.w <= r.w.ci95[1];
-            else
-                in = isfinite(r.w.ci95[0]) && s.mat.w >= r.w.ci95[0];
+            else        /* bounded from below, or (NaN) not at all */
+                in = !(s.mat.w < r.w.ci95[0]);
             accept = rise < thr;
             if (fabs(rise / thr - 1.0) > 0.03) {
                 counted++;
@@ -300,14 +303,59 @@ profile_holds_the_lr_set(void)
     scene_free(&s);
 }
 
+/* The threshold of a profile is finite whatever the degrees of freedom:
+ * GSL's gsl_cdf_fdist_Pinv gives NaN for some (271, 407-409, 620, 817-820,
+ * ...), and a NaN threshold made every profile "open" on both sides, so a
+ * well-determined w and E* were reported as not determined (an NT-MDT
+ * export of 822 points, 818 degrees of freedom).  Here one curve of
+ * n points (k = 3: a k = 2 curve alone with both offsets free does not
+ * determine w) with z0 and F0 free (4 parameters) at each such n: clean data,
+ * w and E* determined, their profile intervals closed around the estimate. */
+static void
+profile_threshold_every_dof(void)
+{
+    static const size_t dof[] = { 271, 407, 408, 409, 620, 817, 818, 819, 820 };
+    size_t i;
+
+    for (i = 0; i < sizeof dof / sizeof dof[0]; i++) {
+        scene s = scene_default("profile threshold");
+        lf_fit_result r;
+        lf_error err;
+        int st;
+
+        scene_add(&s, 3, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);   /* k = 3: one curve sees w */
+        s.sim.points = dof[i] + 4;      /* w, E*, z0, F0 */
+        s.sim.noise = 0.002;
+        s.fit.model = &lf_model_thin;
+        st = scene_fit(&s, 31 + i, &r, &err);
+        t_int(st, LF_OK, "dof %zu: the fit converges", dof[i]);
+        if (st == LF_OK || st == LF_ENOCONV) {
+            t_int((int) r.dof, (int) dof[i], "dof %zu: degrees of freedom", dof[i]);
+            t_int(lf_fit_profile(&s.fit, s.n, s.curve, &r, LF_PROFILE_ALWAYS, &err), LF_OK,
+                  "dof %zu: profile runs", dof[i]);
+            t_true(r.w.determined && r.w.ci95[0] < r.w.value && r.w.value < r.w.ci95[1],
+                   "dof %zu: w determined, inside its profile interval [%g, %g] (%g)", dof[i],
+                   r.w.ci95[0], r.w.ci95[1], r.w.value);
+            t_true(r.Estar.determined && r.Estar.ci95[0] < r.Estar.value
+                   && r.Estar.value < r.Estar.ci95[1],
+                   "dof %zu: E* determined, inside its profile interval [%g, %g] (%g)", dof[i],
+                   r.Estar.ci95[0], r.Estar.ci95[1], r.Estar.value);
+            lf_fit_result_free(&r);
+        }
+        scene_free(&s);
+    }
+}
+
 int
 main(void)
 {
+    gsl_set_error_handler_off();    /* as the README asks of a program */
     clean_curves_converge();
     noise_model();
     constant_force();
     halfspace_independent_of_b();
     profile_intervals();
     profile_holds_the_lr_set();
+    profile_threshold_every_dof();
     return t_summary();
 }

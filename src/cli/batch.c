@@ -457,8 +457,10 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
         else
             (void) lf_fit_profile(&s, n, in.curves, &res, LF_PROFILE_SCREEN, &perr);
         have_res = 1;
-        status = st == LF_OK ? "ok" : "noconv";
-        failed = st != LF_OK;
+        /* the profile may find the minimum was a local one (res no longer
+         * converged) */
+        status = st == LF_OK && res.converged ? "ok" : "noconv";
+        failed = !(st == LF_OK && res.converged);
     } else {
         format_error(ebuf, sizeof ebuf, &err);
     }

@@ -125,6 +125,13 @@ void cli_intervals_unchecked(lf_fit_result *r);
 /* The words a report puts after an interval for how it was found (NULL: a
  * checked linear interval, nothing said); brief: the HTML table's. */
 const char *cli_interval_words(const lf_fit_estimate *e, int brief);
+/* What a free estimate that the data do not determine is bounded by, from
+ * its profile (text and HTML say the same): into buf "LO < NAME" (bounded
+ * only from below), "NAME < HI" (only from above) or "" (not bounded at
+ * all, the profile open on both sides); NULL when it is not such an
+ * estimate (determined, fixed, an upper bound of w, or never profiled). */
+const char *cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit,
+                           char *buf, size_t n);
 #define CLI_FIT_NOPTS 24
 void cli_fit_args_init(cli_fit_args *a);
 size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);

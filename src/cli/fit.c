@@ -234,6 +234,29 @@ cli_interval_words(const lf_fit_estimate *e, int brief)
     return NULL;
 }
 
+const char *
+cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit, char *buf,
+               size_t n)
+{
+    char v[48];
+    const char *m = e->interval_method;
+
+    if (e->determined || !e->free || e->upper_bound_only || m == NULL
+        || strcmp(m, "profile likelihood") != 0)
+        return NULL;
+    if (isfinite(e->ci95[0]) && isnan(e->ci95[1]))
+        snprintf(buf, n, "%s < %s", unit[0] ? cli_human(v, sizeof v, e->ci95[0], unit)
+                                            : (snprintf(v, sizeof v, "%.4g", e->ci95[0]), v), name);
+    else if (isnan(e->ci95[0]) && isfinite(e->ci95[1]))
+        snprintf(buf, n, "%s < %s", name, unit[0] ? cli_human(v, sizeof v, e->ci95[1], unit)
+                                                  : (snprintf(v, sizeof v, "%.4g", e->ci95[1]), v));
+    else if (isnan(e->ci95[0]) && isnan(e->ci95[1]))
+        snprintf(buf, n, "%s", "");
+    else
+        return NULL;
+    return buf;
+}
+
 int
 cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
                  lf_input_settings *is)
@@ -395,6 +418,8 @@ cli_fit(int argc, char **argv)
         lf_error perr;
         if (lf_fit_profile(&set, d.n, d.curves, &r, 0, &perr) != LF_OK)
             fprintf(stderr, "layerfit: warning: profile-likelihood intervals: %s\n", perr.msg);
+        if (status == LF_OK && !r.converged)
+            status = LF_ENOCONV;    /* the profile found the minimum was a local one */
     }
     in.settings = &set;
     in.model_request = fa.model;

@@ -164,11 +164,15 @@ static const char style[] =
 static void
 parameter_row(FILE *f, const char *name, const lf_fit_estimate *e, const char *unit)
 {
-    char buf[64];
-    const char *status, *words;
+    char buf[64], bound[128];
+    const char *status, *words, *bounded = cli_bound_text(e, name, unit, bound, sizeof bound);
 
     if (e->upper_bound_only)
         status = "upper bound only (adhesion below the noise)";
+    else if (bounded != NULL)
+        status = bounded[0] == '\0' ? "not determined: the data do not bound it"
+                 : isfinite(e->ci95[0]) ? "not determined: bounded only from below"
+                                        : "not determined: bounded only from above";
     else if (!e->free && e->determined)
         status = "fixed";
     else if (!e->determined)
@@ -197,6 +201,10 @@ parameter_row(FILE *f, const char *name, const lf_fit_estimate *e, const char *u
         if ((words = cli_interval_words(e, 1)) != NULL)
             fprintf(f, " (%s)", words);
         fputs("</td>", f);
+    } else if (bounded != NULL && bounded[0] != '\0') {
+        fputs("<td class=\"num\">", f);
+        esc(f, bounded);
+        fputs(" (profile likelihood)</td>", f);
     } else {
         fputs("<td class=\"na\">&ndash;</td>", f);
     }

@@ -24,10 +24,14 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
                 cli_human(hi, sizeof hi, e->ci95[1], unit));
         return;
     }
-    if (!e->determined && e->free && isfinite(e->ci95[0]) && isnan(e->ci95[1])) {
-        fprintf(f, "  %-4s not determined: the data bound it only from below, %s < %s "
-                "(95%%, profile likelihood)\n", name,
-                unit[0] ? cli_human(lo, sizeof lo, e->ci95[0], unit) : "", name);
+    if ((words = cli_bound_text(e, name, unit, lo, sizeof lo)) != NULL) {
+        if (words[0] == '\0')
+            fprintf(f, "  %-4s not determined: the data do not bound it (its profile likelihood "
+                    "stays below the 95%% threshold over the whole range searched)\n", name);
+        else
+            fprintf(f, "  %-4s not determined: the data bound it only from %s, %s "
+                    "(95%%, profile likelihood)\n", name,
+                    isfinite(e->ci95[0]) ? "below" : "above", words);
         return;
     }
     if (!e->determined) {

@@ -99,17 +99,34 @@ else
     done
     # the NT-MDT gel (no R in the file: 5 um given; the file's k and sensitivity as afmformats')
     nt="$real/fmt-ntmdt-txt-fd_2015_01_17_gel4-0,1_mQ_adh_6B_Curve_DFL_Height_51.txt"
+    # Its first fit stops in a local minimum: the profile of w passes below
+    # it, and the fit continued from there stops without converging (its
+    # cost is rough with kinks).  That is said, with exit status 3; a
+    # converged answer (exit 0) would have to be one no profile went below.
     for b in 100um 200um 1mm 1m; do
         "$LF" fit "$nt" --model halfspace --k 2 --R 5um --b "$b" --interface frictionless \
             --spring-constant 0.055N/m --sensitivity 61nm/nA --json "$tmp/nt_$b.json" \
-            >"$tmp/out" 2>"$tmp/err" || bad "ntmdt b=$b: exit $?"
+            >"$tmp/out" 2>"$tmp/err"; rc=$?
+        case $rc in
+        0) if grep -q "passed below" "$tmp/out"; then
+               bad "ntmdt b=$b: converged, yet a profile passed below its minimum"
+           else ok; fi ;;
+        3) has "ntmdt b=$b: the local minimum is said" "$tmp/out" "so that was a local minimum"
+           has "ntmdt b=$b: not converged in the report" "$tmp/out" "NOT CONVERGED" ;;
+        *) bad "ntmdt b=$b: exit $rc: $(cat "$tmp/err")" ;;
+        esac
         no_nan "ntmdt b=$b: report" "$tmp/out"
     done
+    conv() { /usr/bin/python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["fit"]["converged"])' "$1"; }
+    # the estimates of converged fits do not depend on b (where a fit stopped
+    # after 200 iterations without converging is no estimate to compare)
     for b in 200um 1mm 1m; do
-        near "ntmdt: E* independent of b ($b)" "$(jval "$tmp/nt_$b.json" Estar)" \
-            "$(jval "$tmp/nt_100um.json" Estar)" 1e-3
-        near "ntmdt: w independent of b ($b)" "$(jval "$tmp/nt_$b.json" w)" \
-            "$(jval "$tmp/nt_100um.json" w)" 1e-3
+        if [ "$(conv "$tmp/nt_$b.json")$(conv "$tmp/nt_100um.json")" = TrueTrue ]; then
+            near "ntmdt: E* independent of b ($b)" "$(jval "$tmp/nt_$b.json" Estar)" \
+                "$(jval "$tmp/nt_100um.json" Estar)" 1e-3
+            near "ntmdt: w independent of b ($b)" "$(jval "$tmp/nt_$b.json" w)" \
+                "$(jval "$tmp/nt_100um.json" w)" 1e-3
+        fi
     done
     for peg in "$real/10 wv pc PEGFN S-1 X-1 Y-1 I-1.txt" "$real/10 wv pc PEGFN S-1 X-1 Y-2 I-1.txt"; do
         n=$(basename "$peg")
