@@ -240,20 +240,22 @@ cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit, cha
 {
     char v[48];
     const char *m = e->interval_method;
+    const int below = isfinite(e->ci95[0]), above = isfinite(e->ci95[1]);
+    const double bound = below ? e->ci95[0] : e->ci95[1];
 
     if (e->determined || !e->free || e->upper_bound_only || m == NULL
-        || strcmp(m, "profile likelihood") != 0)
+        || strcmp(m, "profile likelihood") != 0 || (below && above))
         return NULL;
-    if (isfinite(e->ci95[0]) && isnan(e->ci95[1]))
-        snprintf(buf, n, "%s < %s", unit[0] ? cli_human(v, sizeof v, e->ci95[0], unit)
-                                            : (snprintf(v, sizeof v, "%.4g", e->ci95[0]), v), name);
-    else if (isnan(e->ci95[0]) && isfinite(e->ci95[1]))
-        snprintf(buf, n, "%s < %s", name, unit[0] ? cli_human(v, sizeof v, e->ci95[1], unit)
-                                                  : (snprintf(v, sizeof v, "%.4g", e->ci95[1]), v));
-    else if (isnan(e->ci95[0]) && isnan(e->ci95[1]))
-        snprintf(buf, n, "%s", "");
+    if (unit[0] != '\0')
+        cli_human(v, sizeof v, bound, unit);
     else
-        return NULL;
+        snprintf(v, sizeof v, "%.4g", bound);
+    if (below)
+        snprintf(buf, n, "%s < %s", v, name);
+    else if (above)
+        snprintf(buf, n, "%s < %s", name, v);
+    else
+        buf[0] = '\0';
     return buf;
 }
 
