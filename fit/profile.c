@@ -628,6 +628,18 @@ threshold(const lf_fit_result *r)
     return r->se_scale * r->se_scale * (m >= 1.0 ? f95_one(m) : HUGE_VAL);
 }
 
+/* Every free estimate's interval: the linear one where the fit stopped. */
+static void
+intervals_at_stop(lf_fit_result *r)
+{
+    lf_fit_estimate *e[FIT_NMAT] = { &r->w, &r->Estar, &r->nu };
+    int k;
+
+    for (k = 0; k < FIT_NMAT; k++)
+        if (e[k]->free)
+            e[k]->interval_method = LF_INTERVAL_AT_STOP;
+}
+
 /* The profile found chi2 below the best fit's: that was not the global
  * minimum.  Refit with every parameter free from the lower point.  When
  * that converges lower, it replaces *res (what the model choice said is
@@ -671,8 +683,6 @@ refit_from_lower(prof *p, lf_fit_result *res)
                 res->chi2, nr.chi2);
     } else {
         char why[sizeof nr.stop_reason];
-        lf_fit_estimate *e[FIT_NMAT] = { &nr.w, &nr.Estar, &nr.nu };
-        int k;
         lf_warn(&nr.warnings, "the profile of %s passed below the first fit's minimum (chi2 "
                 "%.6g, at %s = %.6g held: %.6g), so that was a local minimum; the fit continued "
                 "from there stopped at chi2 %.6g without converging (%s): these are the numbers "
@@ -684,9 +694,7 @@ refit_from_lower(prof *p, lf_fit_result *res)
         snprintf(nr.stop_reason, sizeof nr.stop_reason, "not converged: below a local "
                  "minimum the fit went on and stopped (%.90s)",
                  strncmp(why, "not converged: ", 15) == 0 ? why + 15 : why);
-        for (k = 0; k < FIT_NMAT; k++)
-            if (e[k]->free)
-                e[k]->interval_method = LF_INTERVAL_AT_STOP;
+        intervals_at_stop(&nr);
     }
     nr.model_rounds = res->model_rounds;
     nr.thin = res->thin;
@@ -720,10 +728,7 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
     if (!res->converged) {
         /* rises from a point that is no minimum measure nothing (they go
          * negative where the fit would have gone on) */
-        lf_fit_estimate *e[FIT_NMAT] = { &res->w, &res->Estar, &res->nu };
-        for (k = 0; k < FIT_NMAT; k++)
-            if (e[k]->free)
-                e[k]->interval_method = LF_INTERVAL_AT_STOP;
+        intervals_at_stop(res);
         return LF_OK;
     }
     memset(&p, 0, sizeof p);
@@ -755,9 +760,9 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
             p.which = which[k];
             profile_one(&p, e[k]);
         }
-        /* a lower point: refit there (only a converged fit is a minimum
-         * to improve on) and profile again */
-        if (p.lower_chi2 < res->chi2 && round < PROFILE_MAX_REFITS && res->converged
+        /* a lower point: refit there and profile again (res is converged:
+         * a refit that is not ends the rounds) */
+        if (p.lower_chi2 < res->chi2 && round < PROFILE_MAX_REFITS
             && refit_from_lower(&p, res) == 1)
             continue;
         break;

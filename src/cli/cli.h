@@ -195,6 +195,10 @@ void cli_fit_figures_check(const char *plotdir, const char *report);
  * named like a figure (curve1.svg, overview.dat, provenance.json) is
  * refused with exit status 2 before anything is written. */
 void cli_fit_figures_note(const char *plotdir, size_t ncurves);
+/* Every file cli_plot_fit writes into dir for ncurves curves (the figures
+ * overview and curve1..curveN, each NAME.gp, .dat, .png and .svg, and
+ * provenance.json), each path handed to each(). */
+void cli_plot_files(const char *dir, size_t ncurves, void (*each)(const char *path));
 
 /* The command line as typed (shell-quoted), saved by main() for reports. */
 void cli_set_command_line(int argc, char **argv);

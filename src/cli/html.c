@@ -475,24 +475,17 @@ provenance(FILE *f)
     fputs("</table>\n</section>\n", f);
 }
 
+static void
+unlink_file(const char *path)
+{
+    (void) unlink(path);
+}
+
 /* Remove what cli_plot_fit wrote into a temporary folder, then the folder. */
 static void
-remove_figures(const char *dir, const cli_figures *figs)
+remove_figures(const char *dir, size_t ncurves)
 {
-    static const char *const ext[] = { "gp", "dat", "png", "svg" };
-    size_t k, e;
-    for (k = 0; k < figs->n; k++)
-        for (e = 0; e < 4; e++) {
-            char path[4096], name[80];
-            snprintf(name, sizeof name, "%s.%s", figs->base[k], ext[e]);
-            if (plot_path(path, sizeof path, dir, name) == 0)
-                unlink(path);
-        }
-    {
-        char path[4096];
-        if (plot_path(path, sizeof path, dir, "provenance.json") == 0)
-            unlink(path);
-    }
+    cli_plot_files(dir, ncurves, unlink_file);
     rmdir(dir);
 }
 
@@ -557,7 +550,7 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
     }
 done:
     if (plotdir == NULL)
-        remove_figures(dir, &figs);
+        remove_figures(dir, ncurves);
     cli_figures_free(&figs);
     return status;
 }

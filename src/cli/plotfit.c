@@ -484,6 +484,35 @@ overview_figure(const char *dir, const char *base, size_t nc, const lf_fit_curve
     return close_both(&og, &od, msg, n);
 }
 
+/* Figure k's name: the overview (k = 0), then curve k. */
+static void
+figure_base(char *buf, size_t n, size_t k)
+{
+    if (k == 0)
+        snprintf(buf, n, "overview");
+    else
+        snprintf(buf, n, "curve%zu", k);
+}
+
+void
+cli_plot_files(const char *dir, size_t ncurves, void (*each)(const char *path))
+{
+    static const char *const ext[] = { "gp", "dat", "png", "svg" };
+    char path[4096], base[64], name[80];
+    size_t k, e;
+
+    for (k = 0; k <= ncurves; k++) {
+        figure_base(base, sizeof base, k);
+        for (e = 0; e < sizeof ext / sizeof ext[0]; e++) {
+            snprintf(name, sizeof name, "%s.%s", base, ext[e]);
+            if (plot_path(path, sizeof path, dir, name) == 0)
+                each(path);
+        }
+    }
+    if (plot_path(path, sizeof path, dir, "provenance.json") == 0)
+        each(path);
+}
+
 static void
 provenance_writer(FILE *f, const void *ctx)
 {
@@ -513,10 +542,13 @@ cli_draw_script(const char *dir, const char *script, const char *base,
         if (plot_path(from, sizeof from, tmp, name) != 0)
             continue;
         snprintf(name, sizeof name, "%s.%s", base, ext[e]);
-        if (status == 0 && plot_path(to, sizeof to, dir, name) == 0 && cli_is_input(to)) {
+        if (status == 0 && plot_path(to, sizeof to, dir, name) != 0) {
+            snprintf(msg, n, "cannot put %s/%s in place: %s", dir, name, strerror(ENAMETOOLONG));
+            status = -1;
+        } else if (status == 0 && cli_is_input(to)) {
             snprintf(msg, n, "output %s is an input: refusing to replace an input", to);
             status = -1;
-        } else if (status == 0 && (plot_path(to, sizeof to, dir, name) != 0 || rename(from, to) != 0)) {
+        } else if (status == 0 && rename(from, to) != 0) {
             snprintf(msg, n, "cannot put %s/%s in place: %s", dir, name, strerror(errno));
             status = -1;
         }
@@ -570,7 +602,7 @@ cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
         snprintf(msg, n, "cannot create %s: %s", dir, strerror(errno));
         return -1;
     }
-    snprintf(figs->base[k], sizeof figs->base[0], "overview");
+    figure_base(figs->base[k], sizeof figs->base[0], k);
     snprintf(figs->caption[k], sizeof figs->caption[0],
              "Every curve of the fit against indentation; fitted model solid where stable "
              "under force control, dashed where unstable; dots: pull-off.");
@@ -578,7 +610,7 @@ cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
     if (overview_figure(dir, figs->base[0], ncurves, curves, res, msg, n) != 0)
         return -1;
     for (j = 0; j < ncurves; j++, k++) {
-        snprintf(figs->base[k], sizeof figs->base[0], "curve%zu", j + 1);
+        figure_base(figs->base[k], sizeof figs->base[0], k);
         snprintf(figs->caption[k], sizeof figs->caption[0], "Curve %zu: %s, with residuals.",
                  j + 1, curves[j].name ? curves[j].name : "");
         figs->n = k + 1;
@@ -610,26 +642,17 @@ cli_fit_figures_check(const char *plotdir, const char *report)
     }
 }
 
+static void
+note_fit_output(const char *path)
+{
+    cli_output_note("fit", path);
+}
+
 void
 cli_fit_figures_note(const char *plotdir, size_t ncurves)
 {
-    static const char *const ext[] = { "gp", "dat", "png", "svg" };
-    char path[4096], name[80];
-    size_t j, e;
-
-    if (plotdir == NULL)
-        return;
-    for (j = 0; j <= ncurves; j++)      /* the overview, then each curve */
-        for (e = 0; e < 4; e++) {
-            if (j == 0)
-                snprintf(name, sizeof name, "overview.%s", ext[e]);
-            else
-                snprintf(name, sizeof name, "curve%zu.%s", j, ext[e]);
-            if (plot_path(path, sizeof path, plotdir, name) == 0)
-                cli_output_note("fit", path);
-        }
-    if (plot_path(path, sizeof path, plotdir, "provenance.json") == 0)
-        cli_output_note("fit", path);
+    if (plotdir != NULL)
+        cli_plot_files(plotdir, ncurves, note_fit_output);
 }
 
 void
