@@ -85,8 +85,11 @@ resolve_probe(lf_probe *p, const lf_curve *c, const char *path, const char *give
     *R_source = given;
     if (isnan(p->R)) {
         if (!(c->R > 0 && isfinite(c->R)))
-            return lf_fail(err, LF_EDATA, "%s: no probe radius: the file states none (give --R, "
-                           "e.g. --R 8um, or an R in the plan)", path);
+            return lf_fail(err, LF_EDATA, strcmp(given, "plan") == 0
+                           ? "%s: no probe radius: the plan's row says R = header and the file "
+                             "states none (give the radius in the plan's R column, e.g. R_um 8)"
+                           : "%s: no probe radius: the file states none (give --R, e.g. --R 8um)",
+                           path);
         p->R = c->R;
         *R_source = "file header";
     }

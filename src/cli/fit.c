@@ -123,7 +123,14 @@ read_input(const char *path, const fit_args *a, const char *model, const lf_inpu
         if (status == LF_OK && isnan(a->b))
             printf("%s: half-space model: no layer thickness or interface used\n", path);
     } else {
-        lf_plan *plan = cli_plan_load("fit", path);
+        lf_plan *plan;
+        /* a plan gives each curve's probe in its own row: an option that
+         * would be ignored is refused */
+        if (!isnan(a->R) || !isnan(a->b) || a->interface != NULL)
+            cli_die(CLI_EXIT_USAGE, "fit: --%s applies to a single curve (with --k); a plan gives "
+                    "each curve's probe in its row (columns k, R, b, interface; R may read "
+                    "'header')", !isnan(a->R) ? "R" : !isnan(a->b) ? "b" : "interface");
+        plan = cli_plan_load("fit", path);
         cli_plan_need_layers(plan, model);
         for (j = 0; j < plan->n; j++)   /* no output may replace a curve */
             cli_input_guard("fit", plan->rows[j].file);

@@ -44,7 +44,7 @@ run_ok fit "$v/chiaro.txt" --model halfspace --k 2 --json "$tmp/c.json" && {
     near "fit chiaro: w (truth 1 mJ/m^2)" "$w" 1e-3 1e-4
     near "fit chiaro: E* (truth 25 kPa)" "$E" 25e3 1e-4
 }
-expect_fail 2 "layerfit: fit: $v/text_space_comma.txt: no probe radius: the file states none (give --R, e.g. --R 8um, or an R in the plan)" fit "$v/text_space_comma.txt" --model halfspace --k 2
+expect_fail 2 "layerfit: fit: $v/text_space_comma.txt: no probe radius: the file states none (give --R, e.g. --R 8um)" fit "$v/text_space_comma.txt" --model halfspace --k 2
 run_ok fit "$v/workshop_force.csv" --model halfspace --k 2 --R 8um --spring-constant 0.032N/m --json "$tmp/w.json" && {
     w=$(sed -n 's/.*"w": {"value": \([^,]*\),.*/\1/p' "$tmp/w.json")
     near "fit workshop with --spring-constant: w" "$w" 1e-3 1e-4
@@ -73,6 +73,12 @@ run_ok fit "$tmp/hplan.csv" --model halfspace --json "$tmp/h.json" && {
 }
 printf 'file,k,R,b,interface\n%s,2,header,8um,frictionless\n' "$v/jpk_volts.txt" >"$tmp/hplan2.csv"
 expect_fail 2 "layerfit: $tmp/hplan2.csv:2: R 'header', but $v/jpk_volts.txt states no probe radius (give R in the plan)" check "$tmp/hplan2.csv"
+expect_fail 2 "layerfit: fit: $v/jpk_volts.txt: no probe radius: the plan's row says R = header and the file states none (give the radius in the plan's R column, e.g. R_um 8)" fit "$tmp/hplan2.csv" --model halfspace
+# a plan's probes are its rows': the single-curve options are refused, not ignored
+for o in "--R 8um" "--b 1um" "--interface bonded"; do
+    # shellcheck disable=SC2086
+    expect_fail 2 "layerfit: fit: --$(echo $o | sed 's/--\([a-zA-Z]*\).*/\1/') applies to a single curve (with --k); a plan gives each curve's probe in its row (columns k, R, b, interface; R may read 'header')" fit "$tmp/hplan2.csv" --model halfspace $o
+done
 
 # batch fits read exports too
 run_ok fit --batch "$v/plan.csv" --model halfspace --threads 1 --out "$tmp/b.csv" && \
