@@ -444,7 +444,10 @@ cli_fit(int argc, char **argv)
     }
     cli_fit_figures(plot_dir, report_html, d.n, d.curves, &r);
     if (status == LF_ENOCONV)
-        fprintf(stderr, "layerfit: fit: %s\n", r.stop_reason);
+        fprintf(stderr, "layerfit: fit: %s%s\n", r.stop_reason,
+                strstr(r.stop_reason, "iterations reached") != NULL
+                ? " (--max-iter N allows more; a fit that creeps along a kink of the cost may "
+                  "still not settle)" : "");
     lf_fit_result_free(&r);
     lf_fit_input_free(&d);
     return status == LF_OK ? CLI_EXIT_OK : CLI_EXIT_NOCONV;

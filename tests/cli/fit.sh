@@ -66,6 +66,7 @@ expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (g
     [ $rc -eq 3 ] && ok || bad "not converged: exit $rc, want 3"
     has "not converged: marked" "$tmp/out" "*** NOT CONVERGED"
     has "not converged: stderr" "$tmp/err" "layerfit: fit: not converged: 1 iterations reached"
+    has "not converged: the iteration limit named" "$tmp/err" "1 iterations reached (--max-iter N allows more"
     has "not converged: json" "$tmp/n.json" '"converged": false'
     # a user's starting point: near it, the same answer within a standard
     # error (2%; the cost is flat to 1e-4 there, with kinks where points
