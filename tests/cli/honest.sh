@@ -19,6 +19,20 @@ i=60; while [ $i -gt 0 ]; do echo "$i.0e-9,1e-6" >> "$tmp/flat.csv"; i=$((i - 1)
 [ "$rc" -eq 2 ] && ok || bad "constant force: exit $rc, want 2 (refused)"
 has "constant force: said why" "$tmp/err" "no contact signal"
 
+# ---- an estimate whose profile does not close: no number, the words -------
+# (a bonded curve near nu = 0.5 beside a frictionless one, 5% noise: w's
+# profile stays below the threshold over the whole range)
+run_ok simulate --out "$tmp/open" --w 10mJ/m2 --E 1GPa --nu 0.48 --noise 0.05 --seed 1 \
+    k=2,R=1mm,b=1um,interface=frictionless k=3,R=1mm,b=1um,interface=bonded
+run_ok fit "$tmp/open/plan.csv" --model thin --json "$tmp/open.json" --report "$tmp/open.html" && {
+    has "open profile: the text says so" "$tmp/out" "w    not determined: the data do not bound it"
+    has "open profile: JSON has no value" "$tmp/open.json" '"w": {"value": null, "stderr": null, "ci95": [null, null], "ci95_method": "profile likelihood", "free": true, "determined": false'
+    has "open profile: the report says so" "$tmp/open.html" "the data do not bound it"
+    no_nan "open profile: text" "$tmp/out"
+    no_nan "open profile: JSON" "$tmp/open.json"
+    no_nan "open profile: report" "$tmp/open.html"
+}
+
 # ---- bonded nu = 0.49999: converged only at a real minimum -----------------
 run_ok simulate --out "$tmp/nu5" --w 12.3mJ/m2 --E 1.85GPa --nu 0.49999 --noise 0.002 --seed 1 \
     k=2,R=1mm,b=1um,interface=frictionless k=2,R=1mm,b=1um,interface=bonded \
