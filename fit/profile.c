@@ -769,6 +769,8 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
     }
     fits += p.fits;
     res->profile_fits = fits;
+    for (j = 0; j < ncurves; j++)   /* the pull-off follows w's verdict */
+        res->curves[j].pulloff_determined = res->w.determined;
     free(p.cc);
     free(p.lower_off);
     return LF_OK;

@@ -492,13 +492,14 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
         memset(&cr->pulloff, 0, sizeof cr->pulloff);
     cr->b_over_a_min_contact = amin < HUGE_VAL ? b / amin : NAN;
     cr->b_over_a_pulloff = cr->pulloff.a_po > 0 ? b / cr->pulloff.a_po : NAN;
+    cr->pulloff_determined = r->w.determined;
     /* the b << a warnings concern the thin-layer model only */
     if (lf_model_get_type(c->model)->scope == LF_SCOPE_THIN
         && cr->b_over_a_min_contact > f->set.max_b_over_a)
         lf_warn(&cr->warnings, "b/a = %.3g at the shallowest point in contact: the thin-layer "
                 "assumption b << a is strained there (limit %g)",
                 cr->b_over_a_min_contact, f->set.max_b_over_a);
-    if (lf_model_get_type(c->model)->scope == LF_SCOPE_THIN
+    if (lf_model_get_type(c->model)->scope == LF_SCOPE_THIN && cr->pulloff_determined
         && cr->b_over_a_pulloff > f->set.max_b_over_a)
         lf_warn(&cr->warnings, "b/a = %.3g at pull-off: the thin-layer assumption b << a is "
                 "strained (limit %g)", cr->b_over_a_pulloff, f->set.max_b_over_a);

@@ -418,6 +418,11 @@ typedef struct {
     lf_pulloff pulloff;     /* predicted at the fitted material */
     double b_over_a_min_contact; /* b/a at the shallowest point in contact */
     double b_over_a_pulloff;     /* b/a at force-controlled pull-off */
+    int pulloff_determined; /* 1 when w is determined (or fixed), so that the
+                               pull-off and b/a there follow from the data;
+                               0: pulloff and b_over_a_pulloff are the
+                               model's where the fit ended, a w the data do
+                               not fix (the reports say "not determined") */
     double *fitted;         /* n fitted forces, N */
     double *contact_radius; /* n contact radii, m */
     const char *model;      /* name of the forward model used (static) */

@@ -477,7 +477,8 @@ row:
             { "corr_w_Estar", corr_w_E(&res) },
             { "chi2_dof", res.se_scale * res.se_scale },
             { "rms_N", rms_all(&res) },
-            { "P_po_N", res.ncurves ? res.curves[0].pulloff.P_po : NAN },
+            { "P_po_N", res.ncurves && res.curves[0].pulloff_determined
+                        ? res.curves[0].pulloff.P_po : NAN },
             { "iterations", (double) res.iterations },
             { "w_ci95_lo_J_m2", res.w.free ? res.w.ci95[0] : NAN },
             { "w_ci95_hi_J_m2", res.w.free ? res.w.ci95[1] : NAN },

@@ -359,12 +359,19 @@ curves_table(FILE *f, const lf_fit_result *r)
         td_human(f, c->sigma, "N");
         td_human(f, c->rms, "N");
         td_num(f, c->sigma > 0 ? c->rms / c->sigma : NAN, 3, "");
-        td_human(f, c->pulloff.P_po, "N");
-        td_human(f, c->pulloff.a_po, "m");
+        if (c->pulloff_determined) {
+            td_human(f, c->pulloff.P_po, "N");
+            td_human(f, c->pulloff.a_po, "m");
+        } else {
+            td_text(f, "not determined (w is not)");
+            td_text(f, "not determined");
+        }
         if (cli_model_ignores_b(c->model))
             td_text(f, "none");
-        else
+        else if (c->pulloff_determined)
             td_num(f, c->b_over_a_pulloff, 3, "");
+        else
+            td_text(f, "not determined");
         fputs("</tr>\n", f);
     }
     fputs("</table></div>\n</section>\n", f);

@@ -49,13 +49,43 @@ base_name(const char *path)
     return s ? s + 1 : path;
 }
 
+/* The value of the free parameter NAME (e.g. "w", "F0[2]") where the fit
+ * ended, for drawing what it fitted where the report gives no number (the
+ * data do not determine it); `reported` when that is finite, else NaN. */
+static double
+at_end(const lf_fit_result *res, const char *name, double reported)
+{
+    size_t i;
+
+    if (isfinite(reported))
+        return reported;
+    for (i = 0; i < res->npar; i++)
+        if (strcmp(res->names[i], name) == 0)
+            return res->value[i];
+    return NAN;
+}
+
+/* Curve j's offset or slope (what: "z0", "F0", "s") to draw with: the
+ * reported one, else where the fit ended, else 0 (none fitted). */
+static double
+curve_at_end(const lf_fit_result *res, const char *what, size_t j, double reported)
+{
+    char name[32];
+    double v;
+
+    snprintf(name, sizeof name, "%s[%zu]", what, j + 1);
+    v = at_end(res, name, reported);
+    return isfinite(v) ? v : 0.0;
+}
+
 /* The material to draw with: the fitted one; where E* is not determined
  * (bonded curves alone fix only M = Z E*), E* = M with nu = 0 (Z = 1) draws
- * the same thin-layer curve. */
+ * the same thin-layer curve; a w the data do not determine is drawn where
+ * the fit ended (the curve it fitted; titles say "not determined"). */
 static int
 draw_material(const lf_fit_result *res, lf_material *m)
 {
-    m->w = res->w.value;
+    m->w = at_end(res, "w", res->w.value);
     m->Estar = res->Estar.value;
     m->nu = isfinite(res->nu.value) ? res->nu.value : 0.3;
     if (!isfinite(m->Estar) && isfinite(res->M.value)) {
@@ -78,6 +108,11 @@ value_text(char *buf, size_t n, double x, const char *unit)
     }
     return cli_human(buf, n, x, unit);
 }
+
+/* A data block with nothing to draw still needs a line, or gnuplot would
+ * not count it as an index: "- -", which gnuplot reads as no point (and no
+ * NaN reaches any output). */
+#define NO_POINT "- -\n"
 
 /* One curve's model on a grid of indentations, in instrument coordinates. */
 typedef struct {
@@ -127,7 +162,7 @@ model_for(const lf_fit_curve *c, const lf_fit_curve_result *cr, const lf_fit_res
         mc->F[i] = ev[i].P + cr->F0 + s * mc->delta[i];
         mc->cls[i] = ev[i].a <= 0.0 ? 0 : ev[i].dP_ddelta > 0.0 ? 1 : 2;
     }
-    if (cr->branch == LF_BRANCH_UNLOAD && isfinite(cr->pulloff.P_po)) {
+    if (cr->branch == LF_BRANCH_UNLOAD && cr->pulloff_determined && isfinite(cr->pulloff.P_po)) {
         double s = isfinite(cr->slope) ? cr->slope : 0.0;
         mc->z_po = cr->pulloff.delta_po + cr->z0;
         mc->F_po = cr->pulloff.P_po + cr->F0 + s * cr->pulloff.delta_po;
@@ -158,7 +193,7 @@ put_class(FILE *f, const model_curve *mc, int cls, double xshift, double fscale)
         }
     }
     if (n == 0)
-        fputs("NaN NaN\n", f);   /* an empty block would not count as an index */
+        fputs(NO_POINT, f);
     return n;
 }
 
@@ -274,18 +309,17 @@ curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
     for (i = 0; i < c->n; i++)
         fprintf(d, "%.9g %.9g %.9g %.9g\n", c->depth[i] * 1e9, c->force[i] / fs,
                 cr->fitted[i] / fs, (c->force[i] - cr->fitted[i]) / fs);
-    /* an empty block would not count as an index: "NaN NaN" holds its place */
     fprintf(d, "\n\n# index 1: model, stable under force control (dP/ddelta > 0): depth_nm force_%s\n", fu);
-    nst = mc->have ? put_class(d, mc, 1, 0.0, fs) : (fputs("NaN NaN\n", d), 0);
+    nst = mc->have ? put_class(d, mc, 1, 0.0, fs) : (fputs(NO_POINT, d), 0);
     fprintf(d, "\n\n# index 2: model, unstable under force control (dP/ddelta <= 0)\n");
-    nun = mc->have ? put_class(d, mc, 2, 0.0, fs) : (fputs("NaN NaN\n", d), 0);
+    nun = mc->have ? put_class(d, mc, 2, 0.0, fs) : (fputs(NO_POINT, d), 0);
     fprintf(d, "\n\n# index 3: model out of contact (baseline)\n");
-    nbase = mc->have ? put_class(d, mc, 0, 0.0, fs) : (fputs("NaN NaN\n", d), 0);
+    nbase = mc->have ? put_class(d, mc, 0, 0.0, fs) : (fputs(NO_POINT, d), 0);
     fprintf(d, "\n\n# index 4: force-controlled pull-off: depth_nm force_%s\n", fu);
     if (isfinite(mc->F_po))
         fprintf(d, "%.9g %.9g\n", mc->z_po * 1e9, mc->F_po / fs);
     else
-        fputs("NaN NaN\n", d);
+        fputs(NO_POINT, d);
 
     snprintf(name, sizeof name, "%s.gp", base);
     if ((g = open_in(&og, dir, name, msg, n)) == NULL) {
@@ -439,14 +473,14 @@ overview_figure(const char *dir, const char *base, size_t nc, const lf_fit_curve
             fprintf(d, "\n\n");
             cnt[4 * j + 2] = put_class(d, mc, 2, cr->z0, fs);
         } else {
-            fprintf(d, "\n\n# no model\nNaN NaN\n\n\n# no model\nNaN NaN\n");
+            fprintf(d, "\n\n# no model\n" NO_POINT "\n\n# no model\n" NO_POINT);
         }
         fprintf(d, "\n\n# pull-off\n");
         if (isfinite(mc->F_po)) {
             fprintf(d, "%.9g %.9g\n", (mc->z_po - cr->z0) * 1e9, (mc->F_po - cr->F0) / fs);
             cnt[4 * j + 3] = 1;
         } else {
-            fputs("NaN NaN\n", d);
+            fputs(NO_POINT, d);
         }
     }
     snprintf(name, sizeof name, "%s.gp", base);
@@ -589,7 +623,9 @@ int
 cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
              const lf_fit_result *res, cli_figures *figs, char *msg, size_t n)
 {
+    lf_fit_result draw;
     size_t j, k = 0;
+    int status;
 
     figs->n = 0;
     figs->base = calloc(ncurves + 1, sizeof *figs->base);
@@ -607,16 +643,32 @@ cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
              "Every curve of the fit against indentation; fitted model solid where stable "
              "under force control, dashed where unstable; dots: pull-off.");
     figs->n = ++k;
-    if (overview_figure(dir, figs->base[0], ncurves, curves, res, msg, n) != 0)
+    /* drawn with every curve's offsets where the fit ended, also those the
+     * data do not determine (the report gives no number for them) */
+    draw = *res;
+    draw.curves = malloc((ncurves ? ncurves : 1) * sizeof *draw.curves);
+    if (draw.curves == NULL) {
+        snprintf(msg, n, "out of memory");
         return -1;
-    for (j = 0; j < ncurves; j++, k++) {
+    }
+    for (j = 0; j < ncurves; j++) {
+        lf_fit_curve_result *cr = &draw.curves[j];
+        *cr = res->curves[j];
+        cr->z0 = curve_at_end(res, "z0", j, cr->z0);
+        cr->F0 = curve_at_end(res, "F0", j, cr->F0);
+        cr->slope = curve_at_end(res, "s", j, cr->slope);
+    }
+    status = overview_figure(dir, figs->base[0], ncurves, curves, &draw, msg, n);
+    for (j = 0; status == 0 && j < ncurves; j++, k++) {
         figure_base(figs->base[k], sizeof figs->base[0], k);
         snprintf(figs->caption[k], sizeof figs->caption[0], "Curve %zu: %s, with residuals.",
                  j + 1, curves[j].name ? curves[j].name : "");
         figs->n = k + 1;
-        if (curve_figure(dir, figs->base[k], j, &curves[j], res, msg, n) != 0)
-            return -1;
+        status = curve_figure(dir, figs->base[k], j, &curves[j], &draw, msg, n);
     }
+    free(draw.curves);
+    if (status != 0)
+        return -1;
     {
         char path[4096];
         if (plot_path(path, sizeof path, dir, "provenance.json") == 0)

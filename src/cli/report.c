@@ -196,13 +196,19 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
             fprintf(f, "      correlated noise: one independent point in %.3g (%.0f of %zu), "
                     "noise %s at that lag\n", cr->corr_time, cr->n_eff, cr->n,
                     cli_human(a, sizeof a, cr->noise_sd, "N"));
-        fprintf(f, "      pull-off %s, contact radius %s, mean tension %s\n",
-                cli_human(a, sizeof a, cr->pulloff.P_po, "N"),
-                cli_human(b, sizeof b, cr->pulloff.a_po, "m"),
-                cli_human(c, sizeof c, cr->pulloff.sigma_po, "Pa"));
-        if (in->origin == NULL || in->origin[j].b != NULL)  /* no layer: no b/a */
-        fprintf(f, "      b/a = %.3g at the shallowest contact point, %.3g at pull-off\n",
-                cr->b_over_a_min_contact, cr->b_over_a_pulloff);
+        if (cr->pulloff_determined)
+            fprintf(f, "      pull-off %s, contact radius %s, mean tension %s\n",
+                    cli_human(a, sizeof a, cr->pulloff.P_po, "N"),
+                    cli_human(b, sizeof b, cr->pulloff.a_po, "m"),
+                    cli_human(c, sizeof c, cr->pulloff.sigma_po, "Pa"));
+        else
+            fputs("      pull-off not determined (w is not)\n", f);
+        if (in->origin == NULL || in->origin[j].b != NULL) {    /* no layer: no b/a */
+            fprintf(f, "      b/a = %.3g at the shallowest contact point", cr->b_over_a_min_contact);
+            if (cr->pulloff_determined)
+                fprintf(f, ", %.3g at pull-off", cr->b_over_a_pulloff);
+            fputc('\n', f);
+        }
         if (cr->model != NULL)
             fprintf(f, "      model %s: %s\n", cr->model, cr->model_reason);
         if (cr->agreement == 1)
@@ -376,6 +382,7 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
     for (j = 0; j < r->ncurves; j++) {
         const lf_fit_curve_result *c = &r->curves[j];
         int no_layer = in->origin != NULL && in->origin[j].b == NULL;  /* b a stand-in */
+        int po = c->pulloff_determined;
         fputs("    {", f);
         cli_json_name(f, "file", c->name);
         const struct { const char *key; double v; } num[] = {
@@ -383,10 +390,10 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
             { "b", no_layer ? NAN : c->probe.b },
             { "z0", c->z0 }, { "z0_stderr", c->z0_se }, { "F0", c->F0 },
             { "F0_stderr", c->F0_se }, { "noise_sigma", c->sigma }, { "rms", c->rms },
-            { "P_po", c->pulloff.P_po }, { "a_po", c->pulloff.a_po },
-            { "sigma_po", c->pulloff.sigma_po },
+            { "P_po", po ? c->pulloff.P_po : NAN }, { "a_po", po ? c->pulloff.a_po : NAN },
+            { "sigma_po", po ? c->pulloff.sigma_po : NAN },
             { "b_over_a_min_contact", no_layer ? NAN : c->b_over_a_min_contact },
-            { "b_over_a_pulloff", no_layer ? NAN : c->b_over_a_pulloff },
+            { "b_over_a_pulloff", no_layer || !po ? NAN : c->b_over_a_pulloff },
             { "chi2_per_point", c->chi2_per_point }, { "p_value", c->p_value },
             { "runs_z", c->runs_z }, { "corr_time", c->corr_time }, { "n_eff", c->n_eff },
             { "noise_sd", c->noise_sd }, { "misfit_rel", c->misfit_rel }

@@ -33,6 +33,34 @@ run_ok fit "$tmp/open/plan.csv" --model thin --json "$tmp/open.json" --report "$
     no_nan "open profile: report" "$tmp/open.html"
 }
 
+# ---- w not determined: nothing derived from it is reported, figures drawn --
+# (one k = 2 curve with z0 and F0 free and no baseline: w cannot be told
+# from the force offset; the pull-off it implies is no number to report)
+run_ok simulate --out "$tmp/wund" --w 10mJ/m2 --E 1GPa --noise 0.05 --seed 1 \
+    k=2,R=1mm,b=1um,interface=frictionless
+"$LF" fit "$tmp/wund/curve1.csv" --k 2 --R 1mm --b 1um --interface frictionless --model thin \
+    --json "$tmp/wund.json" --report "$tmp/wund.html" --plot "$tmp/wundfig" >"$tmp/out" 2>"$tmp/err"
+rc=$?
+[ "$rc" -eq 0 ] && ok || bad "w undetermined: exit $rc: $(cat "$tmp/err")"
+has "w undetermined: said" "$tmp/out" "w    not determined"
+has "w undetermined: pull-off not given" "$tmp/out" "pull-off not determined (w is not)"
+if grep -q "at pull-off" "$tmp/out"; then bad "w undetermined: b/a at pull-off given: $(grep 'at pull-off' "$tmp/out")"; else ok; fi
+has "w undetermined: JSON pull-off null" "$tmp/wund.json" '"P_po": null, "a_po": null, "sigma_po": null'
+has "w undetermined: JSON b/a at pull-off null" "$tmp/wund.json" '"b_over_a_pulloff": null'
+has "w undetermined: report says so" "$tmp/wund.html" "not determined (w is not)"
+for o in "$tmp/out" "$tmp/wund.json" "$tmp/wund.html" "$tmp/wundfig"/*.dat "$tmp/wundfig"/*.gp; do
+    no_nan "w undetermined: $(basename "$o")" "$o"
+done
+if command -v gnuplot >/dev/null 2>&1; then
+    if grep -q "gnuplot failed" "$tmp/err"; then bad "w undetermined: $(cat "$tmp/err")"; else ok; fi
+    [ -s "$tmp/wundfig/overview.png" ] && [ -s "$tmp/wundfig/curve1.png" ] && ok \
+        || bad "w undetermined: figures not drawn"
+fi
+run_ok fit --batch "$tmp/wund/plan.csv" --model thin --out "$tmp/wund_rows.csv" && {
+    po=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "P_po_N") c = i } NR == 2 { print $c }' "$tmp/wund_rows.csv")
+    [ -z "$po" ] && ok || bad "w undetermined: batch P_po_N '$po', want empty"
+}
+
 # ---- bonded nu = 0.49999: converged only at a real minimum -----------------
 run_ok simulate --out "$tmp/nu5" --w 12.3mJ/m2 --E 1.85GPa --nu 0.49999 --noise 0.002 --seed 1 \
     k=2,R=1mm,b=1um,interface=frictionless k=2,R=1mm,b=1um,interface=bonded \
