@@ -217,10 +217,13 @@ int cli_html_report(const char *file, const char *plotdir, size_t ncurves,
 typedef struct cli_out {
     FILE *f;
     char *path, *tmp;
+    int direct;             /* written in place: standard output ("-"), a
+                               pipe or a device (nothing there to keep) */
     struct cli_out *next;
 } cli_out;
 /* Open path for writing (NULL with msg when not possible, or when path is
- * a noted input). */
+ * a noted input).  "-" is standard output; a symbolic link is followed (its
+ * target replaced, the link kept); a pipe or device is written in place. */
 FILE *cli_out_open(cli_out *o, const char *path, char *msg, size_t n);
 /* Finish and rename into place: 0, or -1 with msg (the temp is removed). */
 int cli_out_commit(cli_out *o, char *msg, size_t n);

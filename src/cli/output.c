@@ -180,10 +180,44 @@ cli_tmp_name(const char *path, char **tmp)
     return 0;
 }
 
+/* An output that is no regular file to replace: standard output ("-"), or
+ * an existing pipe, device or socket (a link to one: /dev/stdout), opened
+ * for writing in place.  1 when it was one (o->f NULL with msg on failure),
+ * 0 for a path to be written atomically. */
+static int
+open_direct(cli_out *o, const char *path, char *msg, size_t n)
+{
+    struct stat st;
+    int fd;
+
+    if (strcmp(path, "-") == 0) {
+        o->f = stdout;
+        o->direct = 1;
+        return 1;
+    }
+    if (stat(path, &st) != 0 || S_ISREG(st.st_mode))
+        return 0;
+    if (S_ISDIR(st.st_mode)) {
+        snprintf(msg, n, "cannot write %s: it is a folder", path);
+        return 1;
+    }
+    fd = open(path, O_WRONLY | O_NOCTTY);
+    if (fd < 0 || (o->f = fdopen(fd, "w")) == NULL) {
+        snprintf(msg, n, "cannot write %s: %s", path, strerror(errno));
+        if (fd >= 0)
+            close(fd);
+        return 1;
+    }
+    o->direct = 1;
+    return 1;
+}
+
 FILE *
 cli_out_open(cli_out *o, const char *path, char *msg, size_t n)
 {
     const char *in;
+    char *target = NULL;
+    struct stat st;
     mode_t mask;
     int fd;
 
@@ -192,7 +226,22 @@ cli_out_open(cli_out *o, const char *path, char *msg, size_t n)
         snprintf(msg, n, "output %s is the input %s: refusing to replace an input", path, in);
         return NULL;
     }
+    if (open_direct(o, path, msg, n)) {
+        if (o->f != NULL)
+            o->path = dup_text(path);
+        return o->f;
+    }
+    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)) {
+        /* replace what the link names, not the link */
+        if ((target = realpath(path, NULL)) == NULL) {
+            snprintf(msg, n, "cannot write %s: a symbolic link to %s", path,
+                     errno == ENOENT ? "a file that does not exist" : strerror(errno));
+            return NULL;
+        }
+        path = target;
+    }
     if (cli_tmp_name(path, &o->tmp) != 0) {
+        free(target);
         snprintf(msg, n, "out of memory");
         return NULL;
     }
@@ -200,6 +249,7 @@ cli_out_open(cli_out *o, const char *path, char *msg, size_t n)
     if (fd < 0) {
         snprintf(msg, n, "cannot write %s: %s", path, strerror(errno));
         free(o->tmp);
+        free(target);
         o->tmp = NULL;
         return NULL;
     }
@@ -213,10 +263,12 @@ cli_out_open(cli_out *o, const char *path, char *msg, size_t n)
         close(fd);
         unlink(o->tmp);
         free(o->tmp);
+        free(target);
         o->tmp = NULL;
         return NULL;
     }
     o->path = dup_text(path);
+    free(target);
     if (!cleanup_set) {
         atexit(remove_pending);
         cleanup_set = 1;
@@ -233,6 +285,19 @@ cli_out_commit(cli_out *o, char *msg, size_t n)
 
     if (o->f == NULL)
         return -1;
+    if (o->direct) {
+        /* in place: flushed (standard output stays open for the report) */
+        bad = fflush(o->f) != 0 || ferror(o->f);
+        e = bad ? errno : 0;
+        if (o->f != stdout && fclose(o->f) != 0 && !bad)
+            bad = 1, e = errno;
+        if (bad)
+            snprintf(msg, n, "error writing %s: %s", o->path, e ? strerror(e) : "write failed");
+        o->f = NULL;
+        free(o->path);
+        o->path = NULL;
+        return bad ? -1 : 0;
+    }
     if (fflush(o->f) != 0 || ferror(o->f))
         bad = 1, e = errno;
     if (!bad && fsync(fileno(o->f)) != 0)
@@ -256,7 +321,7 @@ cli_out_commit(cli_out *o, char *msg, size_t n)
 void
 cli_out_discard(cli_out *o)
 {
-    if (o->f != NULL)
+    if (o->f != NULL && o->f != stdout)
         fclose(o->f);
     if (o->tmp != NULL)
         unlink(o->tmp);

@@ -67,6 +67,36 @@ ln -s plan.csv "$tmp/s/link.csv"
 [ "$rc" -eq 2 ] && ok || bad "fit CURVE --curves CURVE: exit $rc, want 2"
 cmp -s "$good" "$tmp/c1.orig" && ok || bad "an output replaced a curve"
 cmp -s "$tmp/s/plan.csv" "$tmp/s/plan.orig" && ok || bad "an output replaced the plan"
+# an output through a symbolic link replaces the link's target, not the link;
+# a pipe, a device or "-" is written in place, never replaced by a file
+mkdir -p "$tmp/ln"
+echo old >"$tmp/ln/target.json"
+ln -s target.json "$tmp/ln/link.json"
+run_ok fit "$good" $PROBE --json "$tmp/ln/link.json"
+[ -L "$tmp/ln/link.json" ] && ok || bad "--json LINK: the link was replaced by a file"
+has "--json LINK: the target holds the JSON" "$tmp/ln/target.json" '"parameters"'
+ln -s nothere.json "$tmp/ln/dangling.json"
+"$LF" fit "$good" $PROBE --json "$tmp/ln/dangling.json" >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 1 ] && ok || bad "--json DANGLING-LINK: exit $rc, want 1"
+has "--json DANGLING-LINK: said" "$tmp/err" "a symbolic link to a file that does not exist"
+[ -L "$tmp/ln/dangling.json" ] && [ ! -e "$tmp/ln/nothere.json" ] && ok \
+    || bad "--json DANGLING-LINK: something was written"
+run_ok fit "$good" $PROBE --json -
+has "--json -: the JSON on standard output" "$tmp/out" '"parameters"'
+[ ! -e ./- ] && ok || { bad "--json - wrote a file named '-'"; rm -f ./-; }
+if mkfifo "$tmp/ln/pipe.json" 2>/dev/null; then
+    # (a reader that would wait for ever on a pipe replaced by a file is
+    # stopped; /dev/null and /dev/stdout are not tried: a regression would
+    # replace them for the whole machine)
+    timeout 60 cat "$tmp/ln/pipe.json" >"$tmp/ln/got.json" &
+    reader=$!
+    run_ok fit "$good" $PROBE --json "$tmp/ln/pipe.json"
+    [ -p "$tmp/ln/pipe.json" ] || kill "$reader" 2>/dev/null
+    wait "$reader"
+    [ -p "$tmp/ln/pipe.json" ] && ok || bad "--json FIFO: the pipe was replaced by a file"
+    has "--json FIFO: the reader got the JSON" "$tmp/ln/got.json" '"parameters"'
+fi
+
 # --plot DIR: an input named like one of its files (an image gnuplot draws,
 # a script, its data, the provenance) is refused before anything is written
 mkdir -p "$tmp/pl"
