@@ -170,6 +170,27 @@ add_curve(lf_fit_input *in, size_t j, const char *path, lf_segment seg, const lf
     return LF_OK;
 }
 
+/* Curve j's file holds the same bytes (SHA-256) as an earlier row's with the
+ * same segment: the same measurement under two names would count its
+ * evidence twice (the plan refuses one name listed twice itself). */
+static int
+same_data_before(const lf_plan *plan, const size_t *rows, const lf_fit_input *in, size_t j,
+                 lf_error *err)
+{
+    const lf_plan_row *row = &plan->rows[rows ? rows[j] : j];
+    size_t i;
+
+    for (i = 0; i < j; i++)
+        if (in->curves[i].branch == in->curves[j].branch
+            && strcmp(in->sha256[i], in->sha256[j]) == 0)
+            return lf_fail_at(err, LF_EDATA, plan->path, row->line, 0,
+                              "%s holds the same data as %s (line %ld; SHA-256 %.12s...): one "
+                              "measurement listed twice would count twice (list it once)",
+                              row->file, in->names[i], plan->rows[rows ? rows[i] : i].line,
+                              in->sha256[j]);
+    return LF_OK;
+}
+
 int
 lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
                        const lf_input_settings *s, lf_fit_input *in, lf_warnings *warn,
@@ -200,6 +221,8 @@ lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
         status = add_curve(in, j, row->file, s->segment >= 0 ? (lf_segment) s->segment
                            : row->segment, &row->probe, "plan", row->format, row->z0, row->F0,
                             s, warn, err);
+        if (status == LF_OK)
+            status = same_data_before(plan, rows, in, j, err);
         if (status != LF_OK) {
             lf_fit_input_free(in);
             return status;

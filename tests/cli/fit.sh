@@ -61,6 +61,17 @@ expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (g
     run_ok fit "$tmp/d/curve2.csv" --k 3 --R 1mm --b 1um --interface bonded --fix-nu 0.35
     has "bonded, nu fixed" "$tmp/out" "nu   = 0.35 (fixed)"
     expect_fail 2 "layerfit: fit: a single curve needs --k, --R, --b and --interface (e.g. --k 2 --R 1mm --b 1um --interface frictionless)" fit "$tmp/d/curve2.csv" --k 3
+    # a joint fit is of one material: two samples in one plan are refused
+    printf 'file,k,R_m,b_m,interface,sample\ncurve1.csv,2,0.001,1e-06,frictionless,film-A\ncurve2.csv,3,0.001,1e-06,frictionless,film-B\n' >"$tmp/d/two.csv"
+    expect_fail 2 "layerfit: fit: $tmp/d/two.csv:3: sample 'film-B', where an earlier row's is 'film-A': a joint fit is of one material (give each sample a plan of its own, or run 'layerfit fit --batch', which fits each sample on its own)" fit "$tmp/d/two.csv"
+    printf 'file,k,R_m,b_m,interface,sample\ncurve1.csv,2,0.001,1e-06,frictionless,film-A\ncurve2.csv,3,0.001,1e-06,frictionless,\n' >"$tmp/d/one.csv"
+    run_ok fit "$tmp/d/one.csv" --model thin
+    # the same measurement under two names would count twice: refused
+    cp "$tmp/d/curve1.csv" "$tmp/d/copy1.csv"
+    printf 'file,k,R_m,b_m,interface\ncurve1.csv,2,0.001,1e-06,frictionless\ncurve2.csv,3,0.001,1e-06,frictionless\ncopy1.csv,2,0.001,1e-06,frictionless\n' >"$tmp/d/dup.csv"
+    "$LF" fit "$tmp/d/dup.csv" >"$tmp/out" 2>"$tmp/err"; rc=$?
+    [ "$rc" -eq 2 ] && ok || bad "same data twice: exit $rc, want 2"
+    has "same data twice: said" "$tmp/err" "dup.csv:4: $tmp/d/copy1.csv holds the same data as $tmp/d/curve1.csv (line 2; SHA-256"
     # not converged: exit 3, report still written and marked
     "$LF" fit "$tmp/d/plan.csv" --max-iter 1 --json "$tmp/n.json" >"$tmp/out" 2>"$tmp/err"; rc=$?
     [ $rc -eq 3 ] && ok || bad "not converged: exit $rc, want 3"
