@@ -171,8 +171,9 @@ typedef struct {
     char (*caption)[1200];
 } cli_figures;
 /* Write the scripts and data into dir (created when missing) and run
- * gnuplot on them.  Returns 0, or -1 with a message: when gnuplot is not
- * installed the scripts and data are still written and figs filled. */
+ * gnuplot on them.  Returns 0, -1 with a message (a folder or file not
+ * made, gnuplot failed), or 1 with a message when gnuplot is not installed
+ * (the scripts and data are still written and figs filled). */
 int cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
                  const lf_fit_result *res, cli_figures *figs, char *msg, size_t n);
 void cli_figures_free(cli_figures *f);
@@ -225,6 +226,9 @@ typedef struct cli_out {
  * a noted input).  "-" is standard output; a symbolic link is followed (its
  * target replaced, the link kept); a pipe or device is written in place. */
 FILE *cli_out_open(cli_out *o, const char *path, char *msg, size_t n);
+/* Exit 1 (before any work) when the folder path would be written in does
+ * not exist ("-" and a bare name need none). */
+void cli_output_folder_check(const char *cmd, const char *path);
 /* Finish and rename into place: 0, or -1 with msg (the temp is removed). */
 int cli_out_commit(cli_out *o, char *msg, size_t n);
 void cli_out_discard(cli_out *o);

@@ -423,6 +423,10 @@ cli_fit(int argc, char **argv)
     cli_output_note("fit", a.json);
     cli_output_note("fit", a.curves);
     cli_output_note("fit", report_html);
+    cli_output_folder_check("fit", a.json);
+    cli_output_folder_check("fit", a.curves);
+    cli_output_folder_check("fit", report_html);
+    cli_output_folder_check("fit", plot_dir);      /* its parent: --plot makes one level */
     model_auto = cli_fit_settings(&fa, &set, &choose, &is);
     read_input(argv[0], &a, fa.model, &is, &d);
     cli_fit_figures_note(plot_dir, d.n);

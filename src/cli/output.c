@@ -99,6 +99,23 @@ cli_output_note(const char *cmd, const char *path)
 }
 
 void
+cli_output_folder_check(const char *cmd, const char *path)
+{
+    const char *slash;
+    char *dir;
+    struct stat st;
+
+    if (path == NULL || strcmp(path, "-") == 0 || (slash = strrchr(path, '/')) == NULL
+        || slash == path)
+        return;
+    dir = dup_text(path);
+    dir[slash - path] = '\0';
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
+        cli_die(CLI_EXIT_FAIL, "%s: cannot write %s: there is no folder %s", cmd, path, dir);
+    free(dir);
+}
+
+void
 cli_input_guard(const char *cmd, const char *path)
 {
     struct stat st;

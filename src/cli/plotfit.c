@@ -677,7 +677,7 @@ cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
     if (!plot_have_gnuplot()) {
         snprintf(msg, n, "gnuplot is not installed, so the figures were not drawn (their "
                  "scripts and data are in %s): %s", dir, PLOT_INSTALL_HINT);
-        return -1;
+        return 1;
     }
     return draw_all(dir, figs, msg, n);
 }
@@ -716,9 +716,12 @@ cli_fit_figures(const char *plotdir, const char *report, size_t ncurves,
     cli_fit_figures_check(plotdir, report);
     if (plotdir != NULL && report == NULL) {
         cli_figures figs = { 0, NULL, NULL };
-        if (cli_plot_fit(plotdir, ncurves, curves, res, &figs, msg, sizeof msg) != 0)
-            fprintf(stderr, "layerfit: fit: %s\n", msg);
+        int st = cli_plot_fit(plotdir, ncurves, curves, res, &figs, msg, sizeof msg);
         cli_figures_free(&figs);
+        if (st < 0)         /* a folder or file not made, gnuplot failed */
+            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
+        if (st > 0)         /* no gnuplot: scripts and data written */
+            fprintf(stderr, "layerfit: fit: %s\n", msg);
     }
     if (report != NULL) {
         int st = cli_html_report(report, plotdir, ncurves, curves, res, msg, sizeof msg);

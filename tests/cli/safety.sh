@@ -97,6 +97,14 @@ if mkfifo "$tmp/ln/pipe.json" 2>/dev/null; then
     has "--json FIFO: the reader got the JSON" "$tmp/ln/got.json" '"parameters"'
 fi
 
+# an output in a folder that does not exist: exit 1 before the fit runs
+"$LF" fit "$good" $PROBE --json "$tmp/nodir/x.json" >"$tmp/out" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 1 ] && ok || bad "--json NODIR/x.json: exit $rc, want 1"
+has "--json NODIR/x.json: said" "$tmp/err" "cannot write $tmp/nodir/x.json: there is no folder $tmp/nodir"
+[ ! -s "$tmp/out" ] && ok || bad "--json NODIR/x.json: the fit ran and printed first"
+"$LF" fit "$good" $PROBE --plot "$tmp/nodir/sub" >"$tmp/out" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 1 ] && ok || bad "--plot NODIR/sub: exit $rc, want 1"
+
 # --plot DIR: an input named like one of its files (an image gnuplot draws,
 # a script, its data, the provenance) is refused before anything is written
 mkdir -p "$tmp/pl"
