@@ -57,7 +57,10 @@ const char cli_fit_help[] =
     "  --format NAME        the curve files' format instead of sniffing (csv, chiaro, jpk,\n"
     "                       workshop, ntmdt, hysitron, text; see layerfit check)\n"
     "  --spring-constant K  cantilever spring constant where a file states none (0.032N/m)\n"
-    "  --sensitivity S      deflection sensitivity where a file states none (61nm/nA)\n";
+    "  --sensitivity S      deflection sensitivity where a file states none (61nm/nA)\n"
+    "  --depth-unit UNIT    unit of a depth column whose header gives none (nm)\n"
+    "  --force-unit UNIT    unit of a force column whose header gives none (uN)\n"
+    "  --skip-bad-rows      skip rows with missing cells, with a warning\n";
 
 static const char exit_text[] =
     "exit status: 0 converged; 3 not converged (report still written); 2 bad command\n"
@@ -229,6 +232,9 @@ cli_fit_opts(cli_fit_args *a, cli_opt *opts)
         { "loss-scale", CLI_NUMBER, &a->loss_scale }, { "intervals", CLI_STRING, &a->intervals },
         { "format", CLI_STRING, &a->format }, { "spring-constant", CLI_STRING, &a->spring_constant },
         { "sensitivity", CLI_STRING, &a->sensitivity },
+        { "depth-unit", CLI_STRING, &a->read.depth_unit },
+        { "force-unit", CLI_STRING, &a->read.force_unit },
+        { "skip-bad-rows", CLI_FLAG, &a->read.skip_bad_rows },
     };
     size_t n = sizeof table / sizeof table[0];
 

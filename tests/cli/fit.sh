@@ -66,6 +66,19 @@ expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (g
     expect_fail 2 "layerfit: fit: $tmp/d/two.csv:3: sample 'film-B', where an earlier row's is 'film-A': a joint fit is of one material (give each sample a plan of its own, or run 'layerfit fit --batch', which fits each sample on its own)" fit "$tmp/d/two.csv"
     printf 'file,k,R_m,b_m,interface,sample\ncurve1.csv,2,0.001,1e-06,frictionless,film-A\ncurve2.csv,3,0.001,1e-06,frictionless,\n' >"$tmp/d/one.csv"
     run_ok fit "$tmp/d/one.csv" --model thin
+    # the reading options of check work for fit too (its messages name them)
+    sed '1s/.*/depth,force,segment/' "$tmp/d/curve1.csv" >"$tmp/d/nounit.csv"
+    sed '5s/,[^,]*$//' "$tmp/d/curve1.csv" >"$tmp/d/ragged.csv"
+    run_ok fit "$tmp/d/curve1.csv" --k 2 --R 1mm --b 1um --interface frictionless --model thin \
+        --json "$tmp/u0.json"
+    run_ok fit "$tmp/d/nounit.csv" --k 2 --R 1mm --b 1um --interface frictionless --model thin \
+        --depth-unit m --force-unit N --json "$tmp/u1.json"
+    [ "$(grep '"w"' "$tmp/u0.json")" = "$(grep '"w"' "$tmp/u1.json")" ] && ok \
+        || bad "--depth-unit/--force-unit: not the same fit as with the units in the header"
+    "$LF" fit "$tmp/d/ragged.csv" --k 2 --R 1mm --b 1um --interface frictionless >"$tmp/out" 2>"$tmp/err"
+    has "a ragged row: the option named" "$tmp/err" "--skip-bad-rows skips such rows"
+    run_ok fit "$tmp/d/ragged.csv" --k 2 --R 1mm --b 1um --interface frictionless --model thin \
+        --skip-bad-rows
     # the same measurement under two names would count twice: refused
     cp "$tmp/d/curve1.csv" "$tmp/d/copy1.csv"
     printf 'file,k,R_m,b_m,interface\ncurve1.csv,2,0.001,1e-06,frictionless\ncurve2.csv,3,0.001,1e-06,frictionless\ncopy1.csv,2,0.001,1e-06,frictionless\n' >"$tmp/d/dup.csv"
