@@ -475,7 +475,9 @@ row:
             { "nu_se", res.nu.se },
             { "M_Pa", res.M.value }, { "M_se_Pa", res.M.se },
             { "corr_w_Estar", corr_w_E(&res) },
-            { "chi2_dof", res.se_scale * res.se_scale },
+            /* as the single fit's report: chi2 / dof (se_scale^2 also
+             * holds the correlation time of the noise) */
+            { "chi2_dof", res.dof > 0 ? res.chi2 / (double) res.dof : NAN },
             { "rms_N", rms_all(&res) },
             { "P_po_N", res.ncurves && res.curves[0].pulloff_determined
                         ? res.curves[0].pulloff.P_po : NAN },

@@ -103,6 +103,13 @@ if [ -d "$real" ]; then
     run_ok fit "$tmp/peg.csv" --model halfspace --json "$tmp/peg.json" && {
         has "real: R from the header, said" "$tmp/out" "from: R file header, b none (half-space), spring constant 0.032 N/m file header"
         has "real json: sources" "$tmp/peg.json" '"R_source": "file header", "b_source": null'
+        # a batch row's chi2_dof is the report's chi2/dof (correlated noise:
+        # not the standard errors' scale, which also holds the correlation)
+        one=$(sed -n 's/.*"chi2": \([^,]*\), "dof": \([0-9]*\).*/\1 \2/p' "$tmp/peg.json")
+        run_ok fit --batch "$tmp/peg.csv" --model halfspace --out "$tmp/peg_rows.csv" && {
+            row=$(awk -F, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "chi2_dof") c = i } NR == 2 { print $c }' "$tmp/peg_rows.csv")
+            near "real batch: chi2_dof as the report's" "$row" "$(echo "$one" | awk '{ printf "%.17g", $1 / $2 }')" 1e-9
+        }
     }
 else
     echo "skipped: ../shared/realdata not found"
