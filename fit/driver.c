@@ -132,7 +132,8 @@ lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res
                 "stopped", run.why);
         return LF_ENOCONV;
     }
-    return LF_OK;
+    lf_fit_degenerate_end(res);
+    return res->converged ? LF_OK : LF_ENOCONV;
 }
 
 int

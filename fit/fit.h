@@ -373,6 +373,10 @@ int lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor);
  * the data not converged, and a minimum within rounding converged. */
 int lf_fit_refuse_degenerate(const lf_fit *f, lf_error *err);
 int lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err);
+/* A converged result where some material parameter is free and the data
+ * determine none of them (nor M) is not converged ("degenerate"), with a
+ * warning: run after the assessment and again after the profile. */
+void lf_fit_degenerate_end(lf_fit_result *r);
 /* solve.c: 1 when the solver's last look at its Jacobian (gn_*, ainv) was
  * at x, under the current weights and origin. */
 int lf_fit_gn_at(const lf_fit *f, const gsl_vector *x);

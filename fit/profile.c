@@ -771,6 +771,7 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
     res->profile_fits = fits;
     for (j = 0; j < ncurves; j++)   /* the pull-off follows w's verdict */
         res->curves[j].pulloff_determined = res->w.determined;
+    lf_fit_degenerate_end(res);
     free(p.cc);
     free(p.lower_off);
     return LF_OK;

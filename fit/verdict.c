@@ -244,3 +244,31 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
     gsl_vector_free(trial);
     return status;
 }
+
+/* 1 when some material parameter is free and the data determine none of
+ * the free ones (nor M = Z E*, what bonded curves alone fix). */
+static int
+none_determined(const lf_fit_result *r)
+{
+    const lf_fit_estimate *e[3] = { &r->w, &r->Estar, &r->nu };
+    int any_free = 0, k;
+
+    for (k = 0; k < 3; k++) {
+        any_free |= e[k]->free;
+        if (e[k]->free && e[k]->determined)
+            return 0;
+    }
+    return any_free && !r->M.determined;
+}
+
+void
+lf_fit_degenerate_end(lf_fit_result *r)
+{
+    if (!r->converged || !none_determined(r))
+        return;
+    r->converged = 0;
+    snprintf(r->stop_reason, sizeof r->stop_reason, "not converged: degenerate: the data "
+             "determine none of the material parameters fitted");
+    lf_warn(&r->warnings, "the fit stopped where the data determine none of the material "
+            "parameters fitted (w, E*, nu): the numbers below describe no minimum to report");
+}

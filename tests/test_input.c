@@ -103,6 +103,22 @@ test_plan_input(void)
     t_true(in.curves == NULL && in.n == 0, "two nu: nothing left in the input");
     lf_plan_free(p);
 
+    /* the same data under two names, same segment: an error naming the
+     * second row; as another segment it is another curve */
+    p = plan_of("file,k,R_m,b_m,interface\na.csv,2,1e-3,1e-6,frictionless\n"
+                "c.csv,3,1e-3,1e-6,frictionless\n", &err);
+    t_int(lf_fit_input_from_plan(p, NULL, 0, NULL, &in, NULL, &err), LF_EDATA, "same data: error");
+    t_int(err.line, 3, "same data: names the second row's line");
+    t_contains(err.msg, "holds the same data as", "same data: says why");
+    t_true(in.curves == NULL && in.n == 0, "same data: nothing left in the input");
+    lf_plan_free(p);
+    p = plan_of("file,k,R_m,b_m,interface,segment\na.csv,2,1e-3,1e-6,frictionless,load\n"
+                "c.csv,2,1e-3,1e-6,frictionless,unload\n", &err);
+    t_int(lf_fit_input_from_plan(p, NULL, 0, NULL, &in, NULL, &err), LF_OK,
+          "same data, other segment: %s", err.msg);
+    lf_fit_input_free(&in);
+    lf_plan_free(p);
+
     /* a segment with too few points */
     p = plan_of("file,k,R_m,b_m,interface,segment\na.csv,2,1e-3,1e-6,frictionless,load\n", &err);
     s = lf_input_settings_default();
@@ -169,7 +185,16 @@ main(void)
         return 1;
     }
     write_text("a.csv", curve_text);
-    write_text("b.csv", curve_text);
+    write_text("c.csv", curve_text);        /* a's data under another name */
+    {   /* b: another measurement (one force differs) */
+        char b[sizeof curve_text + 8], *at;
+        memcpy(b, curve_text, sizeof curve_text);
+        at = strstr(b, "0.0,-1e-6,unload");
+        t_true(at != NULL, "b.csv made");
+        if (at != NULL)
+            at[5] = '2';     /* -1e-6 -> -2e-6 */
+        write_text("b.csv", b);
+    }
     test_plan_input();
     test_curve_input();
     test_table();

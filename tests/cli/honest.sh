@@ -132,6 +132,18 @@ real="$top/../shared/realdata"
 if [ ! -d "$real" ]; then
     echo "skipped: ../shared/realdata not found"
 else
+    # a fit where the data determine none of the material parameters is not
+    # "converged" (the PEG Y-2 export's loading segment, half-space: w, E*
+    # both undetermined)
+    "$LF" fit "$real/10 wv pc PEGFN S-1 X-1 Y-2 I-1.txt" --model halfspace --k 2 --segment load \
+        --json "$tmp/deg.json" >"$tmp/out" 2>"$tmp/err"; rc=$?
+    if grep -q "E\*   not determined" "$tmp/out" && grep -q "w    not determined" "$tmp/out"; then
+        [ "$rc" -eq 3 ] && ok || bad "nothing determined: exit $rc, want 3"
+        has "nothing determined: said" "$tmp/err" "not converged: degenerate: the data determine none of the material parameters fitted"
+        has "nothing determined: JSON" "$tmp/deg.json" '"converged": false'
+    else
+        [ "$rc" -eq 0 ] && ok || bad "PEG Y-2 load: exit $rc with a parameter determined"
+    fi
     # check on every export: metadata an instrument left unset ("NaN") is
     # said in words, no NaN is passed on
     for f in "$real"/*; do
