@@ -101,17 +101,21 @@ cli_output_note(const char *cmd, const char *path)
 void
 cli_output_folder_check(const char *cmd, const char *path)
 {
-    const char *slash;
-    char *dir;
+    char *dir, *slash;
+    size_t len;
     struct stat st;
 
-    if (path == NULL || strcmp(path, "-") == 0 || (slash = strrchr(path, '/')) == NULL
-        || slash == path)
+    if (path == NULL || strcmp(path, "-") == 0)
         return;
     dir = dup_text(path);
-    dir[slash - path] = '\0';
-    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
-        cli_die(CLI_EXIT_FAIL, "%s: cannot write %s: there is no folder %s", cmd, path, dir);
+    for (len = strlen(dir); len > 1 && dir[len - 1] == '/'; len--)
+        dir[len - 1] = '\0';               /* "figures/" names the folder figures */
+    slash = strrchr(dir, '/');
+    if (slash != NULL && slash != dir) {
+        *slash = '\0';
+        if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
+            cli_die(CLI_EXIT_FAIL, "%s: cannot write %s: there is no folder %s", cmd, path, dir);
+    }
     free(dir);
 }
 

@@ -104,6 +104,8 @@ has "--json NODIR/x.json: said" "$tmp/err" "cannot write $tmp/nodir/x.json: ther
 [ ! -s "$tmp/out" ] && ok || bad "--json NODIR/x.json: the fit ran and printed first"
 "$LF" fit "$good" $PROBE --plot "$tmp/nodir/sub" >"$tmp/out" 2>"$tmp/err"; rc=$?
 [ "$rc" -eq 1 ] && ok || bad "--plot NODIR/sub: exit $rc, want 1"
+run_ok fit "$good" $PROBE --plot "$tmp/newfigs/"
+[ -s "$tmp/newfigs/curve1.gp" ] && ok || bad "--plot NEWDIR/ (a trailing slash): not made"
 
 # --plot DIR: an input named like one of its files (an image gnuplot draws,
 # a script, its data, the provenance) is refused before anything is written
