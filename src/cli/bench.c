@@ -347,17 +347,6 @@ typedef struct {
     char first_error[200];   /* the first failure's message, if any */
 } bench_row;
 
-/* The fitted value of a free parameter by name (NaN if not free). */
-static double
-fitted(const lf_fit_result *res, const char *name)
-{
-    size_t i;
-    for (i = 0; i < res->npar; i++)
-        if (strcmp(res->names[i], name) == 0)
-            return res->value[i];
-    return NAN;
-}
-
 static void
 settings_for(const bench_config *c, const bench_scene *s, lf_fit_settings *set)
 {
@@ -413,14 +402,14 @@ run_row(bench_row *row, bench_data *d, gsl_rng *rng, size_t nseeds)
         if (st == LF_OK && res.converged) {
             /* the point estimates, also where the report gives w only as an
              * upper bound: leaving those out would select the lucky seeds */
-            double ew = fitted(&res, "w") / s->truth.w - 1.0;
-            double eE = fitted(&res, "E*") / s->truth.Estar - 1.0;
+            double ew = cli_fitted_value(&res, "w") / s->truth.w - 1.0;
+            double eE = cli_fitted_value(&res, "E*") / s->truth.Estar - 1.0;
             nconv++;
             ndet += res.w.determined != 0;
             sw += ew * ew;
             sE += eE * eE;
             if (row->nu_free) {
-                double en = fitted(&res, "nu") - s->truth.nu;
+                double en = cli_fitted_value(&res, "nu") - s->truth.nu;
                 snu += en * en;
             }
         } else if (row->first_error[0] == '\0') {

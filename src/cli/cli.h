@@ -80,6 +80,9 @@ void cli_print_double(FILE *f, double x);
 /* Write a number for people with an SI prefix chosen for it:
  * cli_human(buf, n, 1.2e-8, "m") -> "12 nm".  Returns buf. */
 char *cli_human(char *buf, size_t n, double x, const char *unit);
+/* The value where the fit ended of the free parameter NAME ("w", "E*",
+ * "nu", "z0[1]", ...: lf_fit_result.names), NaN when it was not free. */
+double cli_fitted_value(const lf_fit_result *res, const char *name);
 
 
 

@@ -49,32 +49,19 @@ base_name(const char *path)
     return s ? s + 1 : path;
 }
 
-/* The value of the free parameter NAME (e.g. "w", "F0[2]") where the fit
- * ended, for drawing what it fitted where the report gives no number (the
- * data do not determine it); `reported` when that is finite, else NaN. */
-static double
-at_end(const lf_fit_result *res, const char *name, double reported)
-{
-    size_t i;
-
-    if (isfinite(reported))
-        return reported;
-    for (i = 0; i < res->npar; i++)
-        if (strcmp(res->names[i], name) == 0)
-            return res->value[i];
-    return NAN;
-}
-
 /* Curve j's offset or slope (what: "z0", "F0", "s") to draw with: the
- * reported one, else where the fit ended, else 0 (none fitted). */
+ * reported one, else where the fit ended (the report gives no number for
+ * what the data do not determine), else 0 (none fitted). */
 static double
 curve_at_end(const lf_fit_result *res, const char *what, size_t j, double reported)
 {
     char name[32];
     double v;
 
+    if (isfinite(reported))
+        return reported;
     snprintf(name, sizeof name, "%s[%zu]", what, j + 1);
-    v = at_end(res, name, reported);
+    v = cli_fitted_value(res, name);
     return isfinite(v) ? v : 0.0;
 }
 
@@ -85,7 +72,7 @@ curve_at_end(const lf_fit_result *res, const char *what, size_t j, double report
 static int
 draw_material(const lf_fit_result *res, lf_material *m)
 {
-    m->w = at_end(res, "w", res->w.value);
+    m->w = isfinite(res->w.value) ? res->w.value : cli_fitted_value(res, "w");
     m->Estar = res->Estar.value;
     m->nu = isfinite(res->nu.value) ? res->nu.value : 0.3;
     if (!isfinite(m->Estar) && isfinite(res->M.value)) {
