@@ -191,6 +191,30 @@ same_data_before(const lf_plan *plan, const size_t *rows, const lf_fit_input *in
     return LF_OK;
 }
 
+/* One joint fit is of one material: the rows' non-empty samples must agree
+ * (checked before any file is read; the nu rule is its twin, below). */
+static int
+one_sample(const lf_plan *plan, const size_t *rows, size_t n, lf_error *err)
+{
+    const char *first = NULL;
+    size_t j;
+
+    for (j = 0; j < n; j++) {
+        const lf_plan_row *row = &plan->rows[rows ? rows[j] : j];
+        if (row->sample == NULL || row->sample[0] == '\0')
+            continue;
+        if (first == NULL)
+            first = row->sample;
+        else if (strcmp(first, row->sample) != 0)
+            return lf_fail_at(err, LF_EDATA, plan->path, row->line, 0,
+                              "sample '%s', where an earlier row's is '%s': a joint fit is of "
+                              "one material (give each sample a plan of its own, or run "
+                              "'layerfit fit --batch', which fits each sample on its own)",
+                              row->sample, first);
+    }
+    return LF_OK;
+}
+
 int
 lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
                        const lf_input_settings *s, lf_fit_input *in, lf_warnings *warn,
@@ -205,6 +229,10 @@ lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
     if (input_alloc(in, n) != LF_OK) {
         lf_fit_input_free(in);
         return lf_fail(err, LF_ENOMEM, "out of memory");
+    }
+    if ((status = one_sample(plan, rows, n, err)) != LF_OK) {
+        lf_fit_input_free(in);
+        return status;
     }
     for (j = 0; j < n; j++) {
         const lf_plan_row *row = &plan->rows[rows ? rows[j] : j];

@@ -1173,7 +1173,10 @@ typedef struct {
  * and column where it can (LF_EIO, LF_EFORMAT, LF_EUNIT, LF_EDATA).  A row
  * without a layer (b NaN: empty b and interface cells) gets b = R, a
  * stand-in no half-space formula uses, and origin[j].b NULL: such rows suit
- * half-space fits only, which the caller checks (the model is its choice). */
+ * half-space fits only, which the caller checks (the model is its choice).
+ * One input is one material (LF_EDATA naming the row otherwise): the rows'
+ * nu must agree, so must their non-empty samples, and no file may hold the
+ * same bytes as an earlier row's with the same segment. */
 int lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
                            const lf_input_settings *s, lf_fit_input *in,
                            lf_warnings *warn, lf_error *err);

@@ -43,6 +43,25 @@ static const char curve_text[] =
     "2.5e-9,5e-6,unload\n2e-9,3e-6,unload\n1e-9,1e-6,unload\n0.0,-1e-6,unload\n"
     "-1e-9,-2e-6,unload\n-2e-9,0.0,unload\n-3e-9,0.0,unload\n";
 
+/* The plan `text` is refused by lf_fit_input_from_plan: LF_EDATA naming
+ * line `line`, with `words` in the message, nothing left in the input. */
+static void
+refused(const char *what, const char *text, long line, const char *words)
+{
+    lf_error err;
+    lf_fit_input in;
+    lf_plan *p = plan_of(text, &err);
+
+    t_true(p != NULL, "%s: plan parses: %s", what, p ? "" : err.msg);
+    if (p == NULL)
+        return;
+    t_int(lf_fit_input_from_plan(p, NULL, 0, NULL, &in, NULL, &err), LF_EDATA, "%s: error", what);
+    t_int(err.line, line, "%s: names the row's line", what);
+    t_contains(err.msg, words, "%s: says why", what);
+    t_true(in.curves == NULL && in.n == 0, "%s: nothing left in the input", what);
+    lf_plan_free(p);
+}
+
 static void
 test_plan_input(void)
 {
@@ -94,24 +113,18 @@ test_plan_input(void)
     lf_fit_input_free(&in);
     lf_fit_input_free(&in);     /* twice: harmless */
 
-    /* two values of nu: an error naming the row */
-    p = plan_of("file,k,R_m,b_m,interface,nu\na.csv,2,1e-3,1e-6,bonded,0.3\n"
-                "b.csv,2,1e-3,1e-6,frictionless,0.35\n", &err);
-    t_int(lf_fit_input_from_plan(p, NULL, 0, NULL, &in, NULL, &err), LF_EDATA, "two nu: error");
-    t_int(err.line, 3, "two nu: names the second row's line");
-    t_contains(err.msg, "one nu", "two nu: says why");
-    t_true(in.curves == NULL && in.n == 0, "two nu: nothing left in the input");
-    lf_plan_free(p);
-
-    /* the same data under two names, same segment: an error naming the
-     * second row; as another segment it is another curve */
-    p = plan_of("file,k,R_m,b_m,interface\na.csv,2,1e-3,1e-6,frictionless\n"
-                "c.csv,3,1e-3,1e-6,frictionless\n", &err);
-    t_int(lf_fit_input_from_plan(p, NULL, 0, NULL, &in, NULL, &err), LF_EDATA, "same data: error");
-    t_int(err.line, 3, "same data: names the second row's line");
-    t_contains(err.msg, "holds the same data as", "same data: says why");
-    t_true(in.curves == NULL && in.n == 0, "same data: nothing left in the input");
-    lf_plan_free(p);
+    /* one input, one material: two values of nu, two samples (an unnamed
+     * row joins either; found before any file is read: c.csv holds a.csv's
+     * bytes, the later error), or the same data under two names with the
+     * same segment are each an error naming the row */
+    refused("two nu", "file,k,R_m,b_m,interface,nu\na.csv,2,1e-3,1e-6,bonded,0.3\n"
+            "b.csv,2,1e-3,1e-6,frictionless,0.35\n", 3, "one nu");
+    refused("two samples", "file,k,R_m,b_m,interface,sample\n"
+            "a.csv,2,1e-3,1e-6,frictionless,film-A\nb.csv,2,1e-3,1e-6,frictionless,\n"
+            "c.csv,3,1e-3,1e-6,frictionless,film-B\n", 4, "a joint fit is of one material");
+    refused("same data", "file,k,R_m,b_m,interface\na.csv,2,1e-3,1e-6,frictionless\n"
+            "c.csv,3,1e-3,1e-6,frictionless\n", 3, "holds the same data as");
+    /* the same data as another segment is another curve */
     p = plan_of("file,k,R_m,b_m,interface,segment\na.csv,2,1e-3,1e-6,frictionless,load\n"
                 "c.csv,2,1e-3,1e-6,frictionless,unload\n", &err);
     t_int(lf_fit_input_from_plan(p, NULL, 0, NULL, &in, NULL, &err), LF_OK,

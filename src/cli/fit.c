@@ -85,28 +85,6 @@ print_R_sources(const lf_fit_input *in)
                    in->format[j] != NULL ? in->format[j] : "?");
 }
 
-/* A joint fit is of one material: a plan naming two samples is refused
- * (fit --batch fits each sample on its own). */
-static void
-one_sample(const lf_plan *plan)
-{
-    const char *first = NULL;
-    size_t j;
-
-    for (j = 0; j < plan->n; j++) {
-        const char *s = plan->rows[j].sample;
-        if (s == NULL || s[0] == '\0')
-            continue;
-        if (first == NULL)
-            first = s;
-        else if (strcmp(first, s) != 0)
-            cli_die(CLI_EXIT_USAGE, "fit: %s:%ld: sample '%s', where an earlier row's is '%s': "
-                    "a joint fit is of one material (give each sample a plan of its own, or run "
-                    "'layerfit fit --batch', which fits each sample on its own)",
-                    plan->path, plan->rows[j].line, s, first);
-    }
-}
-
 /* Read the plan (or the single curve) into in (lf_fit_input_from_plan:
  * the one step from a plan to a fit's input, the one rule for nu). */
 static void
@@ -157,7 +135,6 @@ read_input(const char *path, const fit_args *a, const char *model, const lf_inpu
                     "'header')", !isnan(a->R) ? "R" : !isnan(a->b) ? "b" : "interface");
         plan = cli_plan_load("fit", path);
         cli_plan_need_layers(plan, model);
-        one_sample(plan);
         for (j = 0; j < plan->n; j++)   /* no output may replace a curve */
             cli_input_guard("fit", plan->rows[j].file);
         status = lf_fit_input_from_plan(plan, NULL, 0, is, in, &warn, &err);

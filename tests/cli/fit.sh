@@ -63,7 +63,7 @@ expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (g
     expect_fail 2 "layerfit: fit: a single curve needs --k, --R, --b and --interface (e.g. --k 2 --R 1mm --b 1um --interface frictionless)" fit "$tmp/d/curve2.csv" --k 3
     # a joint fit is of one material: two samples in one plan are refused
     printf 'file,k,R_m,b_m,interface,sample\ncurve1.csv,2,0.001,1e-06,frictionless,film-A\ncurve2.csv,3,0.001,1e-06,frictionless,film-B\n' >"$tmp/d/two.csv"
-    expect_fail 2 "layerfit: fit: $tmp/d/two.csv:3: sample 'film-B', where an earlier row's is 'film-A': a joint fit is of one material (give each sample a plan of its own, or run 'layerfit fit --batch', which fits each sample on its own)" fit "$tmp/d/two.csv"
+    expect_fail 2 "layerfit: $tmp/d/two.csv:3: sample 'film-B', where an earlier row's is 'film-A': a joint fit is of one material (give each sample a plan of its own, or run 'layerfit fit --batch', which fits each sample on its own)" fit "$tmp/d/two.csv"
     printf 'file,k,R_m,b_m,interface,sample\ncurve1.csv,2,0.001,1e-06,frictionless,film-A\ncurve2.csv,3,0.001,1e-06,frictionless,\n' >"$tmp/d/one.csv"
     run_ok fit "$tmp/d/one.csv" --model thin
     # the reading options of check work for fit too (its messages name them)
