@@ -1003,7 +1003,7 @@ explain(const setwork *w, lf_design_result *r, int w_null, int F0_null, int any_
     lf_fit_say_undetermined(&r->identifiability,
                             any_b && !any_f && !r->nu.determined && !s->fix_nu && !r->M.determined,
                             !any_b && !s->fix_nu ? "frictionless" : NULL, w_null && F0_null,
-                            all_k2);
+                            all_k2, 0);
     buf[0] = '\0';
     for (j = 0; j < w->ns; j++) {
         const char *name = w->d->p[w->idx[j]].c.name;

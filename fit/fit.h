@@ -462,9 +462,11 @@ double lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, si
  * (fit/design.c), for: only bonded curves leaving nu undetermined (the
  * plain form; the caller says M where it is determined), curves that do
  * not see nu (nu_unseen_by names them: "frictionless", "half-space"; NULL:
- * none), and w inseparable from the force offsets. */
+ * none), and w inseparable from the force offsets (all_k2: every curve's
+ * probe has k = 2; all_load: every curve is a loading segment, whose
+ * baseline before contact is recorded). */
 void lf_fit_say_undetermined(lf_warnings *out, int bonded_only, const char *nu_unseen_by,
-                             int w_with_F0, int all_k2);
+                             int w_with_F0, int all_k2, int all_load);
 int lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *res, lf_error *err);
 
 #endif

@@ -628,16 +628,42 @@ threshold(const lf_fit_result *r)
     return r->se_scale * r->se_scale * (m >= 1.0 ? f95_one(m) : HUGE_VAL);
 }
 
-/* Every free estimate's interval: the linear one where the fit stopped. */
+/* Every free estimate's interval is the linear one, found by `method`
+ * (NULL: plain linear).  One that spans everything is no estimate: a w or
+ * E* whose standard error exceeds its value (its log-normal 95% interval is
+ * wider than a factor e^1.96 = 7 each way, 50 in all), or a nu whose
+ * interval covers all of [0, 0.5], is marked not determined (an upper
+ * bound of w stays one). */
 static void
-intervals_at_stop(lf_fit_result *r)
+intervals_linear(lf_fit_result *r, const char *method)
 {
     lf_fit_estimate *e[FIT_NMAT] = { &r->w, &r->Estar, &r->nu };
     int k;
 
-    for (k = 0; k < FIT_NMAT; k++)
-        if (e[k]->free)
-            e[k]->interval_method = LF_INTERVAL_AT_STOP;
+    for (k = 0; k < FIT_NMAT; k++) {
+        lf_fit_estimate *x = e[k];
+        if (!x->free)
+            continue;
+        x->interval_method = method;
+        if (!x->determined)
+            continue;
+        if (k != FIT_NU && !(x->se < x->value))
+            x->why = "its standard error exceeds its value (the linear 95% interval spans "
+                     "more than a factor 50)";
+        else if (k == FIT_NU && !(x->ci95[0] > 0.0 || x->ci95[1] < 0.5))
+            x->why = "its linear 95% interval covers every nu from 0 to 0.5";
+        else
+            continue;
+        x->determined = 0;
+        x->value = x->se = x->ci95[0] = x->ci95[1] = NAN;
+    }
+}
+
+/* Every free estimate's interval: the linear one where the fit stopped. */
+static void
+intervals_at_stop(lf_fit_result *r)
+{
+    intervals_linear(r, LF_INTERVAL_AT_STOP);
 }
 
 /* The profile found chi2 below the best fit's: that was not the global
@@ -712,6 +738,18 @@ refit_from_lower(prof *p, lf_fit_result *res)
     return st == LF_OK ? 1 : 2;
 }
 
+/* What follows the intervals' verdicts: the pull-off follows w's, and a fit
+ * where none is determined is degenerate. */
+static void
+verdicts_follow(lf_fit_result *res)
+{
+    size_t j;
+
+    for (j = 0; j < res->ncurves; j++)
+        res->curves[j].pulloff_determined = res->w.determined;
+    lf_fit_degenerate_end(res);
+}
+
 int
 lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
                lf_fit_result *res, int always, lf_error *err)
@@ -723,12 +761,17 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
 
     if (res == NULL || res->ncurves != ncurves)
         return lf_fail(err, LF_EINVAL, "lf_fit_profile: the result is not of these curves");
-    if (settings->loss != LF_LOSS_LINEAR)
-        return LF_OK;       /* chi2 of a robust loss is not a likelihood */
     if (!res->converged) {
         /* rises from a point that is no minimum measure nothing (they go
          * negative where the fit would have gone on) */
         intervals_at_stop(res);
+        verdicts_follow(res);
+        return LF_OK;
+    }
+    if ((always & 3) == LF_PROFILE_LINEAR || settings->loss != LF_LOSS_LINEAR) {
+        /* asked for, or chi2 of a robust loss is not a likelihood */
+        intervals_linear(res, settings->loss != LF_LOSS_LINEAR ? NULL : LF_INTERVAL_UNCHECKED);
+        verdicts_follow(res);
         return LF_OK;
     }
     memset(&p, 0, sizeof p);
@@ -769,9 +812,7 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
     }
     fits += p.fits;
     res->profile_fits = fits;
-    for (j = 0; j < ncurves; j++)   /* the pull-off follows w's verdict */
-        res->curves[j].pulloff_determined = res->w.determined;
-    lf_fit_degenerate_end(res);
+    verdicts_follow(res);
     free(p.cc);
     free(p.lower_off);
     return LF_OK;

@@ -101,7 +101,7 @@ stop_reason(int status, int info, size_t maxiter, char *buf, size_t n,
                                            : info == FIT_INFO_BASIN ? "the first solution's basin"
                                            : info == 1 ? "small step" : "small gradient");
     } else if (status == GSL_EMAXITER) {
-        snprintf(buf, n, "not converged: %zu iterations reached", maxiter);
+        snprintf(buf, n, "not converged: the limit of %zu iterations per solve reached", maxiter);
     } else if (status == GSL_ENOPROG) {
         snprintf(buf, n, "not converged: no further progress possible");
     } else {

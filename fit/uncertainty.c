@@ -64,6 +64,7 @@ se_of(const lf_fit_result *r, int i)
 static void
 estimate_fixed(lf_fit_estimate *e, double value)
 {
+    e->why = NULL;
     e->value = value;
     e->se = NAN;
     e->ci95[0] = e->ci95[1] = value;
@@ -75,6 +76,7 @@ estimate_fixed(lf_fit_estimate *e, double value)
 static void
 estimate_undetermined(lf_fit_estimate *e, int free)
 {
+    e->why = NULL;
     e->value = e->se = e->ci95[0] = e->ci95[1] = NAN;
     e->free = free;
     e->determined = 0;
@@ -85,6 +87,7 @@ estimate_undetermined(lf_fit_estimate *e, int free)
 static void
 estimate_positive(lf_fit_estimate *e, double value, double se)
 {
+    e->why = NULL;
     e->value = value;
     e->se = se;
     e->ci95[0] = value * exp(-Z95 * se / value);
@@ -312,14 +315,22 @@ k2_rule(lf_fit *f, const lf_fit_result *r, int *refitted)
 
 void
 lf_fit_say_undetermined(lf_warnings *out, int bonded_only, const char *nu_unseen_by,
-                        int w_with_F0, int all_k2)
+                        int w_with_F0, int all_k2, int all_load)
 {
     if (bonded_only)
         lf_warn(out, "only bonded curves: nu is not determined (fix nu or add a frictionless curve)");
     if (nu_unseen_by != NULL)
         lf_warn(out, "%s curves do not depend on nu: nu is not determined "
                 "(add a bonded curve of the same material to measure it)", nu_unseen_by);
-    if (w_with_F0 && all_k2)
+    if (w_with_F0 && all_k2 && all_load)
+        /* the baseline before contact is there: on loading, the curve's
+         * shape does not fix w, and the jump into contact that shows it is
+         * not resolved */
+        lf_warn(out, "k = 2 alone with free F0 and z0 cannot separate w from the force offset "
+                "on loading: the curve's shape does not fix w, and the jump into contact that "
+                "shows it is not resolved (fit the unload segment, whose pull-off and baseline "
+                "past detachment measure it, add a probe with k != 2, or fix F0)");
+    else if (w_with_F0 && all_k2)
         lf_warn(out, "k = 2 alone with free F0 and z0 cannot separate w from the force offset "
                 "(record the baseline past detachment, add a probe with k != 2, or fix F0)");
     else if (w_with_F0)
@@ -333,12 +344,14 @@ explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
 {
     char buf[800];
     size_t k, j, len = 0;
-    int all_k2 = 1, w_null = f->imat[FIT_W] >= 0 && nullw[f->imat[FIT_W]] > 0.01;
+    int all_k2 = 1, all_load = 1, w_null = f->imat[FIT_W] >= 0 && nullw[f->imat[FIT_W]] > 0.01;
     int F0_null = 0, other = 0, all_halfspace = 1;
 
     for (j = 0; j < f->ncurves; j++) {
         if (fabs(f->c[j].data.probe.k - 2.0) > 1e-9)
             all_k2 = 0;
+        if (f->c[j].data.branch != LF_BRANCH_LOAD)
+            all_load = 0;
         if (lf_model_get_type(f->c[j].model)->scope != LF_SCOPE_HALFSPACE)
             all_halfspace = 0;
         if (f->c[j].iF0 >= 0 && nullw[f->c[j].iF0] > 0.01)
@@ -357,7 +370,7 @@ explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
                                 && f->set.Estar.mode != LF_PARAM_FIXED && !r->M.determined,
                             !f->any_bonded && f->set.nu.mode != LF_PARAM_FIXED
                                 ? (all_halfspace ? "half-space" : "frictionless") : NULL,
-                            w_null && F0_null, all_k2);
+                            w_null && F0_null, all_k2, all_load);
     if (r->w.upper_bound_only)
         lf_warn(&r->identifiability, "adhesion below the noise: w < %.4g J/m^2 (95%%)",
                 r->w.ci95[1]);
@@ -632,6 +645,7 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
         r->nu.ci95[1] = lf_fmin(mat.nu + Z95 * se, 0.5);
         r->nu.free = 1;
         r->nu.determined = 1;
+        r->nu.why = NULL;
     } else if (f->imat[FIT_NU] >= 0) {
         estimate_undetermined(&r->nu, 1);
     } else if (f->set.nu.mode == LF_PARAM_FIXED) {

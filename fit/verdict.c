@@ -157,7 +157,7 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
         if (!isfinite(dec))
             break;
         if (!run->converged && dec < FIT_ROUNDING_SE2 * s2
-            && strstr(run->why, "iterations reached") == NULL) {
+            && strstr(run->why, "iterations per solve reached") == NULL) {
             run->converged = 1;
             snprintf(run->why, sizeof run->why, "converged (at a minimum within rounding: a "
                      "Gauss-Newton step would lower chi2 by only %.2g)", dec);

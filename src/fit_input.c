@@ -79,10 +79,13 @@ meta_length(const lf_curve *c, const char *key)
  * a half-space, which uses none), then checked. */
 static int
 resolve_probe(lf_probe *p, const lf_curve *c, const char *path, const char *given,
-              const char **R_source, lf_error *err)
+              const char **R_source, lf_warnings *warn, lf_error *err)
 {
     lf_error e;
     *R_source = given;
+    if (!isnan(p->R) && c->R > 0 && isfinite(c->R) && fabs(p->R - c->R) > 1e-9 * c->R)
+        lf_warn(warn, "%s: R = %.4g m from the %s, where the file header states %.4g m",
+                path, p->R, strcmp(given, "plan") == 0 ? "plan" : "--R option", c->R);
     if (isnan(p->R)) {
         if (!(c->R > 0 && isfinite(c->R)))
             return lf_fail(err, LF_EDATA, strcmp(given, "plan") == 0
@@ -131,7 +134,7 @@ add_curve(lf_fit_input *in, size_t j, const char *path, lf_segment seg, const lf
     if (status != LF_OK)
         return status;
     if ((status = lf_curve_check_fit(c, seg, s->min_points, err)) != LF_OK
-        || (status = resolve_probe(&p, c, path, given, &in->R_source[j], err)) != LF_OK) {
+        || (status = resolve_probe(&p, c, path, given, &in->R_source[j], warn, err)) != LF_OK) {
         lf_curve_free(c);
         return status;
     }

@@ -397,12 +397,19 @@ typedef struct {
                                "profile likelihood" (lf_fit_profile) or
                                LF_INTERVAL_AT_STOP; NULL when not profiled
                                (linear) */
+    const char *why;        /* when not determined for a reason the
+                               identifiability notes do not give (a linear
+                               interval that spans everything), that reason
+                               in words (static); NULL otherwise */
 } lf_fit_estimate;
 
 /* interval_method of a fit that did not converge: the linear interval at
  * the point where it stopped (a profile's rises are measured from a
  * minimum, and that point is none; lf_fit_profile makes no refits then) */
 #define LF_INTERVAL_AT_STOP "linear (Wald), where the fit stopped"
+/* interval_method after lf_fit_profile(..., LF_PROFILE_LINEAR): the linear
+ * interval, not checked against the profile */
+#define LF_INTERVAL_UNCHECKED "linear (Wald), not checked"
 
 typedef struct {
     const char *name;       /* the curve's label (not owned) */
@@ -538,7 +545,12 @@ void lf_fit_free(lf_fit *fit);
  * it.  A profile point below res's own chi2 (res stopped in a local
  * minimum): res is replaced by the fit continued from there (converged fits
  * only; a warning says so, the model choice's notes are kept).  A fit that
- * did not converge keeps its linear intervals, marked LF_INTERVAL_AT_STOP. */
+ * did not converge keeps its linear intervals, marked LF_INTERVAL_AT_STOP.
+ * Where a linear interval is the one reported (a fit that did not converge,
+ * a robust loss, LF_PROFILE_LINEAR), one that spans everything is no
+ * estimate: a w or E* whose standard error exceeds its value (a log-normal
+ * 95% interval wider than a factor 50 each way), or a nu whose interval
+ * covers all of [0, 0.5], is marked not determined (e->why says so). */
 /* The modes of lf_fit_profile's `always`: the check by refits at the linear
  * endpoints (0), the profile in any case (1), or first the cheap screen of
  * many fits (`fit --batch`): chi2 at those endpoints along the linear path,
@@ -546,6 +558,9 @@ void lf_fit_free(lf_fit *fit);
 #define LF_PROFILE_CHECK 0
 #define LF_PROFILE_ALWAYS 1
 #define LF_PROFILE_SCREEN 2
+/* No profile at all: the linear intervals stand, marked
+ * LF_INTERVAL_UNCHECKED. */
+#define LF_PROFILE_LINEAR 3
 /* Or'ed into a mode: the threshold of each profile that is used is
  * calibrated by a parametric bootstrap (200 data sets from the fit, each
  * fitted free and held: some 400 fits per parameter), for likelihoods that

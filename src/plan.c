@@ -233,8 +233,28 @@ no_layer(const plan_reader *rd, const lf_csv_record *r)
     return r->text[rd->col[P_B]][0] == '\0';
 }
 
+static int plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err);
+
+/* One row into the plan.  A row with more cells than the header whose
+ * extra ones are empty is read (a trailing comma), but when it then fails,
+ * the likely cause is said: a cell with an unquoted comma shifted the
+ * others one column on. */
 static int
 plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
+{
+    int status = plan_row_cells(rd, r, err);
+    size_t len;
+
+    if (status != LF_OK && status != LF_ENOMEM && r->n > rd->ncols && err != NULL
+        && (len = strlen(err->msg)) < sizeof err->msg)
+        snprintf(err->msg + len, sizeof err->msg - len, " (this row has %zu cells where the "
+                 "header has %zu: a cell that holds a comma, such as a file name, must be in "
+                 "double quotes)", r->n, rd->ncols);
+    return status;
+}
+
+static int
+plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
 {
     lf_plan *p = rd->plan;
     lf_plan_row *row;

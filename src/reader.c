@@ -41,6 +41,12 @@ lf_reader_sniff(const char *head, size_t len)
     size_t i;
     if (len > LF_SNIFF_BYTES)
         len = LF_SNIFF_BYTES;
+    /* a UTF-8 byte order mark (an editor's, or Windows') says nothing of
+     * the format: every reader skips it, and the sniffers look past it */
+    if (len >= 3 && memcmp(head, "\xEF\xBB\xBF", 3) == 0) {
+        head += 3;
+        len -= 3;
+    }
     for (i = 0; lf_reader_types[i] != NULL; i++) {
         int s = lf_reader_types[i]->sniff(head, len);
         if (s > score) {
@@ -318,15 +324,27 @@ lf_curve_finish(lf_curve *c, lf_warnings *warn, lf_error *err)
 
 /* ---------------------------------------------------------------------- */
 
+/* 1 when an option's value x is given and differs from the file's f. */
+static int
+set_aside(double x, double f)
+{
+    return isfinite(x) && x > 0 && fabs(x - f) > 1e-9 * f;
+}
+
 int
 lf_afm_spring_constant(lf_curve *c, double file_k, const char *file_key,
-                       const lf_read_opts *o, const char *why, lf_error *err)
+                       const lf_read_opts *o, const char *why, lf_warnings *warn,
+                       lf_error *err)
 {
     double opt = o ? o->spring_constant : NAN;
     if (isfinite(file_k) && file_k > 0) {
         c->spring_constant = file_k;
         c->spring_constant_source = "file header";
         lf_warn(&c->info, "spring constant %.6g N/m (file header '%s')", file_k, file_key);
+        if (set_aside(opt, file_k))
+            lf_warn(warn, "%s: spring constant %.6g N/m from the file header '%s'; "
+                    "--spring-constant %.6g N/m applies only to files that state none",
+                    c->file, file_k, file_key, opt);
         return LF_OK;
     }
     if (isfinite(opt) && opt > 0) {
@@ -342,14 +360,22 @@ lf_afm_spring_constant(lf_curve *c, double file_k, const char *file_key,
 
 int
 lf_afm_sensitivity(lf_curve *c, double file_s, const char *file_key, int per_amp,
-                   const lf_read_opts *o, lf_error *err)
+                   const lf_read_opts *o, lf_warnings *warn, lf_error *err)
 {
     const char *u = per_amp ? "m/A" : "m/V";
+    /* said in the units instruments use: nm/nA (= m/A) or nm/V */
+    const char *shown = per_amp ? "nm/nA" : "nm/V";
+    const double said = per_amp ? 1.0 : 1e9;
     if (isfinite(file_s) && file_s > 0) {
         c->sensitivity = file_s;
         c->sensitivity_source = "file header";
         c->sensitivity_unit = u;
-        lf_warn(&c->info, "sensitivity %.6g %s (file header '%s')", file_s, u, file_key);
+        lf_warn(&c->info, "sensitivity %.6g %s (file header '%s')", file_s * said, shown, file_key);
+        if (o != NULL && set_aside(o->sensitivity, file_s))
+            lf_warn(warn, "%s: sensitivity %.6g %s from the file header '%s'; --sensitivity "
+                    "%.6g %s applies only to files that state none", c->file, file_s * said,
+                    shown, file_key, o->sensitivity * (o->sensitivity_per_amp ? 1.0 : 1e9),
+                    o->sensitivity_per_amp ? "nm/nA" : "nm/V");
         return LF_OK;
     }
     if (o != NULL && isfinite(o->sensitivity) && o->sensitivity > 0) {
@@ -363,7 +389,7 @@ lf_afm_sensitivity(lf_curve *c, double file_s, const char *file_key, int per_amp
         c->sensitivity = o->sensitivity;
         c->sensitivity_source = "option";
         c->sensitivity_unit = u;
-        lf_warn(&c->info, "sensitivity %.6g %s (option --sensitivity)", o->sensitivity, u);
+        lf_warn(&c->info, "sensitivity %.6g %s (option --sensitivity)", o->sensitivity * said, shown);
         return LF_OK;
     }
     return lf_fail_at(err, LF_EDATA, c->file, 0, 0,

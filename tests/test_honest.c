@@ -346,6 +346,66 @@ profile_threshold_every_dof(void)
     }
 }
 
+/* A positive estimate with standard error se at value (free, determined,
+ * its log-normal linear interval). */
+static lf_fit_estimate
+linear_estimate(double value, double se)
+{
+    lf_fit_estimate e;
+    memset(&e, 0, sizeof e);
+    e.value = value;
+    e.se = se;
+    e.ci95[0] = value * exp(-1.959963984540054 * se / value);
+    e.ci95[1] = value * exp(1.959963984540054 * se / value);
+    e.free = 1;
+    e.determined = 1;
+    return e;
+}
+
+/* Where the linear interval is the one reported (LF_PROFILE_LINEAR, a fit
+ * that did not converge), one that spans everything is no estimate: E* with
+ * its se above its value, nu with an interval over all of [0, 0.5]; a
+ * narrow one stays.  Nothing determined left: the fit is degenerate. */
+static void
+vacuous_linear_intervals(void)
+{
+    lf_fit_settings set = lf_fit_settings_default();
+    lf_error err;
+    int pass;
+
+    for (pass = 0; pass < 3; pass++) {
+        lf_fit_result r;
+        memset(&r, 0, sizeof r);
+        r.converged = pass != 1;
+        snprintf(r.stop_reason, sizeof r.stop_reason, "%s", r.converged ? "converged" : "not converged");
+        r.w = linear_estimate(1e-3, pass == 2 ? 2e-3 : 1e-4);
+        r.Estar = linear_estimate(5.864, 60.38);
+        r.nu = linear_estimate(0.25, 0.2);
+        r.nu.ci95[0] = 0.0;
+        r.nu.ci95[1] = 0.5;
+        if (pass == 2)      /* w below two se: an upper bound, not an estimate */
+            r.w.determined = 0, r.w.upper_bound_only = 1;
+        t_int(lf_fit_profile(&set, 0, NULL, &r, LF_PROFILE_LINEAR, &err), LF_OK,
+              "vacuous linear %d: runs", pass);
+        t_true(!r.Estar.determined && isnan(r.Estar.value) && r.Estar.why != NULL
+               && strstr(r.Estar.why, "standard error exceeds its value") != NULL,
+               "vacuous linear %d: E* with se 10 times its value is not determined, and why", pass);
+        t_true(!r.nu.determined && r.nu.why != NULL && strstr(r.nu.why, "0 to 0.5") != NULL,
+               "vacuous linear %d: nu over all of [0, 0.5] is not determined, and why", pass);
+        if (pass < 2)
+            t_true(r.w.determined && r.w.value == 1e-3 && r.w.why == NULL,
+                   "vacuous linear %d: w at 10%% stays", pass);
+        t_true(strcmp(r.Estar.interval_method, pass == 1 ? LF_INTERVAL_AT_STOP
+                                                         : LF_INTERVAL_UNCHECKED) == 0,
+               "vacuous linear %d: the method named", pass);
+        /* converged with nothing determined left: degenerate, not converged */
+        t_int(r.converged, pass == 0, "vacuous linear %d: converged only with w determined", pass);
+        if (pass == 2)
+            t_true(strstr(r.stop_reason, "degenerate") != NULL, "vacuous linear: degenerate said");
+        lf_fit_result_free(&r);
+    }
+}
+
 int
 main(void)
 {
@@ -357,5 +417,6 @@ main(void)
     profile_intervals();
     profile_holds_the_lr_set();
     profile_threshold_every_dof();
+    vacuous_linear_intervals();
     return t_summary();
 }

@@ -172,7 +172,7 @@ stalled_fits_say_so(void)
             st = fit_from(&s, &set, &far, &ref, fz[k], &r);
             if (st == LF_OK || st == LF_ENOCONV) {
                 budget_ok += honest(&s, seed, k, "one iteration", st, &r);
-                iters_said += !r.converged && strstr(r.stop_reason, "iterations reached");
+                iters_said += !r.converged && strstr(r.stop_reason, "iterations per solve reached");
                 if (!r.converged) {
                     no_profile++;
                     no_profile_ok += profile_skipped(&s, &set, &r);
@@ -204,7 +204,7 @@ stalled_fits_say_so(void)
           "converged with a reason");
     t_int((long) claim_ok, (long) claim_n, "stall: a claimed convergence the verdict rejects "
           "says why in words");
-    t_true(iters_said > 0, "stall: 'iterations reached' said (%zu of %zu)", iters_said, n);
+    t_true(iters_said > 0, "stall: 'iterations per solve reached' said (%zu of %zu)", iters_said, n);
     t_true(no_profile > 0 && no_profile_ok == no_profile, "stall: no profile of a fit that did "
            "not converge: its linear intervals kept and marked so (%zu of %zu)", no_profile_ok,
            no_profile);

@@ -401,8 +401,9 @@ put_row(sbuf *b, const batch_config *cfg, size_t fit_no, const char *sample,
 }
 
 /* Read, fit and format fit number u (0-based) of the plan.  Returns 1 when
- * the fit failed (error or no convergence), 0 when it succeeded.  Never
- * exits: what goes wrong is written into the row. */
+ * the fit failed (error or no convergence), 2 when it converged but the
+ * model does not describe a curve (status misfit), 0 when it succeeded.
+ * Never exits: what goes wrong is written into the row. */
 static int
 fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
 {
@@ -452,15 +453,17 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
          * as a single fit makes them, after the cheap screen (a failure keeps
          * the linear ones) */
         lf_error perr;
-        if (cfg->linear_only)
-            cli_intervals_unchecked(&res);
-        else
-            (void) lf_fit_profile(&s, n, in.curves, &res, LF_PROFILE_SCREEN, &perr);
+        (void) lf_fit_profile(&s, n, in.curves, &res,
+                              cfg->linear_only ? LF_PROFILE_LINEAR : LF_PROFILE_SCREEN, &perr);
         have_res = 1;
         /* the profile may find the minimum was a local one (res no longer
          * converged) */
         status = st == LF_OK && res.converged ? "ok" : "noconv";
         failed = !(st == LF_OK && res.converged);
+        if (!failed && cli_disagreeing(&res, ebuf, sizeof ebuf) > 0) {
+            status = "misfit";      /* the report's DISAGREES: no measurement */
+            failed = 2;
+        }
     } else {
         format_error(ebuf, sizeof ebuf, &err);
     }
@@ -589,7 +592,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     char msg[4400];
     FILE *out = stdout;
     sbuf *rows;
-    size_t lo, hi, u, block, total, done = 0, failed = 0, i;
+    size_t lo, hi, u, block, total, done = 0, failed = 0, misfits = 0, i;
     long shard_i = 1, shard_n = 1, threads = o->threads;
     int progress, io_error = 0;
     double t0 = cli_now(), last = 0.0;
@@ -643,13 +646,16 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     if (rows == NULL)
         cli_die(CLI_EXIT_FAIL, "out of memory");
     for (u = lo; u < hi; u += block) {
-        size_t nb = hi - u < block ? hi - u : block, bad = 0;
+        size_t nb = hi - u < block ? hi - u : block, bad = 0, mis = 0;
         long b;
-#pragma omp parallel for schedule(dynamic, 1) num_threads((int) threads) reduction(+ : bad)
+#pragma omp parallel for schedule(dynamic, 1) num_threads((int) threads) reduction(+ : bad, mis)
         for (b = 0; b < (long) nb; b++) {
+            int r;
             rows[b].len = 0;
             rows[b].failed = 0;
-            bad += (size_t) fit_unit(&ul, u + (size_t) b, &cfg, &rows[b]);
+            r = fit_unit(&ul, u + (size_t) b, &cfg, &rows[b]);
+            bad += r == 1;
+            mis += r == 2;
         }
         for (i = 0; i < nb; i++) {
             if (rows[i].failed || rows[i].s == NULL)
@@ -658,6 +664,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
                 io_error = 1;
         }
         failed += bad;
+        misfits += mis;
         done += nb;
         if (progress && (cli_now() - last > 0.2 || done == total)) {
             last = cli_now();
@@ -686,6 +693,12 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
                 failed, total, o->out ? o->out : "the output");
         return CLI_EXIT_SOME_FAILED;
     }
+    if (misfits > 0) {
+        fprintf(stderr, "layerfit: fit: %zu of %zu fits converged, but the model does not "
+                "describe a curve of theirs (status 'misfit' in %s)\n", misfits, total,
+                o->out ? o->out : "the output");
+        return CLI_EXIT_MISFIT;
+    }
     return CLI_EXIT_OK;
 }
 
@@ -711,6 +724,18 @@ cli_fit_batch(int argc, char **argv)
     cli_fit_args_init(&fa);
     no = 6 + cli_fit_opts(&fa, opts + 6);
     opts[no].name = NULL;
+    {
+        /* a single fit's outputs, asked of a batch: say what it has */
+        static const char *const single[] = { "--json", "--curves", "--plot", "--report" };
+        int i;
+        size_t k;
+        for (i = 0; i < argc; i++)
+            for (k = 0; k < sizeof single / sizeof single[0]; k++)
+                if (strncmp(argv[i], single[k], strlen(single[k])) == 0
+                    && (argv[i][strlen(single[k])] == '\0' || argv[i][strlen(single[k])] == '='))
+                    cli_die(CLI_EXIT_USAGE, "fit: %s is for a single fit; a batch writes one row "
+                            "per fit to --out FILE.csv or --out FILE.jsonl", single[k]);
+    }
     cli_parse("fit", argc, argv, opts, &npos, &help);
     /* `fit --batch --help`: the help, not a plan called --help */
     if (plan != NULL && (strcmp(plan, "--help") == 0 || strcmp(plan, "-h") == 0))
@@ -720,7 +745,7 @@ cli_fit_batch(int argc, char **argv)
                "                    [--shard I/N] [--progress|--quiet] [fit options]\n\n"
                "Fits every curve of the plan, or every group of curves with the same\n"
                "'sample', on its own, in parallel; one output row per fit, in plan order,\n"
-               "with its status (ok, noconv, error) and message.\n\n"
+               "with its status (ok, misfit, noconv, error) and message.\n\n"
                "  --out FILE        .csv or .jsonl (default: CSV on standard output)\n"
                "  --threads N       parallel fits, 1..%d (default: all cores); the output\n"
                "                    does not depend on N\n"
@@ -735,8 +760,10 @@ cli_fit_batch(int argc, char **argv)
         printf("\nEvery problem with one curve (a missing or unreadable file included) is\n"
                "that fit's row; the batch goes on.  --out FILE gets FILE.provenance.json.\n\n"
                "exit status: 0 every fit ok; 3 some fits failed (rows with status error or\n"
-               "noconv; stderr says how many); 2 bad command line or plan (nothing fitted);\n"
-               "1 a failure of the run itself (e.g. the output could not be written)\n");
+               "noconv; stderr says how many); 4 none failed, but some converged where the\n"
+               "model does not describe a curve (status misfit); 2 bad command line or plan\n"
+               "(nothing fitted); 1 a failure of the run itself (e.g. the output could not be\n"
+               "written)\n");
         return CLI_EXIT_OK;
     }
     if (npos > 0)

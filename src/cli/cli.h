@@ -21,7 +21,9 @@ enum {
     CLI_EXIT_FAIL = 1,      /* a failure of the run itself (I/O, memory, a computation) */
     CLI_EXIT_USAGE = 2,     /* bad command line or bad input file or plan */
     CLI_EXIT_NOCONV = 3,    /* a fit did not converge (single fit) */
-    CLI_EXIT_SOME_FAILED = 3 /* some fits of a batch failed (error or noconv) */
+    CLI_EXIT_SOME_FAILED = 3, /* some fits of a batch failed (error or noconv) */
+    CLI_EXIT_MISFIT = 4     /* converged, but the model does not describe a curve
+                               (single fit), or a batch row has status misfit */
 };
 
 /* A subcommand: one entry of the table in main.c. */
@@ -80,6 +82,13 @@ void cli_print_double(FILE *f, double x);
 /* Write a number for people with an SI prefix chosen for it:
  * cli_human(buf, n, 1.2e-8, "m") -> "12 nm".  Returns buf. */
 char *cli_human(char *buf, size_t n, double x, const char *unit);
+/* 1 when the report calls curve cr DISAGREES: it is not described by the
+ * model (misfit beyond 5% of its force range) or, in a joint fit, it
+ * disagrees with the others. */
+int cli_curve_disagrees(const lf_fit_curve_result *cr);
+/* The curves of a converged r that disagree, as "1, 3" into buf (at most n
+ * bytes); their count (0: none, or r did not converge). */
+size_t cli_disagreeing(const lf_fit_result *r, char *buf, size_t n);
 /* The value where the fit ended of the free parameter NAME ("w", "E*",
  * "nu", "z0[1]", ...: lf_fit_result.names), NaN when it was not free. */
 double cli_fitted_value(const lf_fit_result *res, const char *name);
@@ -121,10 +130,6 @@ typedef struct {
     lf_read_opts read;    /* filled by cli_fit_settings; is->read points here */
 } cli_fit_args;
 
-/* What --intervals linear leaves: the method of every linear interval is
- * said to be unchecked. */
-#define CLI_LINEAR_UNCHECKED "linear (Wald), not checked"
-void cli_intervals_unchecked(lf_fit_result *r);
 /* The words a report puts after an interval for how it was found (NULL: a
  * checked linear interval, nothing said); brief: the HTML table's. */
 const char *cli_interval_words(const lf_fit_estimate *e, int brief);
@@ -302,6 +307,9 @@ int cli_plan_from(const lf_input *in, const char *path, lf_plan **out, lf_warnin
                   lf_error *err);
 /* Read a plan (stream allowed), note it as an input; dies with status 2. */
 lf_plan *cli_plan_load(const char *cmd, const char *path);
+/* 1 when path is a regular file that reads as a plan (for a hint when it
+ * was given as a curve). */
+int cli_reads_as_plan(const char *path);
 /* Exit with status 2 naming the first row of plan without b and interface
  * (no layer) unless the fit's model is the half-space (model: its name). */
 void cli_plan_need_layers(const lf_plan *plan, const char *model);

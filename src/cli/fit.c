@@ -63,21 +63,27 @@ const char cli_fit_help[] =
     "  --skip-bad-rows      skip rows with missing cells, with a warning\n";
 
 static const char exit_text[] =
-    "exit status: 0 converged; 3 not converged (report still written); 2 bad command\n"
-    "line or input file; 1 a failure of the run itself (e.g. an output not written)\n";
+    "exit status: 0 converged; 3 not converged (report still written); 4 converged,\n"
+    "but the model does not describe a curve (DISAGREES; report still written); 2 bad\n"
+    "command line or input file; 1 a failure of the run itself (e.g. an output not\n"
+    "written)\n";
 
 typedef struct {
     const char *json, *curves, *interface;
     double k, R, b;
 } fit_args;
 
-/* "FILE: R = 8 um from the file header" for each curve whose probe radius
- * was read from its file. */
+/* The report's notes on its input, once the fit has run (an error exit
+ * leaves nothing on standard output): a single curve fitted as a half-space
+ * uses no layer, and "FILE: R = 8 um from the file header" for each curve
+ * whose probe radius was read from its file. */
 static void
-print_R_sources(const lf_fit_input *in)
+print_input_notes(const fit_args *a, const lf_fit_input *in)
 {
     char buf[48];
     size_t j;
+    if (!isnan(a->k) && isnan(a->b) && in->n == 1)
+        printf("%s: half-space model: no layer thickness or interface used\n", in->names[0]);
     for (j = 0; j < in->n; j++)
         if (in->R_source[j] != NULL && strcmp(in->R_source[j], "file header") == 0)
             printf("%s: R = %s from the file header (%s export)\n", in->curves[j].name,
@@ -123,8 +129,10 @@ read_input(const char *path, const fit_args *a, const char *model, const lf_inpu
         one.open_flags = LF_INPUT_STREAM;
         cli_input_guard("fit", path);
         status = lf_fit_input_from_curve(path, &p, &one, in, &warn, &err);
-        if (status == LF_OK && isnan(a->b))
-            printf("%s: half-space model: no layer thickness or interface used\n", path);
+        if (status != LF_OK && status != LF_ENOMEM && cli_reads_as_plan(path))
+            cli_die(CLI_EXIT_USAGE, "fit: %s is a plan: --k, --R, --b and --interface are for a "
+                    "single curve (a plan gives each curve's probe in its row); fit the plan "
+                    "without them", path);
     } else {
         lf_plan *plan;
         /* a plan gives each curve's probe in its own row: an option that
@@ -148,7 +156,6 @@ read_input(const char *path, const fit_args *a, const char *model, const lf_inpu
         cli_die_error(status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, &err);
     for (j = 0; j < in->n; j++)     /* provenance: each curve as it was read */
         cli_input_note(in->names[j], in->sha256[j]);
-    print_R_sources(in);
 }
 
 /* --json and --curves: through the atomic writer (output.c). */
@@ -219,17 +226,6 @@ cli_fit_opts(cli_fit_args *a, cli_opt *opts)
     return n;
 }
 
-/* --intervals linear: no estimate's linear interval was checked. */
-void
-cli_intervals_unchecked(lf_fit_result *r)
-{
-    lf_fit_estimate *e[3] = { &r->w, &r->Estar, &r->nu };
-    size_t k;
-    for (k = 0; k < 3; k++)
-        if (e[k]->free && e[k]->interval_method == NULL)
-            e[k]->interval_method = CLI_LINEAR_UNCHECKED;
-}
-
 const char *
 cli_interval_words(const lf_fit_estimate *e, int brief)
 {
@@ -239,7 +235,7 @@ cli_interval_words(const lf_fit_estimate *e, int brief)
         return NULL;
     if (strcmp(m, "profile likelihood") == 0)
         return "profile likelihood";
-    if (strcmp(m, CLI_LINEAR_UNCHECKED) == 0)
+    if (strcmp(m, LF_INTERVAL_UNCHECKED) == 0)
         return brief ? "linear, not checked" : "linear, not checked: --intervals linear";
     if (strcmp(m, LF_INTERVAL_AT_STOP) == 0)
         return brief ? "linear, where the fit stopped"
@@ -379,7 +375,7 @@ cli_fit(int argc, char **argv)
         { "R", CLI_LENGTH, &a.R }, { "b", CLI_LENGTH, &a.b },
         { "plot", CLI_STRING, &plot_dir }, { "report", CLI_STRING, &report_html },
     };
-    int npos, help, status;
+    int npos, help, status, misfit = 0;
     lf_fit_settings set = lf_fit_settings_default();
     lf_choose_settings choose = lf_choose_settings_default();
     lf_input_settings is = lf_input_settings_default();
@@ -389,6 +385,7 @@ cli_fit(int argc, char **argv)
     lf_error err;
     report_input in;
     size_t no, j;
+    char bad[256];
 
     cli_fit_args_init(&fa);
     no = 8 + cli_fit_opts(&fa, opts + 8);
@@ -430,21 +427,22 @@ cli_fit(int argc, char **argv)
             fprintf(stderr, "layerfit: warning: the thin-layer comparison fit failed: %s\n",
                     terr.msg);
     }
-    if (fa.linear_only) {
-        cli_intervals_unchecked(&r);
-    } else {
-        /* profile-likelihood intervals where the linear ones are unreliable */
+    {
+        /* profile-likelihood intervals where the linear ones are unreliable
+         * (--intervals linear: the linear ones, unchecked) */
         lf_error perr;
-        if (lf_fit_profile(&set, d.n, d.curves, &r, 0, &perr) != LF_OK)
+        if (lf_fit_profile(&set, d.n, d.curves, &r, fa.linear_only ? LF_PROFILE_LINEAR : 0,
+                           &perr) != LF_OK)
             fprintf(stderr, "layerfit: warning: profile-likelihood intervals: %s\n", perr.msg);
         if (status == LF_OK && !r.converged)
-            status = LF_ENOCONV;    /* the profile found the minimum was a local one */
+            status = LF_ENOCONV;    /* a local minimum, or nothing determined */
     }
     in.settings = &set;
     in.model_request = fa.model;
     in.model_tol = model_auto ? choose.tol : NAN;
     in.curves = d.curves;
     in.origin = d.origin;
+    print_input_notes(&a, &d);
     report_text(stdout, &in, &r);
     if (a.json != NULL)
         write_file(a.json, report_json, &in, &r);
@@ -453,12 +451,19 @@ cli_fit(int argc, char **argv)
         cli_provenance_sidecar("fit", a.curves);
     }
     cli_fit_figures(plot_dir, report_html, d.n, d.curves, &r);
+    if (status == LF_OK && cli_disagreeing(&r, bad, sizeof bad) > 0) {
+        fprintf(stderr, "layerfit: fit: converged, but the model does not describe curve%s %s "
+                "(DISAGREES): the values are those of a model that does not fit, not a "
+                "measurement (check k, R, b, interface and segment)\n",
+                strchr(bad, ',') != NULL ? "s" : "", bad);
+        misfit = 1;
+    }
     if (status == LF_ENOCONV)
         fprintf(stderr, "layerfit: fit: %s%s\n", r.stop_reason,
-                strstr(r.stop_reason, "iterations reached") != NULL
+                strstr(r.stop_reason, "iterations per solve reached") != NULL
                 ? " (--max-iter N allows more; a fit that creeps along a kink of the cost may "
                   "still not settle)" : "");
     lf_fit_result_free(&r);
     lf_fit_input_free(&d);
-    return status == LF_OK ? CLI_EXIT_OK : CLI_EXIT_NOCONV;
+    return status != LF_OK ? CLI_EXIT_NOCONV : misfit ? CLI_EXIT_MISFIT : CLI_EXIT_OK;
 }

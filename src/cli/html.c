@@ -164,7 +164,7 @@ static const char style[] =
 static void
 parameter_row(FILE *f, const char *name, const lf_fit_estimate *e, const char *unit)
 {
-    char buf[64], bound[128];
+    char buf[64], bound[128], why[256];
     const char *status, *words, *bounded = cli_bound_text(e, name, unit, bound, sizeof bound);
 
     if (e->upper_bound_only)
@@ -175,6 +175,10 @@ parameter_row(FILE *f, const char *name, const lf_fit_estimate *e, const char *u
                                         : "not determined: bounded only from above";
     else if (!e->free && e->determined)
         status = "fixed";
+    else if (!e->determined && e->why != NULL) {
+        snprintf(why, sizeof why, "not determined: %s", e->why);
+        status = why;
+    }
     else if (!e->determined)
         status = "not determined by the data";
     else
@@ -319,6 +323,10 @@ td_estimate(FILE *f, double x, double se, int free, const char *unit)
 {
     char a[64], b[64];
     fputs("<td class=\"num\">", f);
+    if (isnan(x)) {            /* a free offset the data do not determine */
+        fputs("not determined</td>", f);
+        return;
+    }
     esc(f, cli_human(a, sizeof a, x, unit));
     if (!free)
         fputs(" (fixed)", f);

@@ -347,7 +347,8 @@ draw_map(const char *result, const char *image)
     f = open_in_dir(&out, dir, dat);
     fputs("# layerfit map of ", f);
     cli_put_clean(f, result);
-    fprintf(f, ": x_um y_um w_mJ_m2 Estar_%s (NaN: fit failed or no curve)\n", Eunit);
+    fprintf(f, ": x_um y_um w_mJ_m2 Estar_%s (-: fit failed, no curve, or not "
+            "determined)\n", Eunit);
     for (i = 0; i < ny; i++) {
         size_t j;
         for (j = 0; j < nx; j++) {
@@ -356,11 +357,11 @@ draw_map(const char *result, const char *image)
             if (isfinite(w))
                 fprintf(f, "%.6g ", w * 1e3);
             else
-                fprintf(f, "NaN ");
+                fprintf(f, "- ");
             if (isfinite(E))
                 fprintf(f, "%.6g\n", E / Escale);
             else
-                fprintf(f, "NaN\n");
+                fprintf(f, "-\n");
         }
         fputc('\n', f);
     }
@@ -392,10 +393,12 @@ draw_map(const char *result, const char *image)
             (uy[ny - 1] + 0.5 * (ny > 1 ? uy[1] - uy[0] : 1e-6)) * 1e6);
     fputs("set title 'work of adhesion w (mJ/m^2)'\nplot ", f);
     cli_gnuplot_string(f, dat);
-    fprintf(f, " using 1:2:3 with image notitle\nset title 'effective modulus E* (%s)'\nplot ",
-            Eunit);
+    /* a "-" cell is a blank pixel: an undefined value keeps its place in the
+     * image's grid (a missing one would be dropped and break the grid) */
+    fprintf(f, " using 1:2:(strcol(3) eq '-' ? NaN : $3) with image notitle\n"
+            "set title 'effective modulus E* (%s)'\nplot ", Eunit);
     cli_gnuplot_string(f, dat);
-    fputs(" using 1:2:4 with image notitle\nunset multiplot\n", f);
+    fputs(" using 1:2:(strcol(4) eq '-' ? NaN : $4) with image notitle\nunset multiplot\n", f);
     if (cli_out_commit(&out, msg, sizeof msg) != 0)
         cli_die(CLI_EXIT_FAIL, "map: %s", msg);
     if (cli_draw_script(dir, gp, base, &ext_word, 1, msg, sizeof msg) != 0)

@@ -35,6 +35,8 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
         return;
     }
     if (!e->determined) {
+        if (e->why != NULL)
+            why_not = e->why;
         fprintf(f, "  %-4s not determined%s%s\n", name, why_not ? ": " : "", why_not ? why_not : "");
         return;
     }
@@ -118,9 +120,12 @@ origin_text(FILE *f, const lf_curve_origin *o)
         fprintf(f, ", spring constant %.4g N/m %s", o->spring_constant,
                 o->spring_constant_source);
     if (o->sensitivity_source != NULL)
-        fprintf(f, ", sensitivity %.4g %s %s", o->sensitivity * 1e9,
-                o->sensitivity_unit != NULL && strcmp(o->sensitivity_unit, "m/A") == 0
-                ? "nm/A" : "nm/V", o->sensitivity_source);
+    {
+        /* in the units instruments use: nm/nA (= m/A) or nm/V */
+        const int per_amp = o->sensitivity_unit != NULL && strcmp(o->sensitivity_unit, "m/A") == 0;
+        fprintf(f, ", sensitivity %.4g %s %s", per_amp ? o->sensitivity : o->sensitivity * 1e9,
+                per_amp ? "nm/nA" : "nm/V", o->sensitivity_source);
+    }
     fputc('\n', f);
 }
 
@@ -219,7 +224,7 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
         else
             fprintf(f, "      agreement: chi2/point %.3g (p = %.2g), runs test z = %.2f: %s\n",
                     cr->chi2_per_point, cr->p_value, cr->runs_z,
-                    cr->consistent ? "consistent" : "DISAGREES");
+                    cli_curve_disagrees(cr) ? "DISAGREES" : "consistent");
         if (cr->downweighted > 0)
             fprintf(f, "      %zu points down-weighted by the %s loss\n", cr->downweighted,
                     r->loss);
@@ -312,9 +317,14 @@ jestimate(FILE *f, const char *name, const lf_fit_estimate *e, int last)
     jnum(f, e->ci95[1]);
     fprintf(f, "], \"ci95_method\": \"%s\"",
             e->interval_method != NULL ? e->interval_method : "linear (Wald)");
-    fprintf(f, ", \"free\": %s, \"determined\": %s, \"upper_bound_only\": %s}%s\n",
+    fprintf(f, ", \"free\": %s, \"determined\": %s, \"upper_bound_only\": %s",
             e->free ? "true" : "false", e->determined ? "true" : "false",
-            e->upper_bound_only ? "true" : "false", last ? "" : ",");
+            e->upper_bound_only ? "true" : "false");
+    if (e->why != NULL) {
+        fputs(", \"why_not_determined\": ", f);
+        jstr(f, e->why);
+    }
+    fprintf(f, "}%s\n", last ? "" : ",");
 }
 
 void

@@ -219,3 +219,30 @@ cli_fitted_value(const lf_fit_result *res, const char *name)
             return res->value[i];
     return NAN;
 }
+
+int
+cli_curve_disagrees(const lf_fit_curve_result *cr)
+{
+    return !cr->consistent && cr->agreement != 1;
+}
+
+size_t
+cli_disagreeing(const lf_fit_result *r, char *buf, size_t n)
+{
+    size_t j, count = 0, len = 0;
+
+    if (n > 0)
+        buf[0] = '\0';
+    if (!r->converged)
+        return 0;
+    for (j = 0; j < r->ncurves; j++) {
+        int w;
+        if (!cli_curve_disagrees(&r->curves[j]))
+            continue;
+        w = snprintf(buf + len, n - len, "%s%zu", count ? ", " : "", j + 1);
+        if (w > 0 && (size_t) w < n - len)
+            len += (size_t) w;
+        count++;
+    }
+    return count;
+}

@@ -107,6 +107,15 @@ if command -v gnuplot >/dev/null 2>&1; then
     [ -s "$tmp/map.gp" ] && [ -s "$tmp/map.dat" ] && ok || bad "map.gp and map.dat kept"
     [ "$(grep -c '^[0-9]' "$tmp/map.dat")" -eq 64 ] && ok || bad "map.dat has 64 pixels"
     (cd "$tmp" && gnuplot map.gp) && ok || bad "the kept script redraws the map"
+    # a pixel without a fit is blank: '-' in map.dat (no NaN), the grid kept
+    cp -r "$tmp/fm" "$tmp/fm3" && rm "$tmp/fm3/curves/x03_y05.csv"
+    "$LF" fit --batch "$tmp/fm3/plan.csv" --model thin --intervals linear --out "$tmp/fm3/r.csv" 2>/dev/null
+    mkdir -p "$tmp/m3" && run_ok map "$tmp/fm3/r.csv" --plot "$tmp/m3/map.png"
+    [ "$(grep -c '^[0-9]' "$tmp/m3/map.dat")" -eq 64 ] && ok || bad "map with a hole: 64 pixels"
+    [ "$(grep -c ' - -$' "$tmp/m3/map.dat")" -eq 1 ] && ok || bad "map with a hole: one blank pixel"
+    grep -qi nan "$tmp/m3/map.dat" && bad "map with a hole: NaN in map.dat" || ok
+    (cd "$tmp/m3" && gnuplot map.gp 2>"$tmp/gperr") && [ ! -s "$tmp/gperr" ] && ok \
+        || bad "map with a hole: gnuplot: $(cat "$tmp/gperr")"
 else
     echo "note: gnuplot not installed, map drawing not tested"
 fi

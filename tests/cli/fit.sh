@@ -35,6 +35,16 @@ expect_fail 2 "layerfit: simulate: --branch must be unload or load (got 'up')" s
 # fit: usage errors that need no data
 expect_fail 2 "layerfit: fit: give one plan or curve file (see 'layerfit fit --help')" fit
 expect_fail 2 "layerfit: fit: unknown model 'thick' (auto, thin, exact, halfspace)" fit "$tmp/d/plan.csv" --model thick
+# a file in the wrong role is named for what it is
+expect_fail 2 "layerfit: fit: $tmp/d/curve1.csv is a curve (a table of depth and force), not a plan: fit it alone with its probe, e.g. layerfit fit FILE --k 2 --R 8um --model halfspace (or --b and --interface for a layer)" fit "$tmp/d/curve1.csv"
+expect_fail 2 "layerfit: fit: $tmp/d/plan.csv is a plan: --k, --R, --b and --interface are for a single curve (a plan gives each curve's probe in its row); fit the plan without them" fit "$tmp/d/plan.csv" --k 2 --R 1mm --b 1um --interface frictionless
+expect_fail 2 "layerfit: fit: --json is for a single fit; a batch writes one row per fit to --out FILE.csv or --out FILE.jsonl" fit --batch "$tmp/d/plan.csv" --json "$tmp/x.json"
+# a file name with an unquoted comma shifts the row: the likely cause said
+cp "$tmp/d/curve1.csv" "$tmp/d/a,b.csv"
+printf 'file,k,R_m,b_m,interface,nu\na,b.csv,2,0.001,1e-06,frictionless,\n' > "$tmp/d/comma.csv"
+expect_fail 2 "layerfit: $tmp/d/comma.csv:2:17: unknown interface '1e-06' (expected frictionless or bonded) (this row has 7 cells where the header has 6: a cell that holds a comma, such as a file name, must be in double quotes)" fit "$tmp/d/comma.csv"
+printf 'file,k,R_m,b_m,interface,nu\n"a,b.csv",2,0.001,1e-06,frictionless,\n' > "$tmp/d/comma.csv"
+run_ok fit "$tmp/d/comma.csv" --model thin
 expect_fail 2 "layerfit: fit: unknown method 'newton' (lm, lmaccel, dogleg, ddogleg, subspace2D)" fit "$tmp/d/plan.csv" --method newton
 expect_fail 2 "layerfit: fit: --segment must be unload or load (got 'up')" fit "$tmp/d/plan.csv" --segment up
 expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (got 'exact')" fit "$tmp/d/plan.csv" --jacobian exact
@@ -89,8 +99,8 @@ expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (g
     "$LF" fit "$tmp/d/plan.csv" --max-iter 1 --json "$tmp/n.json" >"$tmp/out" 2>"$tmp/err"; rc=$?
     [ $rc -eq 3 ] && ok || bad "not converged: exit $rc, want 3"
     has "not converged: marked" "$tmp/out" "*** NOT CONVERGED"
-    has "not converged: stderr" "$tmp/err" "layerfit: fit: not converged: 1 iterations reached"
-    has "not converged: the iteration limit named" "$tmp/err" "1 iterations reached (--max-iter N allows more"
+    has "not converged: stderr" "$tmp/err" "layerfit: fit: not converged: the limit of 1 iterations per solve reached"
+    has "not converged: the iteration limit named" "$tmp/err" "1 iterations per solve reached (--max-iter N allows more"
     has "not converged: json" "$tmp/n.json" '"converged": false'
     # a user's starting point: near it, the same answer within a standard
     # error (2%; the cost is flat to 1e-4 there, with kinks where points
@@ -116,8 +126,15 @@ expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (g
         k=2,R=1mm,b=1um,interface=frictionless k=3,R=1mm,b=1um,interface=frictionless \
         k=4,R=1mm,b=1um,interface=frictionless
     sed 's/^curve2.csv,3,/curve2.csv,2.5,/' "$tmp/wk/plan.csv" > "$tmp/wk/wrong.csv"
-    run_ok fit "$tmp/wk/wrong.csv"
+    # converged, but no measurement: exit 4, the report still written
+    run_exit 4 fit "$tmp/wk/wrong.csv"
     has "wrong k: named" "$tmp/out" "curve 2 ($tmp/wk/curve2.csv) disagrees with the others"
     has "wrong k: marked" "$tmp/out" "DISAGREES"
+    has "wrong k: exit 4 says why" "$tmp/err" "layerfit: fit: converged, but the model does not describe curve 2 (DISAGREES)"
+    # the same plan in a batch: one joint fit (one sample), status misfit, exit 4
+    awk -F, 'NR == 1 { print $0 ",sample"; next } { print $0 ",s1" }' "$tmp/wk/wrong.csv" > "$tmp/wk/wrongb.csv"
+    run_exit 4 fit --batch "$tmp/wk/wrongb.csv" --out "$tmp/wk/wrongb.out.csv" --quiet
+    has "wrong k batch: status misfit" "$tmp/wk/wrongb.out.csv" ",misfit,"
+    has "wrong k batch: stderr counts it" "$tmp/err" "1 of 1 fits converged, but the model does not describe a curve of theirs (status 'misfit'"
 }
 summary

@@ -144,6 +144,55 @@ else
     else
         [ "$rc" -eq 0 ] && ok || bad "PEG Y-2 load: exit $rc with a parameter determined"
     fi
+    # a fit the model does not describe is no measurement: the Chiaro cell's
+    # retract segment (86 um of drift) converges, DISAGREES, exit 4
+    chiaro="$real/fmt-chiaro-txt_AEBP1_Indentation_002.txt"
+    if run_exit 4 fit "$chiaro" --model halfspace --k 2; then
+        has "chiaro unload: DISAGREES" "$tmp/out" ": DISAGREES"
+        has "chiaro unload: exit 4 says why" "$tmp/err" "converged, but the model does not describe curve 1 (DISAGREES)"
+    fi
+    run_ok fit "$chiaro" --model halfspace --k 2 --segment load
+    # a linear interval that spans everything is no estimate: the 2021
+    # workshop export stops (not converged) with E*'s se ten times E*
+    ws="$real/fmt-afm-workshop-fd_single_2021-01-15.csv"
+    if run_exit 3 fit "$ws" --model halfspace --k 2 --R 5um --spring-constant 0.1N/m \
+        --sensitivity 50nm/V --json "$tmp/ws.json" --report "$tmp/ws.html"; then
+        has "workshop 2021: E* not determined, in words" "$tmp/out" "E*   not determined: its standard error exceeds its value"
+        has "workshop 2021: JSON says why" "$tmp/ws.json" '"why_not_determined": "its standard error exceeds its value'
+        if grep -q '"Estar": {"value": null' "$tmp/ws.json"; then ok; else bad "workshop 2021: JSON E* has a value"; fi
+        if grep -qE 'fPa|infinite|undefined' "$tmp/out" "$tmp/ws.html"; then
+            bad "workshop 2021: $(grep -hoE '.{30}(fPa|infinite|undefined).{10}' "$tmp/out" "$tmp/ws.html" | head -n 1)"
+        else ok; fi
+        has "workshop 2021: HTML offset in words" "$tmp/ws.html" "<td class=\"num\">not determined</td>"
+        no_nan "workshop 2021: report" "$tmp/out"
+    fi
+    # on loading the baseline before contact is there: the advice for w is
+    # not to record it
+    "$LF" fit "$real/10 wv pc PEGFN S-1 X-1 Y-1 I-1.txt" --model halfspace --k 2 --segment load \
+        >"$tmp/out" 2>"$tmp/err"
+    if grep -q "w    not determined" "$tmp/out"; then
+        has "load segment: w's advice is the unload segment" "$tmp/out" "on loading: the curve's shape does not fix w"
+        if grep -q "record the baseline past detachment" "$tmp/out"; then
+            bad "load segment: advised to record the baseline"; else ok; fi
+    fi
+    # an option the header overrules, or that overrules the header, is said
+    peg1="$real/10 wv pc PEGFN S-1 X-1 Y-1 I-1.txt"
+    "$LF" fit "$peg1" --model halfspace --k 2 --R 5um >"$tmp/out" 2>"$tmp/err"
+    has "--R against the header: said" "$tmp/err" "R = 5e-06 m from the --R option, where the file header states 8e-06 m"
+    "$LF" check "$real/force-save-2021.06.30-13.48.08.425.txt" --spring-constant 0.1N/m >"$tmp/out" 2>"$tmp/err"
+    has "--spring-constant set aside: said" "$tmp/err" "spring constant 0.061 N/m from the file header 'springConstant'; --spring-constant 0.1 N/m applies only to files that state none"
+    # an error exit leaves nothing on standard output (the half-space note
+    # and the header's R come with the report)
+    "$LF" fit "$peg1" --model halfspace --k 0.4 >"$tmp/out" 2>"$tmp/err"; rc=$?
+    [ "$rc" -eq 2 ] && ok || bad "k = 0.4: exit $rc, want 2"
+    [ -s "$tmp/out" ] && bad "k = 0.4: wrote to stdout: $(head -n 1 "$tmp/out")" || ok
+    # a sensitivity per ampere in nm/nA, in check and in the fit's report
+    ntf="$real/fmt-ntmdt-txt-fd_2015_01_17_gel4-0,1_mQ_adh_6B_Curve_DFL_Height_51.txt"
+    "$LF" check "$ntf" --spring-constant 0.055N/m --sensitivity 61nm/nA >"$tmp/out" 2>"$tmp/err"
+    has "ntmdt check: sensitivity in nm/nA" "$tmp/out" "sensitivity 61 nm/nA (option --sensitivity)"
+    "$LF" fit "$ntf" --model halfspace --k 2 --R 5um --spring-constant 0.055N/m --sensitivity 61nm/nA \
+        >"$tmp/out" 2>"$tmp/err"
+    has "ntmdt fit: sensitivity in nm/nA" "$tmp/out" "sensitivity 61 nm/nA option"
     # check on every export: metadata an instrument left unset ("NaN") is
     # said in words, no NaN is passed on
     for f in "$real"/*; do

@@ -82,7 +82,7 @@ sed 's/^Force Constant, nN\/nm:\t0.032000/Force Constant, nN\/nm:\t1.000000/; s/
 expect_fail 2 "layerfit: $tmp/ws1.csv: the file's 'Force Constant, nN/nm' reads '1.000000', not a calibrated value (1 is the software's unset default), and the cantilever spring constant is needed to convert the signals (give it: --spring-constant 0.032N/m)" check "$tmp/ws1.csv"
 expect_fail 2 "layerfit: $tmp/ws1.csv: the file's 'Light Lever Gain, mV/nm' reads '1.000000', not a calibrated value (1 is the software's unset default), and the deflection sensitivity is needed to convert the signals (give it: --sensitivity 50nm/V)" check --spring-constant 0.032N/m "$tmp/ws1.csv"
 run_ok check --spring-constant 0.032N/m --sensitivity 400nm/V "$tmp/ws1.csv" && \
-    has "workshop unset defaults: the options used" "$tmp/out" "sensitivity 4e-07 m/V (option --sensitivity)"
+    has "workshop unset defaults: the options used" "$tmp/out" "sensitivity 400 nm/V (option --sensitivity)"
 
 # real exports, as exported: a Chiaro and a JPK file in one plan, no layer
 real=$top/../shared/realdata

@@ -16,9 +16,18 @@ run_ok check "$v/chiaro.txt" && {
     has "check chiaro: clamp warned" "$tmp/err" "column 'Indentation (nm)' is clamped: 32 points"
 }
 run_ok check "$v/jpk_volts.txt" && {
-    has "check jpk: sensitivity" "$tmp/out" "sensitivity 5e-08 m/V (file header 'sensitivity')"
+    has "check jpk: sensitivity" "$tmp/out" "sensitivity 50 nm/V (file header 'sensitivity')"
     has "check jpk: segments" "$tmp/out" "extend 40, pause/hold 12, retract 40 points"
 }
+# a UTF-8 byte order mark (an editor saved the file) changes no format's
+# detection
+for f in "$v"/*.txt; do
+    printf '\357\273\277' > "$tmp/bom.txt"; cat "$f" >> "$tmp/bom.txt"
+    "$LF" check --spring-constant 1N/m --sensitivity 61nm/nA "$f" 2>/dev/null | grep '^  format' > "$tmp/want"
+    "$LF" check --spring-constant 1N/m --sensitivity 61nm/nA "$tmp/bom.txt" 2>/dev/null | grep '^  format' > "$tmp/got"
+    if [ -s "$tmp/want" ] && cmp -s "$tmp/want" "$tmp/got"; then ok
+    else bad "BOM: $(basename "$f"): '$(cat "$tmp/got")', want '$(cat "$tmp/want")'"; fi
+done
 run_ok check --format text "$v/text_space_comma.txt" && \
     has "check text: decimal comma" "$tmp/out" "table: header on line 4, delimiter spaces, decimal comma"
 run_ok check "$v/hysitron.txt" && \
