@@ -109,7 +109,11 @@ print_probe(const lf_plan_row *r, const lf_curve *c)
                              : cli_base_name(r->probe.base));
     if (r->sample[0] != '\0')
         printf("  %-9s %s\n", "sample", r->sample);
-    print_free("nu", r->nu, "");
+    if (isnan(r->nu) && (isnan(r->probe.b) || r->probe.base == LF_BASE_FRICTIONLESS))
+        printf("  %-9s not seen (a %s curve does not depend on it)\n", "nu",
+               isnan(r->probe.b) ? "half-space" : "frictionless");
+    else
+        print_free("nu", r->nu, "");
     print_free("z0", r->z0, "m");
     print_free("F0", r->F0, "N");
 }

@@ -349,7 +349,7 @@ cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
     s->Estar.guess = a->guess_E;
     s->nu.guess = a->guess_nu;
     if (a->max_iter == 0)
-        cli_die(CLI_EXIT_USAGE, "fit: --max-iter must be >= 1");
+        cli_die(CLI_EXIT_USAGE, "fit: --max-iter: '0' is not a whole number >= 1 (e.g. --max-iter 200)");
     if (a->max_iter > 0)
         s->max_iter = (size_t) a->max_iter;
     /* nu from the command line holds it (and wins over a plan's nu column) */

@@ -129,7 +129,7 @@ stdout_is "plan $d/plan_good.csv: 4 curves
 $d/curve_comma.csv (plan line 3)
   probe     k = 2, R = 1 mm, b = 1 µm, frictionless
   sample    film-A
-  nu        free
+  nu        not seen (a frictionless curve does not depend on it)
   z0        free
   F0        free
   format    csv
@@ -146,7 +146,7 @@ $d/curve_comma.csv (plan line 3)
 $d/curve_paren_crlf.csv (plan line 4)
   probe     k = 3, R = 1.5 mm, b = 1 µm, frictionless
   sample    film-A
-  nu        free
+  nu        not seen (a frictionless curve does not depend on it)
   z0        15 nm (fixed)
   F0        free
   format    csv

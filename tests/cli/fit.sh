@@ -35,6 +35,7 @@ expect_fail 2 "layerfit: simulate: --branch must be unload or load (got 'up')" s
 # fit: usage errors that need no data
 expect_fail 2 "layerfit: fit: give one plan or curve file (see 'layerfit fit --help')" fit
 expect_fail 2 "layerfit: fit: unknown model 'thick' (auto, thin, exact, halfspace)" fit "$tmp/d/plan.csv" --model thick
+expect_fail 2 "layerfit: fit: --max-iter: '0' is not a whole number >= 1 (e.g. --max-iter 200)" fit "$tmp/d/plan.csv" --max-iter 0
 # a file in the wrong role is named for what it is
 expect_fail 2 "layerfit: fit: $tmp/d/curve1.csv is a curve (a table of depth and force), not a plan: fit it alone with its probe, e.g. layerfit fit FILE --k 2 --R 8um --model halfspace (or --b and --interface for a layer)" fit "$tmp/d/curve1.csv"
 expect_fail 2 "layerfit: fit: $tmp/d/plan.csv is a plan: --k, --R, --b and --interface are for a single curve (a plan gives each curve's probe in its row); fit the plan without them" fit "$tmp/d/plan.csv" --k 2 --R 1mm --b 1um --interface frictionless
