@@ -461,6 +461,29 @@ consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_resul
                   : NAN;
 }
 
+/* k = 2 stands for a sphere of radius R, a paraboloid only where a << R: the
+ * sphere's height at radius a, R - sqrt(R^2 - a^2), exceeds the
+ * paraboloid's a^2 / (2 R) by 2.4% at a = 0.3 R and 7% at 0.5 R, and no
+ * sphere reaches a = R.  Past SPHERE_A_OVER_R (5% in height) the largest
+ * contact radius of the curve is a warning. */
+#define SPHERE_A_OVER_R 0.43
+static void
+sphere_check(const lf_probe *p, double amax, lf_warnings *w)
+{
+    double q = amax / p->R;
+
+    if (fabs(p->k - 2.0) > 1e-9 || !(q > SPHERE_A_OVER_R))
+        return;
+    if (q < 1.0)
+        lf_warn(w, "the contact radius reaches a = %.3g m, %.2g R: a sphere of radius R departs "
+                "there from the paraboloid of k = 2 by %.2g%% in height (the model takes a << R)",
+                amax, q, 100.0 * ((1.0 - sqrt(1.0 - q * q)) / (0.5 * q * q) - 1.0));
+    else
+        lf_warn(w, "the contact radius reaches a = %.3g m, %.2g R: no sphere of radius R makes "
+                "such a contact (k = 2 is a paraboloid, a sphere only where a << R; check R and "
+                "the depth's units)", amax, q);
+}
+
 static void
 assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
              const double *nullw, const gsl_vector *res)
@@ -468,7 +491,7 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
     const fit_curve *c = &f->c[j];
     lf_fit_curve_result *cr = &r->curves[j];
     lf_material mat;
-    double z0, F0, slope, ss = 0.0, amin = HUGE_VAL, b = c->data.probe.b;
+    double z0, F0, slope, ss = 0.0, amin = HUGE_VAL, amax = 0.0, b = c->data.probe.b;
     size_t i;
 
     lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
@@ -499,6 +522,7 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
         cr->contact_radius[i] = f->w.ev[k].a;
         if (f->w.ev[k].a > 0)
             amin = lf_fmin(amin, f->w.ev[k].a);
+        amax = lf_fmax(amax, f->w.ev[k].a);
     }
     cr->rms = sqrt(ss / (double) c->data.n);
     if (lf_model_pulloff(c->model, &mat, &cr->pulloff, NULL) != LF_OK)
@@ -516,6 +540,7 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
         && cr->b_over_a_pulloff > f->set.max_b_over_a)
         lf_warn(&cr->warnings, "b/a = %.3g at pull-off: the thin-layer assumption b << a is "
                 "strained (limit %g)", cr->b_over_a_pulloff, f->set.max_b_over_a);
+    sphere_check(&c->data.probe, amax, &cr->warnings);
     consistency(f, j, res, cr);
     if (cr->downweighted > 0)
         lf_warn(&cr->warnings, "%zu points weigh less than half under the %s loss (outliers)",

@@ -36,6 +36,16 @@ expect_fail 2 "layerfit: simulate: --branch must be unload or load (got 'up')" s
 expect_fail 2 "layerfit: fit: give one plan or curve file (see 'layerfit fit --help')" fit
 expect_fail 2 "layerfit: fit: unknown model 'thick' (auto, thin, exact, halfspace)" fit "$tmp/d/plan.csv" --model thick
 expect_fail 2 "layerfit: fit: --max-iter: '0' is not a whole number >= 1 (e.g. --max-iter 200)" fit "$tmp/d/plan.csv" --max-iter 0
+# k = 2 stands for a sphere only where a << R: a contact radius of 0.75 R is
+# a warning with the sphere's departure from the paraboloid; at 50 nm none
+run_ok simulate --out "$tmp/sph" --w 1mJ/m2 --E 1MPa --noise 0.002 --seed 2 --model halfspace \
+    --delta-max 500nm k=2,R=1um,b=1um,interface=frictionless
+run_ok fit "$tmp/sph/plan.csv" --model halfspace
+has "a/R = 0.75: warned" "$tmp/out" "warning: the contact radius reaches a = 7.55e-07 m, 0.75 R: a sphere of radius R departs there from the paraboloid of k = 2 by 21% in height"
+run_ok simulate --out "$tmp/sph2" --w 1mJ/m2 --E 1MPa --noise 0.002 --seed 2 --model halfspace \
+    --delta-max 50nm k=2,R=1um,b=1um,interface=frictionless
+run_ok fit "$tmp/sph2/plan.csv" --model halfspace
+grep -q "contact radius reaches" "$tmp/out" && bad "a/R small: warned" || ok
 # a file in the wrong role is named for what it is
 expect_fail 2 "layerfit: fit: $tmp/d/curve1.csv is a curve (a table of depth and force), not a plan: fit it alone with its probe, e.g. layerfit fit FILE --k 2 --R 8um --model halfspace (or --b and --interface for a layer)" fit "$tmp/d/curve1.csv"
 expect_fail 2 "layerfit: fit: $tmp/d/plan.csv is a plan: --k, --R, --b and --interface are for a single curve (a plan gives each curve's probe in its row); fit the plan without them" fit "$tmp/d/plan.csv" --k 2 --R 1mm --b 1um --interface frictionless

@@ -175,6 +175,13 @@ else
         if grep -q "record the baseline past detachment" "$tmp/out"; then
             bad "load segment: advised to record the baseline"; else ok; fi
     fi
+    # the 2020 workshop export as a 1 um layer: its fit puts a contact
+    # radius of 3.4 R on the R = 5 um given, which no sphere makes: said
+    "$LF" fit "$real/fmt-afm-workshop-fd_single_2020-02-14_13.41.25.csv" --k 2 --R 5um --b 1um \
+        --interface frictionless --spring-constant 0.1N/m >"$tmp/out" 2>"$tmp/err"
+    if grep -q "converged" "$tmp/out" && ! grep -q "NOT CONVERGED" "$tmp/out"; then
+        has "workshop 2020: a > R said" "$tmp/out" "R: no sphere of radius R makes such a contact"
+    fi
     # an option the header overrules, or that overrules the header, is said
     peg1="$real/10 wv pc PEGFN S-1 X-1 Y-1 I-1.txt"
     "$LF" fit "$peg1" --model halfspace --k 2 --R 5um >"$tmp/out" 2>"$tmp/err"
