@@ -681,11 +681,14 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
     /* E*: bonded curves alone fix M only, unless nu is known */
     if (f->imat[FIT_E] < 0)
         estimate_fixed(&r->Estar, mat.Estar);
-    else if (nullw[f->imat[FIT_E]] > 0.01
-             || (f->any_bonded && !f->any_frictionless && !r->nu.determined))
+    else if (f->any_bonded && !f->any_frictionless && !r->nu.determined)
         /* bonded curves alone: E* = M / Z(nu) with nu unknown */
         estimate_undetermined(&r->Estar, 1);
-    else
+    else if (nullw[f->imat[FIT_E]] > 0.01) {
+        estimate_undetermined(&r->Estar, 1);
+        r->Estar.why = "the data do not separate it from the other parameters (see what the "
+                       "data determine)";
+    } else
         estimate_positive(&r->Estar, mat.Estar, se_of(r, f->imat[FIT_E]));
 
     /* blank what is not determined, then correlations */

@@ -194,6 +194,7 @@ typedef struct {
     int uses_tables;         /* 1: set-up may build tables (kept on disk) */
     int (*prepare)(void *state, const lf_probe *probe, double nu_lo,
                    double nu_hi, lf_error *err);
+    double nu_max;           /* bonded layers: nu <= nu_max (0: any nu < 0.5) */
 } lf_model_type;
 
 extern const lf_model_type lf_model_thin;      /* the seed paper, b << a */

@@ -114,12 +114,25 @@ lf_model_get_probe(const lf_model *m)
     return &m->probe;
 }
 
+/* mat checked, and within the model's range of nu for a bonded layer. */
+static int
+material_in(const lf_model *m, const lf_material *mat, lf_error *err)
+{
+    int status = lf_material_check(mat, m->probe.base, err);
+
+    if (status == LF_OK && m->probe.base == LF_BASE_BONDED && m->type->nu_max > 0
+        && mat->nu > m->type->nu_max)
+        return lf_fail(err, LF_EINVAL, "model %s: nu must be <= %g for a bonded layer (got %g)",
+                       m->type->name, m->type->nu_max, mat->nu);
+    return status;
+}
+
 int
 lf_model_eval(const lf_model *m, const lf_material *mat, lf_branch branch,
               size_t n, const double *delta, lf_eval *out, lf_error *err)
 {
     size_t i;
-    int status = lf_material_check(mat, m->probe.base, err);
+    int status = material_in(m, mat, err);
 
     if (status != LF_OK)
         return status;
@@ -136,7 +149,7 @@ int
 lf_model_pulloff(const lf_model *m, const lf_material *mat, lf_pulloff *out,
                  lf_error *err)
 {
-    int status = lf_material_check(mat, m->probe.base, err);
+    int status = material_in(m, mat, err);
 
     if (status != LF_OK)
         return status;

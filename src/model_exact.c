@@ -1110,7 +1110,7 @@ const lf_model_type lf_model_exact = {
     exact_free,
     exact_eval,
     exact_pulloff,
-    2, LF_SCOPE_ANY, 0.0, 1, exact_prepare
+    2, LF_SCOPE_ANY, 0.0, 1, exact_prepare, LF_EXACT_NU_MAX
 };
 
 /* ---------------------------------------------------------------- helpers */

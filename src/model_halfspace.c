@@ -181,5 +181,5 @@ const lf_model_type lf_model_halfspace = {
     NULL,
     hs_eval,
     hs_pulloff,
-    1, LF_SCOPE_HALFSPACE, 0.5, 0, NULL
+    1, LF_SCOPE_HALFSPACE, 0.5, 0, NULL, 0.0
 };

@@ -239,5 +239,5 @@ const lf_model_type lf_model_thin = {
     NULL,
     thin_eval,
     thin_pulloff,
-    0, LF_SCOPE_THIN, 0.0, 0, NULL
+    0, LF_SCOPE_THIN, 0.0, 0, NULL, 0.0
 };

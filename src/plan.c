@@ -39,7 +39,7 @@ static const cell_kind pkind[NPCOL] = {
     [P_F0] = FREE_NUMBER, [P_FORMAT] = TEXT,
 };
 
-#define COLUMNS_HINT "a plan has the columns file,k,R,b,interface and may add nu,segment,sample,z0,F0"
+#define COLUMNS_HINT "a plan has the columns file,k,R,b,interface and may add nu,segment,sample,z0,F0,format"
 
 typedef struct {
     const char *name;

@@ -78,7 +78,7 @@ chiaro_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings
                 "Load is already k x Cantilever)", k);
     }
     if (jl < 0 && (status = lf_afm_spring_constant(c, k, "k (N/m)", o,
-                   "to turn Cantilever into a force", warn, err)) != LF_OK)
+                   "to turn Cantilever into a force", err)) != LF_OK)
         goto done;
     if (lf_curve_reserve(c, t.n, jt >= 0) != 0) {
         status = lf_fail_at(err, LF_ENOMEM, in->name, 0, 0, "out of memory");

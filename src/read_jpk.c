@@ -188,12 +188,12 @@ resolve(jpk *j, long line, lf_error *err)
                           "vDeflection in '%s' (expected N, m or V)", un[j->jd]);
     if (isnan(j->c->spring_constant)) {
         int st = lf_afm_spring_constant(j->c, j->k, "springConstant", j->o,
-                                        "to convert the deflection", j->warn, err);
+                                        "to convert the deflection", err);
         if (st != LF_OK)
             return st;
     }
     if (j->defl_kind == 2 && isnan(j->c->sensitivity)) {
-        int st = lf_afm_sensitivity(j->c, j->sens, "sensitivity", 0, j->o, j->warn, err);
+        int st = lf_afm_sensitivity(j->c, j->sens, "sensitivity", 0, j->o, err);
         if (st != LF_OK)
             return st;
     }

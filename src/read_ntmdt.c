@@ -75,8 +75,8 @@ ntmdt_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings 
         goto done;
     }
     if ((status = lf_afm_spring_constant(c, NAN, "", o, "to turn the deflection into a force",
-                                         warn, err)) != LF_OK
-        || (status = lf_afm_sensitivity(c, NAN, "", 1, o, warn, err)) != LF_OK)
+                                         err)) != LF_OK
+        || (status = lf_afm_sensitivity(c, NAN, "", 1, o, err)) != LF_OK)
         goto done;
     pa = padding(t.col[1], t.n);
     pr = padding(t.col[2], t.n);

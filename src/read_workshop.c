@@ -110,8 +110,7 @@ workshop_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnin
     if ((status = lf_afm_spring_constant(c, k, "Force Constant, nN/nm", o, is_force
                                          ? "to turn the force into a deflection for the "
                                            "tip-sample separation"
-                                         : "to turn the deflection into a force", warn,
-                                         err)) != LF_OK)
+                                         : "to turn the deflection into a force", err)) != LF_OK)
         goto done;
     if (!is_force) {
         /* gain in mV/nm = V/m x 1e-3 / 1e-9: sensitivity (m/V) = 1e-6 / gain */
@@ -124,8 +123,7 @@ workshop_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnin
                                    "--sensitivity 50nm/V", err);
             goto done;
         }
-        if ((status = lf_afm_sensitivity(c, sens, "Light Lever Gain, mV/nm", 0, o, warn,
-                                      err)) != LF_OK)
+        if ((status = lf_afm_sensitivity(c, sens, "Light Lever Gain, mV/nm", 0, o, err)) != LF_OK)
             goto done;
     }
     if (lf_curve_reserve(c, 2 * t.n, 0) != 0) {

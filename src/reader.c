@@ -71,6 +71,42 @@ unknown_format(const char *name, const char *format, lf_error *err)
 }
 
 /* Read with reader r into a new curve. */
+/* The reading options a file did not use, said: a constant the file states
+ * itself (the options are for files that state none), one it needs none
+ * of, units an instrument's export states itself. */
+static void
+options_set_aside(const lf_reader_type *r, const lf_curve *c, const lf_read_opts *o,
+                  lf_warnings *warn)
+{
+    const double k = o->spring_constant, s = o->sensitivity;
+    const int table = strcmp(r->name, "csv") == 0 || strcmp(r->name, "text") == 0;
+
+    const char *what = table ? "a table of depth and force" : r->name;
+    const char *kind = table ? "" : " export";
+
+    if (isfinite(k) && k > 0 && c->spring_constant_source == NULL)
+        lf_warn(warn, "%s: --spring-constant not used: %s%s%s needs none", c->file,
+                table ? "" : "this ", what, kind);
+    else if (isfinite(k) && k > 0 && strcmp(c->spring_constant_source, "file header") == 0
+             && fabs(k - c->spring_constant) > 1e-9 * c->spring_constant)
+        lf_warn(warn, "%s: spring constant %.6g N/m from the file header; --spring-constant "
+                "%.6g N/m applies only to files that state none", c->file, c->spring_constant, k);
+    if (isfinite(s) && s > 0 && c->sensitivity_source == NULL)
+        lf_warn(warn, "%s: --sensitivity not used: %s%s%s needs none", c->file,
+                table ? "" : "this ", what, kind);
+    else if (isfinite(s) && s > 0 && strcmp(c->sensitivity_source, "file header") == 0
+             && fabs(s - c->sensitivity) > 1e-9 * c->sensitivity) {
+        const int per_amp = c->sensitivity_unit != NULL && strcmp(c->sensitivity_unit, "m/A") == 0;
+        lf_warn(warn, "%s: sensitivity %.6g %s from the file header; --sensitivity applies "
+                "only to files that state none", c->file,
+                per_amp ? c->sensitivity : 1e9 * c->sensitivity, per_amp ? "nm/nA" : "nm/V");
+    }
+    if (!table && (o->depth_unit != NULL || o->force_unit != NULL))
+        lf_warn(warn, "%s: %s not used: a %s export states its own units", c->file,
+                o->depth_unit != NULL && o->force_unit != NULL ? "--depth-unit and --force-unit"
+                : o->depth_unit != NULL ? "--depth-unit" : "--force-unit", r->name);
+}
+
 static int
 run_reader(const lf_reader_type *r, const lf_source *in, const lf_read_opts *o,
            lf_curve **out, lf_warnings *warn, lf_error *err)
@@ -98,6 +134,7 @@ run_reader(const lf_reader_type *r, const lf_source *in, const lf_read_opts *o,
     for (i = 0; i < local.n; i++)   /* warnings reach the caller only with a curve */
         lf_warn(warn, "%s", local.msg[i]);
     lf_warnings_free(&local);
+    options_set_aside(r, c, o, warn);
     *out = c;
     return LF_OK;
 }
@@ -324,27 +361,15 @@ lf_curve_finish(lf_curve *c, lf_warnings *warn, lf_error *err)
 
 /* ---------------------------------------------------------------------- */
 
-/* 1 when an option's value x is given and differs from the file's f. */
-static int
-set_aside(double x, double f)
-{
-    return isfinite(x) && x > 0 && fabs(x - f) > 1e-9 * f;
-}
-
 int
 lf_afm_spring_constant(lf_curve *c, double file_k, const char *file_key,
-                       const lf_read_opts *o, const char *why, lf_warnings *warn,
-                       lf_error *err)
+                       const lf_read_opts *o, const char *why, lf_error *err)
 {
     double opt = o ? o->spring_constant : NAN;
     if (isfinite(file_k) && file_k > 0) {
         c->spring_constant = file_k;
         c->spring_constant_source = "file header";
         lf_warn(&c->info, "spring constant %.6g N/m (file header '%s')", file_k, file_key);
-        if (set_aside(opt, file_k))
-            lf_warn(warn, "%s: spring constant %.6g N/m from the file header '%s'; "
-                    "--spring-constant %.6g N/m applies only to files that state none",
-                    c->file, file_k, file_key, opt);
         return LF_OK;
     }
     if (isfinite(opt) && opt > 0) {
@@ -360,7 +385,7 @@ lf_afm_spring_constant(lf_curve *c, double file_k, const char *file_key,
 
 int
 lf_afm_sensitivity(lf_curve *c, double file_s, const char *file_key, int per_amp,
-                   const lf_read_opts *o, lf_warnings *warn, lf_error *err)
+                   const lf_read_opts *o, lf_error *err)
 {
     const char *u = per_amp ? "m/A" : "m/V";
     /* said in the units instruments use: nm/nA (= m/A) or nm/V */
@@ -371,11 +396,6 @@ lf_afm_sensitivity(lf_curve *c, double file_s, const char *file_key, int per_amp
         c->sensitivity_source = "file header";
         c->sensitivity_unit = u;
         lf_warn(&c->info, "sensitivity %.6g %s (file header '%s')", file_s * said, shown, file_key);
-        if (o != NULL && set_aside(o->sensitivity, file_s))
-            lf_warn(warn, "%s: sensitivity %.6g %s from the file header '%s'; --sensitivity "
-                    "%.6g %s applies only to files that state none", c->file, file_s * said,
-                    shown, file_key, o->sensitivity * (o->sensitivity_per_amp ? 1.0 : 1e9),
-                    o->sensitivity_per_amp ? "nm/nA" : "nm/V");
         return LF_OK;
     }
     if (o != NULL && isfinite(o->sensitivity) && o->sensitivity > 0) {

@@ -57,15 +57,14 @@ int lf_is_clamped(const double *x, size_t n);
 
 /* The spring constant to use: the file's (file_k, finite and > 0) unless
  * absent, else the option's; neither is an error naming the option and
- * why it is needed.  Fills c->spring_constant and a line of c->info; an
- * option set aside for a different value in the file is a warning. */
+ * why it is needed.  Fills c->spring_constant and a line of c->info (an
+ * option set aside is said by lf_curve_parse, for every reader). */
 int lf_afm_spring_constant(lf_curve *c, double file_k, const char *file_key,
-                           const lf_read_opts *o, const char *why, lf_warnings *warn,
-                           lf_error *err);
+                           const lf_read_opts *o, const char *why, lf_error *err);
 /* The same for the deflection sensitivity of a signal in volts (per_amp 0)
  * or amperes (per_amp 1), in m/V or m/A. */
 int lf_afm_sensitivity(lf_curve *c, double file_s, const char *file_key,
-                       int per_amp, const lf_read_opts *o, lf_warnings *warn, lf_error *err);
+                       int per_amp, const lf_read_opts *o, lf_error *err);
 
 /* ---- delimited tables (src/read_table.c) ----------------------------- */
 

@@ -301,14 +301,12 @@ static const char *const text_keys[NTEXT] = {
     "w_ci95_method", "Estar_ci95_method", "nu_ci95_method"
 };
 
-/* How an estimate's 95% interval was found: "" when it has none (held, or
- * not determined and not bounded). */
+/* How an estimate's 95% interval was found ("" for none). */
 static const char *
 ci_method(const lf_fit_estimate *e)
 {
-    if (!e->free || !(isfinite(e->ci95[0]) || isfinite(e->ci95[1])))
-        return "";
-    return e->interval_method != NULL ? e->interval_method : "linear (Wald)";
+    const char *m = cli_interval_method(e);
+    return m != NULL ? m : "";
 }
 
 /* The curves of one fit: names and SHA-256 of what was read ("" if not). */
@@ -727,14 +725,17 @@ cli_fit_batch(int argc, char **argv)
     {
         /* a single fit's outputs, asked of a batch: say what it has */
         static const char *const single[] = { "--json", "--curves", "--plot", "--report" };
+        static const char *const probe[] = { "--k", "--R", "--b", "--interface" };
         int i;
-        size_t k;
-        for (i = 0; i < argc; i++)
-            for (k = 0; k < sizeof single / sizeof single[0]; k++)
-                if (strncmp(argv[i], single[k], strlen(single[k])) == 0
-                    && (argv[i][strlen(single[k])] == '\0' || argv[i][strlen(single[k])] == '='))
-                    cli_die(CLI_EXIT_USAGE, "fit: %s is for a single fit; a batch writes one row "
-                            "per fit to --out FILE.csv or --out FILE.jsonl", single[k]);
+        for (i = 0; i < argc; i++) {
+            const char *opt = cli_option_named(argv[i], single, sizeof single / sizeof single[0]);
+            if (opt != NULL)
+                cli_die(CLI_EXIT_USAGE, "fit: %s is for a single fit; a batch writes one row "
+                        "per fit to --out FILE.csv or --out FILE.jsonl", opt);
+            if ((opt = cli_option_named(argv[i], probe, sizeof probe / sizeof probe[0])) != NULL)
+                cli_die(CLI_EXIT_USAGE, "fit: %s is for a single curve; a batch takes each "
+                        "curve's probe from its row of the plan (columns k, R, b, interface)", opt);
+        }
     }
     cli_parse("fit", argc, argv, opts, &npos, &help);
     /* `fit --batch --help`: the help, not a plan called --help */

@@ -82,6 +82,10 @@ void cli_print_double(FILE *f, double x);
 /* Write a number for people with an SI prefix chosen for it:
  * cli_human(buf, n, 1.2e-8, "m") -> "12 nm".  Returns buf. */
 char *cli_human(char *buf, size_t n, double x, const char *unit);
+/* The one of names[0..n-1] ("--json") that the argument arg is ("--json"
+ * or "--json=..."), or NULL: for options of another mode, refused with a
+ * message that says where they belong. */
+const char *cli_option_named(const char *arg, const char *const *names, size_t n);
 /* 1 when the report calls curve cr DISAGREES: it is not described by the
  * model (misfit beyond 5% of its force range) or, in a joint fit, it
  * disagrees with the others. */
@@ -133,6 +137,11 @@ typedef struct {
 /* The words a report puts after an interval for how it was found (NULL: a
  * checked linear interval, nothing said); brief: the HTML table's. */
 const char *cli_interval_words(const lf_fit_estimate *e, int brief);
+/* How a free estimate's 95% interval was found (JSON ci95_method, the
+ * batch's *_ci95_method): "linear (Wald)" or e->interval_method; with no
+ * interval, the method that looked for one (a profile that found no
+ * bound), else NULL, as for a held parameter. */
+const char *cli_interval_method(const lf_fit_estimate *e);
 /* What a free estimate that the data do not determine is bounded by, from
  * its profile (text and HTML say the same): into buf "LO < NAME" (bounded
  * only from below), "NAME < HI" (only from above) or "" (not bounded at
@@ -254,8 +263,13 @@ int cli_stdout_close(void);
 
 /* Outputs declared before anything is read, inputs noted as they are read:
  * an output that is the same file (device and inode) as an input is refused
- * with exit status 2 from whichever call comes second. */
+ * with exit status 2 from whichever call comes second, and so is an output
+ * that is the same file as an earlier output of the run (by device and
+ * inode, or by the real path of its folder and its name). */
 void cli_output_note(const char *cmd, const char *path);
+/* The same for the provenance sidecar PATH.provenance.json of an output
+ * (cli_provenance_sidecar); nothing for NULL or "-". */
+void cli_output_note_sidecar(const char *cmd, const char *path);
 void cli_input_guard(const char *cmd, const char *path);
 /* 1 when path is the same file as a noted input (for files that are put in
  * place by rename, such as gnuplot's images: checked again just before). */

@@ -108,6 +108,9 @@ read_input(const char *path, const fit_args *a, const char *model, const lf_inpu
         /* a half-space has no thickness and no interface: b NaN, a stand-in
          * (R) that no half-space formula uses; R NaN: from the file header */
         int halfspace = cli_model_ignores_b(model);
+        if (halfspace && isnan(a->b) != (a->interface == NULL))
+            cli_die(CLI_EXIT_USAGE, "fit: --b and --interface go together (and the half-space "
+                    "model uses neither: leave both out)");
         if (!(halfspace && isnan(a->b) && a->interface == NULL)) {
             if (isnan(a->b) || a->interface == NULL)
                 cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
@@ -224,6 +227,16 @@ cli_fit_opts(cli_fit_args *a, cli_opt *opts)
 
     memcpy(opts, table, sizeof table);
     return n;
+}
+
+const char *
+cli_interval_method(const lf_fit_estimate *e)
+{
+    if (!e->free)
+        return NULL;
+    if (!(isfinite(e->ci95[0]) || isfinite(e->ci95[1])))
+        return e->interval_method;  /* a profile that found no bound, or nothing */
+    return e->interval_method != NULL ? e->interval_method : "linear (Wald)";
 }
 
 const char *
@@ -390,6 +403,17 @@ cli_fit(int argc, char **argv)
     cli_fit_args_init(&fa);
     no = 8 + cli_fit_opts(&fa, opts + 8);
     opts[no].name = NULL;
+    {
+        /* a batch's options, asked of a single fit: say where they belong */
+        static const char *const batch[] = { "--out", "--threads", "--shard", "--progress",
+                                             "--quiet" };
+        int i;
+        const char *o;
+        for (i = 0; i < argc; i++)
+            if ((o = cli_option_named(argv[i], batch, sizeof batch / sizeof batch[0])) != NULL)
+                cli_die(CLI_EXIT_USAGE, "fit: %s is for fit --batch PLAN; a single fit writes "
+                        "--json, --curves, --plot and --report", o);
+    }
     cli_parse("fit", argc, argv, opts, &npos, &help);
     if (help) {
         fputs(usage_text, stdout);
@@ -402,6 +426,7 @@ cli_fit(int argc, char **argv)
     cli_fit_figures_check(plot_dir, report_html);
     cli_output_note("fit", a.json);
     cli_output_note("fit", a.curves);
+    cli_output_note_sidecar("fit", a.curves);
     cli_output_note("fit", report_html);
     cli_output_folder_check("fit", a.json);
     cli_output_folder_check("fit", a.curves);

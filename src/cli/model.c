@@ -110,7 +110,7 @@ summarise(const lf_model *m, const model_args *a, model_summary *s)
     s->mat.nu = isnan(a->nu) ? 0.0 : a->nu;
     s->Z = lf_thin_Z(s->probe.base, s->mat.nu);
     if (lf_model_pulloff(m, &s->mat, &s->po, &err) != LF_OK)
-        cli_die_error(CLI_EXIT_FAIL, &err);
+        cli_die_error(err.status == LF_EINVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL, &err);
     s->b_cr = s->b_cr_over_a = NAN;
     s->want_b_cr = !isnan(a->sigma_th);
     if (!isnan(a->sigma_th) && s->mat.w > 0) {   /* w = 0: no pull-off stress */

@@ -31,6 +31,8 @@ typedef struct {
     ino_t ino;
     int have_id;          /* dev/ino known (the file existed when noted) */
     char sha256[65];      /* "" when not hashed */
+    char *where;          /* outputs: the real path of its folder + "/" +
+                             its name ("-" for standard output), or NULL */
 } file_note;
 
 static file_note *inputs, *outputs;
@@ -86,16 +88,93 @@ cli_is_input(const char *path)
     return same_as_input(path) != NULL;
 }
 
+/* Where an output that may not exist yet will be: the real path of its
+ * folder and its name ("-": standard output); NULL when its folder does
+ * not resolve (then the folder check says so). */
+static char *
+output_where(const char *path)
+{
+    char *dir, *slash, *real, *out;
+    const char *name;
+    size_t len;
+
+    if (strcmp(path, "-") == 0)
+        return dup_text("-");
+    dir = dup_text(path);
+    for (len = strlen(dir); len > 1 && dir[len - 1] == '/'; len--)
+        dir[len - 1] = '\0';
+    slash = strrchr(dir, '/');
+    if (slash == NULL) {
+        name = dir;
+        real = realpath(".", NULL);
+    } else {
+        *slash = '\0';
+        name = slash + 1;
+        real = realpath(slash == dir ? "/" : dir, NULL);
+    }
+    if (real == NULL) {
+        free(dir);
+        return NULL;
+    }
+    out = malloc(strlen(real) + strlen(name) + 2);
+    if (out == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    sprintf(out, "%s/%s", real, name);
+    free(real);
+    free(dir);
+    return out;
+}
+
 void
 cli_output_note(const char *cmd, const char *path)
 {
     const char *in;
+    struct stat st;
+    char *where;
+    size_t i;
+    int exists;
+
     if (path == NULL)
         return;
     if ((in = same_as_input(path)) != NULL)
         cli_die(CLI_EXIT_USAGE, "%s: output %s is the input %s: refusing to replace an input "
                 "(name another output)", cmd, path, in);
+    /* two outputs of one run in one file: the later would replace the
+     * earlier (same file by device and inode where it exists, else by
+     * where it will be) */
+    exists = strcmp(path, "-") != 0 && stat(path, &st) == 0;
+    where = output_where(path);
+    for (i = 0; i < noutputs; i++) {
+        const file_note *o = &outputs[i];
+        if ((exists && o->have_id && o->dev == st.st_dev && o->ino == st.st_ino)
+            || (where != NULL && o->where != NULL && strcmp(where, o->where) == 0)) {
+            if (strcmp(path, "-") == 0)
+                cli_die(CLI_EXIT_USAGE, "%s: two outputs to standard output ('-'): name a file "
+                        "for all but one", cmd);
+            if (strcmp(path, o->path) == 0)
+                cli_die(CLI_EXIT_USAGE, "%s: %s is named for two outputs: one would replace the "
+                        "other (name them apart)", cmd, path);
+            cli_die(CLI_EXIT_USAGE, "%s: outputs %s and %s are the same file: one would "
+                    "replace the other (name them apart)", cmd, o->path, path);
+        }
+    }
     note(&outputs, &noutputs, path, NULL);
+    outputs[noutputs - 1].where = where;
+}
+
+void
+cli_output_note_sidecar(const char *cmd, const char *path)
+{
+    char *side;
+
+    if (path == NULL || strcmp(path, "-") == 0)
+        return;
+    side = malloc(strlen(path) + sizeof ".provenance.json");
+    if (side == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    sprintf(side, "%s.provenance.json", path);
+    cli_output_note(cmd, side);
+    free(side);
 }
 
 void

@@ -672,8 +672,13 @@ cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
 void
 cli_fit_figures_check(const char *plotdir, const char *report)
 {
+    struct stat st;
     if (plotdir != NULL && *plotdir == '\0')
         cli_die(CLI_EXIT_USAGE, "fit: --plot needs a folder (e.g. --plot figures)");
+    /* a file (not a folder) where the figures would go: said before the fit */
+    if (plotdir != NULL && stat(plotdir, &st) == 0 && !S_ISDIR(st.st_mode))
+        cli_die(CLI_EXIT_FAIL, "fit: --plot %s: that is a file, not a folder (name a folder "
+                "for the figures)", plotdir);
     if (report != NULL) {
         size_t len = strlen(report);
         if (len < 5 || (strcmp(report + len - 5, ".html") != 0 && strcmp(report + len - 4, ".htm") != 0))

@@ -109,13 +109,22 @@ text_thin(FILE *f, const lf_fit_result *r)
     fprintf(f, "%s\n", t->converged ? "" : " [that fit did not converge]");
 }
 
+/* Curve j has no layer: none given (b a stand-in), or its model (the
+ * half-space) uses none. */
+static int
+no_layer(const report_input *in, const lf_fit_result *r, size_t j)
+{
+    return cli_model_ignores_b(r->curves[j].model) || (in->origin != NULL && in->origin[j].b == NULL);
+}
+
 /* "      from: R file header, spring constant 0.032 N/m file header, ...":
  * where a curve's probe radius, thickness and AFM constants came from. */
 static void
-origin_text(FILE *f, const lf_curve_origin *o)
+origin_text(FILE *f, const lf_curve_origin *o, int nolayer)
 {
     fprintf(f, "      from: R %s, b %s", o->R != NULL ? o->R : "option",
-            o->b != NULL ? o->b : "none (half-space)");
+            o->b == NULL ? "none (half-space)"
+            : nolayer ? "not used (half-space model)" : o->b);
     if (o->spring_constant_source != NULL)
         fprintf(f, ", spring constant %.4g N/m %s", o->spring_constant,
                 o->spring_constant_source);
@@ -180,7 +189,7 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
         const lf_fit_curve_result *cr = &r->curves[j];
         fprintf(f, "  [%zu] ", j + 1);
         cli_put_clean(f, cr->name);
-        if (cli_model_ignores_b(cr->model) || (in->origin != NULL && in->origin[j].b == NULL))
+        if (no_layer(in, r, j))
             fprintf(f, ": k = %g, R = %s, no layer (half-space), %s branch, %zu points\n",
                     cr->probe.k, cli_human(a, sizeof a, cr->probe.R, "m"),
                     branch_name(cr->branch), cr->n);
@@ -190,7 +199,7 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                     cli_human(b, sizeof b, cr->probe.b, "m"), cli_base_name(cr->probe.base),
                     branch_name(cr->branch), cr->n);
         if (in->origin != NULL)
-            origin_text(f, &in->origin[j]);
+            origin_text(f, &in->origin[j], no_layer(in, r, j));
         fprintf(f, "      z0 = %s%s, F0 = %s%s, noise %s, rms residual %s\n",
                 isnan(cr->z0) ? "not determined" : cli_human(a, sizeof a, cr->z0, "m"),
                 cr->z0_free ? "" : " (fixed)",
@@ -208,14 +217,19 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                     cli_human(c, sizeof c, cr->pulloff.sigma_po, "Pa"));
         else
             fputs("      pull-off not determined (w is not)\n", f);
-        if (in->origin == NULL || in->origin[j].b != NULL) {    /* no layer: no b/a */
+        if (!no_layer(in, r, j)) {    /* no layer: no b/a */
             fprintf(f, "      b/a = %.3g at the shallowest contact point", cr->b_over_a_min_contact);
             if (cr->pulloff_determined)
                 fprintf(f, ", %.3g at pull-off", cr->b_over_a_pulloff);
             fputc('\n', f);
         }
-        if (cr->model != NULL)
+        if (cr->model != NULL) {
             fprintf(f, "      model %s: %s\n", cr->model, cr->model_reason);
+            /* the choice's biases are in standard errors of the noise alone */
+            if (strstr(cr->model_reason, " se") != NULL && r->se_scale > 1.5)
+                fprintf(f, "      (the model choice's se are those of the noise alone; the "
+                        "errors reported above are %.3g times larger)\n", r->se_scale);
+        }
         if (cr->agreement == 1)
             fprintf(f, "      agreement: chi2/point %.3g (p = %.2g), runs test z = %.2f: the model "
                     "describes the shape, with systematic deviations of %.2g%% of the force "
@@ -315,8 +329,8 @@ jestimate(FILE *f, const char *name, const lf_fit_estimate *e, int last)
     jnum(f, e->ci95[0]);
     fputs(", ", f);
     jnum(f, e->ci95[1]);
-    fprintf(f, "], \"ci95_method\": \"%s\"",
-            e->interval_method != NULL ? e->interval_method : "linear (Wald)");
+    fputs("], \"ci95_method\": ", f);
+    jstr_or_null(f, cli_interval_method(e));
     fprintf(f, ", \"free\": %s, \"determined\": %s, \"upper_bound_only\": %s",
             e->free ? "true" : "false", e->determined ? "true" : "false",
             e->upper_bound_only ? "true" : "false");
@@ -391,19 +405,19 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
     fputs(",\n  \"curves\": [\n", f);
     for (j = 0; j < r->ncurves; j++) {
         const lf_fit_curve_result *c = &r->curves[j];
-        int no_layer = in->origin != NULL && in->origin[j].b == NULL;  /* b a stand-in */
+        int nolayer = no_layer(in, r, j);
         int po = c->pulloff_determined;
         fputs("    {", f);
         cli_json_name(f, "file", c->name);
         const struct { const char *key; double v; } num[] = {
             { "k", c->probe.k }, { "R", c->probe.R },
-            { "b", no_layer ? NAN : c->probe.b },
+            { "b", nolayer ? NAN : c->probe.b },
             { "z0", c->z0 }, { "z0_stderr", c->z0_se }, { "F0", c->F0 },
             { "F0_stderr", c->F0_se }, { "noise_sigma", c->sigma }, { "rms", c->rms },
             { "P_po", po ? c->pulloff.P_po : NAN }, { "a_po", po ? c->pulloff.a_po : NAN },
             { "sigma_po", po ? c->pulloff.sigma_po : NAN },
-            { "b_over_a_min_contact", no_layer ? NAN : c->b_over_a_min_contact },
-            { "b_over_a_pulloff", no_layer || !po ? NAN : c->b_over_a_pulloff },
+            { "b_over_a_min_contact", nolayer ? NAN : c->b_over_a_min_contact },
+            { "b_over_a_pulloff", nolayer || !po ? NAN : c->b_over_a_pulloff },
             { "chi2_per_point", c->chi2_per_point }, { "p_value", c->p_value },
             { "runs_z", c->runs_z }, { "corr_time", c->corr_time }, { "n_eff", c->n_eff },
             { "noise_sd", c->noise_sd }, { "misfit_rel", c->misfit_rel }
@@ -412,9 +426,11 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
             fprintf(f, ", \"%s\": ", num[i].key);
             jnum(f, num[i].v);
         }
-        fprintf(f, ",\n     \"interface\": \"%s\", \"branch\": \"%s\", \"points\": %zu, "
+        fputs(",\n     \"interface\": ", f);
+        jstr_or_null(f, nolayer ? NULL : cli_base_name(c->probe.base));
+        fprintf(f, ", \"branch\": \"%s\", \"points\": %zu, "
                 "\"z0_free\": %s, \"F0_free\": %s, \"consistent\": %s, \"downweighted\": %zu",
-                cli_base_name(c->probe.base), branch_name(c->branch), c->n,
+                branch_name(c->branch), c->n,
                 c->z0_free ? "true" : "false", c->F0_free ? "true" : "false",
                 c->consistent ? "true" : "false", c->downweighted);
         fprintf(f, ", \"agreement\": \"%s\"", c->agreement == 2 ? "within the noise"
@@ -428,7 +444,7 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
         if (in->origin != NULL) {   /* where R, b and the AFM constants came from */
             const lf_curve_origin *o = &in->origin[j];
             const struct { const char *key, *s; int num; double v; } src[] = {
-                { "R_source", o->R, 0, 0 }, { "b_source", o->b, 0, 0 },
+                { "R_source", o->R, 0, 0 }, { "b_source", nolayer ? NULL : o->b, 0, 0 },
                 { "spring_constant", NULL, 1, o->spring_constant },
                 { "spring_constant_source", o->spring_constant_source, 0, 0 },
                 { "sensitivity", NULL, 1, o->sensitivity },

@@ -246,3 +246,16 @@ cli_disagreeing(const lf_fit_result *r, char *buf, size_t n)
     }
     return count;
 }
+
+const char *
+cli_option_named(const char *arg, const char *const *names, size_t n)
+{
+    size_t k;
+
+    for (k = 0; k < n; k++) {
+        size_t len = strlen(names[k]);
+        if (strncmp(arg, names[k], len) == 0 && (arg[len] == '\0' || arg[len] == '='))
+            return names[k];
+    }
+    return NULL;
+}

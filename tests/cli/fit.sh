@@ -46,10 +46,24 @@ run_ok simulate --out "$tmp/sph2" --w 1mJ/m2 --E 1MPa --noise 0.002 --seed 2 --m
     --delta-max 50nm k=2,R=1um,b=1um,interface=frictionless
 run_ok fit "$tmp/sph2/plan.csv" --model halfspace
 grep -q "contact radius reaches" "$tmp/out" && bad "a/R small: warned" || ok
+# a half-space uses no layer: --b and --interface given anyway are said to be
+# unused, never reported as b/a; one without the other is refused
+run_ok fit "$tmp/sph/curve1.csv" --model halfspace --k 2 --R 1um --b 1um --interface frictionless --json "$tmp/hsb.json"
+has "half-space --b: not used" "$tmp/out" "b not used (half-space model)"
+grep -q "b/a" "$tmp/out" && bad "half-space --b: b/a reported" || ok
+has "half-space --b: JSON b null" "$tmp/hsb.json" '"b": null'
+has "half-space --b: JSON interface null" "$tmp/hsb.json" '"interface": null'
+# an estimate without an interval has no interval method (as in batch rows)
+grep -q '"nu": {"value": null, "stderr": null, "ci95": \[null, null\], "ci95_method": null' "$tmp/hsb.json" \
+    && ok || bad "JSON: nu without an interval still names a method"
+has "JSON: w's interval method" "$tmp/hsb.json" '"ci95_method": "'
+expect_fail 2 "layerfit: fit: --b and --interface go together (and the half-space model uses neither: leave both out)" fit "$tmp/sph/curve1.csv" --model halfspace --k 2 --R 1um --b 1um
 # a file in the wrong role is named for what it is
 expect_fail 2 "layerfit: fit: $tmp/d/curve1.csv is a curve (a table of depth and force), not a plan: fit it alone with its probe, e.g. layerfit fit FILE --k 2 --R 8um --model halfspace (or --b and --interface for a layer)" fit "$tmp/d/curve1.csv"
 expect_fail 2 "layerfit: fit: $tmp/d/plan.csv is a plan: --k, --R, --b and --interface are for a single curve (a plan gives each curve's probe in its row); fit the plan without them" fit "$tmp/d/plan.csv" --k 2 --R 1mm --b 1um --interface frictionless
 expect_fail 2 "layerfit: fit: --json is for a single fit; a batch writes one row per fit to --out FILE.csv or --out FILE.jsonl" fit --batch "$tmp/d/plan.csv" --json "$tmp/x.json"
+expect_fail 2 "layerfit: fit: --k is for a single curve; a batch takes each curve's probe from its row of the plan (columns k, R, b, interface)" fit --batch "$tmp/d/plan.csv" --k 2
+expect_fail 2 "layerfit: fit: --threads is for fit --batch PLAN; a single fit writes --json, --curves, --plot and --report" fit "$tmp/d/plan.csv" --threads 2
 # a file name with an unquoted comma shifts the row: the likely cause said
 cp "$tmp/d/curve1.csv" "$tmp/d/a,b.csv"
 printf 'file,k,R_m,b_m,interface,nu\na,b.csv,2,0.001,1e-06,frictionless,\n' > "$tmp/d/comma.csv"

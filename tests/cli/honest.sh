@@ -182,12 +182,23 @@ else
     if grep -q "converged" "$tmp/out" && ! grep -q "NOT CONVERGED" "$tmp/out"; then
         has "workshop 2020: a > R said" "$tmp/out" "R: no sphere of radius R makes such a contact"
     fi
+    # the model choice's biases are in se of the noise alone: said where the
+    # reported errors are scaled up
+    "$LF" fit "$real/10 wv pc PEGFN S-1 X-1 Y-1 I-1.txt" --k 2 --b 1um --interface frictionless \
+        >"$tmp/out" 2>"$tmp/err"
+    has "PEG auto: the choice's se named" "$tmp/out" "(the model choice's se are those of the noise alone; the errors reported above are"
     # an option the header overrules, or that overrules the header, is said
     peg1="$real/10 wv pc PEGFN S-1 X-1 Y-1 I-1.txt"
     "$LF" fit "$peg1" --model halfspace --k 2 --R 5um >"$tmp/out" 2>"$tmp/err"
     has "--R against the header: said" "$tmp/err" "R = 5e-06 m from the --R option, where the file header states 8e-06 m"
     "$LF" check "$real/force-save-2021.06.30-13.48.08.425.txt" --spring-constant 0.1N/m >"$tmp/out" 2>"$tmp/err"
-    has "--spring-constant set aside: said" "$tmp/err" "spring constant 0.061 N/m from the file header 'springConstant'; --spring-constant 0.1 N/m applies only to files that state none"
+    has "--spring-constant set aside: said" "$tmp/err" "spring constant 0.061 N/m from the file header; --spring-constant 0.1 N/m applies only to files that state none"
+    # the Chiaro export's Load is a force already: its k (and any sensitivity
+    # or unit option) set aside is said too
+    "$LF" check "$peg1" --spring-constant 0.1N/m --sensitivity 50nm/V --depth-unit um >"$tmp/out" 2>"$tmp/err"
+    has "chiaro: --spring-constant set aside" "$tmp/err" "spring constant 0.032 N/m from the file header; --spring-constant 0.1 N/m applies only to files that state none"
+    has "chiaro: --sensitivity not used" "$tmp/err" "--sensitivity not used: this chiaro export needs none"
+    has "chiaro: --depth-unit not used" "$tmp/err" "--depth-unit not used: a chiaro export states its own units"
     # an error exit leaves nothing on standard output (the half-space note
     # and the header's R come with the report)
     "$LF" fit "$peg1" --model halfspace --k 0.4 >"$tmp/out" 2>"$tmp/err"; rc=$?

@@ -43,6 +43,8 @@ run_ok model $P --summary && has "summary" "$tmp/out" "pull-off         delta = 
 # usage errors: exact messages, exit 2, no output
 expect_fail 2 "layerfit: model: --b: '1' has no unit (e.g. 1um)" model --k 3 --R 1mm --b 1 --w 10mJ/m2 --E 1GPa
 expect_fail 2 "layerfit: model: --b: unit 'GPa' is a pressure or modulus, not a length (e.g. 1um)" model --k 3 --R 1mm --b 1GPa --w 10mJ/m2 --E 1GPa
+expect_fail 2 "layerfit: model exact: nu must be <= 0.4995 for a bonded layer (got 0.4996)" model --model exact --k 3 --R 1mm --b 1um --w 10mJ/m2 --E 1GPa --interface bonded --nu 0.4996 --summary
+expect_fail 2 "layerfit: model exact: nu must be <= 0.4995 for a bonded layer (got 0.4996)" model --model exact --k 3 --R 1mm --b 1um --w 10mJ/m2 --E 1GPa --interface bonded --nu 0.4996
 expect_fail 2 "layerfit: model: --w: unknown unit 'mJ/parsec2x' (expected a work of adhesion (energy per area) such as 10mJ/m2)" model $P --w 10mJ/parsec2x
 expect_fail 2 "layerfit: model: --E is required (e.g. --E 1GPa)" model --k 3 --R 1mm --b 1um --w 10mJ/m2
 expect_fail 2 "layerfit: model: --nu is required for a bonded layer (e.g. --nu 0.3)" model $P --interface bonded

@@ -67,6 +67,22 @@ ln -s plan.csv "$tmp/s/link.csv"
 [ "$rc" -eq 2 ] && ok || bad "fit CURVE --curves CURVE: exit $rc, want 2"
 cmp -s "$good" "$tmp/c1.orig" && ok || bad "an output replaced a curve"
 cmp -s "$tmp/s/plan.csv" "$tmp/s/plan.orig" && ok || bad "an output replaced the plan"
+# two outputs of one run in one file: refused before anything is written
+# (one would replace the other), under any spelling, sidecars and --plot's
+# files included
+mkdir -p "$tmp/two"
+echo keep > "$tmp/two/old.json"
+expect_fail 2 "layerfit: fit: $tmp/two/old.json is named for two outputs: one would replace the other (name them apart)" \
+    fit "$tmp/s/plan.csv" --json "$tmp/two/old.json" --curves "$tmp/two/old.json"
+[ "$(cat "$tmp/two/old.json")" = keep ] && ok || bad "two outputs: the earlier file changed"
+expect_fail 2 "layerfit: fit: outputs $tmp/two/./c.csv.provenance.json and $tmp/two/c.csv.provenance.json are the same file: one would replace the other (name them apart)" \
+    fit "$tmp/s/plan.csv" --curves "$tmp/two/c.csv" --json "$tmp/two/./c.csv.provenance.json"
+mkdir -p "$tmp/two/p"
+expect_fail 2 "layerfit: fit: $tmp/two/p/provenance.json is named for two outputs: one would replace the other (name them apart)" \
+    fit "$tmp/s/plan.csv" --json "$tmp/two/p/provenance.json" --plot "$tmp/two/p"
+expect_fail 2 "layerfit: fit: two outputs to standard output ('-'): name a file for all but one" \
+    fit "$tmp/s/plan.csv" --json - --curves -
+[ -e "$tmp/two/c.csv" ] || [ -e "$tmp/two/p/provenance.json" ] && bad "two outputs: something was written" || ok
 # an output through a symbolic link replaces the link's target, not the link;
 # a pipe, a device or "-" is written in place, never replaced by a file
 mkdir -p "$tmp/ln"
@@ -105,6 +121,10 @@ has "--json NODIR/x.json: said" "$tmp/err" "cannot write $tmp/nodir/x.json: ther
 "$LF" fit "$good" $PROBE --plot "$tmp/nodir/sub" >"$tmp/out" 2>"$tmp/err"; rc=$?
 [ "$rc" -eq 1 ] && ok || bad "--plot NODIR/sub: exit $rc, want 1"
 run_ok fit "$good" $PROBE --plot "$tmp/newfigs/"
+echo keep > "$tmp/afile"
+"$LF" fit "$good" $PROBE --plot "$tmp/afile" >"$tmp/out" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 1 ] && [ ! -s "$tmp/out" ] && ok || bad "--plot FILE: exit $rc (want 1) or the fit ran first"
+has "--plot FILE: said" "$tmp/err" "--plot $tmp/afile: that is a file, not a folder"
 [ -s "$tmp/newfigs/curve1.gp" ] && ok || bad "--plot NEWDIR/ (a trailing slash): not made"
 
 # --plot DIR: an input named like one of its files (an image gnuplot draws,
