@@ -622,6 +622,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     threads = 1;
 #endif
     cli_output_note("fit", o->out);
+    cli_output_note_sidecar("fit", o->out);
     plan = cli_plan_load("fit", o->plan);
     cli_plan_need_layers(plan, o->auto_model ? "auto" : settings->model->name);
     for (i = 0; i < plan->n; i++)      /* no output may replace a curve */

@@ -83,6 +83,11 @@ expect_fail 2 "layerfit: fit: $tmp/two/p/provenance.json is named for two output
 expect_fail 2 "layerfit: fit: two outputs to standard output ('-'): name a file for all but one" \
     fit "$tmp/s/plan.csv" --json - --curves -
 [ -e "$tmp/two/c.csv" ] || [ -e "$tmp/two/p/provenance.json" ] && bad "two outputs: something was written" || ok
+# a batch's provenance sidecar (OUT.provenance.json) never replaces its plan
+cp "$tmp/s/plan.csv" "$tmp/s/r.csv.provenance.json"
+expect_fail 2 "layerfit: fit: output $tmp/s/r.csv.provenance.json is the input $tmp/s/r.csv.provenance.json: refusing to replace an input (name another output)" \
+    fit --batch "$tmp/s/r.csv.provenance.json" --out "$tmp/s/r.csv"
+cmp -s "$tmp/s/r.csv.provenance.json" "$tmp/s/plan.csv" && ok || bad "batch sidecar replaced its plan"
 # an output through a symbolic link replaces the link's target, not the link;
 # a pipe, a device or "-" is written in place, never replaced by a file
 mkdir -p "$tmp/ln"
