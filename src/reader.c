@@ -70,7 +70,16 @@ unknown_format(const char *name, const char *format, lf_error *err)
                       format, list);
 }
 
-/* Read with reader r into a new curve. */
+/* A sensitivity in SI (m/A per ampere, else m/V) as instruments give it:
+ * its unit "nm/nA" (the same number) or "nm/V" (1e9 times), the number into
+ * *shown. */
+static const char *
+sensitivity_shown(double si, int per_amp, double *shown)
+{
+    *shown = per_amp ? si : 1e9 * si;
+    return per_amp ? "nm/nA" : "nm/V";
+}
+
 /* The reading options a file did not use, said: a constant the file states
  * itself (the options are for files that state none), one it needs none
  * of, units an instrument's export states itself. */
@@ -80,26 +89,24 @@ options_set_aside(const lf_reader_type *r, const lf_curve *c, const lf_read_opts
 {
     const double k = o->spring_constant, s = o->sensitivity;
     const int table = strcmp(r->name, "csv") == 0 || strcmp(r->name, "text") == 0;
+    char what[64];
 
-    const char *what = table ? "a table of depth and force" : r->name;
-    const char *kind = table ? "" : " export";
-
+    snprintf(what, sizeof what, table ? "a table of depth and force" : "this %s export", r->name);
     if (isfinite(k) && k > 0 && c->spring_constant_source == NULL)
-        lf_warn(warn, "%s: --spring-constant not used: %s%s%s needs none", c->file,
-                table ? "" : "this ", what, kind);
+        lf_warn(warn, "%s: --spring-constant not used: %s needs none", c->file, what);
     else if (isfinite(k) && k > 0 && strcmp(c->spring_constant_source, "file header") == 0
              && fabs(k - c->spring_constant) > 1e-9 * c->spring_constant)
         lf_warn(warn, "%s: spring constant %.6g N/m from the file header; --spring-constant "
                 "%.6g N/m applies only to files that state none", c->file, c->spring_constant, k);
     if (isfinite(s) && s > 0 && c->sensitivity_source == NULL)
-        lf_warn(warn, "%s: --sensitivity not used: %s%s%s needs none", c->file,
-                table ? "" : "this ", what, kind);
+        lf_warn(warn, "%s: --sensitivity not used: %s needs none", c->file, what);
     else if (isfinite(s) && s > 0 && strcmp(c->sensitivity_source, "file header") == 0
              && fabs(s - c->sensitivity) > 1e-9 * c->sensitivity) {
-        const int per_amp = c->sensitivity_unit != NULL && strcmp(c->sensitivity_unit, "m/A") == 0;
+        double v;
+        const char *u = sensitivity_shown(c->sensitivity, c->sensitivity_unit != NULL
+                                          && strcmp(c->sensitivity_unit, "m/A") == 0, &v);
         lf_warn(warn, "%s: sensitivity %.6g %s from the file header; --sensitivity applies "
-                "only to files that state none", c->file,
-                per_amp ? c->sensitivity : 1e9 * c->sensitivity, per_amp ? "nm/nA" : "nm/V");
+                "only to files that state none", c->file, v, u);
     }
     if (!table && (o->depth_unit != NULL || o->force_unit != NULL))
         lf_warn(warn, "%s: %s not used: a %s export states its own units", c->file,
@@ -107,6 +114,7 @@ options_set_aside(const lf_reader_type *r, const lf_curve *c, const lf_read_opts
                 : o->depth_unit != NULL ? "--depth-unit" : "--force-unit", r->name);
 }
 
+/* Read with reader r into a new curve. */
 static int
 run_reader(const lf_reader_type *r, const lf_source *in, const lf_read_opts *o,
            lf_curve **out, lf_warnings *warn, lf_error *err)
@@ -387,15 +395,14 @@ int
 lf_afm_sensitivity(lf_curve *c, double file_s, const char *file_key, int per_amp,
                    const lf_read_opts *o, lf_error *err)
 {
-    const char *u = per_amp ? "m/A" : "m/V";
-    /* said in the units instruments use: nm/nA (= m/A) or nm/V */
-    const char *shown = per_amp ? "nm/nA" : "nm/V";
-    const double said = per_amp ? 1.0 : 1e9;
+    const char *u = per_amp ? "m/A" : "m/V", *shown;
+    double v;
     if (isfinite(file_s) && file_s > 0) {
         c->sensitivity = file_s;
         c->sensitivity_source = "file header";
         c->sensitivity_unit = u;
-        lf_warn(&c->info, "sensitivity %.6g %s (file header '%s')", file_s * said, shown, file_key);
+        shown = sensitivity_shown(file_s, per_amp, &v);
+        lf_warn(&c->info, "sensitivity %.6g %s (file header '%s')", v, shown, file_key);
         return LF_OK;
     }
     if (o != NULL && isfinite(o->sensitivity) && o->sensitivity > 0) {
@@ -409,7 +416,8 @@ lf_afm_sensitivity(lf_curve *c, double file_s, const char *file_key, int per_amp
         c->sensitivity = o->sensitivity;
         c->sensitivity_source = "option";
         c->sensitivity_unit = u;
-        lf_warn(&c->info, "sensitivity %.6g %s (option --sensitivity)", o->sensitivity * said, shown);
+        shown = sensitivity_shown(o->sensitivity, per_amp, &v);
+        lf_warn(&c->info, "sensitivity %.6g %s (option --sensitivity)", v, shown);
         return LF_OK;
     }
     return lf_fail_at(err, LF_EDATA, c->file, 0, 0,

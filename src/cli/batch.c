@@ -724,19 +724,16 @@ cli_fit_batch(int argc, char **argv)
     no = 6 + cli_fit_opts(&fa, opts + 6);
     opts[no].name = NULL;
     {
-        /* a single fit's outputs, asked of a batch: say what it has */
+        /* a single fit's outputs and a single curve's probe, asked of a
+         * batch: say where they belong */
         static const char *const single[] = { "--json", "--curves", "--plot", "--report" };
         static const char *const probe[] = { "--k", "--R", "--b", "--interface" };
-        int i;
-        for (i = 0; i < argc; i++) {
-            const char *opt = cli_option_named(argv[i], single, sizeof single / sizeof single[0]);
-            if (opt != NULL)
-                cli_die(CLI_EXIT_USAGE, "fit: %s is for a single fit; a batch writes one row "
-                        "per fit to --out FILE.csv or --out FILE.jsonl", opt);
-            if ((opt = cli_option_named(argv[i], probe, sizeof probe / sizeof probe[0])) != NULL)
-                cli_die(CLI_EXIT_USAGE, "fit: %s is for a single curve; a batch takes each "
-                        "curve's probe from its row of the plan (columns k, R, b, interface)", opt);
-        }
+        cli_refuse_options(argc, argv, single, sizeof single / sizeof single[0],
+                           "a single fit; a batch writes one row per fit to --out FILE.csv or "
+                           "--out FILE.jsonl");
+        cli_refuse_options(argc, argv, probe, sizeof probe / sizeof probe[0],
+                           "a single curve; a batch takes each curve's probe from its row of "
+                           "the plan (columns k, R, b, interface)");
     }
     cli_parse("fit", argc, argv, opts, &npos, &help);
     /* `fit --batch --help`: the help, not a plan called --help */

@@ -82,10 +82,11 @@ void cli_print_double(FILE *f, double x);
 /* Write a number for people with an SI prefix chosen for it:
  * cli_human(buf, n, 1.2e-8, "m") -> "12 nm".  Returns buf. */
 char *cli_human(char *buf, size_t n, double x, const char *unit);
-/* The one of names[0..n-1] ("--json") that the argument arg is ("--json"
- * or "--json=..."), or NULL: for options of another mode, refused with a
- * message that says where they belong. */
-const char *cli_option_named(const char *arg, const char *const *names, size_t n);
+/* Options of the other mode of `fit` (single or --batch): the first of
+ * argv that is one of names[0..n-1] ("--json" or "--json=...") stops the
+ * command with exit 2, "fit: --json is for WHY". */
+void cli_refuse_options(int argc, char **argv, const char *const *names, size_t n,
+                        const char *why);
 /* 1 when the report calls curve cr DISAGREES: it is not described by the
  * model (misfit beyond 5% of its force range) or, in a joint fit, it
  * disagrees with the others. */

@@ -407,12 +407,9 @@ cli_fit(int argc, char **argv)
         /* a batch's options, asked of a single fit: say where they belong */
         static const char *const batch[] = { "--out", "--threads", "--shard", "--progress",
                                              "--quiet" };
-        int i;
-        const char *o;
-        for (i = 0; i < argc; i++)
-            if ((o = cli_option_named(argv[i], batch, sizeof batch / sizeof batch[0])) != NULL)
-                cli_die(CLI_EXIT_USAGE, "fit: %s is for fit --batch PLAN; a single fit writes "
-                        "--json, --curves, --plot and --report", o);
+        cli_refuse_options(argc, argv, batch, sizeof batch / sizeof batch[0],
+                           "fit --batch PLAN; a single fit writes --json, --curves, --plot and "
+                           "--report");
     }
     cli_parse("fit", argc, argv, opts, &npos, &help);
     if (help) {

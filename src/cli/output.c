@@ -88,41 +88,58 @@ cli_is_input(const char *path)
     return same_as_input(path) != NULL;
 }
 
+/* path split at its last slash, trailing slashes dropped ("figures/" names
+ * the folder figures): *dir its folder ("/" for the root, NULL when path
+ * names none), *name the rest.  Both point into the returned copy (free). */
+static char *
+split_path(const char *path, const char **dir, const char **name)
+{
+    char *copy = dup_text(path), *slash;
+    size_t len;
+
+    for (len = strlen(copy); len > 1 && copy[len - 1] == '/'; len--)
+        copy[len - 1] = '\0';
+    slash = strrchr(copy, '/');
+    *dir = slash == NULL ? NULL : slash == copy ? "/" : copy;
+    *name = slash == NULL ? copy : slash + 1;
+    if (slash != NULL && slash != copy)
+        *slash = '\0';
+    return copy;
+}
+
 /* Where an output that may not exist yet will be: the real path of its
  * folder and its name ("-": standard output); NULL when its folder does
  * not resolve (then the folder check says so). */
 static char *
 output_where(const char *path)
 {
-    char *dir, *slash, *real, *out;
-    const char *name;
-    size_t len;
+    const char *dir, *name;
+    char *copy, *real, *out = NULL;
 
     if (strcmp(path, "-") == 0)
         return dup_text("-");
-    dir = dup_text(path);
-    for (len = strlen(dir); len > 1 && dir[len - 1] == '/'; len--)
-        dir[len - 1] = '\0';
-    slash = strrchr(dir, '/');
-    if (slash == NULL) {
-        name = dir;
-        real = realpath(".", NULL);
-    } else {
-        *slash = '\0';
-        name = slash + 1;
-        real = realpath(slash == dir ? "/" : dir, NULL);
+    copy = split_path(path, &dir, &name);
+    if ((real = realpath(dir != NULL ? dir : ".", NULL)) != NULL) {
+        out = malloc(strlen(real) + strlen(name) + 2);
+        if (out == NULL)
+            cli_die(CLI_EXIT_FAIL, "out of memory");
+        sprintf(out, "%s/%s", real, name);
+        free(real);
     }
-    if (real == NULL) {
-        free(dir);
-        return NULL;
-    }
-    out = malloc(strlen(real) + strlen(name) + 2);
-    if (out == NULL)
-        cli_die(CLI_EXIT_FAIL, "out of memory");
-    sprintf(out, "%s/%s", real, name);
-    free(real);
-    free(dir);
+    free(copy);
     return out;
+}
+
+/* "PATH.provenance.json", the sidecar of output path (free). */
+static char *
+sidecar_path(const char *path)
+{
+    char *side = malloc(strlen(path) + sizeof ".provenance.json");
+
+    if (side == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    sprintf(side, "%s.provenance.json", path);
+    return side;
 }
 
 void
@@ -169,10 +186,7 @@ cli_output_note_sidecar(const char *cmd, const char *path)
 
     if (path == NULL || strcmp(path, "-") == 0)
         return;
-    side = malloc(strlen(path) + sizeof ".provenance.json");
-    if (side == NULL)
-        cli_die(CLI_EXIT_FAIL, "out of memory");
-    sprintf(side, "%s.provenance.json", path);
+    side = sidecar_path(path);
     cli_output_note(cmd, side);
     free(side);
 }
@@ -180,22 +194,16 @@ cli_output_note_sidecar(const char *cmd, const char *path)
 void
 cli_output_folder_check(const char *cmd, const char *path)
 {
-    char *dir, *slash;
-    size_t len;
+    const char *dir, *name;
+    char *copy;
     struct stat st;
 
     if (path == NULL || strcmp(path, "-") == 0)
         return;
-    dir = dup_text(path);
-    for (len = strlen(dir); len > 1 && dir[len - 1] == '/'; len--)
-        dir[len - 1] = '\0';               /* "figures/" names the folder figures */
-    slash = strrchr(dir, '/');
-    if (slash != NULL && slash != dir) {
-        *slash = '\0';
-        if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
-            cli_die(CLI_EXIT_FAIL, "%s: cannot write %s: there is no folder %s", cmd, path, dir);
-    }
-    free(dir);
+    copy = split_path(path, &dir, &name);
+    if (dir != NULL && (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)))
+        cli_die(CLI_EXIT_FAIL, "%s: cannot write %s: there is no folder %s", cmd, path, dir);
+    free(copy);
 }
 
 void
@@ -640,11 +648,7 @@ sidecar_writer(FILE *f, const void *ctx)
 void
 cli_provenance_sidecar(const char *cmd, const char *output)
 {
-    size_t n = strlen(output) + sizeof ".provenance.json";
-    char *path = malloc(n);
-    if (path == NULL)
-        cli_die(CLI_EXIT_FAIL, "out of memory");
-    snprintf(path, n, "%s.provenance.json", output);
+    char *path = sidecar_path(output);
     cli_write_file(cmd, path, sidecar_writer, NULL);
     free(path);
 }

@@ -87,8 +87,7 @@ cli_plan_need_layers(const lf_plan *plan, const char *model)
 static const char *
 curve_kind(const lf_input *in, const char *path)
 {
-    const lf_reader_type *t = lf_reader_sniff(in->data, in->len < LF_SNIFF_BYTES
-                                                        ? in->len : LF_SNIFF_BYTES);
+    const lf_reader_type *t = lf_reader_sniff(in->data, in->len);    /* looks at the head */
     lf_read_opts o;
     lf_curve *c = NULL;
     lf_error err;

@@ -247,15 +247,17 @@ cli_disagreeing(const lf_fit_result *r, char *buf, size_t n)
     return count;
 }
 
-const char *
-cli_option_named(const char *arg, const char *const *names, size_t n)
+void
+cli_refuse_options(int argc, char **argv, const char *const *names, size_t n, const char *why)
 {
     size_t k;
+    int i;
 
-    for (k = 0; k < n; k++) {
-        size_t len = strlen(names[k]);
-        if (strncmp(arg, names[k], len) == 0 && (arg[len] == '\0' || arg[len] == '='))
-            return names[k];
-    }
-    return NULL;
+    for (i = 0; i < argc; i++)
+        for (k = 0; k < n; k++) {
+            size_t len = strlen(names[k]);
+            if (strncmp(argv[i], names[k], len) == 0
+                && (argv[i][len] == '\0' || argv[i][len] == '='))
+                cli_die(CLI_EXIT_USAGE, "fit: %s is for %s", names[k], why);
+        }
 }
