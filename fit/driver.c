@@ -84,6 +84,43 @@ lf_fit_solve_run(lf_fit *f, const fit_start *start, fit_run *run_out, lf_warning
     return status;
 }
 
+/* A run that ran away (an offset far outside its curve's data, in column
+ * col) stopped where a material parameter that moved with the offset has
+ * no meaning (FIT_RAN_CORR): no estimate, no interval, and without w no
+ * pull-off.  M follows E* and nu. */
+static void
+ran_away(const lf_fit *f, lf_fit_result *res, int col)
+{
+    lf_fit_estimate *e[FIT_NMAT] = { &res->w, &res->Estar, &res->nu };
+    const char *name = col >= 0 && (size_t) col < res->npar ? res->names[col] : "";
+    int k, any = 0;
+    size_t j;
+
+    for (k = 0; k < FIT_NMAT; k++) {
+        const int m = f->imat[k];
+        if (m < 0 || col < 0 || !e[k]->determined
+            || !(fabs(res->corr[(size_t) m * res->npar + (size_t) col]) >= FIT_RAN_CORR))
+            continue;
+        e[k]->determined = 0;
+        e[k]->upper_bound_only = 0;
+        e[k]->value = e[k]->se = e[k]->ci95[0] = e[k]->ci95[1] = NAN;
+        e[k]->why = name[0] == 'F' ? "the fit ran away: it moved with a force offset that went "
+                                     "far outside its curve's forces, and where that stopped "
+                                     "is no estimate"
+                                   : "the fit ran away: it moved with a contact point that went "
+                                     "far outside its curve's depths, and where that stopped "
+                                     "is no estimate";
+        any |= k != FIT_W;
+    }
+    if (any && res->M.determined && res->M.free) {
+        res->M.determined = 0;
+        res->M.value = res->M.se = res->M.ci95[0] = res->M.ci95[1] = NAN;
+        res->M.why = res->Estar.why != NULL ? res->Estar.why : res->nu.why;
+    }
+    for (j = 0; j < res->ncurves; j++)
+        res->curves[j].pulloff_determined = res->w.determined;
+}
+
 int
 lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res, lf_error *err)
 {
@@ -107,7 +144,10 @@ lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res
         return status;
     }
     res->converged = run.converged;
+    res->stop = run.stop;
     snprintf(res->stop_reason, sizeof res->stop_reason, "%s", run.why);
+    if (run.stop == LF_STOP_RAN_AWAY)
+        ran_away(f, res, run.ran_col);
     if (with_loo && f->ncurves >= 3) {
         size_t j, bad = 0;
         for (j = 0; j < f->ncurves; j++)
@@ -134,6 +174,22 @@ lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res
     }
     lf_fit_degenerate_end(res);
     return res->converged ? LF_OK : LF_ENOCONV;
+}
+
+const char *
+lf_fit_stop_name(lf_fit_stop stop)
+{
+    switch (stop) {
+    case LF_STOP_CONVERGED: return "converged";
+    case LF_STOP_ITERATIONS: return "iteration limit";
+    case LF_STOP_NO_PROGRESS: return "no progress";
+    case LF_STOP_STALLED: return "stalled";
+    case LF_STOP_DEAD_PARAMETER: return "parameter without effect";
+    case LF_STOP_RAN_AWAY: return "ran away";
+    case LF_STOP_REWEIGHTING: return "weights moving";
+    case LF_STOP_FAILED: return "failed";
+    }
+    return "unknown";
 }
 
 int

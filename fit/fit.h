@@ -64,6 +64,13 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
  * found a lower minimum), has found its basin again and stops there (the
  * first is kept; stop code FIT_INFO_BASIN). */
 #define FIT_INFO_BASIN 5
+/* A fit that ran away (an offset far outside its curve's data) reports no
+ * material parameter whose correlation with that offset reaches
+ * FIT_RAN_CORR in size: it moved with the offset, and where the offset
+ * stopped is arbitrary (its conditional sd given the offset is under a
+ * seventh of its sd).  Parameters the offset does not carry keep the
+ * values, and intervals, where the fit stopped. */
+#define FIT_RAN_CORR 0.99
 #define FIT_SAME_SE 0.2
 #define FIT_SAME_COST 0.5
 /* A stop with no progress is a minimum when every scaled gradient
@@ -214,8 +221,19 @@ typedef struct {
     size_t iters, evals;
     size_t reweightings;    /* robust reweighting rounds (reweight.c) */
     int converged;
+    lf_fit_stop stop;       /* LF_STOP_CONVERGED when converged */
+    int user_test;          /* converged by the settings' own step or
+                               gradient test (xtol, gtol) */
+    int ran_col;            /* LF_STOP_RAN_AWAY: the offset's column */
     char why[160];
 } fit_run;
+
+/* Set run's verdict: converged when stop is LF_STOP_CONVERGED, and its
+ * words (solve.c). */
+void lf_fit_run_says(fit_run *run, lf_fit_stop stop, const char *fmt, ...)
+    __attribute__((format(printf, 3, 4)));
+/* Take the verdict (converged, stop, user_test, why) of another run. */
+void lf_fit_run_verdict_from(fit_run *run, const fit_run *from);
 
 struct lf_fit {
     lf_fit_settings set;    /* copied at alloc, never changed */

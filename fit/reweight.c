@@ -70,9 +70,8 @@ lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
     }
     free(inflate);
     if (round == FIT_MAX_REWEIGHT) {
-        run->converged = 0;
-        snprintf(run->why, sizeof run->why,
-                 "not converged: the robust weights still move after %d rounds", FIT_MAX_REWEIGHT);
+        lf_fit_run_says(run, LF_STOP_REWEIGHTING, "not converged: the robust weights still "
+                        "move after %d rounds", FIT_MAX_REWEIGHT);
     }
     return status;
 }

@@ -97,8 +97,7 @@ lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *
               && cost_second < cost_first * (1.0 - FIT_SECOND_CLEAR_REL));
     if (win) {
         *ratio = cost_first / cost_second;
-        run->converged = second.converged;
-        memcpy(run->why, second.why, sizeof run->why);
+        lf_fit_run_verdict_from(run, &second);
         return LF_OK;
     }
     f->mat = mat_first;

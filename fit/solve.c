@@ -10,6 +10,7 @@
  *    which the assessment reports as a bound.
  * Everything else is "not converged", with the reason in words. */
 #include <math.h>
+#include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -88,23 +89,51 @@ status_words(int status)
     return gsl_strerror(status);
 }
 
-/* Why the solver stopped, in words; sets *converged. */
-static void
-stop_reason(int status, int info, size_t maxiter, char *buf, size_t n,
-            int *converged)
+void
+lf_fit_run_says(fit_run *run, lf_fit_stop stop, const char *fmt, ...)
 {
-    *converged = 0;
+    va_list ap;
+
+    run->converged = stop == LF_STOP_CONVERGED;
+    run->stop = stop;
+    run->user_test = 0;
+    va_start(ap, fmt);
+    vsnprintf(run->why, sizeof run->why, fmt, ap);
+    va_end(ap);
+}
+
+void
+lf_fit_run_verdict_from(fit_run *run, const fit_run *from)
+{
+    run->converged = from->converged;
+    run->stop = from->stop;
+    run->user_test = from->user_test;
+    memcpy(run->why, from->why, sizeof run->why);
+}
+
+/* Why the solver stopped: run's verdict and its words. */
+static void
+stop_reason(int status, int info, size_t maxiter, fit_run *run)
+{
+    char *buf = run->why;
+    const size_t n = sizeof run->why;
+
+    run->converged = status == GSL_SUCCESS;
+    run->user_test = run->converged && (info == 1 || info == 2);
     if (status == GSL_SUCCESS) {
-        *converged = 1;
+        run->stop = LF_STOP_CONVERGED;
         snprintf(buf, n, "converged (%s)", info == FIT_INFO_CHI2 ? "chi2 within reach of its minimum"
                                            : info == FIT_INFO_CREEP ? "steps far below the standard errors"
                                            : info == FIT_INFO_BASIN ? "the first solution's basin"
                                            : info == 1 ? "small step" : "small gradient");
     } else if (status == GSL_EMAXITER) {
+        run->stop = LF_STOP_ITERATIONS;
         snprintf(buf, n, "not converged: the limit of %zu iterations per solve reached", maxiter);
     } else if (status == GSL_ENOPROG) {
+        run->stop = LF_STOP_NO_PROGRESS;
         snprintf(buf, n, "not converged: no further progress possible");
     } else {
+        run->stop = LF_STOP_FAILED;
         snprintf(buf, n, "not converged: %s", status_words(status));
     }
 }
@@ -474,14 +503,12 @@ solve_again(lf_fit *f, gsl_vector *x, int allow_own, fit_run *run, int *info, si
 int
 lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error *err)
 {
-    int status, info = 0, *converged = &run->converged;
+    int status, info = 0;
     size_t dead = 0, iters, nudge;
     int kink = 0, started;
     double gain = 0.0;
-    char *why = run->why;
-    const size_t nwhy = sizeof run->why;
 
-    *converged = 0;
+    run->converged = 0;
     gsl_vector_memcpy(f->w.x0, x);
     status = solver_init(f, x, 1);
     if (status != GSL_SUCCESS)
@@ -507,11 +534,11 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
         take_position(f, x);
         if ((int) dead == f->imat[FIT_W]) {
             /* the assessment reports w as bounded or undetermined */
-            *converged = 1;
-            snprintf(why, nwhy, "converged (w driven towards zero, where it no longer "
-                     "changes the fit)");
+            lf_fit_run_says(run, LF_STOP_CONVERGED, "converged (w driven towards zero, where "
+                            "it no longer changes the fit)");
         } else {
-            snprintf(why, nwhy, "not converged: parameter %zu no longer changes the fit", dead + 1);
+            lf_fit_run_says(run, LF_STOP_DEAD_PARAMETER, "not converged: parameter %zu no "
+                            "longer changes the fit", dead + 1);
         }
         return LF_OK;
     }
@@ -521,9 +548,8 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
         double then = f->w.cost_hist[iters % (FIT_FLAT_ITERS + 1)];
         if (then - now <= lf_fmax(FIT_FLAT_REL * now, FIT_FLAT_ABS)) {
             take_position(f, x);
-            *converged = 1;
-            snprintf(why, nwhy, "converged (chi2 fell by %.2g over the last %d iterations)",
-                     2.0 * (then - now), FIT_FLAT_ITERS);
+            lf_fit_run_says(run, LF_STOP_CONVERGED, "converged (chi2 fell by %.2g over the "
+                            "last %d iterations)", 2.0 * (then - now), FIT_FLAT_ITERS);
             return LF_OK;
         }
     }
@@ -532,7 +558,7 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
      * the contact-point scan or a reweighting */
     if (status == GSL_EMAXITER && info == GSL_ENOPROG && iters < f->set.max_iter)
         status = GSL_ENOPROG;
-    stop_reason(status, info, f->set.max_iter, why, nwhy, converged);
+    stop_reason(status, info, f->set.max_iter, run);
     take_position(f, x);
     if (status == GSL_ENOPROG && !at_minimum(f) && f->fdf.df != NULL && !no_descent(f, x)) {
         /* the analytic derivatives, guarded at the contact edge, can point
@@ -541,7 +567,7 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
         f->fdf.df = NULL;
         status = solve_again(f, x, 0, run, &info, &dead, &started);
         f->fdf.df = lf_fit_jacobian;
-        stop_reason(status, info, f->set.max_iter, why, nwhy, converged);
+        stop_reason(status, info, f->set.max_iter, run);
         take_position(f, x);
     }
     for (nudge = 0; status == GSL_ENOPROG && nudge < FIT_NUDGES && !at_minimum(f)
@@ -563,21 +589,20 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
             take_position(f, x);
             break;
         }
-        stop_reason(status, info, f->set.max_iter, why, nwhy, converged);
+        stop_reason(status, info, f->set.max_iter, run);
         take_position(f, x);
     }
     if (status == GSL_ENOPROG && !at_minimum(f) && !after_scan && (kink || no_descent(f, x))) {
-        *converged = 1;
-        snprintf(why, nwhy, "converged (no step lowers the cost: a kink where a point meets "
-                 "the contact edge)");
+        lf_fit_run_says(run, LF_STOP_CONVERGED, "converged (no step lowers the cost: a kink "
+                        "where a point meets the contact edge)");
         return LF_OK;
     }
     if (status == GSL_ENOPROG && (at_minimum(f) || after_scan)) {
         /* after the contact-point scan the cost sits at a kink of the
          * model, where the gradient need not vanish */
-        *converged = 1;
-        snprintf(why, nwhy, after_scan ? "converged (no step lowers the cost from the previous "
-                 "solution)" : "converged (no further decrease at a stationary point)");
+        lf_fit_run_says(run, LF_STOP_CONVERGED, "%s", after_scan
+                        ? "converged (no step lowers the cost from the previous solution)"
+                        : "converged (no further decrease at a stationary point)");
     }
     take_position(f, x);
     return LF_OK;

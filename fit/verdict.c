@@ -72,9 +72,10 @@ lf_fit_refuse_degenerate(const lf_fit *f, lf_error *err)
     return LF_OK;
 }
 
-/* 1 (with why) when an offset at x lies far outside curve j's data. */
+/* 1 (with why, and the offset's column in *col) when an offset at x lies
+ * far outside curve j's data. */
 static int
-offsets_outside(const lf_fit *f, const double *x, char *why, size_t nwhy)
+offsets_outside(const lf_fit *f, const double *x, char *why, size_t nwhy, int *col)
 {
     size_t j;
     for (j = 0; j < f->ncurves; j++) {
@@ -86,11 +87,13 @@ offsets_outside(const lf_fit *f, const double *x, char *why, size_t nwhy)
         if (c->iF0 >= 0 && !(F0 >= flo - (fhi - flo) && F0 <= fhi + (fhi - flo))) {
             snprintf(why, nwhy, "not converged: curve %zu's force offset F0 = %.4g N lies far "
                      "outside its forces [%.4g, %.4g] N", j + 1, F0, flo, fhi);
+            *col = c->iF0;
             return 1;
         }
         if (c->iz0 >= 0 && !(z0 >= zlo - 2.0 * (zhi - zlo) && z0 <= zhi + 2.0 * (zhi - zlo))) {
             snprintf(why, nwhy, "not converged: curve %zu's contact point z0 = %.4g m lies far "
                      "outside its depths [%.4g, %.4g] m", j + 1, z0, zlo, zhi);
+            *col = c->iz0;
             return 1;
         }
     }
@@ -156,11 +159,9 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
             dec = gn_step(f, x, step);
         if (!isfinite(dec))
             break;
-        if (!run->converged && dec < FIT_ROUNDING_SE2 * s2
-            && strstr(run->why, "iterations per solve reached") == NULL) {
-            run->converged = 1;
-            snprintf(run->why, sizeof run->why, "converged (at a minimum within rounding: a "
-                     "Gauss-Newton step would lower chi2 by only %.2g)", dec);
+        if (!run->converged && dec < FIT_ROUNDING_SE2 * s2 && run->stop != LF_STOP_ITERATIONS) {
+            lf_fit_run_says(run, LF_STOP_CONVERGED, "converged (at a minimum within rounding: "
+                            "a Gauss-Newton step would lower chi2 by only %.2g)", dec);
             break;
         }
         /* a run the solver stopped for its own limits (iterations, no
@@ -189,8 +190,7 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
                 }
             }
         }
-        if (!lower && (dec > FIT_STALL_SE2 * s2 || strstr(run->why, "(small step)") != NULL
-                       || strstr(run->why, "(small gradient)") != NULL)) {
+        if (!lower && (dec > FIT_STALL_SE2 * s2 || run->user_test)) {
             /* no step along it (a kink, or a direction the linear model gets
              * wrong), or a convergence claimed by the solver's own step or
              * gradient test (their tolerances are the user's): the solver
@@ -218,18 +218,16 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
                 /* the restart went on from there: its verdict stands, checked
                  * again in the next round */
                 gsl_vector_memcpy(x, trial);
-                run->converged = again.converged;
-                snprintf(run->why, sizeof run->why, "%s", again.why);
+                lf_fit_run_verdict_from(run, &again);
                 continue;
             }
         }
         if (!lower)
             break;
         if (round == 1) {
-            run->converged = 0;
-            snprintf(run->why, sizeof run->why, "not converged: stalled away from a "
-                     "minimum (a step still lowers chi2 by %.3g, %.3g standard errors "
-                     "squared)", 2.0 * (c0 - c1), 2.0 * (c0 - c1) / s2);
+            lf_fit_run_says(run, LF_STOP_STALLED, "not converged: stalled away from a "
+                            "minimum (a step still lowers chi2 by %.3g, %.3g standard errors "
+                            "squared)", 2.0 * (c0 - c1), 2.0 * (c0 - c1) / s2);
             break;
         }
         gsl_vector_memcpy(x, trial);
@@ -238,8 +236,11 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
         if (status != LF_OK)
             break;
     }
-    if (status == LF_OK && offsets_outside(f, x->data, run->why, sizeof run->why))
+    if (status == LF_OK && offsets_outside(f, x->data, run->why, sizeof run->why, &run->ran_col)) {
         run->converged = 0;
+        run->stop = LF_STOP_RAN_AWAY;
+        run->user_test = 0;
+    }
     gsl_vector_free(step);
     gsl_vector_free(trial);
     return status;

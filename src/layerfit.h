@@ -489,6 +489,23 @@ typedef struct {
                                final w */
 } lf_fit_thin_comparison;
 
+/* Why a fit stopped (lf_fit_result.stop; stop_reason says it in words). */
+typedef enum {
+    LF_STOP_CONVERGED = 0,  /* at a minimum (converged = 1) */
+    LF_STOP_ITERATIONS,     /* the limit of iterations per solve reached */
+    LF_STOP_NO_PROGRESS,    /* no step lowers the cost, yet no minimum */
+    LF_STOP_STALLED,        /* claimed converged, but a step still lowers
+                               chi2 by more than the noise allows */
+    LF_STOP_DEAD_PARAMETER, /* a parameter (not w) no longer changes the fit */
+    LF_STOP_RAN_AWAY,       /* an offset ran far outside its curve's data:
+                               the material is then not determined */
+    LF_STOP_REWEIGHTING,    /* robust weights still moving */
+    LF_STOP_FAILED          /* the solver or the model failed numerically */
+} lf_fit_stop;
+
+/* Its name in reports and JSON ("converged", "iteration limit", ...). */
+const char *lf_fit_stop_name(lf_fit_stop stop);
+
 typedef struct {
     lf_fit_estimate w, Estar, nu;
     lf_fit_estimate M;      /* Z E* of the bonded curves (NaN if none) */
@@ -509,6 +526,7 @@ typedef struct {
                                (1 for white noise; fit/noise.c) */
     size_t iterations, evaluations;
     int converged;
+    lf_fit_stop stop;       /* why it stopped */
     char stop_reason[160];
     const char *method;     /* static strings */
     const char *model;      /* the curves' model name, or "mixed" */

@@ -172,7 +172,8 @@ stalled_fits_say_so(void)
             st = fit_from(&s, &set, &far, &ref, fz[k], &r);
             if (st == LF_OK || st == LF_ENOCONV) {
                 budget_ok += honest(&s, seed, k, "one iteration", st, &r);
-                iters_said += !r.converged && strstr(r.stop_reason, "iterations per solve reached");
+                iters_said += !r.converged && r.stop == LF_STOP_ITERATIONS
+                              && strstr(r.stop_reason, "iterations per solve reached") != NULL;
                 if (!r.converged) {
                     no_profile++;
                     no_profile_ok += profile_skipped(&s, &set, &r);

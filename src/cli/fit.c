@@ -482,7 +482,7 @@ cli_fit(int argc, char **argv)
     }
     if (status == LF_ENOCONV)
         fprintf(stderr, "layerfit: fit: %s%s\n", r.stop_reason,
-                strstr(r.stop_reason, "iterations per solve reached") != NULL
+                r.stop == LF_STOP_ITERATIONS
                 ? " (--max-iter N allows more; a fit that creeps along a kink of the cost may "
                   "still not settle)" : "");
     lf_fit_result_free(&r);

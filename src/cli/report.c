@@ -355,8 +355,10 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
     jnum(f, r->chi2);
     fprintf(f, ", \"dof\": %zu, \"se_scale\": ", r->dof);
     jnum(f, r->se_scale);
-    fprintf(f, ", \"iterations\": %zu, \"evaluations\": %zu, \"converged\": %s, \"stop_reason\": ",
+    fprintf(f, ", \"iterations\": %zu, \"evaluations\": %zu, \"converged\": %s, \"stop\": ",
             r->iterations, r->evaluations, r->converged ? "true" : "false");
+    jstr(f, lf_fit_stop_name(r->stop));
+    fputs(", \"stop_reason\": ", f);
     jstr(f, r->stop_reason);
     fputs(", \"method\": ", f);
     jstr(f, r->method);

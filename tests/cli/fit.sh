@@ -85,7 +85,7 @@ expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (g
     near "w within 4 se of the truth" "$w" 0.0123 0 "$(awk -v s="$wse" 'BEGIN { print 4 * s }')"
     nu=$(sed -n 's/.*"nu": {"value": \([^,]*\),.*/\1/p' "$tmp/r.json")
     near "nu within 0.01 of the truth" "$nu" 0.35 0 0.01
-    has "json: fit block" "$tmp/r.json" '"converged": true, "stop_reason": '
+    has "json: fit block" "$tmp/r.json" '"converged": true, "stop": "converged", "stop_reason": '
     has "json: curves" "$tmp/r.json" '"b_over_a_min_contact": '
     has "curves CSV header" "$tmp/c.csv" "depth_m,force_N,fitted_N,residual_N,contact_radius_m,curve"
     [ "$(wc -l < "$tmp/c.csv")" -eq 601 ] && ok || bad "curves CSV: 600 points + header"
@@ -126,7 +126,7 @@ expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (g
     has "not converged: marked" "$tmp/out" "*** NOT CONVERGED"
     has "not converged: stderr" "$tmp/err" "layerfit: fit: not converged: the limit of 1 iterations per solve reached"
     has "not converged: the iteration limit named" "$tmp/err" "1 iterations per solve reached (--max-iter N allows more"
-    has "not converged: json" "$tmp/n.json" '"converged": false'
+    has "not converged: json" "$tmp/n.json" '"converged": false, "stop": "iteration limit", "stop_reason": '
     # a user's starting point: near it, the same answer within a standard
     # error (2%; the cost is flat to 1e-4 there, with kinks where points
     # cross the contact edge); 1000x off, checked against the automatic

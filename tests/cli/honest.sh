@@ -166,6 +166,20 @@ else
         has "workshop 2021: HTML offset in words" "$tmp/ws.html" "<td class=\"num\">not determined</td>"
         no_nan "workshop 2021: report" "$tmp/out"
     fi
+    # a fit that ran away is no estimate: the Hysitron steel export as a
+    # half-space sends F0 to nine times its largest force, w and E* with it
+    # (correlations 1.000 and 0.997), and once printed w = 1.135 kJ/m^2 with
+    # a 95% interval and a pull-off of -26.7 mN
+    if run_exit 3 fit "$real/RobinSteel0000LC.txt" --model halfspace --k 2 --R 5um \
+        --json "$tmp/rs.json"; then
+        has "ran away: stderr" "$tmp/err" "force offset F0 = 0.0267 N lies far outside its forces"
+        has "ran away: w not determined" "$tmp/out" "w    not determined: the fit ran away: it moved with a force offset"
+        has "ran away: E* not determined" "$tmp/out" "E*   not determined: the fit ran away"
+        has "ran away: no pull-off" "$tmp/out" "pull-off not determined (w is not)"
+        has "ran away: JSON stop" "$tmp/rs.json" '"stop": "ran away"'
+        has "ran away: JSON w null" "$tmp/rs.json" '"w": {"value": null'
+        if grep -q "kJ/m^2" "$tmp/out"; then bad "ran away: a w printed"; else ok; fi
+    fi
     # on loading the baseline before contact is there: the advice for w is
     # not to record it
     "$LF" fit "$real/10 wv pc PEGFN S-1 X-1 Y-1 I-1.txt" --model halfspace --k 2 --segment load \
