@@ -143,5 +143,24 @@ main(void)
            "mixed: correlation symmetric with unit diagonal");
     lf_fit_result_free(&r);
     scene_free(&s);
+
+    /* a layer thicker than the contact is wide, fitted as thin: past b = a
+     * the model does not apply, which is more than strained */
+    s = scene_default("thick layer as thin");
+    s.sim.noise = 0.005;
+    scene_add(&s, 2, 1e-3, 20e-6, LF_BASE_FRICTIONLESS);
+    st = scene_fit(&s, 5, &r, &err);
+    t_true(st == LF_OK || st == LF_ENOCONV, "thick layer as thin: a result");
+    if (st == LF_OK || st == LF_ENOCONV) {
+        show(&r.curves[0].warnings);
+        t_true(r.curves[0].b_over_a_pulloff > 1.0, "thick layer as thin: b/a = %.3g at pull-off",
+               r.curves[0].b_over_a_pulloff);
+        t_true(says(&r.curves[0].warnings, "at pull-off: the thin-layer model does not apply"),
+               "thick layer as thin: 'does not apply' said");
+        t_true(!says(&r.curves[0].warnings, "at pull-off: the thin-layer assumption b << a is strained"),
+                "thick layer as thin: not merely 'strained'");
+        lf_fit_result_free(&r);
+    }
+    scene_free(&s);
     return t_summary();
 }

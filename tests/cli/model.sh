@@ -95,6 +95,14 @@ LAYERFIT_NO_CACHE=1 run_ok model --model exact --k 2 --R 1mm --b 1um --w 10mJ/m2
 if grep -q "thin-layer assumption" "$tmp/out"; then bad "exact model summary warns about b << a"; else ok; fi
 run_ok model --model thin --k 2 --R 1mm --b 1um --w 10mJ/m2 --E 1GPa --summary
 has "thin model summary warns about b << a" "$tmp/out" "thin-layer assumption b << a strained"
+# past b = a the thin-layer model does not apply: said in the summary, and
+# on stderr beside the CSV (a k = 0.3 tip on 1 um: b/a = 2878 at pull-off)
+run_ok model --k 0.3 --R 5um --b 1um --w 10mJ/m^2 --E 1MPa
+has "thin past b = a: warned beside the CSV" "$tmp/err" "layerfit: model: warning: b/a = 2878 at pull-off: the thin-layer model does not apply"
+run_ok model --k 0.3 --R 5um --b 1um --w 10mJ/m^2 --E 1MPa --summary
+has "thin past b = a: summary" "$tmp/out" "b/a at pull-off  2878  (the thin-layer model does not apply: it assumes b << a"
+run_ok model --model thin --k 2 --R 1mm --b 1um --w 10mJ/m2 --E 1GPa
+[ -s "$tmp/err" ] && bad "thin at b/a 0.33: warned on stderr: $(cat "$tmp/err")" || ok
 # w = 0 (accepted: no adhesion): the ratios over w and over the pull-off
 # radius are said to be undefined, never printed as nan, inf or -0
 for m in thin exact halfspace; do
