@@ -277,7 +277,8 @@ param_of(const prof *p, double t)
  * line) make the next a bisection: the answer is a crossing within
  * bisection's final width. */
 static double
-cross_in(prof *p, double t_hat, int dir, double a, double ra, double b, double rb, double tol)
+cross_in(prof *p, double t_hat, int dir, double a, double ra, double b, double rb, double tol,
+         int *jump)
 {
     const double sthr = sqrt(p->thr);
     double ga = sqrt(lf_fmax(ra, 0.0)) - sthr, gb = isfinite(rb) ? sqrt(rb) - sthr : NAN;
@@ -299,18 +300,24 @@ cross_in(prof *p, double t_hat, int dir, double a, double ra, double b, double r
         rm = rise(p, param_of(p, t_hat + dir * m));
         if (rm >= p->thr || !isfinite(rm)) {
             b = m;
+            rb = rm;
             gb = isfinite(rm) ? sqrt(rm) - sthr : NAN;
             if (last < 0)
                 ga *= 0.5;      /* a stayed twice */
             last = -1;
         } else {
             a = m;
+            ra = rm;
             ga = sqrt(lf_fmax(rm, 0.0)) - sthr;
             if (last > 0)
                 gb *= 0.5;
             last = 1;
         }
     }
+    /* across the final bracket a smooth profile rises by a few percent of
+     * the threshold; by more than all of it, chi2 jumps: a point crosses
+     * the model's abrupt contact edge there */
+    *jump = isfinite(rb) && rb - ra > p->thr;
     return t_hat + dir * 0.5 * (a + b);
 }
 
@@ -342,13 +349,13 @@ grow_to(double r, double target)
  * crossing.  cross_in stops on the bracket's width alone.) */
 static double
 search_side(prof *p, double t_hat, double h, double r_h, int dir, double tmin, double tmax,
-            int *open)
+            int *open, int *jump)
 {
     double a = 0.0, b = 0.0, ra = 0.0, rb = NAN, d = 0.0, step = h;
     double edge = dir < 0 ? t_hat - tmin : tmax - t_hat;
     int crossed = 0;
 
-    *open = 0;
+    *open = *jump = 0;
     for (;;) {
         double rd;
         d = lf_fmin(d + step, edge);
@@ -377,7 +384,7 @@ search_side(prof *p, double t_hat, double h, double r_h, int dir, double tmin, d
         *open = 1;
         return t_hat + dir * edge;
     }
-    return cross_in(p, t_hat, dir, a, ra, b, rb, ldexp(lf_fmax(b - a, h), -PROFILE_BISECT));
+    return cross_in(p, t_hat, dir, a, ra, b, rb, ldexp(lf_fmax(b - a, h), -PROFILE_BISECT), jump);
 }
 
 /* The screen of LF_PROFILE_SCREEN: chi2 at the two ends of the linear
@@ -531,7 +538,7 @@ static int
 profile_one(prof *p, lf_fit_estimate *e)
 {
     double t_hat, se_t, tmin, tmax, lo, hi, r_lo = NAN, r_hi = NAN, thr;
-    int open_lo = 0, open_hi = 0;
+    int open_lo = 0, open_hi = 0, jump_lo = 0, jump_hi = 0;
 
     int bound_only = e->upper_bound_only && p->which == FIT_W;
 
@@ -575,11 +582,27 @@ profile_one(prof *p, lf_fit_estimate *e)
         p->thr *= calibrate(p, param_of(p, t_hat));
     /* the rises at the linear ends, where known, are each side's first step */
     lo = search_side(p, t_hat, lf_fmin(Z95 * se_t, 0.5 * (t_hat - tmin)),
-                     Z95 * se_t <= 0.5 * (t_hat - tmin) ? r_lo : NAN, -1, tmin, tmax, &open_lo);
+                     Z95 * se_t <= 0.5 * (t_hat - tmin) ? r_lo : NAN, -1, tmin, tmax, &open_lo,
+                     &jump_lo);
     hi = search_side(p, t_hat, lf_fmin(Z95 * se_t, 0.5 * (tmax - t_hat)),
-                     Z95 * se_t <= 0.5 * (tmax - t_hat) ? r_hi : NAN, +1, tmin, tmax, &open_hi);
+                     Z95 * se_t <= 0.5 * (tmax - t_hat) ? r_hi : NAN, +1, tmin, tmax, &open_hi,
+                     &jump_hi);
     p->thr = thr;
     e->interval_method = "profile likelihood";
+    /* A side that ends where chi2 jumps ends at a point crossing the
+     * model's abrupt contact edge, which real curves, detaching gradually,
+     * do not have: there the profile measures the model's step, not the
+     * data.  Such a side is never reported narrower than the linear one
+     * (the PEG exports' joint fit put E*'s upper end 0.94 se from E*, a
+     * single point's jump of 8 thresholds). */
+    if (!bound_only && jump_lo && t_hat - Z95 * se_t > tmin && t_hat - Z95 * se_t < lo) {
+        lo = t_hat - Z95 * se_t;
+        e->interval_method = LF_INTERVAL_JUMP;
+    }
+    if (!bound_only && jump_hi && t_hat + Z95 * se_t < tmax && t_hat + Z95 * se_t > hi) {
+        hi = t_hat + Z95 * se_t;
+        e->interval_method = LF_INTERVAL_JUMP;
+    }
     e->ci95[0] = open_lo && p->which == FIT_W ? 0.0 : param_of(p, lo);
     e->ci95[1] = param_of(p, hi);
     if (bound_only && !open_lo) {

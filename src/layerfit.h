@@ -395,7 +395,8 @@ typedef struct {
     int determined;         /* 1 when the data fix it (or it was fixed) */
     int upper_bound_only;   /* w: the data only bound it from above */
     const char *interval_method; /* how ci95 was found: "linear (Wald)",
-                               "profile likelihood" (lf_fit_profile) or
+                               "profile likelihood" (lf_fit_profile),
+                               LF_INTERVAL_JUMP, LF_INTERVAL_UNCHECKED or
                                LF_INTERVAL_AT_STOP; NULL when not profiled
                                (linear) */
     const char *why;        /* when not determined for a reason the
@@ -411,6 +412,10 @@ typedef struct {
 /* interval_method after lf_fit_profile(..., LF_PROFILE_LINEAR): the linear
  * interval, not checked against the profile */
 #define LF_INTERVAL_UNCHECKED "linear (Wald), not checked"
+/* A profile interval with a side kept at the linear end: there the profile
+ * crossed its threshold by a jump of chi2 (a point crossing the model's
+ * abrupt contact edge) nearer to the estimate than the linear end. */
+#define LF_INTERVAL_JUMP "profile likelihood, linear where it jumps"
 
 typedef struct {
     const char *name;       /* the curve's label (not owned) */

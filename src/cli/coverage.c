@@ -183,7 +183,8 @@ run_scene(const cov_scene *s, size_t nseeds, size_t points, int calibrate, cov_t
                 t->hit[k] += st == LF_OK && covers(e[k], truth[k]);
                 t->hit_wald[k] += st == LF_OK && wald[k];
                 t->profiled[k] += e[k]->interval_method != NULL
-                                  && strcmp(e[k]->interval_method, "profile likelihood") == 0;
+                                  && (strcmp(e[k]->interval_method, "profile likelihood") == 0
+                                      || strcmp(e[k]->interval_method, LF_INTERVAL_JUMP) == 0);
                 if (isfinite(e[k]->value)) {
                     double d = k < 2 ? log(e[k]->value / truth[k]) : e[k]->value - truth[k];
                     t->se2[k] += d * d;

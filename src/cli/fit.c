@@ -248,6 +248,10 @@ cli_interval_words(const lf_fit_estimate *e, int brief)
         return NULL;
     if (strcmp(m, "profile likelihood") == 0)
         return "profile likelihood";
+    if (strcmp(m, LF_INTERVAL_JUMP) == 0)
+        return brief ? "profile, linear where it jumps"
+                     : "profile likelihood; linear on a side where chi2 jumps as a point crosses "
+                       "the contact edge";
     if (strcmp(m, LF_INTERVAL_UNCHECKED) == 0)
         return brief ? "linear, not checked" : "linear, not checked: --intervals linear";
     if (strcmp(m, LF_INTERVAL_AT_STOP) == 0)

@@ -180,6 +180,24 @@ else
         has "ran away: JSON w null" "$tmp/rs.json" '"w": {"value": null'
         if grep -q "kJ/m^2" "$tmp/out"; then bad "ran away: a w printed"; else ok; fi
     fi
+    # a profile side that ends where chi2 jumps (a point crossing the
+    # model's abrupt contact edge, which the gradual detachment of real
+    # curves does not have) is kept at the linear end: the two PEG exports
+    # jointly put E*'s upper end 0.94 se from E* by one point's jump
+    printf 'file,k,R,b,interface\n"%s",2,8um,,\n"%s",2,8um,,\n' \
+        "$real/10 wv pc PEGFN S-1 X-1 Y-1 I-1.txt" "$real/10 wv pc PEGFN S-1 X-1 Y-2 I-1.txt" \
+        >"$tmp/pegs.csv"
+    if run_ok fit "$tmp/pegs.csv" --model halfspace --json "$tmp/pegs.json"; then
+        has "PEG joint: the jump named" "$tmp/out" "(profile likelihood; linear on a side where chi2 jumps as a point crosses the contact edge)"
+        line=$(grep -o '"Estar": {[^}]*}' "$tmp/pegs.json")
+        has "PEG joint: JSON method" "$tmp/pegs.json" '"ci95_method": "profile likelihood, linear where it jumps"'
+        # E*'s upper side, where the jump was, no nearer than the linear end
+        # (log-normal: 1.96 se/E*; its lower side is a smooth crossing)
+        echo "$line" | sed 's/.*"value": \([^,]*\), "stderr": \([^,]*\), "ci95": \[\([^,]*\), \([^]]*\)\].*/\1 \2 \3 \4/' \
+            | awk '{ v = $1; se = $2; lo = $3; hi = $4; d = 1.959963984540054 * se / v;
+                     exit !(lo > 0 && lo < v && log(hi / v) >= 0.999 * d) }' \
+            && ok || bad "PEG joint: E* interval narrower than the linear one: $line"
+    fi
     # on loading the baseline before contact is there: the advice for w is
     # not to record it
     "$LF" fit "$real/10 wv pc PEGFN S-1 X-1 Y-1 I-1.txt" --model halfspace --k 2 --segment load \
