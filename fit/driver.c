@@ -92,10 +92,11 @@ static void
 ran_away(const lf_fit *f, lf_fit_result *res, int col)
 {
     lf_fit_estimate *e[FIT_NMAT] = { &res->w, &res->Estar, &res->nu };
-    const char *name = col >= 0 && (size_t) col < res->npar ? res->names[col] : "";
-    int k, any = 0;
+    int k, any = 0, force = 0;
     size_t j;
 
+    for (j = 0; j < f->ncurves; j++)
+        force |= col >= 0 && f->c[j].iF0 == col;
     for (k = 0; k < FIT_NMAT; k++) {
         const int m = f->imat[k];
         if (m < 0 || col < 0 || !e[k]->determined
@@ -104,12 +105,10 @@ ran_away(const lf_fit *f, lf_fit_result *res, int col)
         e[k]->determined = 0;
         e[k]->upper_bound_only = 0;
         e[k]->value = e[k]->se = e[k]->ci95[0] = e[k]->ci95[1] = NAN;
-        e[k]->why = name[0] == 'F' ? "the fit ran away: it moved with a force offset that went "
-                                     "far outside its curve's forces, and where that stopped "
-                                     "is no estimate"
-                                   : "the fit ran away: it moved with a contact point that went "
-                                     "far outside its curve's depths, and where that stopped "
-                                     "is no estimate";
+        e[k]->why = force ? "the fit ran away: it moved with a force offset that went far "
+                            "outside its curve's forces, and where that stopped is no estimate"
+                          : "the fit ran away: it moved with a contact point that went far "
+                            "outside its curve's depths, and where that stopped is no estimate";
         any |= k != FIT_W;
     }
     if (any && res->M.determined && res->M.free) {
@@ -187,6 +186,7 @@ lf_fit_stop_name(lf_fit_stop stop)
     case LF_STOP_DEAD_PARAMETER: return "parameter without effect";
     case LF_STOP_RAN_AWAY: return "ran away";
     case LF_STOP_REWEIGHTING: return "weights moving";
+    case LF_STOP_DEGENERATE: return "degenerate";
     case LF_STOP_FAILED: return "failed";
     }
     return "unknown";

@@ -268,6 +268,7 @@ lf_fit_degenerate_end(lf_fit_result *r)
     if (!r->converged || !none_determined(r))
         return;
     r->converged = 0;
+    r->stop = LF_STOP_DEGENERATE;
     snprintf(r->stop_reason, sizeof r->stop_reason, "not converged: degenerate: the data "
              "determine none of the material parameters fitted");
     lf_warn(&r->warnings, "the fit stopped where the data determine none of the material "

@@ -505,6 +505,8 @@ typedef enum {
     LF_STOP_RAN_AWAY,       /* an offset ran far outside its curve's data:
                                the material is then not determined */
     LF_STOP_REWEIGHTING,    /* robust weights still moving */
+    LF_STOP_DEGENERATE,     /* ended where the data determine none of the
+                               material parameters fitted */
     LF_STOP_FAILED          /* the solver or the model failed numerically */
 } lf_fit_stop;
 

@@ -140,7 +140,7 @@ else
     if grep -q "E\*   not determined" "$tmp/out" && grep -q "w    not determined" "$tmp/out"; then
         [ "$rc" -eq 3 ] && ok || bad "nothing determined: exit $rc, want 3"
         has "nothing determined: said" "$tmp/err" "not converged: degenerate: the data determine none of the material parameters fitted"
-        has "nothing determined: JSON" "$tmp/deg.json" '"converged": false'
+        has "nothing determined: JSON" "$tmp/deg.json" '"converged": false, "stop": "degenerate"'
     else
         [ "$rc" -eq 0 ] && ok || bad "PEG Y-2 load: exit $rc with a parameter determined"
     fi
