@@ -102,20 +102,15 @@ ran_away(const lf_fit *f, lf_fit_result *res, int col)
         if (m < 0 || col < 0 || !e[k]->determined
             || !(fabs(res->corr[(size_t) m * res->npar + (size_t) col]) >= FIT_RAN_CORR))
             continue;
-        e[k]->determined = 0;
-        e[k]->upper_bound_only = 0;
-        e[k]->value = e[k]->se = e[k]->ci95[0] = e[k]->ci95[1] = NAN;
-        e[k]->why = force ? "the fit ran away: it moved with a force offset that went far "
-                            "outside its curve's forces, and where that stopped is no estimate"
-                          : "the fit ran away: it moved with a contact point that went far "
-                            "outside its curve's depths, and where that stopped is no estimate";
+        lf_fit_estimate_drop(e[k], force
+                             ? "the fit ran away: it moved with a force offset that went far "
+                               "outside its curve's forces, and where that stopped is no estimate"
+                             : "the fit ran away: it moved with a contact point that went far "
+                               "outside its curve's depths, and where that stopped is no estimate");
         any |= k != FIT_W;
     }
-    if (any && res->M.determined && res->M.free) {
-        res->M.determined = 0;
-        res->M.value = res->M.se = res->M.ci95[0] = res->M.ci95[1] = NAN;
-        res->M.why = res->Estar.why != NULL ? res->Estar.why : res->nu.why;
-    }
+    if (any && res->M.determined && res->M.free)
+        lf_fit_estimate_drop(&res->M, res->Estar.why != NULL ? res->Estar.why : res->nu.why);
     for (j = 0; j < res->ncurves; j++)
         res->curves[j].pulloff_determined = res->w.determined;
 }

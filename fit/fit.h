@@ -232,6 +232,10 @@ typedef struct {
  * words (solve.c). */
 void lf_fit_run_says(fit_run *run, lf_fit_stop stop, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
+/* Mark e not determined, for a reason in words (static; NULL: the
+ * identifiability notes give it): no value, interval or bound
+ * (uncertainty.c). */
+void lf_fit_estimate_drop(lf_fit_estimate *e, const char *why);
 /* Take the verdict (converged, stop, user_test, why) of another run. */
 void lf_fit_run_verdict_from(fit_run *run, const fit_run *from);
 

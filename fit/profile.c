@@ -671,14 +671,10 @@ intervals_linear(lf_fit_result *r, const char *method)
         if (!x->determined)
             continue;
         if (k != FIT_NU && !(x->se < x->value))
-            x->why = "its standard error exceeds its value (the linear 95% interval spans "
-                     "more than a factor 50)";
+            lf_fit_estimate_drop(x, "its standard error exceeds its value (the linear 95% "
+                                 "interval spans more than a factor 50)");
         else if (k == FIT_NU && !(x->ci95[0] > 0.0 || x->ci95[1] < 0.5))
-            x->why = "its linear 95% interval covers every nu from 0 to 0.5";
-        else
-            continue;
-        x->determined = 0;
-        x->value = x->se = x->ci95[0] = x->ci95[1] = NAN;
+            lf_fit_estimate_drop(x, "its linear 95% interval covers every nu from 0 to 0.5");
     }
 }
 

@@ -115,26 +115,20 @@ lf_fit_run_verdict_from(fit_run *run, const fit_run *from)
 static void
 stop_reason(int status, int info, size_t maxiter, fit_run *run)
 {
-    char *buf = run->why;
-    const size_t n = sizeof run->why;
-
-    run->converged = status == GSL_SUCCESS;
-    run->user_test = run->converged && (info == 1 || info == 2);
     if (status == GSL_SUCCESS) {
-        run->stop = LF_STOP_CONVERGED;
-        snprintf(buf, n, "converged (%s)", info == FIT_INFO_CHI2 ? "chi2 within reach of its minimum"
-                                           : info == FIT_INFO_CREEP ? "steps far below the standard errors"
-                                           : info == FIT_INFO_BASIN ? "the first solution's basin"
-                                           : info == 1 ? "small step" : "small gradient");
+        lf_fit_run_says(run, LF_STOP_CONVERGED, "converged (%s)",
+                        info == FIT_INFO_CHI2 ? "chi2 within reach of its minimum"
+                        : info == FIT_INFO_CREEP ? "steps far below the standard errors"
+                        : info == FIT_INFO_BASIN ? "the first solution's basin"
+                        : info == 1 ? "small step" : "small gradient");
+        run->user_test = info == 1 || info == 2;
     } else if (status == GSL_EMAXITER) {
-        run->stop = LF_STOP_ITERATIONS;
-        snprintf(buf, n, "not converged: the limit of %zu iterations per solve reached", maxiter);
+        lf_fit_run_says(run, LF_STOP_ITERATIONS, "not converged: the limit of %zu iterations "
+                        "per solve reached", maxiter);
     } else if (status == GSL_ENOPROG) {
-        run->stop = LF_STOP_NO_PROGRESS;
-        snprintf(buf, n, "not converged: no further progress possible");
+        lf_fit_run_says(run, LF_STOP_NO_PROGRESS, "not converged: no further progress possible");
     } else {
-        run->stop = LF_STOP_FAILED;
-        snprintf(buf, n, "not converged: %s", status_words(status));
+        lf_fit_run_says(run, LF_STOP_FAILED, "not converged: %s", status_words(status));
     }
 }
 

@@ -73,14 +73,20 @@ estimate_fixed(lf_fit_estimate *e, double value)
     e->upper_bound_only = 0;
 }
 
+void
+lf_fit_estimate_drop(lf_fit_estimate *e, const char *why)
+{
+    e->why = why;
+    e->value = e->se = e->ci95[0] = e->ci95[1] = NAN;
+    e->determined = 0;
+    e->upper_bound_only = 0;
+}
+
 static void
 estimate_undetermined(lf_fit_estimate *e, int free)
 {
-    e->why = NULL;
-    e->value = e->se = e->ci95[0] = e->ci95[1] = NAN;
     e->free = free;
-    e->determined = 0;
-    e->upper_bound_only = 0;
+    lf_fit_estimate_drop(e, NULL);
 }
 
 /* A positive parameter with a log-normal interval. */

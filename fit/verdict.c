@@ -72,10 +72,10 @@ lf_fit_refuse_degenerate(const lf_fit *f, lf_error *err)
     return LF_OK;
 }
 
-/* 1 (with why, and the offset's column in *col) when an offset at x lies
- * far outside curve j's data. */
-static int
-offsets_outside(const lf_fit *f, const double *x, char *why, size_t nwhy, int *col)
+/* When an offset at x lies far outside its curve's data, run's verdict:
+ * ran away, in words, with the offset's column. */
+static void
+offsets_outside(const lf_fit *f, const double *x, fit_run *run)
 {
     size_t j;
     for (j = 0; j < f->ncurves; j++) {
@@ -85,19 +85,20 @@ offsets_outside(const lf_fit *f, const double *x, char *why, size_t nwhy, int *c
         double z0, F0, s;
         lf_fit_unpack(f, x, &m, &z0, &F0, &s, j);
         if (c->iF0 >= 0 && !(F0 >= flo - (fhi - flo) && F0 <= fhi + (fhi - flo))) {
-            snprintf(why, nwhy, "not converged: curve %zu's force offset F0 = %.4g N lies far "
-                     "outside its forces [%.4g, %.4g] N", j + 1, F0, flo, fhi);
-            *col = c->iF0;
-            return 1;
+            lf_fit_run_says(run, LF_STOP_RAN_AWAY, "not converged: curve %zu's force offset "
+                            "F0 = %.4g N lies far outside its forces [%.4g, %.4g] N", j + 1, F0,
+                            flo, fhi);
+            run->ran_col = c->iF0;
+            return;
         }
         if (c->iz0 >= 0 && !(z0 >= zlo - 2.0 * (zhi - zlo) && z0 <= zhi + 2.0 * (zhi - zlo))) {
-            snprintf(why, nwhy, "not converged: curve %zu's contact point z0 = %.4g m lies far "
-                     "outside its depths [%.4g, %.4g] m", j + 1, z0, zlo, zhi);
-            *col = c->iz0;
-            return 1;
+            lf_fit_run_says(run, LF_STOP_RAN_AWAY, "not converged: curve %zu's contact point "
+                            "z0 = %.4g m lies far outside its depths [%.4g, %.4g] m", j + 1, z0,
+                            zlo, zhi);
+            run->ran_col = c->iz0;
+            return;
         }
     }
-    return 0;
 }
 
 /* The Gauss-Newton step at x (internal coordinates, into step) and the
@@ -236,11 +237,8 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
         if (status != LF_OK)
             break;
     }
-    if (status == LF_OK && offsets_outside(f, x->data, run->why, sizeof run->why, &run->ran_col)) {
-        run->converged = 0;
-        run->stop = LF_STOP_RAN_AWAY;
-        run->user_test = 0;
-    }
+    if (status == LF_OK)
+        offsets_outside(f, x->data, run);
     gsl_vector_free(step);
     gsl_vector_free(trial);
     return status;

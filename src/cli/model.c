@@ -180,11 +180,11 @@ print_summary(const model_summary *s)
     printf("jump-in force    %s  (loading, at contact)\n", cli_human(b1, sizeof b1, po->P_jump, "N"));
     if (s->type->scope == LF_SCOPE_HALFSPACE)
         ;                       /* no layer: no b/a */
-    else if (po->a_po > 0 && isfinite(s->probe.b / po->a_po))
-        printf("b/a at pull-off  %.4g%s%s%s\n", s->probe.b / po->a_po,
-               *thin_scope(s, s->probe.b / po->a_po) ? "  (" : "",
-               thin_scope(s, s->probe.b / po->a_po),
-               *thin_scope(s, s->probe.b / po->a_po) ? ")" : "");
+    else if (po->a_po > 0 && isfinite(s->probe.b / po->a_po)) {
+        const char *scope = thin_scope(s, s->probe.b / po->a_po);
+        printf("b/a at pull-off  %.4g%s%s%s\n", s->probe.b / po->a_po, *scope ? "  (" : "", scope,
+               *scope ? ")" : "");
+    }
     else
         printf("b/a at pull-off  undefined (no contact left at pull-off)\n");
     printf("JKR sphere a_po  %s  (half-space, (9 pi R^2 w/(8 E*))^(1/3), for comparison)\n",
@@ -339,10 +339,13 @@ cli_model(int argc, char **argv)
 
     m = make_model(&a, &probe, &mat);
     summarise(m, &a, &s);
-    if (!a.summary && s.po.a_po > 0 && s.probe.b / s.po.a_po >= 1.0 && *thin_scope(&s, s.probe.b / s.po.a_po))
+    if (!a.summary && s.po.a_po > 0 && s.probe.b / s.po.a_po >= 1.0) {
         /* numbers without the summary's words: the warning goes beside them */
-        fprintf(stderr, "layerfit: model: warning: b/a = %.4g at pull-off: %s\n",
-                s.probe.b / s.po.a_po, thin_scope(&s, s.probe.b / s.po.a_po));
+        const char *scope = thin_scope(&s, s.probe.b / s.po.a_po);
+        if (*scope)
+            fprintf(stderr, "layerfit: model: warning: b/a = %.4g at pull-off: %s\n",
+                    s.probe.b / s.po.a_po, scope);
+    }
     if (a.summary)
         print_summary(&s);
     else if (a.json)
