@@ -194,6 +194,19 @@ same_data_before(const lf_plan *plan, const size_t *rows, const lf_fit_input *in
     return LF_OK;
 }
 
+/* An error about a row's curve that names no place in a file (no radius
+ * where the row says R = header, a segment too short, a probe the model
+ * refuses) is put at the row's line of the plan: the message names the
+ * curve's file, the place says which row asked for it. */
+static void
+at_row(lf_error *err, const lf_plan *plan, const lf_plan_row *row)
+{
+    char msg[sizeof err->msg];
+
+    memcpy(msg, err->msg, sizeof msg);
+    lf_fail_at(err, err->status, plan->path, row->line, 0, "%s", msg);
+}
+
 /* One joint fit is of one material: the rows' non-empty samples must agree
  * (checked before any file is read; the nu rule is its twin, below). */
 static int
@@ -252,6 +265,8 @@ lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
         status = add_curve(in, j, row->file, s->segment >= 0 ? (lf_segment) s->segment
                            : row->segment, &row->probe, "plan", row->format, row->z0, row->F0,
                             s, warn, err);
+        if (status != LF_OK && err != NULL && err->file[0] == '\0')
+            at_row(err, plan, row);
         if (status == LF_OK)
             status = same_data_before(plan, rows, in, j, err);
         if (status != LF_OK) {

@@ -122,6 +122,9 @@ test_plan_input(void)
     refused("two samples", "file,k,R_m,b_m,interface,sample\n"
             "a.csv,2,1e-3,1e-6,frictionless,film-A\nb.csv,2,1e-3,1e-6,frictionless,\n"
             "c.csv,3,1e-3,1e-6,frictionless,film-B\n", 4, "a joint fit is of one material");
+    /* an error about a row's curve is put at the row's line */
+    refused("no radius", "file,k,R_m,b_m,interface\na.csv,2,1e-3,1e-6,frictionless\n"
+            "c.csv,2,header,1e-6,frictionless\n", 3, "no probe radius");
     refused("same data", "file,k,R_m,b_m,interface\na.csv,2,1e-3,1e-6,frictionless\n"
             "c.csv,3,1e-3,1e-6,frictionless\n", 3, "holds the same data as");
     /* the same data as another segment is another curve */
