@@ -506,6 +506,27 @@ sphere_check(const lf_probe *p, double amax, lf_warnings *w)
                 "the depth's units)", amax, q);
 }
 
+/* Contact is made at indentation 0 (on approach, and the unloading branch
+ * starts where loading turned), so a curve's deepest point lies at or
+ * past its contact point.  A free contact point fitted deeper than that by
+ * more than Z0_PAST_SE standard errors has the probe never reach the
+ * undeformed surface: the whole curve would be adhesive pull.  The rule
+ * for an offset far outside the data (verdict.c, two spans) calls such a
+ * fit ran away; nearer, it is a converged fit that says so. */
+#define Z0_PAST_SE 2.0
+static void
+contact_point_check(const fit_curve *c, const lf_fit_curve_result *cr, lf_warnings *w)
+{
+    const double past = cr->z0 - c->zhi;
+
+    if (!cr->z0_free || !(past > 0) || !(past > Z0_PAST_SE * cr->z0_se))
+        return;
+    lf_warn(w, "the contact point z0 = %.4g m lies %.3g m (%.2g se) past the deepest point of "
+            "the curve: the fit has the probe never reach the undeformed surface (contact is made "
+            "at indentation 0), so every point would be adhesive pull (check the depth's sign and "
+            "origin, the segment, or fix z0)", cr->z0, past, past / cr->z0_se);
+}
+
 static void
 assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
              const double *nullw, const gsl_vector *res)
@@ -561,6 +582,7 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
         && cr->b_over_a_pulloff > f->set.max_b_over_a)
         thin_strain(&cr->warnings, cr->b_over_a_pulloff, "at pull-off", "", f->set.max_b_over_a);
     sphere_check(&c->data.probe, amax, &cr->warnings);
+    contact_point_check(c, cr, &cr->warnings);
     consistency(f, j, res, cr);
     if (cr->downweighted > 0)
         lf_warn(&cr->warnings, "%zu points weigh less than half under the %s loss (outliers)",

@@ -406,6 +406,55 @@ vacuous_linear_intervals(void)
     }
 }
 
+/* 1 when one of curve j's warnings contains `words`. */
+static int
+curve_warns(const lf_fit_result *r, size_t j, const char *words)
+{
+    size_t i;
+
+    for (i = 0; i < r->curves[j].warnings.n; i++)
+        if (strstr(r->curves[j].warnings.msg[i], words) != NULL)
+            return 1;
+    return 0;
+}
+
+/* A free contact point fitted past the deepest point of its curve (the
+ * probe never pressed the undeformed surface) is said; curves indented
+ * past it are not. */
+static void
+contact_point_past_data(void)
+{
+    scene s = scene_default("never indented");
+    const char *words = "past the deepest point";
+    size_t i, n = 10, said = 0, fitted = 0, said_normal = 0;
+
+    scene_add(&s, 2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    scene_add(&s, 3, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    s.sim.noise = 0.001;
+    s.fit.model = &lf_model_thin;
+    for (i = 0; i < 2 * n; i++) {
+        lf_fit_result r;
+        lf_error err;
+        int st;
+        /* the first n: deepest point 1 nm short of the surface (c ~ 3 nm) */
+        s.sim.delta_max = i < n ? -1e-9 : 50e-9;
+        st = scene_fit(&s, 9400 + i, &r, &err);
+        if (st != LF_OK && st != LF_ENOCONV)
+            continue;
+        if (i < n) {
+            fitted++;
+            said += curve_warns(&r, 0, words) && curve_warns(&r, 1, words);
+        } else {
+            said_normal += curve_warns(&r, 0, words) || curve_warns(&r, 1, words);
+        }
+        lf_fit_result_free(&r);
+    }
+    t_int((long) fitted, (long) n, "never indented: every fit ends");
+    t_int((long) said, (long) fitted, "never indented: the contact point past the data is said");
+    t_int((long) said_normal, 0, "indented 50 nm: nothing said of the contact point");
+    scene_free(&s);
+}
+
 int
 main(void)
 {
@@ -418,5 +467,6 @@ main(void)
     profile_holds_the_lr_set();
     profile_threshold_every_dof();
     vacuous_linear_intervals();
+    contact_point_past_data();
     return t_summary();
 }

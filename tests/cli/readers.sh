@@ -82,7 +82,7 @@ run_ok fit "$tmp/hplan.csv" --model halfspace --json "$tmp/h.json" && {
 }
 printf 'file,k,R,b,interface\n%s,2,header,8um,frictionless\n' "$v/jpk_volts.txt" >"$tmp/hplan2.csv"
 expect_fail 2 "layerfit: $tmp/hplan2.csv:2: R 'header', but $v/jpk_volts.txt states no probe radius (give R in the plan)" check "$tmp/hplan2.csv"
-expect_fail 2 "layerfit: fit: $v/jpk_volts.txt: no probe radius: the plan's row says R = header and the file states none (give the radius in the plan's R column, e.g. R_um 8)" fit "$tmp/hplan2.csv" --model halfspace
+expect_fail 2 "layerfit: $tmp/hplan2.csv:2: $v/jpk_volts.txt: no probe radius: the plan's row says R = header and the file states none (give the radius in the plan's R column, e.g. R_um 8)" fit "$tmp/hplan2.csv" --model halfspace
 # a plan's probes are its rows': the single-curve options are refused, not ignored
 for o in "--R 8um" "--b 1um" "--interface bonded"; do
     # shellcheck disable=SC2086
