@@ -103,6 +103,11 @@ int lf_units_parse(const char *text, lf_quantity q, double *si, lf_error *err);
  * SI for quantity q (value_SI = factor * value).  Offsets (degC) are refused. */
 int lf_units_factor(const char *unit, lf_quantity q, double *factor, lf_error *err);
 
+/* A deflection sensitivity in SI (si_unit "m/A", else m/V) as instruments
+ * show it: the number into *shown, its unit returned ("nm/nA", the same
+ * number; "nm/V", 1e9 times). */
+const char *lf_sensitivity_shown(double si, const char *si_unit, double *shown);
+
 /* ------------------------------------------------------------------------
  * Forward models
  * --------------------------------------------------------------------- */

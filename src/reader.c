@@ -70,16 +70,6 @@ unknown_format(const char *name, const char *format, lf_error *err)
                       format, list);
 }
 
-/* A sensitivity in SI (m/A per ampere, else m/V) as instruments give it:
- * its unit "nm/nA" (the same number) or "nm/V" (1e9 times), the number into
- * *shown. */
-static const char *
-sensitivity_shown(double si, int per_amp, double *shown)
-{
-    *shown = per_amp ? si : 1e9 * si;
-    return per_amp ? "nm/nA" : "nm/V";
-}
-
 /* The reading options a file did not use, said: a constant the file states
  * itself (the options are for files that state none), one it needs none
  * of, units an instrument's export states itself. */
@@ -103,8 +93,7 @@ options_set_aside(const lf_reader_type *r, const lf_curve *c, const lf_read_opts
     else if (isfinite(s) && s > 0 && strcmp(c->sensitivity_source, "file header") == 0
              && fabs(s - c->sensitivity) > 1e-9 * c->sensitivity) {
         double v;
-        const char *u = sensitivity_shown(c->sensitivity, c->sensitivity_unit != NULL
-                                          && strcmp(c->sensitivity_unit, "m/A") == 0, &v);
+        const char *u = lf_sensitivity_shown(c->sensitivity, c->sensitivity_unit, &v);
         lf_warn(warn, "%s: sensitivity %.6g %s from the file header; --sensitivity applies "
                 "only to files that state none", c->file, v, u);
     }
@@ -401,7 +390,7 @@ lf_afm_sensitivity(lf_curve *c, double file_s, const char *file_key, int per_amp
         c->sensitivity = file_s;
         c->sensitivity_source = "file header";
         c->sensitivity_unit = u;
-        shown = sensitivity_shown(file_s, per_amp, &v);
+        shown = lf_sensitivity_shown(file_s, u, &v);
         lf_warn(&c->info, "sensitivity %.6g %s (file header '%s')", v, shown, file_key);
         return LF_OK;
     }
@@ -416,7 +405,7 @@ lf_afm_sensitivity(lf_curve *c, double file_s, const char *file_key, int per_amp
         c->sensitivity = o->sensitivity;
         c->sensitivity_source = "option";
         c->sensitivity_unit = u;
-        shown = sensitivity_shown(o->sensitivity, per_amp, &v);
+        shown = lf_sensitivity_shown(o->sensitivity, u, &v);
         lf_warn(&c->info, "sensitivity %.6g %s (option --sensitivity)", v, shown);
         return LF_OK;
     }

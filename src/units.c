@@ -203,3 +203,12 @@ lf_units_parse(const char *text, lf_quantity q, double *si, lf_error *err)
         return lf_fail(err, LF_EINVAL, "'%s' overflows in SI units", text);
     return LF_OK;
 }
+
+const char *
+lf_sensitivity_shown(double si, const char *si_unit, double *shown)
+{
+    const int per_amp = si_unit != NULL && strcmp(si_unit, "m/A") == 0;
+
+    *shown = per_amp ? si : 1e9 * si;
+    return per_amp ? "nm/nA" : "nm/V";
+}

@@ -80,5 +80,12 @@ main(void)
     t_int(lf_units_factor("", LF_Q_FORCE, &f, &err), LF_EUNIT, "empty unit for a force");
     t_str(err.msg, "missing unit: expected a force such as 10uN", "message for an empty unit");
     t_str(lf_quantity_si(LF_Q_ADHESION), "J/m^2", "SI name of w");
+    /* a sensitivity as instruments show it, and back through the parser */
+    t_str(lf_sensitivity_shown(61.0, "m/A", &v), "nm/nA", "m/A shown per nA");
+    t_rel(v, 61.0, 0, "61 m/A is 61 nm/nA");
+    t_str(lf_sensitivity_shown(5e-8, "m/V", &v), "nm/V", "m/V shown in nm/V");
+    t_rel(v, 50.0, 1e-15, "5e-8 m/V is 50 nm/V");
+    t_int(lf_units_parse("50nm/V", LF_Q_SENS_VOLT, &f, &err), LF_OK, "50nm/V parses");
+    t_rel(f, 5e-8, 1e-15, "50nm/V back in SI");
     return t_summary();
 }

@@ -130,10 +130,9 @@ origin_text(FILE *f, const lf_curve_origin *o, int nolayer)
                 o->spring_constant_source);
     if (o->sensitivity_source != NULL)
     {
-        /* in the units instruments use: nm/nA (= m/A) or nm/V */
-        const int per_amp = o->sensitivity_unit != NULL && strcmp(o->sensitivity_unit, "m/A") == 0;
-        fprintf(f, ", sensitivity %.4g %s %s", per_amp ? o->sensitivity : o->sensitivity * 1e9,
-                per_amp ? "nm/nA" : "nm/V", o->sensitivity_source);
+        double v;
+        const char *u = lf_sensitivity_shown(o->sensitivity, o->sensitivity_unit, &v);
+        fprintf(f, ", sensitivity %.4g %s %s", v, u, o->sensitivity_source);
     }
     fputc('\n', f);
 }
