@@ -202,9 +202,10 @@ void cli_figures_free(cli_figures *f);
 int cli_draw_script(const char *dir, const char *script, const char *base,
                     const char *const *ext, size_t next, char *msg, size_t n);
 
-/* `layerfit fit --plot DIR --report FILE.html` (either may be NULL): draw
- * the figures and write the page; what goes wrong short of an I/O error on
- * the page (gnuplot missing) is said on stderr without failing. */
+/* `layerfit fit --plot DIR --report FILE.html` (either may be NULL),
+ * checked by cli_fit_figures_check before the fit: draw the figures and
+ * write the page; what goes wrong short of an I/O error on the page
+ * (gnuplot missing) is said on stderr without failing. */
 void cli_fit_figures(const char *plotdir, const char *report, size_t ncurves,
                      const lf_fit_curve *curves, const lf_fit_result *res);
 /* Check --plot and --report before fitting (exit 2 on a bad value). */

@@ -705,7 +705,6 @@ cli_fit_figures(const char *plotdir, const char *report, size_t ncurves,
 {
     char msg[1400];
 
-    cli_fit_figures_check(plotdir, report);
     if (plotdir != NULL && report == NULL) {
         cli_figures figs = { 0, NULL, NULL };
         int st = cli_plot_fit(plotdir, ncurves, curves, res, &figs, msg, sizeof msg);
