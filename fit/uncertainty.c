@@ -473,20 +473,15 @@ consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_resul
  * sphere reaches a = R.  Past SPHERE_A_OVER_R (5% in height) the largest
  * contact radius of the curve is a warning. */
 #define SPHERE_A_OVER_R 0.43
-/* The thin-layer model past its limit of b/a (at `where`), in words: the
- * assumption strained below b = a; from there on the model does not apply
- * (at b = a its force is off by a quarter to a factor 5 against the exact
- * model's, `layerfit model --figure 6`). */
+/* The thin-layer model past its limit of b/a (at `where`), in the words
+ * of lf_thin_scope. */
 static void
-thin_strain(lf_warnings *w, double ba, const char *where, const char *there, double limit)
+thin_strain(lf_warnings *w, double ba, const char *where, double limit)
 {
-    if (ba < 1.0)
-        lf_warn(w, "b/a = %.3g %s: the thin-layer assumption b << a is strained%s (limit %g)",
-                ba, where, there, limit);
-    else
-        lf_warn(w, "b/a = %.3g %s: the thin-layer model does not apply%s (it assumes b << a; at "
-                "b = a its force is off by a quarter to a factor 5: the exact model covers it)",
-                ba, where, there);
+    const char *words = lf_thin_scope(ba, limit);
+
+    if (words != NULL)
+        lf_warn(w, "b/a = %.3g %s: %s (limit %g)", ba, where, words, limit);
 }
 
 static void
@@ -574,13 +569,12 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
     cr->b_over_a_pulloff = cr->pulloff.a_po > 0 ? b / cr->pulloff.a_po : NAN;
     cr->pulloff_determined = r->w.determined;
     /* the b << a warnings concern the thin-layer model only */
-    if (lf_model_get_type(c->model)->scope == LF_SCOPE_THIN
-        && cr->b_over_a_min_contact > f->set.max_b_over_a)
+    if (lf_model_get_type(c->model)->scope == LF_SCOPE_THIN) {
         thin_strain(&cr->warnings, cr->b_over_a_min_contact, "at the shallowest point in contact",
-                    " there", f->set.max_b_over_a);
-    if (lf_model_get_type(c->model)->scope == LF_SCOPE_THIN && cr->pulloff_determined
-        && cr->b_over_a_pulloff > f->set.max_b_over_a)
-        thin_strain(&cr->warnings, cr->b_over_a_pulloff, "at pull-off", "", f->set.max_b_over_a);
+                    f->set.max_b_over_a);
+        if (cr->pulloff_determined)
+            thin_strain(&cr->warnings, cr->b_over_a_pulloff, "at pull-off", f->set.max_b_over_a);
+    }
     sphere_check(&c->data.probe, amax, &cr->warnings);
     contact_point_check(c, cr, &cr->warnings);
     consistency(f, j, res, cr);

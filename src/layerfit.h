@@ -176,6 +176,13 @@ typedef enum {
     LF_SCOPE_HALFSPACE = 2   /* assumes a thick layer, b >> a */
 } lf_model_scope;
 
+/* What a thin-layer model's result is worth at b/a (thickness over contact
+ * radius) in words: NULL up to `limit` (a fit's max_b_over_a, 0.1 by
+ * default); "strained" below b = a; from b = a on, the model does not apply
+ * (there its force is off by a quarter to a factor 5 against the exact
+ * model's, `layerfit model --figure 6`). */
+const char *lf_thin_scope(double b_over_a, double limit);
+
 /* A forward model is one entry of this table.  Entries share one contract:
  *  alloc  prepares state for one probe (may be NULL when none is needed);
  *  eval   fills out[0..n-1] for indentations delta[0..n-1]; must not

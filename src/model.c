@@ -174,3 +174,14 @@ lf_jkr_sphere_a_po(double R, double w, double Estar)
 {
     return cbrt(9.0 * M_PI * R * R * w / (8.0 * Estar));
 }
+
+const char *
+lf_thin_scope(double b_over_a, double limit)
+{
+    if (!(b_over_a > limit))
+        return NULL;
+    return b_over_a < 1.0 ? "the thin-layer assumption b << a is strained"
+                          : "the thin-layer model does not apply: it assumes b << a, and at b = a "
+                            "its force is already off by a quarter to a factor 5; the exact model "
+                            "covers any b";
+}

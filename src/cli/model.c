@@ -130,17 +130,15 @@ summarise(const lf_model *m, const model_args *a, model_summary *s)
 }
 
 /* The thin-layer model at b/a (at pull-off): "" where b << a holds (up to
- * the fit's default limit 0.1), else what it means.  At b = a its force is
- * off by a quarter (bonded, nu = 0.45) to a factor 2 (frictionless) or 5
- * (bonded, nu = 0.49): `layerfit model --figure 6`. */
+ * the fit's default limit 0.1), else what it means (lf_thin_scope).  At
+ * b = a its force is off by a quarter (bonded, nu = 0.45) to a factor 2
+ * (frictionless) or 5 (bonded, nu = 0.49): `layerfit model --figure 6`. */
 static const char *
 thin_scope(const model_summary *s, double ba)
 {
-    if (s->type->scope != LF_SCOPE_THIN || !(ba > 0.1))
-        return "";
-    return ba < 1.0 ? "thin-layer assumption b << a strained"
-                    : "the thin-layer model does not apply: it assumes b << a, and at b = a its "
-                      "force is already off by a quarter to a factor 5; --model exact covers any b";
+    const char *words = lf_thin_scope(ba, lf_fit_settings_default().max_b_over_a);
+
+    return s->type->scope == LF_SCOPE_THIN && words != NULL ? words : "";
 }
 
 static void

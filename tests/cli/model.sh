@@ -94,7 +94,7 @@ has "help names the half-space assumption" "$tmp/out" "; assumes b >> a"
 LAYERFIT_NO_CACHE=1 run_ok model --model exact --k 2 --R 1mm --b 1um --w 10mJ/m2 --E 1GPa --summary
 if grep -q "thin-layer assumption" "$tmp/out"; then bad "exact model summary warns about b << a"; else ok; fi
 run_ok model --model thin --k 2 --R 1mm --b 1um --w 10mJ/m2 --E 1GPa --summary
-has "thin model summary warns about b << a" "$tmp/out" "thin-layer assumption b << a strained"
+has "thin model summary warns about b << a" "$tmp/out" "the thin-layer assumption b << a is strained"
 # past b = a the thin-layer model does not apply: said in the summary, and
 # on stderr beside the CSV (a k = 0.3 tip on 1 um: b/a = 2878 at pull-off)
 run_ok model --k 0.3 --R 5um --b 1um --w 10mJ/m^2 --E 1MPa
