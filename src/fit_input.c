@@ -195,9 +195,10 @@ same_data_before(const lf_plan *plan, const size_t *rows, const lf_fit_input *in
 }
 
 /* An error about a row's curve that names no place in a file (no radius
- * where the row says R = header, a segment too short, a probe the model
- * refuses) is put at the row's line of the plan: the message names the
- * curve's file, the place says which row asked for it. */
+ * where the row says R = header, a probe the model refuses) is put at the
+ * row's line of the plan: the message names the curve's file, the place
+ * says which row asked for it.  One inside the curve file (a bad cell, a
+ * segment too short) keeps the file's own place. */
 static void
 at_row(lf_error *err, const lf_plan *plan, const lf_plan_row *row)
 {
