@@ -111,8 +111,7 @@ ran_away(const lf_fit *f, lf_fit_result *res, int col)
     }
     if (any && res->M.determined && res->M.free)
         lf_fit_estimate_drop(&res->M, res->Estar.why != NULL ? res->Estar.why : res->nu.why);
-    for (j = 0; j < res->ncurves; j++)
-        res->curves[j].pulloff_determined = res->w.determined;
+    lf_fit_pulloff_follows(res);
 }
 
 int

@@ -236,6 +236,9 @@ void lf_fit_run_says(fit_run *run, lf_fit_stop stop, const char *fmt, ...)
  * identifiability notes give it): no value, interval or bound
  * (uncertainty.c). */
 void lf_fit_estimate_drop(lf_fit_estimate *e, const char *why);
+/* Every curve's pull-off follows w: determined exactly when w is
+ * (uncertainty.c; after anything that changes w's verdict). */
+void lf_fit_pulloff_follows(lf_fit_result *r);
 /* Take the verdict (converged, stop, user_test, why) of another run. */
 void lf_fit_run_verdict_from(fit_run *run, const fit_run *from);
 

@@ -762,10 +762,7 @@ refit_from_lower(prof *p, lf_fit_result *res)
 static void
 verdicts_follow(lf_fit_result *res)
 {
-    size_t j;
-
-    for (j = 0; j < res->ncurves; j++)
-        res->curves[j].pulloff_determined = res->w.determined;
+    lf_fit_pulloff_follows(res);
     lf_fit_degenerate_end(res);
 }
 

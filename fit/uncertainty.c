@@ -82,6 +82,15 @@ lf_fit_estimate_drop(lf_fit_estimate *e, const char *why)
     e->upper_bound_only = 0;
 }
 
+void
+lf_fit_pulloff_follows(lf_fit_result *r)
+{
+    size_t j;
+
+    for (j = 0; j < r->ncurves; j++)
+        r->curves[j].pulloff_determined = r->w.determined;
+}
+
 static void
 estimate_undetermined(lf_fit_estimate *e, int free)
 {

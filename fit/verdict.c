@@ -249,10 +249,10 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
 static int
 none_determined(const lf_fit_result *r)
 {
-    const lf_fit_estimate *e[3] = { &r->w, &r->Estar, &r->nu };
+    const lf_fit_estimate *e[FIT_NMAT] = { &r->w, &r->Estar, &r->nu };
     int any_free = 0, k;
 
-    for (k = 0; k < 3; k++) {
+    for (k = 0; k < FIT_NMAT; k++) {
         any_free |= e[k]->free;
         if (e[k]->free && e[k]->determined)
             return 0;
