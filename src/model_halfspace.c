@@ -170,8 +170,8 @@ solve_y(const hs_table *t, double s, double y, double *slope)
     double g, gp, dy;
     int i;
 
-    if (!(y > 0.0))
-        y = t->c1 * sqrt(s);
+    if (!(y > 0.0))   /* the smaller of the two ends' laws */
+        y = fmin(t->c1 * sqrt(s), exp(t->inv_k2 * log(s)));
     binomial_rest(t->k2, y / t->r_det, &g, &gp);
     for (i = 0; i < 200; i++) {
         dy = (t->r_det * t->inv_k2 * g - s) / gp;
