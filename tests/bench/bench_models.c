@@ -7,8 +7,11 @@
  * each fit's w and E* against the truth in standard errors; then the cost
  * of single calls on the first curve: one evaluation of its 300 points and
  * one pull-off, exact against thin (the exact model's guess in fit/
- * computes thousands of pull-offs).  The target (issue 13): an exact fit
- * within 2x the time of the thin fit once its tables exist. */
+ * computes thousands of pull-offs), and the cost per point of an
+ * evaluation of the thin, half-space and exact models on those points.
+ * The targets: an exact fit within 2x the time of the thin fit once its
+ * tables exist (issue 13); per point, the half-space model within 3x the
+ * thin model and the exact model within 5x (issue 34). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -70,23 +73,29 @@ calls(const bscene *b, const lf_material *mat, const double *depth)
     static double d[NPTS];
     lf_model *mt = lf_model_alloc(&lf_model_thin, &b->p[0], NULL);
     lf_model *me = lf_model_alloc(&lf_model_exact, &b->p[0], NULL);
-    double te, tt, pe, pt;
+    lf_model *mh = lf_model_alloc(&lf_model_halfspace, &b->p[0], NULL);
+    double te, tt, th, pe, pt;
     size_t i;
 
-    if (mt != NULL && me != NULL) {
+    if (mt != NULL && me != NULL && mh != NULL) {
         /* indentations from the data's depths less the simulation's z0 */
         for (i = 0; i < NPTS; i++)
             d[i] = depth[i] - 15e-9;
         tt = call_time(mt, mat, d, 0);
         te = call_time(me, mat, d, 0);
+        th = call_time(mh, mat, d, 0);
         pt = call_time(mt, mat, d, 1);
         pe = call_time(me, mat, d, 1);
         printf("%-40s one evaluation (%d points): thin %.1f us, exact %.1f us (%.1fx); "
                "one pull-off: thin %.2f us, exact %.2f us (%.1fx)\n",
                "", NPTS, 1e6 * tt, 1e6 * te, te / tt, 1e6 * pt, 1e6 * pe, pe / pt);
+        printf("%-40s per point (k = %g): thin %.1f ns, halfspace %.1f ns (%.1fx thin), "
+               "exact %.1f ns (%.1fx thin)\n", "", b->p[0].k, 1e9 * tt / NPTS, 1e9 * th / NPTS,
+               th / tt, 1e9 * te / NPTS, te / tt);
     }
     lf_model_free(mt);
     lf_model_free(me);
+    lf_model_free(mh);
 }
 
 /* One scene: NSEED simulated data sets (a single seed can put the minimum
@@ -177,6 +186,38 @@ run(const bscene *b)
     calls(b, &mat, depth[0][0]);
 }
 
+/* The cost per point of one evaluation of each model, for k = 1.5, 2, 3
+ * (w = 10 mJ/m^2, E* = 1 GPa, R = 1 mm, b = 1 um frictionless, 300
+ * indentations from 50 nm to -10 nm), against the thin model's. */
+static void
+per_point(void)
+{
+    static const double ks[] = { 1.5, 2.0, 3.0 };
+    static double d[NPTS];
+    const lf_material mat = { 10e-3, 1e9, 0.3 };
+    size_t i, j;
+
+    for (i = 0; i < NPTS; i++)
+        d[i] = 50e-9 - 60e-9 * (double) i / (NPTS - 1.0);
+    printf("one evaluation of %d points, per point:\n", NPTS);
+    for (j = 0; j < sizeof ks / sizeof ks[0]; j++) {
+        lf_probe p = { ks[j], 1e-3, 1e-6, LF_BASE_FRICTIONLESS };
+        lf_model *mt = lf_model_alloc(&lf_model_thin, &p, NULL);
+        lf_model *mh = lf_model_alloc(&lf_model_halfspace, &p, NULL);
+        lf_model *me = lf_model_alloc(&lf_model_exact, &p, NULL);
+        if (mt != NULL && mh != NULL && me != NULL) {
+            double tt = call_time(mt, &mat, d, 0), th = call_time(mh, &mat, d, 0);
+            double te = call_time(me, &mat, d, 0);
+            printf("  k = %-4g thin %5.1f ns, halfspace %5.1f ns (%.1fx thin), exact %5.1f ns "
+                   "(%.1fx thin)\n", ks[j], 1e9 * tt / NPTS, 1e9 * th / NPTS, th / tt,
+                   1e9 * te / NPTS, te / tt);
+        }
+        lf_model_free(mt);
+        lf_model_free(mh);
+        lf_model_free(me);
+    }
+}
+
 int
 main(void)
 {
@@ -197,6 +238,7 @@ main(void)
     size_t i;
 
     gsl_set_error_handler_off();
+    per_point();
     printf("fits of %d-point exact-model curves, %d data sets (seeds 7-%d), mean of %d fits each, "
            "warm table cache\n", NPTS, NSEED, 6 + NSEED, REPEAT);
     for (i = 0; i < sizeof scenes / sizeof scenes[0]; i++)
