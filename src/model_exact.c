@@ -44,7 +44,10 @@
  * interpolant's own second derivatives, exact.h): the root and the values
  * are then off by O(du^3) ~ 1e-18 relative, the derivative columns by
  * O(du^2) <= ~1e-10, far below the tables' own accuracy in derivatives
- * (3e-5, tests/test_exact.c).  lf_exact_eval_precise skips all this.
+ * (3e-5, tests/test_exact.c).  On a frictionless layer the curve at u
+ * comes from polynomials of its four products, expanded once per table
+ * (prodpoly below), instead of the tables' interpolation and four
+ * exponentials.  lf_exact_eval_precise skips all this.
  */
 #include <math.h>
 #include <stdatomic.h>
@@ -78,8 +81,11 @@ enum { RHO_D, RHO_P, RHO_0 };
 
 /* The tables of one (probe, nu), flattened, and the three conditions at
  * the grid's nodes. */
+typedef struct prodpoly prodpoly;
 typedef struct {
     double nu;                    /* as asked for (0 when frictionless) */
+    const prodpoly *pp;           /* the products' polynomials (frictionless
+                                     tables' shared mixdata), or NULL */
     lf_exact_mix mix;
     lf_exact_premix premix;       /* bonded: the mix flattened for this nu */
     double r[3][GRID_N];          /* rho_d, rho_p, rho_0 at the nodes */
@@ -258,6 +264,7 @@ mixdata_build(mixdata *md, exact_state *st, const lf_probe *pr, double nu, lf_er
 
     atomic_fetch_add_explicit(&conditions_built, 1, memory_order_relaxed);
     md->nu = nu;
+    md->pp = NULL;
     status = st != NULL ? state_mix(st, pr, nu, &md->mix, err)
                         : lf_exact_mix_init(&md->mix, pr->k, pr->base, nu, err);
     if (status != LF_OK)
@@ -344,6 +351,94 @@ slot_claim(exact_state *st)
     return NULL;
 }
 
+/* ---- the four products as polynomials (frictionless tables) ----------
+ *
+ * The curve at u = ln tau is made of four products of a power of tau and
+ * tabulated functions, each exp(c(u)) with c a linear term plus sums of
+ * the tables' ln f, which are cubics in u on each cell of the table:
+ *   E_D = exp(k u + ln d)               delta1 = A1 E_D
+ *   E_s = exp(u/2 - ln e)               shift  = A2 E_s
+ *   E_S = exp(3u/2 + ln s - ln e)       S shift = Sc E_S
+ *   E_P = exp((k + 1) u + ln p)         P1     = F1 E_P
+ * None depends on the material, so for a frictionless table they are
+ * expanded once (with the table's shared mixdata) on PP_SUB sub-cells of
+ * each cell: the Taylor series of exp(c0 + c1 t + c2 t^2 + c3 t^3) about
+ * the sub-cell's centre has the coefficients y_0 = e^c0,
+ * n y_n = c1 y_(n-1) + 2 c2 y_(n-2) + 3 c3 y_(n-3) (from y' = c' y),
+ * kept to degree PP_DEG.  With |t| <= h/(2 PP_SUB) ~ 0.003 and |c1| below
+ * k + 2, the first term left out is below ((k + 2) 0.003)^7/7! ~ 1e-17 of
+ * the product for k = 2 (1e-15 at k = 6, 6e-14 at k = 12): the curve and its first
+ * two u-derivatives then cost a few multiplications a point instead of
+ * the table's interpolation and four exponentials (the fast path only;
+ * lf_exact_eval_precise keeps the exponentials, and tests/test_exact.c
+ * holds the two to 1e-12). */
+#define PP_SUB 16
+#define PP_DEG 6
+#define PP_NC (PP_DEG + 1)
+#define PP_NF 5              /* the four products and tau = e^u itself */
+
+struct prodpoly {
+    double u0, hs, inv_hs;   /* sub-cell q: [u0 + q hs, u0 + (q + 1) hs] */
+    size_t nq;               /* sub-cells */
+    double *c;               /* c[(PP_NF q + j) PP_NC + n] */
+};
+
+/* The storage prodpoly_build needs for table t (beyond sizeof(mixdata)). */
+static size_t
+prodpoly_size(const lf_exact_table *t)
+{
+    return sizeof(prodpoly) + (t->n - 1) * PP_SUB * PP_NF * PP_NC * sizeof(double);
+}
+
+/* Build the polynomials of the frictionless mix mx (one table) into mem
+ * (prodpoly_size bytes); returns them. */
+static const prodpoly *
+prodpoly_build(void *mem, const lf_exact_mix *mx, double k)
+{
+    const lf_exact_table *t = mx->t[0];
+    prodpoly *pp = mem;
+    size_t i, q, j, n;
+
+    pp->c = (double *) (pp + 1);
+    pp->hs = t->h / PP_SUB;
+    pp->inv_hs = 1.0 / pp->hs;
+    pp->u0 = t->l0;
+    pp->nq = (t->n - 1) * PP_SUB;
+    for (i = 0; i + 1 < t->n; i++) {
+        const double *Fa = t->F + LF_EXACT_NFUN * i, *Ga = t->G + LF_EXACT_NFUN * i;
+        double F3[4];
+        /* the cell's constant third derivative of each ln f */
+        for (j = 0; j < 4; j++)
+            F3[j] = (12.0 * (Fa[j] - Fa[j + LF_EXACT_NFUN])
+                     + 6.0 * t->h * (Ga[j] + Ga[j + LF_EXACT_NFUN])) / (t->h * t->h * t->h);
+        for (q = 0; q < PP_SUB; q++) {
+            const size_t qq = i * PP_SUB + q;
+            const double u = t->l0 + (double) i * t->h + ((double) q + 0.5) * pp->hs;
+            double F[4], g[4], dg[4], cc[PP_NF][4];
+            lf_exact_mix_eval_u(mx, u, F, g, dg, NULL, NULL);
+            /* c0 .. c3 of each exponent about u */
+            cc[0][0] = k * u + F[2];               cc[0][1] = k + g[2];
+            cc[0][2] = 0.5 * dg[2];                cc[0][3] = F3[2] / 6.0;
+            cc[1][0] = 0.5 * u - F[1];             cc[1][1] = 0.5 - g[1];
+            cc[1][2] = -0.5 * dg[1];               cc[1][3] = -F3[1] / 6.0;
+            cc[2][0] = 1.5 * u + F[0] - F[1];      cc[2][1] = 1.5 + g[0] - g[1];
+            cc[2][2] = 0.5 * (dg[0] - dg[1]);      cc[2][3] = (F3[0] - F3[1]) / 6.0;
+            cc[3][0] = (k + 1.0) * u + F[3];       cc[3][1] = k + 1.0 + g[3];
+            cc[3][2] = 0.5 * dg[3];                cc[3][3] = F3[3] / 6.0;
+            cc[4][0] = u;                          cc[4][1] = 1.0;
+            cc[4][2] = 0.0;                        cc[4][3] = 0.0;
+            for (j = 0; j < PP_NF; j++) {
+                double *y = pp->c + (PP_NF * qq + j) * PP_NC;
+                y[0] = exp(cc[j][0]);
+                for (n = 1; n < PP_NC; n++)
+                    y[n] = (cc[j][1] * y[n - 1] + (n >= 2 ? 2.0 * cc[j][2] * y[n - 2] : 0.0)
+                            + (n >= 3 ? 3.0 * cc[j][3] * y[n - 3] : 0.0)) / (double) n;
+            }
+        }
+    }
+    return pp;
+}
+
 /* st's frictionless table (NULL: not resolved); its `derived` is the one
  * member written after it is published (table_mixdata). */
 static lf_exact_table *
@@ -378,12 +473,14 @@ table_mixdata(exact_state *st, const lf_probe *pr, lf_error *err)
         return NULL;
     if ((ready = shared_mixdata(st)) != NULL)
         return ready;
-    if ((md = malloc(sizeof(mixdata))) == NULL)
+    if ((md = malloc(sizeof(mixdata) + prodpoly_size(t))) == NULL)
         return NULL;
     if (mixdata_build(md, st, pr, 0.0, err) != LF_OK) {
         free(md);
         return NULL;
     }
+    ((mixdata *) md)->pp = prodpoly_build((char *) md + sizeof(mixdata), &((mixdata *) md)->mix,
+                                          pr->k);
     if (!atomic_compare_exchange_strong_explicit(&t->derived, &none, md, memory_order_acq_rel,
                                                  memory_order_acquire)) {
         free(md);           /* another model object's came first */
@@ -450,9 +547,12 @@ typedef struct {
     double shift, Ssh, P1;             /* adhesive shift, S shift, P1 */
     double gsh, gSsh, gP1;             /* their d ln/du */
     double ddelta_nu, dP_nu;           /* d/dnu at fixed tau */
-    /* second order (curve_from with dg): d/du of dd, dP, gsh, gSsh, gP1,
-     * ddelta_nu, dP_nu */
-    double d2, P2, dgsh, dgSsh, dgP1, ddelta_nu_u, dP_nu_u;
+    /* second order (curve_from with dg, curve_poly): d/du of dd, dP,
+     * ddelta_nu, dP_nu; the first and second u-derivatives of shift, Ssh
+     * and P1 */
+    double d2, P2, ddelta_nu_u, dP_nu_u;
+    double shift1, shift2, Ssh1, Ssh2, P11, P12;
+    double tau;                        /* e^u, from curve_poly (else NAN) */
 } exact_pt;
 
 /* The mix at one u: ln f, g = d ln f/du, dg = dg/du. */
@@ -464,6 +564,7 @@ typedef struct {
 typedef struct {
     const lf_exact_mix *mx;
     const mixdata *md;    /* the grid of the conditions (NULL: none) */
+    const prodpoly *pp;   /* the products' polynomials, or NULL */
     double k, h;
     double A1, A2, F1, Sc;  /* Sc = 2 E* h A2: S shift = Sc tau^(3/2) s/e */
     double L;             /* ln lambda = ln (A2/A1) */
@@ -484,6 +585,7 @@ curve_from(const exact_ctx *c, double u, const double F[4], const double g[4],
 {
     double k = c->k, D1, gD1;
 
+    o->tau = NAN;
     D1 = c->A1 * exp(k * u + F[2]);                    /* A1 tau^k d */
     o->shift = c->A2 * exp(0.5 * u - F[1]);            /* A2 sqrt(tau) / e */
     o->Ssh = c->Sc * exp(1.5 * u + F[0] - F[1]);       /* S shift */
@@ -504,11 +606,14 @@ curve_from(const exact_ctx *c, double u, const double F[4], const double g[4],
     }
     if (dg != NULL) {
         /* (X e^G)'' = X (G'^2 + G'') for each product */
-        o->dgsh = -dg[1];
-        o->dgSsh = dg[0] - dg[1];
-        o->dgP1 = dg[3];
-        o->d2 = D1 * (gD1 * gD1 + dg[2]) - o->shift * (o->gsh * o->gsh + o->dgsh);
-        o->P2 = o->P1 * (o->gP1 * o->gP1 + o->dgP1) - o->Ssh * (o->gSsh * o->gSsh + o->dgSsh);
+        o->shift1 = o->shift * o->gsh;
+        o->shift2 = o->shift * (o->gsh * o->gsh - dg[1]);
+        o->Ssh1 = o->Ssh * o->gSsh;
+        o->Ssh2 = o->Ssh * (o->gSsh * o->gSsh + dg[0] - dg[1]);
+        o->P11 = o->P1 * o->gP1;
+        o->P12 = o->P1 * (o->gP1 * o->gP1 + dg[3]);
+        o->d2 = D1 * (gD1 * gD1 + dg[2]) - o->shift2;
+        o->P2 = o->P12 - o->Ssh2;
         if (H != NULL) {
             o->ddelta_nu_u = D1 * (gD1 * H[2] + dH[2]) + o->shift * (o->gsh * H[1] + dH[1]);
             o->dP_nu_u = o->P1 * (o->gP1 * H[3] + dH[3])
@@ -538,6 +643,61 @@ curve_at2(const exact_ctx *c, double u, int want_nu, exact_pt *o)
     curve_from(c, u, F, g, dg, want_nu ? H : NULL, want_nu ? dH : NULL, o);
 }
 
+/* curve_at2 from the products' polynomials (frictionless, no nu terms);
+ * 0 when u lies outside them (then nothing is written). */
+static inline int
+curve_poly(const exact_ctx *c, double u, exact_pt *o)
+{
+    const prodpoly *pp = c->pp;
+    const double x = (u - pp->u0) * pp->inv_hs;
+    double y[4], y1[4], y2[4], t, tv;
+    const double *cf;
+    size_t q;
+    int j, n;
+
+    if (!(x >= 0.0 && x < (double) pp->nq))
+        return 0;
+    q = (size_t) x;
+    t = u - (pp->u0 + ((double) q + 0.5) * pp->hs);
+    cf = pp->c + PP_NF * q * PP_NC;
+#pragma GCC unroll 4
+    for (j = 0; j < 4; j++) {
+        /* value and first two derivatives by Horner */
+        const double *a = cf + j * PP_NC;
+        double v = a[PP_DEG], d1 = 0.0, d2 = 0.0;
+#pragma GCC unroll 8
+        for (n = PP_DEG - 1; n >= 0; n--) {
+            d2 = d2 * t + d1;
+            d1 = d1 * t + v;
+            v = v * t + a[n];
+        }
+        y[j] = v;
+        y1[j] = d1;
+        y2[j] = 2.0 * d2;
+    }
+#pragma GCC unroll 8
+    for (tv = cf[4 * PP_NC + PP_DEG], n = PP_DEG - 1; n >= 0; n--)
+        tv = tv * t + cf[4 * PP_NC + n];
+    o->tau = tv;
+    o->shift = c->A2 * y[1];
+    o->shift1 = c->A2 * y1[1];
+    o->shift2 = c->A2 * y2[1];
+    o->Ssh = c->Sc * y[2];
+    o->Ssh1 = c->Sc * y1[2];
+    o->Ssh2 = c->Sc * y2[2];
+    o->P1 = c->F1 * y[3];
+    o->P11 = c->F1 * y1[3];
+    o->P12 = c->F1 * y2[3];
+    o->delta = c->A1 * y[0] - o->shift;
+    o->dd = c->A1 * y1[0] - o->shift1;
+    o->d2 = c->A1 * y2[0] - o->shift2;
+    o->P = o->P1 - o->Ssh;
+    o->dP = o->P11 - o->Ssh1;
+    o->P2 = o->P12 - o->Ssh2;
+    o->ddelta_nu = o->dP_nu = o->ddelta_nu_u = o->dP_nu_u = 0.0;
+    return 1;
+}
+
 /* The curve carried from u to u + du to first order (|du| tiny): the
  * derivatives stay those at u. */
 static void
@@ -561,12 +721,10 @@ curve_advance2(exact_pt *o, double du)
     o->P += o->dP * du + o->P2 * h;
     o->dd += o->d2 * du;
     o->dP += o->P2 * du;
-    o->shift *= 1.0 + o->gsh * du + (o->gsh * o->gsh + o->dgsh) * h;
-    o->Ssh *= 1.0 + o->gSsh * du + (o->gSsh * o->gSsh + o->dgSsh) * h;
-    o->P1 *= 1.0 + o->gP1 * du + (o->gP1 * o->gP1 + o->dgP1) * h;
-    o->gsh += o->dgsh * du;
-    o->gSsh += o->dgSsh * du;
-    o->gP1 += o->dgP1 * du;
+    o->tau *= 1.0 + du + h;           /* e^du to O(du^3) */
+    o->shift += o->shift1 * du + o->shift2 * h;
+    o->Ssh += o->Ssh1 * du + o->Ssh2 * h;
+    o->P1 += o->P11 * du + o->P12 * h;
     o->ddelta_nu += o->ddelta_nu_u * du;
     o->dP_nu += o->dP_nu_u * du;
 }
@@ -780,6 +938,7 @@ ctx_set(exact_ctx *c, const mixdata *md, const probe_consts *pc, const lf_materi
 {
     c->md = md;
     c->mx = &md->mix;
+    c->pp = md->pp;
     c->k = pc->k;
     c->h = pc->h;
     c->A1 = pc->A1;
@@ -834,9 +993,9 @@ invert(const exact_ctx *c, double target, double guess, int want_nu, int taylor,
         u = fmin(fmax(log(fmax(target - c->delta_det, 1e-300) / c->A1) / c->k, lo + 0.5), U_HIGH);
     for (i = 0; i < 200; i++) {
         double g, un;
-        if (taylor)
+        if (taylor && !(c->pp != NULL && !want_nu && curve_poly(c, u, &pt)))
             curve_at2(c, u, want_nu, &pt);
-        else
+        else if (!taylor)
             curve_at(c, u, want_nu, &pt);
         g = pt.delta - target;
         if (g > 0.0)
@@ -880,7 +1039,7 @@ fill_point(const exact_ctx *c, double u, const exact_pt *p, int bonded, lf_eval 
     if (!(p->dd > 0.0))
         dPdd = LF_BIG;
     e->P = p->P;
-    e->a = exp(u) * c->h;
+    e->a = (isnan(p->tau) ? exp(u) : p->tau) * c->h;
     e->dP_ddelta = lf_capped(dPdd);
     /* at fixed tau: d delta/dln w = -shift/2, dP/dln w = -S shift/2;
      * d delta/dln E = +shift/2, dP/dln E = P1 - S shift/2 */

@@ -405,7 +405,8 @@ test_thin_limit(void)
 }
 
 /* The model's evaluation (warm starts, small Newton steps finished by a
- * second-order expansion, per-nu data kept in the model object) against
+ * second-order expansion, per-nu data kept in the model object, on
+ * frictionless layers the curve from its products' polynomials) against
  * lf_exact_eval_precise, which solves every indentation on its own to
  * rounding.  The finish leaves the root and the values O(du^3) ~ 1e-18
  * from the converged ones (du <= 1e-6), so P and a must agree to 1e-12 of
@@ -427,7 +428,8 @@ test_fast_path(void)
         {3.0, LF_BASE_BONDED, 0.3, 2e-7, 0.002, 3e9},
         {1.5, LF_BASE_BONDED, 0.1, 5e-6, 0.03, 1e8},
         {1.0, LF_BASE_FRICTIONLESS, 0.3, 1e-6, 0.01, 1e9},
-        {2.0, LF_BASE_FRICTIONLESS, 0.3, 1e-6, 0.0, 1e9}};
+        {2.0, LF_BASE_FRICTIONLESS, 0.3, 1e-6, 0.0, 1e9},
+        {6.0, LF_BASE_FRICTIONLESS, 0.3, 1e-6, 0.01, 1e9}};
     enum { NP = 240 };
     size_t ci;
     int br, i, j;
