@@ -336,6 +336,14 @@ void lf_fit_invalidate(lf_fit *f);
 int lf_fit_guess_by_model(const lf_fit *f);
 int lf_fit_guess_model(lf_fit *f);
 void lf_fit_guess_model_offsets(lf_fit *f);
+/* guess_shape.c: the start of half-space curve j from its shape alone
+ * (every point in contact; zpo: the depth of its least force): the
+ * material (scale and w/E* searched) or the offsets at material m, with
+ * the residual sum of squares on its guess subsample, HUGE_VAL when none
+ * fits. */
+double lf_fit_shape_material(lf_fit *f, size_t j, double nu, double zpo, lf_material *out);
+double lf_fit_shape_offsets(lf_fit *f, size_t j, const lf_material *m, double zpo, double *z0,
+                            double *F0);
 /* For exact-model curves: keep the thin profile's start or the model's,
  * whichever costs less (sets f->start_by_model).  thin_set: the curves'
  * offsets are the thin profile's at f->mat already (else profiled here). */
