@@ -103,6 +103,23 @@ lf_pow_2k(double x, double k)
     return pow(x, 2.0 / k);
 }
 
+/* The bits of a double, and the double of some bits (IEEE 754). */
+static inline uint64_t
+lf_bits(double x)
+{
+    uint64_t b;
+    memcpy(&b, &x, sizeof b);
+    return b;
+}
+
+static inline double
+lf_double(uint64_t b)
+{
+    double x;
+    memcpy(&x, &b, sizeof x);
+    return x;
+}
+
 /* fmax and fmin as the C library defines them for NaN (the other argument),
  * inline: glibc's are calls, and the fit's loops over points make thousands
  * of them. */

@@ -281,19 +281,12 @@ mixdata_build(mixdata *md, exact_state *st, const lf_probe *pr, double nu, lf_er
     return LF_OK;
 }
 
-static uint64_t
-key_of(double nu)
-{
-    uint64_t b;
-    memcpy(&b, &nu, sizeof b);
-    return b;
-}
 
 /* A READY slot of nu with a reference taken, or NULL. */
 static slot *
 slot_find(exact_state *st, double nu)
 {
-    uint64_t key = key_of(nu);
+    uint64_t key = lf_bits(nu);
     int i;
 
     for (i = 0; i < st->nslot; i++) {
@@ -518,7 +511,7 @@ mixdata_get(exact_state *st, const lf_probe *pr, double nu, mixdata *local,
                 atomic_store_explicit(&s->word, SLOT_EMPTY, memory_order_release);
                 return status;
             }
-            atomic_store_explicit(&s->key, key_of(nu), memory_order_relaxed);
+            atomic_store_explicit(&s->key, lf_bits(nu), memory_order_relaxed);
             atomic_store_explicit(&s->stamp,
                                   atomic_fetch_add_explicit(&st->clock, 1, memory_order_relaxed),
                                   memory_order_relaxed);

@@ -51,7 +51,6 @@
 #include <stdatomic.h>
 #include <stdint.h>
 #include <stdlib.h>
-#include <string.h>
 
 #include "exact.h"
 #include "halfspace.h"
@@ -85,22 +84,6 @@ struct hs_table {
     double *node;          /* y, dy/ds at node i: node[2 i], node[2 i + 1] */
     hs_table *next;        /* the store's list */
 };
-
-static uint64_t
-bits_of(double x)
-{
-    uint64_t b;
-    memcpy(&b, &x, sizeof b);
-    return b;
-}
-
-static double
-double_of(uint64_t b)
-{
-    double x;
-    memcpy(&x, &b, sizeof x);
-    return x;
-}
 
 /* r^(2k) for r > 0, n = 2k when that is an integer up to 64 (then by
  * multiplications, written out for the usual probes, k = 1.5, 2, 3, 4,
@@ -223,9 +206,9 @@ table_build(double k)
     t->c2 = -Drrr / (3.0 * Drr * Drr);
     t->newton_min = 2e-4 * sqrt(Drr);
     for (i = 0; i < NNODE; i++) {
-        double s = double_of((BASE + i) << (52 - MB));
+        double s = lf_double((BASE + i) << (52 - MB));
         if (i > 0)   /* the tangent from the last node: above the root (y concave) */
-            y += t->node[2 * i - 1] * (s - double_of((BASE + i - 1) << (52 - MB)));
+            y += t->node[2 * i - 1] * (s - lf_double((BASE + i - 1) << (52 - MB)));
         y = solve_y(t, s, y, &t->node[2 * i + 1]);
         t->node[2 * i] = y;
     }
@@ -276,10 +259,10 @@ static inline double
 r_start(const hs_table *tb, double s, double t)
 {
     if (s >= S_MIN && s < S_MAX) {
-        const uint64_t b = bits_of(s), cell = b >> (52 - MB), e = b >> 52;
+        const uint64_t b = lf_bits(s), cell = b >> (52 - MB), e = b >> 52;
         const double *nd = tb->node + 2 * (cell - BASE);
-        const double u = (s - double_of(cell << (52 - MB))) * double_of((2046 + MB - e) << 52);
-        const double h = double_of((e - MB) << 52);
+        const double u = (s - lf_double(cell << (52 - MB))) * lf_double((2046 + MB - e) << 52);
+        const double h = lf_double((e - MB) << 52);
         const double y0 = nd[0], y1 = nd[2], m0 = nd[1] * h, m1 = nd[3] * h, dy = y1 - y0;
         return tb->r_det + y0 + u * (m0 + u * (3.0 * dy - 2.0 * m0 - m1 + u * (m0 + m1 - 2.0 * dy)));
     }
@@ -671,7 +654,7 @@ lf_halfspace_table_error(double k, double *interp, double *final)
     if ((tb = table_get(k)) == NULL)
         return LF_ENOMEM;
     for (i = 0; i + 1 < NNODE; i++) {
-        double s0 = double_of((BASE + i) << (52 - MB)), s1 = double_of((BASE + i + 1) << (52 - MB));
+        double s0 = lf_double((BASE + i) << (52 - MB)), s1 = lf_double((BASE + i + 1) << (52 - MB));
         for (j = 0; j < sizeof frac / sizeof frac[0]; j++) {
             /* s as the model sees it, from delta/delta_s = s + D_det */
             double t = s0 + frac[j] * (s1 - s0) + tb->D_det, s = t - tb->D_det;

@@ -212,6 +212,26 @@ test_closed_forms(void)
     }
 }
 
+/* The central difference of P at delta in ln w (which = 0) or ln E* (1),
+ * step hl. */
+static double
+diff_log(const lf_model *mod, const lf_material *m, lf_branch b, double d, double hl, int which)
+{
+    lf_material mp = *m, mn = *m;
+    lf_eval ep, em;
+
+    if (which == 0) {
+        mp.w *= exp(hl);
+        mn.w *= exp(-hl);
+    } else {
+        mp.Estar *= exp(hl);
+        mn.Estar *= exp(-hl);
+    }
+    lf_model_eval(mod, &mp, b, 1, &d, &ep, NULL);
+    lf_model_eval(mod, &mn, b, 1, &d, &em, NULL);
+    return (ep.P - em.P) / (2.0 * hl);
+}
+
 /* The Jacobian against central differences for every k of the sweep, at
  * points from 1e-3 of the detachment depth inside contact to 1e4 times it
  * deep, on both branches, and for a w so small that the scales leave the
@@ -248,7 +268,6 @@ test_jacobian_sweep(void)
                  * ~their relative step times delta_det) */
                 double hd = 1e-6 * fmin(fabs(d), d - po.delta_detach), hl = 1e-7, dp, dm;
                 lf_eval e, ep, em;
-                lf_material mp, mn;
                 double fd[3], an[3];
                 int j;
                 if (i == 11) {
@@ -264,21 +283,9 @@ test_jacobian_sweep(void)
                 lf_model_eval(mod, mm, b, 1, &dm, &em, NULL);
                 fd[0] = (ep.P - em.P) / (2.0 * hd);
                 an[0] = e.dP_ddelta;
-                mp = *mm;
-                mn = *mm;
-                mp.w *= exp(hl);
-                mn.w *= exp(-hl);
-                lf_model_eval(mod, &mp, b, 1, &d, &ep, NULL);
-                lf_model_eval(mod, &mn, b, 1, &d, &em, NULL);
-                fd[1] = (ep.P - em.P) / (2.0 * hl);
+                fd[1] = diff_log(mod, mm, b, d, hl, 0);
                 an[1] = e.dP_dlogw;
-                mp = *mm;
-                mn = *mm;
-                mp.Estar *= exp(hl);
-                mn.Estar *= exp(-hl);
-                lf_model_eval(mod, &mp, b, 1, &d, &ep, NULL);
-                lf_model_eval(mod, &mn, b, 1, &d, &em, NULL);
-                fd[2] = (ep.P - em.P) / (2.0 * hl);
+                fd[2] = diff_log(mod, mm, b, d, hl, 1);
                 an[2] = e.dP_dlogE;
                 for (j = 0; j < 3; j++) {
                     /* what the differences can resolve: 1e-6 of the
