@@ -28,7 +28,7 @@
  *   dP/dln E* = P - dP/dln w   (P is E* times a function of w/E*).
  *
  * Inversion without a search.  r(delta) comes from a table of the stable
- * branch, built once per k in the process (a few milliseconds): y = r - r_det
+ * branch, built once per k in the process (about 1 ms, 70 kB): y = r - r_det
  * against s = delta/delta_s - D_det > 0 at the nodes s = 2^e (1 + j/32),
  * 2^-40 <= s <= 2^100, so the cell of an s is read from its bits (exponent
  * and five mantissa bits) and spans 1/32 of its left end.  Cubic Hermite
@@ -36,9 +36,12 @@
  * power of s at both ends (s^(1/2) at detachment, s^(1/(2k)) deep), and on
  * such a cell the interpolation's relative error is below
  * |p(p-1)(p-2)(p-3)| 32^-4 / 384 ~ 2.4e-9 (p = 1/2);
- * lf_halfspace_table_error measures it over every cell (tests assert
- * < 1e-8).  One Newton step on D(r) = delta/delta_s from there squares the
- * error, leaving r at rounding.  Below 2^-40 the series y = c1 s^(1/2) + c2 s
+ * lf_halfspace_table_error measures it over every cell (2.2e-9 to 2.9e-9
+ * for k = 0.51 to 30; tests assert < 5e-9).  One Newton step on
+ * D(r) = delta/delta_s from there squares the error, leaving r within
+ * ~1e-12 of the root (nearest the fold, where the step's own rounding
+ * would exceed the table's error, the table's value stands; newton_min
+ * below).  Below 2^-40 the series y = c1 s^(1/2) + c2 s
  * starts the step (relative error ~ s), above 2^100 the fixed point
  * r = (t + r)^(1/(2k)) (adhesion a vanishing correction there).  So each
  * point costs one power r^(2k) (multiplications when 2k is an integer)
@@ -275,7 +278,6 @@ r_start(const hs_table *tb, double s, double t)
     }
 }
 
-
 /* r where D(r) = t when the start r (with v = r^(2k), den = r D'(r)) is
  * off, or near r_det (rare: not the table's cells): full Newton steps. */
 static double
@@ -380,7 +382,7 @@ hs_init(hs_ctx *c, const hs_state *st, const lf_probe *p, const lf_material *m)
     c->A = st != NULL ? st->A : A_of(p);
     c->Estar = m->Estar;
     c->q = sqrt(2.0 * M_PI * m->w / m->Estar);
-    c->a_det = c->q > 0.0 ? pow(c->q / (2.0 * c->k * c->A), 1.0 / (c->k - 0.5)) : 0.0;
+    c->a_det = 0.0;
     c->scaled = 0;
     if (c->q > 0.0 && st != NULL) {
         /* ln a_s, and the scales where every one of them, and 1/delta_s,
@@ -394,12 +396,15 @@ hs_init(hs_ctx *c, const hs_state *st, const lf_probe *p, const lf_material *m)
             c->scaled = isnormal(c->P_s) && isnormal(c->inv_ds);
         }
     }
-    if (c->scaled)
+    if (c->scaled) {
+        c->a_det = c->a_s * st->tab->r_det * st->tab->r_det;
         c->delta_det = st->tab->D_det * c->delta_s;
-    else if (c->a_det > 0.0)
+    } else if (c->q > 0.0) {
+        c->a_det = pow(c->q / (2.0 * c->k * c->A), 1.0 / (c->k - 0.5));
         hs_curve(c, c->a_det, &c->delta_det, &dd, &P, &dP, &sh, &P1);
-    else
+    } else {
         c->delta_det = 0.0;
+    }
     return LF_OK;
 }
 
