@@ -206,7 +206,7 @@ static int
 decompose(chooser *c)
 {
     lf_fit *f = c->f;
-    gsl_vector *x = f->w.x2;
+    gsl_vector *x = f->ws.x2;
     size_t l;
     int i, status;
 
@@ -301,7 +301,7 @@ curve_bias(chooser *c, size_t j, int rung, bias *b)
     if (status == LF_OK) {
         memset(c->d, 0, f->nres * sizeof *c->d);
         for (i = 0; i < fc->data.n; i++)
-            c->d[fc->row + i] = (c->P_exact[fc->row + i] - f->w.ev[fc->row + i].P) / fc->sigma;
+            c->d[fc->row + i] = (c->P_exact[fc->row + i] - f->ws.ev[fc->row + i].P) / fc->sigma;
         project(c, b);
         c->base_ok = !swapped;
     }
@@ -339,7 +339,7 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
         c->ab_lo[j] = HUGE_VAL;
         c->ab_hi[j] = 0.0;
         for (i = 0; i < fc->data.n; i++) {
-            double a = f->w.ev[fc->row + i].a;
+            double a = f->ws.ev[fc->row + i].a;
             if (a > 0) {
                 c->ab_lo[j] = lf_fmin(c->ab_lo[j], a / b);
                 c->ab_hi[j] = lf_fmax(c->ab_hi[j], a / b);
@@ -350,14 +350,14 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
          * model's tables) is compared without building any table */
         if (c->rung[j] != RUNG_EXACT && c->ab_lo[j] < HUGE_VAL
             && lf_exact_far_eval(&fc->data.probe, &f->mat, fc->data.branch, fc->data.n,
-                                 f->w.delta + fc->row, c->P_exact + fc->row, NULL) == LF_OK)
+                                 f->ws.delta + fc->row, c->P_exact + fc->row, NULL) == LF_OK)
             continue;
         ex = c->rung[j] == RUNG_EXACT ? NULL : instance(c, j, RUNG_EXACT);
         if (c->rung[j] == RUNG_EXACT) {
             for (i = 0; i < fc->data.n; i++)
-                c->P_exact[fc->row + i] = f->w.ev[fc->row + i].P;
+                c->P_exact[fc->row + i] = f->ws.ev[fc->row + i].P;
         } else if (ex == NULL || lf_model_eval(ex, &f->mat, fc->data.branch, fc->data.n,
-                                                f->w.delta + fc->row, c->ev, NULL) != LF_OK) {
+                                                f->ws.delta + fc->row, c->ev, NULL) != LF_OK) {
             c->exact_ok[j] = 0;   /* e.g. nu above the exact model's range */
         } else {
             for (i = 0; i < fc->data.n; i++)

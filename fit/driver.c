@@ -35,7 +35,7 @@ int
 lf_fit_solve_run(lf_fit *f, const fit_start *start, fit_run *run_out, lf_warnings *warn,
                  lf_error *err)
 {
-    gsl_vector *x = f->w.x;
+    gsl_vector *x = f->ws.x;
     fit_run run;
     int status;
     size_t i;
@@ -43,7 +43,7 @@ lf_fit_solve_run(lf_fit *f, const fit_start *start, fit_run *run_out, lf_warning
     memset(&run, 0, sizeof run);
     lf_fit_invalidate(f);
     for (i = 0; i < f->ndata; i++)
-        f->w.sqrtw[i] = 1.0;
+        f->ws.sqrtw[i] = 1.0;
     status = lf_fit_solve_scanned(f, x, 1, &run, err);
     if (status == LF_OK && start != NULL && start->user) {
         /* A user's starting point is a second start, not a replacement:
@@ -117,7 +117,7 @@ ran_away(const lf_fit *f, lf_fit_result *res, int col)
 int
 lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res, lf_error *err)
 {
-    gsl_vector *x = f->w.x;
+    gsl_vector *x = f->ws.x;
     fit_run run;
     int status;
     size_t i;

@@ -267,7 +267,7 @@ struct lf_fit {
     /* the origin: x = 1 stands for mat and each curve's z0, F0, slope */
     lf_material mat;
     double *x0_internal; /* np: internal coordinates at the origin */
-    fit_work w;
+    fit_work ws;         /* the workspace (scratch sized at alloc) */
     /* the solver */
     const gsl_multifit_nlinear_trs *trs;
     gsl_multifit_nlinear_parameters gsl_par;
@@ -288,7 +288,7 @@ void lf_fit_unpack(const lf_fit *f, const double *x, lf_material *mat,
 void lf_fit_set_origin(lf_fit *f);
 /* Make the point x the origin: material and offsets into f, x = 1. */
 void lf_fit_rebase(lf_fit *f, gsl_vector *x);
-/* The model at every point at x into f->w.ev (kept while x does not
+/* The model at every point at x into f->ws.ev (kept while x does not
  * change); LF_ENUMERIC when it cannot be evaluated. */
 int lf_fit_eval_at(lf_fit *f, const double *x);
 int lf_fit_residuals(const gsl_vector *x, void *params, gsl_vector *r);
@@ -421,7 +421,7 @@ int lf_fit_gn_at(const lf_fit *f, const gsl_vector *x);
 int lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res,
               lf_error *err);
 /* The same solve and policies without the assessment: the solution in
- * f->w.x, the run's totals and verdict in *run (a profile point needs its
+ * f->ws.x, the run's totals and verdict in *run (a profile point needs its
  * chi2 alone); warn (or NULL) takes the policies' warnings. */
 int lf_fit_solve_run(lf_fit *f, const fit_start *start, fit_run *run, lf_warnings *warn,
                      lf_error *err);

@@ -553,7 +553,7 @@ lf_fit_guess_subsample(lf_fit *f, size_t j)
     const size_t n = c->data.n, nshallow = GUESS_NSUB / 4;
     const size_t *ord = f->order + c->row;     /* by depth */
     size_t i, m = 0;
-    double *z = f->w.sub + 2 * GUESS_NSUB * j, *F = z + GUESS_NSUB;
+    double *z = f->ws.sub + 2 * GUESS_NSUB * j, *F = z + GUESS_NSUB;
 
     if (n <= GUESS_NSUB) {            /* a small curve: every point */
         for (i = 0; i < n; i++) {
@@ -616,7 +616,7 @@ guess_curve(lf_fit *f, size_t j, curve_guess *g)
     double rss;
     profile p;
     size_t i, nbase = 0, nn;
-    double *node = f->w.node;
+    double *node = f->ws.node;
 
     profile_init(f, j, &p);
     if (c->iz0 >= 0) {
@@ -673,7 +673,7 @@ offsets_at(lf_fit *f, double *off)
     for (j = 0; j < f->ncurves; j++) {
         fit_curve *c = &f->c[j];
         double rss, M = lf_thin_Z(c->data.probe.base, m->nu) * m->Estar;
-        double *node = f->w.node;
+        double *node = f->ws.node;
         size_t nn;
         profile p;
 
@@ -728,7 +728,7 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
 {
     size_t j, nf = 0, nb = 0, nw = 0;
     double lnMf = 0, lnMb = 0, lnw = 0, wfloor = HUGE_VAL;
-    double *off = f->w.off, *off_best = f->w.off + 2 * f->ncurves;
+    double *off = f->ws.off, *off_best = f->ws.off + 2 * f->ncurves;
     int have_best = 0;
     lf_material *m = &f->mat;
     int by_model;
@@ -851,6 +851,6 @@ lf_fit_guess_offsets(lf_fit *f)
         lf_fit_guess_model_offsets(f);
         return;
     }
-    offsets_at(f, f->w.off);
-    set_offsets(f, f->w.off);
+    offsets_at(f, f->ws.off);
+    set_offsets(f, f->ws.off);
 }

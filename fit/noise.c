@@ -117,10 +117,10 @@ lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau
     const fit_curve *c = &f->c[j];
     const size_t *ord = f->order + c->row;
     size_t n = c->data.n, i, m, cnt;
-    double *e = f->w.work, *work = f->w.work + n, s1, sm, tau;
+    double *e = f->ws.work, *work = f->ws.work + n, s1, sm, tau;
 
     for (i = 0; i < n; i++)
-        e[i] = gsl_vector_get(res, c->row + i) * c->sigma / f->w.sqrtw[c->row + i];
+        e[i] = gsl_vector_get(res, c->row + i) * c->sigma / f->ws.sqrtw[c->row + i];
     /* the plateau of the residuals' noise over strides 1, 2, 4, ...: where
      * doubling the stride no longer raises it by NOISE_GROWTH (at stride 2
      * the question alone is asked, by counting: white noise stops there,

@@ -233,9 +233,9 @@ rise(prof *p, double v)
     /* the solve without the assessment: a point needs its chi2 alone */
     st = lf_fit_solve_run(g, NULL, &run, NULL, NULL);
     p->fits++;
-    if (g->w.own && isfinite(g->w.lm.mu_first))
-        p->mu0 = g->w.lm.mu_first;
-    chi2 = st == LF_OK ? 2.0 * lf_fit_cost(g, g->w.x, g->w.r) : HUGE_VAL;
+    if (g->ws.own && isfinite(g->ws.lm.mu_first))
+        p->mu0 = g->ws.lm.mu_first;
+    chi2 = st == LF_OK ? 2.0 * lf_fit_cost(g, g->ws.x, g->ws.r) : HUGE_VAL;
     if (isfinite(chi2)) {
         out = chi2 - p->best->chi2;
         if (run.converged && out < -PROFILE_LOWER * p->thr && chi2 < p->lower_chi2
@@ -244,7 +244,7 @@ rise(prof *p, double v)
             double z0, F0, sl;
             p->lower_chi2 = chi2;
             for (j = 0; j < p->nc; j++) {     /* the material with each curve's offsets */
-                lf_fit_unpack(g, g->w.x->data, &p->lower_mat, &z0, &F0, &sl, j);
+                lf_fit_unpack(g, g->ws.x->data, &p->lower_mat, &z0, &F0, &sl, j);
                 p->lower_off[3 * j] = z0;
                 p->lower_off[3 * j + 1] = F0;
                 p->lower_off[3 * j + 2] = sl;
@@ -417,7 +417,7 @@ linear_holds(prof *p, const lf_fit_result *res, const char *name)
         return 0;
     }
     for (i = 0; i < g->ndata; i++)
-        g->w.sqrtw[i] = 1.0;        /* least squares (as lf_fit_solve sets) */
+        g->ws.sqrtw[i] = 1.0;        /* least squares (as lf_fit_solve sets) */
     for (side = -1; side <= 1 && holds; side += 2) {
         double d = side * Z95 * sqrt(res->cov[k * np + k]), cost;
         lf_material mat = { res->w.value, res->Estar.value, res->nu.value };
@@ -454,8 +454,8 @@ linear_holds(prof *p, const lf_fit_result *res, const char *name)
         }
         g->mat = mat;
         lf_fit_set_origin(g);
-        gsl_vector_set_all(g->w.x, 1.0);
-        cost = lf_fit_cost(g, g->w.x, r);
+        gsl_vector_set_all(g->ws.x, 1.0);
+        cost = lf_fit_cost(g, g->ws.x, r);
         holds = isfinite(cost) && fabs((2.0 * cost - res->chi2) / p->thr - 1.0) < PROFILE_TOL;
     }
     gsl_vector_free(r);

@@ -24,13 +24,13 @@
 static gsl_vector *
 cur_x(lf_fit *f)
 {
-    return f->w.own ? f->w.lm.x : gsl_multifit_nlinear_position(f->gsl);
+    return f->ws.own ? f->ws.lm.x : gsl_multifit_nlinear_position(f->gsl);
 }
 
 static gsl_vector *
 cur_r(lf_fit *f)
 {
-    return f->w.own ? f->w.lm.r : gsl_multifit_nlinear_residual(f->gsl);
+    return f->ws.own ? f->ws.lm.r : gsl_multifit_nlinear_residual(f->gsl);
 }
 
 /* GSL's Jacobian at the current point (lm.c keeps J^T J and J^T r only). */
@@ -43,20 +43,20 @@ gsl_J(lf_fit *f)
 static size_t
 cur_niter(lf_fit *f)
 {
-    return f->w.own ? f->w.lm.niter : gsl_multifit_nlinear_niter(f->gsl);
+    return f->ws.own ? f->ws.lm.niter : gsl_multifit_nlinear_niter(f->gsl);
 }
 
 static size_t
 cur_evals(lf_fit *f)
 {
-    return f->w.own ? f->w.lm.nevalf + f->w.lm.nevaldf : f->fdf.nevalf + f->fdf.nevaldf;
+    return f->ws.own ? f->ws.lm.nevalf + f->ws.lm.nevaldf : f->fdf.nevalf + f->fdf.nevaldf;
 }
 
 static int
 solver_init(lf_fit *f, const gsl_vector *x, int allow_own)
 {
-    f->w.own = allow_own && f->fdf.df != NULL && strcmp(f->set.method, "lm") == 0;
-    if (f->w.own)
+    f->ws.own = allow_own && f->fdf.df != NULL && strcmp(f->set.method, "lm") == 0;
+    if (f->ws.own)
         return lf_fit_lm_init(f, x);
     if (lf_fit_gsl(f) != LF_OK)
         return GSL_ENOMEM;
@@ -66,13 +66,13 @@ solver_init(lf_fit *f, const gsl_vector *x, int allow_own)
 static int
 solver_iterate(lf_fit *f)
 {
-    return f->w.own ? lf_fit_lm_iterate(f) : gsl_multifit_nlinear_iterate(f->gsl);
+    return f->ws.own ? lf_fit_lm_iterate(f) : gsl_multifit_nlinear_iterate(f->gsl);
 }
 
 static int
 solver_test(lf_fit *f, int *info)
 {
-    return f->w.own ? lf_fit_lm_test(f, f->set.xtol, f->set.gtol, info)
+    return f->ws.own ? lf_fit_lm_test(f, f->set.xtol, f->set.gtol, info)
                     : gsl_multifit_nlinear_test(f->set.xtol, f->set.gtol, f->set.ftol, info,
                                                 f->gsl);
 }
@@ -144,9 +144,9 @@ at_minimum(lf_fit *f)
 
     for (k = 0; k < f->np; k++) {
         double g = 0.0, cn = 0.0;
-        if (f->w.own) {     /* J^T r and the column's squared norm, from lm.c */
-            g = f->w.lm.g[k];
-            cn = f->w.lm.A[k * f->np + k];
+        if (f->ws.own) {     /* J^T r and the column's squared norm, from lm.c */
+            g = f->ws.lm.g[k];
+            cn = f->ws.lm.A[k * f->np + k];
         } else {
             const gsl_matrix *J = gsl_J(f);
             for (i = 0; i < f->nres; i++) {
@@ -173,7 +173,7 @@ no_descent_move(lf_fit *f, gsl_vector *x, int move, double *gain)
 {
     static const double h[] = FIT_DESCENT_STEPS;
     const size_t nh = sizeof h / sizeof h[0];
-    gsl_vector *r = f->w.r2;
+    gsl_vector *r = f->ws.r2;
     double c0, rn, best, best_step = 0.0;
     size_t k, q, best_k = 0;
     int sign, ok = 1;
@@ -218,7 +218,7 @@ no_descent_move(lf_fit *f, gsl_vector *x, int move, double *gain)
     }
     if (gain != NULL)
         *gain = c0 > 0 ? (c0 - lf_fmin(best, c0)) / (c0 / (double) (f->nres - f->np)) : 0.0;
-    f->w.xcache_ok = 0;
+    f->ws.xcache_ok = 0;
     return ok;
 }
 
@@ -234,8 +234,8 @@ cur_cost(lf_fit *f)
 {
     double r;
 
-    if (f->w.own)
-        return f->w.lm.cost;
+    if (f->ws.own)
+        return f->ws.lm.cost;
     r = gsl_blas_dnrm2(cur_r(f));
     return 0.5 * r * r;
 }
@@ -244,7 +244,7 @@ cur_cost(lf_fit *f)
 static void
 track_cost(lf_fit *f, size_t iter)
 {
-    f->w.cost_hist[iter % (FIT_FLAT_ITERS + 1)] = cur_cost(f);
+    f->ws.cost_hist[iter % (FIT_FLAT_ITERS + 1)] = cur_cost(f);
 }
 
 /* The solver's Jacobian J and residuals r at its position, examined once
@@ -264,18 +264,18 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
 {
     const gsl_vector *r = cur_r(f);
     const size_t n = f->nres, p = f->np;
-    double *A = f->w.jtj, *g = f->w.grad, *big = f->w.colmax, top = 0.0, low = HUGE_VAL;
+    double *A = f->ws.jtj, *g = f->ws.grad, *big = f->ws.colmax, top = 0.0, low = HUGE_VAL;
     size_t i, k, l;
 
     *dchi2 = HUGE_VAL;
     for (k = 0; k < p; k++) {
         big[k] = 0.0;
-        f->w.ainv[k] = NAN;
+        f->ws.ainv[k] = NAN;
     }
-    if (f->w.own) {         /* lm.c has J^T J and J^T r already */
-        memcpy(A, f->w.lm.A, p * p * sizeof *A);
-        memcpy(g, f->w.lm.g, p * sizeof *g);
-        memcpy(big, f->w.lm.colmax, p * sizeof *big);
+    if (f->ws.own) {         /* lm.c has J^T J and J^T r already */
+        memcpy(A, f->ws.lm.A, p * p * sizeof *A);
+        memcpy(g, f->ws.lm.g, p * sizeof *g);
+        memcpy(big, f->ws.lm.colmax, p * sizeof *big);
     } else {
         const gsl_matrix *J = gsl_J(f);
         memset(A, 0, p * p * sizeof *A);
@@ -342,7 +342,7 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
             big[l] = y / A[l * p + l];
             sum += big[l] * big[l];
         }
-        f->w.ainv[k] = sum;
+        f->ws.ainv[k] = sum;
     }
     return 1;
 }
@@ -355,14 +355,14 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
 static int
 creeping(lf_fit *f, double chi2dof)
 {
-    const fit_lm *lm = &f->w.lm;
+    const fit_lm *lm = &f->ws.lm;
     const double step = lf_fmax(f->chi2_step, FIT_CREEP_CHI2), tol = sqrt(step);
     size_t k;
 
-    if (!f->w.own || lm->niter == 0 || !(2.0 * (lm->cost_prev - lm->cost) <= step * chi2dof))
+    if (!f->ws.own || lm->niter == 0 || !(2.0 * (lm->cost_prev - lm->cost) <= step * chi2dof))
         return 0;
     for (k = 0; k < f->np; k++)
-        if (!(fabs(lm->x->data[k] - lm->xt->data[k]) <= tol * sqrt(chi2dof * f->w.ainv[k])))
+        if (!(fabs(lm->x->data[k] - lm->xt->data[k]) <= tol * sqrt(chi2dof * f->ws.ainv[k])))
             return 0;
     return 1;
 }
@@ -378,7 +378,7 @@ chi2_per_dof(lf_fit *f)
 int
 lf_fit_gn_at(const lf_fit *f, const gsl_vector *x)
 {
-    return f->w.gn_ok && memcmp(f->w.gn_x, x->data, f->np * sizeof *x->data) == 0;
+    return f->ws.gn_ok && memcmp(f->ws.gn_x, x->data, f->np * sizeof *x->data) == 0;
 }
 
 /* What the verdict (verdict.c) asks at the end, kept where the Jacobian is
@@ -387,12 +387,12 @@ lf_fit_gn_at(const lf_fit *f, const gsl_vector *x)
 static void
 remember_gn(lf_fit *f, double dchi2, double chi2dof)
 {
-    f->w.gn_ok = f->fdf.df != NULL && dchi2 < HUGE_VAL;
-    if (!f->w.gn_ok)
+    f->ws.gn_ok = f->fdf.df != NULL && dchi2 < HUGE_VAL;
+    if (!f->ws.gn_ok)
         return;
-    memcpy(f->w.gn_x, cur_x(f)->data, f->np * sizeof *f->w.gn_x);
-    f->w.gn_dchi2 = dchi2;
-    f->w.gn_chi2 = chi2dof * (double) (f->nres - f->np);
+    memcpy(f->ws.gn_x, cur_x(f)->data, f->np * sizeof *f->ws.gn_x);
+    f->ws.gn_dchi2 = dchi2;
+    f->ws.gn_chi2 = chi2dof * (double) (f->nres - f->np);
 }
 
 /* A second start's position back in the first solution's basin: every
@@ -404,10 +404,10 @@ in_basin(lf_fit *f)
     const double *x = cur_x(f)->data;
     size_t k;
 
-    if (!(fabs(cur_cost(f) - f->w.basin_cost) <= FIT_SAME_COST))
+    if (!(fabs(cur_cost(f) - f->ws.basin_cost) <= FIT_SAME_COST))
         return 0;       /* above it, or already lower: another minimum */
     for (k = 0; k < f->np; k++)
-        if (!(fabs(f->x0_internal[k] + x[k] - 1.0 - f->w.basin_x[k]) <= f->w.basin_tol[k]))
+        if (!(fabs(f->x0_internal[k] + x[k] - 1.0 - f->ws.basin_x[k]) <= f->ws.basin_tol[k]))
             return 0;
     return 1;
 }
@@ -449,14 +449,14 @@ drive(lf_fit *f, int *info, size_t *dead)
         if (status != GSL_SUCCESS && status != GSL_ENOPROG)
             return status;
         track_cost(f, iter);
-        if (f->w.basin_on && in_basin(f)) {
-            f->w.basin_hit = 1;
+        if (f->ws.basin_on && in_basin(f)) {
+            f->ws.basin_hit = 1;
             *info = FIT_INFO_BASIN;
             return GSL_SUCCESS;
         }
         /* lm.c's GSL_ENOPROG (no step accepted) ends the run; GSL's
          * driver goes on after its first iteration, and so does this loop */
-        status = status == GSL_ENOPROG && f->w.own ? GSL_ENOPROG : solver_test(f, info);
+        status = status == GSL_ENOPROG && f->ws.own ? GSL_ENOPROG : solver_test(f, info);
     } while (status == GSL_CONTINUE && ++iter < f->set.max_iter);
     if (iter >= f->set.max_iter && status != GSL_SUCCESS)
         status = GSL_EMAXITER;
@@ -503,19 +503,19 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
     double gain = 0.0;
 
     run->converged = 0;
-    gsl_vector_memcpy(f->w.x0, x);
+    gsl_vector_memcpy(f->ws.x0, x);
     status = solver_init(f, x, 1);
     if (status != GSL_SUCCESS)
         return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the starting point (%s)",
                        status_words(status));
     status = drive(f, &info, &dead);
-    if (f->w.own && status != GSL_SUCCESS && status != GSL_EBADFUNC) {
+    if (f->ws.own && status != GSL_SUCCESS && status != GSL_EBADFUNC) {
         /* lm.c stalled (at a kink of the cost, where steps are rejected or
          * creep): the same start with GSL's trust region, whose path
          * differs there */
         run->iters += cur_niter(f);
         run->evals += cur_evals(f);
-        status = solver_init(f, f->w.x0, 0);
+        status = solver_init(f, f->ws.x0, 0);
         if (status != GSL_SUCCESS)
             return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the starting "
                            "point (%s)", status_words(status));
@@ -538,8 +538,8 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
     }
     if (status == GSL_EMAXITER && iters > FIT_FLAT_ITERS) {
         /* GSL numbers the iteration that just ended iters - 1 */
-        double now = f->w.cost_hist[(iters - 1) % (FIT_FLAT_ITERS + 1)];
-        double then = f->w.cost_hist[iters % (FIT_FLAT_ITERS + 1)];
+        double now = f->ws.cost_hist[(iters - 1) % (FIT_FLAT_ITERS + 1)];
+        double then = f->ws.cost_hist[iters % (FIT_FLAT_ITERS + 1)];
         if (then - now <= lf_fmax(FIT_FLAT_REL * now, FIT_FLAT_ABS)) {
             take_position(f, x);
             lf_fit_run_says(run, LF_STOP_CONVERGED, "converged (chi2 fell by %.2g over the "

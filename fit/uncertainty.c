@@ -164,7 +164,7 @@ static int
 normal_decompose(lf_fit *f, const double *x, const gsl_vector *res, fit_decomp *d)
 {
     const size_t p = f->np;
-    const fit_lm *lm = &f->w.lm;
+    const fit_lm *lm = &f->ws.lm;
     gsl_vector_const_view xv = gsl_vector_const_view_array(x, p);
     double *G, *g, *c;
     int status;
@@ -178,7 +178,7 @@ normal_decompose(lf_fit *f, const double *x, const gsl_vector *res, fit_decomp *
     /* J^T J at x: lm.c's own when its last look at the Jacobian was at x
      * (the same origin and weights), else summed again (no evaluation: the
      * model's at x are cached) */
-    if (f->w.own && lf_fit_gn_at(f, &xv.vector)
+    if (f->ws.own && lf_fit_gn_at(f, &xv.vector)
         && memcmp(lm->x->data, x, p * sizeof *x) == 0)
         memcpy(G, lm->A, p * p * sizeof *G);
     else if (lf_fit_normal_sums(f, x, res->data, G, g, c) != GSL_SUCCESS) {
@@ -316,7 +316,7 @@ k2_rule(lf_fit *f, const lf_fit_result *r, int *refitted)
             return 0;
         all_thin &= lf_model_get_type(c->model) == &lf_model_thin;
         for (i = 0; i < c->data.n; i++)
-            nout += f->w.ev[c->row + i].a == 0.0;
+            nout += f->ws.ev[c->row + i].a == 0.0;
         few |= nout < 3;
     }
     /* under the thin model the parabola is exact: too few points out of
@@ -462,7 +462,7 @@ consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_resul
     }
     cr->downweighted = 0;
     for (i = 0; i < c->data.n; i++)
-        cr->downweighted += f->w.sqrtw[c->row + i] * f->w.sqrtw[c->row + i] < 0.5;
+        cr->downweighted += f->ws.sqrtw[c->row + i] * f->ws.sqrtw[c->row + i] < 0.5;
     own = (size_t) (c->iz0 >= 0) + (size_t) (c->iF0 >= 0) + (size_t) (c->islope >= 0);
     (void) chi2;
     /* chi2 per point and the runs test against the noise model of the data
@@ -563,13 +563,13 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
     cr->sigma = c->sigma;
     for (i = 0; i < c->data.n; i++) {
         size_t k = c->row + i;
-        double e = gsl_vector_get(res, k) * c->sigma / f->w.sqrtw[k];
+        double e = gsl_vector_get(res, k) * c->sigma / f->ws.sqrtw[k];
         ss += e * e;
         cr->fitted[i] = c->data.force[i] + e;
-        cr->contact_radius[i] = f->w.ev[k].a;
-        if (f->w.ev[k].a > 0)
-            amin = lf_fmin(amin, f->w.ev[k].a);
-        amax = lf_fmax(amax, f->w.ev[k].a);
+        cr->contact_radius[i] = f->ws.ev[k].a;
+        if (f->ws.ev[k].a > 0)
+            amin = lf_fmin(amin, f->ws.ev[k].a);
+        amax = lf_fmax(amax, f->ws.ev[k].a);
     }
     cr->rms = sqrt(ss / (double) c->data.n);
     if (lf_model_pulloff(c->model, &mat, &cr->pulloff, NULL) != LF_OK)
