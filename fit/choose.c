@@ -563,7 +563,7 @@ lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *
             goto done;
         if (!changed)
             break;
-        fit_status = lf_fit_solve(f, NULL, 1, &next, err);
+        fit_status = lf_fit_solve(f, NULL, &next, err);
         if (fit_status != LF_OK && fit_status != LF_ENOCONV) {
             status = fit_status;
             goto done;

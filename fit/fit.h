@@ -1,14 +1,23 @@
 /* fit.h: the fitter's internal header (not installed), one file per piece
- * in the way of GSL's multifit_nlinear:
- *   layout.c      settings, the problem's layout and workspace (alloc/free)
- *   problem.c     parameter mapping, residuals, Jacobian
- *   guess.c       the automatic start (a fit_start)
- *   solve.c       the iteration and its stopping rules (lm.c: Levenberg-
+ * in the way of GSL's multifit_nlinear.  Calls go one way, down this list
+ * (tests/callgraph.sh checks that no file calls back up):
+ *   choose.c      the model choice over whole fits (lf_fit_choose_driver)
+ *   profile.c     profile-likelihood intervals (lf_fit_profile)
+ *   driver.c      one run: start, solve, assessment, leave-one-out (loo.c)
+ *   uncertainty.c the assessment: covariance, intervals, identifiability
+ *   hold.c        a refit with one parameter held (a profile's point)
+ *   solve.c       the solve and its restarts: second_start.c, reweight.c,
+ *                 the honest end (verdict.c)
+ *   edge_scan.c   the contact-edge scan around each solve
+ *   iterate.c     the iteration and its stopping rules (lm.c: Levenberg-
  *                 Marquardt on the normal matrix; GSL for the other methods)
- *   edge_scan.c, second_start.c, reweight.c, loo.c   the policies
- *   driver.c      one run: start, solve, policies, assessment
+ *   layout.c      settings, the problem's layout and workspace (alloc/free)
+ *   guess.c       the automatic start (a fit_start; guess_model.c: a
+ *                 model's own start)
+ *   problem.c     parameter mapping, residuals, Jacobian
  *   decomp.c      the decomposition shared by uncertainty.c and choose.c
- *   uncertainty.c covariance and identifiability;  choose.c the model choice
+ *   noise.c       each curve's noise and the noise model of the residuals
+ *   result.c      the result's lifetime;  median.c  medians
  *
  * Three sets of coordinates:
  *  - physical ("rep", what reports and the covariance use):
@@ -81,7 +90,7 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
 #define FIT_DESCENT_STEPS { 1e-4, 1e-6, 1e-8 }
 #define FIT_DESCENT_REL 1e-12
 /* A stall where a coordinate step still lowers the cost takes the best such
- * step and solves on, at most FIT_NUDGES times (solve.c). */
+ * step and solves on, at most FIT_NUDGES times (iterate.c). */
 #define FIT_NUDGES 10
 /* A Jacobian column below FIT_DEAD_COLUMN of the largest belongs to a
  * parameter that no longer changes the fit (internal coordinates are all
@@ -229,15 +238,17 @@ typedef struct {
 } fit_run;
 
 /* Set run's verdict: converged when stop is LF_STOP_CONVERGED, and its
- * words (solve.c). */
+ * words (iterate.c). */
 void lf_fit_run_says(fit_run *run, lf_fit_stop stop, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
+/* result.c: the result's arrays sized from f's layout (r zeroed first by
+ * the caller; LF_ENOMEM, r then half-built: lf_fit_result_free it). */
+int lf_fit_result_alloc(const lf_fit *f, lf_fit_result *r);
 /* Mark e not determined, for a reason in words (static; NULL: the
- * identifiability notes give it): no value, interval or bound
- * (uncertainty.c). */
+ * identifiability notes give it): no value, interval or bound. */
 void lf_fit_estimate_drop(lf_fit_estimate *e, const char *why);
-/* Every curve's pull-off follows w: determined exactly when w is
- * (uncertainty.c; after anything that changes w's verdict). */
+/* Every curve's pull-off follows w: determined exactly when w is (after
+ * anything that changes w's verdict). */
 void lf_fit_pulloff_follows(lf_fit_result *r);
 /* Take the verdict (converged, stop, user_test, why) of another run. */
 void lf_fit_run_verdict_from(fit_run *run, const fit_run *from);
@@ -344,10 +355,10 @@ void lf_fit_guess_model_offsets(lf_fit *f);
 double lf_fit_shape_material(lf_fit *f, size_t j, double nu, double zpo, lf_material *out);
 double lf_fit_shape_offsets(lf_fit *f, size_t j, const lf_material *m, double zpo, double *z0,
                             double *F0);
-/* For exact-model curves: keep the thin profile's start or the model's,
- * whichever costs less (sets f->start_by_model).  thin_set: the curves'
- * offsets are the thin profile's at f->mat already (else profiled here). */
-void lf_fit_guess_compare_model(lf_fit *f, int thin_set);
+/* For exact-model curves: keep the thin profile's start (the curves'
+ * offsets are the thin profile's at f->mat, the caller's part) or the
+ * model's, whichever costs less (sets f->start_by_model). */
+void lf_fit_guess_compare_model(lf_fit *f);
 /* Curve j's subsample for the guess's profiles (c->sub), taken once the
  * depth order is known. */
 void lf_fit_guess_subsample(lf_fit *f, size_t j);
@@ -357,7 +368,7 @@ void lf_fit_guess_subsample(lf_fit *f, size_t j);
 double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,
                           size_t n, double fbig, double *work);
 
-/* solve.c: the trust-region iteration from x (overwritten with where it
+/* iterate.c: the trust-region iteration from x (overwritten with where it
  * stopped) and its stopping rules; adds to run's totals and sets its
  * verdict.  after_scan: x is a converged solution moved by a policy (the
  * contact-edge scan, a reweighting), which sits at a kink of the cost. */
@@ -397,8 +408,44 @@ int lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err);
  * fit, refit without each in turn and name the culprit in res's warnings. */
 void lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res);
 
-/* profile.c: 1 when chi2 with w held at factor times the solution's rises
- * by less than 3.84 s^2 (the data do not bound w from above). */
+/* hold.c: the points of a profile (profile.c).  A profile of parameter
+ * `which` around the fit `best` of the curves cc (each with its fitted
+ * model) under settings s: */
+typedef struct {
+    const lf_fit_settings *s;
+    size_t nc;
+    lf_fit_curve *cc;          /* the curves, each with its fitted model */
+    const lf_fit_result *best;
+    int which;                 /* FIT_W, FIT_E, FIT_NU */
+    int linear;                /* searched in the parameter itself, not its log */
+    int mode;                  /* LF_PROFILE_CHECK, _ALWAYS or _SCREEN */
+    int calibrate;             /* LF_PROFILE_CALIBRATE was asked */
+    double thr;                /* the threshold of the rise, s^2 F(1, n_eff - p) */
+    double mu0;                /* the damping at which this profile's last
+                                  refit took its first step (NaN: none) */
+    size_t fits;
+    /* the lowest profile point below the best fit's chi2, if any: the best
+     * fit was then not the global minimum (refit_from_lower) */
+    double lower_chi2;
+    lf_material lower_mat;
+    double *lower_off;         /* 3 ncurves: z0, F0, slope */
+} fit_prof;
+/* a profile point lower than the best fit by this fraction of the
+ * threshold means the best fit was not the global minimum */
+#define FIT_PROFILE_LOWER 0.01
+/* chi2 minus the best chi2 with parameter p->which held at v (NaN on a
+ * failed fit); counts the fit in p->fits and keeps a point below the best
+ * in p->lower_*. */
+double lf_fit_hold_rise(fit_prof *p, double v);
+/* The 95% point of F(1, m), as Student's t at 0.975 squared. */
+double lf_fit_f95(double m);
+/* The threshold of a rise: s^2 F(1, n_eff - p) of the result r. */
+double lf_fit_hold_threshold(const lf_fit_result *r);
+/* The fitted value of r's parameter called name (the solution, even where
+ * the report says "not determined"), else fallback. */
+double lf_fit_best_value(const lf_fit_result *r, const char *name, double fallback);
+/* 1 when chi2 with w held at factor times the solution's rises by less
+ * than the threshold (the data do not bound w from above). */
 int lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor);
 
 /* verdict.c: refuse a curve with no contact signal (LF_EDATA); at the end
@@ -410,21 +457,20 @@ int lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err);
  * determine none of them (nor M) is not converged ("degenerate"), with a
  * warning: run after the assessment and again after the profile. */
 void lf_fit_degenerate_end(lf_fit_result *r);
-/* solve.c: 1 when the solver's last look at its Jacobian (gn_*, ainv) was
+/* iterate.c: 1 when the solver's last look at its Jacobian (gn_*, ainv) was
  * at x, under the current weights and origin. */
 int lf_fit_gn_at(const lf_fit *f, const gsl_vector *x);
 
-/* driver.c: the solve from the origin (with start: the automatic guess's
- * start and second starts; NULL: a warm start from the current origin),
- * the policies, then lf_fit_assess; fills res as lf_fit_run does.
- * with_loo: 0 for a leave-one-out refit itself. */
-int lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res,
-              lf_error *err);
-/* The same solve and policies without the assessment: the solution in
+/* solve.c: the solve from the origin (with start: the automatic guess's
+ * start and second starts; NULL: a warm start from the current origin) and
+ * the restarts the data call for, without the assessment: the solution in
  * f->ws.x, the run's totals and verdict in *run (a profile point needs its
- * chi2 alone); warn (or NULL) takes the policies' warnings. */
+ * chi2 alone); warn (or NULL) takes the restarts' warnings. */
 int lf_fit_solve_run(lf_fit *f, const fit_start *start, fit_run *run, lf_warnings *warn,
                      lf_error *err);
+/* driver.c: lf_fit_solve_run, then lf_fit_assess and leave-one-out (three
+ * or more curves all disagreeing); fills res as lf_fit_run does. */
+int lf_fit_solve(lf_fit *f, const fit_start *start, lf_fit_result *res, lf_error *err);
 
 /* decomp.c: the one decomposition of the column-scaled physical Jacobian
  * that the uncertainty and the model choice share:

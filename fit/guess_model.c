@@ -552,7 +552,7 @@ subsample_cost(lf_fit *f)
 }
 
 void
-lf_fit_guess_compare_model(lf_fit *f, int thin_set)
+lf_fit_guess_compare_model(lf_fit *f)
 {
     lf_material thin = f->mat;
     double a, b;
@@ -571,8 +571,6 @@ lf_fit_guess_compare_model(lf_fit *f, int thin_set)
     /* the thin profile's start, at its own offsets, against the model's own
      * (evaluations into f->ws.ev: the cache keyed by x is dropped) */
     lf_fit_invalidate(f);
-    if (!thin_set)
-        lf_fit_guess_offsets(f);
     a = subsample_cost(f);
     if (!lf_fit_guess_model(f)) {
         f->mat = thin;

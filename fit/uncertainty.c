@@ -30,30 +30,6 @@
 #define Z95 1.959963984540054
 #define Z95_ONE_SIDED 1.6448536269514722
 
-void
-lf_fit_result_free(lf_fit_result *r)
-{
-    size_t j;
-
-    if (r == NULL)
-        return;
-    free(r->names);
-    free(r->value);
-    free(r->cov);
-    free(r->corr);
-    free(r->singular);
-    if (r->curves != NULL)
-        for (j = 0; j < r->ncurves; j++) {
-            free(r->curves[j].fitted);
-            free(r->curves[j].contact_radius);
-            lf_warnings_free(&r->curves[j].warnings);
-        }
-    free(r->curves);
-    lf_warnings_free(&r->identifiability);
-    lf_warnings_free(&r->warnings);
-    memset(r, 0, sizeof *r);
-}
-
 /* Standard error of free parameter i, or NaN. */
 static double
 se_of(const lf_fit_result *r, int i)
@@ -71,24 +47,6 @@ estimate_fixed(lf_fit_estimate *e, double value)
     e->free = 0;
     e->determined = 1;
     e->upper_bound_only = 0;
-}
-
-void
-lf_fit_estimate_drop(lf_fit_estimate *e, const char *why)
-{
-    e->why = why;
-    e->value = e->se = e->ci95[0] = e->ci95[1] = NAN;
-    e->determined = 0;
-    e->upper_bound_only = 0;
-}
-
-void
-lf_fit_pulloff_follows(lf_fit_result *r)
-{
-    size_t j;
-
-    for (j = 0; j < r->ncurves; j++)
-        r->curves[j].pulloff_determined = r->w.determined;
 }
 
 static void
@@ -110,31 +68,6 @@ estimate_positive(lf_fit_estimate *e, double value, double se)
     e->free = 1;
     e->determined = 1;
     e->upper_bound_only = 0;
-}
-
-static int
-alloc_result(lf_fit *f, lf_fit_result *r)
-{
-    size_t j, p = f->np;
-
-    r->npar = p;
-    r->names = calloc(p, sizeof *r->names);
-    r->value = calloc(p, sizeof *r->value);
-    r->cov = calloc(p * p, sizeof *r->cov);
-    r->corr = calloc(p * p, sizeof *r->corr);
-    r->singular = calloc(p, sizeof *r->singular);
-    r->ncurves = f->ncurves;
-    r->curves = calloc(f->ncurves, sizeof *r->curves);
-    if (!r->names || !r->value || !r->cov || !r->corr || !r->singular || !r->curves)
-        return LF_ENOMEM;
-    for (j = 0; j < f->ncurves; j++) {
-        size_t n = f->c[j].data.n;
-        r->curves[j].fitted = calloc(n, sizeof *r->curves[j].fitted);
-        r->curves[j].contact_radius = calloc(n, sizeof *r->curves[j].contact_radius);
-        if (!r->curves[j].fitted || !r->curves[j].contact_radius)
-            return LF_ENOMEM;
-    }
-    return LF_OK;
 }
 
 static void
@@ -410,39 +343,6 @@ explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
                 r->singular[f->np - 1]);
 }
 
-double
-lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, size_t stride)
-{
-    const fit_curve *c = &f->c[j];
-    const size_t *ord = f->order + c->row;
-    size_t i, npos = 0, nneg = 0, runs = 0;
-    double mu, var, nn;
-    int last = 0;
-
-    /* without branches: the signs are noise, a branch on each would be
-     * mispredicted half the time; a zero residual is skipped */
-    for (i = 0; i < c->data.n; i += stride) {
-        double u = gsl_vector_get(res, c->row + ord[i]);
-        int pos = u > 0, neg = u < 0, sgn = pos - neg, nz = pos | neg;
-        npos += (size_t) pos;
-        nneg += (size_t) neg;
-        runs += (size_t) (nz & (sgn != last));
-        last = nz ? sgn : last;
-    }
-    nn = (double) (npos + nneg);
-    if (nn < 2)
-        return 0.0;
-    mu = 2.0 * (double) npos * (double) nneg / nn + 1.0;
-    var = (mu - 1.0) * (mu - 2.0) / (nn - 1.0);
-    return var > 0 ? ((double) runs - mu) / sqrt(var) : 0.0;
-}
-
-double
-lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
-{
-    return lf_fit_runs_z_stride(f, j, res, 1);
-}
-
 /* Does curve j agree with the material fitted to all curves?  Its
  * residuals over its own noise sd (estimated from the data, not the model;
  * robust weights included): chi2 per point and its chi-square tail, and
@@ -645,7 +545,7 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
     int status, refitted;
 
     if (res == NULL || (nullw = calloc(p, sizeof *nullw)) == NULL
-        || alloc_result(f, r) != LF_OK) {
+        || lf_fit_result_alloc(f, r) != LF_OK) {
         status = lf_fail(err, LF_ENOMEM, "out of memory assessing a fit");
         goto done;
     }

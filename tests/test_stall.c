@@ -54,7 +54,7 @@ fit_from(scene *s, const lf_fit_settings *set, const lf_material *mat, const lf_
         g->c[j].slope = 0.0;
     }
     lf_fit_set_origin(g);
-    st = lf_fit_solve(g, NULL, 1, r, NULL);
+    st = lf_fit_solve(g, NULL, r, NULL);
     lf_fit_free(g);
     return st;
 }
