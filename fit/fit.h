@@ -1,6 +1,6 @@
 /* fit.h: the fitter's internal header (not installed), one file per piece
  * in the way of GSL's multifit_nlinear.  Calls go one way, down this list
- * (tests/callgraph.sh checks that no file calls back up):
+ * (tests/cli/callgraph.sh checks that no file calls back up):
  *   choose.c      the model choice over whole fits (lf_fit_choose_driver)
  *   profile.c     profile-likelihood intervals (lf_fit_profile)
  *   driver.c      one run: start, solve, assessment, leave-one-out (loo.c)

@@ -685,7 +685,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
         /* the results replace an earlier file only now, whole */
         if (cli_out_commit(&atomic, msg, sizeof msg) != 0)
             cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
-        cli_provenance_sidecar("fit", o->out);
+        cli_provenance_sidecar("fit", o->out, o->command_line);
     }
     if (failed > 0) {
         fprintf(stderr, "layerfit: fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s)\n",
@@ -705,7 +705,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
  * single-fit command sees the arguments.  The fit settings take the same
  * options as a single fit (cli/fit.c). */
 int
-cli_fit_batch(int argc, char **argv)
+cli_fit_batch(int argc, char **argv, const char *command_line)
 {
     const char *plan = NULL, *out = NULL, *shard = NULL;
     long threads_opt = -1;
@@ -775,6 +775,7 @@ cli_fit_batch(int argc, char **argv)
     o.linear_only = fa.linear_only;
     o.plan = plan;
     o.out = out;
+    o.command_line = command_line;
     o.shard = shard;
     if (threads_opt == 0)
         cli_die(CLI_EXIT_USAGE, "fit: --threads must be 1..%d (got 0)", CLI_MAX_THREADS);

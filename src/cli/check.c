@@ -119,7 +119,7 @@ print_probe(const lf_plan_row *r, const lf_curve *c)
 }
 
 int
-cli_check(int argc, char **argv)
+cli_check(int argc, char **argv, const char *command_line)
 {
     lf_read_opts o;
     lf_error err;
@@ -141,6 +141,7 @@ cli_check(int argc, char **argv)
         { NULL, CLI_FLAG, NULL }
     };
 
+    (void) command_line;    /* no provenance record */
     lf_read_opts_default(&o);
     opts[0].target = &o.depth_unit;
     opts[1].target = &o.force_unit;

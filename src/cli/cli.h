@@ -30,7 +30,9 @@ enum {
 typedef struct {
     const char *name;
     const char *summary;
-    int (*run)(int argc, char **argv);  /* argv[0] is the subcommand name */
+    /* argv[0] is the subcommand name; command_line is the whole line as
+     * typed, shell-quoted (main.c), for the provenance records */
+    int (*run)(int argc, char **argv, const char *command_line);
 } cli_command;
 
 /* Print "layerfit: MESSAGE" on stderr and exit with code. */
@@ -101,22 +103,22 @@ double cli_fitted_value(const lf_fit_result *res, const char *name);
 
 
 /* The subcommands, one file each (src/cli/NAME.c). */
-int cli_model(int argc, char **argv);
-int cli_fit(int argc, char **argv);
-int cli_simulate(int argc, char **argv);
+int cli_model(int argc, char **argv, const char *command_line);
+int cli_fit(int argc, char **argv, const char *command_line);
+int cli_simulate(int argc, char **argv, const char *command_line);
 /* `layerfit bench`: speed against error (bench.c). */
-int cli_bench(int argc, char **argv);
-int cli_cache(int argc, char **argv);
+int cli_bench(int argc, char **argv, const char *command_line);
+int cli_cache(int argc, char **argv, const char *command_line);
 /* `layerfit bench --coverage`: interval coverage over seeds (coverage.c). */
 int cli_coverage(size_t nseeds, const char *scene_name, int calibrate);
 /* 1 when the probes are frictionless and bonded together: nu is fitted. */
 int cli_probes_free_nu(const lf_probe *p, size_t n);
 /* `layerfit model --figure N [--plot FILE]` (figure.c). */
 int cli_figure(int figure, const char *plot);
-int cli_check(int argc, char **argv);
-int cli_map(int argc, char **argv);
+int cli_check(int argc, char **argv, const char *command_line);
+int cli_map(int argc, char **argv, const char *command_line);
 /* `layerfit design`: what a planned test would measure (design.c). */
-int cli_design(int argc, char **argv);
+int cli_design(int argc, char **argv, const char *command_line);
 
 /* The fit options a single fit and a batch share: one table, one set of
  * defaults (fit.c).  cli_fit_args_init sets the defaults; cli_fit_opts puts
@@ -135,7 +137,15 @@ typedef struct {
     lf_read_opts read;    /* filled by cli_fit_settings; is->read points here */
 } cli_fit_args;
 
-/* The words a report puts after an interval for how it was found (NULL: a
+#define CLI_FIT_NOPTS 24
+void cli_fit_args_init(cli_fit_args *a);
+size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
+int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
+                     lf_input_settings *is);
+/* The fit options' help lines, shared by both usage texts. */
+extern const char cli_fit_help[];
+
+/* Words (words.c).  The words a report puts after an interval for how it was found (NULL: a
  * checked linear interval, nothing said); brief: the HTML table's. */
 const char *cli_interval_words(const lf_fit_estimate *e, int brief);
 /* How a free estimate's 95% interval was found (JSON ci95_method, the
@@ -150,13 +160,6 @@ const char *cli_interval_method(const lf_fit_estimate *e);
  * estimate (determined, fixed, an upper bound of w, or never profiled). */
 const char *cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit,
                            char *buf, size_t n);
-#define CLI_FIT_NOPTS 24
-void cli_fit_args_init(cli_fit_args *a);
-size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
-int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
-                     lf_input_settings *is);
-/* The fit options' help lines, shared by both usage texts. */
-extern const char cli_fit_help[];
 
 /* Batch fitting (batch.c). */
 #define CLI_MAX_THREADS 1024      /* --threads is 1..CLI_MAX_THREADS */
@@ -170,6 +173,7 @@ typedef struct {
     int linear_only;       /* --intervals linear */
     lf_choose_settings choose;  /* the model choice's settings */
     lf_input_settings input;    /* segment, held offsets */
+    const char *command_line;   /* for the provenance record */
 } cli_batch_opts;
 /* Fit every fit of the plan with the settings; returns the exit status
  * (CLI_EXIT_OK, or CLI_EXIT_SOME_FAILED with a summary line on stderr). */
@@ -177,7 +181,7 @@ int cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings);
 /* "I/N" with 1 <= I <= N; -1 when malformed. */
 int cli_shard_parse(const char *text, long *index, long *count);
 /* `layerfit fit --batch ...` and whether argv asks for it. */
-int cli_fit_batch(int argc, char **argv);
+int cli_fit_batch(int argc, char **argv, const char *command_line);
 int cli_wants_batch(int argc, char **argv);
 
 /* Figures of a fit (plotfit.c): "overview" and "curve1", "curve2", ...
@@ -193,7 +197,8 @@ typedef struct {
  * made, gnuplot failed), or 1 with a message when gnuplot is not installed
  * (the scripts and data are still written and figs filled). */
 int cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
-                 const lf_fit_result *res, cli_figures *figs, char *msg, size_t n);
+                 const lf_fit_result *res, const char *command_line, cli_figures *figs,
+                 char *msg, size_t n);
 void cli_figures_free(cli_figures *f);
 /* Run dir/script (cwd dir) with its images going to a temporary folder in
  * dir (gnuplot -e "out='.layerfit-XXXXXX/img'"; the script writes
@@ -202,34 +207,19 @@ void cli_figures_free(cli_figures *f);
 int cli_draw_script(const char *dir, const char *script, const char *base,
                     const char *const *ext, size_t next, char *msg, size_t n);
 
-/* `layerfit fit --plot DIR --report FILE.html` (either may be NULL),
- * checked by cli_fit_figures_check before the fit: draw the figures and
- * write the page; what goes wrong short of an I/O error on the page
- * (gnuplot missing) is said on stderr without failing. */
-void cli_fit_figures(const char *plotdir, const char *report, size_t ncurves,
-                     const lf_fit_curve *curves, const lf_fit_result *res);
-/* Check --plot and --report before fitting (exit 2 on a bad value). */
-void cli_fit_figures_check(const char *plotdir, const char *report);
-/* Note every file that --plot DIR will write for ncurves curves as an
- * output (cli_output_note): once the inputs are read, so that one of them
- * named like a figure (curve1.svg, overview.dat, provenance.json) is
- * refused with exit status 2 before anything is written. */
-void cli_fit_figures_note(const char *plotdir, size_t ncurves);
 /* Every file cli_plot_fit writes into dir for ncurves curves (the figures
  * overview and curve1..curveN, each NAME.gp, .dat, .png and .svg, and
  * provenance.json), each path handed to each(). */
 void cli_plot_files(const char *dir, size_t ncurves, void (*each)(const char *path));
 
-/* The command line as typed (shell-quoted), saved by main() for reports. */
-void cli_set_command_line(int argc, char **argv);
-const char *cli_get_command_line(void);
 /* Write a self-contained HTML report of a fit (html.c) with the figures
  * inlined as SVG; they are drawn into plotdir, or into a temporary folder
  * removed afterwards when plotdir is NULL.  Returns 0; 1 when the page was
  * written without figures (msg says why, e.g. gnuplot missing); -1 with msg
  * when the page could not be written. */
 int cli_html_report(const char *file, const char *plotdir, size_t ncurves,
-                    const lf_fit_curve *curves, const lf_fit_result *r, char *msg, size_t n);
+                    const lf_fit_curve *curves, const lf_fit_result *r,
+                    const char *command_line, char *msg, size_t n);
 /* ---- Outputs and inputs (output.c, read.c) -------------------------------
  * Every output file goes through cli_out: a temporary file in the same
  * folder, renamed into place by cli_out_commit after fflush, fsync and a
@@ -282,10 +272,11 @@ size_t cli_inputs_count(void);
 const char *cli_input_path(size_t i);
 const char *cli_input_sha256(size_t i);
 /* {"layerfit": VERSION, "command_line": ..., "inputs": [{"file", "sha256"}]}
- * with indent before each line after the first. */
-void cli_provenance_json(FILE *f, const char *indent);
+ * with indent before each line after the first; command_line as main()
+ * passed it to the subcommand. */
+void cli_provenance_json(FILE *f, const char *indent, const char *command_line);
 /* OUTPUT.provenance.json beside an output that has no room for it (CSV). */
-void cli_provenance_sidecar(const char *cmd, const char *output);
+void cli_provenance_sidecar(const char *cmd, const char *output, const char *command_line);
 
 /* Text from data (lf_utf8_len: the library's UTF-8 check).  cli_json_escape: a JSON string, always valid UTF-8
  * (invalid bytes become U+FFFD); cli_percent_escape: a JSON string of the

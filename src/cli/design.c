@@ -623,7 +623,7 @@ csv_sweep(const char *path, lf_design_factor factor, size_t nv, const double *x,
 /* ---- the command ---------------------------------------------------------- */
 
 int
-cli_design(int argc, char **argv)
+cli_design(int argc, char **argv, const char *command_line)
 {
     design_args a;
     const cli_opt opts[] = {
@@ -884,7 +884,7 @@ cli_design(int argc, char **argv)
             fputs("\n  ]}", f);
         }
         fputs(",\n  \"provenance\": ", f);
-        cli_provenance_json(f, "  ");
+        cli_provenance_json(f, "  ", command_line);
         fputs("\n}\n", f);
         if (cli_out_commit(&o, msg, sizeof msg) != 0)
             cli_die(CLI_EXIT_FAIL, "design: %s", msg);

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "cli.h"
 #include "report.h"
@@ -186,6 +187,71 @@ write_file(const char *path, void (*writer)(FILE *, const report_input *, const 
     cli_write_file("fit", path, fit_output_write, &o);
 }
 
+/* Check --plot and --report before fitting (exit 2 on a bad value). */
+static void
+figures_check(const char *plotdir, const char *report)
+{
+    struct stat st;
+    if (plotdir != NULL && *plotdir == '\0')
+        cli_die(CLI_EXIT_USAGE, "fit: --plot needs a folder (e.g. --plot figures)");
+    /* a file (not a folder) where the figures would go: said before the fit */
+    if (plotdir != NULL && stat(plotdir, &st) == 0 && !S_ISDIR(st.st_mode))
+        cli_die(CLI_EXIT_FAIL, "fit: --plot %s: that is a file, not a folder (name a folder "
+                "for the figures)", plotdir);
+    if (report != NULL) {
+        size_t len = strlen(report);
+        if (len < 5 || (strcmp(report + len - 5, ".html") != 0 && strcmp(report + len - 4, ".htm") != 0))
+            cli_die(CLI_EXIT_USAGE, "fit: --report %s: the report is a web page, FILE.html", report);
+    }
+}
+
+static void
+note_fit_output(const char *path)
+{
+    cli_output_note("fit", path);
+}
+
+/* Note every file that --plot DIR will write for ncurves curves as an
+ * output (cli_output_note): once the inputs are read, so that one of them
+ * named like a figure (curve1.svg, overview.dat, provenance.json) is
+ * refused with exit status 2 before anything is written. */
+static void
+figures_note(const char *plotdir, size_t ncurves)
+{
+    if (plotdir != NULL)
+        cli_plot_files(plotdir, ncurves, note_fit_output);
+}
+
+/* `layerfit fit --plot DIR --report FILE.html` (either may be NULL),
+ * checked by figures_check before the fit: draw the figures (plotfit.c)
+ * and write the page (html.c); what goes wrong short of an I/O error on
+ * the page (gnuplot missing) is said on stderr without failing. */
+static void
+figures(const char *plotdir, const char *report, size_t ncurves, const lf_fit_curve *curves,
+        const lf_fit_result *res, const char *command_line)
+{
+    char msg[1400];
+
+    if (plotdir != NULL && report == NULL) {
+        cli_figures figs = { 0, NULL, NULL };
+        int st = cli_plot_fit(plotdir, ncurves, curves, res, command_line, &figs, msg,
+                              sizeof msg);
+        cli_figures_free(&figs);
+        if (st < 0)         /* a folder or file not made, gnuplot failed */
+            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
+        if (st > 0)         /* no gnuplot: scripts and data written */
+            fprintf(stderr, "layerfit: fit: %s\n", msg);
+    }
+    if (report != NULL) {
+        int st = cli_html_report(report, plotdir, ncurves, curves, res, command_line, msg,
+                                 sizeof msg);
+        if (st < 0)
+            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
+        if (st > 0)
+            fprintf(stderr, "layerfit: fit: %s\n", msg);
+    }
+}
+
 void
 cli_fit_args_init(cli_fit_args *a)
 {
@@ -227,62 +293,6 @@ cli_fit_opts(cli_fit_args *a, cli_opt *opts)
 
     memcpy(opts, table, sizeof table);
     return n;
-}
-
-const char *
-cli_interval_method(const lf_fit_estimate *e)
-{
-    if (!e->free)
-        return NULL;
-    if (!(isfinite(e->ci95[0]) || isfinite(e->ci95[1])))
-        return e->interval_method;  /* a profile that found no bound, or nothing */
-    return e->interval_method != NULL ? e->interval_method : "linear (Wald)";
-}
-
-const char *
-cli_interval_words(const lf_fit_estimate *e, int brief)
-{
-    const char *m = e->interval_method;
-
-    if (m == NULL)
-        return NULL;
-    if (strcmp(m, "profile likelihood") == 0)
-        return "profile likelihood";
-    if (strcmp(m, LF_INTERVAL_JUMP) == 0)
-        return brief ? "profile, linear where it jumps"
-                     : "profile likelihood; linear on a side where chi2 jumps as a point crosses "
-                       "the contact edge";
-    if (strcmp(m, LF_INTERVAL_UNCHECKED) == 0)
-        return brief ? "linear, not checked" : "linear, not checked: --intervals linear";
-    if (strcmp(m, LF_INTERVAL_AT_STOP) == 0)
-        return brief ? "linear, where the fit stopped"
-                     : "linear, where the fit stopped; not profiled";
-    return NULL;
-}
-
-const char *
-cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit, char *buf,
-               size_t n)
-{
-    char v[48];
-    const char *m = e->interval_method;
-    const int below = isfinite(e->ci95[0]), above = isfinite(e->ci95[1]);
-    const double bound = below ? e->ci95[0] : e->ci95[1];
-
-    if (e->determined || !e->free || e->upper_bound_only || m == NULL
-        || strcmp(m, "profile likelihood") != 0 || (below && above))
-        return NULL;
-    if (unit[0] != '\0')
-        cli_human(v, sizeof v, bound, unit);
-    else
-        snprintf(v, sizeof v, "%.4g", bound);
-    if (below)
-        snprintf(buf, n, "%s < %s", v, name);
-    else if (above)
-        snprintf(buf, n, "%s < %s", name, v);
-    else
-        buf[0] = '\0';
-    return buf;
 }
 
 int
@@ -381,7 +391,7 @@ cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
 }
 
 int
-cli_fit(int argc, char **argv)
+cli_fit(int argc, char **argv, const char *command_line)
 {
     fit_args a = { NULL, NULL, NULL, NAN, NAN, NAN };
     cli_fit_args fa;
@@ -424,7 +434,7 @@ cli_fit(int argc, char **argv)
     }
     if (npos != 1)
         cli_die(CLI_EXIT_USAGE, "fit: give one plan or curve file (see 'layerfit fit --help')");
-    cli_fit_figures_check(plot_dir, report_html);
+    figures_check(plot_dir, report_html);
     cli_output_note("fit", a.json);
     cli_output_note("fit", a.curves);
     cli_output_note_sidecar("fit", a.curves);
@@ -435,7 +445,7 @@ cli_fit(int argc, char **argv)
     cli_output_folder_check("fit", plot_dir);      /* its parent: --plot makes one level */
     model_auto = cli_fit_settings(&fa, &set, &choose, &is);
     read_input(argv[0], &a, fa.model, &is, &d);
-    cli_fit_figures_note(plot_dir, d.n);
+    figures_note(plot_dir, d.n);
     lf_fit_input_apply_nu(&d, &set);
     if (model_auto)
         status = lf_fit_choose_driver(&set, &choose, d.n, d.curves, &r, &err);
@@ -468,15 +478,16 @@ cli_fit(int argc, char **argv)
     in.model_tol = model_auto ? choose.tol : NAN;
     in.curves = d.curves;
     in.origin = d.origin;
+    in.command_line = command_line;
     print_input_notes(&a, &d);
     report_text(stdout, &in, &r);
     if (a.json != NULL)
         write_file(a.json, report_json, &in, &r);
     if (a.curves != NULL) {
         write_file(a.curves, report_curves, &in, &r);
-        cli_provenance_sidecar("fit", a.curves);
+        cli_provenance_sidecar("fit", a.curves, command_line);
     }
-    cli_fit_figures(plot_dir, report_html, d.n, d.curves, &r);
+    figures(plot_dir, report_html, d.n, d.curves, &r, command_line);
     if (status == LF_OK && cli_disagreeing(&r, bad, sizeof bad) > 0) {
         fprintf(stderr, "layerfit: fit: converged, but the model does not describe curve%s %s "
                 "(DISAGREES): the values are those of a model that does not fit, not a "

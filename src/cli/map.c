@@ -415,7 +415,7 @@ draw_map(const char *result, const char *image)
 }
 
 int
-cli_map(int argc, char **argv)
+cli_map(int argc, char **argv, const char *command_line)
 {
     const char *plot = NULL, *syn = NULL;
     long size = 64, every = 1, points = 150, seed = 1;
@@ -433,6 +433,7 @@ cli_map(int argc, char **argv)
         { NULL, 0, NULL }
     };
 
+    (void) command_line;    /* no provenance record */
     cli_parse("map", argc, argv, opts, &npos, &help);
     if (help) {
         printf("usage: layerfit map RESULT.csv --plot MAP.png|MAP.svg\n"

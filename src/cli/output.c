@@ -619,11 +619,11 @@ cli_gnuplot_string(FILE *g, const char *s)
  * --------------------------------------------------------------------- */
 
 void
-cli_provenance_json(FILE *f, const char *indent)
+cli_provenance_json(FILE *f, const char *indent, const char *command_line)
 {
     size_t i;
     fprintf(f, "{\n%s  \"layerfit\": \"%s\",\n%s  \"command_line\": ", indent, LF_VERSION, indent);
-    cli_json_string(f, cli_get_command_line());
+    cli_json_string(f, command_line);
     fprintf(f, ",\n%s  \"inputs\": [", indent);
     for (i = 0; i < ninputs; i++) {
         fprintf(f, "%s\n%s    {", i ? "," : "", indent);
@@ -640,15 +640,14 @@ cli_provenance_json(FILE *f, const char *indent)
 static void
 sidecar_writer(FILE *f, const void *ctx)
 {
-    (void) ctx;
-    cli_provenance_json(f, "");
+    cli_provenance_json(f, "", ctx);
     fputc('\n', f);
 }
 
 void
-cli_provenance_sidecar(const char *cmd, const char *output)
+cli_provenance_sidecar(const char *cmd, const char *output, const char *command_line)
 {
     char *path = sidecar_path(output);
-    cli_write_file(cmd, path, sidecar_writer, NULL);
+    cli_write_file(cmd, path, sidecar_writer, command_line);
     free(path);
 }

@@ -469,7 +469,7 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
     fputs(",\n  \"warnings\": ", f);
     jwarnings(f, &r->warnings);
     fputs(",\n  \"provenance\": ", f);
-    cli_provenance_json(f, "  ");
+    cli_provenance_json(f, "  ", in->command_line);
     fputs("\n}\n", f);
 }
 
