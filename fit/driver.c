@@ -29,36 +29,6 @@ model_name(const lf_fit *f)
     return t->name;
 }
 
-/* A run that ran away (an offset far outside its curve's data, in column
- * col) stopped where a material parameter that moved with the offset has
- * no meaning (FIT_RAN_CORR): no estimate, no interval, and without w no
- * pull-off.  M follows E* and nu. */
-static void
-ran_away(const lf_fit *f, lf_fit_result *res, int col)
-{
-    lf_fit_estimate *e[FIT_NMAT] = { &res->w, &res->Estar, &res->nu };
-    int k, any = 0, force = 0;
-    size_t j;
-
-    for (j = 0; j < f->ncurves; j++)
-        force |= col >= 0 && f->c[j].iF0 == col;
-    for (k = 0; k < FIT_NMAT; k++) {
-        const int m = f->imat[k];
-        if (m < 0 || col < 0 || !e[k]->determined
-            || !(fabs(res->corr[(size_t) m * res->npar + (size_t) col]) >= FIT_RAN_CORR))
-            continue;
-        lf_fit_estimate_drop(e[k], force
-                             ? "the fit ran away: it moved with a force offset that went far "
-                               "outside its curve's forces, and where that stopped is no estimate"
-                             : "the fit ran away: it moved with a contact point that went far "
-                               "outside its curve's depths, and where that stopped is no estimate");
-        any |= k != FIT_W;
-    }
-    if (any && res->M.determined && res->M.free)
-        lf_fit_estimate_drop(&res->M, res->Estar.why != NULL ? res->Estar.why : res->nu.why);
-    lf_fit_pulloff_follows(res);
-}
-
 int
 lf_fit_solve(lf_fit *f, const fit_start *start, lf_fit_result *res, lf_error *err)
 {
@@ -76,7 +46,7 @@ lf_fit_solve(lf_fit *f, const fit_start *start, lf_fit_result *res, lf_error *er
         return status;
     }
     res->evaluations = run.evals;
-    status = lf_fit_assess(f, x->data, res, err);
+    status = lf_fit_assess(f, x->data, &run, res, err);
     if (status != LF_OK) {
         lf_fit_result_free(res);
         return status;
@@ -84,8 +54,6 @@ lf_fit_solve(lf_fit *f, const fit_start *start, lf_fit_result *res, lf_error *er
     res->converged = run.converged;
     res->stop = run.stop;
     snprintf(res->stop_reason, sizeof res->stop_reason, "%s", run.why);
-    if (run.stop == LF_STOP_RAN_AWAY)
-        ran_away(f, res, run.ran_col);
     if (f->ncurves >= 3) {
         size_t j, bad = 0;
         for (j = 0; j < f->ncurves; j++)

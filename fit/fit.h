@@ -4,7 +4,11 @@
  *   choose.c      the model choice over whole fits (lf_fit_choose_driver)
  *   profile.c     profile-likelihood intervals (lf_fit_profile)
  *   driver.c      one run: start, solve, assessment, leave-one-out (loo.c)
- *   uncertainty.c the assessment: covariance, intervals, identifiability
+ *   design.c      what a planned set of curves would measure (at the truth)
+ *   uncertainty.c the assessment: covariance, intervals, estimates
+ *   judge.c       what the data determine and why, in words: the one
+ *                 judgement of a fit at its solution and a design at the
+ *                 truth (and the model choice's rule)
  *   hold.c        a refit with one parameter held (a profile's point)
  *   solve.c       the solve and its restarts: second_start.c, reweight.c,
  *                 the honest end (verdict.c)
@@ -36,6 +40,11 @@
 #include "internal.h"
 
 enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
+
+/* The normal distribution's 97.5% and 95% points: two-sided and
+ * one-sided 95% intervals. */
+#define FIT_Z95 1.959963984540054
+#define FIT_Z95_ONE_SIDED 1.6448536269514722
 
 /* ---- every tolerance the solve and its policies stop on ---------------- */
 
@@ -264,7 +273,6 @@ struct lf_fit {
     int imat[FIT_NMAT];  /* index in x of ln w, ln E*, u, or -1 */
     int nu_prior;        /* 1 when a prior row is present */
     int nu_determinable; /* the plan alone determines nu */
-    int k2_degenerate;   /* set by lf_fit_assess: w and F0 not separable */
     double chi2_step;    /* the solve's precision in chi2/dof: FIT_CHI2_STEP,
                             or a profile point's coarser one (profile.c) */
     double mu0;          /* lm.c's first damping (in units of the scaled
@@ -320,6 +328,10 @@ int lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, double *A, d
                        double *colmax);
 /* Jacobian with respect to the physical coordinates, rows weighted. */
 int lf_fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J);
+/* The same with one more column (J: nres x (np + 1)): dP/dnu of every row,
+ * weighted, as if nu were free while it is held (the judgement of E* apart
+ * from nu, judge.c). */
+int lf_fit_jacobian_physical_nu(lf_fit *f, const double *x, gsl_matrix *J);
 /* c[k] = the internal Jacobian's column k over the physical one at x (each
  * internal coordinate's d(physical)/d(internal): w, E*, dnu/du, L, Fs,
  * Fs/L; all > 0). */
@@ -508,9 +520,137 @@ int lf_fit_decomp_factor(fit_decomp *d, double rcond, int scale);
 /* Weight of parameter k in the undetermined directions (1 for a column of
  * zeros). */
 double lf_fit_decomp_nullw(const fit_decomp *d, size_t k);
+/* scale times the pseudo-inverse of J^T J over the determined directions
+ * at (a, b), D^-1 V S^-2 V^T D^-1: the covariance of the columns'
+ * parameters for a noise variance `scale` (NaN for a column of zeros). */
+double lf_fit_decomp_cov(const fit_decomp *d, int a, int b, double scale);
 /* coef[l] = (U_l . v) / S_l for l < rank, U the left singular vectors of
  * J D^-1 (v of length n). */
 void lf_fit_decomp_project(fit_decomp *d, const double *v, double *coef);
+
+/* judge.c: what a set of curves determines and why, one judgement for a
+ * fit at its solution (uncertainty.c) and a design at the truth
+ * (design.c); the rules are at the top of judge.c. */
+#define FIT_NULL_WEIGHT 0.01    /* more weight than this in the undetermined
+                                   directions: not determined */
+#define FIT_K2_MIN_OUT 3        /* k = 2: points out of contact a curve needs
+                                   for its baseline to count */
+#define FIT_K2_W_HIGH 4.0       /* k = 2: ln of the factor w is held higher
+                                   by to see whether the data bound it */
+/* What the judgement needs to know of one curve. */
+typedef struct {
+    char label[64];          /* how the words name it: "1", "2", ... (a fit)
+                                or a candidate's name (a design) */
+    double k;
+    lf_base base;
+    lf_branch branch;
+    const lf_model_type *model;  /* the model in use */
+    size_t n_out;            /* points out of contact (at the solution, or
+                                at the truth) */
+    int col_z0, col_F0, col_slope;  /* columns, -1 when held */
+} judge_curve;
+
+typedef struct {
+    const fit_decomp *d;     /* of the free parameters' column-scaled
+                                Jacobian at the solution (or the truth) */
+    int col[FIT_NMAT];       /* columns of w, E*, nu; -1 when held */
+    int held_by_user[FIT_NMAT];  /* held at a value the user gave */
+    double w, w_se;          /* w there and its standard error */
+    double nu;               /* nu there (held or fitted) */
+    double M, M_se;          /* Z E* of the bonded curves there, its se */
+    double dM[2];            /* dM / d(the parameter of E*'s column),
+                                dM / dnu, in the columns' own units */
+    size_t ncurves;
+    const judge_curve *c;
+    int ran_away;            /* a fit's solve ran away (LF_STOP_RAN_AWAY) */
+    int ran_col, ran_force;  /* then the offset's column (-1: none) and
+                                whether it is a force offset */
+    /* measures the judgement asks for only where it needs them: */
+    void *ctx;
+    /* 1 when chi2 with w held e^FIT_K2_W_HIGH times higher rises by less
+     * than its threshold: the data do not bound w from above (NULL: 0) */
+    int (*w_open_above)(void *ctx);
+    /* with nu's column added to the Jacobian (nu held by the fitter's
+     * rule, not given): 1 when E* is still determined, with *dlnE_dnu how
+     * ln E* moves with nu given the data (the regression, cov / var);
+     * 0 when not (NULL: 0) */
+    int (*E_with_nu)(void *ctx, double *dlnE_dnu);
+} judge_in;
+
+/* What bonded curves alone (nu neither given nor determined) say of E*. */
+enum { FIT_BONDED_NONE = 0,   /* not that case */
+       FIT_BONDED_ONLY_M,     /* thin: E* not determined, M is */
+       FIT_BONDED_NOTHING,    /* thin: neither E* nor M */
+       FIT_BONDED_E };        /* not thin: the data fix E* apart from nu */
+
+typedef struct {
+    int det[FIT_NMAT];       /* free and determined */
+    int k2;                  /* k = 2: w not separable from the force offsets
+                                (w and every F0 not determined) */
+    int w_upper;             /* w below 2 se: bounded from above only, by */
+    double w_bound;          /* w + 1.645 se */
+    int M_free, M_det;       /* M among the results (bonded curves, E* or nu
+                                free), and determined */
+    const char *M_why;       /* M not determined where it was: why */
+    int bonded;              /* FIT_BONDED_* */
+    double dlnE_dnu;         /* FIT_BONDED_E: how ln E* moves with nu */
+    const char *why[FIT_NMAT];  /* a reason in words (static) for one not
+                                   determined that the words below do not
+                                   give, or NULL */
+} judge_out;
+
+/* Judge, and append the words to `words` (what the data determine). */
+void lf_judge(const judge_in *in, judge_out *out, lf_warnings *words);
+/* 1 when column col (>= 0) is determined. */
+int lf_judge_col_determined(const fit_decomp *d, int col);
+/* The thin-layer model past its limit of b/a (at `where`) in the words of
+ * lf_thin_scope, prefixed with "who: " when who is not NULL. */
+void lf_judge_thin_strain(lf_warnings *w, const char *who, double ba, const char *where,
+                          double limit);
+
+/* The models of the auto choice, from the cheapest up; the rung of a
+ * model is its scope's. */
+enum { FIT_RUNG_THIN = 0, FIT_RUNG_HALFSPACE, FIT_RUNG_EXACT, FIT_NRUNG };
+const lf_model_type *lf_fit_rung_type(int rung);
+int lf_fit_rung_of(const lf_model_type *t);
+
+/* A curve's model bias on w, E*, nu over their standard errors (0 where
+ * not fitted or not determined); ok = 0 when not assessed. */
+typedef struct {
+    double r[FIT_NMAT];
+    int ok;
+} judge_bias;
+/* The bias from coef[l] (l < rank), the projection of the weighted force
+ * difference d = (P_exact - P_model) / sigma onto the determined
+ * directions, (U_l . d) / S_l = (V_l . D^-1 J^T d) / S_l^2 (to first order
+ * the estimate moves by (J^T J)^+ J^T d, one Gauss-Newton step). */
+void lf_judge_bias(const fit_decomp *d, const int col[FIT_NMAT], const double *coef,
+                   double r[FIT_NMAT]);
+double lf_judge_bias_max(const double r[FIT_NMAT], int *which);
+/* One round of the auto model choice (lf_fit_choose_driver's rule): while
+ * the summed bias of the curves' models exceeds tol standard errors, the
+ * movable curve (not fixed, not exact, assessed) with the largest bias
+ * moves up: to the half-space model when its own bias there (bias(ctx, j,
+ * FIT_RUNG_HALFSPACE, &half[j]), asked for thin curves with k above the
+ * model's limit when halfspace is set) is below tol and the thin one's,
+ * else to the exact model; move(ctx, j, rung) makes it so.  cur[j] is the
+ * bias of curve j's current model (zero for exact), kept up to date. */
+typedef struct {
+    size_t n;
+    int *rung;
+    const int *fixed;
+    const double *k;
+    judge_bias *cur, *half;
+    double tol;
+    int halfspace, allow_change;
+    void *ctx;
+    int (*bias)(void *ctx, size_t j, int rung, judge_bias *b);
+    int (*move)(void *ctx, size_t j, int rung);
+} judge_models;
+int lf_judge_models(judge_models *jm, double *total_max, int *changed);
+/* Why a curve has its model, in words. */
+void lf_judge_model_reason(char *buf, size_t n, int rung, int fixed, const judge_bias *thin,
+                           const judge_bias *half, double ab_lo, double ab_hi, double tol);
 
 /* noise.c: the integrated autocorrelation time of e[0..n-1] (1 for white
  * noise); the noise model of curve j at the residuals res (units of sigma):
@@ -537,15 +677,9 @@ int lf_fit_noise_above(const double *work, size_t cnt, double thr);
 double lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res);
 /* The same over every stride-th residual in depth order (noise.c). */
 double lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, size_t stride);
-/* The plain words, shared by the assessment and layerfit design
- * (fit/design.c), for: only bonded curves leaving nu undetermined (the
- * plain form; the caller says M where it is determined), curves that do
- * not see nu (nu_unseen_by names them: "frictionless", "half-space"; NULL:
- * none), and w inseparable from the force offsets (all_k2: every curve's
- * probe has k = 2; all_load: every curve is a loading segment, whose
- * baseline before contact is recorded). */
-void lf_fit_say_undetermined(lf_warnings *out, int bonded_only, const char *nu_unseen_by,
-                             int w_with_F0, int all_k2, int all_load);
-int lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *res, lf_error *err);
+/* The assessment of the solution x of a run that ended with the verdict
+ * run: the result's estimates, errors and words. */
+int lf_fit_assess(lf_fit *f, const double *x, const fit_run *run, lf_fit_result *res,
+                  lf_error *err);
 
 #endif

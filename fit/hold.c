@@ -96,6 +96,17 @@ lf_fit_f95(double m)
     return t * t;
 }
 
+/* 1 when r's free parameters include name. */
+static int
+has_parameter(const lf_fit_result *r, const char *name)
+{
+    size_t k;
+    for (k = 0; k < r->npar; k++)
+        if (strcmp(r->names[k], name) == 0)
+            return 1;
+    return 0;
+}
+
 /* chi2 minus the best chi2 with parameter `which` held at v (NaN on a
  * failed fit). */
 double
@@ -114,6 +125,11 @@ lf_fit_hold_rise(fit_prof *p, double v)
         par->mode = LF_PARAM_FIXED;
         par->value = v;
     }
+    /* nu as the best fit had it: held by the fitter's rule, it stays held
+     * (holding E* would otherwise free it, bonded curves then fixing nu) */
+    if (p->which != FIT_NU && !has_parameter(p->best, "nu") && s.nu.mode == LF_PARAM_AUTO
+        && isfinite(s.nu.value))
+        s.nu.mode = LF_PARAM_FIXED;
     g = lf_fit_alloc(&s, p->nc, p->cc, NULL);
     if (g == NULL)
         return NAN;

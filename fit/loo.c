@@ -22,7 +22,7 @@ refit(lf_fit *g, lf_fit_result *r)
     if (lf_fit_guess(g, &start, NULL) != LF_OK
         || lf_fit_solve_run(g, &start, &run, NULL, NULL) != LF_OK || !run.converged)
         return 0;
-    if (lf_fit_assess(g, g->ws.x->data, r, NULL) != LF_OK) {
+    if (lf_fit_assess(g, g->ws.x->data, &run, r, NULL) != LF_OK) {
         lf_fit_result_free(r);
         return 0;
     }

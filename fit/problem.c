@@ -601,6 +601,32 @@ lf_fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J)
     return fill_jacobian(f, x, J, 1);
 }
 
+int
+lf_fit_jacobian_physical_nu(lf_fit *f, const double *x, gsl_matrix *J)
+{
+    gsl_matrix_view free_part = gsl_matrix_submatrix(J, 0, 0, J->size1, f->np);
+    const int sel[1] = { 2 };       /* row_entries' dP/dnu */
+    size_t i, j;
+    row_map map;
+
+    if (fill_jacobian(f, x, &free_part.matrix, 1) != GSL_SUCCESS)
+        return GSL_EDOM;
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        curve_map(f, x, j, 1, &map);
+        map.mult[0] = 1.0;
+        for (i = 0; i < c->data.n; i++) {
+            const size_t k = c->row + i;
+            double v;
+            row_entries(f, c, &map, 1, sel, k, f->ws.sqrtw[k] / c->sigma, &v);
+            gsl_matrix_set(J, k, f->np, v);
+        }
+    }
+    for (i = f->ndata; i < J->size1; i++)
+        gsl_matrix_set(J, i, f->np, 0.0);
+    return GSL_SUCCESS;
+}
+
 void
 lf_fit_internal_scale(const lf_fit *f, const double *x, double *c)
 {

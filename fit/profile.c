@@ -41,7 +41,6 @@
 
 #include "fit.h"
 
-#define Z95 1.959963984540054
 #define PROFILE_TOL 0.25
 #define PROFILE_LOG_RANGE 12.0
 #define PROFILE_BISECT 6
@@ -226,7 +225,7 @@ linear_holds(fit_prof *p, const lf_fit_result *res, const char *name)
     for (i = 0; i < g->ndata; i++)
         g->ws.sqrtw[i] = 1.0;        /* least squares (as lf_fit_solve sets) */
     for (side = -1; side <= 1 && holds; side += 2) {
-        double d = side * Z95 * sqrt(res->cov[k * np + k]), cost;
+        double d = side * FIT_Z95 * sqrt(res->cov[k * np + k]), cost;
         lf_material mat = { res->w.value, res->Estar.value, res->nu.value };
         mat.w = lf_fit_best_value(res, "w", res->w.value);
         mat.Estar = lf_fit_best_value(res, "E*", res->Estar.value);
@@ -365,7 +364,7 @@ profile_one(fit_prof *p, lf_fit_estimate *e)
         double w = lf_fmax(lf_fit_best_value(p->best, "w", 0.0), 0.0);
         p->linear = 1;
         t_hat = w;
-        se_t = 0.25 * e->ci95[1] / Z95;
+        se_t = 0.25 * e->ci95[1] / FIT_Z95;
         tmin = 0.0;
         tmax = exp(PROFILE_LOG_RANGE) * lf_fmax(w, e->ci95[1]);
     } else {
@@ -379,8 +378,8 @@ profile_one(fit_prof *p, lf_fit_estimate *e)
         && linear_holds(p, p->best, p->which == FIT_W ? "w" : p->which == FIT_E ? "E*" : "nu"))
         return 0;
     if (!bound_only && p->mode != LF_PROFILE_ALWAYS) {
-        r_lo = t_hat - Z95 * se_t > tmin ? lf_fit_hold_rise(p, param_of(p, t_hat - Z95 * se_t)) : NAN;
-        r_hi = t_hat + Z95 * se_t < tmax ? lf_fit_hold_rise(p, param_of(p, t_hat + Z95 * se_t)) : NAN;
+        r_lo = t_hat - FIT_Z95 * se_t > tmin ? lf_fit_hold_rise(p, param_of(p, t_hat - FIT_Z95 * se_t)) : NAN;
+        r_hi = t_hat + FIT_Z95 * se_t < tmax ? lf_fit_hold_rise(p, param_of(p, t_hat + FIT_Z95 * se_t)) : NAN;
         if (fabs(r_lo / p->thr - 1.0) < PROFILE_TOL && fabs(r_hi / p->thr - 1.0) < PROFILE_TOL)
             return 0;
     }
@@ -388,11 +387,11 @@ profile_one(fit_prof *p, lf_fit_estimate *e)
     if (p->calibrate)
         p->thr *= calibrate(p, param_of(p, t_hat));
     /* the rises at the linear ends, where known, are each side's first step */
-    lo = search_side(p, t_hat, lf_fmin(Z95 * se_t, 0.5 * (t_hat - tmin)),
-                     Z95 * se_t <= 0.5 * (t_hat - tmin) ? r_lo : NAN, -1, tmin, tmax, &open_lo,
+    lo = search_side(p, t_hat, lf_fmin(FIT_Z95 * se_t, 0.5 * (t_hat - tmin)),
+                     FIT_Z95 * se_t <= 0.5 * (t_hat - tmin) ? r_lo : NAN, -1, tmin, tmax, &open_lo,
                      &jump_lo);
-    hi = search_side(p, t_hat, lf_fmin(Z95 * se_t, 0.5 * (tmax - t_hat)),
-                     Z95 * se_t <= 0.5 * (tmax - t_hat) ? r_hi : NAN, +1, tmin, tmax, &open_hi,
+    hi = search_side(p, t_hat, lf_fmin(FIT_Z95 * se_t, 0.5 * (tmax - t_hat)),
+                     FIT_Z95 * se_t <= 0.5 * (tmax - t_hat) ? r_hi : NAN, +1, tmin, tmax, &open_hi,
                      &jump_hi);
     p->thr = thr;
     e->interval_method = "profile likelihood";
@@ -402,12 +401,12 @@ profile_one(fit_prof *p, lf_fit_estimate *e)
      * data.  Such a side is never reported narrower than the linear one
      * (the PEG exports' joint fit put E*'s upper end 0.94 se from E*, a
      * single point's jump of 8 thresholds). */
-    if (!bound_only && jump_lo && t_hat - Z95 * se_t > tmin && t_hat - Z95 * se_t < lo) {
-        lo = t_hat - Z95 * se_t;
+    if (!bound_only && jump_lo && t_hat - FIT_Z95 * se_t > tmin && t_hat - FIT_Z95 * se_t < lo) {
+        lo = t_hat - FIT_Z95 * se_t;
         e->interval_method = LF_INTERVAL_JUMP;
     }
-    if (!bound_only && jump_hi && t_hat + Z95 * se_t < tmax && t_hat + Z95 * se_t > hi) {
-        hi = t_hat + Z95 * se_t;
+    if (!bound_only && jump_hi && t_hat + FIT_Z95 * se_t < tmax && t_hat + FIT_Z95 * se_t > hi) {
+        hi = t_hat + FIT_Z95 * se_t;
         e->interval_method = LF_INTERVAL_JUMP;
     }
     e->ci95[0] = open_lo && p->which == FIT_W ? 0.0 : param_of(p, lo);
@@ -417,7 +416,7 @@ profile_one(fit_prof *p, lf_fit_estimate *e)
         e->upper_bound_only = 0;
         e->determined = 1;
         e->value = t_hat;
-        e->se = (hi - lo) / (2.0 * Z95);   /* the interval's width */
+        e->se = (hi - lo) / (2.0 * FIT_Z95);   /* the interval's width */
     }
     if (p->which == FIT_NU) {
         e->ci95[0] = lf_fmax(e->ci95[0], 0.0);

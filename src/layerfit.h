@@ -946,12 +946,14 @@ const char *lf_segment_name(lf_segment seg);
  * lf_fit_choose_driver picks (evaluated at the truth, where a noise-free
  * fit lands), nu is free only where the fitter frees it (bonded and
  * frictionless curves together, unless held), and what the fit could not
- * determine is found by the same rule as lf_fit_run (column-scaled
- * Jacobian, singular values below rcond, weight > 0.01 on those
- * directions; k = 2 alone with free z0 and F0 and under 10% of the points
- * past detachment leaves w undetermined).  The standard errors are the
- * Cramer-Rao bound of that fit: the inverse Fisher information with every
- * free nuisance parameter estimated too.
+ * determine, and why, is judged by the very judgement lf_fit_run makes at
+ * its solution (fit/judge.c: the column-scaled Jacobian, singular values
+ * below rcond, weight > 0.01 on those directions; k = 2 alone with free z0
+ * and F0 needs a curve with three points past detachment and a w the data
+ * bound from above, here predicted from the linearised model; bonded
+ * curves alone fix only M = Z E* where their layer is thin).  The standard
+ * errors are the Cramer-Rao bound of that fit: the inverse Fisher
+ * information with every free nuisance parameter estimated too.
  *
  * Ownership: a plan made by lf_design_plan_read/parse is the caller's
  * (lf_design_plan_free); results are filled into caller structs and their
@@ -1021,6 +1023,11 @@ typedef struct {
     double se;              /* predicted standard error, SI; NaN when not
                                free or not determined */
     double rel;             /* se / true value (w, E*, M); se for nu */
+    int upper_bound_only;   /* w: below two of its standard errors, so a
+                               fit would report only an upper bound */
+    const char *why;        /* when not determined, a reason in words that
+                               the identifiability notes do not give
+                               (static), or NULL */
 } lf_design_estimate;
 
 /* One curve of an evaluated set, as it would be recorded and fitted. */
@@ -1068,7 +1075,6 @@ typedef struct lf_design lf_design;
 lf_design *lf_design_alloc(const lf_design_settings *s, size_t n,
                            const lf_design_candidate *cand, lf_error *err);
 void lf_design_free(lf_design *d);
-size_t lf_design_size(const lf_design *d);
 
 /* Evaluate the set of candidates with use[i] != 0 (use NULL: all).
  * LF_EDATA when the set is empty. */

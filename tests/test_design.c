@@ -191,6 +191,16 @@ identifiability(void)
         lf_design_result_free(&r);
     }
     c[0] = cand("k2", 2, LF_BASE_FRICTIONLESS, 1, 1, 150);
+    if (evaluate(&s, 1, c, &r, "k2 alone, baseline, 1% noise") == 0) {
+        /* w within two of its standard errors: a fit reports an upper
+         * bound only, and so does the design (the same judgement) */
+        t_true(!r.w.determined && r.w.upper_bound_only, "k2 alone with a baseline, 1%% noise: w "
+               "below the noise");
+        t_true(has_message(&r.identifiability, "adhesion below the noise: w < "),
+               "k2 alone with a baseline, 1%% noise: the fitter's words");
+        lf_design_result_free(&r);
+    }
+    s.noise_rel = 0.0025;
     if (evaluate(&s, 1, c, &r, "k2 alone, baseline") == 0) {
         t_true(r.w.determined && r.w.rel > 0, "k2 alone with a baseline: w determined (%.3g)", r.w.rel);
         t_true(r.curves[0].n_past >= 15 * 150 / 100, "k2 with a baseline: %zu of 150 points past "
@@ -198,6 +208,7 @@ identifiability(void)
         t_true(!has_message(&r.identifiability, "cannot separate w"), "k2 with a baseline: no w message");
         lf_design_result_free(&r);
     }
+    s.noise_rel = 0.01;
     c[0] = cand("k2", 2, LF_BASE_FRICTIONLESS, 0, 0, 150);
     if (evaluate(&s, 1, c, &r, "k2 alone, offsets known") == 0) {
         t_true(r.w.determined, "k2 alone with z0 and F0 known: w determined");

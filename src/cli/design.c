@@ -184,15 +184,20 @@ cand_label(char *buf, size_t n, const lf_design_candidate *c, size_t i)
 
 /* ---- text ---------------------------------------------------------------- */
 
+/* e's line; why it is not determined is the judgement's (e->why, or the
+ * notes below the estimates). */
 static void
 text_estimate(FILE *f, const char *name, const lf_design_estimate *e, const char *unit,
-              const char *not_free, const char *why)
+              const char *not_free)
 {
     char a[48];
     if (!e->free)
         fprintf(f, "  %-4s not fitted: %s\n", name, not_free);
+    else if (e->upper_bound_only)
+        fprintf(f, "  %-4s not determined: below two of its standard errors, a fit would report "
+                "only an upper bound\n", name);
     else if (!e->determined)
-        fprintf(f, "  %-4s not determined%s%s\n", name, why ? ": " : "", why ? why : "");
+        fprintf(f, "  %-4s not determined%s%s\n", name, e->why ? ": " : "", e->why ? e->why : "");
     else if (unit[0] == '\0')
         fprintf(f, "  %-4s +- %.2g\n", name, e->se);
     else
@@ -253,15 +258,14 @@ text_set(FILE *f, const char *title, const lf_design_result *r, const lf_design_
     for (j = 0; j < r->ncurves; j++)
         nb += plan->rows[r->curves[j].index].probe.base == LF_BASE_BONDED;
     fprintf(f, "\n%s (predicted standard errors: the Cramer-Rao bound of the joint fit)\n", title);
-    text_estimate(f, "w", &r->w, "J/m^2", "", "it cannot be told from the force offsets");
-    text_estimate(f, "E*", &r->Estar, "Pa", "",
-                  r->M.determined ? "only M = Z*E* is (bonded curves alone)" : NULL);
+    text_estimate(f, "w", &r->w, "J/m^2", "");
+    text_estimate(f, "E*", &r->Estar, "Pa", "");
     text_estimate(f, "nu", &r->nu, "",
                   s->fix_nu ? "held at the given value (--fix-nu)"
                   : nb == 0 ? "frictionless curves do not depend on it"
-                            : "bonded curves alone do not determine it", NULL);
+                            : "bonded curves alone do not determine it");
     if (r->M.determined && !r->Estar.determined)
-        text_estimate(f, "M", &r->M, "Pa", "", NULL);
+        text_estimate(f, "M", &r->M, "Pa", "");
     if (isfinite(r->corr_wE))
         fprintf(f, "  corr(w, E*) = %+.3f\n", r->corr_wE);
     fprintf(f, "  %zu free parameters (offsets included)\n", r->npar);
@@ -279,6 +283,12 @@ json_estimate(FILE *f, const char *name, const lf_design_estimate *e, const char
     report_json_number(f, e->se);
     fputs(", \"relative_stderr\": ", f);
     report_json_number(f, e->rel);
+    if (e->upper_bound_only)
+        fputs(", \"upper_bound_only\": true", f);
+    if (e->why != NULL) {
+        fputs(", \"why_not_determined\": ", f);
+        report_json_string(f, e->why);
+    }
     fprintf(f, "}%s", tail);
 }
 
