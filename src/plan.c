@@ -4,7 +4,8 @@
  * in each cell ("1mm").  Each row is checked as it is read: the probe
  * passes lf_probe_check, nu suits the interface, and no curve and segment
  * is listed twice.  The curve files themselves are checked when they are
- * read. */
+ * read.  The column code (lf_csv_table_*) is shared with the design plan's
+ * reader (design_plan.c). */
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
@@ -50,13 +51,7 @@ typedef struct {
     size_t *slot;             /* open-addressing set of rows by (canon,
                                  segment): row index + 1, 0 = empty */
     size_t nslot, nused;      /* nslot a power of two, > 2 nused */
-    int have_header;
-    long header_line;
-    size_t ncols;
-    long col[NPCOL];
-    int has_unit[NPCOL];      /* the header gives the column's unit */
-    double factor[NPCOL];
-    int decimal_comma;
+    lf_csv_table t;           /* its columns */
 } plan_reader;
 
 /* FNV-1a over a row's canonical path and segment. */
@@ -115,37 +110,73 @@ seen_before(plan_reader *rd, size_t idx, size_t *dup)
     return 0;
 }
 
-static int
-plan_header(plan_reader *rd, const lf_csv_record *r, lf_error *err)
+/* ---- the column code of tables with a header (plan.c, design_plan.c) ---- */
+
+int
+lf_csv_table_header(lf_csv_table *t, const lf_csv_record *r, lf_error *err)
 {
-    rd->have_header = 1;
-    rd->header_line = r->line;
-    rd->ncols = r->n;
-    rd->decimal_comma = r->delim == ';';
-    return lf_csv_columns(rd->name, r, pcols, NPCOL, COLUMNS_HINT, rd->col, rd->factor,
-                          rd->has_unit, err);
+    t->have_header = 1;
+    t->header_line = r->line;
+    t->ncells = r->n;
+    t->decimal_comma = r->delim == ';';
+    return lf_csv_columns(t->file, r, t->cols, t->ncol, t->hint, t->col, t->factor,
+                          t->has_unit, err);
 }
+
+int
+lf_csv_table_number(const lf_csv_table *t, const lf_csv_record *r, int c, int empty_ok,
+                    double *v, lf_error *err)
+{
+    long k = t->col[c];
+    const char *s;
+
+    *v = NAN;
+    if (k < 0)
+        return LF_OK;
+    s = r->text[k];
+    if (empty_ok && (s[0] == '\0' || lf_csv_ieq(s, "nan")))
+        return LF_OK;
+    if (s[0] == '\0')
+        return lf_fail_at(err, LF_EFORMAT, t->file, r->fline[k], r->fcol[k],
+                          "empty %s cell (every row needs %s)", t->cols[c].name,
+                          t->cols[c].name);
+    return lf_csv_cell_number(t->file, r, k, &t->cols[c], t->has_unit[c], t->factor[c],
+                              t->decimal_comma, v, err);
+}
+
+int
+lf_csv_table_segment(const lf_csv_table *t, const lf_csv_record *r, int c, lf_segment *seg,
+                     lf_error *err)
+{
+    long k = t->col[c];
+    char buf[64];
+    int word;
+
+    *seg = LF_SEG_UNLOAD;
+    if (k < 0 || r->text[k][0] == '\0')
+        return LF_OK;
+    word = lf_csv_segment_word(r->text[k]);
+    if (word < 0)
+        return lf_fail_at(err, LF_EFORMAT, t->file, r->fline[k], r->fcol[k],
+                          "unknown segment '%s' (expected unload or load)",
+                          lf_csv_excerpt(r->text[k], buf, sizeof buf));
+    if (word == LF_SEG_HOLD)
+        return lf_fail_at(err, LF_EFORMAT, t->file, r->fline[k], r->fcol[k],
+                          "segment '%s' is a hold, which is never fitted "
+                          "(expected unload or load)",
+                          lf_csv_excerpt(r->text[k], buf, sizeof buf));
+    *seg = (lf_segment) word;
+    return LF_OK;
+}
+
+/* ---- fit plans ------------------------------------------------------------ */
 
 /* A numeric cell in SI: a bare number in the header's unit, or a number
  * with its own unit when the header gives none.  NaN when free. */
 static int
 plan_number(plan_reader *rd, const lf_csv_record *r, int c, double *v, lf_error *err)
 {
-    long k = rd->col[c];
-    const char *t;
-
-    *v = NAN;
-    if (k < 0)
-        return LF_OK;
-    t = r->text[k];
-    if (pkind[c] == FREE_NUMBER && (t[0] == '\0' || lf_csv_ieq(t, "nan")))
-        return LF_OK;
-    if (t[0] == '\0')
-        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                          "empty %s cell (every row needs %s)", pcols[c].name,
-                          pcols[c].name);
-    return lf_csv_cell_number(rd->name, r, k, &pcols[c], rd->has_unit[c], rd->factor[c],
-                              rd->decimal_comma, v, err);
+    return lf_csv_table_number(&rd->t, r, c, pkind[c] == FREE_NUMBER, v, err);
 }
 
 /* The curve path of a row, against the plan's folder. */
@@ -168,7 +199,7 @@ static int
 plan_file(plan_reader *rd, const lf_csv_record *r, size_t idx, lf_error *err)
 {
     lf_plan_row *row = &rd->plan->rows[idx];
-    long k = rd->col[P_FILE];
+    long k = rd->t.col[P_FILE];
     const char *t = r->text[k];
     char buf[64], *canon;
     size_t i;
@@ -212,7 +243,7 @@ probe_column(const plan_reader *rd, const char *msg)
     for (i = 0; i < sizeof named / sizeof named[0]; i++) {
         n = strlen(pcols[named[i]].name);
         if (strncmp(msg, pcols[named[i]].name, n) == 0 && msg[n] == ' ')
-            return rd->col[named[i]];
+            return rd->t.col[named[i]];
     }
     return -1;
 }
@@ -222,7 +253,7 @@ probe_column(const plan_reader *rd, const char *msg)
 static int
 R_from_header(const plan_reader *rd, const lf_csv_record *r)
 {
-    return rd->col[P_R] >= 0 && lf_csv_ieq(r->text[rd->col[P_R]], "header");
+    return rd->t.col[P_R] >= 0 && lf_csv_ieq(r->text[rd->t.col[P_R]], "header");
 }
 
 /* An empty b cell: no layer (NaN in the plan row), for half-space fits
@@ -230,7 +261,7 @@ R_from_header(const plan_reader *rd, const lf_csv_record *r)
 static int
 no_layer(const plan_reader *rd, const lf_csv_record *r)
 {
-    return r->text[rd->col[P_B]][0] == '\0';
+    return r->text[rd->t.col[P_B]][0] == '\0';
 }
 
 static int plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err);
@@ -245,11 +276,11 @@ plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     int status = plan_row_cells(rd, r, err);
     size_t len;
 
-    if (status != LF_OK && status != LF_ENOMEM && r->n > rd->ncols && err != NULL
+    if (status != LF_OK && status != LF_ENOMEM && r->n > rd->t.ncells && err != NULL
         && (len = strlen(err->msg)) < sizeof err->msg)
         snprintf(err->msg + len, sizeof err->msg - len, " (this row has %zu cells where the "
                  "header has %zu: a cell that holds a comma, such as a file name, must be in "
-                 "double quotes)", r->n, rd->ncols);
+                 "double quotes)", r->n, rd->t.ncells);
     return status;
 }
 
@@ -261,9 +292,9 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     lf_error e;
     char buf[64];
     long k;
-    int status, word;
+    int status;
 
-    if ((status = lf_csv_row_cells(rd->name, r, rd->ncols, err)) != LF_OK)
+    if ((status = lf_csv_row_cells(rd->name, r, rd->t.ncells, err)) != LF_OK)
         return status;
     if (p->n == rd->cap) {
         size_t cap = rd->cap ? 2 * rd->cap : 16;
@@ -282,22 +313,9 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     memset(row, 0, sizeof *row);
     rd->canon[p->n] = NULL;
     row->line = r->line;
-    row->segment = LF_SEG_UNLOAD;
-    k = rd->col[P_SEGMENT];
-    if (k >= 0 && r->text[k][0] != '\0') {
-        word = lf_csv_segment_word(r->text[k]);
-        if (word < 0)
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                                "unknown segment '%s' (expected unload or load)",
-                                lf_csv_excerpt(r->text[k], buf, sizeof buf));
-        if (word == LF_SEG_HOLD)
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                                "segment '%s' is a hold, which is never fitted "
-                                "(expected unload or load)",
-                                lf_csv_excerpt(r->text[k], buf, sizeof buf));
-        row->segment = (lf_segment) word;
-    }
-    k = rd->col[P_INTERFACE];
+    if ((status = lf_csv_table_segment(&rd->t, r, P_SEGMENT, &row->segment, err)) != LF_OK)
+        return status;
+    k = rd->t.col[P_INTERFACE];
     if (no_layer(rd, r) != (r->text[k][0] == '\0'))
         return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
                           "b and interface go together: give both for a layer, or leave "
@@ -306,15 +324,15 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
         row->probe.base = LF_BASE_FRICTIONLESS;     /* not used by a half-space */
     else if ((status = lf_csv_cell_interface(rd->name, r, k, &row->probe.base, err)) != LF_OK)
         return status;
-    k = rd->col[P_FORMAT];
+    k = rd->t.col[P_FORMAT];
     if (k >= 0 && r->text[k][0] != '\0' && lf_reader_find(r->text[k]) == NULL)
         return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
                           "unknown format '%s' (csv, chiaro, jpk, workshop, ntmdt, hysitron, "
                           "text; or empty to detect it)",
                           lf_csv_excerpt(r->text[k], buf, sizeof buf));
-    k = rd->col[P_SAMPLE];
+    k = rd->t.col[P_SAMPLE];
     row->sample = lf_strdup(k >= 0 ? r->text[k] : "");
-    row->format = lf_strdup(rd->col[P_FORMAT] >= 0 ? r->text[rd->col[P_FORMAT]] : "");
+    row->format = lf_strdup(rd->t.col[P_FORMAT] >= 0 ? r->text[rd->t.col[P_FORMAT]] : "");
     p->n++;          /* from here on the row is owned by the plan */
     if (row->sample == NULL || row->format == NULL)
         return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
@@ -343,7 +361,7 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     }
     if (!isnan(row->nu)) {
         lf_material m = { 0.0, 1.0, row->nu };
-        k = rd->col[P_NU];
+        k = rd->t.col[P_NU];
         if (lf_material_check(&m, row->probe.base, &e) != LF_OK)
             return lf_fail_at(err, e.status, rd->name, r->fline[k], r->fcol[k],
                               "%s (leave nu empty to fit it)", e.msg);
@@ -358,7 +376,7 @@ static int
 plan_record(void *ctx, const lf_csv_record *r, lf_error *err)
 {
     plan_reader *rd = ctx;
-    return r->index == 0 ? plan_header(rd, r, err) : plan_row(rd, r, err);
+    return r->index == 0 ? lf_csv_table_header(&rd->t, r, err) : plan_row(rd, r, err);
 }
 
 static int
@@ -376,6 +394,10 @@ plan_load(const char *path, const char *buf, size_t len, size_t chunk,
     memset(&rd, 0, sizeof rd);
     rd.name = name ? name : "";
     rd.dir = dir;
+    rd.t.file = rd.name;
+    rd.t.cols = pcols;
+    rd.t.ncol = NPCOL;
+    rd.t.hint = COLUMNS_HINT;
     rd.plan = calloc(1, sizeof *rd.plan);
     if (rd.plan == NULL || (rd.plan->path = lf_strdup(rd.name)) == NULL) {
         lf_plan_free(rd.plan);
@@ -387,12 +409,12 @@ plan_load(const char *path, const char *buf, size_t len, size_t chunk,
     h.line = NULL;
     status = buf == NULL ? lf_csv_read_file(path, &h, err)
                          : lf_csv_read_buffer(buf, len, chunk, rd.name, &h, err);
-    if (status == LF_OK && !rd.have_header)
+    if (status == LF_OK && !rd.t.have_header)
         status = lf_fail_at(err, LF_EFORMAT, rd.name, 0, 0, "empty plan (expected "
                             "a header such as file,k,R_mm,b_um,interface and one "
                             "row per curve)");
     if (status == LF_OK && rd.plan->n == 0)
-        status = lf_fail_at(err, LF_EDATA, rd.name, rd.header_line, 0,
+        status = lf_fail_at(err, LF_EDATA, rd.name, rd.t.header_line, 0,
                             "header but no rows (list one curve per row below it)");
     for (i = 0; i < rd.plan->n; i++)
         free(rd.canon[i]);

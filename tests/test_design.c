@@ -22,6 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <gsl/gsl_errno.h>
 
@@ -482,6 +483,25 @@ plan_reader(void)
         t_int((long) p->rows[1].line, 3, "plan: line numbers");
     }
     lf_design_plan_free(p);
+    /* the same plan from a file (lf_design_plan_read, what bindings call) */
+    {
+        char path[] = "/tmp/layerfit-design-plan-XXXXXX";
+        int fd = mkstemp(path);
+        lf_design_plan *q = NULL;
+        if (t_true(fd >= 0, "plan file: made") && write(fd, good, strlen(good)) == (ssize_t) strlen(good)) {
+            close(fd);
+            st = lf_design_plan_read(path, &q, &err);
+            if (t_int(st, LF_OK, "plan file: read") && t_int((long) q->n, 2, "plan file: two rows")) {
+                t_str(q->path, path, "plan file: its path");
+                t_str(q->rows[1].name, "cone-ish", "plan file: the second row's name");
+                t_rel(q->rows[1].noise_abs, 2e-6, 1e-12, "plan file: noise 2uN");
+            }
+            lf_design_plan_free(q);
+            unlink(path);
+            st = lf_design_plan_read(path, &q, &err);
+            t_true(st == LF_EIO && q == NULL, "plan file: a missing file is LF_EIO (%s)", err.msg);
+        }
+    }
     {
         static const struct { const char *text, *msg; long line, col; } bad[] = {
             { "k,R_mm,b_um,interface,depth\n2,1,1,frictionless,3\n", "unknown column 'depth'", 1, 23 },
@@ -494,6 +514,10 @@ plan_reader(void)
               2, 20 },
             { "k,R_mm,b_um,interface\n-2,1,1,frictionless\n", "k", 2, 0 },
             { "k,R_mm,b_um,interface\n", "header but no rows", 1, 0 },
+            { "k,R_mm,b_um,interface,segment\n2,1,1,frictionless,hold\n",
+              "segment 'hold' is a hold, which is never fitted", 2, 20 },
+            { "k,R_mm,b_um,interface\n,1,1,frictionless\n", "empty k cell (every row needs k)",
+              2, 1 },
         };
         size_t i;
         for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
