@@ -13,17 +13,13 @@
  * the parameters that set frees), and J^T d = sum R_j^T (Q_j^T d_j).  So a
  * set is evaluated from a matrix of 5 rows per curve, without the models.
  *
- * With the stack A (columns scaled to unit norm, A = U S V^T) everything
- * follows the fitter's rules (fit/uncertainty.c, fit/choose.c):
- *  - a direction with S_l <= rcond S_0 is not determined; a parameter with
- *    weight sum_{l undetermined} V_pl^2 > 0.01 on those is not determined;
- *  - the covariance is the pseudo-inverse over the other directions: the
- *    Cramer-Rao bound of that fit (no sqrt(chi2/dof): the truth is known);
- *  - a cheaper model's first-order bias on the material, in standard
- *    errors, is (sum_l V_pl (V^T D^-1 J^T d)_l / S_l^2) / sqrt(sum_l V_pl^2
- *    / S_l^2), the same expression choose.c evaluates at a fitted solution;
- *    here it is evaluated at the truth, where a fit of noise-free data of
- *    the chosen model would land. */
+ * The stack is decomposed as the fitter decomposes its Jacobian (decomp.c:
+ * columns scaled to unit norm, A = U S V^T) and judged by the fitter's own
+ * judgement (judge.c: what is determined and why, the model choice, each
+ * curve's model bias); the covariance is the pseudo-inverse over the
+ * determined directions, the Cramer-Rao bound of that fit (no
+ * sqrt(chi2/dof): the truth is known).  All of it at the truth, where a
+ * fit of noise-free data of the chosen model would land. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
