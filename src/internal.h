@@ -6,7 +6,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "layerfit.h"
+#include "command.h"     /* layerfit.h and what the command shares */
 
 #if defined(__GNUC__)
 #define LF_PRINTF(a, b) __attribute__((format(printf, a, b)))

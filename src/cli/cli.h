@@ -5,7 +5,8 @@
 
 #include <stdio.h>
 
-#include "layerfit.h"
+#include "command.h"     /* layerfit.h and what the library shares with
+                            the command (not installed) */
 
 #if defined(__GNUC__)
 #define CLI_NORETURN __attribute__((noreturn))
