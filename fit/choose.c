@@ -4,7 +4,8 @@
  *
  * Why a bias rule and not a residual rule: fitted to curves of the exact
  * layer model, the thin-layer closed form leaves residuals below 1% of the
- * force while w moves by 10-70% (physics.md section 3, last table).  What
+ * force while w moves by 10-70% (the exact model of Lebedev & Ufliand 1958,
+ * noise-free curves at b/a 0.1-4 fitted with the thin form).  What
  * matters is the shift of the parameters against their standard errors.
  * To first order the estimate made with model m from data that follow the
  * exact model moves by

@@ -34,7 +34,8 @@
 #define NL 5                    /* local columns: ln w, ln E*, nu, z0, F0 */
 enum { C_W = 0, C_E, C_NU, C_Z0, C_F0 };
 #define NO_BASELINE_END 0.9     /* a curve without baseline ends at 0.9 of the
-                                   detachment indentation (physics.md s. 2) */
+                                   detachment indentation (the two-probe
+                                   Cramer-Rao scene of tests/test_crb.c) */
 
 /* ------------------------------------------------------------ settings */
 

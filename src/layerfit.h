@@ -625,8 +625,9 @@ LF_API int lf_fit_check_jacobian(lf_fit *fit, const lf_material *mat,
  * Choosing the forward model of each curve (fit/choose.c)
  *
  * The thin-layer closed form is cheap but wrong where b/a is not small, and
- * its error lands on w while the residuals still look fine (physics.md
- * section 3).  So a curve is judged by what its model error does to the
+ * its error lands on w while the residuals still look fine (fitted to
+ * curves of the exact layer model of Lebedev & Ufliand 1958, it leaves
+ * residuals below 1% of the force while w moves by 10-70%).  So a curve is judged by what its model error does to the
  * material parameters, not by its residuals.  For curve j using model m,
  * with d_j = (P_exact - P_m)/sigma_j on the curve's points (zero on the
  * other curves) at the fitted parameters and J the weighted Jacobian of the

@@ -147,12 +147,13 @@ against_crb(int free_offsets, lf_base base2)
     lf_design_result_free(&r);
 }
 
-/* physics.md section 2: k = 2, 3; R = 1 mm; b = 1 um; w = 10 mJ/m^2;
+/* The two-probe Cramer-Rao design (tests/test_crb.c): k = 2, 3; R = 1 mm;
+ * b = 1 um; w = 10 mJ/m^2;
  * E* = 1 GPa; to 50 nm, 200 points, 1% noise, offsets known: 8.6% and
  * 0.14%, correlation 0.63 (there from -0.9 c, here from 0.9 of the exact
  * model's detachment indentation, which lies a little deeper). */
 static void
-physics_numbers(void)
+two_probe_numbers(void)
 {
     lf_design_settings s = settings(0.01);
     lf_design_candidate c[2] = { cand("k2", 2, LF_BASE_FRICTIONLESS, 0, 0, 200),
@@ -162,11 +163,11 @@ physics_numbers(void)
     s.truth.w = 10e-3;
     s.truth.Estar = 1e9;
     s.model = &lf_model_thin;
-    if (evaluate(&s, 2, c, &r, "physics.md design") != 0)
+    if (evaluate(&s, 2, c, &r, "two-probe design") != 0)
         return;
-    t_rel(r.w.rel, 0.086, 0.03, "physics.md design: se(w)/w %.4g near 8.6%%", r.w.rel);
-    t_rel(r.Estar.rel, 0.0014, 0.03, "physics.md design: se(E*)/E* %.4g near 0.14%%", r.Estar.rel);
-    t_rel(r.corr_wE, 0.63, 0.03, "physics.md design: corr %.3g near 0.63", r.corr_wE);
+    t_rel(r.w.rel, 0.086, 0.03, "two-probe design: se(w)/w %.4g near 8.6%%", r.w.rel);
+    t_rel(r.Estar.rel, 0.0014, 0.03, "two-probe design: se(E*)/E* %.4g near 0.14%%", r.Estar.rel);
+    t_rel(r.corr_wE, 0.63, 0.03, "two-probe design: corr %.3g near 0.63", r.corr_wE);
     lf_design_result_free(&r);
 }
 
@@ -576,7 +577,7 @@ main(int argc, char **argv)
     against_crb(0, LF_BASE_FRICTIONLESS);
     against_crb(1, LF_BASE_FRICTIONLESS);
     against_crb(1, LF_BASE_BONDED);
-    physics_numbers();
+    two_probe_numbers();
     identifiability();
     {
         /* k = 3 without a baseline: see the note on k > 2 through detachment */
