@@ -312,8 +312,9 @@ lf_judge(const judge_in *in, judge_out *o, lf_warnings *words)
     /* a run that ran away (an offset far outside its curve's data)
      * stopped where a material parameter that moved with that offset
      * (FIT_RAN_CORR) has no meaning: no estimate, no interval, no bound;
-     * M follows E* and nu */
-    if (in->ran_col >= 0) {
+     * M follows E* and nu (an offset the data do not determine has no
+     * correlation to go by) */
+    if (in->ran_col >= 0 && lf_judge_col_determined(d, in->ran_col)) {
         const char *why = in->ran_force
                           ? "the fit ran away: it moved with a force offset that went far "
                             "outside its curve's forces, and where that stopped is no estimate"
