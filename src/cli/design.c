@@ -160,12 +160,15 @@ parse_grid(const char *text, lf_design_factor *factor, double *values)
     return n;
 }
 
-/* "8.7%", "+- 0.0031", or words: never a NaN. */
+/* "8.7%", "+- 0.0031", or words ("upper bound": w below two of its
+ * standard errors, which a fit reports as an upper bound): never a NaN. */
 static const char *
 rel_text(char *buf, size_t n, const lf_design_estimate *e, int absolute)
 {
     if (!e->free)
         snprintf(buf, n, "not fitted");
+    else if (e->upper_bound_only)
+        snprintf(buf, n, "upper bound");   /* below two of its se */
     else if (!e->determined)
         snprintf(buf, n, "undetermined");
     else if (absolute)
