@@ -147,6 +147,14 @@ int lf_csv_table_header(lf_csv_table *t, const lf_csv_record *r, lf_error *err);
  * cell's place. */
 int lf_csv_table_number(const lf_csv_table *t, const lf_csv_record *r, int c, int empty_ok,
                         double *v, lf_error *err);
+/* Read a table from path (buf NULL) or from buf[0..len-1] in pieces of
+ * chunk bytes, handing each record to record(ctx, ...); then refuse one
+ * with no header ("empty WHAT (expected a header such as EXAMPLE and one
+ * row per ROW)") or, once read, *nrows == 0 ("header but no rows"). */
+int lf_csv_table_load(const lf_csv_table *t, const char *path, const char *buf, size_t len,
+                      size_t chunk, int (*record)(void *, const lf_csv_record *, lf_error *),
+                      void *ctx, const size_t *nrows, const char *what, const char *example,
+                      const char *row, lf_error *err);
 /* Column c's segment word (unload or load; empty or absent: unload) into
  * *seg; a hold is refused, never fitted. */
 int lf_csv_table_segment(const lf_csv_table *t, const lf_csv_record *r, int c, lf_segment *seg,

@@ -182,7 +182,6 @@ static int
 dplan_load(const char *path, const char *buf, size_t len, const char *name,
            lf_design_plan **out, lf_error *err)
 {
-    lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
     dplan_reader rd;
     int st;
 
@@ -198,17 +197,8 @@ dplan_load(const char *path, const char *buf, size_t len, const char *name,
         lf_design_plan_free(rd.plan);
         return lf_fail_at(err, LF_ENOMEM, rd.name, 0, 0, "out of memory");
     }
-    h.ctx = &rd;
-    h.record = dplan_record;
-    h.comment = NULL;
-    st = buf == NULL ? lf_csv_read_file(path, &h, err)
-                     : lf_csv_read_buffer(buf, len, 0, rd.name, &h, err);
-    if (st == LF_OK && !rd.t.have_header)
-        st = lf_fail_at(err, LF_EFORMAT, rd.name, 0, 0, "empty design plan (expected a header "
-                        "such as name,k,R_mm,b_um,interface and one row per candidate curve)");
-    if (st == LF_OK && rd.plan->n == 0)
-        st = lf_fail_at(err, LF_EDATA, rd.name, rd.t.header_line, 0,
-                        "header but no rows (list one candidate curve per row below it)");
+    st = lf_csv_table_load(&rd.t, path, buf, len, 0, dplan_record, &rd, &rd.plan->n,
+                           "design plan", "name,k,R_mm,b_um,interface", "candidate curve", err);
     if (st != LF_OK) {
         lf_design_plan_free(rd.plan);
         return st;

@@ -169,6 +169,28 @@ lf_csv_table_segment(const lf_csv_table *t, const lf_csv_record *r, int c, lf_se
     return LF_OK;
 }
 
+int
+lf_csv_table_load(const lf_csv_table *t, const char *path, const char *buf, size_t len,
+                  size_t chunk, int (*record)(void *, const lf_csv_record *, lf_error *),
+                  void *ctx, const size_t *nrows, const char *what, const char *example,
+                  const char *row, lf_error *err)
+{
+    lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
+    int status;
+
+    h.ctx = ctx;
+    h.record = record;
+    status = buf == NULL ? lf_csv_read_file(path, &h, err)
+                         : lf_csv_read_buffer(buf, len, chunk, t->file, &h, err);
+    if (status == LF_OK && !t->have_header)
+        status = lf_fail_at(err, LF_EFORMAT, t->file, 0, 0, "empty %s (expected a header such "
+                            "as %s and one row per %s)", what, example, row);
+    if (status == LF_OK && *nrows == 0)
+        status = lf_fail_at(err, LF_EDATA, t->file, t->header_line, 0,
+                            "header but no rows (list one %s per row below it)", row);
+    return status;
+}
+
 /* ---- fit plans ------------------------------------------------------------ */
 
 /* A numeric cell in SI: a bare number in the header's unit, or a number
@@ -384,7 +406,6 @@ plan_load(const char *path, const char *buf, size_t len, size_t chunk,
           const char *name, const char *dir, lf_plan **out, lf_warnings *warn,
           lf_error *err)
 {
-    lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
     plan_reader rd;
     int status;
     size_t i;
@@ -403,19 +424,8 @@ plan_load(const char *path, const char *buf, size_t len, size_t chunk,
         lf_plan_free(rd.plan);
         return lf_fail_at(err, LF_ENOMEM, rd.name, 0, 0, "out of memory");
     }
-    h.ctx = &rd;
-    h.record = plan_record;
-    h.comment = NULL;
-    h.line = NULL;
-    status = buf == NULL ? lf_csv_read_file(path, &h, err)
-                         : lf_csv_read_buffer(buf, len, chunk, rd.name, &h, err);
-    if (status == LF_OK && !rd.t.have_header)
-        status = lf_fail_at(err, LF_EFORMAT, rd.name, 0, 0, "empty plan (expected "
-                            "a header such as file,k,R_mm,b_um,interface and one "
-                            "row per curve)");
-    if (status == LF_OK && rd.plan->n == 0)
-        status = lf_fail_at(err, LF_EDATA, rd.name, rd.t.header_line, 0,
-                            "header but no rows (list one curve per row below it)");
+    status = lf_csv_table_load(&rd.t, path, buf, len, chunk, plan_record, &rd, &rd.plan->n,
+                               "plan", "file,k,R_mm,b_um,interface", "curve", err);
     for (i = 0; i < rd.plan->n; i++)
         free(rd.canon[i]);
     free(rd.canon);
