@@ -21,7 +21,7 @@ OPENMP  ?= -fopenmp
 # HAVE_INLINE: GSL's element accessors (gsl_vector_get, ...) inline, range
 # checks kept
 ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE -DHAVE_INLINE $(WARN) $(OPT) $(OPENMP) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
-LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lnettle -lpthread -lm
+LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lnettle -lz -lpthread -lm
 ALL_LDFLAGS := $(OPENMP) $(SANFLAGS) $(LDFLAGS)
 
 # the command (src/cli/) is built on the library's public header
@@ -36,7 +36,7 @@ HEADERS := $(wildcard src/*.h src/cli/*.h fit/*.h) tests/testlib.h
 LIB  := $(BUILD)/liblayerfit.a
 PROG := $(BUILD)/layerfit
 
-DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev gnuplot-nox
+DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev zlib1g-dev gnuplot-nox
 # wanted by some tests (the report test loads the page in headless
 # Chromium, the example test uses pkg-config, `layerfit bench` runs the
 # scipy and lmfit peers), which skip with a note

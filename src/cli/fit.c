@@ -91,6 +91,37 @@ print_input_notes(const fit_args *a, const lf_fit_input *in)
                    in->format[j] != NULL ? in->format[j] : "?");
 }
 
+void
+cli_fit_probe(const char *model, double k, double R, double b, const char *interface,
+              lf_probe *p)
+{
+    int base = LF_BASE_FRICTIONLESS;
+    /* a half-space has no thickness and no interface: b NaN, a stand-in
+     * (R) that no half-space formula uses; R NaN: from the file header */
+    int halfspace = cli_model_ignores_b(model);
+    lf_error err;
+    if (halfspace && isnan(b) != (interface == NULL))
+        cli_die(CLI_EXIT_USAGE, "fit: --b and --interface go together (and the half-space "
+                "model uses neither: leave both out)");
+    if (!(halfspace && isnan(b) && interface == NULL)) {
+        if (isnan(b) || interface == NULL)
+            cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
+                    "(e.g. --k 2 --R 1mm --b 1um --interface frictionless)");
+        base = cli_base(interface);
+        if (base < 0)
+            cli_die(CLI_EXIT_USAGE, "fit: unknown interface '%s' (frictionless or bonded)",
+                    interface);
+    }
+    p->k = k;
+    p->R = isnan(R) ? 1.0 : R;    /* checked with the file's R after reading */
+    p->b = isnan(b) ? p->R : b;
+    p->base = (lf_base) base;
+    if (lf_probe_check(p, &err) != LF_OK)
+        cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
+    p->R = R;
+    p->b = b;
+}
+
 /* Read the plan (or the single curve) into in (lf_fit_input_from_plan:
  * the one step from a plan to a fit's input, the one rule for nu). */
 static void
@@ -104,33 +135,14 @@ read_input(const char *path, const fit_args *a, const char *model, const lf_inpu
     int status;
     if (!isnan(a->k)) {
         lf_probe p;
-        int base = LF_BASE_FRICTIONLESS;
-        /* a half-space has no thickness and no interface: b NaN, a stand-in
-         * (R) that no half-space formula uses; R NaN: from the file header */
-        int halfspace = cli_model_ignores_b(model);
-        if (halfspace && isnan(a->b) != (a->interface == NULL))
-            cli_die(CLI_EXIT_USAGE, "fit: --b and --interface go together (and the half-space "
-                    "model uses neither: leave both out)");
-        if (!(halfspace && isnan(a->b) && a->interface == NULL)) {
-            if (isnan(a->b) || a->interface == NULL)
-                cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
-                        "(e.g. --k 2 --R 1mm --b 1um --interface frictionless)");
-            base = cli_base(a->interface);
-            if (base < 0)
-                cli_die(CLI_EXIT_USAGE, "fit: unknown interface '%s' (frictionless or bonded)",
-                        a->interface);
-        }
-        p.k = a->k;
-        p.R = isnan(a->R) ? 1.0 : a->R;    /* checked with the file's R after reading */
-        p.b = isnan(a->b) ? p.R : a->b;
-        p.base = (lf_base) base;
-        if (lf_probe_check(&p, &err) != LF_OK)
-            cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
-        p.R = a->R;
-        p.b = a->b;
+        char file[4096];
+        long index;
+        cli_fit_probe(model, a->k, a->R, a->b, a->interface, &p);
         /* a curve named on the command line may be a pipe (read once) */
         one.open_flags = LF_INPUT_STREAM;
-        cli_input_guard("fit", path);
+        if (lf_curve_path_split(path, file, sizeof file, &index) != LF_OK)
+            cli_die(CLI_EXIT_USAGE, "fit: %s: path too long", path);
+        cli_input_guard("fit", file);
         status = lf_fit_input_from_curve(path, &p, &one, in, &warn, &err);
         if (status != LF_OK && status != LF_ENOMEM && cli_reads_as_plan(path))
             cli_die(CLI_EXIT_USAGE, "fit: %s is a plan: --k, --R, --b and --interface are for a "
