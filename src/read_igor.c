@@ -360,7 +360,7 @@ ibw_curve(const lf_file *f, size_t i, lf_curve *c, lf_warnings *warn, lf_error *
         c->depth[r] = z[r] - d;
         c->force[r] = c->spring_constant * d;
         c->segment[r] = LF_SEG_LOAD;
-        c->line[r] = 0;
+        c->line[r] = (long) r + 1;      /* binary: the point's number */
     }
     c->n = st->nrows;
     free(data);

@@ -831,7 +831,7 @@ jpk_curve_read(const lf_file *f, size_t i, lf_curve *c, lf_warnings *warn, lf_er
             c->force[m] = force;
             c->time[m] = any_time ? t0 + dur * (double) j / (double) n : NAN;
             c->segment[m] = (unsigned char) kind;
-            c->line[m] = 0;
+            c->line[m] = (long) m + 1;      /* binary: the point's number */
         }
         t0 += isfinite(dur) ? dur : 0.0;
         nseg[kind] += n;

@@ -431,7 +431,7 @@ ns_curve(const lf_file *f, size_t i, lf_curve *c, lf_warnings *warn, lf_error *e
         c->depth[m] = z - d;
         c->force[m] = c->spring_constant * d;
         c->segment[m] = (unsigned char) (m < st->napp ? LF_SEG_LOAD : LF_SEG_UNLOAD);
-        c->line[m] = 0;
+        c->line[m] = (long) m + 1;      /* binary: the point's number */
     }
     free(raw);
     c->n = n;

@@ -152,7 +152,8 @@ wsm_info(const lf_file *f, size_t i, lf_curve_info *info, lf_error *err)
     if ((status = member_text(f, i, &text, &len, err)) != LF_OK)
         return status;
     for (p = text; p != NULL && *p; ) {
-        char *eol = p + strcspn(p, "\r\n");
+        char *eol = p + strcspn(p, "\r\n"), end = *eol;
+        *eol = '\0';
         if (strncmp(p, "X, um:", 6) == 0)
             info->x = 1e-6 * lf_number_or_nan(p + 6);
         else if (strncmp(p, "Y, um:", 6) == 0)
@@ -161,9 +162,8 @@ wsm_info(const lf_file *f, size_t i, lf_curve_info *info, lf_error *err)
             in_table = 1;
         else if (in_table && eol > p && (*p == '-' || (*p >= '0' && *p <= '9')))
             rows++;
-        if (*eol == '\0')
+        if (end == '\0')
             break;
-        *eol = '\0';
         p = eol + 1;
         p += strspn(p, "\r\n");
     }
