@@ -91,9 +91,7 @@ hld_columns(hld_reader *h, char *text, long line, lf_error *err)
     h->reading = !h->done && h->jd >= 0 && h->jf >= 0;
     if (h->reading) {
         snprintf(h->read_name, sizeof h->read_name, "%s", h->table);
-        if (lf_curve_reserve(h->c, (size_t) h->rows_left + 1, h->jt >= 0) != 0)
-            return lf_fail_at(err, LF_ENOMEM, h->name, line, 0, "out of memory");
-        h->cap = (size_t) h->rows_left + 1;
+        h->cap = 0;
     } else {
         size_t len = strlen(h->others);
         snprintf(h->others + len, sizeof h->others - len, "%s%s (%ld rows)", len ? ", " : "",
@@ -130,9 +128,12 @@ hld_line(void *ctx, long line, char *text, size_t len, lf_error *err)
             || (h->jt >= 0 && lf_csv_number(cells[h->jt], 0, &t) != LF_NUM_OK))
             return lf_fail_at(err, LF_EFORMAT, h->name, line, 1, "'%s' is not a row of numbers",
                               lf_csv_excerpt(text, buf, sizeof buf));
-        if (h->c->n >= h->cap)
-            return lf_fail_at(err, LF_EFORMAT, h->name, line, 1, "more rows than the table's "
-                              "'Data Points' line states");
+        if (h->c->n == h->cap) {
+            size_t cap = h->cap ? 2 * h->cap : 1024;
+            if (lf_curve_reserve(h->c, cap, h->jt >= 0) != 0)
+                return lf_fail_at(err, LF_ENOMEM, h->name, line, 0, "out of memory");
+            h->cap = cap;
+        }
         i = h->c->n++;
         h->c->depth[i] = h->fd * d;
         h->c->force[i] = h->ff * f;

@@ -44,7 +44,8 @@
 
 #include "readers.h"
 
-#define MAX_ENTRY (1ull << 30)      /* bytes of one properties file or channel */
+#define MAX_ENTRY (1ull << 30)      /* bytes of one channel */
+#define MAX_PROPS (64ull << 20)     /* bytes of one properties file */
 #define WHAT_HEADER 0xFFFFu         /* the curve's header.properties */
 #define WHAT_SEGMENT 0xFFFEu        /* a segment-header.properties */
 #define MAX_SEGMENTS 64
@@ -258,7 +259,7 @@ load_props(const lf_src *src, const lf_zip_entry *e, const char *name, lf_props 
            lf_error *err)
 {
     unsigned char *text;
-    int status = lf_zip_extract(src, e, name, MAX_ENTRY, &text, err);
+    int status = lf_zip_extract(src, e, name, MAX_PROPS, &text, err);
     memset(p, 0, sizeof *p);
     if (status != LF_OK)
         return status;
@@ -338,9 +339,11 @@ jpk_open(lf_file *f, lf_warnings *warn, lf_error *err)
                                                 err)) != LF_OK)
         return status;
     if (st->map) {
-        st->grid_il = (long) lf_number_or_nan(lf_props_suffix(&st->top, ".position-pattern.grid.ilength", NULL));
-        st->grid_jl = (long) lf_number_or_nan(lf_props_suffix(&st->top, ".position-pattern.grid.jlength", NULL));
-        if (!(st->grid_il > 0 && st->grid_jl > 0 && st->grid_il < 1000000 && st->grid_jl < 1000000))
+        st->grid_il = lf_whole(lf_number_or_nan(lf_props_suffix(
+            &st->top, ".position-pattern.grid.ilength", NULL)), 1, 1000000, 0);
+        st->grid_jl = lf_whole(lf_number_or_nan(lf_props_suffix(
+            &st->top, ".position-pattern.grid.jlength", NULL)), 1, 1000000, 0);
+        if (st->grid_il == 0 || st->grid_jl == 0)
             st->grid_il = st->grid_jl = 0;
         v = lf_props_suffix(&st->top, ".position-pattern.back-and-forth", NULL);
         st->back_and_forth = v != NULL && strcmp(v, "true") == 0;
@@ -753,8 +756,19 @@ jpk_curve_read(const lf_file *f, size_t i, lf_curve *c, lf_warnings *warn, lf_er
         add_meta_suffix(c, &st->top, ".position-pattern.grid.ilength", "grid columns");
         add_meta_suffix(c, &st->top, ".position-pattern.grid.jlength", "grid rows");
     }
-    for (s = 0; s < cv.nseg; s++)
-        total += segment_points(&cv, s);
+    for (s = 0; s < cv.nseg; s++) {
+        /* a count no channel could hold is a damaged header: said before
+         * anything is allocated for it */
+        const lf_zip_entry *e = channel_entry(&cv, s, "vDeflection");
+        size_t n = segment_points(&cv, s);
+        if (n > 0 && (e == NULL || n > e->usize / 2)) {
+            curve_free(&cv);
+            return lf_fail_at(err, LF_EFORMAT, c->file, 0, 0, "segment %u states %zu points, "
+                              "its vDeflection channel holds %s", (unsigned) cv.segno[s], n,
+                              e == NULL ? "none (it is missing)" : "fewer");
+        }
+        total += n;
+    }
     if (total == 0 || lf_curve_reserve(c, total, 1) != 0) {
         curve_free(&cv);
         return total == 0 ? lf_fail_at(err, LF_EFORMAT, c->file, 0, 0, "no points: the segment "

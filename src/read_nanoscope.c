@@ -278,8 +278,14 @@ ns_open(lf_file *f, lf_warnings *warn, lf_error *err)
     if (v == NULL)
         return lf_fail_at(err, LF_EFORMAT, f->path, 0, 0, "no deflection data: no '\\*Ciao "
                           "force image list' section of deflection (%zu force channels)", i);
-    st->data_offset = (uint64_t) number(v, NULL);
-    data_len = (uint64_t) number(get(st, section, "Data length", sect_at, NULL), NULL);
+    {
+        double off = number(v, NULL), dl = number(get(st, section, "Data length", sect_at, NULL), NULL);
+        if (!(off >= 0 && off < 4e18 && dl >= 0 && dl < 4e18))
+            return lf_fail_at(err, LF_EFORMAT, f->path, 0, 0, "the force image list states no "
+                              "data offset and length ('\\Data offset', '\\Data length')");
+        st->data_offset = (uint64_t) off;
+        data_len = (uint64_t) dl;
+    }
     {
         const char *rest = NULL;
         double a = number(get(st, section, "Samps/line", sect_at, NULL), &rest);

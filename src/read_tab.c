@@ -187,17 +187,15 @@ column_line(tab_reader *t, char *text, long line, lf_error *err)
     size_t n = lf_split_cells(text, '\t', cells, NULL, 64), j, nrest = 0, used;
     for (j = 0; j < n; j++) {
         int r = role_of(cells[j], &used);
-        if (r < 0 && nrest == 0) {
-            t->col[t->ncol++] = -1;     /* a column afmformats knows and layerfit needs not */
-            continue;
-        }
-        if (nrest > 0 || r < 0) {
+        if (nrest > 0) {
             rest[nrest++] = cells[j];
             continue;
         }
         if (t->ncol >= 16)
             return lf_fail_at(err, LF_EFORMAT, t->name, line, 0, "more than 16 columns");
-        t->col[t->ncol++] = r;
+        t->col[t->ncol++] = r;          /* -1: a column layerfit needs not */
+        if (r < 0)
+            continue;
         if (cells[j][used] != '\0')     /* the glued first row starts here */
             rest[nrest++] = cells[j] + used;
     }
@@ -322,8 +320,10 @@ tab_read(const lf_source *in, const lf_read_opts *o, lf_curve *c, lf_warnings *w
             lf_warn(&c->info, "position: x %.6g m, y %.6g m (metadata 'position x', 'position "
                     "y')", c->x, c->y);
         if (lf_curve_meta(c, "grid index x") != NULL && lf_curve_meta(c, "grid index y") != NULL) {
-            c->grid_i = (long) lf_number_or_nan(lf_curve_meta(c, "grid index x"));
-            c->grid_j = (long) lf_number_or_nan(lf_curve_meta(c, "grid index y"));
+            c->grid_i = lf_whole(lf_number_or_nan(lf_curve_meta(c, "grid index x")), 0, 1000000, -1);
+            c->grid_j = lf_whole(lf_number_or_nan(lf_curve_meta(c, "grid index y")), 0, 1000000, -1);
+            if (c->grid_i < 0 || c->grid_j < 0)
+                c->grid_i = c->grid_j = -1;
         }
         lf_warn(&c->info, "force: column 'force' (N)");
         if (h_col == C_TIP)

@@ -292,4 +292,11 @@ lf_le16(const unsigned char *p)
 /* A finite number from a whole string (blanks around allowed), else NaN. */
 double lf_number_or_nan(const char *text);
 
+/* v as a whole number when it is one within [lo, hi], else fallback. */
+static inline long
+lf_whole(double v, long lo, long hi, long fallback)
+{
+    return v >= (double) lo && v <= (double) hi && v == floor(v) ? (long) v : fallback;
+}
+
 #endif

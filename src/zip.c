@@ -199,9 +199,10 @@ lf_zip_scan(const lf_src *s, lf_zip_visit visit, void *ctx, uint64_t *count_out,
     for (k = 0; k < count; k++) {
         const unsigned char *h;
         lf_zip_entry e;
-        size_t nlen, elen, clen, whole;
-        /* the header and its variable part, in the window */
-        for (whole = CDH_SIZE;;) {
+        size_t nlen = 0, elen = 0, clen = 0, whole = CDH_SIZE;
+        int pass;
+        /* the header, then with its variable part, in the window */
+        for (pass = 0; pass < 2; pass++) {
             if (pos + whole > end) {
                 free(block);
                 return lf_fail_at(err, LF_EFORMAT, s->name, 0, 0, "a damaged zip archive: "
@@ -218,7 +219,7 @@ lf_zip_scan(const lf_src *s, lf_zip_visit visit, void *ctx, uint64_t *count_out,
                 win = block;
             }
             h = win + (pos - wstart);
-            if (whole > CDH_SIZE)
+            if (pass == 1)
                 break;
             if (memcmp(h, "PK\1\2", 4) != 0) {
                 free(block);
@@ -272,6 +273,13 @@ lf_zip_extract(const lf_src *s, const lf_zip_entry *e, const char *name, uint64_
         return lf_fail_at(err, LF_EFORMAT, s->name, 0, 0, "%s is compressed with method %u "
                           "(layerfit reads stored and deflated zip entries)", name,
                           (unsigned) e->method);
+    /* deflate expands at most 1032-fold: a larger size is a damaged (or
+     * hostile) entry, refused before anything is allocated */
+    if (e->method == 8 && e->usize > 1032 * e->csize + 1024)
+        return lf_fail_at(err, LF_EFORMAT, s->name, 0, 0, "a damaged zip archive: %s states "
+                          "%llu bytes uncompressed, more than its %llu compressed bytes can "
+                          "hold", name, (unsigned long long) e->usize,
+                          (unsigned long long) e->csize);
     if (e->usize > max || e->usize > SIZE_MAX - 1)
         return lf_fail_at(err, LF_EFORMAT, s->name, 0, 0, "%s: %llu bytes uncompressed, more "
                           "than a part of such a file holds (%llu at most)", name,

@@ -54,7 +54,7 @@ static void
 replay_readers(void)
 {
     static const char *const readers[] = { "chiaro", "jpk", "workshop", "ntmdt", "hysitron",
-                                           "text", NULL };
+                                           "text", "tab", NULL };
     char dir[1200], path[2400];
     size_t r;
     for (r = 0; readers[r] != NULL; r++) {
@@ -90,6 +90,48 @@ replay_readers(void)
     }
 }
 
+/* Replay the seeds of each reader of files of many curves (binary) and
+ * every regression input through it, forced, opened from memory. */
+static void
+replay_files(void)
+{
+    static const struct {
+        const char *dir, *format;
+    } readers[] = { { "jpk_force", "jpk-force" }, { "workshop_map", "workshop-map" },
+                    { "nanoscope", "nanoscope" }, { "igor", "igor" } };
+    char dir[1200], path[2400];
+    size_t r;
+    for (r = 0; r < sizeof readers / sizeof readers[0]; r++) {
+        const char *subs[2];
+        size_t s;
+        int n = 0;
+        subs[0] = readers[r].dir;
+        subs[1] = "regress";
+        for (s = 0; s < 2; s++) {
+            struct dirent *e;
+            DIR *d;
+            snprintf(dir, sizeof dir, "%s/../fuzz/%s", data, subs[s]);
+            if ((d = opendir(dir)) == NULL)
+                continue;
+            while ((e = readdir(d)) != NULL) {
+                size_t len = 0;
+                char *buf;
+                if (e->d_name[0] == '.' || strstr(e->d_name, ".md") != NULL)
+                    continue;
+                snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
+                if ((buf = slurp(path, &len)) == NULL)
+                    continue;
+                t_int(fuzz_file(readers[r].format, buf, len), 0, "%s/%s: %s reader consistent",
+                      subs[s], e->d_name, readers[r].format);
+                free(buf);
+                n += s == 0;
+            }
+            closedir(d);
+        }
+        t_true(n > 0, "%s seeds present", readers[r].format);
+    }
+}
+
 int
 main(int argc, char **argv)
 {
@@ -99,5 +141,6 @@ main(int argc, char **argv)
     t_true(replay("curve") > 0, "curve seeds present");
     t_true(replay("plan") > 0, "plan seeds present");
     replay_readers();
+    replay_files();
     return t_summary();
 }

@@ -3,9 +3,12 @@
 #ifndef LF_TESTDATA_H
 #define LF_TESTDATA_H
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "layerfit.h"
 
 static char data[1024];   /* tests/data, found from argv[0] (BUILD/tests/NAME) */
 
@@ -63,6 +66,36 @@ same_error(const lf_error *a, const lf_error *b)
 {
     return a->status == b->status && a->line == b->line && a->column == b->column
         && strcmp(a->msg, b->msg) == 0 && strcmp(a->file, b->file) == 0;
+}
+
+/* Fit the unloading segment with the half-space JKR model (k = 2, R). */
+static inline int
+fit_halfspace(const lf_curve *c, double R, lf_fit_result *res)
+{
+    lf_fit_settings s = lf_fit_settings_default();
+    lf_fit_curve fc;
+    lf_error err;
+    size_t n = lf_curve_segment(c, LF_SEG_UNLOAD, NULL, NULL);
+    double *d = malloc(n * sizeof *d), *f = malloc(n * sizeof *f);
+    int st;
+
+    memset(&fc, 0, sizeof fc);
+    lf_curve_segment(c, LF_SEG_UNLOAD, d, f);
+    s.model = &lf_model_halfspace;
+    fc.name = c->file;
+    fc.n = n;
+    fc.depth = d;
+    fc.force = f;
+    fc.probe.k = 2;
+    fc.probe.R = R;
+    fc.probe.b = R;     /* not used by the half-space model */
+    fc.probe.base = LF_BASE_FRICTIONLESS;
+    fc.branch = LF_BRANCH_UNLOAD;
+    fc.z0 = fc.F0 = NAN;
+    st = lf_fit_driver(&s, 1, &fc, res, &err);
+    free(d);
+    free(f);
+    return st;
 }
 
 #endif
