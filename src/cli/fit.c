@@ -13,6 +13,7 @@ static const char usage_text[] =
     "usage: layerfit fit PLAN.csv [options]\n"
     "       layerfit fit CURVE.csv --k K --R LENGTH --b LENGTH --interface I [options]\n"
     "       layerfit fit EXPORT.txt --model halfspace --k 2 [--R LENGTH] [options]\n"
+    "       layerfit fit MAP.jpk-force-map#N ...   curve N (from 0) of a file of many\n"
     "\n"
     "Fits w, E* and (where the plan determines it) nu jointly to every curve,\n"
     "with each curve's contact point z0 and force offset F0 free unless fixed.\n"
@@ -55,7 +56,8 @@ const char cli_fit_help[] =
     "                       batches; every interval then says 'not checked')\n"
     "how curve files are read (also for --batch; a plan's format column per row):\n"
     "  --format NAME        the curve files' format instead of sniffing (csv, chiaro, jpk,\n"
-    "                       workshop, ntmdt, hysitron, text; see layerfit check)\n"
+    "                       workshop, ntmdt, hysitron, text, tab, jpk-force,\n"
+    "                       workshop-map, nanoscope, igor; see layerfit check)\n"
     "  --spring-constant K  cantilever spring constant where a file states none (0.032N/m)\n"
     "  --sensitivity S      deflection sensitivity where a file states none (61nm/nA)\n"
     "  --depth-unit UNIT    unit of a depth column whose header gives none (nm)\n"
@@ -354,9 +356,15 @@ cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
     is->z0 = a->fix_z0;
     is->F0 = a->fix_F0;
     is->min_points = CLI_MIN_POINTS;    /* the same test as `layerfit check` */
-    if (a->format != NULL && lf_reader_find(a->format) == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: unknown format '%s' (csv, chiaro, jpk, workshop, ntmdt, "
-                "hysitron, text)", a->format);
+    if (a->format != NULL && lf_reader_find(a->format) == NULL) {
+        char list[400];
+        size_t r, len = 0;
+        list[0] = '\0';
+        for (r = 0; lf_reader_types[r] != NULL; r++)
+            len += (size_t) snprintf(list + len, len < sizeof list ? sizeof list - len : 0,
+                                     "%s%s", r ? ", " : "", lf_reader_types[r]->name);
+        cli_die(CLI_EXIT_USAGE, "fit: unknown format '%s' (%s)", a->format, list);
+    }
     a->read.format = a->format;
     if (lf_read_opts_constants(&a->read, a->spring_constant, a->sensitivity, &err) != LF_OK)
         cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
