@@ -197,6 +197,17 @@ fuzz: fuzz-build
 	    ls build-fuzz/$$t-* 2>/dev/null; exit 1; fi; \
 	done
 
+# Reading a large file of many curves (a synthetic 256 x 256 QI map)
+# against `unzip -p`, and the peak memory of `fit --batch` over maps of
+# 1024 to 16 384 curves (reported, not asserted; tests/bench/maps.sh).
+$(BUILD)/bench_read: tests/bench/bench_read.c $(LIB) $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+
+.PHONY: bench-maps
+bench-maps: $(PROG) $(BUILD)/bench_read
+	@sh tests/bench/maps.sh $(PROG) $(BUILD)/bench_read
+
 # Speed against error of the exact model (not part of `make check`).
 $(BUILD)/tests/bench/bench_exact: tests/bench/bench_exact.c $(LIB) $(HEADERS)
 	@mkdir -p $(dir $@)

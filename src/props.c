@@ -162,6 +162,7 @@ lf_props_parse(lf_props *p, const char *text, size_t len)
         }
         p->kv[p->n].key = line;
         p->kv[p->n].value = line + sep;
+        p->kv[p->n].klen = (size_t) sep - 1;
         p->n++;
         w += n + 1;
     }
@@ -194,8 +195,8 @@ lf_props_suffix(const lf_props *p, const char *suffix, const char **key)
 {
     size_t i, ns = strlen(suffix);
     for (i = 0; i < p->n; i++) {
-        size_t nk = strlen(p->kv[i].key);
-        if (nk >= ns && strcmp(p->kv[i].key + nk - ns, suffix) == 0) {
+        size_t nk = p->kv[i].klen;
+        if (nk >= ns && memcmp(p->kv[i].key + nk - ns, suffix, ns) == 0) {
             if (key != NULL)
                 *key = p->kv[i].key;
             return p->kv[i].value;

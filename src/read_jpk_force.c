@@ -38,6 +38,7 @@
  * header's *.position-pattern.grid.ilength/jlength, the curve's
  * *.header.position-index, rows walked back and forth where the pattern
  * says so. */
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -415,6 +416,27 @@ curve_headers(const lf_file *f, size_t i, jpk_curve *cv, lf_error *err)
     return LF_OK;
 }
 
+/* The parts (NULL-ended) joined into buf (n bytes), cut to fit: the keys
+ * of a lookup, built for every channel of every curve, without printf. */
+static const char *
+join(char *buf, size_t n, const char *first, ...)
+{
+    va_list ap;
+    const char *p;
+    size_t w = 0;
+    va_start(ap, first);
+    for (p = first; p != NULL; p = va_arg(ap, const char *)) {
+        size_t len = strlen(p);
+        if (len > n - 1 - w)
+            len = n - 1 - w;
+        memcpy(buf + w, p, len);
+        w += len;
+    }
+    va_end(ap);
+    buf[w] = '\0';
+    return buf;
+}
+
 /* A property of segment s, directly or through an indirection
  * ("PREFIX.MEDIATOR.*=N" for "MEDIATOR.N.REST" of the shared header). */
 static const char *
@@ -427,7 +449,7 @@ seg_get(const jpk_curve *cv, size_t s, const char *key)
     if (strncmp(key, "force-segment-header.", 21) == 0) {
         n = lf_props_get(&cv->seg[s], "force-segment-header.force-segment-header-info.*");
         if (n != NULL) {
-            snprintf(k, sizeof k, "force-segment-header-info.%s.%s", n, key + 21);
+            join(k, sizeof k, "force-segment-header-info.", n, ".", key + 21, (char *) NULL);
             return lf_props_get(&cv->st->shared, k);
         }
     }
@@ -442,15 +464,15 @@ chan_get(const jpk_curve *cv, size_t s, const char *ch, const char *suffix)
 {
     char k[256];
     const char *v, *n;
-    snprintf(k, sizeof k, "channel.%s.%s", ch, suffix);
+    join(k, sizeof k, "channel.", ch, ".", suffix, (char *) NULL);
     if ((v = lf_props_get(&cv->seg[s], k)) != NULL)
         return v;
-    snprintf(k, sizeof k, "channel.%s.data.%s", ch, suffix);
+    join(k, sizeof k, "channel.", ch, ".data.", suffix, (char *) NULL);
     if ((v = lf_props_get(&cv->seg[s], k)) != NULL)
         return v;
-    snprintf(k, sizeof k, "channel.%s.lcd-info.*", ch);
+    join(k, sizeof k, "channel.", ch, ".lcd-info.*", (char *) NULL);
     if ((n = lf_props_get(&cv->seg[s], k)) != NULL) {
-        snprintf(k, sizeof k, "lcd-info.%s.%s", n, suffix);
+        join(k, sizeof k, "lcd-info.", n, ".", suffix, (char *) NULL);
         return lf_props_get(&cv->st->shared, k);
     }
     return NULL;
@@ -564,15 +586,15 @@ slot_affine(const jpk_curve *cv, size_t s, const char *ch, const char *slot, dou
         *b = 0.0;
         return base == NULL && strcmp(slot, "volts") != 0 ? -1 : 0;
     }
-    snprintf(suffix, sizeof suffix, "conversion-set.conversion.%s.defined", slot);
+    join(suffix, sizeof suffix, "conversion-set.conversion.", slot, ".defined", (char *) NULL);
     v = chan_get(cv, s, ch, suffix);
     if (v == NULL || strcmp(v, "true") != 0)
         return -1;
-    snprintf(suffix, sizeof suffix, "conversion-set.conversion.%s.scaling.multiplier", slot);
+    join(suffix, sizeof suffix, "conversion-set.conversion.", slot, ".scaling.multiplier", (char *) NULL);
     m = chan_num(cv, s, ch, suffix);
-    snprintf(suffix, sizeof suffix, "conversion-set.conversion.%s.scaling.offset", slot);
+    join(suffix, sizeof suffix, "conversion-set.conversion.", slot, ".scaling.offset", (char *) NULL);
     o = chan_num(cv, s, ch, suffix);
-    snprintf(suffix, sizeof suffix, "conversion-set.conversion.%s.base-calibration-slot", slot);
+    join(suffix, sizeof suffix, "conversion-set.conversion.", slot, ".base-calibration-slot", (char *) NULL);
     parent = chan_get(cv, s, ch, suffix);
     if (!isfinite(m) || parent == NULL)
         return -1;
@@ -582,10 +604,10 @@ slot_affine(const jpk_curve *cv, size_t s, const char *ch, const char *slot, dou
         return -1;
     *a *= m;
     *b = m * *b + o;
-    snprintf(suffix, sizeof suffix, "conversion-set.conversion.%s.scaling.unit.unit", slot);
+    join(suffix, sizeof suffix, "conversion-set.conversion.", slot, ".scaling.unit.unit", (char *) NULL);
     v = chan_get(cv, s, ch, suffix);
     if (v == NULL) {
-        snprintf(suffix, sizeof suffix, "conversion-set.conversion.%s.scaling.unit", slot);
+        join(suffix, sizeof suffix, "conversion-set.conversion.", slot, ".scaling.unit", (char *) NULL);
         v = chan_get(cv, s, ch, suffix);
     }
     snprintf(unit, nunit, "%s", v ? v : "");

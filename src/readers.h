@@ -196,6 +196,7 @@ int lf_zip_describe(const lf_src *s, char *buf, size_t n, lf_error *err);
 
 typedef struct {
     const char *key, *value;
+    size_t klen;                /* strlen(key) */
 } lf_prop;
 
 typedef struct {

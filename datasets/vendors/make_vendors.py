@@ -444,9 +444,13 @@ def jpk_map():
     zip_write(OUT + "jpk_map.jpk-force-map", entries)
 
 
-def qi_map(path, n, side, points=40, zip64=True):
+def qi_map(path, n, side, points=40, zip64=True, variants=0):
     """A QI map (.jpk-qi-data) of n curves on a side x side grid, 16-bit
-    encoders, stored and deflated entries, ZIP64 records throughout."""
+    encoders, stored and deflated entries, ZIP64 records throughout;
+    variants > 0: the curves cycle through that many copies of the curve
+    with seeded noise on the force (0.2% of its range), every entry
+    deflated, as JPK writes them (for the reading benchmark)."""
+    import random
     d, f, seg = profile(n=points, nhold=0)
     segs = jpk_segments(d, f, seg, pause=False)
     vdef_enc, height_enc = (0.01, 0.0), (5e-10, -3.3e-5)
@@ -463,13 +467,23 @@ def qi_map(path, n, side, points=40, zip64=True):
         "quantitative-imaging-map.position-pattern.grid.jlength": side}), 8),
         ("shared-data/header.properties",
          lcd_shared(2, [st for st, p in segs], vdef_enc, height_enc, shorts=True), 0)]
-    curve = jpk_curve_entries("", segs, vdef_enc, height_enc, "h")
+    if variants > 0:
+        rng = random.Random(36)
+        span = max(f) - min(f)
+        curves = []
+        for v in range(variants):
+            noisy = [(st, [(di, fi + rng.gauss(0, 0.002 * span)) for di, fi in pts])
+                     for st, pts in segs]
+            curves.append(jpk_curve_entries("", noisy, vdef_enc, height_enc, "h"))
+    else:
+        curves = [[(name, data, 0 if "channels" in name else method)
+                   for name, data, method in jpk_curve_entries("", segs, vdef_enc, height_enc, "h")]]
     for k in range(n):
         x, y = -8e-6 + (k % side + 0.5) * 1.6e-5 / side, -8e-6 + (k // side + 0.5) * 1.6e-5 / side
         entries.append(("index/%d/header.properties" % k,
                         series_header("quantitative-imaging-series", x, y, k), 8))
-        entries += [("index/%d/%s" % (k, name), data, 0 if "channels" in name else method)
-                    for name, data, method in curve]
+        entries += [("index/%d/%s" % (k, name), data, method)
+                    for name, data, method in curves[k % len(curves)]]
     zip_write(path, entries, zip64=zip64)
 
 
@@ -663,7 +677,7 @@ def big_qi(n, path):
     side = 1
     while side * side < n:
         side += 1
-    qi_map(path, n, side, points=300)
+    qi_map(path, n, side, points=300, variants=64)
 
 
 if __name__ == "__main__":
