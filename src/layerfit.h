@@ -971,6 +971,11 @@ int lf_plan_of_file(const char *path, const lf_probe *probe, lf_segment seg, lf_
  * Files of one curve, and files that cannot be opened (the fit of their
  * row says why), are left as they are.  LF_ENOMEM only. */
 int lf_plan_expand(lf_plan *plan, const lf_read_opts *o, lf_error *err);
+/* Only the first half of lf_plan_expand: open each file of many curves the
+ * rows name (row->source, plan->files), leaving the rows as they are; a
+ * caller that walks a row's curves itself (a batch over a large map) needs
+ * no row per curve. */
+int lf_plan_open_files(lf_plan *plan, const lf_read_opts *o, lf_error *err);
 
 /* Whether a CSV file is a plan (its header has a "file" column) or a curve,
  * from its header alone. */

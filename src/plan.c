@@ -611,10 +611,9 @@ row_copy(lf_plan_row *to, const lf_plan_row *r, long index, lf_file *source)
 }
 
 int
-lf_plan_expand(lf_plan *plan, const lf_read_opts *o, lf_error *err)
+lf_plan_open_files(lf_plan *plan, const lf_read_opts *o, lf_error *err)
 {
-    lf_plan_row *rows;
-    size_t i, total = 0, w = 0;
+    size_t i;
 
     /* open each file of many curves once */
     for (i = 0; i < plan->n; i++) {
@@ -643,6 +642,18 @@ lf_plan_expand(lf_plan *plan, const lf_read_opts *o, lf_error *err)
         }
         r->source = f;
     }
+    return LF_OK;
+}
+
+int
+lf_plan_expand(lf_plan *plan, const lf_read_opts *o, lf_error *err)
+{
+    lf_plan_row *rows;
+    size_t i, total = 0, w = 0;
+    int status;
+
+    if ((status = lf_plan_open_files(plan, o, err)) != LF_OK)
+        return status;
     for (i = 0; i < plan->n; i++)
         total += plan->rows[i].source != NULL && plan->rows[i].index < 0
                  ? lf_file_count(plan->rows[i].source) : 1;

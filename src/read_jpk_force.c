@@ -63,14 +63,32 @@ typedef struct {
     lf_zip_entry e;
 } jpk_entry;
 
+/* The entries of one curve, gathered from its part of the directory when
+ * it is read (the listing keeps only where that part is). */
+typedef struct {
+    long want;                  /* the curve's index/K, or -1 (a single curve) */
+    jpk_entry *ent;             /* sorted by segment and what */
+    size_t nent, cap;
+    char **chan;                /* channel names */
+    size_t nchan;
+} jpk_entries;
+
+/* A stretch of the central directory holding entries of curve k only
+ * (JPK writes each curve's folder in one stretch: one run per curve). */
+typedef struct {
+    long k;                     /* index/K, or -1 (segments/ of a single curve) */
+    uint64_t start, end;        /* bytes of the directory */
+} jpk_run;
+
 typedef struct {
     int map;                    /* index/K/ folders */
     lf_props top, shared;       /* header.properties, shared-data/header.properties */
-    jpk_entry *ent;             /* sorted by k, seg, what */
-    size_t nent, cap;
-    size_t *first;              /* curve i: ent[first[i] .. first[i+1]-1] */
-    char **chan;                /* channel names */
-    size_t nchan;
+    jpk_run *run;               /* sorted by k, then start */
+    size_t nrun, cap;
+    size_t *first;              /* curve i: run[first[i] .. first[i+1]-1] */
+    int in_run;                 /* the stretch being walked */
+    long cur_k;
+    uint64_t cur_start;
     int have_top, have_shared, have_index, have_segments;
     lf_zip_entry top_e, shared_e;
     long grid_il, grid_jl;      /* grid columns and rows, or 0 */
@@ -86,7 +104,8 @@ typedef struct {
     size_t nseg;
     uint16_t segno[MAX_SEGMENTS];
     lf_props seg[MAX_SEGMENTS];
-    const jpk_entry *ents;      /* its entries */
+    jpk_entries col;            /* its entries */
+    const jpk_entry *ents;      /* = col.ent, col.nent */
     size_t nents;
 } jpk_curve;
 
@@ -144,48 +163,59 @@ parse_long(const char *s, size_t n, int *ok)
 }
 
 static int
-add_entry(jpk_state *st, long k, long seg, unsigned what, const lf_zip_entry *e)
+add_entry(jpk_entries *c, long k, long seg, unsigned what, const lf_zip_entry *e)
 {
-    if (st->nent == st->cap) {
-        size_t cap = st->cap ? 2 * st->cap : 64;
-        jpk_entry *p = realloc(st->ent, cap * sizeof *p);
+    if (c->nent == c->cap) {
+        size_t cap = c->cap ? 2 * c->cap : 16;
+        jpk_entry *p = realloc(c->ent, cap * sizeof *p);
         if (p == NULL)
             return LF_ENOMEM;
-        st->ent = p;
-        st->cap = cap;
+        c->ent = p;
+        c->cap = cap;
     }
-    st->ent[st->nent].k = k;
-    st->ent[st->nent].seg = (uint16_t) seg;
-    st->ent[st->nent].what = (uint16_t) what;
-    st->ent[st->nent].e = *e;
-    st->nent++;
+    c->ent[c->nent].k = k;
+    c->ent[c->nent].seg = (uint16_t) seg;
+    c->ent[c->nent].what = (uint16_t) what;
+    c->ent[c->nent].e = *e;
+    c->nent++;
     return LF_OK;
 }
 
 static long
-channel_number(jpk_state *st, const char *name, size_t n)
+channel_number(jpk_entries *c, const char *name, size_t n)
 {
     size_t i;
     char **p;
-    for (i = 0; i < st->nchan; i++)
-        if (strlen(st->chan[i]) == n && memcmp(st->chan[i], name, n) == 0)
+    for (i = 0; i < c->nchan; i++)
+        if (strlen(c->chan[i]) == n && memcmp(c->chan[i], name, n) == 0)
             return (long) i;
-    if (st->nchan >= WHAT_SEGMENT)
+    if (c->nchan >= 256)
         return -1;
-    if ((p = realloc(st->chan, (st->nchan + 1) * sizeof *p)) == NULL)
+    if ((p = realloc(c->chan, (c->nchan + 1) * sizeof *p)) == NULL)
         return -2;
-    st->chan = p;
-    if ((st->chan[st->nchan] = malloc(n + 1)) == NULL)
+    c->chan = p;
+    if ((c->chan[c->nchan] = malloc(n + 1)) == NULL)
         return -2;
-    memcpy(st->chan[st->nchan], name, n);
-    st->chan[st->nchan][n] = '\0';
-    return (long) st->nchan++;
+    memcpy(c->chan[c->nchan], name, n);
+    c->chan[c->nchan][n] = '\0';
+    return (long) c->nchan++;
+}
+
+static void
+entries_free(jpk_entries *c)
+{
+    size_t i;
+    for (i = 0; i < c->nchan; i++)
+        free(c->chan[i]);
+    free(c->chan);
+    free(c->ent);
+    memset(c, 0, sizeof *c);
 }
 
 /* The part of a curve's folder after "segments/": "S/segment-header.properties"
  * or "S/channels/NAME.dat". */
 static int
-segment_entry(jpk_state *st, long k, const char *rest, const lf_zip_entry *e)
+segment_entry(jpk_entries *c, long k, const char *rest, const lf_zip_entry *e)
 {
     const char *slash = strchr(rest, '/');
     long seg, ch;
@@ -197,22 +227,43 @@ segment_entry(jpk_state *st, long k, const char *rest, const lf_zip_entry *e)
         return LF_OK;
     rest = slash + 1;
     if (strcmp(rest, "segment-header.properties") == 0)
-        return add_entry(st, k, seg, WHAT_SEGMENT, e);
+        return add_entry(c, k, seg, WHAT_SEGMENT, e);
     if (strncmp(rest, "channels/", 9) == 0 && strlen(rest) > 13
         && strcmp(rest + strlen(rest) - 4, ".dat") == 0) {
-        ch = channel_number(st, rest + 9, strlen(rest) - 13);
+        ch = channel_number(c, rest + 9, strlen(rest) - 13);
         if (ch == -2)
             return LF_ENOMEM;
-        return ch < 0 ? LF_OK : add_entry(st, k, seg, (unsigned) ch, e);
+        return ch < 0 ? LF_OK : add_entry(c, k, seg, (unsigned) ch, e);
     }
     return LF_OK;
 }
 
+/* The curve an entry's name belongs to: index/K (*k = K, *rest after
+ * "index/K/") or segments/ of a single curve (*k = -1); 0 for another. */
+static int
+curve_of_name(const char *name, long *k, const char **rest)
+{
+    const char *slash;
+    int ok;
+    if (strncmp(name, "segments/", 9) == 0) {
+        *k = -1;
+        *rest = name;
+        return 1;
+    }
+    if (strncmp(name, "index/", 6) != 0 || (slash = strchr(name + 6, '/')) == NULL)
+        return 0;
+    *k = parse_long(name + 6, (size_t) (slash - name - 6), &ok);
+    *rest = slash + 1;
+    return ok;
+}
+
+/* The listing's walk: the shared files, and the stretch of each curve. */
 static int
 visit(void *ctx, const char *name, size_t nlen, const lf_zip_entry *e, lf_error *err)
 {
     jpk_state *st = ctx;
-    int status = LF_OK;
+    const char *rest;
+    long k = -2;
     (void) nlen;
     if (strcmp(name, "header.properties") == 0) {
         st->have_top = 1;
@@ -220,38 +271,73 @@ visit(void *ctx, const char *name, size_t nlen, const lf_zip_entry *e, lf_error 
     } else if (strcmp(name, "shared-data/header.properties") == 0) {
         st->have_shared = 1;
         st->shared_e = *e;
-    } else if (strncmp(name, "segments/", 9) == 0) {
-        st->have_segments = 1;
-        status = segment_entry(st, -1, name + 9, e);
-    } else if (strncmp(name, "index/", 6) == 0) {
-        const char *slash = strchr(name + 6, '/');
-        long k;
-        int ok;
-        if (slash == NULL)
-            return LF_OK;
-        k = parse_long(name + 6, (size_t) (slash - name - 6), &ok);
-        if (!ok)
-            return LF_OK;
-        st->have_index = 1;
-        if (strcmp(slash + 1, "header.properties") == 0)
-            status = add_entry(st, k, 0, WHAT_HEADER, e);
-        else if (strncmp(slash + 1, "segments/", 9) == 0)
-            status = segment_entry(st, k, slash + 10, e);
+    } else if (curve_of_name(name, &k, &rest)) {
+        st->have_segments |= k == -1;
+        st->have_index |= k >= 0;
+    } else {
+        k = -2;
     }
-    if (status != LF_OK)
-        return lf_fail(err, status, "out of memory");
+    if (st->in_run && k == st->cur_k)
+        return LF_OK;
+    if (st->in_run) {
+        jpk_run *r;
+        if (st->nrun == st->cap) {
+            size_t cap = st->cap ? 2 * st->cap : 64;
+            if ((r = realloc(st->run, cap * sizeof *r)) == NULL)
+                return lf_fail(err, LF_ENOMEM, "out of memory");
+            st->run = r;
+            st->cap = cap;
+        }
+        r = &st->run[st->nrun++];
+        r->k = st->cur_k;
+        r->start = st->cur_start;
+        r->end = e->cdh;
+        st->in_run = 0;
+    }
+    if (k >= -1) {
+        st->in_run = 1;
+        st->cur_k = k;
+        st->cur_start = e->cdh;
+    }
     return LF_OK;
+}
+
+/* Reading one curve: its entries, from its stretches of the directory. */
+static int
+visit_curve(void *ctx, const char *name, size_t nlen, const lf_zip_entry *e, lf_error *err)
+{
+    jpk_entries *c = ctx;
+    const char *rest;
+    long k;
+    int status = LF_OK;
+    (void) nlen;
+    if (!curve_of_name(name, &k, &rest) || k != c->want)
+        return LF_OK;
+    if (k == -1)
+        status = segment_entry(c, 0, rest + 9, e);
+    else if (strcmp(rest, "header.properties") == 0)
+        status = add_entry(c, k, 0, WHAT_HEADER, e);
+    else if (strncmp(rest, "segments/", 9) == 0)
+        status = segment_entry(c, k, rest + 9, e);
+    return status == LF_OK ? LF_OK : lf_fail(err, status, "out of memory");
 }
 
 static int
 cmp_entry(const void *a, const void *b)
 {
     const jpk_entry *x = a, *y = b;
-    if (x->k != y->k)
-        return x->k < y->k ? -1 : 1;
     if (x->seg != y->seg)
         return x->seg < y->seg ? -1 : 1;
     return x->what < y->what ? -1 : x->what > y->what;
+}
+
+static int
+cmp_run(const void *a, const void *b)
+{
+    const jpk_run *x = a, *y = b;
+    if (x->k != y->k)
+        return x->k < y->k ? -1 : 1;
+    return x->start < y->start ? -1 : x->start > y->start;
 }
 
 /* Inflate and parse one properties file of the archive. */
@@ -274,15 +360,11 @@ static void
 jpk_close(lf_file *f)
 {
     jpk_state *st = f->state;
-    size_t i;
     if (st == NULL)
         return;
     lf_props_free(&st->top);
     lf_props_free(&st->shared);
-    for (i = 0; i < st->nchan; i++)
-        free(st->chan[i]);
-    free(st->chan);
-    free(st->ent);
+    free(st->run);
     free(st->first);
     free(st);
     f->state = NULL;
@@ -293,6 +375,7 @@ jpk_open(lf_file *f, lf_warnings *warn, lf_error *err)
 {
     jpk_state *st = calloc(1, sizeof *st);
     size_t i, n = 0, w = 0;
+    uint64_t cd_end = 0;
     const char *v;
     int status;
 
@@ -300,10 +383,17 @@ jpk_open(lf_file *f, lf_warnings *warn, lf_error *err)
     if (st == NULL)
         return lf_fail_at(err, LF_ENOMEM, f->path, 0, 0, "out of memory");
     f->state = st;
-    if ((status = lf_zip_scan(&f->src, visit, st, NULL, err)) != LF_OK) {
+    if ((status = lf_zip_scan(&f->src, visit, st, NULL, &cd_end, err)) != LF_OK) {
         if (err != NULL && err->file[0] == '\0')
             lf_fail_at(err, status, f->path, 0, 0, "%s", err->msg);
         return status;
+    }
+    if (st->in_run) {
+        lf_zip_entry end;
+        memset(&end, 0, sizeof end);
+        end.cdh = cd_end;
+        if ((status = visit(st, "", 0, &end, err)) != LF_OK)
+            return status;
     }
     st->map = st->have_index;
     if (!st->map && !st->have_segments) {
@@ -311,26 +401,23 @@ jpk_open(lf_file *f, lf_warnings *warn, lf_error *err)
         lf_describe_binary(&f->src, "PK\3\4", 4, what, sizeof what);
         return lf_fail_at(err, LF_EFORMAT, f->path, 0, 0, "%s", what);
     }
-    /* a single curve's entries are its own; a map's come from index/K/ */
-    for (i = 0; i < st->nent; i++)
-        if ((st->ent[i].k >= 0) == st->map)
-            st->ent[w++] = st->ent[i];
-    st->nent = w;
-    if (!st->map)
-        for (i = 0; i < st->nent; i++)
-            st->ent[i].k = 0;
-    qsort(st->ent, st->nent, sizeof *st->ent, cmp_entry);
-    for (i = 0; i < st->nent; i++)
-        n += i == 0 || st->ent[i].k != st->ent[i - 1].k;
+    /* a map's curves are its index/K folders; a single curve is segments/ */
+    for (i = 0; i < st->nrun; i++)
+        if ((st->run[i].k >= 0) == st->map)
+            st->run[w++] = st->run[i];
+    st->nrun = w;
+    qsort(st->run, st->nrun, sizeof *st->run, cmp_run);
+    for (i = 0; i < st->nrun; i++)
+        n += i == 0 || st->run[i].k != st->run[i - 1].k;
     if (n == 0)
         return lf_fail_at(err, LF_EFORMAT, f->path, 0, 0, "a JPK archive without curves (no "
                           "segment headers or channels)");
     if ((st->first = malloc((n + 1) * sizeof *st->first)) == NULL)
         return lf_fail_at(err, LF_ENOMEM, f->path, 0, 0, "out of memory");
-    for (i = 0, n = 0; i < st->nent; i++)
-        if (i == 0 || st->ent[i].k != st->ent[i - 1].k)
+    for (i = 0, n = 0; i < st->nrun; i++)
+        if (i == 0 || st->run[i].k != st->run[i - 1].k)
             st->first[n++] = i;
-    st->first[n] = st->nent;
+    st->first[n] = st->nrun;
     f->n = n;
     if (st->have_top && (status = load_props(&f->src, &st->top_e, "header.properties",
                                              &st->top, err)) != LF_OK)
@@ -362,6 +449,7 @@ curve_free(jpk_curve *cv)
         lf_props_free(&cv->head);
     for (s = 0; s < cv->nseg; s++)
         lf_props_free(&cv->seg[s]);
+    entries_free(&cv->col);
 }
 
 /* Parse curve i's header and segment headers. */
@@ -376,8 +464,16 @@ curve_headers(const lf_file *f, size_t i, jpk_curve *cv, lf_error *err)
     memset(cv, 0, sizeof *cv);
     cv->st = st;
     cv->src = &f->src;
-    cv->ents = st->ent + st->first[i];
-    cv->nents = st->first[i + 1] - st->first[i];
+    cv->col.want = st->run[st->first[i]].k;
+    for (j = st->first[i]; j < st->first[i + 1]; j++)
+        if ((status = lf_zip_scan_range(&f->src, st->run[j].start, st->run[j].end, visit_curve,
+                                        &cv->col, err)) != LF_OK) {
+            curve_free(cv);
+            return status;
+        }
+    qsort(cv->col.ent, cv->col.nent, sizeof *cv->col.ent, cmp_entry);
+    cv->ents = cv->col.ent;
+    cv->nents = cv->col.nent;
     if (!st->map) {
         cv->head = st->top;     /* not owned */
     } else {
@@ -385,8 +481,10 @@ curve_headers(const lf_file *f, size_t i, jpk_curve *cv, lf_error *err)
             ;
         if (j < cv->nents) {
             snprintf(name, sizeof name, "index/%ld/header.properties", cv->ents[j].k);
-            if ((status = load_props(&f->src, &cv->ents[j].e, name, &cv->head, err)) != LF_OK)
+            if ((status = load_props(&f->src, &cv->ents[j].e, name, &cv->head, err)) != LF_OK) {
+                curve_free(cv);
                 return status;
+            }
             cv->own_head = 1;
         }
     }
@@ -409,9 +507,11 @@ curve_headers(const lf_file *f, size_t i, jpk_curve *cv, lf_error *err)
         cv->nseg++;
     }
     if (cv->nseg == 0) {
+        long k = cv->col.want;
         curve_free(cv);
         return lf_fail_at(err, LF_EFORMAT, f->path, 0, 0, "curve %zu (%s%ld) has no "
-                          "segment headers", i, st->map ? "index/" : "", cv->ents[0].k);
+                          "segment headers", i, st->map ? "index/" : "segments of ",
+                          k < 0 ? 0 : k);
     }
     return LF_OK;
 }
@@ -512,7 +612,7 @@ channel_entry(const jpk_curve *cv, size_t s, const char *ch)
     size_t j;
     for (j = 0; j < cv->nents; j++)
         if (cv->ents[j].seg == cv->segno[s] && cv->ents[j].what < WHAT_SEGMENT
-            && strcmp(cv->st->chan[cv->ents[j].what], ch) == 0)
+            && strcmp(cv->col.chan[cv->ents[j].what], ch) == 0)
             return &cv->ents[j].e;
     return NULL;
 }

@@ -31,13 +31,16 @@ ends_with_csv(const char *name, size_t n)
 static int
 wsm_sniff(const char *head, size_t len)
 {
-    size_t nlen;
-    if (!lf_zip_magic(head, len) || len < 30 || memcmp(head, "PK\3\4", 4) != 0)
+    size_t i, nlen;
+    if (!lf_zip_magic(head, len))
         return 0;
-    nlen = lf_le16((const unsigned char *) head + 26);
-    /* the first member's name (a CSV file, not a JPK archive's) */
-    if (30 + nlen <= len && ends_with_csv(head + 30, nlen))
-        return 60;
+    /* a CSV file among the first entries (a folder may come first) */
+    for (i = 0; i + 30 < len; i++)
+        if (memcmp(head + i, "PK\3\4", 4) == 0) {
+            nlen = lf_le16((const unsigned char *) head + i + 26);
+            if (i + 30 + nlen <= len && ends_with_csv(head + i + 30, nlen))
+                return 60;
+        }
     return 0;
 }
 
@@ -113,7 +116,7 @@ wsm_open(lf_file *f, lf_warnings *warn, lf_error *err)
     if (st == NULL)
         return lf_fail_at(err, LF_ENOMEM, f->path, 0, 0, "out of memory");
     f->state = st;
-    if ((status = lf_zip_scan(&f->src, visit, st, NULL, err)) != LF_OK) {
+    if ((status = lf_zip_scan(&f->src, visit, st, NULL, NULL, err)) != LF_OK) {
         if (err != NULL && err->file[0] == '\0')
             lf_fail_at(err, status, f->path, 0, 0, "%s", err->msg);
         return status;

@@ -167,6 +167,7 @@ int lf_src_read(const lf_src *s, uint64_t off, void *dst, size_t n, lf_error *er
 typedef struct {
     uint64_t offset;            /* of the local header */
     uint64_t csize, usize;      /* compressed and uncompressed sizes */
+    uint64_t cdh;               /* of its central directory header */
     uint32_t crc;
     uint16_t method, flags;
 } lf_zip_entry;
@@ -181,9 +182,15 @@ typedef int (*lf_zip_visit)(void *ctx, const char *name, size_t nlen, const lf_z
 /* 1 when the first bytes are those of a zip archive. */
 int lf_zip_magic(const char *head, size_t len);
 /* Walk the central directory (ZIP64 included), reading it in blocks;
- * *count (may be NULL) gets the number of entries. */
+ * *count and *end (may be NULL) get the number of entries and where the
+ * directory ends. */
 int lf_zip_scan(const lf_src *s, lf_zip_visit visit, void *ctx, uint64_t *count,
-                lf_error *err);
+                uint64_t *end, lf_error *err);
+/* The same over the directory headers from byte from up to byte to (a
+ * part of the directory found by lf_zip_scan: the entries' cdh), ending
+ * early at anything that is not a directory header. */
+int lf_zip_scan_range(const lf_src *s, uint64_t from, uint64_t to, lf_zip_visit visit,
+                      void *ctx, lf_error *err);
 /* Entry e (name for messages) inflated into a new buffer of e->usize bytes
  * (the caller frees it), its CRC-32 checked; LF_EFORMAT when it is larger
  * than max bytes, damaged, encrypted or compressed with another method. */

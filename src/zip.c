@@ -173,34 +173,33 @@ zip64_extra(const unsigned char *x, size_t n, lf_zip_entry *e, int need_u, int n
     return need_u || need_c || need_o ? -1 : 0;
 }
 
-int
-lf_zip_scan(const lf_src *s, lf_zip_visit visit, void *ctx, uint64_t *count_out, lf_error *err)
+/* Walk the central directory headers from pos up to end: count of them
+ * (all must be there), or, when count is UINT64_MAX, as many as follow
+ * (the walk ends at the first other signature). */
+static int
+walk(const lf_src *s, uint64_t pos, uint64_t end, uint64_t count, lf_zip_visit visit,
+     void *ctx, lf_error *err)
 {
-    uint64_t cd_off = 0, cd_size = 0, count = 0, pos, end, k;
     unsigned char *block = NULL;
     const unsigned char *win = NULL;
-    uint64_t wstart = 0, wlen = 0;
+    uint64_t wstart = 0, wlen = 0, k;
     char name[65536];
-    int status;
+    int status, open_ended = count == UINT64_MAX;
 
-    if ((status = directory(s, &cd_off, &cd_size, &count, err)) != LF_OK)
-        return status;
-    if (count_out != NULL)
-        *count_out = count;
     if (s->mem != NULL) {
-        win = s->mem + cd_off;
-        wstart = cd_off;
-        wlen = cd_size;
+        win = s->mem;
+        wstart = 0;
+        wlen = s->size;
     } else if ((block = malloc(BLOCK)) == NULL) {
         return lf_fail_at(err, LF_ENOMEM, s->name, 0, 0, "out of memory");
     }
-    pos = cd_off;
-    end = cd_off + cd_size;
     for (k = 0; k < count; k++) {
         const unsigned char *h;
         lf_zip_entry e;
         size_t nlen = 0, elen = 0, clen = 0, whole = CDH_SIZE;
         int pass;
+        if (open_ended && pos + CDH_SIZE > end)
+            break;
         /* the header, then with its variable part, in the window */
         for (pass = 0; pass < 2; pass++) {
             if (pos + whole > end) {
@@ -223,6 +222,8 @@ lf_zip_scan(const lf_src *s, lf_zip_visit visit, void *ctx, uint64_t *count_out,
                 break;
             if (memcmp(h, "PK\1\2", 4) != 0) {
                 free(block);
+                if (open_ended)
+                    return LF_OK;
                 return lf_fail_at(err, LF_EFORMAT, s->name, 0, 0, "a damaged zip archive: no "
                                   "central directory header at byte %llu",
                                   (unsigned long long) pos);
@@ -238,6 +239,7 @@ lf_zip_scan(const lf_src *s, lf_zip_visit visit, void *ctx, uint64_t *count_out,
         e.csize = le32(h + 20);
         e.usize = le32(h + 24);
         e.offset = le32(h + 42);
+        e.cdh = pos;
         if (zip64_extra(h + CDH_SIZE + nlen, elen, &e, e.usize == 0xFFFFFFFFu,
                         e.csize == 0xFFFFFFFFu, e.offset == 0xFFFFFFFFu) != 0) {
             free(block);
@@ -254,6 +256,31 @@ lf_zip_scan(const lf_src *s, lf_zip_visit visit, void *ctx, uint64_t *count_out,
     }
     free(block);
     return LF_OK;
+}
+
+int
+lf_zip_scan(const lf_src *s, lf_zip_visit visit, void *ctx, uint64_t *count_out, uint64_t *end,
+            lf_error *err)
+{
+    uint64_t cd_off = 0, cd_size = 0, count = 0;
+    int status;
+
+    if ((status = directory(s, &cd_off, &cd_size, &count, err)) != LF_OK)
+        return status;
+    if (count_out != NULL)
+        *count_out = count;
+    if (end != NULL)
+        *end = cd_off + cd_size;
+    return walk(s, cd_off, cd_off + cd_size, count, visit, ctx, err);
+}
+
+int
+lf_zip_scan_range(const lf_src *s, uint64_t from, uint64_t to, lf_zip_visit visit, void *ctx,
+                  lf_error *err)
+{
+    if (to > s->size)
+        to = s->size;
+    return walk(s, from, to, UINT64_MAX, visit, ctx, err);
 }
 
 int
@@ -412,7 +439,7 @@ lf_zip_describe(const lf_src *s, char *buf, size_t n, lf_error *err)
     d.len = 0;
     d.files = d.shown = 0;
     names[0] = '\0';
-    if ((status = lf_zip_scan(s, describe_one, &d, NULL, err)) != LF_OK)
+    if ((status = lf_zip_scan(s, describe_one, &d, NULL, NULL, err)) != LF_OK)
         return status;
     if (d.files == 0)
         snprintf(buf, n, "no files");

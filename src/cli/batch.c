@@ -126,8 +126,11 @@ sb_text(sbuf *b, const char *s, int json)
 typedef struct {
     const lf_plan *plan;
     size_t nunits;
-    size_t *start;      /* unit u has rows row[start[u] .. start[u+1]-1] */
+    size_t *start;      /* unit u has items row[start[u] .. start[u+1]-1] */
     size_t *row;
+    size_t nitems;      /* a curve each: a plan row, or one curve of a row */
+    size_t *item_row;   /* that names a file of many without an index */
+    long *item_index;
 } unit_list;
 
 typedef struct {
@@ -156,16 +159,53 @@ cmp_group(const void *a, const void *b)
     return x->first < y->first ? -1 : x->first > y->first;
 }
 
-/* Group the plan's rows into fits, in the order of each fit's first row:
- * a row with an empty sample alone, rows of one sample together. */
+/* The curves of the plan, one item each: a row, or each curve of a row
+ * that names a file of many without an index (its file opened once by
+ * lf_plan_open_files; the curves are not copied into rows of their own,
+ * so a map of any size costs two numbers per curve here). */
+static int
+items_make(const lf_plan *plan, unit_list *u)
+{
+    size_t i, k, n = 0, w = 0;
+    for (i = 0; i < plan->n; i++)
+        n += plan->rows[i].source != NULL && plan->rows[i].index < 0
+             ? lf_file_count(plan->rows[i].source) : 1;
+    u->item_row = malloc((n ? n : 1) * sizeof *u->item_row);
+    u->item_index = malloc((n ? n : 1) * sizeof *u->item_index);
+    if (u->item_row == NULL || u->item_index == NULL)
+        return -1;
+    for (i = 0; i < plan->n; i++) {
+        const lf_plan_row *r = &plan->rows[i];
+        size_t m = r->source != NULL && r->index < 0 ? lf_file_count(r->source) : 0;
+        if (m == 0) {
+            u->item_row[w] = i;
+            u->item_index[w++] = r->index;
+        }
+        for (k = 0; k < m; k++) {
+            u->item_row[w] = i;
+            u->item_index[w++] = (long) k;
+        }
+    }
+    u->nitems = n;
+    return 0;
+}
+
+/* Group the plan's curves into fits, in the order of each fit's first one:
+ * a curve of a row with an empty sample alone, those of one sample
+ * together. */
 static int
 units_make(const lf_plan *plan, unit_list *u)
 {
-    size_t n = plan->n, i, ng = 0, k = 0;
-    sample_key *key = malloc((n ? n : 1) * sizeof *key);
-    group *g = malloc((n ? n : 1) * sizeof *g);
+    size_t n, i, ng = 0, k = 0;
+    sample_key *key;
+    group *g;
 
     u->plan = plan;
+    if (items_make(plan, u) != 0)
+        return -1;
+    n = u->nitems;
+    key = malloc((n ? n : 1) * sizeof *key);
+    g = malloc((n ? n : 1) * sizeof *g);
     u->start = malloc((n + 1) * sizeof *u->start);
     u->row = malloc((n ? n : 1) * sizeof *u->row);
     if (key == NULL || g == NULL || u->start == NULL || u->row == NULL) {
@@ -174,7 +214,8 @@ units_make(const lf_plan *plan, unit_list *u)
         return -1;
     }
     for (i = 0; i < n; i++) {
-        key[i].sample = plan->rows[i].sample ? plan->rows[i].sample : "";
+        const char *sample = plan->rows[u->item_row[i]].sample;
+        key[i].sample = sample ? sample : "";
         key[i].row = i;
     }
     qsort(key, n, sizeof *key, cmp_sample);
@@ -208,6 +249,8 @@ units_free(unit_list *u)
 {
     free(u->start);
     free(u->row);
+    free(u->item_row);
+    free(u->item_index);
 }
 
 /* ------------------------------------------------------------------------
@@ -416,25 +459,31 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
     lf_fit_settings s = *cfg->settings;
     lf_fit_result res;
     lf_error err;
+    lf_plan one = *plan;        /* the unit's curves as rows of a plan of their own */
+    lf_plan_row *rows = malloc((n ? n : 1) * sizeof *rows);
     unit_files uf = { n, calloc(n, sizeof(const char *)), calloc(n, sizeof(char[65])) };
     sbuf files = { NULL, 0, 0, 0 }, ident = { NULL, 0, 0, 0 }, msg = { NULL, 0, 0, 0 };
     char ebuf[1200];
-    const char *sample = plan->rows[ul->row[first]].sample;
+    const char *sample = plan->rows[ul->item_row[ul->row[first]]].sample;
     const char *status = "error";
     double x = NAN, y = NAN, grid[2] = { NAN, NAN };
     int st = LF_EINVAL, have_res = 0, failed = 1, firstw = 1;
 
     lf_error_clear(&err);
-    if (uf.name == NULL || uf.sha == NULL) {
+    if (uf.name == NULL || uf.sha == NULL || rows == NULL) {
         free(uf.name);
         free(uf.sha);
+        free(rows);
         out->failed = 1;
         return 1;
     }
     memset(&in, 0, sizeof in);
     for (j = 0; j < n; j++) {
         /* a curve of a file of many is named FILE#N */
-        const lf_plan_row *r = &plan->rows[ul->row[first + j]];
+        size_t item = ul->row[first + j];
+        const lf_plan_row *r = &rows[j];
+        rows[j] = plan->rows[ul->item_row[item]];   /* shallow: the plan owns its strings */
+        rows[j].index = ul->item_index[item];
         uf.name[j] = r->file;
         if (r->index >= 0) {
             size_t len = strlen(r->file) + 24;
@@ -449,7 +498,9 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
     /* the one step from a plan to a fit's input, the one rule for nu: each
      * curve a regular file checked when it is opened, the same checks as
      * `layerfit check`; whatever goes wrong is this fit's row */
-    if (lf_fit_input_from_plan(plan, ul->row + first, n, cfg->input, &in, NULL, &err) != LF_OK) {
+    one.n = n;
+    one.rows = rows;
+    if (lf_fit_input_from_plan(&one, NULL, n, cfg->input, &in, NULL, &err) != LF_OK) {
         format_error(ebuf, sizeof ebuf, &err);
         goto row;
     }
@@ -540,10 +591,11 @@ row:
     free(ident.s);
     free(msg.s);
     for (j = 0; j < n; j++)
-        if (uf.name[j] != plan->rows[ul->row[first + j]].file)
+        if (uf.name[j] != rows[j].file)
             free((char *) uf.name[j]);
     free(uf.name);
     free(uf.sha);
+    free(rows);
     return failed;
 }
 
@@ -662,7 +714,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
         /* a file of many curves named without an index: each curve a row
          * (its file opened once, its curves read from it one at a time) */
         lf_error err;
-        if (lf_plan_expand(plan, o->input.read, &err) != LF_OK)
+        if (lf_plan_open_files(plan, o->input.read, &err) != LF_OK)
             cli_die(CLI_EXIT_FAIL, "out of memory");
         if (o->probe != NULL) {
             if (plan->nfiles > 0)
