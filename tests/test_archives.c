@@ -37,26 +37,6 @@ vpath(const char *name)
     return buf[k];
 }
 
-static int
-has_info(const lf_curve *c, const char *text)
-{
-    size_t i;
-    for (i = 0; i < c->info.n; i++)
-        if (strstr(c->info.msg[i], text) != NULL)
-            return 1;
-    return 0;
-}
-
-static const char *
-meta(const lf_curve *c, const char *key)
-{
-    size_t i;
-    for (i = 0; i < c->nmeta; i++)
-        if (strcmp(c->meta[i].key, key) == 0)
-            return c->meta[i].value;
-    return NULL;
-}
-
 /* Curve i of the file at path, opened by random access; NULL on failure
  * (reported). */
 static lf_curve *

@@ -48,20 +48,30 @@ replay(const char *sub)
     return n;
 }
 
-/* Replay the seeds of each instrument reader's fuzz target, and every
- * regression input, through that reader forced. */
+/* Replay the seeds of each reader's fuzz target (tests/fuzz/DIR), and
+ * every regression input, through that reader forced: a text reader whole
+ * and in chunks of 1 to 13 bytes (fuzz_reader), a reader of binary files
+ * of many curves opened from memory, every curve decoded (fuzz_file). */
 static void
 replay_readers(void)
 {
-    static const char *const readers[] = { "chiaro", "jpk", "workshop", "ntmdt", "hysitron",
-                                           "text", "tab", NULL };
+    static const struct {
+        const char *dir, *format;
+        int binary;
+    } readers[] = {
+        { "chiaro", "chiaro", 0 }, { "jpk", "jpk", 0 }, { "workshop", "workshop", 0 },
+        { "ntmdt", "ntmdt", 0 }, { "hysitron", "hysitron", 0 }, { "text", "text", 0 },
+        { "tab", "tab", 0 }, { "jpk_force", "jpk-force", 1 },
+        { "workshop_map", "workshop-map", 1 }, { "nanoscope", "nanoscope", 1 },
+        { "igor", "igor", 1 },
+    };
     char dir[1200], path[2400];
     size_t r;
-    for (r = 0; readers[r] != NULL; r++) {
+    for (r = 0; r < sizeof readers / sizeof readers[0]; r++) {
         const char *subs[2];
         size_t s;
         int n = 0;
-        subs[0] = readers[r];
+        subs[0] = readers[r].dir;
         subs[1] = "regress";
         for (s = 0; s < 2; s++) {
             struct dirent *e;
@@ -78,51 +88,13 @@ replay_readers(void)
                 snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
                 if ((buf = slurp(path, &len)) == NULL)
                     continue;
-                for (chunk = 1; chunk <= 13; chunk++)
-                    bad |= fuzz_reader(readers[r], buf, len, chunk, (int) chunk & 1);
-                t_int(bad, 0, "%s/%s: %s reader consistent", subs[s], e->d_name, readers[r]);
-                free(buf);
-                n += s == 0;
-            }
-            closedir(d);
-        }
-        t_true(n > 0, "%s seeds present", readers[r]);
-    }
-}
-
-/* Replay the seeds of each reader of files of many curves (binary) and
- * every regression input through it, forced, opened from memory. */
-static void
-replay_files(void)
-{
-    static const struct {
-        const char *dir, *format;
-    } readers[] = { { "jpk_force", "jpk-force" }, { "workshop_map", "workshop-map" },
-                    { "nanoscope", "nanoscope" }, { "igor", "igor" } };
-    char dir[1200], path[2400];
-    size_t r;
-    for (r = 0; r < sizeof readers / sizeof readers[0]; r++) {
-        const char *subs[2];
-        size_t s;
-        int n = 0;
-        subs[0] = readers[r].dir;
-        subs[1] = "regress";
-        for (s = 0; s < 2; s++) {
-            struct dirent *e;
-            DIR *d;
-            snprintf(dir, sizeof dir, "%s/../fuzz/%s", data, subs[s]);
-            if ((d = opendir(dir)) == NULL)
-                continue;
-            while ((e = readdir(d)) != NULL) {
-                size_t len = 0;
-                char *buf;
-                if (e->d_name[0] == '.' || strstr(e->d_name, ".md") != NULL)
-                    continue;
-                snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
-                if ((buf = slurp(path, &len)) == NULL)
-                    continue;
-                t_int(fuzz_file(readers[r].format, buf, len), 0, "%s/%s: %s reader consistent",
-                      subs[s], e->d_name, readers[r].format);
+                if (readers[r].binary)
+                    bad = fuzz_file(readers[r].format, buf, len);
+                else
+                    for (chunk = 1; chunk <= 13; chunk++)
+                        bad |= fuzz_reader(readers[r].format, buf, len, chunk, (int) chunk & 1);
+                t_int(bad, 0, "%s/%s: %s reader consistent", subs[s], e->d_name,
+                      readers[r].format);
                 free(buf);
                 n += s == 0;
             }
@@ -141,6 +113,5 @@ main(int argc, char **argv)
     t_true(replay("curve") > 0, "curve seeds present");
     t_true(replay("plan") > 0, "plan seeds present");
     replay_readers();
-    replay_files();
     return t_summary();
 }

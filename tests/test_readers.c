@@ -163,16 +163,6 @@ count_seg(const lf_curve *c, lf_segment s)
 }
 
 static int
-has_info(const lf_curve *c, const char *text)
-{
-    size_t i;
-    for (i = 0; i < c->info.n; i++)
-        if (strstr(c->info.msg[i], text) != NULL)
-            return 1;
-    return 0;
-}
-
-static int
 has_warning(const lf_warnings *w, const char *text)
 {
     size_t i;
@@ -180,16 +170,6 @@ has_warning(const lf_warnings *w, const char *text)
         if (strstr(w->msg[i], text) != NULL)
             return 1;
     return 0;
-}
-
-static const char *
-meta(const lf_curve *c, const char *key)
-{
-    size_t i;
-    for (i = 0; i < c->nmeta; i++)
-        if (strcmp(c->meta[i].key, key) == 0)
-            return c->meta[i].value;
-    return NULL;
 }
 
 /* ---- synthetic files -------------------------------------------------- */

@@ -68,6 +68,28 @@ same_error(const lf_error *a, const lf_error *b)
         && strcmp(a->msg, b->msg) == 0 && strcmp(a->file, b->file) == 0;
 }
 
+/* Whether a line of what the reader found (c->info) holds text. */
+static inline int
+has_info(const lf_curve *c, const char *text)
+{
+    size_t i;
+    for (i = 0; i < c->info.n; i++)
+        if (strstr(c->info.msg[i], text) != NULL)
+            return 1;
+    return 0;
+}
+
+/* The curve's metadata value of key, or NULL. */
+static inline const char *
+meta(const lf_curve *c, const char *key)
+{
+    size_t i;
+    for (i = 0; i < c->nmeta; i++)
+        if (strcmp(c->meta[i].key, key) == 0)
+            return c->meta[i].value;
+    return NULL;
+}
+
 /* Fit the unloading segment with the half-space JKR model (k = 2, R). */
 static inline int
 fit_halfspace(const lf_curve *c, double R, lf_fit_result *res)
