@@ -833,7 +833,8 @@ typedef struct {
                                  index column), or -1: the file's only curve
                                  (lf_plan_expand: all of them) */
     struct lf_file *source;   /* the open file of the row's curve, kept by the
-                                 plan (lf_plan_expand), or NULL */
+                                 plan (lf_plan_expand, lf_plan_open_files), or
+                                 NULL */
 } lf_plan_row;               /* probe.R is NaN where the plan's R cell says
                                 "header": the curve file's header gives it;
                                 probe.b is NaN where the b and interface cells
@@ -843,8 +844,8 @@ typedef struct {
     char *path;               /* the plan's own path */
     size_t n;
     lf_plan_row *rows;
-    size_t nfiles;            /* files opened by lf_plan_expand, closed by */
-    struct lf_file **files;   /* lf_plan_free */
+    size_t nfiles;            /* files opened by lf_plan_expand or */
+    struct lf_file **files;   /* lf_plan_open_files, closed by lf_plan_free */
 } lf_plan;
 
 /* Release a curve or a plan made by the readers below and everything it
@@ -907,8 +908,9 @@ int lf_curve_parse(const char *buf, size_t len, size_t chunk, const char *name,
  * and the command line take it.  lf_curve_read on a file of many curves
  * without an index fails, saying how many it holds and how to name one;
  * a joint fit (lf_fit_input_from_plan) likewise: each of its rows is one
- * curve.  lf_plan_expand makes one row per curve of such a file (what
- * `layerfit fit --batch` fits).
+ * curve.  lf_plan_expand makes one row per curve of such a file;
+ * `layerfit fit --batch` fits each curve (lf_plan_open_files, then one fit
+ * per row and curve).
  *
  * Ownership: the lf_file is the caller's (lf_file_close, NULL allowed);
  * each curve of lf_file_curve is the caller's (lf_curve_free).  The buffer
@@ -951,7 +953,8 @@ void lf_file_close(lf_file *f);
 int lf_curve_path_split(const char *path, char *file, size_t n, long *index);
 
 /* Read a fit plan: one row per curve, `file,k,R,b,interface` and optional
- * `nu,segment,sample,z0,F0` columns.  Relative curve paths are resolved
+ * `nu,segment,sample,z0,F0,format,index` columns (`file#N` names curve N
+ * of a file of many, as the index column does).  Relative curve paths are resolved
  * against the plan's folder (dir for lf_plan_parse; NULL or "" = as
  * written); whether they exist is checked when they are read.  Rows are checked with
  * lf_probe_check and, on bonded rows, 0 <= nu < 0.5.  Ownership and errors
@@ -1311,17 +1314,21 @@ typedef struct {
 } lf_fit_input;
 
 /* Read the curves of rows[0..nrows-1] of the plan (rows NULL: every row,
- * nrows ignored) into in.  Each file is read once, whole, from a descriptor
- * checked when it is opened (lf_input_read with s->open_flags), and its
- * SHA-256 kept in in->sha256.  Warnings of the readers are appended to warn
+ * nrows ignored) into in.  Each text file is read once, whole, from a
+ * descriptor checked when it is opened (lf_input_read with s->open_flags),
+ * a binary file of many curves by random access (lf_file_open; the row's
+ * source when the plan opened it), and the file's SHA-256 kept in
+ * in->sha256.  A row is one curve: FILE#N or its index, or a file's only
+ * curve (a file of many named without an index: LF_EDATA saying how many
+ * it holds).  Warnings of the readers are appended to warn
  * (may be NULL).  On failure in holds nothing and err names the file, line
  * and column where it can (LF_EIO, LF_EFORMAT, LF_EUNIT, LF_EDATA).  A row
  * without a layer (b NaN: empty b and interface cells) gets b = R, a
  * stand-in no half-space formula uses, and origin[j].b NULL: such rows suit
  * half-space fits only, which the caller checks (the model is its choice).
  * One input is one material (LF_EDATA naming the row otherwise): the rows'
- * nu must agree, so must their non-empty samples, and no file may hold the
- * same bytes as an earlier row's with the same segment. */
+ * nu must agree, so must their non-empty samples, and no curve may be an
+ * earlier row's (the same bytes, the same curve of them, the same segment). */
 int lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
                            const lf_input_settings *s, lf_fit_input *in,
                            lf_warnings *warn, lf_error *err);
@@ -1372,7 +1379,8 @@ int lf_table_number(const char *cell, double *v);
  * bytes of a file (at most LF_SNIFF_BYTES) and says how sure it is that the
  * file is its own (0 = not mine, 100 = certain); read parses the whole
  * input, from a file or from memory in chunks, into a curve in SI with its
- * metadata.  lf_curve_read / lf_curve_parse use o->format when given, else
+ * metadata (a binary format of many curves reads its only curve from
+ * memory; lf_file_open reads such files by random access).  lf_curve_read / lf_curve_parse use o->format when given, else
  * the entry with the highest score ("csv" on a tie or when none claims it).
  * --------------------------------------------------------------------- */
 
