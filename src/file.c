@@ -238,7 +238,7 @@ file_start(lf_file *f, const char *head, size_t len, const lf_read_opts *o,
         f->n = status == LF_OK ? 1 : 0;
         return status;
     }
-    if ((status = hash_src(&f->src, f->sha256, err)) != LF_OK)
+    if (f->sha256[0] == '\0' && (status = hash_src(&f->src, f->sha256, err)) != LF_OK)
         return status;
     return f->multi->open(f, warn, err);
 }
