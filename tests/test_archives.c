@@ -80,41 +80,14 @@ same_points(const lf_curve *a, const lf_curve *b, double rel)
 static void
 fits_to(const lf_curve *c, double w, double rel, const char *what)
 {
-    lf_fit_settings s = lf_fit_settings_default();
     lf_fit_result res;
-    lf_fit_curve fc;
-    lf_error err;
-    size_t n;
-    double *d, *f;
-    int st;
-
     if (c == NULL)
         return;
-    n = lf_curve_segment(c, LF_SEG_UNLOAD, NULL, NULL);
-    d = malloc((n ? n : 1) * sizeof *d);
-    f = malloc((n ? n : 1) * sizeof *f);
-    lf_curve_segment(c, LF_SEG_UNLOAD, d, f);
-    memset(&fc, 0, sizeof fc);
-    s.model = &lf_model_halfspace;
-    fc.name = c->file;
-    fc.n = n;
-    fc.depth = d;
-    fc.force = f;
-    fc.probe.k = 2;
-    fc.probe.R = 8e-6;
-    fc.probe.b = 8e-6;      /* not used by the half-space model */
-    fc.probe.base = LF_BASE_FRICTIONLESS;
-    fc.branch = LF_BRANCH_UNLOAD;
-    fc.z0 = fc.F0 = NAN;
-    st = lf_fit_driver(&s, 1, &fc, &res, &err);
-    if (t_int(st, LF_OK, "%s: fit converges", what)) {
-        lf_fit_profile(&s, 1, &fc, &res, LF_PROFILE_CHECK, &err);
+    if (t_int(fit_halfspace_as(c, 8e-6, 1, &res), LF_OK, "%s: fit converges", what)) {
         t_rel(res.w.value, w, rel, "%s: w", what);
         t_rel(res.Estar.value, 25e3, rel, "%s: E*", what);
         lf_fit_result_free(&res);
     }
-    free(d);
-    free(f);
 }
 
 /* Opened from the file and from memory, every curve is the same. */

@@ -90,15 +90,17 @@ meta(const lf_curve *c, const char *key)
     return NULL;
 }
 
-/* Fit the unloading segment with the half-space JKR model (k = 2, R). */
+/* Fit the unloading segment with the half-space JKR model (k = 2, R);
+ * with profile, then the profile check a single fit makes (it goes on
+ * from a lower minimum where it finds one), as `layerfit fit` does. */
 static inline int
-fit_halfspace(const lf_curve *c, double R, lf_fit_result *res)
+fit_halfspace_as(const lf_curve *c, double R, int profile, lf_fit_result *res)
 {
     lf_fit_settings s = lf_fit_settings_default();
     lf_fit_curve fc;
     lf_error err;
     size_t n = lf_curve_segment(c, LF_SEG_UNLOAD, NULL, NULL);
-    double *d = malloc(n * sizeof *d), *f = malloc(n * sizeof *f);
+    double *d = malloc((n ? n : 1) * sizeof *d), *f = malloc((n ? n : 1) * sizeof *f);
     int st;
 
     memset(&fc, 0, sizeof fc);
@@ -115,9 +117,17 @@ fit_halfspace(const lf_curve *c, double R, lf_fit_result *res)
     fc.branch = LF_BRANCH_UNLOAD;
     fc.z0 = fc.F0 = NAN;
     st = lf_fit_driver(&s, 1, &fc, res, &err);
+    if (st == LF_OK && profile)
+        lf_fit_profile(&s, 1, &fc, res, LF_PROFILE_CHECK, &err);
     free(d);
     free(f);
     return st;
+}
+
+static inline int
+fit_halfspace(const lf_curve *c, double R, lf_fit_result *res)
+{
+    return fit_halfspace_as(c, R, 0, res);
 }
 
 #endif
