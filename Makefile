@@ -21,7 +21,7 @@ OPENMP  ?= -fopenmp
 # HAVE_INLINE: GSL's element accessors (gsl_vector_get, ...) inline, range
 # checks kept
 ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE -DHAVE_INLINE $(WARN) $(OPT) $(OPENMP) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
-LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lnettle -lpthread -lm
+LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lnettle -lz -lpthread -lm
 ALL_LDFLAGS := $(OPENMP) $(SANFLAGS) $(LDFLAGS)
 
 # the command (src/cli/) is built on the library's public header
@@ -44,7 +44,7 @@ SO   := $(BUILD)/liblayerfit.so.$(VERSION)
 LIB_ALL := $(BUILD)/liblayerfit-internal.a
 PROG := $(BUILD)/layerfit
 
-DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev gnuplot-nox
+DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev zlib1g-dev gnuplot-nox
 # wanted by some tests (the report test loads the page in headless
 # Chromium, the example test uses pkg-config, `layerfit bench` runs the
 # scipy and lmfit peers), which skip with a note
@@ -205,7 +205,8 @@ FUZZ_SECONDS ?= 20
 # known leaks of third-party libraries (libudunits2), not layerfit's
 LSAN_SUPP := $(CURDIR)/tests/fuzz/lsan.supp
 FUZZ_CC ?= clang
-FUZZ_TARGETS := curve plan chiaro jpk workshop ntmdt hysitron text
+FUZZ_TARGETS := curve plan chiaro jpk workshop ntmdt hysitron text tab jpk_force workshop_map \
+                nanoscope igor
 FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all
 
 .PHONY: fuzz fuzz-build
@@ -229,6 +230,17 @@ fuzz: fuzz-build
 	  if [ $$rc -ne 0 ]; then grep -A30 -E '^==[0-9]+==ERROR|deadly signal' build-fuzz/fuzz_$$t.log | head -60; \
 	    ls build-fuzz/$$t-* 2>/dev/null; exit 1; fi; \
 	done
+
+# Reading a large file of many curves (a synthetic 256 x 256 QI map)
+# against `unzip -p`, and the peak memory of `fit --batch` over maps of
+# 1024 to 16 384 curves (reported, not asserted; tests/bench/maps.sh).
+$(BUILD)/bench_read: tests/bench/bench_read.c $(LIB_ALL) $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB_ALL) $(LDLIBS)
+
+.PHONY: bench-maps
+bench-maps: $(PROG) $(BUILD)/bench_read
+	@sh tests/bench/maps.sh $(PROG) $(BUILD)/bench_read
 
 # Speed against error of the exact model (not part of `make check`).
 $(BUILD)/tests/bench/bench_exact: tests/bench/bench_exact.c $(LIB_ALL) $(HEADERS)

@@ -74,25 +74,32 @@ lf_input_open(const char *path, unsigned flags, int *fd_out, lf_error *err)
 int
 lf_input_read(const char *path, unsigned flags, lf_input *in, lf_error *err)
 {
-    struct sha256_ctx ctx;
-    uint8_t digest[SHA256_DIGEST_SIZE];
-    size_t cap = 65536, i;
     int fd, status;
 
     memset(in, 0, sizeof *in);
     if ((status = lf_input_open(path, flags, &fd, err)) != LF_OK)
         return status;
+    status = lf_input_read_fd(fd, path, in, err);
+    close(fd);
+    return status;
+}
+
+int
+lf_input_read_fd(int fd, const char *path, lf_input *in, lf_error *err)
+{
+    struct sha256_ctx ctx;
+    uint8_t digest[SHA256_DIGEST_SIZE];
+    size_t cap = 65536, i;
+
+    memset(in, 0, sizeof *in);
     in->data = malloc(cap);
-    if (in->data == NULL) {
-        close(fd);
+    if (in->data == NULL)
         return lf_fail_at(err, LF_ENOMEM, path, 0, 0, "out of memory");
-    }
     for (;;) {
         ssize_t r;
         if (in->len == cap) {
             char *d = cap > ((size_t) -1) / 2 ? NULL : realloc(in->data, 2 * cap);
             if (d == NULL) {
-                close(fd);
                 lf_input_free(in);
                 return lf_fail_at(err, LF_ENOMEM, path, 0, 0, "out of memory");
             }
@@ -104,7 +111,6 @@ lf_input_read(const char *path, unsigned flags, lf_input *in, lf_error *err)
             continue;
         if (r < 0) {
             int e = errno;
-            close(fd);
             lf_input_free(in);
             return lf_fail_at(err, LF_EIO, path, 0, 0, "read error: %s", strerror(e));
         }
@@ -112,7 +118,6 @@ lf_input_read(const char *path, unsigned flags, lf_input *in, lf_error *err)
             break;
         in->len += (size_t) r;
     }
-    close(fd);
     sha256_init(&ctx);
     sha256_update(&ctx, in->len, (const uint8_t *) in->data);
     sha256_digest(&ctx, sizeof digest, digest);

@@ -33,6 +33,10 @@ void lf_warn(lf_warnings *w, const char *fmt, ...) LF_PRINTF(2, 3);
 /* A strdup that does not depend on POSIX feature macros. */
 char *lf_strdup(const char *s);
 
+/* lf_input_read on a descriptor already opened by lf_input_open (read from
+ * its current place to its end; the caller closes it). */
+int lf_input_read_fd(int fd, const char *path, lf_input *in, lf_error *err);
+
 /* Largest finite magnitude a derivative is allowed to reach. */
 #define LF_BIG 1e300
 

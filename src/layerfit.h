@@ -812,6 +812,10 @@ typedef struct {
     const char *sensitivity_unit;        /* "m/V" or "m/A" (with a sensitivity) */
     lf_warnings info;         /* what was detected, for `layerfit check`:
                                  columns and units, conversions, segments */
+    /* Where the curve was taken, as its file states it (force maps): */
+    double x, y;              /* position on the sample, m, or NaN */
+    long grid_i, grid_j;      /* column and row on the map's grid (0-based), or -1 */
+    long index;               /* its place in its file (0 for a file of one curve) */
 } lf_curve;
 
 /* One row of a fit plan: which curve, and what is known about it.
@@ -826,6 +830,12 @@ typedef struct {
     double z0;                /* contact point offset, m, if the plan fixes it, else NaN */
     double F0;                /* force offset, N, if the plan fixes it, else NaN */
     char *format;             /* the curve file's reader name, "" = sniffed */
+    long index;               /* which curve of a file of many (`file#N` or the
+                                 index column), or -1: the file's only curve
+                                 (lf_plan_expand: all of them) */
+    struct lf_file *source;   /* the open file of the row's curve, kept by the
+                                 plan (lf_plan_expand, lf_plan_open_files), or
+                                 NULL */
 } lf_plan_row;               /* probe.R is NaN where the plan's R cell says
                                 "header": the curve file's header gives it;
                                 probe.b is NaN where the b and interface cells
@@ -835,6 +845,8 @@ typedef struct {
     char *path;               /* the plan's own path */
     size_t n;
     lf_plan_row *rows;
+    size_t nfiles;            /* files opened by lf_plan_expand or */
+    struct lf_file **files;   /* lf_plan_open_files, closed by lf_plan_free */
 } lf_plan;
 
 /* Release a curve or a plan made by the readers below and everything it
@@ -879,8 +891,71 @@ LF_API int lf_curve_parse(const char *buf, size_t len, size_t chunk, const char 
                    const lf_read_opts *o, lf_curve **out, lf_warnings *warn,
                    lf_error *err);
 
+/* ------------------------------------------------------------------------
+ * Files of many curves: force maps, QI data, force volumes (src/file.c)
+ *
+ * lf_file_open opens any curve file layerfit reads and lists its curves
+ * without decoding them: a text export or a single binary curve holds one;
+ * a JPK force map or QI file, a Bruker force volume or an AFM Workshop
+ * mapping zip holds many.  A binary file is read by random access (pread),
+ * never whole, and lf_file_curve decodes one curve at a time, so a loop
+ * over the curves needs the memory of one.  Once a file is open,
+ * lf_file_info and lf_file_curve may be called from several threads at
+ * once.  lf_file_sha256 is the SHA-256 of the whole file, computed once
+ * when it is opened.
+ *
+ * Naming one curve: "FILE#N" is curve N (0-based) of FILE, when no file
+ * is named "FILE#N" itself; lf_curve_read, plans (or their `index` column)
+ * and the command line take it.  lf_curve_read on a file of many curves
+ * without an index fails, saying how many it holds and how to name one;
+ * a joint fit (lf_fit_input_from_plan) likewise: each of its rows is one
+ * curve.  lf_plan_expand makes one row per curve of such a file;
+ * `layerfit fit --batch` fits each curve (lf_plan_open_files, then one fit
+ * per row and curve).
+ *
+ * Ownership: the lf_file is the caller's (lf_file_close, NULL allowed);
+ * each curve of lf_file_curve is the caller's (lf_curve_free).  The buffer
+ * of lf_file_open_memory is not copied: it must outlive the file.
+ * --------------------------------------------------------------------- */
+
+typedef struct lf_file lf_file;
+
+/* What a file states of one of its curves before it is decoded. */
+typedef struct {
+    double x, y;              /* position on the sample, m, or NaN */
+    long grid_i, grid_j;      /* column and row on the map's grid, or -1 */
+    size_t points;            /* points of all segments */
+    size_t segment_points[3]; /* points per lf_segment (unload, load, hold) */
+} lf_curve_info;
+
+/* flags as for lf_input_open (0: a regular file; LF_INPUT_STREAM: also a
+ * pipe or FIFO, read whole).  o may be NULL (defaults); o->format forces a
+ * reader, else it is sniffed from the first bytes.  A text export is read
+ * and checked here (its errors, with line and column, are lf_curve_read's);
+ * an archive's listing is checked here, each curve when it is decoded.
+ * Errors: LF_EIO, LF_EFORMAT, LF_EUNIT, LF_EDATA, LF_ENOMEM, naming path. */
+LF_API int lf_file_open(const char *path, unsigned flags, const lf_read_opts *o, lf_file **out,
+                 lf_warnings *warn, lf_error *err);
+LF_API int lf_file_open_memory(const char *buf, size_t len, const char *name, const lf_read_opts *o,
+                        lf_file **out, lf_warnings *warn, lf_error *err);
+LF_API size_t lf_file_count(const lf_file *f);
+LF_API const char *lf_file_format(const lf_file *f);     /* the reader's name */
+LF_API const char *lf_file_sha256(const lf_file *f);     /* lowercase hex */
+/* Curve i (0 <= i < count) as the file states it, without decoding it. */
+LF_API int lf_file_info(const lf_file *f, size_t i, lf_curve_info *info, lf_error *err);
+/* Curve i decoded into a new curve in SI (c->index = i; c->file is
+ * "FILE#i" when the file holds several).  Warnings go to warn (may be NULL). */
+LF_API int lf_file_curve(const lf_file *f, size_t i, lf_curve **out, lf_warnings *warn,
+                  lf_error *err);
+LF_API void lf_file_close(lf_file *f);
+/* Split "FILE#N" into FILE (into file, n bytes) and N when no file of the
+ * whole name exists but FILE does; else file = path, *index = -1.
+ * LF_EINVAL when path does not fit in n bytes. */
+LF_API int lf_curve_path_split(const char *path, char *file, size_t n, long *index);
+
 /* Read a fit plan: one row per curve, `file,k,R,b,interface` and optional
- * `nu,segment,sample,z0,F0` columns.  Relative curve paths are resolved
+ * `nu,segment,sample,z0,F0,format,index` columns (`file#N` names curve N
+ * of a file of many, as the index column does).  Relative curve paths are resolved
  * against the plan's folder (dir for lf_plan_parse; NULL or "" = as
  * written); whether they exist is checked when they are read.  Rows are checked with
  * lf_probe_check and, on bonded rows, 0 <= nu < 0.5.  Ownership and errors
@@ -888,6 +963,23 @@ LF_API int lf_curve_parse(const char *buf, size_t len, size_t chunk, const char 
 LF_API int lf_plan_read(const char *path, lf_plan **out, lf_warnings *warn, lf_error *err);
 LF_API int lf_plan_parse(const char *buf, size_t len, size_t chunk, const char *name,
                   const char *dir, lf_plan **out, lf_warnings *warn, lf_error *err);
+/* A plan of one row: the curve(s) of the file at path with one probe (R
+ * NaN: from the file's header; b NaN: no layer, a half-space) on segment
+ * seg; for `layerfit fit --batch MAP --k ...`. */
+LF_API int lf_plan_of_file(const char *path, const lf_probe *probe, lf_segment seg, lf_plan **out,
+                    lf_error *err);
+/* Make one row per curve of every file of many curves that a row names
+ * without an index (the row's other cells copied; index 0..N-1), opening
+ * each such file once (lf_file_open, o as there) and keeping it open in
+ * the plan, where the fit input reads its curves from (row->source).
+ * Files of one curve, and files that cannot be opened (the fit of their
+ * row says why), are left as they are.  LF_ENOMEM only. */
+LF_API int lf_plan_expand(lf_plan *plan, const lf_read_opts *o, lf_error *err);
+/* Only the first half of lf_plan_expand: open each file of many curves the
+ * rows name (row->source, plan->files), leaving the rows as they are; a
+ * caller that walks a row's curves itself (a batch over a large map) needs
+ * no row per curve. */
+LF_API int lf_plan_open_files(lf_plan *plan, const lf_read_opts *o, lf_error *err);
 
 /* Whether a CSV file is a plan (its header has a "file" column) or a curve,
  * from its header alone. */
@@ -1208,8 +1300,9 @@ typedef struct {
     size_t n;
     lf_fit_curve *curves; /* n curves: the points of their segment in SI */
     double nu;            /* the plan's nu, or NaN */
-    double x, y;          /* where the first curve sits on a force map, m:
-                             its file's "# x:" and "# y:" lines, else NaN */
+    double x, y;          /* where the first curve sits on a force map, m,
+                             as its file states it (lf_curve x, y), else NaN */
+    long grid_i, grid_j;  /* and its place on the map's grid, or -1 */
     double **points;      /* owned storage: 2 n arrays (depth, force) */
     char **names;         /* owned storage: n curve paths */
     char (*sha256)[65];   /* n SHA-256 digests (hex) of the curve files as read */
@@ -1217,20 +1310,26 @@ typedef struct {
                                (the caller's probe), "plan" or "file header" */
     const char **format;    /* n: the reader of each file ("csv", "jpk", ...) */
     lf_curve_origin *origin;  /* n: where each curve's probe and constants came from */
+    long *index;              /* n: each curve's place in its file (0 for a file
+                                 of one curve) */
 } lf_fit_input;
 
 /* Read the curves of rows[0..nrows-1] of the plan (rows NULL: every row,
- * nrows ignored) into in.  Each file is read once, whole, from a descriptor
- * checked when it is opened (lf_input_read with s->open_flags), and its
- * SHA-256 kept in in->sha256.  Warnings of the readers are appended to warn
+ * nrows ignored) into in.  Each text file is read once, whole, from a
+ * descriptor checked when it is opened (lf_input_read with s->open_flags),
+ * a binary file of many curves by random access (lf_file_open; the row's
+ * source when the plan opened it), and the file's SHA-256 kept in
+ * in->sha256.  A row is one curve: FILE#N or its index, or a file's only
+ * curve (a file of many named without an index: LF_EDATA saying how many
+ * it holds).  Warnings of the readers are appended to warn
  * (may be NULL).  On failure in holds nothing and err names the file, line
  * and column where it can (LF_EIO, LF_EFORMAT, LF_EUNIT, LF_EDATA).  A row
  * without a layer (b NaN: empty b and interface cells) gets b = R, a
  * stand-in no half-space formula uses, and origin[j].b NULL: such rows suit
  * half-space fits only, which the caller checks (the model is its choice).
  * One input is one material (LF_EDATA naming the row otherwise): the rows'
- * nu must agree, so must their non-empty samples, and no file may hold the
- * same bytes as an earlier row's with the same segment. */
+ * nu must agree, so must their non-empty samples, and no curve may be an
+ * earlier row's (the same bytes, the same curve of them, the same segment). */
 LF_API int lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
                            const lf_input_settings *s, lf_fit_input *in,
                            lf_warnings *warn, lf_error *err);
@@ -1256,7 +1355,8 @@ LF_API void lf_fit_input_free(lf_fit_input *in);
  * bytes of a file (at most LF_SNIFF_BYTES) and says how sure it is that the
  * file is its own (0 = not mine, 100 = certain); read parses the whole
  * input, from a file or from memory in chunks, into a curve in SI with its
- * metadata.  lf_curve_read / lf_curve_parse use o->format when given, else
+ * metadata (a binary format of many curves reads its only curve from
+ * memory; lf_file_open reads such files by random access).  lf_curve_read / lf_curve_parse use o->format when given, else
  * the entry with the highest score ("csv" on a tie or when none claims it).
  * --------------------------------------------------------------------- */
 

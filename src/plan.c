@@ -12,10 +12,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "csvsplit.h"
+#include "readers.h"
 
 enum { P_FILE, P_K, P_R, P_B, P_INTERFACE, P_NU, P_SEGMENT, P_SAMPLE, P_Z0, P_F0, P_FORMAT,
-       NPCOL };
+       P_INDEX, NPCOL };
 
 typedef enum { TEXT, NUMBER, FREE_NUMBER } cell_kind;  /* FREE_NUMBER: empty/NaN = free */
 
@@ -31,16 +31,18 @@ static const lf_csv_column pcols[NPCOL] = {
     [P_Z0]        = { "z0", LF_Q_LENGTH, 0, NULL },
     [P_F0]        = { "F0", LF_Q_FORCE, 0, NULL },
     [P_FORMAT]    = { "format", LF_Q_DIMENSIONLESS, 0, NULL },  /* empty: sniffed */
+    [P_INDEX]     = { "index", LF_Q_DIMENSIONLESS, 0, NULL },   /* empty: the file's only
+                                                                   curve, or all (batch) */
 };
 
 /* What each column's cells hold. */
 static const cell_kind pkind[NPCOL] = {
     [P_FILE] = TEXT, [P_K] = NUMBER, [P_R] = NUMBER, [P_B] = NUMBER, [P_INTERFACE] = TEXT,
     [P_NU] = FREE_NUMBER, [P_SEGMENT] = TEXT, [P_SAMPLE] = TEXT, [P_Z0] = FREE_NUMBER,
-    [P_F0] = FREE_NUMBER, [P_FORMAT] = TEXT,
+    [P_F0] = FREE_NUMBER, [P_FORMAT] = TEXT, [P_INDEX] = FREE_NUMBER,
 };
 
-#define COLUMNS_HINT "a plan has the columns file,k,R,b,interface and may add nu,segment,sample,z0,F0,format"
+#define COLUMNS_HINT "a plan has the columns file,k,R,b,interface and may add nu,segment,sample,z0,F0,format,index"
 
 typedef struct {
     const char *name;
@@ -62,6 +64,7 @@ row_hash(const plan_reader *rd, size_t idx)
     size_t h = (size_t) 2166136261u;
     for (; *c; c++)
         h = (h ^ *c) * (size_t) 16777619u;
+    h = (h ^ (size_t) rd->plan->rows[idx].index) * (size_t) 16777619u;
     return (h ^ (size_t) rd->plan->rows[idx].segment) * (size_t) 16777619u;
 }
 
@@ -100,7 +103,8 @@ seen_before(plan_reader *rd, size_t idx, size_t *dup)
     }
     for (h = row_hash(rd, idx) & (rd->nslot - 1); rd->slot[h] != 0; h = (h + 1) & (rd->nslot - 1)) {
         i = rd->slot[h] - 1;
-        if (rows[i].segment == rows[idx].segment && strcmp(rd->canon[i], rd->canon[idx]) == 0) {
+        if (rows[i].segment == rows[idx].segment && rows[i].index == rows[idx].index
+            && strcmp(rd->canon[i], rd->canon[idx]) == 0) {
             *dup = i;
             return 1;
         }
@@ -233,6 +237,19 @@ plan_file(plan_reader *rd, const lf_csv_record *r, size_t idx, lf_error *err)
     row->file = resolve(rd->dir, t);
     if (row->file == NULL)
         return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
+    {
+        /* "FILE#N": curve N of FILE (when no file has the whole name) */
+        char split[4096];
+        long index;
+        if (lf_curve_path_split(row->file, split, sizeof split, &index) == LF_OK && index >= 0) {
+            if (row->index >= 0 && row->index != index)
+                return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                                  "the file cell names curve %ld, the index column %ld (give "
+                                  "one)", index, row->index);
+            row->file[strlen(split)] = '\0';
+            row->index = index;
+        }
+    }
     /* whether the file exists and is a regular file is checked when it is
      * read (lf_input_open), so that a batch can report it as that curve's
      * problem and go on */
@@ -337,6 +354,7 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     row->line = r->line;
     if ((status = lf_csv_table_segment(&rd->t, r, P_SEGMENT, &row->segment, err)) != LF_OK)
         return status;
+    row->index = -1;
     k = rd->t.col[P_INTERFACE];
     if (no_layer(rd, r) != (r->text[k][0] == '\0'))
         return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
@@ -347,11 +365,13 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     else if ((status = lf_csv_cell_interface(rd->name, r, k, &row->probe.base, err)) != LF_OK)
         return status;
     k = rd->t.col[P_FORMAT];
-    if (k >= 0 && r->text[k][0] != '\0' && lf_reader_find(r->text[k]) == NULL)
+    if (k >= 0 && r->text[k][0] != '\0' && lf_reader_find(r->text[k]) == NULL) {
+        char list[256];
         return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                          "unknown format '%s' (csv, chiaro, jpk, workshop, ntmdt, hysitron, "
-                          "text; or empty to detect it)",
-                          lf_csv_excerpt(r->text[k], buf, sizeof buf));
+                          "unknown format '%s' (%s; or empty to detect it)",
+                          lf_csv_excerpt(r->text[k], buf, sizeof buf),
+                          lf_reader_names(list, sizeof list));
+    }
     k = rd->t.col[P_SAMPLE];
     row->sample = lf_strdup(k >= 0 ? r->text[k] : "");
     row->format = lf_strdup(rd->t.col[P_FORMAT] >= 0 ? r->text[rd->t.col[P_FORMAT]] : "");
@@ -367,6 +387,18 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
         || (status = plan_number(rd, r, P_Z0, &row->z0, err)) != LF_OK
         || (status = plan_number(rd, r, P_F0, &row->F0, err)) != LF_OK)
         return status;
+    if (rd->t.col[P_INDEX] >= 0) {
+        double v;
+        k = rd->t.col[P_INDEX];
+        if ((status = plan_number(rd, r, P_INDEX, &v, err)) != LF_OK)
+            return status;
+        if (!isnan(v) && !(v >= 0 && v < 1e9 && v == floor(v)))
+            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                              "index must be a whole number >= 0 (the curve's place in its "
+                              "file, from 0), or empty");
+        if (!isnan(v))
+            row->index = (long) v;
+    }
     if (R_from_header(rd, r))      /* checked with the curve's R by the fit */
         row->probe.R = 1.0;
     if (no_layer(rd, r))
@@ -478,6 +510,9 @@ lf_plan_free(lf_plan *p)
         free(p->rows[i].sample);
         free(p->rows[i].format);
     }
+    for (i = 0; i < p->nfiles; i++)
+        lf_file_close(p->files[i]);
+    free(p->files);
     free(p->rows);
     free(p->path);
     free(p);
@@ -506,10 +541,22 @@ lf_file_kind_parse(const char *buf, size_t len, const char *name, lf_file_kind *
     lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
     *kind = LF_FILE_CURVE;
     buf = buf ? buf : "";
-    /* an instrument's export is a curve, whatever its first line holds */
+    /* an instrument's export is a curve, whatever its first line holds;
+     * so is binary data (the curve readers say what it is) */
     if (strcmp(lf_reader_sniff(buf, len < LF_SNIFF_BYTES ? len : LF_SNIFF_BYTES)->name,
                "csv") != 0)
         return LF_OK;
+    {
+        char what[1024];
+        lf_src src;
+        src.mem = (const unsigned char *) buf;
+        src.fd = -1;
+        src.size = len;
+        src.name = name;
+        if (lf_describe_binary(&src, buf, len < LF_SNIFF_BYTES ? len : LF_SNIFF_BYTES, what,
+                               sizeof what))
+            return LF_OK;
+    }
     h.ctx = kind;
     h.record = kind_record;
     return lf_csv_read_buffer(buf, len, 0, name, &h, err);
@@ -522,9 +569,166 @@ lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err)
     int status;
 
     *kind = LF_FILE_CURVE;
+    /* a binary file of many curves is a curve file: not read whole */
+    if (lf_file_sniff_multi(path, NULL))
+        return LF_OK;
     if ((status = lf_input_read(path, 0, &in, err)) != LF_OK)
         return status;
     status = lf_file_kind_parse(in.data, in.len, path, kind, err);
     lf_input_free(&in);
     return status;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int
+lf_plan_of_file(const char *path, const lf_probe *probe, lf_segment seg, lf_plan **out,
+                lf_error *err)
+{
+    char split[4096];
+    lf_plan *p;
+    lf_plan_row *row;
+    long index;
+
+    *out = NULL;
+    if (lf_curve_path_split(path, split, sizeof split, &index) != LF_OK)
+        return lf_fail_at(err, LF_EINVAL, path, 0, 0, "path too long");
+    p = calloc(1, sizeof *p);
+    if (p == NULL || (p->path = lf_strdup(path)) == NULL
+        || (p->rows = calloc(1, sizeof *p->rows)) == NULL) {
+        lf_plan_free(p);
+        return lf_fail_at(err, LF_ENOMEM, path, 0, 0, "out of memory");
+    }
+    row = &p->rows[0];
+    row->file = lf_strdup(split);
+    row->sample = lf_strdup("");
+    row->format = lf_strdup("");
+    p->n = 1;
+    if (row->file == NULL || row->sample == NULL || row->format == NULL) {
+        lf_plan_free(p);
+        return lf_fail_at(err, LF_ENOMEM, path, 0, 0, "out of memory");
+    }
+    row->line = 0;
+    row->probe = *probe;
+    row->nu = row->z0 = row->F0 = NAN;
+    row->segment = seg;
+    row->index = index;
+    *out = p;
+    return LF_OK;
+}
+
+/* The open file of path among the plan's, or NULL. */
+static lf_file *
+plan_file_open(const lf_plan *plan, const char *path, const char *format)
+{
+    size_t i;
+    for (i = 0; i < plan->nfiles; i++)
+        if (strcmp(plan->files[i]->path, path) == 0
+            && (format[0] == '\0' || strcmp(lf_file_format(plan->files[i]), format) == 0))
+            return plan->files[i];
+    return NULL;
+}
+
+/* A copy of row r as curve index of its file (strings duplicated). */
+static int
+row_copy(lf_plan_row *to, const lf_plan_row *r, long index, lf_file *source)
+{
+    *to = *r;
+    to->index = index;
+    to->source = source;
+    to->file = lf_strdup(r->file);
+    to->sample = lf_strdup(r->sample);
+    to->format = lf_strdup(r->format);
+    return to->file && to->sample && to->format ? LF_OK : LF_ENOMEM;
+}
+
+int
+lf_plan_open_files(lf_plan *plan, const lf_read_opts *o, lf_error *err)
+{
+    size_t i;
+
+    /* open each file of many curves once */
+    for (i = 0; i < plan->n; i++) {
+        lf_plan_row *r = &plan->rows[i];
+        lf_read_opts ro;
+        lf_file *f;
+        lf_file **files;
+        lf_error e;
+        if (o != NULL)
+            ro = *o;
+        else
+            lf_read_opts_default(&ro);
+        if (ro.format == NULL && r->format[0] != '\0')
+            ro.format = r->format;
+        if ((f = plan_file_open(plan, r->file, r->format)) == NULL) {
+            if (!lf_file_sniff_multi(r->file, ro.format)
+                || lf_file_open(r->file, 0, &ro, &f, NULL, &e) != LF_OK)
+                continue;       /* a text export, or the fit of the row says what is wrong */
+            files = realloc(plan->files, (plan->nfiles + 1) * sizeof *files);
+            if (files == NULL) {
+                lf_file_close(f);
+                return lf_fail(err, LF_ENOMEM, "out of memory");
+            }
+            plan->files = files;
+            plan->files[plan->nfiles++] = f;
+        }
+        r->source = f;
+    }
+    return LF_OK;
+}
+
+int
+lf_plan_expand(lf_plan *plan, const lf_read_opts *o, lf_error *err)
+{
+    lf_plan_row *rows;
+    size_t i, total = 0, w = 0;
+    int status;
+
+    if ((status = lf_plan_open_files(plan, o, err)) != LF_OK)
+        return status;
+    for (i = 0; i < plan->n; i++)
+        total += plan->rows[i].source != NULL && plan->rows[i].index < 0
+                 ? lf_file_count(plan->rows[i].source) : 1;
+    if (total == plan->n)
+        return LF_OK;
+    if ((rows = calloc(total, sizeof *rows)) == NULL)
+        return lf_fail(err, LF_ENOMEM, "out of memory");
+    /* the copies first: on failure the plan is left as it was */
+    for (i = 0; i < plan->n; i++) {
+        lf_plan_row *r = &plan->rows[i];
+        size_t k, n = r->source != NULL && r->index < 0 ? lf_file_count(r->source) : 0;
+        if (n == 0) {
+            rows[w++] = *r;
+            continue;
+        }
+        for (k = 0; k < n; k++, w++)
+            if (row_copy(&rows[w], r, (long) k, r->source) != LF_OK) {
+                size_t j, at = 0;
+                for (j = 0, w++; j < plan->n; j++) {
+                    size_t m = plan->rows[j].source != NULL && plan->rows[j].index < 0
+                               ? lf_file_count(plan->rows[j].source) : 0;
+                    if (m == 0) {
+                        at++;
+                        continue;
+                    }
+                    for (; m > 0 && at < w; m--, at++) {
+                        free(rows[at].file);
+                        free(rows[at].sample);
+                        free(rows[at].format);
+                    }
+                }
+                free(rows);
+                return lf_fail(err, LF_ENOMEM, "out of memory");
+            }
+    }
+    for (i = 0; i < plan->n; i++)
+        if (plan->rows[i].source != NULL && plan->rows[i].index < 0) {
+            free(plan->rows[i].file);
+            free(plan->rows[i].sample);
+            free(plan->rows[i].format);
+        }
+    free(plan->rows);
+    plan->rows = rows;
+    plan->n = total;
+    return LF_OK;
 }

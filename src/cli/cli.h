@@ -161,6 +161,19 @@ const char *cli_interval_method(const lf_fit_estimate *e);
  * estimate (determined, fixed, an upper bound of w, or never profiled). */
 const char *cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit,
                            char *buf, size_t n);
+#define CLI_FIT_NOPTS 24
+void cli_fit_args_init(cli_fit_args *a);
+size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
+int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
+                     lf_input_settings *is);
+/* The probe of a single curve, or of every curve of a file of many, from
+ * --k, --R, --b, --interface (R NaN: from the file's header; b NaN with no
+ * interface: no layer, for a half-space model); dies with status 2 naming
+ * what is missing or wrong. */
+void cli_fit_probe(const char *model, double k, double R, double b, const char *interface,
+                   lf_probe *p);
+/* The fit options' help lines, shared by both usage texts. */
+extern const char cli_fit_help[];
 
 /* Batch fitting (batch.c). */
 #define CLI_MAX_THREADS 1024      /* --threads is 1..CLI_MAX_THREADS */
@@ -175,6 +188,8 @@ typedef struct {
     lf_choose_settings choose;  /* the model choice's settings */
     lf_input_settings input;    /* segment, held offsets */
     const char *command_line;   /* for the provenance record */
+    const lf_probe *probe;      /* not NULL: `plan` is a file of curves, each fitted
+                                   with this probe (--k, --R, --b, --interface) */
 } cli_batch_opts;
 /* Fit every fit of the plan with the settings; returns the exit status
  * (CLI_EXIT_OK, or CLI_EXIT_SOME_FAILED with a summary line on stderr). */
@@ -301,15 +316,6 @@ void cli_gnuplot_string(FILE *g, const char *s);
  * than the most parameters a fit can have (w, E*, nu, z0, F0); `check` and
  * every fit refuse a curve with fewer. */
 #define CLI_MIN_POINTS 6
-/* Read a curve whole (lf_input_read with flags: LF_INPUT_STREAM for a file
- * named on the command line, 0 for one named in a plan), parse it and check
- * that segment seg can be fitted.  sha256 (65 bytes, may be NULL) gets its
- * hash.  Thread-safe; never prints or exits. */
-int cli_curve_load(const char *path, unsigned flags, const lf_read_opts *o, lf_segment seg,
-                   lf_curve **out, char *sha256, lf_warnings *warn, lf_error *err);
-/* The same for a curve already in memory. */
-int cli_curve_from(const lf_input *in, const char *path, const lf_read_opts *o,
-                   lf_segment seg, lf_curve **out, lf_warnings *warn, lf_error *err);
 /* A plan already in memory, its curves resolved against path's folder. */
 int cli_plan_from(const lf_input *in, const char *path, lf_plan **out, lf_warnings *warn,
                   lf_error *err);

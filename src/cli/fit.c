@@ -14,6 +14,7 @@ static const char usage_text[] =
     "usage: layerfit fit PLAN.csv [options]\n"
     "       layerfit fit CURVE.csv --k K --R LENGTH --b LENGTH --interface I [options]\n"
     "       layerfit fit EXPORT.txt --model halfspace --k 2 [--R LENGTH] [options]\n"
+    "       layerfit fit MAP.jpk-force-map#N ...   curve N (from 0) of a file of many\n"
     "\n"
     "Fits w, E* and (where the plan determines it) nu jointly to every curve,\n"
     "with each curve's contact point z0 and force offset F0 free unless fixed.\n"
@@ -56,7 +57,8 @@ const char cli_fit_help[] =
     "                       batches; every interval then says 'not checked')\n"
     "how curve files are read (also for --batch; a plan's format column per row):\n"
     "  --format NAME        the curve files' format instead of sniffing (csv, chiaro, jpk,\n"
-    "                       workshop, ntmdt, hysitron, text; see layerfit check)\n"
+    "                       workshop, ntmdt, hysitron, text, tab, jpk-force,\n"
+    "                       workshop-map, nanoscope, igor; see layerfit check)\n"
     "  --spring-constant K  cantilever spring constant where a file states none (0.032N/m)\n"
     "  --sensitivity S      deflection sensitivity where a file states none (61nm/nA)\n"
     "  --depth-unit UNIT    unit of a depth column whose header gives none (nm)\n"
@@ -92,6 +94,37 @@ print_input_notes(const fit_args *a, const lf_fit_input *in)
                    in->format[j] != NULL ? in->format[j] : "?");
 }
 
+void
+cli_fit_probe(const char *model, double k, double R, double b, const char *interface,
+              lf_probe *p)
+{
+    int base = LF_BASE_FRICTIONLESS;
+    /* a half-space has no thickness and no interface: b NaN, a stand-in
+     * (R) that no half-space formula uses; R NaN: from the file header */
+    int halfspace = cli_model_ignores_b(model);
+    lf_error err;
+    if (halfspace && isnan(b) != (interface == NULL))
+        cli_die(CLI_EXIT_USAGE, "fit: --b and --interface go together (and the half-space "
+                "model uses neither: leave both out)");
+    if (!(halfspace && isnan(b) && interface == NULL)) {
+        if (isnan(b) || interface == NULL)
+            cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
+                    "(e.g. --k 2 --R 1mm --b 1um --interface frictionless)");
+        base = cli_base(interface);
+        if (base < 0)
+            cli_die(CLI_EXIT_USAGE, "fit: unknown interface '%s' (frictionless or bonded)",
+                    interface);
+    }
+    p->k = k;
+    p->R = isnan(R) ? 1.0 : R;    /* checked with the file's R after reading */
+    p->b = isnan(b) ? p->R : b;
+    p->base = (lf_base) base;
+    if (lf_probe_check(p, &err) != LF_OK)
+        cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
+    p->R = R;
+    p->b = b;
+}
+
 /* Read the plan (or the single curve) into in (lf_fit_input_from_plan:
  * the one step from a plan to a fit's input, the one rule for nu). */
 static void
@@ -105,33 +138,14 @@ read_input(const char *path, const fit_args *a, const char *model, const lf_inpu
     int status;
     if (!isnan(a->k)) {
         lf_probe p;
-        int base = LF_BASE_FRICTIONLESS;
-        /* a half-space has no thickness and no interface: b NaN, a stand-in
-         * (R) that no half-space formula uses; R NaN: from the file header */
-        int halfspace = cli_model_ignores_b(model);
-        if (halfspace && isnan(a->b) != (a->interface == NULL))
-            cli_die(CLI_EXIT_USAGE, "fit: --b and --interface go together (and the half-space "
-                    "model uses neither: leave both out)");
-        if (!(halfspace && isnan(a->b) && a->interface == NULL)) {
-            if (isnan(a->b) || a->interface == NULL)
-                cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
-                        "(e.g. --k 2 --R 1mm --b 1um --interface frictionless)");
-            base = cli_base(a->interface);
-            if (base < 0)
-                cli_die(CLI_EXIT_USAGE, "fit: unknown interface '%s' (frictionless or bonded)",
-                        a->interface);
-        }
-        p.k = a->k;
-        p.R = isnan(a->R) ? 1.0 : a->R;    /* checked with the file's R after reading */
-        p.b = isnan(a->b) ? p.R : a->b;
-        p.base = (lf_base) base;
-        if (lf_probe_check(&p, &err) != LF_OK)
-            cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
-        p.R = a->R;
-        p.b = a->b;
+        char file[4096];
+        long index;
+        cli_fit_probe(model, a->k, a->R, a->b, a->interface, &p);
         /* a curve named on the command line may be a pipe (read once) */
         one.open_flags = LF_INPUT_STREAM;
-        cli_input_guard("fit", path);
+        if (lf_curve_path_split(path, file, sizeof file, &index) != LF_OK)
+            cli_die(CLI_EXIT_USAGE, "fit: %s: path too long", path);
+        cli_input_guard("fit", file);
         status = lf_fit_input_from_curve(path, &p, &one, in, &warn, &err);
         if (status != LF_OK && status != LF_ENOMEM && cli_reads_as_plan(path))
             cli_die(CLI_EXIT_USAGE, "fit: %s is a plan: --k, --R, --b and --interface are for a "
@@ -352,9 +366,15 @@ cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
     is->z0 = a->fix_z0;
     is->F0 = a->fix_F0;
     is->min_points = CLI_MIN_POINTS;    /* the same test as `layerfit check` */
-    if (a->format != NULL && lf_reader_find(a->format) == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: unknown format '%s' (csv, chiaro, jpk, workshop, ntmdt, "
-                "hysitron, text)", a->format);
+    if (a->format != NULL && lf_reader_find(a->format) == NULL) {
+        char list[400];
+        size_t r, len = 0;
+        list[0] = '\0';
+        for (r = 0; lf_reader_types[r] != NULL; r++)
+            len += (size_t) snprintf(list + len, len < sizeof list ? sizeof list - len : 0,
+                                     "%s%s", r ? ", " : "", lf_reader_types[r]->name);
+        cli_die(CLI_EXIT_USAGE, "fit: unknown format '%s' (%s)", a->format, list);
+    }
     a->read.format = a->format;
     if (lf_read_opts_constants(&a->read, a->spring_constant, a->sensitivity, &err) != LF_OK)
         cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
