@@ -179,6 +179,74 @@ typedef struct {
     double alt_w;          /* the guess's runner-up w, a second start, or NaN */
 } fit_start;
 
+/* block.c: the normal matrix of a joint fit in block form (an arrowhead:
+ * the material's m x m head, each curve's q x m coupling and q x q block,
+ * zeros between curves), its Cholesky factor and its inverse, each in
+ * O(ncurves) numbers and time.  The material's parameters are the first m
+ * of x, curve j's own the q[j] from at[j]. */
+#define FIT_QMAX 3                      /* a curve's own: z0, F0, slope */
+#define FIT_MMAX (FIT_NMAT + 1)         /* w, E*, nu, + nu's column of the
+                                           judgement (judge.c) */
+#define FIT_CB (FIT_QMAX * FIT_MMAX + FIT_QMAX * FIT_QMAX)  /* a curve's C, B */
+#define FIT_CF (FIT_QMAX * FIT_QMAX + FIT_QMAX * FIT_MMAX)  /* its L, E */
+typedef struct {
+    size_t m, n, p;         /* head, curves, all parameters */
+    unsigned char *q;       /* n: each curve's own parameters */
+    size_t *at;             /* n: the index of its first */
+    double head[FIT_MMAX * FIT_MMAX];   /* H, full, stride FIT_MMAX */
+    double *cb;             /* n x FIT_CB: C (stride FIT_MMAX), B (full,
+                               stride FIT_QMAX) */
+} fit_arrow;
+typedef struct {
+    size_t m, n, p;
+    const unsigned char *q; /* the arrow's */
+    const size_t *at;
+    double ls[FIT_MMAX * FIT_MMAX];     /* Cholesky of the Schur complement */
+    double *cf;             /* n x FIT_CF: L_j, then E_j = L_j^-1 C_j */
+    int ok;                 /* the last lf_arrow_factor succeeded */
+} fit_arrow_chol;
+/* The inverse block by block: head S^-1 (S the Schur complement); per
+ * curve F = B^-1 C in C's place and B^-1 in B's (the inverse's coupling
+ * is -F S^-1, its block B^-1 + F S^-1 F^T, and between curves j, k
+ * F_j S^-1 F_k^T). */
+typedef struct {
+    size_t m, n, p;
+    unsigned char *q;
+    size_t *at;
+    double head[FIT_MMAX * FIT_MMAX];
+    double *cb;
+} fit_arrow_inv;
+int lf_arrow_alloc(fit_arrow *a, size_t m, size_t n, const unsigned char *q);
+int lf_arrow_copy_layout(fit_arrow *dst, const fit_arrow *src);
+void lf_arrow_free(fit_arrow *a);
+void lf_arrow_zero(fit_arrow *a);
+void lf_arrow_copy(fit_arrow *dst, const fit_arrow *src);
+/* Add v at (r, c) and (c, r) (global indices; j: a hint of the curve
+ * whose parameter one of them is); entries outside the pattern are
+ * ignored.  lf_arrow_get reads one. */
+void lf_arrow_add(fit_arrow *a, size_t j, size_t r, size_t c, double v);
+double lf_arrow_get(const fit_arrow *a, size_t r, size_t c);
+void lf_arrow_diag(const fit_arrow *a, double *d);
+/* The dense p x p matrix (row-major, both triangles). */
+void lf_arrow_dense(const fit_arrow *a, double *G);
+/* y = A x. */
+void lf_arrow_mul(const fit_arrow *a, const double *x, double *y);
+int lf_arrow_chol_alloc(fit_arrow_chol *L, const fit_arrow *a);
+void lf_arrow_chol_free(fit_arrow_chol *L);
+/* Factor A + mu diag(d2) (d2 NULL: A); 0 when a pivot is not positive or
+ * not above rel times its diagonal (not positive definite). */
+int lf_arrow_factor(fit_arrow_chol *L, const fit_arrow *a, const double *d2, double mu,
+                    double rel);
+/* x = A^-1 b (x may be b); |L^-1 b|^2 = b^T A^-1 b, with y (p) scratch;
+ * the diagonal of A^-1. */
+void lf_arrow_solve(const fit_arrow_chol *L, const double *b, double *x);
+double lf_arrow_norm2(const fit_arrow_chol *L, const double *b, double *y);
+void lf_arrow_inv_diag(const fit_arrow_chol *L, double *d);
+int lf_arrow_inv_make(fit_arrow_inv *V, const fit_arrow_chol *L);
+void lf_arrow_inv_free(fit_arrow_inv *V);
+/* Entry (a, b) of the inverse (NaN out of range). */
+double lf_arrow_inv_get(const fit_arrow_inv *V, size_t a, size_t b);
+
 /* Levenberg-Marquardt's own state (lm.c), for the "lm" method with the
  * analytic Jacobian. */
 #define FIT_LM_MU0 1e-3        /* initial damping over the largest scaled diagonal */
@@ -189,7 +257,9 @@ typedef struct {
     gsl_vector *xt, *rt;    /* np, nres: the trial point (the previous one
                                after an accepted step) */
     gsl_vector *h;          /* np: the step */
-    double *A, *L;          /* np x np: J^T J and a Cholesky factor */
+    fit_arrow A;            /* J^T J (block.c) */
+    fit_arrow_chol L;       /* the damped matrix's Cholesky factor */
+    double *Ah;             /* np: scratch */
     double *g, *D2;         /* np: J^T r, squared scaling */
     double *colmax;         /* np: max |J_ik| of each column at x */
     double cost, cost_prev, mu, nu;
@@ -216,7 +286,9 @@ typedef struct {
     gsl_vector *x0;      /* np: where an iteration started */
     double *keep;        /* 3 ncurves: offsets kept aside by a second start */
     double *off;         /* 4 ncurves: the guess's offsets (a trial's, the best's) */
-    double *jtj;         /* np x np: J^T J and its Cholesky factor */
+    fit_arrow_chol jchol;   /* the Cholesky factor of J^T J where the solver
+                               last examined it (iterate.c) */
+    fit_arrow gsl_jtj;   /* J^T J of GSL's Jacobian (iterate.c) */
     double *grad, *colmax;  /* np: J^T r and column maxima */
     double *ainv;        /* np: the diagonal of (J^T J)^-1 */
     double *gn_x;        /* np: where the solver last examined its Jacobian */
@@ -324,8 +396,14 @@ int lf_fit_project_offsets(lf_fit *f, double *x, double *r);
  * columns and its own offsets'), J never formed: A = J^T J (lower
  * triangle), g = J^T r for the residuals r at x, colmax = max |J_ik| per
  * column.  GSL_EDOM when the model cannot be evaluated. */
-int lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, double *A, double *g,
+int lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, fit_arrow *A, double *g,
                        double *colmax);
+/* The same from a Jacobian J (nres x np) and residuals r at hand (GSL's). */
+void lf_fit_normal_of_jacobian(const lf_fit *f, const gsl_matrix *J, const double *r,
+                               fit_arrow *A, double *g, double *colmax);
+/* The arrow of f's layout (lf_arrow_alloc with f's material count and each
+ * curve's own). */
+int lf_fit_arrow_alloc(const lf_fit *f, fit_arrow *A);
 /* Jacobian with respect to the physical coordinates, rows weighted. */
 int lf_fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J);
 /* The same with one more column (J: nres x (np + 1)): dP/dnu of every row,

@@ -146,7 +146,7 @@ at_minimum(lf_fit *f)
         double g = 0.0, cn = 0.0;
         if (f->ws.own) {     /* J^T r and the column's squared norm, from lm.c */
             g = f->ws.lm.g[k];
-            cn = f->ws.lm.A[k * f->np + k];
+            cn = lf_arrow_get(&f->ws.lm.A, k, k);
         } else {
             const gsl_matrix *J = gsl_J(f);
             for (i = 0; i < f->nres; i++) {
@@ -262,35 +262,20 @@ track_cost(lf_fit *f, size_t iter)
 static int
 examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
 {
-    const gsl_vector *r = cur_r(f);
-    const size_t n = f->nres, p = f->np;
-    double *A = f->ws.jtj, *g = f->ws.grad, *big = f->ws.colmax, top = 0.0, low = HUGE_VAL;
-    size_t i, k, l;
+    const size_t p = f->np;
+    const fit_arrow *A = &f->ws.lm.A;
+    double *g = f->ws.grad, *big = f->ws.colmax, top = 0.0, low = HUGE_VAL;
+    size_t k;
 
     *dchi2 = HUGE_VAL;
-    for (k = 0; k < p; k++) {
-        big[k] = 0.0;
+    for (k = 0; k < p; k++)
         f->ws.ainv[k] = NAN;
-    }
     if (f->ws.own) {         /* lm.c has J^T J and J^T r already */
-        memcpy(A, f->ws.lm.A, p * p * sizeof *A);
         memcpy(g, f->ws.lm.g, p * sizeof *g);
         memcpy(big, f->ws.lm.colmax, p * sizeof *big);
     } else {
-        const gsl_matrix *J = gsl_J(f);
-        memset(A, 0, p * p * sizeof *A);
-        for (k = 0; k < p; k++)
-            g[k] = 0.0;
-        for (i = 0; i < n; i++) {
-            const double *row = J->data + i * J->tda, ri = r->data[i * r->stride];
-            for (k = 0; k < p; k++) {
-                double a = row[k];
-                big[k] = lf_fmax(big[k], fabs(a));
-                g[k] += a * ri;
-                for (l = 0; l <= k; l++)
-                    A[k * p + l] += a * row[l];
-            }
-        }
+        lf_fit_normal_of_jacobian(f, gsl_J(f), cur_r(f)->data, &f->ws.gsl_jtj, g, big);
+        A = &f->ws.gsl_jtj;
     }
     for (k = 0; k < p; k++) {
         if (!isfinite(big[k]) || !isfinite(g[k]))
@@ -303,47 +288,12 @@ examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
     }
     if (!(low > FIT_DEAD_COLUMN * top))
         return 0;
-    /* Cholesky of J^T J (lower triangle), then |L^-1 g|^2 */
-    for (k = 0; k < p; k++) {
-        for (l = 0; l <= k; l++) {
-            double sum = A[k * p + l];
-            size_t q;
-            for (q = 0; q < l; q++)
-                sum -= A[k * p + q] * A[l * p + q];
-            if (l == k) {
-                if (!(sum > 1e-14 * A[k * p + k]) || !(sum > 0))
-                    return 1;
-                A[k * p + k] = sqrt(sum);
-            } else {
-                A[k * p + l] = sum / A[l * p + l];
-            }
-        }
-    }
-    *dchi2 = 0.0;
-    for (k = 0; k < p; k++) {
-        double y = g[k];
-        for (l = 0; l < k; l++)
-            y -= A[k * p + l] * g[l];
-        g[k] = y / A[k * p + k];
-        *dchi2 += g[k] * g[k];
-    }
-    /* the diagonal of (J^T J)^-1: |L^-1 e_k|^2, with big[] as scratch */
-    for (k = 0; k < p; k++) {
-        double sum = 0.0;
-        for (l = 0; l < p; l++) {
-            double y = l == k ? 1.0 : 0.0;
-            size_t q;
-            if (l < k) {
-                big[l] = 0.0;
-                continue;
-            }
-            for (q = k; q < l; q++)
-                y -= A[l * p + q] * big[q];
-            big[l] = y / A[l * p + l];
-            sum += big[l] * big[l];
-        }
-        f->ws.ainv[k] = sum;
-    }
+    /* the block Cholesky of J^T J (block.c), then |L^-1 g|^2 and the
+     * diagonal of (J^T J)^-1 */
+    if (!lf_arrow_factor(&f->ws.jchol, A, NULL, 0.0, 1e-14))
+        return 1;
+    *dchi2 = lf_arrow_norm2(&f->ws.jchol, g, f->ws.lm.Ah);
+    lf_arrow_inv_diag(&f->ws.jchol, f->ws.ainv);
     return 1;
 }
 

@@ -235,8 +235,8 @@ work_alloc(lf_fit *f)
     const size_t small = 2 * np                     /* x0_internal, xcache */
                          + (2 * nc + 1) * GUESS_NSUB + GUESS_NODES   /* sub, node */
                          + 7 * nc                   /* keep, off */
-                         + 3 * np * np + 9 * np     /* jtj, lm.A, lm.L; lm.g, lm.D2, lm.colmax,
-                                                       grad, colmax, ainv, gn_x, basin_x, basin_tol */
+                         + 10 * np                  /* lm.g, lm.D2, lm.colmax, lm.Ah, grad,
+                                                       colmax, ainv, gn_x, basin_x, basin_tol */
                          + 6 * np;                  /* lm.x, xt, h, x, x2, x0 */
     const size_t total = small + 2 * nd + nwork     /* sqrtw, delta, work */
                          + 4 * nr;                  /* lm.r, rt, r, r2 */
@@ -255,9 +255,7 @@ work_alloc(lf_fit *f)
     w->node = take(&at, GUESS_NSUB + GUESS_NODES);
     w->keep = take(&at, 3 * nc);
     w->off = take(&at, 4 * nc);
-    w->jtj = take(&at, np * np);
-    w->lm.A = take(&at, np * np);
-    w->lm.L = take(&at, np * np);
+    w->lm.Ah = take(&at, np);
     w->lm.g = take(&at, np);
     w->lm.D2 = take(&at, np);
     w->lm.colmax = take(&at, np);
@@ -280,6 +278,11 @@ work_alloc(lf_fit *f)
     w->lm.rt = take_vector(v++, &at, nr);
     w->r = take_vector(v++, &at, nr);
     w->r2 = take_vector(v++, &at, nr);
+    /* J^T J in block form, and its factors (block.c) */
+    if (lf_fit_arrow_alloc(f, &w->lm.A) != LF_OK || lf_arrow_copy_layout(&w->gsl_jtj, &w->lm.A) != LF_OK
+        || lf_arrow_chol_alloc(&w->lm.L, &w->lm.A) != LF_OK
+        || lf_arrow_chol_alloc(&w->jchol, &w->lm.A) != LF_OK)
+        return LF_ENOMEM;
     /* least squares until a robust loss reweights: the guess's cost
      * comparisons (guess_model.c) run before any solve */
     for (k = 0; k < nd; k++)
@@ -406,6 +409,10 @@ lf_fit_free(lf_fit *f)
     free(f->order);
     free(f->ws.ev);
     free(f->ws.block);
+    lf_arrow_chol_free(&f->ws.lm.L);
+    lf_arrow_chol_free(&f->ws.jchol);
+    lf_arrow_free(&f->ws.gsl_jtj);
+    lf_arrow_free(&f->ws.lm.A);
     if (f->gsl != NULL)
         gsl_multifit_nlinear_free(f->gsl);
     free(f);

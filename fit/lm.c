@@ -1,10 +1,14 @@
 /* lm.c: the Levenberg-Marquardt iteration of the "lm" method, on the
  * small normal matrix (formed without J, problem.c).
  *
- * A fit has a few parameters (2 to about 10) and hundreds of rows, so one
- * step is cheap once J is known: the step h solves
+ * A fit has a few material parameters, each curve a few of its own, and
+ * hundreds of rows per curve, so one step is cheap once J^T J is known:
+ * the step h solves
  *     (J^T J + mu D^2) h = -J^T r
- * by Cholesky of the p x p matrix, D the largest column norms of J seen so
+ * by the block Cholesky of the arrowhead J^T J (block.c: the curves' own
+ * parameters eliminated, then the material's reduced system), in time and
+ * memory that grow with the number of curves, not its cube and square;
+ * D the largest column norms of J seen so
  * far (More's scaling, as GSL's gsl_multifit_nlinear_scale_more), and mu
  * follows Nielsen's rule (Madsen, Nielsen and Tingleff, "Methods for
  * non-linear least squares problems", 2004, eq. 3.14; GSL's lm.c does the
@@ -53,45 +57,25 @@
 
 #include "fit.h"
 
-/* Cholesky solve of (A + mu diag(D2)) h = -g, p x p, A symmetric (lower
- * triangle used); L is scratch.  0 when not positive definite. */
+/* Solve (A + mu diag(D2)) h = -g by the block Cholesky of the arrowhead
+ * (block.c); 0 when not positive definite. */
 static int
-damped_solve(size_t p, const double *A, const double *D2, double mu, const double *g,
-             double *L, double *h)
+damped_solve(lf_fit *f, double *h)
 {
-    size_t k, l, q;
+    fit_lm *lm = &f->ws.lm;
+    size_t k;
 
-    for (k = 0; k < p; k++)
-        for (l = 0; l <= k; l++) {
-            double s = A[k * p + l] + (k == l ? mu * D2[k] : 0.0);
-            for (q = 0; q < l; q++)
-                s -= L[k * p + q] * L[l * p + q];
-            if (k == l) {
-                if (!(s > 0))
-                    return 0;
-                L[k * p + k] = sqrt(s);
-            } else {
-                L[k * p + l] = s / L[l * p + l];
-            }
-        }
-    for (k = 0; k < p; k++) {
-        double s = -g[k];
-        for (q = 0; q < k; q++)
-            s -= L[k * p + q] * h[q];
-        h[k] = s / L[k * p + k];
-    }
-    for (k = p; k-- > 0;) {
-        double s = h[k];
-        for (q = k + 1; q < p; q++)
-            s -= L[q * p + k] * h[q];
-        h[k] = s / L[k * p + k];
-    }
+    if (!lf_arrow_factor(&lm->L, &lm->A, lm->D2, lm->mu, 0.0))
+        return 0;
+    for (k = 0; k < f->np; k++)
+        h[k] = -lm->g[k];
+    lf_arrow_solve(&lm->L, h, h);
     return 1;
 }
 
-/* A = J^T J (lower triangle), g = J^T r, colmax = max |J_ik| per column
- * at the current point (problem.c, J never formed), whose cost |r|^2 / 2
- * the caller has; D2 grows to the squared column norms. */
+/* A = J^T J (block.c's arrowhead), g = J^T r, colmax = max |J_ik| per
+ * column at the current point (problem.c, J never formed), whose cost
+ * |r|^2 / 2 the caller has; D2 grows to the squared column norms. */
 static int
 normal_equations(lf_fit *f, double cost)
 {
@@ -100,11 +84,12 @@ normal_equations(lf_fit *f, double cost)
     size_t k;
 
     lm->nevaldf++;
-    if (lf_fit_normal_sums(f, lm->x->data, lm->r->data, lm->A, lm->g, lm->colmax) != GSL_SUCCESS)
+    if (lf_fit_normal_sums(f, lm->x->data, lm->r->data, &lm->A, lm->g, lm->colmax) != GSL_SUCCESS)
         return GSL_EDOM;
     lm->cost = cost;
+    lf_arrow_diag(&lm->A, lm->Ah);
     for (k = 0; k < p; k++)
-        lm->D2[k] = lf_fmax(lm->D2[k], lm->A[k * p + k]);
+        lm->D2[k] = lf_fmax(lm->D2[k], lm->Ah[k]);
     return GSL_SUCCESS;
 }
 
@@ -169,7 +154,7 @@ lf_fit_lm_iterate(lf_fit *f)
 
     for (reject = 0; reject < FIT_LM_MAX_REJECT; reject++) {
         double pred = 0.0, cost_t, ss = 0.0, rho;
-        if (!damped_solve(p, lm->A, lm->D2, lm->mu, lm->g, lm->L, lm->h->data)) {
+        if (!damped_solve(f, lm->h->data)) {
             lm->mu *= lm->nu;
             lm->nu *= 2.0;
             continue;
@@ -177,13 +162,9 @@ lf_fit_lm_iterate(lf_fit *f)
         if (clip_log_step(f, lm->h->data)) {
             /* predicted decrease of the shortened step: -g^T h - h^T A h / 2 */
             const double *h = lm->h->data;
-            for (k = 0; k < p; k++) {
-                double Ah = 0.0;
-                size_t l;
-                for (l = 0; l < p; l++)
-                    Ah += (k >= l ? lm->A[k * p + l] : lm->A[l * p + k]) * h[l];
-                pred -= h[k] * (lm->g[k] + 0.5 * Ah);
-            }
+            lf_arrow_mul(&lm->A, h, lm->Ah);
+            for (k = 0; k < p; k++)
+                pred -= h[k] * (lm->g[k] + 0.5 * lm->Ah[k]);
         } else {
             /* predicted decrease: h^T (mu D^2 h - g) / 2 */
             for (k = 0; k < p; k++)

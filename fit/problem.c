@@ -8,6 +8,7 @@
  * (dP/ddelta, dP/dln w, dP/dln E*, dP/dnu) by the chain rule.  The callbacks
  * do not allocate. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include <gsl/gsl_blas.h>
@@ -548,7 +549,25 @@ sums_of(const lf_fit *f, const fit_curve *c, const row_map *map, const double *r
 }
 
 int
-lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, double *A, double *g,
+lf_fit_arrow_alloc(const lf_fit *f, fit_arrow *A)
+{
+    unsigned char *q = malloc(f->ncurves ? f->ncurves : 1);
+    size_t j, m = 0;
+    int k, st;
+
+    if (q == NULL)
+        return LF_ENOMEM;
+    for (k = 0; k < FIT_NMAT; k++)
+        m += f->imat[k] >= 0;
+    for (j = 0; j < f->ncurves; j++)
+        q[j] = (unsigned char) ((f->c[j].iz0 >= 0) + (f->c[j].iF0 >= 0) + (f->c[j].islope >= 0));
+    st = lf_arrow_alloc(A, m, f->ncurves, q);
+    free(q);
+    return st;
+}
+
+int
+lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, fit_arrow *A, double *g,
                    double *colmax)
 {
     const size_t p = f->np;
@@ -556,7 +575,7 @@ lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, double *A, doubl
 
     if (eval_all(f, x) != LF_OK)
         return GSL_EDOM;
-    memset(A, 0, p * p * sizeof *A);
+    lf_arrow_zero(A);
     memset(g, 0, p * sizeof *g);
     memset(colmax, 0, p * sizeof *colmax);
     for (j = 0; j < f->ncurves; j++) {
@@ -573,20 +592,57 @@ lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, double *A, doubl
             g[cq] += sg[q];
             /* as the maximum above: a NaN in sb stays out, the sums carry it */
             colmax[cq] = sb[q] > colmax[cq] ? sb[q] : colmax[cq];
-            for (l = 0; l <= q; l++) {
-                const size_t cl = (size_t) map.col[l];
-                A[cq > cl ? cq * p + cl : cl * p + cq] += sa[q * 6 + l];
-            }
+            for (l = 0; l <= q; l++)
+                lf_arrow_add(A, j, cq, (size_t) map.col[l], sa[q * 6 + l]);
         }
     }
     if (f->nu_prior) {      /* the prior's row: one entry, in nu's column */
         const size_t inu = (size_t) f->imat[FIT_NU];
         const double v = prior_entry(f, x, 0), ri = r[f->ndata];
-        A[inu * p + inu] += v * v;
+        lf_arrow_add(A, f->ncurves, inu, inu, v * v);
         g[inu] += v * ri;
         colmax[inu] = lf_fmax(colmax[inu], fabs(v));
     }
     return GSL_SUCCESS;
+}
+
+/* Row i of J (its columns cols[0..nc)) into A, g and colmax. */
+static void
+add_row(fit_arrow *A, size_t j, const double *row, double ri, const size_t *cols, size_t nc,
+        double *g, double *colmax)
+{
+    size_t a, b;
+
+    for (a = 0; a < nc; a++) {
+        const double v = row[cols[a]];
+        colmax[cols[a]] = lf_fmax(colmax[cols[a]], fabs(v));
+        g[cols[a]] += v * ri;
+        for (b = 0; b <= a; b++)
+            lf_arrow_add(A, j, cols[a], cols[b], v * row[cols[b]]);
+    }
+}
+
+void
+lf_fit_normal_of_jacobian(const lf_fit *f, const gsl_matrix *J, const double *r, fit_arrow *A,
+                          double *g, double *colmax)
+{
+    const size_t p = f->np, m = A->m;
+    size_t i, j, a, cols[FIT_MMAX + FIT_QMAX], nc;
+
+    lf_arrow_zero(A);
+    memset(g, 0, p * sizeof *g);
+    memset(colmax, 0, p * sizeof *colmax);
+    for (a = 0; a < m; a++)
+        cols[a] = a;
+    for (j = 0; j < f->ncurves; j++) {
+        /* a curve's rows: the material's columns and its own */
+        for (a = 0, nc = m; a < A->q[j]; a++)
+            cols[nc++] = A->at[j] + a;
+        for (i = f->c[j].row; i < f->c[j].row + f->c[j].data.n; i++)
+            add_row(A, j, J->data + i * J->tda, r[i], cols, nc, g, colmax);
+    }
+    for (i = f->ndata; i < f->nres; i++)        /* the prior's: nu's alone */
+        add_row(A, f->ncurves, J->data + i * J->tda, r[i], cols, m, g, colmax);
 }
 
 int

@@ -110,10 +110,19 @@ normal_decompose(lf_fit *f, const double *x, const gsl_vector *res, fit_decomp *
      * model's at x are cached) */
     if (f->ws.own && lf_fit_gn_at(f, &xv.vector)
         && memcmp(lm->x->data, x, p * sizeof *x) == 0)
-        memcpy(G, lm->A, p * p * sizeof *G);
-    else if (lf_fit_normal_sums(f, x, res->data, G, g, c) != GSL_SUCCESS) {
-        free(G);
-        return LF_ENUMERIC;
+        lf_arrow_dense(&lm->A, G);
+    else {
+        fit_arrow A;
+        int st = lf_arrow_copy_layout(&A, &lm->A);
+        if (st == LF_OK && lf_fit_normal_sums(f, x, res->data, &A, g, c) != GSL_SUCCESS)
+            st = LF_ENUMERIC;
+        if (st == LF_OK)
+            lf_arrow_dense(&A, G);
+        lf_arrow_free(&A);
+        if (st != LF_OK) {
+            free(G);
+            return st;
+        }
     }
     lf_fit_internal_scale(f, x, c);
     status = lf_fit_decomp_normal(d, G, c, f->set.rcond);

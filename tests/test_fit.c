@@ -350,7 +350,14 @@ decomposition(void)
             gsl_vector_const_view xv = gsl_vector_const_view_array(f->ws.x->data, p);
             t_int(lf_fit_residuals(&xv.vector, f, &rv.vector), GSL_SUCCESS, "%s: residuals", s.label);
         }
-        t_int(lf_fit_normal_sums(f, f->ws.x->data, r, G, g, cm), GSL_SUCCESS, "%s: J^T J", s.label);
+        {
+            fit_arrow A;
+            t_int(lf_fit_arrow_alloc(f, &A), LF_OK, "alloc");
+            t_int(lf_fit_normal_sums(f, f->ws.x->data, r, &A, g, cm), GSL_SUCCESS, "%s: J^T J",
+                  s.label);
+            lf_arrow_dense(&A, G);
+            lf_arrow_free(&A);
+        }
         lf_fit_internal_scale(f, f->ws.x->data, c);
         t_int(lf_fit_decomp_alloc(&a, f->nres, p), LF_OK, "alloc");
         t_int(lf_fit_decomp_alloc(&b, 0, p), LF_OK, "alloc");
