@@ -27,6 +27,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_blas.h>
+
 #include "fit.h"
 
 /* Entry (r, c) of a curve's blocks: C at cb[r * FIT_MMAX + c], B at
@@ -481,25 +483,34 @@ lf_arrow_inv_diag(const fit_arrow_chol *L, double *d)
 /* ---- the inverse, kept block by block ---------------------------------- */
 
 int
+lf_arrow_inv_alloc(fit_arrow_inv *V, size_t m, size_t n, const unsigned char *q,
+                   const size_t *at, size_t p)
+{
+    memset(V, 0, sizeof *V);
+    V->m = m;
+    V->n = n;
+    V->p = p;
+    V->q = malloc(n ? n : 1);
+    V->at = malloc((n ? n : 1) * sizeof *V->at);
+    V->cb = calloc(n ? n * FIT_CB : 1, sizeof *V->cb);
+    if (V->q == NULL || V->at == NULL || V->cb == NULL) {
+        lf_arrow_inv_free(V);
+        return LF_ENOMEM;
+    }
+    memcpy(V->q, q, n);
+    memcpy(V->at, at, n * sizeof *V->at);
+    return LF_OK;
+}
+
+int
 lf_arrow_inv_make(fit_arrow_inv *V, const fit_arrow_chol *L)
 {
     const size_t m = L->m;
     double W[FIT_MMAX * FIT_MMAX], Li[FIT_QMAX * FIT_QMAX];
     size_t j, r, c, k;
 
-    memset(V, 0, sizeof *V);
-    V->m = m;
-    V->n = L->n;
-    V->p = L->p;
-    V->q = malloc(L->n ? L->n : 1);
-    V->at = malloc((L->n ? L->n : 1) * sizeof *V->at);
-    V->cb = calloc(L->n ? L->n * FIT_CB : 1, sizeof *V->cb);
-    if (V->q == NULL || V->at == NULL || V->cb == NULL) {
-        lf_arrow_inv_free(V);
+    if (lf_arrow_inv_alloc(V, m, L->n, L->q, L->at, L->p) != LF_OK)
         return LF_ENOMEM;
-    }
-    memcpy(V->q, L->q, L->n);
-    memcpy(V->at, L->at, L->n * sizeof *V->at);
     head_inverse(L, W);
     for (r = 0; r < m; r++)         /* S^-1 = W^T W */
         for (c = 0; c < m; c++) {
@@ -525,6 +536,44 @@ lf_arrow_inv_make(fit_arrow_inv *V, const fit_arrow_chol *L)
             }
     }
     return LF_OK;
+}
+
+void
+lf_arrow_inv_apply(const fit_arrow_inv *V, const double *v, double *out)
+{
+    const size_t m = V->m;
+    double t[FIT_MMAX], u[FIT_MMAX];
+    size_t j, r, c;
+
+    /* [[B' + F S F^T, -F S], [-S F^T, S]] v: t = v_m - F^T v_c, u = S t */
+    for (c = 0; c < m; c++)
+        t[c] = v[c];
+    for (j = 0; j < V->n; j++) {
+        const double *cb = V->cb + j * FIT_CB, *vj = v + V->at[j];
+        for (r = 0; r < V->q[j]; r++)
+            for (c = 0; c < m; c++)
+                t[c] -= C_AT(cb, r, c) * vj[r];
+    }
+    for (r = 0; r < m; r++) {
+        double s = 0.0;
+        for (c = 0; c < m; c++)
+            s += H_AT(V->head, r, c) * t[c];
+        u[r] = s;
+    }
+    for (j = 0; j < V->n; j++) {
+        const double *cb = V->cb + j * FIT_CB, *vj = v + V->at[j];
+        double *oj = out + V->at[j];
+        for (r = 0; r < V->q[j]; r++) {
+            double s = 0.0;
+            for (c = 0; c < V->q[j]; c++)
+                s += B_AT(cb, r, c) * vj[c];
+            for (c = 0; c < m; c++)
+                s -= C_AT(cb, r, c) * u[c];
+            oj[r] = s;
+        }
+    }
+    for (r = 0; r < m; r++)
+        out[r] = u[r];
 }
 
 void
@@ -581,3 +630,71 @@ lf_arrow_inv_get(const fit_arrow_inv *V, size_t a, size_t b)
         s += B_AT(ca, ra, rb);
     return s;
 }
+
+/* ---- small dense kernels (decomp.c, decomp_block.c) ---------------------- */
+
+/* The Euclidean norm of column k of A (n rows from row r0, row stride
+ * tda): the plain sum of squares unless it over- or underflowed, then
+ * BLAS's scaled one. */
+double
+lf_fit_column_norm(const double *A, size_t tda, size_t r0, size_t n, size_t k)
+{
+    double ss, s0 = 0.0, s1 = 0.0;       /* two sums: half the adds' latency */
+    size_t i;
+
+    for (i = r0; i + 1 < n; i += 2) {
+        s0 += A[i * tda + k] * A[i * tda + k];
+        s1 += A[(i + 1) * tda + k] * A[(i + 1) * tda + k];
+    }
+    if (i < n)
+        s0 += A[i * tda + k] * A[i * tda + k];
+    ss = s0 + s1;
+    if (isfinite(ss) && (ss > 1e-280 || ss == 0.0))
+        return sqrt(ss);
+    {
+        gsl_vector_const_view col = gsl_vector_const_view_array_with_stride(A + r0 * tda + k, tda,
+                                                                            n - r0);
+        return gsl_blas_dnrm2(&col.vector);
+    }
+}
+
+/* Householder QR of the n x p matrix A (row stride tda, n >= p) in place,
+ * stored as LAPACK and GSL store it (R on and above the diagonal, each
+ * reflector's vector below it with an implicit leading 1, H_k = I - tau_k
+ * v v^T), so that gsl_linalg_QR_QTvec applies Q^T.  A tall, narrow J: each
+ * reflector is applied to the columns on its right one at a time. */
+void
+lf_fit_householder_qr(double *A, size_t tda, size_t n, size_t p, double *tau)
+{
+    size_t i, k, l;
+
+    for (k = 0; k < p; k++) {
+        double *akk = A + k * tda + k;
+        const double alpha = *akk, xnorm = lf_fit_column_norm(A, tda, k + 1, n, k);
+        double beta, scale;
+        if (xnorm == 0.0) {         /* nothing below the diagonal: H = I */
+            tau[k] = 0.0;
+            continue;
+        }
+        beta = -(alpha >= 0.0 ? 1.0 : -1.0) * hypot(alpha, xnorm);
+        tau[k] = (beta - alpha) / beta;
+        scale = 1.0 / (alpha - beta);   /* |alpha - beta| >= xnorm > 0 */
+        for (i = k + 1; i < n; i++)
+            A[i * tda + k] *= scale;
+        *akk = beta;
+        if (k + 1 == p)
+            break;
+        /* each column on the right: w = tau (v^T A[k:, l]), A[k:, l] -= w v,
+         * column by column so that the sum stays in a register */
+        for (l = k + 1; l < p; l++) {
+            double wl = A[k * tda + l];
+            for (i = k + 1; i < n; i++)
+                wl += A[i * tda + k] * A[i * tda + l];
+            wl *= tau[k];
+            A[k * tda + l] -= wl;
+            for (i = k + 1; i < n; i++)
+                A[i * tda + l] -= A[i * tda + k] * wl;
+        }
+    }
+}
+

@@ -49,7 +49,7 @@ typedef struct {
     int *exact_ok;          /* per curve: P_exact could be evaluated */
     lf_eval *ev;            /* max n: scratch evaluations */
     double *d;              /* nres: the difference vector */
-    double *coef;           /* np */
+    double *coef, *step;    /* np */
     fit_decomp dec;         /* of the Jacobian at the origin */
     judge_bias *thin, *half_b, *cur;  /* per curve */
     lf_error *err;          /* where a model move's failure goes */
@@ -76,6 +76,7 @@ chooser_free(chooser *c)
     free(c->ev);
     free(c->d);
     free(c->coef);
+    free(c->step);
     free(c->thin);
     free(c->half_b);
     free(c->cur);
@@ -106,13 +107,14 @@ chooser_alloc(chooser *c, lf_fit *f, const lf_choose_settings *cs)
     c->ev = calloc(nmax, sizeof *c->ev);
     c->d = calloc(f->nres, sizeof *c->d);
     c->coef = calloc(f->np, sizeof *c->coef);
+    c->step = calloc(f->np, sizeof *c->step);
     c->thin = calloc(nc, sizeof *c->thin);
     c->half_b = calloc(nc, sizeof *c->half_b);
     c->cur = calloc(nc, sizeof *c->cur);
     c->ab_lo = calloc(nc, sizeof *c->ab_lo);
     c->ab_hi = calloc(nc, sizeof *c->ab_hi);
     if (!c->rung || !c->fixed || !c->k || !c->P_exact || !c->exact_ok || !c->ev || !c->d || !c->coef
-        || !c->thin || !c->half_b || !c->cur || !c->ab_lo || !c->ab_hi
+        || !c->step || !c->thin || !c->half_b || !c->cur || !c->ab_lo || !c->ab_hi
         || lf_fit_decomp_alloc(&c->dec, f->nres, f->np) != LF_OK)
         return LF_ENOMEM;
     return LF_OK;
@@ -171,8 +173,8 @@ decompose(chooser *c)
 static void
 project(chooser *c, judge_bias *b)
 {
-    lf_fit_decomp_project(&c->dec, c->d, c->coef);
-    lf_judge_bias(&c->dec, c->f->imat, c->coef, b->r);
+    lf_fit_decomp_step(&c->dec, c->d, c->coef, c->step);
+    lf_judge_bias(&c->dec, c->f->imat, c->step, b->r);
     b->ok = 1;
 }
 

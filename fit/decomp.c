@@ -54,6 +54,7 @@ lf_fit_decomp_alloc(fit_decomp *d, size_t n, size_t p)
 void
 lf_fit_decomp_free(fit_decomp *d)
 {
+    lf_fit_bdec_free(&d->blk);
     gsl_matrix_free(d->QR);
     gsl_vector_free(d->tau);
     gsl_matrix_free(d->U);
@@ -65,71 +66,6 @@ lf_fit_decomp_free(fit_decomp *d)
     memset(d, 0, sizeof *d);
 }
 
-/* The Euclidean norm of column k of A (n rows from row r0, row stride
- * tda): the plain sum of squares unless it over- or underflowed, then
- * BLAS's scaled one. */
-static double
-column_norm(const double *A, size_t tda, size_t r0, size_t n, size_t k)
-{
-    double ss, s0 = 0.0, s1 = 0.0;       /* two sums: half the adds' latency */
-    size_t i;
-
-    for (i = r0; i + 1 < n; i += 2) {
-        s0 += A[i * tda + k] * A[i * tda + k];
-        s1 += A[(i + 1) * tda + k] * A[(i + 1) * tda + k];
-    }
-    if (i < n)
-        s0 += A[i * tda + k] * A[i * tda + k];
-    ss = s0 + s1;
-    if (isfinite(ss) && (ss > 1e-280 || ss == 0.0))
-        return sqrt(ss);
-    {
-        gsl_vector_const_view col = gsl_vector_const_view_array_with_stride(A + r0 * tda + k, tda,
-                                                                            n - r0);
-        return gsl_blas_dnrm2(&col.vector);
-    }
-}
-
-/* Householder QR of the n x p matrix A (row stride tda, n >= p) in place,
- * stored as LAPACK and GSL store it (R on and above the diagonal, each
- * reflector's vector below it with an implicit leading 1, H_k = I - tau_k
- * v v^T), so that gsl_linalg_QR_QTvec applies Q^T.  A tall, narrow J: each
- * reflector is applied to the columns on its right one at a time. */
-static void
-householder_qr(double *A, size_t tda, size_t n, size_t p, double *tau)
-{
-    size_t i, k, l;
-
-    for (k = 0; k < p; k++) {
-        double *akk = A + k * tda + k;
-        const double alpha = *akk, xnorm = column_norm(A, tda, k + 1, n, k);
-        double beta, scale;
-        if (xnorm == 0.0) {         /* nothing below the diagonal: H = I */
-            tau[k] = 0.0;
-            continue;
-        }
-        beta = -(alpha >= 0.0 ? 1.0 : -1.0) * hypot(alpha, xnorm);
-        tau[k] = (beta - alpha) / beta;
-        scale = 1.0 / (alpha - beta);   /* |alpha - beta| >= xnorm > 0 */
-        for (i = k + 1; i < n; i++)
-            A[i * tda + k] *= scale;
-        *akk = beta;
-        if (k + 1 == p)
-            break;
-        /* each column on the right: w = tau (v^T A[k:, l]), A[k:, l] -= w v,
-         * column by column so that the sum stays in a register */
-        for (l = k + 1; l < p; l++) {
-            double wl = A[k * tda + l];
-            for (i = k + 1; i < n; i++)
-                wl += A[i * tda + k] * A[i * tda + l];
-            wl *= tau[k];
-            A[k * tda + l] -= wl;
-            for (i = k + 1; i < n; i++)
-                A[i * tda + l] -= A[i * tda + k] * wl;
-        }
-    }
-}
-
 int
 lf_fit_decomp_factor(fit_decomp *d, double rcond, int scale)
 {
@@ -138,7 +74,7 @@ lf_fit_decomp_factor(fit_decomp *d, double rcond, int scale)
     if (d->n < p)
         return LF_EINVAL;
     for (k = 0; k < p; k++) {
-        const double dn = scale ? column_norm(d->QR->data, d->QR->tda, 0, d->n, k) : 1.0;
+        const double dn = scale ? lf_fit_column_norm(d->QR->data, d->QR->tda, 0, d->n, k) : 1.0;
         gsl_vector_set(d->D, k, dn);
         if (scale && dn > 0) {
             const double inv = 1.0 / dn;    /* a multiplication per element, not a division */
@@ -146,7 +82,7 @@ lf_fit_decomp_factor(fit_decomp *d, double rcond, int scale)
                 d->QR->data[i * d->QR->tda + k] *= inv;
         }
     }
-    householder_qr(d->QR->data, d->QR->tda, d->n, p, d->tau->data);
+    lf_fit_householder_qr(d->QR->data, d->QR->tda, d->n, p, d->tau->data);
     gsl_matrix_set_zero(d->U);
     for (i = 0; i < p; i++)
         for (k = i; k < p; k++)
@@ -211,15 +147,75 @@ lf_fit_decomp_run(fit_decomp *d, lf_fit *f, const double *x, double rcond)
     return lf_fit_decomp_factor(d, rcond, 1);
 }
 
+int
+lf_fit_decomp_block_run(fit_decomp *d, lf_fit *f, const double *x, int with_nu, double rcond)
+{
+    int st = lf_fit_bdec_run(&d->blk, f, x, with_nu, rcond, 0);
+
+    d->block = 1;
+    d->p = d->blk.p;
+    d->n = 0;
+    d->rank = d->blk.rank;
+    return st;
+}
+
+double
+lf_fit_decomp_norm(const fit_decomp *d, size_t k)
+{
+    return d->block ? d->blk.D[k] : gsl_vector_get(d->D, k);
+}
+
+double
+lf_fit_decomp_smin_ratio(const fit_decomp *d)
+{
+    if (d->p == 0)
+        return 1.0;
+    if (d->block)
+        return d->blk.smin / d->blk.s0;
+    return gsl_vector_get(d->S, d->p - 1) / gsl_vector_get(d->S, 0);
+}
+
 double
 lf_fit_decomp_nullw(const fit_decomp *d, size_t k)
 {
-    double w = gsl_vector_get(d->D, k) > 0 ? 0.0 : 1.0;
+    double w;
     size_t l;
 
+    if (d->block)
+        return lf_fit_bdec_nullw(&d->blk, k);
+    w = gsl_vector_get(d->D, k) > 0 ? 0.0 : 1.0;
     for (l = d->rank; l < d->p; l++)
         w += gsl_matrix_get(d->V, k, l) * gsl_matrix_get(d->V, k, l);
     return w;
+}
+
+double
+lf_fit_decomp_combination_nullw(const fit_decomp *d, const int *cols, const double *g, size_t m)
+{
+    double norm = 0.0, null = 0.0;
+    size_t i, l, nl = d->block ? d->blk.k : d->p - d->rank;
+
+    for (i = 0; i < m; i++)
+        if (cols[i] >= 0) {
+            double dk = lf_fit_decomp_norm(d, (size_t) cols[i]);
+            if (!(dk > 0))
+                return 1.0;
+            norm += g[i] * g[i] / (dk * dk);
+        }
+    if (!(norm > 0))
+        return 1.0;
+    for (l = 0; l < nl; l++) {
+        double s = 0.0;
+        for (i = 0; i < m; i++)
+            if (cols[i] >= 0) {
+                const size_t c = (size_t) cols[i];
+                const double v = d->block ? d->blk.V[l * d->p + c]
+                                          : gsl_matrix_get(d->V, c, d->rank + l);
+                s += v * g[i] / lf_fit_decomp_norm(d, c);
+            }
+        null += s * s;
+    }
+    return null / norm;
 }
 
 void
@@ -238,12 +234,53 @@ lf_fit_decomp_project(fit_decomp *d, const double *v, double *coef)
     }
 }
 
+void
+lf_fit_decomp_step(fit_decomp *d, const double *v, double *coef, double *step)
+{
+    size_t k, l;
+
+    lf_fit_decomp_project(d, v, coef);
+    for (k = 0; k < d->p; k++) {
+        double s = 0.0;
+        for (l = 0; l < d->rank; l++)
+            s += gsl_matrix_get(d->V, k, l) * coef[l];
+        step[k] = s;
+    }
+}
+
+void
+lf_fit_decomp_pinv(const fit_decomp *d, const double *g, double *out, double *work)
+{
+    size_t k, l;
+
+    if (d->block) {
+        lf_fit_bdec_pinv(&d->blk, g, out, work);
+        return;
+    }
+    for (l = 0; l < d->rank; l++) {
+        double s = 0.0, sl = gsl_vector_get(d->S, l);
+        for (k = 0; k < d->p; k++)
+            s += gsl_matrix_get(d->V, k, l) * g[k];
+        work[l] = s / (sl * sl);
+    }
+    for (k = 0; k < d->p; k++) {
+        double s = 0.0;
+        for (l = 0; l < d->rank; l++)
+            s += gsl_matrix_get(d->V, k, l) * work[l];
+        out[k] = s;
+    }
+}
+
 double
 lf_fit_decomp_cov(const fit_decomp *d, int a, int b, double scale)
 {
-    double s = 0.0, da = gsl_vector_get(d->D, (size_t) a), db = gsl_vector_get(d->D, (size_t) b);
+    double s = 0.0, da, db;
     size_t l;
 
+    if (d->block)
+        return lf_fit_bdec_cov(&d->blk, (size_t) a, (size_t) b, scale);
+    da = gsl_vector_get(d->D, (size_t) a);
+    db = gsl_vector_get(d->D, (size_t) b);
     if (!(da > 0) || !(db > 0))
         return NAN;
     for (l = 0; l < d->rank; l++) {

@@ -311,7 +311,8 @@ typedef struct {
     int *cz0, *cF0;         /* per curve, -1 when held */
     fit_decomp dec;         /* of the stack of the curves' R blocks */
     double *g;              /* p: D^-1 R^T Q^T d of one curve */
-    double *coef;           /* p: its projection on the determined directions */
+    double *coef;           /* p: the step it makes (scaled) */
+    double *work;           /* p: scratch */
 } setwork;
 
 static void
@@ -322,6 +323,7 @@ setwork_free(setwork *w)
     free(w->cF0);
     free(w->g);
     free(w->coef);
+    free(w->work);
     lf_fit_decomp_free(&w->dec);
 }
 
@@ -362,7 +364,8 @@ setwork_alloc(setwork *w, const lf_design *d, size_t ns, const size_t *idx, int 
     w->p = p;
     w->g = calloc(p, sizeof *w->g);
     w->coef = calloc(p, sizeof *w->coef);
-    if (!w->g || !w->coef || lf_fit_decomp_alloc(&w->dec, NL * ns, p) != LF_OK)
+    w->work = calloc(p, sizeof *w->work);
+    if (!w->g || !w->coef || !w->work || lf_fit_decomp_alloc(&w->dec, NL * ns, p) != LF_OK)
         return LF_ENOMEM;
     return LF_OK;
 }
@@ -419,7 +422,7 @@ project_bias(setwork *w, size_t j, int rung, double r[FIT_NMAT])
 {
     const fit_decomp *d = &w->dec;
     const model_part *mp = &w->d->p[w->idx[j]].m[rung];
-    size_t k, l;
+    size_t k;
     int c, q;
 
     for (k = 0; k < w->p; k++)
@@ -434,12 +437,7 @@ project_bias(setwork *w, size_t j, int rung, double r[FIT_NMAT])
         if (gsl_vector_get(d->D, (size_t) gc) > 0)
             w->g[gc] = s / gsl_vector_get(d->D, (size_t) gc);
     }
-    for (l = 0; l < d->rank; l++) {
-        double vg = 0.0, sl = gsl_vector_get(d->S, l);
-        for (k = 0; k < w->p; k++)
-            vg += gsl_matrix_get(d->V, k, l) * w->g[k];
-        w->coef[l] = vg / (sl * sl);
-    }
+    lf_fit_decomp_pinv(d, w->g, w->coef, w->work);
     lf_judge_bias(d, w->col, w->coef, r);
 }
 

@@ -243,9 +243,19 @@ void lf_arrow_solve(const fit_arrow_chol *L, const double *b, double *x);
 double lf_arrow_norm2(const fit_arrow_chol *L, const double *b, double *y);
 void lf_arrow_inv_diag(const fit_arrow_chol *L, double *d);
 int lf_arrow_inv_make(fit_arrow_inv *V, const fit_arrow_chol *L);
+/* Its blocks' room, zeroed, for a layout given (then filled by hand). */
+int lf_arrow_inv_alloc(fit_arrow_inv *V, size_t m, size_t n, const unsigned char *q,
+                       const size_t *at, size_t p);
+/* out = V v (out not v). */
+void lf_arrow_inv_apply(const fit_arrow_inv *V, const double *v, double *out);
 void lf_arrow_inv_free(fit_arrow_inv *V);
 /* Entry (a, b) of the inverse (NaN out of range). */
 double lf_arrow_inv_get(const fit_arrow_inv *V, size_t a, size_t b);
+/* The Euclidean norm of column k of A (rows r0..n-1, stride tda), safe
+ * from over- and underflow; Householder QR of the n x p matrix A (n >= p)
+ * in place, stored as LAPACK and GSL store it. */
+double lf_fit_column_norm(const double *A, size_t tda, size_t r0, size_t n, size_t k);
+void lf_fit_householder_qr(double *A, size_t tda, size_t n, size_t p, double *tau);
 
 /* Levenberg-Marquardt's own state (lm.c), for the "lm" method with the
  * analytic Jacobian. */
@@ -410,6 +420,14 @@ int lf_fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J);
  * weighted, as if nu were free while it is held (the judgement of E* apart
  * from nu, judge.c). */
 int lf_fit_jacobian_physical_nu(lf_fit *f, const double *x, gsl_matrix *J);
+/* Curve j's rows of the weighted physical Jacobian at x into rows
+ * (n_j x ncol, row-major): the material's free columns (with_nu: then
+ * dP/dnu, as if nu were free), then the curve's own; *mcols the material's
+ * count (with nu's).  GSL_EDOM when the model cannot be evaluated. */
+int lf_fit_curve_rows(lf_fit *f, const double *x, size_t j, int with_nu, double *rows,
+                      size_t *mcols);
+/* The nu prior's row's one entry (in nu's column; 0 without a prior). */
+double lf_fit_prior_entry(const lf_fit *f, const double *x, int physical);
 /* c[k] = the internal Jacobian's column k over the physical one at x (each
  * internal coordinate's d(physical)/d(internal): w, E*, dnu/du, L, Fs,
  * Fs/L; all > 0). */
@@ -562,12 +580,57 @@ int lf_fit_solve_run(lf_fit *f, const fit_start *start, fit_run *run, lf_warning
  * or more curves all disagreeing); fills res as lf_fit_run does. */
 int lf_fit_solve(lf_fit *f, const fit_start *start, lf_fit_result *res, lf_error *err);
 
+/* decomp_block.c: decomp.c's decomposition for many curves, from the
+ * block structure (see its top): the scaled Gram, the columns' norms, the
+ * largest and smallest singular values, the rank, the weights of the
+ * undetermined directions and the pseudo-inverse over the determined ones. */
+#define FIT_EIG (FIT_QMAX + FIT_QMAX * FIT_MMAX)    /* a curve's eigenvalues, W^T C */
+typedef struct {
+    size_t p, m, n;          /* parameters, material columns, curves */
+    fit_arrow G;             /* the scaled Gram (its layout: q, at) */
+    double *D;               /* p: the physical columns' norms */
+    double s0, smin;         /* largest and smallest singular value of J D^-1 */
+    size_t rank;
+    double *lw;              /* p: weight in the curves' own undetermined
+                                directions */
+    size_t k;                /* undetermined directions through the material */
+    double *V, *Y;           /* p x k each (vector l at l p): them, and X V */
+    double Z[FIT_MMAX * FIT_MMAX];   /* V^T X V */
+    fit_arrow_inv X;         /* the generalised inverse, block by block */
+    double *eig;             /* n x FIT_EIG: each curve's spectrum (scratch) */
+} fit_bdec;
+/* A result's covariance in block form: the decomposition's pseudo-inverse
+ * (its scratch released), s^2, and which rows stand (result.c). */
+struct lf_fit_covariance {
+    fit_bdec b;
+    double scale;
+    unsigned char *det;      /* p: 0 where the parameter is not determined */
+};
+/* Release the decomposition's scratch that the covariance does not need. */
+void lf_fit_bdec_trim(fit_bdec *b);
+/* Decompose at x (with_nu: dP/dnu as one more material column, nu held;
+ * from_r: the rank from R even where the Gram would do, for tests);
+ * LF_ENUMERIC when the model cannot be evaluated or the Jacobian is not
+ * finite. */
+int lf_fit_bdec_run(fit_bdec *b, lf_fit *f, const double *x, int with_nu, double rcond,
+                    int from_r);
+void lf_fit_bdec_free(fit_bdec *b);
+double lf_fit_bdec_nullw(const fit_bdec *b, size_t k);
+/* scale times the pseudo-inverse's (a, c) in physical units (NaN for a
+ * column of zeros). */
+double lf_fit_bdec_cov(const fit_bdec *b, size_t a, size_t c, double scale);
+/* out = the pseudo-inverse of the scaled Gram times g (scaled
+ * coordinates; work: p scratch). */
+void lf_fit_bdec_pinv(const fit_bdec *b, const double *g, double *out, double *work);
+
 /* decomp.c: the one decomposition of the column-scaled physical Jacobian
  * that the uncertainty and the model choice share:
  *     J D^-1 = Q R,  R = U S V^T,
  * D the column norms; rank counts singular values above rcond S_0. */
 typedef struct {
     size_t n, p, rank;
+    int block;           /* 1: the block form (blk) holds it, not these */
+    fit_bdec blk;
     gsl_matrix *QR;      /* n x p: Householder QR of J D^-1 */
     gsl_vector *tau;     /* p */
     gsl_matrix *U, *V;   /* p x p */
@@ -605,6 +668,27 @@ double lf_fit_decomp_cov(const fit_decomp *d, int a, int b, double scale);
 /* coef[l] = (U_l . v) / S_l for l < rank, U the left singular vectors of
  * J D^-1 (v of length n). */
 void lf_fit_decomp_project(fit_decomp *d, const double *v, double *coef);
+/* The least-squares step of the scaled parameters that the residual change
+ * v (length n) makes, pinv(J D^-1) v (not in the block form, which has no
+ * rows: lf_fit_decomp_pinv of D^-1 J^T v there); coef: rank scratch. */
+void lf_fit_decomp_step(fit_decomp *d, const double *v, double *coef, double *step);
+/* out = pinv(D^-1 J^T J D^-1) g, the scaled coordinates' (work: p scratch). */
+void lf_fit_decomp_pinv(const fit_decomp *d, const double *g, double *out, double *work);
+/* The decomposition in block form (decomp_block.c) of f's Jacobian at x
+ * (with_nu: with dP/dnu as a column after the material's). */
+int lf_fit_decomp_block_run(fit_decomp *d, lf_fit *f, const double *x, int with_nu,
+                            double rcond);
+/* The smallest singular value over the largest; column k's norm D_k. */
+double lf_fit_decomp_smin_ratio(const fit_decomp *d);
+double lf_fit_decomp_norm(const fit_decomp *d, size_t k);
+/* The weight in the undetermined directions of the combination sum_i
+ * g[i] (parameter of column cols[i]) (g in the parameters' own units;
+ * columns -1 skipped): 1 when it has no gradient. */
+double lf_fit_decomp_combination_nullw(const fit_decomp *d, const int *cols, const double *g,
+                                       size_t m);
+/* Decompositions of more parameters than this take the block form, and
+ * the result keeps its covariance in it (lf_fit_covariance). */
+#define FIT_DENSE_P LF_FIT_DENSE_PARAMS
 
 /* judge.c: what a set of curves determines and why, one judgement for a
  * fit at its solution (uncertainty.c) and a design at the truth
@@ -698,11 +782,12 @@ typedef struct {
     double r[FIT_NMAT];
     int ok;
 } judge_bias;
-/* The bias from coef[l] (l < rank), the projection of the weighted force
- * difference d = (P_exact - P_model) / sigma onto the determined
- * directions, (U_l . d) / S_l = (V_l . D^-1 J^T d) / S_l^2 (to first order
- * the estimate moves by (J^T J)^+ J^T d, one Gauss-Newton step). */
-void lf_judge_bias(const fit_decomp *d, const int col[FIT_NMAT], const double *coef,
+/* The bias from step, the least-squares step of the scaled parameters
+ * (lf_fit_decomp_step, _pinv) that the weighted force difference
+ * d = (P_exact - P_model) / sigma makes, pinv(J D^-1) d (to first order the
+ * estimate moves by (J^T J)^+ J^T d, one Gauss-Newton step), over the
+ * standard errors. */
+void lf_judge_bias(const fit_decomp *d, const int col[FIT_NMAT], const double *step,
                    double r[FIT_NMAT]);
 double lf_judge_bias_max(const double r[FIT_NMAT], int *which);
 /* One round of the auto model choice (lf_fit_choose_driver's rule): while

@@ -65,8 +65,8 @@ start_value(const fit_prof *p, const char *name, double v, double fallback)
         return fallback;
     if (h == np)
         return r->value[k];
-    var = r->cov[h * np + h];
-    c = r->cov[k * np + h];
+    var = lf_fit_result_cov(r, h, h);
+    c = lf_fit_result_cov(r, k, h);
     if (!(var > 0) || !isfinite(c))
         return r->value[k];
     dv = lf_fmin(lf_fmax(v - r->value[h], -PROFILE_PREDICT_SE * sqrt(var)),

@@ -63,36 +63,6 @@ lf_judge_col_determined(const fit_decomp *d, int col)
     return col >= 0 && lf_fit_decomp_nullw(d, (size_t) col) <= FIT_NULL_WEIGHT;
 }
 
-/* The weight in the undetermined directions of the linear combination
- * sum_i g[i] * (parameter of column cols[i]) (g in the parameters' own
- * units; columns -1 skipped): its gradient in the scaled coordinates,
- * normalised.  1 when it has no gradient. */
-static double
-combination_nullw(const fit_decomp *d, const int *cols, const double *g, size_t m)
-{
-    double norm = 0.0, null = 0.0;
-    size_t i, l;
-
-    for (i = 0; i < m; i++)
-        if (cols[i] >= 0) {
-            double dk = gsl_vector_get(d->D, (size_t) cols[i]);
-            if (!(dk > 0))
-                return 1.0;
-            norm += g[i] * g[i] / (dk * dk);
-        }
-    if (!(norm > 0))
-        return 1.0;
-    for (l = d->rank; l < d->p; l++) {
-        double s = 0.0;
-        for (i = 0; i < m; i++)
-            if (cols[i] >= 0)
-                s += gsl_matrix_get(d->V, (size_t) cols[i], l) * g[i]
-                     / gsl_vector_get(d->D, (size_t) cols[i]);
-        null += s * s;
-    }
-    return null / norm;
-}
-
 /* k = 2 alone with free z0 and F0: every curve so. */
 static int
 k2_alone(const judge_in *in)
@@ -241,8 +211,7 @@ say(const judge_in *in, const judge_out *o, int any_bonded, lf_warnings *words)
         lf_warn(words, "not determined by the data: %s (fix some of them or add curves)", buf);
     if (words->n == 0)
         lf_warn(words, "every free parameter is determined (smallest scaled singular value %.2g)",
-                in->d->p > 0 ? gsl_vector_get(in->d->S, in->d->p - 1) / gsl_vector_get(in->d->S, 0)
-                             : 1.0);
+                lf_fit_decomp_smin_ratio(in->d));
 }
 
 void
@@ -280,7 +249,7 @@ lf_judge(const judge_in *in, judge_out *o, lf_warnings *words)
     if (o->M_free) {
         const int cols[2] = { in->col[FIT_E], in->col[FIT_NU] };
         const double g[2] = { in->dM[0], in->dM[1] };
-        o->M_det = combination_nullw(d, cols, g, 2) <= FIT_NULL_WEIGHT;
+        o->M_det = lf_fit_decomp_combination_nullw(d, cols, g, 2) <= FIT_NULL_WEIGHT;
     }
     /* E* of bonded curves alone, nu neither given nor determined: does E*
      * hinge on nu?  With nu free, when the Jacobian leaves E* undetermined;
@@ -354,23 +323,20 @@ lf_judge(const judge_in *in, judge_out *o, lf_warnings *words)
 }
 
 void
-lf_judge_bias(const fit_decomp *d, const int col[FIT_NMAT], const double *coef,
+lf_judge_bias(const fit_decomp *d, const int col[FIT_NMAT], const double *step,
               double r[FIT_NMAT])
 {
-    size_t l;
     int m;
 
     for (m = 0; m < FIT_NMAT; m++) {
-        double se = 0.0, s = 0.0;
+        double se, dk;
         r[m] = 0.0;
         if (!lf_judge_col_determined(d, col[m]))
             continue;
-        for (l = 0; l < d->rank; l++) {
-            double v = gsl_matrix_get(d->V, (size_t) col[m], l), sl = gsl_vector_get(d->S, l);
-            se += v * v / (sl * sl);
-            s += v * coef[l];
-        }
-        r[m] = se > 0 ? s / sqrt(se) : 0.0;
+        /* the scaled step over the scaled standard error */
+        dk = lf_fit_decomp_norm(d, (size_t) col[m]);
+        se = sqrt(lf_fit_decomp_cov(d, col[m], col[m], 1.0)) * dk;
+        r[m] = se > 0 ? step[col[m]] / se : 0.0;
     }
 }
 

@@ -683,6 +683,50 @@ lf_fit_jacobian_physical_nu(lf_fit *f, const double *x, gsl_matrix *J)
     return GSL_SUCCESS;
 }
 
+int
+lf_fit_curve_rows(lf_fit *f, const double *x, size_t j, int with_nu, double *rows,
+                  size_t *mcols)
+{
+    const fit_curve *c = &f->c[j];
+    const double inv_sigma = 1.0 / c->sigma;
+    int sel[7];
+    row_map map, wide;
+    size_t i, q, m = 0, k;
+
+    if (eval_all(f, x) != LF_OK)
+        return GSL_EDOM;
+    curve_map(f, x, j, 1, &map);
+    /* the material's free columns, dP/dnu (with_nu), then the curve's own:
+     * row_entries' numbering keeps that order */
+    wide = map;
+    for (q = 0, k = 0; q < map.m; q++) {
+        if (with_nu && map.sel[q] >= 3 && m == k) {
+            sel[k] = 2;
+            wide.mult[k++] = 1.0;
+        }
+        sel[k] = map.sel[q];
+        wide.mult[k++] = map.mult[q];
+        m += map.sel[q] < 3;
+    }
+    if (with_nu && m == k) {
+        sel[k] = 2;
+        wide.mult[k++] = 1.0;
+    }
+    wide.m = k;
+    *mcols = m + (size_t) (with_nu != 0);
+    for (i = 0; i < c->data.n; i++) {
+        const size_t row = c->row + i;
+        row_entries(f, c, &wide, k, sel, row, f->ws.sqrtw[row] * inv_sigma, rows + i * k);
+    }
+    return GSL_SUCCESS;
+}
+
+double
+lf_fit_prior_entry(const lf_fit *f, const double *x, int physical)
+{
+    return f->nu_prior ? prior_entry(f, x, physical) : 0.0;
+}
+
 void
 lf_fit_internal_scale(const lf_fit *f, const double *x, double *c)
 {

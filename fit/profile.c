@@ -211,7 +211,7 @@ linear_holds(fit_prof *p, const lf_fit_result *res, const char *name)
     for (i = 0; i < np; i++)
         if (strcmp(res->names[i], name) == 0)
             k = i;
-    if (k == np || !(res->cov[k * np + k] > 0))
+    if (k == np || !(lf_fit_result_cov(res, k, k) > 0))
         return 0;
     g = lf_fit_alloc(p->s, p->nc, p->cc, NULL);
     if (g == NULL)
@@ -225,7 +225,7 @@ linear_holds(fit_prof *p, const lf_fit_result *res, const char *name)
     for (i = 0; i < g->ndata; i++)
         g->ws.sqrtw[i] = 1.0;        /* least squares (as lf_fit_solve sets) */
     for (side = -1; side <= 1 && holds; side += 2) {
-        double d = side * FIT_Z95 * sqrt(res->cov[k * np + k]), cost;
+        double d = side * FIT_Z95 * sqrt(lf_fit_result_cov(res, k, k)), cost;
         lf_material mat = { res->w.value, res->Estar.value, res->nu.value };
         mat.w = lf_fit_best_value(res, "w", res->w.value);
         mat.Estar = lf_fit_best_value(res, "E*", res->Estar.value);
@@ -234,7 +234,7 @@ linear_holds(fit_prof *p, const lf_fit_result *res, const char *name)
         for (j = 0; j < p->nc; j++)
             g->c[j].slope = 0.0;
         for (i = 0; i < np; i++) {
-            double c = res->cov[i * np + k] / res->cov[k * np + k];
+            double c = lf_fit_result_cov(res, i, k) / lf_fit_result_cov(res, k, k);
             double v = res->value[i] + c * d;
             size_t jj;
             if (!isfinite(v)) {

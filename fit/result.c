@@ -16,12 +16,16 @@ lf_fit_result_alloc(const lf_fit *f, lf_fit_result *r)
     r->npar = p;
     r->names = calloc(p, sizeof *r->names);
     r->value = calloc(p, sizeof *r->value);
-    r->cov = calloc(p * p, sizeof *r->cov);
-    r->corr = calloc(p * p, sizeof *r->corr);
+    if (p <= FIT_DENSE_P) {     /* else the covariance in block form */
+        r->cov = calloc(p * p, sizeof *r->cov);
+        r->corr = calloc(p * p, sizeof *r->corr);
+        if (!r->cov || !r->corr)
+            return LF_ENOMEM;
+    }
     r->singular = calloc(p, sizeof *r->singular);
     r->ncurves = f->ncurves;
     r->curves = calloc(f->ncurves, sizeof *r->curves);
-    if (!r->names || !r->value || !r->cov || !r->corr || !r->singular || !r->curves)
+    if (!r->names || !r->value || !r->singular || !r->curves)
         return LF_ENOMEM;
     for (j = 0; j < f->ncurves; j++) {
         size_t n = f->c[j].data.n;
@@ -45,6 +49,11 @@ lf_fit_result_free(lf_fit_result *r)
     free(r->cov);
     free(r->corr);
     free(r->singular);
+    if (r->covariance != NULL) {
+        lf_fit_bdec_free(&r->covariance->b);
+        free(r->covariance->det);
+        free(r->covariance);
+    }
     if (r->curves != NULL)
         for (j = 0; j < r->ncurves; j++) {
             free(r->curves[j].fitted);
@@ -73,4 +82,27 @@ lf_fit_pulloff_follows(lf_fit_result *r)
 
     for (j = 0; j < r->ncurves; j++)
         r->curves[j].pulloff_determined = r->w.determined;
+}
+
+double
+lf_fit_result_cov(const lf_fit_result *r, size_t a, size_t b)
+{
+    const struct lf_fit_covariance *c = r->covariance;
+
+    if (a >= r->npar || b >= r->npar)
+        return NAN;
+    if (r->cov != NULL)
+        return r->cov[a * r->npar + b];
+    if (c == NULL || !c->det[a] || !c->det[b])
+        return NAN;
+    return lf_fit_bdec_cov(&c->b, a, b, c->scale);
+}
+
+double
+lf_fit_result_corr(const lf_fit_result *r, size_t a, size_t b)
+{
+    if (r->corr != NULL && a < r->npar && b < r->npar)
+        return r->corr[a * r->npar + b];
+    return lf_fit_result_cov(r, a, b)
+           / sqrt(lf_fit_result_cov(r, a, a) * lf_fit_result_cov(r, b, b));
 }

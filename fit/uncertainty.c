@@ -32,7 +32,7 @@
 static double
 se_of(const lf_fit_result *r, int i)
 {
-    return i < 0 ? NAN : sqrt(r->cov[(size_t) i * r->npar + (size_t) i]);
+    return i < 0 ? NAN : sqrt(lf_fit_result_cov(r, (size_t) i, (size_t) i));
 }
 
 static void
@@ -131,7 +131,9 @@ normal_decompose(lf_fit *f, const double *x, const gsl_vector *res, fit_decomp *
 }
 
 /* The decomposition at x into d (the caller frees it): r's singular
- * values and covariance. */
+ * values and covariance.  Beyond FIT_DENSE_P parameters in block form
+ * (decomp_block.c): the covariance stays in it, r->covariance sharing its
+ * blocks (the caller hands them over at the end, assess). */
 static int
 decompose(lf_fit *f, const double *x, const gsl_vector *res, lf_fit_result *r, fit_decomp *d)
 {
@@ -139,6 +141,26 @@ decompose(lf_fit *f, const double *x, const gsl_vector *res, lf_fit_result *r, f
     double s2 = r->se_scale * r->se_scale;
     int status;
 
+    if (p > FIT_DENSE_P) {
+        struct lf_fit_covariance *c = calloc(1, sizeof *c);
+        memset(d, 0, sizeof *d);
+        if (c == NULL || (c->det = malloc(p)) == NULL) {
+            free(c);
+            return LF_ENOMEM;
+        }
+        r->covariance = c;
+        status = lf_fit_decomp_block_run(d, f, x, 0, f->set.rcond);
+        c->b = d->blk;          /* shared until assess hands it over */
+        c->scale = s2;
+        memset(c->det, 1, p);
+        if (status != LF_OK)
+            return status;
+        for (k = 0; k < p; k++)
+            r->singular[k] = NAN;
+        r->singular[0] = 1.0;
+        r->singular[p - 1] = lf_fit_decomp_smin_ratio(d);
+        return LF_OK;
+    }
     status = normal_decompose(f, x, res, d);
     if (status == LF_ENUMERIC) {
         /* not well conditioned enough for J^T J: the QR of J */
@@ -190,7 +212,7 @@ M_variance(const lf_fit *f, const lf_fit_result *r, const lf_material *mat)
     for (a = 0; a < 2; a++)
         for (b = 0; b < 2; b++)
             if (idx[a] >= 0 && idx[b] >= 0)
-                var += g[a] * g[b] * r->cov[(size_t) idx[a] * r->npar + (size_t) idx[b]];
+                var += g[a] * g[b] * lf_fit_result_cov(r, (size_t) idx[a], (size_t) idx[b]);
     return var;
 }
 
@@ -424,14 +446,22 @@ E_with_nu(void *ctx, double *dlnE_dnu)
 {
     assess_ctx *a = ctx;
     lf_fit *f = a->f;
-    const int e = f->imat[FIT_E], nu = (int) f->np;
+    const int e = f->imat[FIT_E];
+    int nu = (int) f->np, ok = 0, st;
     fit_decomp d;
-    int ok = 0;
 
-    if (lf_fit_decomp_alloc(&d, f->nres, f->np + 1) != LF_OK)
-        return 0;
-    if (lf_fit_jacobian_physical_nu(f, a->x, d.QR) == GSL_SUCCESS
-        && lf_fit_decomp_factor(&d, f->set.rcond, 1) == LF_OK && lf_judge_col_determined(&d, e)
+    if (f->np + 1 > FIT_DENSE_P) {
+        /* in block form nu's column follows the material's */
+        memset(&d, 0, sizeof d);
+        st = lf_fit_decomp_block_run(&d, f, a->x, 1, f->set.rcond);
+        nu = (int) d.blk.m - 1;
+    } else {
+        if (lf_fit_decomp_alloc(&d, f->nres, f->np + 1) != LF_OK)
+            return 0;
+        st = lf_fit_jacobian_physical_nu(f, a->x, d.QR) == GSL_SUCCESS
+             ? lf_fit_decomp_factor(&d, f->set.rcond, 1) : LF_ENUMERIC;
+    }
+    if (st == LF_OK && lf_judge_col_determined(&d, e)
         && lf_fit_decomp_cov(&d, nu, nu, 1.0) > 0) {
         *dlnE_dnu = lf_fit_decomp_cov(&d, e, nu, 1.0) / lf_fit_decomp_cov(&d, nu, nu, 1.0) / f->mat.Estar;
         ok = 1;
@@ -596,15 +626,21 @@ lf_fit_assess(lf_fit *f, const double *x, const fit_run *run, lf_fit_result *r, 
     } else
         estimate_positive(&r->Estar, mat.Estar, se_of(r, f->imat[FIT_E]));
 
-    /* blank what is not determined, then correlations */
+    /* blank what is not determined, then correlations (in block form the
+     * accessor reads the mask) */
     for (k = 0; k < p; k++)
-        if (!lf_judge_col_determined(&d, (int) k))
-            for (i = 0; i < p; i++)
-                r->cov[k * p + i] = r->cov[i * p + k] = NAN;
-    for (i = 0; i < p; i++)
-        for (k = 0; k < p; k++)
-            r->corr[i * p + k] = r->cov[i * p + k]
-                                 / sqrt(r->cov[i * p + i] * r->cov[k * p + k]);
+        if (!lf_judge_col_determined(&d, (int) k)) {
+            if (r->covariance != NULL)
+                r->covariance->det[k] = 0;
+            else
+                for (i = 0; i < p; i++)
+                    r->cov[k * p + i] = r->cov[i * p + k] = NAN;
+        }
+    if (r->corr != NULL)
+        for (i = 0; i < p; i++)
+            for (k = 0; k < p; k++)
+                r->corr[i * p + k] = r->cov[i * p + k]
+                                     / sqrt(r->cov[i * p + i] * r->cov[k * p + k]);
     for (j = 0; j < f->ncurves; j++)
         assess_curve(f, x, j, r, &d, &o, res);
     agreement(f, r);
@@ -619,6 +655,11 @@ lf_fit_assess(lf_fit *f, const double *x, const fit_run *run, lf_fit_result *r, 
     status = LF_OK;
 done:
     gsl_vector_free(res);
+    if (r->covariance != NULL && d.block) {
+        /* the blocks are the result's now; their scratch goes */
+        memset(&d.blk, 0, sizeof d.blk);
+        lf_fit_bdec_trim(&r->covariance->b);
+    }
     lf_fit_decomp_free(&d);
     return status;
 }

@@ -533,10 +533,18 @@ typedef struct {
     char (*names)[32];      /* their names: "w", "E*", "nu", "z0[1]", ... */
     double *value;          /* npar values, SI */
     double *cov;            /* npar x npar covariance, SI, row-major; rows of
-                               undetermined parameters are NaN */
-    double *corr;           /* npar x npar correlation */
+                               undetermined parameters are NaN.  NULL for a
+                               fit of more than LF_FIT_DENSE_PARAMS free
+                               parameters: read any entry with
+                               lf_fit_result_cov, which works for both */
+    double *corr;           /* npar x npar correlation (NULL with cov) */
     double *singular;       /* npar singular values of the column-scaled
-                               Jacobian, relative to the largest */
+                               Jacobian, relative to the largest; beyond
+                               LF_FIT_DENSE_PARAMS free parameters only the
+                               first (1) and the last (the smallest) are
+                               computed, the others NaN */
+    struct lf_fit_covariance *covariance;   /* where cov is NULL: the
+                               covariance in block form (internal) */
     double chi2;            /* weighted sum of squares at the solution */
     size_t dof;             /* residuals - free parameters */
     double se_scale;        /* sqrt(chi2/dof * corr_time), the factor
@@ -609,6 +617,14 @@ LF_API void lf_fit_free(lf_fit *fit);
 LF_API int lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
                    lf_fit_result *res, int always, lf_error *err);
 LF_API void lf_fit_result_free(lf_fit_result *res);
+/* The covariance (SI) and correlation of free parameters a and b (indices
+ * of res->names): res->cov's entry where it is held, else computed from the
+ * blocks of a joint fit of many curves (each curve's offsets couple only to
+ * the material, so nothing of size npar x npar is kept); NaN where either
+ * is not determined or out of range. */
+#define LF_FIT_DENSE_PARAMS 64
+LF_API double lf_fit_result_cov(const lf_fit_result *res, size_t a, size_t b);
+LF_API double lf_fit_result_corr(const lf_fit_result *res, size_t a, size_t b);
 /* alloc + run + free */
 LF_API int lf_fit_driver(const lf_fit_settings *settings, size_t ncurves,
                   const lf_fit_curve *curves, lf_fit_result *res,

@@ -329,9 +329,9 @@ corr_w_E(const lf_fit_result *r)
         else if (strcmp(r->names[i], "E*") == 0)
             iE = (int) i;
     }
-    if (iw < 0 || iE < 0 || r->corr == NULL)
+    if (iw < 0 || iE < 0)
         return NAN;
-    return r->corr[(size_t) iw * r->npar + (size_t) iE];
+    return lf_fit_result_corr(r, (size_t) iw, (size_t) iE);
 }
 
 typedef struct {

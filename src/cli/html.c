@@ -194,7 +194,7 @@ correlations(FILE *f, const lf_fit_result *r)
     size_t i, j;
 
     fputs("<section id=\"correlations\">\n<h2>Correlations</h2>\n", f);
-    if (r->npar == 0 || r->corr == NULL) {
+    if (r->npar == 0) {
         fputs("<p>No free parameters.</p>\n</section>\n", f);
         return;
     }
@@ -210,7 +210,7 @@ correlations(FILE *f, const lf_fit_result *r)
         esc(f, r->names[i]);
         fputs("</th>", f);
         for (j = 0; j < r->npar; j++) {
-            double c = r->corr[i * r->npar + j];
+            double c = lf_fit_result_corr(r, i, j);
             if (!isfinite(c)) {
                 fputs("<td class=\"na\">&ndash;</td>", f);
                 continue;

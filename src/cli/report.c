@@ -174,7 +174,7 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
         if (strcmp(r->names[i], "w") && strcmp(r->names[i], "E*") && strcmp(r->names[i], "nu"))
             continue;
         for (k = i + 1; k < r->npar; k++) {
-            double rho = r->corr[i * r->npar + k];
+            double rho = lf_fit_result_corr(r, i, k);
             if (isnan(rho) || fabs(rho) < 0.3)
                 continue;
             fprintf(f, "  corr(%s, %s) = %+.3f\n", r->names[i], r->names[k], rho);
@@ -395,8 +395,14 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
     jnums(f, r->value, r->npar);
     fputs(",\n  \"covariance\": [", f);
     for (i = 0; i < r->npar; i++) {
+        size_t k;
         fputs(i ? ",\n    " : "\n    ", f);
-        jnums(f, r->cov + i * r->npar, r->npar);
+        fputc('[', f);
+        for (k = 0; k < r->npar; k++) {
+            fputs(k ? ", " : "", f);
+            jnum(f, lf_fit_result_cov(r, i, k));
+        }
+        fputc(']', f);
     }
     fputs("],\n  \"singular_values\": ", f);
     jnums(f, r->singular, r->npar);

@@ -1,0 +1,404 @@
+/* test_block.c: the joint problem in block form (fit/block.c,
+ * fit/decomp_block.c) against the dense one.
+ *
+ *  - the arrowhead's Cholesky, solves, inverse and products against GSL's
+ *    dense Cholesky of the same matrix, on random arrowheads of every
+ *    shape (material 0-4, each curve 0-3 of its own);
+ *  - the decomposition of fitted Jacobians in block form (through the
+ *    Gram, and from R) against decomp.c's QR of the whole Jacobian: the
+ *    same verdicts (which parameters are determined), covariance, norms
+ *    and smallest singular value, on well-posed and degenerate scenes;
+ *  - a joint fit of many curves (the block form end to end): the truth
+ *    recovered, its covariance that of the dense decomposition. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_errno.h>
+#include <gsl/gsl_linalg.h>
+#include <gsl/gsl_rng.h>
+#include <gsl/gsl_randist.h>
+
+#include "fit.h"
+#include "scene.h"
+#include "testlib.h"
+
+/* ---- the arrowhead against the dense matrix ---------------------------- */
+
+/* A random arrowhead J^T J (+ ridge on the diagonal) of the given shape. */
+static void
+random_arrow(gsl_rng *rng, fit_arrow *a, double ridge)
+{
+    size_t j, i, r, c;
+
+    lf_arrow_zero(a);
+    for (j = 0; j < a->n; j++) {
+        const size_t q = a->q[j], k = a->m + q;
+        for (i = 0; i < k + 2; i++) {     /* a few rows of curve j */
+            double row[FIT_MMAX + FIT_QMAX];
+            size_t col[FIT_MMAX + FIT_QMAX];
+            for (c = 0; c < k; c++) {
+                row[c] = gsl_ran_gaussian(rng, 1.0);
+                col[c] = c < a->m ? c : a->at[j] + c - a->m;
+            }
+            for (r = 0; r < k; r++)
+                for (c = 0; c <= r; c++)
+                    lf_arrow_add(a, j, col[r], col[c], row[r] * row[c]);
+        }
+    }
+    for (r = 0; r < a->p; r++)
+        lf_arrow_add(a, a->n, r, r, ridge);
+}
+
+static double
+max_rel(const double *x, const double *y, size_t n)
+{
+    double e = 0.0, s = 0.0;
+    size_t i;
+    for (i = 0; i < n; i++)
+        s = fmax(s, fabs(y[i]));
+    for (i = 0; i < n; i++)
+        e = fmax(e, fabs(x[i] - y[i]) / s);
+    return e;
+}
+
+static void
+arrow_against_dense(void)
+{
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+    size_t m, trial;
+
+    gsl_rng_set(rng, 34);
+    for (m = 0; m <= FIT_MMAX; m++)
+        for (trial = 0; trial < 6; trial++) {
+            const size_t n = 1 + trial * 3;
+            unsigned char q[32];
+            fit_arrow a;
+            fit_arrow_chol L;
+            fit_arrow_inv V;
+            double *G, *Gd, *b, *x, *y, *xd, *d2, e, mu = trial % 2 ? 0.37 : 0.0;
+            size_t j, p, r, c;
+            gsl_matrix_view gv;
+            gsl_vector_view bv, xv;
+
+            for (j = 0; j < n; j++)
+                q[j] = (unsigned char) ((j + trial) % (FIT_QMAX + 1));
+            if (lf_arrow_alloc(&a, m, n, q) != LF_OK)
+                continue;
+            p = a.p;
+            if (p == 0) {
+                lf_arrow_free(&a);
+                continue;
+            }
+            random_arrow(rng, &a, trial % 3 == 0 ? 1e-3 : 0.0);
+            G = malloc(p * p * sizeof *G);
+            Gd = malloc(p * p * sizeof *Gd);
+            b = malloc(5 * p * sizeof *b);
+            x = b + p;
+            y = x + p;
+            xd = y + p;
+            d2 = xd + p;
+            lf_arrow_dense(&a, G);
+            for (r = 0; r < p; r++) {
+                b[r] = gsl_ran_gaussian(rng, 1.0);
+                d2[r] = 0.5 + gsl_rng_uniform(rng);
+            }
+            /* y = A b against the dense product */
+            lf_arrow_mul(&a, b, y);
+            for (r = 0; r < p; r++) {
+                double s = 0.0;
+                for (c = 0; c < p; c++)
+                    s += G[r * p + c] * b[c];
+                xd[r] = s;
+            }
+            t_true(max_rel(y, xd, p) < 1e-13, "m %zu, %zu curves: A x as the dense", m, n);
+            /* (A + mu D2) x = b: the dense Cholesky's solution */
+            memcpy(Gd, G, p * p * sizeof *G);
+            for (r = 0; r < p; r++)
+                Gd[r * p + r] += mu * d2[r];
+            gv = gsl_matrix_view_array(Gd, p, p);
+            bv = gsl_vector_view_array(b, p);
+            xv = gsl_vector_view_array(xd, p);
+            t_int(gsl_linalg_cholesky_decomp1(&gv.matrix), GSL_SUCCESS, "dense Cholesky");
+            gsl_linalg_cholesky_solve(&gv.matrix, &bv.vector, &xv.vector);
+            t_int(lf_arrow_chol_alloc(&L, &a), LF_OK, "alloc");
+            t_true(lf_arrow_factor(&L, &a, d2, mu, 0.0), "m %zu, %zu curves: positive definite",
+                   m, n);
+            lf_arrow_solve(&L, b, x);
+            e = max_rel(x, xd, p);
+            t_true(e < 1e-10, "m %zu, %zu curves, mu %g: the step as the dense (%.1e)", m, n, mu,
+                   e);
+            {
+                double nb = lf_arrow_norm2(&L, b, y), nd = 0.0;
+                for (r = 0; r < p; r++)
+                    nd += b[r] * xd[r];
+                t_rel(nb, nd, 1e-10, "m %zu, %zu curves: b^T A^-1 b", m, n);
+            }
+            /* the inverse: its diagonal and every entry */
+            if (mu == 0.0) {
+                gsl_matrix_view iv = gsl_matrix_view_array(Gd, p, p);
+                double emax = 0.0, *dg = y;
+                gsl_linalg_cholesky_invert(&iv.matrix);
+                lf_arrow_inv_diag(&L, dg);
+                t_int(lf_arrow_inv_make(&V, &L), LF_OK, "inverse");
+                for (r = 0; r < p; r++) {
+                    emax = fmax(emax, fabs(dg[r] / Gd[r * p + r] - 1.0));
+                    for (c = 0; c < p; c++)
+                        emax = fmax(emax, fabs(lf_arrow_inv_get(&V, r, c) - Gd[r * p + c])
+                                              / sqrt(Gd[r * p + r] * Gd[c * p + c]));
+                }
+                t_true(emax < 1e-10, "m %zu, %zu curves: the inverse as the dense (%.1e)", m, n,
+                       emax);
+                lf_arrow_inv_apply(&V, b, x);
+                for (r = 0; r < p; r++) {
+                    double s = 0.0;
+                    for (c = 0; c < p; c++)
+                        s += Gd[r * p + c] * b[c];
+                    xd[r] = s;
+                }
+                t_true(max_rel(x, xd, p) < 1e-10, "m %zu, %zu curves: the inverse applied", m, n);
+                lf_arrow_inv_free(&V);
+            }
+            /* a curve's block made singular: not positive definite */
+            for (j = 0; j < n && a.q[j] < 2; j++)
+                ;
+            if (j < n && mu == 0.0) {
+                double *cb = a.cb + j * FIT_CB + FIT_QMAX * FIT_MMAX;
+                for (c = 0; c < a.q[j]; c++)
+                    cb[1 * FIT_QMAX + c] = cb[0 * FIT_QMAX + c];
+                for (r = 0; r < a.q[j]; r++)
+                    cb[r * FIT_QMAX + 1] = cb[r * FIT_QMAX + 0];
+                for (c = 0; c < m; c++)
+                    a.cb[j * FIT_CB + 1 * FIT_MMAX + c] = a.cb[j * FIT_CB + c];
+                t_true(!lf_arrow_factor(&L, &a, NULL, 0.0, 1e-14),
+                       "m %zu, %zu curves: two equal columns are not positive definite", m, n);
+            }
+            lf_arrow_chol_free(&L);
+            lf_arrow_free(&a);
+            free(G);
+            free(Gd);
+            free(b);
+        }
+    gsl_rng_free(rng);
+}
+
+/* ---- the decomposition of fitted Jacobians ------------------------------ */
+
+/* Compare the dense decomposition (decomp.c, QR of J) with the block one
+ * (through the Gram unless from_r) at f's solution x. */
+static void
+compare_decomp(lf_fit *f, const double *x, int with_nu, int from_r, const char *label)
+{
+    const size_t p = f->np + (size_t) with_nu;
+    fit_decomp dd, db;
+    double ecov = 0.0, enorm = 0.0;
+    size_t k, l, bad = 0;
+    size_t *perm = malloc(p * sizeof *perm);   /* dense column of block column k */
+
+    /* the block form puts nu's column after the material's, the dense last */
+    for (k = 0; k < p; k++) {
+        size_t mm = 0;
+        int c;
+        for (c = 0; c < FIT_NMAT; c++)
+            mm += f->imat[c] >= 0;
+        perm[k] = !with_nu ? k : k < mm ? k : k == mm ? f->np : k - 1;
+    }
+    t_int(lf_fit_decomp_alloc(&dd, f->nres, p), LF_OK, "alloc");
+    if (with_nu)
+        t_int(lf_fit_jacobian_physical_nu(f, x, dd.QR), GSL_SUCCESS, "%s: J with nu", label);
+    else
+        t_int(lf_fit_jacobian_physical(f, x, dd.QR), GSL_SUCCESS, "%s: J", label);
+    t_int(lf_fit_decomp_factor(&dd, f->set.rcond, 1), LF_OK, "%s: dense", label);
+    memset(&db, 0, sizeof db);
+    t_int(lf_fit_bdec_run(&db.blk, f, x, with_nu, f->set.rcond, from_r), LF_OK, "%s: block",
+          label);
+    db.block = 1;
+    db.p = p;
+    db.rank = db.blk.rank;
+    t_int((long) db.rank, (long) dd.rank, "%s: the same rank", label);
+    for (k = 0; k < p; k++) {
+        const int det_d = lf_judge_col_determined(&dd, (int) perm[k]);
+        const int det_b = lf_judge_col_determined(&db, (int) k);
+        bad += det_d != det_b;
+        enorm = fmax(enorm, fabs(lf_fit_decomp_norm(&db, k) / lf_fit_decomp_norm(&dd, perm[k]) - 1));
+        if (!det_d || !det_b)
+            continue;
+        for (l = 0; l < p; l++) {
+            double a, b, s;
+            if (!lf_judge_col_determined(&dd, (int) perm[l]))
+                continue;
+            a = lf_fit_decomp_cov(&dd, (int) perm[k], (int) perm[l], 1.0);
+            b = lf_fit_decomp_cov(&db, (int) k, (int) l, 1.0);
+            s = sqrt(lf_fit_decomp_cov(&dd, (int) perm[k], (int) perm[k], 1.0)
+                     * lf_fit_decomp_cov(&dd, (int) perm[l], (int) perm[l], 1.0));
+            ecov = fmax(ecov, fabs(a - b) / s);
+        }
+    }
+    t_int((long) bad, 0, "%s: the same parameters determined", label);
+    t_true(enorm < 1e-10, "%s: the same column norms (%.1e)", label, enorm);
+    t_true(ecov < 1e-8, "%s: the same covariance (%.1e of the se product)", label, ecov);
+    /* (a singular value at rounding, 1e-16, is rounding's in either) */
+    if (lf_fit_decomp_smin_ratio(&dd) > 1e-12)
+        t_rel(lf_fit_decomp_smin_ratio(&db), lf_fit_decomp_smin_ratio(&dd), 1e-6,
+              "%s: the same smallest singular value", label);
+    else
+        t_true(lf_fit_decomp_smin_ratio(&db) < 1e-12, "%s: a smallest singular value at "
+               "rounding (%.1e)", label, lf_fit_decomp_smin_ratio(&db));
+    free(perm);
+    lf_fit_decomp_free(&dd);
+    lf_fit_decomp_free(&db);
+}
+
+static void
+decompositions(void)
+{
+    enum { NS = 6 };
+    size_t q;
+
+    for (q = 0; q < NS; q++) {
+        static const char *const names[NS] = {
+            "two probes, offsets free", "bonded, nu and slopes free", "k = 2 alone (w with F0)",
+            "only bonded, nu forced free", "three probes, F0 held", "bonded, nu held (E* with nu)"
+        };
+        scene s = scene_default(names[q]);
+        lf_fit *f;
+        lf_fit_result res;
+        lf_error err;
+        int st, from_r;
+
+        s.sim.noise = 0.01;
+        if (q == 1)
+            s.fit.fit_slope = 1;
+        if (q == 3)
+            s.fit.nu.mode = LF_PARAM_FREE;
+        if (q == 4)
+            s.fix_F0 = 1;
+        if (q == 5) {
+            s.fit.nu.mode = LF_PARAM_FIXED;
+            s.fit.nu.value = 0.35;
+        }
+        scene_add(&s, q == 2 ? 2.0 : 2.0, 1e-3, 1e-6,
+                  q == 1 || q >= 3 ? LF_BASE_BONDED : LF_BASE_FRICTIONLESS);
+        if (q != 2)
+            scene_add(&s, 3.0, 1e-3, 1e-6, q == 3 || q == 5 ? LF_BASE_BONDED
+                                                            : LF_BASE_FRICTIONLESS);
+        if (q == 4)
+            scene_add(&s, 1.5, 5e-4, 1e-6, LF_BASE_FRICTIONLESS);
+        scene_simulate(&s, 11 + q);
+        f = lf_fit_alloc(&s.fit, s.n, s.curve, &err);
+        st = f != NULL ? lf_fit_run(f, &res, &err) : LF_EINVAL;
+        if (!t_true(st == LF_OK || st == LF_ENOCONV, "%s: fitted", s.label)) {
+            lf_fit_free(f);
+            scene_free(&s);
+            continue;
+        }
+        for (from_r = 0; from_r <= 1; from_r++) {
+            char label[120];
+            snprintf(label, sizeof label, "%s, %s", s.label, from_r ? "from R" : "auto");
+            compare_decomp(f, f->ws.x->data, 0, from_r, label);
+            if (q == 5) {
+                snprintf(label, sizeof label, "%s, with nu's column, %s", s.label,
+                         from_r ? "from R" : "auto");
+                compare_decomp(f, f->ws.x->data, 1, from_r, label);
+            }
+        }
+        lf_fit_result_free(&res);
+        lf_fit_free(f);
+        scene_free(&s);
+    }
+}
+
+/* ---- many curves, end to end -------------------------------------------- */
+
+static void
+many_curves(void)
+{
+    enum { N = 40, NP = 300 };
+    static const double ks[4] = { 2.0, 3.0, 1.5, 4.0 }, Rs[4] = { 1e-3, 1e-3, 5e-4, 2e-3 };
+    lf_probe probe[N];
+    double *depth[N], *force[N], sigma[N];
+    lf_fit_curve cv[N];
+    lf_sim_settings sim = lf_sim_settings_default();
+    lf_fit_settings set = lf_fit_settings_default();
+    lf_material truth = { 10e-3, 1e9, 0.3 };
+    lf_fit_result res;
+    lf_error err;
+    lf_fit *f;
+    size_t j, k, l;
+    int st;
+
+    sim.noise = 0.01;
+    sim.points = NP;
+    sim.z0 = 3e-9;
+    sim.F0 = 1e-6;
+    sim.seed = 7;
+    for (j = 0; j < N; j++) {
+        probe[j].k = ks[j % 4];
+        probe[j].R = Rs[j % 4];
+        probe[j].b = 1e-6;
+        probe[j].base = LF_BASE_FRICTIONLESS;
+        depth[j] = malloc(NP * sizeof(double));
+        force[j] = malloc(NP * sizeof(double));
+    }
+    t_int(lf_simulate(&sim, &lf_model_thin, &truth, N, probe, depth, force, sigma, NULL), LF_OK,
+          "many curves: simulated");
+    for (j = 0; j < N; j++) {
+        memset(&cv[j], 0, sizeof cv[j]);
+        cv[j].n = NP;
+        cv[j].depth = depth[j];
+        cv[j].force = force[j];
+        cv[j].probe = probe[j];
+        cv[j].branch = LF_BRANCH_UNLOAD;
+        cv[j].z0 = cv[j].F0 = NAN;
+    }
+    f = lf_fit_alloc(&set, N, cv, &err);
+    st = f != NULL ? lf_fit_run(f, &res, &err) : LF_EINVAL;
+    if (t_int(st, LF_OK, "many curves: %d curves converge", N)) {
+        double ew = (res.w.value - truth.w) / res.w.se, eE = (res.Estar.value - truth.Estar) / res.Estar.se;
+        fit_decomp dd;
+        double emax = 0.0, s2 = res.se_scale * res.se_scale;
+        t_true(res.npar > FIT_DENSE_P && res.cov == NULL && res.covariance != NULL,
+               "many curves: %zu parameters, the covariance in block form", res.npar);
+        t_true(fabs(ew) < 4 && fabs(eE) < 4, "many curves: w and E* within 4 se of the truth "
+               "(%.2f, %.2f se)", ew, eE);
+        t_true(res.w.se / res.w.value < 0.05 && res.Estar.se / res.Estar.value < 1e-3,
+               "many curves: w to %.2g, E* to %.2g", res.w.se / res.w.value,
+               res.Estar.se / res.Estar.value);
+        t_true(res.singular[0] == 1.0 && res.singular[res.npar - 1] > 0
+               && res.singular[res.npar - 1] < 1 && isnan(res.singular[1]),
+               "many curves: the largest and smallest singular values only");
+        /* the result's covariance against the QR of the whole Jacobian */
+        t_int(lf_fit_decomp_alloc(&dd, f->nres, f->np), LF_OK, "alloc");
+        t_int(lf_fit_decomp_run(&dd, f, f->ws.x->data, f->set.rcond), LF_OK, "many curves: QR");
+        for (k = 0; k < res.npar; k++)
+            for (l = 0; l < res.npar; l++) {
+                double a = lf_fit_decomp_cov(&dd, (int) k, (int) l, s2);
+                double s = sqrt(lf_fit_decomp_cov(&dd, (int) k, (int) k, s2)
+                                * lf_fit_decomp_cov(&dd, (int) l, (int) l, s2));
+                emax = fmax(emax, fabs(lf_fit_result_cov(&res, k, l) - a) / s);
+            }
+        t_true(emax < 1e-8, "many curves: the covariance is the dense one (%.1e of the se "
+               "product)", emax);
+        t_rel(lf_fit_result_corr(&res, 0, 1), lf_fit_decomp_cov(&dd, 0, 1, 1.0)
+              / sqrt(lf_fit_decomp_cov(&dd, 0, 0, 1.0) * lf_fit_decomp_cov(&dd, 1, 1, 1.0)), 1e-8,
+              "many curves: corr(w, E*)");
+        t_true(isnan(lf_fit_result_cov(&res, res.npar, 0)), "many curves: out of range is NaN");
+        lf_fit_decomp_free(&dd);
+        lf_fit_result_free(&res);
+    }
+    lf_fit_free(f);
+    for (j = 0; j < N; j++) {
+        free(depth[j]);
+        free(force[j]);
+    }
+}
+
+int
+main(void)
+{
+    gsl_set_error_handler_off();
+    arrow_against_dense();
+    decompositions();
+    many_curves();
+    return t_summary();
+}
