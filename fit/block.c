@@ -150,6 +150,27 @@ lf_arrow_add(fit_arrow *a, size_t j, size_t r, size_t c, double v)
 }
 
 void
+lf_arrow_scale(fit_arrow *a, const double *s)
+{
+    const size_t m = a->m;
+    size_t j, r, c;
+
+    for (r = 0; r < m; r++)
+        for (c = 0; c < m; c++)
+            H_AT(a->head, r, c) *= s[r] * s[c];
+    for (j = 0; j < a->n; j++) {
+        double *cb = a->cb + j * FIT_CB;
+        const double *sj = s + a->at[j];
+        for (r = 0; r < a->q[j]; r++) {
+            for (c = 0; c < m; c++)
+                C_AT(cb, r, c) *= sj[r] * s[c];
+            for (c = 0; c < a->q[j]; c++)
+                B_AT(cb, r, c) *= sj[r] * sj[c];
+        }
+    }
+}
+
+void
 lf_arrow_diag(const fit_arrow *a, double *d)
 {
     size_t j, r;

@@ -227,6 +227,8 @@ void lf_arrow_copy(fit_arrow *dst, const fit_arrow *src);
 void lf_arrow_add(fit_arrow *a, size_t j, size_t r, size_t c, double v);
 double lf_arrow_get(const fit_arrow *a, size_t r, size_t c);
 void lf_arrow_diag(const fit_arrow *a, double *d);
+/* Entry (r, c) times s[r] s[c]. */
+void lf_arrow_scale(fit_arrow *a, const double *s);
 /* The dense p x p matrix (row-major, both triangles). */
 void lf_arrow_dense(const fit_arrow *a, double *G);
 /* y = A x. */

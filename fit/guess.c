@@ -30,6 +30,8 @@
 #define GUESS_BRENT 12
 #define GUESS_XTOL 2e-3
 #define GUESS_TIE_REL 1e-12
+/* the start's w: candidates of their own from at most this many curves */
+#define GUESS_OWN_W 6
 
 /* ---- one curve --------------------------------------------------------- */
 
@@ -599,16 +601,50 @@ set_offsets(lf_fit *f, const double *off)
     lf_fit_set_origin(f);
 }
 
-/* Candidate i of the start's w: curve i's own, then the mean, then the
- * floor. */
+/* Curve j's own w from the first stage. */
 static double
-candidate_w(const lf_fit *f, size_t i, double wmean, double wfloor)
+own_w(const lf_fit *f, size_t j)
 {
-    if (i < f->ncurves) {
-        const fit_curve *c = &f->c[i];
-        return c->guess.M * c->guess.c * c->guess.c / (2.0 * c->data.probe.b);
+    const fit_curve *c = &f->c[j];
+    return c->guess.M * c->guess.c * c->guess.c / (2.0 * c->data.probe.b);
+}
+
+static int
+cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *) a, y = *(const double *) b;
+    return (x > y) - (x < y);
+}
+
+/* The candidates of the start's w into cand (room for ncurves + 2):
+ * each curve's own, then the mean, then the floor; with more curves than
+ * GUESS_OWN_W, the own w of GUESS_OWN_W of them at even steps through
+ * their order (the smallest and the largest among them), so that the
+ * search costs GUESS_OWN_W + 2 profiles per curve, not ncurves + 2: each
+ * candidate's cost is a profile of every curve's offsets.  Returns the
+ * count. */
+static size_t
+candidates(const lf_fit *f, double wmean, double wfloor, double *cand)
+{
+    size_t j, n = 0, nv = 0;
+
+    if (f->ncurves <= GUESS_OWN_W) {
+        for (j = 0; j < f->ncurves; j++)
+            cand[n++] = own_w(f, j);
+    } else {
+        double *v = cand + GUESS_OWN_W;    /* the valid ones, sorted, after the picks */
+        for (j = 0; j < f->ncurves; j++) {
+            const double w = own_w(f, j);
+            if (w >= wfloor && isfinite(w))
+                v[nv++] = w;
+        }
+        qsort(v, nv, sizeof *v, cmp_double);
+        for (j = 0; j < GUESS_OWN_W && nv > 0; j++)
+            cand[n++] = v[j * (nv - 1) / (GUESS_OWN_W - 1)];
     }
-    return i == f->ncurves ? wmean : wfloor;
+    cand[n++] = wmean;
+    cand[n++] = wfloor;
+    return n;
 }
 
 int
@@ -655,18 +691,20 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
     /* a model with no thickness: its own force law (guess_model.c) */
     by_model = lf_fit_guess_by_model(f) && lf_fit_guess_model(f);
     if (f->imat[FIT_W] >= 0 && !by_model) {
-        /* candidates: each curve's own w, their geometric mean and the
-         * floor; the one whose offsets fit all curves best wins (ties to
-         * the smaller w, so the order of the curves does not matter) */
+        /* candidates: each curve's own w (of GUESS_OWN_W of many curves),
+         * their geometric mean and the floor; the one whose offsets fit all
+         * curves best wins (ties to the smaller w, so the order of the
+         * curves does not matter) */
         double best = HUGE_VAL, wbest = wfloor, second = HUGE_VAL, wsecond = NAN;
         const double wmean = nw > 0 ? exp(lnw / (double) nw) : 0.0;
-        size_t ncand = f->ncurves + 2, i, q;
+        double *cand = f->ws.work;      /* ncurves + 2 of its 2 ndata */
+        size_t ncand = candidates(f, wmean, wfloor, cand), i, q;
         int any_z0;
         for (i = 0; i < ncand; i++) {
-            double wc = candidate_w(f, i, wmean, wfloor), cost;
+            double wc = cand[i], cost;
             if (!(wc >= wfloor) || !isfinite(wc))
                 continue;
-            for (q = 0; q < i && candidate_w(f, q, wmean, wfloor) != wc; q++)
+            for (q = 0; q < i && cand[q] != wc; q++)
                 ;
             if (q < i)
                 continue;           /* the same w again (one curve: its own w is the mean) */

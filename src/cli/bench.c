@@ -51,7 +51,10 @@ static const char bench_help[] =
     "  --seeds N          seeds per row (default 200, --quick 10)\n"
     "  --batch N          curves in the throughput batch (default 4096, --quick 256)\n"
     "  --scene NAME       only this scene (two-probe, paper-offsets, mixed-nu,\n"
-    "                     soft-coating, single-k2)\n"
+    "                     soft-coating, single-k2); many-curves: instead, joint fits\n"
+    "                     of N = 2, 8, 32, 128, 512 curves of 300 points (z0, F0\n"
+    "                     free): time per fit and per point, memory, error / CRB\n"
+    "                     (--quick: to 128 curves, fewer seeds; --seeds N: at most N)\n"
     "  --csv FILE         write the table as CSV (SI, one row per scene/noise/config)\n"
     "  --plot FILE        draw error against time per fit (log-log) with gnuplot\n"
     "  --scipy SCRIPT     the peer script (default tests/bench/peer_scipy.py, found\n"
@@ -900,6 +903,8 @@ cli_bench(int argc, char **argv, const char *command_line)
     if (npos > 0)
         cli_die(CLI_EXIT_USAGE, "bench: unexpected argument '%s' (see 'layerfit bench --help')",
                 argv[0]);
+    if (scene_name != NULL && strcmp(scene_name, "many-curves") == 0 && !coverage)
+        return cli_bench_many(seeds > 0 ? (size_t) seeds : 0, quick);
     nseeds = seeds >= 0 ? (size_t) seeds : quick ? 10 : 200;
     if (coverage)
         return cli_coverage(nseeds, scene_name, calibrate);
@@ -913,7 +918,7 @@ cli_bench(int argc, char **argv, const char *command_line)
             ;
         if (si == NSCENES)
             cli_die(CLI_EXIT_USAGE, "bench: --scene: unknown scene '%s' (two-probe, "
-                    "paper-offsets, mixed-nu, soft-coating, single-k2)", scene_name);
+                    "paper-offsets, mixed-nu, soft-coating, single-k2, many-curves)", scene_name);
     }
     if (plot != NULL && !plot_have_gnuplot())
         cli_die(CLI_EXIT_USAGE, "bench: --plot: gnuplot is not installed: %s", PLOT_INSTALL_HINT);

@@ -112,6 +112,8 @@ int cli_bench(int argc, char **argv, const char *command_line);
 int cli_cache(int argc, char **argv, const char *command_line);
 /* `layerfit bench --coverage`: interval coverage over seeds (coverage.c). */
 int cli_coverage(size_t nseeds, const char *scene_name, int calibrate);
+/* bench_many.c: `layerfit bench --scene many-curves` (seeds_max 0: its own) */
+int cli_bench_many(size_t seeds_max, int quick);
 /* 1 when the probes are frictionless and bonded together: nu is fitted. */
 int cli_probes_free_nu(const lf_probe *p, size_t n);
 /* `layerfit model --figure N [--plot FILE]` (figure.c). */

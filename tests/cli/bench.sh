@@ -7,10 +7,20 @@ scenes="two-probe paper-offsets mixed-nu soft-coating single-k2"
 configs="baseline lmaccel dogleg ddogleg subspace2D jac=forward jac=central guess=naive3x points=100 points=1000 points=3000"
 
 run_ok bench --help && has "bench --help" "$tmp/out" "usage: layerfit bench"
-expect_fail 2 "layerfit: bench: --scene: unknown scene 'foo' (two-probe, paper-offsets, mixed-nu, soft-coating, single-k2)" \
+expect_fail 2 "layerfit: bench: --scene: unknown scene 'foo' (two-probe, paper-offsets, mixed-nu, soft-coating, single-k2, many-curves)" \
     bench --scene foo
 expect_fail 2 "layerfit: bench: --seeds: at least 2 seeds are needed (e.g. --seeds 50)" bench --seeds 1
 expect_fail 2 "layerfit: bench: unexpected argument 'now' (see 'layerfit bench --help')" bench now
+
+# the joint fits of many curves: a row per N up to 128 (--quick), each
+# converged, with its error over the Cramer-Rao bound
+if run_ok bench --scene many-curves --quick --seeds 2; then
+    has "many-curves header" "$tmp/out" "us/point"
+    for n in 2 8 32 128; do
+        awk -v n="$n" '$1 == n && $2 == n * 300 && $8 == "1.00" && $10 + 0 > 0 && $12 + 0 > 0' \
+            "$tmp/out" | grep -q . && ok || bad "many-curves: no converged row for N = $n"
+    done
+fi
 
 plot=""
 command -v gnuplot >/dev/null 2>&1 && plot="--plot $tmp/bench.svg"
