@@ -36,6 +36,9 @@ lf_choose_settings_default(void)
     return s;
 }
 
+/* 0: every bias from its own decomposition, as bias_fast's check (tests). */
+int lf_fit_choose_fast = 1;
+
 /* The state of a model choice. */
 typedef struct {
     lf_fit *f;
@@ -48,9 +51,15 @@ typedef struct {
     double *P_exact;        /* ndata: the exact model's forces */
     int *exact_ok;          /* per curve: P_exact could be evaluated */
     lf_eval *ev;            /* max n: scratch evaluations */
-    double *d;              /* nres: the difference vector */
-    double *coef, *step;    /* np */
+    double *rows;           /* max n x (FIT_MMAX + FIT_QMAX): a curve's rows */
+    double *g, *step, *work;    /* np */
+    double *D;              /* np: the columns' norms where S was summed */
     fit_decomp dec;         /* of the Jacobian at the origin */
+    /* every parameter determined at the origin: the biases from the
+     * material's Schur complement (bias_fast) */
+    int fast;
+    double S[FIT_MMAX * FIT_MMAX];  /* sum of the curves' shares (and the prior's) */
+    double *sj, *tj;        /* per curve: its share of S, of the reduced J^T d */
     judge_bias *thin, *half_b, *cur;  /* per curve */
     lf_error *err;          /* where a model move's failure goes */
     double *ab_lo, *ab_hi;      /* a/b range in contact */
@@ -74,9 +83,9 @@ chooser_free(chooser *c)
     free(c->P_exact);
     free(c->exact_ok);
     free(c->ev);
-    free(c->d);
-    free(c->coef);
-    free(c->step);
+    free(c->rows);
+    free(c->g);
+    free(c->sj);
     free(c->thin);
     free(c->half_b);
     free(c->cur);
@@ -105,18 +114,21 @@ chooser_alloc(chooser *c, lf_fit *f, const lf_choose_settings *cs)
     c->P_exact = calloc(f->ndata, sizeof *c->P_exact);
     c->exact_ok = calloc(nc, sizeof *c->exact_ok);
     c->ev = calloc(nmax, sizeof *c->ev);
-    c->d = calloc(f->nres, sizeof *c->d);
-    c->coef = calloc(f->np, sizeof *c->coef);
-    c->step = calloc(f->np, sizeof *c->step);
+    c->rows = calloc(nmax * (FIT_MMAX + FIT_QMAX), sizeof *c->rows);
+    c->g = calloc(4 * f->np, sizeof *c->g);
+    c->sj = calloc(nc * (FIT_MMAX * FIT_MMAX + FIT_MMAX), sizeof *c->sj);
     c->thin = calloc(nc, sizeof *c->thin);
     c->half_b = calloc(nc, sizeof *c->half_b);
     c->cur = calloc(nc, sizeof *c->cur);
     c->ab_lo = calloc(nc, sizeof *c->ab_lo);
     c->ab_hi = calloc(nc, sizeof *c->ab_hi);
-    if (!c->rung || !c->fixed || !c->k || !c->P_exact || !c->exact_ok || !c->ev || !c->d || !c->coef
-        || !c->step || !c->thin || !c->half_b || !c->cur || !c->ab_lo || !c->ab_hi
-        || lf_fit_decomp_alloc(&c->dec, f->nres, f->np) != LF_OK)
+    if (!c->rung || !c->fixed || !c->k || !c->P_exact || !c->exact_ok || !c->ev || !c->rows
+        || !c->g || !c->sj || !c->thin || !c->half_b || !c->cur || !c->ab_lo || !c->ab_hi)
         return LF_ENOMEM;
+    c->step = c->g + f->np;
+    c->work = c->step + f->np;
+    c->D = c->work + f->np;
+    c->tj = c->sj + nc * FIT_MMAX * FIT_MMAX;
     return LF_OK;
 }
 
@@ -155,27 +167,25 @@ set_model(lf_fit *f, size_t j, const lf_model_type *t, lf_error *err)
     lf_model_free(f->c[j].model);
     f->c[j].model = m;
     f->c[j].data.model = t;
-    lf_fit_invalidate(f);
+    lf_fit_model_changed(f, j);
     return LF_OK;
 }
 
-/* The shared decomposition (decomp.c) at the origin. */
+/* The shared decomposition at the origin (decomp.c; in block form beyond
+ * FIT_DENSE_P parameters, decomp_block.c). */
 static int
 decompose(chooser *c)
 {
-    gsl_vector *x = c->f->ws.x2;
+    lf_fit *f = c->f;
+    gsl_vector *x = f->ws.x2;
 
     gsl_vector_set_all(x, 1.0);
-    return lf_fit_decomp_run(&c->dec, c->f, x->data, c->f->set.rcond);
-}
-
-/* Bias over se from c->d (judge.c). */
-static void
-project(chooser *c, judge_bias *b)
-{
-    lf_fit_decomp_step(&c->dec, c->d, c->coef, c->step);
-    lf_judge_bias(&c->dec, c->f->imat, c->step, b->r);
-    b->ok = 1;
+    lf_fit_decomp_free(&c->dec);
+    if (f->np > FIT_DENSE_P)
+        return lf_fit_decomp_block_run(&c->dec, f, x->data, 0, f->set.rcond);
+    if (lf_fit_decomp_alloc(&c->dec, f->nres, f->np) != LF_OK)
+        return LF_ENOMEM;
+    return lf_fit_decomp_run(&c->dec, f, x->data, f->set.rcond);
 }
 
 /* The model instance of curve j for a rung, made when first needed. */
@@ -195,18 +205,261 @@ instance(chooser *c, size_t j, int rung)
     return *slot;
 }
 
+/* What curve j's rows say at the origin, its columns scaled by D, with its
+ * own model (model NULL: the evaluations
+ * of the fit) or another: the rows' Gram in blocks (H, m x m; C, q x m; B,
+ * q x q) and the rows times d = (P_exact - P_model) / sigma (gm, gj). */
+typedef struct {
+    size_t m, q;
+    double H[FIT_MMAX * FIT_MMAX], C[FIT_QMAX * FIT_MMAX], B[FIT_QMAX * FIT_QMAX];
+    double gm[FIT_MMAX], gj[FIT_QMAX];
+} curve_parts;
+
+static int
+parts_of(chooser *c, size_t j, lf_model *model, const double *D, curve_parts *pt)
+{
+    lf_fit *f = c->f;
+    const fit_curve *fc = &f->c[j];
+    const size_t at = f->ws.lm.A.at[j];
+    double inv[FIT_MMAX + FIT_QMAX];
+    size_t mc, i, k, l, kc;
+
+    memset(pt, 0, sizeof *pt);
+    if (lf_fit_curve_rows(f, f->ws.x2->data, j, model, c->ev, 0, c->rows, &mc) != GSL_SUCCESS)
+        return LF_ENUMERIC;
+    pt->m = mc;
+    pt->q = f->ws.lm.A.q[j];
+    kc = pt->m + pt->q;
+    for (k = 0; k < kc; k++) {
+        const double dk = D[k < pt->m ? k : at + k - pt->m];
+        inv[k] = dk > 0 ? 1.0 / dk : 0.0;
+    }
+    for (i = 0; i < fc->data.n; i++) {
+        const double P = model != NULL ? c->ev[i].P : f->ws.ev[fc->row + i].P;
+        const double d = (c->P_exact[fc->row + i] - P) / fc->sigma;
+        double v[FIT_MMAX + FIT_QMAX];
+        for (k = 0; k < kc; k++)
+            v[k] = c->rows[i * kc + k] * inv[k];
+        for (k = 0; k < kc; k++) {
+            if (k < pt->m)
+                pt->gm[k] += v[k] * d;
+            else
+                pt->gj[k - pt->m] += v[k] * d;
+            for (l = 0; l <= k; l++) {
+                const double a = v[k] * v[l];
+                if (k < pt->m)
+                    pt->H[k * FIT_MMAX + l] += a;
+                else if (l < pt->m)
+                    pt->C[(k - pt->m) * FIT_MMAX + l] += a;
+                else
+                    pt->B[(k - pt->m) * FIT_QMAX + l - pt->m] += a;
+            }
+        }
+    }
+    return LF_OK;
+}
+
+/* Cholesky of the n x n symmetric M (stride s, lower triangle) into L;
+ * 0 when a pivot is not above rel times its diagonal. */
+static int
+chol_small(const double *M, size_t s, size_t n, double rel, double *L)
+{
+    size_t k, l, q;
+
+    for (k = 0; k < n; k++)
+        for (l = 0; l <= k; l++) {
+            double v = M[k * s + l];
+            for (q = 0; q < l; q++)
+                v -= L[k * s + q] * L[l * s + q];
+            if (k == l) {
+                if (!(v > rel * M[k * s + k]) || !(v > 0))
+                    return 0;
+                L[k * s + k] = sqrt(v);
+            } else {
+                L[k * s + l] = v / L[l * s + l];
+            }
+        }
+    return 1;
+}
+
+/* y = (L L^T)^-1 y, L n x n lower (stride s). */
+static void
+chol_solve(const double *L, size_t s, size_t n, double *y)
+{
+    size_t k, q;
+    for (k = 0; k < n; k++) {
+        for (q = 0; q < k; q++)
+            y[k] -= L[k * s + q] * y[q];
+        y[k] /= L[k * s + k];
+    }
+    for (k = n; k-- > 0;) {
+        for (q = k + 1; q < n; q++)
+            y[k] -= L[q * s + k] * y[q];
+        y[k] /= L[k * s + k];
+    }
+}
+
+/* A curve's share of the material's Schur complement, H - C^T B^-1 C
+ * (into sh, stride FIT_MMAX), and of the reduced J^T d, gm - C^T B^-1 gj
+ * (into t); 0 when its own block is not positive definite. */
+static int
+share_of(const curve_parts *pt, double *sh, double *t)
+{
+    const size_t m = pt->m, q = pt->q;
+    double L[FIT_QMAX * FIT_QMAX], W[FIT_QMAX * FIT_MMAX], y[FIT_QMAX];
+    size_t r, k, l;
+
+    for (r = 0; r < m; r++) {
+        t[r] = pt->gm[r];
+        for (k = 0; k <= r; k++)
+            sh[r * FIT_MMAX + k] = sh[k * FIT_MMAX + r] = pt->H[r * FIT_MMAX + k];
+    }
+    if (q == 0)
+        return 1;
+    if (!chol_small(pt->B, FIT_QMAX, q, 0.0, L))
+        return 0;
+    for (k = 0; k < m; k++) {            /* W = B^-1 C, column by column */
+        for (r = 0; r < q; r++)
+            y[r] = pt->C[r * FIT_MMAX + k];
+        chol_solve(L, FIT_QMAX, q, y);
+        for (r = 0; r < q; r++)
+            W[r * FIT_MMAX + k] = y[r];
+    }
+    for (r = 0; r < q; r++)
+        y[r] = pt->gj[r];
+    chol_solve(L, FIT_QMAX, q, y);
+    for (k = 0; k < m; k++) {
+        for (r = 0; r < q; r++)
+            t[k] -= pt->C[r * FIT_MMAX + k] * y[r];
+        for (l = 0; l < m; l++) {
+            double v = 0.0;
+            for (r = 0; r < q; r++)
+                v += pt->C[r * FIT_MMAX + k] * W[r * FIT_MMAX + l];
+            sh[k * FIT_MMAX + l] -= v;
+        }
+    }
+    return 1;
+}
+
+/* The Schur complement of the current models at the origin, summed from
+ * every curve's share, when the decomposition determines every parameter:
+ * then a curve's bias with any model costs its own rows (bias_fast). */
+static void
+prepare_fast(chooser *c)
+{
+    lf_fit *f = c->f;
+    const size_t mm = FIT_MMAX * FIT_MMAX;
+    size_t j, r, k;
+
+    c->fast = 0;
+    if (c->dec.rank != f->np || !lf_fit_choose_fast)
+        return;
+    for (k = 0; k < f->np; k++)
+        c->D[k] = lf_fit_decomp_norm(&c->dec, k);
+    memset(c->S, 0, sizeof c->S);
+    for (j = 0; j < f->ncurves; j++) {
+        curve_parts pt;
+        if (parts_of(c, j, NULL, c->D, &pt) != LF_OK
+            || !share_of(&pt, c->sj + j * mm, c->tj + j * FIT_MMAX))
+            return;
+        for (r = 0; r < pt.m; r++)
+            for (k = 0; k < pt.m; k++)
+                c->S[r * FIT_MMAX + k] += c->sj[j * mm + r * FIT_MMAX + k];
+    }
+    if (f->nu_prior) {      /* the prior's row, in nu's column */
+        const size_t inu = (size_t) f->imat[FIT_NU];
+        const double v = lf_fit_prior_entry(f, f->ws.x2->data, 1) / c->D[inu];
+        c->S[inu * FIT_MMAX + inu] += v * v;
+    }
+    c->fast = 1;
+}
+
+/* Curve j's bias with model (NULL: its own) from the Schur complement with
+ * its share replaced, S' = S - s_j + s'_j: the material's Gauss-Newton step
+ * S'^-1 t'_j over its standard errors sqrt(diag S'^-1) (bias and standard
+ * error of the fit that would be made, as decomp.c's; the ratio does not
+ * depend on the columns' scales).  0 when S' is not well conditioned
+ * (then the whole decomposition decides). */
+static int
+bias_fast(chooser *c, size_t j, lf_model *model, judge_bias *b)
+{
+    lf_fit *f = c->f;
+    const size_t mm = FIT_MMAX * FIT_MMAX;
+    double S[FIT_MMAX * FIT_MMAX], L[FIT_MMAX * FIT_MMAX], sh[FIT_MMAX * FIT_MMAX];
+    double t[FIT_MMAX], h[FIT_MMAX];
+    size_t r, k, nm = 0;
+    int col;
+
+    for (col = 0; col < FIT_NMAT; col++)
+        nm += f->imat[col] >= 0;
+    memcpy(S, c->S, sizeof S);
+    if (model == NULL) {
+        memcpy(t, c->tj + j * FIT_MMAX, sizeof t);
+    } else {
+        curve_parts pt;
+        if (parts_of(c, j, model, c->D, &pt) != LF_OK || !share_of(&pt, sh, t))
+            return 0;
+        for (r = 0; r < nm; r++)
+            for (k = 0; k < nm; k++)
+                S[r * FIT_MMAX + k] += sh[r * FIT_MMAX + k] - c->sj[j * mm + r * FIT_MMAX + k];
+    }
+    if (!chol_small(S, FIT_MMAX, nm, 1e-14, L))
+        return 0;
+    memcpy(h, t, sizeof h);
+    chol_solve(L, FIT_MMAX, nm, h);
+    for (col = 0; col < FIT_NMAT; col++) {
+        const int i = f->imat[col];
+        double e[FIT_MMAX] = { 0 }, se;
+        b->r[col] = 0.0;
+        if (i < 0)
+            continue;
+        e[i] = 1.0;
+        chol_solve(L, FIT_MMAX, nm, e);
+        se = sqrt(e[i]);
+        b->r[col] = se > 0 ? h[i] / se : 0.0;
+    }
+    b->ok = 1;
+    return 1;
+}
+
+/* Bias over se of curve j from the decomposition at hand (that of the
+ * models being judged): the step pinv(J D^-1) d from D^-1 J_j^T d, curve
+ * j's rows being the only ones d touches. */
+static int
+bias_decomposed(chooser *c, size_t j, judge_bias *b)
+{
+    lf_fit *f = c->f;
+    const size_t at = f->ws.lm.A.at[j];
+    curve_parts pt;
+    size_t k;
+
+    for (k = 0; k < f->np; k++)
+        c->work[k] = lf_fit_decomp_norm(&c->dec, k);
+    if (parts_of(c, j, NULL, c->work, &pt) != LF_OK)
+        return LF_ENUMERIC;
+    memset(c->g, 0, f->np * sizeof *c->g);
+    for (k = 0; k < pt.m; k++)
+        c->g[k] = pt.gm[k];
+    for (k = 0; k < pt.q; k++)
+        c->g[at + k] = pt.gj[k];
+    lf_fit_decomp_pinv(&c->dec, c->g, c->step, c->work);
+    lf_judge_bias(&c->dec, f->imat, c->step, b->r);
+    b->ok = 1;
+    return LF_OK;
+}
+
 /* Bias of curve j when it uses model `rung` instead of exact, the other
  * curves keeping theirs.  The Jacobian is that of the model being judged
- * (the fit that would be made), so curve j's model is swapped in for the
- * decomposition when it is not the current one. */
+ * (the fit that would be made): where every parameter is determined, curve
+ * j's share of the material's Schur complement is swapped (bias_fast);
+ * else its model is swapped in for a decomposition of its own. */
 static int
 curve_bias(chooser *c, size_t j, int rung, judge_bias *b)
 {
     lf_fit *f = c->f;
     fit_curve *fc = &f->c[j];
-    lf_model *saved = fc->model, *m;
+    lf_model *saved = fc->model, *m = NULL;
     int swapped = rung != c->rung[j], status = LF_OK;
-    size_t i;
 
     memset(b, 0, sizeof *b);
     if (!c->exact_ok[j])
@@ -215,9 +468,12 @@ curve_bias(chooser *c, size_t j, int rung, judge_bias *b)
         b->ok = 1;
         return LF_OK;
     }
+    if (swapped && (m = instance(c, j, rung)) == NULL)
+        return LF_OK;
+    if (c->fast && bias_fast(c, j, m, b))
+        return LF_OK;
+    memset(b, 0, sizeof *b);
     if (swapped) {
-        if ((m = instance(c, j, rung)) == NULL)
-            return LF_OK;
         fc->model = m;
         lf_fit_invalidate(f);
         c->base_ok = 0;
@@ -225,10 +481,7 @@ curve_bias(chooser *c, size_t j, int rung, judge_bias *b)
     if (!c->base_ok || swapped)
         status = decompose(c);  /* evaluates the models at the origin into f->ev */
     if (status == LF_OK) {
-        memset(c->d, 0, f->nres * sizeof *c->d);
-        for (i = 0; i < fc->data.n; i++)
-            c->d[fc->row + i] = (c->P_exact[fc->row + i] - f->ws.ev[fc->row + i].P) / fc->sigma;
-        project(c, b);
+        status = bias_decomposed(c, j, b);
         c->base_ok = !swapped;
     }
     if (swapped) {
@@ -250,7 +503,25 @@ static int
 models_move(void *ctx, size_t j, int rung)
 {
     chooser *c = ctx;
+    const size_t mm = FIT_MMAX * FIT_MMAX;
+
     c->base_ok = 0;
+    if (c->fast) {
+        /* the curve's share of S with its new model */
+        lf_model *m = instance(c, j, rung);
+        double sh[FIT_MMAX * FIT_MMAX], t[FIT_MMAX];
+        curve_parts pt;
+        size_t r, k;
+        if (m != NULL && parts_of(c, j, m, c->D, &pt) == LF_OK && share_of(&pt, sh, t)) {
+            for (r = 0; r < pt.m; r++)
+                for (k = 0; k < pt.m; k++)
+                    c->S[r * FIT_MMAX + k] += sh[r * FIT_MMAX + k] - c->sj[j * mm + r * FIT_MMAX + k];
+            memcpy(c->sj + j * mm, sh, sizeof sh);
+            memcpy(c->tj + j * FIT_MMAX, t, sizeof t);
+        } else {
+            c->fast = 0;
+        }
+    }
     return set_model(c->f, j, lf_fit_rung_type(rung), c->err);
 }
 
@@ -267,6 +538,7 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
 
     *changed = 0;
     c->base_ok = 0;
+    c->fast = 0;
     status = decompose(c);
     if (status != LF_OK)
         return lf_fail(err, status, "model choice: the Jacobian at the solution cannot be decomposed");
@@ -305,7 +577,9 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
         }
     }
     /* the current models first (one decomposition), then thin where it is
-     * not the current model */
+     * not the current model; where everything is determined, from the
+     * material's Schur complement, curve by curve */
+    prepare_fast(c);
     for (j = 0; j < f->ncurves && status == LF_OK; j++) {
         status = curve_bias(c, j, c->rung[j], &c->cur[j]);
         if (c->rung[j] == FIT_RUNG_THIN)

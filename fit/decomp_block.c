@@ -296,7 +296,7 @@ gram_pass(fit_bdec *b, lf_fit *f, const double *x, int with_nu, double *rows)
     for (j = 0; j < b->n; j++) {
         const size_t q = b->G.q[j], kc = m + q, at = b->G.at[j];
         double *cb = b->G.cb + j * FIT_CB;
-        if (lf_fit_curve_rows(f, x, j, with_nu, rows, &mc) != GSL_SUCCESS || mc != m) {
+        if (lf_fit_curve_rows(f, x, j, NULL, NULL, with_nu, rows, &mc) != GSL_SUCCESS || mc != m) {
             free(scale);
             return LF_ENUMERIC;
         }
@@ -483,7 +483,7 @@ rank_pass(fit_bdec *b, lf_fit *f, const double *x, int with_nu, double rcond, do
         const size_t nr = n > kc ? n : kc;
         double tauq[KMAX], Rjj[FIT_MMAX * FIT_MMAX], Vj[FIT_MMAX * FIT_MMAX], sj[FIT_MMAX];
         double T[FIT_MMAX * FIT_MMAX], *cb = b->X.cb + j * FIT_CB;
-        if (lf_fit_curve_rows(f, x, j, with_nu, rows, &mc) != GSL_SUCCESS || mc != m) {
+        if (lf_fit_curve_rows(f, x, j, NULL, NULL, with_nu, rows, &mc) != GSL_SUCCESS || mc != m) {
             st = LF_ENUMERIC;
             break;
         }

@@ -425,9 +425,11 @@ int lf_fit_jacobian_physical_nu(lf_fit *f, const double *x, gsl_matrix *J);
 /* Curve j's rows of the weighted physical Jacobian at x into rows
  * (n_j x ncol, row-major): the material's free columns (with_nu: then
  * dP/dnu, as if nu were free), then the curve's own; *mcols the material's
- * count (with nu's).  GSL_EDOM when the model cannot be evaluated. */
-int lf_fit_curve_rows(lf_fit *f, const double *x, size_t j, int with_nu, double *rows,
-                      size_t *mcols);
+ * count (with nu's).  Of its model, or (model not NULL) of that one,
+ * evaluated into ev (n_j) at the same indentations.  GSL_EDOM when the
+ * model cannot be evaluated. */
+int lf_fit_curve_rows(lf_fit *f, const double *x, size_t j, lf_model *model, lf_eval *ev,
+                      int with_nu, double *rows, size_t *mcols);
 /* The nu prior's row's one entry (in nu's column; 0 without a prior). */
 double lf_fit_prior_entry(const lf_fit *f, const double *x, int physical);
 /* c[k] = the internal Jacobian's column k over the physical one at x (each
@@ -451,6 +453,9 @@ double lf_fit_select_kth(double *v, size_t n, size_t k);
 double lf_fit_median_sqrt(double *v, size_t n);
 /* Weights, origin or model changed: what was computed at an x is stale. */
 void lf_fit_invalidate(lf_fit *f);
+/* Curve j's model object was replaced: its evaluations at the cached x
+ * made again (the others' stay), the solver's look at J^T J dropped. */
+void lf_fit_model_changed(lf_fit *f, size_t j);
 /* guess_model.c: the start of a model with no thickness (half-space) from
  * its own force law: 1 when every curve's model is such a model; the
  * material (0 when no curve gives one); the offsets at f->mat. */
@@ -813,6 +818,10 @@ typedef struct {
     int (*move)(void *ctx, size_t j, int rung);
 } judge_models;
 int lf_judge_models(judge_models *jm, double *total_max, int *changed);
+/* choose.c: 1 (the default): where every parameter is determined, each
+ * curve's bias from the material's Schur complement with its share
+ * swapped; 0: from a decomposition of its own (a check for tests). */
+extern int lf_fit_choose_fast;
 /* Why a curve has its model, in words. */
 void lf_judge_model_reason(char *buf, size_t n, int rung, int fixed, const judge_bias *thin,
                            const judge_bias *half, double ab_lo, double ab_hi, double tol);

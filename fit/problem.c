@@ -191,6 +191,22 @@ eval_all(lf_fit *f, const double *x)
     return LF_OK;
 }
 
+void
+lf_fit_model_changed(lf_fit *f, size_t j)
+{
+    const fit_curve *c = &f->c[j];
+    lf_material mat;
+    double z0, F0, slope;
+
+    f->ws.gn_ok = 0;
+    if (!f->ws.xcache_ok)
+        return;
+    lf_fit_unpack(f, f->ws.xcache, &mat, &z0, &F0, &slope, j);
+    if (lf_model_eval(c->model, &mat, c->data.branch, c->data.n, f->ws.delta + c->row,
+                      f->ws.ev + c->row, NULL) != LF_OK)
+        f->ws.xcache_ok = 0;
+}
+
 int
 lf_fit_eval_at(lf_fit *f, const double *x)
 {
@@ -324,6 +340,7 @@ typedef struct {
     double mult[6];
     lf_material mat;
     double slope, ddet;
+    const lf_model *model;      /* the model the rows are of */
 } row_map;
 
 /* The column in x of the six a curve's rows can touch (row_entries'
@@ -357,9 +374,11 @@ coordinate_mult(const lf_fit *f, const double *x, size_t j, const lf_material *m
     mult[5] = physical ? 1.0 : c->Fs / c->L;
 }
 
-/* Curve j's map at x (physical as in coordinate_mult). */
+/* Curve j's map at x (physical as in coordinate_mult), for its model or
+ * (model not NULL) another. */
 static void
-curve_map(const lf_fit *f, const double *x, size_t j, int physical, row_map *map)
+curve_map_of(const lf_fit *f, const double *x, size_t j, int physical, const lf_model *model,
+             row_map *map)
 {
     const fit_curve *c = &f->c[j];
     double mult[6], z0, F0;
@@ -379,28 +398,34 @@ curve_map(const lf_fit *f, const double *x, size_t j, int physical, row_map *map
     }
     /* on unloading, a point closer than eps to detachment, where the
      * derivatives blow up, takes those of the point eps inside contact */
+    map->model = model != NULL ? model : c->model;
     map->ddet = -HUGE_VAL;
     if (c->data.branch == LF_BRANCH_UNLOAD
-        && lf_model_pulloff(c->model, &map->mat, &po, NULL) == LF_OK)
+        && lf_model_pulloff(map->model, &map->mat, &po, NULL) == LF_OK)
         map->ddet = po.delta_detach;
 }
 
-/* Row k's entries in the map's columns into v[0..M-1] (unweighted by
- * sigma and the robust weight: ws multiplies them); sel is map->sel or, in
- * the instances for the usual columns, a constant copy of it. */
-LF_KERNEL void
-row_entries(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M,
-            const int *sel, size_t k, double ws, double *v)
+static void
+curve_map(const lf_fit *f, const double *x, size_t j, int physical, row_map *map)
 {
-    const double d = f->ws.delta[k];
-    const lf_eval *e = &f->ws.ev[k];
+    curve_map_of(f, x, j, physical, NULL, map);
+}
+
+/* The entries of the row of indentation d, the model's evaluation e there,
+ * in the map's columns into v[0..M-1] (unweighted by sigma and the robust
+ * weight: ws multiplies them); sel is map->sel or, in the instances for
+ * the usual columns, a constant copy of it. */
+LF_KERNEL void
+row_entries(const fit_curve *c, const row_map *map, size_t M, const int *sel, double d,
+            const lf_eval *e, double ws, double *v)
+{
     lf_eval eg;
     double t[6];
     size_t q;
 
     if (d > map->ddet && d < map->ddet + c->eps) {     /* ddet = -inf unless unloading */
         double d2 = map->ddet + c->eps;
-        if (lf_model_eval(c->model, &map->mat, c->data.branch, 1, &d2, &eg, NULL) == LF_OK)
+        if (lf_model_eval(map->model, &map->mat, c->data.branch, 1, &d2, &eg, NULL) == LF_OK)
             e = &eg;
     }
     t[0] = e->dP_dlogw;
@@ -434,7 +459,8 @@ curve_rows(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M, gs
     for (i = 0; i < c->data.n; i++) {
         const size_t k = c->row + i;
         double v[6], *row = J->data + k * J->tda;
-        row_entries(f, c, map, M, map->sel, k, f->ws.sqrtw[k] * inv_sigma, v);
+        row_entries(c, map, M, map->sel, f->ws.delta[k], &f->ws.ev[k], f->ws.sqrtw[k] * inv_sigma,
+                    v);
 #pragma GCC unroll 6
         for (q = 0; q < M; q++)
             row[map->col[q]] = v[q];
@@ -491,7 +517,7 @@ curve_sums(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M,
         const size_t k = c->row + i;
         const double ri = r[k];
         double v[6];
-        row_entries(f, c, map, M, sel, k, f->ws.sqrtw[k] * inv_sigma, v);
+        row_entries(c, map, M, sel, f->ws.delta[k], &f->ws.ev[k], f->ws.sqrtw[k] * inv_sigma, v);
         /* unrolled (M is constant): the sums stay in registers */
 #pragma GCC unroll 6
         for (q = 0; q < M; q++) {
@@ -674,7 +700,8 @@ lf_fit_jacobian_physical_nu(lf_fit *f, const double *x, gsl_matrix *J)
         for (i = 0; i < c->data.n; i++) {
             const size_t k = c->row + i;
             double v;
-            row_entries(f, c, &map, 1, sel, k, f->ws.sqrtw[k] / c->sigma, &v);
+            row_entries(c, &map, 1, sel, f->ws.delta[k], &f->ws.ev[k], f->ws.sqrtw[k] / c->sigma,
+                        &v);
             gsl_matrix_set(J, k, f->np, v);
         }
     }
@@ -684,18 +711,24 @@ lf_fit_jacobian_physical_nu(lf_fit *f, const double *x, gsl_matrix *J)
 }
 
 int
-lf_fit_curve_rows(lf_fit *f, const double *x, size_t j, int with_nu, double *rows,
-                  size_t *mcols)
+lf_fit_curve_rows(lf_fit *f, const double *x, size_t j, lf_model *model, lf_eval *ev,
+                  int with_nu, double *rows, size_t *mcols)
 {
     const fit_curve *c = &f->c[j];
-    const double inv_sigma = 1.0 / c->sigma;
+    const double inv_sigma = 1.0 / c->sigma, *delta = f->ws.delta + c->row;
+    const lf_eval *e = f->ws.ev + c->row;
     int sel[7];
     row_map map, wide;
     size_t i, q, m = 0, k;
 
     if (eval_all(f, x) != LF_OK)
         return GSL_EDOM;
-    curve_map(f, x, j, 1, &map);
+    curve_map_of(f, x, j, 1, model, &map);
+    if (model != NULL) {
+        if (lf_model_eval(model, &map.mat, c->data.branch, c->data.n, delta, ev, NULL) != LF_OK)
+            return GSL_EDOM;
+        e = ev;
+    }
     /* the material's free columns, dP/dnu (with_nu), then the curve's own:
      * row_entries' numbering keeps that order */
     wide = map;
@@ -714,10 +747,9 @@ lf_fit_curve_rows(lf_fit *f, const double *x, size_t j, int with_nu, double *row
     }
     wide.m = k;
     *mcols = m + (size_t) (with_nu != 0);
-    for (i = 0; i < c->data.n; i++) {
-        const size_t row = c->row + i;
-        row_entries(f, c, &wide, k, sel, row, f->ws.sqrtw[row] * inv_sigma, rows + i * k);
-    }
+    for (i = 0; i < c->data.n; i++)
+        row_entries(c, &wide, k, sel, delta[i], &e[i], f->ws.sqrtw[c->row + i] * inv_sigma,
+                    rows + i * k);
     return GSL_SUCCESS;
 }
 

@@ -393,6 +393,63 @@ many_curves(void)
     }
 }
 
+/* ---- the model choice's biases from the Schur complement --------------- */
+
+static void
+choice_fast(void)
+{
+    size_t q;
+
+    for (q = 0; q < 2; q++) {
+        scene s = scene_default(q == 0 ? "auto, exact data k = 2, 3 on 1 um"
+                                       : "auto, exact data four probes, nu free");
+        lf_choose_settings cs = lf_choose_settings_default();
+        lf_fit_result a, b;
+        lf_error err;
+        int sa, sb;
+        size_t j, m;
+
+        s.mat.w = 10e-3;
+        s.mat.Estar = 1e9;
+        s.sim.noise = 0.002;
+        s.sim_model = &lf_model_exact;
+        scene_add(&s, 2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+        scene_add(&s, 3, 1e-3, 1e-6, q == 0 ? LF_BASE_FRICTIONLESS : LF_BASE_BONDED);
+        if (q == 1) {
+            scene_add(&s, 1.5, 5e-4, 1e-6, LF_BASE_FRICTIONLESS);
+            scene_add(&s, 4, 2e-3, 2e-6, LF_BASE_BONDED);
+        }
+        scene_simulate(&s, 21 + q);
+        lf_fit_choose_fast = 0;
+        sb = lf_fit_choose_driver(&s.fit, &cs, s.n, s.curve, &b, &err);
+        lf_fit_choose_fast = 1;
+        sa = lf_fit_choose_driver(&s.fit, &cs, s.n, s.curve, &a, &err);
+        if (t_int(sa, sb, "%s: the same status", s.label) && (sa == LF_OK || sa == LF_ENOCONV)) {
+            t_int((long) a.model_rounds, (long) b.model_rounds, "%s: the same fits", s.label);
+            t_rel(a.w.value, b.w.value, 1e-9, "%s: the same w", s.label);
+            t_rel(a.Estar.value, b.Estar.value, 1e-9, "%s: the same E*", s.label);
+            for (j = 0; j < s.n; j++) {
+                t_str(a.curves[j].model, b.curves[j].model, "%s: curve %zu the same model",
+                      s.label, j + 1);
+                for (m = 0; m < 3; m++)
+                    t_true(fabs(a.curves[j].thin_bias_se[m] - b.curves[j].thin_bias_se[m])
+                           <= 1e-6 * fmax(1.0, fabs(b.curves[j].thin_bias_se[m]))
+                           || (isnan(a.curves[j].thin_bias_se[m])
+                               && isnan(b.curves[j].thin_bias_se[m])),
+                           "%s: curve %zu: the same thin bias %zu (%.6g, %.6g se)", s.label,
+                           j + 1, m, a.curves[j].thin_bias_se[m], b.curves[j].thin_bias_se[m]);
+            }
+            printf("%s: models", s.label);
+            for (j = 0; j < s.n; j++)
+                printf(" %s (%.3g se)", a.curves[j].model, a.curves[j].thin_bias);
+            printf("\n");
+            lf_fit_result_free(&a);
+            lf_fit_result_free(&b);
+        }
+        scene_free(&s);
+    }
+}
+
 int
 main(void)
 {
@@ -400,5 +457,6 @@ main(void)
     arrow_against_dense();
     decompositions();
     many_curves();
+    choice_fast();
     return t_summary();
 }
