@@ -101,30 +101,65 @@ offsets_outside(const lf_fit *f, const double *x, fit_run *run)
 }
 
 /* The Gauss-Newton step at x (internal coordinates, into step) and the
- * decrease of chi2 it predicts; NaN when it cannot be computed.  From the
- * block Cholesky of J^T J (block.c), its directions below 1e-10 of each
- * column's scale damped away (as a truncated SVD of J would cut them):
- * step = -(J^T J + 1e-20 diag(J^T J))^-1 J^T r, the decrease -g^T step. */
+ * decrease of chi2 it predicts; NaN when it cannot be computed.  Up to
+ * FIT_DENSE_P parameters from the SVD J = U S V^T (decomp.c, unscaled: QR,
+ * then the small R): step = -V S^-1 U^T r over the directions with
+ * S_l > 1e-10 S_0, the decrease of chi2 = sum (U_l . r)^2 over them.
+ * Beyond, from the block Cholesky of J^T J (block.c), its directions below
+ * 1e-10 of each column's scale damped away (as the truncated SVD cuts
+ * them): step = -(J^T J + 1e-20 diag(J^T J))^-1 J^T r, the decrease
+ * -g^T step.  (The normal equations square J's condition: for a weakly
+ * determined w, as in two probes at 5% noise, their step departs from the
+ * SVD's where it decides a verdict.) */
 static double
 gn_step(lf_fit *f, const gsl_vector *x, gsl_vector *step)
 {
     const size_t p = f->np;
-    fit_arrow *A = &f->ws.gsl_jtj;
-    double *g = f->ws.grad, *d2 = f->ws.colmax, dec = 0.0;
+    double dec = NAN;
     size_t i;
 
-    if (lf_fit_residuals(x, f, f->ws.r2) != GSL_SUCCESS
-        || lf_fit_normal_sums(f, x->data, f->ws.r2->data, A, g, d2) != GSL_SUCCESS)
-        return NAN;
-    lf_arrow_diag(A, d2);
-    if (!lf_arrow_factor(&f->ws.jchol, A, d2, 1e-20, 0.0))
-        return NAN;
-    for (i = 0; i < p; i++)
-        step->data[i] = -g[i];
-    lf_arrow_solve(&f->ws.jchol, step->data, step->data);
-    for (i = 0; i < p; i++)
-        dec -= g[i] * step->data[i];
-    return dec;
+    if (p <= FIT_DENSE_P) {
+        fit_decomp d;
+        double *coef;
+        size_t l;
+
+        if (lf_fit_decomp_alloc(&d, f->nres, p) != LF_OK)
+            return NAN;
+        if (lf_fit_residuals(x, f, f->ws.r2) != GSL_SUCCESS
+            || lf_fit_jacobian(x, f, d.QR) != GSL_SUCCESS
+            || lf_fit_decomp_factor(&d, 1e-10, 0) != LF_OK)
+            goto done;
+        coef = d.work->data;       /* the factorisation's scratch, free again */
+        lf_fit_decomp_project(&d, f->ws.r2->data, coef);   /* (U_l . r) / S_l */
+        gsl_vector_set_zero(step);
+        dec = 0.0;
+        for (l = 0; l < d.rank; l++) {
+            const double sl = gsl_vector_get(d.S, l);
+            dec += coef[l] * sl * coef[l] * sl;
+            for (i = 0; i < p; i++)
+                step->data[i] -= gsl_matrix_get(d.V, i, l) * coef[l];
+        }
+done:
+        lf_fit_decomp_free(&d);
+        return dec;
+    } else {
+        fit_arrow *A = &f->ws.gsl_jtj;
+        double *g = f->ws.grad, *d2 = f->ws.colmax;
+
+        if (lf_fit_residuals(x, f, f->ws.r2) != GSL_SUCCESS
+            || lf_fit_normal_sums(f, x->data, f->ws.r2->data, A, g, d2) != GSL_SUCCESS)
+            return NAN;
+        lf_arrow_diag(A, d2);
+        if (!lf_arrow_factor(&f->ws.jchol, A, d2, 1e-20, 0.0))
+            return NAN;
+        for (i = 0; i < p; i++)
+            step->data[i] = -g[i];
+        lf_arrow_solve(&f->ws.jchol, step->data, step->data);
+        dec = 0.0;
+        for (i = 0; i < p; i++)
+            dec -= g[i] * step->data[i];
+        return dec;
+    }
 }
 
 int
