@@ -169,7 +169,7 @@ cli_bench_many(size_t seeds_max, int quick)
            "peak MB");
     for (si = 0; si < nsizes; si++) {
         const size_t n = many_sizes[si];
-        size_t seeds = 1024 / n < 4 ? 4 : 1024 / n > 100 ? 100 : 1024 / n, k, nconv = 0;
+        size_t seeds = 4096 / n < 16 ? 16 : 4096 / n > 100 ? 100 : 4096 / n, k, nconv = 0;
         double *times, it = 0, ev = 0, sw = 0, sE = 0;
         lf_crb_result crb;
         lf_error err;
