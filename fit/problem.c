@@ -632,20 +632,32 @@ lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, fit_arrow *A, do
     return GSL_SUCCESS;
 }
 
-/* Row i of J (its columns cols[0..nc)) into A, g and colmax. */
+/* Rows [i0, i1) of J, whose entries outside the columns cols[0..nc) are
+ * zero, into block j of A (of the prior's rows: the head alone), g and
+ * colmax: their products summed in a dense nc x nc lower triangle first,
+ * then added to A once. */
 static void
-add_row(fit_arrow *A, size_t j, const double *row, double ri, const size_t *cols, size_t nc,
-        double *g, double *colmax)
+add_rows(fit_arrow *A, size_t j, const gsl_matrix *J, const double *r, size_t i0, size_t i1,
+         const size_t *cols, size_t nc, double *g, double *colmax)
 {
-    size_t a, b;
+    double S[(FIT_MMAX + FIT_QMAX) * (FIT_MMAX + FIT_QMAX)] = { 0.0 };
+    size_t i, a, b;
 
-    for (a = 0; a < nc; a++) {
-        const double v = row[cols[a]];
-        colmax[cols[a]] = lf_fmax(colmax[cols[a]], fabs(v));
-        g[cols[a]] += v * ri;
-        for (b = 0; b <= a; b++)
-            lf_arrow_add(A, j, cols[a], cols[b], v * row[cols[b]]);
+    if (i0 == i1)
+        return;
+    for (i = i0; i < i1; i++) {
+        const double *row = J->data + i * J->tda, ri = r[i];
+        for (a = 0; a < nc; a++) {
+            const double v = row[cols[a]];
+            colmax[cols[a]] = lf_fmax(colmax[cols[a]], fabs(v));
+            g[cols[a]] += v * ri;
+            for (b = 0; b <= a; b++)
+                S[a * nc + b] += v * row[cols[b]];
+        }
     }
+    for (a = 0; a < nc; a++)
+        for (b = 0; b <= a; b++)
+            lf_arrow_add(A, j, cols[a], cols[b], S[a * nc + b]);
 }
 
 void
@@ -653,7 +665,7 @@ lf_fit_normal_of_jacobian(const lf_fit *f, const gsl_matrix *J, const double *r,
                           double *g, double *colmax)
 {
     const size_t p = f->np, m = A->m;
-    size_t i, j, a, cols[FIT_MMAX + FIT_QMAX], nc;
+    size_t j, a, cols[FIT_MMAX + FIT_QMAX], nc;
 
     lf_arrow_zero(A);
     memset(g, 0, p * sizeof *g);
@@ -664,11 +676,10 @@ lf_fit_normal_of_jacobian(const lf_fit *f, const gsl_matrix *J, const double *r,
         /* a curve's rows: the material's columns and its own */
         for (a = 0, nc = m; a < A->q[j]; a++)
             cols[nc++] = A->at[j] + a;
-        for (i = f->c[j].row; i < f->c[j].row + f->c[j].data.n; i++)
-            add_row(A, j, J->data + i * J->tda, r[i], cols, nc, g, colmax);
+        add_rows(A, j, J, r, f->c[j].row, f->c[j].row + f->c[j].data.n, cols, nc, g, colmax);
     }
-    for (i = f->ndata; i < f->nres; i++)        /* the prior's: nu's alone */
-        add_row(A, f->ncurves, J->data + i * J->tda, r[i], cols, m, g, colmax);
+    /* the prior's: nu's alone */
+    add_rows(A, f->ncurves, J, r, f->ndata, f->nres, cols, m, g, colmax);
 }
 
 int
