@@ -898,17 +898,33 @@ int lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err);
  * then makes it blocking again: a regular file is required unless flags
  * has LF_INPUT_STREAM, which admits a FIFO, pipe or device (read once, as
  * a stream; at most LF_STREAM_WAIT seconds are waited for the first byte).
- * On success *fd is open and owned by the caller.  lf_input_read reads the
- * whole input into in->data (owned by in, lf_input_free) and puts its
- * SHA-256 in hex into in->sha256.  Errors: LF_EIO, LF_ENOMEM, naming path.
- * Every reader opens its files through these. */
+ * On success *fd is open and owned by the caller; nothing is read, so a
+ * reader of large binary files (random access, pread or mmap) opens them
+ * with it, without the limit below.  lf_input_read reads the whole input
+ * into in->data (owned by in, lf_input_free) and puts its SHA-256 in hex
+ * into in->sha256.  It reads at most lf_input_limit() bytes (a regular
+ * file larger than that is refused from its size before anything is read,
+ * a stream when it gets there) and, unless flags has LF_INPUT_BINARY,
+ * checks text as it arrives: at a control byte (other than tab, CR, LF),
+ * a UTF-16 byte order mark or a line over 1 MiB it stops reading (nothing
+ * after is read, in->stopped is 1) and keeps the bytes up to that one, so
+ * that the reader refuses them with its own message at the same place as
+ * it would the whole file.  Errors: LF_EIO, LF_ENOMEM, naming path.  Every reader opens its files
+ * through these.  lf_input_set_limit sets the limit for the process (set
+ * it before reading starts; default LF_INPUT_LIMIT, 256 MiB). */
 #define LF_INPUT_STREAM 1u
+#define LF_INPUT_BINARY 2u
 #define LF_STREAM_WAIT 10
+#define LF_INPUT_LIMIT ((size_t) 256 * 1024 * 1024)
 typedef struct {
     char *data;               /* the bytes read (not NUL-terminated) */
     size_t len;
     char sha256[65];          /* lowercase hex */
+    int stopped;              /* 1: reading stopped at a byte no text reader
+                                 takes (only the bytes up to it are here) */
 } lf_input;
+void lf_input_set_limit(size_t bytes);
+size_t lf_input_limit(void);
 int lf_input_open(const char *path, unsigned flags, int *fd, lf_error *err);
 int lf_input_read(const char *path, unsigned flags, lf_input *in, lf_error *err);
 void lf_input_free(lf_input *in);

@@ -548,8 +548,8 @@ draw_sweep(const char *file, lf_design_factor factor, size_t nv, const double *x
     fig.nseries = ns;
     fig.series = ser;
     if (ns == 0) {
-        fprintf(stderr, "layerfit: warning: design: nothing is determined anywhere in the sweep: "
-                "no figure drawn\n");
+        cli_say("warning: design: nothing is determined anywhere in the sweep: "
+                "no figure drawn");
     } else {
         if (plot_draw(&fig, file, msg, sizeof msg) != 0)
             cli_die(CLI_EXIT_FAIL, "design: --plot: %s", msg);

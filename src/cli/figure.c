@@ -246,7 +246,7 @@ cli_figure(int figure, const char *plot)
             free(d);
             cli_die(CLI_EXIT_FAIL, "model: --plot: %s", msg);
         }
-        fprintf(stderr, "layerfit: figure %d drawn in %s\n", figure, plot);
+        cli_say("figure %d drawn in %s", figure, plot);
     }
     free(d);
     return CLI_EXIT_OK;

@@ -175,15 +175,19 @@ fit_output_write(FILE *f, const void *ctx)
     o->writer(f, o->in, o->r);
 }
 
+/* Write path (with its provenance sidecar when sidecar is 1). */
 static void
 write_file(const char *path, void (*writer)(FILE *, const report_input *, const lf_fit_result *),
-           const report_input *in, const lf_fit_result *r)
+           const report_input *in, const lf_fit_result *r, int sidecar)
 {
     fit_output o;
     o.writer = writer;
     o.in = in;
     o.r = r;
-    cli_write_file("fit", path, fit_output_write, &o);
+    if (sidecar)
+        cli_write_file_sidecar("fit", path, fit_output_write, &o);
+    else
+        cli_write_file("fit", path, fit_output_write, &o);
 }
 
 void
@@ -450,7 +454,7 @@ cli_fit(int argc, char **argv)
         lf_error terr;
         int st = lf_fit_compare_thin(&set, d.n, d.curves, &r, &terr);
         if (st != LF_OK)
-            fprintf(stderr, "layerfit: warning: the thin-layer comparison fit failed: %s\n",
+            cli_say("warning: the thin-layer comparison fit failed: %s",
                     terr.msg);
     }
     {
@@ -459,7 +463,7 @@ cli_fit(int argc, char **argv)
         lf_error perr;
         if (lf_fit_profile(&set, d.n, d.curves, &r, fa.linear_only ? LF_PROFILE_LINEAR : 0,
                            &perr) != LF_OK)
-            fprintf(stderr, "layerfit: warning: profile-likelihood intervals: %s\n", perr.msg);
+            cli_say("warning: profile-likelihood intervals: %s", perr.msg);
         if (status == LF_OK && !r.converged)
             status = LF_ENOCONV;    /* a local minimum, or nothing determined */
     }
@@ -471,21 +475,19 @@ cli_fit(int argc, char **argv)
     print_input_notes(&a, &d);
     report_text(stdout, &in, &r);
     if (a.json != NULL)
-        write_file(a.json, report_json, &in, &r);
-    if (a.curves != NULL) {
-        write_file(a.curves, report_curves, &in, &r);
-        cli_provenance_sidecar("fit", a.curves);
-    }
+        write_file(a.json, report_json, &in, &r, 0);
+    if (a.curves != NULL)
+        write_file(a.curves, report_curves, &in, &r, 1);
     cli_fit_figures(plot_dir, report_html, d.n, d.curves, &r);
     if (status == LF_OK && cli_disagreeing(&r, bad, sizeof bad) > 0) {
-        fprintf(stderr, "layerfit: fit: converged, but the model does not describe curve%s %s "
+        cli_say("fit: converged, but the model does not describe curve%s %s "
                 "(DISAGREES): the values are those of a model that does not fit, not a "
-                "measurement (check k, R, b, interface and segment)\n",
+                "measurement (check k, R, b, interface and segment)",
                 strchr(bad, ',') != NULL ? "s" : "", bad);
         misfit = 1;
     }
     if (status == LF_ENOCONV)
-        fprintf(stderr, "layerfit: fit: %s%s\n", r.stop_reason,
+        cli_say("fit: %s%s", r.stop_reason,
                 r.stop == LF_STOP_ITERATIONS
                 ? " (--max-iter N allows more; a fit that creeps along a kink of the cost may "
                   "still not settle)" : "");

@@ -511,7 +511,7 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
     cli_figures figs = { 0, NULL, NULL };
     char tmpdir[4096], note[1200];
     const char *dir = plotdir;
-    int have_note = 0, status = 0;
+    int have_note = 0, status = 0, slot = -1;
     cli_out out;
     FILE *f;
 
@@ -522,6 +522,7 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
             snprintf(msg, n, "cannot create a temporary folder for the figures: %s", strerror(errno));
             return -1;
         }
+        slot = cli_temp_add(tmpdir, 1);     /* removed, whatever stops the run */
         dir = tmpdir;
     }
     if (cli_plot_fit(dir, ncurves, curves, r, &figs, note, sizeof note) != 0)
@@ -564,8 +565,10 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
         status = 1;
     }
 done:
-    if (plotdir == NULL)
+    if (plotdir == NULL) {
         remove_figures(dir, ncurves);
+        cli_temp_forget(slot);
+    }
     cli_figures_free(&figs);
     return status;
 }

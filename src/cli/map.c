@@ -162,7 +162,7 @@ synthetic(const char *dir, long size, long every, long points, double noise,
         }
     if (cli_out_commit(&out, msg, sizeof msg) != 0)
         cli_die(CLI_EXIT_FAIL, "map: %s", msg);
-    fprintf(stderr, "layerfit: map: wrote %ld curves and %s\n", n, path);
+    cli_say("map: wrote %ld curves and %s", n, path);
     return CLI_EXIT_OK;
 }
 
@@ -405,7 +405,7 @@ draw_map(const char *result, const char *image)
         cli_die(CLI_EXIT_FAIL, "map: %s (the script and data are in %s/%s and %s/%s)",
                 msg, dir, gp, dir, dat);
     if (m.skipped > 0)
-        fprintf(stderr, "layerfit: map: %zu rows of %s have no position and are not shown\n",
+        cli_say("map: %zu rows of %s have no position and are not shown",
                 m.skipped, result);
     free(ux);
     free(uy);

@@ -341,7 +341,7 @@ cli_model(int argc, char **argv)
         /* numbers without the summary's words: the warning goes beside them */
         const char *scope = thin_scope(&s, s.probe.b / s.po.a_po);
         if (*scope)
-            fprintf(stderr, "layerfit: model: warning: b/a = %.4g at pull-off: %s\n",
+            cli_say("model: warning: b/a = %.4g at pull-off: %s",
                     s.probe.b / s.po.a_po, scope);
     }
     if (a.summary)
