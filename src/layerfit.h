@@ -224,6 +224,19 @@ const lf_model_type *lf_model_type_find(const char *name);
 int lf_probe_check(const lf_probe *probe, lf_error *err);
 int lf_material_check(const lf_material *mat, lf_base base, lf_error *err);
 
+/* Whether model m can be evaluated for material mat where its curve lives
+ * (from detachment over ten pull-off widths): the pull-off and the
+ * unloading branch there finite, an adhesive material pulling off, the
+ * deepest point pressing.  Each model computes powers of its lengths in
+ * double precision, so far from k = 2, or with lengths far from the
+ * micrometre, its numbers can leave double precision: such a region is
+ * LF_EINVAL with a message that names the model, k, R, b, w and E*.
+ * lf_model_check_probe checks a model type for a probe alone, with the
+ * seed paper's material (w = 10 mJ/m^2, E* = 1 GPa, nu = 0.3), for a fit
+ * whose material is not known yet. */
+int lf_model_check_region(const lf_model *m, const lf_material *mat, lf_error *err);
+int lf_model_check_probe(const lf_model_type *type, const lf_probe *probe, lf_error *err);
+
 /* A model bound to one probe.  lf_model_alloc copies the probe and returns
  * a new object owned by the caller (NULL with err filled on a bad probe or
  * no memory); lf_model_free releases it (NULL allowed).  The getters return

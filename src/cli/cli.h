@@ -310,6 +310,9 @@ void cli_output_note(const char *cmd, const char *path);
  * (cli_provenance_sidecar); nothing for NULL or "-". */
 void cli_output_note_sidecar(const char *cmd, const char *path);
 void cli_input_guard(const char *cmd, const char *path);
+/* 1 when paths a and b (which need not exist) name the same place: the
+ * same name in the same real folder. */
+int cli_same_place(const char *a, const char *b);
 /* 1 when path is the same file as a noted input (for files that are put in
  * place by rename, such as gnuplot's images: checked again just before). */
 int cli_is_input(const char *path);

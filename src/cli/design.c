@@ -778,25 +778,26 @@ cli_design(int argc, char **argv)
                     err.msg);
     }
 
-    /* the text */
-    fprintf(out, "layerfit design: %zu candidate%s; truth w = %s, E* = %s, nu = %.4g%s; noise ",
-            plan->n, plan->n == 1 ? "" : "s", cli_human(a1, sizeof a1, s.truth.w, "J/m^2"),
-            cli_human(a2, sizeof a2, s.truth.Estar, "Pa"), s.truth.nu, s.fix_nu ? " (held)" : "");
-    if (isfinite(s.noise_abs))
-        fprintf(out, "sd %s", cli_human(a1, sizeof a1, s.noise_abs, "N"));
-    else
-        fprintf(out, "%.3g%% of each curve's largest |force|", 100.0 * s.noise_rel);
-    fprintf(out, "; model %s\n", s.model ? s.model->name : "auto");
-    text_curves(out, plan, &all);
-    text_set(out, "the whole set", &all, plan, &s);
-    text_contributions(out, plan, &all, &con);
-    if (a.choose > 0) {
-        text_choice(out, plan, &choice, target, exh_status, best, nsets);
-        text_set(out, "the chosen set", &chosen_r, plan, &s);
+    /* the text, unless standard output carries --json - or --csv - */
+    if (!(a.json != NULL && strcmp(a.json, "-") == 0) && !(a.csv != NULL && strcmp(a.csv, "-") == 0)) {
+        fprintf(out, "layerfit design: %zu candidate%s; truth w = %s, E* = %s, nu = %.4g%s; noise ",
+                plan->n, plan->n == 1 ? "" : "s", cli_human(a1, sizeof a1, s.truth.w, "J/m^2"),
+                cli_human(a2, sizeof a2, s.truth.Estar, "Pa"), s.truth.nu, s.fix_nu ? " (held)" : "");
+        if (isfinite(s.noise_abs))
+            fprintf(out, "sd %s", cli_human(a1, sizeof a1, s.noise_abs, "N"));
+        else
+            fprintf(out, "%.3g%% of each curve's largest |force|", 100.0 * s.noise_rel);
+        fprintf(out, "; model %s\n", s.model ? s.model->name : "auto");
+        text_curves(out, plan, &all);
+        text_set(out, "the whole set", &all, plan, &s);
+        text_contributions(out, plan, &all, &con);
+        if (a.choose > 0) {
+            text_choice(out, plan, &choice, target, exh_status, best, nsets);
+            text_set(out, "the chosen set", &chosen_r, plan, &s);
+        }
+        if (nv > 0)
+            text_sweep(out, factor, nv, values, sweep, scope);
     }
-    if (nv > 0)
-        text_sweep(out, factor, nv, values, sweep, scope);
-
     if (a.csv != NULL)
         csv_sweep(a.csv, factor, nv, values, sweep);
     if (a.plot != NULL)

@@ -91,6 +91,34 @@ print_input_notes(const fit_args *a, const lf_fit_input *in)
                    in->format[j] != NULL ? in->format[j] : "?");
 }
 
+static int
+to_stdout(const char *output)
+{
+    return output != NULL && strcmp(output, "-") == 0;
+}
+
+/* A probe the fit's model cannot evaluate (lf_model_check_probe: k, R or
+ * b where its numbers leave double precision) is refused before the fit,
+ * naming the curve; --model auto starts from the thin-layer model. */
+static void
+check_probes(const lf_fit_input *in, const char *model)
+{
+    const lf_model_type *type = lf_model_type_find(model);
+    lf_error err;
+    size_t j, i;
+
+    if (type == NULL)
+        type = &lf_model_thin;
+    for (j = 0; j < in->n; j++) {
+        const lf_probe *p = &in->curves[j].probe;
+        for (i = 0; i < j; i++)       /* each probe once */
+            if (memcmp(&in->curves[i].probe, p, sizeof *p) == 0)
+                break;
+        if (i == j && lf_model_check_probe(type, p, &err) != LF_OK)
+            cli_die(CLI_EXIT_USAGE, "fit: %s: %s", in->names[j], err.msg);
+    }
+}
+
 /* Read the plan (or the single curve) into in (lf_fit_input_from_plan:
  * the one step from a plan to a fit's input, the one rule for nu). */
 static void
@@ -159,6 +187,7 @@ read_input(const char *path, const fit_args *a, const char *model, const lf_inpu
         cli_die_error(status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, &err);
     for (j = 0; j < in->n; j++)     /* provenance: each curve as it was read */
         cli_input_note(in->names[j], in->sha256[j]);
+    check_probes(in, model);
 }
 
 /* --json and --curves: through the atomic writer (output.c). */
@@ -446,7 +475,10 @@ cli_fit(int argc, char **argv)
     else
         status = lf_fit_driver(&set, d.n, d.curves, &r, &err);
     if (status != LF_OK && status != LF_ENOCONV)
-        cli_die(status == LF_EDATA || status == LF_EINVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL,
+        /* a model that cannot be evaluated (LF_ENUMERIC) is a fit that
+         * cannot be made: 3, as one that does not converge */
+        cli_die(status == LF_EDATA || status == LF_EINVAL ? CLI_EXIT_USAGE
+                : status == LF_ENOMEM || status == LF_EIO ? CLI_EXIT_FAIL : CLI_EXIT_NOCONV,
                 "fit: %s", err.msg);
     for (j = 0; j < d.n && d.origin[j].b != NULL; j++)
         ;           /* a curve without a layer has no thin-layer comparison */
@@ -472,8 +504,12 @@ cli_fit(int argc, char **argv)
     in.model_tol = model_auto ? choose.tol : NAN;
     in.curves = d.curves;
     in.origin = d.origin;
-    print_input_notes(&a, &d);
-    report_text(stdout, &in, &r);
+    if (!to_stdout(a.json) && !to_stdout(a.curves)) {
+        /* standard output carries the report unless it carries an output
+         * (--json -, --curves -): then that alone, for the next program */
+        print_input_notes(&a, &d);
+        report_text(stdout, &in, &r);
+    }
     if (a.json != NULL)
         write_file(a.json, report_json, &in, &r, 0);
     if (a.curves != NULL)

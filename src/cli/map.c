@@ -202,10 +202,19 @@ map_read(map_reader *m)
     for (r = 0; r < t->nrows; r++) {
         char *const *row = t->cells + r * t->ncols;
         double v[4];
-        for (i = 0; i < 4; i++)
+        for (i = 0; i < 4; i++) {
+            /* the scale of each column in the map (um, mJ/m^2, at most
+             * Pa): a value must stay finite there and in the differences
+             * of the axes' ranges */
+            static const double scale[4] = { 2e6, 2e6, 1e3, 1.0 };
             if (lf_table_number(row[col[i]], &v[i]) != LF_OK)
                 cli_die(CLI_EXIT_USAGE, "%s:%ld:%ld: '%s' is not a number", m->path,
                         t->line[r], t->col[r * t->ncols + (size_t) col[i]], row[col[i]]);
+            if (row[col[i]][0] != '\0' && !isfinite(v[i] * scale[i]))
+                cli_die(CLI_EXIT_USAGE, "%s:%ld:%ld: %s '%s' is not a finite number a map can "
+                        "show (an empty cell is a fit without a value)", m->path, t->line[r],
+                        t->col[r * t->ncols + (size_t) col[i]], mcol_name[i], row[col[i]]);
+        }
         if (!isfinite(v[0]) || !isfinite(v[1])) {
             m->skipped++;
             continue;

@@ -140,6 +140,16 @@ output_where(const char *path)
     return out;
 }
 
+int
+cli_same_place(const char *a, const char *b)
+{
+    char *pa = output_where(a), *pb = output_where(b);
+    int same = pa != NULL && pb != NULL && strcmp(pa, pb) == 0;
+    free(pa);
+    free(pb);
+    return same;
+}
+
 /* "PATH.provenance.json", the sidecar of output path (free). */
 static char *
 sidecar_path(const char *path)

@@ -678,6 +678,9 @@ cli_fit_figures_check(const char *plotdir, const char *report)
     if (plotdir != NULL && stat(plotdir, &st) == 0 && !S_ISDIR(st.st_mode))
         cli_die(CLI_EXIT_FAIL, "fit: --plot %s: that is a file, not a folder (name a folder "
                 "for the figures)", plotdir);
+    if (plotdir != NULL && report != NULL && cli_same_place(plotdir, report))
+        cli_die(CLI_EXIT_USAGE, "fit: --plot %s and --report %s name the same path: the figures "
+                "go into a folder, the report is a file (name them apart)", plotdir, report);
     if (report != NULL) {
         size_t len = strlen(report);
         if (len < 5 || (strcmp(report + len - 5, ".html") != 0 && strcmp(report + len - 4, ".htm") != 0))
