@@ -453,6 +453,8 @@ static void
 copy_trimmed(char *dst, size_t n, const char *b, const char *e)
 {
     size_t len;
+    if (e < b)
+        e = b;
     while (b < e && is_blank((unsigned char) *b))
         b++;
     while (e > b && is_blank((unsigned char) e[-1]))
@@ -501,7 +503,7 @@ lf_csv_header_cell(const char *cell, char *name, size_t nname, char *unit,
         && cut > cell) {
         copy_trimmed(name, nname, cell, cut);
         copy_trimmed(unit, nunit, cut + 1, end - 1);
-    } else if ((cut = strstr(cell, " / ")) != NULL) {
+    } else if ((cut = strstr(cell, " / ")) != NULL && cut + 3 <= end) {
         copy_trimmed(name, nname, cell, cut);
         copy_trimmed(unit, nunit, cut + 3, end);
     } else if ((cut = strrchr(cell, '_')) != NULL && cut > cell) {

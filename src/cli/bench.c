@@ -925,6 +925,14 @@ cli_bench(int argc, char **argv)
     }
     if (plot != NULL && !plot_have_gnuplot())
         cli_die(CLI_EXIT_USAGE, "bench: --plot: gnuplot is not installed: %s", PLOT_INSTALL_HINT);
+    if (plot != NULL && plot_terminal(plot) == NULL)
+        cli_die(CLI_EXIT_USAGE, "bench: --plot %s: the file must end in .svg or .png", plot);
+    /* the outputs checked before minutes of fits, not after them */
+    cli_output_note("bench", csv);
+    cli_output_note_sidecar("bench", csv);
+    cli_output_note("bench", plot);
+    cli_output_folder_check("bench", csv);
+    cli_output_folder_check("bench", plot);
     rows = calloc(NSCENES * NNOISE * NCONFIGS, sizeof *rows);
     rng = gsl_rng_alloc(gsl_rng_mt19937);
     if (rows == NULL || rng == NULL)
