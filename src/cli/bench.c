@@ -16,6 +16,7 @@
  * scipy.optimize.least_squares on the same data (tests/bench/peer_scipy.py).
  */
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -568,10 +569,13 @@ write_peer_case(const char *dir, size_t si, size_t ni, size_t nseeds, gsl_rng *r
     char path[4200];
     FILE *f;
     size_t j, k, i;
+    int fd;
     const bench_scene *s = d->scene;
 
     snprintf(path, sizeof path, "%s/case_%zu_%zu.txt", dir, si, ni);
-    f = fopen(path, "w");
+    /* a new file in layerfit's own temporary folder: made, never opened */
+    fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+    f = fd >= 0 ? fdopen(fd, "w") : NULL;
     if (f == NULL)
         cli_die(CLI_EXIT_FAIL, "bench: cannot write %s: %s", path, strerror(errno));
     fprintf(f, "# scene %s\n# noise %.17g\n# truth %.17g %.17g %.17g\n# free_nu %d\n"

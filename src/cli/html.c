@@ -390,26 +390,21 @@ curves_table(FILE *f, const lf_fit_result *r)
 static int
 inline_svg(FILE *f, const char *path, size_t fig)
 {
-    FILE *s = fopen(path, "r");
+    lf_input in;
+    lf_error err;
     char *buf, *p, *q;
-    long len;
     char prefix[32];
     size_t seq = 0;
 
-    if (s == NULL)
+    /* opened as every input is: without blocking, a regular file only */
+    if (lf_input_read(path, LF_INPUT_BINARY, &in, &err) != LF_OK)
         return -1;
-    if (fseek(s, 0, SEEK_END) != 0 || (len = ftell(s)) < 0 || fseek(s, 0, SEEK_SET) != 0) {
-        fclose(s);
-        return -1;
-    }
-    buf = malloc((size_t) len + 1);
-    if (buf == NULL || fread(buf, 1, (size_t) len, s) != (size_t) len) {
-        free(buf);
-        fclose(s);
+    buf = realloc(in.data, in.len + 1);
+    if (buf == NULL) {
+        lf_input_free(&in);
         return -1;
     }
-    fclose(s);
-    buf[len] = '\0';
+    buf[in.len] = '\0';
     p = strstr(buf, "<svg");
     if (p == NULL) {
         free(buf);

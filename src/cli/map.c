@@ -455,6 +455,8 @@ cli_map(int argc, char **argv)
         return CLI_EXIT_OK;
     }
     if (syn != NULL) {
+        if (*syn == '\0')
+            cli_die(CLI_EXIT_USAGE, "map: --synthetic needs a folder name (got an empty one)");
         if (npos > 0)
             cli_die(CLI_EXIT_USAGE, "map: --synthetic takes no other file ('%s')", argv[0]);
         return synthetic(syn, size, every, points, isfinite(noise) ? noise : 0.01,

@@ -394,33 +394,30 @@ else
     echo "skipped: chattr +i not allowed here (immutable sidecar)"
 fi
 # made unwritable while the batch runs: the pair is left as it was
-cp "$tmp/big/results.csv" "$tmp/big/r2.csv"
-cp "$tmp/pair/side.orig" "$tmp/big/r2.csv.provenance.json"
-cp "$tmp/big/r2.csv" "$tmp/r2.orig"
-mid_batch() {        # WHAT CMD: run CMD once the batch is writing its temporary
-    "$LF" fit --batch "$tmp/big/plan.csv" --threads 1 --quiet --out "$tmp/big/r2.csv" \
+run_ok map --synthetic "$tmp/mid" --size 18 --points 300
+cp "$tmp/big/results.csv" "$tmp/mid/r2.csv"
+cp "$tmp/big/results.csv" "$tmp/r2.orig"
+mid_batch() {        # WHAT CMD: run CMD once the batch has made its temporary
+    "$LF" fit --batch "$tmp/mid/plan.csv" --threads 1 --quiet --out "$tmp/mid/r2.csv" \
         >/dev/null 2>"$tmp/err" &
     pid=$!
     i=0
-    while [ $i -lt 200 ]; do
-        t=$(ls "$tmp/big"/.r2.csv.* 2>/dev/null | head -n 1)
-        [ -n "$t" ] && [ -s "$t" ] && break
-        i=$((i + 1)); sleep 0.05
+    while [ $i -lt 400 ] && [ -z "$(ls -a "$tmp/mid" | grep '^\.r2\.csv\.')" ]; do
+        i=$((i + 1)); sleep 0.01
     done
     eval "$2"
     wait $pid; rc=$?
     [ "$rc" -eq 1 ] && ok || bad "$1: exit $rc, want 1: $(cat "$tmp/err")"
-    cmp -s "$tmp/big/r2.csv" "$tmp/r2.orig" && ok || bad "$1: the CSV was replaced"
-    [ -z "$(ls -a "$tmp/big" | grep '^\.r2\.csv')" ] && ok || bad "$1: temporaries left"
+    cmp -s "$tmp/mid/r2.csv" "$tmp/r2.orig" && ok || bad "$1: the CSV was replaced"
+    [ -z "$(ls -a "$tmp/mid" | grep '^\.r2\.csv')" ] && ok || bad "$1: temporaries left"
 }
-rm "$tmp/big/r2.csv.provenance.json"
-mid_batch "sidecar a folder made mid-run" 'mkdir "$tmp/big/r2.csv.provenance.json"'
-rmdir "$tmp/big/r2.csv.provenance.json"
+mid_batch "sidecar a folder made mid-run" 'mkdir "$tmp/mid/r2.csv.provenance.json"'
+rmdir "$tmp/mid/r2.csv.provenance.json"
 if [ "$have_chattr" -eq 1 ]; then
-    cp "$tmp/pair/side.orig" "$tmp/big/r2.csv.provenance.json"
-    mid_batch "sidecar made immutable mid-run" 'chattr +i "$tmp/big/r2.csv.provenance.json"'
-    chattr -i "$tmp/big/r2.csv.provenance.json"
-    cmp -s "$tmp/big/r2.csv.provenance.json" "$tmp/pair/side.orig" && ok \
+    cp "$tmp/pair/side.orig" "$tmp/mid/r2.csv.provenance.json"
+    mid_batch "sidecar made immutable mid-run" 'chattr +i "$tmp/mid/r2.csv.provenance.json"'
+    chattr -i "$tmp/mid/r2.csv.provenance.json"
+    cmp -s "$tmp/mid/r2.csv.provenance.json" "$tmp/pair/side.orig" && ok \
         || bad "sidecar made immutable mid-run: changed"
 fi
 # two batches writing one --out at once leave one whole pair
