@@ -94,7 +94,7 @@ lf_input_limit(void)
     return atomic_load(&input_limit);
 }
 
-/* "256 MiB", "1.5 GiB", "700 kB": a size for messages. */
+/* "256 MiB", "1.5 GiB", "700 KiB": a size for messages. */
 static void
 size_words(char *buf, size_t n, double bytes)
 {

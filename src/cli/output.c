@@ -219,33 +219,48 @@ special_error(int e)
                       : strerror(e);
 }
 
-/* What can be known about writing path before any work: a name that is
- * empty or longer than the system takes, a symbolic link to nothing, a
- * folder, a file that cannot be replaced (immutable or append-only), a
- * folder that cannot be written; a FIFO is opened now (a reader waited
- * for).  Dies with status 2 (a name that cannot be one) or 1. */
+/* The file an output named path replaces: path, or for a symbolic link
+ * the file it names (malloc'ed, NULL with msg for a link to nothing). */
+static char *
+replaced_file(const char *path, char *msg, size_t n)
+{
+    struct stat st;
+    char *target;
+
+    if (!(lstat(path, &st) == 0 && S_ISLNK(st.st_mode)))
+        return dup_text(path);
+    if ((target = realpath(path, NULL)) == NULL)
+        snprintf(msg, n, "cannot write %s: a symbolic link to %s", path,
+                 errno == ENOENT ? "a file that does not exist" : strerror(errno));
+    return target;
+}
+
+/* What can be known about writing path before any work: a name longer than
+ * a file name may be, a symbolic link to nothing, a folder, a file that
+ * cannot be replaced (immutable or append-only), a folder that cannot be
+ * written; a FIFO is opened now (a reader waited for).  Dies with status
+ * 2 (a name that cannot be one) or 1. */
 static void
 output_check(const char *cmd, const char *path, file_note *note_out)
 {
     const char *dir, *name;
-    char *copy;
+    char *copy, *target, msg[4400];
     struct stat st;
 
-    if (*path == '\0')
-        cli_die(CLI_EXIT_USAGE, "%s: an output needs a name (got an empty one)", cmd);
     if (strcmp(path, "-") == 0)
         return;
     copy = split_path(path, &dir, &name);
     if (strlen(name) > NAME_MAX)
         cli_die(CLI_EXIT_USAGE, "%s: cannot write %s: a file name has at most %d bytes (this "
                 "one %zu)", cmd, path, NAME_MAX, strlen(name));
-    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode) && stat(path, &st) != 0)
-        cli_die(CLI_EXIT_FAIL, "%s: cannot write %s: a symbolic link to %s", cmd, path,
-                errno == ENOENT ? "a file that does not exist" : strerror(errno));
-    if (stat(path, &st) == 0) {
+    free(copy);
+    /* the file replaced: path, or what a link names */
+    if ((target = replaced_file(path, msg, sizeof msg)) == NULL)
+        cli_die(CLI_EXIT_FAIL, "%s: %s", cmd, msg);
+    if (stat(target, &st) == 0) {
         if (S_ISDIR(st.st_mode))
             cli_die(CLI_EXIT_FAIL, "%s: cannot write %s: it is a folder", cmd, path);
-        if (S_ISREG(st.st_mode) && file_immutable(path))
+        if (S_ISREG(st.st_mode) && file_immutable(target))
             cli_die(CLI_EXIT_FAIL, "%s: cannot replace %s: it is immutable or append-only "
                     "(chattr -i -a removes that)", cmd, path);
         if (!S_ISREG(st.st_mode)) {
@@ -255,28 +270,20 @@ output_check(const char *cmd, const char *path, file_note *note_out)
             if (fd < 0)
                 cli_die(CLI_EXIT_FAIL, "%s: cannot write %s: %s", cmd, path, special_error(errno));
             note_out->fifo = fd;
-            free(copy);
+            free(target);
             return;
         }
     }
-    if (dir == NULL || stat(dir, &st) == 0) {
-        const char *d = dir != NULL ? dir : ".";
-        /* the file is replaced by a rename in its folder (that of the
-         * file a link names) */
-        char *real = realpath(path, NULL), *rcopy = NULL;
-        const char *rdir = d, *rname;
-        if (real != NULL) {
-            rcopy = split_path(real, &rdir, &rname);
-            if (rdir == NULL)
-                rdir = ".";
-        }
-        if (access(rdir, W_OK | X_OK) != 0)
-            cli_die(CLI_EXIT_FAIL, "%s: cannot write %s: the folder %s cannot be written (%s)",
-                    cmd, path, rdir, strerror(errno));
-        free(rcopy);
-        free(real);
-    }
+    /* replaced by a rename in the target's folder (a missing folder is
+     * cli_output_folder_check's to say) */
+    copy = split_path(target, &dir, &name);
+    if (dir == NULL)
+        dir = ".";
+    if (stat(dir, &st) == 0 && access(dir, W_OK | X_OK) != 0)
+        cli_die(CLI_EXIT_FAIL, "%s: cannot write %s: the folder %s cannot be written (%s)",
+                cmd, path, dir, strerror(errno));
     free(copy);
+    free(target);
 }
 
 void
@@ -409,22 +416,6 @@ cli_tmp_name(const char *path, char **tmp)
     strcpy(t + nd + 1 + nb, ".XXXXXX");
     *tmp = t;
     return 0;
-}
-
-/* The file an output named path replaces: path, or for a symbolic link
- * the file it names (malloc'ed, NULL with msg for a link to nothing). */
-static char *
-replaced_file(const char *path, char *msg, size_t n)
-{
-    struct stat st;
-    char *target;
-
-    if (!(lstat(path, &st) == 0 && S_ISLNK(st.st_mode)))
-        return dup_text(path);
-    if ((target = realpath(path, NULL)) == NULL)
-        snprintf(msg, n, "cannot write %s: a symbolic link to %s", path,
-                 errno == ENOENT ? "a file that does not exist" : strerror(errno));
-    return target;
 }
 
 /* An output that is no regular file to replace: standard output ("-"), or
@@ -763,9 +754,10 @@ cli_put_in_place(const char *from, const char *to, char *msg, size_t n)
     return status;
 }
 
-void
-cli_write_file(const char *cmd, const char *path, void (*writer)(FILE *, const void *),
-               const void *ctx)
+/* cli_write_file and cli_write_file_sidecar. */
+static void
+write_file(const char *cmd, const char *path, void (*writer)(FILE *, const void *),
+           const void *ctx, int sidecar)
 {
     cli_out o;
     char msg[4400];
@@ -773,8 +765,23 @@ cli_write_file(const char *cmd, const char *path, void (*writer)(FILE *, const v
     if (f == NULL)
         cli_die(CLI_EXIT_FAIL, "%s: %s", cmd, msg);
     writer(f, ctx);
-    if (cli_out_commit(&o, msg, sizeof msg) != 0)
+    if ((sidecar ? cli_out_commit_sidecar(&o, msg, sizeof msg)
+                 : cli_out_commit(&o, msg, sizeof msg)) != 0)
         cli_die(CLI_EXIT_FAIL, "%s: %s", cmd, msg);
+}
+
+void
+cli_write_file(const char *cmd, const char *path, void (*writer)(FILE *, const void *),
+               const void *ctx)
+{
+    write_file(cmd, path, writer, ctx, 0);
+}
+
+void
+cli_write_file_sidecar(const char *cmd, const char *path,
+                       void (*writer)(FILE *, const void *), const void *ctx)
+{
+    write_file(cmd, path, writer, ctx, 1);
 }
 
 void
@@ -925,7 +932,7 @@ cli_csv_cell(const char *s, void (*put)(void *, const char *, size_t), void *ctx
 
     s = s != NULL ? s : "";
     len = strlen(s);
-    formula = !cli_csv_raw && strchr("=+-@\t\r", s[0]) != NULL && s[0] != '\0';
+    formula = !cli_csv_raw && s[0] != '\0' && strchr("=+-@\t\r", s[0]) != NULL;
     quote = strpbrk(s, ",\"\r\n") != NULL
             || (len > 0 && (s[0] == ' ' || s[0] == '\t' || s[len - 1] == ' ' || s[len - 1] == '\t'));
     if (quote)
@@ -988,16 +995,3 @@ cli_provenance_json(FILE *f, const char *indent)
     fprintf(f, "%s%s]\n%s}", ninputs ? "\n  " : "", ninputs ? indent : "", indent);
 }
 
-void
-cli_write_file_sidecar(const char *cmd, const char *path,
-                       void (*writer)(FILE *, const void *), const void *ctx)
-{
-    cli_out o;
-    char msg[4400];
-    FILE *f = cli_out_open(&o, path, msg, sizeof msg);
-    if (f == NULL)
-        cli_die(CLI_EXIT_FAIL, "%s: %s", cmd, msg);
-    writer(f, ctx);
-    if (cli_out_commit_sidecar(&o, msg, sizeof msg) != 0)
-        cli_die(CLI_EXIT_FAIL, "%s: %s", cmd, msg);
-}

@@ -70,22 +70,17 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
     }
     close(fd);
     slot = cli_temp_add(tmp, 0);
+    rc = -1;
     for (t = tmp; *t; t++)
         if ((unsigned char) *t < 0x20 || *t == 0x7F) {
             snprintf(msg, n, "cannot draw into a path with control characters");
-            unlink(tmp);
-            cli_temp_forget(slot);
-            free(tmp);
-            return -1;
+            goto done;
         }
     {
         static const char *const argv[] = { "gnuplot", NULL };
         if (cli_spawn(&child, argv, NULL, CLI_SPAWN_STDIN) != 0) {
             snprintf(msg, n, "could not start gnuplot: %s", strerror(errno));
-            unlink(tmp);
-            cli_temp_forget(slot);
-            free(tmp);
-            return -1;
+            goto done;
         }
         g = child.in;
     }
@@ -120,12 +115,11 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
     rc = ferror(g) ? -1 : 0;
     if (cli_child_wait(&child) != 0 || rc != 0) {
         snprintf(msg, n, "gnuplot failed drawing %s", file);
-        unlink(tmp);
-        cli_temp_forget(slot);
-        free(tmp);
-        return -1;
+        rc = -1;
+    } else {
+        rc = cli_put_in_place(tmp, file, msg, n);
     }
-    rc = cli_put_in_place(tmp, file, msg, n);
+done:
     if (rc != 0)
         unlink(tmp);
     cli_temp_forget(slot);

@@ -36,7 +36,7 @@ cli_have_program(const char *name)
         char full[PATH_MAX];
         struct stat st;
         /* an empty entry is the current folder, as for execvp */
-        if (snprintf(full, sizeof full, "%.*s%s%s", (int) len, len ? p : ".", "/", name)
+        if (snprintf(full, sizeof full, "%.*s/%s", len ? (int) len : 1, len ? p : ".", name)
                 < (int) sizeof full
             && stat(full, &st) == 0 && S_ISREG(st.st_mode) && access(full, X_OK) == 0)
             return 1;
