@@ -63,10 +63,11 @@ const char cli_fit_help[] =
     "  --skip-bad-rows      skip rows with missing cells, with a warning\n";
 
 static const char exit_text[] =
-    "exit status: 0 converged; 3 not converged (report still written); 4 converged,\n"
-    "but the model does not describe a curve (DISAGREES; report still written); 2 bad\n"
-    "command line or input file; 1 a failure of the run itself (e.g. an output not\n"
-    "written)\n";
+    "exit status: 0 converged; 3 not converged or the model cannot be evaluated at\n"
+    "the start (report still written when there is one); 4 converged, but the model\n"
+    "does not describe a curve (DISAGREES; report still written); 2 bad command line,\n"
+    "option value or input file, or a probe the model cannot evaluate (all before the\n"
+    "fit); 1 input, output or memory (e.g. an output not written)\n";
 
 typedef struct {
     const char *json, *curves, *interface;
