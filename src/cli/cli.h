@@ -90,7 +90,8 @@ int cli_parse_size(const char *text, double *bytes);
 /* Monotonic wall-clock time in seconds, for progress and benchmarks. */
 double cli_now(void);
 
-/* Write a number that reads back exactly ("%.17g"); NaN/Inf as given. */
+/* Write a number that reads back exactly ("%.17g"); NaN and inf write
+ * nothing (an empty CSV cell; JSON writers write null themselves). */
 void cli_print_double(FILE *f, double x);
 /* Write a number for people with an SI prefix chosen for it:
  * cli_human(buf, n, 1.2e-8, "m") -> "12 nm".  Returns buf. */

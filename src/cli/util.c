@@ -355,8 +355,10 @@ void
 cli_print_double(FILE *f, double x)
 {
     char buf[40];
+    if (!isfinite(x))
+        return;             /* never "nan" or "inf": an empty CSV cell */
     snprintf(buf, sizeof buf, "%.15g", x);
-    if (isfinite(x) && strtod(buf, NULL) != x)
+    if (strtod(buf, NULL) != x)
         snprintf(buf, sizeof buf, "%.17g", x);
     fputs(buf, f);
 }
