@@ -273,8 +273,9 @@ int cli_out_commit(cli_out *o, char *msg, size_t n);
  * CSV and JSON Lines outputs): both temporaries are written and checked
  * before either is renamed, both renames happen under a lock on the
  * folder with signals held, and a second rename that fails undoes the
- * first, so the two always describe each other.  Standard output gets no
- * sidecar.  0, or -1 with msg (nothing replaced). */
+ * first, so the two always describe each other.  An output written in
+ * place (standard output, a pipe, a device) gets no sidecar.  0, or -1
+ * with msg (nothing replaced). */
 int cli_out_commit_sidecar(cli_out *o, char *msg, size_t n);
 void cli_out_discard(cli_out *o);
 /* Put the finished file from in place as to (a symbolic link to: its

@@ -329,9 +329,12 @@ cli_output_note(const char *cmd, const char *path)
 void
 cli_output_note_sidecar(const char *cmd, const char *path)
 {
+    struct stat st;
     char *side;
 
-    if (path == NULL || strcmp(path, "-") == 0)
+    /* an output written in place (standard output, a pipe, a device) has
+     * no sidecar: /dev/stdout.provenance.json is nothing to make */
+    if (path == NULL || strcmp(path, "-") == 0 || (stat(path, &st) == 0 && !S_ISREG(st.st_mode)))
         return;
     side = sidecar_path(path);
     cli_output_note(cmd, side);
@@ -686,7 +689,7 @@ cli_out_commit_sidecar(cli_out *o, char *msg, size_t n)
 
     if (o->f == NULL)
         return -1;
-    if (o->f == stdout)            /* a batch on standard output: no sidecar */
+    if (o->direct)          /* written in place: no sidecar */
         return cli_out_commit(o, msg, n);
     spath = sidecar_path(o->name);
     f = cli_out_open(&side, spath, msg, n);
@@ -697,8 +700,9 @@ cli_out_commit_sidecar(cli_out *o, char *msg, size_t n)
     }
     cli_provenance_json(f, "");
     fputc('\n', f);
-    if (o->direct || side.direct) {
-        /* a pipe or device in place: nothing there to keep whole */
+    if (side.direct) {
+        /* a pipe or device where the sidecar goes: written in place after
+         * the output (nothing there to keep whole) */
         if (cli_out_commit(o, msg, n) != 0) {
             cli_out_discard(&side);
             return -1;
