@@ -410,9 +410,14 @@ lf_csv_read_file(const char *path, const lf_csv_handler *h, lf_error *err)
     int fd, status;
 
     lf_error_clear(err);
-    /* a regular file, checked on the open descriptor (input.c) */
+    /* a regular file, checked on the open descriptor (input.c), no
+     * larger than the inputs read whole: what is read is kept */
     if ((status = lf_input_open(path, 0, &fd, err)) != LF_OK)
         return status;
+    if ((status = lf_input_check_size(fd, path, err)) != LF_OK) {
+        close(fd);
+        return status;
+    }
     if (start(&s, path, h, err) == LF_OK) {
         while (s.status == LF_OK) {
             n = read(fd, block, sizeof block);

@@ -120,6 +120,17 @@ too_big(lf_error *err, const char *path, double size, size_t limit)
                       b);
 }
 
+int
+lf_input_check_size(int fd, const char *path, lf_error *err)
+{
+    struct stat st;
+    const size_t limit = lf_input_limit();
+
+    if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && (uintmax_t) st.st_size > (uintmax_t) limit)
+        return too_big(err, path, (double) st.st_size, limit);
+    return LF_OK;
+}
+
 /* The checks of the CSV line layer (csvsplit.c), made while the bytes
  * arrive, so that a stream of binary data or of one endless line stops
  * being read at once instead of after it has filled the memory: reading
@@ -174,14 +185,13 @@ lf_input_read(const char *path, unsigned flags, lf_input *in, lf_error *err)
     memset(in, 0, sizeof *in);
     if ((status = lf_input_open(path, flags, &fd, err)) != LF_OK)
         return status;
-    if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode)) {
-        /* a regular file says its size: refused before a byte is read */
-        if ((uintmax_t) st.st_size > (uintmax_t) limit) {
-            close(fd);
-            return too_big(err, path, (double) st.st_size, limit);
-        }
-        cap = (size_t) st.st_size + 1;
+    /* a regular file says its size: refused before a byte is read */
+    if ((status = lf_input_check_size(fd, path, err)) != LF_OK) {
+        close(fd);
+        return status;
     }
+    if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode))
+        cap = (size_t) st.st_size + 1;
     in->data = malloc(cap);
     if (in->data == NULL) {
         close(fd);

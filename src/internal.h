@@ -30,6 +30,12 @@ int lf_fail_at(lf_error *err, int status, const char *file, long line,
  * a warning is never worth failing for). */
 void lf_warn(lf_warnings *w, const char *fmt, ...) LF_PRINTF(2, 3);
 
+/* LF_OK when the open file fd (named path) is no larger than
+ * lf_input_limit(), else LF_EIO with a message saying so and how to raise
+ * it (input.c): for readers that read a whole file, in blocks, into what
+ * they keep (plans, tables). */
+int lf_input_check_size(int fd, const char *path, lf_error *err);
+
 /* A strdup that does not depend on POSIX feature macros. */
 char *lf_strdup(const char *s);
 

@@ -457,6 +457,10 @@ truncate -s 300M "$tmp/sparse.csv" 2>/dev/null || dd if=/dev/null of="$tmp/spars
 [ "$rc" -eq 2 ] && ok || bad "a 300 MiB file: exit $rc, want 2"
 has "a 300 MiB file: said" "$tmp/err" "holds 300 MiB, more than the 256 MiB layerfit reads whole"
 rm -f "$tmp/sparse.csv"
+# ... and so is a plan or a table read in blocks into what is kept
+"$LF" --max-input 1KiB map "$tmp/big/results.csv" --plot "$tmp/lim.svg" >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "map of a table past --max-input: exit $rc, want 2"
+has "map of a table past --max-input: said" "$tmp/err" "more than the 1 KiB layerfit reads whole"
 run_ok check "$good" --max-input 2GiB
 expect_fail 2 "layerfit: --max-input: 'lots' is not a size in bytes (e.g. --max-input 2GiB, 512MiB or 1e9)" \
     check "$good" --max-input lots
