@@ -922,9 +922,10 @@ int lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err);
  * a UTF-16 byte order mark or a line over 1 MiB it stops reading (nothing
  * after is read, in->stopped is 1) and keeps the bytes up to that one, so
  * that the reader refuses them with its own message at the same place as
- * it would the whole file.  Errors: LF_EIO, LF_ENOMEM, naming path.  Every reader opens its files
- * through these.  lf_input_set_limit sets the limit for the process (set
- * it before reading starts; default LF_INPUT_LIMIT, 256 MiB). */
+ * it would the whole file.  Errors: LF_EIO, LF_ENOMEM, naming path.
+ * Every reader opens its files through these.  lf_input_set_limit sets
+ * the limit for the process (set it before reading starts; default
+ * LF_INPUT_LIMIT, 256 MiB). */
 #define LF_INPUT_STREAM 1u
 #define LF_INPUT_BINARY 2u
 #define LF_STREAM_WAIT 10
