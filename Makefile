@@ -21,7 +21,7 @@ OPENMP  ?= -fopenmp
 # HAVE_INLINE: GSL's element accessors (gsl_vector_get, ...) inline, range
 # checks kept
 ALL_CFLAGS := -std=c11 -D_DEFAULT_SOURCE -DHAVE_INLINE $(WARN) $(OPT) $(OPENMP) $(SANFLAGS) -Isrc -Ifit $(CFLAGS)
-LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lnettle -lpthread -lm
+LDLIBS  := -lgsl -lgslcblas -lcsv -ludunits2 -lnettle -lz -lpthread -lm
 ALL_LDFLAGS := $(OPENMP) $(SANFLAGS) $(LDFLAGS)
 
 # the command (src/cli/) is built on the library's public header
@@ -33,10 +33,18 @@ TEST_SRC := $(wildcard tests/test_*.c)
 TEST_BIN := $(TEST_SRC:tests/%.c=$(BUILD)/tests/%)
 HEADERS := $(wildcard src/*.h src/cli/*.h fit/*.h) tests/testlib.h
 
+VERSION := $(shell sed -n 's/^\#define LF_VERSION "\(.*\)"/\1/p' src/layerfit.h)
+SONAME  := liblayerfit.so.$(firstword $(subst ., ,$(VERSION)))
+# the installed libraries, static and shared: they export exactly what
+# src/layerfit.h declares (LF_API; tests/cli/symbols.sh checks)
 LIB  := $(BUILD)/liblayerfit.a
+SO   := $(BUILD)/liblayerfit.so.$(VERSION)
+# every object with every symbol, for the command, the tests, the benches
+# and the fuzzers (not installed)
+LIB_ALL := $(BUILD)/liblayerfit-internal.a
 PROG := $(BUILD)/layerfit
 
-DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev gnuplot-nox
+DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev zlib1g-dev gnuplot-nox
 # wanted by some tests (the report test loads the page in headless
 # Chromium, the example test uses pkg-config, `layerfit bench` runs the
 # scipy and lmfit peers), which skip with a note
@@ -45,36 +53,57 @@ OPT_DEBS := chromium pkgconf python3-scipy python3-lmfit
 
 .PHONY: all deps demo check tests sanitize install uninstall clean bench-batch bench-demo bench bench-quick coverage
 
-all: $(PROG) $(LIB)
+all: $(PROG) $(LIB) $(SO)
 
+# The library's objects are position-independent (they make the shared
+# library too) and hide every symbol but those layerfit.h marks LF_API.
 $(BUILD)/%.o: %.c $(HEADERS)
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -c $< -o $@
+	$(CC) $(ALL_CFLAGS) -fPIC -fvisibility=hidden -c $< -o $@
 
-# The command sees the library's public header only, as it would an
-# installed one: build/include holds a copy of src/layerfit.h and nothing
-# else, and src/ and fit/ are not on the command's include path.
+# The command sees the library's headers only, as it would installed ones:
+# build/include holds copies of src/layerfit.h and of src/command.h (what
+# the command shares with the library beyond the public interface; not
+# installed), and src/ and fit/ are not on the command's include path.
 CLI_CFLAGS := $(filter-out -Isrc -Ifit,$(ALL_CFLAGS)) -I$(BUILD)/include
-$(BUILD)/include/layerfit.h: src/layerfit.h
+$(BUILD)/include/%.h: src/%.h
 	@mkdir -p $(dir $@)
 	cp $< $@
 
-$(BUILD)/src/cli/%.o: src/cli/%.c $(BUILD)/include/layerfit.h $(wildcard src/cli/*.h)
+$(BUILD)/src/cli/%.o: src/cli/%.c $(BUILD)/include/layerfit.h $(BUILD)/include/command.h \
+                      $(wildcard src/cli/*.h)
 	@mkdir -p $(dir $@)
 	$(CC) $(CLI_CFLAGS) -c $< -o $@
 
-$(LIB): $(LIB_OBJ)
+$(LIB_ALL): $(LIB_OBJ)
 	@rm -f $@
 	ar rcs $@ $^
 
-$(PROG): $(CLI_OBJ) $(LIB)
-	$(CC) $(ALL_LDFLAGS) -o $@ $(CLI_OBJ) $(LIB) $(LDLIBS)
+# the static library: one relocatable object whose hidden symbols are made
+# local, so that it too exports the public interface alone
+$(LIB): $(LIB_OBJ)
+	@rm -f $@ $(BUILD)/liblayerfit.o
+	$(CC) -r -nostdlib -o $(BUILD)/liblayerfit.o $^
+	objcopy --localize-hidden $(BUILD)/liblayerfit.o
+	ar rcs $@ $(BUILD)/liblayerfit.o
 
-$(BUILD)/tests/%: tests/%.c tests/testlib.c tests/scene.c $(LIB) $(HEADERS) tests/scene.h
+# the shared library, for other languages' bindings: soname
+# liblayerfit.so.MAJOR, with the links liblayerfit.so.MAJOR and
+# liblayerfit.so beside it
+$(SO): $(LIB_OBJ)
+	$(CC) -shared $(SANFLAGS) $(LDFLAGS) -Wl,-soname,$(SONAME) -Wl,-z,defs -o $@ $^ $(LDLIBS)
+	ln -sf $(notdir $@) $(BUILD)/$(SONAME)
+	ln -sf $(SONAME) $(BUILD)/liblayerfit.so
+
+$(PROG): $(CLI_OBJ) $(LIB_ALL)
+	$(CC) $(ALL_LDFLAGS) -o $@ $(CLI_OBJ) $(LIB_ALL) $(LDLIBS)
+
+$(BUILD)/tests/%: tests/%.c tests/testlib.c tests/scene.c $(LIB_ALL) $(HEADERS) tests/scene.h
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) -Itests $(ALL_LDFLAGS) -o $@ $< tests/testlib.c tests/scene.c $(LIB) $(LDLIBS)
+	$(CC) $(ALL_CFLAGS) -Itests $(ALL_LDFLAGS) -o $@ $< tests/testlib.c tests/scene.c $(LIB_ALL) $(LDLIBS)
 
-tests: $(TEST_BIN) $(PROG)
+# the symbol test reads the installed libraries' symbols
+tests: $(TEST_BIN) $(PROG) $(LIB) $(SO)
 
 # Install what is missing (as root), or say the exact command to run.
 deps:
@@ -130,18 +159,23 @@ coverage: all
 $(BUILD)/layerfit.pc: src/layerfit.pc.in
 	@mkdir -p $(dir $@)
 	sed -e 's|@PREFIX@|$(PREFIX)|g' -e 's|@LIBDIR@|$(LIBDIR)|g' \
-	    -e 's|@INCDIR@|$(INCDIR)|g' -e 's|@VERSION@|$(shell sed -n 's/^#define LF_VERSION "\(.*\)"/\1/p' src/layerfit.h)|g' $< > $@
+	    -e 's|@INCDIR@|$(INCDIR)|g' -e 's|@VERSION@|$(VERSION)|g' $< > $@
 
 install: all $(BUILD)/layerfit.pc
 	install -d $(DESTDIR)$(BINDIR) $(DESTDIR)$(LIBDIR) $(DESTDIR)$(INCDIR) $(DESTDIR)$(PKGDIR) $(DESTDIR)$(MANDIR)/man1
 	install -m 755 $(PROG) $(DESTDIR)$(BINDIR)/layerfit
 	install -m 644 $(LIB) $(DESTDIR)$(LIBDIR)/liblayerfit.a
+	install -m 755 $(SO) $(DESTDIR)$(LIBDIR)/liblayerfit.so.$(VERSION)
+	ln -sf liblayerfit.so.$(VERSION) $(DESTDIR)$(LIBDIR)/$(SONAME)
+	ln -sf $(SONAME) $(DESTDIR)$(LIBDIR)/liblayerfit.so
 	install -m 644 src/layerfit.h $(DESTDIR)$(INCDIR)/layerfit.h
 	install -m 644 $(BUILD)/layerfit.pc $(DESTDIR)$(PKGDIR)/layerfit.pc
 	install -m 644 src/layerfit.1 $(DESTDIR)$(MANDIR)/man1/layerfit.1
 
 uninstall:
 	rm -f $(DESTDIR)$(BINDIR)/layerfit $(DESTDIR)$(LIBDIR)/liblayerfit.a \
+	      $(DESTDIR)$(LIBDIR)/liblayerfit.so.$(VERSION) $(DESTDIR)$(LIBDIR)/$(SONAME) \
+	      $(DESTDIR)$(LIBDIR)/liblayerfit.so \
 	      $(DESTDIR)$(INCDIR)/layerfit.h $(DESTDIR)$(PKGDIR)/layerfit.pc \
 	      $(DESTDIR)$(MANDIR)/man1/layerfit.1
 
@@ -154,9 +188,9 @@ recovery-long: $(BUILD)/tests/test_recovery
 	$(BUILD)/tests/test_recovery 2000
 
 # Timing of a two-probe joint fit against scipy (reported, not asserted).
-$(BUILD)/bench_fit: tests/bench/bench_fit.c $(LIB) $(HEADERS)
+$(BUILD)/bench_fit: tests/bench/bench_fit.c $(LIB_ALL) $(HEADERS)
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB_ALL) $(LDLIBS)
 
 bench-fit: $(BUILD)/bench_fit
 	@mkdir -p $(BUILD)/bench
@@ -171,16 +205,17 @@ FUZZ_SECONDS ?= 20
 # known leaks of third-party libraries (libudunits2), not layerfit's
 LSAN_SUPP := $(CURDIR)/tests/fuzz/lsan.supp
 FUZZ_CC ?= clang
-FUZZ_TARGETS := curve plan design chiaro jpk workshop ntmdt hysitron text
+FUZZ_TARGETS := curve plan design chiaro jpk workshop ntmdt hysitron text tab jpk_force \
+                workshop_map nanoscope igor
 FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all
 
 .PHONY: fuzz fuzz-build
 fuzz-build:
 	@$(MAKE) --no-print-directory BUILD=build-fuzz CC=$(FUZZ_CC) OPT="-O1 -g" OPENMP= \
-	  SANFLAGS="-fsanitize=fuzzer-no-link $(FUZZ_SAN)" build-fuzz/liblayerfit.a
+	  SANFLAGS="-fsanitize=fuzzer-no-link $(FUZZ_SAN)" build-fuzz/liblayerfit-internal.a
 	@for t in $(FUZZ_TARGETS); do \
 	  $(FUZZ_CC) -std=c11 -D_DEFAULT_SOURCE -O1 -g -fsanitize=fuzzer $(FUZZ_SAN) \
-	    -Isrc -Itests -o build-fuzz/fuzz_$$t tests/fuzz/fuzz_$$t.c build-fuzz/liblayerfit.a \
+	    -Isrc -Itests -o build-fuzz/fuzz_$$t tests/fuzz/fuzz_$$t.c build-fuzz/liblayerfit-internal.a \
 	    $(LDLIBS) || exit 1; \
 	done
 
@@ -196,10 +231,21 @@ fuzz: fuzz-build
 	    ls build-fuzz/$$t-* 2>/dev/null; exit 1; fi; \
 	done
 
-# Speed against error of the exact model (not part of `make check`).
-$(BUILD)/tests/bench/bench_exact: tests/bench/bench_exact.c $(LIB) $(HEADERS)
+# Reading a large file of many curves (a synthetic 256 x 256 QI map)
+# against `unzip -p`, and the peak memory of `fit --batch` over maps of
+# 1024 to 16 384 curves (reported, not asserted; tests/bench/maps.sh).
+$(BUILD)/bench_read: tests/bench/bench_read.c $(LIB_ALL) $(HEADERS)
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB_ALL) $(LDLIBS)
+
+.PHONY: bench-maps
+bench-maps: $(PROG) $(BUILD)/bench_read
+	@sh tests/bench/maps.sh $(PROG) $(BUILD)/bench_read
+
+# Speed against error of the exact model (not part of `make check`).
+$(BUILD)/tests/bench/bench_exact: tests/bench/bench_exact.c $(LIB_ALL) $(HEADERS)
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB_ALL) $(LDLIBS)
 
 .PHONY: bench-exact
 bench-exact: $(BUILD)/tests/bench/bench_exact
@@ -207,9 +253,9 @@ bench-exact: $(BUILD)/tests/bench/bench_exact
 
 # Fit time and error of the exact model against the thin one (not part of
 # `make check`).
-$(BUILD)/tests/bench/bench_models: tests/bench/bench_models.c $(LIB) $(HEADERS)
+$(BUILD)/tests/bench/bench_models: tests/bench/bench_models.c $(LIB_ALL) $(HEADERS)
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB_ALL) $(LDLIBS)
 
 .PHONY: bench-models
 bench-models: $(BUILD)/tests/bench/bench_models
@@ -225,9 +271,9 @@ bench: $(PROG)
 
 # The cost of one thin-model evaluation over 300 points (not part of
 # `make check`).
-$(BUILD)/tests/bench/bench_thin: tests/bench/bench_thin.c $(LIB) $(HEADERS)
+$(BUILD)/tests/bench/bench_thin: tests/bench/bench_thin.c $(LIB_ALL) $(HEADERS)
 	@mkdir -p $(dir $@)
-	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB) $(LDLIBS)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< $(LIB_ALL) $(LDLIBS)
 
 .PHONY: bench-thin
 bench-thin: $(BUILD)/tests/bench/bench_thin

@@ -4,7 +4,8 @@
  *
  * Why a bias rule and not a residual rule: fitted to curves of the exact
  * layer model, the thin-layer closed form leaves residuals below 1% of the
- * force while w moves by 10-70% (physics.md section 3, last table).  What
+ * force while w moves by 10-70% (the exact model of Lebedev & Ufliand 1958,
+ * noise-free curves at b/a 0.1-4 fitted with the thin form).  What
  * matters is the shift of the parameters against their standard errors.
  * To first order the estimate made with model m from data that follow the
  * exact model moves by
@@ -24,8 +25,6 @@
 
 #include "fit.h"
 
-static const char *const mat_names[FIT_NMAT] = { "w", "E*", "nu" };
-
 lf_choose_settings
 lf_choose_settings_default(void)
 {
@@ -37,65 +36,23 @@ lf_choose_settings_default(void)
     return s;
 }
 
-/* Models from the cheapest up. */
-enum { RUNG_THIN = 0, RUNG_HALFSPACE, RUNG_EXACT, NRUNG };
-
-/* The rungs by the models' scope in the model table: the cheapest thin-
- * layer model, the cheapest half-space model, the reference (any
- * thickness). */
-static const lf_model_type *
-rung_type(int rung)
-{
-    return lf_model_type_cheapest(rung == RUNG_THIN ? LF_SCOPE_THIN
-                                  : rung == RUNG_HALFSPACE ? LF_SCOPE_HALFSPACE : LF_SCOPE_ANY);
-}
-
-static int
-rung_of(const lf_model_type *t)
-{
-    return t->scope == LF_SCOPE_THIN ? RUNG_THIN : t->scope == LF_SCOPE_HALFSPACE ? RUNG_HALFSPACE
-                                                                                : RUNG_EXACT;
-}
-
-/* Bias over se of w, E*, nu (0 where not fitted or not determined). */
-typedef struct {
-    double r[FIT_NMAT];
-    int ok;                 /* 0: the comparison model could not be evaluated */
-} bias;
-
-static double
-bias_max(const bias *b, int *which)
-{
-    double m = 0.0;
-    int i;
-
-    if (which)
-        *which = FIT_W;
-    for (i = 0; i < FIT_NMAT; i++)
-        if (fabs(b->r[i]) > m) {
-            m = fabs(b->r[i]);
-            if (which)
-                *which = i;
-        }
-    return m;
-}
-
 /* The state of a model choice. */
 typedef struct {
     lf_fit *f;
     const lf_choose_settings *cs;
     int *rung;              /* current model of each curve */
     int *fixed;             /* 1: the caller named the model */
-    lf_model **inst[NRUNG]; /* per model and curve, made when first needed */
+    double *k;              /* each curve's probe exponent */
+    lf_model **inst[FIT_NRUNG]; /* per model and curve, made when first needed */
     int base_ok;            /* the decomposition is that of the current models */
     double *P_exact;        /* ndata: the exact model's forces */
     int *exact_ok;          /* per curve: P_exact could be evaluated */
     lf_eval *ev;            /* max n: scratch evaluations */
     double *d;              /* nres: the difference vector */
     double *coef;           /* np */
-    double *se;             /* FIT_NMAT: sqrt(sum V^2/S^2) of w, E*, nu */
     fit_decomp dec;         /* of the Jacobian at the origin */
-    bias *thin, *half_b, *cur;  /* per curve */
+    judge_bias *thin, *half_b, *cur;  /* per curve */
+    lf_error *err;          /* where a model move's failure goes */
     double *ab_lo, *ab_hi;      /* a/b range in contact */
 } chooser;
 
@@ -105,7 +62,7 @@ chooser_free(chooser *c)
     size_t j;
     int r;
 
-    for (r = 0; r < NRUNG; r++) {
+    for (r = 0; r < FIT_NRUNG; r++) {
         if (c->f != NULL && c->inst[r] != NULL)
             for (j = 0; j < c->f->ncurves; j++)
                 lf_model_free(c->inst[r][j]);
@@ -113,12 +70,12 @@ chooser_free(chooser *c)
     }
     free(c->rung);
     free(c->fixed);
+    free(c->k);
     free(c->P_exact);
     free(c->exact_ok);
     free(c->ev);
     free(c->d);
     free(c->coef);
-    free(c->se);
     free(c->thin);
     free(c->half_b);
     free(c->cur);
@@ -134,7 +91,7 @@ chooser_alloc(chooser *c, lf_fit *f, const lf_choose_settings *cs)
     int r;
 
     memset(c, 0, sizeof *c);
-    for (r = 0; r < NRUNG; r++)
+    for (r = 0; r < FIT_NRUNG; r++)
         if ((c->inst[r] = calloc(nc, sizeof *c->inst[r])) == NULL)
             return LF_ENOMEM;
     c->f = f;
@@ -143,19 +100,19 @@ chooser_alloc(chooser *c, lf_fit *f, const lf_choose_settings *cs)
         nmax = f->c[j].data.n > nmax ? f->c[j].data.n : nmax;
     c->rung = calloc(nc, sizeof *c->rung);
     c->fixed = calloc(nc, sizeof *c->fixed);
+    c->k = calloc(nc, sizeof *c->k);
     c->P_exact = calloc(f->ndata, sizeof *c->P_exact);
     c->exact_ok = calloc(nc, sizeof *c->exact_ok);
     c->ev = calloc(nmax, sizeof *c->ev);
     c->d = calloc(f->nres, sizeof *c->d);
     c->coef = calloc(f->np, sizeof *c->coef);
-    c->se = calloc(FIT_NMAT, sizeof *c->se);
     c->thin = calloc(nc, sizeof *c->thin);
     c->half_b = calloc(nc, sizeof *c->half_b);
     c->cur = calloc(nc, sizeof *c->cur);
     c->ab_lo = calloc(nc, sizeof *c->ab_lo);
     c->ab_hi = calloc(nc, sizeof *c->ab_hi);
-    if (!c->rung || !c->fixed || !c->P_exact || !c->exact_ok || !c->ev || !c->d || !c->coef
-        || !c->se || !c->thin || !c->half_b || !c->cur || !c->ab_lo || !c->ab_hi
+    if (!c->rung || !c->fixed || !c->k || !c->P_exact || !c->exact_ok || !c->ev || !c->d || !c->coef
+        || !c->thin || !c->half_b || !c->cur || !c->ab_lo || !c->ab_hi
         || lf_fit_decomp_alloc(&c->dec, f->nres, f->np) != LF_OK)
         return LF_ENOMEM;
     return LF_OK;
@@ -200,55 +157,22 @@ set_model(lf_fit *f, size_t j, const lf_model_type *t, lf_error *err)
     return LF_OK;
 }
 
-/* The shared decomposition (decomp.c) at the origin; the standard errors
- * of the material parameters in scaled units. */
+/* The shared decomposition (decomp.c) at the origin. */
 static int
 decompose(chooser *c)
 {
-    lf_fit *f = c->f;
-    gsl_vector *x = f->w.x2;
-    size_t l;
-    int i, status;
+    gsl_vector *x = c->f->ws.x2;
 
     gsl_vector_set_all(x, 1.0);
-    status = lf_fit_decomp_run(&c->dec, f, x->data, f->set.rcond);
-    if (status != LF_OK)
-        return status;
-    for (i = 0; i < FIT_NMAT; i++) {
-        int p = f->imat[i];
-        double se = 0.0;
-        c->se[i] = 0.0;
-        if (p < 0 || !(gsl_vector_get(c->dec.D, (size_t) p) > 0))
-            continue;
-        for (l = 0; l < c->dec.rank; l++) {
-            double v = gsl_matrix_get(c->dec.V, (size_t) p, l);
-            se += v * v / (gsl_vector_get(c->dec.S, l) * gsl_vector_get(c->dec.S, l));
-        }
-        if (lf_fit_decomp_nullw(&c->dec, (size_t) p) <= 0.01)   /* determined, as in uncertainty.c */
-            c->se[i] = sqrt(se);
-    }
-    return LF_OK;
+    return lf_fit_decomp_run(&c->dec, c->f, x->data, c->f->set.rcond);
 }
 
-/* Bias over se from c->d. */
+/* Bias over se from c->d (judge.c). */
 static void
-project(chooser *c, bias *b)
+project(chooser *c, judge_bias *b)
 {
-    lf_fit *f = c->f;
-    size_t l;
-    int m;
-
     lf_fit_decomp_project(&c->dec, c->d, c->coef);
-    for (m = 0; m < FIT_NMAT; m++) {
-        int p = f->imat[m];
-        double s = 0.0;
-        b->r[m] = 0.0;
-        if (p < 0 || c->se[m] == 0.0)
-            continue;
-        for (l = 0; l < c->dec.rank; l++)
-            s += gsl_matrix_get(c->dec.V, (size_t) p, l) * c->coef[l];
-        b->r[m] = s / c->se[m];
-    }
+    lf_judge_bias(&c->dec, c->f->imat, c->coef, b->r);
     b->ok = 1;
 }
 
@@ -259,7 +183,7 @@ instance(chooser *c, size_t j, int rung)
     lf_model **slot = &c->inst[rung][j];
 
     if (*slot == NULL) {
-        *slot = lf_model_alloc(rung_type(rung), &c->f->c[j].data.probe, NULL);
+        *slot = lf_model_alloc(lf_fit_rung_type(rung), &c->f->c[j].data.probe, NULL);
         /* its tables for the current nu resolved now, not in eval */
         if (*slot != NULL && lf_model_prepare(*slot, c->f->mat.nu, c->f->mat.nu, NULL) != LF_OK) {
             lf_model_free(*slot);
@@ -274,7 +198,7 @@ instance(chooser *c, size_t j, int rung)
  * (the fit that would be made), so curve j's model is swapped in for the
  * decomposition when it is not the current one. */
 static int
-curve_bias(chooser *c, size_t j, int rung, bias *b)
+curve_bias(chooser *c, size_t j, int rung, judge_bias *b)
 {
     lf_fit *f = c->f;
     fit_curve *fc = &f->c[j];
@@ -285,7 +209,7 @@ curve_bias(chooser *c, size_t j, int rung, bias *b)
     memset(b, 0, sizeof *b);
     if (!c->exact_ok[j])
         return LF_OK;           /* ok = 0: not assessed */
-    if (rung == RUNG_EXACT) {
+    if (rung == FIT_RUNG_EXACT) {
         b->ok = 1;
         return LF_OK;
     }
@@ -301,7 +225,7 @@ curve_bias(chooser *c, size_t j, int rung, bias *b)
     if (status == LF_OK) {
         memset(c->d, 0, f->nres * sizeof *c->d);
         for (i = 0; i < fc->data.n; i++)
-            c->d[fc->row + i] = (c->P_exact[fc->row + i] - f->w.ev[fc->row + i].P) / fc->sigma;
+            c->d[fc->row + i] = (c->P_exact[fc->row + i] - f->ws.ev[fc->row + i].P) / fc->sigma;
         project(c, b);
         c->base_ok = !swapped;
     }
@@ -312,6 +236,22 @@ curve_bias(chooser *c, size_t j, int rung, bias *b)
     return status;
 }
 
+/* The model choice's callbacks (judge_models): a curve's bias with a
+ * model, and its move to a model (the fit's own model objects). */
+static int
+models_bias(void *ctx, size_t j, int rung, judge_bias *b)
+{
+    return curve_bias(ctx, j, rung, b);
+}
+
+static int
+models_move(void *ctx, size_t j, int rung)
+{
+    chooser *c = ctx;
+    c->base_ok = 0;
+    return set_model(c->f, j, lf_fit_rung_type(rung), c->err);
+}
+
 /* Assess every curve at the origin (the last solution): biases of thin,
  * half-space (where needed) and the current model against exact; then,
  * when allowed, move curves up until the summed bias is below tol.
@@ -320,10 +260,8 @@ static int
 assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *err)
 {
     lf_fit *f = c->f;
-    const double tol = c->cs->tol;
-    double total[FIT_NMAT] = { 0 };
     size_t j, i;
-    int status, m;
+    int status;
 
     *changed = 0;
     c->base_ok = 0;
@@ -339,7 +277,7 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
         c->ab_lo[j] = HUGE_VAL;
         c->ab_hi[j] = 0.0;
         for (i = 0; i < fc->data.n; i++) {
-            double a = f->w.ev[fc->row + i].a;
+            double a = f->ws.ev[fc->row + i].a;
             if (a > 0) {
                 c->ab_lo[j] = lf_fmin(c->ab_lo[j], a / b);
                 c->ab_hi[j] = lf_fmax(c->ab_hi[j], a / b);
@@ -348,16 +286,16 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
         c->exact_ok[j] = 1;
         /* a curve wholly in the thin-layer regime (a/b beyond the exact
          * model's tables) is compared without building any table */
-        if (c->rung[j] != RUNG_EXACT && c->ab_lo[j] < HUGE_VAL
+        if (c->rung[j] != FIT_RUNG_EXACT && c->ab_lo[j] < HUGE_VAL
             && lf_exact_far_eval(&fc->data.probe, &f->mat, fc->data.branch, fc->data.n,
-                                 f->w.delta + fc->row, c->P_exact + fc->row, NULL) == LF_OK)
+                                 f->ws.delta + fc->row, c->P_exact + fc->row, NULL) == LF_OK)
             continue;
-        ex = c->rung[j] == RUNG_EXACT ? NULL : instance(c, j, RUNG_EXACT);
-        if (c->rung[j] == RUNG_EXACT) {
+        ex = c->rung[j] == FIT_RUNG_EXACT ? NULL : instance(c, j, FIT_RUNG_EXACT);
+        if (c->rung[j] == FIT_RUNG_EXACT) {
             for (i = 0; i < fc->data.n; i++)
-                c->P_exact[fc->row + i] = f->w.ev[fc->row + i].P;
+                c->P_exact[fc->row + i] = f->ws.ev[fc->row + i].P;
         } else if (ex == NULL || lf_model_eval(ex, &f->mat, fc->data.branch, fc->data.n,
-                                                f->w.delta + fc->row, c->ev, NULL) != LF_OK) {
+                                                f->ws.delta + fc->row, c->ev, NULL) != LF_OK) {
             c->exact_ok[j] = 0;   /* e.g. nu above the exact model's range */
         } else {
             for (i = 0; i < fc->data.n; i++)
@@ -368,100 +306,37 @@ assess(chooser *c, int allow_change, int *changed, double *total_max, lf_error *
      * not the current model */
     for (j = 0; j < f->ncurves && status == LF_OK; j++) {
         status = curve_bias(c, j, c->rung[j], &c->cur[j]);
-        if (c->rung[j] == RUNG_THIN)
+        if (c->rung[j] == FIT_RUNG_THIN)
             c->thin[j] = c->cur[j];
-        if (c->rung[j] == RUNG_HALFSPACE)
+        if (c->rung[j] == FIT_RUNG_HALFSPACE)
             c->half_b[j] = c->cur[j];
         else
             memset(&c->half_b[j], 0, sizeof c->half_b[j]);
-        for (m = 0; m < FIT_NMAT; m++)
-            total[m] += c->cur[j].r[m];
     }
     for (j = 0; j < f->ncurves && status == LF_OK; j++)
-        if (c->rung[j] != RUNG_THIN)
-            status = curve_bias(c, j, RUNG_THIN, &c->thin[j]);
-    while (status == LF_OK) {
-        bias tb;
-        size_t jw = f->ncurves;
-        double worst = 0.0;
-        memcpy(tb.r, total, sizeof total);
-        *total_max = bias_max(&tb, NULL);
-        if (!allow_change || *total_max < tol)
-            break;
-        for (j = 0; j < f->ncurves; j++) {
-            double bm = bias_max(&c->cur[j], NULL);
-            if (!c->fixed[j] && c->rung[j] != RUNG_EXACT && c->cur[j].ok && bm > worst) {
-                worst = bm;
-                jw = j;
-            }
-        }
-        if (jw == f->ncurves)
-            break;      /* nothing left to move */
-        for (m = 0; m < FIT_NMAT; m++)
-            total[m] -= c->cur[jw].r[m];
-        if (c->rung[jw] == RUNG_THIN && c->cs->halfspace
-            && f->c[jw].data.probe.k > rung_type(RUNG_HALFSPACE)->k_above)
-            status = curve_bias(c, jw, RUNG_HALFSPACE, &c->half_b[jw]);
-        if (c->rung[jw] == RUNG_THIN && c->half_b[jw].ok
-            && bias_max(&c->half_b[jw], NULL) < lf_fmin(tol, worst)) {
-            c->rung[jw] = RUNG_HALFSPACE;
-            c->cur[jw] = c->half_b[jw];
-        } else {
-            c->rung[jw] = RUNG_EXACT;
-            memset(c->cur[jw].r, 0, sizeof c->cur[jw].r);
-        }
-        for (m = 0; m < FIT_NMAT; m++)
-            total[m] += c->cur[jw].r[m];
-        if (status == LF_OK)
-            status = set_model(f, jw, rung_type(c->rung[jw]), err);
-        c->base_ok = 0;
-        *changed = 1;
+        if (c->rung[j] != FIT_RUNG_THIN)
+            status = curve_bias(c, j, FIT_RUNG_THIN, &c->thin[j]);
+    if (status == LF_OK) {
+        judge_models jm;
+        memset(&jm, 0, sizeof jm);
+        jm.n = f->ncurves;
+        jm.rung = c->rung;
+        jm.fixed = c->fixed;
+        jm.k = c->k;
+        jm.cur = c->cur;
+        jm.half = c->half_b;
+        jm.tol = c->cs->tol;
+        jm.halfspace = c->cs->halfspace;
+        jm.allow_change = allow_change;
+        jm.ctx = c;
+        jm.bias = models_bias;
+        jm.move = models_move;
+        c->err = err;
+        status = lf_judge_models(&jm, total_max, changed);
     }
     if (status != LF_OK)
         lf_fail(err, status, "model choice: the bias of a cheaper model cannot be computed");
     return status;
-}
-
-/* Why curve j has its model, in words, at the last assessment. */
-static void
-explain(const chooser *c, size_t j, char *buf, size_t n)
-{
-    const double tol = c->cs->tol;
-    char range[80] = "";
-    int wt, wh;
-    double bt = bias_max(&c->thin[j], &wt), bh = bias_max(&c->half_b[j], &wh);
-
-    if (c->ab_hi[j] > 0)
-        snprintf(range, sizeof range, " over a/b %.3g-%.3g", c->ab_lo[j], c->ab_hi[j]);
-    if (c->fixed[j]) {
-        if (c->thin[j].ok)
-            snprintf(buf, n, "as requested; the thin-layer model would bias %s by %.2g se%s",
-                     mat_names[wt], bt, range);
-        else
-            snprintf(buf, n, "as requested");
-        return;
-    }
-    if (!c->thin[j].ok) {
-        snprintf(buf, n, "the exact model cannot be evaluated at the fitted parameters, "
-                 "so the choice was not checked");
-        return;
-    }
-    switch (c->rung[j]) {
-    case RUNG_THIN:
-        snprintf(buf, n, "the thin-layer model biases %s by at most %.2g se%s "
-                 "(tolerance %.2g se)", mat_names[wt], bt, range, tol);
-        break;
-    case RUNG_HALFSPACE:
-        snprintf(buf, n, "the thin-layer model would bias %s by %.2g se%s, the half-space "
-                 "model only %s by %.2g se (tolerance %.2g se)", mat_names[wt], bt, range,
-                 mat_names[wh], bh, tol);
-        break;
-    default:
-        snprintf(buf, n, "the thin-layer model would bias %s by %.2g se%s "
-                 "(tolerance %.2g se, with the other curves' biases added)",
-                 mat_names[wt], bt, range, tol);
-        break;
-    }
 }
 
 /* res->thin from an all-thin fit. */
@@ -498,7 +373,7 @@ lf_fit_compare_thin(const lf_fit_settings *settings, size_t ncurves,
         cv[j] = curves[j];
         cv[j].model = NULL;
     }
-    s.model = rung_type(RUNG_THIN);
+    s.model = lf_fit_rung_type(FIT_RUNG_THIN);
     status = lf_fit_driver(&s, ncurves, cv, &thin, err);
     free(cv);
     if (status != LF_OK && status != LF_ENOCONV)
@@ -533,8 +408,8 @@ lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *
     for (j = 0; j < ncurves; j++) {
         cv[j] = curves[j];
         if (cv[j].model == NULL)
-            cv[j].model = rung_type(RUNG_THIN);
-        else if (cv[j].model != rung_type(RUNG_THIN))
+            cv[j].model = lf_fit_rung_type(FIT_RUNG_THIN);
+        else if (cv[j].model != lf_fit_rung_type(FIT_RUNG_THIN))
             first_all_thin = 0;
     }
     f = lf_fit_alloc(settings, ncurves, cv, err);
@@ -548,7 +423,8 @@ lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *
     }
     for (j = 0; j < ncurves; j++) {
         ch.fixed[j] = curves[j].model != NULL;
-        ch.rung[j] = rung_of(cv[j].model);
+        ch.k[j] = curves[j].probe.k;
+        ch.rung[j] = lf_fit_rung_of(cv[j].model);
     }
     fit_status = lf_fit_run(f, &first, err);
     if (fit_status != LF_OK && fit_status != LF_ENOCONV) {
@@ -563,7 +439,7 @@ lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *
             goto done;
         if (!changed)
             break;
-        fit_status = lf_fit_solve(f, NULL, 1, &next, err);
+        fit_status = lf_fit_solve(f, NULL, &next, err);
         if (fit_status != LF_OK && fit_status != LF_ENOCONV) {
             status = fit_status;
             goto done;
@@ -578,12 +454,13 @@ lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *
     }
     for (j = 0; j < ncurves; j++) {
         lf_fit_curve_result *cr = &cur.curves[j];
-        cr->model = rung_type(ch.rung[j])->name;
-        explain(&ch, j, cr->model_reason, sizeof cr->model_reason);
-        cr->thin_bias = ch.thin[j].ok ? bias_max(&ch.thin[j], NULL) : NAN;
+        cr->model = lf_fit_rung_type(ch.rung[j])->name;
+        lf_judge_model_reason(cr->model_reason, sizeof cr->model_reason, ch.rung[j], ch.fixed[j],
+                              &ch.thin[j], &ch.half_b[j], ch.ab_lo[j], ch.ab_hi[j], cs->tol);
+        cr->thin_bias = ch.thin[j].ok ? lf_judge_bias_max(ch.thin[j].r, NULL) : NAN;
         for (m = 0; m < FIT_NMAT; m++)
             cr->thin_bias_se[m] = ch.thin[j].ok ? ch.thin[j].r[m] : NAN;
-        if (ch.rung[j] != RUNG_THIN)
+        if (ch.rung[j] != FIT_RUNG_THIN)
             all_thin = 0;
     }
     cur.model_rounds = rounds;

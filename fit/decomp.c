@@ -237,3 +237,18 @@ lf_fit_decomp_project(fit_decomp *d, const double *v, double *coef)
         coef[l] = s / gsl_vector_get(d->S, l);
     }
 }
+
+double
+lf_fit_decomp_cov(const fit_decomp *d, int a, int b, double scale)
+{
+    double s = 0.0, da = gsl_vector_get(d->D, (size_t) a), db = gsl_vector_get(d->D, (size_t) b);
+    size_t l;
+
+    if (!(da > 0) || !(db > 0))
+        return NAN;
+    for (l = 0; l < d->rank; l++) {
+        double sl = gsl_vector_get(d->S, l);
+        s += gsl_matrix_get(d->V, (size_t) a, l) * gsl_matrix_get(d->V, (size_t) b, l) / (sl * sl);
+    }
+    return scale * s / (da * db);
+}

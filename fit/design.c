@@ -13,17 +13,13 @@
  * the parameters that set frees), and J^T d = sum R_j^T (Q_j^T d_j).  So a
  * set is evaluated from a matrix of 5 rows per curve, without the models.
  *
- * With the stack A (columns scaled to unit norm, A = U S V^T) everything
- * follows the fitter's rules (fit/uncertainty.c, fit/choose.c):
- *  - a direction with S_l <= rcond S_0 is not determined; a parameter with
- *    weight sum_{l undetermined} V_pl^2 > 0.01 on those is not determined;
- *  - the covariance is the pseudo-inverse over the other directions: the
- *    Cramer-Rao bound of that fit (no sqrt(chi2/dof): the truth is known);
- *  - a cheaper model's first-order bias on the material, in standard
- *    errors, is (sum_l V_pl (V^T D^-1 J^T d)_l / S_l^2) / sqrt(sum_l V_pl^2
- *    / S_l^2), the same expression choose.c evaluates at a fitted solution;
- *    here it is evaluated at the truth, where a fit of noise-free data of
- *    the chosen model would land. */
+ * The stack is decomposed as the fitter decomposes its Jacobian (decomp.c:
+ * columns scaled to unit norm, A = U S V^T) and judged by the fitter's own
+ * judgement (judge.c: what is determined and why, the model choice, each
+ * curve's model bias); the covariance is the pseudo-inverse over the
+ * determined directions, the Cramer-Rao bound of that fit (no
+ * sqrt(chi2/dof): the truth is known).  All of it at the truth, where a
+ * fit of noise-free data of the chosen model would land. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -33,18 +29,13 @@
 #include <gsl/gsl_matrix.h>
 #include <gsl/gsl_vector.h>
 
-#include "csvsplit.h"
 #include "fit.h"
 
 #define NL 5                    /* local columns: ln w, ln E*, nu, z0, F0 */
 enum { C_W = 0, C_E, C_NU, C_Z0, C_F0 };
-enum { RUNG_THIN = 0, RUNG_HALFSPACE, RUNG_EXACT, NRUNG };
-#define NULL_WEIGHT 0.01        /* as fit/uncertainty.c */
-#define K2_BASELINE_SHARE 0.1   /* as fit/uncertainty.c: k2_without_baseline */
 #define NO_BASELINE_END 0.9     /* a curve without baseline ends at 0.9 of the
-                                   detachment indentation (physics.md s. 2) */
-
-static const char *const mat_names[3] = { "w", "E*", "nu" };
+                                   detachment indentation (the two-probe
+                                   Cramer-Rao scene of tests/test_crb.c) */
 
 /* ------------------------------------------------------------ settings */
 
@@ -69,273 +60,6 @@ lf_design_settings_default(void)
     return s;
 }
 
-/* ------------------------------------------------------------ the plan */
-
-enum { D_NAME, D_K, D_R, D_B, D_INTERFACE, D_DMAX, D_DMIN, D_POINTS, D_BASELINE,
-       D_Z0, D_F0, D_SEGMENT, D_NOISE, NDCOL };
-
-static const lf_csv_column dcols[NDCOL] = {
-    [D_NAME]      = { "name", LF_Q_DIMENSIONLESS, 0, NULL },
-    [D_K]         = { "k", LF_Q_DIMENSIONLESS, 1, NULL },
-    [D_R]         = { "R", LF_Q_LENGTH, 1, NULL },
-    [D_B]         = { "b", LF_Q_LENGTH, 1, NULL },
-    [D_INTERFACE] = { "interface", LF_Q_DIMENSIONLESS, 1, NULL },
-    [D_DMAX]      = { "delta_max", LF_Q_LENGTH, 0, NULL },
-    [D_DMIN]      = { "delta_min", LF_Q_LENGTH, 0, NULL },
-    [D_POINTS]    = { "points", LF_Q_DIMENSIONLESS, 0, NULL },
-    [D_BASELINE]  = { "baseline", LF_Q_LENGTH, 0, NULL },
-    [D_Z0]        = { "z0", LF_Q_DIMENSIONLESS, 0, NULL },
-    [D_F0]        = { "F0", LF_Q_DIMENSIONLESS, 0, NULL },
-    [D_SEGMENT]   = { "segment", LF_Q_DIMENSIONLESS, 0, NULL },
-    [D_NOISE]     = { "noise", LF_Q_FORCE, 0, "give 1% or 2uN in each cell" },
-};
-
-#define DCOLUMNS_HINT "a design plan has the columns k,R,b,interface and may add " \
-                      "name,delta_max,delta_min,points,baseline,z0,F0,segment,noise"
-
-typedef struct {
-    const char *name;
-    lf_design_plan *plan;
-    size_t cap;
-    int have_header;
-    long header_line;
-    size_t ncols;
-    long col[NDCOL];
-    int has_unit[NDCOL];
-    double factor[NDCOL];
-    int decimal_comma;
-} dplan_reader;
-
-static int
-dplan_header(dplan_reader *rd, const lf_csv_record *r, lf_error *err)
-{
-    rd->have_header = 1;
-    rd->header_line = r->line;
-    rd->ncols = r->n;
-    rd->decimal_comma = r->delim == ';';
-    return lf_csv_columns(rd->name, r, dcols, NDCOL, DCOLUMNS_HINT, rd->col, rd->factor,
-                          rd->has_unit, err);
-}
-
-/* A number with its unit from the header or the cell, into SI.  An empty
- * cell (or an absent column) leaves *v at NaN. */
-static int
-dplan_number(dplan_reader *rd, const lf_csv_record *r, int c, double *v, lf_error *err)
-{
-    long k = rd->col[c];
-
-    *v = NAN;
-    if (k < 0 || r->text[k][0] == '\0')
-        return LF_OK;
-    return lf_csv_cell_number(rd->name, r, k, &dcols[c], rd->has_unit[c], rd->factor[c],
-                              rd->decimal_comma, v, err);
-}
-
-/* "free" (or empty) -> 1, "fixed"/"known" -> 0, else -1. */
-static int
-free_word(const char *t)
-{
-    if (t[0] == '\0' || lf_csv_ieq(t, "free"))
-        return 1;
-    if (lf_csv_ieq(t, "fixed") || lf_csv_ieq(t, "known"))
-        return 0;
-    return -1;
-}
-
-/* noise: "1%", "0.01" (fractions of the largest |force|) or "2uN". */
-static int
-dplan_noise(dplan_reader *rd, const lf_csv_record *r, lf_design_candidate *row, lf_error *err)
-{
-    long k = rd->col[D_NOISE];
-    char text[128], buf[64];
-    size_t len;
-    double v;
-    lf_error e;
-
-    if (k < 0 || r->text[k][0] == '\0')
-        return LF_OK;
-    snprintf(text, sizeof text, "%s", r->text[k]);
-    len = strlen(text);
-    if (len > 1 && text[len - 1] == '%') {
-        text[len - 1] = '\0';
-        if (lf_csv_number(text, rd->decimal_comma, &v) == LF_NUM_OK && v > 0) {
-            row->noise_rel = v / 100.0;
-            return LF_OK;
-        }
-    } else if (lf_csv_number(text, rd->decimal_comma, &v) == LF_NUM_OK) {
-        if (v > 0) {
-            row->noise_rel = v;
-            return LF_OK;
-        }
-    } else {
-        lf_csv_decimal_point(text, rd->decimal_comma);
-        if (lf_units_parse(text, LF_Q_FORCE, &v, &e) == LF_OK && v > 0) {
-            row->noise_abs = v;
-            return LF_OK;
-        }
-    }
-    return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                      "noise '%s' is not a positive fraction (1%% or 0.01) or force (2uN)",
-                      lf_csv_excerpt(r->text[k], buf, sizeof buf));
-}
-
-static int
-dplan_row(dplan_reader *rd, const lf_csv_record *r, lf_error *err)
-{
-    lf_design_plan *p = rd->plan;
-    lf_design_candidate *row;
-    char buf[64];
-    double pts;
-    long k;
-    int st, word;
-    lf_error e;
-
-    if ((st = lf_csv_row_cells(rd->name, r, rd->ncols, err)) != LF_OK)
-        return st;
-    if (p->n == rd->cap) {
-        size_t cap = rd->cap ? 2 * rd->cap : 16;
-        lf_design_candidate *rows = realloc(p->rows, cap * sizeof *rows);
-        if (rows == NULL)
-            return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
-        p->rows = rows;
-        rd->cap = cap;
-    }
-    row = &p->rows[p->n];
-    memset(row, 0, sizeof *row);
-    row->line = r->line;
-    row->branch = LF_BRANCH_UNLOAD;
-    row->noise_rel = row->noise_abs = NAN;
-    k = rd->col[D_NAME];
-    if (k >= 0 && r->text[k][0] != '\0')
-        snprintf(row->name, sizeof row->name, "%s", r->text[k]);
-    else
-        snprintf(row->name, sizeof row->name, "row %zu", p->n + 1);
-    if ((st = lf_csv_cell_interface(rd->name, r, rd->col[D_INTERFACE], &row->probe.base, err))
-        != LF_OK)
-        return st;
-    k = rd->col[D_SEGMENT];
-    if (k >= 0 && r->text[k][0] != '\0') {
-        word = lf_csv_segment_word(r->text[k]);
-        if (word < 0)
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                              "unknown segment '%s' (expected unload or load)",
-                              lf_csv_excerpt(r->text[k], buf, sizeof buf));
-        row->branch = word == LF_SEG_LOAD ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD;
-    }
-    row->free_z0 = row->free_F0 = 1;
-    if ((k = rd->col[D_Z0]) >= 0 && (row->free_z0 = free_word(r->text[k])) < 0)
-        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                          "z0 '%s' must be free or fixed", lf_csv_excerpt(r->text[k], buf, sizeof buf));
-    if ((k = rd->col[D_F0]) >= 0 && (row->free_F0 = free_word(r->text[k])) < 0)
-        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                          "F0 '%s' must be free or fixed", lf_csv_excerpt(r->text[k], buf, sizeof buf));
-    k = rd->col[D_BASELINE];
-    row->baseline = 0.0;
-    if (k >= 0 && (lf_csv_ieq(r->text[k], "yes") || lf_csv_ieq(r->text[k], "y")))
-        row->baseline = NAN;
-    else if (k >= 0 && !(r->text[k][0] == '\0' || lf_csv_ieq(r->text[k], "no")
-                         || lf_csv_ieq(r->text[k], "n"))) {
-        if ((st = dplan_number(rd, r, D_BASELINE, &row->baseline, err)) != LF_OK)
-            return st;
-        if (!(row->baseline >= 0))
-            return lf_fail_at(err, LF_EINVAL, rd->name, r->fline[k], r->fcol[k],
-                              "baseline must be yes, no or a length >= 0 (e.g. 20nm)");
-    }
-    if ((st = dplan_number(rd, r, D_K, &row->probe.k, err)) != LF_OK
-        || (st = dplan_number(rd, r, D_R, &row->probe.R, err)) != LF_OK
-        || (st = dplan_number(rd, r, D_B, &row->probe.b, err)) != LF_OK
-        || (st = dplan_number(rd, r, D_DMAX, &row->delta_max, err)) != LF_OK
-        || (st = dplan_number(rd, r, D_DMIN, &row->delta_min, err)) != LF_OK
-        || (st = dplan_number(rd, r, D_POINTS, &pts, err)) != LF_OK
-        || (st = dplan_noise(rd, r, row, err)) != LF_OK)
-        return st;
-    p->n++;
-    if (isnan(row->probe.k) || isnan(row->probe.R) || isnan(row->probe.b))
-        return lf_fail_at(err, LF_EFORMAT, rd->name, r->line, 0,
-                          "every row needs k, R and b");
-    if (lf_probe_check(&row->probe, &e) != LF_OK)
-        return lf_fail_at(err, e.status, rd->name, r->line, 0, "%s", e.msg);
-    if (!isnan(pts)) {
-        k = rd->col[D_POINTS];
-        if (!(pts >= 5 && pts <= 1e7 && pts == floor(pts)))
-            return lf_fail_at(err, LF_EINVAL, rd->name, r->fline[k], r->fcol[k],
-                              "points must be a whole number from 5 to 10000000");
-        row->points = (size_t) pts;
-    }
-    if (!isnan(row->delta_min) && row->baseline != 0.0)
-        return lf_fail_at(err, LF_EINVAL, rd->name, r->line, 0,
-                          "give delta_min or baseline, not both (delta_min sets the whole range)");
-    if (!isnan(row->delta_max) && !(row->delta_max > 0))
-        return lf_fail_at(err, LF_EINVAL, rd->name, r->fline[rd->col[D_DMAX]],
-                          r->fcol[rd->col[D_DMAX]], "delta_max must be > 0 (e.g. 50nm)");
-    return LF_OK;
-}
-
-static int
-dplan_record(void *ctx, const lf_csv_record *r, lf_error *err)
-{
-    dplan_reader *rd = ctx;
-    return r->index == 0 ? dplan_header(rd, r, err) : dplan_row(rd, r, err);
-}
-
-static int
-dplan_load(const char *path, const char *buf, size_t len, const char *name,
-           lf_design_plan **out, lf_error *err)
-{
-    lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
-    dplan_reader rd;
-    int st;
-
-    *out = NULL;
-    memset(&rd, 0, sizeof rd);
-    rd.name = name ? name : "";
-    rd.plan = calloc(1, sizeof *rd.plan);
-    if (rd.plan == NULL || (rd.plan->path = lf_strdup(rd.name)) == NULL) {
-        lf_design_plan_free(rd.plan);
-        return lf_fail_at(err, LF_ENOMEM, rd.name, 0, 0, "out of memory");
-    }
-    h.ctx = &rd;
-    h.record = dplan_record;
-    h.comment = NULL;
-    st = buf == NULL ? lf_csv_read_file(path, &h, err)
-                     : lf_csv_read_buffer(buf, len, 0, rd.name, &h, err);
-    if (st == LF_OK && !rd.have_header)
-        st = lf_fail_at(err, LF_EFORMAT, rd.name, 0, 0, "empty design plan (expected a header "
-                        "such as name,k,R_mm,b_um,interface and one row per candidate curve)");
-    if (st == LF_OK && rd.plan->n == 0)
-        st = lf_fail_at(err, LF_EDATA, rd.name, rd.header_line, 0,
-                        "header but no rows (list one candidate curve per row below it)");
-    if (st != LF_OK) {
-        lf_design_plan_free(rd.plan);
-        return st;
-    }
-    *out = rd.plan;
-    return LF_OK;
-}
-
-int
-lf_design_plan_read(const char *path, lf_design_plan **out, lf_error *err)
-{
-    return dplan_load(path, NULL, 0, path, out, err);
-}
-
-int
-lf_design_plan_parse(const char *buf, size_t len, const char *name, lf_design_plan **out,
-                     lf_error *err)
-{
-    return dplan_load(NULL, buf ? buf : "", len, name, out, err);
-}
-
-void
-lf_design_plan_free(lf_design_plan *p)
-{
-    if (p == NULL)
-        return;
-    free(p->rows);
-    free(p->path);
-    free(p);
-}
-
 /* ------------------------------------------------------- preparation */
 
 /* One model's view of one candidate. */
@@ -350,7 +74,7 @@ typedef struct {
     lf_design_candidate c;  /* defaults resolved */
     double delta_lo, delta_hi, delta_detach, sigma, fmax;
     double ba_min, ba_max, ba_pulloff;
-    model_part m[NRUNG];
+    model_part m[FIT_NRUNG];
 } prepared;
 
 struct lf_design {
@@ -358,20 +82,6 @@ struct lf_design {
     size_t n;
     prepared *p;
 };
-
-static const lf_model_type *
-rung_type(int rung)
-{
-    return rung == RUNG_THIN ? &lf_model_thin
-           : rung == RUNG_HALFSPACE ? &lf_model_halfspace : &lf_model_exact;
-}
-
-static int
-rung_of(const lf_model_type *t)
-{
-    return t == &lf_model_thin ? RUNG_THIN : t == &lf_model_halfspace ? RUNG_HALFSPACE
-                                                                      : RUNG_EXACT;
-}
 
 /* R and Q^T d of one model from its evaluations ev[0..n-1]. */
 static int
@@ -436,7 +146,7 @@ prepare(const lf_design_settings *s, const lf_design_candidate *in, prepared *pp
         return LF_EINVAL;
     if (!(c->delta_max > 0) || !isfinite(c->delta_max))
         return lf_fail(err, LF_EINVAL, "%s: the deepest indentation must be > 0", c->name);
-    m = lf_model_alloc(&lf_model_exact, &c->probe, err);
+    m = lf_model_alloc(lf_fit_rung_type(FIT_RUNG_EXACT), &c->probe, err);
     if (m == NULL)
         return err ? err->status : LF_EINVAL;
     /* a probe the model cannot evaluate would give numbers of no meaning */
@@ -509,14 +219,14 @@ prepare(const lf_design_settings *s, const lf_design_candidate *in, prepared *pp
         st = lf_fail(err, LF_EINVAL, "%s: the noise must be > 0", c->name);
         goto done;
     }
-    for (rung = 0; rung < NRUNG; rung++) {
+    for (rung = 0; rung < FIT_NRUNG; rung++) {
         lf_model *mr = m;
         const lf_eval *e = evx;
         memset(&pp->m[rung], 0, sizeof pp->m[rung]);
-        if (rung != RUNG_EXACT) {
-            if (rung == RUNG_HALFSPACE && !(c->probe.k > 0.5))
+        if (rung != FIT_RUNG_EXACT) {
+            if (!(c->probe.k > lf_fit_rung_type(rung)->k_above))
                 continue;
-            if ((mr = lf_model_alloc(rung_type(rung), &c->probe, NULL)) == NULL)
+            if ((mr = lf_model_alloc(lf_fit_rung_type(rung), &c->probe, NULL)) == NULL)
                 continue;
             st = lf_model_eval(mr, &s->truth, c->branch, n, delta, ev, NULL);
             lf_model_free(mr);
@@ -528,7 +238,7 @@ prepare(const lf_design_settings *s, const lf_design_candidate *in, prepared *pp
         }
         st = factor_part(pp, e, P, n, G, tau, d, &pp->m[rung]);
         if (st != LF_OK) {
-            if (rung == RUNG_EXACT) {
+            if (rung == FIT_RUNG_EXACT) {
                 st = lf_fail(err, st, "%s: the exact model's derivatives are not finite", c->name);
                 goto done;
             }
@@ -596,12 +306,6 @@ lf_design_free(lf_design *d)
     free(d);
 }
 
-size_t
-lf_design_size(const lf_design *d)
-{
-    return d->n;
-}
-
 /* ------------------------------------------------------- one set */
 
 /* The decomposition of one set with given models. */
@@ -612,14 +316,11 @@ typedef struct {
     int *rung;              /* their models */
     int nu_free;
     size_t p;               /* columns */
-    int col[3];             /* ln w, ln E*, nu columns (nu -1 when held) */
+    int col[FIT_NMAT];      /* ln w, ln E*, nu columns (nu -1 when held) */
     int *cz0, *cF0;         /* per curve, -1 when held */
-    gsl_matrix *A, *V;
-    gsl_vector *S, *D, *work;
-    size_t rank;
-    double *nullw;          /* p */
-    double se[3];           /* unscaled se of w, E*, nu in scaled units; 0
-                               when not free or not determined */
+    fit_decomp dec;         /* of the stack of the curves' R blocks */
+    double *g;              /* p: D^-1 R^T Q^T d of one curve */
+    double *coef;           /* p: its projection on the determined directions */
 } setwork;
 
 static void
@@ -628,16 +329,16 @@ setwork_free(setwork *w)
     free(w->rung);
     free(w->cz0);
     free(w->cF0);
-    free(w->nullw);
-    gsl_matrix_free(w->A);
-    gsl_matrix_free(w->V);
-    gsl_vector_free(w->S);
-    gsl_vector_free(w->D);
-    gsl_vector_free(w->work);
+    free(w->g);
+    free(w->coef);
+    lf_fit_decomp_free(&w->dec);
 }
 
+/* The set's layout: nu free as the fitter frees it (fit/problem.c: bonded
+ * curves with frictionless ones, unless held), or forced free (nu_free >
+ * 0: the judgement of E* apart from nu). */
 static int
-setwork_alloc(setwork *w, const lf_design *d, size_t ns, const size_t *idx)
+setwork_alloc(setwork *w, const lf_design *d, size_t ns, const size_t *idx, int force_nu)
 {
     size_t j, p;
     int any_b = 0, any_f = 0;
@@ -652,13 +353,11 @@ setwork_alloc(setwork *w, const lf_design *d, size_t ns, const size_t *idx)
         else
             any_f = 1;
     }
-    /* the fitter's rule (fit/problem.c): nu is free where the plan
-     * determines it, bonded curves with frictionless ones */
-    w->nu_free = !d->s.fix_nu && any_b && any_f;
+    w->nu_free = force_nu || (!d->s.fix_nu && any_b && any_f);
     p = 0;
-    w->col[0] = (int) p++;
-    w->col[1] = (int) p++;
-    w->col[2] = w->nu_free ? (int) p++ : -1;
+    w->col[FIT_W] = (int) p++;
+    w->col[FIT_E] = (int) p++;
+    w->col[FIT_NU] = w->nu_free ? (int) p++ : -1;
     w->rung = calloc(ns, sizeof *w->rung);
     w->cz0 = calloc(ns, sizeof *w->cz0);
     w->cF0 = calloc(ns, sizeof *w->cF0);
@@ -670,13 +369,9 @@ setwork_alloc(setwork *w, const lf_design *d, size_t ns, const size_t *idx)
         w->cF0[j] = c->free_F0 ? (int) p++ : -1;
     }
     w->p = p;
-    w->A = gsl_matrix_alloc(NL * ns, p);
-    w->V = gsl_matrix_alloc(p, p);
-    w->S = gsl_vector_alloc(p);
-    w->D = gsl_vector_alloc(p);
-    w->work = gsl_vector_alloc(p);
-    w->nullw = calloc(p, sizeof *w->nullw);
-    if (!w->A || !w->V || !w->S || !w->D || !w->work || !w->nullw)
+    w->g = calloc(p, sizeof *w->g);
+    w->coef = calloc(p, sizeof *w->coef);
+    if (!w->g || !w->coef || lf_fit_decomp_alloc(&w->dec, NL * ns, p) != LF_OK)
         return LF_ENOMEM;
     return LF_OK;
 }
@@ -686,22 +381,24 @@ static int
 column_of(const setwork *w, size_t j, int c)
 {
     switch (c) {
-    case C_W: return w->col[0];
-    case C_E: return w->col[1];
-    case C_NU: return w->col[2];
+    case C_W: return w->col[FIT_W];
+    case C_E: return w->col[FIT_E];
+    case C_NU: return w->col[FIT_NU];
     case C_Z0: return w->cz0[j];
     default: return w->cF0[j];
     }
 }
 
-/* Stack, scale and decompose with the current models. */
+/* Stack the curves' R blocks with the current models and decompose them
+ * as the fitter decomposes its Jacobian (decomp.c). */
 static int
 decompose(setwork *w)
 {
-    size_t j, r, k, l;
+    gsl_matrix *A = w->dec.QR;
+    size_t j, r;
     int c;
 
-    gsl_matrix_set_zero(w->A);
+    gsl_matrix_set_zero(A);
     for (j = 0; j < w->ns; j++) {
         const model_part *mp = &w->d->p[w->idx[j]].m[w->rung[j]];
         for (c = 0; c < NL; c++) {
@@ -709,70 +406,33 @@ decompose(setwork *w)
             if (g < 0)
                 continue;
             for (r = 0; r < NL; r++)
-                gsl_matrix_set(w->A, NL * j + r, (size_t) g, mp->R[r * NL + (size_t) c]);
+                gsl_matrix_set(A, NL * j + r, (size_t) g, mp->R[r * NL + (size_t) c]);
         }
     }
-    for (k = 0; k < w->p; k++) {
-        gsl_vector_view col = gsl_matrix_column(w->A, k);
-        double dn = gsl_blas_dnrm2(&col.vector);
-        gsl_vector_set(w->D, k, dn);
-        if (dn > 0)
-            gsl_vector_scale(&col.vector, 1.0 / dn);
-    }
-    if (gsl_linalg_SV_decomp_jacobi(w->A, w->V, w->S) != GSL_SUCCESS)
-        return LF_ENUMERIC;
-    w->rank = 0;
-    for (k = 0; k < w->p; k++)
-        if (gsl_vector_get(w->S, k) > w->d->s.rcond * gsl_vector_get(w->S, 0))
-            w->rank++;
-    for (k = 0; k < w->p; k++) {
-        w->nullw[k] = gsl_vector_get(w->D, k) > 0 ? 0.0 : 1.0;
-        for (l = w->rank; l < w->p; l++)
-            w->nullw[k] += gsl_matrix_get(w->V, k, l) * gsl_matrix_get(w->V, k, l);
-    }
-    for (c = 0; c < 3; c++) {
-        int g = w->col[c];
-        double s2 = 0.0;
-        w->se[c] = 0.0;
-        if (g < 0 || w->nullw[g] > NULL_WEIGHT)
-            continue;
-        for (l = 0; l < w->rank; l++) {
-            double v = gsl_matrix_get(w->V, (size_t) g, l), sl = gsl_vector_get(w->S, l);
-            s2 += v * v / (sl * sl);
-        }
-        w->se[c] = sqrt(s2);
-    }
-    return LF_OK;
+    return lf_fit_decomp_factor(&w->dec, w->d->s.rcond, 1);
 }
 
 /* Covariance of global columns a, b in the parameters' own units (ln w,
- * ln E*, nu, z0/L, F0/Fs). */
+ * ln E*, nu, z0/L, F0/Fs): the Cramer-Rao bound. */
 static double
 covariance(const setwork *w, int a, int b)
 {
-    double s = 0.0, da = gsl_vector_get(w->D, (size_t) a), db = gsl_vector_get(w->D, (size_t) b);
-    size_t l;
-
-    for (l = 0; l < w->rank; l++) {
-        double sl = gsl_vector_get(w->S, l);
-        s += gsl_matrix_get(w->V, (size_t) a, l) * gsl_matrix_get(w->V, (size_t) b, l) / (sl * sl);
-    }
-    return s / (da * db);
+    return lf_fit_decomp_cov(&w->dec, a, b, 1.0);
 }
 
-/* Bias over se of w, E*, nu when set curve j uses model `rung`'s forces
- * in place of the exact ones (with the current decomposition, which must
- * be that of the models being judged). */
+/* Bias over se of w, E*, nu (judge.c) when set curve j uses model `rung`'s
+ * forces in place of the exact ones, with the current decomposition
+ * (which must be that of the models being judged): J^T d = R^T Q^T d. */
 static void
-project_bias(setwork *w, size_t j, int rung, double r[3])
+project_bias(setwork *w, size_t j, int rung, double r[FIT_NMAT])
 {
+    const fit_decomp *d = &w->dec;
     const model_part *mp = &w->d->p[w->idx[j]].m[rung];
-    double *g = w->work->data;
     size_t k, l;
     int c, q;
 
     for (k = 0; k < w->p; k++)
-        g[k] = 0.0;
+        w->g[k] = 0.0;
     for (c = 0; c < NL; c++) {        /* D^-1 R^T Q^T d */
         int gc = column_of(w, j, c);
         double s = 0.0;
@@ -780,177 +440,132 @@ project_bias(setwork *w, size_t j, int rung, double r[3])
             continue;
         for (q = 0; q <= c; q++)
             s += mp->R[q * NL + c] * mp->qd[q];
-        if (gsl_vector_get(w->D, (size_t) gc) > 0)
-            g[gc] = s / gsl_vector_get(w->D, (size_t) gc);
+        if (gsl_vector_get(d->D, (size_t) gc) > 0)
+            w->g[gc] = s / gsl_vector_get(d->D, (size_t) gc);
     }
-    for (c = 0; c < 3; c++) {
-        int p = w->col[c];
-        double s = 0.0;
-        r[c] = 0.0;
-        if (p < 0 || w->se[c] == 0.0)
-            continue;
-        for (l = 0; l < w->rank; l++) {
-            double sl = gsl_vector_get(w->S, l), vg = 0.0;
-            for (k = 0; k < w->p; k++)
-                vg += gsl_matrix_get(w->V, k, l) * g[k];
-            s += gsl_matrix_get(w->V, (size_t) p, l) * vg / (sl * sl);
-        }
-        r[c] = s / w->se[c];
+    for (l = 0; l < d->rank; l++) {
+        double vg = 0.0, sl = gsl_vector_get(d->S, l);
+        for (k = 0; k < w->p; k++)
+            vg += gsl_matrix_get(d->V, k, l) * w->g[k];
+        w->coef[l] = vg / (sl * sl);
     }
-}
-
-static double
-max_abs3(const double r[3], int *which)
-{
-    double m = 0.0;
-    int i;
-
-    if (which)
-        *which = 0;
-    for (i = 0; i < 3; i++)
-        if (fabs(r[i]) > m) {
-            m = fabs(r[i]);
-            if (which)
-                *which = i;
-        }
-    return m;
+    lf_judge_bias(d, w->col, w->coef, r);
 }
 
 /* The bias of set curve j with model `rung`, the others keeping theirs;
- * decomposes with j swapped and restores.  ok = 0 when that model is not
- * available for the curve. */
+ * decomposes with j swapped and restores (b->ok = 0 when that model is not
+ * available for the curve). */
 static int
-curve_bias(setwork *w, size_t j, int rung, double r[3], int *ok)
+curve_bias(setwork *w, size_t j, int rung, judge_bias *b)
 {
     int saved = w->rung[j], st;
 
-    r[0] = r[1] = r[2] = 0.0;
-    *ok = w->d->p[w->idx[j]].m[rung].ok;
-    if (!*ok || rung == RUNG_EXACT)
+    memset(b, 0, sizeof *b);
+    b->ok = w->d->p[w->idx[j]].m[rung].ok;
+    if (!b->ok || rung == FIT_RUNG_EXACT)
         return LF_OK;
     w->rung[j] = rung;
     st = decompose(w);
     if (st == LF_OK)
-        project_bias(w, j, rung, r);
+        project_bias(w, j, rung, b->r);
     w->rung[j] = saved;
     return st;
 }
 
-/* The auto rule of lf_fit_choose_driver at the truth: start thin; while
- * the summed bias of the cheaper models on w, E*, nu exceeds tol standard
- * errors, move the curve with the largest bias up (to half-space when its
- * own bias there is below tol, else to exact); reassess after each round.
- * Fills reasons and each curve's thin bias.  With settings.model set every
- * curve keeps that model. */
+/* The model choice's callbacks (judge_models). */
+static int
+models_bias(void *ctx, size_t j, int rung, judge_bias *b)
+{
+    return curve_bias(ctx, j, rung, b);
+}
+
+static int
+models_move(void *ctx, size_t j, int rung)
+{
+    setwork *w = ctx;
+    w->rung[j] = rung;
+    return decompose(w);    /* the models being judged */
+}
+
+/* The auto rule of lf_fit_choose_driver (judge.c) at the truth: start
+ * thin; each round assesses every curve's bias and moves curves up until
+ * the summed bias is within the tolerance; rounds until nothing moves.
+ * Fills each curve's model, reason and thin bias.  With settings.model set
+ * every curve keeps that model. */
 static int
 choose_models(setwork *w, lf_design_curve_info *info)
 {
     const lf_design_settings *s = &w->d->s;
-    const double tol = s->choose.tol;
-    double (*cur)[3] = NULL, (*thin)[3] = NULL, (*half)[3] = NULL;
-    int *half_ok = NULL, fixed = s->model != NULL, st = LF_OK, ok;
+    judge_bias *cur = calloc(w->ns, sizeof *cur), *thin = calloc(w->ns, sizeof *thin);
+    judge_bias *half = calloc(w->ns, sizeof *half);
+    int *fixed = calloc(w->ns, sizeof *fixed), st = LF_OK, changed = 1;
+    double *k = calloc(w->ns, sizeof *k), total;
+    judge_models jm;
     size_t j, round;
 
-    cur = calloc(w->ns, sizeof *cur);
-    thin = calloc(w->ns, sizeof *thin);
-    half = calloc(w->ns, sizeof *half);
-    half_ok = calloc(w->ns, sizeof *half_ok);
-    if (!cur || !thin || !half || !half_ok) {
+    if (!cur || !thin || !half || !fixed || !k) {
         st = LF_ENOMEM;
         goto done;
     }
     for (j = 0; j < w->ns; j++) {
-        int r = fixed ? rung_of(s->model) : RUNG_THIN;
+        int r = s->model != NULL ? lf_fit_rung_of(s->model) : FIT_RUNG_THIN;
         if (!w->d->p[w->idx[j]].m[r].ok)
-            r = RUNG_EXACT;
+            r = FIT_RUNG_EXACT;
         w->rung[j] = r;
+        fixed[j] = s->model != NULL;
+        k[j] = w->d->p[w->idx[j]].c.probe.k;
     }
-    for (round = 0; !fixed && round <= s->choose.max_rounds; round++) {
-        double total[3] = { 0, 0, 0 };
-        int changed = 0, c;
+    memset(&jm, 0, sizeof jm);
+    jm.n = w->ns;
+    jm.rung = w->rung;
+    jm.fixed = fixed;
+    jm.k = k;
+    jm.cur = cur;
+    jm.half = half;
+    jm.tol = s->choose.tol;
+    jm.halfspace = s->choose.halfspace;
+    jm.allow_change = s->model == NULL;
+    jm.ctx = w;
+    jm.bias = models_bias;
+    jm.move = models_move;
+    for (round = 0; jm.allow_change && changed && round <= s->choose.max_rounds; round++) {
         if ((st = decompose(w)) != LF_OK)
             goto done;
         for (j = 0; j < w->ns; j++) {
-            cur[j][0] = cur[j][1] = cur[j][2] = 0.0;
-            if (w->rung[j] != RUNG_EXACT)
-                project_bias(w, j, w->rung[j], cur[j]);
-            for (c = 0; c < 3; c++)
-                total[c] += cur[j][c];
+            memset(&cur[j], 0, sizeof cur[j]);
+            cur[j].ok = 1;
+            if (w->rung[j] != FIT_RUNG_EXACT)
+                project_bias(w, j, w->rung[j], cur[j].r);
+            memset(&half[j], 0, sizeof half[j]);
         }
-        for (j = 0; j < w->ns; j++)
-            half_ok[j] = 0;
-        while (max_abs3(total, NULL) >= tol) {
-            size_t jw = w->ns;
-            double worst = 0.0;
-            for (j = 0; j < w->ns; j++) {
-                double bm = max_abs3(cur[j], NULL);
-                if (w->rung[j] != RUNG_EXACT && bm > worst) {
-                    worst = bm;
-                    jw = j;
-                }
-            }
-            if (jw == w->ns)
-                break;
-            for (c = 0; c < 3; c++)
-                total[c] -= cur[jw][c];
-            if (w->rung[jw] == RUNG_THIN && s->choose.halfspace
-                && (st = curve_bias(w, jw, RUNG_HALFSPACE, half[jw], &half_ok[jw])) != LF_OK)
-                goto done;
-            if (w->rung[jw] == RUNG_THIN && half_ok[jw]
-                && max_abs3(half[jw], NULL) < lf_fmin(tol, worst)) {
-                w->rung[jw] = RUNG_HALFSPACE;
-                memcpy(cur[jw], half[jw], sizeof cur[jw]);
-            } else {
-                w->rung[jw] = RUNG_EXACT;
-                cur[jw][0] = cur[jw][1] = cur[jw][2] = 0.0;
-            }
-            for (c = 0; c < 3; c++)
-                total[c] += cur[jw][c];
-            changed = 1;
-            if ((st = decompose(w)) != LF_OK)   /* the models being judged */
-                goto done;
-        }
-        if (!changed)
-            break;
+        if ((st = lf_judge_models(&jm, &total, &changed)) != LF_OK)
+            goto done;
     }
     /* the final assessment: each curve's thin and half-space biases */
     for (j = 0; j < w->ns && st == LF_OK; j++) {
-        st = curve_bias(w, j, RUNG_THIN, thin[j], &ok);
-        if (st == LF_OK && w->rung[j] == RUNG_HALFSPACE)
-            st = curve_bias(w, j, RUNG_HALFSPACE, half[j], &half_ok[j]);
-        info[j].thin_bias = ok ? max_abs3(thin[j], NULL) : NAN;
+        st = curve_bias(w, j, FIT_RUNG_THIN, &thin[j]);
+        if (st == LF_OK && w->rung[j] == FIT_RUNG_HALFSPACE)
+            st = curve_bias(w, j, FIT_RUNG_HALFSPACE, &half[j]);
+        info[j].thin_bias = thin[j].ok ? lf_judge_bias_max(thin[j].r, NULL) : NAN;
     }
     if (st != LF_OK)
         goto done;
     st = decompose(w);
     for (j = 0; j < w->ns && st == LF_OK; j++) {
-        lf_design_curve_info *ci = &info[j];
-        int wt, wh;
-        double bt = max_abs3(thin[j], &wt), bh = max_abs3(half[j], &wh);
-        ci->model = rung_type(w->rung[j]);
-        if (fixed)
-            snprintf(ci->model_reason, sizeof ci->model_reason,
-                     "as requested; the thin-layer model would bias %s by %.2g se",
-                     mat_names[wt], bt);
-        else if (w->rung[j] == RUNG_THIN)
-            snprintf(ci->model_reason, sizeof ci->model_reason,
-                     "the thin-layer model biases %s by at most %.2g se (tolerance %.2g se)",
-                     mat_names[wt], bt, tol);
-        else if (w->rung[j] == RUNG_HALFSPACE)
-            snprintf(ci->model_reason, sizeof ci->model_reason,
-                     "the thin-layer model would bias %s by %.2g se, the half-space model "
-                     "only %s by %.2g se (tolerance %.2g se)", mat_names[wt], bt,
-                     mat_names[wh], bh, tol);
-        else
-            snprintf(ci->model_reason, sizeof ci->model_reason,
-                     "the thin-layer model would bias %s by %.2g se (tolerance %.2g se, "
-                     "with the other curves' biases added)", mat_names[wt], bt, tol);
+        const prepared *pp = &w->d->p[w->idx[j]];
+        info[j].model = lf_fit_rung_type(w->rung[j]);
+        if (w->rung[j] != FIT_RUNG_HALFSPACE)
+            memset(&half[j], 0, sizeof half[j]);
+        lf_judge_model_reason(info[j].model_reason, sizeof info[j].model_reason, w->rung[j],
+                              fixed[j], &thin[j], &half[j], 1.0 / pp->ba_max, 1.0 / pp->ba_min,
+                              s->choose.tol);
     }
 done:
     free(cur);
     free(thin);
     free(half);
-    free(half_ok);
+    free(fixed);
+    free(k);
     return st;
 }
 
@@ -966,131 +581,98 @@ lf_design_result_free(lf_design_result *r)
 }
 
 static void
-estimate_set(lf_design_estimate *e, int free_, int determined, double se, double rel)
+estimate_set(lf_design_estimate *e, int free_, int determined, double se, double rel,
+             const char *why)
 {
     e->free = free_;
     e->determined = free_ && determined;
     e->se = e->determined ? se : NAN;
     e->rel = e->determined ? rel : NAN;
+    e->upper_bound_only = 0;
+    e->why = e->determined ? NULL : why;
 }
 
-/* k = 2 alone with free z0 and F0 and under 10% of each curve's points
- * past detachment: w rests on nothing (fit/uncertainty.c). */
+/* The judgement's measures at the truth (judge.c asks for them only where
+ * it needs them). */
+typedef struct {
+    setwork *w;
+    int *rung;              /* the set's models */
+} design_ctx;
+
+/* k = 2: whether the data bound w from above, predicted from the
+ * linearised model: chi2 with ln w held FIT_K2_W_HIGH higher rises by
+ * (FIT_K2_W_HIGH / sd(ln w))^2 in units of the noise, against the 95%
+ * threshold 1.96^2. */
 static int
-k2_without_baseline(const setwork *w)
+design_w_open_above(void *ctx)
 {
-    size_t j;
-
-    for (j = 0; j < w->ns; j++) {
-        const prepared *pp = &w->d->p[w->idx[j]];
-        if (fabs(pp->c.probe.k - 2.0) > 1e-9 || w->cz0[j] < 0 || w->cF0[j] < 0)
-            return 0;
-        if ((double) pp->m[w->rung[j]].n_past >= K2_BASELINE_SHARE * (double) pp->c.points)
-            return 0;
-    }
-    return 1;
+    const design_ctx *c = ctx;
+    double v = covariance(c->w, c->w->col[FIT_W], c->w->col[FIT_W]);
+    return !(FIT_K2_W_HIGH * FIT_K2_W_HIGH / v >= FIT_Z95 * FIT_Z95);
 }
 
-/* What the set would not determine, in the fitter's words
- * (fit/uncertainty.c explain()). */
-static void
-explain(const setwork *w, lf_design_result *r, int w_null, int F0_null, int any_b, int any_f)
+/* E* with nu's column (nu held) added: 1 when still determined, with the
+ * regression of ln E* on nu. */
+static int
+design_E_with_nu(void *ctx, double *dlnE_dnu)
 {
-    const lf_design_settings *s = &w->d->s;
-    char buf[800];
-    size_t j, len = 0;
-    int all_k2 = 1, other = 0;
+    const design_ctx *c = ctx;
+    setwork x;
+    int ok = 0;
 
-    for (j = 0; j < w->ns; j++)
-        if (fabs(w->d->p[w->idx[j]].c.probe.k - 2.0) > 1e-9)
-            all_k2 = 0;
-    if (any_b && !any_f && !r->nu.determined && !s->fix_nu && r->M.determined)
-        lf_warn(&r->identifiability,
-                "only bonded curves: the data fix M = Z*E* (to %.2g%%) and w; nu is not "
-                "determined, so neither is E* (fix nu or add a frictionless curve)",
-                100.0 * r->M.rel);
-    lf_fit_say_undetermined(&r->identifiability,
-                            any_b && !any_f && !r->nu.determined && !s->fix_nu && !r->M.determined,
-                            !any_b && !s->fix_nu ? "frictionless" : NULL, w_null && F0_null,
-                            all_k2, 0);
-    buf[0] = '\0';
-    for (j = 0; j < w->ns; j++) {
-        const char *name = w->d->p[w->idx[j]].c.name;
-        int k;
-        for (k = 0; k < 2; k++) {
-            int g = k ? w->cF0[j] : w->cz0[j];
-            if (g < 0 || w->nullw[g] <= NULL_WEIGHT || (k == 1 && F0_null))
-                continue;
-            len += (size_t) snprintf(buf + len, len < sizeof buf ? sizeof buf - len : 0,
-                                     "%s%s[%s]", other ? ", " : "", k ? "F0" : "z0", name);
-            other = 1;
+    if (setwork_alloc(&x, c->w->d, c->w->ns, c->w->idx, 1) == LF_OK) {
+        const int e = x.col[FIT_E], nu = x.col[FIT_NU];
+        memcpy(x.rung, c->rung, c->w->ns * sizeof *x.rung);
+        if (decompose(&x) == LF_OK && lf_judge_col_determined(&x.dec, e)
+            && covariance(&x, nu, nu) > 0) {
+            *dlnE_dnu = covariance(&x, e, nu) / covariance(&x, nu, nu);
+            ok = 1;
         }
     }
-    if (r->Estar.free && !r->Estar.determined && (any_f || s->fix_nu)) {
-        len += (size_t) snprintf(buf + len, len < sizeof buf ? sizeof buf - len : 0,
-                                 "%sE*", other ? ", " : "");
-        other = 1;
-    }
-    if (r->nu.free && !r->nu.determined) {
-        len += (size_t) snprintf(buf + len, len < sizeof buf ? sizeof buf - len : 0,
-                                 "%snu", other ? ", " : "");
-        other = 1;
-    }
-    if (!F0_null && r->w.free && !r->w.determined) {
-        len += (size_t) snprintf(buf + len, len < sizeof buf ? sizeof buf - len : 0,
-                                 "%sw", other ? ", " : "");
-        other = 1;
-    }
-    if (other && len < sizeof buf)
-        lf_warn(&r->identifiability, "not determined by the data: %s (fix some of them or add curves)",
-                buf);
-    if (r->w.determined && r->w.rel > 0.5)
-        lf_warn(&r->identifiability,
-                "w is near the noise: its predicted error is %.3g%% of w, and a fit reports only "
-                "an upper bound where w < 2 se", 100.0 * r->w.rel);
-    if (r->identifiability.n == 0)
-        lf_warn(&r->identifiability,
-                "every free parameter is determined (smallest scaled singular value %.2g)",
-                gsl_vector_get(w->S, w->p - 1) / gsl_vector_get(w->S, 0));
+    setwork_free(&x);
+    return ok;
 }
 
+/* Notes a design adds to the judgement's words. */
 static void
 notes(const setwork *w, lf_design_result *r)
 {
+    const double limit = lf_fit_settings_default().max_b_over_a;
     size_t j;
 
     for (j = 0; j < w->ns; j++) {
         const prepared *pp = &w->d->p[w->idx[j]];
         const lf_design_curve_info *ci = &r->curves[j];
-        if (ci->model == &lf_model_thin && ci->ba_max > 0.1)
-            lf_warn(&r->notes, "%s: b/a reaches %.3g in contact: the thin-layer model is "
-                    "strained (a fit would warn above 0.1) though its bias is within tolerance",
-                    pp->c.name, ci->ba_max);
+        if (ci->model->scope == LF_SCOPE_THIN)
+            lf_judge_thin_strain(&r->notes, pp->c.name, ci->ba_max,
+                                 "at the shallowest point in contact", limit);
         if (pp->c.probe.k > 2.0 + 1e-9 && ci->n_past > 0)
             lf_warn(&r->notes, "%s: k > 2 recorded through detachment, where the force's slope "
                     "diverges: the predicted errors (w above all) depend on where the points fall "
                     "next to detachment and may be optimistic (Monte Carlo fits of such curves "
                     "scattered up to 25%% more than predicted)", pp->c.name);
-        if (pp->c.baseline != 0.0 && isnan(pp->c.delta_min) && fabs(pp->c.probe.k - 2.0) < 1e-9
-            && (double) ci->n_past < K2_BASELINE_SHARE * (double) ci->n)
-            lf_warn(&r->notes, "%s: only %zu of %zu points lie past detachment; the fitter "
-                    "counts a baseline from %.0f%% of the points", pp->c.name, ci->n_past, ci->n,
-                    100.0 * K2_BASELINE_SHARE);
     }
 }
 
 static int
 eval_set(lf_design *d, size_t ns, const size_t *idx, lf_design_result *r)
 {
+    const lf_material *t = &d->s.truth;
+    const double Z = lf_thin_Z(LF_BASE_BONDED, t->nu);
+    const double dl = lf_thin_dlogZ_dnu(LF_BASE_BONDED, t->nu);
     setwork w;
+    judge_curve *jc = NULL;
+    judge_in in;
+    judge_out o;
+    design_ctx ctx;
     size_t j;
-    int st, any_b = 0, any_f = 0, w_null, F0_null = 0, c;
-    int det[3], cols[3];
-    double cov[3][3];
+    int st, c, a, cols[FIT_NMAT];
+    double cov[FIT_NMAT][FIT_NMAT], M_var;
 
     memset(r, 0, sizeof *r);
-    st = setwork_alloc(&w, d, ns, idx);
-    if (st == LF_OK && (r->curves = calloc(ns, sizeof *r->curves)) == NULL)
+    st = setwork_alloc(&w, d, ns, idx, 0);
+    if (st == LF_OK && ((r->curves = calloc(ns, sizeof *r->curves)) == NULL
+                        || (jc = calloc(ns, sizeof *jc)) == NULL))
         st = LF_ENOMEM;
     if (st != LF_OK)
         goto done;
@@ -1113,50 +695,67 @@ eval_set(lf_design *d, size_t ns, const size_t *idx, lf_design_result *r)
         ci->ba_pulloff = pp->ba_pulloff;
         ci->free_z0 = pp->c.free_z0;
         ci->free_F0 = pp->c.free_F0;
-        if (pp->c.probe.base == LF_BASE_BONDED)
-            any_b = 1;
-        else
-            any_f = 1;
-        if (w.cF0[j] >= 0 && w.nullw[w.cF0[j]] > NULL_WEIGHT)
-            F0_null = 1;
+        snprintf(jc[j].label, sizeof jc[j].label, "%s", pp->c.name);
+        jc[j].k = pp->c.probe.k;
+        jc[j].base = pp->c.probe.base;
+        jc[j].branch = pp->c.branch;
+        jc[j].model = ci->model;
+        jc[j].n_out = ci->n_past;
+        jc[j].col_z0 = w.cz0[j];
+        jc[j].col_F0 = w.cF0[j];
+        jc[j].col_slope = -1;
     }
     r->npar = w.p;
-    w_null = w.nullw[w.col[0]] > NULL_WEIGHT;
-    if (k2_without_baseline(&w))
-        w_null = F0_null = 1;
-    for (c = 0; c < 3; c++) {
+    for (c = 0; c < FIT_NMAT; c++) {
         cols[c] = w.col[c];
-        det[c] = cols[c] >= 0 && w.nullw[cols[c]] <= NULL_WEIGHT;
+        for (a = 0; a < FIT_NMAT; a++)
+            cov[c][a] = w.col[c] >= 0 && w.col[a] >= 0 ? covariance(&w, w.col[c], w.col[a]) : 0.0;
     }
-    det[0] = det[0] && !w_null;
-    for (c = 0; c < 3; c++) {
-        int a;
-        for (a = 0; a < 3; a++)
-            cov[c][a] = cols[c] >= 0 && cols[a] >= 0 ? covariance(&w, cols[c], cols[a]) : 0.0;
-    }
-    estimate_set(&r->w, 1, det[0], d->s.truth.w * sqrt(cov[0][0]), sqrt(cov[0][0]));
-    estimate_set(&r->nu, w.nu_free, det[2], sqrt(cov[2][2]), sqrt(cov[2][2]));
-    /* M = Z(nu) E* where bonded curves are present */
-    if (any_b && det[1] && (cols[2] < 0 || det[2] || !any_f)) {
-        double dl = lf_thin_dlogZ_dnu(LF_BASE_BONDED, d->s.truth.nu);
-        double var = cov[1][1] + (cols[2] >= 0 ? 2 * dl * cov[1][2] + dl * dl * cov[2][2] : 0.0);
-        double M = lf_thin_Z(LF_BASE_BONDED, d->s.truth.nu) * d->s.truth.Estar;
-        estimate_set(&r->M, 1, var >= 0, M * sqrt(lf_fmax(var, 0)), sqrt(lf_fmax(var, 0)));
-    } else {
-        estimate_set(&r->M, any_b, 0, NAN, NAN);
-    }
-    /* E*: bonded curves alone fix M only, unless nu is known */
-    if (any_b && !any_f && !d->s.fix_nu)
-        det[1] = 0;
-    estimate_set(&r->Estar, 1, det[1], d->s.truth.Estar * sqrt(cov[1][1]), sqrt(cov[1][1]));
-    r->corr_wE = det[0] && det[1] ? cov[0][1] / sqrt(cov[0][0] * cov[1][1]) : NAN;
+    /* the relative variance of M = Z(nu) E* */
+    M_var = cov[FIT_E][FIT_E] + (cols[FIT_NU] >= 0 ? 2 * dl * cov[FIT_E][FIT_NU]
+                                                   + dl * dl * cov[FIT_NU][FIT_NU] : 0.0);
+    /* the judgement at the truth (judge.c), as a fit's at its solution */
+    memset(&in, 0, sizeof in);
+    in.d = &w.dec;
+    memcpy(in.col, w.col, sizeof in.col);
+    in.held_by_user[FIT_NU] = d->s.fix_nu;
+    in.ran_col = -1;
+    in.w = t->w;
+    in.w_se = t->w * sqrt(lf_fmax(cov[FIT_W][FIT_W], 0.0));
+    in.nu = t->nu;
+    in.M = Z * t->Estar;
+    in.M_se = in.M * sqrt(lf_fmax(M_var, 0.0));
+    in.dM[0] = in.M;            /* dM/dln E* */
+    in.dM[1] = in.M * dl;       /* dM/dnu */
+    in.ncurves = ns;
+    in.c = jc;
+    ctx.w = &w;
+    ctx.rung = w.rung;
+    in.ctx = &ctx;
+    in.w_open_above = design_w_open_above;
+    in.E_with_nu = design_E_with_nu;
+    lf_judge(&in, &o, &r->identifiability);
+    estimate_set(&r->w, 1, o.det[FIT_W], t->w * sqrt(cov[FIT_W][FIT_W]), sqrt(cov[FIT_W][FIT_W]),
+                 o.why[FIT_W]);
+    r->w.upper_bound_only = o.w_upper;
+    estimate_set(&r->nu, w.nu_free, o.det[FIT_NU], sqrt(cov[FIT_NU][FIT_NU]),
+                 sqrt(cov[FIT_NU][FIT_NU]), o.why[FIT_NU]);
+    if (!w.nu_free)
+        r->nu.why = d->s.fix_nu ? "held at the given value" : o.why[FIT_NU];
+    estimate_set(&r->Estar, 1, o.det[FIT_E], t->Estar * sqrt(cov[FIT_E][FIT_E]),
+                 sqrt(cov[FIT_E][FIT_E]), o.why[FIT_E]);
+    /* M = Z(nu) E* of the bonded curves */
+    estimate_set(&r->M, o.M_free, o.M_det && M_var >= 0, in.M * sqrt(lf_fmax(M_var, 0)),
+                 sqrt(lf_fmax(M_var, 0)), NULL);
+    r->corr_wE = o.det[FIT_W] && o.det[FIT_E]
+                 ? cov[FIT_W][FIT_E] / sqrt(cov[FIT_W][FIT_W] * cov[FIT_E][FIT_E]) : NAN;
     /* the information of the determined material parameters, nuisance
      * profiled: the inverse of their covariance block */
     {
         double blk[9];
-        int map[3], m = 0, a, b;
-        for (c = 0; c < 3; c++)
-            if (det[c] && cols[c] >= 0)
+        int map[3], m = 0, b;
+        for (c = 0; c < FIT_NMAT; c++)
+            if (o.det[c] && cols[c] >= 0)
                 map[m++] = c;
         r->ndetermined = (size_t) m;
         r->logdet = -HUGE_VAL;
@@ -1173,9 +772,9 @@ eval_set(lf_design *d, size_t ns, const size_t *idx, lf_design_result *r)
             }
         }
     }
-    explain(&w, r, w_null, F0_null, any_b, any_f);
     notes(&w, r);
 done:
+    free(jc);
     setwork_free(&w);
     if (st != LF_OK)
         lf_design_result_free(r);

@@ -1,15 +1,13 @@
-/* driver.c: one run of a fit -- the start, the solve from it, the
- * policies the data call for, the assessment -- and the one-call driver.
+/* driver.c: one run of a fit -- the start, the solve from it with its
+ * restarts (solve.c), the assessment (uncertainty.c), leave-one-out when
+ * every one of three or more curves disagrees (loo.c) -- and the one-call
+ * driver.
  *
  *   start      lf_fit_guess (guess.c), or the current origin (a warm start)
- *   solve      lf_fit_solve_scanned (solve.c + edge_scan.c)
- *   policies   a second start from the automatic guess when the user gave
- *              one, or from the guess's runner-up w, or from a higher w when
- *              a few shallow points end out of contact (second_start.c);
- *              robust reweighting when the loss is not linear
- *              (reweight.c); leave-one-out when every one of three or more
- *              curves disagrees (loo.c)
- *   assess     lf_fit_assess (uncertainty.c) */
+ *   solve      lf_fit_solve_run (solve.c)
+ *   assess     lf_fit_assess (uncertainty.c)
+ *   policies   leave-one-out (loo.c), which refits through solve.c and
+ *              uncertainty.c, never through this file */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
@@ -32,92 +30,9 @@ model_name(const lf_fit *f)
 }
 
 int
-lf_fit_solve_run(lf_fit *f, const fit_start *start, fit_run *run_out, lf_warnings *warn,
-                 lf_error *err)
+lf_fit_solve(lf_fit *f, const fit_start *start, lf_fit_result *res, lf_error *err)
 {
-    gsl_vector *x = f->w.x;
-    fit_run run;
-    int status;
-    size_t i;
-
-    memset(&run, 0, sizeof run);
-    lf_fit_invalidate(f);
-    for (i = 0; i < f->ndata; i++)
-        f->w.sqrtw[i] = 1.0;
-    status = lf_fit_solve_scanned(f, x, 1, &run, err);
-    if (status == LF_OK && start != NULL && start->user) {
-        /* A user's starting point is a second start, not a replacement:
-         * the cost has kinks wherever a point crosses the contact edge, and
-         * a start a factor of 3 off can end in a minimum whose misfit,
-         * local to the edge, neither chi2 (the noise is only estimated)
-         * nor the runs test reliably shows.  So the fit is repeated from
-         * the automatic guess and the lower cost wins. */
-        double ratio;
-        status = lf_fit_second_start(f, x, &start->automatic, &run, &ratio, err);
-        if (status == LF_OK && ratio > 1.0 && warn != NULL)
-            lf_warn(warn, "the fit from the given starting point (w = %.4g J/m^2, "
-                    "E* = %.4g Pa) ended at a cost %.4g times higher than from the automatic "
-                    "guess; the result below starts from the automatic guess",
-                    start->mat.w, start->mat.Estar, ratio);
-    }
-    if (status == LF_OK && start != NULL && isfinite(start->alt_w)) {
-        /* the automatic guess's runner-up, when close: another basin */
-        lf_material alt = start->automatic;
-        double ratio;
-        alt.w = start->alt_w;
-        status = lf_fit_second_start(f, x, &alt, &run, &ratio, err);
-    }
-    if (status == LF_OK && start != NULL && f->imat[FIT_W] >= 0 && lf_fit_edge_doubt(f, x)) {
-        /* a few shallow points out of contact: w (and with it the contact
-         * radius at detachment) may be stuck low; start again higher */
-        lf_material up;
-        double z0, F0, slope, ratio;
-        lf_fit_unpack(f, x->data, &up, &z0, &F0, &slope, f->ncurves);
-        up.w *= FIT_EDGE_W_UP;
-        status = lf_fit_second_start(f, x, &up, &run, &ratio, err);
-    }
-    if (status == LF_OK && f->set.loss != LF_LOSS_LINEAR)
-        status = lf_fit_reweight(f, x, &run, err);
-    if (status == LF_OK)
-        status = lf_fit_honest_end(f, x, &run, err);
-    *run_out = run;
-    return status;
-}
-
-/* A run that ran away (an offset far outside its curve's data, in column
- * col) stopped where a material parameter that moved with the offset has
- * no meaning (FIT_RAN_CORR): no estimate, no interval, and without w no
- * pull-off.  M follows E* and nu. */
-static void
-ran_away(const lf_fit *f, lf_fit_result *res, int col)
-{
-    lf_fit_estimate *e[FIT_NMAT] = { &res->w, &res->Estar, &res->nu };
-    int k, any = 0, force = 0;
-    size_t j;
-
-    for (j = 0; j < f->ncurves; j++)
-        force |= col >= 0 && f->c[j].iF0 == col;
-    for (k = 0; k < FIT_NMAT; k++) {
-        const int m = f->imat[k];
-        if (m < 0 || col < 0 || !e[k]->determined
-            || !(fabs(res->corr[(size_t) m * res->npar + (size_t) col]) >= FIT_RAN_CORR))
-            continue;
-        lf_fit_estimate_drop(e[k], force
-                             ? "the fit ran away: it moved with a force offset that went far "
-                               "outside its curve's forces, and where that stopped is no estimate"
-                             : "the fit ran away: it moved with a contact point that went far "
-                               "outside its curve's depths, and where that stopped is no estimate");
-        any |= k != FIT_W;
-    }
-    if (any && res->M.determined && res->M.free)
-        lf_fit_estimate_drop(&res->M, res->Estar.why != NULL ? res->Estar.why : res->nu.why);
-    lf_fit_pulloff_follows(res);
-}
-
-int
-lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res, lf_error *err)
-{
-    gsl_vector *x = f->w.x;
+    gsl_vector *x = f->ws.x;
     fit_run run;
     int status;
     size_t i;
@@ -131,7 +46,7 @@ lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res
         return status;
     }
     res->evaluations = run.evals;
-    status = lf_fit_assess(f, x->data, res, err);
+    status = lf_fit_assess(f, x->data, &run, res, err);
     if (status != LF_OK) {
         lf_fit_result_free(res);
         return status;
@@ -139,9 +54,7 @@ lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res
     res->converged = run.converged;
     res->stop = run.stop;
     snprintf(res->stop_reason, sizeof res->stop_reason, "%s", run.why);
-    if (run.stop == LF_STOP_RAN_AWAY)
-        ran_away(f, res, run.ran_col);
-    if (with_loo && f->ncurves >= 3) {
+    if (f->ncurves >= 3) {
         size_t j, bad = 0;
         for (j = 0; j < f->ncurves; j++)
             bad += !res->curves[j].consistent;
@@ -201,7 +114,7 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
     status = lf_fit_guess(f, &start, err);
     if (status != LF_OK)
         return status;
-    return lf_fit_solve(f, &start, 1, res, err);
+    return lf_fit_solve(f, &start, res, err);
 }
 
 int

@@ -36,7 +36,7 @@ static double
 cost_of(const lf_fit *f, size_t j, const double *P, double z0, double *F0, double slope)
 {
     const fit_curve *c = &f->c[j];
-    const double *sw = f->w.sqrtw + c->row, *z = c->data.depth, *F = c->data.force;
+    const double *sw = f->ws.sqrtw + c->row, *z = c->data.depth, *F = c->data.force;
     double sum = 0.0, ss = 0.0;
     size_t i, n = c->data.n;
 
@@ -62,8 +62,8 @@ static int
 model_forces(lf_fit *f, size_t j, const lf_material *mat, double z0, double *P)
 {
     const fit_curve *c = &f->c[j];
-    double *delta = f->w.work + c->data.n;
-    lf_eval *e = f->w.scan_ev;
+    double *delta = f->ws.work + c->data.n;
+    lf_eval *e = f->ws.scan_ev;
     size_t i, n = c->data.n;
 
     for (i = 0; i < n; i++)
@@ -89,7 +89,7 @@ shifted_kind(double t, double edge, double lo, double hi)
 
 /* Curve j's forces with its contact point moved from s->z0 to z0 (the
  * material as at x), into P (file order), from the model's evaluations at
- * x (f->w.ev, valid): each point's indentation t = z - z0 falls between
+ * x (f->ws.ev, valid): each point's indentation t = z - z0 falls between
  * two data points' indentations at x, where the cubic Hermite interpolant
  * of their forces and slopes gives the force (error h^4 / 384 times the
  * force's fourth derivative: far below the noise for data dense enough to
@@ -101,10 +101,10 @@ shifted_forces(lf_fit *f, size_t j, const edge_scan_state *s, double z0, double 
 {
     const fit_curve *c = &f->c[j];
     const size_t n = c->data.n, *ord = f->order + c->row;
-    const lf_eval *ev = f->w.ev + c->row;
+    const lf_eval *ev = f->ws.ev + c->row;
     const double *z = c->data.depth;
-    double *dl = f->w.work + n, lo, hi;
-    lf_eval *out = f->w.scan_ev;
+    double *dl = f->ws.work + n, lo, hi;
+    lf_eval *out = f->ws.scan_ev;
     size_t q, qs, r, m = 0, k = 0;
 
     /* interpolation from SCAN_EXACT_NEAR points past the first in contact */
@@ -155,7 +155,7 @@ shifted_forces(lf_fit *f, size_t j, const edge_scan_state *s, double z0, double 
 static double
 curve_cost(lf_fit *f, size_t j, const edge_scan_state *s, double z0, double *F0)
 {
-    double *P = f->w.work;      /* P in work[0, n); the two above use work[n, 2n) */
+    double *P = f->ws.work;      /* P in work[0, n); the two above use work[n, 2n) */
     int ok = s->interp ? shifted_forces(f, j, s, z0, P) : model_forces(f, j, &s->mat, z0, P);
     return ok ? cost_of(f, j, P, z0, F0, s->slope) : HUGE_VAL;
 }
@@ -275,7 +275,7 @@ lf_fit_solve_scanned(lf_fit *f, gsl_vector *x, int from_origin, fit_run *run, lf
         lf_fit_invalidate(f);
     }
     status = lf_fit_iterate(f, x, !from_origin, run, err);
-    for (scan = 0; status == LF_OK && !f->w.basin_hit && scan < FIT_MAX_SCANS && edge_scan(f, x);
+    for (scan = 0; status == LF_OK && !f->ws.basin_hit && scan < FIT_MAX_SCANS && edge_scan(f, x);
          scan++)
         status = lf_fit_iterate(f, x, 1, run, err);
     return status;

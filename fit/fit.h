@@ -1,14 +1,27 @@
 /* fit.h: the fitter's internal header (not installed), one file per piece
- * in the way of GSL's multifit_nlinear:
- *   layout.c      settings, the problem's layout and workspace (alloc/free)
- *   problem.c     parameter mapping, residuals, Jacobian
- *   guess.c       the automatic start (a fit_start)
- *   solve.c       the iteration and its stopping rules (lm.c: Levenberg-
+ * in the way of GSL's multifit_nlinear.  Calls go one way, down this list
+ * (tests/cli/callgraph.sh checks that no file calls back up):
+ *   choose.c      the model choice over whole fits (lf_fit_choose_driver)
+ *   profile.c     profile-likelihood intervals (lf_fit_profile)
+ *   driver.c      one run: start, solve, assessment, leave-one-out (loo.c)
+ *   design.c      what a planned set of curves would measure (at the truth)
+ *   uncertainty.c the assessment: covariance, intervals, estimates
+ *   judge.c       what the data determine and why, in words: the one
+ *                 judgement of a fit at its solution and a design at the
+ *                 truth (and the model choice's rule)
+ *   hold.c        a refit with one parameter held (a profile's point)
+ *   solve.c       the solve and its restarts: second_start.c, reweight.c,
+ *                 the honest end (verdict.c)
+ *   edge_scan.c   the contact-edge scan around each solve
+ *   iterate.c     the iteration and its stopping rules (lm.c: Levenberg-
  *                 Marquardt on the normal matrix; GSL for the other methods)
- *   edge_scan.c, second_start.c, reweight.c, loo.c   the policies
- *   driver.c      one run: start, solve, policies, assessment
+ *   layout.c      settings, the problem's layout and workspace (alloc/free)
+ *   guess.c       the automatic start (a fit_start; guess_model.c: a
+ *                 model's own start)
+ *   problem.c     parameter mapping, residuals, Jacobian
  *   decomp.c      the decomposition shared by uncertainty.c and choose.c
- *   uncertainty.c covariance and identifiability;  choose.c the model choice
+ *   noise.c       each curve's noise and the noise model of the residuals
+ *   result.c      the result's lifetime;  median.c  medians
  *
  * Three sets of coordinates:
  *  - physical ("rep", what reports and the covariance use):
@@ -27,6 +40,11 @@
 #include "internal.h"
 
 enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
+
+/* The normal distribution's 97.5% and 95% points: two-sided and
+ * one-sided 95% intervals. */
+#define FIT_Z95 1.959963984540054
+#define FIT_Z95_ONE_SIDED 1.6448536269514722
 
 /* ---- every tolerance the solve and its policies stop on ---------------- */
 
@@ -81,7 +99,7 @@ enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
 #define FIT_DESCENT_STEPS { 1e-4, 1e-6, 1e-8 }
 #define FIT_DESCENT_REL 1e-12
 /* A stall where a coordinate step still lowers the cost takes the best such
- * step and solves on, at most FIT_NUDGES times (solve.c). */
+ * step and solves on, at most FIT_NUDGES times (iterate.c). */
 #define FIT_NUDGES 10
 /* A Jacobian column below FIT_DEAD_COLUMN of the largest belongs to a
  * parameter that no longer changes the fit (internal coordinates are all
@@ -229,15 +247,17 @@ typedef struct {
 } fit_run;
 
 /* Set run's verdict: converged when stop is LF_STOP_CONVERGED, and its
- * words (solve.c). */
+ * words (iterate.c). */
 void lf_fit_run_says(fit_run *run, lf_fit_stop stop, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)));
+/* result.c: the result's arrays sized from f's layout (r zeroed first by
+ * the caller; LF_ENOMEM, r then half-built: lf_fit_result_free it). */
+int lf_fit_result_alloc(const lf_fit *f, lf_fit_result *r);
 /* Mark e not determined, for a reason in words (static; NULL: the
- * identifiability notes give it): no value, interval or bound
- * (uncertainty.c). */
+ * identifiability notes give it): no value, interval or bound. */
 void lf_fit_estimate_drop(lf_fit_estimate *e, const char *why);
-/* Every curve's pull-off follows w: determined exactly when w is
- * (uncertainty.c; after anything that changes w's verdict). */
+/* Every curve's pull-off follows w: determined exactly when w is (after
+ * anything that changes w's verdict). */
 void lf_fit_pulloff_follows(lf_fit_result *r);
 /* Take the verdict (converged, stop, user_test, why) of another run. */
 void lf_fit_run_verdict_from(fit_run *run, const fit_run *from);
@@ -253,7 +273,6 @@ struct lf_fit {
     int imat[FIT_NMAT];  /* index in x of ln w, ln E*, u, or -1 */
     int nu_prior;        /* 1 when a prior row is present */
     int nu_determinable; /* the plan alone determines nu */
-    int k2_degenerate;   /* set by lf_fit_assess: w and F0 not separable */
     double chi2_step;    /* the solve's precision in chi2/dof: FIT_CHI2_STEP,
                             or a profile point's coarser one (profile.c) */
     double mu0;          /* lm.c's first damping (in units of the scaled
@@ -267,7 +286,7 @@ struct lf_fit {
     /* the origin: x = 1 stands for mat and each curve's z0, F0, slope */
     lf_material mat;
     double *x0_internal; /* np: internal coordinates at the origin */
-    fit_work w;
+    fit_work ws;         /* the workspace (scratch sized at alloc) */
     /* the solver */
     const gsl_multifit_nlinear_trs *trs;
     gsl_multifit_nlinear_parameters gsl_par;
@@ -288,7 +307,7 @@ void lf_fit_unpack(const lf_fit *f, const double *x, lf_material *mat,
 void lf_fit_set_origin(lf_fit *f);
 /* Make the point x the origin: material and offsets into f, x = 1. */
 void lf_fit_rebase(lf_fit *f, gsl_vector *x);
-/* The model at every point at x into f->w.ev (kept while x does not
+/* The model at every point at x into f->ws.ev (kept while x does not
  * change); LF_ENUMERIC when it cannot be evaluated. */
 int lf_fit_eval_at(lf_fit *f, const double *x);
 int lf_fit_residuals(const gsl_vector *x, void *params, gsl_vector *r);
@@ -309,6 +328,10 @@ int lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, double *A, d
                        double *colmax);
 /* Jacobian with respect to the physical coordinates, rows weighted. */
 int lf_fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J);
+/* The same with one more column (J: nres x (np + 1)): dP/dnu of every row,
+ * weighted, as if nu were free while it is held (the judgement of E* apart
+ * from nu, judge.c). */
+int lf_fit_jacobian_physical_nu(lf_fit *f, const double *x, gsl_matrix *J);
 /* c[k] = the internal Jacobian's column k over the physical one at x (each
  * internal coordinate's d(physical)/d(internal): w, E*, dnu/du, L, Fs,
  * Fs/L; all > 0). */
@@ -344,10 +367,10 @@ void lf_fit_guess_model_offsets(lf_fit *f);
 double lf_fit_shape_material(lf_fit *f, size_t j, double nu, double zpo, lf_material *out);
 double lf_fit_shape_offsets(lf_fit *f, size_t j, const lf_material *m, double zpo, double *z0,
                             double *F0);
-/* For exact-model curves: keep the thin profile's start or the model's,
- * whichever costs less (sets f->start_by_model).  thin_set: the curves'
- * offsets are the thin profile's at f->mat already (else profiled here). */
-void lf_fit_guess_compare_model(lf_fit *f, int thin_set);
+/* For exact-model curves: keep the thin profile's start (the curves'
+ * offsets are the thin profile's at f->mat, the caller's part) or the
+ * model's, whichever costs less (sets f->start_by_model). */
+void lf_fit_guess_compare_model(lf_fit *f);
 /* Curve j's subsample for the guess's profiles (c->sub), taken once the
  * depth order is known. */
 void lf_fit_guess_subsample(lf_fit *f, size_t j);
@@ -357,7 +380,7 @@ void lf_fit_guess_subsample(lf_fit *f, size_t j);
 double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,
                           size_t n, double fbig, double *work);
 
-/* solve.c: the trust-region iteration from x (overwritten with where it
+/* iterate.c: the trust-region iteration from x (overwritten with where it
  * stopped) and its stopping rules; adds to run's totals and sets its
  * verdict.  after_scan: x is a converged solution moved by a policy (the
  * contact-edge scan, a reweighting), which sits at a kink of the cost. */
@@ -397,8 +420,44 @@ int lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err);
  * fit, refit without each in turn and name the culprit in res's warnings. */
 void lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res);
 
-/* profile.c: 1 when chi2 with w held at factor times the solution's rises
- * by less than 3.84 s^2 (the data do not bound w from above). */
+/* hold.c: the points of a profile (profile.c).  A profile of parameter
+ * `which` around the fit `best` of the curves cc (each with its fitted
+ * model) under settings s: */
+typedef struct {
+    const lf_fit_settings *s;
+    size_t nc;
+    lf_fit_curve *cc;          /* the curves, each with its fitted model */
+    const lf_fit_result *best;
+    int which;                 /* FIT_W, FIT_E, FIT_NU */
+    int linear;                /* searched in the parameter itself, not its log */
+    int mode;                  /* LF_PROFILE_CHECK, _ALWAYS or _SCREEN */
+    int calibrate;             /* LF_PROFILE_CALIBRATE was asked */
+    double thr;                /* the threshold of the rise, s^2 F(1, n_eff - p) */
+    double mu0;                /* the damping at which this profile's last
+                                  refit took its first step (NaN: none) */
+    size_t fits;
+    /* the lowest profile point below the best fit's chi2, if any: the best
+     * fit was then not the global minimum (refit_from_lower) */
+    double lower_chi2;
+    lf_material lower_mat;
+    double *lower_off;         /* 3 ncurves: z0, F0, slope */
+} fit_prof;
+/* a profile point lower than the best fit by this fraction of the
+ * threshold means the best fit was not the global minimum */
+#define FIT_PROFILE_LOWER 0.01
+/* chi2 minus the best chi2 with parameter p->which held at v (NaN on a
+ * failed fit); counts the fit in p->fits and keeps a point below the best
+ * in p->lower_*. */
+double lf_fit_hold_rise(fit_prof *p, double v);
+/* The 95% point of F(1, m), as Student's t at 0.975 squared. */
+double lf_fit_f95(double m);
+/* The threshold of a rise: s^2 F(1, n_eff - p) of the result r. */
+double lf_fit_hold_threshold(const lf_fit_result *r);
+/* The fitted value of r's parameter called name (the solution, even where
+ * the report says "not determined"), else fallback. */
+double lf_fit_best_value(const lf_fit_result *r, const char *name, double fallback);
+/* 1 when chi2 with w held at factor times the solution's rises by less
+ * than the threshold (the data do not bound w from above). */
 int lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor);
 
 /* verdict.c: refuse a curve with no contact signal (LF_EDATA); at the end
@@ -410,21 +469,20 @@ int lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err);
  * determine none of them (nor M) is not converged ("degenerate"), with a
  * warning: run after the assessment and again after the profile. */
 void lf_fit_degenerate_end(lf_fit_result *r);
-/* solve.c: 1 when the solver's last look at its Jacobian (gn_*, ainv) was
+/* iterate.c: 1 when the solver's last look at its Jacobian (gn_*, ainv) was
  * at x, under the current weights and origin. */
 int lf_fit_gn_at(const lf_fit *f, const gsl_vector *x);
 
-/* driver.c: the solve from the origin (with start: the automatic guess's
- * start and second starts; NULL: a warm start from the current origin),
- * the policies, then lf_fit_assess; fills res as lf_fit_run does.
- * with_loo: 0 for a leave-one-out refit itself. */
-int lf_fit_solve(lf_fit *f, const fit_start *start, int with_loo, lf_fit_result *res,
-              lf_error *err);
-/* The same solve and policies without the assessment: the solution in
- * f->w.x, the run's totals and verdict in *run (a profile point needs its
- * chi2 alone); warn (or NULL) takes the policies' warnings. */
+/* solve.c: the solve from the origin (with start: the automatic guess's
+ * start and second starts; NULL: a warm start from the current origin) and
+ * the restarts the data call for, without the assessment: the solution in
+ * f->ws.x, the run's totals and verdict in *run (a profile point needs its
+ * chi2 alone); warn (or NULL) takes the restarts' warnings. */
 int lf_fit_solve_run(lf_fit *f, const fit_start *start, fit_run *run, lf_warnings *warn,
                      lf_error *err);
+/* driver.c: lf_fit_solve_run, then lf_fit_assess and leave-one-out (three
+ * or more curves all disagreeing); fills res as lf_fit_run does. */
+int lf_fit_solve(lf_fit *f, const fit_start *start, lf_fit_result *res, lf_error *err);
 
 /* decomp.c: the one decomposition of the column-scaled physical Jacobian
  * that the uncertainty and the model choice share:
@@ -462,9 +520,137 @@ int lf_fit_decomp_factor(fit_decomp *d, double rcond, int scale);
 /* Weight of parameter k in the undetermined directions (1 for a column of
  * zeros). */
 double lf_fit_decomp_nullw(const fit_decomp *d, size_t k);
+/* scale times the pseudo-inverse of J^T J over the determined directions
+ * at (a, b), D^-1 V S^-2 V^T D^-1: the covariance of the columns'
+ * parameters for a noise variance `scale` (NaN for a column of zeros). */
+double lf_fit_decomp_cov(const fit_decomp *d, int a, int b, double scale);
 /* coef[l] = (U_l . v) / S_l for l < rank, U the left singular vectors of
  * J D^-1 (v of length n). */
 void lf_fit_decomp_project(fit_decomp *d, const double *v, double *coef);
+
+/* judge.c: what a set of curves determines and why, one judgement for a
+ * fit at its solution (uncertainty.c) and a design at the truth
+ * (design.c); the rules are at the top of judge.c. */
+#define FIT_NULL_WEIGHT 0.01    /* more weight than this in the undetermined
+                                   directions: not determined */
+#define FIT_K2_MIN_OUT 3        /* k = 2: points out of contact a curve needs
+                                   for its baseline to count */
+#define FIT_K2_W_HIGH 4.0       /* k = 2: ln of the factor w is held higher
+                                   by to see whether the data bound it */
+/* What the judgement needs to know of one curve. */
+typedef struct {
+    char label[64];          /* how the words name it: "1", "2", ... (a fit)
+                                or a candidate's name (a design) */
+    double k;
+    lf_base base;
+    lf_branch branch;
+    const lf_model_type *model;  /* the model in use */
+    size_t n_out;            /* points out of contact (at the solution, or
+                                at the truth) */
+    int col_z0, col_F0, col_slope;  /* columns, -1 when held */
+} judge_curve;
+
+typedef struct {
+    const fit_decomp *d;     /* of the free parameters' column-scaled
+                                Jacobian at the solution (or the truth) */
+    int col[FIT_NMAT];       /* columns of w, E*, nu; -1 when held */
+    int held_by_user[FIT_NMAT];  /* held at a value the user gave */
+    double w, w_se;          /* w there and its standard error */
+    double nu;               /* nu there (held or fitted) */
+    double M, M_se;          /* Z E* of the bonded curves there, its se */
+    double dM[2];            /* dM / d(the parameter of E*'s column),
+                                dM / dnu, in the columns' own units */
+    size_t ncurves;
+    const judge_curve *c;
+    int ran_away;            /* a fit's solve ran away (LF_STOP_RAN_AWAY) */
+    int ran_col, ran_force;  /* then the offset's column (-1: none) and
+                                whether it is a force offset */
+    /* measures the judgement asks for only where it needs them: */
+    void *ctx;
+    /* 1 when chi2 with w held e^FIT_K2_W_HIGH times higher rises by less
+     * than its threshold: the data do not bound w from above (NULL: 0) */
+    int (*w_open_above)(void *ctx);
+    /* with nu's column added to the Jacobian (nu held by the fitter's
+     * rule, not given): 1 when E* is still determined, with *dlnE_dnu how
+     * ln E* moves with nu given the data (the regression, cov / var);
+     * 0 when not (NULL: 0) */
+    int (*E_with_nu)(void *ctx, double *dlnE_dnu);
+} judge_in;
+
+/* What bonded curves alone (nu neither given nor determined) say of E*. */
+enum { FIT_BONDED_NONE = 0,   /* not that case */
+       FIT_BONDED_ONLY_M,     /* thin: E* not determined, M is */
+       FIT_BONDED_NOTHING,    /* thin: neither E* nor M */
+       FIT_BONDED_E };        /* not thin: the data fix E* apart from nu */
+
+typedef struct {
+    int det[FIT_NMAT];       /* free and determined */
+    int k2;                  /* k = 2: w not separable from the force offsets
+                                (w and every F0 not determined) */
+    int w_upper;             /* w below 2 se: bounded from above only, by */
+    double w_bound;          /* w + 1.645 se */
+    int M_free, M_det;       /* M among the results (bonded curves, E* or nu
+                                free), and determined */
+    const char *M_why;       /* M not determined where it was: why */
+    int bonded;              /* FIT_BONDED_* */
+    double dlnE_dnu;         /* FIT_BONDED_E: how ln E* moves with nu */
+    const char *why[FIT_NMAT];  /* a reason in words (static) for one not
+                                   determined that the words below do not
+                                   give, or NULL */
+} judge_out;
+
+/* Judge, and append the words to `words` (what the data determine). */
+void lf_judge(const judge_in *in, judge_out *out, lf_warnings *words);
+/* 1 when column col (>= 0) is determined. */
+int lf_judge_col_determined(const fit_decomp *d, int col);
+/* The thin-layer model past its limit of b/a (at `where`) in the words of
+ * lf_thin_scope, prefixed with "who: " when who is not NULL. */
+void lf_judge_thin_strain(lf_warnings *w, const char *who, double ba, const char *where,
+                          double limit);
+
+/* The models of the auto choice, from the cheapest up; the rung of a
+ * model is its scope's. */
+enum { FIT_RUNG_THIN = 0, FIT_RUNG_HALFSPACE, FIT_RUNG_EXACT, FIT_NRUNG };
+const lf_model_type *lf_fit_rung_type(int rung);
+int lf_fit_rung_of(const lf_model_type *t);
+
+/* A curve's model bias on w, E*, nu over their standard errors (0 where
+ * not fitted or not determined); ok = 0 when not assessed. */
+typedef struct {
+    double r[FIT_NMAT];
+    int ok;
+} judge_bias;
+/* The bias from coef[l] (l < rank), the projection of the weighted force
+ * difference d = (P_exact - P_model) / sigma onto the determined
+ * directions, (U_l . d) / S_l = (V_l . D^-1 J^T d) / S_l^2 (to first order
+ * the estimate moves by (J^T J)^+ J^T d, one Gauss-Newton step). */
+void lf_judge_bias(const fit_decomp *d, const int col[FIT_NMAT], const double *coef,
+                   double r[FIT_NMAT]);
+double lf_judge_bias_max(const double r[FIT_NMAT], int *which);
+/* One round of the auto model choice (lf_fit_choose_driver's rule): while
+ * the summed bias of the curves' models exceeds tol standard errors, the
+ * movable curve (not fixed, not exact, assessed) with the largest bias
+ * moves up: to the half-space model when its own bias there (bias(ctx, j,
+ * FIT_RUNG_HALFSPACE, &half[j]), asked for thin curves with k above the
+ * model's limit when halfspace is set) is below tol and the thin one's,
+ * else to the exact model; move(ctx, j, rung) makes it so.  cur[j] is the
+ * bias of curve j's current model (zero for exact), kept up to date. */
+typedef struct {
+    size_t n;
+    int *rung;
+    const int *fixed;
+    const double *k;
+    judge_bias *cur, *half;
+    double tol;
+    int halfspace, allow_change;
+    void *ctx;
+    int (*bias)(void *ctx, size_t j, int rung, judge_bias *b);
+    int (*move)(void *ctx, size_t j, int rung);
+} judge_models;
+int lf_judge_models(judge_models *jm, double *total_max, int *changed);
+/* Why a curve has its model, in words. */
+void lf_judge_model_reason(char *buf, size_t n, int rung, int fixed, const judge_bias *thin,
+                           const judge_bias *half, double ab_lo, double ab_hi, double tol);
 
 /* noise.c: the integrated autocorrelation time of e[0..n-1] (1 for white
  * noise); the noise model of curve j at the residuals res (units of sigma):
@@ -491,15 +677,9 @@ int lf_fit_noise_above(const double *work, size_t cnt, double thr);
 double lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res);
 /* The same over every stride-th residual in depth order (noise.c). */
 double lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, size_t stride);
-/* The plain words, shared by the assessment and layerfit design
- * (fit/design.c), for: only bonded curves leaving nu undetermined (the
- * plain form; the caller says M where it is determined), curves that do
- * not see nu (nu_unseen_by names them: "frictionless", "half-space"; NULL:
- * none), and w inseparable from the force offsets (all_k2: every curve's
- * probe has k = 2; all_load: every curve is a loading segment, whose
- * baseline before contact is recorded). */
-void lf_fit_say_undetermined(lf_warnings *out, int bonded_only, const char *nu_unseen_by,
-                             int w_with_F0, int all_k2, int all_load);
-int lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *res, lf_error *err);
+/* The assessment of the solution x of a run that ended with the verdict
+ * run: the result's estimates, errors and words. */
+int lf_fit_assess(lf_fit *f, const double *x, const fit_run *run, lf_fit_result *res,
+                  lf_error *err);
 
 #endif

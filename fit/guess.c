@@ -1,5 +1,4 @@
-/* guess.c: a deterministic initial guess that needs nothing from the user,
- * and each curve's noise level.
+/* guess.c: a deterministic initial guess that needs nothing from the user.
  *
  * The guess uses the thin-layer closed form of the seed paper (Eq. 10, 22)
  * whatever model is then fitted.  With M = Z E*, K = pi/b k^((k+2)/k)/(k+2)
@@ -31,117 +30,6 @@
 #define GUESS_BRENT 12
 #define GUESS_XTOL 2e-3
 #define GUESS_TIE_REL 1e-12
-
-/* ---- noise ------------------------------------------------------------ */
-
-/* The k-th smallest of v[0..n-1] (0-based; v reordered), by quickselect
- * with branch-free partitions (the data are noise, so a branch on each
- * comparison would be mispredicted half the time).  Each round moves the
- * values below the pivot (the median of three) to the front, then, if k
- * lies beyond them, the values equal to it: the pivot is in the range, so
- * every round shrinks it, also when many values are equal. */
-double
-lf_fit_select_kth(double *v, size_t n, size_t k)
-{
-    size_t lo = 0, hi = n;              /* k in [lo, hi) */
-
-    while (hi - lo > 1) {
-        double a = v[lo], b = v[lo + (hi - lo) / 2], c = v[hi - 1], pivot;
-        size_t i, j = lo;
-        pivot = a < b ? (b < c ? b : lf_fmax(a, c)) : (a < c ? a : lf_fmax(b, c));
-        for (i = lo; i < hi; i++) {     /* [lo, j) < pivot <= [j, i) */
-            double x = v[i];
-            v[i] = v[j];
-            v[j] = x;
-            j += x < pivot;
-        }
-        if (k < j) {
-            hi = j;
-            continue;
-        }
-        lo = j;
-        for (i = lo; i < hi; i++) {     /* [lo, j) == pivot < [j, i) */
-            double x = v[i];
-            v[i] = v[j];
-            v[j] = x;
-            j += x <= pivot;
-        }
-        if (k < j || j == lo)           /* j == lo: a NaN pivot */
-            return pivot;
-        lo = j;
-    }
-    return v[k];
-}
-
-/* The median of v[0..n-1], n > 0 (v reordered): the same number a sort
- * would give, in linear time. */
-double
-lf_fit_median(double *v, size_t n)
-{
-    double upper = lf_fit_select_kth(v, n, n / 2), lower;
-    size_t i;
-
-    if (n % 2)
-        return upper;
-    /* after the selection every v[i], i < n/2, is <= upper */
-    lower = v[0];
-    for (i = 1; i < n / 2; i++)
-        lower = lf_fmax(lower, v[i]);
-    return 0.5 * (lower + upper);
-}
-
-/* The median of sqrt(v[i]) over v[0..n-1] >= 0, n > 0 (v reordered): the
- * root is monotone, so the selection runs on v and only the middle values
- * are rooted (a noise estimate's departures are squared, not rooted, each:
- * a division per point instead of a division and a square root). */
-double
-lf_fit_median_sqrt(double *v, size_t n)
-{
-    double upper = lf_fit_select_kth(v, n, n / 2), lower;
-    size_t i;
-
-    if (n % 2)
-        return sqrt(upper);
-    lower = v[0];
-    for (i = 1; i < n / 2; i++)
-        lower = lf_fmax(lower, v[i]);
-    return 0.5 * (sqrt(lower) + sqrt(upper));
-}
-
-/* Noise sd from the points' departures from the line through their two
- * neighbours in depth: with depths z0 <= z1 <= z2,
- *     e = F1 - (F0 (z2 - z1) + F2 (z1 - z0)) / (z2 - z0)
- * has variance s^2 (1 + ((z2-z1)^2 + (z1-z0)^2) / (z2-z0)^2) for white
- * noise of sd s (1.5 s^2 on an even grid, where e is half the second
- * difference; 2 s^2 for a repeated depth), and the smooth signal adds only
- * about F'' h^2.  The median of |e| over its sd is 0.6745 s.  Order by
- * depth makes it independent of the order of the rows and right for
- * repeated depths.  fbig is the largest |force| (the caller's scale);
- * work holds n. */
-double
-lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order, size_t n,
-                   double fbig, double *work)
-{
-    size_t i, m = 0;
-    double med;
-
-    for (i = 1; i + 1 < n; i++) {
-        size_t a = order[i - 1], b = order[i], c = order[i + 1];
-        double h0 = depth[b] - depth[a], h1 = depth[c] - depth[b], h = h0 + h1, e;
-        if (!(h > 0))
-            continue;           /* three points at one depth: no line */
-        /* (e over its sd factor)^2, one division (numerators are forces
-         * times depths in SI, far from overflowing when squared) */
-        e = force[b] * h - force[a] * h1 - force[c] * h0;
-        work[m++] = e * e / (h * h + h0 * h0 + h1 * h1);
-    }
-    if (m == 0)
-        return fbig > 0 ? fbig : 1.0;
-    med = lf_fit_median_sqrt(work, m);
-    med /= 0.6745;
-    /* noise-free data: keep the weight finite */
-    return lf_fmax(med, fbig > 0 ? 1e-12 * fbig : 1e-300);
-}
 
 /* ---- one curve --------------------------------------------------------- */
 
@@ -553,7 +441,7 @@ lf_fit_guess_subsample(lf_fit *f, size_t j)
     const size_t n = c->data.n, nshallow = GUESS_NSUB / 4;
     const size_t *ord = f->order + c->row;     /* by depth */
     size_t i, m = 0;
-    double *z = f->w.sub + 2 * GUESS_NSUB * j, *F = z + GUESS_NSUB;
+    double *z = f->ws.sub + 2 * GUESS_NSUB * j, *F = z + GUESS_NSUB;
 
     if (n <= GUESS_NSUB) {            /* a small curve: every point */
         for (i = 0; i < n; i++) {
@@ -616,7 +504,7 @@ guess_curve(lf_fit *f, size_t j, curve_guess *g)
     double rss;
     profile p;
     size_t i, nbase = 0, nn;
-    double *node = f->w.node;
+    double *node = f->ws.node;
 
     profile_init(f, j, &p);
     if (c->iz0 >= 0) {
@@ -673,7 +561,7 @@ offsets_at(lf_fit *f, double *off)
     for (j = 0; j < f->ncurves; j++) {
         fit_curve *c = &f->c[j];
         double rss, M = lf_thin_Z(c->data.probe.base, m->nu) * m->Estar;
-        double *node = f->w.node;
+        double *node = f->ws.node;
         size_t nn;
         profile p;
 
@@ -728,7 +616,7 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
 {
     size_t j, nf = 0, nb = 0, nw = 0;
     double lnMf = 0, lnMb = 0, lnw = 0, wfloor = HUGE_VAL;
-    double *off = f->w.off, *off_best = f->w.off + 2 * f->ncurves;
+    double *off = f->ws.off, *off_best = f->ws.off + 2 * f->ncurves;
     int have_best = 0;
     lf_material *m = &f->mat;
     int by_model;
@@ -817,7 +705,9 @@ lf_fit_guess(lf_fit *f, fit_start *start, lf_error *err)
     if (!by_model) {
         if (have_best)
             set_offsets(f, off_best);
-        lf_fit_guess_compare_model(f, have_best);
+        else
+            lf_fit_guess_offsets(f);
+        lf_fit_guess_compare_model(f);
     }
     /* the user's starting point, where given, replaces the automatic one */
     start->automatic = *m;
@@ -851,6 +741,6 @@ lf_fit_guess_offsets(lf_fit *f)
         lf_fit_guess_model_offsets(f);
         return;
     }
-    offsets_at(f, f->w.off);
-    set_offsets(f, f->w.off);
+    offsets_at(f, f->ws.off);
+    set_offsets(f, f->ws.off);
 }

@@ -253,8 +253,8 @@ offset_F0(const lf_fit *f, size_t j)
     features(f, j, 0.0, &zpo, &Fmin, &zmax, &Fmax);
     if ((m = baseline_points(f, j)) > 0) {
         for (i = 0; i < m; i++)
-            f->w.work[i] = c->data.force[ord[i]];
-        return lf_fit_median(f->w.work, m);
+            f->ws.work[i] = c->data.force[ord[i]];
+        return lf_fit_median(f->ws.work, m);
     }
     F0 = c->guess.F0;
     return lf_fmin(lf_fmax(F0, Fmin), Fmax);
@@ -296,8 +296,8 @@ subsample_add(lf_fit *f, size_t j, const lf_material *m, double z0, double F0, d
 {
     const fit_curve *c = &f->c[j];
     const guess_sub *s = &c->sub;
-    double *delta = f->w.work;
-    lf_eval *e = f->w.ev;
+    double *delta = f->ws.work;
+    lf_eval *e = f->ws.ev;
     size_t i;
 
     for (i = 0; i < s->n; i++)
@@ -552,7 +552,7 @@ subsample_cost(lf_fit *f)
 }
 
 void
-lf_fit_guess_compare_model(lf_fit *f, int thin_set)
+lf_fit_guess_compare_model(lf_fit *f)
 {
     lf_material thin = f->mat;
     double a, b;
@@ -569,10 +569,8 @@ lf_fit_guess_compare_model(lf_fit *f, int thin_set)
     if (!any)
         return;
     /* the thin profile's start, at its own offsets, against the model's own
-     * (evaluations into f->w.ev: the cache keyed by x is dropped) */
+     * (evaluations into f->ws.ev: the cache keyed by x is dropped) */
     lf_fit_invalidate(f);
-    if (!thin_set)
-        lf_fit_guess_offsets(f);
     a = subsample_cost(f);
     if (!lf_fit_guess_model(f)) {
         f->mat = thin;

@@ -65,9 +65,9 @@ shape_at(lf_fit *f, shape_fit *s, double z0, double *step)
     const fit_curve *c = s->c;
     const guess_sub *sub = &c->sub;
     const int F0_free = c->iF0 >= 0;
-    double *delta = f->w.work, Saa = 0, Sab = 0, Sbb, Say = 0, Sby = 0;
+    double *delta = f->ws.work, Saa = 0, Sab = 0, Sbb, Say = 0, Sby = 0;
     double Sgg = 0, Sga = 0, Sgb = 0, Sgr = 0, rss = 0, den, proj;
-    lf_eval *e = f->w.ev;
+    lf_eval *e = f->ws.ev;
     size_t i, n = sub->n;
 
     *step = NAN;

@@ -196,7 +196,7 @@ curve_scales(lf_fit *f, lf_error *err)
         c->Fs = fbig;
         c->eps = 1e-3 * c->L / (double) (c->data.n - 1);
         c->sigma = lf_fit_noise_sigma(c->data.depth, c->data.force, f->order + c->row, c->data.n,
-                                      fbig, f->w.work);
+                                      fbig, f->ws.work);
         lf_fit_guess_subsample(f, j);
     }
     return LF_OK;
@@ -226,7 +226,7 @@ take_vector(gsl_vector *v, double **at, size_t n)
 static int
 work_alloc(lf_fit *f)
 {
-    fit_work *w = &f->w;
+    fit_work *w = &f->ws;
     const size_t np = f->np, nd = f->ndata, nr = f->nres, nc = f->ncurves;
     const size_t nwork = 2 * nd > 2 * GUESS_NSUB ? 2 * nd : 2 * GUESS_NSUB;
     /* the parameter- and curve-sized numbers, zeroed; then those sized by
@@ -363,11 +363,11 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
      * it (problem.c eval_all), and scan_ev is the scan's scratch */
     for (j = 0, nmax = 0; j < ncurves; j++)
         nmax = curves[j].n > nmax ? curves[j].n : nmax;
-    f->w.ev = malloc((f->ndata + nmax) * sizeof *f->w.ev);
-    if (f->order == NULL || f->w.ev == NULL || work_alloc(f) != LF_OK
+    f->ws.ev = malloc((f->ndata + nmax) * sizeof *f->ws.ev);
+    if (f->order == NULL || f->ws.ev == NULL || work_alloc(f) != LF_OK
         || depth_order(f) != LF_OK)
         goto nomem;
-    f->w.scan_ev = f->w.ev + f->ndata;
+    f->ws.scan_ev = f->ws.ev + f->ndata;
     /* GSL's workspace: made when a run first needs it (lf_fit_gsl) */
     f->gsl_par = par;
     f->gsl_par.trs = f->trs;
@@ -404,8 +404,8 @@ lf_fit_free(lf_fit *f)
             lf_model_free(f->c[j].model);
     free(f->c);
     free(f->order);
-    free(f->w.ev);
-    free(f->w.block);
+    free(f->ws.ev);
+    free(f->ws.block);
     if (f->gsl != NULL)
         gsl_multifit_nlinear_free(f->gsl);
     free(f);

@@ -95,7 +95,7 @@ damped_solve(size_t p, const double *A, const double *D2, double mu, const doubl
 static int
 normal_equations(lf_fit *f, double cost)
 {
-    fit_lm *lm = &f->w.lm;
+    fit_lm *lm = &f->ws.lm;
     const size_t p = f->np;
     size_t k;
 
@@ -111,7 +111,7 @@ normal_equations(lf_fit *f, double cost)
 int
 lf_fit_lm_init(lf_fit *f, const gsl_vector *x)
 {
-    fit_lm *lm = &f->w.lm;
+    fit_lm *lm = &f->ws.lm;
     size_t k, p = f->np;
     double ss;
 
@@ -163,7 +163,7 @@ clip_log_step(const lf_fit *f, double *h)
 int
 lf_fit_lm_iterate(lf_fit *f)
 {
-    fit_lm *lm = &f->w.lm;
+    fit_lm *lm = &f->ws.lm;
     const size_t p = f->np, n = f->nres;
     size_t k, i, reject;
 
@@ -229,7 +229,7 @@ lf_fit_lm_iterate(lf_fit *f)
 int
 lf_fit_lm_test(const lf_fit *f, double xtol, double gtol, int *info)
 {
-    const fit_lm *lm = &f->w.lm;
+    const fit_lm *lm = &f->ws.lm;
     size_t k;
     int small_step = 1;
     double gmax = 0.0;

@@ -1,12 +1,39 @@
 /* loo.c: leave one out, a policy run only when every one of three or
  * more curves disagrees with the joint fit.  Contract: refit without each
- * curve in turn (guess and solve, no further leave-one-out) and name the
- * one whose absence lets all the others agree, or say the disagreement is
- * general. */
+ * curve in turn (guess, solve and assess: guess.c, solve.c, uncertainty.c,
+ * never the driver that called this) and name the one whose absence lets
+ * all the others agree, or say the disagreement is general. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "fit.h"
+
+/* The fit g from its automatic guess, solved and assessed as the driver
+ * does but without leave-one-out: 1 with *r filled when it converged to
+ * an answer (not degenerate), else 0 and *r empty. */
+static int
+refit(lf_fit *g, lf_fit_result *r)
+{
+    fit_start start;
+    fit_run run;
+
+    memset(r, 0, sizeof *r);
+    if (lf_fit_guess(g, &start, NULL) != LF_OK
+        || lf_fit_solve_run(g, &start, &run, NULL, NULL) != LF_OK || !run.converged)
+        return 0;
+    if (lf_fit_assess(g, g->ws.x->data, &run, r, NULL) != LF_OK) {
+        lf_fit_result_free(r);
+        return 0;
+    }
+    r->converged = 1;
+    lf_fit_degenerate_end(r);
+    if (!r->converged) {
+        lf_fit_result_free(r);
+        return 0;
+    }
+    return 1;
+}
 
 /* Every curve of three or more disagrees with the joint fit: refit
  * without each in turn.  When exactly one curve's absence lets all the
@@ -25,8 +52,7 @@ lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res)
     for (j = 0; j < n; j++) {
         lf_fit *g;
         lf_fit_result r;
-        fit_start start;
-        int ok = 1, st;
+        int ok = 1;
         for (i = 0, m = 0; i < n; i++)
             if (i != j)
                 sub[m++] = f->c[i].data;
@@ -34,12 +60,7 @@ lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res)
         g = lf_fit_alloc(&f->set, m, sub, NULL);
         if (g == NULL)
             continue;
-        st = lf_fit_guess(g, &start, NULL);
-        if (st == LF_OK)
-            st = lf_fit_solve(g, &start, 0, &r, NULL);
-        if (st == LF_ENOCONV)
-            lf_fit_result_free(&r);
-        if (st == LF_OK) {
+        if (refit(g, &r)) {
             worst[j] = 0.0;
             for (i = 0; i < m; i++) {
                 ok &= r.curves[i].consistent;

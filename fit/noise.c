@@ -1,7 +1,8 @@
 /* noise.c: a noise model for real curves.
  *
  * Instruments filter and oversample, so neighbouring points carry nearly the
- * same noise: the point-to-point noise estimate (guess.c) is then far too
+ * same noise: the point-to-point noise estimate (lf_fit_noise_sigma, at the end of
+ * this file) is then far too
  * small, every chi2 is huge and every standard error too small.  At the
  * solution, per curve, with e_i the residuals in file (time) order:
  *   rho_k   their autocorrelation at lag k;
@@ -14,7 +15,7 @@
  *           by sqrt(tau) (pooled over the curves by their points);
  *   noise   the data's own noise sd at lag m = ceil(tau), from the line
  *           through the neighbours m points away in depth (the estimate of
- *           guess.c at that stride), model-free: neighbours beyond the
+ *           lf_fit_noise_sigma at that stride), model-free: neighbours beyond the
  *           correlation carry independent noise.
  * The agreement of a curve with the model is then judged against that noise
  * (chi2 per point and the runs test of every m-th residual), and where it
@@ -117,10 +118,10 @@ lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau
     const fit_curve *c = &f->c[j];
     const size_t *ord = f->order + c->row;
     size_t n = c->data.n, i, m, cnt;
-    double *e = f->w.work, *work = f->w.work + n, s1, sm, tau;
+    double *e = f->ws.work, *work = f->ws.work + n, s1, sm, tau;
 
     for (i = 0; i < n; i++)
-        e[i] = gsl_vector_get(res, c->row + i) * c->sigma / f->w.sqrtw[c->row + i];
+        e[i] = gsl_vector_get(res, c->row + i) * c->sigma / f->ws.sqrtw[c->row + i];
     /* the plateau of the residuals' noise over strides 1, 2, 4, ...: where
      * doubling the stride no longer raises it by NOISE_GROWTH (at stride 2
      * the question alone is asked, by counting: white noise stops there,
@@ -174,4 +175,74 @@ lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curv
     cr->consistent = !(cr->runs_z < FIT_RUNS_Z_BAD || cr->chi2_per_point > 4.0);
     cr->agreement = cr->consistent ? 2 : cr->misfit_rel < AGREE_REL ? 1 : 0;
     return tau;
+}
+
+/* Wald-Wolfowitz runs test of curve j's residuals' signs in order of
+ * depth, over every stride-th residual (fit.h). */
+double
+lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, size_t stride)
+{
+    const fit_curve *c = &f->c[j];
+    const size_t *ord = f->order + c->row;
+    size_t i, npos = 0, nneg = 0, runs = 0;
+    double mu, var, nn;
+    int last = 0;
+
+    /* without branches: the signs are noise, a branch on each would be
+     * mispredicted half the time; a zero residual is skipped */
+    for (i = 0; i < c->data.n; i += stride) {
+        double u = gsl_vector_get(res, c->row + ord[i]);
+        int pos = u > 0, neg = u < 0, sgn = pos - neg, nz = pos | neg;
+        npos += (size_t) pos;
+        nneg += (size_t) neg;
+        runs += (size_t) (nz & (sgn != last));
+        last = nz ? sgn : last;
+    }
+    nn = (double) (npos + nneg);
+    if (nn < 2)
+        return 0.0;
+    mu = 2.0 * (double) npos * (double) nneg / nn + 1.0;
+    var = (mu - 1.0) * (mu - 2.0) / (nn - 1.0);
+    return var > 0 ? ((double) runs - mu) / sqrt(var) : 0.0;
+}
+
+double
+lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
+{
+    return lf_fit_runs_z_stride(f, j, res, 1);
+}
+
+/* Noise sd from the points' departures from the line through their two
+ * neighbours in depth: with depths z0 <= z1 <= z2,
+ *     e = F1 - (F0 (z2 - z1) + F2 (z1 - z0)) / (z2 - z0)
+ * has variance s^2 (1 + ((z2-z1)^2 + (z1-z0)^2) / (z2-z0)^2) for white
+ * noise of sd s (1.5 s^2 on an even grid, where e is half the second
+ * difference; 2 s^2 for a repeated depth), and the smooth signal adds only
+ * about F'' h^2.  The median of |e| over its sd is 0.6745 s.  Order by
+ * depth makes it independent of the order of the rows and right for
+ * repeated depths.  fbig is the largest |force| (the caller's scale);
+ * work holds n. */
+double
+lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order, size_t n,
+                   double fbig, double *work)
+{
+    size_t i, m = 0;
+    double med;
+
+    for (i = 1; i + 1 < n; i++) {
+        size_t a = order[i - 1], b = order[i], c = order[i + 1];
+        double h0 = depth[b] - depth[a], h1 = depth[c] - depth[b], h = h0 + h1, e;
+        if (!(h > 0))
+            continue;           /* three points at one depth: no line */
+        /* (e over its sd factor)^2, one division (numerators are forces
+         * times depths in SI, far from overflowing when squared) */
+        e = force[b] * h - force[a] * h1 - force[c] * h0;
+        work[m++] = e * e / (h * h + h0 * h0 + h1 * h1);
+    }
+    if (m == 0)
+        return fbig > 0 ? fbig : 1.0;
+    med = lf_fit_median_sqrt(work, m);
+    med /= 0.6745;
+    /* noise-free data: keep the weight finite */
+    return lf_fmax(med, fbig > 0 ? 1e-12 * fbig : 1e-300);
 }

@@ -71,8 +71,8 @@ lf_fit_unpack(const lf_fit *f, const double *x, lf_material *mat, double *z0,
 void
 lf_fit_invalidate(lf_fit *f)
 {
-    f->w.xcache_ok = 0;
-    f->w.gn_ok = 0;
+    f->ws.xcache_ok = 0;
+    f->ws.gn_ok = 0;
 }
 
 void
@@ -173,20 +173,20 @@ eval_all(lf_fit *f, const double *x)
     lf_material mat;
     double z0, F0, slope;
 
-    if (f->w.xcache_ok && memcmp(x, f->w.xcache, f->np * sizeof *x) == 0)
+    if (f->ws.xcache_ok && memcmp(x, f->ws.xcache, f->np * sizeof *x) == 0)
         return LF_OK;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
-        double *delta = f->w.delta + c->row;
+        double *delta = f->ws.delta + c->row;
         lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         for (i = 0; i < c->data.n; i++)
             delta[i] = c->data.depth[i] - z0;
         if (lf_model_eval(c->model, &mat, c->data.branch, c->data.n, delta,
-                          f->w.ev + c->row, NULL) != LF_OK)
+                          f->ws.ev + c->row, NULL) != LF_OK)
             return LF_ENUMERIC;
     }
-    memcpy(f->w.xcache, x, f->np * sizeof *x);
-    f->w.xcache_ok = 1;
+    memcpy(f->ws.xcache, x, f->np * sizeof *x);
+    f->ws.xcache_ok = 1;
     return LF_OK;
 }
 
@@ -212,8 +212,8 @@ lf_fit_residuals_ss(lf_fit *f, const gsl_vector *xv, gsl_vector *r, double *ss_o
         lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         for (i = 0; i < c->data.n; i++) {
             size_t k = c->row + i;
-            double v = (f->w.ev[k].P + F0 + slope * f->w.delta[k] - c->data.force[i]) * inv_sigma
-                       * f->w.sqrtw[k];
+            double v = (f->ws.ev[k].P + F0 + slope * f->ws.delta[k] - c->data.force[i]) * inv_sigma
+                       * f->ws.sqrtw[k];
             if (!isfinite(v))
                 return GSL_EDOM;
             r->data[k * r->stride] = v;
@@ -247,13 +247,13 @@ lf_fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
 int
 lf_fit_project_offsets(lf_fit *f, double *x, double *r)
 {
-    const int cached = f->w.xcache_ok && memcmp(x, f->w.xcache, f->np * sizeof *x) == 0;
+    const int cached = f->ws.xcache_ok && memcmp(x, f->ws.xcache, f->np * sizeof *x) == 0;
     size_t i, j;
     int any = 0;
 
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
-        const double *sw = f->w.sqrtw + c->row, *d = f->w.delta + c->row;
+        const double *sw = f->ws.sqrtw + c->row, *d = f->ws.delta + c->row;
         double *rr = r + c->row, saa = 0.0, sab = 0.0, sbb = 0.0, sar = 0.0, sbr = 0.0;
         double da = 0.0, db = 0.0, det;
         const size_t n = c->data.n;
@@ -298,12 +298,12 @@ lf_fit_project_offsets(lf_fit *f, double *x, double *r)
         if (c->iF0 >= 0) {
             x[c->iF0] += da * c->sigma / c->Fs;
             if (cached)
-                f->w.xcache[c->iF0] = x[c->iF0];
+                f->ws.xcache[c->iF0] = x[c->iF0];
         }
         if (c->islope >= 0) {
             x[c->islope] += db * c->sigma * c->L / c->Fs;
             if (cached)
-                f->w.xcache[c->islope] = x[c->islope];
+                f->ws.xcache[c->islope] = x[c->islope];
         }
     }
     return any;
@@ -391,8 +391,8 @@ LF_KERNEL void
 row_entries(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M,
             const int *sel, size_t k, double ws, double *v)
 {
-    const double d = f->w.delta[k];
-    const lf_eval *e = &f->w.ev[k];
+    const double d = f->ws.delta[k];
+    const lf_eval *e = &f->ws.ev[k];
     lf_eval eg;
     double t[6];
     size_t q;
@@ -433,7 +433,7 @@ curve_rows(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M, gs
     for (i = 0; i < c->data.n; i++) {
         const size_t k = c->row + i;
         double v[6], *row = J->data + k * J->tda;
-        row_entries(f, c, map, M, map->sel, k, f->w.sqrtw[k] * inv_sigma, v);
+        row_entries(f, c, map, M, map->sel, k, f->ws.sqrtw[k] * inv_sigma, v);
 #pragma GCC unroll 6
         for (q = 0; q < M; q++)
             row[map->col[q]] = v[q];
@@ -490,7 +490,7 @@ curve_sums(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M,
         const size_t k = c->row + i;
         const double ri = r[k];
         double v[6];
-        row_entries(f, c, map, M, sel, k, f->w.sqrtw[k] * inv_sigma, v);
+        row_entries(f, c, map, M, sel, k, f->ws.sqrtw[k] * inv_sigma, v);
         /* unrolled (M is constant): the sums stay in registers */
 #pragma GCC unroll 6
         for (q = 0; q < M; q++) {
@@ -599,6 +599,32 @@ int
 lf_fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J)
 {
     return fill_jacobian(f, x, J, 1);
+}
+
+int
+lf_fit_jacobian_physical_nu(lf_fit *f, const double *x, gsl_matrix *J)
+{
+    gsl_matrix_view free_part = gsl_matrix_submatrix(J, 0, 0, J->size1, f->np);
+    const int sel[1] = { 2 };       /* row_entries' dP/dnu */
+    size_t i, j;
+    row_map map;
+
+    if (fill_jacobian(f, x, &free_part.matrix, 1) != GSL_SUCCESS)
+        return GSL_EDOM;
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        curve_map(f, x, j, 1, &map);
+        map.mult[0] = 1.0;
+        for (i = 0; i < c->data.n; i++) {
+            const size_t k = c->row + i;
+            double v;
+            row_entries(f, c, &map, 1, sel, k, f->ws.sqrtw[k] / c->sigma, &v);
+            gsl_matrix_set(J, k, f->np, v);
+        }
+    }
+    for (i = f->ndata; i < J->size1; i++)
+        gsl_matrix_set(J, i, f->np, 0.0);
+    return GSL_SUCCESS;
 }
 
 void

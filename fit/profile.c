@@ -27,9 +27,7 @@
  * means the fit stopped in a local minimum: it is continued from there,
  * replaces the result, and the profiles start again.
  *
- * Each profile point is a fit with the parameter held, warm-started at the
- * best fit's material and offsets moved by their regression on the held
- * parameter (start_value; per curve with the model the fit used). */
+ * Each profile point is a fit with the parameter held (hold.c). */
 #include <math.h>
 #include <stdlib.h>
 #include <stdio.h>
@@ -43,7 +41,6 @@
 
 #include "fit.h"
 
-#define Z95 1.959963984540054
 #define PROFILE_TOL 0.25
 #define PROFILE_LOG_RANGE 12.0
 #define PROFILE_BISECT 6
@@ -58,206 +55,15 @@
  * as the last */
 #define PROFILE_AIM 2.5
 #define PROFILE_GROW_MIN 1.25
-/* a profile point lower than the best fit by this fraction of the
- * threshold means the best fit was not the global minimum */
-#define PROFILE_LOWER 0.01
-/* a profile point's precision in chi2/dof (the solve's FIT_CHI2_STEP is
- * 1e-6): its rise is wanted against a threshold near 3.84 s^2 to the
- * precision of the crossing's bracket (2^-PROFILE_BISECT of a step of
- * 1.96 se: the rise there is known to some 3% of the threshold), and a
- * refit that creeps along a contact-edge kink stops once an iteration
- * gains less than this, 0.8% of the threshold: the end of the interval
- * then moves by some 0.4% of its distance from the estimate (the demo's
- * intervals the same to the printed digits; coverage unchanged) */
-#define PROFILE_CHI2_STEP 3e-2
 /* refits from a lower profile point, at most */
 #define PROFILE_MAX_REFITS 3
 /* the threshold's calibration: data sets and their seed */
 #define PROFILE_BOOT 200
 #define PROFILE_BOOT_SEED 20141u
 
-typedef struct {
-    const lf_fit_settings *s;
-    size_t nc;
-    lf_fit_curve *cc;          /* the curves, each with its fitted model */
-    const lf_fit_result *best;
-    int which;                 /* FIT_W, FIT_E, FIT_NU */
-    int linear;                /* searched in the parameter itself, not its log */
-    int mode;                  /* LF_PROFILE_CHECK, _ALWAYS or _SCREEN */
-    int calibrate;             /* LF_PROFILE_CALIBRATE was asked */
-    double thr;                /* the threshold of the rise, s^2 F(1, n_eff - p) */
-    double mu0;                /* the damping at which this profile's last
-                                  refit took its first step (NaN: none) */
-    size_t fits;
-    /* the lowest profile point below the best fit's chi2, if any: the best
-     * fit was then not the global minimum (refit_from_lower) */
-    double lower_chi2;
-    lf_material lower_mat;
-    double *lower_off;         /* 3 ncurves: z0, F0, slope */
-} prof;
-
-/* The fitted value of the parameter called name (the solution, even where
- * the report says "not determined"), else fallback. */
-static double
-best_value(const lf_fit_result *r, const char *name, double fallback)
-{
-    size_t k;
-    for (k = 0; k < r->npar; k++)
-        if (strcmp(r->names[k], name) == 0 && isfinite(r->value[k]))
-            return r->value[k];
-    return fallback;
-}
-
-/* Where the refit of a profile point starts: each other parameter at its
- * best value moved by its regression on the held one, cov(k, held) /
- * var(held) (v - best), the minimum of the local quadratic with the held
- * one at v (offsets move with w and E*: with them held at their best
- * values the refit creeps towards that minimum over many iterations).
- * The held parameter's move counts up to PROFILE_PREDICT_SE of its
- * standard errors (the cost is near its quadratic there; further out the
- * start moves no further).  fallback where the fit has no value. */
-#define PROFILE_PREDICT_SE 4.0
-
-static double
-start_value(const prof *p, const char *name, double v, double fallback)
-{
-    const lf_fit_result *r = p->best;
-    const char *held = p->which == FIT_W ? "w" : p->which == FIT_E ? "E*" : "nu";
-    const size_t np = r->npar;
-    size_t k, h;
-    double var, c, dv;
-
-    for (k = 0; k < np && strcmp(r->names[k], name) != 0; k++)
-        ;
-    for (h = 0; h < np && strcmp(r->names[h], held) != 0; h++)
-        ;
-    if (k == np || !isfinite(r->value[k]))
-        return fallback;
-    if (h == np)
-        return r->value[k];
-    var = r->cov[h * np + h];
-    c = r->cov[k * np + h];
-    if (!(var > 0) || !isfinite(c))
-        return r->value[k];
-    dv = lf_fmin(lf_fmax(v - r->value[h], -PROFILE_PREDICT_SE * sqrt(var)),
-                 PROFILE_PREDICT_SE * sqrt(var));
-    return r->value[k] + c / var * dv;
-}
-
-/* The start of a material parameter: the prediction where it keeps the
- * parameter in its range (lo < x < hi), else the best value. */
-static double
-start_in(const prof *p, const char *name, double v, double fallback, double lo, double hi)
-{
-    double x = start_value(p, name, v, fallback), b = best_value(p->best, name, fallback);
-    return x > lo && x < hi ? x : b;
-}
-
-/* The 95% point of F(1, m), as the square of Student's t at 0.975 with m
- * degrees of freedom (the same number): GSL 2.7's gsl_cdf_fdist_Pinv does
- * not converge for some m (271, 407-409, 620, 817-820, ...: 274 of the
- * m it was tried at up to 2e5) and returns NaN, which made every rise
- * compare false and every profile "open"; the t quantile converges for
- * every m (checked up to 2e5, and t^2 matches F's to 3e-12 elsewhere). */
-static double
-f95_one(double m)
-{
-    const double t = gsl_cdf_tdist_Pinv(0.975, m);
-    return t * t;
-}
-
-/* chi2 minus the best chi2 with parameter `which` held at v (NaN on a
- * failed fit). */
-static double
-rise(prof *p, double v)
-{
-    lf_fit_settings s = *p->s;
-    lf_fit_param *par = p->which == FIT_W ? &s.w : p->which == FIT_E ? &s.Estar
-                        : p->which == FIT_NU ? &s.nu : NULL;
-    fit_run run;
-    lf_fit *g;
-    size_t j;
-    int st, offsets_known = 1;
-    double out = NAN, chi2;
-
-    if (par != NULL) {
-        par->mode = LF_PARAM_FIXED;
-        par->value = v;
-    }
-    g = lf_fit_alloc(&s, p->nc, p->cc, NULL);
-    if (g == NULL)
-        return NAN;
-    g->chi2_step = PROFILE_CHI2_STEP;
-    /* a profile's points are neighbours, with the same kinks: each refit
-     * starts at the damping where the last one took its first step (the
-     * full Gauss-Newton step over a kink is otherwise rejected some four
-     * times first, each rejection an evaluation of the model) */
-    if (isfinite(p->mu0))
-        g->mu0 = p->mu0;
-    g->mat.w = start_in(p, "w", v, p->best->w.value, 0.0, HUGE_VAL);
-    g->mat.Estar = start_in(p, "E*", v, p->best->Estar.value, 0.0, HUGE_VAL);
-    g->mat.nu = start_in(p, "nu", v, p->best->nu.value, 0.0, 0.5);
-    if (!isfinite(g->mat.nu))
-        g->mat.nu = p->s->nu.value;
-    if (!isfinite(g->mat.w))
-        g->mat.w = 0.0;
-    if (p->which == FIT_W)
-        g->mat.w = v;
-    else if (p->which == FIT_E)
-        g->mat.Estar = v;
-    else if (p->which == FIT_NU)
-        g->mat.nu = v;
-    for (j = 0; j < p->nc; j++) {
-        char name[32];
-        double z0, F0, sl;
-        snprintf(name, sizeof name, "z0[%zu]", j + 1);
-        z0 = start_value(p, name, v, p->best->curves[j].z0);
-        snprintf(name, sizeof name, "F0[%zu]", j + 1);
-        F0 = start_value(p, name, v, p->best->curves[j].F0);
-        snprintf(name, sizeof name, "s[%zu]", j + 1);
-        sl = start_value(p, name, v, p->best->curves[j].slope);
-        if (g->c[j].iz0 >= 0 && isfinite(z0))
-            g->c[j].z0 = z0;
-        else if (g->c[j].iz0 >= 0)
-            offsets_known = 0;
-        if (g->c[j].iF0 >= 0 && isfinite(F0))
-            g->c[j].F0 = F0;
-        else if (g->c[j].iF0 >= 0)
-            offsets_known = 0;
-        g->c[j].slope = isfinite(sl) ? sl : 0.0;
-    }
-    if (offsets_known)
-        lf_fit_set_origin(g);
-    else
-        lf_fit_guess_offsets(g);
-    /* the solve without the assessment: a point needs its chi2 alone */
-    st = lf_fit_solve_run(g, NULL, &run, NULL, NULL);
-    p->fits++;
-    if (g->w.own && isfinite(g->w.lm.mu_first))
-        p->mu0 = g->w.lm.mu_first;
-    chi2 = st == LF_OK ? 2.0 * lf_fit_cost(g, g->w.x, g->w.r) : HUGE_VAL;
-    if (isfinite(chi2)) {
-        out = chi2 - p->best->chi2;
-        if (run.converged && out < -PROFILE_LOWER * p->thr && chi2 < p->lower_chi2
-            && p->lower_off != NULL) {
-            /* lower than the best fit: keep where, to refit from there */
-            double z0, F0, sl;
-            p->lower_chi2 = chi2;
-            for (j = 0; j < p->nc; j++) {     /* the material with each curve's offsets */
-                lf_fit_unpack(g, g->w.x->data, &p->lower_mat, &z0, &F0, &sl, j);
-                p->lower_off[3 * j] = z0;
-                p->lower_off[3 * j + 1] = F0;
-                p->lower_off[3 * j + 2] = sl;
-            }
-        }
-    }
-    lf_fit_free(g);
-    return out;
-}
-
 /* Map between the searched coordinate t and the parameter. */
 static double
-param_of(const prof *p, double t)
+param_of(const fit_prof *p, double t)
 {
     return p->which == FIT_NU || p->linear ? t : exp(t);
 }
@@ -277,7 +83,7 @@ param_of(const prof *p, double t)
  * line) make the next a bisection: the answer is a crossing within
  * bisection's final width. */
 static double
-cross_in(prof *p, double t_hat, int dir, double a, double ra, double b, double rb, double tol,
+cross_in(fit_prof *p, double t_hat, int dir, double a, double ra, double b, double rb, double tol,
          int *jump)
 {
     const double sthr = sqrt(p->thr);
@@ -297,7 +103,7 @@ cross_in(prof *p, double t_hat, int dir, double a, double ra, double b, double r
         width[2] = width[1];
         width[1] = width[0];
         width[0] = b - a;
-        rm = rise(p, param_of(p, t_hat + dir * m));
+        rm = lf_fit_hold_rise(p, param_of(p, t_hat + dir * m));
         if (rm >= p->thr || !isfinite(rm)) {
             b = m;
             rb = rm;
@@ -348,7 +154,7 @@ grow_to(double r, double target)
  * 92.5%: at the kinks a rise near the threshold can be far from the
  * crossing.  cross_in stops on the bracket's width alone.) */
 static double
-search_side(prof *p, double t_hat, double h, double r_h, int dir, double tmin, double tmax,
+search_side(fit_prof *p, double t_hat, double h, double r_h, int dir, double tmin, double tmax,
             int *open, int *jump)
 {
     double a = 0.0, b = 0.0, ra = 0.0, rb = NAN, d = 0.0, step = h;
@@ -359,7 +165,7 @@ search_side(prof *p, double t_hat, double h, double r_h, int dir, double tmin, d
     for (;;) {
         double rd;
         d = lf_fmin(d + step, edge);
-        rd = d == h && isfinite(r_h) ? r_h : rise(p, param_of(p, t_hat + dir * d));
+        rd = d == h && isfinite(r_h) ? r_h : lf_fit_hold_rise(p, param_of(p, t_hat + dir * d));
         if (!isfinite(rd) || rd >= p->thr) {
             if (!crossed || b <= a) {
                 b = d;                  /* the first point above after a */
@@ -395,7 +201,7 @@ search_side(prof *p, double t_hat, double h, double r_h, int dir, double tmin, d
  * threshold (the linear interval stands without refits), 0 when not or
  * when the path leaves the parameters' domain. */
 static int
-linear_holds(prof *p, const lf_fit_result *res, const char *name)
+linear_holds(fit_prof *p, const lf_fit_result *res, const char *name)
 {
     lf_fit *g;
     gsl_vector *r;
@@ -417,13 +223,13 @@ linear_holds(prof *p, const lf_fit_result *res, const char *name)
         return 0;
     }
     for (i = 0; i < g->ndata; i++)
-        g->w.sqrtw[i] = 1.0;        /* least squares (as lf_fit_solve sets) */
+        g->ws.sqrtw[i] = 1.0;        /* least squares (as lf_fit_solve sets) */
     for (side = -1; side <= 1 && holds; side += 2) {
-        double d = side * Z95 * sqrt(res->cov[k * np + k]), cost;
+        double d = side * FIT_Z95 * sqrt(res->cov[k * np + k]), cost;
         lf_material mat = { res->w.value, res->Estar.value, res->nu.value };
-        mat.w = best_value(res, "w", res->w.value);
-        mat.Estar = best_value(res, "E*", res->Estar.value);
-        mat.nu = best_value(res, "nu", isfinite(res->nu.value) ? res->nu.value
+        mat.w = lf_fit_best_value(res, "w", res->w.value);
+        mat.Estar = lf_fit_best_value(res, "E*", res->Estar.value);
+        mat.nu = lf_fit_best_value(res, "nu", isfinite(res->nu.value) ? res->nu.value
                                                                 : p->s->nu.value);
         for (j = 0; j < p->nc; j++)
             g->c[j].slope = 0.0;
@@ -454,8 +260,8 @@ linear_holds(prof *p, const lf_fit_result *res, const char *name)
         }
         g->mat = mat;
         lf_fit_set_origin(g);
-        gsl_vector_set_all(g->w.x, 1.0);
-        cost = lf_fit_cost(g, g->w.x, r);
+        gsl_vector_set_all(g->ws.x, 1.0);
+        cost = lf_fit_cost(g, g->ws.x, r);
         holds = isfinite(cost) && fabs((2.0 * cost - res->chi2) / p->thr - 1.0) < PROFILE_TOL;
     }
     gsl_vector_free(r);
@@ -477,7 +283,7 @@ linear_holds(prof *p, const lf_fit_result *res, const char *name)
  * calibration widens, it does not narrow; a bootstrap of B = 200 sets its
  * point to some 10%). */
 static double
-calibrate(prof *p, double v_hat)
+calibrate(fit_prof *p, double v_hat)
 {
     const lf_fit_result *res = p->best;
     lf_fit_curve *boot = malloc(p->nc * sizeof *boot), *data = p->cc;
@@ -509,15 +315,15 @@ calibrate(prof *p, double v_hat)
                 force[j][i] = res->curves[j].fitted[i] + sd * gsl_ran_gaussian(rng, 1.0);
         }
         p->which = -1;
-        free_chi2 = rise(p, NAN) + res->chi2;
+        free_chi2 = lf_fit_hold_rise(p, NAN) + res->chi2;
         p->which = which;
-        held_chi2 = rise(p, v_hat) + res->chi2;
+        held_chi2 = lf_fit_hold_rise(p, v_hat) + res->chi2;
         if (isfinite(free_chi2) && isfinite(held_chi2) && free_chi2 > 0)
             t[nt++] = lf_fmax(held_chi2 - free_chi2, 0.0) / (free_chi2 / (double) res->dof);
     }
     p->cc = data;
     p->lower_off = lower;
-    f95 = f95_one((double) res->dof);
+    f95 = lf_fit_f95((double) res->dof);
     if (nt >= PROFILE_BOOT / 2) {
         gsl_sort(t, 1, nt);
         kappa = lf_fmax(1.0, gsl_stats_quantile_from_sorted_data(t, 1, nt, 0.95) / f95);
@@ -535,7 +341,7 @@ done:
 
 /* Profile one estimate; 1 when its interval changed. */
 static int
-profile_one(prof *p, lf_fit_estimate *e)
+profile_one(fit_prof *p, lf_fit_estimate *e)
 {
     double t_hat, se_t, tmin, tmax, lo, hi, r_lo = NAN, r_hi = NAN, thr;
     int open_lo = 0, open_hi = 0, jump_lo = 0, jump_hi = 0;
@@ -555,10 +361,10 @@ profile_one(prof *p, lf_fit_estimate *e)
         /* w below two se: near 0 the profile is searched in w itself (its
          * log would stretch the flat part below), from the solution's w
          * down to 0 and up in steps from a quarter of the one-sided bound */
-        double w = lf_fmax(best_value(p->best, "w", 0.0), 0.0);
+        double w = lf_fmax(lf_fit_best_value(p->best, "w", 0.0), 0.0);
         p->linear = 1;
         t_hat = w;
-        se_t = 0.25 * e->ci95[1] / Z95;
+        se_t = 0.25 * e->ci95[1] / FIT_Z95;
         tmin = 0.0;
         tmax = exp(PROFILE_LOG_RANGE) * lf_fmax(w, e->ci95[1]);
     } else {
@@ -572,8 +378,8 @@ profile_one(prof *p, lf_fit_estimate *e)
         && linear_holds(p, p->best, p->which == FIT_W ? "w" : p->which == FIT_E ? "E*" : "nu"))
         return 0;
     if (!bound_only && p->mode != LF_PROFILE_ALWAYS) {
-        r_lo = t_hat - Z95 * se_t > tmin ? rise(p, param_of(p, t_hat - Z95 * se_t)) : NAN;
-        r_hi = t_hat + Z95 * se_t < tmax ? rise(p, param_of(p, t_hat + Z95 * se_t)) : NAN;
+        r_lo = t_hat - FIT_Z95 * se_t > tmin ? lf_fit_hold_rise(p, param_of(p, t_hat - FIT_Z95 * se_t)) : NAN;
+        r_hi = t_hat + FIT_Z95 * se_t < tmax ? lf_fit_hold_rise(p, param_of(p, t_hat + FIT_Z95 * se_t)) : NAN;
         if (fabs(r_lo / p->thr - 1.0) < PROFILE_TOL && fabs(r_hi / p->thr - 1.0) < PROFILE_TOL)
             return 0;
     }
@@ -581,11 +387,11 @@ profile_one(prof *p, lf_fit_estimate *e)
     if (p->calibrate)
         p->thr *= calibrate(p, param_of(p, t_hat));
     /* the rises at the linear ends, where known, are each side's first step */
-    lo = search_side(p, t_hat, lf_fmin(Z95 * se_t, 0.5 * (t_hat - tmin)),
-                     Z95 * se_t <= 0.5 * (t_hat - tmin) ? r_lo : NAN, -1, tmin, tmax, &open_lo,
+    lo = search_side(p, t_hat, lf_fmin(FIT_Z95 * se_t, 0.5 * (t_hat - tmin)),
+                     FIT_Z95 * se_t <= 0.5 * (t_hat - tmin) ? r_lo : NAN, -1, tmin, tmax, &open_lo,
                      &jump_lo);
-    hi = search_side(p, t_hat, lf_fmin(Z95 * se_t, 0.5 * (tmax - t_hat)),
-                     Z95 * se_t <= 0.5 * (tmax - t_hat) ? r_hi : NAN, +1, tmin, tmax, &open_hi,
+    hi = search_side(p, t_hat, lf_fmin(FIT_Z95 * se_t, 0.5 * (tmax - t_hat)),
+                     FIT_Z95 * se_t <= 0.5 * (tmax - t_hat) ? r_hi : NAN, +1, tmin, tmax, &open_hi,
                      &jump_hi);
     p->thr = thr;
     e->interval_method = "profile likelihood";
@@ -595,12 +401,12 @@ profile_one(prof *p, lf_fit_estimate *e)
      * data.  Such a side is never reported narrower than the linear one
      * (the PEG exports' joint fit put E*'s upper end 0.94 se from E*, a
      * single point's jump of 8 thresholds). */
-    if (!bound_only && jump_lo && t_hat - Z95 * se_t > tmin && t_hat - Z95 * se_t < lo) {
-        lo = t_hat - Z95 * se_t;
+    if (!bound_only && jump_lo && t_hat - FIT_Z95 * se_t > tmin && t_hat - FIT_Z95 * se_t < lo) {
+        lo = t_hat - FIT_Z95 * se_t;
         e->interval_method = LF_INTERVAL_JUMP;
     }
-    if (!bound_only && jump_hi && t_hat + Z95 * se_t < tmax && t_hat + Z95 * se_t > hi) {
-        hi = t_hat + Z95 * se_t;
+    if (!bound_only && jump_hi && t_hat + FIT_Z95 * se_t < tmax && t_hat + FIT_Z95 * se_t > hi) {
+        hi = t_hat + FIT_Z95 * se_t;
         e->interval_method = LF_INTERVAL_JUMP;
     }
     e->ci95[0] = open_lo && p->which == FIT_W ? 0.0 : param_of(p, lo);
@@ -610,7 +416,7 @@ profile_one(prof *p, lf_fit_estimate *e)
         e->upper_bound_only = 0;
         e->determined = 1;
         e->value = t_hat;
-        e->se = (hi - lo) / (2.0 * Z95);   /* the interval's width */
+        e->se = (hi - lo) / (2.0 * FIT_Z95);   /* the interval's width */
     }
     if (p->which == FIT_NU) {
         e->ci95[0] = lf_fmax(e->ci95[0], 0.0);
@@ -637,18 +443,6 @@ profile_one(prof *p, lf_fit_estimate *e)
         e->ci95[0] = NAN;
     }
     return 1;
-}
-
-/* The threshold of the rise of chi2: s^2 times the 95% point of F(1, m),
- * m = n_eff - p the degrees of freedom s^2 is estimated with (n_eff the
- * independent points, noise.c): the likelihood-ratio test with the noise
- * level estimated from the residuals (3.84 s^2 when m is large). */
-static double
-threshold(const lf_fit_result *r)
-{
-    double n_eff = (double) (r->dof + r->npar) / (r->corr_time >= 1.0 ? r->corr_time : 1.0);
-    double m = n_eff - (double) r->npar;
-    return r->se_scale * r->se_scale * (m >= 1.0 ? f95_one(m) : HUGE_VAL);
 }
 
 /* Every free estimate's interval is the linear one, found by `method`
@@ -694,7 +488,7 @@ intervals_at_stop(lf_fit_result *r)
  * and 2 is returned: the first fit's "converged" was a local minimum, and
  * no minimum below it was reached.  0: res stands. */
 static int
-refit_from_lower(prof *p, lf_fit_result *res)
+refit_from_lower(fit_prof *p, lf_fit_result *res)
 {
     static const char *const pname[FIT_NMAT] = { "w", "E*", "nu" };
     lf_fit *g = lf_fit_alloc(p->s, p->nc, p->cc, NULL);
@@ -713,12 +507,12 @@ refit_from_lower(prof *p, lf_fit_result *res)
         g->c[j].slope = isfinite(p->lower_off[3 * j + 2]) ? p->lower_off[3 * j + 2] : 0.0;
     }
     lf_fit_set_origin(g);
-    st = lf_fit_solve(g, NULL, 1, &nr, NULL);
+    st = lf_fit_solve(g, NULL, &nr, NULL);
     p->fits++;
     lf_fit_free(g);
     if (st != LF_OK && st != LF_ENOCONV)
         return 0;
-    if (!(nr.chi2 < res->chi2 - PROFILE_LOWER * p->thr)) {
+    if (!(nr.chi2 < res->chi2 - FIT_PROFILE_LOWER * p->thr)) {
         lf_fit_result_free(&nr);
         return 0;
     }
@@ -771,7 +565,7 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
                lf_fit_result *res, int always, lf_error *err)
 {
     static const int which[FIT_NMAT] = { FIT_W, FIT_E, FIT_NU };
-    prof p;
+    fit_prof p;
     size_t j, fits = 0;
     int round, k;
 
@@ -813,7 +607,7 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
     for (round = 0;; round++) {
         lf_fit_estimate *e[FIT_NMAT] = { &res->w, &res->Estar, &res->nu };
         p.best = res;
-        p.thr = threshold(res);
+        p.thr = lf_fit_hold_threshold(res);
         p.lower_chi2 = res->chi2;
         for (k = 0; k < FIT_NMAT && !(p.lower_chi2 < res->chi2); k++) {
             p.which = which[k];
@@ -832,37 +626,4 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
     free(p.cc);
     free(p.lower_off);
     return LF_OK;
-}
-
-int
-lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor)
-{
-    prof p;
-    size_t j;
-    double w, up;
-    int open;
-
-    if (f->imat[FIT_W] < 0)
-        return 0;
-    w = r->value[f->imat[FIT_W]];
-    if (!(w > 0) || !(r->se_scale > 0))
-        return 0;
-    memset(&p, 0, sizeof p);
-    p.mu0 = NAN;
-    p.cc = malloc(f->ncurves * sizeof *p.cc);
-    if (p.cc == NULL)
-        return 0;
-    for (j = 0; j < f->ncurves; j++) {
-        p.cc[j] = f->c[j].data;
-        p.cc[j].model = lf_model_get_type(f->c[j].model);
-    }
-    p.s = &f->set;
-    p.nc = f->ncurves;
-    p.best = r;
-    p.which = FIT_W;
-    p.thr = threshold(r);
-    up = rise(&p, w * factor);
-    open = isfinite(up) && up < p.thr;
-    free(p.cc);
-    return open;
 }

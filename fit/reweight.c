@@ -23,7 +23,7 @@ lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
 {
     const double scale = !isnan(f->set.loss_scale) ? f->set.loss_scale
                          : f->set.loss == LF_LOSS_HUBER ? 1.345 : 2.385;
-    gsl_vector *r = f->w.r;
+    gsl_vector *r = f->ws.r;
     size_t round, k, j;
     int status = LF_OK;
     double *inflate = malloc((f->ncurves ? f->ncurves : 1) * sizeof *inflate);
@@ -40,8 +40,8 @@ lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
         size_t i;
         lf_fit_curve_noise(f, j, r, &tau, &noise);
         for (i = 0; i < c->data.n; i++)
-            f->w.work[i] = fabs(gsl_vector_get(r, c->row + i));
-        mad = 1.4826 * lf_fit_median(f->w.work, c->data.n);   /* units of sigma */
+            f->ws.work[i] = fabs(gsl_vector_get(r, c->row + i));
+        mad = 1.4826 * lf_fit_median(f->ws.work, c->data.n);   /* units of sigma */
         inflate[j] = lf_fmax(1.0, lf_fmax(noise / c->sigma, mad));
     }
     for (round = 0; round < FIT_MAX_REWEIGHT; round++) {
@@ -52,11 +52,11 @@ lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
         }
         for (j = 0; j < f->ncurves; j++)
         for (k = f->c[j].row; k < f->c[j].row + f->c[j].data.n; k++) {
-            double u = fabs(gsl_vector_get(r, k) / f->w.sqrtw[k]) / (scale * inflate[j]), wt, s;
+            double u = fabs(gsl_vector_get(r, k) / f->ws.sqrtw[k]) / (scale * inflate[j]), wt, s;
             wt = f->set.loss == LF_LOSS_HUBER ? (u <= 1.0 ? 1.0 : 1.0 / u) : 1.0 / (1.0 + u * u);
             s = sqrt(wt);
-            moved = lf_fmax(moved, fabs(s - f->w.sqrtw[k]));
-            f->w.sqrtw[k] = s;
+            moved = lf_fmax(moved, fabs(s - f->ws.sqrtw[k]));
+            f->ws.sqrtw[k] = s;
         }
         lf_fit_invalidate(f);
         run->reweightings = round + 1;

@@ -41,24 +41,24 @@ set_basin(lf_fit *f, const gsl_vector *x, double cost, int converged)
     const double chi2dof = 2.0 * cost / (double) (f->nres > f->np ? f->nres - f->np : 1);
     size_t k;
 
-    f->w.basin_on = f->w.basin_hit = 0;
+    f->ws.basin_on = f->ws.basin_hit = 0;
     if (!converged || !lf_fit_gn_at(f, x))
         return;
     for (k = 0; k < f->np; k++) {
-        f->w.basin_x[k] = f->x0_internal[k] + x->data[k] - 1.0;
-        f->w.basin_tol[k] = FIT_SAME_SE * sqrt(chi2dof * f->w.ainv[k]);
-        if (!(f->w.basin_tol[k] > 0))
+        f->ws.basin_x[k] = f->x0_internal[k] + x->data[k] - 1.0;
+        f->ws.basin_tol[k] = FIT_SAME_SE * sqrt(chi2dof * f->ws.ainv[k]);
+        if (!(f->ws.basin_tol[k] > 0))
             return;
     }
-    f->w.basin_cost = cost;
-    f->w.basin_on = 1;
+    f->ws.basin_cost = cost;
+    f->ws.basin_on = 1;
 }
 
 int
 lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *run,
                  double *ratio, lf_error *err)
 {
-    double cost_first, cost_second, *keep = f->w.keep;
+    double cost_first, cost_second, *keep = f->ws.keep;
     lf_material mat_first;
     fit_run second;
     int status, win, same;
@@ -67,7 +67,7 @@ lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *
     *ratio = 1.0;
     if (same_basin(f, x, from))
         return LF_OK;
-    cost_first = lf_fit_cost(f, x, f->w.r);
+    cost_first = lf_fit_cost(f, x, f->ws.r);
     set_basin(f, x, cost_first, run->converged);
     lf_fit_rebase(f, x);
     mat_first = f->mat;
@@ -80,13 +80,13 @@ lf_fit_second_start(lf_fit *f, gsl_vector *x, const lf_material *from, fit_run *
     lf_fit_guess_offsets(f);
     memset(&second, 0, sizeof second);
     status = lf_fit_solve_scanned(f, x, 1, &second, err);
-    same = f->w.basin_hit;
-    f->w.basin_on = f->w.basin_hit = 0;
+    same = f->ws.basin_hit;
+    f->ws.basin_on = f->ws.basin_hit = 0;
     run->iters += second.iters;
     run->evals += second.evals;
     if (status != LF_OK)
         return status;
-    cost_second = same ? HUGE_VAL : lf_fit_cost(f, x, f->w.r);
+    cost_second = same ? HUGE_VAL : lf_fit_cost(f, x, f->ws.r);
     /* a converged run beats an unconverged one at about the same cost; else
      * the lower cost wins, an unconverged run only by a clear margin */
     win = (second.converged && !run->converged

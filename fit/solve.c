@@ -1,604 +1,70 @@
-/* solve.c: the trust-region iteration (GSL's gsl_multifit_nlinear, the
- * method chosen in the settings) and its stopping rules, every tolerance
- * named in fit.h.  Converged means one of:
- *  - GSL's tests on the step (xtol) or the gradient (gtol);
- *  - no step lowers the cost and the scaled gradient is at rounding level
- *    (FIT_GRAD_ROUNDING), or no coordinate step does (FIT_DESCENT_*): a
- *    kink where a point meets the contact edge;
- *  - the iteration limit with the cost flat (FIT_FLAT_*);
- *  - w driven to where it no longer changes the fit (FIT_DEAD_COLUMN),
- *    which the assessment reports as a bound.
- * Everything else is "not converged", with the reason in words. */
+/* solve.c: the solve of one fit from its origin and the restarts the data
+ * call for, without the assessment:
+ *
+ *   solve      lf_fit_solve_scanned (iterate.c + edge_scan.c)
+ *   restarts   a second start from the automatic guess when the user gave
+ *              one, or from the guess's runner-up w, or from a higher w when
+ *              a few shallow points end out of contact (second_start.c);
+ *              robust reweighting when the loss is not linear (reweight.c)
+ *   end        the honest end (verdict.c)
+ *
+ * Calls go down only: the driver (driver.c), the held refits of profiles
+ * (hold.c) and leave-one-out (loo.c) call this file, which calls none of
+ * them. */
 #include <math.h>
-#include <stdarg.h>
-#include <stdlib.h>
 #include <string.h>
-
-#include <gsl/gsl_blas.h>
-#include <gsl/gsl_errno.h>
 
 #include "fit.h"
 
-/* ---- the solver: lm.c for "lm" with the analytic Jacobian, else GSL ---- */
-
-static gsl_vector *
-cur_x(lf_fit *f)
-{
-    return f->w.own ? f->w.lm.x : gsl_multifit_nlinear_position(f->gsl);
-}
-
-static gsl_vector *
-cur_r(lf_fit *f)
-{
-    return f->w.own ? f->w.lm.r : gsl_multifit_nlinear_residual(f->gsl);
-}
-
-/* GSL's Jacobian at the current point (lm.c keeps J^T J and J^T r only). */
-static gsl_matrix *
-gsl_J(lf_fit *f)
-{
-    return gsl_multifit_nlinear_jac(f->gsl);
-}
-
-static size_t
-cur_niter(lf_fit *f)
-{
-    return f->w.own ? f->w.lm.niter : gsl_multifit_nlinear_niter(f->gsl);
-}
-
-static size_t
-cur_evals(lf_fit *f)
-{
-    return f->w.own ? f->w.lm.nevalf + f->w.lm.nevaldf : f->fdf.nevalf + f->fdf.nevaldf;
-}
-
-static int
-solver_init(lf_fit *f, const gsl_vector *x, int allow_own)
-{
-    f->w.own = allow_own && f->fdf.df != NULL && strcmp(f->set.method, "lm") == 0;
-    if (f->w.own)
-        return lf_fit_lm_init(f, x);
-    if (lf_fit_gsl(f) != LF_OK)
-        return GSL_ENOMEM;
-    return gsl_multifit_nlinear_init(x, &f->fdf, f->gsl);
-}
-
-static int
-solver_iterate(lf_fit *f)
-{
-    return f->w.own ? lf_fit_lm_iterate(f) : gsl_multifit_nlinear_iterate(f->gsl);
-}
-
-static int
-solver_test(lf_fit *f, int *info)
-{
-    return f->w.own ? lf_fit_lm_test(f, f->set.xtol, f->set.gtol, info)
-                    : gsl_multifit_nlinear_test(f->set.xtol, f->set.gtol, f->set.ftol, info,
-                                                f->gsl);
-}
-
-/* A solver status in words.  GSL_EDOM comes from our own residual and
- * Jacobian callbacks (problem.c): the model cannot be evaluated at the
- * parameters tried. */
-static const char *
-status_words(int status)
-{
-    if (status == GSL_EDOM)
-        return "the model cannot be evaluated at the parameters the solver tried "
-               "(outside the model's domain)";
-    return gsl_strerror(status);
-}
-
-void
-lf_fit_run_says(fit_run *run, lf_fit_stop stop, const char *fmt, ...)
-{
-    va_list ap;
-
-    run->converged = stop == LF_STOP_CONVERGED;
-    run->stop = stop;
-    run->user_test = 0;
-    va_start(ap, fmt);
-    vsnprintf(run->why, sizeof run->why, fmt, ap);
-    va_end(ap);
-}
-
-void
-lf_fit_run_verdict_from(fit_run *run, const fit_run *from)
-{
-    run->converged = from->converged;
-    run->stop = from->stop;
-    run->user_test = from->user_test;
-    memcpy(run->why, from->why, sizeof run->why);
-}
-
-/* Why the solver stopped: run's verdict and its words. */
-static void
-stop_reason(int status, int info, size_t maxiter, fit_run *run)
-{
-    if (status == GSL_SUCCESS) {
-        lf_fit_run_says(run, LF_STOP_CONVERGED, "converged (%s)",
-                        info == FIT_INFO_CHI2 ? "chi2 within reach of its minimum"
-                        : info == FIT_INFO_CREEP ? "steps far below the standard errors"
-                        : info == FIT_INFO_BASIN ? "the first solution's basin"
-                        : info == 1 ? "small step" : "small gradient");
-        run->user_test = info == 1 || info == 2;
-    } else if (status == GSL_EMAXITER) {
-        lf_fit_run_says(run, LF_STOP_ITERATIONS, "not converged: the limit of %zu iterations "
-                        "per solve reached", maxiter);
-    } else if (status == GSL_ENOPROG) {
-        lf_fit_run_says(run, LF_STOP_NO_PROGRESS, "not converged: no further progress possible");
-    } else {
-        lf_fit_run_says(run, LF_STOP_FAILED, "not converged: %s", status_words(status));
-    }
-}
-
-/* GSL gives up (ENOPROG) when no step lowers the cost any more; at an exact
- * zero-residual solution this is success.  Accept it when the scaled
- * gradient is at rounding level. */
-static int
-at_minimum(lf_fit *f)
-{
-    gsl_vector *r = cur_r(f);
-    size_t i, k;
-    double rn = gsl_blas_dnrm2(r);
-
-    for (k = 0; k < f->np; k++) {
-        double g = 0.0, cn = 0.0;
-        if (f->w.own) {     /* J^T r and the column's squared norm, from lm.c */
-            g = f->w.lm.g[k];
-            cn = f->w.lm.A[k * f->np + k];
-        } else {
-            const gsl_matrix *J = gsl_J(f);
-            for (i = 0; i < f->nres; i++) {
-                double jik = gsl_matrix_get(J, i, k);
-                g += jik * gsl_vector_get(r, i);
-                cn += jik * jik;
-            }
-        }
-        if (fabs(g) > FIT_GRAD_ROUNDING * sqrt(cn) * rn + 1e-300)
-            return 0;
-    }
-    return 1;
-}
-
-/* No coordinate step of +-h (internal units: relative for w and E*,
- * fractions of the depth span and force scale for the offsets) lowers the
- * cost at x: a minimum, smooth or at a kink of the model, where GSL's
- * gradient test need not pass.  With move, every step is tried, and x moves
- * along the one that lowers the cost most, the step doubled while the cost
- * keeps falling (when one does), and *gain is the fall of chi2 relative to
- * chi2 / dof. */
-static int
-no_descent_move(lf_fit *f, gsl_vector *x, int move, double *gain)
-{
-    static const double h[] = FIT_DESCENT_STEPS;
-    const size_t nh = sizeof h / sizeof h[0];
-    gsl_vector *r = f->w.r2;
-    double c0, rn, best, best_step = 0.0;
-    size_t k, q, best_k = 0;
-    int sign, ok = 1;
-
-    if (lf_fit_residuals(x, f, r) != GSL_SUCCESS)
-        return 0;
-    rn = gsl_blas_dnrm2(r);
-    c0 = rn * rn;
-    best = c0 * (1.0 - FIT_DESCENT_REL);
-    for (k = 0; k < f->np && (ok || move); k++) {
-        double xk = gsl_vector_get(x, k);
-        for (q = 0; q < nh && (ok || move); q++)
-            for (sign = -1; sign <= 1 && (ok || move); sign += 2) {
-                gsl_vector_set(x, k, xk + sign * h[q]);
-                if (lf_fit_residuals(x, f, r) == GSL_SUCCESS) {
-                    rn = gsl_blas_dnrm2(r);
-                    if (rn * rn < best) {
-                        ok = 0;
-                        best = rn * rn;
-                        best_k = k;
-                        best_step = sign * h[q];
-                    }
-                }
-            }
-        gsl_vector_set(x, k, xk);
-    }
-    if (move && !ok) {
-        /* on along that coordinate, doubling the step while the cost falls */
-        double xk = gsl_vector_get(x, best_k);
-        int dbl;
-        for (dbl = 0; dbl < 40; dbl++) {
-            gsl_vector_set(x, best_k, xk + 2.0 * best_step);
-            if (lf_fit_residuals(x, f, r) != GSL_SUCCESS)
-                break;
-            rn = gsl_blas_dnrm2(r);
-            if (!(rn * rn < best))
-                break;
-            best = rn * rn;
-            best_step *= 2.0;
-        }
-        gsl_vector_set(x, best_k, xk + best_step);
-    }
-    if (gain != NULL)
-        *gain = c0 > 0 ? (c0 - lf_fmin(best, c0)) / (c0 / (double) (f->nres - f->np)) : 0.0;
-    f->w.xcache_ok = 0;
-    return ok;
-}
-
-static int
-no_descent(lf_fit *f, gsl_vector *x)
-{
-    return no_descent_move(f, x, 0, NULL);
-}
-
-/* The cost (half chi2) at the solver's position. */
-static double
-cur_cost(lf_fit *f)
-{
-    double r;
-
-    if (f->w.own)
-        return f->w.lm.cost;
-    r = gsl_blas_dnrm2(cur_r(f));
-    return 0.5 * r * r;
-}
-
-/* After each iteration: remember the cost. */
-static void
-track_cost(lf_fit *f, size_t iter)
-{
-    f->w.cost_hist[iter % (FIT_FLAT_ITERS + 1)] = cur_cost(f);
-}
-
-/* The solver's Jacobian J and residuals r at its position, examined once
- * per iteration (rows read in place):
- *  - returns 0 when a column is not finite or negligible (below
- *    FIT_DEAD_COLUMN of the largest), with that column in *which.  A
- *    parameter that stops mattering (w driven towards zero leaves its
- *    column near zero) sends GSL's subspace2D method into an endless loop
- *    solving a quartic of NaNs; the other methods stall;
- *  - *dchi2 = g^T (J^T J)^-1 g, g = J^T r: the decrease of chi2 that a full
- *    Gauss-Newton step predicts, which is also the squared distance to the
- *    minimum of the local quadratic measured in standard errors (residuals
- *    are in units of the noise).  HUGE_VAL when J^T J is not positive
- *    definite. */
-static int
-examine_jacobian(lf_fit *f, size_t *which, double *dchi2)
-{
-    const gsl_vector *r = cur_r(f);
-    const size_t n = f->nres, p = f->np;
-    double *A = f->w.jtj, *g = f->w.grad, *big = f->w.colmax, top = 0.0, low = HUGE_VAL;
-    size_t i, k, l;
-
-    *dchi2 = HUGE_VAL;
-    for (k = 0; k < p; k++) {
-        big[k] = 0.0;
-        f->w.ainv[k] = NAN;
-    }
-    if (f->w.own) {         /* lm.c has J^T J and J^T r already */
-        memcpy(A, f->w.lm.A, p * p * sizeof *A);
-        memcpy(g, f->w.lm.g, p * sizeof *g);
-        memcpy(big, f->w.lm.colmax, p * sizeof *big);
-    } else {
-        const gsl_matrix *J = gsl_J(f);
-        memset(A, 0, p * p * sizeof *A);
-        for (k = 0; k < p; k++)
-            g[k] = 0.0;
-        for (i = 0; i < n; i++) {
-            const double *row = J->data + i * J->tda, ri = r->data[i * r->stride];
-            for (k = 0; k < p; k++) {
-                double a = row[k];
-                big[k] = lf_fmax(big[k], fabs(a));
-                g[k] += a * ri;
-                for (l = 0; l <= k; l++)
-                    A[k * p + l] += a * row[l];
-            }
-        }
-    }
-    for (k = 0; k < p; k++) {
-        if (!isfinite(big[k]) || !isfinite(g[k]))
-            return 0;
-        top = lf_fmax(top, big[k]);
-        if (big[k] < low) {
-            low = big[k];
-            *which = k;
-        }
-    }
-    if (!(low > FIT_DEAD_COLUMN * top))
-        return 0;
-    /* Cholesky of J^T J (lower triangle), then |L^-1 g|^2 */
-    for (k = 0; k < p; k++) {
-        for (l = 0; l <= k; l++) {
-            double sum = A[k * p + l];
-            size_t q;
-            for (q = 0; q < l; q++)
-                sum -= A[k * p + q] * A[l * p + q];
-            if (l == k) {
-                if (!(sum > 1e-14 * A[k * p + k]) || !(sum > 0))
-                    return 1;
-                A[k * p + k] = sqrt(sum);
-            } else {
-                A[k * p + l] = sum / A[l * p + l];
-            }
-        }
-    }
-    *dchi2 = 0.0;
-    for (k = 0; k < p; k++) {
-        double y = g[k];
-        for (l = 0; l < k; l++)
-            y -= A[k * p + l] * g[l];
-        g[k] = y / A[k * p + k];
-        *dchi2 += g[k] * g[k];
-    }
-    /* the diagonal of (J^T J)^-1: |L^-1 e_k|^2, with big[] as scratch */
-    for (k = 0; k < p; k++) {
-        double sum = 0.0;
-        for (l = 0; l < p; l++) {
-            double y = l == k ? 1.0 : 0.0;
-            size_t q;
-            if (l < k) {
-                big[l] = 0.0;
-                continue;
-            }
-            for (q = k; q < l; q++)
-                y -= A[l * p + q] * big[q];
-            big[l] = y / A[l * p + l];
-            sum += big[l] * big[l];
-        }
-        f->w.ainv[k] = sum;
-    }
-    return 1;
-}
-
-/* lm.c's last accepted step, from x_prev to x, moved every parameter by
- * less than sqrt(step) of its standard error (sqrt(chi2/dof (J^T J)^-1_kk)
- * at x) and lowered chi2 by less than step chi2/dof, step the larger of
- * FIT_CREEP_CHI2 and the solve's chi2_step: a creep (at a kink of the cost
- * the Gauss-Newton test need not pass) that no longer moves any estimate. */
-static int
-creeping(lf_fit *f, double chi2dof)
-{
-    const fit_lm *lm = &f->w.lm;
-    const double step = lf_fmax(f->chi2_step, FIT_CREEP_CHI2), tol = sqrt(step);
-    size_t k;
-
-    if (!f->w.own || lm->niter == 0 || !(2.0 * (lm->cost_prev - lm->cost) <= step * chi2dof))
-        return 0;
-    for (k = 0; k < f->np; k++)
-        if (!(fabs(lm->x->data[k] - lm->xt->data[k]) <= tol * sqrt(chi2dof * f->w.ainv[k])))
-            return 0;
-    return 1;
-}
-
-/* chi2 / dof at the solver's position: the square of the factor by which
- * the reported standard errors are scaled. */
-static double
-chi2_per_dof(lf_fit *f)
-{
-    return 2.0 * cur_cost(f) / (double) (f->nres - f->np);
-}
-
 int
-lf_fit_gn_at(const lf_fit *f, const gsl_vector *x)
+lf_fit_solve_run(lf_fit *f, const fit_start *start, fit_run *run_out, lf_warnings *warn,
+                 lf_error *err)
 {
-    return f->w.gn_ok && memcmp(f->w.gn_x, x->data, f->np * sizeof *x->data) == 0;
-}
-
-/* What the verdict (verdict.c) asks at the end, kept where the Jacobian is
- * examined: the Gauss-Newton decrease of chi2 at the solver's position, from
- * the analytic Jacobian, when J^T J is positive definite. */
-static void
-remember_gn(lf_fit *f, double dchi2, double chi2dof)
-{
-    f->w.gn_ok = f->fdf.df != NULL && dchi2 < HUGE_VAL;
-    if (!f->w.gn_ok)
-        return;
-    memcpy(f->w.gn_x, cur_x(f)->data, f->np * sizeof *f->w.gn_x);
-    f->w.gn_dchi2 = dchi2;
-    f->w.gn_chi2 = chi2dof * (double) (f->nres - f->np);
-}
-
-/* A second start's position back in the first solution's basin: every
- * parameter within its tolerance of the first's (internal coordinates),
- * the cost within FIT_SAME_COST of the first's (second_start.c). */
-static int
-in_basin(lf_fit *f)
-{
-    const double *x = cur_x(f)->data;
-    size_t k;
-
-    if (!(fabs(cur_cost(f) - f->w.basin_cost) <= FIT_SAME_COST))
-        return 0;       /* above it, or already lower: another minimum */
-    for (k = 0; k < f->np; k++)
-        if (!(fabs(f->x0_internal[k] + x[k] - 1.0 - f->w.basin_x[k]) <= f->w.basin_tol[k]))
-            return 0;
-    return 1;
-}
-
-/* gsl_multifit_nlinear_driver with the Jacobian examined before each
- * iteration and the cost recorded after it.  Stops with GSL_SUCCESS and
- * *info = FIT_INFO_CHI2 when a Gauss-Newton step would lower chi2 by less
- * than chi2_step chi2/dof (FIT_CHI2_STEP: the estimates are then within
- * sqrt(FIT_CHI2_STEP) of their reported standard errors of the minimum),
- * else by GSL's tests.  An unusable
- * Jacobian ends the run with GSL_EBADFUNC and the negligible column in
- * *dead. */
-static int
-drive(lf_fit *f, int *info, size_t *dead)
-{
-    size_t iter = 0;
+    gsl_vector *x = f->ws.x;
+    fit_run run;
     int status;
-    double dchi2, chi2dof;
+    size_t i;
 
-    *info = 0;
-    do {
-        if (!examine_jacobian(f, dead, &dchi2))
-            return GSL_EBADFUNC;
-        chi2dof = chi2_per_dof(f);
-        remember_gn(f, dchi2, chi2dof);
-        if (dchi2 <= f->chi2_step * chi2dof) {
-            *info = FIT_INFO_CHI2;
-            return GSL_SUCCESS;
-        }
-        if (creeping(f, chi2dof)) {
-            *info = FIT_INFO_CREEP;
-            return GSL_SUCCESS;
-        }
-        status = solver_iterate(f);
-        if (status == GSL_ENOPROG && iter == 0) {
-            *info = status;
-            return GSL_EMAXITER;
-        }
-        if (status != GSL_SUCCESS && status != GSL_ENOPROG)
-            return status;
-        track_cost(f, iter);
-        if (f->w.basin_on && in_basin(f)) {
-            f->w.basin_hit = 1;
-            *info = FIT_INFO_BASIN;
-            return GSL_SUCCESS;
-        }
-        /* lm.c's GSL_ENOPROG (no step accepted) ends the run; GSL's
-         * driver goes on after its first iteration, and so does this loop */
-        status = status == GSL_ENOPROG && f->w.own ? GSL_ENOPROG : solver_test(f, info);
-    } while (status == GSL_CONTINUE && ++iter < f->set.max_iter);
-    if (iter >= f->set.max_iter && status != GSL_SUCCESS)
-        status = GSL_EMAXITER;
+    memset(&run, 0, sizeof run);
+    lf_fit_invalidate(f);
+    for (i = 0; i < f->ndata; i++)
+        f->ws.sqrtw[i] = 1.0;
+    status = lf_fit_solve_scanned(f, x, 1, &run, err);
+    if (status == LF_OK && start != NULL && start->user) {
+        /* A user's starting point is a second start, not a replacement:
+         * the cost has kinks wherever a point crosses the contact edge, and
+         * a start a factor of 3 off can end in a minimum whose misfit,
+         * local to the edge, neither chi2 (the noise is only estimated)
+         * nor the runs test reliably shows.  So the fit is repeated from
+         * the automatic guess and the lower cost wins. */
+        double ratio;
+        status = lf_fit_second_start(f, x, &start->automatic, &run, &ratio, err);
+        if (status == LF_OK && ratio > 1.0 && warn != NULL)
+            lf_warn(warn, "the fit from the given starting point (w = %.4g J/m^2, "
+                    "E* = %.4g Pa) ended at a cost %.4g times higher than from the automatic "
+                    "guess; the result below starts from the automatic guess",
+                    start->mat.w, start->mat.Estar, ratio);
+    }
+    if (status == LF_OK && start != NULL && isfinite(start->alt_w)) {
+        /* the automatic guess's runner-up, when close: another basin */
+        lf_material alt = start->automatic;
+        double ratio;
+        alt.w = start->alt_w;
+        status = lf_fit_second_start(f, x, &alt, &run, &ratio, err);
+    }
+    if (status == LF_OK && start != NULL && f->imat[FIT_W] >= 0 && lf_fit_edge_doubt(f, x)) {
+        /* a few shallow points out of contact: w (and with it the contact
+         * radius at detachment) may be stuck low; start again higher */
+        lf_material up;
+        double z0, F0, slope, ratio;
+        lf_fit_unpack(f, x->data, &up, &z0, &F0, &slope, f->ncurves);
+        up.w *= FIT_EDGE_W_UP;
+        status = lf_fit_second_start(f, x, &up, &run, &ratio, err);
+    }
+    if (status == LF_OK && f->set.loss != LF_LOSS_LINEAR)
+        status = lf_fit_reweight(f, x, &run, err);
+    if (status == LF_OK)
+        status = lf_fit_honest_end(f, x, &run, err);
+    *run_out = run;
     return status;
 }
-
-/* x = the solver's position */
-static void
-take_position(lf_fit *f, gsl_vector *x)
-{
-    gsl_vector_memcpy(x, cur_x(f));
-}
-
-/* Solve again from x after a stall (allow_own: lm.c may take it), its
- * iterations and evaluations counted into run; GSL's "no step lowers the
- * cost from the start" (EMAXITER, info ENOPROG) comes back as ENOPROG.
- * *started is 0 (nothing run or counted) when the solver cannot start at
- * x. */
-static int
-solve_again(lf_fit *f, gsl_vector *x, int allow_own, fit_run *run, int *info, size_t *dead,
-            int *started)
-{
-    size_t more;
-    int status = solver_init(f, x, allow_own);
-
-    *started = status == GSL_SUCCESS;
-    if (!*started)
-        return status;
-    status = drive(f, info, dead);
-    more = cur_niter(f);
-    run->iters += more;
-    run->evals += cur_evals(f);
-    if (status == GSL_EMAXITER && *info == GSL_ENOPROG && more < f->set.max_iter)
-        status = GSL_ENOPROG;
-    return status;
-}
-
-int
-lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error *err)
-{
-    int status, info = 0;
-    size_t dead = 0, iters, nudge;
-    int kink = 0, started;
-    double gain = 0.0;
-
-    run->converged = 0;
-    gsl_vector_memcpy(f->w.x0, x);
-    status = solver_init(f, x, 1);
-    if (status != GSL_SUCCESS)
-        return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the starting point (%s)",
-                       status_words(status));
-    status = drive(f, &info, &dead);
-    if (f->w.own && status != GSL_SUCCESS && status != GSL_EBADFUNC) {
-        /* lm.c stalled (at a kink of the cost, where steps are rejected or
-         * creep): the same start with GSL's trust region, whose path
-         * differs there */
-        run->iters += cur_niter(f);
-        run->evals += cur_evals(f);
-        status = solver_init(f, f->w.x0, 0);
-        if (status != GSL_SUCCESS)
-            return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the starting "
-                           "point (%s)", status_words(status));
-        status = drive(f, &info, &dead);
-    }
-    iters = cur_niter(f);
-    run->iters += iters;
-    run->evals += cur_evals(f);
-    if (status == GSL_EBADFUNC) {
-        take_position(f, x);
-        if ((int) dead == f->imat[FIT_W]) {
-            /* the assessment reports w as bounded or undetermined */
-            lf_fit_run_says(run, LF_STOP_CONVERGED, "converged (w driven towards zero, where "
-                            "it no longer changes the fit)");
-        } else {
-            lf_fit_run_says(run, LF_STOP_DEAD_PARAMETER, "not converged: parameter %zu no "
-                            "longer changes the fit", dead + 1);
-        }
-        return LF_OK;
-    }
-    if (status == GSL_EMAXITER && iters > FIT_FLAT_ITERS) {
-        /* GSL numbers the iteration that just ended iters - 1 */
-        double now = f->w.cost_hist[(iters - 1) % (FIT_FLAT_ITERS + 1)];
-        double then = f->w.cost_hist[iters % (FIT_FLAT_ITERS + 1)];
-        if (then - now <= lf_fmax(FIT_FLAT_REL * now, FIT_FLAT_ABS)) {
-            take_position(f, x);
-            lf_fit_run_says(run, LF_STOP_CONVERGED, "converged (chi2 fell by %.2g over the "
-                            "last %d iterations)", 2.0 * (then - now), FIT_FLAT_ITERS);
-            return LF_OK;
-        }
-    }
-    /* GSL reports "no step lowers the cost from the start" as EMAXITER
-     * with info ENOPROG.  after_scan: x is a converged solution moved by
-     * the contact-point scan or a reweighting */
-    if (status == GSL_EMAXITER && info == GSL_ENOPROG && iters < f->set.max_iter)
-        status = GSL_ENOPROG;
-    stop_reason(status, info, f->set.max_iter, run);
-    take_position(f, x);
-    if (status == GSL_ENOPROG && !at_minimum(f) && f->fdf.df != NULL && !no_descent(f, x)) {
-        /* the analytic derivatives, guarded at the contact edge, can point
-         * nowhere useful there: go on with finite differences, which see the
-         * residuals as they are */
-        f->fdf.df = NULL;
-        status = solve_again(f, x, 0, run, &info, &dead, &started);
-        f->fdf.df = lf_fit_jacobian;
-        stop_reason(status, info, f->set.max_iter, run);
-        take_position(f, x);
-    }
-    for (nudge = 0; status == GSL_ENOPROG && nudge < FIT_NUDGES && !at_minimum(f)
-                    && !no_descent_move(f, x, 1, &gain); nudge++) {
-        /* the solver's steps, analytic and finite-difference, all rise, yet a
-         * coordinate step lowers the cost (a kink the quadratic model cannot
-         * see): take that step and solve on from there; a step that gains
-         * less than chi2_step of chi2/dof is the rounding of a kink's
-         * minimum, where the Gauss-Newton test cannot pass */
-        if (gain < f->chi2_step) {
-            kink = 1;
-            break;
-        }
-        status = solve_again(f, x, 1, run, &info, &dead, &started);
-        if (!started)
-            break;
-        if (status == GSL_EBADFUNC) {
-            status = GSL_ENOPROG;       /* judged below as the stall it ends */
-            take_position(f, x);
-            break;
-        }
-        stop_reason(status, info, f->set.max_iter, run);
-        take_position(f, x);
-    }
-    if (status == GSL_ENOPROG && !at_minimum(f) && !after_scan && (kink || no_descent(f, x))) {
-        lf_fit_run_says(run, LF_STOP_CONVERGED, "converged (no step lowers the cost: a kink "
-                        "where a point meets the contact edge)");
-        return LF_OK;
-    }
-    if (status == GSL_ENOPROG && (at_minimum(f) || after_scan)) {
-        /* after the contact-point scan the cost sits at a kink of the
-         * model, where the gradient need not vanish */
-        lf_fit_run_says(run, LF_STOP_CONVERGED, "%s", after_scan
-                        ? "converged (no step lowers the cost from the previous solution)"
-                        : "converged (no further decrease at a stationary point)");
-    }
-    take_position(f, x);
-    return LF_OK;
-}
-

@@ -27,32 +27,6 @@
 
 #include "fit.h"
 
-#define Z95 1.959963984540054
-#define Z95_ONE_SIDED 1.6448536269514722
-
-void
-lf_fit_result_free(lf_fit_result *r)
-{
-    size_t j;
-
-    if (r == NULL)
-        return;
-    free(r->names);
-    free(r->value);
-    free(r->cov);
-    free(r->corr);
-    free(r->singular);
-    if (r->curves != NULL)
-        for (j = 0; j < r->ncurves; j++) {
-            free(r->curves[j].fitted);
-            free(r->curves[j].contact_radius);
-            lf_warnings_free(&r->curves[j].warnings);
-        }
-    free(r->curves);
-    lf_warnings_free(&r->identifiability);
-    lf_warnings_free(&r->warnings);
-    memset(r, 0, sizeof *r);
-}
 
 /* Standard error of free parameter i, or NaN. */
 static double
@@ -73,24 +47,6 @@ estimate_fixed(lf_fit_estimate *e, double value)
     e->upper_bound_only = 0;
 }
 
-void
-lf_fit_estimate_drop(lf_fit_estimate *e, const char *why)
-{
-    e->why = why;
-    e->value = e->se = e->ci95[0] = e->ci95[1] = NAN;
-    e->determined = 0;
-    e->upper_bound_only = 0;
-}
-
-void
-lf_fit_pulloff_follows(lf_fit_result *r)
-{
-    size_t j;
-
-    for (j = 0; j < r->ncurves; j++)
-        r->curves[j].pulloff_determined = r->w.determined;
-}
-
 static void
 estimate_undetermined(lf_fit_estimate *e, int free)
 {
@@ -105,36 +61,11 @@ estimate_positive(lf_fit_estimate *e, double value, double se)
     e->why = NULL;
     e->value = value;
     e->se = se;
-    e->ci95[0] = value * exp(-Z95 * se / value);
-    e->ci95[1] = value * exp(Z95 * se / value);
+    e->ci95[0] = value * exp(-FIT_Z95 * se / value);
+    e->ci95[1] = value * exp(FIT_Z95 * se / value);
     e->free = 1;
     e->determined = 1;
     e->upper_bound_only = 0;
-}
-
-static int
-alloc_result(lf_fit *f, lf_fit_result *r)
-{
-    size_t j, p = f->np;
-
-    r->npar = p;
-    r->names = calloc(p, sizeof *r->names);
-    r->value = calloc(p, sizeof *r->value);
-    r->cov = calloc(p * p, sizeof *r->cov);
-    r->corr = calloc(p * p, sizeof *r->corr);
-    r->singular = calloc(p, sizeof *r->singular);
-    r->ncurves = f->ncurves;
-    r->curves = calloc(f->ncurves, sizeof *r->curves);
-    if (!r->names || !r->value || !r->cov || !r->corr || !r->singular || !r->curves)
-        return LF_ENOMEM;
-    for (j = 0; j < f->ncurves; j++) {
-        size_t n = f->c[j].data.n;
-        r->curves[j].fitted = calloc(n, sizeof *r->curves[j].fitted);
-        r->curves[j].contact_radius = calloc(n, sizeof *r->curves[j].contact_radius);
-        if (!r->curves[j].fitted || !r->curves[j].contact_radius)
-            return LF_ENOMEM;
-    }
-    return LF_OK;
 }
 
 static void
@@ -158,13 +89,12 @@ name_parameters(const lf_fit *f, lf_fit_result *r)
 }
 
 /* The shared decomposition (decomp.c) at x: the covariance, singular
- * values and nullw[k], the weight of parameter k in the undetermined
- * directions. */
+ * values and V, D and the rank. */
 static int
 normal_decompose(lf_fit *f, const double *x, const gsl_vector *res, fit_decomp *d)
 {
     const size_t p = f->np;
-    const fit_lm *lm = &f->w.lm;
+    const fit_lm *lm = &f->ws.lm;
     gsl_vector_const_view xv = gsl_vector_const_view_array(x, p);
     double *G, *g, *c;
     int status;
@@ -178,7 +108,7 @@ normal_decompose(lf_fit *f, const double *x, const gsl_vector *res, fit_decomp *
     /* J^T J at x: lm.c's own when its last look at the Jacobian was at x
      * (the same origin and weights), else summed again (no evaluation: the
      * model's at x are cached) */
-    if (f->w.own && lf_fit_gn_at(f, &xv.vector)
+    if (f->ws.own && lf_fit_gn_at(f, &xv.vector)
         && memcmp(lm->x->data, x, p * sizeof *x) == 0)
         memcpy(G, lm->A, p * p * sizeof *G);
     else if (lf_fit_normal_sums(f, x, res->data, G, g, c) != GSL_SUCCESS) {
@@ -191,40 +121,31 @@ normal_decompose(lf_fit *f, const double *x, const gsl_vector *res, fit_decomp *
     return status;
 }
 
+/* The decomposition at x into d (the caller frees it): r's singular
+ * values and covariance. */
 static int
-decompose(lf_fit *f, const double *x, const gsl_vector *res, lf_fit_result *r, double *nullw)
+decompose(lf_fit *f, const double *x, const gsl_vector *res, lf_fit_result *r, fit_decomp *d)
 {
-    size_t p = f->np, i, k, l;
-    fit_decomp d;
+    size_t p = f->np, i, k;
     double s2 = r->se_scale * r->se_scale;
     int status;
 
-    status = normal_decompose(f, x, res, &d);
+    status = normal_decompose(f, x, res, d);
     if (status == LF_ENUMERIC) {
         /* not well conditioned enough for J^T J: the QR of J */
-        lf_fit_decomp_free(&d);
-        if (lf_fit_decomp_alloc(&d, f->nres, p) != LF_OK)
+        lf_fit_decomp_free(d);
+        if (lf_fit_decomp_alloc(d, f->nres, p) != LF_OK)
             return LF_ENOMEM;
-        status = lf_fit_decomp_run(&d, f, x, f->set.rcond);
+        status = lf_fit_decomp_run(d, f, x, f->set.rcond);
     }
     if (status != LF_OK)
-        goto done;
-    for (k = 0; k < p; k++) {
-        r->singular[k] = gsl_vector_get(d.S, k) / gsl_vector_get(d.S, 0);
-        nullw[k] = lf_fit_decomp_nullw(&d, k);
-    }
+        return status;
+    for (k = 0; k < p; k++)
+        r->singular[k] = gsl_vector_get(d->S, k) / gsl_vector_get(d->S, 0);
     for (i = 0; i < p; i++)
-        for (k = 0; k < p; k++) {
-            double c = 0.0, di = gsl_vector_get(d.D, i), dk = gsl_vector_get(d.D, k);
-            for (l = 0; l < d.rank; l++) {
-                double sl = gsl_vector_get(d.S, l);
-                c += gsl_matrix_get(d.V, i, l) * gsl_matrix_get(d.V, k, l) / (sl * sl);
-            }
-            r->cov[i * p + k] = di > 0 && dk > 0 ? s2 * c / (di * dk) : NAN;
-        }
-done:
-    lf_fit_decomp_free(&d);
-    return status;
+        for (k = 0; k < p; k++)
+            r->cov[i * p + k] = lf_fit_decomp_cov(d, (int) i, (int) k, s2);
+    return LF_OK;
 }
 
 /* The residuals' autocorrelation time, pooled over the curves by their
@@ -244,203 +165,47 @@ pooled_corr_time(lf_fit *f, lf_fit_result *r, const gsl_vector *res)
     return n > 0 ? sum / (double) n : 1.0;
 }
 
-/* M = Z(nu) E* of the bonded curves and its error from the covariance
+/* The variance of M = Z(nu) E* of the bonded curves from the covariance
  * (before undetermined rows are blanked: M can be determined when E* and
  * nu are not). */
-static void
-estimate_M(const lf_fit *f, const lf_fit_result *r, const lf_material *mat,
-           const double *nullw, lf_fit_estimate *M)
+static double
+M_variance(const lf_fit *f, const lf_fit_result *r, const lf_material *mat)
 {
-    int iE = f->imat[FIT_E], inu = f->imat[FIT_NU];
+    const int idx[2] = { f->imat[FIT_E], f->imat[FIT_NU] };
     double Z = lf_thin_Z(LF_BASE_BONDED, mat->nu), dlnZ = lf_thin_dlogZ_dnu(LF_BASE_BONDED, mat->nu);
     double g[2], var = 0.0;
-    int idx[2] = { iE, inu }, a, b, bad = 0;
+    int a, b;
 
-    if (!f->any_bonded) {
-        estimate_undetermined(M, 0);
-        return;
-    }
-    if (iE < 0 && inu < 0) {
-        estimate_fixed(M, Z * mat->Estar);
-        return;
-    }
     g[0] = Z;                       /* dM/dE* */
     g[1] = mat->Estar * Z * dlnZ;   /* dM/dnu */
     for (a = 0; a < 2; a++)
         for (b = 0; b < 2; b++)
             if (idx[a] >= 0 && idx[b] >= 0)
                 var += g[a] * g[b] * r->cov[(size_t) idx[a] * r->npar + (size_t) idx[b]];
-    /* E* alone undetermined (not through nu) leaves M undetermined too */
-    if (iE >= 0 && nullw[iE] > 0.01 && (inu < 0 || nullw[inu] <= 0.01))
-        bad = 1;
-    if (bad || !(var >= 0)) {
+    return var;
+}
+
+/* M and its error; whether it is free and determined is the judgement's. */
+static void
+estimate_M(const lf_fit *f, const lf_fit_result *r, const lf_material *mat,
+           const judge_out *o, lf_fit_estimate *M)
+{
+    double Z = lf_thin_Z(LF_BASE_BONDED, mat->nu), var;
+
+    if (!o->M_free) {
+        if (f->any_bonded && f->imat[FIT_E] < 0 && f->imat[FIT_NU] < 0)
+            estimate_fixed(M, Z * mat->Estar);
+        else
+            estimate_undetermined(M, 0);
+        return;
+    }
+    var = M_variance(f, r, mat);
+    if (!o->M_det || !(var >= 0)) {
         estimate_undetermined(M, 1);
+        M->why = o->M_why;
         return;
     }
     estimate_positive(M, Z * mat->Estar, sqrt(var));
-}
-
-/* physics.md section 2: with k = 2 only and free z0 and F0, the contact
- * part of a curve is a parabola (three coefficients for four unknowns) and
- * w rests on the baseline past detachment alone.  Where every curve is
- * like that and less than 10% of its points lie past detachment at the
- * solution, w is not determined (whatever a noisy edge suggests). */
-static int
-k2_without_baseline(const lf_fit *f)
-{
-    return f->k2_degenerate;
-}
-
-/* The thin layer's k = 2 force is M K ((z - z0)^2 - c^2) + F0 in contact:
- * w (through c) only shifts it, like F0; a model of finite thickness (the
- * exact one) nearly keeps that form where the layer is thin.  Points past detachment (the
- * baseline) measure F0 and so w.  Decided from the data: with fewer than
- * three points out of contact at the solution, or when chi2 with w held
- * 55 times higher (every point then in contact) rises by less than 3.84
- * s^2 (the profile, profile.c), w and F0 are not separable. */
-static int
-k2_rule(lf_fit *f, const lf_fit_result *r, int *refitted)
-{
-    size_t i, j;
-    int few = 0;
-
-    int all_thin = 1;
-
-    *refitted = 0;
-    if (f->imat[FIT_W] < 0)
-        return 0;
-    for (j = 0; j < f->ncurves; j++) {
-        const fit_curve *c = &f->c[j];
-        size_t nout = 0;
-        if (fabs(c->data.probe.k - 2.0) > 1e-9 || c->iz0 < 0 || c->iF0 < 0)
-            return 0;
-        all_thin &= lf_model_get_type(c->model) == &lf_model_thin;
-        for (i = 0; i < c->data.n; i++)
-            nout += f->w.ev[c->row + i].a == 0.0;
-        few |= nout < 3;
-    }
-    /* under the thin model the parabola is exact: too few points out of
-     * contact settle it; under a model of finite thickness the curve only
-     * nearly is one, and the profile decides */
-    if (all_thin && few)
-        return 1;
-    *refitted = 1;      /* the profile's refit moves f's evaluations */
-    return lf_fit_w_open_above(f, r, exp(4.0));
-}
-
-void
-lf_fit_say_undetermined(lf_warnings *out, int bonded_only, const char *nu_unseen_by,
-                        int w_with_F0, int all_k2, int all_load)
-{
-    if (bonded_only)
-        lf_warn(out, "only bonded curves: nu is not determined (fix nu or add a frictionless curve)");
-    if (nu_unseen_by != NULL)
-        lf_warn(out, "%s curves do not depend on nu: nu is not determined "
-                "(add a bonded curve of the same material to measure it)", nu_unseen_by);
-    if (w_with_F0 && all_k2 && all_load)
-        /* the baseline before contact is there: on loading, the curve's
-         * shape does not fix w, and the jump into contact that shows it is
-         * not resolved */
-        lf_warn(out, "k = 2 alone with free F0 and z0 cannot separate w from the force offset "
-                "on loading: the curve's shape does not fix w, and the jump into contact that "
-                "shows it is not resolved (fit the unload segment, whose pull-off and baseline "
-                "past detachment measure it, add a probe with k != 2, or fix F0)");
-    else if (w_with_F0 && all_k2)
-        lf_warn(out, "k = 2 alone with free F0 and z0 cannot separate w from the force offset "
-                "(record the baseline past detachment, add a probe with k != 2, or fix F0)");
-    else if (w_with_F0)
-        lf_warn(out, "w cannot be separated from the force offsets (record the baseline past "
-                "detachment or fix F0)");
-}
-
-/* What the data cannot determine, in words. */
-static void
-explain(const lf_fit *f, lf_fit_result *r, const double *nullw)
-{
-    char buf[800];
-    size_t k, j, len = 0;
-    int all_k2 = 1, all_load = 1, w_null = f->imat[FIT_W] >= 0 && nullw[f->imat[FIT_W]] > 0.01;
-    int F0_null = 0, other = 0, all_halfspace = 1;
-
-    for (j = 0; j < f->ncurves; j++) {
-        if (fabs(f->c[j].data.probe.k - 2.0) > 1e-9)
-            all_k2 = 0;
-        if (f->c[j].data.branch != LF_BRANCH_LOAD)
-            all_load = 0;
-        if (lf_model_get_type(f->c[j].model)->scope != LF_SCOPE_HALFSPACE)
-            all_halfspace = 0;
-        if (f->c[j].iF0 >= 0 && nullw[f->c[j].iF0] > 0.01)
-            F0_null = 1;
-    }
-    if (f->imat[FIT_W] >= 0 && k2_without_baseline(f))
-        w_null = F0_null = 1;
-    if (f->any_bonded && !f->any_frictionless && !r->nu.determined
-        && f->set.Estar.mode != LF_PARAM_FIXED && r->M.determined)
-        lf_warn(&r->identifiability,
-                "only bonded curves: the data fix M = Z*E* = %.4g Pa (se %.2g Pa) and w; "
-                "nu is not determined (fix nu or add a frictionless curve)",
-                r->M.value, r->M.se);
-    lf_fit_say_undetermined(&r->identifiability,
-                            f->any_bonded && !f->any_frictionless && !r->nu.determined
-                                && f->set.Estar.mode != LF_PARAM_FIXED && !r->M.determined,
-                            !f->any_bonded && f->set.nu.mode != LF_PARAM_FIXED
-                                ? (all_halfspace ? "half-space" : "frictionless") : NULL,
-                            w_null && F0_null, all_k2, all_load);
-    if (r->w.upper_bound_only)
-        lf_warn(&r->identifiability, "adhesion below the noise: w < %.4g J/m^2 (95%%)",
-                r->w.ci95[1]);
-    buf[0] = '\0';
-    for (k = 0; k < f->np; k++) {
-        int is_mat = (int) k == f->imat[FIT_W] || (int) k == f->imat[FIT_E]
-                     || (int) k == f->imat[FIT_NU];
-        int explained = ((int) k == f->imat[FIT_W] && F0_null)
-                        || (f->any_bonded && !f->any_frictionless
-                            && ((int) k == f->imat[FIT_E] || (int) k == f->imat[FIT_NU]));
-        if (nullw[k] > 0.01 && !explained && (is_mat || !F0_null)) {
-            len += (size_t) snprintf(buf + len, len < sizeof buf ? sizeof buf - len : 0,
-                                     "%s%s", other ? ", " : "", r->names[k]);
-            other = 1;
-        }
-    }
-    if (other && len < sizeof buf)
-        lf_warn(&r->identifiability, "not determined by the data: %s (fix some of them or add curves)", buf);
-    if (r->identifiability.n == 0)
-        lf_warn(&r->identifiability,
-                "every free parameter is determined (smallest scaled singular value %.2g)",
-                r->singular[f->np - 1]);
-}
-
-double
-lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, size_t stride)
-{
-    const fit_curve *c = &f->c[j];
-    const size_t *ord = f->order + c->row;
-    size_t i, npos = 0, nneg = 0, runs = 0;
-    double mu, var, nn;
-    int last = 0;
-
-    /* without branches: the signs are noise, a branch on each would be
-     * mispredicted half the time; a zero residual is skipped */
-    for (i = 0; i < c->data.n; i += stride) {
-        double u = gsl_vector_get(res, c->row + ord[i]);
-        int pos = u > 0, neg = u < 0, sgn = pos - neg, nz = pos | neg;
-        npos += (size_t) pos;
-        nneg += (size_t) neg;
-        runs += (size_t) (nz & (sgn != last));
-        last = nz ? sgn : last;
-    }
-    nn = (double) (npos + nneg);
-    if (nn < 2)
-        return 0.0;
-    mu = 2.0 * (double) npos * (double) nneg / nn + 1.0;
-    var = (mu - 1.0) * (mu - 2.0) / (nn - 1.0);
-    return var > 0 ? ((double) runs - mu) / sqrt(var) : 0.0;
-}
-
-double
-lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
-{
-    return lf_fit_runs_z_stride(f, j, res, 1);
 }
 
 /* Does curve j agree with the material fitted to all curves?  Its
@@ -462,7 +227,7 @@ consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_resul
     }
     cr->downweighted = 0;
     for (i = 0; i < c->data.n; i++)
-        cr->downweighted += f->w.sqrtw[c->row + i] * f->w.sqrtw[c->row + i] < 0.5;
+        cr->downweighted += f->ws.sqrtw[c->row + i] * f->ws.sqrtw[c->row + i] < 0.5;
     own = (size_t) (c->iz0 >= 0) + (size_t) (c->iF0 >= 0) + (size_t) (c->islope >= 0);
     (void) chi2;
     /* chi2 per point and the runs test against the noise model of the data
@@ -482,17 +247,6 @@ consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_resul
  * sphere reaches a = R.  Past SPHERE_A_OVER_R (5% in height) the largest
  * contact radius of the curve is a warning. */
 #define SPHERE_A_OVER_R 0.43
-/* The thin-layer model past its limit of b/a (at `where`), in the words
- * of lf_thin_scope. */
-static void
-thin_strain(lf_warnings *w, double ba, const char *where, double limit)
-{
-    const char *words = lf_thin_scope(ba, limit);
-
-    if (words != NULL)
-        lf_warn(w, "b/a = %.3g %s: %s (limit %g)", ba, where, words, limit);
-}
-
 static void
 sphere_check(const lf_probe *p, double amax, lf_warnings *w)
 {
@@ -532,8 +286,8 @@ contact_point_check(const fit_curve *c, const lf_fit_curve_result *cr, lf_warnin
 }
 
 static void
-assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
-             const double *nullw, const gsl_vector *res)
+assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r, const fit_decomp *d,
+             const judge_out *o, const gsl_vector *res)
 {
     const fit_curve *c = &f->c[j];
     lf_fit_curve_result *cr = &r->curves[j];
@@ -555,21 +309,20 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
     cr->z0_se = se_of(r, c->iz0);
     cr->F0_se = se_of(r, c->iF0);
     cr->slope_se = se_of(r, c->islope);
-    if (c->iz0 >= 0 && nullw[c->iz0] > 0.01)
+    if (c->iz0 >= 0 && !lf_judge_col_determined(d, c->iz0))
         cr->z0 = cr->z0_se = NAN;
-    if (c->iF0 >= 0 && (nullw[c->iF0] > 0.01
-                        || (f->imat[FIT_W] >= 0 && k2_without_baseline(f))))
+    if (c->iF0 >= 0 && (!lf_judge_col_determined(d, c->iF0) || o->k2))
         cr->F0 = cr->F0_se = NAN;
     cr->sigma = c->sigma;
     for (i = 0; i < c->data.n; i++) {
         size_t k = c->row + i;
-        double e = gsl_vector_get(res, k) * c->sigma / f->w.sqrtw[k];
+        double e = gsl_vector_get(res, k) * c->sigma / f->ws.sqrtw[k];
         ss += e * e;
         cr->fitted[i] = c->data.force[i] + e;
-        cr->contact_radius[i] = f->w.ev[k].a;
-        if (f->w.ev[k].a > 0)
-            amin = lf_fmin(amin, f->w.ev[k].a);
-        amax = lf_fmax(amax, f->w.ev[k].a);
+        cr->contact_radius[i] = f->ws.ev[k].a;
+        if (f->ws.ev[k].a > 0)
+            amin = lf_fmin(amin, f->ws.ev[k].a);
+        amax = lf_fmax(amax, f->ws.ev[k].a);
     }
     cr->rms = sqrt(ss / (double) c->data.n);
     if (lf_model_pulloff(c->model, &mat, &cr->pulloff, NULL) != LF_OK)
@@ -579,10 +332,11 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r,
     cr->pulloff_determined = r->w.determined;
     /* the b << a warnings concern the thin-layer model only */
     if (lf_model_get_type(c->model)->scope == LF_SCOPE_THIN) {
-        thin_strain(&cr->warnings, cr->b_over_a_min_contact, "at the shallowest point in contact",
-                    f->set.max_b_over_a);
+        lf_judge_thin_strain(&cr->warnings, NULL, cr->b_over_a_min_contact,
+                             "at the shallowest point in contact", f->set.max_b_over_a);
         if (cr->pulloff_determined)
-            thin_strain(&cr->warnings, cr->b_over_a_pulloff, "at pull-off", f->set.max_b_over_a);
+            lf_judge_thin_strain(&cr->warnings, NULL, cr->b_over_a_pulloff, "at pull-off",
+                                 f->set.max_b_over_a);
     }
     sphere_check(&c->data.probe, amax, &cr->warnings);
     contact_point_check(c, cr, &cr->warnings);
@@ -634,18 +388,118 @@ agreement(const lf_fit *f, lf_fit_result *r)
     }
 }
 
+/* The judgement's measures at a fit's solution (judge.c asks for them
+ * only where it needs them). */
+typedef struct {
+    lf_fit *f;
+    const double *x;
+    const lf_fit_result *r;
+    const fit_decomp *d;    /* at x */
+    int refitted;           /* the k = 2 refit moved f's evaluations */
+} assess_ctx;
+
+/* k = 2: chi2 with w held e^FIT_K2_W_HIGH times higher (every point then
+ * in contact) against its threshold, by a refit (hold.c). */
+static int
+w_open_above(void *ctx)
+{
+    assess_ctx *a = ctx;
+    a->refitted = 1;
+    return lf_fit_w_open_above(a->f, a->r, exp(FIT_K2_W_HIGH));
+}
+
+/* E* with nu's column (nu held) added to the Jacobian at x: 1 when still
+ * determined, with the regression of ln E* on nu. */
+static int
+E_with_nu(void *ctx, double *dlnE_dnu)
+{
+    assess_ctx *a = ctx;
+    lf_fit *f = a->f;
+    const int e = f->imat[FIT_E], nu = (int) f->np;
+    fit_decomp d;
+    int ok = 0;
+
+    if (lf_fit_decomp_alloc(&d, f->nres, f->np + 1) != LF_OK)
+        return 0;
+    if (lf_fit_jacobian_physical_nu(f, a->x, d.QR) == GSL_SUCCESS
+        && lf_fit_decomp_factor(&d, f->set.rcond, 1) == LF_OK && lf_judge_col_determined(&d, e)
+        && lf_fit_decomp_cov(&d, nu, nu, 1.0) > 0) {
+        *dlnE_dnu = lf_fit_decomp_cov(&d, e, nu, 1.0) / lf_fit_decomp_cov(&d, nu, nu, 1.0) / f->mat.Estar;
+        ok = 1;
+    }
+    lf_fit_decomp_free(&d);
+    return ok;
+}
+
+/* The judgement of what the data determine at x (judge.c), its words into
+ * r->identifiability. */
+static int
+judge_at(lf_fit *f, const double *x, const fit_run *run, const fit_decomp *d, lf_fit_result *r,
+         const lf_material *mat, judge_out *o)
+{
+    judge_curve *jc = calloc(f->ncurves, sizeof *jc);
+    assess_ctx a = { f, x, r, d, 0 };
+    judge_in in;
+    size_t j, i;
+    int m;
+
+    if (jc == NULL)
+        return -1;
+    memset(&in, 0, sizeof in);
+    in.d = d;
+    for (m = 0; m < FIT_NMAT; m++)
+        in.col[m] = f->imat[m];
+    in.held_by_user[FIT_W] = f->set.w.mode == LF_PARAM_FIXED;
+    in.held_by_user[FIT_E] = f->set.Estar.mode == LF_PARAM_FIXED;
+    in.held_by_user[FIT_NU] = f->set.nu.mode == LF_PARAM_FIXED;
+    in.w = mat->w;
+    in.w_se = se_of(r, f->imat[FIT_W]);
+    in.nu = mat->nu;
+    in.M = lf_thin_Z(LF_BASE_BONDED, mat->nu) * mat->Estar;
+    in.M_se = sqrt(M_variance(f, r, mat));
+    in.dM[0] = lf_thin_Z(LF_BASE_BONDED, mat->nu);
+    in.dM[1] = in.M * lf_thin_dlogZ_dnu(LF_BASE_BONDED, mat->nu);
+    in.ncurves = f->ncurves;
+    in.c = jc;
+    in.ran_away = run->stop == LF_STOP_RAN_AWAY;
+    in.ran_col = in.ran_away ? run->ran_col : -1;
+    for (j = 0; j < f->ncurves; j++)
+        in.ran_force |= in.ran_col >= 0 && f->c[j].iF0 == in.ran_col;
+    in.ctx = &a;
+    in.w_open_above = w_open_above;
+    in.E_with_nu = E_with_nu;
+    for (j = 0; j < f->ncurves; j++) {
+        const fit_curve *c = &f->c[j];
+        snprintf(jc[j].label, sizeof jc[j].label, "%zu", j + 1);
+        jc[j].k = c->data.probe.k;
+        jc[j].base = c->data.probe.base;
+        jc[j].branch = c->data.branch;
+        jc[j].model = lf_model_get_type(c->model);
+        for (i = 0; i < c->data.n; i++)
+            jc[j].n_out += f->ws.ev[c->row + i].a == 0.0;
+        jc[j].col_z0 = c->iz0;
+        jc[j].col_F0 = c->iF0;
+        jc[j].col_slope = c->islope;
+    }
+    lf_judge(&in, o, &r->identifiability);
+    free(jc);
+    return a.refitted;
+}
+
 int
-lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
+lf_fit_assess(lf_fit *f, const double *x, const fit_run *run, lf_fit_result *r, lf_error *err)
 {
     size_t p = f->np, i, k, j;
     gsl_vector *res = gsl_vector_alloc(f->nres);
     gsl_vector_const_view xv = gsl_vector_const_view_array(x, p);
-    double *nullw = NULL, z0, F0, slope;
+    double z0, F0, slope;
     lf_material mat;
+    fit_decomp d;
+    judge_out o;
     int status, refitted;
 
-    if (res == NULL || (nullw = calloc(p, sizeof *nullw)) == NULL
-        || alloc_result(f, r) != LF_OK) {
+    memset(&d, 0, sizeof d);
+    if (res == NULL || lf_fit_result_alloc(f, r) != LF_OK) {
         status = lf_fail(err, LF_ENOMEM, "out of memory assessing a fit");
         goto done;
     }
@@ -661,7 +515,7 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
      * (noise.c), pooled over the curves by their points */
     r->corr_time = pooled_corr_time(f, r, res);
     r->se_scale = sqrt(r->chi2 / (double) r->dof * r->corr_time);
-    status = decompose(f, x, res, r, nullw);
+    status = decompose(f, x, res, r, &d);
     if (status != LF_OK) {
         status = lf_fail(err, status, "the Jacobian at the solution cannot be decomposed");
         goto done;
@@ -680,65 +534,62 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
     if (f->imat[FIT_W] >= 0) r->value[f->imat[FIT_W]] = mat.w;
     if (f->imat[FIT_E] >= 0) r->value[f->imat[FIT_E]] = mat.Estar;
     if (f->imat[FIT_NU] >= 0) r->value[f->imat[FIT_NU]] = mat.nu;
-    /* the k = 2 degeneracy, decided from the data (profile.c refits from
-     * these values; the model's evaluations ev[] are those at x again after) */
-    f->k2_degenerate = 0;
-    f->k2_degenerate = k2_rule(f, r, &refitted);
+    /* what the data determine (judge.c; the k = 2 check refits from these
+     * values, hold.c: the model's evaluations ev[] are those at x again
+     * after) */
+    refitted = judge_at(f, x, run, &d, r, &mat, &o);
+    if (refitted < 0) {
+        status = lf_fail(err, LF_ENOMEM, "out of memory assessing a fit");
+        goto done;
+    }
     if (refitted && lf_fit_residuals(&xv.vector, f, res) != GSL_SUCCESS) {
         status = lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the solution");
         goto done;
     }
-    estimate_M(f, r, &mat, nullw, &r->M);
+    estimate_M(f, r, &mat, &o, &r->M);
 
     /* w */
     if (f->imat[FIT_W] < 0)
         estimate_fixed(&r->w, mat.w);
-    else if (nullw[f->imat[FIT_W]] > 0.01 || k2_without_baseline(f))
+    else if (o.w_upper) {
         estimate_undetermined(&r->w, 1);
-    else {
-        double se = se_of(r, f->imat[FIT_W]);
-        if (mat.w < 2.0 * se) {
-            estimate_undetermined(&r->w, 1);
-            r->w.upper_bound_only = 1;
-            r->w.ci95[0] = 0.0;
-            r->w.ci95[1] = mat.w + Z95_ONE_SIDED * se;
-        } else {
-            estimate_positive(&r->w, mat.w, se);
-        }
+        r->w.upper_bound_only = 1;
+        r->w.ci95[0] = 0.0;
+        r->w.ci95[1] = o.w_bound;
+    } else if (!o.det[FIT_W]) {
+        estimate_undetermined(&r->w, 1);
+        r->w.why = o.why[FIT_W];
+    } else {
+        estimate_positive(&r->w, mat.w, se_of(r, f->imat[FIT_W]));
     }
     /* nu */
-    if (f->imat[FIT_NU] >= 0 && nullw[f->imat[FIT_NU]] <= 0.01) {
+    if (o.det[FIT_NU]) {
         double se = se_of(r, f->imat[FIT_NU]);
         r->nu.value = mat.nu;
         r->nu.se = se;
-        r->nu.ci95[0] = lf_fmax(mat.nu - Z95 * se, 0.0);
-        r->nu.ci95[1] = lf_fmin(mat.nu + Z95 * se, 0.5);
+        r->nu.ci95[0] = lf_fmax(mat.nu - FIT_Z95 * se, 0.0);
+        r->nu.ci95[1] = lf_fmin(mat.nu + FIT_Z95 * se, 0.5);
         r->nu.free = 1;
         r->nu.determined = 1;
         r->nu.why = NULL;
-    } else if (f->imat[FIT_NU] >= 0) {
-        estimate_undetermined(&r->nu, 1);
-    } else if (f->set.nu.mode == LF_PARAM_FIXED) {
-        estimate_fixed(&r->nu, mat.nu);
+    } else if (f->imat[FIT_NU] >= 0 || f->set.nu.mode != LF_PARAM_FIXED) {
+        estimate_undetermined(&r->nu, f->imat[FIT_NU] >= 0);
+        r->nu.why = o.why[FIT_NU];
     } else {
-        estimate_undetermined(&r->nu, 0);
+        estimate_fixed(&r->nu, mat.nu);
     }
-    /* E*: bonded curves alone fix M only, unless nu is known */
+    /* E* */
     if (f->imat[FIT_E] < 0)
         estimate_fixed(&r->Estar, mat.Estar);
-    else if (f->any_bonded && !f->any_frictionless && !r->nu.determined)
-        /* bonded curves alone: E* = M / Z(nu) with nu unknown */
+    else if (!o.det[FIT_E]) {
         estimate_undetermined(&r->Estar, 1);
-    else if (nullw[f->imat[FIT_E]] > 0.01) {
-        estimate_undetermined(&r->Estar, 1);
-        r->Estar.why = "the data do not separate it from the other parameters (see what the "
-                       "data determine)";
+        r->Estar.why = o.why[FIT_E];
     } else
         estimate_positive(&r->Estar, mat.Estar, se_of(r, f->imat[FIT_E]));
 
     /* blank what is not determined, then correlations */
     for (k = 0; k < p; k++)
-        if (nullw[k] > 0.01)
+        if (!lf_judge_col_determined(&d, (int) k))
             for (i = 0; i < p; i++)
                 r->cov[k * p + i] = r->cov[i * p + k] = NAN;
     for (i = 0; i < p; i++)
@@ -746,9 +597,8 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
             r->corr[i * p + k] = r->cov[i * p + k]
                                  / sqrt(r->cov[i * p + i] * r->cov[k * p + k]);
     for (j = 0; j < f->ncurves; j++)
-        assess_curve(f, x, j, r, nullw, res);
+        assess_curve(f, x, j, r, &d, &o, res);
     agreement(f, r);
-    explain(f, r, nullw);
     if (r->corr_time > 1.5)
         lf_warn(&r->warnings, "neighbouring residuals are correlated (filtered or oversampled "
                 "data): about one independent point in %.3g; standard errors include that "
@@ -760,6 +610,6 @@ lf_fit_assess(lf_fit *f, const double *x, lf_fit_result *r, lf_error *err)
     status = LF_OK;
 done:
     gsl_vector_free(res);
-    free(nullw);
+    lf_fit_decomp_free(&d);
     return status;
 }

@@ -116,11 +116,11 @@ gn_step(lf_fit *f, const gsl_vector *x, gsl_vector *step)
 
     if (lf_fit_decomp_alloc(&d, f->nres, p) != LF_OK)
         return NAN;
-    if (lf_fit_residuals(x, f, f->w.r2) != GSL_SUCCESS || lf_fit_jacobian(x, f, d.QR) != GSL_SUCCESS
+    if (lf_fit_residuals(x, f, f->ws.r2) != GSL_SUCCESS || lf_fit_jacobian(x, f, d.QR) != GSL_SUCCESS
         || lf_fit_decomp_factor(&d, 1e-10, 0) != LF_OK)
         goto done;
     coef = d.work->data;       /* the factorisation's scratch, free again */
-    lf_fit_decomp_project(&d, f->w.r2->data, coef);   /* (U_l . r) / S_l */
+    lf_fit_decomp_project(&d, f->ws.r2->data, coef);   /* (U_l . r) / S_l */
     gsl_vector_set_zero(step);
     dec = 0.0;
     for (l = 0; l < d.rank; l++) {
@@ -152,10 +152,10 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
         int known = lf_fit_gn_at(f, x);
         double c0, c1 = HUGE_VAL;
         int lower = 0;
-        chi2 = known ? f->w.gn_chi2 : 2.0 * lf_fit_cost(f, x, f->w.r);
+        chi2 = known ? f->ws.gn_chi2 : 2.0 * lf_fit_cost(f, x, f->ws.r);
         s2 = lf_fmax(1.0, chi2 / (double) (f->nres > f->np ? f->nres - f->np : 1));
         c0 = 0.5 * chi2;
-        dec = known ? f->w.gn_dchi2 : gn_step(f, x, step);
+        dec = known ? f->ws.gn_dchi2 : gn_step(f, x, step);
         if (known && isfinite(dec) && run->converged && dec > FIT_STALL_SE2 * s2)
             dec = gn_step(f, x, step);
         if (!isfinite(dec))
@@ -184,7 +184,7 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
                 size_t i;
                 for (i = 0; i < f->np; i++)
                     trial->data[i] = x->data[i] + t * step->data[i];
-                c1 = lf_fit_cost(f, trial, f->w.r2);
+                c1 = lf_fit_cost(f, trial, f->ws.r2);
                 if (c1 < c0 - want) {
                     lower = 1;
                     break;
@@ -213,7 +213,7 @@ lf_fit_honest_end(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err)
                 break;
             run->iters += again.iters;
             run->evals += again.evals;
-            c1 = lf_fit_cost(f, trial, f->w.r2);
+            c1 = lf_fit_cost(f, trial, f->ws.r2);
             lower = c1 < c0 - 0.25 * FIT_STALL_SE2 * s2;
             if (lower && round == 0) {
                 /* the restart went on from there: its verdict stands, checked

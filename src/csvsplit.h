@@ -121,6 +121,46 @@ int lf_csv_cell_number(const char *file, const lf_csv_record *r, long k,
                        const lf_csv_column *col, int has_unit, double factor,
                        int decimal_comma, double *v, lf_error *err);
 
+/* A table whose header names its columns (a fit plan, a design plan:
+ * plan.c): the columns it may have and, once its header is read, where
+ * each sits and the factor of its header unit.  The readers fill file,
+ * cols, ncol and hint and zero the rest. */
+#define LF_CSV_MAX_COLUMNS 16
+typedef struct {
+    const char *file;           /* for messages */
+    const lf_csv_column *cols;  /* ncol (at most LF_CSV_MAX_COLUMNS) */
+    int ncol;
+    const char *hint;           /* the columns, for messages */
+    int have_header;
+    long header_line;
+    size_t ncells;              /* the header's cells */
+    long col[LF_CSV_MAX_COLUMNS];
+    int has_unit[LF_CSV_MAX_COLUMNS];
+    double factor[LF_CSV_MAX_COLUMNS];
+    int decimal_comma;          /* ';' separates the cells */
+} lf_csv_table;
+
+/* Read header record r into t (lf_csv_columns). */
+int lf_csv_table_header(lf_csv_table *t, const lf_csv_record *r, lf_error *err);
+/* Column c's cell of row r as a number in SI: NaN when the column is
+ * absent, or when the cell is empty or "nan" and empty_ok; an empty cell
+ * otherwise fails ("every row needs ...").  LF_OK, or a message with the
+ * cell's place. */
+int lf_csv_table_number(const lf_csv_table *t, const lf_csv_record *r, int c, int empty_ok,
+                        double *v, lf_error *err);
+/* Read a table from path (buf NULL) or from buf[0..len-1] in pieces of
+ * chunk bytes, handing each record to record(ctx, ...); then refuse one
+ * with no header ("empty WHAT (expected a header such as EXAMPLE and one
+ * row per ROW)") or, once read, *nrows == 0 ("header but no rows"). */
+int lf_csv_table_load(const lf_csv_table *t, const char *path, const char *buf, size_t len,
+                      size_t chunk, int (*record)(void *, const lf_csv_record *, lf_error *),
+                      void *ctx, const size_t *nrows, const char *what, const char *example,
+                      const char *row, lf_error *err);
+/* Column c's segment word (unload or load; empty or absent: unload) into
+ * *seg; a hold is refused, never fitted. */
+int lf_csv_table_segment(const lf_csv_table *t, const lf_csv_record *r, int c, lf_segment *seg,
+                         lf_error *err);
+
 /* The message for a header that is not text. */
 #define LF_CSV_NOT_TEXT "binary data or text that is not UTF-8 (expected a CSV text file)"
 

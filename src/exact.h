@@ -4,7 +4,8 @@
  * src/model_exact.c (the forward model).  Not installed.
  *
  * Everything here is dimensionless: lengths in units of the layer thickness
- * h, tau = a/h, x = t/a in [0, 1], E* scaled out (physics.md section 3).
+ * h, tau = a/h, x = t/a in [0, 1], E* scaled out (Lebedev & Ufliand 1958;
+ * Dimitriadis et al. 2002, Biophys. J. 82:2798).
  * For contact radius a = tau h the model needs four positive functions of
  * tau, from the Fredholm solutions u1 (right-hand side 1) and v
  * (right-hand side x^k):

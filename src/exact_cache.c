@@ -69,8 +69,8 @@ lf_cache_set_enabled(int on)
     atomic_store(&enabled, on ? 1 : 0);
 }
 
-int
-lf_cache_enabled(void)
+static int
+cache_enabled(void)
 {
     int e = atomic_load(&enabled);
 
@@ -297,7 +297,7 @@ lf_exact_disk_load(double k, lf_base base, double nu, double step, double node_f
     lf_exact_table *t;
     const unsigned char *p;
 
-    if (!lf_cache_enabled())
+    if (!cache_enabled())
         return NULL;
     if (base == LF_BASE_FRICTIONLESS)
         nu = 0.0;
@@ -364,7 +364,7 @@ lf_exact_disk_save(const lf_exact_table *t, double step, double node_factor)
     size_t nd, n4;
     int fd, ok;
 
-    if (!lf_cache_enabled())
+    if (!cache_enabled())
         return;
     n4 = LF_EXACT_NFUN * t->n;
     nd = 2 * n4 + 2 * LF_EXACT_NFUN;

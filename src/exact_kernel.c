@@ -1,7 +1,7 @@
 /* exact_kernel.c: the Lebedev-Ufliand kernel of an elastic layer on a rigid
  * base and the Nystrom solution of the Fredholm equation of the second kind
- * for an axisymmetric frictionless punch (physics.md section 3; Lebedev &
- * Ufliand 1958, Hayes et al. 1972).
+ * for an axisymmetric frictionless punch (Lebedev & Ufliand 1958, PMM
+ * 22:442; Hayes et al. 1972, J. Biomech. 5:541).
  *
  * Kernel.  kf(z) = int_0^inf g(u) cos(u z) du with g = 1 - L, which decays
  * like u^2 e^(-2u).  For z <= LF_EXACT_ZC it is integrated by Gauss-Legendre

@@ -14,7 +14,8 @@
  *    matched to the value and slope at TAU_MAX, f_thin the thin-layer limit
  *    of exact.h (Z of section 1).  This follows the 1/tau approach to the
  *    thin-layer form; it is accurate when TAU_MAX is well past the
- *    compressibility length l/h of physics.md section 5 (every frictionless
+ *    compressibility length l/h of the incompressible thin-layer limit
+ *    (Jaffar 1989, IJMS 31:229; Chadwick 2002) (every frictionless
  *    layer and bonded nu <= 0.45), and only approximate beyond.
  *
  * Store.  A process-wide list of immutable tables keyed by (k, base, nu):

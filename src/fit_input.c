@@ -39,6 +39,7 @@ lf_fit_input_free(lf_fit_input *in)
     free(in->R_source);
     free(in->format);
     free(in->origin);
+    free(in->index);
     free(in->curves);
     memset(in, 0, sizeof *in);
 }
@@ -48,6 +49,7 @@ input_alloc(lf_fit_input *in, size_t n)
 {
     memset(in, 0, sizeof *in);
     in->nu = in->x = in->y = NAN;
+    in->grid_i = in->grid_j = -1;
     in->n = n;
     in->curves = calloc(n ? n : 1, sizeof *in->curves);
     in->points = calloc(2 * n + 1, sizeof *in->points);
@@ -56,22 +58,9 @@ input_alloc(lf_fit_input *in, size_t n)
     in->R_source = calloc(n ? n : 1, sizeof *in->R_source);
     in->format = calloc(n ? n : 1, sizeof *in->format);
     in->origin = calloc(n ? n : 1, sizeof *in->origin);
+    in->index = calloc(n ? n : 1, sizeof *in->index);
     return in->curves && in->points && in->names && in->sha256 && in->R_source && in->format
-           && in->origin ? LF_OK : LF_ENOMEM;
-}
-
-/* A "# key: value" length of the curve's file, or NaN. */
-static double
-meta_length(const lf_curve *c, const char *key)
-{
-    size_t i;
-    for (i = 0; i < c->nmeta; i++)
-        if (strcmp(c->meta[i].key, key) == 0) {
-            double v;
-            if (lf_units_parse(c->meta[i].value, LF_Q_LENGTH, &v, NULL) == LF_OK)
-                return v;
-        }
-    return NAN;
+           && in->origin && in->index ? LF_OK : LF_ENOMEM;
 }
 
 /* The probe of a curve: R from the file's header where the caller gives
@@ -103,18 +92,46 @@ resolve_probe(lf_probe *p, const lf_curve *c, const char *path, const char *give
     return LF_OK;
 }
 
-/* Curve j of in from the file at path; format is the plan's format column
- * ("" or NULL: the settings' format, else sniffed). */
+/* The curve of a plan row or a command line: curve index of the file at
+ * path (-1: its only one), from source when the file is open already
+ * (lf_plan_expand), else opened here.  sha256 gets the file's. */
 static int
-add_curve(lf_fit_input *in, size_t j, const char *path, lf_segment seg, const lf_probe *probe,
-          const char *given, const char *format, double z0, double F0,
-          const lf_input_settings *s, lf_warnings *warn, lf_error *err)
+read_one(const char *path, long index, lf_file *source, const lf_read_opts *ro,
+         unsigned flags, lf_curve **out, char sha256[65], lf_warnings *warn, lf_error *err)
+{
+    lf_file *f = source;
+    int status = LF_OK;
+    size_t n;
+
+    if (f == NULL && (status = lf_file_open(path, flags, ro, &f, warn, err)) != LF_OK)
+        return status;
+    n = lf_file_count(f);
+    if (index < 0 && n > 1)
+        status = lf_fail_at(err, LF_EDATA, path, 0, 0, "holds %zu curves: a fit of one "
+                            "material takes one curve per row: name one as %s#0 .. %s#%zu (or "
+                            "in the plan's index column), or fit each on its own with "
+                            "layerfit fit --batch", n, path, path, n - 1);
+    else
+        status = lf_file_curve(f, index < 0 ? 0 : (size_t) index, out, warn, err);
+    memcpy(sha256, lf_file_sha256(f), 65);
+    if (f != source)
+        lf_file_close(f);
+    return status;
+}
+
+/* Curve j of in from the file at path (curve index of it, -1 its only
+ * one; source: the file already open, or NULL); format is the plan's
+ * format column ("" or NULL: the settings' format, else sniffed). */
+static int
+add_curve(lf_fit_input *in, size_t j, const char *path, long index, lf_file *source,
+          lf_segment seg, const lf_probe *probe, const char *given, const char *format,
+          double z0, double F0, const lf_input_settings *s, lf_warnings *warn, lf_error *err)
 {
     lf_curve *c = NULL;
     lf_fit_curve *fc = &in->curves[j];
     lf_read_opts ro;
     lf_probe p = *probe;
-    lf_input file;
+    char split[4096];
     size_t n;
     int status;
 
@@ -124,33 +141,38 @@ add_curve(lf_fit_input *in, size_t j, const char *path, lf_segment seg, const lf
         lf_read_opts_default(&ro);
     if (ro.format == NULL && format != NULL && format[0] != '\0')
         ro.format = format;
-    /* read once, whole, from a checked descriptor: what is parsed is what
-     * is hashed */
-    if ((status = lf_input_read(path, s->open_flags, &file, err)) != LF_OK)
-        return status;
-    memcpy(in->sha256[j], file.sha256, sizeof in->sha256[j]);
-    status = lf_curve_parse(file.data, file.len, 0, path, &ro, &c, warn, err);
-    lf_input_free(&file);
+    /* "FILE#N" names curve N of FILE */
+    if (index < 0 && source == NULL) {
+        if (lf_curve_path_split(path, split, sizeof split, &index) != LF_OK)
+            return lf_fail_at(err, LF_EINVAL, path, 0, 0, "path too long");
+        path = split;
+    }
+    /* a text export is read once, whole, from a checked descriptor (what is
+     * parsed is what is hashed); an archive by random access, hashed whole
+     * when it is opened */
+    status = read_one(path, index, source, &ro, s->open_flags, &c, in->sha256[j], warn, err);
     if (status != LF_OK)
         return status;
     if ((status = lf_curve_check_fit(c, seg, s->min_points, err)) != LF_OK
-        || (status = resolve_probe(&p, c, path, given, &in->R_source[j], warn, err)) != LF_OK) {
+        || (status = resolve_probe(&p, c, c->file, given, &in->R_source[j], warn, err)) != LF_OK) {
         lf_curve_free(c);
         return status;
     }
     if (j == 0) {
-        in->x = meta_length(c, "x");
-        in->y = meta_length(c, "y");
+        in->x = c->x;
+        in->y = c->y;
+        in->grid_i = c->grid_i;
+        in->grid_j = c->grid_j;
     }
     n = lf_curve_segment(c, seg, NULL, NULL);
     in->points[2 * j] = malloc(n * sizeof(double));
     in->points[2 * j + 1] = malloc(n * sizeof(double));
-    in->names[j] = malloc(strlen(path) + 1);
+    in->names[j] = lf_strdup(c->file);
     if (!in->points[2 * j] || !in->points[2 * j + 1] || !in->names[j]) {
         lf_curve_free(c);
         return lf_fail(err, LF_ENOMEM, "out of memory reading %s", path);
     }
-    strcpy(in->names[j], path);
+    in->index[j] = c->index;
     in->format[j] = c->format;
     in->origin[j].R = in->R_source[j];
     in->origin[j].b = isnan(probe->b) ? NULL : given;
@@ -184,7 +206,7 @@ same_data_before(const lf_plan *plan, const size_t *rows, const lf_fit_input *in
     size_t i;
 
     for (i = 0; i < j; i++)
-        if (in->curves[i].branch == in->curves[j].branch
+        if (in->curves[i].branch == in->curves[j].branch && in->index[i] == in->index[j]
             && strcmp(in->sha256[i], in->sha256[j]) == 0)
             return lf_fail_at(err, LF_EDATA, plan->path, row->line, 0,
                               "%s holds the same data as %s (line %ld; SHA-256 %.12s...): one "
@@ -263,9 +285,9 @@ lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
             }
             in->nu = row->nu;
         }
-        status = add_curve(in, j, row->file, s->segment >= 0 ? (lf_segment) s->segment
-                           : row->segment, &row->probe, "plan", row->format, row->z0, row->F0,
-                            s, warn, err);
+        status = add_curve(in, j, row->file, row->index, row->source,
+                           s->segment >= 0 ? (lf_segment) s->segment : row->segment,
+                           &row->probe, "plan", row->format, row->z0, row->F0, s, warn, err);
         if (status != LF_OK && err != NULL && err->file[0] == '\0')
             at_row(err, plan, row);
         if (status == LF_OK)
@@ -293,7 +315,8 @@ lf_fit_input_from_curve(const char *path, const lf_probe *probe, const lf_input_
         lf_fit_input_free(in);
         return lf_fail(err, LF_ENOMEM, "out of memory");
     }
-    status = add_curve(in, 0, path, s->segment >= 0 ? (lf_segment) s->segment : LF_SEG_UNLOAD,
+    status = add_curve(in, 0, path, -1, NULL,
+                       s->segment >= 0 ? (lf_segment) s->segment : LF_SEG_UNLOAD,
                        probe, "option", NULL, NAN, NAN, s, warn, err);
     if (status != LF_OK)
         lf_fit_input_free(in);

@@ -174,36 +174,44 @@ text_scan(text_check *t, const unsigned char *p, size_t n)
 int
 lf_input_read(const char *path, unsigned flags, lf_input *in, lf_error *err)
 {
-    struct sha256_ctx ctx;
-    uint8_t digest[SHA256_DIGEST_SIZE];
-    const size_t limit = lf_input_limit();
-    size_t cap = 65536, i;
-    text_check tc = { 0, 0, 0, 0 };
-    struct stat st;
     int fd, status;
 
     memset(in, 0, sizeof *in);
     if ((status = lf_input_open(path, flags, &fd, err)) != LF_OK)
         return status;
+    status = lf_input_read_fd(fd, path, flags, NULL, in, err);
+    close(fd);
+    return status;
+}
+
+int
+lf_input_read_fd(int fd, const char *path, unsigned flags,
+                 int (*binary)(const char *head, size_t len), lf_input *in, lf_error *err)
+{
+    struct sha256_ctx ctx;
+    uint8_t digest[SHA256_DIGEST_SIZE];
+    const size_t limit = lf_input_limit();
+    size_t cap = 65536, scanned = 0, i;
+    text_check tc = { 0, 0, 0, 0 };
+    int text = (flags & LF_INPUT_TEXT) != 0, decided = binary == NULL, status;
+    struct stat st;
+
+    memset(in, 0, sizeof *in);
     /* a regular file says its size: refused before a byte is read */
-    if ((status = lf_input_check_size(fd, path, err)) != LF_OK) {
-        close(fd);
+    if ((status = lf_input_check_size(fd, path, err)) != LF_OK)
         return status;
-    }
-    if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode))
+    if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode) && st.st_size >= 0
+        && (uintmax_t) st.st_size < (uintmax_t) limit)
         cap = (size_t) st.st_size + 1;
     in->data = malloc(cap);
-    if (in->data == NULL) {
-        close(fd);
+    if (in->data == NULL)
         return lf_fail_at(err, LF_ENOMEM, path, 0, 0, "out of memory");
-    }
     for (;;) {
         ssize_t r;
         if (in->len == cap) {
             size_t grown = cap > limit / 2 ? limit + 1 : 2 * cap;
             char *d = grown <= cap ? NULL : realloc(in->data, grown);
             if (d == NULL) {
-                close(fd);
                 lf_input_free(in);
                 return lf_fail_at(err, LF_ENOMEM, path, 0, 0, "out of memory");
             }
@@ -215,28 +223,33 @@ lf_input_read(const char *path, unsigned flags, lf_input *in, lf_error *err)
             continue;
         if (r < 0) {
             int e = errno;
-            close(fd);
             lf_input_free(in);
             return lf_fail_at(err, LF_EIO, path, 0, 0, "read error: %s", strerror(e));
         }
-        if (r == 0)
-            break;
-        if (!(flags & LF_INPUT_BINARY)) {
-            size_t keep = text_scan(&tc, (const unsigned char *) in->data + in->len, (size_t) r);
-            if (keep < (size_t) r) {
-                in->len += keep;
+        in->len += (size_t) r;
+        /* whether the input is text is the caller's to say from its first
+         * LF_SNIFF_BYTES (a binary format read as a stream) */
+        if (!decided && (r == 0 || in->len >= LF_SNIFF_BYTES)) {
+            decided = 1;
+            text = text && !binary(in->data, in->len < LF_SNIFF_BYTES ? in->len : LF_SNIFF_BYTES);
+        }
+        if (decided && text && scanned < in->len) {
+            size_t keep = text_scan(&tc, (const unsigned char *) in->data + scanned,
+                                    in->len - scanned);
+            if (keep < in->len - scanned) {
+                in->len = scanned + keep;
                 in->stopped = 1;    /* what follows is never read */
                 break;
             }
+            scanned = in->len;
         }
-        in->len += (size_t) r;
+        if (r == 0)
+            break;
         if (in->len > limit) {
-            close(fd);
             lf_input_free(in);
             return too_big(err, path, -1.0, limit);
         }
     }
-    close(fd);
     sha256_init(&ctx);
     sha256_update(&ctx, in->len, (const uint8_t *) in->data);
     sha256_digest(&ctx, sizeof digest, digest);

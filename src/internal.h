@@ -6,7 +6,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "layerfit.h"
+#include "command.h"     /* layerfit.h and what the command shares */
 
 #if defined(__GNUC__)
 #define LF_PRINTF(a, b) __attribute__((format(printf, a, b)))
@@ -38,6 +38,15 @@ int lf_input_check_size(int fd, const char *path, lf_error *err);
 
 /* A strdup that does not depend on POSIX feature macros. */
 char *lf_strdup(const char *s);
+
+/* lf_input_read on a descriptor already opened by lf_input_open (read from
+ * its current place to its end; the caller closes it), with the same
+ * limit and, with LF_INPUT_TEXT, the same text checks; when binary is
+ * given, it says from the first LF_SNIFF_BYTES (or all, if fewer) whether
+ * the input is a binary format's, which then goes unchecked (a binary
+ * format read as a stream). */
+int lf_input_read_fd(int fd, const char *path, unsigned flags,
+                     int (*binary)(const char *head, size_t len), lf_input *in, lf_error *err);
 
 /* Largest finite magnitude a derivative is allowed to reach. */
 #define LF_BIG 1e300

@@ -31,6 +31,17 @@ extern "C" {
 
 #define LF_VERSION "0.1.0"
 
+/* LF_API marks what liblayerfit exports: the library is built with
+ * -fvisibility=hidden, so that its shared and static forms export exactly
+ * the functions and tables this header declares. */
+#ifndef LF_API
+#if defined(__GNUC__) && __GNUC__ >= 4
+#define LF_API __attribute__((visibility("default")))
+#else
+#define LF_API
+#endif
+#endif
+
 /* ------------------------------------------------------------------------
  * Status codes and error reports
  * --------------------------------------------------------------------- */
@@ -58,10 +69,10 @@ typedef struct {
 } lf_error;
 
 /* A short constant name of a status code ("invalid argument", ...). */
-const char *lf_strerror(int status);
+LF_API const char *lf_strerror(int status);
 
 /* Clear an error report (status LF_OK, empty strings). Accepts NULL. */
-void lf_error_clear(lf_error *err);
+LF_API void lf_error_clear(lf_error *err);
 
 /* Warnings collected by readers and the fitter for the caller to show.
  * Each message is owned by the list. */
@@ -70,7 +81,7 @@ typedef struct {
     char **msg;
 } lf_warnings;
 
-void lf_warnings_free(lf_warnings *w); /* frees the messages, not w itself */
+LF_API void lf_warnings_free(lf_warnings *w); /* frees the messages, not w itself */
 
 /* ------------------------------------------------------------------------
  * Units (udunits2)
@@ -91,22 +102,18 @@ typedef enum {
 } lf_quantity;
 
 /* The SI unit symbol of a quantity ("m", "N", "J/m^2", "Pa", "s", ""). */
-const char *lf_quantity_si(lf_quantity q);
+LF_API const char *lf_quantity_si(lf_quantity q);
 
 /* Parse a number with its unit ("1um", "10 mJ/m2", "1.5e9 Pa", "1 µm") into
  * SI.  A bare number is accepted only for LF_Q_DIMENSIONLESS.  Fails with
  * LF_EUNIT (unknown unit or wrong dimension) or LF_EINVAL (not a number, or
  * not finite); err->msg says which. */
-int lf_units_parse(const char *text, lf_quantity q, double *si, lf_error *err);
+LF_API int lf_units_parse(const char *text, lf_quantity q, double *si, lf_error *err);
 
 /* The factor that converts a value in `unit` ("nm", "uN", "mN", "µm") into
  * SI for quantity q (value_SI = factor * value).  Offsets (degC) are refused. */
-int lf_units_factor(const char *unit, lf_quantity q, double *factor, lf_error *err);
+LF_API int lf_units_factor(const char *unit, lf_quantity q, double *factor, lf_error *err);
 
-/* A deflection sensitivity in SI (si_unit "m/A", else m/V) as instruments
- * show it: the number into *shown, its unit returned ("nm/nA", the same
- * number; "nm/V", 1e9 times). */
-const char *lf_sensitivity_shown(double si, const char *si_unit, double *shown);
 
 /* ------------------------------------------------------------------------
  * Forward models
@@ -176,12 +183,6 @@ typedef enum {
     LF_SCOPE_HALFSPACE = 2   /* assumes a thick layer, b >> a */
 } lf_model_scope;
 
-/* What a thin-layer model's result is worth at b/a (thickness over contact
- * radius) in words: NULL up to `limit` (a fit's max_b_over_a, 0.1 by
- * default); "strained" below b = a; from b = a on, the model does not apply
- * (there its force is off by a quarter to a factor 5 against the exact
- * model's, `layerfit model --figure 6`). */
-const char *lf_thin_scope(double b_over_a, double limit);
 
 /* A forward model is one entry of this table.  Entries share one contract:
  *  alloc  prepares state for one probe (may be NULL when none is needed);
@@ -209,20 +210,20 @@ typedef struct {
     double nu_max;           /* bonded layers: nu <= nu_max (0: any nu < 0.5) */
 } lf_model_type;
 
-extern const lf_model_type lf_model_thin;      /* the seed paper, b << a */
-extern const lf_model_type lf_model_exact;     /* any thickness (Nystrom tables) */
-extern const lf_model_type lf_model_halfspace; /* b -> infinity, needs k > 1/2 */
+LF_API extern const lf_model_type lf_model_thin;      /* the seed paper, b << a */
+LF_API extern const lf_model_type lf_model_exact;     /* any thickness (Nystrom tables) */
+LF_API extern const lf_model_type lf_model_halfspace; /* b -> infinity, needs k > 1/2 */
 
 /* The table of all models, NULL-terminated, and lookup by name (NULL when
  * no model has that name; the entries are static, never freed). */
-extern const lf_model_type *const lf_model_types[];
-const lf_model_type *lf_model_type_find(const char *name);
+LF_API extern const lf_model_type *const lf_model_types[];
+LF_API const lf_model_type *lf_model_type_find(const char *name);
 
 /* Check a probe and a material against the domain every model shares
  * (k > 0, R > 0, b > 0, w >= 0, E* > 0, 0 <= nu < 0.5 for bonded layers,
  * everything finite).  LF_EINVAL with a message naming the parameter. */
-int lf_probe_check(const lf_probe *probe, lf_error *err);
-int lf_material_check(const lf_material *mat, lf_base base, lf_error *err);
+LF_API int lf_probe_check(const lf_probe *probe, lf_error *err);
+LF_API int lf_material_check(const lf_material *mat, lf_base base, lf_error *err);
 
 /* Whether model m can be evaluated for material mat where its curve lives
  * (from detachment over ten pull-off widths): the pull-off and the
@@ -234,8 +235,9 @@ int lf_material_check(const lf_material *mat, lf_base base, lf_error *err);
  * lf_model_check_probe checks a model type for a probe alone, with the
  * seed paper's material (w = 10 mJ/m^2, E* = 1 GPa, nu = 0.3), for a fit
  * whose material is not known yet. */
-int lf_model_check_region(const lf_model *m, const lf_material *mat, lf_error *err);
-int lf_model_check_probe(const lf_model_type *type, const lf_probe *probe, lf_error *err);
+LF_API int lf_model_check_region(const lf_model *m, const lf_material *mat, lf_error *err);
+LF_API int lf_model_check_probe(const lf_model_type *type, const lf_probe *probe,
+                                lf_error *err);
 
 /* A model bound to one probe.  lf_model_alloc copies the probe and returns
  * a new object owned by the caller (NULL with err filled on a bad probe or
@@ -245,14 +247,14 @@ int lf_model_check_probe(const lf_model_type *type, const lf_probe *probe, lf_er
  * with LF_EINVAL for a material outside the domain; lf_model_pulloff fills
  * *out.  A model may be shared by threads for eval and pulloff (they only
  * read it). */
-lf_model *lf_model_alloc(const lf_model_type *type, const lf_probe *probe,
+LF_API lf_model *lf_model_alloc(const lf_model_type *type, const lf_probe *probe,
                          lf_error *err);
-void lf_model_free(lf_model *m);
-const lf_model_type *lf_model_get_type(const lf_model *m);
-const lf_probe *lf_model_get_probe(const lf_model *m);
-int lf_model_eval(const lf_model *m, const lf_material *mat, lf_branch branch,
+LF_API void lf_model_free(lf_model *m);
+LF_API const lf_model_type *lf_model_get_type(const lf_model *m);
+LF_API const lf_probe *lf_model_get_probe(const lf_model *m);
+LF_API int lf_model_eval(const lf_model *m, const lf_material *mat, lf_branch branch,
                   size_t n, const double *delta, lf_eval *out, lf_error *err);
-int lf_model_pulloff(const lf_model *m, const lf_material *mat,
+LF_API int lf_model_pulloff(const lf_model *m, const lf_material *mat,
                      lf_pulloff *out, lf_error *err);
 /* Ready the model for materials with nu in [nu_lo, nu_hi] (bonded layers;
  * ignored for frictionless ones): the exact model resolves the tables of
@@ -261,16 +263,16 @@ int lf_model_pulloff(const lf_model *m, const lf_material *mat,
  * allocates nothing.  Without it the exact bonded model resolves the
  * tables of a nu on the first evaluation that needs them (once per model).
  * Safe to call from several threads. */
-int lf_model_prepare(lf_model *m, double nu_lo, double nu_hi, lf_error *err);
+LF_API int lf_model_prepare(lf_model *m, double nu_lo, double nu_hi, lf_error *err);
 /* The cheapest model of a scope in lf_model_types (NULL if none). */
-const lf_model_type *lf_model_type_cheapest(lf_model_scope scope);
+LF_API const lf_model_type *lf_model_type_cheapest(lf_model_scope scope);
 
 /* Closed-form helpers of the thin-layer model (seed paper). */
-double lf_thin_Z(lf_base base, double nu);      /* 1, or (1-nu)^2/(1-2nu) */
-double lf_thin_dlogZ_dnu(lf_base base, double nu);
+LF_API double lf_thin_Z(lf_base base, double nu);      /* 1, or (1-nu)^2/(1-2nu) */
+LF_API double lf_thin_dlogZ_dnu(lf_base base, double nu);
 /* Critical thickness below which the mean pull-off tension reaches the
  * theoretical strength sigma_th (Eq. 19, with M = Z E*). */
-double lf_thin_b_critical(double k, double w, double M, double sigma_th);
+LF_API double lf_thin_b_critical(double k, double w, double M, double sigma_th);
 /* Exact layer model helpers (src/model_exact.c).
  * lf_exact_thin_ratio: exact over thin-layer adhesiveless force P1 at the
  * same contact radius a = tau b, for the exact model's tables (bonded nu
@@ -278,9 +280,9 @@ double lf_thin_b_critical(double k, double w, double M, double sigma_th);
  * unloading branch for a/b in [ab_min, ab_max] (clipped below at
  * detachment), max |P_thin(delta) - P_exact(delta)| / max |P_exact|, both
  * at the same indentation delta; what the `auto` model choice weighs. */
-int lf_exact_thin_ratio(double k, lf_base base, double nu, double tau,
+LF_API int lf_exact_thin_ratio(double k, lf_base base, double nu, double tau,
                         double *ratio_P1, lf_error *err);
-int lf_exact_thin_difference(const lf_probe *probe, const lf_material *mat,
+LF_API int lf_exact_thin_difference(const lf_probe *probe, const lf_material *mat,
                              double ab_min, double ab_max, double *max_rel,
                              lf_error *err);
 /* The exact model's forces P[i] at indentations delta[i] of a curve whose
@@ -291,12 +293,12 @@ int lf_exact_thin_difference(const lf_probe *probe, const lf_material *mat,
  * to the model's forces to rounding (frictionless) or to the tables'
  * interpolation in nu, ~1e-7 (bonded).  LF_EDATA when a point is not beyond
  * 100 (or past the thin-layer detachment on unloading). */
-int lf_exact_far_eval(const lf_probe *probe, const lf_material *mat,
+LF_API int lf_exact_far_eval(const lf_probe *probe, const lf_material *mat,
                       lf_branch branch, size_t n, const double *delta,
                       double *P, lf_error *err);
 /* Classical half-space JKR pull-off contact radius of a sphere of radius R,
  * (9 pi R^2 w / (8 E*))^(1/3), for comparison. */
-double lf_jkr_sphere_a_po(double R, double w, double Estar);
+LF_API double lf_jkr_sphere_a_po(double R, double w, double Estar);
 
 
 /* ------------------------------------------------------------------------
@@ -357,8 +359,8 @@ typedef enum {
 } lf_loss;
 
 /* "linear", "huber", "cauchy"; lf_loss_find returns -1 for an unknown name. */
-const char *lf_loss_name(lf_loss loss);
-int lf_loss_find(const char *name);
+LF_API const char *lf_loss_name(lf_loss loss);
+LF_API int lf_loss_find(const char *name);
 
 typedef struct {
     const lf_model_type *model; /* forward model of every curve that names
@@ -385,10 +387,10 @@ typedef struct {
                                    noise, 1.345 (Huber) and 2.385 (Cauchy) */
 } lf_fit_settings;
 
-lf_fit_settings lf_fit_settings_default(void);
+LF_API lf_fit_settings lf_fit_settings_default(void);
 
 /* Names of the trust-region methods, NULL-terminated, for help texts. */
-extern const char *const lf_fit_methods[];
+LF_API extern const char *const lf_fit_methods[];
 
 /* One curve to fit: data in SI and what is known of the probe. */
 typedef struct {
@@ -536,7 +538,7 @@ typedef enum {
 } lf_fit_stop;
 
 /* Its name in reports and JSON ("converged", "iteration limit", ...). */
-const char *lf_fit_stop_name(lf_fit_stop stop);
+LF_API const char *lf_fit_stop_name(lf_fit_stop stop);
 
 typedef struct {
     lf_fit_estimate w, Estar, nu;
@@ -575,14 +577,14 @@ typedef struct {
 typedef struct lf_fit lf_fit;
 
 /* Check the settings and curves and allocate everything a fit needs. */
-lf_fit *lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
+LF_API lf_fit *lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
                      const lf_fit_curve *curves, lf_error *err);
 /* Guess, fit and assess.  Fills res (free it with lf_fit_result_free) and
  * returns LF_OK on convergence, LF_ENOCONV when the fit stopped without
  * converging (res is still complete, with converged = 0 and the reason),
  * other statuses on errors (res is then empty). */
-int lf_fit_run(lf_fit *fit, lf_fit_result *res, lf_error *err);
-void lf_fit_free(lf_fit *fit);
+LF_API int lf_fit_run(lf_fit *fit, lf_fit_result *res, lf_error *err);
+LF_API void lf_fit_free(lf_fit *fit);
 
 /* Profile-likelihood 95% intervals of w, E* and nu (fit/profile.c) for a
  * result res of lf_fit_driver / lf_fit_choose_driver on these settings and
@@ -618,11 +620,11 @@ void lf_fit_free(lf_fit *fit);
  * are not regular (points at the contact edge of a k > 2 probe).  Slow; off
  * in `layerfit fit`. */
 #define LF_PROFILE_CALIBRATE 4
-int lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
+LF_API int lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
                    lf_fit_result *res, int always, lf_error *err);
-void lf_fit_result_free(lf_fit_result *res);
+LF_API void lf_fit_result_free(lf_fit_result *res);
 /* alloc + run + free */
-int lf_fit_driver(const lf_fit_settings *settings, size_t ncurves,
+LF_API int lf_fit_driver(const lf_fit_settings *settings, size_t ncurves,
                   const lf_fit_curve *curves, lf_fit_result *res,
                   lf_error *err);
 
@@ -630,15 +632,16 @@ int lf_fit_driver(const lf_fit_settings *settings, size_t ncurves,
  * mat (nu used for bonded curves) and the curves' z0 = 0, F0 = 0 unless
  * fixed; *max_rel_err is the largest difference relative to each column's
  * largest entry.  For tests and the curious. */
-int lf_fit_check_jacobian(lf_fit *fit, const lf_material *mat,
+LF_API int lf_fit_check_jacobian(lf_fit *fit, const lf_material *mat,
                           double *max_rel_err, lf_error *err);
 
 /* ------------------------------------------------------------------------
  * Choosing the forward model of each curve (fit/choose.c)
  *
  * The thin-layer closed form is cheap but wrong where b/a is not small, and
- * its error lands on w while the residuals still look fine (physics.md
- * section 3).  So a curve is judged by what its model error does to the
+ * its error lands on w while the residuals still look fine (fitted to
+ * curves of the exact layer model of Lebedev & Ufliand 1958, it leaves
+ * residuals below 1% of the force while w moves by 10-70%).  So a curve is judged by what its model error does to the
  * material parameters, not by its residuals.  For curve j using model m,
  * with d_j = (P_exact - P_m)/sigma_j on the curve's points (zero on the
  * other curves) at the fitted parameters and J the weighted Jacobian of the
@@ -669,9 +672,9 @@ typedef struct {
     int thin_comparison;     /* 1: fill res->thin (1) */
 } lf_choose_settings;
 
-lf_choose_settings lf_choose_settings_default(void);
+LF_API lf_choose_settings lf_choose_settings_default(void);
 
-int lf_fit_choose_driver(const lf_fit_settings *settings,
+LF_API int lf_fit_choose_driver(const lf_fit_settings *settings,
                          const lf_choose_settings *choose, size_t ncurves,
                          const lf_fit_curve *curves, lf_fit_result *res,
                          lf_error *err);
@@ -679,7 +682,7 @@ int lf_fit_choose_driver(const lf_fit_settings *settings,
 /* Fit the same curves with the thin-layer model only (from the automatic
  * guess) and put the outcome beside res in res->thin; for a fit made with
  * other models by lf_fit_driver.  res must hold a completed fit. */
-int lf_fit_compare_thin(const lf_fit_settings *settings, size_t ncurves,
+LF_API int lf_fit_compare_thin(const lf_fit_settings *settings, size_t ncurves,
                         const lf_fit_curve *curves, lf_fit_result *res,
                         lf_error *err);
 
@@ -710,17 +713,16 @@ typedef struct {
     char what[200];          /* the table it holds, or why it is not usable */
 } lf_cache_entry;
 
-void lf_cache_set_enabled(int on);
-int lf_cache_enabled(void);
-void lf_cache_stats_get(lf_cache_stats *stats);
+LF_API void lf_cache_set_enabled(int on);
+LF_API void lf_cache_stats_get(lf_cache_stats *stats);
 /* The folder (whether or not it exists); LF_EINVAL when there is none. */
-int lf_cache_dir(char *buf, size_t n, lf_error *err);
+LF_API int lf_cache_dir(char *buf, size_t n, lf_error *err);
 /* The table files in the folder (none when it does not exist); *entries is
  * the caller's, released with free(). */
-int lf_cache_list(lf_cache_entry **entries, size_t *count, lf_error *err);
+LF_API int lf_cache_list(lf_cache_entry **entries, size_t *count, lf_error *err);
 /* Remove the table files (and temporary files left by writers); the folder
  * and anything else in it stay. */
-int lf_cache_clear(size_t *removed, lf_error *err);
+LF_API int lf_cache_clear(size_t *removed, lf_error *err);
 
 /* ------------------------------------------------------------------------
  * Synthetic data (src/simulate.c)
@@ -739,14 +741,14 @@ typedef struct {
     lf_branch branch;       /* default unloading, written deep to shallow */
 } lf_sim_settings;
 
-lf_sim_settings lf_sim_settings_default(void);
+LF_API lf_sim_settings lf_sim_settings_default(void);
 
 /* Simulate ncurves curves of the model type for the material.  Curve j has
  * settings->points points, written into depth[j][..] and force[j][..]
  * (caller-owned arrays of that length); sigma[j] receives the noise sd in N
  * (may be NULL).  One generator seeded once draws the noise of all curves in
  * order, so a plan and a seed give the same data on every machine. */
-int lf_simulate(const lf_sim_settings *settings, const lf_model_type *type,
+LF_API int lf_simulate(const lf_sim_settings *settings, const lf_model_type *type,
                 const lf_material *mat, size_t ncurves, const lf_probe *probes,
                 double *const *depth, double *const *force, double *sigma,
                 lf_error *err);
@@ -781,7 +783,7 @@ typedef struct {
 /* Fisher information of w, E* (and nu when free_nu) together with the
  * nuisance parameters each curve declares free, inverted.  LF_EDATA when the
  * design does not determine them all (singular information). */
-int lf_crb(const lf_design_curve *curves, size_t ncurves, const lf_material *truth,
+LF_API int lf_crb(const lf_design_curve *curves, size_t ncurves, const lf_material *truth,
            int free_nu, lf_crb_result *out, lf_error *err);
 
 /* ------------------------------------------------------------------------
@@ -824,6 +826,10 @@ typedef struct {
     const char *sensitivity_unit;        /* "m/V" or "m/A" (with a sensitivity) */
     lf_warnings info;         /* what was detected, for `layerfit check`:
                                  columns and units, conversions, segments */
+    /* Where the curve was taken, as its file states it (force maps): */
+    double x, y;              /* position on the sample, m, or NaN */
+    long grid_i, grid_j;      /* column and row on the map's grid (0-based), or -1 */
+    long index;               /* its place in its file (0 for a file of one curve) */
 } lf_curve;
 
 /* One row of a fit plan: which curve, and what is known about it.
@@ -838,6 +844,12 @@ typedef struct {
     double z0;                /* contact point offset, m, if the plan fixes it, else NaN */
     double F0;                /* force offset, N, if the plan fixes it, else NaN */
     char *format;             /* the curve file's reader name, "" = sniffed */
+    long index;               /* which curve of a file of many (`file#N` or the
+                                 index column), or -1: the file's only curve
+                                 (lf_plan_expand: all of them) */
+    struct lf_file *source;   /* the open file of the row's curve, kept by the
+                                 plan (lf_plan_expand, lf_plan_open_files), or
+                                 NULL */
 } lf_plan_row;               /* probe.R is NaN where the plan's R cell says
                                 "header": the curve file's header gives it;
                                 probe.b is NaN where the b and interface cells
@@ -847,12 +859,14 @@ typedef struct {
     char *path;               /* the plan's own path */
     size_t n;
     lf_plan_row *rows;
+    size_t nfiles;            /* files opened by lf_plan_expand or */
+    struct lf_file **files;   /* lf_plan_open_files, closed by lf_plan_free */
 } lf_plan;
 
 /* Release a curve or a plan made by the readers below and everything it
  * holds (NULL allowed). */
-void lf_curve_free(lf_curve *c);
-void lf_plan_free(lf_plan *p);
+LF_API void lf_curve_free(lf_curve *c);
+LF_API void lf_plan_free(lf_plan *p);
 
 /* How to read a curve file. */
 typedef struct {
@@ -869,11 +883,11 @@ typedef struct {
 
 /* Fill o with the defaults: units from the header, bad rows are errors,
  * format sniffed, no constants. */
-void lf_read_opts_default(lf_read_opts *o);
+LF_API void lf_read_opts_default(lf_read_opts *o);
 /* Set o's spring constant ("0.032N/m") and deflection sensitivity
  * ("61nm/nA" or "50nm/V") from text, either may be NULL.  LF_EUNIT or
  * LF_EINVAL with a message naming the option on a bad value. */
-int lf_read_opts_constants(lf_read_opts *o, const char *spring_constant,
+LF_API int lf_read_opts_constants(lf_read_opts *o, const char *spring_constant,
                            const char *sensitivity, lf_error *err);
 
 /* Read one curve file: layerfit's CSV (format in datasets/README.md) or an
@@ -883,28 +897,108 @@ int lf_read_opts_constants(lf_read_opts *o, const char *spring_constant,
  * appended to warn (may be NULL).  On failure *out is NULL and err names the
  * file, line and column (column = character in the line, 1-based) with
  * LF_EIO, LF_EFORMAT, LF_EUNIT or LF_EDATA.  o may be NULL for defaults. */
-int lf_curve_read(const char *path, const lf_read_opts *o, lf_curve **out,
+LF_API int lf_curve_read(const char *path, const lf_read_opts *o, lf_curve **out,
                   lf_warnings *warn, lf_error *err);
 /* The same from memory, feeding the CSV parser chunk bytes at a time
  * (0 = all at once); name is used in messages and stored as c->file. */
-int lf_curve_parse(const char *buf, size_t len, size_t chunk, const char *name,
+LF_API int lf_curve_parse(const char *buf, size_t len, size_t chunk, const char *name,
                    const lf_read_opts *o, lf_curve **out, lf_warnings *warn,
                    lf_error *err);
 
+/* ------------------------------------------------------------------------
+ * Files of many curves: force maps, QI data, force volumes (src/file.c)
+ *
+ * lf_file_open opens any curve file layerfit reads and lists its curves
+ * without decoding them: a text export or a single binary curve holds one;
+ * a JPK force map or QI file, a Bruker force volume or an AFM Workshop
+ * mapping zip holds many.  A binary file is read by random access (pread),
+ * never whole, and lf_file_curve decodes one curve at a time, so a loop
+ * over the curves needs the memory of one.  Once a file is open,
+ * lf_file_info and lf_file_curve may be called from several threads at
+ * once.  lf_file_sha256 is the SHA-256 of the whole file, computed once
+ * when it is opened.
+ *
+ * Naming one curve: "FILE#N" is curve N (0-based) of FILE, when no file
+ * is named "FILE#N" itself; lf_curve_read, plans (or their `index` column)
+ * and the command line take it.  lf_curve_read on a file of many curves
+ * without an index fails, saying how many it holds and how to name one;
+ * a joint fit (lf_fit_input_from_plan) likewise: each of its rows is one
+ * curve.  lf_plan_expand makes one row per curve of such a file;
+ * `layerfit fit --batch` fits each curve (lf_plan_open_files, then one fit
+ * per row and curve).
+ *
+ * Ownership: the lf_file is the caller's (lf_file_close, NULL allowed);
+ * each curve of lf_file_curve is the caller's (lf_curve_free).  The buffer
+ * of lf_file_open_memory is not copied: it must outlive the file.
+ * --------------------------------------------------------------------- */
+
+typedef struct lf_file lf_file;
+
+/* What a file states of one of its curves before it is decoded. */
+typedef struct {
+    double x, y;              /* position on the sample, m, or NaN */
+    long grid_i, grid_j;      /* column and row on the map's grid, or -1 */
+    size_t points;            /* points of all segments */
+    size_t segment_points[3]; /* points per lf_segment (unload, load, hold) */
+} lf_curve_info;
+
+/* flags as for lf_input_open (0: a regular file; LF_INPUT_STREAM: also a
+ * pipe or FIFO, read whole).  o may be NULL (defaults); o->format forces a
+ * reader, else it is sniffed from the first bytes.  A text export is read
+ * and checked here (its errors, with line and column, are lf_curve_read's);
+ * an archive's listing is checked here, each curve when it is decoded.
+ * Errors: LF_EIO, LF_EFORMAT, LF_EUNIT, LF_EDATA, LF_ENOMEM, naming path. */
+LF_API int lf_file_open(const char *path, unsigned flags, const lf_read_opts *o, lf_file **out,
+                 lf_warnings *warn, lf_error *err);
+LF_API int lf_file_open_memory(const char *buf, size_t len, const char *name, const lf_read_opts *o,
+                        lf_file **out, lf_warnings *warn, lf_error *err);
+LF_API size_t lf_file_count(const lf_file *f);
+LF_API const char *lf_file_format(const lf_file *f);     /* the reader's name */
+LF_API const char *lf_file_sha256(const lf_file *f);     /* lowercase hex */
+/* Curve i (0 <= i < count) as the file states it, without decoding it. */
+LF_API int lf_file_info(const lf_file *f, size_t i, lf_curve_info *info, lf_error *err);
+/* Curve i decoded into a new curve in SI (c->index = i; c->file is
+ * "FILE#i" when the file holds several).  Warnings go to warn (may be NULL). */
+LF_API int lf_file_curve(const lf_file *f, size_t i, lf_curve **out, lf_warnings *warn,
+                  lf_error *err);
+LF_API void lf_file_close(lf_file *f);
+/* Split "FILE#N" into FILE (into file, n bytes) and N when no file of the
+ * whole name exists but FILE does; else file = path, *index = -1.
+ * LF_EINVAL when path does not fit in n bytes. */
+LF_API int lf_curve_path_split(const char *path, char *file, size_t n, long *index);
+
 /* Read a fit plan: one row per curve, `file,k,R,b,interface` and optional
- * `nu,segment,sample,z0,F0` columns.  Relative curve paths are resolved
+ * `nu,segment,sample,z0,F0,format,index` columns (`file#N` names curve N
+ * of a file of many, as the index column does).  Relative curve paths are resolved
  * against the plan's folder (dir for lf_plan_parse; NULL or "" = as
  * written); whether they exist is checked when they are read.  Rows are checked with
  * lf_probe_check and, on bonded rows, 0 <= nu < 0.5.  Ownership and errors
  * as for lf_curve_read. */
-int lf_plan_read(const char *path, lf_plan **out, lf_warnings *warn, lf_error *err);
-int lf_plan_parse(const char *buf, size_t len, size_t chunk, const char *name,
+LF_API int lf_plan_read(const char *path, lf_plan **out, lf_warnings *warn, lf_error *err);
+LF_API int lf_plan_parse(const char *buf, size_t len, size_t chunk, const char *name,
                   const char *dir, lf_plan **out, lf_warnings *warn, lf_error *err);
+/* A plan of one row: the curve(s) of the file at path with one probe (R
+ * NaN: from the file's header; b NaN: no layer, a half-space) on segment
+ * seg; for `layerfit fit --batch MAP --k ...`. */
+LF_API int lf_plan_of_file(const char *path, const lf_probe *probe, lf_segment seg, lf_plan **out,
+                    lf_error *err);
+/* Make one row per curve of every file of many curves that a row names
+ * without an index (the row's other cells copied; index 0..N-1), opening
+ * each such file once (lf_file_open, o as there) and keeping it open in
+ * the plan, where the fit input reads its curves from (row->source).
+ * Files of one curve, and files that cannot be opened (the fit of their
+ * row says why), are left as they are.  LF_ENOMEM only. */
+LF_API int lf_plan_expand(lf_plan *plan, const lf_read_opts *o, lf_error *err);
+/* Only the first half of lf_plan_expand: open each file of many curves the
+ * rows name (row->source, plan->files), leaving the rows as they are; a
+ * caller that walks a row's curves itself (a batch over a large map) needs
+ * no row per curve. */
+LF_API int lf_plan_open_files(lf_plan *plan, const lf_read_opts *o, lf_error *err);
 
 /* Whether a CSV file is a plan (its header has a "file" column) or a curve,
  * from its header alone. */
 typedef enum { LF_FILE_CURVE = 0, LF_FILE_PLAN = 1 } lf_file_kind;
-int lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err);
+LF_API int lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err);
 
 /* Reading an input file safely (input.c).  lf_input_open opens path
  * without blocking (O_NONBLOCK), checks the open descriptor with fstat and
@@ -917,52 +1011,47 @@ int lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err);
  * into in->data (owned by in, lf_input_free) and puts its SHA-256 in hex
  * into in->sha256.  It reads at most lf_input_limit() bytes (a regular
  * file larger than that is refused from its size before anything is read,
- * a stream when it gets there) and, unless flags has LF_INPUT_BINARY,
- * checks text as it arrives: at a control byte (other than tab, CR, LF),
- * a UTF-16 byte order mark or a line over 1 MiB it stops reading (nothing
+ * a stream when it gets there).  With LF_INPUT_TEXT in flags it also
+ * checks text as it arrives: at a control byte (other than tab, CR, LF), a
+ * UTF-16 byte order mark or a line over 1 MiB it stops reading (nothing
  * after is read, in->stopped is 1) and keeps the bytes up to that one, so
- * that the reader refuses them with its own message at the same place as
- * it would the whole file.  Errors: LF_EIO, LF_ENOMEM, naming path.
+ * that a text reader refuses them with its own message at the same place
+ * as it would the whole file.  Errors: LF_EIO, LF_ENOMEM, naming path.
  * Every reader opens its files through these.  lf_input_set_limit sets
  * the limit for the process (set it before reading starts; default
  * LF_INPUT_LIMIT, 256 MiB). */
 #define LF_INPUT_STREAM 1u
-#define LF_INPUT_BINARY 2u
+#define LF_INPUT_TEXT 2u
 #define LF_STREAM_WAIT 10
 #define LF_INPUT_LIMIT ((size_t) 256 * 1024 * 1024)
 typedef struct {
     char *data;               /* the bytes read (not NUL-terminated) */
     size_t len;
     char sha256[65];          /* lowercase hex */
-    int stopped;              /* 1: reading stopped at a byte no text reader
-                                 takes (only the bytes up to it are here) */
+    int stopped;              /* 1 (LF_INPUT_TEXT): reading stopped at a byte
+                                 no text reader takes (only the bytes up to
+                                 it are here) */
 } lf_input;
-void lf_input_set_limit(size_t bytes);
-size_t lf_input_limit(void);
-int lf_input_open(const char *path, unsigned flags, int *fd, lf_error *err);
-int lf_input_read(const char *path, unsigned flags, lf_input *in, lf_error *err);
-void lf_input_free(lf_input *in);
-/* Length of the valid UTF-8 sequence that starts at s (1..4), or 0 when
- * the bytes there are not UTF-8 (overlong forms and surrogates included). */
-size_t lf_utf8_len(const unsigned char *s);
-/* lf_file_kind_of for a file already in memory (name for messages). */
-int lf_file_kind_parse(const char *buf, size_t len, const char *name, lf_file_kind *kind,
-                       lf_error *err);
+LF_API void lf_input_set_limit(size_t bytes);
+LF_API size_t lf_input_limit(void);
+LF_API int lf_input_open(const char *path, unsigned flags, int *fd, lf_error *err);
+LF_API int lf_input_read(const char *path, unsigned flags, lf_input *in, lf_error *err);
+LF_API void lf_input_free(lf_input *in);
 
 /* Copy the points of one segment, in file order, into depth and force
  * (either may be NULL to skip it) and return how many there are.  Call with
  * NULL, NULL to size the arrays. */
-size_t lf_curve_segment(const lf_curve *c, lf_segment seg, double *depth,
+LF_API size_t lf_curve_segment(const lf_curve *c, lf_segment seg, double *depth,
                         double *force);
 
 /* Check that a segment can be fitted: at least min_points points, force
  * not zero everywhere, depth not the same everywhere.  LF_EDATA with a
  * message naming the file and what is wrong. */
-int lf_curve_check_fit(const lf_curve *c, lf_segment seg, size_t min_points,
+LF_API int lf_curve_check_fit(const lf_curve *c, lf_segment seg, size_t min_points,
                        lf_error *err);
 
 /* The name of a segment ("load", "unload", "hold"). */
-const char *lf_segment_name(lf_segment seg);
+LF_API const char *lf_segment_name(lf_segment seg);
 
 /* ------------------------------------------------------------------------
  * Planning a test: what a set of candidate curves would measure (fit/design.c)
@@ -976,12 +1065,14 @@ const char *lf_segment_name(lf_segment seg);
  * lf_fit_choose_driver picks (evaluated at the truth, where a noise-free
  * fit lands), nu is free only where the fitter frees it (bonded and
  * frictionless curves together, unless held), and what the fit could not
- * determine is found by the same rule as lf_fit_run (column-scaled
- * Jacobian, singular values below rcond, weight > 0.01 on those
- * directions; k = 2 alone with free z0 and F0 and under 10% of the points
- * past detachment leaves w undetermined).  The standard errors are the
- * Cramer-Rao bound of that fit: the inverse Fisher information with every
- * free nuisance parameter estimated too.
+ * determine, and why, is judged by the very judgement lf_fit_run makes at
+ * its solution (fit/judge.c: the column-scaled Jacobian, singular values
+ * below rcond, weight > 0.01 on those directions; k = 2 alone with free z0
+ * and F0 needs a curve with three points past detachment and a w the data
+ * bound from above, here predicted from the linearised model; bonded
+ * curves alone fix only M = Z E* where their layer is thin).  The standard
+ * errors are the Cramer-Rao bound of that fit: the inverse Fisher
+ * information with every free nuisance parameter estimated too.
  *
  * Ownership: a plan made by lf_design_plan_read/parse is the caller's
  * (lf_design_plan_free); results are filled into caller structs and their
@@ -1019,10 +1110,10 @@ typedef struct {
  * the header or in each cell, as in fit plans; baseline is yes, no or a
  * length; z0 and F0 are free or fixed; noise a fraction such as 1% or
  * 0.01, or a force such as 2uN).  Errors name the file, line and column. */
-int lf_design_plan_read(const char *path, lf_design_plan **out, lf_error *err);
-int lf_design_plan_parse(const char *buf, size_t len, const char *name,
+LF_API int lf_design_plan_read(const char *path, lf_design_plan **out, lf_error *err);
+LF_API int lf_design_plan_parse(const char *buf, size_t len, const char *name,
                          lf_design_plan **out, lf_error *err);
-void lf_design_plan_free(lf_design_plan *p);
+LF_API void lf_design_plan_free(lf_design_plan *p);
 
 typedef struct {
     lf_material truth;      /* w > 0, E*, nu (nu used by bonded curves) */
@@ -1042,7 +1133,7 @@ typedef struct {
     double rcond;           /* as lf_fit_settings (1e-7) */
 } lf_design_settings;
 
-lf_design_settings lf_design_settings_default(void);
+LF_API lf_design_settings lf_design_settings_default(void);
 
 /* What one parameter of the material would be. */
 typedef struct {
@@ -1051,6 +1142,11 @@ typedef struct {
     double se;              /* predicted standard error, SI; NaN when not
                                free or not determined */
     double rel;             /* se / true value (w, E*, M); se for nu */
+    int upper_bound_only;   /* w: below two of its standard errors, so a
+                               fit would report only an upper bound */
+    const char *why;        /* when not determined, a reason in words that
+                               the identifiability notes do not give
+                               (static), or NULL */
 } lf_design_estimate;
 
 /* One curve of an evaluated set, as it would be recorded and fitted. */
@@ -1088,21 +1184,20 @@ typedef struct {
     lf_warnings notes;           /* everything else worth saying */
 } lf_design_result;
 
-void lf_design_result_free(lf_design_result *r);
+LF_API void lf_design_result_free(lf_design_result *r);
 
 typedef struct lf_design lf_design;
 
 /* Prepare the candidates (each curve's indentations, noise and the
  * derivatives of the thin, half-space and exact models at the truth);
  * every later evaluation is then cheap.  The candidates are copied. */
-lf_design *lf_design_alloc(const lf_design_settings *s, size_t n,
+LF_API lf_design *lf_design_alloc(const lf_design_settings *s, size_t n,
                            const lf_design_candidate *cand, lf_error *err);
-void lf_design_free(lf_design *d);
-size_t lf_design_size(const lf_design *d);
+LF_API void lf_design_free(lf_design *d);
 
 /* Evaluate the set of candidates with use[i] != 0 (use NULL: all).
  * LF_EDATA when the set is empty. */
-int lf_design_eval(lf_design *d, const int *use, lf_design_result *out, lf_error *err);
+LF_API int lf_design_eval(lf_design *d, const int *use, lf_design_result *out, lf_error *err);
 
 typedef enum {
     LF_TARGET_W = 0,        /* smallest se of w */
@@ -1112,8 +1207,8 @@ typedef enum {
 } lf_design_target;
 
 /* "w", "E", "nu", "all"; lf_design_target_find returns -1 when unknown. */
-const char *lf_design_target_name(lf_design_target t);
-int lf_design_target_find(const char *name);
+LF_API const char *lf_design_target_name(lf_design_target t);
+LF_API int lf_design_target_find(const char *name);
 
 /* How good a result is for a target, as a comparable score.  A set that
  * determines the target beats one that does not; two that do compare by
@@ -1128,9 +1223,9 @@ typedef struct {
     double logdet;          /* the result's logdet, the last tie-break */
 } lf_design_score;
 
-lf_design_score lf_design_score_of(const lf_design_result *r, lf_design_target t);
+LF_API lf_design_score lf_design_score_of(const lf_design_result *r, lf_design_target t);
 /* > 0 when a is better than b, < 0 when worse, 0 when equal. */
-int lf_design_score_cmp(const lf_design_score *a, const lf_design_score *b);
+LF_API int lf_design_score_cmp(const lf_design_score *a, const lf_design_score *b);
 
 /* One step of a choice: the candidate added and what the set gives. */
 typedef struct {
@@ -1148,16 +1243,16 @@ typedef struct {
     int *chosen;            /* per candidate: 1 when chosen */
 } lf_design_choice;
 
-void lf_design_choice_free(lf_design_choice *c);
+LF_API void lf_design_choice_free(lf_design_choice *c);
 
 /* Pick nchoose candidates greedily: at each step the one whose addition
  * scores best for the target (ties: the earlier candidate). */
-int lf_design_choose(lf_design *d, size_t nchoose, lf_design_target target,
+LF_API int lf_design_choose(lf_design *d, size_t nchoose, lf_design_target target,
                      lf_design_choice *out, lf_error *err);
 /* The best set of nchoose candidates over all subsets (for small sets:
  * LF_EINVAL when there are more than max_sets subsets).  best[] (one per
  * candidate) receives 1 for the chosen ones; *score their score. */
-int lf_design_exhaustive(lf_design *d, size_t nchoose, lf_design_target target,
+LF_API int lf_design_exhaustive(lf_design *d, size_t nchoose, lf_design_target target,
                          size_t max_sets, int *best, lf_design_score *score,
                          lf_error *err);
 
@@ -1173,16 +1268,16 @@ typedef enum {
 
 /* "k", "delta_max", "points", "b", "R", "baseline"; find: -1 when unknown
  * (also accepts "depth" for delta_max). */
-const char *lf_design_factor_name(lf_design_factor f);
-int lf_design_factor_find(const char *name);
+LF_API const char *lf_design_factor_name(lf_design_factor f);
+LF_API int lf_design_factor_find(const char *name);
 /* The quantity of a factor's values (LF_Q_DIMENSIONLESS for k, points). */
-lf_quantity lf_design_factor_quantity(lf_design_factor f);
+LF_API lf_quantity lf_design_factor_quantity(lf_design_factor f);
 
 /* Evaluate the whole set with the factor set to each of values[0..nv-1]
  * on candidate `which` (or on all when which == (size_t) -1).  out[]
  * (nv results, caller's array) is filled; a value the candidates refuse
  * (e.g. k <= 0) fails with LF_EINVAL. */
-int lf_design_sweep(const lf_design_settings *s, size_t n,
+LF_API int lf_design_sweep(const lf_design_settings *s, size_t n,
                     const lf_design_candidate *cand, lf_design_factor factor,
                     size_t which, size_t nv, const double *values,
                     lf_design_result *out, lf_error *err);
@@ -1218,7 +1313,7 @@ typedef struct {
                              also a pipe or FIFO (a file named by a user) */
 } lf_input_settings;
 
-lf_input_settings lf_input_settings_default(void);
+LF_API lf_input_settings lf_input_settings_default(void);
 
 /* Where the probe values and AFM constants of one curve came from, for the
  * reports. */
@@ -1237,8 +1332,9 @@ typedef struct {
     size_t n;
     lf_fit_curve *curves; /* n curves: the points of their segment in SI */
     double nu;            /* the plan's nu, or NaN */
-    double x, y;          /* where the first curve sits on a force map, m:
-                             its file's "# x:" and "# y:" lines, else NaN */
+    double x, y;          /* where the first curve sits on a force map, m,
+                             as its file states it (lf_curve x, y), else NaN */
+    long grid_i, grid_j;  /* and its place on the map's grid, or -1 */
     double **points;      /* owned storage: 2 n arrays (depth, force) */
     char **names;         /* owned storage: n curve paths */
     char (*sha256)[65];   /* n SHA-256 digests (hex) of the curve files as read */
@@ -1246,21 +1342,27 @@ typedef struct {
                                (the caller's probe), "plan" or "file header" */
     const char **format;    /* n: the reader of each file ("csv", "jpk", ...) */
     lf_curve_origin *origin;  /* n: where each curve's probe and constants came from */
+    long *index;              /* n: each curve's place in its file (0 for a file
+                                 of one curve) */
 } lf_fit_input;
 
 /* Read the curves of rows[0..nrows-1] of the plan (rows NULL: every row,
- * nrows ignored) into in.  Each file is read once, whole, from a descriptor
- * checked when it is opened (lf_input_read with s->open_flags), and its
- * SHA-256 kept in in->sha256.  Warnings of the readers are appended to warn
+ * nrows ignored) into in.  Each text file is read once, whole, from a
+ * descriptor checked when it is opened (lf_input_read with s->open_flags),
+ * a binary file of many curves by random access (lf_file_open; the row's
+ * source when the plan opened it), and the file's SHA-256 kept in
+ * in->sha256.  A row is one curve: FILE#N or its index, or a file's only
+ * curve (a file of many named without an index: LF_EDATA saying how many
+ * it holds).  Warnings of the readers are appended to warn
  * (may be NULL).  On failure in holds nothing and err names the file, line
  * and column where it can (LF_EIO, LF_EFORMAT, LF_EUNIT, LF_EDATA).  A row
  * without a layer (b NaN: empty b and interface cells) gets b = R, a
  * stand-in no half-space formula uses, and origin[j].b NULL: such rows suit
  * half-space fits only, which the caller checks (the model is its choice).
  * One input is one material (LF_EDATA naming the row otherwise): the rows'
- * nu must agree, so must their non-empty samples, and no file may hold the
- * same bytes as an earlier row's with the same segment. */
-int lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
+ * nu must agree, so must their non-empty samples, and no curve may be an
+ * earlier row's (the same bytes, the same curve of them, the same segment). */
+LF_API int lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
                            const lf_input_settings *s, lf_fit_input *in,
                            lf_warnings *warn, lf_error *err);
 /* The same for one curve file with a probe given by the caller (no plan:
@@ -1269,39 +1371,14 @@ int lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows
  * of NaN (no layer: half-space models only) becomes R, a stand-in no
  * half-space formula uses.  A plan row's format column chooses its reader
  * unless s->read names one. */
-int lf_fit_input_from_curve(const char *path, const lf_probe *probe,
+LF_API int lf_fit_input_from_curve(const char *path, const lf_probe *probe,
                             const lf_input_settings *s, lf_fit_input *in,
                             lf_warnings *warn, lf_error *err);
 /* Hold nu at in->nu when that is a number and the settings do not already
  * hold nu. */
-void lf_fit_input_apply_nu(const lf_fit_input *in, lf_fit_settings *settings);
+LF_API void lf_fit_input_apply_nu(const lf_fit_input *in, lf_fit_settings *settings);
 /* Release what the input owns (NULL and an empty input allowed). */
-void lf_fit_input_free(lf_fit_input *in);
-
-/* ------------------------------------------------------------------------
- * Tables (src/table.c): a CSV file read whole, every cell as text -- e.g.
- * the output of `layerfit fit --batch`.  The same line layer as the curve
- * and plan readers (delimiter from the header, '#' comments, quotes).
- * Ownership: *out is the caller's, released by lf_table_free.
- * --------------------------------------------------------------------- */
-
-typedef struct {
-    size_t nrows, ncols;
-    long header_line;     /* the line of the header */
-    char **names;         /* ncols header cells */
-    char **cells;         /* nrows x ncols, row-major; "" where a row is short */
-    long *line;           /* nrows: the line where each row starts */
-    long *col;            /* nrows x ncols: the character column of each cell
-                             (0 where a row is short) */
-} lf_table;
-
-int lf_table_read(const char *path, lf_table **out, lf_error *err);
-void lf_table_free(lf_table *t);
-/* The index of the column named name, or -1. */
-long lf_table_column(const lf_table *t, const char *name);
-/* A number in a cell: LF_OK with *v, or LF_OK with *v = NaN for an empty
- * cell; LF_EFORMAT (and *v = NaN) when the cell is not a number. */
-int lf_table_number(const char *cell, double *v);
+LF_API void lf_fit_input_free(lf_fit_input *in);
 
 /* ------------------------------------------------------------------------
  * Instrument readers (src/reader.c, one src/read_*.c file per format)
@@ -1310,7 +1387,8 @@ int lf_table_number(const char *cell, double *v);
  * bytes of a file (at most LF_SNIFF_BYTES) and says how sure it is that the
  * file is its own (0 = not mine, 100 = certain); read parses the whole
  * input, from a file or from memory in chunks, into a curve in SI with its
- * metadata.  lf_curve_read / lf_curve_parse use o->format when given, else
+ * metadata (a binary format of many curves reads its only curve from
+ * memory; lf_file_open reads such files by random access).  lf_curve_read / lf_curve_parse use o->format when given, else
  * the entry with the highest score ("csv" on a tie or when none claims it).
  * --------------------------------------------------------------------- */
 
@@ -1334,10 +1412,10 @@ typedef struct {
                 lf_warnings *warn, lf_error *err);
 } lf_reader_type;
 
-extern const lf_reader_type *const lf_reader_types[];  /* NULL-terminated */
-const lf_reader_type *lf_reader_find(const char *name);  /* NULL if unknown */
+LF_API extern const lf_reader_type *const lf_reader_types[];  /* NULL-terminated */
+LF_API const lf_reader_type *lf_reader_find(const char *name);  /* NULL if unknown */
 /* The reader sniffing picks for these first bytes (never NULL). */
-const lf_reader_type *lf_reader_sniff(const char *head, size_t len);
+LF_API const lf_reader_type *lf_reader_sniff(const char *head, size_t len);
 
 #ifdef __cplusplus
 }

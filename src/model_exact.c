@@ -1,6 +1,7 @@
 /* model_exact.c: adhesive (JKR) indentation of an elastic layer of any
  * thickness on a frictionless or bonded rigid base by a power-law punch,
- * from the Lebedev-Ufliand Fredholm equation (physics.md section 3).
+ * from the Lebedev-Ufliand Fredholm equation (Lebedev & Ufliand 1958, PMM
+ * 22:442; Hayes et al. 1972; Dimitriadis et al. 2002).
  *
  * With a = tau h, u = ln tau and the tabulated functions s, e, d, p of
  * exact.h:

@@ -1,6 +1,6 @@
 /* model_halfspace.c: JKR adhesion of a power-law punch on an elastic
- * half-space (physics.md section 4; Borodich, Galanov & Suarez-Alvarez
- * 2014, JMPS 68:14), the thick-layer limit of the exact model.
+ * half-space (Borodich, Galanov & Suarez-Alvarez 2014, JMPS 68:14), the
+ * thick-layer limit of the exact model.
  *
  *   delta = A a^k - sqrt(2 pi w a / E*),          A = kappa_k / (k R^(k-1))
  *   P     = 2 E* A k a^(k+1)/(k+1) - sqrt(8 pi w E* a^3)

@@ -4,17 +4,18 @@
  * in each cell ("1mm").  Each row is checked as it is read: the probe
  * passes lf_probe_check, nu suits the interface, and no curve and segment
  * is listed twice.  The curve files themselves are checked when they are
- * read. */
+ * read.  The column code (lf_csv_table_*) is shared with the design plan's
+ * reader (design_plan.c). */
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-#include "csvsplit.h"
+#include "readers.h"
 
 enum { P_FILE, P_K, P_R, P_B, P_INTERFACE, P_NU, P_SEGMENT, P_SAMPLE, P_Z0, P_F0, P_FORMAT,
-       NPCOL };
+       P_INDEX, NPCOL };
 
 typedef enum { TEXT, NUMBER, FREE_NUMBER } cell_kind;  /* FREE_NUMBER: empty/NaN = free */
 
@@ -30,16 +31,18 @@ static const lf_csv_column pcols[NPCOL] = {
     [P_Z0]        = { "z0", LF_Q_LENGTH, 0, NULL },
     [P_F0]        = { "F0", LF_Q_FORCE, 0, NULL },
     [P_FORMAT]    = { "format", LF_Q_DIMENSIONLESS, 0, NULL },  /* empty: sniffed */
+    [P_INDEX]     = { "index", LF_Q_DIMENSIONLESS, 0, NULL },   /* empty: the file's only
+                                                                   curve, or all (batch) */
 };
 
 /* What each column's cells hold. */
 static const cell_kind pkind[NPCOL] = {
     [P_FILE] = TEXT, [P_K] = NUMBER, [P_R] = NUMBER, [P_B] = NUMBER, [P_INTERFACE] = TEXT,
     [P_NU] = FREE_NUMBER, [P_SEGMENT] = TEXT, [P_SAMPLE] = TEXT, [P_Z0] = FREE_NUMBER,
-    [P_F0] = FREE_NUMBER, [P_FORMAT] = TEXT,
+    [P_F0] = FREE_NUMBER, [P_FORMAT] = TEXT, [P_INDEX] = FREE_NUMBER,
 };
 
-#define COLUMNS_HINT "a plan has the columns file,k,R,b,interface and may add nu,segment,sample,z0,F0,format"
+#define COLUMNS_HINT "a plan has the columns file,k,R,b,interface and may add nu,segment,sample,z0,F0,format,index"
 
 typedef struct {
     const char *name;
@@ -50,13 +53,7 @@ typedef struct {
     size_t *slot;             /* open-addressing set of rows by (canon,
                                  segment): row index + 1, 0 = empty */
     size_t nslot, nused;      /* nslot a power of two, > 2 nused */
-    int have_header;
-    long header_line;
-    size_t ncols;
-    long col[NPCOL];
-    int has_unit[NPCOL];      /* the header gives the column's unit */
-    double factor[NPCOL];
-    int decimal_comma;
+    lf_csv_table t;           /* its columns */
 } plan_reader;
 
 /* FNV-1a over a row's canonical path and segment. */
@@ -67,6 +64,7 @@ row_hash(const plan_reader *rd, size_t idx)
     size_t h = (size_t) 2166136261u;
     for (; *c; c++)
         h = (h ^ *c) * (size_t) 16777619u;
+    h = (h ^ (size_t) rd->plan->rows[idx].index) * (size_t) 16777619u;
     return (h ^ (size_t) rd->plan->rows[idx].segment) * (size_t) 16777619u;
 }
 
@@ -105,7 +103,8 @@ seen_before(plan_reader *rd, size_t idx, size_t *dup)
     }
     for (h = row_hash(rd, idx) & (rd->nslot - 1); rd->slot[h] != 0; h = (h + 1) & (rd->nslot - 1)) {
         i = rd->slot[h] - 1;
-        if (rows[i].segment == rows[idx].segment && strcmp(rd->canon[i], rd->canon[idx]) == 0) {
+        if (rows[i].segment == rows[idx].segment && rows[i].index == rows[idx].index
+            && strcmp(rd->canon[i], rd->canon[idx]) == 0) {
             *dup = i;
             return 1;
         }
@@ -115,37 +114,95 @@ seen_before(plan_reader *rd, size_t idx, size_t *dup)
     return 0;
 }
 
-static int
-plan_header(plan_reader *rd, const lf_csv_record *r, lf_error *err)
+/* ---- the column code of tables with a header (plan.c, design_plan.c) ---- */
+
+int
+lf_csv_table_header(lf_csv_table *t, const lf_csv_record *r, lf_error *err)
 {
-    rd->have_header = 1;
-    rd->header_line = r->line;
-    rd->ncols = r->n;
-    rd->decimal_comma = r->delim == ';';
-    return lf_csv_columns(rd->name, r, pcols, NPCOL, COLUMNS_HINT, rd->col, rd->factor,
-                          rd->has_unit, err);
+    t->have_header = 1;
+    t->header_line = r->line;
+    t->ncells = r->n;
+    t->decimal_comma = r->delim == ';';
+    return lf_csv_columns(t->file, r, t->cols, t->ncol, t->hint, t->col, t->factor,
+                          t->has_unit, err);
 }
+
+int
+lf_csv_table_number(const lf_csv_table *t, const lf_csv_record *r, int c, int empty_ok,
+                    double *v, lf_error *err)
+{
+    long k = t->col[c];
+    const char *s;
+
+    *v = NAN;
+    if (k < 0)
+        return LF_OK;
+    s = r->text[k];
+    if (empty_ok && (s[0] == '\0' || lf_csv_ieq(s, "nan")))
+        return LF_OK;
+    if (s[0] == '\0')
+        return lf_fail_at(err, LF_EFORMAT, t->file, r->fline[k], r->fcol[k],
+                          "empty %s cell (every row needs %s)", t->cols[c].name,
+                          t->cols[c].name);
+    return lf_csv_cell_number(t->file, r, k, &t->cols[c], t->has_unit[c], t->factor[c],
+                              t->decimal_comma, v, err);
+}
+
+int
+lf_csv_table_segment(const lf_csv_table *t, const lf_csv_record *r, int c, lf_segment *seg,
+                     lf_error *err)
+{
+    long k = t->col[c];
+    char buf[64];
+    int word;
+
+    *seg = LF_SEG_UNLOAD;
+    if (k < 0 || r->text[k][0] == '\0')
+        return LF_OK;
+    word = lf_csv_segment_word(r->text[k]);
+    if (word < 0)
+        return lf_fail_at(err, LF_EFORMAT, t->file, r->fline[k], r->fcol[k],
+                          "unknown segment '%s' (expected unload or load)",
+                          lf_csv_excerpt(r->text[k], buf, sizeof buf));
+    if (word == LF_SEG_HOLD)
+        return lf_fail_at(err, LF_EFORMAT, t->file, r->fline[k], r->fcol[k],
+                          "segment '%s' is a hold, which is never fitted "
+                          "(expected unload or load)",
+                          lf_csv_excerpt(r->text[k], buf, sizeof buf));
+    *seg = (lf_segment) word;
+    return LF_OK;
+}
+
+int
+lf_csv_table_load(const lf_csv_table *t, const char *path, const char *buf, size_t len,
+                  size_t chunk, int (*record)(void *, const lf_csv_record *, lf_error *),
+                  void *ctx, const size_t *nrows, const char *what, const char *example,
+                  const char *row, lf_error *err)
+{
+    lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
+    int status;
+
+    h.ctx = ctx;
+    h.record = record;
+    status = buf == NULL ? lf_csv_read_file(path, &h, err)
+                         : lf_csv_read_buffer(buf, len, chunk, t->file, &h, err);
+    if (status == LF_OK && !t->have_header)
+        status = lf_fail_at(err, LF_EFORMAT, t->file, 0, 0, "empty %s (expected a header such "
+                            "as %s and one row per %s)", what, example, row);
+    if (status == LF_OK && *nrows == 0)
+        status = lf_fail_at(err, LF_EDATA, t->file, t->header_line, 0,
+                            "header but no rows (list one %s per row below it)", row);
+    return status;
+}
+
+/* ---- fit plans ------------------------------------------------------------ */
 
 /* A numeric cell in SI: a bare number in the header's unit, or a number
  * with its own unit when the header gives none.  NaN when free. */
 static int
 plan_number(plan_reader *rd, const lf_csv_record *r, int c, double *v, lf_error *err)
 {
-    long k = rd->col[c];
-    const char *t;
-
-    *v = NAN;
-    if (k < 0)
-        return LF_OK;
-    t = r->text[k];
-    if (pkind[c] == FREE_NUMBER && (t[0] == '\0' || lf_csv_ieq(t, "nan")))
-        return LF_OK;
-    if (t[0] == '\0')
-        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                          "empty %s cell (every row needs %s)", pcols[c].name,
-                          pcols[c].name);
-    return lf_csv_cell_number(rd->name, r, k, &pcols[c], rd->has_unit[c], rd->factor[c],
-                              rd->decimal_comma, v, err);
+    return lf_csv_table_number(&rd->t, r, c, pkind[c] == FREE_NUMBER, v, err);
 }
 
 /* The curve path of a row, against the plan's folder. */
@@ -168,7 +225,7 @@ static int
 plan_file(plan_reader *rd, const lf_csv_record *r, size_t idx, lf_error *err)
 {
     lf_plan_row *row = &rd->plan->rows[idx];
-    long k = rd->col[P_FILE];
+    long k = rd->t.col[P_FILE];
     const char *t = r->text[k];
     char buf[64], *canon;
     size_t i;
@@ -180,6 +237,19 @@ plan_file(plan_reader *rd, const lf_csv_record *r, size_t idx, lf_error *err)
     row->file = resolve(rd->dir, t);
     if (row->file == NULL)
         return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
+    {
+        /* "FILE#N": curve N of FILE (when no file has the whole name) */
+        char split[4096];
+        long index;
+        if (lf_curve_path_split(row->file, split, sizeof split, &index) == LF_OK && index >= 0) {
+            if (row->index >= 0 && row->index != index)
+                return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                                  "the file cell names curve %ld, the index column %ld (give "
+                                  "one)", index, row->index);
+            row->file[strlen(split)] = '\0';
+            row->index = index;
+        }
+    }
     /* whether the file exists and is a regular file is checked when it is
      * read (lf_input_open), so that a batch can report it as that curve's
      * problem and go on */
@@ -212,7 +282,7 @@ probe_column(const plan_reader *rd, const char *msg)
     for (i = 0; i < sizeof named / sizeof named[0]; i++) {
         n = strlen(pcols[named[i]].name);
         if (strncmp(msg, pcols[named[i]].name, n) == 0 && msg[n] == ' ')
-            return rd->col[named[i]];
+            return rd->t.col[named[i]];
     }
     return -1;
 }
@@ -222,7 +292,7 @@ probe_column(const plan_reader *rd, const char *msg)
 static int
 R_from_header(const plan_reader *rd, const lf_csv_record *r)
 {
-    return rd->col[P_R] >= 0 && lf_csv_ieq(r->text[rd->col[P_R]], "header");
+    return rd->t.col[P_R] >= 0 && lf_csv_ieq(r->text[rd->t.col[P_R]], "header");
 }
 
 /* An empty b cell: no layer (NaN in the plan row), for half-space fits
@@ -230,7 +300,7 @@ R_from_header(const plan_reader *rd, const lf_csv_record *r)
 static int
 no_layer(const plan_reader *rd, const lf_csv_record *r)
 {
-    return r->text[rd->col[P_B]][0] == '\0';
+    return r->text[rd->t.col[P_B]][0] == '\0';
 }
 
 static int plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err);
@@ -245,11 +315,11 @@ plan_row(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     int status = plan_row_cells(rd, r, err);
     size_t len;
 
-    if (status != LF_OK && status != LF_ENOMEM && r->n > rd->ncols && err != NULL
+    if (status != LF_OK && status != LF_ENOMEM && r->n > rd->t.ncells && err != NULL
         && (len = strlen(err->msg)) < sizeof err->msg)
         snprintf(err->msg + len, sizeof err->msg - len, " (this row has %zu cells where the "
                  "header has %zu: a cell that holds a comma, such as a file name, must be in "
-                 "double quotes)", r->n, rd->ncols);
+                 "double quotes)", r->n, rd->t.ncells);
     return status;
 }
 
@@ -261,9 +331,9 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     lf_error e;
     char buf[64];
     long k;
-    int status, word;
+    int status;
 
-    if ((status = lf_csv_row_cells(rd->name, r, rd->ncols, err)) != LF_OK)
+    if ((status = lf_csv_row_cells(rd->name, r, rd->t.ncells, err)) != LF_OK)
         return status;
     if (p->n == rd->cap) {
         size_t cap = rd->cap ? 2 * rd->cap : 16;
@@ -282,22 +352,10 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     memset(row, 0, sizeof *row);
     rd->canon[p->n] = NULL;
     row->line = r->line;
-    row->segment = LF_SEG_UNLOAD;
-    k = rd->col[P_SEGMENT];
-    if (k >= 0 && r->text[k][0] != '\0') {
-        word = lf_csv_segment_word(r->text[k]);
-        if (word < 0)
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                                "unknown segment '%s' (expected unload or load)",
-                                lf_csv_excerpt(r->text[k], buf, sizeof buf));
-        if (word == LF_SEG_HOLD)
-            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                                "segment '%s' is a hold, which is never fitted "
-                                "(expected unload or load)",
-                                lf_csv_excerpt(r->text[k], buf, sizeof buf));
-        row->segment = (lf_segment) word;
-    }
-    k = rd->col[P_INTERFACE];
+    if ((status = lf_csv_table_segment(&rd->t, r, P_SEGMENT, &row->segment, err)) != LF_OK)
+        return status;
+    row->index = -1;
+    k = rd->t.col[P_INTERFACE];
     if (no_layer(rd, r) != (r->text[k][0] == '\0'))
         return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
                           "b and interface go together: give both for a layer, or leave "
@@ -306,15 +364,17 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
         row->probe.base = LF_BASE_FRICTIONLESS;     /* not used by a half-space */
     else if ((status = lf_csv_cell_interface(rd->name, r, k, &row->probe.base, err)) != LF_OK)
         return status;
-    k = rd->col[P_FORMAT];
-    if (k >= 0 && r->text[k][0] != '\0' && lf_reader_find(r->text[k]) == NULL)
+    k = rd->t.col[P_FORMAT];
+    if (k >= 0 && r->text[k][0] != '\0' && lf_reader_find(r->text[k]) == NULL) {
+        char list[256];
         return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
-                          "unknown format '%s' (csv, chiaro, jpk, workshop, ntmdt, hysitron, "
-                          "text; or empty to detect it)",
-                          lf_csv_excerpt(r->text[k], buf, sizeof buf));
-    k = rd->col[P_SAMPLE];
+                          "unknown format '%s' (%s; or empty to detect it)",
+                          lf_csv_excerpt(r->text[k], buf, sizeof buf),
+                          lf_reader_names(list, sizeof list));
+    }
+    k = rd->t.col[P_SAMPLE];
     row->sample = lf_strdup(k >= 0 ? r->text[k] : "");
-    row->format = lf_strdup(rd->col[P_FORMAT] >= 0 ? r->text[rd->col[P_FORMAT]] : "");
+    row->format = lf_strdup(rd->t.col[P_FORMAT] >= 0 ? r->text[rd->t.col[P_FORMAT]] : "");
     p->n++;          /* from here on the row is owned by the plan */
     if (row->sample == NULL || row->format == NULL)
         return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
@@ -327,6 +387,18 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
         || (status = plan_number(rd, r, P_Z0, &row->z0, err)) != LF_OK
         || (status = plan_number(rd, r, P_F0, &row->F0, err)) != LF_OK)
         return status;
+    if (rd->t.col[P_INDEX] >= 0) {
+        double v;
+        k = rd->t.col[P_INDEX];
+        if ((status = plan_number(rd, r, P_INDEX, &v, err)) != LF_OK)
+            return status;
+        if (!isnan(v) && !(v >= 0 && v < 1e9 && v == floor(v)))
+            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                              "index must be a whole number >= 0 (the curve's place in its "
+                              "file, from 0), or empty");
+        if (!isnan(v))
+            row->index = (long) v;
+    }
     if (R_from_header(rd, r))      /* checked with the curve's R by the fit */
         row->probe.R = 1.0;
     if (no_layer(rd, r))
@@ -343,7 +415,7 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     }
     if (!isnan(row->nu)) {
         lf_material m = { 0.0, 1.0, row->nu };
-        k = rd->col[P_NU];
+        k = rd->t.col[P_NU];
         if (lf_material_check(&m, row->probe.base, &e) != LF_OK)
             return lf_fail_at(err, e.status, rd->name, r->fline[k], r->fcol[k],
                               "%s (leave nu empty to fit it)", e.msg);
@@ -358,7 +430,7 @@ static int
 plan_record(void *ctx, const lf_csv_record *r, lf_error *err)
 {
     plan_reader *rd = ctx;
-    return r->index == 0 ? plan_header(rd, r, err) : plan_row(rd, r, err);
+    return r->index == 0 ? lf_csv_table_header(&rd->t, r, err) : plan_row(rd, r, err);
 }
 
 static int
@@ -366,7 +438,6 @@ plan_load(const char *path, const char *buf, size_t len, size_t chunk,
           const char *name, const char *dir, lf_plan **out, lf_warnings *warn,
           lf_error *err)
 {
-    lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
     plan_reader rd;
     int status;
     size_t i;
@@ -376,24 +447,17 @@ plan_load(const char *path, const char *buf, size_t len, size_t chunk,
     memset(&rd, 0, sizeof rd);
     rd.name = name ? name : "";
     rd.dir = dir;
+    rd.t.file = rd.name;
+    rd.t.cols = pcols;
+    rd.t.ncol = NPCOL;
+    rd.t.hint = COLUMNS_HINT;
     rd.plan = calloc(1, sizeof *rd.plan);
     if (rd.plan == NULL || (rd.plan->path = lf_strdup(rd.name)) == NULL) {
         lf_plan_free(rd.plan);
         return lf_fail_at(err, LF_ENOMEM, rd.name, 0, 0, "out of memory");
     }
-    h.ctx = &rd;
-    h.record = plan_record;
-    h.comment = NULL;
-    h.line = NULL;
-    status = buf == NULL ? lf_csv_read_file(path, &h, err)
-                         : lf_csv_read_buffer(buf, len, chunk, rd.name, &h, err);
-    if (status == LF_OK && !rd.have_header)
-        status = lf_fail_at(err, LF_EFORMAT, rd.name, 0, 0, "empty plan (expected "
-                            "a header such as file,k,R_mm,b_um,interface and one "
-                            "row per curve)");
-    if (status == LF_OK && rd.plan->n == 0)
-        status = lf_fail_at(err, LF_EDATA, rd.name, rd.header_line, 0,
-                            "header but no rows (list one curve per row below it)");
+    status = lf_csv_table_load(&rd.t, path, buf, len, chunk, plan_record, &rd, &rd.plan->n,
+                               "plan", "file,k,R_mm,b_um,interface", "curve", err);
     for (i = 0; i < rd.plan->n; i++)
         free(rd.canon[i]);
     free(rd.canon);
@@ -446,6 +510,9 @@ lf_plan_free(lf_plan *p)
         free(p->rows[i].sample);
         free(p->rows[i].format);
     }
+    for (i = 0; i < p->nfiles; i++)
+        lf_file_close(p->files[i]);
+    free(p->files);
     free(p->rows);
     free(p->path);
     free(p);
@@ -474,10 +541,22 @@ lf_file_kind_parse(const char *buf, size_t len, const char *name, lf_file_kind *
     lf_csv_handler h = { 0 };   /* callbacks not set stay NULL */
     *kind = LF_FILE_CURVE;
     buf = buf ? buf : "";
-    /* an instrument's export is a curve, whatever its first line holds */
+    /* an instrument's export is a curve, whatever its first line holds;
+     * so is binary data (the curve readers say what it is) */
     if (strcmp(lf_reader_sniff(buf, len < LF_SNIFF_BYTES ? len : LF_SNIFF_BYTES)->name,
                "csv") != 0)
         return LF_OK;
+    {
+        char what[1024];
+        lf_src src;
+        src.mem = (const unsigned char *) buf;
+        src.fd = -1;
+        src.size = len;
+        src.name = name;
+        if (lf_describe_binary(&src, buf, len < LF_SNIFF_BYTES ? len : LF_SNIFF_BYTES, what,
+                               sizeof what))
+            return LF_OK;
+    }
     h.ctx = kind;
     h.record = kind_record;
     return lf_csv_read_buffer(buf, len, 0, name, &h, err);
@@ -490,9 +569,166 @@ lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err)
     int status;
 
     *kind = LF_FILE_CURVE;
-    if ((status = lf_input_read(path, 0, &in, err)) != LF_OK)
+    /* a binary file of many curves is a curve file: not read whole */
+    if (lf_file_sniff_multi(path, NULL))
+        return LF_OK;
+    if ((status = lf_input_read(path, LF_INPUT_TEXT, &in, err)) != LF_OK)
         return status;
     status = lf_file_kind_parse(in.data, in.len, path, kind, err);
     lf_input_free(&in);
     return status;
+}
+
+/* ---------------------------------------------------------------------- */
+
+int
+lf_plan_of_file(const char *path, const lf_probe *probe, lf_segment seg, lf_plan **out,
+                lf_error *err)
+{
+    char split[4096];
+    lf_plan *p;
+    lf_plan_row *row;
+    long index;
+
+    *out = NULL;
+    if (lf_curve_path_split(path, split, sizeof split, &index) != LF_OK)
+        return lf_fail_at(err, LF_EINVAL, path, 0, 0, "path too long");
+    p = calloc(1, sizeof *p);
+    if (p == NULL || (p->path = lf_strdup(path)) == NULL
+        || (p->rows = calloc(1, sizeof *p->rows)) == NULL) {
+        lf_plan_free(p);
+        return lf_fail_at(err, LF_ENOMEM, path, 0, 0, "out of memory");
+    }
+    row = &p->rows[0];
+    row->file = lf_strdup(split);
+    row->sample = lf_strdup("");
+    row->format = lf_strdup("");
+    p->n = 1;
+    if (row->file == NULL || row->sample == NULL || row->format == NULL) {
+        lf_plan_free(p);
+        return lf_fail_at(err, LF_ENOMEM, path, 0, 0, "out of memory");
+    }
+    row->line = 0;
+    row->probe = *probe;
+    row->nu = row->z0 = row->F0 = NAN;
+    row->segment = seg;
+    row->index = index;
+    *out = p;
+    return LF_OK;
+}
+
+/* The open file of path among the plan's, or NULL. */
+static lf_file *
+plan_file_open(const lf_plan *plan, const char *path, const char *format)
+{
+    size_t i;
+    for (i = 0; i < plan->nfiles; i++)
+        if (strcmp(plan->files[i]->path, path) == 0
+            && (format[0] == '\0' || strcmp(lf_file_format(plan->files[i]), format) == 0))
+            return plan->files[i];
+    return NULL;
+}
+
+/* A copy of row r as curve index of its file (strings duplicated). */
+static int
+row_copy(lf_plan_row *to, const lf_plan_row *r, long index, lf_file *source)
+{
+    *to = *r;
+    to->index = index;
+    to->source = source;
+    to->file = lf_strdup(r->file);
+    to->sample = lf_strdup(r->sample);
+    to->format = lf_strdup(r->format);
+    return to->file && to->sample && to->format ? LF_OK : LF_ENOMEM;
+}
+
+int
+lf_plan_open_files(lf_plan *plan, const lf_read_opts *o, lf_error *err)
+{
+    size_t i;
+
+    /* open each file of many curves once */
+    for (i = 0; i < plan->n; i++) {
+        lf_plan_row *r = &plan->rows[i];
+        lf_read_opts ro;
+        lf_file *f;
+        lf_file **files;
+        lf_error e;
+        if (o != NULL)
+            ro = *o;
+        else
+            lf_read_opts_default(&ro);
+        if (ro.format == NULL && r->format[0] != '\0')
+            ro.format = r->format;
+        if ((f = plan_file_open(plan, r->file, r->format)) == NULL) {
+            if (!lf_file_sniff_multi(r->file, ro.format)
+                || lf_file_open(r->file, 0, &ro, &f, NULL, &e) != LF_OK)
+                continue;       /* a text export, or the fit of the row says what is wrong */
+            files = realloc(plan->files, (plan->nfiles + 1) * sizeof *files);
+            if (files == NULL) {
+                lf_file_close(f);
+                return lf_fail(err, LF_ENOMEM, "out of memory");
+            }
+            plan->files = files;
+            plan->files[plan->nfiles++] = f;
+        }
+        r->source = f;
+    }
+    return LF_OK;
+}
+
+int
+lf_plan_expand(lf_plan *plan, const lf_read_opts *o, lf_error *err)
+{
+    lf_plan_row *rows;
+    size_t i, total = 0, w = 0;
+    int status;
+
+    if ((status = lf_plan_open_files(plan, o, err)) != LF_OK)
+        return status;
+    for (i = 0; i < plan->n; i++)
+        total += plan->rows[i].source != NULL && plan->rows[i].index < 0
+                 ? lf_file_count(plan->rows[i].source) : 1;
+    if (total == plan->n)
+        return LF_OK;
+    if ((rows = calloc(total, sizeof *rows)) == NULL)
+        return lf_fail(err, LF_ENOMEM, "out of memory");
+    /* the copies first: on failure the plan is left as it was */
+    for (i = 0; i < plan->n; i++) {
+        lf_plan_row *r = &plan->rows[i];
+        size_t k, n = r->source != NULL && r->index < 0 ? lf_file_count(r->source) : 0;
+        if (n == 0) {
+            rows[w++] = *r;
+            continue;
+        }
+        for (k = 0; k < n; k++, w++)
+            if (row_copy(&rows[w], r, (long) k, r->source) != LF_OK) {
+                size_t j, at = 0;
+                for (j = 0, w++; j < plan->n; j++) {
+                    size_t m = plan->rows[j].source != NULL && plan->rows[j].index < 0
+                               ? lf_file_count(plan->rows[j].source) : 0;
+                    if (m == 0) {
+                        at++;
+                        continue;
+                    }
+                    for (; m > 0 && at < w; m--, at++) {
+                        free(rows[at].file);
+                        free(rows[at].sample);
+                        free(rows[at].format);
+                    }
+                }
+                free(rows);
+                return lf_fail(err, LF_ENOMEM, "out of memory");
+            }
+    }
+    for (i = 0; i < plan->n; i++)
+        if (plan->rows[i].source != NULL && plan->rows[i].index < 0) {
+            free(plan->rows[i].file);
+            free(plan->rows[i].sample);
+            free(plan->rows[i].format);
+        }
+    free(plan->rows);
+    plan->rows = rows;
+    plan->n = total;
+    return LF_OK;
 }

@@ -20,8 +20,45 @@ const lf_reader_type *const lf_reader_types[] = {
     &lf_reader_ntmdt,
     &lf_reader_hysitron,
     &lf_reader_text,
+    &lf_reader_tab,
+    &lf_reader_jpk_force,
+    &lf_reader_workshop_map,
+    &lf_reader_nanoscope,
+    &lf_reader_igor,
     NULL
 };
+
+/* The binary formats of many curves per file, and their readers' entries. */
+static const lf_multi_reader *const multi_readers[] = {
+    &lf_multi_jpk_force,
+    &lf_multi_workshop_map,
+    &lf_multi_nanoscope,
+    &lf_multi_igor,
+    NULL
+};
+
+const lf_multi_reader *
+lf_multi_of(const lf_reader_type *r)
+{
+    size_t i;
+    for (i = 0; r != NULL && multi_readers[i] != NULL; i++)
+        if (multi_readers[i]->reader == r)
+            return multi_readers[i];
+    return NULL;
+}
+
+const char *
+lf_reader_names(char *buf, size_t n)
+{
+    size_t i, len = 0;
+    if (n == 0)
+        return buf;
+    buf[0] = '\0';
+    for (i = 0; lf_reader_types[i] != NULL; i++)
+        len += (size_t) snprintf(buf + len, len < n ? n - len : 0, "%s%s", i ? ", " : "",
+                                 lf_reader_types[i]->name);
+    return buf;
+}
 
 const lf_reader_type *
 lf_reader_find(const char *name)
@@ -61,13 +98,8 @@ static int
 unknown_format(const char *name, const char *format, lf_error *err)
 {
     char list[256];
-    size_t i, len = 0;
-    list[0] = '\0';
-    for (i = 0; lf_reader_types[i] != NULL; i++)
-        len += (size_t) snprintf(list + len, len < sizeof list ? sizeof list - len : 0,
-                                 "%s%s", i ? ", " : "", lf_reader_types[i]->name);
     return lf_fail_at(err, LF_EINVAL, name, 0, 0, "unknown format '%s' (one of: %s)",
-                      format, list);
+                      format, lf_reader_names(list, sizeof list));
 }
 
 /* The reading options a file did not use, said: a constant the file states
@@ -112,7 +144,6 @@ run_reader(const lf_reader_type *r, const lf_source *in, const lf_read_opts *o,
     lf_read_opts def;
     lf_curve *c;
     int status;
-    size_t i;
 
     if (o == NULL) {
         lf_read_opts_default(&def);
@@ -128,12 +159,89 @@ run_reader(const lf_reader_type *r, const lf_source *in, const lf_read_opts *o,
         lf_warnings_free(&local);
         return status;
     }
-    for (i = 0; i < local.n; i++)   /* warnings reach the caller only with a curve */
-        lf_warn(warn, "%s", local.msg[i]);
-    lf_warnings_free(&local);
-    options_set_aside(r, c, o, warn);
+    lf_curve_done(r, c, o, &local, warn);
     *out = c;
     return LF_OK;
+}
+
+/* A length stated by metadata key: "x: 12 um" (number and unit), or a key
+ * with its unit ("X-position (um)", "X, um"), or in m (unit "m"). */
+static double
+meta_position(const lf_curve *c, const char *key, const char *unit)
+{
+    const char *v = lf_curve_meta(c, key);
+    double x;
+    if (v == NULL)
+        return NAN;
+    if (unit != NULL) {
+        x = lf_number_or_nan(v);
+        return x * (strcmp(unit, "m") == 0 ? 1.0 : 1e-6);
+    }
+    if (lf_units_parse(v, LF_Q_LENGTH, &x, NULL) == LF_OK)
+        return x;
+    if (lf_meta_number(c, key, LF_Q_LENGTH, &x) == 0)
+        return x;
+    return NAN;
+}
+
+/* The position a text export states in its header: "# x:" / "# y:" lines
+ * (layerfit's CSV), Chiaro / Piuma "X-position (um)", AFM Workshop
+ * "X, um", JPK text exports "xPosition" (m). */
+static void
+position_from_meta(lf_curve *c)
+{
+    static const char *const keys[][3] = {
+        { "x", "y", NULL }, { "X-position (um)", "Y-position (um)", "um" },
+        { "X, um", "Y, um", "um" }, { "xPosition", "yPosition", "m" },
+    };
+    size_t k;
+    for (k = 0; k < sizeof keys / sizeof keys[0] && isnan(c->x); k++) {
+        double x = meta_position(c, keys[k][0], keys[k][2]);
+        double y = meta_position(c, keys[k][1], keys[k][2]);
+        if (isfinite(x) && isfinite(y)) {
+            c->x = x;
+            c->y = y;
+            lf_warn(&c->info, "position: x %.6g m, y %.6g m (file header '%s', '%s')", x, y,
+                    keys[k][0], keys[k][1]);
+        }
+    }
+}
+
+void
+lf_curve_done(const lf_reader_type *r, lf_curve *c, const lf_read_opts *o,
+              lf_warnings *local, lf_warnings *warn)
+{
+    lf_read_opts def;
+    size_t i;
+    if (o == NULL) {
+        lf_read_opts_default(&def);
+        o = &def;
+    }
+    for (i = 0; i < local->n; i++)   /* warnings reach the caller only with a curve */
+        lf_warn(warn, "%s", local->msg[i]);
+    lf_warnings_free(local);
+    if (isnan(c->x))
+        position_from_meta(c);
+    options_set_aside(r, c, o, warn);
+}
+
+double
+lf_number_or_nan(const char *text)
+{
+    double v;
+    char buf[64];
+    size_t n;
+    if (text == NULL)
+        return NAN;
+    text += strspn(text, " \t");
+    n = strcspn(text, " \t\r\n");
+    if (n == 0 || n >= sizeof buf || text[n + strspn(text + n, " \t\r\n")] != '\0')
+        return NAN;
+    memcpy(buf, text, n);
+    buf[n] = '\0';
+    if (lf_csv_number(buf, 0, &v) != LF_NUM_OK || !isfinite(v))
+        return NAN;
+    return v;
 }
 
 static const lf_reader_type *
@@ -141,11 +249,26 @@ choose(const lf_read_opts *o, const char *head, size_t len, const char *name,
        lf_error *err)
 {
     const lf_reader_type *r;
+    char what[1024];
+    lf_src src;
+
     if (o == NULL || o->format == NULL || o->format[0] == '\0')
-        return lf_reader_sniff(head, len);
-    r = lf_reader_find(o->format);
-    if (r == NULL)
+        r = lf_reader_sniff(head, len);
+    else if ((r = lf_reader_find(o->format)) == NULL) {
         unknown_format(name, o->format, err);
+        return NULL;
+    }
+    /* a binary input that only a text reader would take: say what it is */
+    src.mem = (const unsigned char *) head;
+    src.fd = -1;
+    src.size = len;
+    src.name = name;
+    if (lf_multi_of(r) == NULL
+        && lf_describe_binary(&src, head, len < LF_SNIFF_BYTES ? len : LF_SNIFF_BYTES, what,
+                              sizeof what)) {
+        lf_fail_at(err, LF_EFORMAT, name, 0, 0, "%s", what);
+        return NULL;
+    }
     return r;
 }
 
@@ -153,17 +276,27 @@ int
 lf_curve_read(const char *path, const lf_read_opts *o, lf_curve **out,
               lf_warnings *warn, lf_error *err)
 {
-    lf_input file;
+    char file[4096];
+    lf_file *f = NULL;
+    long index;
     int status;
 
     *out = NULL;
     lf_error_clear(err);
-    /* read once, whole, from a descriptor checked when it was opened: the
-     * bytes sniffed are the bytes parsed */
-    if ((status = lf_input_read(path, 0, &file, err)) != LF_OK)
+    if (lf_curve_path_split(path, file, sizeof file, &index) != LF_OK)
+        return lf_fail_at(err, LF_EINVAL, path, 0, 0, "path too long");
+    /* a text export is read once, whole, from a descriptor checked when it
+     * was opened (the bytes sniffed are the bytes parsed); an archive by
+     * random access */
+    if ((status = lf_file_open(file, 0, o, &f, warn, err)) != LF_OK)
         return status;
-    status = lf_curve_parse(file.data, file.len, 0, path, o, out, warn, err);
-    lf_input_free(&file);
+    if (index < 0 && lf_file_count(f) > 1)
+        status = lf_fail_at(err, LF_EDATA, file, 0, 0, "holds %zu curves: name one as "
+                            "%s#0 .. %s#%zu (or fit each with layerfit fit --batch)",
+                            lf_file_count(f), file, file, lf_file_count(f) - 1);
+    else
+        status = lf_file_curve(f, index < 0 ? 0 : (size_t) index, out, warn, err);
+    lf_file_close(f);
     return status;
 }
 
@@ -179,7 +312,7 @@ lf_curve_parse(const char *buf, size_t len, size_t chunk, const char *name,
     lf_error_clear(err);
     r = choose(o, buf ? buf : "", buf ? len : 0, name ? name : "", err);
     if (r == NULL)
-        return LF_EINVAL;
+        return err != NULL ? err->status : LF_EINVAL;
     in.buf = buf ? buf : "";
     in.len = buf ? len : 0;
     in.chunk = chunk;
@@ -202,7 +335,57 @@ lf_curve_new(const char *name, const char *format)
     }
     c->format = format;
     c->R = c->spring_constant = c->sensitivity = NAN;
+    c->x = c->y = NAN;
+    c->grid_i = c->grid_j = -1;
+    c->index = 0;
     return c;
+}
+
+lf_curve *
+lf_curve_copy(const lf_curve *c)
+{
+    lf_curve *d = lf_curve_new(c->file, c->format);
+    size_t i;
+    if (d == NULL || lf_curve_reserve(d, c->n, c->time != NULL) != 0) {
+        lf_curve_free(d);
+        return NULL;
+    }
+    d->n = c->n;
+    if (c->n > 0) {
+        memcpy(d->depth, c->depth, c->n * sizeof *d->depth);
+        memcpy(d->force, c->force, c->n * sizeof *d->force);
+        memcpy(d->segment, c->segment, c->n * sizeof *d->segment);
+        memcpy(d->line, c->line, c->n * sizeof *d->line);
+        if (c->time != NULL)
+            memcpy(d->time, c->time, c->n * sizeof *d->time);
+    }
+    if (c->nmeta > 0 && (d->meta = calloc(c->nmeta, sizeof *d->meta)) == NULL) {
+        lf_curve_free(d);
+        return NULL;
+    }
+    for (i = 0; i < c->nmeta; i++) {
+        d->meta[i].key = lf_strdup(c->meta[i].key);
+        d->meta[i].value = lf_strdup(c->meta[i].value);
+        d->nmeta++;
+        if (d->meta[i].key == NULL || d->meta[i].value == NULL) {
+            lf_curve_free(d);
+            return NULL;
+        }
+    }
+    for (i = 0; i < c->info.n; i++)
+        lf_warn(&d->info, "%s", c->info.msg[i]);
+    d->R = c->R;
+    d->spring_constant = c->spring_constant;
+    d->sensitivity = c->sensitivity;
+    d->spring_constant_source = c->spring_constant_source;
+    d->sensitivity_source = c->sensitivity_source;
+    d->sensitivity_unit = c->sensitivity_unit;
+    d->x = c->x;
+    d->y = c->y;
+    d->grid_i = c->grid_i;
+    d->grid_j = c->grid_j;
+    d->index = c->index;
+    return d;
 }
 
 int

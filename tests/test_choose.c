@@ -3,14 +3,16 @@
  *
  *  1. A joint fit that mixes models (thin and exact curves of one
  *     material, each simulated with its own model) returns the truth.
- *  2. The thin-layer bias table of physics.md section 3: noise-free
+ *  2. A reference table of the thin-layer bias (an independent computation:
+ *     the exact layer model of Lebedev & Ufliand 1958 fitted with the
+ *     thin-layer form): noise-free
  *     exact-model curves (unloading, from the exact model's
  *     displacement-control end to the stated depth, 300 points uniform in
  *     depth, z0 and F0 held) fitted with the thin-layer model.  Checked:
  *     the linearised bias that the model choice uses predicts the actual
  *     shift of the thin fit where the bias is small; the numbers are
- *     printed beside physics.md's and pinned (10%) as a regression guard.
- *     physics.md's w biases are not reproduced by this setup (see the
+ *     printed beside the reference's and pinned (10%) as a regression
+ *     guard.  The reference's w biases are not reproduced by this setup (see the
  *     printed table; they depend strongly on the placement of the points,
  *     and for bonded nu = 0.3 this setup gives w +0.4%, not -6.7%), so only
  *     the signs of the E* biases and |w bias| >> |E* bias| (where the w bias
@@ -90,7 +92,7 @@ typedef struct {
     double k, R, b;
     lf_base base;
     double nu, w, Estar, depth;
-    double physics_w, physics_E;    /* physics.md section 3, percent */
+    double ref_w, ref_E;    /* the reference table, percent */
     double ours_w, ours_E;          /* measured with this setup, percent */
 } bias_row;
 
@@ -139,8 +141,8 @@ bias_table(void)
     size_t i;
 
     printf("thin-layer fit of noise-free exact-model curves (z0, F0 held; 300 points uniform in depth)\n");
-    printf("%-36s %12s %12s %12s %12s %12s\n", "case", "w bias %", "physics.md", "E* bias %",
-           "physics.md", "linearised w %");
+    printf("%-36s %12s %12s %12s %12s %12s\n", "case", "w bias %", "reference", "E* bias %",
+           "reference", "linearised w %");
     for (i = 0; i < sizeof rows / sizeof rows[0]; i++) {
         const bias_row *rw = &rows[i];
         lf_fit_settings set = lf_fit_settings_default();
@@ -190,12 +192,12 @@ bias_table(void)
         dE = 100.0 * (th.Estar.value / rw->Estar - 1.0);
         lin = 100.0 * r.curves[0].thin_bias_se[0] * (r.w.se / r.se_scale) / rw->w;
         printf("%-36s %+12.3f %+12.3g %+12.4f %+12.3g %+12.3f\n", rw->label, dw,
-               rw->physics_w, dE, rw->physics_E, lin);
+               rw->ref_w, dE, rw->ref_E, lin);
         t_true(r.thin.done, "%s: the thin comparison is filled", rw->label);
         t_rel(r.thin.w.value, th.w.value, 1e-6, "%s: the comparison is the thin fit", rw->label);
         t_rel(dw, rw->ours_w, 0.10, "%s: w bias %.3f%% (pinned)", rw->label, dw);
         t_rel(dE, rw->ours_E, 0.10, "%s: E* bias %.4f%% (pinned)", rw->label, dE);
-        t_true(dE * rw->physics_E > 0, "%s: E* bias has physics.md's sign", rw->label);
+        t_true(dE * rw->ref_E > 0, "%s: E* bias has the reference's sign", rw->label);
         if (fabs(dw) > 1.0)     /* not the bonded nu = 0.3 row, see the top */
             t_true(fabs(dw) > 5.0 * fabs(dE), "%s: the error lands on w (%.3g%% vs %.3g%%)",
                    rw->label, dw, dE);

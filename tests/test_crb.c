@@ -1,5 +1,6 @@
-/* test_crb.c: the Cramer-Rao bound against the design numbers of
- * physics.md section 2 and against what the data can and cannot determine. */
+/* test_crb.c: the Cramer-Rao bound against the numbers of a two-probe
+ * design (computed independently, and reached by scipy's least_squares)
+ * and against what the data can and cannot determine. */
 #include <math.h>
 
 #include <gsl/gsl_errno.h>
@@ -9,7 +10,7 @@
 
 #define N 200
 
-/* physics.md: two probes (k = 2, 3; R = 1 mm; b = 1 um; w = 10 mJ/m^2;
+/* Two probes (k = 2, 3; R = 1 mm; b = 1 um; w = 10 mJ/m^2;
  * E* = 1 GPa; delta from -0.9c to 50 nm; 200 points each; noise 1% of
  * max |P|): relative sd 8.6% (w), 0.14% (E*), correlation 0.63. */
 static void
@@ -53,10 +54,10 @@ main(void)
 
     gsl_set_error_handler_off();
     two_probes(LF_BASE_FRICTIONLESS, 0, 0, 0, &r, &status);
-    t_int(status, LF_OK, "physics.md design: bound computed");
-    t_abs(r.sd_logw, 0.086, 0.0005, "physics.md design: sd(w)/w = 8.6%%");
-    t_abs(r.sd_logE, 0.0014, 0.00005, "physics.md design: sd(E*)/E* = 0.14%%");
-    t_abs(r.corr_wE, 0.63, 0.005, "physics.md design: correlation 0.63");
+    t_int(status, LF_OK, "two-probe design: bound computed");
+    t_abs(r.sd_logw, 0.086, 0.0005, "two-probe design: sd(w)/w = 8.6%%");
+    t_abs(r.sd_logE, 0.0014, 0.00005, "two-probe design: sd(E*)/E* = 0.14%%");
+    t_abs(r.corr_wE, 0.63, 0.005, "two-probe design: correlation 0.63");
     t_true(isnan(r.sd_nu), "nu not estimated: its bound is NaN");
     t_int((long) r.nparams, 2, "two parameters");
 

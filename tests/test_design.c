@@ -22,6 +22,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <unistd.h>
 
 #include <gsl/gsl_errno.h>
 
@@ -146,12 +147,13 @@ against_crb(int free_offsets, lf_base base2)
     lf_design_result_free(&r);
 }
 
-/* physics.md section 2: k = 2, 3; R = 1 mm; b = 1 um; w = 10 mJ/m^2;
+/* The two-probe Cramer-Rao design (tests/test_crb.c): k = 2, 3; R = 1 mm;
+ * b = 1 um; w = 10 mJ/m^2;
  * E* = 1 GPa; to 50 nm, 200 points, 1% noise, offsets known: 8.6% and
  * 0.14%, correlation 0.63 (there from -0.9 c, here from 0.9 of the exact
  * model's detachment indentation, which lies a little deeper). */
 static void
-physics_numbers(void)
+two_probe_numbers(void)
 {
     lf_design_settings s = settings(0.01);
     lf_design_candidate c[2] = { cand("k2", 2, LF_BASE_FRICTIONLESS, 0, 0, 200),
@@ -161,11 +163,11 @@ physics_numbers(void)
     s.truth.w = 10e-3;
     s.truth.Estar = 1e9;
     s.model = &lf_model_thin;
-    if (evaluate(&s, 2, c, &r, "physics.md design") != 0)
+    if (evaluate(&s, 2, c, &r, "two-probe design") != 0)
         return;
-    t_rel(r.w.rel, 0.086, 0.03, "physics.md design: se(w)/w %.4g near 8.6%%", r.w.rel);
-    t_rel(r.Estar.rel, 0.0014, 0.03, "physics.md design: se(E*)/E* %.4g near 0.14%%", r.Estar.rel);
-    t_rel(r.corr_wE, 0.63, 0.03, "physics.md design: corr %.3g near 0.63", r.corr_wE);
+    t_rel(r.w.rel, 0.086, 0.03, "two-probe design: se(w)/w %.4g near 8.6%%", r.w.rel);
+    t_rel(r.Estar.rel, 0.0014, 0.03, "two-probe design: se(E*)/E* %.4g near 0.14%%", r.Estar.rel);
+    t_rel(r.corr_wE, 0.63, 0.03, "two-probe design: corr %.3g near 0.63", r.corr_wE);
     lf_design_result_free(&r);
 }
 
@@ -191,6 +193,16 @@ identifiability(void)
         lf_design_result_free(&r);
     }
     c[0] = cand("k2", 2, LF_BASE_FRICTIONLESS, 1, 1, 150);
+    if (evaluate(&s, 1, c, &r, "k2 alone, baseline, 1% noise") == 0) {
+        /* w within two of its standard errors: a fit reports an upper
+         * bound only, and so does the design (the same judgement) */
+        t_true(!r.w.determined && r.w.upper_bound_only, "k2 alone with a baseline, 1%% noise: w "
+               "below the noise");
+        t_true(has_message(&r.identifiability, "adhesion below the noise: w < "),
+               "k2 alone with a baseline, 1%% noise: the fitter's words");
+        lf_design_result_free(&r);
+    }
+    s.noise_rel = 0.0025;
     if (evaluate(&s, 1, c, &r, "k2 alone, baseline") == 0) {
         t_true(r.w.determined && r.w.rel > 0, "k2 alone with a baseline: w determined (%.3g)", r.w.rel);
         t_true(r.curves[0].n_past >= 15 * 150 / 100, "k2 with a baseline: %zu of 150 points past "
@@ -198,6 +210,7 @@ identifiability(void)
         t_true(!has_message(&r.identifiability, "cannot separate w"), "k2 with a baseline: no w message");
         lf_design_result_free(&r);
     }
+    s.noise_rel = 0.01;
     c[0] = cand("k2", 2, LF_BASE_FRICTIONLESS, 0, 0, 150);
     if (evaluate(&s, 1, c, &r, "k2 alone, offsets known") == 0) {
         t_true(r.w.determined, "k2 alone with z0 and F0 known: w determined");
@@ -471,6 +484,25 @@ plan_reader(void)
         t_int((long) p->rows[1].line, 3, "plan: line numbers");
     }
     lf_design_plan_free(p);
+    /* the same plan from a file (lf_design_plan_read, what bindings call) */
+    {
+        char path[] = "/tmp/layerfit-design-plan-XXXXXX";
+        int fd = mkstemp(path);
+        lf_design_plan *q = NULL;
+        if (t_true(fd >= 0, "plan file: made") && write(fd, good, strlen(good)) == (ssize_t) strlen(good)) {
+            close(fd);
+            st = lf_design_plan_read(path, &q, &err);
+            if (t_int(st, LF_OK, "plan file: read") && t_int((long) q->n, 2, "plan file: two rows")) {
+                t_str(q->path, path, "plan file: its path");
+                t_str(q->rows[1].name, "cone-ish", "plan file: the second row's name");
+                t_rel(q->rows[1].noise_abs, 2e-6, 1e-12, "plan file: noise 2uN");
+            }
+            lf_design_plan_free(q);
+            unlink(path);
+            st = lf_design_plan_read(path, &q, &err);
+            t_true(st == LF_EIO && q == NULL, "plan file: a missing file is LF_EIO (%s)", err.msg);
+        }
+    }
     {
         static const struct { const char *text, *msg; long line, col; } bad[] = {
             { "k,R_mm,b_um,interface,depth\n2,1,1,frictionless,3\n", "unknown column 'depth'", 1, 23 },
@@ -483,6 +515,10 @@ plan_reader(void)
               2, 20 },
             { "k,R_mm,b_um,interface\n-2,1,1,frictionless\n", "k", 2, 0 },
             { "k,R_mm,b_um,interface\n", "header but no rows", 1, 0 },
+            { "k,R_mm,b_um,interface,segment\n2,1,1,frictionless,hold\n",
+              "segment 'hold' is a hold, which is never fitted", 2, 20 },
+            { "k,R_mm,b_um,interface\n,1,1,frictionless\n", "empty k cell (every row needs k)",
+              2, 1 },
         };
         size_t i;
         for (i = 0; i < sizeof bad / sizeof bad[0]; i++) {
@@ -541,7 +577,7 @@ main(int argc, char **argv)
     against_crb(0, LF_BASE_FRICTIONLESS);
     against_crb(1, LF_BASE_FRICTIONLESS);
     against_crb(1, LF_BASE_BONDED);
-    physics_numbers();
+    two_probe_numbers();
     identifiability();
     {
         /* k = 3 without a baseline: see the note on k > 2 through detachment */

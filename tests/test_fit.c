@@ -241,7 +241,7 @@ model_start(void)
             continue;
         }
         for (k = 0; k < f->ndata; k++)
-            if (f->w.sqrtw[k] != 1.0)
+            if (f->ws.sqrtw[k] != 1.0)
                 break;
         t_int((long) k, (long) f->ndata, "model start b = %g: weights 1 before the guess", bs[i]);
         t_int(lf_fit_guess(f, &start, &err), LF_OK, "model start b = %g: guess", bs[i]);
@@ -256,9 +256,9 @@ model_start(void)
             }
             f->start_by_model = (int) k;
             lf_fit_guess_offsets(f);
-            gsl_vector_set_all(f->w.x, 1.0);
+            gsl_vector_set_all(f->ws.x, 1.0);
             lf_fit_invalidate(f);
-            cost[k] = lf_fit_cost(f, f->w.x, f->w.r);
+            cost[k] = lf_fit_cost(f, f->ws.x, f->ws.r);
         }
         t_true(cost[kept] <= cost[1 - kept], "model start b = %g: the start kept (%s, chi2 %.4g) "
                "is the better of the two (other %.4g)", bs[i], kept ? "the model's" : "thin",
@@ -347,14 +347,14 @@ decomposition(void)
         r = cb + p * p;
         {
             gsl_vector_view rv = gsl_vector_view_array(r, f->nres);
-            gsl_vector_const_view xv = gsl_vector_const_view_array(f->w.x->data, p);
+            gsl_vector_const_view xv = gsl_vector_const_view_array(f->ws.x->data, p);
             t_int(lf_fit_residuals(&xv.vector, f, &rv.vector), GSL_SUCCESS, "%s: residuals", s.label);
         }
-        t_int(lf_fit_normal_sums(f, f->w.x->data, r, G, g, cm), GSL_SUCCESS, "%s: J^T J", s.label);
-        lf_fit_internal_scale(f, f->w.x->data, c);
+        t_int(lf_fit_normal_sums(f, f->ws.x->data, r, G, g, cm), GSL_SUCCESS, "%s: J^T J", s.label);
+        lf_fit_internal_scale(f, f->ws.x->data, c);
         t_int(lf_fit_decomp_alloc(&a, f->nres, p), LF_OK, "alloc");
         t_int(lf_fit_decomp_alloc(&b, 0, p), LF_OK, "alloc");
-        t_int(lf_fit_decomp_run(&a, f, f->w.x->data, 1e-7), LF_OK, "%s: QR of J", s.label);
+        t_int(lf_fit_decomp_run(&a, f, f->ws.x->data, 1e-7), LF_OK, "%s: QR of J", s.label);
         t_int(lf_fit_decomp_normal(&b, G, c, 1e-7), LF_OK, "%s: from J^T J (cond %.3g)",
               s.label, gsl_vector_get(a.S, 0) / gsl_vector_get(a.S, p - 1));
         t_int((long) b.rank, (long) a.rank, "%s: the same rank", s.label);
@@ -401,7 +401,7 @@ decomposition(void)
             p = f->np;
             ca = malloc(p * p * sizeof *ca);
             t_int(lf_fit_decomp_alloc(&a, f->nres, p), LF_OK, "alloc");
-            t_int(lf_fit_decomp_run(&a, f, f->w.x->data, f->set.rcond), LF_OK, "%s: QR", s.label);
+            t_int(lf_fit_decomp_run(&a, f, f->ws.x->data, f->set.rcond), LF_OK, "%s: QR", s.label);
             cov_of(&a, ca);
             emax = cov_apart(res.cov, res.se_scale * res.se_scale, ca, p);
             t_true(res.value[0] < 1e-100 && emax < 1e-9,

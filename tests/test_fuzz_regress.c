@@ -49,20 +49,30 @@ replay(const char *sub)
     return n;
 }
 
-/* Replay the seeds of each instrument reader's fuzz target, and every
- * regression input, through that reader forced. */
+/* Replay the seeds of each reader's fuzz target (tests/fuzz/DIR), and
+ * every regression input, through that reader forced: a text reader whole
+ * and in chunks of 1 to 13 bytes (fuzz_reader), a reader of binary files
+ * of many curves opened from memory, every curve decoded (fuzz_file). */
 static void
 replay_readers(void)
 {
-    static const char *const readers[] = { "chiaro", "jpk", "workshop", "ntmdt", "hysitron",
-                                           "text", NULL };
+    static const struct {
+        const char *dir, *format;
+        int binary;
+    } readers[] = {
+        { "chiaro", "chiaro", 0 }, { "jpk", "jpk", 0 }, { "workshop", "workshop", 0 },
+        { "ntmdt", "ntmdt", 0 }, { "hysitron", "hysitron", 0 }, { "text", "text", 0 },
+        { "tab", "tab", 0 }, { "jpk_force", "jpk-force", 1 },
+        { "workshop_map", "workshop-map", 1 }, { "nanoscope", "nanoscope", 1 },
+        { "igor", "igor", 1 },
+    };
     char dir[1200], path[2400];
     size_t r;
-    for (r = 0; readers[r] != NULL; r++) {
+    for (r = 0; r < sizeof readers / sizeof readers[0]; r++) {
         const char *subs[2];
         size_t s;
         int n = 0;
-        subs[0] = readers[r];
+        subs[0] = readers[r].dir;
         subs[1] = "regress";
         for (s = 0; s < 2; s++) {
             struct dirent *e;
@@ -79,15 +89,19 @@ replay_readers(void)
                 snprintf(path, sizeof path, "%s/%s", dir, e->d_name);
                 if ((buf = slurp(path, &len)) == NULL)
                     continue;
-                for (chunk = 1; chunk <= 13; chunk++)
-                    bad |= fuzz_reader(readers[r], buf, len, chunk, (int) chunk & 1);
-                t_int(bad, 0, "%s/%s: %s reader consistent", subs[s], e->d_name, readers[r]);
+                if (readers[r].binary)
+                    bad = fuzz_file(readers[r].format, buf, len);
+                else
+                    for (chunk = 1; chunk <= 13; chunk++)
+                        bad |= fuzz_reader(readers[r].format, buf, len, chunk, (int) chunk & 1);
+                t_int(bad, 0, "%s/%s: %s reader consistent", subs[s], e->d_name,
+                      readers[r].format);
                 free(buf);
                 n += s == 0;
             }
             closedir(d);
         }
-        t_true(n > 0, "%s seeds present", readers[r]);
+        t_true(n > 0, "%s seeds present", readers[r].format);
     }
 }
 

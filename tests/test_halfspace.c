@@ -1,5 +1,5 @@
 /* test_halfspace.c: JKR of a power-law punch on a half-space against the
- * closed forms of physics.md section 4 (Borodich et al. 2014) and the
+ * closed forms of Borodich, Galanov & Suarez-Alvarez 2014 (JMPS 68:14) and the
  * classical sphere, its branches and its Jacobian; the tables it inverts
  * the curve with; and the recovery of w and E* from its own curves for
  * k from 0.6 to 6. */

@@ -1,5 +1,6 @@
-/* test_identify.c: what the data can and cannot determine (physics.md
- * section 2), said in words, each message triggered by a plan built to
+/* test_identify.c: what the data can and cannot determine (the seed
+ * paper's Eq. 10, 22: thin bonded curves see M = Z E* only; k = 2 with
+ * free offsets is a parabola), said in words, each message triggered by a plan built to
  * cause it, and undetermined parameters never reported as numbers. */
 #include <math.h>
 #include <stdio.h>

@@ -7,7 +7,7 @@
 #include <string.h>
 #include <unistd.h>
 
-#include "layerfit.h"
+#include "command.h"      /* layerfit.h and what the command shares */
 #include "testlib.h"
 
 static char dir[64];

@@ -6,7 +6,8 @@
  *    root finding, and the JKR relations (1)-(2) of the paper applied with
  *    numerical derivatives of P1 and A;
  *  - the numerical minimum of P(delta) for the pull-off (Eq. 13, 25);
- *  - the reference numbers of physics.md section 1;
+ *  - reference numbers of the seed paper's closed forms (Papangelo,
+ *    Eq. 12-14, 24-25: the pull-off of k = 2, 3, 5 on a 1 um layer);
  *  - central finite differences for every analytic derivative.
  */
 #include <math.h>
@@ -266,10 +267,10 @@ test_reference_numbers(void)
         lf_model *m = model_for(ref[i].k, 1e-3, 1e-6, ref[i].base);
         lf_pulloff po;
         lf_model_pulloff(m, &mat, &po, NULL);
-        t_rel(po.P_po, ref[i].P, 5e-7, "physics.md: P_po k=%g %s", ref[i].k,
+        t_rel(po.P_po, ref[i].P, 5e-7, "Eq. 24-25: P_po k=%g %s", ref[i].k,
               ref[i].base ? "bonded" : "frictionless");
         if (!isnan(ref[i].a))
-            t_rel(po.a_po, ref[i].a, 5e-5, "physics.md: a_po k=%g", ref[i].k);
+            t_rel(po.a_po, ref[i].a, 5e-5, "Eq. 24-25: a_po k=%g", ref[i].k);
         lf_model_free(m);
     }
     for (i = 0; i < 3; i++)

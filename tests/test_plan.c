@@ -8,7 +8,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "layerfit.h"
+#include "command.h"      /* layerfit.h and what the command shares */
 #include "testlib.h"
 #include "testdata.h"
 

@@ -163,16 +163,6 @@ count_seg(const lf_curve *c, lf_segment s)
 }
 
 static int
-has_info(const lf_curve *c, const char *text)
-{
-    size_t i;
-    for (i = 0; i < c->info.n; i++)
-        if (strstr(c->info.msg[i], text) != NULL)
-            return 1;
-    return 0;
-}
-
-static int
 has_warning(const lf_warnings *w, const char *text)
 {
     size_t i;
@@ -180,46 +170,6 @@ has_warning(const lf_warnings *w, const char *text)
         if (strstr(w->msg[i], text) != NULL)
             return 1;
     return 0;
-}
-
-static const char *
-meta(const lf_curve *c, const char *key)
-{
-    size_t i;
-    for (i = 0; i < c->nmeta; i++)
-        if (strcmp(c->meta[i].key, key) == 0)
-            return c->meta[i].value;
-    return NULL;
-}
-
-/* Fit the unloading segment with the half-space JKR model (k = 2, R). */
-static int
-fit_halfspace(const lf_curve *c, double R, lf_fit_result *res)
-{
-    lf_fit_settings s = lf_fit_settings_default();
-    lf_fit_curve fc;
-    lf_error err;
-    size_t n = count_seg(c, LF_SEG_UNLOAD);
-    double *d = malloc(n * sizeof *d), *f = malloc(n * sizeof *f);
-    int st;
-
-    memset(&fc, 0, sizeof fc);
-    lf_curve_segment(c, LF_SEG_UNLOAD, d, f);
-    s.model = &lf_model_halfspace;
-    fc.name = c->file;
-    fc.n = n;
-    fc.depth = d;
-    fc.force = f;
-    fc.probe.k = 2;
-    fc.probe.R = R;
-    fc.probe.b = R;     /* not used by the half-space model */
-    fc.probe.base = LF_BASE_FRICTIONLESS;
-    fc.branch = LF_BRANCH_UNLOAD;
-    fc.z0 = fc.F0 = NAN;
-    st = lf_fit_driver(&s, 1, &fc, res, &err);
-    free(d);
-    free(f);
-    return st;
 }
 
 /* ---- synthetic files -------------------------------------------------- */

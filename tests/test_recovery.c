@@ -96,8 +96,9 @@ main(int argc, char **argv)
     else if (env != NULL)
         seeds = (size_t) strtoul(env, NULL, 10);
 
-    /* physics.md section 2, the Cramer-Rao reference (rel sd 8.6% for w,
-     * 0.14% for E*): k = 2, 3 frictionless, delta from -0.9c to 50 nm */
+    /* the Cramer-Rao reference (rel sd 8.6% for w, 0.14% for E*, reached
+     * by scipy's least_squares too): k = 2, 3 frictionless, delta from
+     * -0.9c to 50 nm */
     s = scene_default("CR reference k=2,3, z0 F0 known");
     s.fix_z0 = s.fix_F0 = 1;
     s.mat.w = 10e-3;

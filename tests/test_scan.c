@@ -88,7 +88,7 @@ check_scene(const scan_scene *sc)
     lf_fit_set_origin(f);
     gsl_vector_set_all(x, 1.0);
     for (i = 0; i < f->ndata; i++)
-        f->w.sqrtw[i] = 1.0;        /* least squares, as a solve sets them */
+        f->ws.sqrtw[i] = 1.0;        /* least squares, as a solve sets them */
     /* the scan's placements: the edge between points q - 1 and q in depth */
     lf_model_pulloff(m, &f->mat, &po, NULL);
     edge = sc->branch == LF_BRANCH_UNLOAD ? f->c[0].z0 + po.delta_detach : f->c[0].z0;

@@ -54,7 +54,7 @@ fit_from(scene *s, const lf_fit_settings *set, const lf_material *mat, const lf_
         g->c[j].slope = 0.0;
     }
     lf_fit_set_origin(g);
-    st = lf_fit_solve(g, NULL, 1, r, NULL);
+    st = lf_fit_solve(g, NULL, r, NULL);
     lf_fit_free(g);
     return st;
 }
@@ -79,12 +79,12 @@ chi2_continued(scene *s, const lf_fit_result *r)
         g->c[j].slope = 0.0;
     }
     for (j = 0; j < g->ndata; j++)
-        g->w.sqrtw[j] = 1.0;
+        g->ws.sqrtw[j] = 1.0;
     lf_fit_set_origin(g);
-    gsl_vector_set_all(g->w.x, 1.0);
+    gsl_vector_set_all(g->ws.x, 1.0);
     memset(&run, 0, sizeof run);
-    if (lf_fit_iterate(g, g->w.x, 0, &run, NULL) == LF_OK)
-        chi2 = 2.0 * lf_fit_cost(g, g->w.x, g->w.r);
+    if (lf_fit_iterate(g, g->ws.x, 0, &run, NULL) == LF_OK)
+        chi2 = 2.0 * lf_fit_cost(g, g->ws.x, g->ws.r);
     lf_fit_free(g);
     return chi2;
 }

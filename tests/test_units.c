@@ -2,7 +2,7 @@
 #include <math.h>
 #include <string.h>
 
-#include "layerfit.h"
+#include "command.h"      /* layerfit.h and what the command shares */
 #include "testlib.h"
 
 static const struct {

@@ -20,6 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <time.h>
+#include <sys/stat.h>
 #include <unistd.h>
 #ifdef _OPENMP
 #include <omp.h>
@@ -116,8 +117,11 @@ sb_text(sbuf *b, const char *s, int json)
 typedef struct {
     const lf_plan *plan;
     size_t nunits;
-    size_t *start;      /* unit u has rows row[start[u] .. start[u+1]-1] */
+    size_t *start;      /* unit u has items row[start[u] .. start[u+1]-1] */
     size_t *row;
+    size_t nitems;      /* a curve each: a plan row, or one curve of a row */
+    size_t *item_row;   /* that names a file of many without an index */
+    long *item_index;
 } unit_list;
 
 typedef struct {
@@ -146,16 +150,53 @@ cmp_group(const void *a, const void *b)
     return x->first < y->first ? -1 : x->first > y->first;
 }
 
-/* Group the plan's rows into fits, in the order of each fit's first row:
- * a row with an empty sample alone, rows of one sample together. */
+/* The curves of the plan, one item each: a row, or each curve of a row
+ * that names a file of many without an index (its file opened once by
+ * lf_plan_open_files; the curves are not copied into rows of their own,
+ * so a map of any size costs two numbers per curve here). */
+static int
+items_make(const lf_plan *plan, unit_list *u)
+{
+    size_t i, k, n = 0, w = 0;
+    for (i = 0; i < plan->n; i++)
+        n += plan->rows[i].source != NULL && plan->rows[i].index < 0
+             ? lf_file_count(plan->rows[i].source) : 1;
+    u->item_row = malloc((n ? n : 1) * sizeof *u->item_row);
+    u->item_index = malloc((n ? n : 1) * sizeof *u->item_index);
+    if (u->item_row == NULL || u->item_index == NULL)
+        return -1;
+    for (i = 0; i < plan->n; i++) {
+        const lf_plan_row *r = &plan->rows[i];
+        size_t m = r->source != NULL && r->index < 0 ? lf_file_count(r->source) : 0;
+        if (m == 0) {
+            u->item_row[w] = i;
+            u->item_index[w++] = r->index;
+        }
+        for (k = 0; k < m; k++) {
+            u->item_row[w] = i;
+            u->item_index[w++] = (long) k;
+        }
+    }
+    u->nitems = n;
+    return 0;
+}
+
+/* Group the plan's curves into fits, in the order of each fit's first one:
+ * a curve of a row with an empty sample alone, those of one sample
+ * together. */
 static int
 units_make(const lf_plan *plan, unit_list *u)
 {
-    size_t n = plan->n, i, ng = 0, k = 0;
-    sample_key *key = malloc((n ? n : 1) * sizeof *key);
-    group *g = malloc((n ? n : 1) * sizeof *g);
+    size_t n, i, ng = 0, k = 0;
+    sample_key *key;
+    group *g;
 
     u->plan = plan;
+    if (items_make(plan, u) != 0)
+        return -1;
+    n = u->nitems;
+    key = malloc((n ? n : 1) * sizeof *key);
+    g = malloc((n ? n : 1) * sizeof *g);
     u->start = malloc((n + 1) * sizeof *u->start);
     u->row = malloc((n ? n : 1) * sizeof *u->row);
     if (key == NULL || g == NULL || u->start == NULL || u->row == NULL) {
@@ -164,7 +205,8 @@ units_make(const lf_plan *plan, unit_list *u)
         return -1;
     }
     for (i = 0; i < n; i++) {
-        key[i].sample = plan->rows[i].sample ? plan->rows[i].sample : "";
+        const char *sample = plan->rows[u->item_row[i]].sample;
+        key[i].sample = sample ? sample : "";
         key[i].row = i;
     }
     qsort(key, n, sizeof *key, cmp_sample);
@@ -198,6 +240,8 @@ units_free(unit_list *u)
 {
     free(u->start);
     free(u->row);
+    free(u->item_row);
+    free(u->item_index);
 }
 
 /* ------------------------------------------------------------------------
@@ -249,7 +293,7 @@ static const char *const columns[] = {
     "rms_N", "P_po_N", "iterations",
     "w_ci95_lo_J_m2", "w_ci95_hi_J_m2", "Estar_ci95_lo_Pa", "Estar_ci95_hi_Pa",
     "nu_ci95_lo", "nu_ci95_hi", "w_ci95_method", "Estar_ci95_method", "nu_ci95_method",
-    "identifiability", "message", "sha256", NULL
+    "identifiability", "message", "grid_i", "grid_j", "sha256", NULL
 };
 
 /* Sum of squared residuals relative to the points, over all curves. */
@@ -334,7 +378,7 @@ static void
 put_row(sbuf *b, const batch_config *cfg, size_t fit_no, const char *sample,
         const char *files, const unit_files *uf, size_t ncurves, const char *status,
         const char *model, const num_field *num, size_t nnum, const char *const *text,
-        const char *ident, const char *msg)
+        const char *ident, const char *msg, const double grid[2])
 {
     int json = cfg->json;
     size_t i;
@@ -362,6 +406,10 @@ put_row(sbuf *b, const batch_config *cfg, size_t fit_no, const char *sample,
     sb_text(b, ident, json);
     sb_printf(b, json ? ", \"message\": " : ",");
     sb_text(b, msg, json);
+    for (i = 0; i < 2; i++) {   /* the curve's place on a map's grid */
+        sb_printf(b, json ? ", \"%s\": " : ",", i ? "grid_j" : "grid_i");
+        sb_number(b, grid[i], json);
+    }
     if (json) {
         int raw = 0;
         sb_printf(b, ", \"files\": [");
@@ -402,29 +450,48 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
     lf_fit_settings s = *cfg->settings;
     lf_fit_result res;
     lf_error err;
+    lf_plan one = *plan;        /* the unit's curves as rows of a plan of their own */
+    lf_plan_row *rows = malloc((n ? n : 1) * sizeof *rows);
     unit_files uf = { n, calloc(n, sizeof(const char *)), calloc(n, sizeof(char[65])) };
     sbuf files = { NULL, 0, 0, 0 }, ident = { NULL, 0, 0, 0 }, msg = { NULL, 0, 0, 0 };
     char ebuf[1200];
-    const char *sample = plan->rows[ul->row[first]].sample;
+    const char *sample = plan->rows[ul->item_row[ul->row[first]]].sample;
     const char *status = "error";
-    double x = NAN, y = NAN;
+    double x = NAN, y = NAN, grid[2] = { NAN, NAN };
     int st = LF_EINVAL, have_res = 0, failed = 1, firstw = 1;
 
     lf_error_clear(&err);
-    if (uf.name == NULL || uf.sha == NULL) {
+    if (uf.name == NULL || uf.sha == NULL || rows == NULL) {
         free(uf.name);
         free(uf.sha);
+        free(rows);
         out->failed = 1;
         return 1;
     }
     memset(&in, 0, sizeof in);
-    for (j = 0; j < n; j++)
-        uf.name[j] = plan->rows[ul->row[first + j]].file;
+    for (j = 0; j < n; j++) {
+        /* a curve of a file of many is named FILE#N */
+        size_t item = ul->row[first + j];
+        const lf_plan_row *r = &rows[j];
+        rows[j] = plan->rows[ul->item_row[item]];   /* shallow: the plan owns its strings */
+        rows[j].index = ul->item_index[item];
+        uf.name[j] = r->file;
+        if (r->index >= 0) {
+            size_t len = strlen(r->file) + 24;
+            char *name = malloc(len);
+            if (name != NULL) {
+                snprintf(name, len, "%s#%ld", r->file, r->index);
+                uf.name[j] = name;
+            }
+        }
+    }
     join_names(&files, &uf);
     /* the one step from a plan to a fit's input, the one rule for nu: each
      * curve a regular file checked when it is opened, the same checks as
      * `layerfit check`; whatever goes wrong is this fit's row */
-    if (lf_fit_input_from_plan(plan, ul->row + first, n, cfg->input, &in, NULL, &err) != LF_OK) {
+    one.n = n;
+    one.rows = rows;
+    if (lf_fit_input_from_plan(&one, NULL, n, cfg->input, &in, NULL, &err) != LF_OK) {
         format_error(ebuf, sizeof ebuf, &err);
         goto row;
     }
@@ -432,6 +499,8 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
         memcpy(uf.sha[j], in.sha256[j], sizeof uf.sha[j]);
     x = in.x;
     y = in.y;
+    grid[0] = in.grid_i >= 0 ? (double) in.grid_i : NAN;
+    grid[1] = in.grid_j >= 0 ? (double) in.grid_j : NAN;
     lf_fit_input_apply_nu(&in, &s);
     if (cfg->auto_model)
         st = lf_fit_choose_driver(&s, cfg->choose, n, in.curves, &res, &err);
@@ -491,7 +560,8 @@ row:
             join_warnings(&msg, &res.curves[j].warnings, &firstw);
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status,
                 res.model ? res.model : "", num,
-                sizeof num / sizeof num[0], text, ident.s ? ident.s : "", msg.s ? msg.s : "");
+                sizeof num / sizeof num[0], text, ident.s ? ident.s : "", msg.s ? msg.s : "",
+                grid);
         lf_fit_result_free(&res);
     } else {
         num_field num[] = {
@@ -505,14 +575,18 @@ row:
         };
         const char *text[NTEXT] = { "", "", "" };
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status, "", num,
-                sizeof num / sizeof num[0], text, "", ebuf);
+                sizeof num / sizeof num[0], text, "", ebuf, grid);
     }
     lf_fit_input_free(&in);
     free(files.s);
     free(ident.s);
     free(msg.s);
+    for (j = 0; j < n; j++)
+        if (uf.name[j] != rows[j].file)
+            free((char *) uf.name[j]);
     free(uf.name);
     free(uf.sha);
+    free(rows);
     return failed;
 }
 
@@ -614,10 +688,32 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
 #endif
     cli_output_note("fit", o->out);
     cli_output_note_sidecar("fit", o->out);
-    plan = cli_plan_load("fit", o->plan);
+    if (o->probe != NULL) {
+        /* a file of curves (a force map): each curve with the one probe */
+        lf_error err;
+        cli_input_guard("fit", o->plan);
+        if (lf_plan_of_file(o->plan, o->probe, LF_SEG_UNLOAD, &plan, &err) != LF_OK)
+            cli_die_error(err.status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, &err);
+    } else {
+        plan = cli_plan_load("fit", o->plan);
+    }
     cli_plan_need_layers(plan, o->auto_model ? "auto" : settings->model->name);
     for (i = 0; i < plan->n; i++)      /* no output may replace a curve */
-        cli_input_guard("fit", plan->rows[i].file);
+        if (i == 0 || strcmp(plan->rows[i].file, plan->rows[i - 1].file) != 0)
+            cli_input_guard("fit", plan->rows[i].file);
+    {
+        /* a file of many curves named without an index: each curve a row
+         * (its file opened once, its curves read from it one at a time) */
+        lf_error err;
+        if (lf_plan_open_files(plan, o->input.read, &err) != LF_OK)
+            cli_die(CLI_EXIT_FAIL, "out of memory");
+        if (o->probe != NULL) {
+            if (plan->nfiles > 0)
+                cli_input_note(o->plan, lf_file_sha256(plan->files[0]));
+            else
+                cli_input_note(o->plan, NULL);
+        }
+    }
     if (units_make(plan, &ul) != 0)
         cli_die(CLI_EXIT_FAIL, "out of memory");
     lo = (size_t) ((double) ul.nunits * (double) (shard_i - 1) / (double) shard_n);
@@ -675,7 +771,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     if (out != stdout) {
         /* the results and their sidecar replace earlier ones only now,
          * whole and together */
-        if (cli_out_commit_sidecar(&atomic, msg, sizeof msg) != 0)
+        if (cli_out_commit_sidecar(&atomic, o->command_line, msg, sizeof msg) != 0)
             cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
     }
     if (failed > 0) {
@@ -692,39 +788,79 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     return CLI_EXIT_OK;
 }
 
+static int
+regular_file(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISREG(st.st_mode);
+}
+
+/* 1 when the value of --batch is a file of curves (a force map, or any
+ * curve file), not a plan: a regular file that does not read as a plan. */
+static int
+batch_of_curves(int argc, char **argv)
+{
+    const char *path = NULL;
+    lf_file_kind kind;
+    lf_error err;
+    char file[4096];
+    long index;
+    int i;
+    for (i = 1; i < argc && path == NULL; i++) {
+        if (strcmp(argv[i], "--") == 0)
+            break;
+        if (strcmp(argv[i], "--batch") == 0 && i + 1 < argc)
+            path = argv[i + 1];
+        else if (strncmp(argv[i], "--batch=", 8) == 0)
+            path = argv[i] + 8;
+    }
+    if (path == NULL || lf_curve_path_split(path, file, sizeof file, &index) != LF_OK)
+        return 0;
+    if (index >= 0)
+        return 1;
+    return regular_file(file) && lf_file_kind_of(file, &kind, &err) == LF_OK
+           && kind == LF_FILE_CURVE;
+}
+
 /* `layerfit fit --batch PLAN.csv [options]`: reached from main.c before the
  * single-fit command sees the arguments.  The fit settings take the same
  * options as a single fit (cli/fit.c). */
 int
-cli_fit_batch(int argc, char **argv)
+cli_fit_batch(int argc, char **argv, const char *command_line)
 {
-    const char *plan = NULL, *out = NULL, *shard = NULL;
+    const char *plan = NULL, *out = NULL, *shard = NULL, *interface = NULL;
     long threads_opt = -1;
-    int npos, help = 0, quiet = 0, progress = 0;
+    int npos, help = 0, quiet = 0, progress = 0, curves_file;
+    double k = NAN, R = NAN, b = NAN;
     cli_fit_args fa;
-    cli_opt opts[6 + CLI_FIT_NOPTS + 1] = {
+    cli_opt opts[10 + CLI_FIT_NOPTS + 1] = {
         { "batch", CLI_STRING, &plan }, { "out", CLI_STRING, &out },
         { "threads", CLI_COUNT, &threads_opt }, { "shard", CLI_STRING, &shard },
         { "progress", CLI_FLAG, &progress }, { "quiet", CLI_FLAG, &quiet },
+        { "k", CLI_NUMBER, &k }, { "R", CLI_LENGTH, &R }, { "b", CLI_LENGTH, &b },
+        { "interface", CLI_STRING, &interface },
     };
     lf_fit_settings s = lf_fit_settings_default();
     cli_batch_opts o;
+    lf_probe probe;
     size_t no;
 
     cli_fit_args_init(&fa);
-    no = 6 + cli_fit_opts(&fa, opts + 6);
+    no = 10 + cli_fit_opts(&fa, opts + 10);
     opts[no].name = NULL;
+    curves_file = batch_of_curves(argc, argv);
     {
-        /* a single fit's outputs and a single curve's probe, asked of a
-         * batch: say where they belong */
+        /* a single fit's outputs, and a single curve's probe for a plan,
+         * asked of a batch: say where they belong */
         static const char *const single[] = { "--json", "--curves", "--plot", "--report" };
-        static const char *const probe[] = { "--k", "--R", "--b", "--interface" };
+        static const char *const probes[] = { "--k", "--R", "--b", "--interface" };
         cli_refuse_options(argc, argv, single, sizeof single / sizeof single[0],
                            "a single fit; a batch writes one row per fit to --out FILE.csv or "
                            "--out FILE.jsonl");
-        cli_refuse_options(argc, argv, probe, sizeof probe / sizeof probe[0],
-                           "a single curve; a batch takes each curve's probe from its row of "
-                           "the plan (columns k, R, b, interface)");
+        if (!curves_file)
+            cli_refuse_options(argc, argv, probes, sizeof probes / sizeof probes[0],
+                               "a single curve; a batch takes each curve's probe from its row "
+                               "of the plan (columns k, R, b, interface)");
     }
     cli_parse("fit", argc, argv, opts, &npos, &help);
     /* `fit --batch --help`: the help, not a plan called --help */
@@ -732,10 +868,17 @@ cli_fit_batch(int argc, char **argv)
         help = 1;
     if (help) {
         printf("usage: layerfit fit --batch PLAN.csv [--out FILE.csv|FILE.jsonl] [--threads N]\n"
-               "                    [--shard I/N] [--progress|--quiet] [fit options]\n\n"
+               "                    [--shard I/N] [--progress|--quiet] [fit options]\n"
+               "       layerfit fit --batch MAP --k K [--R LENGTH] [--b LENGTH --interface I]\n"
+               "                    [options as above]\n\n"
                "Fits every curve of the plan, or every group of curves with the same\n"
                "'sample', on its own, in parallel; one output row per fit, in plan order,\n"
-               "with its status (ok, misfit, noconv, error) and message.\n\n"
+               "with its status (ok, misfit, noconv, error) and message.  A plan row that\n"
+               "names a file of many curves (a force map, QI data, a force volume) without\n"
+               "an index stands for each of its curves; MAP, a file of curves given instead\n"
+               "of a plan, has every curve fitted with the probe of --k, --R, --b and\n"
+               "--interface.  Each row carries the curve's position (x_m, y_m) and grid\n"
+               "place (grid_i, grid_j) where its file states them.\n\n"
                "  --out FILE        .csv or .jsonl (default: CSV on standard output)\n"
                "  --threads N       parallel fits, 1..%d (default: all cores); the output\n"
                "                    does not depend on N\n"
@@ -763,9 +906,20 @@ cli_fit_batch(int argc, char **argv)
     o.choose = lf_choose_settings_default();
     o.input = lf_input_settings_default();
     o.auto_model = cli_fit_settings(&fa, &s, &o.choose, &o.input);
+    o.probe = NULL;
+    if (curves_file) {
+        /* a file of curves: every curve with the probe of the options */
+        if (isnan(k))
+            cli_die(CLI_EXIT_USAGE, "fit: %s is a curve file, not a plan: give the probe of its "
+                    "curves, e.g. --batch %s --k 2 --R 5um --model halfspace (or --b and "
+                    "--interface for a layer)", plan, plan);
+        cli_fit_probe(o.auto_model ? "auto" : s.model->name, k, R, b, interface, &probe);
+        o.probe = &probe;
+    }
     o.linear_only = fa.linear_only;
     o.plan = plan;
     o.out = out;
+    o.command_line = command_line;
     o.shard = shard;
     if (threads_opt == 0)
         cli_die(CLI_EXIT_USAGE, "fit: --threads must be 1..%d (got 0)", CLI_MAX_THREADS);

@@ -821,12 +821,12 @@ csv_writer(FILE *f, const void *ctx)
 }
 
 static void
-write_csv(const char *path, const bench_row *rows, size_t nrows)
+write_csv(const char *path, const bench_row *rows, size_t nrows, const char *command_line)
 {
     bench_table t;
     t.rows = rows;
     t.nrows = nrows;
-    cli_write_file_sidecar("bench: --csv", path, csv_writer, &t);
+    cli_write_file_sidecar("bench: --csv", path, command_line, csv_writer, &t);
 }
 
 /* Error of w against time per fit, one point per row, a series per scene
@@ -879,7 +879,7 @@ write_plot(const char *path, const bench_row *rows, size_t nrows)
 /* ---- the command ----------------------------------------------------- */
 
 int
-cli_bench(int argc, char **argv)
+cli_bench(int argc, char **argv, const char *command_line)
 {
     const char *csv = NULL, *plot = NULL, *scene_name = NULL, *script = NULL;
     int quick = 0, no_scipy = 0, help = 0, npos, coverage = 0, calibrate = 0;
@@ -1061,7 +1061,7 @@ cli_bench(int argc, char **argv)
     }
 
     if (csv != NULL)
-        write_csv(csv, rows, nrows);
+        write_csv(csv, rows, nrows, command_line);
     if (plot != NULL)
         write_plot(plot, rows, nrows);
 #ifdef _OPENMP

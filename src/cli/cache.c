@@ -18,11 +18,12 @@ static const char usage_text[] =
     "neither reads nor writes the cache.\n";
 
 int
-cli_cache(int argc, char **argv)
+cli_cache(int argc, char **argv, const char *command_line)
 {
     char dir[4096];
     lf_error err;
 
+    (void) command_line;    /* no provenance record */
     if (argc == 2 && (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0)) {
         fputs(usage_text, stdout);
         return CLI_EXIT_OK;

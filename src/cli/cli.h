@@ -5,7 +5,8 @@
 
 #include <stdio.h>
 
-#include "layerfit.h"
+#include "command.h"     /* layerfit.h and what the library shares with
+                            the command (not installed) */
 
 #if defined(__GNUC__)
 #define CLI_NORETURN __attribute__((noreturn))
@@ -30,7 +31,9 @@ enum {
 typedef struct {
     const char *name;
     const char *summary;
-    int (*run)(int argc, char **argv);  /* argv[0] is the subcommand name */
+    /* argv[0] is the subcommand name; command_line is the whole line as
+     * typed, shell-quoted (main.c), for the provenance records */
+    int (*run)(int argc, char **argv, const char *command_line);
 } cli_command;
 
 /* Print "layerfit: MESSAGE" on stderr and exit with code. */
@@ -115,22 +118,22 @@ double cli_fitted_value(const lf_fit_result *res, const char *name);
 
 
 /* The subcommands, one file each (src/cli/NAME.c). */
-int cli_model(int argc, char **argv);
-int cli_fit(int argc, char **argv);
-int cli_simulate(int argc, char **argv);
+int cli_model(int argc, char **argv, const char *command_line);
+int cli_fit(int argc, char **argv, const char *command_line);
+int cli_simulate(int argc, char **argv, const char *command_line);
 /* `layerfit bench`: speed against error (bench.c). */
-int cli_bench(int argc, char **argv);
-int cli_cache(int argc, char **argv);
+int cli_bench(int argc, char **argv, const char *command_line);
+int cli_cache(int argc, char **argv, const char *command_line);
 /* `layerfit bench --coverage`: interval coverage over seeds (coverage.c). */
 int cli_coverage(size_t nseeds, const char *scene_name, int calibrate);
 /* 1 when the probes are frictionless and bonded together: nu is fitted. */
 int cli_probes_free_nu(const lf_probe *p, size_t n);
 /* `layerfit model --figure N [--plot FILE]` (figure.c). */
 int cli_figure(int figure, const char *plot);
-int cli_check(int argc, char **argv);
-int cli_map(int argc, char **argv);
+int cli_check(int argc, char **argv, const char *command_line);
+int cli_map(int argc, char **argv, const char *command_line);
 /* `layerfit design`: what a planned test would measure (design.c). */
-int cli_design(int argc, char **argv);
+int cli_design(int argc, char **argv, const char *command_line);
 
 /* The fit options a single fit and a batch share: one table, one set of
  * defaults (fit.c).  cli_fit_args_init sets the defaults; cli_fit_opts puts
@@ -149,7 +152,15 @@ typedef struct {
     lf_read_opts read;    /* filled by cli_fit_settings; is->read points here */
 } cli_fit_args;
 
-/* The words a report puts after an interval for how it was found (NULL: a
+#define CLI_FIT_NOPTS 24
+void cli_fit_args_init(cli_fit_args *a);
+size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
+int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
+                     lf_input_settings *is);
+/* The fit options' help lines, shared by both usage texts. */
+extern const char cli_fit_help[];
+
+/* Words (words.c).  The words a report puts after an interval for how it was found (NULL: a
  * checked linear interval, nothing said); brief: the HTML table's. */
 const char *cli_interval_words(const lf_fit_estimate *e, int brief);
 /* How a free estimate's 95% interval was found (JSON ci95_method, the
@@ -169,6 +180,12 @@ void cli_fit_args_init(cli_fit_args *a);
 size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
 int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
                      lf_input_settings *is);
+/* The probe of a single curve, or of every curve of a file of many, from
+ * --k, --R, --b, --interface (R NaN: from the file's header; b NaN with no
+ * interface: no layer, for a half-space model); dies with status 2 naming
+ * what is missing or wrong. */
+void cli_fit_probe(const char *model, double k, double R, double b, const char *interface,
+                   lf_probe *p);
 /* The fit options' help lines, shared by both usage texts. */
 extern const char cli_fit_help[];
 
@@ -184,6 +201,9 @@ typedef struct {
     int linear_only;       /* --intervals linear */
     lf_choose_settings choose;  /* the model choice's settings */
     lf_input_settings input;    /* segment, held offsets */
+    const char *command_line;   /* for the provenance record */
+    const lf_probe *probe;      /* not NULL: `plan` is a file of curves, each fitted
+                                   with this probe (--k, --R, --b, --interface) */
 } cli_batch_opts;
 /* Fit every fit of the plan with the settings; returns the exit status
  * (CLI_EXIT_OK, or CLI_EXIT_SOME_FAILED with a summary line on stderr). */
@@ -191,7 +211,7 @@ int cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings);
 /* "I/N" with 1 <= I <= N; -1 when malformed. */
 int cli_shard_parse(const char *text, long *index, long *count);
 /* `layerfit fit --batch ...` and whether argv asks for it. */
-int cli_fit_batch(int argc, char **argv);
+int cli_fit_batch(int argc, char **argv, const char *command_line);
 int cli_wants_batch(int argc, char **argv);
 
 /* Figures of a fit (plotfit.c): "overview" and "curve1", "curve2", ...
@@ -207,7 +227,8 @@ typedef struct {
  * made, gnuplot failed), or 1 with a message when gnuplot is not installed
  * (the scripts and data are still written and figs filled). */
 int cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
-                 const lf_fit_result *res, cli_figures *figs, char *msg, size_t n);
+                 const lf_fit_result *res, const char *command_line, cli_figures *figs,
+                 char *msg, size_t n);
 void cli_figures_free(cli_figures *f);
 /* Run dir/script (cwd dir) with its images going to a temporary folder in
  * dir (gnuplot -e "out='.layerfit-XXXXXX/img'"; the script writes
@@ -216,34 +237,19 @@ void cli_figures_free(cli_figures *f);
 int cli_draw_script(const char *dir, const char *script, const char *base,
                     const char *const *ext, size_t next, char *msg, size_t n);
 
-/* `layerfit fit --plot DIR --report FILE.html` (either may be NULL),
- * checked by cli_fit_figures_check before the fit: draw the figures and
- * write the page; what goes wrong short of an I/O error on the page
- * (gnuplot missing) is said on stderr without failing. */
-void cli_fit_figures(const char *plotdir, const char *report, size_t ncurves,
-                     const lf_fit_curve *curves, const lf_fit_result *res);
-/* Check --plot and --report before fitting (exit 2 on a bad value). */
-void cli_fit_figures_check(const char *plotdir, const char *report);
-/* Note every file that --plot DIR will write for ncurves curves as an
- * output (cli_output_note): once the inputs are read, so that one of them
- * named like a figure (curve1.svg, overview.dat, provenance.json) is
- * refused with exit status 2 before anything is written. */
-void cli_fit_figures_note(const char *plotdir, size_t ncurves);
 /* Every file cli_plot_fit writes into dir for ncurves curves (the figures
  * overview and curve1..curveN, each NAME.gp, .dat, .png and .svg, and
  * provenance.json), each path handed to each(). */
 void cli_plot_files(const char *dir, size_t ncurves, void (*each)(const char *path));
 
-/* The command line as typed (shell-quoted), saved by main() for reports. */
-void cli_set_command_line(int argc, char **argv);
-const char *cli_get_command_line(void);
 /* Write a self-contained HTML report of a fit (html.c) with the figures
  * inlined as SVG; they are drawn into plotdir, or into a temporary folder
  * removed afterwards when plotdir is NULL.  Returns 0; 1 when the page was
  * written without figures (msg says why, e.g. gnuplot missing); -1 with msg
  * when the page could not be written. */
 int cli_html_report(const char *file, const char *plotdir, size_t ncurves,
-                    const lf_fit_curve *curves, const lf_fit_result *r, char *msg, size_t n);
+                    const lf_fit_curve *curves, const lf_fit_result *r,
+                    const char *command_line, char *msg, size_t n);
 /* ---- Outputs and inputs (output.c, read.c) -------------------------------
  * Every output file goes through cli_out: a temporary file in the same
  * folder (registered for removal on exit or a signal: cli_temp_add),
@@ -270,13 +276,13 @@ void cli_output_folder_check(const char *cmd, const char *path);
 /* Finish and rename into place: 0, or -1 with msg (the temp is removed). */
 int cli_out_commit(cli_out *o, char *msg, size_t n);
 /* Commit o together with its provenance sidecar NAME.provenance.json (for
- * CSV and JSON Lines outputs): both temporaries are written and checked
+ * CSV and JSON Lines outputs; command_line for its record): both temporaries are written and checked
  * before either is renamed, both renames happen under a lock on the
  * folder with signals held, and a second rename that fails undoes the
  * first, so the two always describe each other.  An output written in
  * place (standard output, a pipe, a device) gets no sidecar.  0, or -1
  * with msg (nothing replaced). */
-int cli_out_commit_sidecar(cli_out *o, char *msg, size_t n);
+int cli_out_commit_sidecar(cli_out *o, const char *command_line, char *msg, size_t n);
 void cli_out_discard(cli_out *o);
 /* Put the finished file from in place as to (a symbolic link to: its
  * target, as cli_out_open does; across file systems by a copy): 0, or -1
@@ -289,7 +295,7 @@ int cli_tmp_name(const char *path, char **tmp);
  * _sidecar form commits with the provenance sidecar (cli_out_commit_sidecar). */
 void cli_write_file(const char *cmd, const char *path, void (*writer)(FILE *, const void *),
                     const void *ctx);
-void cli_write_file_sidecar(const char *cmd, const char *path,
+void cli_write_file_sidecar(const char *cmd, const char *path, const char *command_line,
                             void (*writer)(FILE *, const void *), const void *ctx);
 /* Die (status 2) when path exists and force is 0, or when it is an input:
  * for commands that make a folder of new files (simulate, map --synthetic),
@@ -309,7 +315,7 @@ int cli_stdout_close(void);
  * opens (exit 1). */
 void cli_output_note(const char *cmd, const char *path);
 /* The same for the provenance sidecar PATH.provenance.json of an output
- * (cli_provenance_sidecar); nothing for NULL or "-". */
+ * (cli_out_commit_sidecar); nothing for NULL, "-", a pipe or a device. */
 void cli_output_note_sidecar(const char *cmd, const char *path);
 void cli_input_guard(const char *cmd, const char *path);
 /* 1 when paths a and b (which need not exist) name the same place: the
@@ -324,8 +330,9 @@ size_t cli_inputs_count(void);
 const char *cli_input_path(size_t i);
 const char *cli_input_sha256(size_t i);
 /* {"layerfit": VERSION, "command_line": ..., "inputs": [{"file", "sha256"}]}
- * with indent before each line after the first. */
-void cli_provenance_json(FILE *f, const char *indent);
+ * with indent before each line after the first; command_line as main()
+ * passed it to the subcommand. */
+void cli_provenance_json(FILE *f, const char *indent, const char *command_line);
 /* CSV cells (RFC 4180: quoted when they hold a comma, quote, line break, or
  * start or end with a blank, quotes doubled).  Text that a spreadsheet
  * would run as a formula (a cell starting with =, +, -, @, tab or CR) gets
@@ -396,15 +403,6 @@ int cli_remove_tree(const char *dir);
  * than the most parameters a fit can have (w, E*, nu, z0, F0); `check` and
  * every fit refuse a curve with fewer. */
 #define CLI_MIN_POINTS 6
-/* Read a curve whole (lf_input_read with flags: LF_INPUT_STREAM for a file
- * named on the command line, 0 for one named in a plan), parse it and check
- * that segment seg can be fitted.  sha256 (65 bytes, may be NULL) gets its
- * hash.  Thread-safe; never prints or exits. */
-int cli_curve_load(const char *path, unsigned flags, const lf_read_opts *o, lf_segment seg,
-                   lf_curve **out, char *sha256, lf_warnings *warn, lf_error *err);
-/* The same for a curve already in memory. */
-int cli_curve_from(const lf_input *in, const char *path, const lf_read_opts *o,
-                   lf_segment seg, lf_curve **out, lf_warnings *warn, lf_error *err);
 /* A plan already in memory, its curves resolved against path's folder. */
 int cli_plan_from(const lf_input *in, const char *path, lf_plan **out, lf_warnings *warn,
                   lf_error *err);

@@ -160,12 +160,15 @@ parse_grid(const char *text, lf_design_factor *factor, double *values)
     return n;
 }
 
-/* "8.7%", "+- 0.0031", or words: never a NaN. */
+/* "8.7%", "+- 0.0031", or words ("upper bound": w below two of its
+ * standard errors, which a fit reports as an upper bound): never a NaN. */
 static const char *
 rel_text(char *buf, size_t n, const lf_design_estimate *e, int absolute)
 {
     if (!e->free)
         snprintf(buf, n, "not fitted");
+    else if (e->upper_bound_only)
+        snprintf(buf, n, "upper bound");   /* below two of its se */
     else if (!e->determined)
         snprintf(buf, n, "undetermined");
     else if (absolute)
@@ -184,15 +187,20 @@ cand_label(char *buf, size_t n, const lf_design_candidate *c, size_t i)
 
 /* ---- text ---------------------------------------------------------------- */
 
+/* e's line; why it is not determined is the judgement's (e->why, or the
+ * notes below the estimates). */
 static void
 text_estimate(FILE *f, const char *name, const lf_design_estimate *e, const char *unit,
-              const char *not_free, const char *why)
+              const char *not_free)
 {
     char a[48];
     if (!e->free)
         fprintf(f, "  %-4s not fitted: %s\n", name, not_free);
+    else if (e->upper_bound_only)
+        fprintf(f, "  %-4s not determined: below two of its standard errors, a fit would report "
+                "only an upper bound\n", name);
     else if (!e->determined)
-        fprintf(f, "  %-4s not determined%s%s\n", name, why ? ": " : "", why ? why : "");
+        fprintf(f, "  %-4s not determined%s%s\n", name, e->why ? ": " : "", e->why ? e->why : "");
     else if (unit[0] == '\0')
         fprintf(f, "  %-4s +- %.2g\n", name, e->se);
     else
@@ -253,15 +261,14 @@ text_set(FILE *f, const char *title, const lf_design_result *r, const lf_design_
     for (j = 0; j < r->ncurves; j++)
         nb += plan->rows[r->curves[j].index].probe.base == LF_BASE_BONDED;
     fprintf(f, "\n%s (predicted standard errors: the Cramer-Rao bound of the joint fit)\n", title);
-    text_estimate(f, "w", &r->w, "J/m^2", "", "it cannot be told from the force offsets");
-    text_estimate(f, "E*", &r->Estar, "Pa", "",
-                  r->M.determined ? "only M = Z*E* is (bonded curves alone)" : NULL);
+    text_estimate(f, "w", &r->w, "J/m^2", "");
+    text_estimate(f, "E*", &r->Estar, "Pa", "");
     text_estimate(f, "nu", &r->nu, "",
                   s->fix_nu ? "held at the given value (--fix-nu)"
                   : nb == 0 ? "frictionless curves do not depend on it"
-                            : "bonded curves alone do not determine it", NULL);
+                            : "bonded curves alone do not determine it");
     if (r->M.determined && !r->Estar.determined)
-        text_estimate(f, "M", &r->M, "Pa", "", NULL);
+        text_estimate(f, "M", &r->M, "Pa", "");
     if (isfinite(r->corr_wE))
         fprintf(f, "  corr(w, E*) = %+.3f\n", r->corr_wE);
     fprintf(f, "  %zu free parameters (offsets included)\n", r->npar);
@@ -279,6 +286,12 @@ json_estimate(FILE *f, const char *name, const lf_design_estimate *e, const char
     report_json_number(f, e->se);
     fputs(", \"relative_stderr\": ", f);
     report_json_number(f, e->rel);
+    if (e->upper_bound_only)
+        fputs(", \"upper_bound_only\": true", f);
+    if (e->why != NULL) {
+        fputs(", \"why_not_determined\": ", f);
+        report_json_string(f, e->why);
+    }
     fprintf(f, "}%s", tail);
 }
 
@@ -623,7 +636,7 @@ csv_sweep(const char *path, lf_design_factor factor, size_t nv, const double *x,
 /* ---- the command ---------------------------------------------------------- */
 
 int
-cli_design(int argc, char **argv)
+cli_design(int argc, char **argv, const char *command_line)
 {
     design_args a;
     const cli_opt opts[] = {
@@ -719,7 +732,7 @@ cli_design(int argc, char **argv)
     {
         lf_input in;
         cli_input_guard("design", a.plan);
-        if (lf_input_read(a.plan, LF_INPUT_STREAM, &in, &err) != LF_OK)
+        if (lf_input_read(a.plan, LF_INPUT_STREAM | LF_INPUT_TEXT, &in, &err) != LF_OK)
             cli_die_error(CLI_EXIT_USAGE, &err);
         cli_input_note(a.plan, in.sha256);
         cli_output_note("design", a.json);
@@ -885,7 +898,7 @@ cli_design(int argc, char **argv)
             fputs("\n  ]}", f);
         }
         fputs(",\n  \"provenance\": ", f);
-        cli_provenance_json(f, "  ");
+        cli_provenance_json(f, "  ", command_line);
         fputs("\n}\n", f);
         if (cli_out_commit(&o, msg, sizeof msg) != 0)
             cli_die(CLI_EXIT_FAIL, "design: %s", msg);

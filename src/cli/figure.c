@@ -161,7 +161,8 @@ figure4(figure_data *d)
 
 /* Fig. 5: b_cr/a_po at b = b_cr (Eq. 19-20) against k, sigma_th = 10 MPa,
  * R = (R/b) x 1 um as in the paper.  Eq. (19) gives b_cr = 50 nm at k = 2,
- * not the 1 um the paper's text states (see physics.md). */
+ * not the 1 um the paper's text states (b_cr = 2 (k/(k+2))^2 E* w /
+ * sigma_th^2, with w = 10 mJ/m^2, E* = 1 GPa, sigma_th = 10 MPa). */
 static double
 fig5_point(double rb, double k, double R)
 {

@@ -5,6 +5,7 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "cli.h"
 #include "report.h"
@@ -13,6 +14,7 @@ static const char usage_text[] =
     "usage: layerfit fit PLAN.csv [options]\n"
     "       layerfit fit CURVE.csv --k K --R LENGTH --b LENGTH --interface I [options]\n"
     "       layerfit fit EXPORT.txt --model halfspace --k 2 [--R LENGTH] [options]\n"
+    "       layerfit fit MAP.jpk-force-map#N ...   curve N (from 0) of a file of many\n"
     "\n"
     "Fits w, E* and (where the plan determines it) nu jointly to every curve,\n"
     "with each curve's contact point z0 and force offset F0 free unless fixed.\n"
@@ -55,7 +57,8 @@ const char cli_fit_help[] =
     "                       batches; every interval then says 'not checked')\n"
     "how curve files are read (also for --batch; a plan's format column per row):\n"
     "  --format NAME        the curve files' format instead of sniffing (csv, chiaro, jpk,\n"
-    "                       workshop, ntmdt, hysitron, text; see layerfit check)\n"
+    "                       workshop, ntmdt, hysitron, text, tab, jpk-force,\n"
+    "                       workshop-map, nanoscope, igor; see layerfit check)\n"
     "  --spring-constant K  cantilever spring constant where a file states none (0.032N/m)\n"
     "  --sensitivity S      deflection sensitivity where a file states none (61nm/nA)\n"
     "  --depth-unit UNIT    unit of a depth column whose header gives none (nm)\n"
@@ -120,6 +123,37 @@ check_probes(const lf_fit_input *in, const char *model)
     }
 }
 
+void
+cli_fit_probe(const char *model, double k, double R, double b, const char *interface,
+              lf_probe *p)
+{
+    int base = LF_BASE_FRICTIONLESS;
+    /* a half-space has no thickness and no interface: b NaN, a stand-in
+     * (R) that no half-space formula uses; R NaN: from the file header */
+    int halfspace = cli_model_ignores_b(model);
+    lf_error err;
+    if (halfspace && isnan(b) != (interface == NULL))
+        cli_die(CLI_EXIT_USAGE, "fit: --b and --interface go together (and the half-space "
+                "model uses neither: leave both out)");
+    if (!(halfspace && isnan(b) && interface == NULL)) {
+        if (isnan(b) || interface == NULL)
+            cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
+                    "(e.g. --k 2 --R 1mm --b 1um --interface frictionless)");
+        base = cli_base(interface);
+        if (base < 0)
+            cli_die(CLI_EXIT_USAGE, "fit: unknown interface '%s' (frictionless or bonded)",
+                    interface);
+    }
+    p->k = k;
+    p->R = isnan(R) ? 1.0 : R;    /* checked with the file's R after reading */
+    p->b = isnan(b) ? p->R : b;
+    p->base = (lf_base) base;
+    if (lf_probe_check(p, &err) != LF_OK)
+        cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
+    p->R = R;
+    p->b = b;
+}
+
 /* Read the plan (or the single curve) into in (lf_fit_input_from_plan:
  * the one step from a plan to a fit's input, the one rule for nu). */
 static void
@@ -133,33 +167,14 @@ read_input(const char *path, const fit_args *a, const char *model, const lf_inpu
     int status;
     if (!isnan(a->k)) {
         lf_probe p;
-        int base = LF_BASE_FRICTIONLESS;
-        /* a half-space has no thickness and no interface: b NaN, a stand-in
-         * (R) that no half-space formula uses; R NaN: from the file header */
-        int halfspace = cli_model_ignores_b(model);
-        if (halfspace && isnan(a->b) != (a->interface == NULL))
-            cli_die(CLI_EXIT_USAGE, "fit: --b and --interface go together (and the half-space "
-                    "model uses neither: leave both out)");
-        if (!(halfspace && isnan(a->b) && a->interface == NULL)) {
-            if (isnan(a->b) || a->interface == NULL)
-                cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
-                        "(e.g. --k 2 --R 1mm --b 1um --interface frictionless)");
-            base = cli_base(a->interface);
-            if (base < 0)
-                cli_die(CLI_EXIT_USAGE, "fit: unknown interface '%s' (frictionless or bonded)",
-                        a->interface);
-        }
-        p.k = a->k;
-        p.R = isnan(a->R) ? 1.0 : a->R;    /* checked with the file's R after reading */
-        p.b = isnan(a->b) ? p.R : a->b;
-        p.base = (lf_base) base;
-        if (lf_probe_check(&p, &err) != LF_OK)
-            cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
-        p.R = a->R;
-        p.b = a->b;
+        char file[4096];
+        long index;
+        cli_fit_probe(model, a->k, a->R, a->b, a->interface, &p);
         /* a curve named on the command line may be a pipe (read once) */
         one.open_flags = LF_INPUT_STREAM;
-        cli_input_guard("fit", path);
+        if (lf_curve_path_split(path, file, sizeof file, &index) != LF_OK)
+            cli_die(CLI_EXIT_USAGE, "fit: %s: path too long", path);
+        cli_input_guard("fit", file);
         status = lf_fit_input_from_curve(path, &p, &one, in, &warn, &err);
         if (status != LF_OK && status != LF_ENOMEM && cli_reads_as_plan(path))
             cli_die(CLI_EXIT_USAGE, "fit: %s is a plan: --k, --R, --b and --interface are for a "
@@ -205,19 +220,87 @@ fit_output_write(FILE *f, const void *ctx)
     o->writer(f, o->in, o->r);
 }
 
-/* Write path (with its provenance sidecar when sidecar is 1). */
+/* Write path (with its provenance sidecar when command_line is not NULL). */
 static void
 write_file(const char *path, void (*writer)(FILE *, const report_input *, const lf_fit_result *),
-           const report_input *in, const lf_fit_result *r, int sidecar)
+           const report_input *in, const lf_fit_result *r, const char *command_line)
 {
     fit_output o;
     o.writer = writer;
     o.in = in;
     o.r = r;
-    if (sidecar)
-        cli_write_file_sidecar("fit", path, fit_output_write, &o);
+    if (command_line != NULL)
+        cli_write_file_sidecar("fit", path, command_line, fit_output_write, &o);
     else
         cli_write_file("fit", path, fit_output_write, &o);
+}
+
+/* Check --plot and --report before fitting (exit 2 on a bad value). */
+static void
+figures_check(const char *plotdir, const char *report)
+{
+    struct stat st;
+    if (plotdir != NULL && *plotdir == '\0')
+        cli_die(CLI_EXIT_USAGE, "fit: --plot needs a folder (e.g. --plot figures)");
+    /* a file (not a folder) where the figures would go: said before the fit */
+    if (plotdir != NULL && stat(plotdir, &st) == 0 && !S_ISDIR(st.st_mode))
+        cli_die(CLI_EXIT_FAIL, "fit: --plot %s: that is a file, not a folder (name a folder "
+                "for the figures)", plotdir);
+    if (plotdir != NULL && report != NULL && cli_same_place(plotdir, report))
+        cli_die(CLI_EXIT_USAGE, "fit: --plot %s and --report %s name the same path: the figures "
+                "go into a folder, the report is a file (name them apart)", plotdir, report);
+    if (report != NULL) {
+        size_t len = strlen(report);
+        if (len < 5 || (strcmp(report + len - 5, ".html") != 0 && strcmp(report + len - 4, ".htm") != 0))
+            cli_die(CLI_EXIT_USAGE, "fit: --report %s: the report is a web page, FILE.html", report);
+    }
+}
+
+static void
+note_fit_output(const char *path)
+{
+    cli_output_note("fit", path);
+}
+
+/* Note every file that --plot DIR will write for ncurves curves as an
+ * output (cli_output_note): once the inputs are read, so that one of them
+ * named like a figure (curve1.svg, overview.dat, provenance.json) is
+ * refused with exit status 2 before anything is written. */
+static void
+figures_note(const char *plotdir, size_t ncurves)
+{
+    if (plotdir != NULL)
+        cli_plot_files(plotdir, ncurves, note_fit_output);
+}
+
+/* `layerfit fit --plot DIR --report FILE.html` (either may be NULL),
+ * checked by figures_check before the fit: draw the figures (plotfit.c)
+ * and write the page (html.c); what goes wrong short of an I/O error on
+ * the page (gnuplot missing) is said on stderr without failing. */
+static void
+figures(const char *plotdir, const char *report, size_t ncurves, const lf_fit_curve *curves,
+        const lf_fit_result *res, const char *command_line)
+{
+    char msg[1400];
+
+    if (plotdir != NULL && report == NULL) {
+        cli_figures figs = { 0, NULL, NULL };
+        int st = cli_plot_fit(plotdir, ncurves, curves, res, command_line, &figs, msg,
+                              sizeof msg);
+        cli_figures_free(&figs);
+        if (st < 0)         /* a folder or file not made, gnuplot failed */
+            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
+        if (st > 0)         /* no gnuplot: scripts and data written */
+            cli_say("fit: %s", msg);
+    }
+    if (report != NULL) {
+        int st = cli_html_report(report, plotdir, ncurves, curves, res, command_line, msg,
+                                 sizeof msg);
+        if (st < 0)
+            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
+        if (st > 0)
+            cli_say("fit: %s", msg);
+    }
 }
 
 void
@@ -261,62 +344,6 @@ cli_fit_opts(cli_fit_args *a, cli_opt *opts)
 
     memcpy(opts, table, sizeof table);
     return n;
-}
-
-const char *
-cli_interval_method(const lf_fit_estimate *e)
-{
-    if (!e->free)
-        return NULL;
-    if (!(isfinite(e->ci95[0]) || isfinite(e->ci95[1])))
-        return e->interval_method;  /* a profile that found no bound, or nothing */
-    return e->interval_method != NULL ? e->interval_method : "linear (Wald)";
-}
-
-const char *
-cli_interval_words(const lf_fit_estimate *e, int brief)
-{
-    const char *m = e->interval_method;
-
-    if (m == NULL)
-        return NULL;
-    if (strcmp(m, "profile likelihood") == 0)
-        return "profile likelihood";
-    if (strcmp(m, LF_INTERVAL_JUMP) == 0)
-        return brief ? "profile, linear where it jumps"
-                     : "profile likelihood; linear on a side where chi2 jumps as a point crosses "
-                       "the contact edge";
-    if (strcmp(m, LF_INTERVAL_UNCHECKED) == 0)
-        return brief ? "linear, not checked" : "linear, not checked: --intervals linear";
-    if (strcmp(m, LF_INTERVAL_AT_STOP) == 0)
-        return brief ? "linear, where the fit stopped"
-                     : "linear, where the fit stopped; not profiled";
-    return NULL;
-}
-
-const char *
-cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit, char *buf,
-               size_t n)
-{
-    char v[48];
-    const char *m = e->interval_method;
-    const int below = isfinite(e->ci95[0]), above = isfinite(e->ci95[1]);
-    const double bound = below ? e->ci95[0] : e->ci95[1];
-
-    if (e->determined || !e->free || e->upper_bound_only || m == NULL
-        || strcmp(m, "profile likelihood") != 0 || (below && above))
-        return NULL;
-    if (unit[0] != '\0')
-        cli_human(v, sizeof v, bound, unit);
-    else
-        snprintf(v, sizeof v, "%.4g", bound);
-    if (below)
-        snprintf(buf, n, "%s < %s", v, name);
-    else if (above)
-        snprintf(buf, n, "%s < %s", name, v);
-    else
-        buf[0] = '\0';
-    return buf;
 }
 
 int
@@ -376,9 +403,15 @@ cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
     is->z0 = a->fix_z0;
     is->F0 = a->fix_F0;
     is->min_points = CLI_MIN_POINTS;    /* the same test as `layerfit check` */
-    if (a->format != NULL && lf_reader_find(a->format) == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: unknown format '%s' (csv, chiaro, jpk, workshop, ntmdt, "
-                "hysitron, text)", a->format);
+    if (a->format != NULL && lf_reader_find(a->format) == NULL) {
+        char list[400];
+        size_t r, len = 0;
+        list[0] = '\0';
+        for (r = 0; lf_reader_types[r] != NULL; r++)
+            len += (size_t) snprintf(list + len, len < sizeof list ? sizeof list - len : 0,
+                                     "%s%s", r ? ", " : "", lf_reader_types[r]->name);
+        cli_die(CLI_EXIT_USAGE, "fit: unknown format '%s' (%s)", a->format, list);
+    }
     a->read.format = a->format;
     if (lf_read_opts_constants(&a->read, a->spring_constant, a->sensitivity, &err) != LF_OK)
         cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
@@ -415,7 +448,7 @@ cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
 }
 
 int
-cli_fit(int argc, char **argv)
+cli_fit(int argc, char **argv, const char *command_line)
 {
     fit_args a = { NULL, NULL, NULL, NAN, NAN, NAN };
     cli_fit_args fa;
@@ -458,7 +491,7 @@ cli_fit(int argc, char **argv)
     }
     if (npos != 1)
         cli_die(CLI_EXIT_USAGE, "fit: give one plan or curve file (see 'layerfit fit --help')");
-    cli_fit_figures_check(plot_dir, report_html);
+    figures_check(plot_dir, report_html);
     cli_output_note("fit", a.json);
     cli_output_note("fit", a.curves);
     cli_output_note_sidecar("fit", a.curves);
@@ -469,7 +502,7 @@ cli_fit(int argc, char **argv)
     cli_output_folder_check("fit", plot_dir);      /* its parent: --plot makes one level */
     model_auto = cli_fit_settings(&fa, &set, &choose, &is);
     read_input(argv[0], &a, fa.model, &is, &d);
-    cli_fit_figures_note(plot_dir, d.n);
+    figures_note(plot_dir, d.n);
     lf_fit_input_apply_nu(&d, &set);
     if (model_auto)
         status = lf_fit_choose_driver(&set, &choose, d.n, d.curves, &r, &err);
@@ -505,6 +538,7 @@ cli_fit(int argc, char **argv)
     in.model_tol = model_auto ? choose.tol : NAN;
     in.curves = d.curves;
     in.origin = d.origin;
+    in.command_line = command_line;
     if (!to_stdout(a.json) && !to_stdout(a.curves)) {
         /* standard output carries the report unless it carries an output
          * (--json -, --curves -): then that alone, for the next program */
@@ -512,10 +546,10 @@ cli_fit(int argc, char **argv)
         report_text(stdout, &in, &r);
     }
     if (a.json != NULL)
-        write_file(a.json, report_json, &in, &r, 0);
+        write_file(a.json, report_json, &in, &r, NULL);
     if (a.curves != NULL)
-        write_file(a.curves, report_curves, &in, &r, 1);
-    cli_fit_figures(plot_dir, report_html, d.n, d.curves, &r);
+        write_file(a.curves, report_curves, &in, &r, command_line);
+    figures(plot_dir, report_html, d.n, d.curves, &r, command_line);
     if (status == LF_OK && cli_disagreeing(&r, bad, sizeof bad) > 0) {
         cli_say("fit: converged, but the model does not describe curve%s %s "
                 "(DISAGREES): the values are those of a model that does not fit, not a "

@@ -19,54 +19,6 @@
 #include "plot.h"
 
 /* ------------------------------------------------------------------------
- * The command line, saved by main() before options are parsed (parsing
- * reorders argv).
- * --------------------------------------------------------------------- */
-
-static char command_line[8192];
-
-void
-cli_set_command_line(int argc, char **argv)
-{
-    size_t len = 0;
-    int i;
-
-    command_line[0] = '\0';
-    for (i = 0; i < argc && len < sizeof command_line; i++) {
-        const char *a = i == 0 ? "layerfit" : argv[i], *p;
-        int plain = *a != '\0' && strspn(a, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                            "0123456789-_./=:,+@%") == strlen(a);
-        if (i > 0)
-            command_line[len++] = ' ';
-        if (plain) {
-            len += (size_t) snprintf(command_line + len, sizeof command_line - len, "%s", a);
-            continue;
-        }
-        if (len < sizeof command_line - 1)
-            command_line[len++] = '\'';
-        for (p = a; *p && len < sizeof command_line - 5; p++) {
-            if (*p == '\'') {
-                memcpy(command_line + len, "'\\''", 4);
-                len += 4;
-            } else {
-                command_line[len++] = *p;
-            }
-        }
-        if (len < sizeof command_line - 1)
-            command_line[len++] = '\'';
-        command_line[len < sizeof command_line ? len : sizeof command_line - 1] = '\0';
-    }
-    if (len >= sizeof command_line)
-        command_line[sizeof command_line - 1] = '\0';
-}
-
-const char *
-cli_get_command_line(void)
-{
-    return command_line;
-}
-
-/* ------------------------------------------------------------------------
  * HTML helpers.
  * --------------------------------------------------------------------- */
 
@@ -397,7 +349,7 @@ inline_svg(FILE *f, const char *path, size_t fig)
     size_t seq = 0;
 
     /* opened as every input is: without blocking, a regular file only */
-    if (lf_input_read(path, LF_INPUT_BINARY, &in, &err) != LF_OK)
+    if (lf_input_read(path, 0, &in, &err) != LF_OK)
         return -1;
     buf = realloc(in.data, in.len + 1);
     if (buf == NULL) {
@@ -501,7 +453,8 @@ remove_figures(const char *dir, size_t ncurves)
 
 int
 cli_html_report(const char *file, const char *plotdir, size_t ncurves,
-                const lf_fit_curve *curves, const lf_fit_result *r, char *msg, size_t n)
+                const lf_fit_curve *curves, const lf_fit_result *r, const char *command_line,
+                char *msg, size_t n)
 {
     cli_figures figs = { 0, NULL, NULL };
     char tmpdir[4096], note[1200];
@@ -520,7 +473,7 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
         slot = cli_temp_add(tmpdir, 1);     /* removed, whatever stops the run */
         dir = tmpdir;
     }
-    if (cli_plot_fit(dir, ncurves, curves, r, &figs, note, sizeof note) != 0)
+    if (cli_plot_fit(dir, ncurves, curves, r, command_line, &figs, note, sizeof note) != 0)
         have_note = 1;
     if ((f = cli_out_open(&out, file, msg, n)) == NULL) {
         status = -1;
@@ -538,7 +491,7 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
     esc(f, r->method);
     fprintf(f, " &middot; %zu curve%s</p>\n<p>Command line:</p>\n<code class=\"cmd\" id=\"command-line\">",
             r->ncurves, r->ncurves == 1 ? "" : "s");
-    esc(f, cli_get_command_line());
+    esc(f, command_line);
     fputs("</code>\n</header>\n", f);
     if (!r->converged) {
         fputs("<p class=\"note\">The fit did not converge: the numbers are where it stopped (", f);

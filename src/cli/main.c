@@ -39,6 +39,44 @@ usage(FILE *f)
                "                    that keeps a spreadsheet from running =, +, -, @\n");
 }
 
+/* The command line as typed, shell-quoted ("layerfit" for argv[0]), into
+ * buf (at most n bytes; cut short when longer): what the provenance
+ * records and the HTML report show. */
+static void
+quote_command_line(int argc, char **argv, char *buf, size_t n)
+{
+    size_t len = 0;
+    int i;
+
+    buf[0] = '\0';
+    for (i = 0; i < argc && len < n; i++) {
+        const char *a = i == 0 ? "layerfit" : argv[i], *p;
+        int plain = *a != '\0' && strspn(a, "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                            "0123456789-_./=:,+@%") == strlen(a);
+        if (i > 0)
+            buf[len++] = ' ';
+        if (plain) {
+            len += (size_t) snprintf(buf + len, n - len, "%s", a);
+            continue;
+        }
+        if (len < n - 1)
+            buf[len++] = '\'';
+        for (p = a; *p && len < n - 5; p++) {
+            if (*p == '\'') {
+                memcpy(buf + len, "'\\''", 4);
+                len += 4;
+            } else {
+                buf[len++] = *p;
+            }
+        }
+        if (len < n - 1)
+            buf[len++] = '\'';
+        buf[len < n ? len : n - 1] = '\0';
+    }
+    if (len >= n)
+        buf[n - 1] = '\0';
+}
+
 /* Take the global options out of argv: --no-cache, --max-input SIZE,
  * --csv-raw. */
 static int
@@ -90,10 +128,12 @@ int
 main(int argc, char **argv)
 {
     const cli_command *c;
+    /* saved before options are parsed (parsing reorders argv) */
+    static char command_line[8192];
 
     gsl_set_error_handler_off();
     cli_signals_install();
-    cli_set_command_line(argc, argv);
+    quote_command_line(argc, argv, command_line, sizeof command_line);
     argc = global_options(argc, argv);
     if (argc < 2) {
         usage(stderr);
@@ -109,10 +149,10 @@ main(int argc, char **argv)
         return cli_stdout_close() == 0 ? CLI_EXIT_OK : CLI_EXIT_FAIL;
     }
     if (strcmp(argv[1], "fit") == 0 && cli_wants_batch(argc - 1, argv + 1))
-        return finish(cli_fit_batch(argc - 1, argv + 1));
+        return finish(cli_fit_batch(argc - 1, argv + 1, command_line));
     for (c = commands; c->name != NULL; c++)
         if (strcmp(argv[1], c->name) == 0)
-            return finish(c->run(argc - 1, argv + 1));
+            return finish(c->run(argc - 1, argv + 1, command_line));
     cli_say("unknown command '%s' (see 'layerfit --help')", argv[1]);
     return CLI_EXIT_USAGE;
 }

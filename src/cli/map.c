@@ -176,8 +176,10 @@ static const char *const mcol_name[NMCOL] = { "x_m", "y_m", "w_J_m2", "Estar_Pa"
 typedef struct {
     const char *path;
     size_t n;
-    double (*v)[4];        /* x, y, w, E* (NaN where the fit failed) */
+    double (*v)[6];        /* x, y, w, E* (NaN where the fit failed), grid
+                              column and row (NaN where not stated) */
     size_t skipped;        /* rows without a position */
+    int grid;              /* every row states its place on a grid */
 } map_reader;
 
 /* The positions and estimates of a batch result (lf_table_read). */
@@ -186,7 +188,7 @@ map_read(map_reader *m)
 {
     lf_table *t = NULL;
     lf_error err;
-    long col[NMCOL];
+    long col[NMCOL], gcol[2];
     size_t i, r;
 
     if (lf_table_read(m->path, &t, &err) != LF_OK)
@@ -199,21 +201,29 @@ map_read(map_reader *m)
     m->v = malloc((t->nrows ? t->nrows : 1) * sizeof *m->v);
     if (m->v == NULL)
         cli_die(CLI_EXIT_FAIL, "out of memory");
+    gcol[0] = lf_table_column(t, "grid_i");
+    gcol[1] = lf_table_column(t, "grid_j");
+    m->grid = gcol[0] >= 0 && gcol[1] >= 0;
     for (r = 0; r < t->nrows; r++) {
         char *const *row = t->cells + r * t->ncols;
-        double v[4];
-        for (i = 0; i < 4; i++) {
+        double v[6];
+        for (i = 0; i < 6; i++) {
             /* the scale of each column in the map (um, mJ/m^2, at most
-             * Pa): a value must stay finite there and in the differences
-             * of the axes' ranges */
-            static const double scale[4] = { 2e6, 2e6, 1e3, 1.0 };
-            if (lf_table_number(row[col[i]], &v[i]) != LF_OK)
+             * Pa; grid places): a value must stay finite there and in the
+             * differences of the axes' ranges */
+            static const double scale[6] = { 2e6, 2e6, 1e3, 1.0, 1.0, 1.0 };
+            long c = i < 4 ? col[i] : gcol[i - 4];
+            v[i] = NAN;
+            if (c < 0)
+                continue;
+            if (lf_table_number(row[c], &v[i]) != LF_OK)
                 cli_die(CLI_EXIT_USAGE, "%s:%ld:%ld: '%s' is not a number", m->path,
-                        t->line[r], t->col[r * t->ncols + (size_t) col[i]], row[col[i]]);
-            if (row[col[i]][0] != '\0' && !isfinite(v[i] * scale[i]))
+                        t->line[r], t->col[r * t->ncols + (size_t) c], row[c]);
+            if (row[c][0] != '\0' && !isfinite(v[i] * scale[i]))
                 cli_die(CLI_EXIT_USAGE, "%s:%ld:%ld: %s '%s' is not a finite number a map can "
                         "show (an empty cell is a fit without a value)", m->path, t->line[r],
-                        t->col[r * t->ncols + (size_t) col[i]], mcol_name[i], row[col[i]]);
+                        t->col[r * t->ncols + (size_t) c], i < 4 ? mcol_name[i]
+                        : i == 4 ? "grid_i" : "grid_j", row[c]);
         }
         if (!isfinite(v[0]) || !isfinite(v[1])) {
             m->skipped++;
@@ -221,6 +231,8 @@ map_read(map_reader *m)
         }
         if (strcmp(row[col[MC_STATUS]], "ok") != 0)
             v[2] = v[3] = NAN;
+        if (!(v[4] >= 0 && v[5] >= 0 && v[4] < 65536 && v[5] < 65536))
+            m->grid = 0;
         memcpy(m->v[m->n++], v, sizeof v);
     }
     lf_table_free(t);
@@ -231,6 +243,30 @@ cmp_double(const void *a, const void *b)
 {
     double x = *(const double *) a, y = *(const double *) b;
     return x < y ? -1 : x > y;
+}
+
+/* The grid's coordinates along axis c (0 x, 1 y) for its n places: the
+ * line through (place, position) of the rows (least squares), so that
+ * places no row fills still get theirs.  Returns n. */
+static size_t
+grid_axis(const map_reader *m, int c, size_t n, double *u)
+{
+    double si = 0, sx = 0, sii = 0, six = 0, a, b, k = (double) m->n;
+    size_t i;
+    for (i = 0; i < m->n; i++) {
+        double g = m->v[i][4 + c], x = m->v[i][c];
+        si += g;
+        sx += x;
+        sii += g * g;
+        six += g * x;
+    }
+    b = k * sii - si * si > 0 ? (k * six - si * sx) / (k * sii - si * si) : 0.0;
+    if (!(fabs(b) > 0))
+        b = 1e-6;       /* one place only: any pitch draws it */
+    a = (sx - b * si) / k;
+    for (i = 0; i < n; i++)
+        u[i] = a + b * (double) i;
+    return n;
 }
 
 /* Sorted distinct values of column c of the points, into u; returns how many. */
@@ -320,16 +356,41 @@ draw_map(const char *result, const char *image)
     m.path = result;
     map_read(&m);
     if (m.n == 0)
-        cli_die(CLI_EXIT_USAGE, "map: %s has no rows with a position (x_m, y_m): "
-                "the curve files need '# x: ...' and '# y: ...' lines", result);
-    ux = malloc(m.n * sizeof *ux);
-    uy = malloc(m.n * sizeof *uy);
+        cli_die(CLI_EXIT_USAGE, "map: %s has no rows with a position (x_m, y_m): none of "
+                "its curve files states one (in the header of a force map or QI file, a "
+                "force volume, a Chiaro or AFM Workshop export, or '# x: ...' and '# y: ...' "
+                "lines of a CSV)", result);
+    if (m.grid) {
+        /* the files state each curve's place on the grid (a JPK map, a
+         * force volume): pixels by place, at the grid's positions */
+        nx = ny = 0;
+        for (i = 0; i < m.n; i++) {
+            nx = (size_t) fmax((double) nx, m.v[i][4] + 1);
+            ny = (size_t) fmax((double) ny, m.v[i][5] + 1);
+        }
+        if ((double) nx * (double) ny > 16e6)
+            m.grid = 0;         /* a sparse sample of a huge grid: by position */
+    }
+    if (!m.grid) {
+        nx = ny = m.n;
+    }
+    ux = malloc(nx * sizeof *ux);
+    uy = malloc(ny * sizeof *uy);
     if (ux == NULL || uy == NULL)
         cli_die(CLI_EXIT_FAIL, "out of memory");
-    nx = distinct(&m, 0, ux);
-    ny = distinct(&m, 1, uy);
-    if (nx * ny > 4 * m.n + 16)
-        cli_die(CLI_EXIT_USAGE, "map: the %zu positions of %s do not lie on a grid", m.n, result);
+    if (m.grid) {
+        grid_axis(&m, 0, nx, ux);
+        grid_axis(&m, 1, ny, uy);
+        if (ux[nx - 1] < ux[0] || uy[ny - 1] < uy[0])
+            m.grid = 0;         /* a grid against its positions: by position */
+    }
+    if (!m.grid) {
+        nx = distinct(&m, 0, ux);
+        ny = distinct(&m, 1, uy);
+        if (nx * ny > 4 * m.n + 16)
+            cli_die(CLI_EXIT_USAGE, "map: the %zu positions of %s do not lie on a grid", m.n,
+                    result);
+    }
     grid = malloc(2 * nx * ny * sizeof *grid);
     if (grid == NULL)
         cli_die(CLI_EXIT_FAIL, "out of memory");
@@ -337,7 +398,8 @@ draw_map(const char *result, const char *image)
         grid[i] = NAN;
     Escale = 0.0;
     for (i = 0; i < m.n; i++) {
-        size_t at = index_of(uy, ny, m.v[i][1]) * nx + index_of(ux, nx, m.v[i][0]);
+        size_t at = m.grid ? (size_t) m.v[i][5] * nx + (size_t) m.v[i][4]
+                           : index_of(uy, ny, m.v[i][1]) * nx + index_of(ux, nx, m.v[i][0]);
         grid[2 * at] = m.v[i][2];
         grid[2 * at + 1] = m.v[i][3];
         if (isfinite(m.v[i][3]))
@@ -424,7 +486,7 @@ draw_map(const char *result, const char *image)
 }
 
 int
-cli_map(int argc, char **argv)
+cli_map(int argc, char **argv, const char *command_line)
 {
     const char *plot = NULL, *syn = NULL;
     long size = 64, every = 1, points = 150, seed = 1;
@@ -442,6 +504,7 @@ cli_map(int argc, char **argv)
         { NULL, 0, NULL }
     };
 
+    (void) command_line;    /* no provenance record */
     cli_parse("map", argc, argv, opts, &npos, &help);
     if (help) {
         printf("usage: layerfit map RESULT.csv --plot MAP.png|MAP.svg\n"

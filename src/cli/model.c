@@ -293,7 +293,7 @@ print_curve(const lf_model *m, const lf_material *mat, lf_branch branch,
 }
 
 int
-cli_model(int argc, char **argv)
+cli_model(int argc, char **argv, const char *command_line)
 {
     model_args a = { NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, 200,
                      "frictionless", "thin", "unload", NULL, 0, 0, 0 };
@@ -314,6 +314,7 @@ cli_model(int argc, char **argv)
     model_summary s;
     lf_branch branch;
 
+    (void) command_line;    /* no provenance record */
     cli_parse("model", argc, argv, opts, &npos, &help);
     if (help) {
         const lf_model_type *const *t;

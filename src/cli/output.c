@@ -681,7 +681,7 @@ commit_pair(cli_out *o, cli_out *side, char *msg, size_t n)
 }
 
 int
-cli_out_commit_sidecar(cli_out *o, char *msg, size_t n)
+cli_out_commit_sidecar(cli_out *o, const char *command_line, char *msg, size_t n)
 {
     cli_out side;
     char *spath;
@@ -698,7 +698,7 @@ cli_out_commit_sidecar(cli_out *o, char *msg, size_t n)
         cli_out_discard(o);
         return -1;
     }
-    cli_provenance_json(f, "");
+    cli_provenance_json(f, "", command_line);
     fputc('\n', f);
     if (side.direct) {
         /* a pipe or device where the sidecar goes: written in place after
@@ -758,10 +758,11 @@ cli_put_in_place(const char *from, const char *to, char *msg, size_t n)
     return status;
 }
 
-/* cli_write_file and cli_write_file_sidecar. */
+/* cli_write_file and cli_write_file_sidecar (command_line: the sidecar's;
+ * NULL: none). */
 static void
-write_file(const char *cmd, const char *path, void (*writer)(FILE *, const void *),
-           const void *ctx, int sidecar)
+write_file(const char *cmd, const char *path, const char *command_line,
+           void (*writer)(FILE *, const void *), const void *ctx)
 {
     cli_out o;
     char msg[4400];
@@ -769,8 +770,8 @@ write_file(const char *cmd, const char *path, void (*writer)(FILE *, const void 
     if (f == NULL)
         cli_die(CLI_EXIT_FAIL, "%s: %s", cmd, msg);
     writer(f, ctx);
-    if ((sidecar ? cli_out_commit_sidecar(&o, msg, sizeof msg)
-                 : cli_out_commit(&o, msg, sizeof msg)) != 0)
+    if ((command_line != NULL ? cli_out_commit_sidecar(&o, command_line, msg, sizeof msg)
+                              : cli_out_commit(&o, msg, sizeof msg)) != 0)
         cli_die(CLI_EXIT_FAIL, "%s: %s", cmd, msg);
 }
 
@@ -778,14 +779,14 @@ void
 cli_write_file(const char *cmd, const char *path, void (*writer)(FILE *, const void *),
                const void *ctx)
 {
-    write_file(cmd, path, writer, ctx, 0);
+    write_file(cmd, path, NULL, writer, ctx);
 }
 
 void
-cli_write_file_sidecar(const char *cmd, const char *path,
+cli_write_file_sidecar(const char *cmd, const char *path, const char *command_line,
                        void (*writer)(FILE *, const void *), const void *ctx)
 {
-    write_file(cmd, path, writer, ctx, 1);
+    write_file(cmd, path, command_line != NULL ? command_line : "", writer, ctx);
 }
 
 void
@@ -981,11 +982,11 @@ cli_gnuplot_string(FILE *g, const char *s)
  * --------------------------------------------------------------------- */
 
 void
-cli_provenance_json(FILE *f, const char *indent)
+cli_provenance_json(FILE *f, const char *indent, const char *command_line)
 {
     size_t i;
     fprintf(f, "{\n%s  \"layerfit\": \"%s\",\n%s  \"command_line\": ", indent, LF_VERSION, indent);
-    cli_json_string(f, cli_get_command_line());
+    cli_json_string(f, command_line);
     fprintf(f, ",\n%s  \"inputs\": [", indent);
     for (i = 0; i < ninputs; i++) {
         fprintf(f, "%s\n%s    {", i ? "," : "", indent);

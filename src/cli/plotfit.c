@@ -537,8 +537,7 @@ cli_plot_files(const char *dir, size_t ncurves, void (*each)(const char *path))
 static void
 provenance_writer(FILE *f, const void *ctx)
 {
-    (void) ctx;
-    cli_provenance_json(f, "");
+    cli_provenance_json(f, "", ctx);
     fputc('\n', f);
 }
 
@@ -607,7 +606,8 @@ cli_figures_free(cli_figures *f)
 
 int
 cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
-             const lf_fit_result *res, cli_figures *figs, char *msg, size_t n)
+             const lf_fit_result *res, const char *command_line, cli_figures *figs,
+             char *msg, size_t n)
 {
     lf_fit_result draw;
     size_t j, k = 0;
@@ -658,7 +658,7 @@ cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
     {
         char path[4096];
         if (plot_path(path, sizeof path, dir, "provenance.json") == 0)
-            cli_write_file("fit", path, provenance_writer, NULL);
+            cli_write_file("fit", path, provenance_writer, command_line);
     }
     if (!plot_have_gnuplot()) {
         snprintf(msg, n, "gnuplot is not installed, so the figures were not drawn (their "
@@ -666,61 +666,4 @@ cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
         return 1;
     }
     return draw_all(dir, figs, msg, n);
-}
-
-void
-cli_fit_figures_check(const char *plotdir, const char *report)
-{
-    struct stat st;
-    if (plotdir != NULL && *plotdir == '\0')
-        cli_die(CLI_EXIT_USAGE, "fit: --plot needs a folder (e.g. --plot figures)");
-    /* a file (not a folder) where the figures would go: said before the fit */
-    if (plotdir != NULL && stat(plotdir, &st) == 0 && !S_ISDIR(st.st_mode))
-        cli_die(CLI_EXIT_FAIL, "fit: --plot %s: that is a file, not a folder (name a folder "
-                "for the figures)", plotdir);
-    if (plotdir != NULL && report != NULL && cli_same_place(plotdir, report))
-        cli_die(CLI_EXIT_USAGE, "fit: --plot %s and --report %s name the same path: the figures "
-                "go into a folder, the report is a file (name them apart)", plotdir, report);
-    if (report != NULL) {
-        size_t len = strlen(report);
-        if (len < 5 || (strcmp(report + len - 5, ".html") != 0 && strcmp(report + len - 4, ".htm") != 0))
-            cli_die(CLI_EXIT_USAGE, "fit: --report %s: the report is a web page, FILE.html", report);
-    }
-}
-
-static void
-note_fit_output(const char *path)
-{
-    cli_output_note("fit", path);
-}
-
-void
-cli_fit_figures_note(const char *plotdir, size_t ncurves)
-{
-    if (plotdir != NULL)
-        cli_plot_files(plotdir, ncurves, note_fit_output);
-}
-
-void
-cli_fit_figures(const char *plotdir, const char *report, size_t ncurves,
-                const lf_fit_curve *curves, const lf_fit_result *res)
-{
-    char msg[1400];
-
-    if (plotdir != NULL && report == NULL) {
-        cli_figures figs = { 0, NULL, NULL };
-        int st = cli_plot_fit(plotdir, ncurves, curves, res, &figs, msg, sizeof msg);
-        cli_figures_free(&figs);
-        if (st < 0)         /* a folder or file not made, gnuplot failed */
-            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
-        if (st > 0)         /* no gnuplot: scripts and data written */
-            cli_say("fit: %s", msg);
-    }
-    if (report != NULL) {
-        int st = cli_html_report(report, plotdir, ncurves, curves, res, msg, sizeof msg);
-        if (st < 0)
-            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
-        if (st > 0)
-            cli_say("fit: %s", msg);
-    }
 }

@@ -9,35 +9,6 @@
 #include "cli.h"
 
 int
-cli_curve_from(const lf_input *in, const char *path, const lf_read_opts *o,
-               lf_segment seg, lf_curve **out, lf_warnings *warn, lf_error *err)
-{
-    int status = lf_curve_parse(in->data, in->len, 0, path, o, out, warn, err);
-    if (status == LF_OK && (status = lf_curve_check_fit(*out, seg, CLI_MIN_POINTS, err)) != LF_OK) {
-        lf_curve_free(*out);
-        *out = NULL;
-    }
-    return status;
-}
-
-int
-cli_curve_load(const char *path, unsigned flags, const lf_read_opts *o, lf_segment seg,
-               lf_curve **out, char *sha256, lf_warnings *warn, lf_error *err)
-{
-    lf_input in;
-    int status;
-
-    *out = NULL;
-    if ((status = lf_input_read(path, flags, &in, err)) != LF_OK)
-        return status;
-    if (sha256 != NULL)
-        memcpy(sha256, in.sha256, sizeof in.sha256);
-    status = cli_curve_from(&in, path, o, seg, out, warn, err);
-    lf_input_free(&in);
-    return status;
-}
-
-int
 cli_plan_from(const lf_input *in, const char *path, lf_plan **out, lf_warnings *warn,
               lf_error *err)
 {
@@ -120,7 +91,7 @@ cli_plan_load(const char *cmd, const char *path)
     lf_error err;
 
     cli_input_guard(cmd, path);
-    if (lf_input_read(path, LF_INPUT_STREAM, &in, &err) != LF_OK)
+    if (lf_input_read(path, LF_INPUT_STREAM | LF_INPUT_TEXT, &in, &err) != LF_OK)
         cli_die_error(CLI_EXIT_USAGE, &err);
     cli_input_note(path, in.sha256);
     if (cli_plan_from(&in, path, &plan, &warn, &err) != LF_OK) {

@@ -13,8 +13,7 @@ branch_name(lf_branch b)
 }
 
 static void
-text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
-              const char *unit, const char *why_not)
+text_estimate(FILE *f, const char *name, const lf_fit_estimate *e, const char *unit)
 {
     char v[48], s[48], lo[48], hi[48];
     const char *words;
@@ -34,10 +33,8 @@ text_estimate(FILE *f, const char *name, const lf_fit_estimate *e,
                     isfinite(e->ci95[0]) ? "below" : "above", words);
         return;
     }
-    if (!e->determined) {
-        if (e->why != NULL)
-            why_not = e->why;
-        fprintf(f, "  %-4s not determined%s%s\n", name, why_not ? ": " : "", why_not ? why_not : "");
+    if (!e->determined) {       /* why: the judgement's (fit/judge.c) */
+        fprintf(f, "  %-4s not determined%s%s\n", name, e->why ? ": " : "", e->why ? e->why : "");
         return;
     }
     if (!e->free) {
@@ -161,11 +158,11 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
     else
         fprintf(f, "\nmaterial (+- one standard error, scaled by sqrt(chi2/dof) = %.3g)\n",
                 r->se_scale);
-    text_estimate(f, "w", &r->w, "J/m^2", "it cannot be told from the force offset");
-    text_estimate(f, "E*", &r->Estar, "Pa", r->M.determined ? "only M = Z*E* is" : NULL);
-    text_estimate(f, "nu", &r->nu, "", "the plan does not determine it");
+    text_estimate(f, "w", &r->w, "J/m^2");
+    text_estimate(f, "E*", &r->Estar, "Pa");
+    text_estimate(f, "nu", &r->nu, "");
     if (r->M.determined && r->M.free)
-        text_estimate(f, "M", &r->M, "Pa", NULL);
+        text_estimate(f, "M", &r->M, "Pa");
     text_thin(f, r);
     fprintf(f, "\nfree parameters:");
     for (i = 0; i < r->npar; i++)
@@ -469,7 +466,7 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
     fputs(",\n  \"warnings\": ", f);
     jwarnings(f, &r->warnings);
     fputs(",\n  \"provenance\": ", f);
-    cli_provenance_json(f, "  ");
+    cli_provenance_json(f, "  ", in->command_line);
     fputs("\n}\n", f);
 }
 

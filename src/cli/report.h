@@ -15,6 +15,7 @@ typedef struct {
     double model_tol;              /* --model-tol of auto, NaN otherwise */
     const lf_curve_origin *origin; /* where each curve's probe R, b and AFM
                                       constants came from, or NULL */
+    const char *command_line;      /* as main() passed it, for provenance */
 } report_input;
 
 /* People: values with units (cli_human), errors, intervals, correlations,

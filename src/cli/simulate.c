@@ -99,7 +99,7 @@ close_out(cli_out *o)
 }
 
 int
-cli_simulate(int argc, char **argv)
+cli_simulate(int argc, char **argv, const char *command_line)
 {
     const char *out = NULL, *branch = "unload", *model = "thin";
     double w = NAN, E = NAN, nu = NAN, noise = NAN, z0 = NAN, F0 = NAN;
@@ -128,6 +128,7 @@ cli_simulate(int argc, char **argv)
     size_t j, k;
     static const char *const fixed_names[] = { "plan.csv", "truth.csv" };
 
+    (void) command_line;    /* no provenance record */
     cli_parse("simulate", argc, argv, opts, &npos, &help);
     if (help) {
         fputs(usage_text, stdout);

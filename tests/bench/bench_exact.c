@@ -7,8 +7,9 @@
  *     exact nu;
  *  3. evaluation time per point of the exact, halfspace and thin models
  *     (unloading branch, warm cache);
- *  4. nearly incompressible bonded layers against the lubrication limit of
- *     physics.md section 5.
+ *  4. nearly incompressible bonded layers against the lubrication limit
+ *     (Jaffar 1989, IJMS 31:229; Chadwick 2002, SIAM J. Appl. Math.
+ *     62:1520).
  */
 #include <math.h>
 #include <stdio.h>

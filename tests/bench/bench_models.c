@@ -1,6 +1,6 @@
 /* bench_models.c: speed against error of fits with the exact layer model
  * (not a test; `make bench-models`).  For a few scenes of exact-model data
- * (physics.md section 3), prints the time of the first exact-model
+ * (Lebedev & Ufliand 1958), prints the time of the first exact-model
  * evaluation (the table builds, once per process), then the mean wall time
  * of a full fit (guess + least squares + assessment) with the thin, exact
  * and automatic models on the same data, warm table cache, and the error of

@@ -37,7 +37,7 @@ Jacobian from the truth times 1.1, and prints the median time of repeated
 fits and the estimates.
 
 The model in both is the thin-layer closed form of the seed paper
-(Papangelo, Eq. 10-11, 22-23), written from physics.md section 1:
+(Papangelo, Eq. 10-11, 22-23):
 
     M = Z E*, Z = 1 (frictionless) or (1-nu)^2/(1-2nu) (bonded)
     c = sqrt(2 b w / M), d1 = z - z0 + c

@@ -10,7 +10,7 @@ run_ok model --help && has "model --help" "$tmp/out" "usage: layerfit model"
 "$LF" >/dev/null 2>&1; [ $? -eq 2 ] && ok || bad "no command: exit 2"
 expect_fail 2 "layerfit: unknown command 'frobnicate' (see 'layerfit --help')" frobnicate
 
-# pull-off against physics.md section 1
+# pull-off against the seed paper's closed forms (Papangelo, Eq. 12-13, 24-25)
 run_ok model $P --json
 near "P_po k=3" "$(json_field "$tmp/out" P_po_N)" -3.632281e-03 2e-7
 near "a_po k=3" "$(json_field "$tmp/out" a_po_m)" 2.0758e-05 3e-5
@@ -67,9 +67,9 @@ done
 run_ok model --figure 4
 near "Fig. 4 R/b=1e3 k=3" "$(awk -F, '$1 == 1000 && $2 == 3 { print $3 }' "$tmp/out")" -57.810 1e-4
 run_ok model --figure 6
-near "Fig. 6 exact/thin P1, k=2 frictionless, a/b=1 (physics.md 2.0093)" \
+near "Fig. 6 exact/thin P1, k=2 frictionless, a/b=1 (Lebedev-Ufliand reference 2.0093)" \
     "$(awk -F, '$1 == 2 && $2 == "frictionless" && $4 == 1 { print $5 }' "$tmp/out")" 2.0093 1e-4
-near "Fig. 6 bonded nu=0.45, a/b=10 (physics.md 0.81)" \
+near "Fig. 6 bonded nu=0.45, a/b=10 (Lebedev-Ufliand reference 0.81)" \
     "$(awk -F, '$3 == 0.45 && $4 == 10 { print $5 }' "$tmp/out")" 0.81 0.01
 
 # other models through the same table

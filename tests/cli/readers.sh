@@ -37,7 +37,7 @@ expect_fail 2 "layerfit: $v/ntmdt.txt: the deflection sensitivity is not in the 
 run_ok check --spring-constant 1N/m --sensitivity 61nm/nA "$v/ntmdt.txt" && \
     has "check ntmdt: option named as the source" "$tmp/out" "spring constant 1 N/m (option --spring-constant)"
 expect_fail 2 "layerfit: check: --spring-constant: 'abc' does not start with a number (e.g. 0.032N/m)" check --spring-constant abc "$v/ntmdt.txt"
-expect_fail 2 "layerfit: $v/chiaro.txt: unknown format 'nanoscope' (one of: csv, chiaro, jpk, workshop, ntmdt, hysitron, text)" check --format nanoscope "$v/chiaro.txt"
+expect_fail 2 "layerfit: $v/chiaro.txt: unknown format 'zeiss' (one of: csv, chiaro, jpk, workshop, ntmdt, hysitron, text, tab, jpk-force, workshop-map, nanoscope, igor)" check --format zeiss "$v/chiaro.txt"
 expect_fail 2 "layerfit: $v/jpk_force.txt:12:1: a row of numbers before any row naming the columns (expected a header such as 'Depth (nm)<TAB>Load (uN)' just above the data)" check --format hysitron "$v/jpk_force.txt"
 expect_fail 2 "layerfit: $v/hysitron.txt:4: Chiaro table without a depth (expected Load (uN) or Cantilever (nm), and Piezo (nm) with Cantilever (nm), or Indentation (nm))" check --format chiaro "$v/hysitron.txt"
 
@@ -68,7 +68,7 @@ run_ok fit "$v/plan.csv" --model halfspace --json "$tmp/p.json" && {
 }
 printf 'file,k,R,b,interface,format\nchiaro.txt,2,8um,8um,frictionless,bruker\n' >"$tmp/badplan.csv"
 cp "$v/chiaro.txt" "$tmp/"
-expect_fail 2 "layerfit: $tmp/badplan.csv:2:35: unknown format 'bruker' (csv, chiaro, jpk, workshop, ntmdt, hysitron, text; or empty to detect it)" check "$tmp/badplan.csv"
+expect_fail 2 "layerfit: $tmp/badplan.csv:2:35: unknown format 'bruker' (csv, chiaro, jpk, workshop, ntmdt, hysitron, text, tab, jpk-force, workshop-map, nanoscope, igor; or empty to detect it)" check "$tmp/badplan.csv"
 
 # R from the curve file's header in a plan
 printf 'file,k,R,b,interface,format\n%s,2,header,8um,frictionless,\n%s,2,8um,8um,frictionless,jpk\n' \

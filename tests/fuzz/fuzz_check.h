@@ -87,6 +87,53 @@ fuzz_reader(const char *format, const char *buf, size_t len, size_t chunk, int p
     return bad;
 }
 
+/* A reader of many curves per file, forced by name, on buf in memory: the
+ * file opened, every curve (the first 8) described and decoded, with a
+ * spring constant and a sensitivity given; each point finite and in one
+ * of the three segments; an error always says what is wrong.  Then the
+ * same through lf_curve_parse (one curve, or how many it holds). */
+static inline int
+fuzz_file(const char *format, const char *buf, size_t len)
+{
+    lf_read_opts o;
+    lf_file *f = NULL;
+    lf_curve *c = NULL;
+    lf_error e;
+    size_t i, j, n;
+    int bad = 0;
+
+    lf_read_opts_default(&o);
+    o.format = format;
+    o.spring_constant = 0.05;
+    o.sensitivity = 5e-8;
+    if (lf_file_open_memory(buf, len, "fuzz.bin", &o, &f, NULL, &e) != LF_OK)
+        return e.msg[0] == '\0';
+    n = lf_file_count(f);
+    bad = n == 0 || strcmp(lf_file_format(f), format) != 0;
+    for (i = 0; i < n && i < 8 && !bad; i++) {
+        lf_curve_info info;
+        if (lf_file_info(f, i, &info, &e) != LF_OK) {
+            bad = e.msg[0] == '\0';
+            continue;
+        }
+        if (lf_file_curve(f, i, &c, NULL, &e) != LF_OK) {
+            bad = e.msg[0] == '\0';
+            continue;
+        }
+        bad = c->n == 0 || c->index != (long) i;
+        for (j = 0; !bad && j < c->n; j++)
+            bad = !(c->depth[j] - c->depth[j] == 0) || !(c->force[j] - c->force[j] == 0)
+                || c->segment[j] > LF_SEG_HOLD;
+        lf_curve_free(c);
+        c = NULL;
+    }
+    lf_file_close(f);
+    if (!bad && lf_curve_parse(buf, len, 0, "fuzz.bin", &o, &c, NULL, &e) != LF_OK)
+        bad = e.msg[0] == '\0';
+    lf_curve_free(c);
+    return bad;
+}
+
 /* The plan reader on buf, whole and in pieces, curves resolved in dir. */
 static inline int
 fuzz_plan(const char *buf, size_t len, size_t chunk, const char *dir)

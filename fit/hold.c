@@ -1,0 +1,247 @@
+/* hold.c: a point of a profile -- the fit again with one material
+ * parameter held, warm-started from the best fit, and how much chi2 rose
+ * (profile.c builds intervals from such points; the assessment's k = 2
+ * check, lf_fit_w_open_above, asks one).  It solves through solve.c and
+ * never calls the driver, so the assessment may use it.
+ *
+ * Each point is a fit with the parameter held, warm-started at the best
+ * fit's material and offsets moved by their regression on the held
+ * parameter (start_value; per curve with the model the fit used). */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <gsl/gsl_cdf.h>
+
+#include "fit.h"
+
+/* a profile point's precision in chi2/dof (the solve's FIT_CHI2_STEP is
+ * 1e-6): its rise is wanted against a threshold near 3.84 s^2 to the
+ * precision of the crossing's bracket (2^-PROFILE_BISECT of a step of
+ * 1.96 se: the rise there is known to some 3% of the threshold), and a
+ * refit that creeps along a contact-edge kink stops once an iteration
+ * gains less than this, 0.8% of the threshold: the end of the interval
+ * then moves by some 0.4% of its distance from the estimate (the demo's
+ * intervals the same to the printed digits; coverage unchanged) */
+#define PROFILE_CHI2_STEP 3e-2
+
+/* The fitted value of the parameter called name (the solution, even where
+ * the report says "not determined"), else fallback. */
+double
+lf_fit_best_value(const lf_fit_result *r, const char *name, double fallback)
+{
+    size_t k;
+    for (k = 0; k < r->npar; k++)
+        if (strcmp(r->names[k], name) == 0 && isfinite(r->value[k]))
+            return r->value[k];
+    return fallback;
+}
+
+/* Where the refit of a profile point starts: each other parameter at its
+ * best value moved by its regression on the held one, cov(k, held) /
+ * var(held) (v - best), the minimum of the local quadratic with the held
+ * one at v (offsets move with w and E*: with them held at their best
+ * values the refit creeps towards that minimum over many iterations).
+ * The held parameter's move counts up to PROFILE_PREDICT_SE of its
+ * standard errors (the cost is near its quadratic there; further out the
+ * start moves no further).  fallback where the fit has no value. */
+#define PROFILE_PREDICT_SE 4.0
+
+static double
+start_value(const fit_prof *p, const char *name, double v, double fallback)
+{
+    const lf_fit_result *r = p->best;
+    const char *held = p->which == FIT_W ? "w" : p->which == FIT_E ? "E*" : "nu";
+    const size_t np = r->npar;
+    size_t k, h;
+    double var, c, dv;
+
+    for (k = 0; k < np && strcmp(r->names[k], name) != 0; k++)
+        ;
+    for (h = 0; h < np && strcmp(r->names[h], held) != 0; h++)
+        ;
+    if (k == np || !isfinite(r->value[k]))
+        return fallback;
+    if (h == np)
+        return r->value[k];
+    var = r->cov[h * np + h];
+    c = r->cov[k * np + h];
+    if (!(var > 0) || !isfinite(c))
+        return r->value[k];
+    dv = lf_fmin(lf_fmax(v - r->value[h], -PROFILE_PREDICT_SE * sqrt(var)),
+                 PROFILE_PREDICT_SE * sqrt(var));
+    return r->value[k] + c / var * dv;
+}
+
+/* The start of a material parameter: the prediction where it keeps the
+ * parameter in its range (lo < x < hi), else the best value. */
+static double
+start_in(const fit_prof *p, const char *name, double v, double fallback, double lo, double hi)
+{
+    double x = start_value(p, name, v, fallback), b = lf_fit_best_value(p->best, name, fallback);
+    return x > lo && x < hi ? x : b;
+}
+
+/* The 95% point of F(1, m), as the square of Student's t at 0.975 with m
+ * degrees of freedom (the same number): GSL 2.7's gsl_cdf_fdist_Pinv does
+ * not converge for some m (271, 407-409, 620, 817-820, ...: 274 of the
+ * m it was tried at up to 2e5) and returns NaN, which made every rise
+ * compare false and every profile "open"; the t quantile converges for
+ * every m (checked up to 2e5, and t^2 matches F's to 3e-12 elsewhere). */
+double
+lf_fit_f95(double m)
+{
+    const double t = gsl_cdf_tdist_Pinv(0.975, m);
+    return t * t;
+}
+
+/* 1 when r's free parameters include name. */
+static int
+has_parameter(const lf_fit_result *r, const char *name)
+{
+    size_t k;
+    for (k = 0; k < r->npar; k++)
+        if (strcmp(r->names[k], name) == 0)
+            return 1;
+    return 0;
+}
+
+/* chi2 minus the best chi2 with parameter `which` held at v (NaN on a
+ * failed fit). */
+double
+lf_fit_hold_rise(fit_prof *p, double v)
+{
+    lf_fit_settings s = *p->s;
+    lf_fit_param *par = p->which == FIT_W ? &s.w : p->which == FIT_E ? &s.Estar
+                        : p->which == FIT_NU ? &s.nu : NULL;
+    fit_run run;
+    lf_fit *g;
+    size_t j;
+    int st, offsets_known = 1;
+    double out = NAN, chi2;
+
+    if (par != NULL) {
+        par->mode = LF_PARAM_FIXED;
+        par->value = v;
+    }
+    /* nu as the best fit had it: held by the fitter's rule, it stays held
+     * (holding E* would otherwise free it, bonded curves then fixing nu) */
+    if (p->which != FIT_NU && !has_parameter(p->best, "nu") && s.nu.mode == LF_PARAM_AUTO
+        && isfinite(s.nu.value))
+        s.nu.mode = LF_PARAM_FIXED;
+    g = lf_fit_alloc(&s, p->nc, p->cc, NULL);
+    if (g == NULL)
+        return NAN;
+    g->chi2_step = PROFILE_CHI2_STEP;
+    /* a profile's points are neighbours, with the same kinks: each refit
+     * starts at the damping where the last one took its first step (the
+     * full Gauss-Newton step over a kink is otherwise rejected some four
+     * times first, each rejection an evaluation of the model) */
+    if (isfinite(p->mu0))
+        g->mu0 = p->mu0;
+    g->mat.w = start_in(p, "w", v, p->best->w.value, 0.0, HUGE_VAL);
+    g->mat.Estar = start_in(p, "E*", v, p->best->Estar.value, 0.0, HUGE_VAL);
+    g->mat.nu = start_in(p, "nu", v, p->best->nu.value, 0.0, 0.5);
+    if (!isfinite(g->mat.nu))
+        g->mat.nu = p->s->nu.value;
+    if (!isfinite(g->mat.w))
+        g->mat.w = 0.0;
+    if (p->which == FIT_W)
+        g->mat.w = v;
+    else if (p->which == FIT_E)
+        g->mat.Estar = v;
+    else if (p->which == FIT_NU)
+        g->mat.nu = v;
+    for (j = 0; j < p->nc; j++) {
+        char name[32];
+        double z0, F0, sl;
+        snprintf(name, sizeof name, "z0[%zu]", j + 1);
+        z0 = start_value(p, name, v, p->best->curves[j].z0);
+        snprintf(name, sizeof name, "F0[%zu]", j + 1);
+        F0 = start_value(p, name, v, p->best->curves[j].F0);
+        snprintf(name, sizeof name, "s[%zu]", j + 1);
+        sl = start_value(p, name, v, p->best->curves[j].slope);
+        if (g->c[j].iz0 >= 0 && isfinite(z0))
+            g->c[j].z0 = z0;
+        else if (g->c[j].iz0 >= 0)
+            offsets_known = 0;
+        if (g->c[j].iF0 >= 0 && isfinite(F0))
+            g->c[j].F0 = F0;
+        else if (g->c[j].iF0 >= 0)
+            offsets_known = 0;
+        g->c[j].slope = isfinite(sl) ? sl : 0.0;
+    }
+    if (offsets_known)
+        lf_fit_set_origin(g);
+    else
+        lf_fit_guess_offsets(g);
+    /* the solve without the assessment: a point needs its chi2 alone */
+    st = lf_fit_solve_run(g, NULL, &run, NULL, NULL);
+    p->fits++;
+    if (g->ws.own && isfinite(g->ws.lm.mu_first))
+        p->mu0 = g->ws.lm.mu_first;
+    chi2 = st == LF_OK ? 2.0 * lf_fit_cost(g, g->ws.x, g->ws.r) : HUGE_VAL;
+    if (isfinite(chi2)) {
+        out = chi2 - p->best->chi2;
+        if (run.converged && out < -FIT_PROFILE_LOWER * p->thr && chi2 < p->lower_chi2
+            && p->lower_off != NULL) {
+            /* lower than the best fit: keep where, to refit from there */
+            double z0, F0, sl;
+            p->lower_chi2 = chi2;
+            for (j = 0; j < p->nc; j++) {     /* the material with each curve's offsets */
+                lf_fit_unpack(g, g->ws.x->data, &p->lower_mat, &z0, &F0, &sl, j);
+                p->lower_off[3 * j] = z0;
+                p->lower_off[3 * j + 1] = F0;
+                p->lower_off[3 * j + 2] = sl;
+            }
+        }
+    }
+    lf_fit_free(g);
+    return out;
+}
+
+/* The threshold of the rise of chi2: s^2 times the 95% point of F(1, m),
+ * m = n_eff - p the degrees of freedom s^2 is estimated with (n_eff the
+ * independent points, noise.c): the likelihood-ratio test with the noise
+ * level estimated from the residuals (3.84 s^2 when m is large). */
+double
+lf_fit_hold_threshold(const lf_fit_result *r)
+{
+    double n_eff = (double) (r->dof + r->npar) / (r->corr_time >= 1.0 ? r->corr_time : 1.0);
+    double m = n_eff - (double) r->npar;
+    return r->se_scale * r->se_scale * (m >= 1.0 ? lf_fit_f95(m) : HUGE_VAL);
+}
+
+int
+lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor)
+{
+    fit_prof p;
+    size_t j;
+    double w, up;
+    int open;
+
+    if (f->imat[FIT_W] < 0)
+        return 0;
+    w = r->value[f->imat[FIT_W]];
+    if (!(w > 0) || !(r->se_scale > 0))
+        return 0;
+    memset(&p, 0, sizeof p);
+    p.mu0 = NAN;
+    p.cc = malloc(f->ncurves * sizeof *p.cc);
+    if (p.cc == NULL)
+        return 0;
+    for (j = 0; j < f->ncurves; j++) {
+        p.cc[j] = f->c[j].data;
+        p.cc[j].model = lf_model_get_type(f->c[j].model);
+    }
+    p.s = &f->set;
+    p.nc = f->ncurves;
+    p.best = r;
+    p.which = FIT_W;
+    p.thr = lf_fit_hold_threshold(r);
+    up = lf_fit_hold_rise(&p, w * factor);
+    open = isfinite(up) && up < p.thr;
+    free(p.cc);
+    return open;
+}
