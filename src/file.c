@@ -253,14 +253,7 @@ binary_head(const char *head, size_t len)
 int
 lf_input_read_sniffed(const char *path, unsigned flags, lf_input *in, lf_error *err)
 {
-    int fd, status;
-
-    memset(in, 0, sizeof *in);
-    if ((status = lf_input_open(path, flags, &fd, err)) != LF_OK)
-        return status;
-    status = lf_input_read_fd(fd, path, LF_INPUT_TEXT, binary_head, in, err);
-    close(fd);
-    return status;
+    return lf_input_read_path(path, flags | LF_INPUT_TEXT, binary_head, in, err);
 }
 
 int

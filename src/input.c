@@ -172,16 +172,23 @@ text_scan(text_check *t, const unsigned char *p, size_t n)
 }
 
 int
-lf_input_read(const char *path, unsigned flags, lf_input *in, lf_error *err)
+lf_input_read_path(const char *path, unsigned flags, int (*binary)(const char *, size_t),
+                   lf_input *in, lf_error *err)
 {
     int fd, status;
 
     memset(in, 0, sizeof *in);
     if ((status = lf_input_open(path, flags, &fd, err)) != LF_OK)
         return status;
-    status = lf_input_read_fd(fd, path, flags, NULL, in, err);
+    status = lf_input_read_fd(fd, path, flags, binary, in, err);
     close(fd);
     return status;
+}
+
+int
+lf_input_read(const char *path, unsigned flags, lf_input *in, lf_error *err)
+{
+    return lf_input_read_path(path, flags, NULL, in, err);
 }
 
 int

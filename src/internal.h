@@ -47,6 +47,9 @@ char *lf_strdup(const char *s);
  * format read as a stream). */
 int lf_input_read_fd(int fd, const char *path, unsigned flags,
                      int (*binary)(const char *head, size_t len), lf_input *in, lf_error *err);
+/* The same, opening path first (lf_input_open with flags). */
+int lf_input_read_path(const char *path, unsigned flags, int (*binary)(const char *, size_t),
+                       lf_input *in, lf_error *err);
 
 /* Largest finite magnitude a derivative is allowed to reach. */
 #define LF_BIG 1e300
