@@ -9,9 +9,10 @@
  * first byte (a named FIFO nobody writes to would otherwise block forever).
  * What is read whole is bounded: a regular file larger than the limit
  * (lf_input_set_limit, LF_INPUT_LIMIT by default) is refused from its size
- * before a byte is read, a stream once it has passed the limit, and a text
- * input as soon as it shows binary data or a line longer than the line
- * layer takes.  The SHA-256 of what was read comes from nettle. */
+ * before a byte is read, a stream once it has passed the limit; an input
+ * read as text (LF_INPUT_TEXT) stops being read as soon as it shows binary
+ * data or a line longer than the line layer takes.  The SHA-256 of what
+ * was read comes from nettle. */
 #include <errno.h>
 #include <fcntl.h>
 #include <poll.h>
