@@ -1349,6 +1349,49 @@ LF_API void lf_fit_input_apply_nu(const lf_fit_input *in, lf_fit_settings *setti
 LF_API void lf_fit_input_free(lf_fit_input *in);
 
 /* ------------------------------------------------------------------------
+ * Results as text (src/report_json.c, src/report_html.c, src/text.c)
+ *
+ * The documents `layerfit fit` writes, made by the library so that a
+ * program or a binding gets the very same: the JSON of --json and the
+ * tables of the --report page.  The library never prints: each writer
+ * returns a new NUL-terminated string, the caller's, released with
+ * lf_free (LF_ENOMEM when it could not be made, *out NULL then).
+ * --------------------------------------------------------------------- */
+
+/* Release memory the library handed over (the writers' strings); NULL
+ * allowed. */
+LF_API void lf_free(void *p);
+
+/* What a program records of where a result came from: how it was asked
+ * for (a command line, a binding's call) and what it read. */
+typedef struct {
+    const char *command_line;      /* NULL: null */
+    size_t ninputs;
+    const char *const *input;      /* ninputs paths, in the order read */
+    const char *const *sha256;     /* ninputs SHA-256 digests in hex, an entry
+                                      NULL or "" when not hashed; or NULL */
+} lf_provenance;
+
+/* What the fit was asked, beside its result. */
+typedef struct {
+    const char *model_request;     /* --model as given ("auto", "exact", ...);
+                                      NULL: the result's model */
+    double model_tol;              /* the auto choice's tolerance, NaN else */
+    const lf_curve_origin *origin; /* where each curve's probe and AFM
+                                      constants came from (lf_fit_input), or
+                                      NULL */
+    const lf_provenance *provenance; /* NULL: no "provenance" key */
+} lf_report_info;
+
+/* The result as the JSON document of `layerfit fit --json` (SI, numbers
+ * that read back exactly, NaN and Inf as null, text from data as valid
+ * UTF-8): parameters, fit, thin_comparison, free_parameters, values,
+ * covariance, singular_values, curves, identifiability, warnings and
+ * provenance.  info may be NULL. */
+LF_API int lf_fit_result_json(const lf_fit_result *r, const lf_report_info *info, char **json,
+                              lf_error *err);
+
+/* ------------------------------------------------------------------------
  * Instrument readers (src/reader.c, one src/read_*.c file per format)
  *
  * Each format is one entry of lf_reader_types: sniff looks at the first

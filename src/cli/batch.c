@@ -425,13 +425,13 @@ put_row(sbuf *b, const batch_config *cfg, size_t fit_no, const char *sample,
         for (i = 0; i < uf->n; i++) {
             sb_printf(b, i ? ", " : "");
             cli_json_escape(uf->name[i], sb_put, b);
-            raw |= !cli_utf8_valid(uf->name[i]);
+            raw |= !lf_utf8_valid(uf->name[i]);
         }
         if (raw) {   /* the bytes of names that are not UTF-8, percent-escaped */
             sb_printf(b, "], \"files_raw\": [");
             for (i = 0; i < uf->n; i++) {
                 sb_printf(b, i ? ", " : "");
-                cli_percent_escape(uf->name[i], sb_put, b);
+                lf_percent_escape(uf->name[i], sb_put, b);
             }
         }
         sb_printf(b, "], \"sha256\": [");

@@ -82,21 +82,17 @@ double cli_now(void);
 
 /* Write a number that reads back exactly ("%.17g"); NaN/Inf as given. */
 void cli_print_double(FILE *f, double x);
-/* Write a number for people with an SI prefix chosen for it:
- * cli_human(buf, n, 1.2e-8, "m") -> "12 nm".  Returns buf. */
-char *cli_human(char *buf, size_t n, double x, const char *unit);
+/* A number for people with an SI prefix (lf_human, command.h). */
+#define cli_human lf_human
 /* Options of the other mode of `fit` (single or --batch): the first of
  * argv that is one of names[0..n-1] ("--json" or "--json=...") stops the
  * command with exit 2, "fit: --json is for WHY". */
 void cli_refuse_options(int argc, char **argv, const char *const *names, size_t n,
                         const char *why);
-/* 1 when the report calls curve cr DISAGREES: it is not described by the
- * model (misfit beyond 5% of its force range) or, in a joint fit, it
- * disagrees with the others. */
-int cli_curve_disagrees(const lf_fit_curve_result *cr);
-/* The curves of a converged r that disagree, as "1, 3" into buf (at most n
- * bytes); their count (0: none, or r did not converge). */
-size_t cli_disagreeing(const lf_fit_result *r, char *buf, size_t n);
+/* The report's DISAGREES and the curves of a converged fit that do
+ * (lf_curve_disagrees, lf_disagreeing: command.h). */
+#define cli_curve_disagrees lf_curve_disagrees
+#define cli_disagreeing lf_disagreeing
 /* The value where the fit ended of the free parameter NAME ("w", "E*",
  * "nu", "z0[1]", ...: lf_fit_result.names), NaN when it was not free. */
 double cli_fitted_value(const lf_fit_result *res, const char *name);
@@ -146,34 +142,17 @@ int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs
 /* The fit options' help lines, shared by both usage texts. */
 extern const char cli_fit_help[];
 
-/* Words (words.c).  The words a report puts after an interval for how it was found (NULL: a
- * checked linear interval, nothing said); brief: the HTML table's. */
-const char *cli_interval_words(const lf_fit_estimate *e, int brief);
-/* How a free estimate's 95% interval was found (JSON ci95_method, the
- * batch's *_ci95_method): "linear (Wald)" or e->interval_method; with no
- * interval, the method that looked for one (a profile that found no
- * bound), else NULL, as for a held parameter. */
-const char *cli_interval_method(const lf_fit_estimate *e);
-/* What a free estimate that the data do not determine is bounded by, from
- * its profile (text and HTML say the same): into buf "LO < NAME" (bounded
- * only from below), "NAME < HI" (only from above) or "" (not bounded at
- * all, the profile open on both sides); NULL when it is not such an
- * estimate (determined, fixed, an upper bound of w, or never profiled). */
-const char *cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit,
-                           char *buf, size_t n);
-#define CLI_FIT_NOPTS 24
-void cli_fit_args_init(cli_fit_args *a);
-size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
-int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
-                     lf_input_settings *is);
+/* The words for intervals and bounds (the library's words.c, command.h),
+ * so that every report says the same. */
+#define cli_interval_words lf_interval_words
+#define cli_interval_method lf_interval_method
+#define cli_bound_text lf_bound_text
 /* The probe of a single curve, or of every curve of a file of many, from
  * --k, --R, --b, --interface (R NaN: from the file's header; b NaN with no
  * interface: no layer, for a half-space model); dies with status 2 naming
  * what is missing or wrong. */
 void cli_fit_probe(const char *model, double k, double R, double b, const char *interface,
                    lf_probe *p);
-/* The fit options' help lines, shared by both usage texts. */
-extern const char cli_fit_help[];
 
 /* Batch fitting (batch.c). */
 #define CLI_MAX_THREADS 1024      /* --threads is 1..CLI_MAX_THREADS */
@@ -291,25 +270,23 @@ const char *cli_input_sha256(size_t i);
  * with indent before each line after the first; command_line as main()
  * passed it to the subcommand. */
 void cli_provenance_json(FILE *f, const char *indent, const char *command_line);
+/* The run's provenance record for the library's writers: its arrays
+ * point at the noted inputs (cli_provenance_free releases the arrays). */
+void cli_provenance_of(const char *command_line, lf_provenance *p);
+void cli_provenance_free(lf_provenance *p);
 /* OUTPUT.provenance.json beside an output that has no room for it (CSV). */
 void cli_provenance_sidecar(const char *cmd, const char *output, const char *command_line);
 
-/* Text from data (lf_utf8_len: the library's UTF-8 check).  cli_json_escape: a JSON string, always valid UTF-8
- * (invalid bytes become U+FFFD); cli_percent_escape: a JSON string of the
- * raw bytes, every byte outside printable ASCII and % " \ as %XX;
- * cli_json_name: "key": name, plus "key_raw": percent-escaped bytes when
- * name is not valid UTF-8.  cli_gnuplot_string: a single-quoted gnuplot
- * string ('' for ', control characters as spaces, invalid UTF-8 as ?).
- * cli_put_clean / cli_text_clean: one line of valid UTF-8 (control
+/* Text from data (the library's escapes, command.h: lf_json_escape,
+ * lf_text_clean, ...).  cli_json_string: a JSON string, always valid UTF-8
+ * (invalid bytes become U+FFFD).  cli_gnuplot_string: a single-quoted
+ * gnuplot string ('' for ', control characters as spaces, invalid UTF-8
+ * as ?).  cli_put_clean / cli_text_clean: one line of valid UTF-8 (control
  * characters as spaces, invalid bytes as U+FFFD). */
-int cli_utf8_valid(const char *s);
-void cli_text_clean(const char *s, int keep_newlines,
-                    void (*put)(void *, const char *, size_t), void *ctx);
+#define cli_text_clean lf_text_clean
+#define cli_json_escape lf_json_escape
 void cli_put_clean(FILE *f, const char *s);
-void cli_json_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
-void cli_percent_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
 void cli_json_string(FILE *f, const char *s);
-void cli_json_name(FILE *f, const char *key, const char *name);
 void cli_gnuplot_string(FILE *g, const char *s);
 
 /* Reading (read.c).  The fewest points of a segment worth fitting: one more

@@ -170,35 +170,7 @@ void
 cli_print_double(FILE *f, double x)
 {
     char buf[40];
-    snprintf(buf, sizeof buf, "%.15g", x);
-    if (isfinite(x) && strtod(buf, NULL) != x)
-        snprintf(buf, sizeof buf, "%.17g", x);
-    fputs(buf, f);
-}
-
-char *
-cli_human(char *buf, size_t n, double x, const char *unit)
-{
-    static const struct { double scale; const char *prefix; } pre[] = {
-        { 1e12, "T" }, { 1e9, "G" }, { 1e6, "M" }, { 1e3, "k" }, { 1, "" },
-        { 1e-3, "m" }, { 1e-6, "µ" }, { 1e-9, "n" }, { 1e-12, "p" }, { 1e-15, "f" }
-    };
-    size_t i, last = sizeof pre / sizeof pre[0] - 1;
-    double ax = fabs(x);
-
-    if (isnan(x)) {             /* no NaN reaches an output */
-        snprintf(buf, n, "undefined");
-        return buf;
-    }
-    if (isinf(x) || x == 0.0) {  /* "0", never "-0" */
-        snprintf(buf, n, "%s%s %s", x < 0 ? "-" : "", x == 0.0 ? "0" : "infinite", unit);
-        return buf;
-    }
-    for (i = 0; i < last; i++)
-        if (ax >= pre[i].scale * 0.9995)
-            break;
-    snprintf(buf, n, "%.4g %s%s", x / pre[i].scale, pre[i].prefix, unit);
-    return buf;
+    fputs(lf_number_text(buf, x), f);
 }
 
 double
@@ -218,33 +190,6 @@ cli_fitted_value(const lf_fit_result *res, const char *name)
         if (strcmp(res->names[i], name) == 0)
             return res->value[i];
     return NAN;
-}
-
-int
-cli_curve_disagrees(const lf_fit_curve_result *cr)
-{
-    return !cr->consistent && cr->agreement != 1;
-}
-
-size_t
-cli_disagreeing(const lf_fit_result *r, char *buf, size_t n)
-{
-    size_t j, count = 0, len = 0;
-
-    if (n > 0)
-        buf[0] = '\0';
-    if (!r->converged)
-        return 0;
-    for (j = 0; j < r->ncurves; j++) {
-        int w;
-        if (!cli_curve_disagrees(&r->curves[j]))
-            continue;
-        w = snprintf(buf + len, n - len, "%s%zu", count ? ", " : "", j + 1);
-        if (w > 0 && (size_t) w < n - len)
-            len += (size_t) w;
-        count++;
-    }
-    return count;
 }
 
 void
