@@ -21,6 +21,11 @@ const char *lf_sensitivity_shown(double si, const char *si_unit, double *shown);
  * model's, `layerfit model --figure 6`). */
 const char *lf_thin_scope(double b_over_a, double limit);
 
+/* A number of option opt's kind from text (LF_OPTION_NUMBER, _COUNT,
+ * _QUANTITY in SI) with the fit options' messages ("--NAME: ..."); the
+ * command parses every option's number through it. */
+int lf_option_number(const lf_option *opt, const char *text, double *x, lf_error *err);
+
 /* ------------------------------------------------------------------------
  * Text for reports (src/text.c, src/words.c), shared by the library's
  * writers and the command's own.

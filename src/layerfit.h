@@ -1349,6 +1349,108 @@ LF_API void lf_fit_input_apply_nu(const lf_fit_input *in, lf_fit_settings *setti
 LF_API void lf_fit_input_free(lf_fit_input *in);
 
 /* ------------------------------------------------------------------------
+ * The fit's options, as `layerfit fit` takes them (src/fit_options.c)
+ *
+ * One table of options for the command and for programs and bindings:
+ * each is set by its name on the command line (without "--") from text
+ * as a command line gives it ("0.3", "1mm", "10 mJ/m2"), so that a
+ * program asks for a fit in the command's words and gets the command's
+ * checks and messages.  lf_fit_options_request turns them into the
+ * settings of the fit, lf_fit_options_probe into the probe of a single
+ * curve (or of every curve of a file of many), and lf_fit_request_run
+ * makes the fit as the command does: the model choice or the model asked
+ * for, the thin-layer comparison, the profile-likelihood check of the
+ * intervals.
+ *
+ * Ownership: the options are the caller's (lf_fit_options_free) and hold
+ * copies of the text they are given; a request points into its options,
+ * which must outlive it.
+ * --------------------------------------------------------------------- */
+
+typedef enum {
+    LF_OPTION_FLAG = 0,      /* no value: given or not */
+    LF_OPTION_TEXT,          /* a word or a name (checked by the request) */
+    LF_OPTION_NUMBER,        /* a bare number */
+    LF_OPTION_COUNT,         /* a whole number >= 0 */
+    LF_OPTION_QUANTITY       /* a number with its unit, of `quantity` */
+} lf_option_kind;
+
+typedef struct {
+    const char *name;        /* "fix-nu", "R", ... (the command's --NAME) */
+    lf_option_kind kind;
+    lf_quantity quantity;    /* LF_OPTION_QUANTITY: what its unit measures */
+} lf_option;
+
+/* The options of a fit, ended by an entry whose name is NULL: method,
+ * jacobian, model, segment, nu, fix-nu, fix-z0, fix-F0, max-b-over-a,
+ * model-tol, slope, max-iter, guess-w, guess-E, guess-nu, loss,
+ * loss-scale, intervals, format, spring-constant, sensitivity,
+ * depth-unit, force-unit, skip-bad-rows, and the probe of a single curve
+ * k, R, b, interface (`layerfit fit --help` says what each means). */
+LF_API extern const lf_option lf_fit_option_table[];
+
+/* The fewest points of a segment worth fitting: one more than the most
+ * parameters a fit can have (w, E*, nu, z0, F0); `layerfit check` and
+ * every fit of a request refuse a curve with fewer. */
+#define LF_FIT_MIN_POINTS 6
+
+typedef struct lf_fit_options lf_fit_options;
+
+/* Options at their defaults (NULL when out of memory). */
+LF_API lf_fit_options *lf_fit_options_alloc(void);
+LF_API void lf_fit_options_free(lf_fit_options *o);
+/* Set option `name` from text (value NULL for a flag, which turns it on;
+ * a flag given a value, a value option given none, an unknown name, a
+ * value that is not a number or not of the option's quantity: LF_EINVAL or
+ * LF_EUNIT with a message "--NAME: ..." as the command's).  A later call
+ * for the same name replaces the value. */
+LF_API int lf_fit_options_set(lf_fit_options *o, const char *name, const char *value,
+                              lf_error *err);
+/* The text an option was given (a flag: "1"), or NULL when it was not. */
+LF_API const char *lf_fit_options_get(const lf_fit_options *o, const char *name);
+
+/* What a request of options asks: the settings of the fit, of the model
+ * choice and of reading the curves. */
+typedef struct {
+    lf_fit_settings fit;
+    lf_choose_settings choose;
+    lf_input_settings input;     /* input.read points into the options */
+    int model_auto;              /* --model auto: each curve's model chosen
+                                    (lf_fit_choose_driver) */
+    int profile;                 /* lf_fit_profile's mode of a single fit:
+                                    LF_PROFILE_CHECK, or LF_PROFILE_LINEAR
+                                    (--intervals linear) */
+    const char *model;           /* --model as given ("auto", ...) */
+} lf_fit_request;
+
+/* Check the options together and fill req (LF_EINVAL or LF_EUNIT naming
+ * the option otherwise). */
+LF_API int lf_fit_options_request(lf_fit_options *o, lf_fit_request *req, lf_error *err);
+/* The probe options k, R, b, interface: with k given, *single = 1 and p
+ * the probe of a single curve or of every curve of a file of many (R NaN:
+ * from the file's header; b NaN with no interface: no layer, for the
+ * half-space model, which then needs neither); without k, *single = 0
+ * (a plan gives each curve's probe in its row, and R, b or interface
+ * given then is an error).  LF_EINVAL naming what is missing or wrong. */
+LF_API int lf_fit_options_probe(const lf_fit_options *o, lf_probe *p, int *single,
+                                lf_error *err);
+
+/* A fit of one of `layerfit fit --batch`: the profile check screened
+ * cheaply first (LF_PROFILE_SCREEN unless --intervals linear), no
+ * thin-layer comparison beside a fit with another model. */
+#define LF_RUN_BATCH 1u
+/* Fit the curves of in as `layerfit fit` does (the input's nu held unless
+ * the request holds nu): lf_fit_choose_driver for --model auto, else
+ * lf_fit_driver and, where every curve has a layer and the model is not
+ * the thin one, lf_fit_compare_thin; then lf_fit_profile.  What goes
+ * wrong after the fit (the comparison or the profile failed) is a note in
+ * notes (may be NULL), the result standing.  Returns LF_OK, LF_ENOCONV
+ * (res complete, not converged: also when the profile found the minimum
+ * was a local one) or an error of the fit (res empty). */
+LF_API int lf_fit_request_run(const lf_fit_request *req, const lf_fit_input *in, unsigned flags,
+                              lf_fit_result *res, lf_warnings *notes, lf_error *err);
+
+/* ------------------------------------------------------------------------
  * Results as text (src/report_json.c, src/report_html.c, src/text.c)
  *
  * The documents `layerfit fit` writes, made by the library so that a

@@ -258,12 +258,8 @@ units_free(unit_list *u)
  * --------------------------------------------------------------------- */
 
 typedef struct {
-    const lf_fit_settings *settings;
-    const lf_choose_settings *choose;
-    const lf_input_settings *input;
+    const lf_fit_request *req;
     int json;
-    int auto_model;        /* lf_fit_choose_driver instead of lf_fit_driver */
-    int linear_only;       /* --intervals linear: no profile-likelihood check */
 } batch_config;
 
 static void
@@ -456,7 +452,6 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
     const lf_plan *plan = ul->plan;
     size_t first = ul->start[u], n = ul->start[u + 1] - first, j;
     lf_fit_input in;
-    lf_fit_settings s = *cfg->settings;
     lf_fit_result res;
     lf_error err;
     lf_plan one = *plan;        /* the unit's curves as rows of a plan of their own */
@@ -500,7 +495,7 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
      * `layerfit check`; whatever goes wrong is this fit's row */
     one.n = n;
     one.rows = rows;
-    if (lf_fit_input_from_plan(&one, NULL, n, cfg->input, &in, NULL, &err) != LF_OK) {
+    if (lf_fit_input_from_plan(&one, NULL, n, &cfg->req->input, &in, NULL, &err) != LF_OK) {
         format_error(ebuf, sizeof ebuf, &err);
         goto row;
     }
@@ -510,23 +505,13 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
     y = in.y;
     grid[0] = in.grid_i >= 0 ? (double) in.grid_i : NAN;
     grid[1] = in.grid_j >= 0 ? (double) in.grid_j : NAN;
-    lf_fit_input_apply_nu(&in, &s);
-    if (cfg->auto_model)
-        st = lf_fit_choose_driver(&s, cfg->choose, n, in.curves, &res, &err);
-    else
-        st = lf_fit_driver(&s, n, in.curves, &res, &err);
+    /* as a single fit is made, after the profile's cheap screen */
+    st = lf_fit_request_run(cfg->req, &in, LF_RUN_BATCH, &res, NULL, &err);
     if (st == LF_OK || st == LF_ENOCONV) {
-        /* profile-likelihood intervals where the linear ones are unreliable,
-         * as a single fit makes them, after the cheap screen (a failure keeps
-         * the linear ones) */
-        lf_error perr;
-        (void) lf_fit_profile(&s, n, in.curves, &res,
-                              cfg->linear_only ? LF_PROFILE_LINEAR : LF_PROFILE_SCREEN, &perr);
         have_res = 1;
-        /* the profile may find the minimum was a local one (res no longer
-         * converged) */
-        status = st == LF_OK && res.converged ? "ok" : "noconv";
-        failed = !(st == LF_OK && res.converged);
+        /* the profile may find the minimum was a local one (noconv) */
+        status = st == LF_OK ? "ok" : "noconv";
+        failed = st != LF_OK;
         if (!failed && cli_disagreeing(&res, ebuf, sizeof ebuf) > 0) {
             status = "misfit";      /* the report's DISAGREES: no measurement */
             failed = 2;
@@ -655,7 +640,7 @@ ends_with(const char *s, const char *suffix)
 }
 
 int
-cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
+cli_batch_run(const cli_batch_opts *o)
 {
     lf_plan *plan = NULL;
     unit_list ul;
@@ -669,12 +654,8 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     int progress, io_error = 0;
     double t0 = cli_now(), last = 0.0;
 
-    cfg.settings = settings;
-    cfg.choose = &o->choose;
-    cfg.input = &o->input;
+    cfg.req = o->req;
     cfg.json = 0;
-    cfg.auto_model = o->auto_model;
-    cfg.linear_only = o->linear_only;
     if (o->out != NULL) {
         if (ends_with(o->out, ".jsonl"))
             cfg.json = 1;
@@ -706,7 +687,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     } else {
         plan = cli_plan_load("fit", o->plan);
     }
-    cli_plan_need_layers(plan, o->auto_model ? "auto" : settings->model->name);
+    cli_plan_need_layers(plan, o->req->model);
     for (i = 0; i < plan->n; i++)      /* no output may replace a curve */
         if (i == 0 || strcmp(plan->rows[i].file, plan->rows[i - 1].file) != 0)
             cli_input_guard("fit", plan->rows[i].file);
@@ -714,7 +695,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
         /* a file of many curves named without an index: each curve a row
          * (its file opened once, its curves read from it one at a time) */
         lf_error err;
-        if (lf_plan_open_files(plan, o->input.read, &err) != LF_OK)
+        if (lf_plan_open_files(plan, o->req->input.read, &err) != LF_OK)
             cli_die(CLI_EXIT_FAIL, "out of memory");
         if (o->probe != NULL) {
             if (plan->nfiles > 0)
@@ -837,25 +818,23 @@ batch_of_curves(int argc, char **argv)
 int
 cli_fit_batch(int argc, char **argv, const char *command_line)
 {
-    const char *plan = NULL, *out = NULL, *shard = NULL, *interface = NULL;
+    const char *plan = NULL, *out = NULL, *shard = NULL;
     long threads_opt = -1;
-    int npos, help = 0, quiet = 0, progress = 0, curves_file;
-    double k = NAN, R = NAN, b = NAN;
-    cli_fit_args fa;
-    cli_opt opts[10 + CLI_FIT_NOPTS + 1] = {
+    int npos, help = 0, quiet = 0, progress = 0, curves_file, one_curve, status;
+    lf_fit_options *fo = lf_fit_options_alloc();
+    cli_opt opts[6 + CLI_FIT_NOPTS + 1] = {
         { "batch", CLI_STRING, &plan }, { "out", CLI_STRING, &out },
         { "threads", CLI_COUNT, &threads_opt }, { "shard", CLI_STRING, &shard },
         { "progress", CLI_FLAG, &progress }, { "quiet", CLI_FLAG, &quiet },
-        { "k", CLI_NUMBER, &k }, { "R", CLI_LENGTH, &R }, { "b", CLI_LENGTH, &b },
-        { "interface", CLI_STRING, &interface },
     };
-    lf_fit_settings s = lf_fit_settings_default();
+    lf_fit_request req;
     cli_batch_opts o;
     lf_probe probe;
     size_t no;
 
-    cli_fit_args_init(&fa);
-    no = 10 + cli_fit_opts(&fa, opts + 10);
+    if (fo == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    no = 6 + cli_fit_opts(fo, opts + 6);
     opts[no].name = NULL;
     curves_file = batch_of_curves(argc, argv);
     {
@@ -899,6 +878,7 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
                "fit options, as for a single fit and with the same defaults:\n",
                CLI_MAX_THREADS);
         fputs(cli_fit_help, stdout);
+        lf_fit_options_free(fo);
         printf("\nEvery problem with one curve (a missing or unreadable file included) is\n"
                "that fit's row; the batch goes on.  --out FILE gets FILE.provenance.json.\n\n"
                "exit status: 0 every fit ok; 3 some fits failed (rows with status error or\n"
@@ -912,20 +892,18 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
         cli_die(CLI_EXIT_USAGE, "fit: --batch takes the plan as its value; unexpected '%s'", argv[0]);
     if (plan == NULL || *plan == '\0')
         cli_die(CLI_EXIT_USAGE, "fit: --batch needs a plan (e.g. --batch plan.csv)");
-    o.choose = lf_choose_settings_default();
-    o.input = lf_input_settings_default();
-    o.auto_model = cli_fit_settings(&fa, &s, &o.choose, &o.input);
+    cli_fit_request(fo, &req);
+    o.req = &req;
     o.probe = NULL;
     if (curves_file) {
         /* a file of curves: every curve with the probe of the options */
-        if (isnan(k))
+        if (lf_fit_options_get(fo, "k") == NULL)
             cli_die(CLI_EXIT_USAGE, "fit: %s is a curve file, not a plan: give the probe of its "
                     "curves, e.g. --batch %s --k 2 --R 5um --model halfspace (or --b and "
                     "--interface for a layer)", plan, plan);
-        cli_fit_probe(o.auto_model ? "auto" : s.model->name, k, R, b, interface, &probe);
+        cli_fit_probe(fo, &probe, &one_curve);
         o.probe = &probe;
     }
-    o.linear_only = fa.linear_only;
     o.plan = plan;
     o.out = out;
     o.command_line = command_line;
@@ -934,7 +912,9 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
         cli_die(CLI_EXIT_USAGE, "fit: --threads must be 1..%d (got 0)", CLI_MAX_THREADS);
     o.threads = threads_opt < 0 ? 0 : threads_opt;
     o.progress = quiet ? 0 : progress ? 1 : -1;
-    return cli_batch_run(&o, &s);
+    status = cli_batch_run(&o);
+    lf_fit_options_free(fo);
+    return status;
 }
 
 /* 1 when argv asks for a batch fit. */

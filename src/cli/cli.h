@@ -54,7 +54,9 @@ typedef enum {
     CLI_LENGTH,      /* double *, SI, through udunits2 */
     CLI_FORCE,
     CLI_ADHESION,
-    CLI_PRESSURE
+    CLI_PRESSURE,
+    CLI_FIT,         /* lf_fit_options *: the library's fit option of this name */
+    CLI_FIT_FLAG     /* the same, a flag */
 } cli_kind;
 
 typedef struct {
@@ -117,28 +119,17 @@ int cli_map(int argc, char **argv, const char *command_line);
 /* `layerfit design`: what a planned test would measure (design.c). */
 int cli_design(int argc, char **argv, const char *command_line);
 
-/* The fit options a single fit and a batch share: one table, one set of
- * defaults (fit.c).  cli_fit_args_init sets the defaults; cli_fit_opts puts
- * the table's entries into opts (room for CLI_FIT_NOPTS) and returns how
- * many; cli_fit_settings checks the values and fills the fit, model-choice
- * and input settings, returning 1 for --model auto.  Bad values exit 2. */
-typedef struct {
-    const char *method, *jacobian, *model, *segment, *loss;
-    const char *intervals;    /* auto: profile likelihood where needed; linear */
-    int linear_only;          /* --intervals linear (set by cli_fit_settings) */
-    double nu, fix_nu, fix_z0, fix_F0, max_ba, model_tol;
-    double guess_w, guess_E, guess_nu, loss_scale;
-    long max_iter;
-    int slope;
-    const char *format, *spring_constant, *sensitivity;  /* how curves are read */
-    lf_read_opts read;    /* filled by cli_fit_settings; is->read points here */
-} cli_fit_args;
-
-#define CLI_FIT_NOPTS 24
-void cli_fit_args_init(cli_fit_args *a);
-size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
-int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
-                     lf_input_settings *is);
+/* The fit options a single fit and a batch share: the library's table
+ * (lf_fit_option_table), one set of defaults.  cli_fit_opts puts one entry
+ * per option into opts (room for CLI_FIT_NOPTS), each setting o by name
+ * (lf_fit_options_set), and returns how many; cli_fit_request checks them
+ * and fills req (lf_fit_options_request); cli_fit_probe the probe of a
+ * single curve or a file of many (lf_fit_options_probe; *single 0 for a
+ * plan).  Bad values exit 2. */
+#define CLI_FIT_NOPTS 40
+size_t cli_fit_opts(lf_fit_options *o, cli_opt *opts);
+void cli_fit_request(lf_fit_options *o, lf_fit_request *req);
+void cli_fit_probe(const lf_fit_options *o, lf_probe *p, int *single);
 /* The fit options' help lines, shared by both usage texts. */
 extern const char cli_fit_help[];
 
@@ -147,12 +138,6 @@ extern const char cli_fit_help[];
 #define cli_interval_words lf_interval_words
 #define cli_interval_method lf_interval_method
 #define cli_bound_text lf_bound_text
-/* The probe of a single curve, or of every curve of a file of many, from
- * --k, --R, --b, --interface (R NaN: from the file's header; b NaN with no
- * interface: no layer, for a half-space model); dies with status 2 naming
- * what is missing or wrong. */
-void cli_fit_probe(const char *model, double k, double R, double b, const char *interface,
-                   lf_probe *p);
 
 /* Batch fitting (batch.c). */
 #define CLI_MAX_THREADS 1024      /* --threads is 1..CLI_MAX_THREADS */
@@ -162,17 +147,14 @@ typedef struct {
     const char *shard;     /* "I/N" or NULL for all */
     long threads;          /* 0: all cores */
     int progress;          /* 1 on, 0 off, -1 when stderr is a terminal */
-    int auto_model;        /* 1: choose each fit's models (lf_fit_choose_driver) */
-    int linear_only;       /* --intervals linear */
-    lf_choose_settings choose;  /* the model choice's settings */
-    lf_input_settings input;    /* segment, held offsets */
+    const lf_fit_request *req;  /* the fit options' settings */
     const char *command_line;   /* for the provenance record */
     const lf_probe *probe;      /* not NULL: `plan` is a file of curves, each fitted
                                    with this probe (--k, --R, --b, --interface) */
 } cli_batch_opts;
 /* Fit every fit of the plan with the settings; returns the exit status
  * (CLI_EXIT_OK, or CLI_EXIT_SOME_FAILED with a summary line on stderr). */
-int cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings);
+int cli_batch_run(const cli_batch_opts *o);
 /* "I/N" with 1 <= I <= N; -1 when malformed. */
 int cli_shard_parse(const char *text, long *index, long *count);
 /* `layerfit fit --batch ...` and whether argv asks for it. */
@@ -292,7 +274,7 @@ void cli_gnuplot_string(FILE *g, const char *s);
 /* Reading (read.c).  The fewest points of a segment worth fitting: one more
  * than the most parameters a fit can have (w, E*, nu, z0, F0); `check` and
  * every fit refuse a curve with fewer. */
-#define CLI_MIN_POINTS 6
+#define CLI_MIN_POINTS LF_FIT_MIN_POINTS
 /* A plan already in memory, its curves resolved against path's folder. */
 int cli_plan_from(const lf_input *in, const char *path, lf_plan **out, lf_warnings *warn,
                   lf_error *err);

@@ -1,6 +1,7 @@
 /* cli/util.c: messages, option parsing and number formatting for the
  * layerfit command. */
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -45,49 +46,47 @@ cli_print_warnings(const lf_warnings *w)
         fprintf(stderr, "layerfit: warning: %s\n", w->msg[i]);
 }
 
-static lf_quantity
-kind_quantity(cli_kind kind)
+/* The library's kind of an option of the command's own. */
+static lf_option
+lib_option(const cli_opt *o)
 {
-    switch (kind) {
-    case CLI_LENGTH:   return LF_Q_LENGTH;
-    case CLI_FORCE:    return LF_Q_FORCE;
-    case CLI_ADHESION: return LF_Q_ADHESION;
-    case CLI_PRESSURE: return LF_Q_PRESSURE;
-    default:           return LF_Q_DIMENSIONLESS;
+    lf_option opt = { o->name, LF_OPTION_QUANTITY, LF_Q_DIMENSIONLESS };
+    switch (o->kind) {
+    case CLI_NUMBER:   opt.kind = LF_OPTION_NUMBER; break;
+    case CLI_COUNT:    opt.kind = LF_OPTION_COUNT; break;
+    case CLI_LENGTH:   opt.quantity = LF_Q_LENGTH; break;
+    case CLI_FORCE:    opt.quantity = LF_Q_FORCE; break;
+    case CLI_ADHESION: opt.quantity = LF_Q_ADHESION; break;
+    default:           opt.quantity = LF_Q_PRESSURE; break;
     }
+    return opt;
 }
 
 static void
 set_value(const char *cmd, const cli_opt *o, const char *value)
 {
     lf_error err;
-    char *end;
+    lf_option opt;
+    double x;
 
     switch (o->kind) {
     case CLI_STRING:
         *(const char **) o->target = value;
         return;
-    case CLI_NUMBER:
-        errno = 0;
-        *(double *) o->target = strtod(value, &end);
-        if (end == value || *end != '\0' || errno == ERANGE
-            || !isfinite(*(double *) o->target))
-            cli_die(CLI_EXIT_USAGE, "%s: --%s: '%s' is not a number (e.g. --%s 0.3)",
-                    cmd, o->name, value, o->name);
+    case CLI_FIT:
+    case CLI_FIT_FLAG:
+        if (lf_fit_options_set(o->target, o->name, value, &err) != LF_OK)
+            cli_die(err.status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, "%s: %s", cmd,
+                    err.msg);
         return;
-    case CLI_COUNT: {
-        long v;
-        errno = 0;
-        v = strtol(value, &end, 10);
-        if (end == value || *end != '\0' || errno == ERANGE || v < 0)
-            cli_die(CLI_EXIT_USAGE, "%s: --%s: '%s' is not a whole number >= 0 (e.g. --%s 200)",
-                    cmd, o->name, value, o->name);
-        *(long *) o->target = v;
-        return;
-    }
     default:
-        if (lf_units_parse(value, kind_quantity(o->kind), (double *) o->target, &err) != LF_OK)
-            cli_die(CLI_EXIT_USAGE, "%s: --%s: %s", cmd, o->name, err.msg);
+        opt = lib_option(o);
+        if (lf_option_number(&opt, value, &x, &err) != LF_OK)
+            cli_die(CLI_EXIT_USAGE, "%s: %s", cmd, err.msg);
+        if (o->kind == CLI_COUNT)   /* whole, >= 0; LONG_MAX where a long ends */
+            *(long *) o->target = x < 9.2e18 ? (long) x : LONG_MAX;
+        else
+            *(double *) o->target = x;
         return;
     }
 }
@@ -126,10 +125,13 @@ cli_parse(const char *cmd, int argc, char **argv, const cli_opt *opts,
         if (o->name == NULL)
             cli_die(CLI_EXIT_USAGE, "%s: unknown option '--%.*s' (see 'layerfit %s --help')",
                     cmd, (int) len, arg, cmd);
-        if (o->kind == CLI_FLAG) {
+        if (o->kind == CLI_FLAG || o->kind == CLI_FIT_FLAG) {
             if (eq != NULL)
                 cli_die(CLI_EXIT_USAGE, "%s: --%s takes no value", cmd, o->name);
-            *(int *) o->target = 1;
+            if (o->kind == CLI_FIT_FLAG)
+                set_value(cmd, o, NULL);
+            else
+                *(int *) o->target = 1;
             continue;
         }
         if (eq != NULL)
