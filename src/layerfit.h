@@ -1451,6 +1451,86 @@ LF_API int lf_fit_request_run(const lf_fit_request *req, const lf_fit_input *in,
                               lf_fit_result *res, lf_warnings *notes, lf_error *err);
 
 /* ------------------------------------------------------------------------
+ * Many independent fits: the batch of `layerfit fit --batch` (src/batch.c)
+ *
+ * Every curve of a plan, or every group of curves that share a non-empty
+ * sample, is fitted on its own, as lf_fit_request_run(LF_RUN_BATCH) fits
+ * it, by worker threads; each fit is one row of the batch's table, handed
+ * to the caller's function as soon as it may be (lf_batch_settings.ordered).
+ * A plan row naming a file of many curves without an index stands for each
+ * of its curves (the file opened once, lf_plan_open_files).  A bad curve
+ * (a missing file included) is a row with status "error" and its message;
+ * the batch goes on.  The rows, in plan order, do not depend on the number
+ * of threads.
+ * --------------------------------------------------------------------- */
+
+typedef struct {
+    int json;              /* rows as JSON Lines (1) or CSV (0, default:
+                              lf_batch_csv_header's columns) */
+    long threads;          /* worker threads, 0 (default): one per processor */
+    long shard_index, shard_count;  /* only the I-th of N contiguous shares
+                              of the fits (1, 1: all); the rows of shards
+                              1..N in order are those of the whole plan */
+    int ordered;           /* 1 (default): rows handed over in plan order,
+                              at most 128 per thread waiting for an earlier
+                              one; 0: as the fits finish */
+    int results;           /* 1: each row carries its fit's result and
+                              input (0, default: the text only) */
+} lf_batch_settings;
+
+LF_API lf_batch_settings lf_batch_settings_default(void);
+
+typedef enum {
+    LF_BATCH_OK = 0,       /* status "ok" */
+    LF_BATCH_FAILED = 1,   /* "error" or "noconv" */
+    LF_BATCH_MISFIT = 2    /* "misfit": converged, but the model does not
+                              describe a curve of the fit */
+} lf_batch_outcome;
+
+/* One fit of a batch, as handed over.  Everything it points to is valid
+ * during the call only. */
+typedef struct {
+    size_t fit;            /* its number in the plan, from 1 */
+    const char *sample;    /* its sample ("" for a curve on its own) */
+    const char *status;    /* "ok", "misfit", "noconv", "error" */
+    lf_batch_outcome outcome;
+    const char *text;      /* the row as the command writes it: a CSV line
+                              or a JSON line, with its line break */
+    size_t len;            /* strlen(text) */
+    const lf_fit_result *result;  /* with settings.results: the fit (NULL
+                              for an error row) */
+    const lf_fit_input *input;    /* with settings.results: its curves
+                              (NULL when they could not be read) */
+    size_t done, total;    /* rows handed over so far, this one included,
+                              of the shard's */
+    size_t failed, misfits; /* of those done */
+} lf_batch_row;
+
+/* Called once per row, one call at a time, from the worker threads (the
+ * caller's among them).  A nonzero return stops the batch: no fit starts
+ * after it, and those running end without being handed over. */
+typedef int (*lf_batch_fn)(void *ctx, const lf_batch_row *row);
+
+typedef struct {
+    size_t fits;           /* fits of the whole plan */
+    size_t total;          /* fits of this shard */
+    size_t done, failed, misfits;  /* rows handed over, failed, misfits */
+    int stopped;           /* the function stopped the batch */
+} lf_batch_summary;
+
+/* The CSV rows' header line ("fit,sample,file,...,sha256\n"; static). */
+LF_API const char *lf_batch_csv_header(void);
+
+/* Fit every fit of the plan with the request's settings, handing each row
+ * to each(ctx, row) (each may be NULL).  bs NULL: the defaults; sum (may
+ * be NULL) says how many fits there were, were handed over and failed.
+ * Returns LF_OK when the batch ran (whatever its fits' outcomes, or when
+ * each stopped it), LF_EINVAL for bad settings, LF_ENOMEM when a row could
+ * not be made (the batch stops there). */
+LF_API int lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *bs,
+                        lf_batch_fn each, void *ctx, lf_batch_summary *sum, lf_error *err);
+
+/* ------------------------------------------------------------------------
  * Results as text (src/report_json.c, src/report_html.c, src/text.c)
  *
  * The documents `layerfit fit` writes, made by the library so that a
