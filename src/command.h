@@ -53,6 +53,12 @@ void lf_percent_escape(const char *s, void (*put)(void *, const char *, size_t),
  * before each line after the first, into *json (lf_free). */
 int lf_provenance_json(const lf_provenance *p, const char *indent, char **json, lf_error *err);
 
+/* Text as HTML (markup characters escaped, control characters as spaces
+ * but line breaks, invalid UTF-8 as U+FFFD), handed to put in pieces. */
+void lf_html_text(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
+/* The HTML report's style sheet (static). */
+const char *lf_report_css(void);
+
 /* The words a report puts after an interval for how it was found (NULL: a
  * checked linear interval, nothing said); brief: the HTML table's. */
 const char *lf_interval_words(const lf_fit_estimate *e, int brief);

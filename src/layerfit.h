@@ -1573,6 +1573,16 @@ typedef struct {
 LF_API int lf_fit_result_json(const lf_fit_result *r, const lf_report_info *info, char **json,
                               lf_error *err);
 
+/* The tables of the `layerfit fit --report` page as HTML: a note when the
+ * fit did not converge, then the sections parameters, identifiability,
+ * warnings, correlations, statistics and curves (text from data escaped).
+ * scope NULL: the sections alone, for a page with the report's style;
+ * else a class name (letters, digits, - and _; LF_EINVAL otherwise), and
+ * the sections come inside <div class="SCOPE"> with the report's style
+ * confined to it, for a notebook. */
+LF_API int lf_fit_result_html(const lf_fit_result *r, const char *scope, char **html,
+                              lf_error *err);
+
 /* ------------------------------------------------------------------------
  * Instrument readers (src/reader.c, one src/read_*.c file per format)
  *
