@@ -253,6 +253,30 @@ LF_API int lf_model_prepare(lf_model *m, double nu_lo, double nu_hi, lf_error *e
 /* The cheapest model of a scope in lf_model_types (NULL if none). */
 LF_API const lf_model_type *lf_model_type_cheapest(lf_model_scope scope);
 
+/* What `layerfit model --summary` and `--json` report of model m at one
+ * material: the pull-off and detachment (lf_model_pulloff), Z, with a
+ * theoretical strength sigma_th (NaN: none) the critical thickness of
+ * Eq. (19) and b_cr/a_po there (Eq. 20; NaN without sigma_th or w = 0),
+ * and the range a curve is drawn over by default: from detachment over
+ * ten pull-off widths, [from, from + width]. */
+typedef struct {
+    lf_probe probe;
+    lf_material mat;
+    const lf_model_type *type;
+    lf_pulloff pulloff;
+    double Z;
+    double sigma_th;       /* as given, or NaN */
+    double b_cr;           /* m, or NaN */
+    double b_cr_over_a;    /* or NaN */
+    double from, width;    /* the default range of a curve, m */
+} lf_model_summary;
+
+LF_API int lf_model_summarise(const lf_model *m, const lf_material *mat, double sigma_th,
+                              lf_model_summary *s, lf_error *err);
+/* The summary as the JSON of `layerfit model --json` (SI, null for NaN),
+ * into *json (lf_free). */
+LF_API int lf_model_summary_json(const lf_model_summary *s, char **json, lf_error *err);
+
 /* Closed-form helpers of the thin-layer model (seed paper). */
 LF_API double lf_thin_Z(lf_base base, double nu);      /* 1, or (1-nu)^2/(1-2nu) */
 LF_API double lf_thin_dlogZ_dnu(lf_base base, double nu);
