@@ -721,7 +721,8 @@ lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *
                        bs->threads);
     /* a file of many curves named without an index: each curve a fit (its
      * file opened once, its curves read from it one at a time) */
-    if ((status = lf_plan_open_files(plan, req->input.read, err)) != LF_OK)
+    if ((status = lf_plan_open_files(plan, req->input.read, err)) != LF_OK
+        || (status = lf_plan_need_layers(plan, req->model, err)) != LF_OK)
         return status;
     memset(&ul, 0, sizeof ul);
     if (units_make(plan, &ul) != 0) {
@@ -784,4 +785,41 @@ lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *
     if (e.status != LF_OK && err != NULL)
         *err = e.err;
     return e.status;
+}
+
+int
+lf_batch_row_json(const lf_batch_row *row, const lf_fit_request *req, const char *command_line,
+                  char **json, lf_error *err)
+{
+    const lf_fit_input *in = row->input;
+    lf_provenance prov;
+    lf_report_info info;
+
+    *json = NULL;
+    if (row->result == NULL || in == NULL)
+        return lf_fail(err, LF_EINVAL, "fit %zu has no result (status %s%s)", row->fit,
+                       row->status, row->result == NULL ? "" : "; rows keep results only "
+                       "with lf_batch_settings.results");
+    prov.command_line = command_line;
+    prov.ninputs = in->n;
+    prov.input = (const char *const *) in->names;
+    prov.sha256 = NULL;
+    info.model_request = req->model;
+    info.model_tol = req->model_auto ? req->choose.tol : NAN;
+    info.origin = in->origin;
+    info.provenance = &prov;
+    {
+        /* the digests as strings */
+        const char **sha = malloc((in->n ? in->n : 1) * sizeof *sha);
+        size_t i;
+        int status;
+        if (sha == NULL)
+            return lf_fail(err, LF_ENOMEM, "out of memory");
+        for (i = 0; i < in->n; i++)
+            sha[i] = in->sha256[i];
+        prov.sha256 = sha;
+        status = lf_fit_result_json(row->result, &info, json, err);
+        free((void *) sha);
+        return status;
+    }
 }

@@ -26,6 +26,14 @@ const char *lf_thin_scope(double b_over_a, double limit);
  * command parses every option's number through it. */
 int lf_option_number(const lf_option *opt, const char *text, double *x, lf_error *err);
 
+/* A plan already in memory (lf_input_read of path), its curves resolved
+ * against path's folder. */
+int lf_plan_from_input(const lf_input *in, const char *path, lf_plan **out, lf_warnings *warn,
+                       lf_error *err);
+/* LF_EDATA at the first row of plan without b and interface (no layer),
+ * unless the fit's model (its name, "auto" included) is the half-space. */
+int lf_plan_need_layers(const lf_plan *plan, const char *model, lf_error *err);
+
 /* ------------------------------------------------------------------------
  * Text for reports (src/text.c, src/words.c), shared by the library's
  * writers and the command's own.
@@ -58,6 +66,10 @@ int lf_provenance_json(const lf_provenance *p, const char *indent, char **json, 
 void lf_html_text(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
 /* The HTML report's style sheet (static). */
 const char *lf_report_css(void);
+
+/* The value where the fit ended of the free parameter NAME ("w", "E*",
+ * "nu", "z0[1]", ...: lf_fit_result.names), NaN when it was not free. */
+double lf_fit_result_value(const lf_fit_result *res, const char *name);
 
 /* The words a report puts after an interval for how it was found (NULL: a
  * checked linear interval, nothing said); brief: the HTML table's. */

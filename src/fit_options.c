@@ -56,7 +56,8 @@ const lf_option lf_fit_option_table[] = {
 struct lf_fit_options {
     char *text[O_COUNT];
     double value[O_COUNT];
-    lf_read_opts read;          /* filled by lf_fit_options_request */
+    lf_read_opts read;          /* filled by lf_fit_options_read */
+    lf_fit_request req;         /* filled by lf_fit_options_checked */
 };
 
 /* The default words of the text options (NULL: none). */
@@ -195,6 +196,35 @@ reader_names(char *list, size_t n)
                                  lf_reader_types[r]->name);
 }
 
+const lf_read_opts *
+lf_fit_options_read(lf_fit_options *o, lf_error *err)
+{
+    lf_error e;
+
+    lf_read_opts_default(&o->read);
+    o->read.format = o->text[O_FORMAT];
+    if (o->read.format != NULL && lf_reader_find(o->read.format) == NULL) {
+        char list[400];
+        reader_names(list, sizeof list);
+        lf_fail(err, LF_EINVAL, "unknown format '%s' (%s)", o->read.format, list);
+        return NULL;
+    }
+    o->read.depth_unit = o->text[O_DEPTH_UNIT];
+    o->read.force_unit = o->text[O_FORCE_UNIT];
+    o->read.skip_bad_rows = o->text[O_SKIP_BAD] != NULL;
+    if (lf_read_opts_constants(&o->read, o->text[O_SPRING], o->text[O_SENSITIVITY], &e) != LF_OK) {
+        lf_fail(err, e.status, "%s", e.msg);
+        return NULL;
+    }
+    return &o->read;
+}
+
+const lf_fit_request *
+lf_fit_options_checked(lf_fit_options *o, lf_error *err)
+{
+    return lf_fit_options_request(o, &o->req, err) == LF_OK ? &o->req : NULL;
+}
+
 int
 lf_fit_options_request(lf_fit_options *o, lf_fit_request *req, lf_error *err)
 {
@@ -207,7 +237,6 @@ lf_fit_options_request(lf_fit_options *o, lf_fit_request *req, lf_error *err)
     const double *v = o->value;
     double nu;
     size_t i;
-    lf_error e;
 
     *s = lf_fit_settings_default();
     *cs = lf_choose_settings_default();
@@ -262,19 +291,8 @@ lf_fit_options_request(lf_fit_options *o, lf_fit_request *req, lf_error *err)
     is->z0 = v[O_FIX_Z0];
     is->F0 = v[O_FIX_F0];
     is->min_points = LF_FIT_MIN_POINTS;     /* the same test as `layerfit check` */
-    lf_read_opts_default(&o->read);
-    o->read.format = o->text[O_FORMAT];
-    if (o->read.format != NULL && lf_reader_find(o->read.format) == NULL) {
-        char list[400];
-        reader_names(list, sizeof list);
-        return lf_fail(err, LF_EINVAL, "unknown format '%s' (%s)", o->read.format, list);
-    }
-    o->read.depth_unit = o->text[O_DEPTH_UNIT];
-    o->read.force_unit = o->text[O_FORCE_UNIT];
-    o->read.skip_bad_rows = o->text[O_SKIP_BAD] != NULL;
-    if (lf_read_opts_constants(&o->read, o->text[O_SPRING], o->text[O_SENSITIVITY], &e) != LF_OK)
-        return lf_fail(err, e.status, "%s", e.msg);
-    is->read = &o->read;
+    if ((is->read = lf_fit_options_read(o, err)) == NULL)
+        return err != NULL ? err->status : LF_EINVAL;
     s->fit_slope = o->text[O_SLOPE] != NULL;
     if (!isnan(v[O_GUESS_W]) && !(v[O_GUESS_W] > 0))
         return lf_fail(err, LF_EINVAL, "--guess-w must be > 0 (e.g. --guess-w 10mJ/m2)");

@@ -68,6 +68,10 @@ typedef struct {
     char msg[512];
 } lf_error;
 
+/* The library's LF_VERSION, as it was built (a program or binding loaded
+ * against another header can compare). */
+LF_API const char *lf_version(void);
+
 /* A short constant name of a status code ("invalid argument", ...). */
 LF_API const char *lf_strerror(int status);
 
@@ -1005,6 +1009,14 @@ LF_API int lf_plan_expand(lf_plan *plan, const lf_read_opts *o, lf_error *err);
  * no row per curve. */
 LF_API int lf_plan_open_files(lf_plan *plan, const lf_read_opts *o, lf_error *err);
 
+/* Read row `row`'s curve from the open file f, curve index of it (-1: its
+ * only one), instead of from the file the row names, which stays its name
+ * in reports: for curves a program holds open or in memory
+ * (lf_file_open_memory).  f stays the caller's, open while the plan is
+ * used.  LF_EINVAL for a row or curve that does not exist. */
+LF_API int lf_plan_set_source(lf_plan *plan, size_t row, lf_file *f, long index,
+                              lf_error *err);
+
 /* Whether a CSV file is a plan (its header has a "file" column) or a curve,
  * from its header alone. */
 typedef enum { LF_FILE_CURVE = 0, LF_FILE_PLAN = 1 } lf_file_kind;
@@ -1450,6 +1462,14 @@ typedef struct {
 /* Check the options together and fill req (LF_EINVAL or LF_EUNIT naming
  * the option otherwise). */
 LF_API int lf_fit_options_request(lf_fit_options *o, lf_fit_request *req, lf_error *err);
+/* The same for programs that keep objects by handle: the request held by
+ * the options themselves (valid until they are set again or freed), or
+ * NULL with err. */
+LF_API const lf_fit_request *lf_fit_options_checked(lf_fit_options *o, lf_error *err);
+/* How the options read curve files (format, spring-constant,
+ * sensitivity, depth-unit, force-unit, skip-bad-rows): checked, held by
+ * the options as the request's are; NULL with err on a bad value. */
+LF_API const lf_read_opts *lf_fit_options_read(lf_fit_options *o, lf_error *err);
 /* The probe options k, R, b, interface: with k given, *single = 1 and p
  * the probe of a single curve or of every curve of a file of many (R NaN:
  * from the file's header; b NaN with no interface: no layer, for the
@@ -1473,6 +1493,68 @@ LF_API int lf_fit_options_probe(const lf_fit_options *o, lf_probe *p, int *singl
  * was a local one) or an error of the fit (res empty). */
 LF_API int lf_fit_request_run(const lf_fit_request *req, const lf_fit_input *in, unsigned flags,
                               lf_fit_result *res, lf_warnings *notes, lf_error *err);
+
+/* A fit held in one object, for programs and bindings that keep objects by
+ * handle: made as `layerfit fit PATH [options]` makes it.
+ * lf_fit_job_path reads a single curve when the options give k (R, b,
+ * interface, as the command's --k, --R, ...), else the plan at path (a
+ * file, a pipe or FIFO read once); lf_fit_job_plan takes a plan already
+ * read (lf_plan_parse of rows a program wrote, its rows' curves perhaps
+ * open files of the program's: lf_plan_set_source).  A plan's rows without
+ * a layer need --model halfspace (LF_EDATA at the row otherwise).  On
+ * LF_OK *out is the caller's (lf_fit_job_free), its fit converged or not
+ * (lf_fit_job_status: LF_OK or LF_ENOCONV); warnings of the readers and
+ * notes of the fit go to warn (may be NULL).  Errors as the readers' and
+ * lf_fit_request_run's, err naming the file, line and column where the
+ * cause sits.  The job keeps what it needs of the options: they may be
+ * set again or freed once it is made. */
+typedef struct lf_fit_job lf_fit_job;
+
+LF_API int lf_fit_job_path(lf_fit_options *o, const char *path, lf_fit_job **out,
+                           lf_warnings *warn, lf_error *err);
+LF_API int lf_fit_job_plan(lf_fit_options *o, const lf_plan *plan, lf_fit_job **out,
+                           lf_warnings *warn, lf_error *err);
+LF_API const lf_fit_result *lf_fit_job_result(const lf_fit_job *j);
+LF_API const lf_fit_input *lf_fit_job_input(const lf_fit_job *j);
+LF_API int lf_fit_job_status(const lf_fit_job *j);
+/* Curve i's points (pointers owned by the job): depth and force fitted,
+ * the fitted force and the contact radius there; their number, 0 when
+ * there is no curve i. */
+LF_API size_t lf_fit_job_curve(const lf_fit_job *j, size_t i, const double **depth,
+                               const double **force, const double **fitted,
+                               const double **radius);
+/* The result as `layerfit fit --json` writes it (lf_fit_result_json), its
+ * provenance the command line (or a binding's call) given and the inputs
+ * in the order the command records them: the plan read from a file, then
+ * each curve with its SHA-256. */
+LF_API int lf_fit_job_json(const lf_fit_job *j, const char *command_line, char **json,
+                           lf_error *err);
+LF_API void lf_fit_job_free(lf_fit_job *j);
+
+/* What the figures of a fit draw of curve j (`layerfit fit --plot`, a
+ * binding's plot): the offsets it is drawn with (the reported ones, else
+ * where the fit ended, else 0), the fitted model on n >= 2 depths z[]
+ * spanning the curve's data (and past detachment), in instrument
+ * coordinates, with forces F[] and each point's class cls[] (0 out of
+ * contact, 1 stable under force control, 2 unstable), and the
+ * force-controlled pull-off point (NaN when w is not determined or the
+ * branch is loading).  have = 0 when no model could be drawn (a material
+ * not determined).  z, F and cls are the caller's arrays of n; n = 0: the
+ * offsets alone. */
+typedef struct {
+    double z0, F0, slope;  /* m, N, N/m */
+    double z_po, F_po;     /* m, N, or NaN */
+    double delta_detach, delta_po;  /* indentations of detachment and of
+                              pull-off at the fitted material, m, or NaN */
+    int have;
+} lf_fit_figure;
+
+LF_API int lf_fit_figure_curve(const lf_fit_result *res, size_t j, const lf_fit_curve *c,
+                               size_t n, double *z, double *F, int *cls, lf_fit_figure *out,
+                               lf_error *err);
+/* The same for curve i of a job. */
+LF_API int lf_fit_job_figure(const lf_fit_job *j, size_t i, size_t n, double *z, double *F,
+                             int *cls, lf_fit_figure *out, lf_error *err);
 
 /* ------------------------------------------------------------------------
  * Many independent fits: the batch of `layerfit fit --batch` (src/batch.c)
@@ -1549,10 +1631,17 @@ LF_API const char *lf_batch_csv_header(void);
  * to each(ctx, row) (each may be NULL).  bs NULL: the defaults; sum (may
  * be NULL) says how many fits there were, were handed over and failed.
  * Returns LF_OK when the batch ran (whatever its fits' outcomes, or when
- * each stopped it), LF_EINVAL for bad settings, LF_ENOMEM when a row could
- * not be made (the batch stops there). */
+ * each stopped it), LF_EINVAL for bad settings, LF_EDATA at the first row
+ * without b and interface unless the model is the half-space, LF_ENOMEM
+ * when a row could not be made (the batch stops there). */
 LF_API int lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *bs,
                         lf_batch_fn each, void *ctx, lf_batch_summary *sum, lf_error *err);
+/* A row's fit (settings.results) as `layerfit fit --json` writes a fit of
+ * its curves (lf_fit_result_json; req the batch's), its provenance the
+ * command line given and the row's curves.  LF_EINVAL for a row without
+ * a result (an error row). */
+LF_API int lf_batch_row_json(const lf_batch_row *row, const lf_fit_request *req,
+                             const char *command_line, char **json, lf_error *err);
 
 /* ------------------------------------------------------------------------
  * Results as text (src/report_json.c, src/report_html.c, src/text.c)

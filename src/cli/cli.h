@@ -95,9 +95,8 @@ void cli_refuse_options(int argc, char **argv, const char *const *names, size_t 
  * (lf_curve_disagrees, lf_disagreeing: command.h). */
 #define cli_curve_disagrees lf_curve_disagrees
 #define cli_disagreeing lf_disagreeing
-/* The value where the fit ended of the free parameter NAME ("w", "E*",
- * "nu", "z0[1]", ...: lf_fit_result.names), NaN when it was not free. */
-double cli_fitted_value(const lf_fit_result *res, const char *name);
+/* The value where the fit ended of a free parameter (lf_fit_result_value). */
+#define cli_fitted_value lf_fit_result_value
 
 
 

@@ -183,17 +183,6 @@ cli_now(void)
     return (double) t.tv_sec + 1e-9 * (double) t.tv_nsec;
 }
 
-double
-cli_fitted_value(const lf_fit_result *res, const char *name)
-{
-    size_t i;
-
-    for (i = 0; i < res->npar; i++)
-        if (strcmp(res->names[i], name) == 0)
-            return res->value[i];
-    return NAN;
-}
-
 void
 cli_refuse_options(int argc, char **argv, const char *const *names, size_t n, const char *why)
 {
