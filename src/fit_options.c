@@ -39,7 +39,7 @@ const lf_option lf_fit_option_table[] = {
     { "loss-scale", LF_OPTION_NUMBER, LF_Q_DIMENSIONLESS },
     { "intervals", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },
     { "format", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },
-    { "spring-constant", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },
+    { "spring-constant", LF_OPTION_TEXT, LF_Q_STIFFNESS },
     { "sensitivity", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },
     { "depth-unit", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },
     { "force-unit", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },

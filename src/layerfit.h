@@ -1414,7 +1414,10 @@ typedef enum {
 typedef struct {
     const char *name;        /* "fix-nu", "R", ... (the command's --NAME) */
     lf_option_kind kind;
-    lf_quantity quantity;    /* LF_OPTION_QUANTITY: what its unit measures */
+    lf_quantity quantity;    /* LF_OPTION_QUANTITY, and a text option that
+                                is a quantity checked later (spring-constant):
+                                what its unit measures; else
+                                LF_Q_DIMENSIONLESS */
 } lf_option;
 
 /* The options of a fit, ended by an entry whose name is NULL: method,
