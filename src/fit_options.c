@@ -103,12 +103,7 @@ lf_fit_options_free(lf_fit_options *o)
 const char *
 lf_fit_options_get(const lf_fit_options *o, const char *name)
 {
-    size_t i;
-
-    for (i = 0; lf_fit_option_table[i].name != NULL; i++)
-        if (strcmp(lf_fit_option_table[i].name, name) == 0)
-            return o->text[i];
-    return NULL;
+    return lf_optset_get(lf_fit_option_table, o->text, name);
 }
 
 /* An option's text: as given, or its default. */
@@ -152,7 +147,8 @@ lf_option_number(const lf_option *opt, const char *text, double *x, lf_error *er
 }
 
 int
-lf_fit_options_set(lf_fit_options *o, const char *name, const char *value, lf_error *err)
+lf_optset_set(const lf_option *table, char **text, double *values, const char *name,
+              const char *value, lf_error *err)
 {
     const lf_option *opt;
     size_t i;
@@ -160,10 +156,10 @@ lf_fit_options_set(lf_fit_options *o, const char *name, const char *value, lf_er
     double x = NAN;
     int status;
 
-    for (i = 0; lf_fit_option_table[i].name != NULL; i++)
-        if (strcmp(lf_fit_option_table[i].name, name) == 0)
+    for (i = 0; table[i].name != NULL; i++)
+        if (strcmp(table[i].name, name) == 0)
             break;
-    opt = &lf_fit_option_table[i];
+    opt = &table[i];
     if (opt->name == NULL)
         return lf_fail(err, LF_EINVAL, "unknown option '--%s'", name);
     if (opt->kind == LF_OPTION_FLAG) {
@@ -178,10 +174,27 @@ lf_fit_options_set(lf_fit_options *o, const char *name, const char *value, lf_er
     }
     if ((copy = lf_strdup(value)) == NULL)
         return lf_fail(err, LF_ENOMEM, "out of memory");
-    free(o->text[i]);
-    o->text[i] = copy;
-    o->value[i] = x;
+    free(text[i]);
+    text[i] = copy;
+    values[i] = x;
     return LF_OK;
+}
+
+const char *
+lf_optset_get(const lf_option *table, char *const *text, const char *name)
+{
+    size_t i;
+
+    for (i = 0; table[i].name != NULL; i++)
+        if (strcmp(table[i].name, name) == 0)
+            return text[i];
+    return NULL;
+}
+
+int
+lf_fit_options_set(lf_fit_options *o, const char *name, const char *value, lf_error *err)
+{
+    return lf_optset_set(lf_fit_option_table, o->text, o->value, name, value, err);
 }
 
 /* "csv, chiaro, ..." of every reader, for a message. */

@@ -64,6 +64,15 @@ void lf_str_provenance(lf_str *b, const char *indent, const lf_provenance *p);
 int lf_str_take(lf_str *b, char **out, lf_error *err);
 void lf_str_free(lf_str *b);
 
+/* Options held by name (src/fit_options.c), for the fit's and the
+ * design's tables: lf_optset_set keeps a copy of the text given to
+ * option `name` of table in text[i] and, for a number, its value in
+ * values[i] (checked by lf_option_number; a flag's text "1");
+ * lf_optset_get returns the text given, or NULL. */
+int lf_optset_set(const lf_option *table, char **text, double *values, const char *name,
+                  const char *value, lf_error *err);
+const char *lf_optset_get(const lf_option *table, char *const *text, const char *name);
+
 /* Largest finite magnitude a derivative is allowed to reach. */
 #define LF_BIG 1e300
 

@@ -1699,6 +1699,65 @@ LF_API int lf_fit_result_json(const lf_fit_result *r, const lf_report_info *info
 LF_API int lf_fit_result_html(const lf_fit_result *r, const char *scope, char **html,
                               lf_error *err);
 
+/* What `layerfit design PLAN [options]` answers, for the command and for
+ * bindings alike (src/design_run.c).  The options are set by name from
+ * text as a command line gives them (as lf_fit_options_set does): w, E,
+ * nu, fix-nu, noise, points, delta-max, model, model-tol, choose, target,
+ * grid, vary (`layerfit design --help`).  lf_design_run evaluates the
+ * whole set of the plan's candidates, the set without each (what each
+ * adds), with choose the greedy choice of that many for the target (and
+ * the best of all sets by exhaustive search where there are at most 2000)
+ * and the chosen set, with grid the sweep of a factor over every
+ * candidate or the one vary names; lf_design_report_json writes the
+ * command's --json document of it.  The report is the caller's
+ * (lf_design_report_free); it points at the plan, which must outlive it. */
+typedef struct lf_design_options lf_design_options;
+
+LF_API extern const lf_option lf_design_option_table[];
+LF_API lf_design_options *lf_design_options_alloc(void);
+LF_API void lf_design_options_free(lf_design_options *o);
+LF_API int lf_design_options_set(lf_design_options *o, const char *name, const char *value,
+                                 lf_error *err);
+LF_API const char *lf_design_options_get(const lf_design_options *o, const char *name);
+/* The settings the options give (LF_EINVAL naming the option otherwise:
+ * w and E required, nu, noise "1%", 0.01 or "2uN", points, delta-max,
+ * model, model-tol, target, grid and choose apart). */
+LF_API int lf_design_options_settings(const lf_design_options *o, lf_design_settings *s,
+                                      lf_error *err);
+/* The grid's factor and values (values: room for 200), *nv = 0 without
+ * one: "k=2,2.5,3" (values with units), "delta_max=20nm:200nm:10"
+ * (LO:HI:N), "b=0.1um:10um:9:log". */
+LF_API int lf_design_options_grid(const lf_design_options *o, lf_design_factor *factor,
+                                  double *values, size_t *nv, lf_error *err);
+
+typedef struct {
+    lf_design_settings settings;
+    const lf_design_plan *plan;
+    lf_design_target target;
+    lf_design_result all;          /* the whole set */
+    size_t n;                      /* candidates */
+    lf_design_result *without;     /* n: the set without candidate i */
+    int *without_done;             /* n: 1 where it was evaluated (n > 1) */
+    size_t nchoose;                /* choose, or 0 */
+    lf_design_choice choice;       /* nchoose > 0: the greedy choice */
+    int exhaustive;                /* 1: best[] is the best of all nsets sets */
+    int *best;
+    size_t nsets;
+    lf_design_result chosen;       /* nchoose > 0: the chosen set */
+    size_t nsweep;                 /* grid values, or 0 */
+    lf_design_factor factor;
+    size_t which;                  /* the swept candidate, (size_t) -1: all */
+    double *values;
+    lf_design_result *sweep;       /* nsweep results */
+} lf_design_report;
+
+LF_API int lf_design_run(const lf_design_options *o, const lf_design_plan *plan,
+                         lf_design_report **out, lf_error *err);
+/* prov NULL: no "provenance" key.  Into *json (lf_free). */
+LF_API int lf_design_report_json(const lf_design_report *r, const lf_provenance *prov,
+                                 char **json, lf_error *err);
+LF_API void lf_design_report_free(lf_design_report *r);
+
 /* ------------------------------------------------------------------------
  * Instrument readers (src/reader.c, one src/read_*.c file per format)
  *

@@ -56,7 +56,9 @@ typedef enum {
     CLI_ADHESION,
     CLI_PRESSURE,
     CLI_FIT,         /* lf_fit_options *: the library's fit option of this name */
-    CLI_FIT_FLAG     /* the same, a flag */
+    CLI_FIT_FLAG,    /* the same, a flag */
+    CLI_DESIGN,      /* lf_design_options *: the library's design option */
+    CLI_DESIGN_FLAG  /* the same, a flag */
 } cli_kind;
 
 typedef struct {

@@ -75,7 +75,11 @@ set_value(const char *cmd, const cli_opt *o, const char *value)
         return;
     case CLI_FIT:
     case CLI_FIT_FLAG:
-        if (lf_fit_options_set(o->target, o->name, value, &err) != LF_OK)
+    case CLI_DESIGN:
+    case CLI_DESIGN_FLAG:
+        if ((o->kind == CLI_FIT || o->kind == CLI_FIT_FLAG
+             ? lf_fit_options_set(o->target, o->name, value, &err)
+             : lf_design_options_set(o->target, o->name, value, &err)) != LF_OK)
             cli_die(err.status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, "%s: %s", cmd,
                     err.msg);
         return;
@@ -125,10 +129,10 @@ cli_parse(const char *cmd, int argc, char **argv, const cli_opt *opts,
         if (o->name == NULL)
             cli_die(CLI_EXIT_USAGE, "%s: unknown option '--%.*s' (see 'layerfit %s --help')",
                     cmd, (int) len, arg, cmd);
-        if (o->kind == CLI_FLAG || o->kind == CLI_FIT_FLAG) {
+        if (o->kind == CLI_FLAG || o->kind == CLI_FIT_FLAG || o->kind == CLI_DESIGN_FLAG) {
             if (eq != NULL)
                 cli_die(CLI_EXIT_USAGE, "%s: --%s takes no value", cmd, o->name);
-            if (o->kind == CLI_FIT_FLAG)
+            if (o->kind != CLI_FLAG)
                 set_value(cmd, o, NULL);
             else
                 *(int *) o->target = 1;

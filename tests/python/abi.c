@@ -78,6 +78,8 @@ main(void)
     S(lf_fit_figure); F(lf_fit_figure, z0); F(lf_fit_figure, F0); F(lf_fit_figure, slope);
     F(lf_fit_figure, z_po); F(lf_fit_figure, F_po); F(lf_fit_figure, delta_detach);
     F(lf_fit_figure, delta_po); F(lf_fit_figure, have); end();
+    S(lf_provenance); F(lf_provenance, command_line); F(lf_provenance, ninputs);
+    F(lf_provenance, input); F(lf_provenance, sha256); end();
     printf("\n}\n");
     return 0;
 }

@@ -12,12 +12,14 @@ otherwise).
     r.to_dict()                                       # = layerfit fit --json
     for row in layerfit.batch("plan.csv", threads=4): # rows as they finish
         print(row["fit"], row["status"], row["w_J_m2"])
+    layerfit.design("design.csv", w="10mJ/m2", E="1GPa", choose=2)  # before the lab
 
 Errors raise layerfit.Error (message, file, line, column).  Fits release
 the GIL: threads run them in parallel.  See the README's "Python" section.
 """
-from ._core import (OPTIONS, Curve, CurveFile, CurveFit, Error, Estimate, LayerfitWarning,
-                    ModelCurve, Result, batch, fit, model, read, simulate, version)
+from ._core import (DESIGN_OPTIONS, OPTIONS, Curve, CurveFile, CurveFit, Design, Error,
+                    Estimate, LayerfitWarning, ModelCurve, Result, batch, design, fit, model, read,
+                    simulate, version)
 from ._lib import VERSION as __version__
 from ._lib import path as library_path
 
@@ -31,6 +33,6 @@ def plot(result, **kw):
     return _plot(result, **kw)
 
 
-__all__ = ["read", "fit", "batch", "model", "simulate", "plot", "Error", "LayerfitWarning",
-           "Curve", "CurveFile", "Result", "Estimate", "CurveFit", "ModelCurve", "OPTIONS",
-           "version", "library_path", "__version__"]
+__all__ = ["read", "fit", "batch", "model", "simulate", "design", "plot", "Error",
+           "LayerfitWarning", "Curve", "CurveFile", "Result", "Estimate", "CurveFit", "ModelCurve",
+           "Design", "OPTIONS", "DESIGN_OPTIONS", "version", "library_path", "__version__"]

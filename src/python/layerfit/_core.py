@@ -100,37 +100,38 @@ def _to_list(x):
 # Options: the command's, by name.
 # ---------------------------------------------------------------------------
 
-def _option_table():
-    table = {}
+def _option_table(table):
+    out = {}
     i = 0
-    while _lib.OPTIONS[i].name is not None:
-        o = _lib.OPTIONS[i]
-        table[o.name.decode()] = (o.kind, o.quantity)
+    while table[i].name is not None:
+        o = table[i]
+        out[o.name.decode()] = (o.kind, o.quantity)
         i += 1
-    return table
+    return out
 
 
-OPTIONS = _option_table()
+OPTIONS = _option_table(_lib.OPTIONS)
 """The fit options by their command-line names ("fix-nu": (kind, quantity))."""
 READ_OPTIONS = ("format", "spring-constant", "sensitivity", "depth-unit", "force-unit",
                 "skip-bad-rows")
 PROBE_OPTIONS = ("k", "R", "b", "interface")
 
 
-def _option_name(key):
+def _option_name(key, table=None, command="fit"):
+    table = OPTIONS if table is None else table
     name = key.replace("_", "-")
-    if name not in OPTIONS:
-        raise TypeError("unknown option %r: the options are those of `layerfit fit` with '_' "
-                        "for '-' (%s)" % (key, ", ".join(sorted(
-                            n.replace("-", "_") for n in OPTIONS))))
+    if name not in table:
+        raise TypeError("unknown option %r: the options are those of `layerfit %s` with '_' "
+                        "for '-' (%s)" % (key, command, ", ".join(sorted(
+                            n.replace("-", "_") for n in table))))
     return name
 
 
-def _option_text(name, value):
+def _option_text(name, value, table=None):
     """The text of an option's value as a command line gives it: a number of
     a dimensional option is SI (its unit added), a string is as written
     ("1mm")."""
-    kind, q = OPTIONS[name]
+    kind, q = (OPTIONS if table is None else table)[name]
     if kind == _KIND_FLAG:
         raise TypeError("%s is a flag: give True or leave it out" % name.replace("-", "_"))
     if isinstance(value, bool):
@@ -150,20 +151,24 @@ def _option_text(name, value):
 
 
 class _Options:
-    """An lf_fit_options set from keyword arguments."""
+    """An lf_fit_options (or lf_design_options) set from keyword arguments."""
+    alloc, free, set_ = (lib.lf_fit_options_alloc, lib.lf_fit_options_free,
+                         lib.lf_fit_options_set)
+    command = "fit"
 
     def __init__(self, kw):
-        self.h = lib.lf_fit_options_alloc()
+        self.h = self.alloc()
         if not self.h:
             raise MemoryError("layerfit: out of memory")
+        table = OPTIONS if self.command == "fit" else DESIGN_OPTIONS
         err = LfError()
         for key, value in kw.items():
             if value is None or value is False:
                 continue
-            name = _option_name(key)
-            text = None if value is True and OPTIONS[name][0] == _KIND_FLAG \
-                else _option_text(name, value)
-            _check(lib.lf_fit_options_set(self.h, enc(name), text, byref(err)), err)
+            name = _option_name(key, table, self.command)
+            text = None if value is True and table[name][0] == _KIND_FLAG \
+                else _option_text(name, value, table)
+            _check(self.set_(self.h, enc(name), text, byref(err)), err)
 
     def read_opts(self):
         err = LfError()
@@ -189,7 +194,7 @@ class _Options:
 
     def __del__(self):
         if getattr(self, "h", None):
-            lib.lf_fit_options_free(self.h)
+            self.free(self.h)
             self.h = None
 
 
@@ -1030,3 +1035,100 @@ def simulate(probes, w, E, nu=None, noise=0.0, seed=1, z0=0.0, F0=0.0, points=No
 def version():
     """The library's version (the package's is layerfit.__version__)."""
     return dec(lib.lf_version())
+
+
+# ---------------------------------------------------------------------------
+# Planning a test.
+# ---------------------------------------------------------------------------
+
+DESIGN_OPTIONS = _option_table(_lib.DESIGN_OPTIONS)
+"""The options of `layerfit design` by their command-line names."""
+
+
+class _DesignOptions(_Options):
+    alloc, free, set_ = (lib.lf_design_options_alloc, lib.lf_design_options_free,
+                         lib.lf_design_options_set)
+    command = "design"
+
+
+class Design:
+    """What `layerfit design` answers: to_dict() is its --json document
+    (truth, noise, model, set, without, choice, sweep, provenance); set,
+    without, choice and sweep are its parts."""
+
+    def __init__(self, doc):
+        self._doc = doc
+        for k in ("truth", "noise", "model", "set", "without"):
+            setattr(self, k, doc[k])
+        self.choice = doc.get("choice")
+        self.sweep = doc.get("sweep")
+
+    def to_dict(self):
+        return json.loads(json.dumps(self._doc))
+
+    def __repr__(self):
+        s = self.set
+        return "<layerfit.Design: %d candidates; w se %s, E* se %s, nu se %s>" % (
+            len(s["candidates"]), s["w"]["stderr"], s["Estar"]["stderr"], s["nu"]["stderr"])
+
+
+_DESIGN_COLUMNS = ("name", "k", "R", "b", "interface", "delta_max", "delta_min", "points",
+                   "baseline", "z0", "F0", "segment", "noise")
+
+
+def design(plan, w=None, E=None, **options):
+    """What a planned test would measure, as `layerfit design PLAN` answers
+    it: the Cramer-Rao standard errors of w, E* and nu a joint fit of the
+    candidate curves would reach, what they would not determine and why,
+    what each adds; choose=N picks the N best for target ("w", "E", "nu",
+    "all"); grid="k=2,2.5,3" (or ("k", [2, 2.5, 3])) sweeps a factor,
+    vary=ROW only one candidate's.  plan: a design plan file, or rows
+    (dicts with its columns: name, k, R, b, interface, delta_max,
+    delta_min, points, baseline, z0, F0, segment, noise).  w, E and the
+    other options as the command's (nu, fix_nu, noise "1%" or "2uN",
+    points, delta_max, model, model_tol), dimensional values in SI or with
+    their unit.  Returns a Design (to_dict(): the --json document)."""
+    import hashlib
+    call = _call_text("design", (plan,), dict(w=w, E=E, **options))
+    grid = options.get("grid")
+    if isinstance(grid, (tuple, list)):
+        factor, values = grid
+        unit = " m" if factor in ("delta_max", "depth", "b", "R", "baseline") else ""
+        options["grid"] = "%s=%s" % (factor, ",".join(
+            v if isinstance(v, str) else "%r%s" % (float(v), unit) for v in values))
+    opts = _DesignOptions(dict(options, w=w, E=E))
+    err = LfError()
+    h = c_void_p()
+    inputs = []
+    if isinstance(plan, (str, bytes, os.PathLike)):
+        path = os.fsdecode(plan)
+        _check(lib.lf_design_plan_read(enc(plan), byref(h), byref(err)), err)
+        with open(path, "rb") as f:
+            inputs.append((path, hashlib.sha256(f.read()).hexdigest()))
+    else:
+        rows = [dict(r) for r in plan]
+        cols = [c for c in _DESIGN_COLUMNS if any(c in r for r in rows)]
+        units = {"R": "m", "b": "m", "delta_max": "m", "delta_min": "m", "baseline": "m"}
+        lines = [",".join(cols)]
+        for r in rows:
+            cells = []
+            for c in cols:
+                v = r.get(c)
+                if c in units and isinstance(v, (int, float)) and not isinstance(v, bool):
+                    v = "%r %s" % (float(v), units[c])
+                cells.append(_cell("", v))
+            lines.append(",".join(cells))
+        text = ("\n".join(lines) + "\n").encode()
+        _check(lib.lf_design_plan_parse(text, len(text), b"<rows>", byref(h), byref(err)), err)
+    rep = c_void_p()
+    try:
+        _check(lib.lf_design_run(opts.h, h, byref(rep), byref(err)), err)
+        prov = _lib.LfProvenance(enc(call), len(inputs),
+                                 (c_char_p * max(1, len(inputs)))(*[enc(p) for p, _ in inputs]),
+                                 (c_char_p * max(1, len(inputs)))(*[enc(s) for _, s in inputs]))
+        p = c_void_p()
+        _check(lib.lf_design_report_json(rep, byref(prov), byref(p), byref(err)), err)
+        return Design(json.loads(take_string(p)))
+    finally:
+        lib.lf_design_report_free(rep)
+        lib.lf_design_plan_free(h)

@@ -156,6 +156,11 @@ class LfBatchSummary(Structure):
                 ("failed", c_size_t), ("misfits", c_size_t), ("stopped", c_int)]
 
 
+class LfProvenance(Structure):
+    _fields_ = [("command_line", c_char_p), ("ninputs", c_size_t), ("input", POINTER(c_char_p)),
+                ("sha256", POINTER(c_char_p))]
+
+
 class LfFitFigure(Structure):
     _fields_ = [("z0", c_double), ("F0", c_double), ("slope", c_double), ("z_po", c_double),
                 ("F_po", c_double), ("delta_detach", c_double), ("delta_po", c_double),
@@ -169,7 +174,7 @@ STRUCTS = {"lf_error": LfError, "lf_warnings": LfWarnings, "lf_meta": LfMeta,
            "lf_eval": LfEval, "lf_model_summary": LfModelSummary,
            "lf_sim_settings": LfSimSettings, "lf_batch_settings": LfBatchSettings,
            "lf_batch_row": LfBatchRow, "lf_batch_summary": LfBatchSummary,
-           "lf_fit_figure": LfFitFigure}
+           "lf_fit_figure": LfFitFigure, "lf_provenance": LfProvenance}
 
 BATCH_FN = CFUNCTYPE(c_int, c_void_p, POINTER(LfBatchRow))
 
@@ -252,9 +257,21 @@ _proto("lf_simulate", c_int, POINTER(LfSimSettings), _P, POINTER(LfMaterial), c_
        POINTER(LfProbe), POINTER(POINTER(c_double)), POINTER(POINTER(c_double)),
        POINTER(c_double), _E)
 _proto("lf_probe_check", c_int, POINTER(LfProbe), _E)
+# design
+_proto("lf_design_options_alloc", _P)
+_proto("lf_design_options_free", None, _P)
+_proto("lf_design_options_set", c_int, _P, c_char_p, c_char_p, _E)
+_proto("lf_design_plan_read", c_int, c_char_p, POINTER(_P), _E)
+_proto("lf_design_plan_parse", c_int, c_void_p, c_size_t, c_char_p, POINTER(_P), _E)
+_proto("lf_design_plan_free", None, _P)
+_proto("lf_design_run", c_int, _P, _P, POINTER(_P), _E)
+_proto("lf_design_report_json", c_int, _P, c_void_p, POINTER(c_void_p), _E)
+_proto("lf_design_report_free", None, _P)
 
 OPTIONS = ctypes.cast(ctypes.addressof(LfOption.in_dll(lib, "lf_fit_option_table")),
                       POINTER(LfOption))
+DESIGN_OPTIONS = ctypes.cast(ctypes.addressof(LfOption.in_dll(lib, "lf_design_option_table")),
+                             POINTER(LfOption))
 
 if lib.lf_version().decode() != VERSION:
     raise ImportError("layerfit: the package is version %s, the library %s (%s) is version %s: "
