@@ -48,6 +48,12 @@ def at_top(monkeypatch):
     monkeypatch.chdir(TOP)
 
 
+def pytest_configure(config):
+    # the readers' warnings are the package's own (LayerfitWarning), asserted
+    # where they matter; elsewhere they are expected and not repeated
+    config.addinivalue_line("filterwarnings", "ignore::layerfit._core.LayerfitWarning")
+
+
 def pytest_terminal_summary(terminalreporter):
     stats = terminalreporter.stats
     passed = len(stats.get("passed", []))

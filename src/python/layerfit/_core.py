@@ -522,8 +522,8 @@ class Estimate:
         if not self.free:
             return "%s = %.4g %s (fixed)" % (self.name, self.value, self.unit)
         lo, hi = self.ci95
-        return "%s = %.4g +- %.2g %s, 95%% [%s, %s] (%s)" % (
-            self.name, self.value, self.stderr, self.unit,
+        return "%s = %.4g +- %.2g%s, 95%% [%s, %s] (%s)" % (
+            self.name, self.value, self.stderr, " " + self.unit if self.unit else "",
             "?" if lo is None else "%.4g" % lo, "?" if hi is None else "%.4g" % hi,
             self.ci95_method)
 
