@@ -106,6 +106,31 @@ job_fit(lf_fit_job *j, lf_warnings *warn, lf_error *err)
     return LF_OK;
 }
 
+/* The curves of the plan's rows, as the job's options read them. */
+static int
+job_read_plan(lf_fit_job *j, const lf_plan *plan, lf_warnings *warn, lf_error *err)
+{
+    int status = lf_plan_need_layers(plan, j->model, err);
+
+    if (status == LF_OK)
+        status = lf_fit_input_from_plan(plan, NULL, 0, &j->req->input, &j->in, warn, err);
+    return status;
+}
+
+/* Fit j's input once it is read (status LF_OK): *out is j, or j is freed. */
+static int
+job_done(lf_fit_job *j, int status, lf_fit_job **out, lf_warnings *warn, lf_error *err)
+{
+    if (status == LF_OK)
+        status = job_fit(j, warn, err);
+    if (status != LF_OK) {
+        lf_fit_job_free(j);
+        return status;
+    }
+    *out = j;
+    return LF_OK;
+}
+
 int
 lf_fit_job_plan(lf_fit_options *o, const lf_plan *plan, lf_fit_job **out, lf_warnings *warn,
                 lf_error *err)
@@ -121,17 +146,8 @@ lf_fit_job_plan(lf_fit_options *o, const lf_plan *plan, lf_fit_job **out, lf_war
         status = lf_fail(err, LF_EINVAL, "--k, --R, --b and --interface are for a single curve "
                          "(a plan gives each curve's probe in its row)");
     if (status == LF_OK)
-        status = lf_plan_need_layers(plan, j->req->model, err);
-    if (status == LF_OK)
-        status = lf_fit_input_from_plan(plan, NULL, 0, &j->req->input, &j->in, warn, err);
-    if (status == LF_OK)
-        status = job_fit(j, warn, err);
-    if (status != LF_OK) {
-        lf_fit_job_free(j);
-        return status;
-    }
-    *out = j;
-    return LF_OK;
+        status = job_read_plan(j, plan, warn, err);
+    return job_done(j, status, out, warn, err);
 }
 
 int
@@ -147,35 +163,24 @@ lf_fit_job_path(lf_fit_options *o, const char *path, lf_fit_job **out, lf_warnin
     *out = NULL;
     if ((j = job_new(o, err)) == NULL)
         return err != NULL ? err->status : LF_ENOMEM;
-    if ((status = lf_fit_options_probe(o, &p, &single, err)) != LF_OK) {
-        lf_fit_job_free(j);
-        return status;
-    }
-    if (single) {
+    status = lf_fit_options_probe(o, &p, &single, err);
+    if (status == LF_OK && single) {
         /* a curve named by a program may be a pipe (read once) */
         lf_input_settings one = j->req->input;
         one.open_flags = LF_INPUT_STREAM;
         status = lf_fit_input_from_curve(path, &p, &one, &j->in, warn, err);
-    } else if ((status = lf_input_read(path, LF_INPUT_STREAM, &in, err)) == LF_OK) {
+    } else if (status == LF_OK
+               && (status = lf_input_read(path, LF_INPUT_STREAM, &in, err)) == LF_OK) {
         j->plan_path = lf_strdup(path);
         memcpy(j->plan_sha256, in.sha256, sizeof j->plan_sha256);
         status = j->plan_path == NULL ? lf_fail(err, LF_ENOMEM, "out of memory")
                                        : lf_plan_from_input(&in, path, &plan, warn, err);
         lf_input_free(&in);
         if (status == LF_OK)
-            status = lf_plan_need_layers(plan, j->req->model, err);
-        if (status == LF_OK)
-            status = lf_fit_input_from_plan(plan, NULL, 0, &j->req->input, &j->in, warn, err);
+            status = job_read_plan(j, plan, warn, err);
         lf_plan_free(plan);
     }
-    if (status == LF_OK)
-        status = job_fit(j, warn, err);
-    if (status != LF_OK) {
-        lf_fit_job_free(j);
-        return status;
-    }
-    *out = j;
-    return LF_OK;
+    return job_done(j, status, out, warn, err);
 }
 
 const lf_fit_result *

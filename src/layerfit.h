@@ -1006,7 +1006,8 @@ LF_API int lf_plan_expand(lf_plan *plan, const lf_read_opts *o, lf_error *err);
 /* Only the first half of lf_plan_expand: open each file of many curves the
  * rows name (row->source, plan->files), leaving the rows as they are; a
  * caller that walks a row's curves itself (a batch over a large map) needs
- * no row per curve. */
+ * no row per curve.  A row whose source is set already (a call before,
+ * lf_plan_set_source) keeps it. */
 LF_API int lf_plan_open_files(lf_plan *plan, const lf_read_opts *o, lf_error *err);
 
 /* Read row `row`'s curve from the open file f, curve index of it (-1: its

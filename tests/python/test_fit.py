@@ -236,3 +236,21 @@ def test_lists_without_numpy():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, check=True,
                          env=os.environ).stdout.decode()
     assert out.split() == ["list", "list"]
+
+
+def test_a_curve_in_memory_is_never_a_file_of_its_name(tmp_path, monkeypatch):
+    # files on disk named like curves held in memory are not read for them:
+    # a short CSV for fit(), a map of six curves for batch()
+    import shutil
+    sim = layerfit.simulate(["k=3,R=1mm,b=1um,interface=frictionless"], w=0.01, E=1e9,
+                            noise=0.005, seed=5)[0]
+    c = layerfit.Curve.from_arrays(sim.depth, sim.force, name="curve.csv")
+    probe = dict(k=3, R="1mm", b="1um", interface="frictionless")
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "curve.csv").write_text("depth_m,force_N\n0,0\n")
+    r = layerfit.fit(c, **probe)
+    assert r.converged and len(r.curves[0].depth) == c.n
+    (tmp_path / "curve.csv").unlink()
+    shutil.copy(os.path.join(TOP, "datasets", "vendors", "jpk_map.jpk-force-map"), "curve.csv")
+    rows = list(layerfit.batch([c], threads=1, **probe))
+    assert [row["status"] for row in rows] == ["ok"]

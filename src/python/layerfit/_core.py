@@ -268,6 +268,7 @@ class Curve:
         self._source = source           # the _File it was decoded from
         self._index = index             # its index there
         self._read_kw = dict(read_kw)   # how it was read
+        self._memory = False            # held in memory (from_arrays), not a file's
 
     def points(self, segment="unload"):
         """(depth, force) of one segment ("unload", "load", "hold")."""
@@ -302,6 +303,7 @@ class Curve:
         _lib.warnings_list(w)
         c = _decode(f, 0, {})
         c.probe = probe
+        c._memory = True
         return c
 
     def __repr__(self):
@@ -697,8 +699,7 @@ def fit(curves_or_plan, model="auto", k=None, R=None, b=None, interface=None, nu
     w = LfWarnings()
     job = c_void_p()
     item = curves_or_plan
-    if isinstance(item, Curve) and item._source is not None and item.probe is None \
-            and os.path.exists(item.file.rsplit("#", 1)[0] if "#" in item.file else item.file):
+    if isinstance(item, Curve) and not item._memory and item.probe is None:
         # a curve read from a file: fitted as the command fits that file
         kw = dict(item._read_kw, **kw)
         item = item.file
