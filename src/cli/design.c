@@ -421,7 +421,9 @@ cli_design(int argc, char **argv, const char *command_line)
 
     if (o == NULL)
         cli_die(CLI_EXIT_FAIL, "out of memory");
-    for (i = 0; lf_design_option_table[i].name != NULL && no < 3 + 16; i++, no++) {
+    for (i = 0; lf_design_option_table[i].name != NULL; i++, no++) {
+        if (no == 3 + 16)           /* a table that outgrew the room: never silently */
+            cli_die(CLI_EXIT_FAIL, "design: more options than room for them");
         opts[no].name = lf_design_option_table[i].name;
         opts[no].kind = lf_design_option_table[i].kind == LF_OPTION_FLAG ? CLI_DESIGN_FLAG
                                                                         : CLI_DESIGN;

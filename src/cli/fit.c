@@ -118,7 +118,9 @@ cli_fit_opts(lf_fit_options *o, cli_opt *opts)
 {
     size_t n;
 
-    for (n = 0; lf_fit_option_table[n].name != NULL && n < CLI_FIT_NOPTS; n++) {
+    for (n = 0; lf_fit_option_table[n].name != NULL; n++) {
+        if (n == CLI_FIT_NOPTS)     /* a table that outgrew the room: never silently */
+            cli_die(CLI_EXIT_FAIL, "fit: more options than CLI_FIT_NOPTS (%d)", CLI_FIT_NOPTS);
         opts[n].name = lf_fit_option_table[n].name;
         opts[n].kind = lf_fit_option_table[n].kind == LF_OPTION_FLAG ? CLI_FIT_FLAG : CLI_FIT;
         opts[n].target = o;
