@@ -41,8 +41,17 @@ CLI_NORETURN void cli_die(int code, const char *fmt, ...) CLI_PRINTF(2, 3);
 /* Print a library error as "layerfit: FILE:LINE:COLUMN: message" (the parts
  * that are known) and exit with code. */
 CLI_NORETURN void cli_die_error(int code, const lf_error *err);
-/* Print warnings as "layerfit: warning: ..." on stderr. */
+/* Print warnings as "layerfit: warning: ..." on stderr; of warnings that
+ * differ only in their place and numbers, the first 3 are printed and the
+ * rest counted, "... and N more like it (...)" at the end of the run (or
+ * when cli_warnings_flush is called). */
 void cli_print_warnings(const lf_warnings *w);
+void cli_warnings_flush(void);
+/* Print "layerfit: MESSAGE" on stderr and go on.  Every message of the
+ * command goes through these: control characters and bytes that are not
+ * UTF-8 (from a file name, say) are written escaped (\n, \xHH), so that a
+ * message stays one line and cannot drive the terminal. */
+void cli_say(const char *fmt, ...) CLI_PRINTF(1, 2);
 
 /* Options.  A value option is "--name VALUE" or "--name=VALUE".  A double
  * target starts as NaN, meaning "not given". */
@@ -54,7 +63,11 @@ typedef enum {
     CLI_LENGTH,      /* double *, SI, through udunits2 */
     CLI_FORCE,
     CLI_ADHESION,
-    CLI_PRESSURE
+    CLI_PRESSURE,
+    CLI_FIT,         /* lf_fit_options *: the library's fit option of this name */
+    CLI_FIT_FLAG,    /* the same, a flag */
+    CLI_DESIGN,      /* lf_design_options *: the library's design option */
+    CLI_DESIGN_FLAG  /* the same, a flag */
 } cli_kind;
 
 typedef struct {
@@ -77,29 +90,29 @@ const char *cli_base_name(lf_base base);
  * scope in the model table is the half-space). */
 int cli_model_ignores_b(const char *model);
 
+/* A size in bytes: a number >= 1 with an optional unit (B, kB, MB, GB, TB;
+ * K or KiB, M or MiB, G or GiB, T or TiB).  0, or -1 when it is not one. */
+int cli_parse_size(const char *text, double *bytes);
+
 /* Monotonic wall-clock time in seconds, for progress and benchmarks. */
 double cli_now(void);
 
-/* Write a number that reads back exactly ("%.17g"); NaN/Inf as given. */
+/* Write a number that reads back exactly ("%.17g"); NaN and inf write
+ * nothing (an empty CSV cell; JSON writers write null themselves). */
 void cli_print_double(FILE *f, double x);
-/* Write a number for people with an SI prefix chosen for it:
- * cli_human(buf, n, 1.2e-8, "m") -> "12 nm".  Returns buf. */
-char *cli_human(char *buf, size_t n, double x, const char *unit);
+/* A number for people with an SI prefix (lf_human, command.h). */
+#define cli_human lf_human
 /* Options of the other mode of `fit` (single or --batch): the first of
  * argv that is one of names[0..n-1] ("--json" or "--json=...") stops the
  * command with exit 2, "fit: --json is for WHY". */
 void cli_refuse_options(int argc, char **argv, const char *const *names, size_t n,
                         const char *why);
-/* 1 when the report calls curve cr DISAGREES: it is not described by the
- * model (misfit beyond 5% of its force range) or, in a joint fit, it
- * disagrees with the others. */
-int cli_curve_disagrees(const lf_fit_curve_result *cr);
-/* The curves of a converged r that disagree, as "1, 3" into buf (at most n
- * bytes); their count (0: none, or r did not converge). */
-size_t cli_disagreeing(const lf_fit_result *r, char *buf, size_t n);
-/* The value where the fit ended of the free parameter NAME ("w", "E*",
- * "nu", "z0[1]", ...: lf_fit_result.names), NaN when it was not free. */
-double cli_fitted_value(const lf_fit_result *res, const char *name);
+/* The report's DISAGREES and the curves of a converged fit that do
+ * (lf_curve_disagrees, lf_disagreeing: command.h). */
+#define cli_curve_disagrees lf_curve_disagrees
+#define cli_disagreeing lf_disagreeing
+/* The value where the fit ended of a free parameter (lf_fit_result_value). */
+#define cli_fitted_value lf_fit_result_value
 
 
 
@@ -123,59 +136,25 @@ int cli_map(int argc, char **argv, const char *command_line);
 /* `layerfit design`: what a planned test would measure (design.c). */
 int cli_design(int argc, char **argv, const char *command_line);
 
-/* The fit options a single fit and a batch share: one table, one set of
- * defaults (fit.c).  cli_fit_args_init sets the defaults; cli_fit_opts puts
- * the table's entries into opts (room for CLI_FIT_NOPTS) and returns how
- * many; cli_fit_settings checks the values and fills the fit, model-choice
- * and input settings, returning 1 for --model auto.  Bad values exit 2. */
-typedef struct {
-    const char *method, *jacobian, *model, *segment, *loss;
-    const char *intervals;    /* auto: profile likelihood where needed; linear */
-    int linear_only;          /* --intervals linear (set by cli_fit_settings) */
-    double nu, fix_nu, fix_z0, fix_F0, max_ba, model_tol;
-    double guess_w, guess_E, guess_nu, loss_scale;
-    long max_iter;
-    int slope;
-    const char *format, *spring_constant, *sensitivity;  /* how curves are read */
-    lf_read_opts read;    /* filled by cli_fit_settings; is->read points here */
-} cli_fit_args;
-
-#define CLI_FIT_NOPTS 24
-void cli_fit_args_init(cli_fit_args *a);
-size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
-int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
-                     lf_input_settings *is);
+/* The fit options a single fit and a batch share: the library's table
+ * (lf_fit_option_table), one set of defaults.  cli_fit_opts puts one entry
+ * per option into opts (room for CLI_FIT_NOPTS), each setting o by name
+ * (lf_fit_options_set), and returns how many; cli_fit_request checks them
+ * and fills req (lf_fit_options_request); cli_fit_probe the probe of a
+ * single curve or a file of many (lf_fit_options_probe; *single 0 for a
+ * plan).  Bad values exit 2. */
+#define CLI_FIT_NOPTS 40
+size_t cli_fit_opts(lf_fit_options *o, cli_opt *opts);
+void cli_fit_request(lf_fit_options *o, lf_fit_request *req);
+void cli_fit_probe(const lf_fit_options *o, lf_probe *p, int *single);
 /* The fit options' help lines, shared by both usage texts. */
 extern const char cli_fit_help[];
 
-/* Words (words.c).  The words a report puts after an interval for how it was found (NULL: a
- * checked linear interval, nothing said); brief: the HTML table's. */
-const char *cli_interval_words(const lf_fit_estimate *e, int brief);
-/* How a free estimate's 95% interval was found (JSON ci95_method, the
- * batch's *_ci95_method): "linear (Wald)" or e->interval_method; with no
- * interval, the method that looked for one (a profile that found no
- * bound), else NULL, as for a held parameter. */
-const char *cli_interval_method(const lf_fit_estimate *e);
-/* What a free estimate that the data do not determine is bounded by, from
- * its profile (text and HTML say the same): into buf "LO < NAME" (bounded
- * only from below), "NAME < HI" (only from above) or "" (not bounded at
- * all, the profile open on both sides); NULL when it is not such an
- * estimate (determined, fixed, an upper bound of w, or never profiled). */
-const char *cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit,
-                           char *buf, size_t n);
-#define CLI_FIT_NOPTS 24
-void cli_fit_args_init(cli_fit_args *a);
-size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
-int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
-                     lf_input_settings *is);
-/* The probe of a single curve, or of every curve of a file of many, from
- * --k, --R, --b, --interface (R NaN: from the file's header; b NaN with no
- * interface: no layer, for a half-space model); dies with status 2 naming
- * what is missing or wrong. */
-void cli_fit_probe(const char *model, double k, double R, double b, const char *interface,
-                   lf_probe *p);
-/* The fit options' help lines, shared by both usage texts. */
-extern const char cli_fit_help[];
+/* The words for intervals and bounds (the library's words.c, command.h),
+ * so that every report says the same. */
+#define cli_interval_words lf_interval_words
+#define cli_interval_method lf_interval_method
+#define cli_bound_text lf_bound_text
 
 /* Batch fitting (batch.c). */
 #define CLI_MAX_THREADS 1024      /* --threads is 1..CLI_MAX_THREADS */
@@ -185,17 +164,14 @@ typedef struct {
     const char *shard;     /* "I/N" or NULL for all */
     long threads;          /* 0: all cores */
     int progress;          /* 1 on, 0 off, -1 when stderr is a terminal */
-    int auto_model;        /* 1: choose each fit's models (lf_fit_choose_driver) */
-    int linear_only;       /* --intervals linear */
-    lf_choose_settings choose;  /* the model choice's settings */
-    lf_input_settings input;    /* segment, held offsets */
+    const lf_fit_request *req;  /* the fit options' settings */
     const char *command_line;   /* for the provenance record */
     const lf_probe *probe;      /* not NULL: `plan` is a file of curves, each fitted
                                    with this probe (--k, --R, --b, --interface) */
 } cli_batch_opts;
 /* Fit every fit of the plan with the settings; returns the exit status
  * (CLI_EXIT_OK, or CLI_EXIT_SOME_FAILED with a summary line on stderr). */
-int cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings);
+int cli_batch_run(const cli_batch_opts *o);
 /* "I/N" with 1 <= I <= N; -1 when malformed. */
 int cli_shard_parse(const char *text, long *index, long *count);
 /* `layerfit fit --batch ...` and whether argv asks for it. */
@@ -240,30 +216,51 @@ int cli_html_report(const char *file, const char *plotdir, size_t ncurves,
                     const char *command_line, char *msg, size_t n);
 /* ---- Outputs and inputs (output.c, read.c) -------------------------------
  * Every output file goes through cli_out: a temporary file in the same
- * folder, renamed into place by cli_out_commit after fflush, fsync and a
- * check of every write; cli_out_discard (or exit) removes it. */
+ * folder (registered for removal on exit or a signal: cli_temp_add),
+ * renamed into place by cli_out_commit after fflush, fsync and a check of
+ * every write; cli_out_discard (or exit) removes it. */
 typedef struct cli_out {
     FILE *f;
-    char *path, *tmp;
+    char *path;             /* the file replaced (a link's target) */
+    char *name;             /* the output as named (for its sidecar) */
+    char *tmp;
+    int slot;               /* cli_temp_add's, or -1 */
     int direct;             /* written in place: standard output ("-"), a
                                pipe or a device (nothing there to keep) */
-    struct cli_out *next;
 } cli_out;
 /* Open path for writing (NULL with msg when not possible, or when path is
  * a noted input).  "-" is standard output; a symbolic link is followed (its
- * target replaced, the link kept); a pipe or device is written in place. */
+ * target replaced, the link kept); a pipe or device is written in place,
+ * opened without blocking (a FIFO with no reader is waited for at most
+ * LF_STREAM_WAIT seconds, then refused). */
 FILE *cli_out_open(cli_out *o, const char *path, char *msg, size_t n);
 /* Exit 1 (before any work) when the folder path would be written in does
  * not exist ("-" and a bare name need none). */
 void cli_output_folder_check(const char *cmd, const char *path);
 /* Finish and rename into place: 0, or -1 with msg (the temp is removed). */
 int cli_out_commit(cli_out *o, char *msg, size_t n);
+/* Commit o together with its provenance sidecar NAME.provenance.json (for
+ * CSV and JSON Lines outputs; command_line for its record): both temporaries are written and checked
+ * before either is renamed, both renames happen under a lock on the
+ * folder with signals held, and a second rename that fails undoes the
+ * first, so the two always describe each other.  An output written in
+ * place (standard output, a pipe, a device) gets no sidecar.  0, or -1
+ * with msg (nothing replaced). */
+int cli_out_commit_sidecar(cli_out *o, const char *command_line, char *msg, size_t n);
 void cli_out_discard(cli_out *o);
-/* PATH's temporary name ".NAME.XXXXXX" in its folder, malloc'ed. */
+/* Put the finished file from in place as to (a symbolic link to: its
+ * target, as cli_out_open does; across file systems by a copy): 0, or -1
+ * with msg.  For files another program wrote (gnuplot's images). */
+int cli_put_in_place(const char *from, const char *to, char *msg, size_t n);
+/* PATH's temporary name ".NAME.XXXXXX" in its folder (NAME cut so that
+ * it fits in NAME_MAX), malloc'ed. */
 int cli_tmp_name(const char *path, char **tmp);
-/* cli_out_open + writer + commit; dies with status 1 on failure. */
+/* cli_out_open + writer + commit; dies with status 1 on failure.  The
+ * _sidecar form commits with the provenance sidecar (cli_out_commit_sidecar). */
 void cli_write_file(const char *cmd, const char *path, void (*writer)(FILE *, const void *),
                     const void *ctx);
+void cli_write_file_sidecar(const char *cmd, const char *path, const char *command_line,
+                            void (*writer)(FILE *, const void *), const void *ctx);
 /* Die (status 2) when path exists and force is 0, or when it is an input:
  * for commands that make a folder of new files (simulate, map --synthetic),
  * called for every file before the first is written. */
@@ -275,12 +272,19 @@ int cli_stdout_close(void);
  * an output that is the same file (device and inode) as an input is refused
  * with exit status 2 from whichever call comes second, and so is an output
  * that is the same file as an earlier output of the run (by device and
- * inode, or by the real path of its folder and its name). */
+ * inode, or by the real path of its folder and its name).  What can be
+ * known about writing it is checked too, before any work: an empty name or
+ * one longer than NAME_MAX (exit 2); a link to nothing, a folder, an
+ * immutable file, a folder that cannot be written, a FIFO that no reader
+ * opens (exit 1). */
 void cli_output_note(const char *cmd, const char *path);
 /* The same for the provenance sidecar PATH.provenance.json of an output
- * (cli_provenance_sidecar); nothing for NULL or "-". */
+ * (cli_out_commit_sidecar); nothing for NULL, "-", a pipe or a device. */
 void cli_output_note_sidecar(const char *cmd, const char *path);
 void cli_input_guard(const char *cmd, const char *path);
+/* 1 when paths a and b (which need not exist) name the same place: the
+ * same name in the same real folder. */
+int cli_same_place(const char *a, const char *b);
 /* 1 when path is the same file as a noted input (for files that are put in
  * place by rename, such as gnuplot's images: checked again just before). */
 int cli_is_input(const char *path);
@@ -293,31 +297,71 @@ const char *cli_input_sha256(size_t i);
  * with indent before each line after the first; command_line as main()
  * passed it to the subcommand. */
 void cli_provenance_json(FILE *f, const char *indent, const char *command_line);
-/* OUTPUT.provenance.json beside an output that has no room for it (CSV). */
-void cli_provenance_sidecar(const char *cmd, const char *output, const char *command_line);
+/* A CSV cell as lf_csv_cell writes it (quoted where needed, a cell a
+ * spreadsheet would run as a formula made text) unless cli_csv_raw
+ * (--csv-raw) is set. */
+extern int cli_csv_raw;
+void cli_csv_cell(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
+/* The run's provenance record for the library's writers: its arrays
+ * point at the noted inputs (cli_provenance_free releases the arrays). */
+void cli_provenance_of(const char *command_line, lf_provenance *p);
+void cli_provenance_free(lf_provenance *p);
 
-/* Text from data (lf_utf8_len: the library's UTF-8 check).  cli_json_escape: a JSON string, always valid UTF-8
- * (invalid bytes become U+FFFD); cli_percent_escape: a JSON string of the
- * raw bytes, every byte outside printable ASCII and % " \ as %XX;
- * cli_json_name: "key": name, plus "key_raw": percent-escaped bytes when
- * name is not valid UTF-8.  cli_gnuplot_string: a single-quoted gnuplot
- * string ('' for ', control characters as spaces, invalid UTF-8 as ?).
- * cli_put_clean / cli_text_clean: one line of valid UTF-8 (control
+/* Text from data (the library's escapes, command.h: lf_json_escape,
+ * lf_text_clean, ...).  cli_json_string: a JSON string, always valid UTF-8
+ * (invalid bytes become U+FFFD).  cli_gnuplot_string: a single-quoted
+ * gnuplot string ('' for ', control characters as spaces, invalid UTF-8
+ * as ?).  cli_put_clean / cli_text_clean: one line of valid UTF-8 (control
  * characters as spaces, invalid bytes as U+FFFD). */
-int cli_utf8_valid(const char *s);
-void cli_text_clean(const char *s, int keep_newlines,
-                    void (*put)(void *, const char *, size_t), void *ctx);
+#define cli_text_clean lf_text_clean
+#define cli_json_escape lf_json_escape
 void cli_put_clean(FILE *f, const char *s);
-void cli_json_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
-void cli_percent_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
 void cli_json_string(FILE *f, const char *s);
-void cli_json_name(FILE *f, const char *key, const char *name);
 void cli_gnuplot_string(FILE *g, const char *s);
+
+/* ---- Other programs and temporaries (spawn.c, temps.c) ------------------
+ * No shell ever runs: cli_spawn starts argv[0] (looked up along PATH) with
+ * argv as its arguments (posix_spawnp), in folder dir (NULL: here), with
+ * how: CLI_SPAWN_STDIN (c->in: a pipe to its standard input),
+ * CLI_SPAWN_STDOUT (c->out: a pipe from its standard output),
+ * CLI_SPAWN_STDERR_TO_OUT (its standard error there too), CLI_SPAWN_QUIET
+ * (its output to /dev/null).  0, or -1 with errno.  cli_child_wait closes
+ * the pipes and returns the program's exit status (-1: it did not exit
+ * normally, or could not be waited for).  cli_have_program: 1 when name
+ * is an executable file along PATH. */
+#define CLI_SPAWN_STDIN 1u
+#define CLI_SPAWN_STDOUT 2u
+#define CLI_SPAWN_STDERR_TO_OUT 4u
+#define CLI_SPAWN_QUIET 8u
+typedef struct {
+    long pid;
+    FILE *in, *out;
+} cli_child;
+int cli_spawn(cli_child *c, const char *const *argv, const char *dir, unsigned how);
+int cli_child_wait(cli_child *c);
+int cli_have_program(const char *name);
+/* Temporaries of the run (files, or folders with what they hold), removed
+ * at exit and on SIGINT, SIGTERM, SIGHUP, SIGQUIT or SIGPIPE (then the
+ * signal is raised again), unless forgotten first (committed or removed by
+ * their owner).  cli_temp_add returns a slot for cli_temp_forget (-1 when
+ * the table is full: the path is then only the caller's to remove).
+ * cli_temp_child names a program to stop with the run (0: none).
+ * cli_signals_hold / _release bracket what a signal must not cut in two
+ * (the renames of an output and its sidecar). */
+void cli_signals_install(void);
+int cli_temp_add(const char *path, int is_dir);
+void cli_temp_forget(int slot);
+void cli_temp_child(long pid);
+void cli_signals_hold(void);
+void cli_signals_release(void);
+/* Remove a folder and everything in it, without a shell (nftw): 0, or -1
+ * when something is left. */
+int cli_remove_tree(const char *dir);
 
 /* Reading (read.c).  The fewest points of a segment worth fitting: one more
  * than the most parameters a fit can have (w, E*, nu, z0, F0); `check` and
  * every fit refuse a curve with fewer. */
-#define CLI_MIN_POINTS 6
+#define CLI_MIN_POINTS LF_FIT_MIN_POINTS
 /* A plan already in memory, its curves resolved against path's folder. */
 int cli_plan_from(const lf_input *in, const char *path, lf_plan **out, lf_warnings *warn,
                   lf_error *err);
