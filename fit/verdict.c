@@ -101,65 +101,81 @@ offsets_outside(const lf_fit *f, const double *x, fit_run *run)
 }
 
 /* The Gauss-Newton step at x (internal coordinates, into step) and the
- * decrease of chi2 it predicts; NaN when it cannot be computed.  Up to
- * FIT_DENSE_P parameters from the SVD J = U S V^T (decomp.c, unscaled: QR,
+ * decrease of chi2 it predicts; NaN when it cannot be computed.  From the
+ * block Cholesky of J^T J (block.c) where every pivot is above
+ * FIT_GN_PIVOT of its diagonal (J's columns far from dependent: the normal
+ * equations, which square J's condition, lose nothing that matters) and
+ * the SVD below would cut no direction (trace(J^T J) trace((J^T J)^-1),
+ * a bound on S_0^2 / S_min^2, below 1e20): step = -(J^T J)^-1 J^T r, the
+ * decrease -g^T step, the SVD's within rounding.  Otherwise, up to
+ * FIT_DENSE_P parameters, from the SVD J = U S V^T (decomp.c, unscaled: QR,
  * then the small R): step = -V S^-1 U^T r over the directions with
- * S_l > 1e-10 S_0, the decrease of chi2 = sum (U_l . r)^2 over them.
- * Beyond, from the block Cholesky of J^T J (block.c), its directions below
- * 1e-10 of each column's scale damped away (as the truncated SVD cuts
- * them): step = -(J^T J + 1e-20 diag(J^T J))^-1 J^T r, the decrease
- * -g^T step.  (The normal equations square J's condition: for a weakly
- * determined w, as in two probes at 5% noise, their step departs from the
- * SVD's where it decides a verdict.) */
+ * S_l > 1e-10 S_0, the decrease of chi2 = sum (U_l . r)^2 over them (the
+ * damped normal equations' step, where w is not determined, found no
+ * decrease the SVD's finds, and a claimed convergence stood above a lower
+ * point); beyond, the Cholesky of J^T J + 1e-20 diag(J^T J), its
+ * directions below 1e-10 of each column's scale damped away. */
+#define FIT_GN_PIVOT 1e-8
 static double
 gn_step(lf_fit *f, const gsl_vector *x, gsl_vector *step)
 {
     const size_t p = f->np;
-    double dec = NAN;
+    fit_arrow *A = &f->ws.gsl_jtj;
+    double *g = f->ws.grad, *d2 = f->ws.colmax, dec = NAN;
     size_t i;
+    int ok;
 
-    if (p <= FIT_DENSE_P) {
+    if (lf_fit_residuals(x, f, f->ws.r2) != GSL_SUCCESS
+        || lf_fit_normal_sums(f, x->data, f->ws.r2->data, A, g, d2) != GSL_SUCCESS)
+        return NAN;
+    ok = lf_arrow_factor(&f->ws.jchol, A, NULL, 0.0, FIT_GN_PIVOT);
+    if (ok) {
+        /* and no direction the SVD would cut: S_max^2 / S_min^2 is at most
+         * trace(J^T J) trace((J^T J)^-1) (step as scratch) */
+        double tr = 0.0, tri = 0.0;
+        lf_arrow_diag(A, d2);
+        lf_arrow_inv_diag(&f->ws.jchol, step->data);
+        for (i = 0; i < p; i++) {
+            tr += d2[i];
+            tri += step->data[i];
+        }
+        ok = tr * tri < 1e20;
+    }
+    if (!ok && p <= FIT_DENSE_P) {
         fit_decomp d;
         double *coef;
         size_t l;
 
         if (lf_fit_decomp_alloc(&d, f->nres, p) != LF_OK)
             return NAN;
-        if (lf_fit_residuals(x, f, f->ws.r2) != GSL_SUCCESS
-            || lf_fit_jacobian(x, f, d.QR) != GSL_SUCCESS
-            || lf_fit_decomp_factor(&d, 1e-10, 0) != LF_OK)
-            goto done;
-        coef = d.work->data;       /* the factorisation's scratch, free again */
-        lf_fit_decomp_project(&d, f->ws.r2->data, coef);   /* (U_l . r) / S_l */
-        gsl_vector_set_zero(step);
-        dec = 0.0;
-        for (l = 0; l < d.rank; l++) {
-            const double sl = gsl_vector_get(d.S, l);
-            dec += coef[l] * sl * coef[l] * sl;
-            for (i = 0; i < p; i++)
-                step->data[i] -= gsl_matrix_get(d.V, i, l) * coef[l];
+        if (lf_fit_jacobian(x, f, d.QR) == GSL_SUCCESS
+            && lf_fit_decomp_factor(&d, 1e-10, 0) == LF_OK) {
+            coef = d.work->data;       /* the factorisation's scratch, free again */
+            lf_fit_decomp_project(&d, f->ws.r2->data, coef);   /* (U_l . r) / S_l */
+            gsl_vector_set_zero(step);
+            dec = 0.0;
+            for (l = 0; l < d.rank; l++) {
+                const double sl = gsl_vector_get(d.S, l);
+                dec += coef[l] * sl * coef[l] * sl;
+                for (i = 0; i < p; i++)
+                    step->data[i] -= gsl_matrix_get(d.V, i, l) * coef[l];
+            }
         }
-done:
         lf_fit_decomp_free(&d);
         return dec;
-    } else {
-        fit_arrow *A = &f->ws.gsl_jtj;
-        double *g = f->ws.grad, *d2 = f->ws.colmax;
-
-        if (lf_fit_residuals(x, f, f->ws.r2) != GSL_SUCCESS
-            || lf_fit_normal_sums(f, x->data, f->ws.r2->data, A, g, d2) != GSL_SUCCESS)
-            return NAN;
+    }
+    if (!ok) {
         lf_arrow_diag(A, d2);
         if (!lf_arrow_factor(&f->ws.jchol, A, d2, 1e-20, 0.0))
             return NAN;
-        for (i = 0; i < p; i++)
-            step->data[i] = -g[i];
-        lf_arrow_solve(&f->ws.jchol, step->data, step->data);
-        dec = 0.0;
-        for (i = 0; i < p; i++)
-            dec -= g[i] * step->data[i];
-        return dec;
     }
+    for (i = 0; i < p; i++)
+        step->data[i] = -g[i];
+    lf_arrow_solve(&f->ws.jchol, step->data, step->data);
+    dec = 0.0;
+    for (i = 0; i < p; i++)
+        dec -= g[i] * step->data[i];
+    return dec;
 }
 
 int
