@@ -267,11 +267,8 @@ lf_arrow_chol_free(fit_arrow_chol *L)
 #define EJ_AT(cf, r, c) ((cf)[FIT_QMAX * FIT_QMAX + (r) * FIT_MMAX + (c)])
 #define LS_AT(l, r, c) ((l)[(r) * FIT_MMAX + (c)])
 
-/* Cholesky of the n x n matrix M (stride s, lower triangle read) into L
- * (stride s); pivots must exceed 0 and rel times diag[k] (NULL: M's
- * diagonal). */
-static int
-small_chol(const double *M, size_t s, size_t n, double rel, const double *diag, double *L)
+int
+lf_small_chol(const double *M, size_t s, size_t n, double rel, const double *diag, double *L)
 {
     size_t k, l, q;
 
@@ -316,6 +313,13 @@ upper_solve(const double *L, size_t s, size_t n, double *y)
     }
 }
 
+void
+lf_small_chol_solve(const double *L, size_t s, size_t n, double *y)
+{
+    lower_solve(L, s, n, y);
+    upper_solve(L, s, n, y);
+}
+
 int
 lf_arrow_factor(fit_arrow_chol *L, const fit_arrow *a, const double *d2, double mu, double rel)
 {
@@ -338,7 +342,7 @@ lf_arrow_factor(fit_arrow_chol *L, const fit_arrow *a, const double *d2, double 
         if (d2 != NULL)
             for (r = 0; r < q; r++)
                 Bd[r * FIT_QMAX + r] += mu * d2[a->at[j] + r];
-        if (!small_chol(Bd, FIT_QMAX, q, rel, NULL, cf))
+        if (!lf_small_chol(Bd, FIT_QMAX, q, rel, NULL, cf))
             return 0;
         /* E_j = L_j^-1 C_j, column by column, and its share of S */
         for (c = 0; c < m; c++) {
@@ -360,7 +364,7 @@ lf_arrow_factor(fit_arrow_chol *L, const fit_arrow *a, const double *d2, double 
     /* S's pivots against the head's own (damped) diagonal */
     for (r = 0; r < m; r++)
         hd[r] = H_AT(a->head, r, r) + (d2 != NULL ? mu * d2[r] : 0.0);
-    if (!small_chol(S, FIT_MMAX, m, rel, hd, L->ls))
+    if (!lf_small_chol(S, FIT_MMAX, m, rel, hd, L->ls))
         return 0;
     L->ok = 1;
     return 1;

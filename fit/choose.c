@@ -259,46 +259,6 @@ parts_of(chooser *c, size_t j, lf_model *model, const double *D, curve_parts *pt
     return LF_OK;
 }
 
-/* Cholesky of the n x n symmetric M (stride s, lower triangle) into L;
- * 0 when a pivot is not above rel times its diagonal. */
-static int
-chol_small(const double *M, size_t s, size_t n, double rel, double *L)
-{
-    size_t k, l, q;
-
-    for (k = 0; k < n; k++)
-        for (l = 0; l <= k; l++) {
-            double v = M[k * s + l];
-            for (q = 0; q < l; q++)
-                v -= L[k * s + q] * L[l * s + q];
-            if (k == l) {
-                if (!(v > rel * M[k * s + k]) || !(v > 0))
-                    return 0;
-                L[k * s + k] = sqrt(v);
-            } else {
-                L[k * s + l] = v / L[l * s + l];
-            }
-        }
-    return 1;
-}
-
-/* y = (L L^T)^-1 y, L n x n lower (stride s). */
-static void
-chol_solve(const double *L, size_t s, size_t n, double *y)
-{
-    size_t k, q;
-    for (k = 0; k < n; k++) {
-        for (q = 0; q < k; q++)
-            y[k] -= L[k * s + q] * y[q];
-        y[k] /= L[k * s + k];
-    }
-    for (k = n; k-- > 0;) {
-        for (q = k + 1; q < n; q++)
-            y[k] -= L[q * s + k] * y[q];
-        y[k] /= L[k * s + k];
-    }
-}
-
 /* A curve's share of the material's Schur complement, H - C^T B^-1 C
  * (into sh, stride FIT_MMAX), and of the reduced J^T d, gm - C^T B^-1 gj
  * (into t); 0 when its own block is not positive definite. */
@@ -316,18 +276,18 @@ share_of(const curve_parts *pt, double *sh, double *t)
     }
     if (q == 0)
         return 1;
-    if (!chol_small(pt->B, FIT_QMAX, q, 0.0, L))
+    if (!lf_small_chol(pt->B, FIT_QMAX, q, 0.0, NULL, L))
         return 0;
     for (k = 0; k < m; k++) {            /* W = B^-1 C, column by column */
         for (r = 0; r < q; r++)
             y[r] = pt->C[r * FIT_MMAX + k];
-        chol_solve(L, FIT_QMAX, q, y);
+        lf_small_chol_solve(L, FIT_QMAX, q, y);
         for (r = 0; r < q; r++)
             W[r * FIT_MMAX + k] = y[r];
     }
     for (r = 0; r < q; r++)
         y[r] = pt->gj[r];
-    chol_solve(L, FIT_QMAX, q, y);
+    lf_small_chol_solve(L, FIT_QMAX, q, y);
     for (k = 0; k < m; k++) {
         for (r = 0; r < q; r++)
             t[k] -= pt->C[r * FIT_MMAX + k] * y[r];
@@ -403,10 +363,10 @@ bias_fast(chooser *c, size_t j, lf_model *model, judge_bias *b)
             for (k = 0; k < nm; k++)
                 S[r * FIT_MMAX + k] += sh[r * FIT_MMAX + k] - c->sj[j * mm + r * FIT_MMAX + k];
     }
-    if (!chol_small(S, FIT_MMAX, nm, 1e-14, L))
+    if (!lf_small_chol(S, FIT_MMAX, nm, 1e-14, NULL, L))
         return 0;
     memcpy(h, t, sizeof h);
-    chol_solve(L, FIT_MMAX, nm, h);
+    lf_small_chol_solve(L, FIT_MMAX, nm, h);
     for (col = 0; col < FIT_NMAT; col++) {
         const int i = f->imat[col];
         double e[FIT_MMAX] = { 0 }, se;
@@ -414,7 +374,7 @@ bias_fast(chooser *c, size_t j, lf_model *model, judge_bias *b)
         if (i < 0)
             continue;
         e[i] = 1.0;
-        chol_solve(L, FIT_MMAX, nm, e);
+        lf_small_chol_solve(L, FIT_MMAX, nm, e);
         se = sqrt(e[i]);
         b->r[col] = se > 0 ? h[i] / se : 0.0;
     }

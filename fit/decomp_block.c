@@ -238,22 +238,13 @@ smallest(const fit_bdec *b, double lo, double hi)
 static int
 bdec_alloc(fit_bdec *b, const lf_fit *f, int with_nu)
 {
-    unsigned char *q = malloc(f->ncurves ? f->ncurves : 1);
-    size_t j, m = (size_t) with_nu;
-    int k, st;
+    int st;
 
-    if (q == NULL)
-        return LF_ENOMEM;
-    for (k = 0; k < FIT_NMAT; k++)
-        m += f->imat[k] >= 0;
-    for (j = 0; j < f->ncurves; j++)
-        q[j] = (unsigned char) ((f->c[j].iz0 >= 0) + (f->c[j].iF0 >= 0) + (f->c[j].islope >= 0));
     memset(b, 0, sizeof *b);
-    st = lf_arrow_alloc(&b->G, m, f->ncurves, q);
-    free(q);
+    st = lf_fit_arrow_alloc(f, (size_t) with_nu, &b->G);
     if (st != LF_OK)
         return st;
-    b->m = m;
+    b->m = b->G.m;
     b->n = f->ncurves;
     b->p = b->G.p;
     b->D = calloc(b->p, sizeof *b->D);

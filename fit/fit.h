@@ -413,9 +413,14 @@ int lf_fit_normal_sums(lf_fit *f, const double *x, const double *r, fit_arrow *A
 /* The same from a Jacobian J (nres x np) and residuals r at hand (GSL's). */
 void lf_fit_normal_of_jacobian(const lf_fit *f, const gsl_matrix *J, const double *r,
                                fit_arrow *A, double *g, double *colmax);
-/* The arrow of f's layout (lf_arrow_alloc with f's material count and each
- * curve's own). */
-int lf_fit_arrow_alloc(const lf_fit *f, fit_arrow *A);
+/* Cholesky of the n x n matrix M (stride s, lower triangle read) into L
+ * (stride s); 0 unless every pivot exceeds 0 and rel times diag[k] (NULL:
+ * M's diagonal).  lf_small_chol_solve: y = (L L^T)^-1 y. */
+int lf_small_chol(const double *M, size_t s, size_t n, double rel, const double *diag, double *L);
+void lf_small_chol_solve(const double *L, size_t s, size_t n, double *y);
+/* The arrow of f's layout (lf_arrow_alloc with f's material count, plus
+ * extra columns of the material's, and each curve's own). */
+int lf_fit_arrow_alloc(const lf_fit *f, size_t extra, fit_arrow *A);
 /* Jacobian with respect to the physical coordinates, rows weighted. */
 int lf_fit_jacobian_physical(lf_fit *f, const double *x, gsl_matrix *J);
 /* The same with one more column (J: nres x (np + 1)): dP/dnu of every row,

@@ -279,7 +279,7 @@ work_alloc(lf_fit *f)
     w->r = take_vector(v++, &at, nr);
     w->r2 = take_vector(v++, &at, nr);
     /* J^T J in block form, and its factors (block.c) */
-    if (lf_fit_arrow_alloc(f, &w->lm.A) != LF_OK || lf_arrow_copy_layout(&w->gsl_jtj, &w->lm.A) != LF_OK
+    if (lf_fit_arrow_alloc(f, 0, &w->lm.A) != LF_OK || lf_arrow_copy_layout(&w->gsl_jtj, &w->lm.A) != LF_OK
         || lf_arrow_chol_alloc(&w->lm.L, &w->lm.A) != LF_OK
         || lf_arrow_chol_alloc(&w->jchol, &w->lm.A) != LF_OK)
         return LF_ENOMEM;

@@ -575,10 +575,10 @@ sums_of(const lf_fit *f, const fit_curve *c, const row_map *map, const double *r
 }
 
 int
-lf_fit_arrow_alloc(const lf_fit *f, fit_arrow *A)
+lf_fit_arrow_alloc(const lf_fit *f, size_t extra, fit_arrow *A)
 {
     unsigned char *q = malloc(f->ncurves ? f->ncurves : 1);
-    size_t j, m = 0;
+    size_t j, m = extra;
     int k, st;
 
     if (q == NULL)

@@ -352,7 +352,7 @@ decomposition(void)
         }
         {
             fit_arrow A;
-            t_int(lf_fit_arrow_alloc(f, &A), LF_OK, "alloc");
+            t_int(lf_fit_arrow_alloc(f, 0, &A), LF_OK, "alloc");
             t_int(lf_fit_normal_sums(f, f->ws.x->data, r, &A, g, cm), GSL_SUCCESS, "%s: J^T J",
                   s.label);
             lf_arrow_dense(&A, G);
