@@ -46,6 +46,14 @@ main(void)
     s.sim.past_c = 2.0;
     scene_add(&s, 2, 1e-3, 1e-6, LF_BASE_BONDED);
     scene_add(&s, 3, 1e-3, 1e-6, LF_BASE_BONDED);
+    /* no nu at all: refused, never a default (issue 35) */
+    st = scene_fit(&s, 5, &r, &err);
+    t_int(st, LF_EDATA, "only bonded, no nu: refused");
+    t_contains(err.msg, "a bonded layer needs Poisson's ratio nu, and these curves do not "
+               "determine it", "only bonded, no nu: says so");
+    /* nu held by the fitter's rule at a value the caller gave (AUTO): the
+     * data fix only M */
+    s.fit.nu.value = 0.3;
     st = scene_fit(&s, 5, &r, &err);
     t_int(st, LF_OK, "only bonded: converges");
     show(&r.identifiability);

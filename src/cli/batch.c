@@ -27,6 +27,7 @@
 #endif
 
 #include "cli.h"
+#include "report.h"
 
 /* ------------------------------------------------------------------------
  * A growable string, for one output row.
@@ -451,7 +452,8 @@ put_row(sbuf *b, const batch_config *cfg, size_t fit_no, const char *sample,
  * model does not describe a curve (status misfit), 0 when it succeeded.
  * Never exits: what goes wrong is written into the row. */
 static int
-fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
+fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out,
+         lf_curve_estimate *est)
 {
     const lf_plan *plan = ul->plan;
     size_t first = ul->start[u], n = ul->start[u + 1] - first, j;
@@ -510,19 +512,19 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
     y = in.y;
     grid[0] = in.grid_i >= 0 ? (double) in.grid_i : NAN;
     grid[1] = in.grid_j >= 0 ? (double) in.grid_j : NAN;
+    for (j = 0; j < n; j++)     /* the curves' probes, whatever the fit does */
+        est[j].probe = in.curves[j].probe;
     lf_fit_input_apply_nu(&in, &s);
-    if (cfg->auto_model)
-        st = lf_fit_choose_driver(&s, cfg->choose, n, in.curves, &res, &err);
-    else
-        st = lf_fit_driver(&s, n, in.curves, &res, &err);
+    /* the fit (a sample's curves jointly, each also alone), its intervals:
+     * profile-likelihood ones where the linear ones are unreliable, after
+     * the cheap screen, as a single fit makes them (lf_fit_joint) */
+    st = lf_fit_joint(&s, cfg->auto_model ? cfg->choose : NULL, n, in.curves,
+                      LF_PROFILE_SCREEN | (cfg->linear_only ? LF_PROFILE_REPORT_LINEAR : 0),
+                      &res, &err);
     if (st == LF_OK || st == LF_ENOCONV) {
-        /* profile-likelihood intervals where the linear ones are unreliable,
-         * as a single fit makes them, after the cheap screen (a failure keeps
-         * the linear ones) */
-        lf_error perr;
-        (void) lf_fit_profile(&s, n, in.curves, &res,
-                              cfg->linear_only ? LF_PROFILE_LINEAR : LF_PROFILE_SCREEN, &perr);
         have_res = 1;
+        for (j = 0; j < n; j++)
+            est[j] = res.curves[j].alone;
         /* the profile may find the minimum was a local one (res no longer
          * converged) */
         status = st == LF_OK && res.converged ? "ok" : "noconv";
@@ -600,6 +602,210 @@ row:
 }
 
 /* ------------------------------------------------------------------------
+ * Summaries: per sample and for all curves, from each curve's own fit
+ * (lf_heterogeneity_of: n, mean, SD, median, quartiles, and the random-
+ * effects population mean with its interval and the spot-to-spot SD).
+ * --------------------------------------------------------------------- */
+
+typedef struct {
+    const char *sample;     /* NULL: every curve of the batch (or shard) */
+    lf_heterogeneity h;
+} summary_group;
+
+typedef struct {
+    size_t n;
+    summary_group *g;
+} summary;
+
+/* "OUT.summary.EXT": OUT without its .csv or .jsonl (free). */
+static char *
+summary_path(const char *out, const char *ext)
+{
+    size_t len = strlen(out), stem = len;
+    char *p;
+    if (len > 4 && strcmp(out + len - 4, ".csv") == 0)
+        stem = len - 4;
+    else if (len > 6 && strcmp(out + len - 6, ".jsonl") == 0)
+        stem = len - 6;
+    p = malloc(stem + strlen(ext) + 10);
+    if (p == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    sprintf(p, "%.*s.summary.%s", (int) stem, out, ext);
+    return p;
+}
+
+static void
+summary_make(const unit_list *ul, size_t lo, size_t hi, const lf_curve_estimate *est,
+             summary *sm)
+{
+    size_t u, k = 0, first = ul->start[lo];
+    lf_error err;
+
+    sm->g = calloc(hi - lo + 1, sizeof *sm->g);
+    if (sm->g == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    for (u = lo; u < hi; u++) {
+        const char *sample = ul->plan->rows[ul->item_row[ul->row[ul->start[u]]]].sample;
+        if (sample == NULL || sample[0] == '\0')
+            continue;
+        sm->g[k].sample = sample;
+        if (lf_heterogeneity_of(ul->start[u + 1] - ul->start[u], est + ul->start[u] - first,
+                                &sm->g[k].h, &err) != LF_OK)
+            cli_die(CLI_EXIT_FAIL, "fit: summary: %s", err.msg);
+        k++;
+    }
+    sm->g[k].sample = NULL;
+    if (lf_heterogeneity_of(ul->start[hi] - first, est, &sm->g[k].h, &err) != LF_OK)
+        cli_die(CLI_EXIT_FAIL, "fit: summary: %s", err.msg);
+    sm->n = k + 1;
+}
+
+static const char *const summary_param[3] = { "w", "Estar", "nu" };
+static const char *const summary_unit[3] = { "J/m^2", "Pa", "" };
+
+static const lf_population_estimate *
+summary_estimate(const lf_heterogeneity *h, int m)
+{
+    return m == LF_MAT_W ? &h->w : m == LF_MAT_E ? &h->Estar : &h->nu;
+}
+
+static void
+csv_num(FILE *f, double x)
+{
+    fputc(',', f);
+    if (isfinite(x))
+        cli_print_double(f, x);
+}
+
+/* One row per group and parameter (nu only where some curve determines it). */
+static void
+summary_csv(FILE *f, const void *ctx)
+{
+    const summary *sm = ctx;
+    size_t i;
+    int m;
+    sbuf b = { NULL, 0, 0, 0 };
+
+    fputs("scope,sample,curves,parameter,unit,n,mean,sd,median,q1,q3,population_mean,"
+          "population_ci95_lo,population_ci95_hi,tau,tau_ci95_lo,tau_ci95_hi,tau_rel,I2,"
+          "p_homogeneous\n", f);
+    for (i = 0; i < sm->n; i++) {
+        const summary_group *g = &sm->g[i];
+        for (m = 0; m < 3; m++) {
+            const lf_population_estimate *e = summary_estimate(&g->h, m);
+            if (m == LF_MAT_NU && e->n == 0)
+                continue;
+            b.len = 0;
+            sb_text(&b, g->sample ? g->sample : "", 0);
+            fprintf(f, "%s,%.*s,%zu,%s,%s,%zu", g->sample ? "sample" : "all", (int) b.len,
+                    b.s ? b.s : "", g->h.curves, summary_param[m], summary_unit[m], e->n);
+            csv_num(f, e->mean);
+            csv_num(f, e->sd);
+            csv_num(f, e->median);
+            csv_num(f, e->q1);
+            csv_num(f, e->q3);
+            csv_num(f, e->population_mean);
+            csv_num(f, e->population_ci95[0]);
+            csv_num(f, e->population_ci95[1]);
+            csv_num(f, e->tau);
+            csv_num(f, e->tau_ci95[0]);
+            csv_num(f, e->tau_ci95[1]);
+            csv_num(f, e->tau_rel);
+            csv_num(f, e->I2);
+            csv_num(f, e->p_homogeneous);
+            fputc('\n', f);
+        }
+    }
+    free(b.s);
+}
+
+typedef struct {
+    const summary *sm;
+    const char *command_line;
+} summary_json_ctx;
+
+static void
+summary_json(FILE *f, const void *ctx)
+{
+    const summary_json_ctx *c = ctx;
+    size_t i, k = 0;
+
+    fputs("{\n  \"groups\": [", f);
+    for (i = 0; i < c->sm->n; i++) {
+        const summary_group *g = &c->sm->g[i];
+        if (g->sample == NULL)
+            continue;
+        fprintf(f, "%s\n    {\"sample\": ", k++ ? "," : "");
+        cli_json_string(f, g->sample);
+        fprintf(f, ", \"curves\": %zu, \"heterogeneity\": ", g->h.curves);
+        report_json_heterogeneity(f, &g->h, "    ");
+        fputc('}', f);
+    }
+    fprintf(f, "%s],\n  \"all\": {\"curves\": %zu, \"heterogeneity\": ", k ? "\n  " : "",
+            c->sm->g[c->sm->n - 1].h.curves);
+    report_json_heterogeneity(f, &c->sm->g[c->sm->n - 1].h, "  ");
+    fputs("},\n  \"provenance\": ", f);
+    cli_provenance_json(f, "  ", c->command_line);
+    fputs("\n}\n", f);
+}
+
+/* The summary for people: one line per group and parameter. */
+static void
+summary_text(FILE *f, const summary *sm)
+{
+    static const char *const name[3] = { "w", "E*", "nu" };
+    char a[48], b[48], c[48], d[48], e2[48], g2[48];
+    size_t i;
+    int m;
+
+    fputs("summary (each curve fitted alone; population mean and spot-to-spot SD by random "
+          "effects, 95% intervals):\n", f);
+    for (i = 0; i < sm->n; i++) {
+        const summary_group *g = &sm->g[i];
+        for (m = 0; m < 3; m++) {
+            const lf_population_estimate *e = summary_estimate(&g->h, m);
+            int rel = m != LF_MAT_NU;
+            const char *u = m == LF_MAT_W ? "J/m^2" : "Pa";
+            if (m == LF_MAT_NU && e->n == 0)
+                continue;
+            if (g->sample != NULL) {
+                fputs("  sample ", f);
+                cli_put_clean(f, g->sample);
+            } else {
+                fputs("  all", f);
+            }
+            fprintf(f, " (%zu curve%s), %s: ", g->h.curves, g->h.curves == 1 ? "" : "s", name[m]);
+            if (e->n == 0) {
+                fputs("no curve determines it alone\n", f);
+                continue;
+            }
+#define V(buf, x) (rel ? cli_human(buf, sizeof buf, x, u) : (snprintf(buf, sizeof buf, "%.4g", x), buf))
+            fprintf(f, "%zu determined; mean %s", e->n, V(a, e->mean));
+            if (isfinite(e->sd))
+                fprintf(f, ", SD %s", rel ? (snprintf(b, sizeof b, "%.2g%%", 100.0 * e->sd / e->mean), b)
+                                          : (snprintf(b, sizeof b, "%.2g", e->sd), b));
+            fprintf(f, ", median %s, quartiles %s to %s", V(c, e->median), V(d, e->q1),
+                    V(e2, e->q3));
+            if (isfinite(e->population_mean)) {
+                fprintf(f, "; population mean %s (%s to %s)", V(a, e->population_mean),
+                        V(b, e->population_ci95[0]), V(c, e->population_ci95[1]));
+                if (rel)
+                    fprintf(f, ", spot-to-spot SD %.2g%% (%.2g%% to %.2g%%)", 100.0 * e->tau_rel,
+                            100.0 * e->tau_rel_ci95[0], 100.0 * e->tau_rel_ci95[1]);
+                else
+                    fprintf(f, ", spot-to-spot SD %.2g (%.2g to %.2g)", e->tau,
+                            e->tau_ci95[0], e->tau_ci95[1]);
+                fprintf(f, ", I^2 %.3g%%, p(homogeneous) %s", 100.0 * e->I2,
+                        e->p_homogeneous < 1e-16 ? "< 1e-16"
+                        : (snprintf(g2, sizeof g2, "%.2g", e->p_homogeneous), g2));
+            }
+#undef V
+            fputc('\n', f);
+        }
+    }
+}
+
+/* ------------------------------------------------------------------------
  * Progress on a terminal.
  * --------------------------------------------------------------------- */
 
@@ -664,7 +870,9 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     char msg[4400];
     FILE *out = stdout;
     sbuf *rows;
-    size_t lo, hi, u, block, total, done = 0, failed = 0, misfits = 0, i;
+    size_t lo, hi, u, block, total, done = 0, failed = 0, misfits = 0, i, nest;
+    lf_curve_estimate *est;
+    summary sm;
     long shard_i = 1, shard_n = 1, threads = o->threads;
     int progress, io_error = 0;
     double t0 = cli_now(), last = 0.0;
@@ -697,6 +905,13 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
 #endif
     cli_output_note("fit", o->out);
     cli_output_note_sidecar("fit", o->out);
+    if (o->out != NULL) {       /* the summaries beside the results */
+        char *sc = summary_path(o->out, "csv"), *sj = summary_path(o->out, "json");
+        cli_output_note("fit", sc);
+        cli_output_note("fit", sj);
+        free(sc);
+        free(sj);
+    }
     if (o->probe != NULL) {
         /* a file of curves (a force map): each curve with the one probe */
         lf_error err;
@@ -728,6 +943,16 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     lo = (size_t) ((double) ul.nunits * (double) (shard_i - 1) / (double) shard_n);
     hi = (size_t) ((double) ul.nunits * (double) shard_i / (double) shard_n);
     total = hi - lo;
+    /* each curve's own estimates, for the summaries (88 bytes a curve) */
+    nest = ul.start[hi] - ul.start[lo];
+    est = malloc((nest ? nest : 1) * sizeof *est);
+    if (est == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    for (i = 0; i < nest; i++) {
+        memset(&est[i], 0, sizeof est[i]);
+        est[i].value[0] = est[i].value[1] = est[i].value[2] = NAN;
+        est[i].se[0] = est[i].se[1] = est[i].se[2] = est[i].corr_wE = NAN;
+    }
     if (o->out != NULL && (out = cli_out_open(&atomic, o->out, msg, sizeof msg)) == NULL)
         cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
     if (!cfg.json) {
@@ -746,9 +971,10 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
 #pragma omp parallel for schedule(dynamic, 1) num_threads((int) threads) reduction(+ : bad, mis)
         for (b = 0; b < (long) nb; b++) {
             int r;
+            size_t at = ul.start[u + (size_t) b] - ul.start[lo];
             rows[b].len = 0;
             rows[b].failed = 0;
-            r = fit_unit(&ul, u + (size_t) b, &cfg, &rows[b]);
+            r = fit_unit(&ul, u + (size_t) b, &cfg, &rows[b], est + at);
             bad += r == 1;
             mis += r == 2;
         }
@@ -773,16 +999,31 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     free(rows);
     if (out == stdout && (fflush(out) != 0 || ferror(out)))
         io_error = 1;
-    units_free(&ul);
-    lf_plan_free(plan);
+    summary_make(&ul, lo, hi, est, &sm);
     if (io_error)
         cli_die(CLI_EXIT_FAIL, "fit: error writing %s", o->out ? o->out : "standard output");
     if (out != stdout) {
         /* the results replace an earlier file only now, whole */
+        summary_json_ctx jc;
+        char *sc = summary_path(o->out, "csv"), *sj = summary_path(o->out, "json");
         if (cli_out_commit(&atomic, msg, sizeof msg) != 0)
             cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
         cli_provenance_sidecar("fit", o->out, o->command_line);
+        cli_write_file("fit", sc, summary_csv, &sm);
+        jc.sm = &sm;
+        jc.command_line = o->command_line;
+        cli_write_file("fit", sj, summary_json, &jc);
+        free(sc);
+        free(sj);
     }
+    /* the summary for people: on standard output beside a results file,
+     * else on stderr (standard output then carries the rows) */
+    if (nest >= 2)
+        summary_text(out != stdout ? stdout : stderr, &sm);
+    free(sm.g);
+    free(est);
+    units_free(&ul);
+    lf_plan_free(plan);
     if (failed > 0) {
         fprintf(stderr, "layerfit: fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s)\n",
                 failed, total, o->out ? o->out : "the output");

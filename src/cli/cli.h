@@ -161,6 +161,11 @@ const char *cli_interval_method(const lf_fit_estimate *e);
  * estimate (determined, fixed, an upper bound of w, or never profiled). */
 const char *cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit,
                            char *buf, size_t n);
+/* How the curves of one material differ, in words, one line per call of
+ * put: first whether they agree within their errors, then each
+ * parameter's spread and population, then the probes (nothing for fewer
+ * than two curves). */
+void cli_hetero_lines(const lf_heterogeneity *h, void (*put)(void *, const char *), void *ctx);
 #define CLI_FIT_NOPTS 24
 void cli_fit_args_init(cli_fit_args *a);
 size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
@@ -230,12 +235,14 @@ void cli_plot_files(const char *dir, size_t ncurves, void (*each)(const char *pa
 
 /* Write a self-contained HTML report of a fit (html.c) with the figures
  * inlined as SVG; they are drawn into plotdir, or into a temporary folder
- * removed afterwards when plotdir is NULL.  Returns 0; 1 when the page was
+ * removed afterwards when plotdir is NULL; assumed[0..nassumed-1] are the
+ * values the fit assumed, in words (report_assumption_text).  Returns 0; 1 when the page was
  * written without figures (msg says why, e.g. gnuplot missing); -1 with msg
  * when the page could not be written. */
 int cli_html_report(const char *file, const char *plotdir, size_t ncurves,
                     const lf_fit_curve *curves, const lf_fit_result *r,
-                    const char *command_line, char *msg, size_t n);
+                    const char *command_line, const char *const *assumed, size_t nassumed,
+                    char *msg, size_t n);
 /* ---- Outputs and inputs (output.c, read.c) -------------------------------
  * Every output file goes through cli_out: a temporary file in the same
  * folder, renamed into place by cli_out_commit after fflush, fsync and a

@@ -242,7 +242,7 @@ figures_note(const char *plotdir, size_t ncurves)
  * the page (gnuplot missing) is said on stderr without failing. */
 static void
 figures(const char *plotdir, const char *report, size_t ncurves, const lf_fit_curve *curves,
-        const lf_fit_result *res, const char *command_line)
+        const lf_fit_result *res, const char *command_line, const report_input *in)
 {
     char msg[1400];
 
@@ -257,8 +257,15 @@ figures(const char *plotdir, const char *report, size_t ncurves, const lf_fit_cu
             fprintf(stderr, "layerfit: fit: %s\n", msg);
     }
     if (report != NULL) {
-        int st = cli_html_report(report, plotdir, ncurves, curves, res, command_line, msg,
-                                 sizeof msg);
+        report_assumption as[16];
+        char text[16][200];
+        const char *lines[16];
+        size_t i, na = report_assumptions(in, res, as, 16);
+        int st;
+        for (i = 0; i < na; i++)
+            lines[i] = report_assumption_text(text[i], sizeof text[i], &as[i], res);
+        st = cli_html_report(report, plotdir, ncurves, curves, res, command_line, lines, na, msg,
+                             sizeof msg);
         if (st < 0)
             cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
         if (st > 0)
@@ -467,10 +474,11 @@ cli_fit(int argc, char **argv, const char *command_line)
     read_input(argv[0], &a, fa.model, &is, &d);
     figures_note(plot_dir, d.n);
     lf_fit_input_apply_nu(&d, &set);
-    if (model_auto)
-        status = lf_fit_choose_driver(&set, &choose, d.n, d.curves, &r, &err);
-    else
-        status = lf_fit_driver(&set, d.n, d.curves, &r, &err);
+    /* the joint fit, each curve alone, the intervals (profile-likelihood
+     * where the linear ones are unreliable; --intervals linear: the linear
+     * ones, unchecked) and how the curves differ (lf_fit_joint) */
+    status = lf_fit_joint(&set, model_auto ? &choose : NULL, d.n, d.curves,
+                          fa.linear_only ? LF_PROFILE_LINEAR : LF_PROFILE_CHECK, &r, &err);
     if (status != LF_OK && status != LF_ENOCONV)
         cli_die(status == LF_EDATA || status == LF_EINVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL,
                 "fit: %s", err.msg);
@@ -483,22 +491,17 @@ cli_fit(int argc, char **argv, const char *command_line)
             fprintf(stderr, "layerfit: warning: the thin-layer comparison fit failed: %s\n",
                     terr.msg);
     }
-    {
-        /* profile-likelihood intervals where the linear ones are unreliable
-         * (--intervals linear: the linear ones, unchecked) */
-        lf_error perr;
-        if (lf_fit_profile(&set, d.n, d.curves, &r, fa.linear_only ? LF_PROFILE_LINEAR : 0,
-                           &perr) != LF_OK)
-            fprintf(stderr, "layerfit: warning: profile-likelihood intervals: %s\n", perr.msg);
-        if (status == LF_OK && !r.converged)
-            status = LF_ENOCONV;    /* a local minimum, or nothing determined */
-    }
     in.settings = &set;
     in.model_request = fa.model;
     in.model_tol = model_auto ? choose.tol : NAN;
     in.curves = d.curves;
     in.origin = d.origin;
     in.command_line = command_line;
+    in.format = d.format;
+    in.nu_source = !isnan(fa.fix_nu) ? "--fix-nu" : !isnan(fa.nu) ? "--nu"
+                   : !isnan(d.nu) ? "the plan's nu column" : NULL;
+    in.z0_source = !isnan(fa.fix_z0) ? "--fix-z0" : NULL;
+    in.F0_source = !isnan(fa.fix_F0) ? "--fix-F0" : NULL;
     print_input_notes(&a, &d);
     report_text(stdout, &in, &r);
     if (a.json != NULL)
@@ -507,7 +510,7 @@ cli_fit(int argc, char **argv, const char *command_line)
         write_file(a.curves, report_curves, &in, &r);
         cli_provenance_sidecar("fit", a.curves, command_line);
     }
-    figures(plot_dir, report_html, d.n, d.curves, &r, command_line);
+    figures(plot_dir, report_html, d.n, d.curves, &r, command_line, &in);
     if (status == LF_OK && cli_disagreeing(&r, bad, sizeof bad) > 0) {
         fprintf(stderr, "layerfit: fit: converged, but the model does not describe curve%s %s "
                 "(DISAGREES): the values are those of a model that does not fit, not a "

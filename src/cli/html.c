@@ -168,6 +168,112 @@ parameter_row(FILE *f, const char *name, const lf_fit_estimate *e, const char *u
     fputs("</tr>\n", f);
 }
 
+/* What the fit assumed rather than fitted, at the top. */
+static void
+assumptions(FILE *f, const char *const *assumed, size_t n)
+{
+    size_t i;
+
+    if (n == 0)
+        return;
+    fputs("<section id=\"assumed\">\n<h2>Assumed, not fitted</h2>\n<ul>\n", f);
+    for (i = 0; i < n; i++) {
+        fputs("<li>", f);
+        esc(f, assumed[i]);
+        fputs("</li>\n", f);
+    }
+    fputs("</ul>\n</section>\n", f);
+}
+
+static void
+li_line(void *ctx, const char *line)
+{
+    FILE *f = ctx;
+    fputs("<li>", f);
+    esc(f, line);
+    fputs("</li>\n", f);
+}
+
+/* A cell of a spread: relative (w, E*) in %, absolute for nu. */
+static void
+td_spread(FILE *f, double x, int m)
+{
+    if (m == LF_MAT_NU)
+        td_num(f, x, 3, "");
+    else
+        td_num(f, 100.0 * x, 2, " %");
+}
+
+/* How the curves differ: the words, then per parameter the single fits'
+ * spread, tau and the population's mean and interval. */
+static void
+heterogeneity(FILE *f, const lf_fit_result *r)
+{
+    static const char *const name[3] = { "w", "E*", "nu" };
+    static const char *const unit[3] = { "J/m²", "Pa", "" };
+    const lf_heterogeneity *h = &r->heterogeneity;
+    const lf_population_estimate *pe[3] = { &h->w, &h->Estar, &h->nu };
+    char buf[64];
+    int m;
+
+    if (h->curves < 2)
+        return;
+    fprintf(f, "<section id=\"heterogeneity\">\n<h2>How the %zu curves differ</h2>\n<ul>\n",
+            h->curves);
+    cli_hetero_lines(h, li_line, f);
+    fputs("</ul>\n<table id=\"heterogeneity-table\">\n<tr><th>parameter</th><th>curves alone</th>"
+          "<th>their mean</th><th>their SD</th><th>median</th><th>spot-to-spot SD (tau)</th>"
+          "<th>tau 95 %</th><th>population mean</th><th>population 95 %</th><th>I²</th>"
+          "<th>p (homogeneous)</th></tr>\n", f);
+    for (m = 0; m < 3; m++) {
+        const lf_population_estimate *x = pe[m];
+        if (x->n == 0)
+            continue;
+        fprintf(f, "<tr><th>%s</th><td class=\"num\">%zu</td>", name[m], x->n);
+        if (m == LF_MAT_NU) {
+            td_num(f, x->mean, 4, "");
+            td_num(f, x->sd, 3, "");
+            td_num(f, x->median, 4, "");
+        } else {
+            td_human(f, x->mean, unit[m]);
+            td_spread(f, x->mean > 0 ? x->sd / x->mean : NAN, m);
+            td_human(f, x->median, unit[m]);
+        }
+        td_spread(f, x->tau_rel, m);
+        if (isfinite(x->tau_rel_ci95[0]) && isfinite(x->tau_rel_ci95[1])) {
+            if (m == LF_MAT_NU)
+                fprintf(f, "<td class=\"num\">%.3g &ndash; %.3g</td>", x->tau_rel_ci95[0],
+                        x->tau_rel_ci95[1]);
+            else
+                fprintf(f, "<td class=\"num\">%.2g %% &ndash; %.2g %%</td>",
+                        100.0 * x->tau_rel_ci95[0], 100.0 * x->tau_rel_ci95[1]);
+        } else {
+            fputs("<td class=\"na\">&ndash;</td>", f);
+        }
+        if (m == LF_MAT_NU)
+            td_num(f, x->population_mean, 4, "");
+        else
+            td_human(f, x->population_mean, unit[m]);
+        if (isfinite(x->population_ci95[0]) && isfinite(x->population_ci95[1])) {
+            fputs("<td class=\"num\">", f);
+            if (m == LF_MAT_NU) {
+                fprintf(f, "%.4g &ndash; %.4g", x->population_ci95[0], x->population_ci95[1]);
+            } else {
+                esc(f, cli_human(buf, sizeof buf, x->population_ci95[0], unit[m]));
+                fputs(" &ndash; ", f);
+                esc(f, cli_human(buf, sizeof buf, x->population_ci95[1], unit[m]));
+            }
+            fputs("</td>", f);
+        } else {
+            fputs("<td class=\"na\">&ndash;</td>", f);
+        }
+        td_num(f, 100.0 * x->I2, 3, " %");
+        td_num(f, x->p_homogeneous, 2, "");
+        fputs("</tr>\n", f);
+    }
+    fputs("</table>\n</section>\n", f);
+}
+
 static void
 parameters(FILE *f, const lf_fit_result *r)
 {
@@ -459,7 +565,7 @@ remove_figures(const char *dir, size_t ncurves)
 int
 cli_html_report(const char *file, const char *plotdir, size_t ncurves,
                 const lf_fit_curve *curves, const lf_fit_result *r, const char *command_line,
-                char *msg, size_t n)
+                const char *const *assumed, size_t nassumed, char *msg, size_t n)
 {
     cli_figures figs = { 0, NULL, NULL };
     char tmpdir[4096], note[1200];
@@ -502,6 +608,8 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
         esc(f, r->stop_reason);
         fputs(").</p>\n", f);
     }
+    assumptions(f, assumed, nassumed);
+    heterogeneity(f, r);
     parameters(f, r);
     assessment(f, r);
     correlations(f, r);
