@@ -190,25 +190,44 @@ population_clear(lf_population_estimate *e)
     e->why = NULL;
 }
 
-/* Estimate i's parameter m on the analysed scale and its variance there;
- * 0 when the curve's own fit does not determine it. */
+/* Estimate e's parameter m on the analysed scale into *y, and its
+ * variance there: where the curve's 95% interval is known, from the half
+ * of it that faces mu, over 1.96 (both halves averaged while mu is NaN:
+ * a single curve's profile interval of w is often lopsided, and its
+ * linear standard error then overstates how far its estimate is from the
+ * others'), else from its standard error; 0 when the curve's own fit does
+ * not determine it. */
 static int
-analysed(const lf_curve_estimate *e, int m, double *y, double *v)
+analysed(const lf_curve_estimate *e, int m, double mu, double *y, double *v)
 {
-    double x = e->value[m], se = e->se[m];
+    double x = e->value[m], se = e->se[m], lo = e->ci95[m][0], hi = e->ci95[m][1], sd;
+    double dlo, dhi;
 
-    if (!isfinite(x) || !isfinite(se) || !(se > 0))
+    if (!isfinite(x) || !isfinite(se) || !(se > 0) || (m != LF_MAT_NU && !(x > 0)))
         return 0;
     if (m == LF_MAT_NU) {
         *y = x;
-        *v = se * se;
-        return 1;
+        sd = se;
+        dlo = (x - lo) / FIT_Z95;
+        dhi = (hi - x) / FIT_Z95;
+    } else {
+        *y = log(x);
+        sd = se / x;
+        dlo = lo > 0 ? (*y - log(lo)) / FIT_Z95 : NAN;
+        dhi = hi > 0 ? (log(hi) - *y) / FIT_Z95 : NAN;
     }
-    if (!(x > 0))
-        return 0;
-    *y = log(x);
-    *v = (se / x) * (se / x);
+    if (dlo > 0 && dhi > 0 && isfinite(dlo) && isfinite(dhi))
+        sd = isnan(mu) ? 0.5 * (dlo + dhi) : mu < *y ? dlo : dhi;
+    *v = sd * sd;
     return 1;
+}
+
+/* The population centre of parameter m on the analysed scale (NaN when
+ * none). */
+static double
+centre_of(const lf_population_estimate *e, int m)
+{
+    return m == LF_MAT_NU ? e->population_mean : log(e->population_mean);
 }
 
 /* The analysis of parameter m over the curves (y, v, si scratch of n). */
@@ -218,10 +237,11 @@ population_one(size_t n, const lf_curve_estimate *each, int m, double *y, double
 {
     size_t i, k = 0;
     re_fit o;
+    int it;
 
     population_clear(e);
     for (i = 0; i < n; i++)
-        if (analysed(&each[i], m, &y[k], &v[k]))
+        if (analysed(&each[i], m, NAN, &y[k], &v[k]))
             si[k++] = each[i].value[m];
     e->n = k;
     if (k == 0) {
@@ -238,7 +258,18 @@ population_one(size_t n, const lf_curve_estimate *each, int m, double *y, double
         return;
     }
     e->sd = gsl_stats_sd(si, 1, k);
+    /* each curve's variance from the side of its interval facing the
+     * centre: from both sides' mean, then the side of the centre found,
+     * until the centre settles */
     random_effects(k, y, v, &o);
+    for (it = 0; it < 8; it++) {
+        double last = o.mu;
+        for (i = 0, k = 0; i < n; i++)
+            k += (size_t) analysed(&each[i], m, o.mu, &y[k], &v[k]);
+        random_effects(k, y, v, &o);
+        if (fabs(o.mu - last) <= 1e-12 * lf_fmax(fabs(last), 1e-300) + 1e-15)
+            break;
+    }
     e->Q = o.Q;
     e->p_homogeneous = o.p;
     e->I2 = o.I2;
@@ -311,14 +342,15 @@ spd_inverse(int d, double a[3][3], double ai[3][3])
  * and their covariance (w and E* correlated as the fit says; nu's
  * correlations are not kept: 0); 0 when it lacks one. */
 static int
-curve_vector(const lf_curve_estimate *e, const int *pm, int d, double y[3], double c[3][3])
+curve_vector(const lf_curve_estimate *e, const int *pm, int d, const double *mu, double y[3],
+             double c[3][3])
 {
     double sd[3];
     int a, b;
 
     for (a = 0; a < d; a++) {
         double v;
-        if (!analysed(e, pm[a], &y[a], &v))
+        if (!analysed(e, pm[a], mu[pm[a]], &y[a], &v))
             return 0;
         sd[a] = sqrt(v);
     }
@@ -343,7 +375,10 @@ overall(size_t n, const lf_curve_estimate *each, lf_heterogeneity *h)
     const lf_population_estimate *pe[3] = { &h->w, &h->Estar, &h->nu };
     int pm[3], d = 0, a, b;
     size_t i, k;
+    double centre[3];
 
+    for (a = 0; a < 3; a++)
+        centre[a] = centre_of(pe[a], a);
     h->Q = h->df = h->p_homogeneous = h->I2 = NAN;
     for (a = 0; a < 3; a++)
         if (pe[a]->n >= 2)
@@ -351,7 +386,7 @@ overall(size_t n, const lf_curve_estimate *each, lf_heterogeneity *h)
     while (d > 0) {
         double sinv[3][3] = { { 0 } }, sy[3] = { 0 }, mu[3], s[3][3], y[3], c[3][3], ci[3][3];
         for (i = 0, k = 0; i < n; i++) {
-            if (!curve_vector(&each[i], pm, d, y, c) || !spd_inverse(d, c, ci))
+            if (!curve_vector(&each[i], pm, d, centre, y, c) || !spd_inverse(d, c, ci))
                 continue;
             k++;
             for (a = 0; a < d; a++)
@@ -368,7 +403,7 @@ overall(size_t n, const lf_curve_estimate *each, lf_heterogeneity *h)
                     mu[a] += s[a][b] * sy[b];
             }
             for (i = 0; i < n; i++) {
-                if (!curve_vector(&each[i], pm, d, y, c) || !spd_inverse(d, c, ci))
+                if (!curve_vector(&each[i], pm, d, centre, y, c) || !spd_inverse(d, c, ci))
                     continue;
                 for (a = 0; a < d; a++)
                     for (b = 0; b < d; b++)
@@ -405,8 +440,8 @@ same_probe(const lf_probe *a, const lf_probe *b)
  * departing probe's group, its difference from the others and z. */
 static double
 probes_one(size_t n, const lf_curve_estimate *each, const size_t *group, size_t ng, int m,
-           double *mu_g, double *se_g, size_t *cnt, size_t *tested, size_t *dep, double *diff,
-           double *z)
+           double mu, double *mu_g, double *se_g, size_t *cnt, size_t *tested, size_t *dep,
+           double *diff, double *z)
 {
     double Qw = 0.0, Cw = 0.0, tau2, y, v, qb = 0.0, sb = 0.0, syb = 0.0, mub, best = -1.0;
     size_t g, i, dfw = 0, used = 0;
@@ -415,7 +450,7 @@ probes_one(size_t n, const lf_curve_estimate *each, const size_t *group, size_t 
         double s1 = 0.0, s2 = 0.0, sy = 0.0, q = 0.0, mfe;
         cnt[g] = 0;
         for (i = 0; i < n; i++)
-            if (group[i] == g && analysed(&each[i], m, &y, &v)) {
+            if (group[i] == g && analysed(&each[i], m, mu, &y, &v)) {
                 s1 += 1.0 / v;
                 s2 += 1.0 / (v * v);
                 sy += y / v;
@@ -425,7 +460,7 @@ probes_one(size_t n, const lf_curve_estimate *each, const size_t *group, size_t 
             continue;
         mfe = sy / s1;
         for (i = 0; i < n; i++)
-            if (group[i] == g && analysed(&each[i], m, &y, &v))
+            if (group[i] == g && analysed(&each[i], m, mu, &y, &v))
                 q += (y - mfe) * (y - mfe) / v;
         Qw += q;
         Cw += s1 - s2 / s1;
@@ -440,7 +475,7 @@ probes_one(size_t n, const lf_curve_estimate *each, const size_t *group, size_t 
         if (cnt[g] == 0)
             continue;
         for (i = 0; i < n; i++)
-            if (group[i] == g && analysed(&each[i], m, &y, &v)) {
+            if (group[i] == g && analysed(&each[i], m, mu, &y, &v)) {
                 s += 1.0 / (v + tau2);
                 sy += y / (v + tau2);
             }
@@ -508,7 +543,9 @@ probes(size_t n, const lf_curve_estimate *each, size_t *group, double *scratch, 
     for (m = 0; m < 3; m++) {
         size_t tested, dep = 0;
         double diff = NAN, z = NAN;
-        double p = probes_one(n, each, group, ng, m, mu_g, se_g, cnt, &tested, &dep, &diff, &z);
+        const lf_population_estimate *pe = m == LF_MAT_W ? &h->w : m == LF_MAT_E ? &h->Estar : &h->nu;
+        double p = probes_one(n, each, group, ng, m, centre_of(pe, m), mu_g, se_g, cnt, &tested,
+                              &dep, &diff, &z);
         if (!isfinite(p))
             continue;
         ntests++;
@@ -586,6 +623,8 @@ lf_curve_estimate_of(const lf_fit_result *r, lf_curve_estimate *e)
         int ok = p[m]->free && p[m]->determined && !p[m]->upper_bound_only;
         e->value[m] = ok ? p[m]->value : NAN;
         e->se[m] = ok ? p[m]->se : NAN;
+        e->ci95[m][0] = ok ? p[m]->ci95[0] : NAN;
+        e->ci95[m][1] = ok ? p[m]->ci95[1] : NAN;
     }
     for (i = 0; i < r->npar && r->names != NULL; i++) {
         if (strcmp(r->names[i], "w") == 0)
@@ -607,7 +646,7 @@ lf_curve_estimate_none(lf_curve_estimate *e, const lf_probe *p)
     int m;
 
     for (m = 0; m < 3; m++)
-        e->value[m] = e->se[m] = NAN;
+        e->value[m] = e->se[m] = e->ci95[m][0] = e->ci95[m][1] = NAN;
     e->corr_wE = NAN;
     e->probe = *p;
 }

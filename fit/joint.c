@@ -50,7 +50,7 @@ single(const lf_fit_settings *settings, const lf_choose_settings *choose,
     }
     if (st != LF_OK && st != LF_ENOCONV)
         return;
-    lf_fit_profile(&s, 1, curve, &r, LF_PROFILE_SCREEN | LF_PROFILE_REPORT_LINEAR, NULL);
+    lf_fit_profile(&s, 1, curve, &r, LF_PROFILE_SCREEN, NULL);
     if (r.converged)
         lf_curve_estimate_of(&r, e);
     off[0] = lf_fit_best_value(&r, "z0[1]", NAN);

@@ -350,10 +350,11 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r, const fit_d
     if (cr->downweighted > 0)
         lf_warn(&cr->warnings, "%zu points weigh less than half under the %s loss (outliers)",
                 cr->downweighted, lf_loss_name(f->set.loss));
-    if (cr->shape > FIT_SHAPE_MAX)
+    if (cr->shape > FIT_SHAPE_MAX && cr->chi2_per_point <= 4.0 && !(cr->runs_z < FIT_RUNS_Z_BAD))
         lf_warn(&cr->warnings, "its residuals follow a shape %.2g times the noise (the rms of "
                 "their means over sixteenths of the curve, against the noise sd): a systematic "
-                "misfit, whatever the correlation of neighbouring residuals", cr->shape);
+                "misfit, which the correlation of neighbouring residuals does not explain",
+                cr->shape);
     /* against the noise model's sd (noise.c: = sigma for white noise) */
     if (cr->rms > 1.5 * cr->noise_sd && cr->agreement == 1)
         lf_warn(&cr->warnings, "residuals are %.2g times the noise estimated from the data: "

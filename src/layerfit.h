@@ -451,6 +451,12 @@ typedef struct {
                                of w, a fixed or undetermined parameter) */
     double se[3];           /* their standard errors (the fit's, scaled by
                                its chi2/dof and noise correlation); NaN */
+    double ci95[3][2];      /* their 95% intervals (profile likelihood where
+                               the fit made one), NaN where not known: a
+                               curve's weight in the analysis comes from the
+                               side of its interval that faces the
+                               population's mean (single-curve profiles of w
+                               are often lopsided), else from se */
     double corr_wE;         /* correlation of w and E*, NaN unless both */
     lf_probe probe;         /* the curve's probe and layer */
 } lf_curve_estimate;

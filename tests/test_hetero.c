@@ -42,6 +42,7 @@ estimate(double w, double w_se, double E, double E_se, double nu, double nu_se)
     e.value[LF_MAT_NU] = nu;
     e.se[LF_MAT_NU] = nu_se;
     e.corr_wE = NAN;
+    e.ci95[0][0] = e.ci95[0][1] = e.ci95[1][0] = e.ci95[1][1] = e.ci95[2][0] = e.ci95[2][1] = NAN;
     e.probe.k = 2;
     e.probe.R = 1e-3;
     e.probe.b = 1e-6;

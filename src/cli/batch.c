@@ -943,7 +943,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     lo = (size_t) ((double) ul.nunits * (double) (shard_i - 1) / (double) shard_n);
     hi = (size_t) ((double) ul.nunits * (double) shard_i / (double) shard_n);
     total = hi - lo;
-    /* each curve's own estimates, for the summaries (88 bytes a curve) */
+    /* each curve's own estimates, for the summaries (136 bytes a curve) */
     nest = ul.start[hi] - ul.start[lo];
     est = malloc((nest ? nest : 1) * sizeof *est);
     if (est == NULL)
@@ -952,6 +952,8 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
         memset(&est[i], 0, sizeof est[i]);
         est[i].value[0] = est[i].value[1] = est[i].value[2] = NAN;
         est[i].se[0] = est[i].se[1] = est[i].se[2] = est[i].corr_wE = NAN;
+        est[i].ci95[0][0] = est[i].ci95[0][1] = est[i].ci95[1][0] = NAN;
+        est[i].ci95[1][1] = est[i].ci95[2][0] = est[i].ci95[2][1] = NAN;
     }
     if (o->out != NULL && (out = cli_out_open(&atomic, o->out, msg, sizeof msg)) == NULL)
         cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
