@@ -2,8 +2,9 @@
  * they differ (lf_fit_joint; the steps are in layerfit.h):
  *
  *   joint fit A   from the automatic guess (choose.c or driver.c)
- *   singles       each curve alone, nu held at A's where the joint fit had
- *                 it by the fitter's rule (a curve alone would not fix it)
+ *   singles       each curve alone, nu held at A's value where A fitted it
+ *                 (bonded and frictionless curves together: a curve alone
+ *                 would not fix it)
  *   joint fit B   from the pooled singles: the material at their
  *                 random-effects mean (hetero.c), each curve's offsets at
  *                 its own fit's, with the models A chose; the lower chi2
@@ -21,9 +22,9 @@
 
 #include "fit.h"
 
-/* Fit curve j alone into *e (its estimates, NaN where not determined or
+/* Fit one curve alone into *e (its estimates, NaN where not determined or
  * not converged) and off[0..2] (its offsets at the solution, NaN where
- * none); nu as the joint fit had it (see the top). */
+ * none); nu held at the joint fit's where that fitted it (see the top). */
 static void
 single(const lf_fit_settings *settings, const lf_choose_settings *choose,
        const lf_fit_curve *curve, const lf_fit_result *joint, lf_curve_estimate *e, double *off)

@@ -678,8 +678,11 @@ LF_API void lf_fit_free(lf_fit *fit);
  * the profile never closes marks w or E* not determined.  Costs a few fits
  * per parameter (res->profile_fits).  The threshold is s^2 F(1, n_eff - p)
  * (3.84 s^2 for many points) and the interval the hull of the values below
- * it.  A profile point below res's own chi2 (res stopped in a local
- * minimum): res is replaced by the fit continued from there (converged fits
+ * it.  First, in every mode, the search for the minimum (fit/descend.c):
+ * chi2 along each determined parameter's linear path, 0.5 to 6 standard
+ * errors either side; a point below res's chi2 restarts the fit there.  A
+ * profile point below res's own chi2 (res stopped in a local minimum)
+ * likewise: res is replaced by the fit continued from there (converged fits
  * only; a warning says so, the model choice's notes are kept).  A fit that
  * did not converge keeps its linear intervals, marked LF_INTERVAL_AT_STOP.
  * Where a linear interval is the one reported (a fit that did not converge,

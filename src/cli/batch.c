@@ -634,6 +634,14 @@ summary_path(const char *out, const char *ext)
     return p;
 }
 
+/* The sample of fit u ("" for none). */
+static const char *
+unit_sample(const unit_list *ul, size_t u)
+{
+    const char *sample = ul->plan->rows[ul->item_row[ul->row[ul->start[u]]]].sample;
+    return sample != NULL ? sample : "";
+}
+
 static void
 summary_make(const unit_list *ul, size_t lo, size_t hi, const lf_curve_estimate *est,
              summary *sm)
@@ -641,12 +649,14 @@ summary_make(const unit_list *ul, size_t lo, size_t hi, const lf_curve_estimate 
     size_t u, k = 0, first = ul->start[lo];
     lf_error err;
 
-    sm->g = calloc(hi - lo + 1, sizeof *sm->g);
+    for (u = lo; u < hi; u++)
+        k += unit_sample(ul, u)[0] != '\0';
+    sm->g = calloc(k + 1, sizeof *sm->g);      /* a group per sample, and all */
     if (sm->g == NULL)
         cli_die(CLI_EXIT_FAIL, "out of memory");
-    for (u = lo; u < hi; u++) {
-        const char *sample = ul->plan->rows[ul->item_row[ul->row[ul->start[u]]]].sample;
-        if (sample == NULL || sample[0] == '\0')
+    for (u = lo, k = 0; u < hi; u++) {
+        const char *sample = unit_sample(ul, u);
+        if (sample[0] == '\0')
             continue;
         sm->g[k].sample = sample;
         if (lf_heterogeneity_of(ul->start[u + 1] - ul->start[u], est + ul->start[u] - first,
@@ -754,7 +764,7 @@ static void
 summary_text(FILE *f, const summary *sm)
 {
     static const char *const name[3] = { "w", "E*", "nu" };
-    char a[48], b[48], c[48], d[48], e2[48], g2[48];
+    char a[48], b[48], c[48];
     size_t i;
     int m;
 
@@ -765,7 +775,6 @@ summary_text(FILE *f, const summary *sm)
         for (m = 0; m < 3; m++) {
             const lf_population_estimate *e = summary_estimate(&g->h, m);
             int rel = m != LF_MAT_NU;
-            const char *u = m == LF_MAT_W ? "J/m^2" : "Pa";
             if (m == LF_MAT_NU && e->n == 0)
                 continue;
             if (g->sample != NULL) {
@@ -779,27 +788,24 @@ summary_text(FILE *f, const summary *sm)
                 fputs("no curve determines it alone\n", f);
                 continue;
             }
-#define V(buf, x) (rel ? cli_human(buf, sizeof buf, x, u) : (snprintf(buf, sizeof buf, "%.4g", x), buf))
-            fprintf(f, "%zu determined; mean %s", e->n, V(a, e->mean));
+            fprintf(f, "%zu determined; mean %s", e->n, cli_param_text(a, sizeof a, e->mean, m));
             if (isfinite(e->sd))
-                fprintf(f, ", SD %s", rel ? (snprintf(b, sizeof b, "%.2g%%", 100.0 * e->sd / e->mean), b)
-                                          : (snprintf(b, sizeof b, "%.2g", e->sd), b));
-            fprintf(f, ", median %s, quartiles %s to %s", V(c, e->median), V(d, e->q1),
-                    V(e2, e->q3));
+                fprintf(f, ", SD %s", cli_spread_text(a, sizeof a, rel ? e->sd / e->mean : e->sd,
+                                                      rel));
+            fprintf(f, ", median %s", cli_param_text(a, sizeof a, e->median, m));
+            fprintf(f, ", quartiles %s to %s", cli_param_text(a, sizeof a, e->q1, m),
+                    cli_param_text(b, sizeof b, e->q3, m));
             if (isfinite(e->population_mean)) {
-                fprintf(f, "; population mean %s (%s to %s)", V(a, e->population_mean),
-                        V(b, e->population_ci95[0]), V(c, e->population_ci95[1]));
-                if (rel)
-                    fprintf(f, ", spot-to-spot SD %.2g%% (%.2g%% to %.2g%%)", 100.0 * e->tau_rel,
-                            100.0 * e->tau_rel_ci95[0], 100.0 * e->tau_rel_ci95[1]);
-                else
-                    fprintf(f, ", spot-to-spot SD %.2g (%.2g to %.2g)", e->tau,
-                            e->tau_ci95[0], e->tau_ci95[1]);
-                fprintf(f, ", I^2 %.3g%%, p(homogeneous) %s", 100.0 * e->I2,
-                        e->p_homogeneous < 1e-16 ? "< 1e-16"
-                        : (snprintf(g2, sizeof g2, "%.2g", e->p_homogeneous), g2));
+                fprintf(f, "; population mean %s (%s to %s)",
+                        cli_param_text(a, sizeof a, e->population_mean, m),
+                        cli_param_text(b, sizeof b, e->population_ci95[0], m),
+                        cli_param_text(c, sizeof c, e->population_ci95[1], m));
+                fprintf(f, ", spot-to-spot SD %s", cli_spread_text(a, sizeof a, e->tau_rel, rel));
+                fprintf(f, " (%s to %s)", cli_spread_text(a, sizeof a, e->tau_rel_ci95[0], rel),
+                        cli_spread_text(b, sizeof b, e->tau_rel_ci95[1], rel));
+                fprintf(f, ", I^2 %.3g%%, %s", 100.0 * e->I2,
+                        cli_p_text(a, sizeof a, e->p_homogeneous));
             }
-#undef V
             fputc('\n', f);
         }
     }

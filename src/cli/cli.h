@@ -161,6 +161,12 @@ const char *cli_interval_method(const lf_fit_estimate *e);
  * estimate (determined, fixed, an upper bound of w, or never profiled). */
 const char *cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit,
                            char *buf, size_t n);
+/* Numbers of the heterogeneity in words: a spread, relative ("12%") or
+ * absolute ("0.012", nu); a value of parameter m (LF_MAT_*) in its unit; a
+ * p-value ("p = 0.41", "p < 1e-16").  Each returns buf. */
+const char *cli_spread_text(char *buf, size_t n, double x, int relative);
+const char *cli_param_text(char *buf, size_t n, double x, int m);
+const char *cli_p_text(char *buf, size_t n, double p);
 /* How the curves of one material differ, in words, one line per call of
  * put: first whether they agree within their errors, then each
  * parameter's spread and population, then the probes (nothing for fewer

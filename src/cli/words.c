@@ -68,9 +68,8 @@ cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit, cha
  * text report, the HTML page and a batch's summary say the same.
  * --------------------------------------------------------------------- */
 
-/* "12%" of a relative value, or "0.012" of an absolute one (nu). */
-static const char *
-spread_text(char *buf, size_t n, double x, int relative)
+const char *
+cli_spread_text(char *buf, size_t n, double x, int relative)
 {
     if (!isfinite(x))
         snprintf(buf, n, "?");
@@ -81,9 +80,8 @@ spread_text(char *buf, size_t n, double x, int relative)
     return buf;
 }
 
-/* A value of parameter m in its unit. */
-static const char *
-param_text(char *buf, size_t n, double x, int m)
+const char *
+cli_param_text(char *buf, size_t n, double x, int m)
 {
     if (m == LF_MAT_NU)
         snprintf(buf, n, "%.4g", x);
@@ -92,9 +90,8 @@ param_text(char *buf, size_t n, double x, int m)
     return buf;
 }
 
-/* A p-value: "p = 0.41", "p = 3e-05", "p < 1e-16". */
-static const char *
-p_text(char *buf, size_t n, double p)
+const char *
+cli_p_text(char *buf, size_t n, double p)
 {
     if (p < 1e-16)
         snprintf(buf, n, "p < 1e-16");
@@ -119,7 +116,7 @@ cli_hetero_lines(const lf_heterogeneity *h, void (*put)(void *, const char *), v
 {
     static const char *const name[3] = { "w", "E*", "nu" };
     const lf_population_estimate *pe[3] = { &h->w, &h->Estar, &h->nu };
-    char line[700], a[48], b[48], c[48], d[48], e[48], p[48], pr[160];
+    char line[700], a[48], b[48], c[48], d[48], e[48], p[48], sd[48], pr[160];
     int m, disagree = isfinite(h->p_homogeneous) && h->p_homogeneous < 0.05;
 
     if (h->curves < 2)
@@ -132,7 +129,8 @@ cli_hetero_lines(const lf_heterogeneity *h, void (*put)(void *, const char *), v
         snprintf(line, sizeof line, "the %zu curves disagree beyond their errors (each fitted "
                  "alone: %s, I^2 = %.3g%%): %s; quote the population's mean and interval, not "
                  "the joint fit's errors below (those of one material)", h->curves,
-                 p_text(p, sizeof p, h->p_homogeneous), 100.0 * h->I2,
+                 cli_p_text(p, sizeof p, h->p_homogeneous),
+                 100.0 * h->I2,
                  h->probes_disagree ? "the probes disagree with each other (model error, below), "
                                       "and the material varies from spot to spot"
                  : h->probes >= 2 && !isfinite(h->probes_p)
@@ -142,7 +140,8 @@ cli_hetero_lines(const lf_heterogeneity *h, void (*put)(void *, const char *), v
     else
         snprintf(line, sizeof line, "the %zu curves agree within their errors (each fitted "
                  "alone: %s, I^2 = %.3g%%): the joint fit's errors below stand", h->curves,
-                 p_text(p, sizeof p, h->p_homogeneous), 100.0 * h->I2);
+                 cli_p_text(p, sizeof p, h->p_homogeneous),
+                 100.0 * h->I2);
     put(ctx, line);
     for (m = 0; m < 3; m++) {
         const lf_population_estimate *x = pe[m];
@@ -158,14 +157,14 @@ cli_hetero_lines(const lf_heterogeneity *h, void (*put)(void *, const char *), v
         }
         snprintf(line, sizeof line, "%s varies from spot to spot by %s (SD; 95%% %s to %s); the "
                  "population mean is %s (95%% interval %s to %s), from %zu curves fitted alone "
-                 "(their own SD %s)", name[m], spread_text(a, sizeof a, x->tau_rel, rel),
-                 spread_text(b, sizeof b, x->tau_rel_ci95[0], rel),
-                 spread_text(c, sizeof c, x->tau_rel_ci95[1], rel),
-                 param_text(d, sizeof d, x->population_mean, m),
-                 param_text(e, sizeof e, x->population_ci95[0], m),
-                 param_text(p, sizeof p, x->population_ci95[1], m), x->n,
-                 rel ? spread_text(a, sizeof a, x->sd / x->mean, 1)
-                     : spread_text(a, sizeof a, x->sd, 0));
+                 "(their own SD %s)", name[m], cli_spread_text(a, sizeof a, x->tau_rel, rel),
+                 cli_spread_text(b, sizeof b, x->tau_rel_ci95[0], rel),
+                 cli_spread_text(c, sizeof c, x->tau_rel_ci95[1], rel),
+                 cli_param_text(d, sizeof d, x->population_mean, m),
+                 cli_param_text(e, sizeof e, x->population_ci95[0], m),
+                 cli_param_text(p, sizeof p, x->population_ci95[1], m), x->n,
+                 rel ? cli_spread_text(sd, sizeof sd, x->sd / x->mean, 1)
+                     : cli_spread_text(sd, sizeof sd, x->sd, 0));
         put(ctx, line);
     }
     if (h->probes_disagree) {
@@ -175,14 +174,14 @@ cli_hetero_lines(const lf_heterogeneity *h, void (*put)(void *, const char *), v
                  "which is model error (the model describes the probes differently), not "
                  "spot-to-spot variation", probe_text(pr, sizeof pr, &h->probe_departs),
                  q >= 0 ? name[q] : "?",
-                 q == LF_MAT_NU ? spread_text(c, sizeof c, fabs(h->probe_diff), 0)
-                                : spread_text(c, sizeof c, fabs(h->probe_diff), 1),
+                 q == LF_MAT_NU ? cli_spread_text(c, sizeof c, fabs(h->probe_diff), 0)
+                                : cli_spread_text(c, sizeof c, fabs(h->probe_diff), 1),
                  h->probe_diff > 0 ? "above" : "below", fabs(h->probe_z),
-                 p_text(p, sizeof p, h->probes_p));
+                 cli_p_text(p, sizeof p, h->probes_p));
         put(ctx, line);
     } else if (h->probes >= 2 && isfinite(h->probes_p)) {
         snprintf(line, sizeof line, "the %zu probes agree within the spot-to-spot spread (%s)",
-                 h->probes_tested, p_text(p, sizeof p, h->probes_p));
+                 h->probes_tested, cli_p_text(p, sizeof p, h->probes_p));
         put(ctx, line);
     } else if (h->probes >= 2) {
         snprintf(line, sizeof line, "%zu probes with one curve or none each determining the "
