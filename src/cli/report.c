@@ -134,142 +134,6 @@ origin_text(FILE *f, const lf_curve_origin *o, int nolayer)
     fputc('\n', f);
 }
 
-/* Some curve of the fit depends on nu: a bonded layer under a model that
- * has one (the half-space ignores the interface). */
-static int
-uses_nu(const lf_fit_result *r)
-{
-    size_t j;
-    for (j = 0; j < r->ncurves; j++)
-        if (r->curves[j].probe.base == LF_BASE_BONDED
-            && !cli_model_ignores_b(r->curves[j].model))
-            return 1;
-    return 0;
-}
-
-static void
-assume(report_assumption *out, size_t max, size_t *n, const char *name, double value,
-       const char *unit, size_t first, size_t last, const char *source)
-{
-    if (*n >= max)
-        return;
-    out[*n].name = name;
-    out[*n].value = value;
-    out[*n].unit = unit;
-    out[*n].first = first;
-    out[*n].last = last;
-    snprintf(out[*n].source, sizeof out[*n].source, "%s", source);
-    (*n)++;
-}
-
-/* Runs of curves whose value of one kind (held z0 or F0, R from a file
- * header) is the same, each one assumption; every curve in one run with
- * `all` set: one assumption for every curve (first = last = 0). */
-static void
-assume_runs(const report_input *in, const lf_fit_result *r, int kind, report_assumption *out,
-            size_t max, size_t *n)
-{
-    static const char *const name[3] = { "z0", "F0", "R" };
-    static const char *const unit[3] = { "m", "N", "m" };
-    size_t j = 0, nc = r->ncurves;
-
-    while (j < nc) {
-        double v;
-        const char *src, *fmt = NULL;
-        char buf[96];
-        size_t k;
-        if (kind == 2) {
-            if (in->origin == NULL || in->origin[j].R == NULL
-                || strcmp(in->origin[j].R, "file header") != 0) {
-                j++;
-                continue;
-            }
-            v = r->curves[j].probe.R;
-            fmt = in->format != NULL ? in->format[j] : NULL;
-        } else {
-            v = kind == 0 ? in->curves[j].z0 : in->curves[j].F0;
-            if (isnan(v)) {
-                j++;
-                continue;
-            }
-        }
-        for (k = j + 1; k < nc; k++) {
-            double u = kind == 2 ? (in->origin[k].R != NULL
-                                    && strcmp(in->origin[k].R, "file header") == 0
-                                    && (fmt == NULL || (in->format != NULL && in->format[k] != NULL
-                                                        && strcmp(in->format[k], fmt) == 0))
-                                    ? r->curves[k].probe.R : NAN)
-                       : kind == 0 ? in->curves[k].z0 : in->curves[k].F0;
-            if (!(u == v))
-                break;
-        }
-        if (kind == 2) {
-            snprintf(buf, sizeof buf, "the file header%s%s%s", k - j > 1 ? "s" : "",
-                     fmt != NULL ? ", " : "", fmt != NULL ? fmt : "");
-            if (fmt != NULL)
-                snprintf(buf + strlen(buf), sizeof buf - strlen(buf), " export%s",
-                         k - j > 1 ? "s" : "");
-            src = buf;
-        } else {
-            const char *opt = kind == 0 ? in->z0_source : in->F0_source;
-            src = opt != NULL ? opt : "the plan";
-        }
-        if (j == 0 && k == nc && (kind == 2 || (kind == 0 ? in->z0_source : in->F0_source)))
-            assume(out, max, n, name[kind], v, unit[kind], 0, 0, src);
-        else
-            assume(out, max, n, name[kind], v, unit[kind], j + 1, k, src);
-        j = k;
-    }
-}
-
-size_t
-report_assumptions(const report_input *in, const lf_fit_result *r, report_assumption *out,
-                   size_t max)
-{
-    const lf_fit_settings *s = in->settings;
-    size_t n = 0;
-    int k;
-
-    if (s != NULL) {
-        if (s->w.mode == LF_PARAM_FIXED)
-            assume(out, max, &n, "w", s->w.value, "J/m^2", 0, 0, "held as given");
-        if (s->Estar.mode == LF_PARAM_FIXED)
-            assume(out, max, &n, "E*", s->Estar.value, "Pa", 0, 0, "held as given");
-        if (s->nu.mode == LF_PARAM_FIXED) {
-            char src[96];
-            snprintf(src, sizeof src, "%s%s", in->nu_source ? in->nu_source : "held as given",
-                     uses_nu(r) ? "" : "; no curve here depends on nu");
-            assume(out, max, &n, "nu", s->nu.value, "", 0, 0, src);
-        }
-    }
-    if (in->curves != NULL)
-        for (k = 0; k < 2; k++)
-            assume_runs(in, r, k, out, max, &n);
-    assume_runs(in, r, 2, out, max, &n);
-    return n;
-}
-
-const char *
-report_assumption_text(char *buf, size_t n, const report_assumption *a, const lf_fit_result *r)
-{
-    char v[48], who[48];
-
-    if (a->unit[0] != '\0')
-        cli_human(v, sizeof v, a->value, a->unit);
-    else
-        snprintf(v, sizeof v, "%.4g", a->value);
-    if (a->first == 0)
-        snprintf(who, sizeof who, "%s", r->ncurves > 1 ? ", every curve" : "");
-    else if (a->first == a->last)
-        snprintf(who, sizeof who, ", curve %zu", a->first);
-    else
-        snprintf(who, sizeof who, ", curves %zu-%zu", a->first, a->last);
-    if (strcmp(a->name, "w") == 0 || strcmp(a->name, "E*") == 0 || strcmp(a->name, "nu") == 0)
-        who[0] = '\0';
-    snprintf(buf, n, "%s = %s%s (%s)", a->name, v, who, a->source);
-    return buf;
-}
-
 static void
 put_indented(void *ctx, const char *line)
 {
@@ -280,15 +144,14 @@ put_indented(void *ctx, const char *line)
 static void
 text_top(FILE *f, const report_input *in, const lf_fit_result *r)
 {
-    report_assumption as[16];
-    size_t i, na = report_assumptions(in, r, as, sizeof as / sizeof as[0]), shown = 0;
+    size_t i, shown = 0;
     char buf[200];
 
-    for (i = 0; i < na; i++) {
-        if (strcmp(as[i].name, "R") == 0)
+    for (i = 0; i < in->nassumed; i++) {
+        if (strcmp(in->assumed[i].name, "R") == 0)
             continue;       /* said above, per file */
         fprintf(f, "%s%s", shown++ ? "\n  " : "\nassumed, not fitted:\n  ",
-                report_assumption_text(buf, sizeof buf, &as[i], r));
+                lf_assumption_text(buf, sizeof buf, &in->assumed[i], r->ncurves));
     }
     if (shown)
         fputc('\n', f);
@@ -427,10 +290,10 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
     }
 }
 
-/* ---- JSON --------------------------------------------------------------- */
+/* ---- JSON: the library's writer ----------------------------------------- */
 
-static void
-jnum(FILE *f, double x)
+void
+report_json_number(FILE *f, double x)
 {
     if (isfinite(x))
         cli_print_double(f, x);
@@ -438,339 +301,32 @@ jnum(FILE *f, double x)
         fputs("null", f);
 }
 
-/* A JSON string, or null for NULL. */
-static void
-jstr_or_null(FILE *f, const char *s)
-{
-    if (s == NULL)
-        fputs("null", f);
-    else
-        cli_json_string(f, s);
-}
-
-/* A JSON array of n numbers. */
-static void
-jnums(FILE *f, const double *x, size_t n)
-{
-    size_t i;
-    fputc('[', f);
-    for (i = 0; i < n; i++) {
-        fputs(i ? ", " : "", f);
-        jnum(f, x[i]);
-    }
-    fputc(']', f);
-}
-
-/* Valid UTF-8 whatever the bytes (output.c). */
-static void
-jstr(FILE *f, const char *s)
+void
+report_json_string(FILE *f, const char *s)
 {
     cli_json_string(f, s);
 }
 
 void
-report_json_number(FILE *f, double x)
-{
-    jnum(f, x);
-}
-
-void
-report_json_string(FILE *f, const char *s)
-{
-    jstr(f, s);
-}
-
-static void
-jwarnings(FILE *f, const lf_warnings *w)
-{
-    size_t i;
-    fputc('[', f);
-    for (i = 0; i < w->n; i++) {
-        if (i)
-            fputs(", ", f);
-        jstr(f, w->msg[i]);
-    }
-    fputc(']', f);
-}
-
-static void
-jestimate(FILE *f, const char *name, const lf_fit_estimate *e, int last)
-{
-    fprintf(f, "    \"%s\": {\"value\": ", name);
-    jnum(f, e->value);
-    fputs(", \"stderr\": ", f);
-    jnum(f, e->se);
-    fputs(", \"ci95\": [", f);
-    jnum(f, e->ci95[0]);
-    fputs(", ", f);
-    jnum(f, e->ci95[1]);
-    fputs("], \"ci95_method\": ", f);
-    jstr_or_null(f, cli_interval_method(e));
-    fprintf(f, ", \"free\": %s, \"determined\": %s, \"upper_bound_only\": %s",
-            e->free ? "true" : "false", e->determined ? "true" : "false",
-            e->upper_bound_only ? "true" : "false");
-    if (e->why != NULL) {
-        fputs(", \"why_not_determined\": ", f);
-        jstr(f, e->why);
-    }
-    fprintf(f, "}%s\n", last ? "" : ",");
-}
-
-/* [lo, hi] */
-static void
-jpair(FILE *f, const double x[2])
-{
-    fputc('[', f);
-    jnum(f, x[0]);
-    fputs(", ", f);
-    jnum(f, x[1]);
-    fputc(']', f);
-}
-
-static void
-jpopulation(FILE *f, const char *key, const lf_population_estimate *e, const char *indent,
-            int last)
-{
-    const struct { const char *key; double v; } num[] = {
-        { "mean", e->mean }, { "sd", e->sd }, { "median", e->median }, { "q1", e->q1 },
-        { "q3", e->q3 }, { "Q", e->Q }, { "p_homogeneous", e->p_homogeneous }, { "I2", e->I2 },
-        { "tau", e->tau }, { "tau_rel", e->tau_rel }, { "population_mean", e->population_mean },
-    };
-    size_t i;
-
-    fprintf(f, "%s    \"%s\": {\"n\": %zu", indent, key, e->n);
-    for (i = 0; i < sizeof num / sizeof num[0]; i++) {
-        fprintf(f, ", \"%s\": ", num[i].key);
-        jnum(f, num[i].v);
-    }
-    fputs(", \"tau_ci95\": ", f);
-    jpair(f, e->tau_ci95);
-    fputs(", \"tau_rel_ci95\": ", f);
-    jpair(f, e->tau_rel_ci95);
-    fputs(", \"population_ci95\": ", f);
-    jpair(f, e->population_ci95);
-    fputs(", \"why_not_determined\": ", f);
-    jstr_or_null(f, e->why);
-    fprintf(f, "}%s\n", last ? "" : ",");
-}
-
-void
-report_json_heterogeneity(FILE *f, const lf_heterogeneity *h, const char *indent)
-{
-    static const char *const pname[3] = { "w", "Estar", "nu" };
-
-    fprintf(f, "{\"curves\": %zu, \"p_homogeneous\": ", h->curves);
-    jnum(f, h->p_homogeneous);
-    fputs(", \"I2\": ", f);
-    jnum(f, h->I2);
-    fputs(", \"Q\": ", f);
-    jnum(f, h->Q);
-    fputs(", \"df\": ", f);
-    jnum(f, h->df);
-    fprintf(f, ",\n%s  \"parameters\": {\n", indent);
-    jpopulation(f, "w", &h->w, indent, 0);
-    jpopulation(f, "Estar", &h->Estar, indent, 0);
-    jpopulation(f, "nu", &h->nu, indent, 1);
-    fprintf(f, "%s  },\n%s  \"probes\": {\"count\": %zu, \"tested\": %zu, \"p\": ", indent, indent,
-            h->probes, h->probes_tested);
-    jnum(f, h->probes_p);
-    fprintf(f, ", \"disagree\": %s, \"departs\": ", h->probes_disagree ? "true" : "false");
-    if (h->probes_disagree) {
-        fputs("{\"k\": ", f);
-        jnum(f, h->probe_departs.k);
-        fputs(", \"R\": ", f);
-        jnum(f, h->probe_departs.R);
-        fputs(", \"b\": ", f);
-        jnum(f, h->probe_departs.b);
-        fputs(", \"interface\": ", f);
-        jstr(f, cli_base_name(h->probe_departs.base));
-        fputs(", \"parameter\": ", f);
-        jstr(f, h->probe_param >= 0 ? pname[h->probe_param] : "");
-        fputs(", \"difference\": ", f);
-        jnum(f, h->probe_diff);
-        fputs(", \"z\": ", f);
-        jnum(f, h->probe_z);
-        fputc('}', f);
-    } else {
-        fputs("null", f);
-    }
-    fprintf(f, "}\n%s}", indent);
-}
-
-/* "assumed": what the fit held or read rather than fitted. */
-static void
-jassumed(FILE *f, const report_input *in, const lf_fit_result *r)
-{
-    report_assumption as[16];
-    size_t i, n = report_assumptions(in, r, as, sizeof as / sizeof as[0]);
-
-    fputs("  \"assumed\": [", f);
-    for (i = 0; i < n; i++) {
-        fprintf(f, "%s\n    {\"parameter\": ", i ? "," : "");
-        jstr(f, as[i].name);
-        fputs(", \"value\": ", f);
-        jnum(f, as[i].value);
-        fputs(", \"unit\": ", f);
-        jstr(f, as[i].unit[0] ? as[i].unit : "");
-        if (as[i].first == 0)
-            fputs(", \"curves\": null", f);
-        else
-            fprintf(f, ", \"curves\": [%zu, %zu]", as[i].first, as[i].last);
-        fputs(", \"source\": ", f);
-        jstr(f, as[i].source);
-        fputc('}', f);
-    }
-    fprintf(f, "%s],\n", n ? "\n  " : "");
-}
-
-void
 report_json(FILE *f, const report_input *in, const lf_fit_result *r)
 {
-    size_t i, j;
+    lf_provenance prov;
+    lf_report_info info;
+    lf_error err;
+    char *json;
 
-    fputs("{\n", f);
-    jassumed(f, in, r);
-    fputs("  \"heterogeneity\": ", f);
-    report_json_heterogeneity(f, &r->heterogeneity, "  ");
-    fputs(",\n  \"parameters\": {\n", f);
-    jestimate(f, "w", &r->w, 0);
-    jestimate(f, "Estar", &r->Estar, 0);
-    jestimate(f, "nu", &r->nu, 0);
-    jestimate(f, "M", &r->M, 1);
-    fputs("  },\n  \"fit\": {\"chi2\": ", f);
-    jnum(f, r->chi2);
-    fprintf(f, ", \"dof\": %zu, \"se_scale\": ", r->dof);
-    jnum(f, r->se_scale);
-    fprintf(f, ", \"iterations\": %zu, \"evaluations\": %zu, \"converged\": %s, \"stop\": ",
-            r->iterations, r->evaluations, r->converged ? "true" : "false");
-    jstr(f, lf_fit_stop_name(r->stop));
-    fputs(", \"stop_reason\": ", f);
-    jstr(f, r->stop_reason);
-    fputs(", \"method\": ", f);
-    jstr(f, r->method);
-    fputs(", \"loss\": ", f);
-    jstr(f, r->loss);
-    fputs(", \"model\": ", f);
-    jstr(f, r->model);
-    fputs(", \"model_request\": ", f);
-    jstr(f, in->model_request ? in->model_request : r->model);
-    fprintf(f, ", \"model_rounds\": %zu, \"model_tol\": ", r->model_rounds);
-    jnum(f, in->model_tol);
-    fputs("},\n  \"thin_comparison\": ", f);
-    if (r->thin.done) {
-        fputs("{\n", f);
-        jestimate(f, "w", &r->thin.w, 0);
-        jestimate(f, "Estar", &r->thin.Estar, 0);
-        jestimate(f, "nu", &r->thin.nu, 0);
-        fputs("    \"w_rel_diff\": ", f);
-        jnum(f, r->thin.w_rel);
-        fputs(", \"Estar_rel_diff\": ", f);
-        jnum(f, r->thin.Estar_rel);
-        fputs(", \"nu_diff\": ", f);
-        jnum(f, r->thin.nu_diff);
-        fputs(", \"w_diff_in_se\": ", f);
-        jnum(f, r->thin.w_in_se);
-        fputs(", \"chi2\": ", f);
-        jnum(f, r->thin.chi2);
-        fprintf(f, ", \"converged\": %s\n  }", r->thin.converged ? "true" : "false");
-    } else {
-        fputs("null", f);
-    }
-    fputs(",\n  \"free_parameters\": [", f);
-    for (i = 0; i < r->npar; i++) {
-        fputs(i ? ", " : "", f);
-        jstr(f, r->names[i]);
-    }
-    fputs("],\n  \"values\": ", f);
-    jnums(f, r->value, r->npar);
-    fputs(",\n  \"covariance\": [", f);
-    for (i = 0; i < r->npar; i++) {
-        fputs(i ? ",\n    " : "\n    ", f);
-        jnums(f, r->cov + i * r->npar, r->npar);
-    }
-    fputs("],\n  \"singular_values\": ", f);
-    jnums(f, r->singular, r->npar);
-    fputs(",\n  \"curves\": [\n", f);
-    for (j = 0; j < r->ncurves; j++) {
-        const lf_fit_curve_result *c = &r->curves[j];
-        int nolayer = no_layer(in, r, j);
-        int po = c->pulloff_determined;
-        fputs("    {", f);
-        cli_json_name(f, "file", c->name);
-        const struct { const char *key; double v; } num[] = {
-            { "k", c->probe.k }, { "R", c->probe.R },
-            { "b", nolayer ? NAN : c->probe.b },
-            { "z0", c->z0 }, { "z0_stderr", c->z0_se }, { "F0", c->F0 },
-            { "F0_stderr", c->F0_se }, { "noise_sigma", c->sigma },
-            { "quantum_N", c->quantum > 0 ? c->quantum : NAN }, { "rms", c->rms },
-            { "P_po", po ? c->pulloff.P_po : NAN }, { "a_po", po ? c->pulloff.a_po : NAN },
-            { "sigma_po", po ? c->pulloff.sigma_po : NAN },
-            { "b_over_a_min_contact", nolayer ? NAN : c->b_over_a_min_contact },
-            { "b_over_a_pulloff", nolayer || !po ? NAN : c->b_over_a_pulloff },
-            { "chi2_per_point", c->chi2_per_point }, { "p_value", c->p_value },
-            { "runs_z", c->runs_z }, { "corr_time", c->corr_time }, { "n_eff", c->n_eff },
-            { "noise_sd", c->noise_sd }, { "misfit_rel", c->misfit_rel }, { "shape", c->shape }
-        };
-        for (i = 0; i < sizeof num / sizeof num[0]; i++) {
-            fprintf(f, ", \"%s\": ", num[i].key);
-            jnum(f, num[i].v);
-        }
-        fputs(",\n     \"interface\": ", f);
-        jstr_or_null(f, nolayer ? NULL : cli_base_name(c->probe.base));
-        fprintf(f, ", \"branch\": \"%s\", \"points\": %zu, "
-                "\"z0_free\": %s, \"F0_free\": %s, \"consistent\": %s, \"downweighted\": %zu",
-                branch_name(c->branch), c->n,
-                c->z0_free ? "true" : "false", c->F0_free ? "true" : "false",
-                c->consistent ? "true" : "false", c->downweighted);
-        fprintf(f, ", \"agreement\": \"%s\"", c->agreement == 2 ? "within the noise"
-                : c->agreement == 1 ? "systematic deviations" : "disagrees");
-        fputs(",\n     \"model\": ", f);
-        jstr(f, c->model);
-        fputs(", \"model_reason\": ", f);
-        jstr(f, c->model_reason);
-        fputs(", \"thin_bias_in_se\": ", f);
-        jnum(f, c->thin_bias);
-        if (in->origin != NULL) {   /* where R, b and the AFM constants came from */
-            const lf_curve_origin *o = &in->origin[j];
-            const struct { const char *key, *s; int num; double v; } src[] = {
-                { "R_source", o->R, 0, 0 }, { "b_source", nolayer ? NULL : o->b, 0, 0 },
-                { "spring_constant", NULL, 1, o->spring_constant },
-                { "spring_constant_source", o->spring_constant_source, 0, 0 },
-                { "sensitivity", NULL, 1, o->sensitivity },
-                { "sensitivity_unit", o->sensitivity_source ? o->sensitivity_unit : NULL, 0, 0 },
-                { "sensitivity_source", o->sensitivity_source, 0, 0 },
-            };
-            for (i = 0; i < sizeof src / sizeof src[0]; i++) {
-                fprintf(f, "%s\"%s\": ", i == 0 ? ",\n     " : ", ", src[i].key);
-                if (src[i].num)
-                    jnum(f, src[i].v);
-                else
-                    jstr_or_null(f, src[i].s);
-            }
-        }
-        fputs(",\n     \"alone\": {\"w\": ", f);
-        jnum(f, c->alone.value[LF_MAT_W]);
-        fputs(", \"w_stderr\": ", f);
-        jnum(f, c->alone.se[LF_MAT_W]);
-        fputs(", \"Estar\": ", f);
-        jnum(f, c->alone.value[LF_MAT_E]);
-        fputs(", \"Estar_stderr\": ", f);
-        jnum(f, c->alone.se[LF_MAT_E]);
-        fputs(", \"nu\": ", f);
-        jnum(f, c->alone.value[LF_MAT_NU]);
-        fputs(", \"nu_stderr\": ", f);
-        jnum(f, c->alone.se[LF_MAT_NU]);
-        fputs("}, \"warnings\": ", f);
-        jwarnings(f, &c->warnings);
-        fprintf(f, "}%s\n", j + 1 < r->ncurves ? "," : "");
-    }
-    fputs("  ],\n  \"identifiability\": ", f);
-    jwarnings(f, &r->identifiability);
-    fputs(",\n  \"warnings\": ", f);
-    jwarnings(f, &r->warnings);
-    fputs(",\n  \"provenance\": ", f);
-    cli_provenance_json(f, "  ", in->command_line);
-    fputs("\n}\n", f);
+    cli_provenance_of(in->command_line, &prov);
+    info.model_request = in->model_request;
+    info.model_tol = in->model_tol;
+    info.origin = in->origin;
+    info.provenance = &prov;
+    info.assumed = in->assumed;
+    info.nassumed = in->nassumed;
+    if (lf_fit_result_json(r, &info, &json, &err) != LF_OK)
+        cli_die(CLI_EXIT_FAIL, "fit: %s", err.msg);
+    fputs(json, f);
+    lf_free(json);
+    cli_provenance_free(&prov);
 }
 
 void

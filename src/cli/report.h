@@ -16,36 +16,9 @@ typedef struct {
     const lf_curve_origin *origin; /* where each curve's probe R, b and AFM
                                       constants came from, or NULL */
     const char *command_line;      /* as main() passed it, for provenance */
-    const char *const *format;     /* each curve's reader ("chiaro", ...), or NULL */
-    const char *nu_source;         /* where a held nu came from ("--nu", "the
-                                      plan's nu column"), or NULL */
-    const char *z0_source, *F0_source; /* "--fix-z0" / "--fix-F0" when an
-                                      option holds every curve's, else NULL
-                                      (a held one is then the plan's) */
+    const lf_assumption *assumed;  /* what the fit assumed (lf_fit_assumptions) */
+    size_t nassumed;
 } report_input;
-
-/* A value the fit assumed rather than fitted (held, or a probe radius
- * read from a file's header): parameter, its value in SI and unit, the
- * curves it concerns (first..last, 1-based; 0, 0: every curve) and where
- * it came from. */
-typedef struct {
-    const char *name;
-    double value;
-    const char *unit;
-    size_t first, last;
-    char source[96];
-} report_assumption;
-
-/* The assumptions of a fit into out[0..max-1]; returns how many. */
-size_t report_assumptions(const report_input *in, const lf_fit_result *r,
-                          report_assumption *out, size_t max);
-/* One assumption in words: "nu = 0.45 (--nu)", "R = 8 µm, curves 1-11
- * (file headers, chiaro exports)". */
-const char *report_assumption_text(char *buf, size_t n, const report_assumption *a,
-                                   const lf_fit_result *r);
-/* The heterogeneity of a fit as a JSON object (the fit's JSON, a batch's
- * summary); indent is the current indentation. */
-void report_json_heterogeneity(FILE *f, const lf_heterogeneity *h, const char *indent);
 
 /* People: values with units (cli_human), errors, intervals, correlations,
  * per-probe predictions, warnings in words. */

@@ -1,14 +1,16 @@
-/* cli/words.c: the command's words for a fit's intervals and bounds, one
- * module that the text report, the JSON (report.c), the HTML page (html.c)
- * and the batch table (batch.c) call, so that they say the same. */
+/* words.c: the words for a fit's intervals and bounds, one module that the
+ * command's text report, the JSON (report_json.c), the HTML tables
+ * (report_html.c) and the batch rows (batch.c) call, so that they say the
+ * same; what a report calls a curve that disagrees; and how the curves of
+ * one material differ (lf_heterogeneity). */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-#include "cli.h"
+#include "internal.h"
 
 const char *
-cli_interval_method(const lf_fit_estimate *e)
+lf_interval_method(const lf_fit_estimate *e)
 {
     if (!e->free)
         return NULL;
@@ -18,7 +20,7 @@ cli_interval_method(const lf_fit_estimate *e)
 }
 
 const char *
-cli_interval_words(const lf_fit_estimate *e, int brief)
+lf_interval_words(const lf_fit_estimate *e, int brief)
 {
     const char *m = e->interval_method;
 
@@ -39,7 +41,7 @@ cli_interval_words(const lf_fit_estimate *e, int brief)
 }
 
 const char *
-cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit, char *buf,
+lf_bound_text(const lf_fit_estimate *e, const char *name, const char *unit, char *buf,
                size_t n)
 {
     char v[48];
@@ -51,7 +53,7 @@ cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit, cha
         || strcmp(m, "profile likelihood") != 0 || (below && above))
         return NULL;
     if (unit[0] != '\0')
-        cli_human(v, sizeof v, bound, unit);
+        lf_human(v, sizeof v, bound, unit);
     else
         snprintf(v, sizeof v, "%.4g", bound);
     if (below)
@@ -63,13 +65,40 @@ cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit, cha
     return buf;
 }
 
+int
+lf_curve_disagrees(const lf_fit_curve_result *cr)
+{
+    return !cr->consistent && cr->agreement != 1;
+}
+
+size_t
+lf_disagreeing(const lf_fit_result *r, char *buf, size_t n)
+{
+    size_t j, count = 0, len = 0;
+
+    if (n > 0)
+        buf[0] = '\0';
+    if (!r->converged)
+        return 0;
+    for (j = 0; j < r->ncurves; j++) {
+        int w;
+        if (!lf_curve_disagrees(&r->curves[j]))
+            continue;
+        w = snprintf(buf + len, n - len, "%s%zu", count ? ", " : "", j + 1);
+        if (w > 0 && (size_t) w < n - len)
+            len += (size_t) w;
+        count++;
+    }
+    return count;
+}
+
 /* ------------------------------------------------------------------------
  * How the curves of one material differ (lf_heterogeneity), in words: the
  * text report, the HTML page and a batch's summary say the same.
  * --------------------------------------------------------------------- */
 
 const char *
-cli_spread_text(char *buf, size_t n, double x, int relative)
+lf_spread_text(char *buf, size_t n, double x, int relative)
 {
     if (!isfinite(x))
         snprintf(buf, n, "?");
@@ -81,17 +110,17 @@ cli_spread_text(char *buf, size_t n, double x, int relative)
 }
 
 const char *
-cli_param_text(char *buf, size_t n, double x, int m)
+lf_param_text(char *buf, size_t n, double x, int m)
 {
     if (m == LF_MAT_NU)
         snprintf(buf, n, "%.4g", x);
     else
-        cli_human(buf, n, x, m == LF_MAT_W ? "J/m^2" : "Pa");
+        lf_human(buf, n, x, m == LF_MAT_W ? "J/m^2" : "Pa");
     return buf;
 }
 
 const char *
-cli_p_text(char *buf, size_t n, double p)
+lf_p_text(char *buf, size_t n, double p)
 {
     if (p < 1e-16)
         snprintf(buf, n, "p < 1e-16");
@@ -106,13 +135,13 @@ probe_text(char *buf, size_t n, const lf_probe *p)
 {
     char r[48], b[48];
     snprintf(buf, n, "the k = %g, R = %s probe (%s, b = %s)", p->k,
-             cli_human(r, sizeof r, p->R, "m"), cli_base_name(p->base),
-             cli_human(b, sizeof b, p->b, "m"));
+             lf_human(r, sizeof r, p->R, "m"), p->base == LF_BASE_BONDED ? "bonded" : "frictionless",
+             lf_human(b, sizeof b, p->b, "m"));
     return buf;
 }
 
 void
-cli_hetero_lines(const lf_heterogeneity *h, void (*put)(void *, const char *), void *ctx)
+lf_hetero_lines(const lf_heterogeneity *h, void (*put)(void *, const char *), void *ctx)
 {
     static const char *const name[3] = { "w", "E*", "nu" };
     const lf_population_estimate *pe[3] = { &h->w, &h->Estar, &h->nu };
@@ -129,7 +158,7 @@ cli_hetero_lines(const lf_heterogeneity *h, void (*put)(void *, const char *), v
         snprintf(line, sizeof line, "the %zu curves disagree beyond their errors (each fitted "
                  "alone: %s, I^2 = %.3g%%): %s; quote the population's mean and interval, not "
                  "the joint fit's errors below (those of one material)", h->curves,
-                 cli_p_text(p, sizeof p, h->p_homogeneous),
+                 lf_p_text(p, sizeof p, h->p_homogeneous),
                  100.0 * h->I2,
                  h->probes_disagree ? "the probes disagree with each other (model error, below), "
                                       "and the material varies from spot to spot"
@@ -140,7 +169,7 @@ cli_hetero_lines(const lf_heterogeneity *h, void (*put)(void *, const char *), v
     else
         snprintf(line, sizeof line, "the %zu curves agree within their errors (each fitted "
                  "alone: %s, I^2 = %.3g%%): the joint fit's errors below stand", h->curves,
-                 cli_p_text(p, sizeof p, h->p_homogeneous),
+                 lf_p_text(p, sizeof p, h->p_homogeneous),
                  100.0 * h->I2);
     put(ctx, line);
     for (m = 0; m < 3; m++) {
@@ -157,14 +186,14 @@ cli_hetero_lines(const lf_heterogeneity *h, void (*put)(void *, const char *), v
         }
         snprintf(line, sizeof line, "%s varies from spot to spot by %s (SD; 95%% %s to %s); the "
                  "population mean is %s (95%% interval %s to %s), from %zu curves fitted alone "
-                 "(their own SD %s)", name[m], cli_spread_text(a, sizeof a, x->tau_rel, rel),
-                 cli_spread_text(b, sizeof b, x->tau_rel_ci95[0], rel),
-                 cli_spread_text(c, sizeof c, x->tau_rel_ci95[1], rel),
-                 cli_param_text(d, sizeof d, x->population_mean, m),
-                 cli_param_text(e, sizeof e, x->population_ci95[0], m),
-                 cli_param_text(p, sizeof p, x->population_ci95[1], m), x->n,
-                 rel ? cli_spread_text(sd, sizeof sd, x->sd / x->mean, 1)
-                     : cli_spread_text(sd, sizeof sd, x->sd, 0));
+                 "(their own SD %s)", name[m], lf_spread_text(a, sizeof a, x->tau_rel, rel),
+                 lf_spread_text(b, sizeof b, x->tau_rel_ci95[0], rel),
+                 lf_spread_text(c, sizeof c, x->tau_rel_ci95[1], rel),
+                 lf_param_text(d, sizeof d, x->population_mean, m),
+                 lf_param_text(e, sizeof e, x->population_ci95[0], m),
+                 lf_param_text(p, sizeof p, x->population_ci95[1], m), x->n,
+                 rel ? lf_spread_text(sd, sizeof sd, x->sd / x->mean, 1)
+                     : lf_spread_text(sd, sizeof sd, x->sd, 0));
         put(ctx, line);
     }
     if (h->probes_disagree) {
@@ -174,14 +203,14 @@ cli_hetero_lines(const lf_heterogeneity *h, void (*put)(void *, const char *), v
                  "which is model error (the model describes the probes differently), not "
                  "spot-to-spot variation", probe_text(pr, sizeof pr, &h->probe_departs),
                  q >= 0 ? name[q] : "?",
-                 q == LF_MAT_NU ? cli_spread_text(c, sizeof c, fabs(h->probe_diff), 0)
-                                : cli_spread_text(c, sizeof c, fabs(h->probe_diff), 1),
+                 q == LF_MAT_NU ? lf_spread_text(c, sizeof c, fabs(h->probe_diff), 0)
+                                : lf_spread_text(c, sizeof c, fabs(h->probe_diff), 1),
                  h->probe_diff > 0 ? "above" : "below", fabs(h->probe_z),
-                 cli_p_text(p, sizeof p, h->probes_p));
+                 lf_p_text(p, sizeof p, h->probes_p));
         put(ctx, line);
     } else if (h->probes >= 2 && isfinite(h->probes_p)) {
         snprintf(line, sizeof line, "the %zu probes agree within the spot-to-spot spread (%s)",
-                 h->probes_tested, cli_p_text(p, sizeof p, h->probes_p));
+                 h->probes_tested, lf_p_text(p, sizeof p, h->probes_p));
         put(ctx, line);
     } else if (h->probes >= 2) {
         snprintf(line, sizeof line, "%zu probes with one curve or none each determining the "
