@@ -25,24 +25,15 @@
 
 #include "internal.h"
 
-/* Text as a CSV cell (quoted when it holds a comma, quote or line break) or
- * as a JSON string. */
+/* Text as a CSV cell (lf_csv_cell: quoted where needed, a formula made
+ * text unless raw) or as a JSON string. */
 static void
-sb_text(lf_str *b, const char *s, int json)
+sb_text(lf_str *b, const char *s, int json, int raw)
 {
-    const char *p;
-    if (json) {
+    if (json)
         lf_str_json(b, s);   /* valid UTF-8 whatever the bytes */
-        return;
-    }
-    if (strpbrk(s, ",\"\r\n") == NULL) {
-        lf_str_printf(b, "%s", s);
-        return;
-    }
-    lf_str_printf(b, "\"");
-    for (p = s; *p; p++)
-        lf_str_printf(b, *p == '"' ? "\"\"" : "%c", *p);
-    lf_str_printf(b, "\"");
+    else
+        lf_csv_cell(s, raw, lf_str_put_cb, b);
 }
 
 /* ------------------------------------------------------------------------
@@ -186,6 +177,7 @@ units_free(unit_list *u)
 typedef struct {
     const lf_fit_request *req;
     int json;
+    int csv_raw;           /* CSV text cells as they are (no ' before =) */
     int keep;              /* rows keep their fit's result and input */
 } batch_config;
 
@@ -331,25 +323,25 @@ put_row(lf_str *b, const batch_config *cfg, size_t fit_no, const char *sample,
         lf_str_printf(b, "{\"fit\": %zu, \"sample\": ", fit_no);
     else
         lf_str_printf(b, "%zu,", fit_no);
-    sb_text(b, sample, json);
+    sb_text(b, sample, json, cfg->csv_raw);
     lf_str_printf(b, json ? ", \"file\": " : ",");
-    sb_text(b, files, json);
+    sb_text(b, files, json, cfg->csv_raw);
     lf_str_printf(b, json ? ", \"curves\": %zu, \"status\": " : ",%zu,", ncurves);
-    sb_text(b, status, json);
+    sb_text(b, status, json, cfg->csv_raw);
     lf_str_printf(b, json ? ", \"model\": " : ",");
-    sb_text(b, model, json);
+    sb_text(b, model, json, cfg->csv_raw);
     for (i = 0; i < nnum; i++) {
         lf_str_printf(b, json ? ", \"%s\": " : ",", num[i].key);
         lf_str_number(b, num[i].value, json ? "null" : "");
     }
     for (i = 0; i < NTEXT; i++) {
         lf_str_printf(b, json ? ", \"%s\": " : ",", text_keys[i]);
-        sb_text(b, text[i], json);
+        sb_text(b, text[i], json, cfg->csv_raw);
     }
     lf_str_printf(b, json ? ", \"identifiability\": " : ",");
-    sb_text(b, ident, json);
+    sb_text(b, ident, json, cfg->csv_raw);
     lf_str_printf(b, json ? ", \"message\": " : ",");
-    sb_text(b, msg, json);
+    sb_text(b, msg, json, cfg->csv_raw);
     for (i = 0; i < 2; i++) {   /* the curve's place on a map's grid */
         lf_str_printf(b, json ? ", \"%s\": " : ",", i ? "grid_j" : "grid_i");
         lf_str_number(b, grid[i], json ? "null" : "");
@@ -554,6 +546,7 @@ lf_batch_settings_default(void)
     s.shard_index = s.shard_count = 1;
     s.ordered = 1;
     s.results = 0;
+    s.csv_raw = 0;
     return s;
 }
 
@@ -731,6 +724,7 @@ lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *
     }
     cfg.req = req;
     cfg.json = bs->json;
+    cfg.csv_raw = bs->csv_raw;
     cfg.keep = bs->results;
     memset(&e, 0, sizeof e);
     e.ul = &ul;

@@ -57,6 +57,12 @@ void lf_text_clean(const char *s, int keep_newlines, void (*put)(void *, const c
                    void *ctx);
 void lf_json_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
 void lf_percent_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
+/* Text as a CSV cell (RFC 4180: quoted when it holds a comma, quote or
+ * line break, or starts or ends with a blank; quotes doubled).  Unless raw,
+ * text that a spreadsheet would run as a formula (a cell starting with =,
+ * +, -, @, tab or CR) gets a leading ' (OWASP, "CSV injection").  Numbers
+ * are not written through this: a negative number stays a number. */
+void lf_csv_cell(const char *s, int raw, void (*put)(void *, const char *, size_t), void *ctx);
 /* The provenance record {"layerfit", "command_line", "inputs"} with indent
  * before each line after the first, into *json (lf_free). */
 int lf_provenance_json(const lf_provenance *p, const char *indent, char **json, lf_error *err);
@@ -116,6 +122,11 @@ char *lf_heterogeneity_json(const lf_heterogeneity *h, const char *indent);
 /* Length of the valid UTF-8 sequence that starts at s (1..4), or 0 when
  * the bytes there are not UTF-8 (overlong forms and surrogates included). */
 size_t lf_utf8_len(const unsigned char *s);
+/* lf_input_read (flags: LF_INPUT_STREAM or 0) of a file that may be a text
+ * export, a plan or a binary format read as a stream: checked as text as
+ * it arrives (LF_INPUT_TEXT) unless its first LF_SNIFF_BYTES are a binary
+ * format's (file.c). */
+int lf_input_read_sniffed(const char *path, unsigned flags, lf_input *in, lf_error *err);
 /* lf_file_kind_of for a file already in memory (name for messages). */
 int lf_file_kind_parse(const char *buf, size_t len, const char *name, lf_file_kind *kind,
                        lf_error *err);

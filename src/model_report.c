@@ -19,6 +19,10 @@ lf_model_summarise(const lf_model *m, const lf_material *mat, double sigma_th,
     s->type = lf_model_get_type(m);
     s->mat = *mat;
     s->Z = lf_thin_Z(s->probe.base, s->mat.nu);
+    /* parameters the model cannot evaluate: refused, never a summary of
+     * NaN or zeros */
+    if ((status = lf_model_check_region(m, mat, err)) != LF_OK)
+        return status;
     if ((status = lf_model_pulloff(m, &s->mat, &s->pulloff, err)) != LF_OK)
         return status;
     s->sigma_th = sigma_th;

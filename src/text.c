@@ -252,6 +252,31 @@ lf_percent_escape(const char *s, void (*put)(void *, const char *, size_t), void
 }
 
 void
+lf_csv_cell(const char *s, int raw, void (*put)(void *, const char *, size_t), void *ctx)
+{
+    const char *p;
+    size_t len;
+    int formula, quote;
+
+    s = s != NULL ? s : "";
+    len = strlen(s);
+    formula = !raw && s[0] != '\0' && strchr("=+-@\t\r", s[0]) != NULL;
+    quote = strpbrk(s, ",\"\r\n") != NULL
+            || (len > 0 && (s[0] == ' ' || s[0] == '\t' || s[len - 1] == ' ' || s[len - 1] == '\t'));
+    if (quote)
+        put(ctx, "\"", 1);
+    if (formula)
+        put(ctx, "'", 1);
+    for (p = s; *p; p++) {
+        put(ctx, p, 1);
+        if (*p == '"')            /* then the cell is quoted */
+            put(ctx, "\"", 1);
+    }
+    if (quote)
+        put(ctx, "\"", 1);
+}
+
+void
 lf_str_json(lf_str *b, const char *s)
 {
     lf_json_escape(s, lf_str_put_cb, b);

@@ -102,23 +102,6 @@ summary_free(summary *sm)
     free(sm->est);
 }
 
-/* A CSV field, quoted where it must be. */
-static void
-csv_text(FILE *f, const char *s)
-{
-    if (strpbrk(s, ",\"\r\n") == NULL) {
-        fputs(s, f);
-        return;
-    }
-    fputc('"', f);
-    for (; *s; s++) {
-        if (*s == '"')
-            fputc('"', f);
-        fputc(*s, f);
-    }
-    fputc('"', f);
-}
-
 /* "OUT.summary.EXT": OUT without its .csv or .jsonl (free). */
 static char *
 summary_path(const char *out, const char *ext)
@@ -171,7 +154,7 @@ summary_csv(FILE *f, const void *ctx)
             if (m == LF_MAT_NU && e->n == 0)
                 continue;
             fprintf(f, "%s,", g->sample ? "sample" : "all");
-            csv_text(f, g->sample ? g->sample : "");
+            cli_put_csv_cell(f, g->sample ? g->sample : "");
             fprintf(f, ",%zu,%s,%s,%zu", g->h.curves, summary_param[m], summary_unit[m], e->n);
             csv_num(f, e->mean);
             csv_num(f, e->sd);
@@ -375,6 +358,8 @@ cli_batch_run(const cli_batch_opts *o)
     lf_error err;
     char msg[4400];
     size_t i;
+    int beside;
+    struct stat st;
 
     memset(&sink, 0, sizeof sink);
     sink.out = stdout;
@@ -394,9 +379,14 @@ cli_batch_run(const cli_batch_opts *o)
         cli_die(CLI_EXIT_USAGE, "fit: --threads must be 1..%d (got %ld)", CLI_MAX_THREADS,
                 o->threads);
     bs.threads = o->threads;
+    bs.csv_raw = cli_csv_raw;
     cli_output_note("fit", o->out);
     cli_output_note_sidecar("fit", o->out);
-    if (o->out != NULL) {       /* the summaries beside the results */
+    /* the summaries beside a results file (none beside an output written
+     * in place: a pipe, a device, as no sidecar) */
+    beside = o->out != NULL && strcmp(o->out, "-") != 0
+             && (stat(o->out, &st) != 0 || S_ISREG(st.st_mode));
+    if (beside) {
         char *sc = summary_path(o->out, "csv"), *sj = summary_path(o->out, "json");
         cli_output_note("fit", sc);
         cli_output_note("fit", sj);
@@ -437,12 +427,14 @@ cli_batch_run(const cli_batch_opts *o)
     if (sink.io_error)
         cli_die(CLI_EXIT_FAIL, "fit: error writing %s", o->out ? o->out : "standard output");
     if (sink.out != stdout) {
-        /* the results replace an earlier file only now, whole */
+        /* the results and their sidecar replace earlier ones only now,
+         * whole and together */
+        if (cli_out_commit_sidecar(&atomic, o->command_line, msg, sizeof msg) != 0)
+            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
+    }
+    if (beside) {               /* the summaries beside them */
         summary_json_ctx jc;
         char *sc = summary_path(o->out, "csv"), *sj = summary_path(o->out, "json");
-        if (cli_out_commit(&atomic, msg, sizeof msg) != 0)
-            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
-        cli_provenance_sidecar("fit", o->out, o->command_line);
         cli_write_file("fit", sc, summary_csv, &sink.sm);
         jc.sm = &sink.sm;
         jc.command_line = o->command_line;
@@ -456,13 +448,13 @@ cli_batch_run(const cli_batch_opts *o)
         summary_text(sink.out != stdout ? stdout : stderr, &sink.sm);
     summary_free(&sink.sm);
     if (sum.failed > 0) {
-        fprintf(stderr, "layerfit: fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s)\n",
+        cli_say("fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s)",
                 sum.failed, sum.total, o->out ? o->out : "the output");
         return CLI_EXIT_SOME_FAILED;
     }
     if (sum.misfits > 0) {
-        fprintf(stderr, "layerfit: fit: %zu of %zu fits converged, but the model does not "
-                "describe a curve of theirs (status 'misfit' in %s)\n", sum.misfits, sum.total,
+        cli_say("fit: %zu of %zu fits converged, but the model does not "
+                "describe a curve of theirs (status 'misfit' in %s)", sum.misfits, sum.total,
                 o->out ? o->out : "the output");
         return CLI_EXIT_MISFIT;
     }

@@ -325,8 +325,8 @@ draw_sweep(const char *file, lf_design_factor factor, size_t nv, const double *x
     fig.nseries = ns;
     fig.series = ser;
     if (ns == 0) {
-        fprintf(stderr, "layerfit: warning: design: nothing is determined anywhere in the sweep: "
-                "no figure drawn\n");
+        cli_say("warning: design: nothing is determined anywhere in the sweep: "
+                "no figure drawn");
     } else {
         if (plot_draw(&fig, file, msg, sizeof msg) != 0)
             cli_die(CLI_EXIT_FAIL, "design: --plot: %s", msg);
@@ -451,7 +451,7 @@ cli_design(int argc, char **argv, const char *command_line)
     {
         lf_input in;
         cli_input_guard("design", plan_path);
-        if (lf_input_read(plan_path, LF_INPUT_STREAM, &in, &err) != LF_OK)
+        if (lf_input_read(plan_path, LF_INPUT_STREAM | LF_INPUT_TEXT, &in, &err) != LF_OK)
             cli_die_error(CLI_EXIT_USAGE, &err);
         cli_input_note(plan_path, in.sha256);
         cli_output_note("design", json);
@@ -469,26 +469,27 @@ cli_design(int argc, char **argv, const char *command_line)
         snprintf(scope, sizeof scope, "candidate %s",
                  cand_label(l, sizeof l, &plan->rows[rep->which], rep->which));
 
-    /* the text */
-    fprintf(out, "layerfit design: %zu candidate%s; truth w = %s, E* = %s, nu = %.4g%s; noise ",
-            plan->n, plan->n == 1 ? "" : "s", cli_human(a1, sizeof a1, s.truth.w, "J/m^2"),
-            cli_human(a2, sizeof a2, s.truth.Estar, "Pa"), s.truth.nu, s.fix_nu ? " (held)" : "");
-    if (isfinite(s.noise_abs))
-        fprintf(out, "sd %s", cli_human(a1, sizeof a1, s.noise_abs, "N"));
-    else
-        fprintf(out, "%.3g%% of each curve's largest |force|", 100.0 * s.noise_rel);
-    fprintf(out, "; model %s\n", s.model ? s.model->name : "auto");
-    text_curves(out, plan, &rep->all);
-    text_set(out, "the whole set", &rep->all, plan, &s);
-    text_contributions(out, plan, &rep->all, rep);
-    if (rep->nchoose > 0) {
-        text_choice(out, plan, &rep->choice, rep->target, rep->exhaustive ? LF_OK : -1, rep->best,
-                    rep->nsets);
-        text_set(out, "the chosen set", &rep->chosen, plan, &s);
+    /* the text, unless standard output carries --json - or --csv - */
+    if (!(json != NULL && strcmp(json, "-") == 0) && !(csv != NULL && strcmp(csv, "-") == 0)) {
+        fprintf(out, "layerfit design: %zu candidate%s; truth w = %s, E* = %s, nu = %.4g%s; noise ",
+                plan->n, plan->n == 1 ? "" : "s", cli_human(a1, sizeof a1, s.truth.w, "J/m^2"),
+                cli_human(a2, sizeof a2, s.truth.Estar, "Pa"), s.truth.nu, s.fix_nu ? " (held)" : "");
+        if (isfinite(s.noise_abs))
+            fprintf(out, "sd %s", cli_human(a1, sizeof a1, s.noise_abs, "N"));
+        else
+            fprintf(out, "%.3g%% of each curve's largest |force|", 100.0 * s.noise_rel);
+        fprintf(out, "; model %s\n", s.model ? s.model->name : "auto");
+        text_curves(out, plan, &rep->all);
+        text_set(out, "the whole set", &rep->all, plan, &s);
+        text_contributions(out, plan, &rep->all, rep);
+        if (rep->nchoose > 0) {
+            text_choice(out, plan, &rep->choice, rep->target, rep->exhaustive ? LF_OK : -1, rep->best,
+                        rep->nsets);
+            text_set(out, "the chosen set", &rep->chosen, plan, &s);
+        }
+        if (rep->nsweep > 0)
+            text_sweep(out, rep->factor, rep->nsweep, rep->values, rep->sweep, scope);
     }
-    if (rep->nsweep > 0)
-        text_sweep(out, rep->factor, rep->nsweep, rep->values, rep->sweep, scope);
-
     if (csv != NULL)
         csv_sweep(csv, rep->factor, rep->nsweep, rep->values, rep->sweep);
     if (plot != NULL)

@@ -67,7 +67,8 @@ main(void)
     F(lf_sim_settings, branch); end();
     S(lf_batch_settings); F(lf_batch_settings, json); F(lf_batch_settings, threads);
     F(lf_batch_settings, shard_index); F(lf_batch_settings, shard_count);
-    F(lf_batch_settings, ordered); F(lf_batch_settings, results); end();
+    F(lf_batch_settings, ordered); F(lf_batch_settings, results);
+    F(lf_batch_settings, csv_raw); end();
     S(lf_batch_row); F(lf_batch_row, fit); F(lf_batch_row, sample); F(lf_batch_row, status);
     F(lf_batch_row, outcome); F(lf_batch_row, text); F(lf_batch_row, len);
     F(lf_batch_row, result); F(lf_batch_row, input); F(lf_batch_row, done);

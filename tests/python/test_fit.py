@@ -121,6 +121,18 @@ def test_model_is_the_commands():
     assert [int(r[4]) for r in rows] == m.stable
 
 
+def test_model_refuses_what_it_cannot_evaluate():
+    # k = 0.01 leaves double precision: the command exits 2, the binding
+    # raises with the same words instead of a summary of NaN and zeros
+    args = dict(model="thin", k=0.01, R="1mm", b="1um", w="10mJ/m2", E="1MPa")
+    rc, _, err = run("model", "--model", "thin", "--k", "0.01", "--R", "1mm", "--b", "1um",
+                     "--w", "10mJ/m2", "--E", "1MPa", "--summary")
+    assert rc == 2
+    with pytest.raises(layerfit.Error) as e:
+        layerfit.model(**args)
+    assert "cannot be evaluated" in str(e.value) and str(e.value) in err
+
+
 def test_errors_carry_the_commands_place(tmp_path):
     plan = tmp_path / "plan.csv"
     plan.write_text("file,k,R_m,b_m,interface\n%s/datasets/demo/curve1.csv,2,1e-3,1e-6,glued\n"

@@ -141,7 +141,8 @@ class LfSimSettings(Structure):
 
 class LfBatchSettings(Structure):
     _fields_ = [("json", c_int), ("threads", c_long), ("shard_index", c_long),
-                ("shard_count", c_long), ("ordered", c_int), ("results", c_int)]
+                ("shard_count", c_long), ("ordered", c_int), ("results", c_int),
+                ("csv_raw", c_int)]
 
 
 class LfBatchRow(Structure):
