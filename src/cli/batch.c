@@ -100,24 +100,15 @@ sb_put(void *ctx, const char *s, size_t n)
     sb_printf((sbuf *) ctx, "%.*s", (int) n, s);
 }
 
-/* Text as a CSV cell (quoted when it holds a comma, quote or line break) or
- * as a JSON string. */
+/* Text as a CSV cell (cli_csv_cell: quoted where needed, a formula made
+ * text) or as a JSON string. */
 static void
 sb_text(sbuf *b, const char *s, int json)
 {
-    const char *p;
-    if (json) {
+    if (json)
         cli_json_escape(s, sb_put, b);   /* valid UTF-8 whatever the bytes */
-        return;
-    }
-    if (strpbrk(s, ",\"\r\n") == NULL) {
-        sb_printf(b, "%s", s);
-        return;
-    }
-    sb_printf(b, "\"");
-    for (p = s; *p; p++)
-        sb_printf(b, *p == '"' ? "\"\"" : "%c", *p);
-    sb_printf(b, "\"");
+    else
+        cli_csv_cell(s, sb_put, b);
 }
 
 /* ------------------------------------------------------------------------
@@ -880,7 +871,8 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     lf_curve_estimate *est;
     summary sm;
     long shard_i = 1, shard_n = 1, threads = o->threads;
-    int progress, io_error = 0;
+    int progress, io_error = 0, beside;
+    struct stat st;
     double t0 = cli_now(), last = 0.0;
 
     cfg.settings = settings;
@@ -911,7 +903,11 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
 #endif
     cli_output_note("fit", o->out);
     cli_output_note_sidecar("fit", o->out);
-    if (o->out != NULL) {       /* the summaries beside the results */
+    /* the summaries beside a results file (none beside an output written
+     * in place: a pipe, a device) */
+    beside = o->out != NULL && strcmp(o->out, "-") != 0
+             && (stat(o->out, &st) != 0 || S_ISREG(st.st_mode));
+    if (beside) {
         char *sc = summary_path(o->out, "csv"), *sj = summary_path(o->out, "json");
         cli_output_note("fit", sc);
         cli_output_note("fit", sj);
@@ -1011,12 +1007,14 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     if (io_error)
         cli_die(CLI_EXIT_FAIL, "fit: error writing %s", o->out ? o->out : "standard output");
     if (out != stdout) {
-        /* the results replace an earlier file only now, whole */
+        /* the results and their sidecar replace earlier ones only now,
+         * whole and together; the summaries beside them */
+        if (cli_out_commit_sidecar(&atomic, o->command_line, msg, sizeof msg) != 0)
+            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
+    }
+    if (beside) {
         summary_json_ctx jc;
         char *sc = summary_path(o->out, "csv"), *sj = summary_path(o->out, "json");
-        if (cli_out_commit(&atomic, msg, sizeof msg) != 0)
-            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
-        cli_provenance_sidecar("fit", o->out, o->command_line);
         cli_write_file("fit", sc, summary_csv, &sm);
         jc.sm = &sm;
         jc.command_line = o->command_line;
@@ -1033,13 +1031,13 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     units_free(&ul);
     lf_plan_free(plan);
     if (failed > 0) {
-        fprintf(stderr, "layerfit: fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s)\n",
+        cli_say("fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s)",
                 failed, total, o->out ? o->out : "the output");
         return CLI_EXIT_SOME_FAILED;
     }
     if (misfits > 0) {
-        fprintf(stderr, "layerfit: fit: %zu of %zu fits converged, but the model does not "
-                "describe a curve of theirs (status 'misfit' in %s)\n", misfits, total,
+        cli_say("fit: %zu of %zu fits converged, but the model does not "
+                "describe a curve of theirs (status 'misfit' in %s)", misfits, total,
                 o->out ? o->out : "the output");
         return CLI_EXIT_MISFIT;
     }
