@@ -54,16 +54,6 @@ curve_of(const lf_probe *p, size_t n, double *depth, double *force)
     return c;
 }
 
-static int
-says(const lf_warnings *w, const char *text)
-{
-    size_t i;
-    for (i = 0; i < w->n; i++)
-        if (strstr(w->msg[i], text) != NULL)
-            return 1;
-    return 0;
-}
-
 /* A smooth curve rounded to a step of 2% of its largest force (no other
  * noise), larger than its change from one point to the next: the
  * point-to-point departures are mostly exactly 0, and the noise was
@@ -97,7 +87,7 @@ quantized(void)
            step / sqrt(12.0));
     t_true(r.chi2 / (double) r.dof < 10.0, "quantized: chi2/dof %.3g of a noise of that order",
            r.chi2 / (double) r.dof);
-    t_true(says(&r.curves[0].warnings, "the force is quantized in steps of"),
+    t_true(t_says(&r.curves[0].warnings, "the force is quantized in steps of"),
            "quantized: said");
     lf_fit_result_free(&r);
     /* not quantized: 1% Gaussian noise, no step */
@@ -156,7 +146,7 @@ shape_under_correlation(void)
         t_true(r.curves[0].shape > 1.0, "shape: %.3g times the noise", r.curves[0].shape);
         t_int(r.curves[0].consistent, 0, "shape: not consistent");
         t_true(r.curves[0].agreement < 2, "shape: systematic, not within the noise");
-        t_true(says(&r.warnings, "is stiffer than any solid"), "shape: E* = %.3g Pa said",
+        t_true(t_says(&r.warnings, "is stiffer than any solid"), "shape: E* = %.3g Pa said",
                r.Estar.value);
         lf_fit_result_free(&r);
     }
@@ -173,7 +163,7 @@ shape_under_correlation(void)
     if (t_int(st, LF_OK, "filtered noise: fitted")) {
         t_true(r.curves[0].shape < 1.0, "filtered noise: shape %.3g", r.curves[0].shape);
         t_int(r.curves[0].consistent, 1, "filtered noise: consistent");
-        t_true(!says(&r.warnings, "than any solid"), "filtered noise: no modulus warning");
+        t_true(!t_says(&r.warnings, "than any solid"), "filtered noise: no modulus warning");
         lf_fit_result_free(&r);
     }
     gsl_rng_free(rng);
@@ -206,9 +196,9 @@ too_deep(void)
     c = curve_of(&p, N, depth, force);
     s.model = &lf_model_thin;
     if (t_int(lf_fit_driver(&s, 1, &c, &r, &err), LF_OK, "too deep: fitted")) {
-        t_true(says(&r.curves[0].warnings, "times the layer's thickness"),
+        t_true(t_says(&r.curves[0].warnings, "times the layer's thickness"),
                "too deep: the indentation past the layer said");
-        t_true(says(&r.curves[0].warnings, "1000 times too large"), "too deep: the cause said");
+        t_true(t_says(&r.curves[0].warnings, "1000 times too large"), "too deep: the cause said");
         lf_fit_result_free(&r);
     }
 }

@@ -73,6 +73,14 @@ if run_ok fit --batch "$tmp/b.csv" --model thin --out "$tmp/b.out.csv"; then
     has "batch: summary text" "$tmp/out" "  sample A (4 curves), E*: 4 determined; mean "
     has "batch: summary text, all" "$tmp/out" "  all (8 curves), w: 8 determined; mean "
 fi
+# results written in place (a pipe): no summary files beside them, as no sidecar
+if mkfifo "$tmp/pipe.csv" 2>/dev/null; then
+    cat "$tmp/pipe.csv" >/dev/null &
+    "$LF" fit --batch "$tmp/b.csv" --model thin --out "$tmp/pipe.csv" --quiet >/dev/null 2>&1
+    wait
+    [ ! -e "$tmp/pipe.summary.csv" ] && [ ! -e "$tmp/pipe.summary.json" ] && ok \
+        || bad "batch into a pipe: summary files made beside it"
+fi
 
 # ---- no silent assumption ----------------------------------------------
 "$LF" simulate --out "$tmp/bd" --w 10mJ/m2 --E 1GPa --nu 0.3 --noise 0.005 \
