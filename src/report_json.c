@@ -19,6 +19,9 @@ base_name(lf_base base)
     return base == LF_BASE_BONDED ? "bonded" : "frictionless";
 }
 
+/* The material parameters' JSON keys, in the order LF_MAT_W, _E, _NU. */
+static const char *const mat_key[3] = { "w", "Estar", "nu" };
+
 /* Curve j has no layer: none given (b a stand-in), or its model (the
  * half-space) uses none. */
 static int
@@ -146,18 +149,13 @@ jcurve(lf_str *b, const lf_report_info *in, const lf_fit_result *r, size_t j)
                 lf_str_json_or_null(b, src[i].s);
         }
     }
-    lf_str_puts(b, ",\n     \"alone\": {\"w\": ");
-    jnum(b, c->alone.value[LF_MAT_W]);
-    lf_str_puts(b, ", \"w_stderr\": ");
-    jnum(b, c->alone.se[LF_MAT_W]);
-    lf_str_puts(b, ", \"Estar\": ");
-    jnum(b, c->alone.value[LF_MAT_E]);
-    lf_str_puts(b, ", \"Estar_stderr\": ");
-    jnum(b, c->alone.se[LF_MAT_E]);
-    lf_str_puts(b, ", \"nu\": ");
-    jnum(b, c->alone.value[LF_MAT_NU]);
-    lf_str_puts(b, ", \"nu_stderr\": ");
-    jnum(b, c->alone.se[LF_MAT_NU]);
+    lf_str_puts(b, ",\n     \"alone\": {");
+    for (i = 0; i < 3; i++) {       /* LF_MAT_W, LF_MAT_E, LF_MAT_NU */
+        lf_str_printf(b, "%s\"%s\": ", i ? ", " : "", mat_key[i]);
+        jnum(b, c->alone.value[i]);
+        lf_str_printf(b, ", \"%s_stderr\": ", mat_key[i]);
+        jnum(b, c->alone.se[i]);
+    }
     lf_str_puts(b, "}, \"warnings\": ");
     jwarnings(b, &c->warnings);
     lf_str_printf(b, "}%s\n", j + 1 < r->ncurves ? "," : "");
@@ -205,8 +203,6 @@ jpopulation(lf_str *b, const char *key, const lf_population_estimate *e, const c
 static void
 jheterogeneity(lf_str *b, const lf_heterogeneity *h, const char *indent)
 {
-    static const char *const pname[3] = { "w", "Estar", "nu" };
-
     lf_str_printf(b, "{\"curves\": %zu, \"p_homogeneous\": ", h->curves);
     jnum(b, h->p_homogeneous);
     lf_str_puts(b, ", \"I2\": ");
@@ -216,24 +212,26 @@ jheterogeneity(lf_str *b, const lf_heterogeneity *h, const char *indent)
     lf_str_puts(b, ", \"df\": ");
     jnum(b, h->df);
     lf_str_printf(b, ",\n%s  \"parameters\": {\n", indent);
-    jpopulation(b, "w", &h->w, indent, 0);
-    jpopulation(b, "Estar", &h->Estar, indent, 0);
-    jpopulation(b, "nu", &h->nu, indent, 1);
+    jpopulation(b, mat_key[LF_MAT_W], &h->w, indent, 0);
+    jpopulation(b, mat_key[LF_MAT_E], &h->Estar, indent, 0);
+    jpopulation(b, mat_key[LF_MAT_NU], &h->nu, indent, 1);
     lf_str_printf(b, "%s  },\n%s  \"probes\": {\"count\": %zu, \"tested\": %zu, \"p\": ",
                   indent, indent, h->probes, h->probes_tested);
     jnum(b, h->probes_p);
     lf_str_printf(b, ", \"disagree\": %s, \"departs\": ", h->probes_disagree ? "true" : "false");
     if (h->probes_disagree) {
-        lf_str_puts(b, "{\"k\": ");
-        jnum(b, h->probe_departs.k);
-        lf_str_puts(b, ", \"R\": ");
-        jnum(b, h->probe_departs.R);
-        lf_str_puts(b, ", \"b\": ");
-        jnum(b, h->probe_departs.b);
+        const struct { const char *key; double v; } num[] = {
+            { "k", h->probe_departs.k }, { "R", h->probe_departs.R }, { "b", h->probe_departs.b }
+        };
+        size_t i;
+        for (i = 0; i < sizeof num / sizeof num[0]; i++) {
+            lf_str_printf(b, "%s\"%s\": ", i ? ", " : "{", num[i].key);
+            jnum(b, num[i].v);
+        }
         lf_str_puts(b, ", \"interface\": ");
         lf_str_json(b, base_name(h->probe_departs.base));
         lf_str_puts(b, ", \"parameter\": ");
-        lf_str_json(b, h->probe_param >= 0 ? pname[h->probe_param] : "");
+        lf_str_json(b, h->probe_param >= 0 ? mat_key[h->probe_param] : "");
         lf_str_puts(b, ", \"difference\": ");
         jnum(b, h->probe_diff);
         lf_str_puts(b, ", \"z\": ");
