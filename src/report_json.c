@@ -181,6 +181,10 @@ jpopulation(lf_str *b, const char *key, const lf_population_estimate *e, const c
         { "q3", e->q3 }, { "Q", e->Q }, { "p_homogeneous", e->p_homogeneous }, { "I2", e->I2 },
         { "tau", e->tau }, { "tau_rel", e->tau_rel }, { "population_mean", e->population_mean },
     };
+    const struct { const char *key; const double *v; } pair[] = {
+        { "tau_ci95", e->tau_ci95 }, { "tau_rel_ci95", e->tau_rel_ci95 },
+        { "population_ci95", e->population_ci95 },
+    };
     size_t i;
 
     lf_str_printf(b, "%s    \"%s\": {\"n\": %zu", indent, key, e->n);
@@ -188,12 +192,10 @@ jpopulation(lf_str *b, const char *key, const lf_population_estimate *e, const c
         lf_str_printf(b, ", \"%s\": ", num[i].key);
         jnum(b, num[i].v);
     }
-    lf_str_puts(b, ", \"tau_ci95\": ");
-    jpair(b, e->tau_ci95);
-    lf_str_puts(b, ", \"tau_rel_ci95\": ");
-    jpair(b, e->tau_rel_ci95);
-    lf_str_puts(b, ", \"population_ci95\": ");
-    jpair(b, e->population_ci95);
+    for (i = 0; i < sizeof pair / sizeof pair[0]; i++) {
+        lf_str_printf(b, ", \"%s\": ", pair[i].key);
+        jpair(b, pair[i].v);
+    }
     lf_str_puts(b, ", \"why_not_determined\": ");
     lf_str_json_or_null(b, e->why);
     lf_str_printf(b, "}%s\n", last ? "" : ",");
@@ -203,14 +205,16 @@ jpopulation(lf_str *b, const char *key, const lf_population_estimate *e, const c
 static void
 jheterogeneity(lf_str *b, const lf_heterogeneity *h, const char *indent)
 {
-    lf_str_printf(b, "{\"curves\": %zu, \"p_homogeneous\": ", h->curves);
-    jnum(b, h->p_homogeneous);
-    lf_str_puts(b, ", \"I2\": ");
-    jnum(b, h->I2);
-    lf_str_puts(b, ", \"Q\": ");
-    jnum(b, h->Q);
-    lf_str_puts(b, ", \"df\": ");
-    jnum(b, h->df);
+    const struct { const char *key; double v; } num[] = {
+        { "p_homogeneous", h->p_homogeneous }, { "I2", h->I2 }, { "Q", h->Q }, { "df", h->df }
+    };
+    size_t i;
+
+    lf_str_printf(b, "{\"curves\": %zu", h->curves);
+    for (i = 0; i < sizeof num / sizeof num[0]; i++) {
+        lf_str_printf(b, ", \"%s\": ", num[i].key);
+        jnum(b, num[i].v);
+    }
     lf_str_printf(b, ",\n%s  \"parameters\": {\n", indent);
     jpopulation(b, mat_key[LF_MAT_W], &h->w, indent, 0);
     jpopulation(b, mat_key[LF_MAT_E], &h->Estar, indent, 0);
@@ -220,13 +224,12 @@ jheterogeneity(lf_str *b, const lf_heterogeneity *h, const char *indent)
     jnum(b, h->probes_p);
     lf_str_printf(b, ", \"disagree\": %s, \"departs\": ", h->probes_disagree ? "true" : "false");
     if (h->probes_disagree) {
-        const struct { const char *key; double v; } num[] = {
+        const struct { const char *key; double v; } at[] = {
             { "k", h->probe_departs.k }, { "R", h->probe_departs.R }, { "b", h->probe_departs.b }
         };
-        size_t i;
-        for (i = 0; i < sizeof num / sizeof num[0]; i++) {
-            lf_str_printf(b, "%s\"%s\": ", i ? ", " : "{", num[i].key);
-            jnum(b, num[i].v);
+        for (i = 0; i < sizeof at / sizeof at[0]; i++) {
+            lf_str_printf(b, "%s\"%s\": ", i ? ", " : "{", at[i].key);
+            jnum(b, at[i].v);
         }
         lf_str_puts(b, ", \"interface\": ");
         lf_str_json(b, base_name(h->probe_departs.base));

@@ -151,25 +151,19 @@ summary_csv(FILE *f, const void *ctx)
         const summary_group *g = &sm->g[i];
         for (m = 0; m < 3; m++) {
             const lf_population_estimate *e = summary_estimate(&g->h, m);
+            /* the columns after n, in the header's order */
+            const double v[] = { e->mean, e->sd, e->median, e->q1, e->q3, e->population_mean,
+                                 e->population_ci95[0], e->population_ci95[1], e->tau,
+                                 e->tau_ci95[0], e->tau_ci95[1], e->tau_rel, e->I2,
+                                 e->p_homogeneous };
+            size_t k;
             if (m == LF_MAT_NU && e->n == 0)
                 continue;
             fprintf(f, "%s,", g->sample ? "sample" : "all");
             cli_put_csv_cell(f, g->sample ? g->sample : "");
             fprintf(f, ",%zu,%s,%s,%zu", g->h.curves, summary_param[m], summary_unit[m], e->n);
-            csv_num(f, e->mean);
-            csv_num(f, e->sd);
-            csv_num(f, e->median);
-            csv_num(f, e->q1);
-            csv_num(f, e->q3);
-            csv_num(f, e->population_mean);
-            csv_num(f, e->population_ci95[0]);
-            csv_num(f, e->population_ci95[1]);
-            csv_num(f, e->tau);
-            csv_num(f, e->tau_ci95[0]);
-            csv_num(f, e->tau_ci95[1]);
-            csv_num(f, e->tau_rel);
-            csv_num(f, e->I2);
-            csv_num(f, e->p_homogeneous);
+            for (k = 0; k < sizeof v / sizeof v[0]; k++)
+                csv_num(f, v[k]);
             fputc('\n', f);
         }
     }
