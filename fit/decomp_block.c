@@ -758,3 +758,28 @@ lf_fit_bdec_pinv(const fit_bdec *b, const double *g, double *out, double *work)
         for (k = 0; k < b->k; k++)
             out[r] -= b->V[k * p + r] * t[FIT_MMAX + k];
 }
+
+/* The result's covariance entry: its dense cov where held, else from the
+ * blocks this file decomposed (layerfit.h). */
+double
+lf_fit_result_cov(const lf_fit_result *r, size_t a, size_t b)
+{
+    const struct lf_fit_covariance *c = r->covariance;
+
+    if (a >= r->npar || b >= r->npar)
+        return NAN;
+    if (r->cov != NULL)
+        return r->cov[a * r->npar + b];
+    if (c == NULL || !c->det[a] || !c->det[b])
+        return NAN;
+    return lf_fit_bdec_cov(&c->b, a, b, c->scale);
+}
+
+double
+lf_fit_result_corr(const lf_fit_result *r, size_t a, size_t b)
+{
+    if (r->corr != NULL && a < r->npar && b < r->npar)
+        return r->corr[a * r->npar + b];
+    return lf_fit_result_cov(r, a, b)
+           / sqrt(lf_fit_result_cov(r, a, a) * lf_fit_result_cov(r, b, b));
+}
