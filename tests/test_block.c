@@ -540,6 +540,71 @@ gn_step_determined(void)
           "Gauss-Newton step");
 }
 
+/* ---- lf_fit_joint beyond the dense covariance ---------------------------- */
+
+/* The whole joint path of `layerfit fit` (each curve alone, the joint fit
+ * twice, the descent along each parameter's linear path, intervals) on 34
+ * curves: 70 free parameters, no dense covariance; the descent's linear
+ * paths read it through lf_fit_result_cov (they read the NULL cov). */
+static void
+joint_many(void)
+{
+    enum { N = 34, NP = 120 };
+    lf_probe probe[N];
+    double *depth[N], *force[N], sigma[N];
+    lf_fit_curve cv[N];
+    lf_sim_settings sim = lf_sim_settings_default();
+    lf_fit_settings set = lf_fit_settings_default();
+    lf_material truth = { 10e-3, 1e9, 0.3 };
+    lf_fit_result res;
+    lf_error err;
+    size_t j;
+    int st;
+
+    sim.noise = 0.01;
+    sim.points = NP;
+    sim.z0 = 3e-9;
+    sim.F0 = 1e-6;
+    sim.seed = 11;
+    set.model = &lf_model_thin;
+    for (j = 0; j < N; j++) {
+        probe[j].k = j % 2 ? 3.0 : 2.0;
+        probe[j].R = 1e-3;
+        probe[j].b = 1e-6;
+        probe[j].base = LF_BASE_FRICTIONLESS;
+        depth[j] = malloc(NP * sizeof(double));
+        force[j] = malloc(NP * sizeof(double));
+    }
+    t_int(lf_simulate(&sim, &lf_model_thin, &truth, N, probe, depth, force, sigma, NULL), LF_OK,
+          "joint many: simulated");
+    for (j = 0; j < N; j++) {
+        memset(&cv[j], 0, sizeof cv[j]);
+        cv[j].n = NP;
+        cv[j].depth = depth[j];
+        cv[j].force = force[j];
+        cv[j].probe = probe[j];
+        cv[j].branch = LF_BRANCH_UNLOAD;
+        cv[j].z0 = cv[j].F0 = NAN;
+    }
+    st = lf_fit_joint(&set, NULL, N, cv, LF_PROFILE_LINEAR, &res, &err);
+    if (t_int(st, LF_OK, "joint many: %d curves fitted by lf_fit_joint", N)) {
+        t_true(res.npar > FIT_DENSE_P && res.cov == NULL, "joint many: %zu parameters, the "
+               "covariance in blocks", res.npar);
+        t_true(fabs(res.w.value - truth.w) < 4 * res.w.se
+               && fabs(res.Estar.value - truth.Estar) < 4 * res.Estar.se,
+               "joint many: w and E* within 4 se of the truth (%.3g, %.3g se)",
+               (res.w.value - truth.w) / res.w.se, (res.Estar.value - truth.Estar) / res.Estar.se);
+        t_true(strcmp(res.names[0], "w") == 0 && strcmp(res.names[1], "E*") == 0
+               && fabs(lf_fit_result_corr(&res, 0, 1)) < 1, "joint many: corr(w, E*) from the "
+               "blocks (%.3f)", lf_fit_result_corr(&res, 0, 1));
+        lf_fit_result_free(&res);
+    }
+    for (j = 0; j < N; j++) {
+        free(depth[j]);
+        free(force[j]);
+    }
+}
+
 int
 main(void)
 {
@@ -549,5 +614,6 @@ main(void)
     many_curves();
     choice_fast();
     gn_step_determined();
+    joint_many();
     return t_summary();
 }
