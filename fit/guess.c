@@ -436,7 +436,6 @@ void
 lf_fit_guess_subsample(lf_fit *f, size_t j)
 {
     fit_curve *c = &f->c[j];
-    const double k = c->data.probe.k, R = c->data.probe.R;
     const double held = c->iF0 >= 0 ? 0.0 : c->F0;
     const size_t n = c->data.n, nshallow = GUESS_NSUB / 4;
     const size_t *ord = f->order + c->row;     /* by depth */
@@ -468,8 +467,7 @@ lf_fit_guess_subsample(lf_fit *f, size_t j)
     c->sub.z = z;
     c->sub.F = F;
     c->sub.n = m;
-    c->sub.K = M_PI / c->data.probe.b * pow(k, (k + 2.0) / k) / (k + 2.0)
-               * pow(R, 2.0 * (k - 1.0) / k);
+    c->sub.K = lf_thin_scale(&c->data.probe);
     sub_sums(&c->sub, held);
 }
 

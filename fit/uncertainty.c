@@ -250,13 +250,15 @@ consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_resul
 static void
 sphere_check(const lf_probe *p, double amax, lf_warnings *w)
 {
-    double q = amax / p->R;
+    double q = amax / lf_probe_length(p);
 
-    if (fabs(p->k - 2.0) > 1e-9 || !(q > SPHERE_A_OVER_R))
+    /* a true sphere (LF_TIP_SPHERE) is modelled as one */
+    if (p->tip != LF_TIP_POWER || fabs(p->k - 2.0) > 1e-9 || !(q > SPHERE_A_OVER_R))
         return;
     if (q < 1.0)
         lf_warn(w, "the contact radius reaches a = %.3g m, %.2g R: a sphere of radius R departs "
-                "there from the paraboloid of k = 2 by %.2g%% in height (the model takes a << R)",
+                "there from the paraboloid of k = 2 by %.2g%% in height (the model takes a << R; "
+                "tip sphere models the sphere itself)",
                 amax, q, 100.0 * ((1.0 - sqrt(1.0 - q * q)) / (0.5 * q * q) - 1.0));
     else
         lf_warn(w, "the contact radius reaches a = %.3g m, %.2g R: no sphere of radius R makes "

@@ -98,7 +98,8 @@ typedef enum {
     LF_Q_SENS_VOLT,   /* m/V (deflection sensitivity of a voltage signal) */
     LF_Q_SENS_AMP,    /* m/A (deflection sensitivity of a current signal) */
     LF_Q_VOLTAGE,     /* V (a raw signal) */
-    LF_Q_CURRENT      /* A (a raw signal) */
+    LF_Q_CURRENT,     /* A (a raw signal) */
+    LF_Q_ANGLE        /* rad (a probe's half-angle: "35deg", "35°", "0.61rad") */
 } lf_quantity;
 
 /* The SI unit symbol of a quantity ("m", "N", "J/m^2", "Pa", "s", ""). */
@@ -131,13 +132,56 @@ typedef enum {
     LF_BRANCH_LOAD = 1        /* approach / extend: contact made at delta = 0 */
 } lf_branch;
 
-/* What is known about one probe and the layer under it. */
+/* How a probe's shape is stated (lf_probe.tip).  Every shape but the
+ * sphere is a power law f(r) = B r^k, B its prefactor in m^(1-k)
+ * (lf_probe_prefactor). */
+typedef enum {
+    LF_TIP_POWER = 0, /* f = B r^k with B as stated, else B = 1/(k R^(k-1))
+                         from R (k = 2: a paraboloid of radius R) */
+    LF_TIP_CONE,      /* k = 1, a cone of half-angle `angle`: f = r cot(angle) */
+    LF_TIP_BERKOVICH, /* k = 1, a Berkovich pyramid as its equivalent cone, the
+                         cone of the same area-to-depth ratio (24.5): half-angle
+                         70.3 deg (Oliver & Pharr 1992, J. Mater. Res. 7:1564;
+                         Fischer-Cripps, Nanoindentation) */
+    LF_TIP_PYRAMID,   /* k = 1, a four-sided pyramid of face half-angle `angle`
+                         as the cone of the same projected area at every depth,
+                         tan(alpha) = 2 tan(angle) / sqrt(pi) (Bilodeau 1992,
+                         J. Appl. Mech. 59:519; Rico et al. 2005, Phys. Rev. E
+                         72:021914) */
+    LF_TIP_SPHERE     /* k = 2, a sphere of radius R: f = R - sqrt(R^2 - r^2),
+                         contact radius a < R, no assumption a << R */
+} lf_tip;
+
+/* What is known about one probe and the layer under it.  A probe zeroed
+ * beyond its first four members is the power law of R. */
 typedef struct {
     double k;        /* profile exponent, > 0 */
-    double R;        /* reference length of the profile, m, > 0 */
+    double R;        /* reference length of the profile, m, > 0; unused (NaN
+                        allowed) by a cone, a pyramid, or a stated B */
     double b;        /* layer thickness, m, > 0 */
     lf_base base;    /* interface with the rigid substrate */
+    lf_tip tip;      /* the shape (LF_TIP_POWER by default) */
+    double angle;    /* LF_TIP_CONE: its half-angle; LF_TIP_PYRAMID: its face
+                        half-angle; rad, in (0, pi/2); else unused */
+    double B;        /* LF_TIP_POWER: the prefactor of f = B r^k, m^(1-k), or
+                        0: from R; else unused */
 } lf_probe;
+
+/* The profile's prefactor B of f = B r^k, m^(1-k): as stated, from R
+ * (1/(k R^(k-1))), or cot of the (equivalent) cone's half-angle; for a
+ * sphere its apex's paraboloid, 1/(2R).  NaN for a probe without one. */
+double lf_probe_prefactor(const lf_probe *probe);
+/* The half-angle of a k = 1 tip's (equivalent) cone, rad; NaN for others. */
+double lf_probe_cone_angle(const lf_probe *probe);
+/* A tip's name ("power", "cone", "berkovich", "pyramid", "sphere"), and the
+ * tip of a name (those and "paraboloid", the power law with k = 2), with
+ * the k the name implies (*k: 1, 2, or NaN when it implies none; may be
+ * NULL); -1 for an unknown name. */
+const char *lf_tip_name(lf_tip tip);
+int lf_tip_find(const char *name, double *k);
+/* 1 when the probe's shape is stated by R (a power law without a stated
+ * B, a sphere); 0 when R is unused (a cone, a pyramid, a stated B). */
+int lf_probe_uses_R(const lf_probe *probe);
 
 /* The material: what a fit estimates. */
 typedef struct {
@@ -220,8 +264,10 @@ LF_API extern const lf_model_type *const lf_model_types[];
 LF_API const lf_model_type *lf_model_type_find(const char *name);
 
 /* Check a probe and a material against the domain every model shares
- * (k > 0, R > 0, b > 0, w >= 0, E* > 0, 0 <= nu < 0.5 for bonded layers,
- * everything finite).  LF_EINVAL with a message naming the parameter. */
+ * (k > 0, R > 0 where the shape uses it, b > 0, w >= 0, E* > 0,
+ * 0 <= nu < 0.5 for bonded layers, everything finite; a tip's k and
+ * angle).  A k = 1 power law needs a stated B: R does not shape a cone.
+ * LF_EINVAL with a message naming the parameter. */
 LF_API int lf_probe_check(const lf_probe *probe, lf_error *err);
 LF_API int lf_material_check(const lf_material *mat, lf_base base, lf_error *err);
 

@@ -30,20 +30,6 @@ lf_model_type_find(const char *name)
 }
 
 int
-lf_probe_check(const lf_probe *p, lf_error *err)
-{
-    if (!(isfinite(p->k) && p->k > 0))
-        return lf_fail(err, LF_EINVAL, "k must be a finite number > 0 (got %g)", p->k);
-    if (!(isfinite(p->R) && p->R > 0))
-        return lf_fail(err, LF_EINVAL, "R must be a finite length > 0 (got %g m)", p->R);
-    if (!(isfinite(p->b) && p->b > 0))
-        return lf_fail(err, LF_EINVAL, "b must be a finite length > 0 (got %g m)", p->b);
-    if (p->base != LF_BASE_FRICTIONLESS && p->base != LF_BASE_BONDED)
-        return lf_fail(err, LF_EINVAL, "interface must be frictionless or bonded");
-    return LF_OK;
-}
-
-int
 lf_material_check(const lf_material *m, lf_base base, lf_error *err)
 {
     if (!(isfinite(m->w) && m->w >= 0))

@@ -164,11 +164,13 @@ memo_slot(unsigned long long serial, const lf_material *m, uint64_t key[3])
 static void
 probe_consts_of(const lf_probe *pr, probe_consts *pc)
 {
-    double kap = lf_exact_kappa(pr->k), B = 1.0 / (pr->k * pow(pr->R, pr->k - 1.0));
-
     pc->k = pr->k;
     pc->h = pr->b;
-    pc->A1 = B * kap * pow(pr->b, pr->k);
+    /* B kappa_k h^k; from logarithms where B alone leaves double precision
+     * (a flat punch) */
+    pc->A1 = lf_probe_prefactor(pr) * lf_exact_kappa(pr->k) * pow(pr->b, pr->k);
+    if (!isnormal(pc->A1))
+        pc->A1 = exp(lf_probe_log_prefactor(pr) + log(lf_exact_kappa(pr->k)) + pr->k * log(pr->b));
     pc->Fc = 2.0 * pr->b * pc->A1;
 }
 
@@ -1366,7 +1368,7 @@ lf_exact_far_eval(const lf_probe *pr, const lf_material *mat, lf_branch branch, 
         double d1 = delta[i] + cth;
         if (branch == LF_BRANCH_LOAD && delta[i] < 0.0)
             continue;
-        if (!(d1 > 0.0) || pow(pr->k * pow(pr->R, pr->k - 1.0) * d1, 1.0 / pr->k)
+        if (!(d1 > 0.0) || exp((log(d1) - lf_probe_log_prefactor(pr)) / pr->k)
                                < 1.2 * LF_EXACT_TAU_MAX * pr->b)
             return lf_fail(err, LF_EDATA, "point %zu is not beyond a/b = %g", i, LF_EXACT_TAU_MAX);
     }
@@ -1429,7 +1431,7 @@ lf_exact_far_eval(const lf_probe *pr, const lf_material *mat, lf_branch branch, 
      * from the detachment up) */
     for (i = 0; i < n; i++) {
         exact_pt e;
-        double u = log(pow(pr->k * pow(pr->R, pr->k - 1.0) * (delta[i] + cth), 1.0 / pr->k) / pr->b);
+        double u = (log(delta[i] + cth) - lf_probe_log_prefactor(pr)) / pr->k - log(pr->b);
         int it, done = 0;
         if (branch == LF_BRANCH_LOAD && delta[i] < 0.0) {
             P[i] = 0.0;

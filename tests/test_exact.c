@@ -185,7 +185,7 @@ test_limits(void)
 static lf_model *
 model(const lf_model_type *t, double k, double R, double b, lf_base base)
 {
-    lf_probe p;
+    lf_probe p = { 0 };
     lf_error err;
     lf_model *m;
     p.k = k; p.R = R; p.b = b; p.base = base;
@@ -230,7 +230,7 @@ test_halfspace_limit(void)
 static void
 test_jkr_construction(void)
 {
-    lf_probe pr = {3.0, 1e-3, 1e-6, LF_BASE_BONDED};
+    lf_probe pr = {3.0, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0};
     lf_material m0 = {0.0, 1.37e9, 0.3}, m = {0.0114, 1.37e9, 0.3};
     lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
     double avals[] = {1.5e-5, 2.5e-5, 4e-5};   /* above a_detach ~ 1.1e-5 */
@@ -287,7 +287,7 @@ test_jacobian(void)
     lf_base bases[] = {LF_BASE_FRICTIONLESS, LF_BASE_BONDED};
     int bi, i;
     for (bi = 0; bi < 2; bi++) {
-        lf_probe pr = {2.0, 1e-3, 1e-6, bases[bi]};
+        lf_probe pr = {2.0, 1e-3, 1e-6, bases[bi], LF_TIP_POWER, 0.0, 0.0};
         lf_material m = {0.0114, 1.37e9, 0.41};
         lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
         lf_pulloff po;
@@ -332,7 +332,7 @@ test_jacobian(void)
 static void
 test_branches(void)
 {
-    lf_probe pr = {2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS};
+    lf_probe pr = {2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0};
     lf_material m = {0.01, 1e9, 0.3};
     lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
     lf_pulloff po;
@@ -385,7 +385,7 @@ test_branches(void)
 static void
 test_thin_limit(void)
 {
-    lf_probe pr = {3.0, 1e-3, 1e-7, LF_BASE_FRICTIONLESS};
+    lf_probe pr = {3.0, 1e-3, 1e-7, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0};
     lf_material m = {0.01, 1e9, 0.3};
     lf_model *me = model(&lf_model_exact, 3.0, 1e-3, 1e-7, LF_BASE_FRICTIONLESS);
     lf_model *mt = model(&lf_model_thin, 3.0, 1e-3, 1e-7, LF_BASE_FRICTIONLESS);
@@ -438,7 +438,8 @@ test_fast_path(void)
     int br, i, j;
 
     for (ci = 0; ci < sizeof c / sizeof c[0]; ci++) {
-        lf_probe pr = {c[ci].k, 1e-3, c[ci].bb, c[ci].b};
+        lf_probe pr = {c[ci].k, 1e-3, c[ci].bb, c[ci].b, LF_TIP_POWER, 0.0,
+                       c[ci].k == 1.0 ? 1.0 : 0.0};    /* k = 1: f = r */
         lf_material m = {c[ci].w, c[ci].E, c[ci].nu};
         lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
         lf_pulloff po;
@@ -542,7 +543,7 @@ slot_thread(void *arg)
 static void
 test_slots(void)
 {
-    lf_probe pr = {2.0, 1e-3, 1e-6, LF_BASE_BONDED};
+    lf_probe pr = {2.0, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0};
     lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL), *fresh;
     lf_eval e0[5], e1[5];
     lf_pulloff p0, p1;
@@ -569,7 +570,7 @@ test_slots(void)
     {
         /* pull-offs are kept per model object: a new model (maybe at the
          * freed one's address) with another probe answers for its own */
-        lf_probe p3 = {3.0, 1e-3, 1e-6, LF_BASE_BONDED};
+        lf_probe p3 = {3.0, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0};
         lf_model *a = lf_model_alloc(&lf_model_exact, &pr, NULL), *b3, *c3;
         lf_material m = {0.01, 1e9, 0.3};
         lf_pulloff pa, pb, pc;
@@ -639,7 +640,7 @@ static void *
 shared_thread(void *arg)
 {
     shared_job *j = arg;
-    lf_probe pr = {1.5, 1e-3, 1e-6, LF_BASE_FRICTIONLESS};
+    lf_probe pr = {1.5, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0};
     lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
     j->ok = mod != NULL;
     if (mod != NULL)

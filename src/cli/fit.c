@@ -103,6 +103,7 @@ cli_fit_probe(const char *model, double k, double R, double b, const char *inter
      * (R) that no half-space formula uses; R NaN: from the file header */
     int halfspace = cli_model_ignores_b(model);
     lf_error err;
+    memset(p, 0, sizeof *p);
     if (halfspace && isnan(b) != (interface == NULL))
         cli_die(CLI_EXIT_USAGE, "fit: --b and --interface go together (and the half-space "
                 "model uses neither: leave both out)");

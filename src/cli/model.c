@@ -298,7 +298,7 @@ cli_model(int argc, char **argv, const char *command_line)
         { "plot", CLI_STRING, &a.plot }, { NULL, CLI_FLAG, NULL }
     };
     int npos, help;
-    lf_probe probe;
+    lf_probe probe = { 0 };
     lf_material mat;
     lf_model *m;
     model_summary s;
