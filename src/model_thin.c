@@ -182,16 +182,22 @@ powers_at(const thin_powers *w, double d1, double y, double *g, double *p2, doub
  * of a thin layer keeps delta1 - delta = c = sqrt(2 b w/M) as for the
  * power laws (the seed paper's Eq. 1-2 with S' = 2 pi a M/b):
  *   P = (pi M/b) [delta1^2 (R - delta1/3) - c delta1 (2R - delta1)].
- * For delta1 << R this is the paraboloid's Eq. (10) at k = 2.  Contact
- * wider than the sphere (delta1 > R) does not exist: such a point is
- * outside the model's domain (LF_EINVAL).  Derivatives at fixed delta:
+ * For delta1 << R this is the paraboloid's Eq. (10) at k = 2.  Derivatives
+ * at fixed delta:
  *   dP/ddelta = (pi M/b) [delta1 (2R - delta1) - 2c (R - delta1)]
  *   dP/dln w  = -(pi M/b) c^2 (R - delta1),  dP/dln M = P - dP/dln w.
  * Force-controlled pull-off where dP/ddelta = 0:
- *   delta1_po = 2 R c / (R + c + sqrt(R^2 + c^2)). */
+ *   delta1_po = 2 R c / (R + c + sqrt(R^2 + c^2)).
+ * Past the equator (delta1 > R) no contact is wider than the sphere: the
+ * contact stays at a = R, a flat punch of radius R whose pressure no longer
+ * vanishes at the edge, P = (pi M/b) (R^2 delta - R^3/3) (the same relation
+ * P = P1 - S c with a fixed, where c cancels), continuous with its slope at
+ * delta1 = R; the fit says when a curve gets there (fit/uncertainty.c). */
 static double
 sphere_force(double K, double R, double c, double d1)
 {
+    if (d1 > R)
+        return K * R * R * (d1 - c - R / 3.0);
     return K * (d1 * d1 * (R - d1 / 3.0) - c * d1 * (2.0 * R - d1));
 }
 
@@ -211,12 +217,16 @@ sphere_eval(const lf_probe *p, const thin_consts *t, lf_branch branch, size_t n,
             e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
             continue;
         }
-        if (!(d1 <= R))
-            return LF_EINVAL;    /* no contact wider than the sphere */
-        e->a = sqrt(d1 * (2.0 * R - d1));
         e->P = sphere_force(K, R, c, d1);
-        e->dP_ddelta = K * (d1 * (2.0 * R - d1) - 2.0 * c * (R - d1));
-        e->dP_dlogw = -K * c * c * (R - d1);
+        if (d1 > R) {                /* past the equator: a flat punch */
+            e->a = R;
+            e->dP_ddelta = K * R * R;
+            e->dP_dlogw = 0.0;
+        } else {
+            e->a = sqrt(d1 * (2.0 * R - d1));
+            e->dP_ddelta = K * (d1 * (2.0 * R - d1) - 2.0 * c * (R - d1));
+            e->dP_dlogw = -K * c * c * (R - d1);
+        }
         e->dP_dlogE = e->P - e->dP_dlogw;
         e->dP_dnu = e->dP_dlogE * t->dlogZ;
     }
@@ -237,7 +247,7 @@ sphere_pulloff(const lf_probe *p, const thin_consts *t, lf_pulloff *out)
     out->a_po = sqrt(d1 * (2.0 * R - d1));
     out->sigma_po = out->a_po > 0.0 ? -out->P_po / (M_PI * out->a_po * out->a_po) : 0.0;
     /* contact made at delta = 0, delta1 = c (the sphere's when c < R) */
-    out->P_jump = c < R ? sphere_force(K, R, c, c) : 0.0;
+    out->P_jump = sphere_force(K, R, c, c);
 }
 
 #define BLOCK 64   /* points whose k = 3 roots are taken together */
