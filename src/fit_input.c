@@ -40,6 +40,7 @@ lf_fit_input_free(lf_fit_input *in)
     free(in->format);
     free(in->origin);
     free(in->index);
+    free(in->observed);
     free(in->curves);
     memset(in, 0, sizeof *in);
 }
@@ -59,8 +60,9 @@ input_alloc(lf_fit_input *in, size_t n)
     in->format = calloc(n ? n : 1, sizeof *in->format);
     in->origin = calloc(n ? n : 1, sizeof *in->origin);
     in->index = calloc(n ? n : 1, sizeof *in->index);
+    in->observed = calloc(n ? n : 1, sizeof *in->observed);
     return in->curves && in->points && in->names && in->sha256 && in->R_source && in->format
-           && in->origin && in->index ? LF_OK : LF_ENOMEM;
+           && in->origin && in->index && in->observed ? LF_OK : LF_ENOMEM;
 }
 
 /* The probe of a curve: R from the file's header where the caller gives
@@ -168,7 +170,8 @@ add_curve(lf_fit_input *in, size_t j, const char *path, long index, lf_file *sou
     in->points[2 * j] = malloc(n * sizeof(double));
     in->points[2 * j + 1] = malloc(n * sizeof(double));
     in->names[j] = lf_strdup(c->file);
-    if (!in->points[2 * j] || !in->points[2 * j + 1] || !in->names[j]) {
+    if (!in->points[2 * j] || !in->points[2 * j + 1] || !in->names[j]
+        || lf_observe(c, &in->observed[j], NULL) != LF_OK) {
         lf_curve_free(c);
         return lf_fail(err, LF_ENOMEM, "out of memory reading %s", path);
     }

@@ -1067,6 +1067,38 @@ LF_API int lf_curve_check_fit(const lf_curve *c, lf_segment seg, size_t min_poin
 /* The name of a segment ("load", "unload", "hold"). */
 LF_API const char *lf_segment_name(lf_segment seg);
 
+/* What a lab reads off a curve without any contact model (src/observe.c),
+ * in SI.  Each segment is taken in order of depth; its baseline is the
+ * median force over the shallowest fifth of its depth range.  A value the
+ * curve does not show (no retract segment, no rise above the baseline) is
+ * NaN. */
+typedef struct {
+    double adhesion_force;   /* N, >= 0: the retract segment's baseline less
+                                its least force (the largest pull) */
+    double detachment_work;  /* J, >= 0: the area between the retract
+                                segment and its baseline, over the dip
+                                around that least force, in depth */
+    double contact_point;    /* m: the zero-force point (LF_CONTACT_METHOD) */
+    lf_segment contact_segment; /* the segment it was found on (approach,
+                                else retract) */
+    double max_indentation;  /* m: the deepest point less the contact point */
+    double max_force;        /* N: the largest force less the baseline */
+    double baseline;         /* N: the retract's baseline force, else the
+                                approach's */
+    double noise;            /* N: the force's sd about that baseline */
+    double instrument_Eeff;  /* Pa: the modulus the instrument's header states
+                                (Chiaro / Piuma "E[eff] (Pa)"), or NaN */
+    char instrument_model[32]; /* the header's model of it ("Hertz"), or "" */
+} lf_observables;
+
+/* How the contact point is found, in words for reports. */
+#define LF_CONTACT_METHOD "zero-force point: from the deepest point towards the surface, " \
+    "past the first point within 3 noise sd of the baseline, where the force crosses " \
+    "the baseline (the approach segment's, else the retract's)"
+
+/* Fill *o for curve c (every segment it holds).  LF_ENOMEM only. */
+int lf_observe(const lf_curve *c, lf_observables *o, lf_error *err);
+
 /* ------------------------------------------------------------------------
  * Planning a test: what a set of candidate curves would measure (fit/design.c)
  *
@@ -1358,6 +1390,8 @@ typedef struct {
     lf_curve_origin *origin;  /* n: where each curve's probe and constants came from */
     long *index;              /* n: each curve's place in its file (0 for a file
                                  of one curve) */
+    lf_observables *observed; /* n: what each curve shows without a model
+                                 (lf_observe, over all its segments) */
 } lf_fit_input;
 
 /* Read the curves of rows[0..nrows-1] of the plan (rows NULL: every row,

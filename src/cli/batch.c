@@ -302,7 +302,10 @@ static const char *const columns[] = {
     "rms_N", "P_po_N", "iterations",
     "w_ci95_lo_J_m2", "w_ci95_hi_J_m2", "Estar_ci95_lo_Pa", "Estar_ci95_hi_Pa",
     "nu_ci95_lo", "nu_ci95_hi", "w_ci95_method", "Estar_ci95_method", "nu_ci95_method",
-    "identifiability", "message", "grid_i", "grid_j", "sha256", NULL
+    "identifiability", "message", "grid_i", "grid_j", "sha256",
+    /* what the first curve shows without a model (cli/observed.c) */
+    "adhesion_force_N", "detachment_work_J", "contact_point_m", "max_indentation_m",
+    "max_force_N", "instrument_Eeff_Pa", "instrument_model", NULL
 };
 
 /* Sum of squared residuals relative to the points, over all curves. */
@@ -387,9 +390,10 @@ static void
 put_row(sbuf *b, const batch_config *cfg, size_t fit_no, const char *sample,
         const char *files, const unit_files *uf, size_t ncurves, const char *status,
         const char *model, const num_field *num, size_t nnum, const char *const *text,
-        const char *ident, const char *msg, const double grid[2])
+        const char *ident, const char *msg, const double grid[2], const lf_observables *obs)
 {
     int json = cfg->json;
+    double ov[CLI_NOBSERVED];
     size_t i;
 
     if (json)
@@ -437,13 +441,27 @@ put_row(sbuf *b, const batch_config *cfg, size_t fit_no, const char *sample,
         sb_printf(b, "], \"sha256\": [");
         for (i = 0; i < uf->n; i++)
             sb_printf(b, uf->sha[i][0] ? "%s\"%s\"" : "%snull", i ? ", " : "", uf->sha[i]);
-        sb_printf(b, "]}\n");
+        sb_printf(b, "]");
     } else {
         sb_printf(b, ",");
         for (i = 0; i < uf->n; i++)
             sb_printf(b, "%s%s", i ? ";" : "", uf->sha[i]);
-        sb_printf(b, "\n");
     }
+    /* the first curve's observables (as P_po_N is its pull-off) */
+    for (i = 0; i < CLI_NOBSERVED; i++)
+        ov[i] = NAN;
+    if (obs != NULL)
+        cli_observed_values(obs, ov);
+    for (i = 0; i < CLI_NOBSERVED; i++) {
+        sb_printf(b, json ? ", \"%s\": " : ",", cli_observed_keys[i]);
+        sb_number(b, ov[i], json);
+    }
+    sb_printf(b, json ? ", \"instrument_model\": " : ",");
+    if (json && (obs == NULL || obs->instrument_model[0] == '\0'))
+        sb_printf(b, "null");
+    else
+        sb_text(b, obs != NULL ? obs->instrument_model : "", json);
+    sb_printf(b, json ? "}\n" : "\n");
 }
 
 /* Read, fit and format fit number u (0-based) of the plan.  Returns 1 when
@@ -570,7 +588,7 @@ row:
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status,
                 res.model ? res.model : "", num,
                 sizeof num / sizeof num[0], text, ident.s ? ident.s : "", msg.s ? msg.s : "",
-                grid);
+                grid, in.n > 0 ? &in.observed[0] : NULL);
         lf_fit_result_free(&res);
     } else {
         num_field num[] = {
@@ -584,7 +602,8 @@ row:
         };
         const char *text[NTEXT] = { "", "", "" };
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status, "", num,
-                sizeof num / sizeof num[0], text, "", ebuf, grid);
+                sizeof num / sizeof num[0], text, "", ebuf, grid,
+                in.n > 0 ? &in.observed[0] : NULL);
     }
     lf_fit_input_free(&in);
     free(files.s);

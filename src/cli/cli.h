@@ -327,4 +327,18 @@ int cli_reads_as_plan(const char *path);
 /* Exit with status 2 naming the first row of plan without b and interface
  * (no layer) unless the fit's model is the half-space (model: its name). */
 void cli_plan_need_layers(const lf_plan *plan, const char *model);
+/* ---- cli/observed.c: probe shapes in words, model-free observables ---- */
+
+/* A probe's shape as it was stated ("cone, half-angle 35°", "sphere, R =
+ * 8 µm", "k = 2, R = 1 mm", ...), into buf; returns buf. */
+const char *cli_probe_words(char *buf, size_t n, const lf_probe *p);
+/* The observables' JSON keys and batch columns, in order, and their values
+ * (lf_observables; NaN where the curve does not show one). */
+#define CLI_NOBSERVED 6
+extern const char *const cli_observed_keys[CLI_NOBSERVED];
+void cli_observed_values(const lf_observables *o, double v[CLI_NOBSERVED]);
+/* The report's lines of a curve's observables and its instrument's own
+ * result, beside the fit's pull-off (cr may be NULL). */
+void cli_observed_text(FILE *f, const lf_observables *o, const lf_fit_curve_result *cr);
+
 #endif

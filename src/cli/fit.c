@@ -500,6 +500,7 @@ cli_fit(int argc, char **argv, const char *command_line)
     in.curves = d.curves;
     in.origin = d.origin;
     in.command_line = command_line;
+    in.observed = d.observed;
     print_input_notes(&a, &d);
     report_text(stdout, &in, &r);
     if (a.json != NULL)

@@ -137,7 +137,7 @@ origin_text(FILE *f, const lf_curve_origin *o, int nolayer)
 void
 report_text(FILE *f, const report_input *in, const lf_fit_result *r)
 {
-    char a[48], b[48], c[48], d[48];
+    char a[48], b[48], c[48], d[48], shape[160];
     size_t i, j, k;
 
     if (in->model_request != NULL && strcmp(in->model_request, "auto") == 0)
@@ -186,12 +186,12 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
         fprintf(f, "  [%zu] ", j + 1);
         cli_put_clean(f, cr->name);
         if (no_layer(in, r, j))
-            fprintf(f, ": k = %g, R = %s, no layer (half-space), %s branch, %zu points\n",
-                    cr->probe.k, cli_human(a, sizeof a, cr->probe.R, "m"),
-                    branch_name(cr->branch), cr->n);
+            fprintf(f, ": %s, no layer (half-space), %s branch, %zu points\n",
+                    cli_probe_words(shape, sizeof shape, &cr->probe), branch_name(cr->branch),
+                    cr->n);
         else
-            fprintf(f, ": k = %g, R = %s, b = %s, %s, %s branch, %zu points\n", cr->probe.k,
-                    cli_human(a, sizeof a, cr->probe.R, "m"),
+            fprintf(f, ": %s, b = %s, %s, %s branch, %zu points\n",
+                    cli_probe_words(shape, sizeof shape, &cr->probe),
                     cli_human(b, sizeof b, cr->probe.b, "m"), cli_base_name(cr->probe.base),
                     branch_name(cr->branch), cr->n);
         if (in->origin != NULL)
@@ -213,6 +213,8 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                     cli_human(c, sizeof c, cr->pulloff.sigma_po, "Pa"));
         else
             fputs("      pull-off not determined (w is not)\n", f);
+        if (in->observed != NULL)
+            cli_observed_text(f, &in->observed[j], cr);
         if (!no_layer(in, r, j)) {    /* no layer: no b/a */
             fprintf(f, "      b/a = %.3g at the shallowest contact point", cr->b_over_a_min_contact);
             if (cr->pulloff_determined)
@@ -408,8 +410,12 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
         fputs("    {", f);
         cli_json_name(f, "file", c->name);
         const struct { const char *key; double v; } num[] = {
-            { "k", c->probe.k }, { "R", c->probe.R },
+            { "k", c->probe.k }, { "R", lf_probe_uses_R(&c->probe) ? c->probe.R : NAN },
             { "b", nolayer ? NAN : c->probe.b },
+            { "B", lf_probe_prefactor(&c->probe) },
+            { "half_angle_rad", c->probe.tip == LF_TIP_CONE || c->probe.tip == LF_TIP_PYRAMID
+                                ? c->probe.angle : NAN },
+            { "cone_half_angle_rad", lf_probe_cone_angle(&c->probe) },
             { "z0", c->z0 }, { "z0_stderr", c->z0_se }, { "F0", c->F0 },
             { "F0_stderr", c->F0_se }, { "noise_sigma", c->sigma }, { "rms", c->rms },
             { "P_po", po ? c->pulloff.P_po : NAN }, { "a_po", po ? c->pulloff.a_po : NAN },
@@ -424,7 +430,9 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
             fprintf(f, ", \"%s\": ", num[i].key);
             jnum(f, num[i].v);
         }
-        fputs(",\n     \"interface\": ", f);
+        fputs(",\n     \"tip\": ", f);
+        jstr(f, lf_tip_name(c->probe.tip));
+        fputs(", \"interface\": ", f);
         jstr_or_null(f, nolayer ? NULL : cli_base_name(c->probe.base));
         fprintf(f, ", \"branch\": \"%s\", \"points\": %zu, "
                 "\"z0_free\": %s, \"F0_free\": %s, \"consistent\": %s, \"downweighted\": %zu",
@@ -456,6 +464,19 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
                 else
                     jstr_or_null(f, src[i].s);
             }
+        }
+        if (in->observed != NULL) {  /* what the curve shows without a model */
+            double v[CLI_NOBSERVED];
+            cli_observed_values(&in->observed[j], v);
+            for (i = 0; i < CLI_NOBSERVED; i++) {
+                fprintf(f, "%s\"%s\": ", i == 0 ? ",\n     " : ", ", cli_observed_keys[i]);
+                jnum(f, v[i]);
+            }
+            fputs(", \"instrument_model\": ", f);
+            jstr_or_null(f, in->observed[j].instrument_model[0] ? in->observed[j].instrument_model
+                                                                : NULL);
+            fputs(", \"contact_point_method\": ", f);
+            jstr(f, LF_CONTACT_METHOD);
         }
         fputs(", \"warnings\": ", f);
         jwarnings(f, &c->warnings);

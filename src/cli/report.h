@@ -16,6 +16,8 @@ typedef struct {
     const lf_curve_origin *origin; /* where each curve's probe R, b and AFM
                                       constants came from, or NULL */
     const char *command_line;      /* as main() passed it, for provenance */
+    const lf_observables *observed; /* what each curve shows without a model
+                                      (lf_observe), or NULL */
 } report_input;
 
 /* People: values with units (cli_human), errors, intervals, correlations,
