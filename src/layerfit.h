@@ -864,6 +864,21 @@ typedef struct {
     long index;               /* its place in its file (0 for a file of one curve) */
 } lf_curve;
 
+/* A fit window (src/window.c): the part of a curve a fit takes.  Depth
+ * bounds the indentation from the curve's contact point, force the force
+ * above its baseline, both found without a model (lf_observe); each bound
+ * in SI (m, N), or, when relative, a fraction of the deepest indentation
+ * or the largest force (0.3 for 30%); NaN: open. */
+typedef struct {
+    double lo, hi;
+    int relative;
+} lf_range;
+
+typedef struct {
+    lf_range depth;
+    lf_range force;
+} lf_window;
+
 /* One row of a fit plan: which curve, and what is known about it.
  * A value that the plan leaves open is NaN (nu) or empty (sample). */
 typedef struct {
@@ -876,6 +891,8 @@ typedef struct {
     double z0;                /* contact point offset, m, if the plan fixes it, else NaN */
     double F0;                /* force offset, N, if the plan fixes it, else NaN */
     char *format;             /* the curve file's reader name, "" = sniffed */
+    lf_window window;         /* the fit window of the row's curve (its
+                                 depth_range and force_range cells), or all */
     long index;               /* which curve of a file of many (`file#N` or the
                                  index column), or -1: the file's only curve
                                  (lf_plan_expand: all of them) */
@@ -893,6 +910,9 @@ typedef struct {
     lf_plan_row *rows;
     size_t nfiles;            /* files opened by lf_plan_expand or */
     struct lf_file **files;   /* lf_plan_open_files, closed by lf_plan_free */
+    int of_files;             /* 1: made by lf_plan_of_files from files and a
+                                 probe given by the caller, not read from a
+                                 plan file (messages say so) */
 } lf_plan;
 
 /* Release a curve or a plan made by the readers below and everything it
@@ -1014,6 +1034,20 @@ LF_API int lf_plan_parse(const char *buf, size_t len, size_t chunk, const char *
  * seg; for `layerfit fit --batch MAP --k ...`. */
 LF_API int lf_plan_of_file(const char *path, const lf_probe *probe, lf_segment seg, lf_plan **out,
                     lf_error *err);
+/* The same for n files, one row each in their order (`layerfit fit a.txt
+ * b.txt ...`): every row the same probe and segment, no sample. */
+int lf_plan_of_files(size_t n, const char *const *paths, const lf_probe *probe, lf_segment seg,
+                     lf_plan **out, lf_error *err);
+/* Name each row's sample by a rule (`layerfit fit --group-by RULE`):
+ *   "field:KEY"  the value of the curve file's header field KEY (its
+ *                metadata, as `layerfit check` lists it);
+ *   "name:REGEX" the first group (else the whole match) of the POSIX
+ *                extended regular expression REGEX in the file's name
+ *                (without its folder);
+ *   "dir"        the file's folder.
+ * A row the rule does not match is LF_EDATA naming it.  Rows that name a
+ * file of many curves take the field of its first curve. */
+int lf_plan_group(lf_plan *plan, const char *rule, const lf_read_opts *o, lf_error *err);
 /* Make one row per curve of every file of many curves that a row names
  * without an index (the row's other cells copied; index 0..N-1), opening
  * each such file once (lf_file_open, o as there) and keeping it open in
@@ -1064,8 +1098,12 @@ LF_API size_t lf_curve_segment(const lf_curve *c, lf_segment seg, double *depth,
 LF_API int lf_curve_check_fit(const lf_curve *c, lf_segment seg, size_t min_points,
                        lf_error *err);
 
-/* The name of a segment ("load", "unload", "hold"). */
+/* The name of a segment ("load", "unload", "hold"), and the segment of a
+ * word as plans and options take it (case aside): load, loading, approach,
+ * extend; unload, unloading, retract, withdraw; hold, holding, pause,
+ * dwell.  -1 for another word. */
 LF_API const char *lf_segment_name(lf_segment seg);
+LF_API int lf_segment_find(const char *word);
 
 /* What a lab reads off a curve without any contact model (src/observe.c),
  * in SI.  Each segment is taken in order of depth; its baseline is the
@@ -1098,6 +1136,35 @@ typedef struct {
 
 /* Fill *o for curve c (every segment it holds).  LF_ENOMEM only. */
 int lf_observe(const lf_curve *c, lf_observables *o, lf_error *err);
+
+/* The window that keeps everything, and whether w is it. */
+lf_window lf_window_all(void);
+int lf_window_is_all(const lf_window *w);
+/* Parse "LO:HI" ("0:500nm", "0:30%", ":2uN", "-20nN:"): each side empty
+ * (open), a percentage, a value with a unit of q (LF_Q_LENGTH or
+ * LF_Q_FORCE), or a bare 0; both sides of one kind.  LF_EINVAL or LF_EUNIT
+ * with a message. */
+int lf_range_parse(const char *text, lf_quantity q, lf_range *r, lf_error *err);
+
+/* A window placed on one curve, in its own depth and force. */
+typedef struct {
+    int active;                /* 0: every point kept */
+    lf_window window;          /* as stated */
+    double depth_lo, depth_hi; /* the curve's depth, m (-inf, inf: open) */
+    double force_lo, force_hi; /* the curve's force, N */
+    double contact_point;      /* m, and the baseline, N, it was placed from */
+    double baseline;
+    size_t n_in, n_kept;       /* the segment's points, and those kept
+                                  (filled by the caller) */
+} lf_window_placed;
+
+/* Place w on a curve from its observables: LF_EDATA (with what is missing)
+ * when the curve shows no contact point for a depth window, no baseline
+ * for a force window, or nothing to take a fraction of. */
+int lf_window_place(const lf_window *w, const lf_observables *o, lf_window_placed *out,
+                    lf_error *err);
+/* 1 when a point lies within the placed window. */
+int lf_window_keeps(const lf_window_placed *p, double depth, double force);
 
 /* ------------------------------------------------------------------------
  * Planning a test: what a set of candidate curves would measure (fit/design.c)
@@ -1357,6 +1424,8 @@ typedef struct {
     unsigned open_flags;  /* lf_input_read flags for the curve files: 0
                              (default) regular files only; LF_INPUT_STREAM
                              also a pipe or FIFO (a file named by a user) */
+    lf_window window;     /* all (default): each row's window (none unless
+                             its plan gives one); else every curve's */
 } lf_input_settings;
 
 LF_API lf_input_settings lf_input_settings_default(void);
@@ -1392,6 +1461,8 @@ typedef struct {
                                  of one curve) */
     lf_observables *observed; /* n: what each curve shows without a model
                                  (lf_observe, over all its segments) */
+    lf_window_placed *window; /* n: each curve's fit window as placed (its
+                                 points outside it are not in curves[]) */
 } lf_fit_input;
 
 /* Read the curves of rows[0..nrows-1] of the plan (rows NULL: every row,

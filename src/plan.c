@@ -355,6 +355,7 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     if ((status = lf_csv_table_segment(&rd->t, r, P_SEGMENT, &row->segment, err)) != LF_OK)
         return status;
     row->index = -1;
+    row->window = lf_window_all();
     k = rd->t.col[P_INTERFACE];
     if (no_layer(rd, r) != (r->text[k][0] == '\0'))
         return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
@@ -582,39 +583,54 @@ lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err)
 /* ---------------------------------------------------------------------- */
 
 int
-lf_plan_of_file(const char *path, const lf_probe *probe, lf_segment seg, lf_plan **out,
-                lf_error *err)
+lf_plan_of_files(size_t n, const char *const *paths, const lf_probe *probe, lf_segment seg,
+                 lf_plan **out, lf_error *err)
 {
     char split[4096];
     lf_plan *p;
-    lf_plan_row *row;
-    long index;
+    size_t i;
 
     *out = NULL;
-    if (lf_curve_path_split(path, split, sizeof split, &index) != LF_OK)
-        return lf_fail_at(err, LF_EINVAL, path, 0, 0, "path too long");
+    if (n == 0)
+        return lf_fail(err, LF_EINVAL, "no curve files");
     p = calloc(1, sizeof *p);
-    if (p == NULL || (p->path = lf_strdup(path)) == NULL
-        || (p->rows = calloc(1, sizeof *p->rows)) == NULL) {
+    if (p == NULL || (p->path = lf_strdup(paths[0])) == NULL
+        || (p->rows = calloc(n, sizeof *p->rows)) == NULL) {
         lf_plan_free(p);
-        return lf_fail_at(err, LF_ENOMEM, path, 0, 0, "out of memory");
+        return lf_fail_at(err, LF_ENOMEM, paths[0], 0, 0, "out of memory");
     }
-    row = &p->rows[0];
-    row->file = lf_strdup(split);
-    row->sample = lf_strdup("");
-    row->format = lf_strdup("");
-    p->n = 1;
-    if (row->file == NULL || row->sample == NULL || row->format == NULL) {
-        lf_plan_free(p);
-        return lf_fail_at(err, LF_ENOMEM, path, 0, 0, "out of memory");
+    for (i = 0; i < n; i++) {
+        lf_plan_row *row = &p->rows[i];
+        long index;
+        if (lf_curve_path_split(paths[i], split, sizeof split, &index) != LF_OK) {
+            lf_plan_free(p);
+            return lf_fail_at(err, LF_EINVAL, paths[i], 0, 0, "path too long");
+        }
+        row->file = lf_strdup(split);
+        row->sample = lf_strdup("");
+        row->format = lf_strdup("");
+        p->n = i + 1;
+        if (row->file == NULL || row->sample == NULL || row->format == NULL) {
+            lf_plan_free(p);
+            return lf_fail_at(err, LF_ENOMEM, paths[i], 0, 0, "out of memory");
+        }
+        row->line = 0;
+        row->probe = *probe;
+        row->nu = row->z0 = row->F0 = NAN;
+        row->segment = seg;
+        row->index = index;
+        row->window = lf_window_all();
     }
-    row->line = 0;
-    row->probe = *probe;
-    row->nu = row->z0 = row->F0 = NAN;
-    row->segment = seg;
-    row->index = index;
+    p->of_files = 1;
     *out = p;
     return LF_OK;
+}
+
+int
+lf_plan_of_file(const char *path, const lf_probe *probe, lf_segment seg, lf_plan **out,
+                lf_error *err)
+{
+    return lf_plan_of_files(1, &path, probe, seg, out, err);
 }
 
 /* The open file of path among the plan's, or NULL. */

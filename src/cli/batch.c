@@ -464,12 +464,109 @@ put_row(sbuf *b, const batch_config *cfg, size_t fit_no, const char *sample,
     sb_printf(b, json ? "}\n" : "\n");
 }
 
-/* Read, fit and format fit number u (0-based) of the plan.  Returns 1 when
- * the fit failed (error or no convergence), 2 when it converged but the
- * model does not describe a curve (status misfit), 0 when it succeeded.
- * Never exits: what goes wrong is written into the row. */
+/* Why a fit failed, for the summary on stderr: its message (why) and the
+ * same with its files' names and every number blanked out (key), so that
+ * the failures of one cause count together; NULL while the fit has not
+ * failed (allocated then, freed by the batch). */
+typedef struct {
+    char *why, *key;
+} failure;
+
+static void
+failure_set(failure *f, const char *why, const unit_files *uf)
+{
+    size_t i = 0, k = 0, j, n = strlen(why) + 1;
+
+    free(f->why);
+    free(f->key);
+    f->why = malloc(n);
+    f->key = malloc(n);
+    if (f->why == NULL || f->key == NULL) {
+        free(f->why);
+        free(f->key);
+        f->why = f->key = NULL;
+        return;
+    }
+    memcpy(f->why, why, n);
+    while (why[i] != '\0') {
+        size_t len = 0;
+        for (j = 0; j < uf->n && len == 0; j++)
+            if (uf->name[j] != NULL && strncmp(why + i, uf->name[j], strlen(uf->name[j])) == 0)
+                len = strlen(uf->name[j]);
+        if (len > 0) {                  /* a file's name */
+            f->key[k++] = '@';
+            i += len;
+        } else if (why[i] >= '0' && why[i] <= '9') {   /* a number */
+            f->key[k++] = '#';
+            while ((why[i] >= '0' && why[i] <= '9') || why[i] == '.' || why[i] == 'e'
+                   || ((why[i] == '-' || why[i] == '+') && i > 0 && why[i - 1] == 'e'))
+                i++;
+        } else {
+            f->key[k++] = why[i++];
+        }
+    }
+    f->key[k] = '\0';
+}
+
+/* One cause of failures: its key, how many, the first message. */
+typedef struct {
+    const char *key, *why;
+    size_t count, first;
+} cause;
+
 static int
-fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
+cmp_cause(const void *a, const void *b)
+{
+    const cause *x = a, *y = b;
+    return x->count != y->count ? (x->count < y->count) - (x->count > y->count)
+                                : (x->first > y->first) - (x->first < y->first);
+}
+
+/* The most common causes of the n failures f[0..n-1] (in fit order), with
+ * their counts, on stderr. */
+#define CAUSES_SHOWN 3
+static void
+causes_print(const failure *f, size_t n)
+{
+    cause *c = malloc((n ? n : 1) * sizeof *c);
+    size_t i, j, nc = 0;
+
+    if (c == NULL)
+        return;
+    for (i = 0; i < n; i++) {
+        if (f[i].key == NULL)
+            continue;
+        for (j = 0; j < nc && strcmp(c[j].key, f[i].key) != 0; j++)
+            ;
+        if (j == nc) {
+            c[nc].key = f[i].key;
+            c[nc].why = f[i].why;
+            c[nc].count = 0;
+            c[nc++].first = i;
+        }
+        c[j].count++;
+    }
+    qsort(c, nc, sizeof *c, cmp_cause);
+    for (i = 0; i < nc && i < CAUSES_SHOWN; i++) {
+        fprintf(stderr, "  %zu fit%s: ", c[i].count, c[i].count == 1 ? "" : "s");
+        cli_put_clean(stderr, c[i].why);
+        if (c[i].count > 1)
+            fprintf(stderr, " (and %zu more like it)", c[i].count - 1);
+        fputc('\n', stderr);
+    }
+    if (nc > CAUSES_SHOWN)
+        fprintf(stderr, "  and %zu other reason%s\n", nc - CAUSES_SHOWN,
+                nc - CAUSES_SHOWN == 1 ? "" : "s");
+    free(c);
+}
+
+/* Read, fit and format fit number u (0-based) of the plan.  Returns 1 when
+ * the fit failed (error or no convergence; *why says why), 2 when it
+ * converged but the model does not describe a curve (status misfit), 0
+ * when it succeeded.  Never exits: what goes wrong is written into the
+ * row. */
+static int
+fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out, failure *why)
 {
     const lf_plan *plan = ul->plan;
     size_t first = ul->start[u], n = ul->start[u + 1] - first, j;
@@ -545,6 +642,8 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
          * converged) */
         status = st == LF_OK && res.converged ? "ok" : "noconv";
         failed = !(st == LF_OK && res.converged);
+        if (failed)
+            failure_set(why, res.stop_reason, &uf);
         if (!failed && cli_disagreeing(&res, ebuf, sizeof ebuf) > 0) {
             status = "misfit";      /* the report's DISAGREES: no measurement */
             failed = 2;
@@ -553,6 +652,8 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, sbuf *out)
         format_error(ebuf, sizeof ebuf, &err);
     }
 row:
+    if (!have_res)
+        failure_set(why, ebuf, &uf);
     if (have_res) {
         num_field num[] = {
             { "x_m", x }, { "y_m", y },
@@ -683,7 +784,8 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     char msg[4400];
     FILE *out = stdout;
     sbuf *rows;
-    size_t lo, hi, u, block, total, done = 0, failed = 0, misfits = 0, i;
+    failure *why, *fails = NULL;
+    size_t lo, hi, u, block, total, done = 0, failed = 0, misfits = 0, i, nfail = 0, capfail = 0;
     long shard_i = 1, shard_n = 1, threads = o->threads;
     int progress, io_error = 0;
     double t0 = cli_now(), last = 0.0;
@@ -716,15 +818,10 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
 #endif
     cli_output_note("fit", o->out);
     cli_output_note_sidecar("fit", o->out);
-    if (o->probe != NULL) {
-        /* a file of curves (a force map): each curve with the one probe */
-        lf_error err;
-        cli_input_guard("fit", o->plan);
-        if (lf_plan_of_file(o->plan, o->probe, LF_SEG_UNLOAD, &plan, &err) != LF_OK)
-            cli_die_error(err.status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, &err);
-    } else {
+    if (o->files != NULL)
+        plan = o->files;      /* curve files (force maps among them), one probe for all */
+    else
         plan = cli_plan_load("fit", o->plan);
-    }
     cli_plan_need_layers(plan, o->auto_model ? "auto" : settings->model->name);
     for (i = 0; i < plan->n; i++)      /* no output may replace a curve */
         if (i == 0 || strcmp(plan->rows[i].file, plan->rows[i - 1].file) != 0)
@@ -735,11 +832,15 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
         lf_error err;
         if (lf_plan_open_files(plan, o->input.read, &err) != LF_OK)
             cli_die(CLI_EXIT_FAIL, "out of memory");
-        if (o->probe != NULL) {
-            if (plan->nfiles > 0)
-                cli_input_note(o->plan, lf_file_sha256(plan->files[0]));
-            else
-                cli_input_note(o->plan, NULL);
+        for (i = 0; o->files != NULL && i < plan->n; i++) {
+            /* provenance: the files named on the command line (a file of
+             * many curves by its digest, taken when it was opened) */
+            const char *sha = NULL;
+            size_t f;
+            for (f = 0; f < plan->nfiles; f++)
+                if (plan->rows[i].source == plan->files[f])
+                    sha = lf_file_sha256(plan->files[f]);
+            cli_input_note(plan->rows[i].file, sha);
         }
     }
     if (units_make(plan, &ul) != 0)
@@ -757,7 +858,8 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     progress = o->progress >= 0 ? o->progress : isatty(STDERR_FILENO);
     block = 128 * (size_t) threads;   /* large enough that slow fits average out across threads */
     rows = calloc(block, sizeof *rows);
-    if (rows == NULL)
+    why = calloc(block, sizeof *why);
+    if (rows == NULL || why == NULL)
         cli_die(CLI_EXIT_FAIL, "out of memory");
     for (u = lo; u < hi; u += block) {
         size_t nb = hi - u < block ? hi - u : block, bad = 0, mis = 0;
@@ -767,7 +869,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
             int r;
             rows[b].len = 0;
             rows[b].failed = 0;
-            r = fit_unit(&ul, u + (size_t) b, &cfg, &rows[b]);
+            r = fit_unit(&ul, u + (size_t) b, &cfg, &rows[b], &why[b]);
             bad += r == 1;
             mis += r == 2;
         }
@@ -776,6 +878,16 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
                 cli_die(CLI_EXIT_FAIL, "out of memory writing fit %zu", u + i + 1);
             if (fwrite(rows[i].s, 1, rows[i].len, out) != rows[i].len)
                 io_error = 1;
+            if (why[i].key != NULL) {
+                /* kept for the summary: the causes of the failed fits */
+                failure *grown = nfail < capfail ? fails
+                                 : realloc(fails, (capfail = 2 * capfail + 16) * sizeof *fails);
+                if (grown == NULL)
+                    cli_die(CLI_EXIT_FAIL, "out of memory");
+                fails = grown;
+                fails[nfail++] = why[i];
+                why[i].why = why[i].key = NULL;
+            }
         }
         failed += bad;
         misfits += mis;
@@ -790,6 +902,7 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     for (i = 0; i < block; i++)
         free(rows[i].s);
     free(rows);
+    free(why);
     if (out == stdout && (fflush(out) != 0 || ferror(out)))
         io_error = 1;
     units_free(&ul);
@@ -803,10 +916,17 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
         cli_provenance_sidecar("fit", o->out, o->command_line);
     }
     if (failed > 0) {
-        fprintf(stderr, "layerfit: fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s)\n",
-                failed, total, o->out ? o->out : "the output");
-        return CLI_EXIT_SOME_FAILED;
+        fprintf(stderr, "layerfit: fit: %zu of %zu fits failed (status 'error' or 'noconv' in "
+                "%s); the most common reasons:\n", failed, total, o->out ? o->out : "the output");
+        causes_print(fails, nfail);
     }
+    for (i = 0; i < nfail; i++) {
+        free(fails[i].why);
+        free(fails[i].key);
+    }
+    free(fails);
+    if (failed > 0)
+        return CLI_EXIT_SOME_FAILED;
     if (misfits > 0) {
         fprintf(stderr, "layerfit: fit: %zu of %zu fits converged, but the model does not "
                 "describe a curve of theirs (status 'misfit' in %s)\n", misfits, total,
@@ -856,39 +976,40 @@ batch_of_curves(int argc, char **argv)
 int
 cli_fit_batch(int argc, char **argv, const char *command_line)
 {
-    const char *plan = NULL, *out = NULL, *shard = NULL, *interface = NULL;
+    const char *plan = NULL, *out = NULL, *shard = NULL;
     long threads_opt = -1;
     int npos, help = 0, quiet = 0, progress = 0, curves_file;
-    double k = NAN, R = NAN, b = NAN;
     cli_fit_args fa;
-    cli_opt opts[10 + CLI_FIT_NOPTS + 1] = {
+    cli_probe_args pa;
+    cli_opt opts[6 + CLI_PROBE_NOPTS + CLI_FIT_NOPTS + 1] = {
         { "batch", CLI_STRING, &plan }, { "out", CLI_STRING, &out },
         { "threads", CLI_COUNT, &threads_opt }, { "shard", CLI_STRING, &shard },
         { "progress", CLI_FLAG, &progress }, { "quiet", CLI_FLAG, &quiet },
-        { "k", CLI_NUMBER, &k }, { "R", CLI_LENGTH, &R }, { "b", CLI_LENGTH, &b },
-        { "interface", CLI_STRING, &interface },
     };
     lf_fit_settings s = lf_fit_settings_default();
     cli_batch_opts o;
-    lf_probe probe;
     size_t no;
 
     cli_fit_args_init(&fa);
-    no = 10 + cli_fit_opts(&fa, opts + 10);
+    cli_probe_args_init(&pa);
+    no = 6 + cli_probe_opts(&pa, opts + 6);
+    no += cli_fit_opts(&fa, opts + no);
     opts[no].name = NULL;
     curves_file = batch_of_curves(argc, argv);
     {
-        /* a single fit's outputs, and a single curve's probe for a plan,
+        /* a single fit's outputs, and the probe of curve files for a plan,
          * asked of a batch: say where they belong */
         static const char *const single[] = { "--json", "--curves", "--plot", "--report" };
-        static const char *const probes[] = { "--k", "--R", "--b", "--interface" };
+        static const char *const probes[] = { "--k", "--R", "--b", "--interface", "--tip",
+                                              "--half-angle", "--B", "--sample", "--group-by" };
         cli_refuse_options(argc, argv, single, sizeof single / sizeof single[0],
                            "a single fit; a batch writes one row per fit to --out FILE.csv or "
                            "--out FILE.jsonl");
         if (!curves_file)
             cli_refuse_options(argc, argv, probes, sizeof probes / sizeof probes[0],
-                               "a single curve; a batch takes each curve's probe from its row "
-                               "of the plan (columns k, R, b, interface)");
+                               "curve files; a batch of a plan takes each curve's probe and "
+                               "sample from its row (columns k, R, b, interface, tip, "
+                               "half-angle, B, sample)");
     }
     cli_parse("fit", argc, argv, opts, &npos, &help);
     /* `fit --batch --help`: the help, not a plan called --help */
@@ -897,16 +1018,21 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
     if (help) {
         printf("usage: layerfit fit --batch PLAN.csv [--out FILE.csv|FILE.jsonl] [--threads N]\n"
                "                    [--shard I/N] [--progress|--quiet] [fit options]\n"
-               "       layerfit fit --batch MAP --k K [--R LENGTH] [--b LENGTH --interface I]\n"
+               "       layerfit fit --batch FILE... PROBE [--sample NAME | --group-by RULE]\n"
                "                    [options as above]\n\n"
                "Fits every curve of the plan, or every group of curves with the same\n"
                "'sample', on its own, in parallel; one output row per fit, in plan order,\n"
                "with its status (ok, misfit, noconv, error) and message.  A plan row that\n"
                "names a file of many curves (a force map, QI data, a force volume) without\n"
-               "an index stands for each of its curves; MAP, a file of curves given instead\n"
-               "of a plan, has every curve fitted with the probe of --k, --R, --b and\n"
-               "--interface.  Each row carries the curve's position (x_m, y_m) and grid\n"
-               "place (grid_i, grid_j) where its file states them.\n\n"
+               "an index stands for each of its curves.  Curve files given instead of a\n"
+               "plan (as the shell expands *.txt) are fitted with the probe of the options:\n"
+               "--k with --R (else each file's header) or --B, or --tip, --half-angle; and\n"
+               "--b with --interface for a layer.  --sample NAME makes them one sample,\n"
+               "fitted jointly; --group-by RULE forms samples by a header field\n"
+               "(field:KEY), a pattern in the file names (name:REGEX, its first group) or\n"
+               "their folders (dir).  Each row carries the curve's position (x_m, y_m) and\n"
+               "grid place (grid_i, grid_j) where its file states them, and what the first\n"
+               "curve shows without a model (adhesion_force_N, ...).\n\n"
                "  --out FILE        .csv or .jsonl (default: CSV on standard output)\n"
                "  --threads N       parallel fits, 1..%d (default: all cores); the output\n"
                "                    does not depend on N\n"
@@ -919,7 +1045,9 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
                CLI_MAX_THREADS);
         fputs(cli_fit_help, stdout);
         printf("\nEvery problem with one curve (a missing or unreadable file included) is\n"
-               "that fit's row; the batch goes on.  --out FILE gets FILE.provenance.json.\n\n"
+               "that fit's row; the batch goes on, and stderr says the most common reasons\n"
+               "of the fits that failed, with their counts.  --out FILE gets\n"
+               "FILE.provenance.json.\n\n"
                "exit status: 0 every fit ok; 3 some fits failed (rows with status error or\n"
                "noconv; stderr says how many); 4 none failed, but some converged where the\n"
                "model does not describe a curve (status misfit); 2 bad command line or plan\n"
@@ -927,22 +1055,31 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
                "written)\n");
         return CLI_EXIT_OK;
     }
-    if (npos > 0)
-        cli_die(CLI_EXIT_USAGE, "fit: --batch takes the plan as its value; unexpected '%s'", argv[0]);
     if (plan == NULL || *plan == '\0')
-        cli_die(CLI_EXIT_USAGE, "fit: --batch needs a plan (e.g. --batch plan.csv)");
+        cli_die(CLI_EXIT_USAGE, "fit: --batch needs a plan or curve files (e.g. --batch plan.csv, "
+                "--batch *.txt --k 2 --model halfspace)");
+    if (npos > 0 && !curves_file)
+        cli_die(CLI_EXIT_USAGE, "fit: --batch %s is a plan: fit it alone (unexpected '%s'; curve "
+                "files are named after --batch with their probe)", plan, argv[0]);
     o.choose = lf_choose_settings_default();
     o.input = lf_input_settings_default();
     o.auto_model = cli_fit_settings(&fa, &s, &o.choose, &o.input);
-    o.probe = NULL;
+    o.files = NULL;
     if (curves_file) {
-        /* a file of curves: every curve with the probe of the options */
-        if (isnan(k))
-            cli_die(CLI_EXIT_USAGE, "fit: %s is a curve file, not a plan: give the probe of its "
-                    "curves, e.g. --batch %s --k 2 --R 5um --model halfspace (or --b and "
-                    "--interface for a layer)", plan, plan);
-        cli_fit_probe(o.auto_model ? "auto" : s.model->name, k, R, b, interface, &probe);
-        o.probe = &probe;
+        /* curve files: every curve with the probe of the options */
+        char **files = malloc(((size_t) npos + 1) * sizeof *files);
+        int i;
+        if (files == NULL)
+            cli_die(CLI_EXIT_FAIL, "out of memory");
+        files[0] = (char *) plan;
+        for (i = 0; i < npos; i++)
+            files[i + 1] = argv[i];
+        o.files = cli_files_plan(o.auto_model ? "auto" : s.model->name, (size_t) npos + 1, files,
+                                 &pa, &o.input, fa.sample, fa.group_by);
+        free(files);
+    } else if (fa.sample != NULL || fa.group_by != NULL) {
+        cli_die(CLI_EXIT_USAGE, "fit: --%s forms the samples of curve files; a plan's sample "
+                "column names its samples", fa.sample != NULL ? "sample" : "group-by");
     }
     o.linear_only = fa.linear_only;
     o.plan = plan;

@@ -54,7 +54,8 @@ typedef enum {
     CLI_LENGTH,      /* double *, SI, through udunits2 */
     CLI_FORCE,
     CLI_ADHESION,
-    CLI_PRESSURE
+    CLI_PRESSURE,
+    CLI_ANGLE        /* double *, rad ("35deg") */
 } cli_kind;
 
 typedef struct {
@@ -136,9 +137,11 @@ typedef struct {
     int slope;
     const char *format, *spring_constant, *sensitivity;  /* how curves are read */
     lf_read_opts read;    /* filled by cli_fit_settings; is->read points here */
+    const char *depth_range, *force_range;  /* fit windows, "LO:HI" */
+    const char *sample, *group_by;  /* samples of curve files on the command line */
 } cli_fit_args;
 
-#define CLI_FIT_NOPTS 24
+#define CLI_FIT_NOPTS 28
 void cli_fit_args_init(cli_fit_args *a);
 size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
 int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
@@ -161,17 +164,36 @@ const char *cli_interval_method(const lf_fit_estimate *e);
  * estimate (determined, fixed, an upper bound of w, or never profiled). */
 const char *cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit,
                            char *buf, size_t n);
-#define CLI_FIT_NOPTS 24
-void cli_fit_args_init(cli_fit_args *a);
-size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
-int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
-                     lf_input_settings *is);
-/* The probe of a single curve, or of every curve of a file of many, from
- * --k, --R, --b, --interface (R NaN: from the file's header; b NaN with no
- * interface: no layer, for a half-space model); dies with status 2 naming
- * what is missing or wrong. */
-void cli_fit_probe(const char *model, double k, double R, double b, const char *interface,
-                   lf_probe *p);
+/* Curves named on the command line (files.c): their probe, one for all,
+ * from --k, --R, --B, --tip, --half-angle, --b, --interface (R NaN: from
+ * each file's header; b NaN: no layer, for a half-space model). */
+typedef struct {
+    double k, R, b, half_angle, B;
+    const char *interface, *tip;
+} cli_probe_args;
+#define CLI_PROBE_NOPTS 7
+void cli_probe_args_init(cli_probe_args *a);
+/* Put the probe options into opts (CLI_PROBE_NOPTS entries); returns how
+ * many. */
+size_t cli_probe_opts(cli_probe_args *a, cli_opt *opts);
+/* The first probe option given ("--k", ...), or NULL; and whether any
+ * states the shape (--k, --tip, --half-angle, --B). */
+const char *cli_probe_given(const cli_probe_args *a);
+int cli_probe_shape_given(const cli_probe_args *a);
+/* The probe of the options for a fit with `model`; dies with status 2
+ * naming only what is missing or contradicts. */
+void cli_fit_probe(const char *model, const cli_probe_args *a, lf_probe *p);
+/* Curve files files[0..n-1] as a plan of one row each (lf_plan_of_files)
+ * with the probe of the options, on the settings' segment, each file's
+ * sample --sample (sample) or formed by --group-by (group_by), or none;
+ * dies with status 2 on a plan among them, a missing probe or a grouping
+ * that fails.  The plan is the caller's. */
+lf_plan *cli_files_plan(const char *model, size_t n, char *const *files,
+                        const cli_probe_args *pa, const lf_input_settings *is,
+                        const char *sample, const char *group_by);
+/* 1 when every row of the plan has the same sample; else 0 with two that
+ * differ in *a, *b. */
+int cli_plan_one_sample(const lf_plan *plan, const char **a, const char **b);
 /* The fit options' help lines, shared by both usage texts. */
 extern const char cli_fit_help[];
 
@@ -188,8 +210,9 @@ typedef struct {
     lf_choose_settings choose;  /* the model choice's settings */
     lf_input_settings input;    /* segment, held offsets */
     const char *command_line;   /* for the provenance record */
-    const lf_probe *probe;      /* not NULL: `plan` is a file of curves, each fitted
-                                   with this probe (--k, --R, --b, --interface) */
+    lf_plan *files;             /* not NULL: curve files named on the command line
+                                   (cli_files_plan), fitted instead of `plan`;
+                                   freed by cli_batch_run */
 } cli_batch_opts;
 /* Fit every fit of the plan with the settings; returns the exit status
  * (CLI_EXIT_OK, or CLI_EXIT_SOME_FAILED with a summary line on stderr). */
@@ -340,5 +363,8 @@ void cli_observed_values(const lf_observables *o, double v[CLI_NOBSERVED]);
 /* The report's lines of a curve's observables and its instrument's own
  * result, beside the fit's pull-off (cr may be NULL). */
 void cli_observed_text(FILE *f, const lf_observables *o, const lf_fit_curve_result *cr);
+/* The report's line of a curve's fit window as stated and what it kept
+ * (nothing when the window keeps everything). */
+void cli_window_text(FILE *f, const lf_window_placed *w, const lf_observables *o);
 
 #endif

@@ -12,21 +12,30 @@
 
 static const char usage_text[] =
     "usage: layerfit fit PLAN.csv [options]\n"
-    "       layerfit fit CURVE.csv --k K --R LENGTH --b LENGTH --interface I [options]\n"
+    "       layerfit fit FILE... PROBE [--b LENGTH --interface I] [options]\n"
     "       layerfit fit EXPORT.txt --model halfspace --k 2 [--R LENGTH] [options]\n"
     "       layerfit fit MAP.jpk-force-map#N ...   curve N (from 0) of a file of many\n"
     "\n"
     "Fits w, E* and (where the plan determines it) nu jointly to every curve,\n"
     "with each curve's contact point z0 and force offset F0 free unless fixed.\n"
+    "Curve files named on the command line (a.txt b.txt, or *.txt as the shell\n"
+    "expands it) are one material, with one probe for all: R from each file's\n"
+    "header where --R is absent; with --model halfspace no --b and --interface.\n"
     "\n"
+    "the probe (PROBE) of curve files:\n"
+    "  --k K --R LENGTH     a power law f = r^k/(k R^(k-1)) (k = 2: a paraboloid)\n"
+    "  --k K --B PREFACTOR  the same stated by f = B r^k, B in m^(1-k)\n"
+    "  --tip T              paraboloid, sphere (a true sphere of radius --R, contact up\n"
+    "                       to R), cone, berkovich (its equivalent cone, 70.3 deg),\n"
+    "                       pyramid (four-sided: the cone of equal projected area)\n"
+    "  --half-angle ANGLE   a cone's half-angle (35deg), a pyramid's faces'\n"
+    "  --b LENGTH --interface frictionless|bonded   the layer under it\n"
     "options:\n"
     "  --json FILE          the result in SI as JSON\n"
     "  --curves FILE        per point: depth, force, fitted force, residual, contact radius\n"
     "  --plot DIR           figures (PNG, SVG) with their gnuplot scripts and data\n"
     "  --report FILE.html   one self-contained page: tables, warnings, figures\n"
     "  --batch PLAN.csv     every curve or sample an independent fit (see --batch --help)\n"
-    "  a single curve takes R from its file's header when --R is absent; with\n"
-    "  --model halfspace it needs no --b (not used) and no --interface\n"
     "fit options (the same, with the same defaults, for --batch):\n";
 
 const char cli_fit_help[] =
@@ -43,7 +52,16 @@ const char cli_fit_help[] =
     "  --slope              fit a baseline slope per curve\n"
     "  --max-iter N         iterations allowed (200)\n"
     "  --max-b-over-a X     warn where b/a exceeds X (0.1)\n"
-    "  --segment S          unload or load for every curve (default: the plan's, unload)\n"
+    "  --segment S          unload (retract, withdraw) or load (approach, extend) for\n"
+    "                       every curve (default: the plan's, unload)\n"
+    "  --depth-range LO:HI  fit only the points whose indentation from the curve's\n"
+    "                       contact point lies within: 0:500nm, or 0:30% of its deepest\n"
+    "                       indentation; a side left empty is open (:50%)\n"
+    "  --force-range LO:HI  fit only the points whose force above the baseline lies\n"
+    "                       within: -20nN:2uN, or :80% of its largest force\n"
+    "  --sample NAME        curve files on the command line are one sample NAME\n"
+    "  --group-by RULE      their samples by a header field (field:KEY), a pattern in\n"
+    "                       their names (name:REGEX, its first group) or folder (dir)\n"
     "  --guess-w ADH        start the iteration at this w (e.g. 10mJ/m2) instead of\n"
     "                       the automatic guess\n"
     "  --guess-E PRESSURE   start at this E* (e.g. 1GPa)\n"
@@ -72,8 +90,8 @@ static const char exit_text[] =
     "written)\n";
 
 typedef struct {
-    const char *json, *curves, *interface;
-    double k, R, b;
+    const char *json, *curves;
+    cli_probe_args probe;
 } fit_args;
 
 /* The report's notes on its input, once the fit has run (an error exit
@@ -85,7 +103,7 @@ print_input_notes(const fit_args *a, const lf_fit_input *in)
 {
     char buf[48];
     size_t j;
-    if (!isnan(a->k) && isnan(a->b) && in->n == 1)
+    if (cli_probe_shape_given(&a->probe) && isnan(a->probe.b) && in->n == 1)
         printf("%s: half-space model: no layer thickness or interface used\n", in->names[0]);
     for (j = 0; j < in->n; j++)
         if (in->R_source[j] != NULL && strcmp(in->R_source[j], "file header") == 0)
@@ -94,74 +112,50 @@ print_input_notes(const fit_args *a, const lf_fit_input *in)
                    in->format[j] != NULL ? in->format[j] : "?");
 }
 
-void
-cli_fit_probe(const char *model, double k, double R, double b, const char *interface,
-              lf_probe *p)
-{
-    int base = LF_BASE_FRICTIONLESS;
-    /* a half-space has no thickness and no interface: b NaN, a stand-in
-     * (R) that no half-space formula uses; R NaN: from the file header */
-    int halfspace = cli_model_ignores_b(model);
-    lf_error err;
-    memset(p, 0, sizeof *p);
-    if (halfspace && isnan(b) != (interface == NULL))
-        cli_die(CLI_EXIT_USAGE, "fit: --b and --interface go together (and the half-space "
-                "model uses neither: leave both out)");
-    if (!(halfspace && isnan(b) && interface == NULL)) {
-        if (isnan(b) || interface == NULL)
-            cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
-                    "(e.g. --k 2 --R 1mm --b 1um --interface frictionless)");
-        base = cli_base(interface);
-        if (base < 0)
-            cli_die(CLI_EXIT_USAGE, "fit: unknown interface '%s' (frictionless or bonded)",
-                    interface);
-    }
-    p->k = k;
-    p->R = isnan(R) ? 1.0 : R;    /* checked with the file's R after reading */
-    p->b = isnan(b) ? p->R : b;
-    p->base = (lf_base) base;
-    if (lf_probe_check(p, &err) != LF_OK)
-        cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
-    p->R = R;
-    p->b = b;
-}
-
-/* Read the plan (or the single curve) into in (lf_fit_input_from_plan:
- * the one step from a plan to a fit's input, the one rule for nu). */
+/* Read the plan, the single curve or the curve files into in
+ * (lf_fit_input_from_plan: the one step from a plan to a fit's input, the
+ * one rule for nu). */
 static void
-read_input(const char *path, const fit_args *a, const char *model, const lf_input_settings *is,
-           lf_fit_input *in)
+read_input(int npos, char **pos, const fit_args *a, const cli_fit_args *fa,
+           const lf_input_settings *is, lf_fit_input *in)
 {
     lf_warnings warn = { 0, NULL };
     lf_error err;
     lf_input_settings one = *is;
+    const char *path = pos[0];
     size_t j;
     int status;
-    if (!isnan(a->k)) {
-        lf_probe p;
-        char file[4096];
-        long index;
-        cli_fit_probe(model, a->k, a->R, a->b, a->interface, &p);
-        /* a curve named on the command line may be a pipe (read once) */
-        one.open_flags = LF_INPUT_STREAM;
-        if (lf_curve_path_split(path, file, sizeof file, &index) != LF_OK)
-            cli_die(CLI_EXIT_USAGE, "fit: %s: path too long", path);
-        cli_input_guard("fit", file);
-        status = lf_fit_input_from_curve(path, &p, &one, in, &warn, &err);
-        if (status != LF_OK && status != LF_ENOMEM && cli_reads_as_plan(path))
-            cli_die(CLI_EXIT_USAGE, "fit: %s is a plan: --k, --R, --b and --interface are for a "
-                    "single curve (a plan gives each curve's probe in its row); fit the plan "
-                    "without them", path);
+    if (npos == 1 && cli_probe_given(&a->probe) != NULL && cli_reads_as_plan(path))
+        cli_die(CLI_EXIT_USAGE, "fit: %s applies to curve files; %s is a plan, which gives each "
+                "curve's probe in its row (columns k, R, b, interface, tip, half-angle, B; R may "
+                "read 'header'): fit it without the probe options", cli_probe_given(&a->probe),
+                path);
+    if (npos > 1 || !cli_reads_as_plan(path)) {
+        /* curve files, each with the probe of the options */
+        lf_plan *plan;
+        const char *s1, *s2;
+        plan = cli_files_plan(fa->model, (size_t) npos, pos, &a->probe, is, fa->sample,
+                              fa->group_by);
+        if (!cli_plan_one_sample(plan, &s1, &s2))
+            cli_die(CLI_EXIT_USAGE, "fit: the files form several samples ('%s', '%s', ...): a "
+                    "joint fit is of one material; fit each sample on its own with "
+                    "layerfit fit --batch FILE... --group-by ...", s1, s2);
+        if (npos == 1 && plan->rows[0].index < 0) {
+            /* a single curve named on the command line may be a pipe (read once) */
+            one.open_flags = LF_INPUT_STREAM;
+            status = lf_fit_input_from_curve(path, &plan->rows[0].probe, &one, in, &warn, &err);
+        } else {
+            status = lf_fit_input_from_plan(plan, NULL, 0, is, in, &warn, &err);
+        }
+        lf_plan_free(plan);
     } else {
         lf_plan *plan;
-        /* a plan gives each curve's probe in its own row: an option that
-         * would be ignored is refused */
-        if (!isnan(a->R) || !isnan(a->b) || a->interface != NULL)
-            cli_die(CLI_EXIT_USAGE, "fit: --%s applies to a single curve (with --k); a plan gives "
-                    "each curve's probe in its row (columns k, R, b, interface; R may read "
-                    "'header')", !isnan(a->R) ? "R" : !isnan(a->b) ? "b" : "interface");
+        if (fa->sample != NULL || fa->group_by != NULL)
+            cli_die(CLI_EXIT_USAGE, "fit: --%s forms the samples of curve files; %s is a plan, "
+                    "whose sample column names them", fa->sample != NULL ? "sample" : "group-by",
+                    path);
         plan = cli_plan_load("fit", path);
-        cli_plan_need_layers(plan, model);
+        cli_plan_need_layers(plan, fa->model);
         for (j = 0; j < plan->n; j++)   /* no output may replace a curve */
             cli_input_guard("fit", plan->rows[j].file);
         status = lf_fit_input_from_plan(plan, NULL, 0, is, in, &warn, &err);
@@ -282,6 +276,7 @@ cli_fit_args_init(cli_fit_args *a)
     a->max_iter = -1;
     a->slope = 0;
     a->format = a->spring_constant = a->sensitivity = NULL;
+    a->depth_range = a->force_range = a->sample = a->group_by = NULL;
     lf_read_opts_default(&a->read);
 }
 
@@ -303,6 +298,9 @@ cli_fit_opts(cli_fit_args *a, cli_opt *opts)
         { "depth-unit", CLI_STRING, &a->read.depth_unit },
         { "force-unit", CLI_STRING, &a->read.force_unit },
         { "skip-bad-rows", CLI_FLAG, &a->read.skip_bad_rows },
+        { "depth-range", CLI_STRING, &a->depth_range },
+        { "force-range", CLI_STRING, &a->force_range },
+        { "sample", CLI_STRING, &a->sample }, { "group-by", CLI_STRING, &a->group_by },
     };
     size_t n = sizeof table / sizeof table[0];
 
@@ -357,13 +355,22 @@ cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
     else
         cli_die(CLI_EXIT_USAGE, "fit: --intervals must be auto or linear (got '%s')", a->intervals);
     if (a->segment != NULL) {
-        if (strcmp(a->segment, "unload") == 0)
-            is->segment = LF_SEG_UNLOAD;
-        else if (strcmp(a->segment, "load") == 0)
-            is->segment = LF_SEG_LOAD;
-        else
-            cli_die(CLI_EXIT_USAGE, "fit: --segment must be unload or load (got '%s')", a->segment);
+        /* the words of a plan's segment column */
+        int seg = lf_segment_find(a->segment);
+        if (seg == LF_SEG_HOLD)
+            cli_die(CLI_EXIT_USAGE, "fit: --segment %s is a hold, which is never fitted (unload, "
+                    "retract or withdraw; load, approach or extend)", a->segment);
+        if (seg < 0)
+            cli_die(CLI_EXIT_USAGE, "fit: --segment must be unload (retract, withdraw) or load "
+                    "(approach, extend) (got '%s')", a->segment);
+        is->segment = seg;
     }
+    if (a->depth_range != NULL
+        && lf_range_parse(a->depth_range, LF_Q_LENGTH, &is->window.depth, &err) != LF_OK)
+        cli_die(CLI_EXIT_USAGE, "fit: --depth-range: %s", err.msg);
+    if (a->force_range != NULL
+        && lf_range_parse(a->force_range, LF_Q_FORCE, &is->window.force, &err) != LF_OK)
+        cli_die(CLI_EXIT_USAGE, "fit: --force-range: %s", err.msg);
     is->z0 = a->fix_z0;
     is->F0 = a->fix_F0;
     is->min_points = CLI_MIN_POINTS;    /* the same test as `layerfit check` */
@@ -414,13 +421,11 @@ cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
 int
 cli_fit(int argc, char **argv, const char *command_line)
 {
-    fit_args a = { NULL, NULL, NULL, NAN, NAN, NAN };
+    fit_args a = { NULL, NULL, { 0 } };
     cli_fit_args fa;
     const char *plot_dir = NULL, *report_html = NULL;
-    cli_opt opts[8 + CLI_FIT_NOPTS + 1] = {
+    cli_opt opts[4 + CLI_PROBE_NOPTS + CLI_FIT_NOPTS + 1] = {
         { "json", CLI_STRING, &a.json }, { "curves", CLI_STRING, &a.curves },
-        { "interface", CLI_STRING, &a.interface }, { "k", CLI_NUMBER, &a.k },
-        { "R", CLI_LENGTH, &a.R }, { "b", CLI_LENGTH, &a.b },
         { "plot", CLI_STRING, &plot_dir }, { "report", CLI_STRING, &report_html },
     };
     int npos, help, status, misfit = 0;
@@ -436,7 +441,9 @@ cli_fit(int argc, char **argv, const char *command_line)
     char bad[256];
 
     cli_fit_args_init(&fa);
-    no = 8 + cli_fit_opts(&fa, opts + 8);
+    cli_probe_args_init(&a.probe);
+    no = 4 + cli_probe_opts(&a.probe, opts + 4);
+    no += cli_fit_opts(&fa, opts + no);
     opts[no].name = NULL;
     {
         /* a batch's options, asked of a single fit: say where they belong */
@@ -453,8 +460,9 @@ cli_fit(int argc, char **argv, const char *command_line)
         fputs(exit_text, stdout);
         return CLI_EXIT_OK;
     }
-    if (npos != 1)
-        cli_die(CLI_EXIT_USAGE, "fit: give one plan or curve file (see 'layerfit fit --help')");
+    if (npos < 1)
+        cli_die(CLI_EXIT_USAGE, "fit: give a plan, or curve files with their probe (see "
+                "'layerfit fit --help')");
     figures_check(plot_dir, report_html);
     cli_output_note("fit", a.json);
     cli_output_note("fit", a.curves);
@@ -465,7 +473,7 @@ cli_fit(int argc, char **argv, const char *command_line)
     cli_output_folder_check("fit", report_html);
     cli_output_folder_check("fit", plot_dir);      /* its parent: --plot makes one level */
     model_auto = cli_fit_settings(&fa, &set, &choose, &is);
-    read_input(argv[0], &a, fa.model, &is, &d);
+    read_input(npos, argv, &a, &fa, &is, &d);
     figures_note(plot_dir, d.n);
     lf_fit_input_apply_nu(&d, &set);
     if (model_auto)
@@ -501,6 +509,7 @@ cli_fit(int argc, char **argv, const char *command_line)
     in.origin = d.origin;
     in.command_line = command_line;
     in.observed = d.observed;
+    in.window = d.window;
     print_input_notes(&a, &d);
     report_text(stdout, &in, &r);
     if (a.json != NULL)

@@ -196,6 +196,8 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                     branch_name(cr->branch), cr->n);
         if (in->origin != NULL)
             origin_text(f, &in->origin[j], no_layer(in, r, j));
+        if (in->window != NULL && in->observed != NULL)
+            cli_window_text(f, &in->window[j], &in->observed[j]);
         fprintf(f, "      z0 = %s%s, F0 = %s%s, noise %s, rms residual %s\n",
                 isnan(cr->z0) ? "not determined" : cli_human(a, sizeof a, cr->z0, "m"),
                 cr->z0_free ? "" : " (fixed)",
@@ -339,6 +341,49 @@ jestimate(FILE *f, const char *name, const lf_fit_estimate *e, int last)
     fprintf(f, "}%s\n", last ? "" : ",");
 }
 
+/* A range as stated: {"lo": .., "hi": .., "relative": ..}, or null. */
+static void
+jrange(FILE *f, const lf_range *r)
+{
+    if (isnan(r->lo) && isnan(r->hi)) {
+        fputs("null", f);
+        return;
+    }
+    fputs("{\"lo\": ", f);
+    jnum(f, r->lo);
+    fputs(", \"hi\": ", f);
+    jnum(f, r->hi);
+    fprintf(f, ", \"relative\": %s}", r->relative ? "true" : "false");
+}
+
+/* ", "window": {...}" of a curve: the window as stated (relative: as
+ * fractions) and as placed on the curve's depth and force (open: null),
+ * the points kept; null when it keeps everything. */
+static void
+jwindow(FILE *f, const lf_window_placed *w)
+{
+    const struct { const char *key; double v; } num[] = {
+        { "depth_lo_m", w->depth_lo }, { "depth_hi_m", w->depth_hi },
+        { "force_lo_N", w->force_lo }, { "force_hi_N", w->force_hi },
+    };
+    size_t i;
+
+    fputs(",\n     \"window\": ", f);
+    if (!w->active) {
+        fputs("null", f);
+        return;
+    }
+    fputs("{\"depth_range\": ", f);
+    jrange(f, &w->window.depth);
+    fputs(", \"force_range\": ", f);
+    jrange(f, &w->window.force);
+    for (i = 0; i < sizeof num / sizeof num[0]; i++) {
+        fprintf(f, ", \"%s\": ", num[i].key);
+        jnum(f, num[i].v);          /* an open side (infinite) is null */
+    }
+    fprintf(f, ", \"points_kept\": %zu, \"points\": %zu}", w->n_kept, w->n_in);
+}
+
 void
 report_json(FILE *f, const report_input *in, const lf_fit_result *r)
 {
@@ -478,6 +523,8 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
             fputs(", \"contact_point_method\": ", f);
             jstr(f, LF_CONTACT_METHOD);
         }
+        if (in->window != NULL)
+            jwindow(f, &in->window[j]);
         fputs(", \"warnings\": ", f);
         jwarnings(f, &c->warnings);
         fprintf(f, "}%s\n", j + 1 < r->ncurves ? "," : "");

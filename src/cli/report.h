@@ -18,6 +18,7 @@ typedef struct {
     const char *command_line;      /* as main() passed it, for provenance */
     const lf_observables *observed; /* what each curve shows without a model
                                       (lf_observe), or NULL */
+    const lf_window_placed *window; /* each curve's fit window, or NULL */
 } report_input;
 
 /* People: values with units (cli_human), errors, intervals, correlations,

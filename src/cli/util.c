@@ -53,6 +53,7 @@ kind_quantity(cli_kind kind)
     case CLI_FORCE:    return LF_Q_FORCE;
     case CLI_ADHESION: return LF_Q_ADHESION;
     case CLI_PRESSURE: return LF_Q_PRESSURE;
+    case CLI_ANGLE:    return LF_Q_ANGLE;
     default:           return LF_Q_DIMENSIONLESS;
     }
 }
