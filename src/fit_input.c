@@ -77,6 +77,15 @@ resolve_probe(lf_probe *p, const lf_curve *c, const char *path, const char *give
 {
     lf_error e;
     *R_source = given;
+    if (!lf_probe_uses_R(p)) {
+        /* a cone, a pyramid or a stated prefactor: no R, none from the file */
+        *R_source = "not used";
+        if (isnan(p->b))
+            p->b = lf_probe_length(p);
+        if (lf_probe_check(p, &e) != LF_OK)
+            return lf_fail(err, e.status, "%s: %s", path, e.msg);
+        return LF_OK;
+    }
     if (!isnan(p->R) && c->R > 0 && isfinite(c->R) && fabs(p->R - c->R) > 1e-9 * c->R)
         lf_warn(warn, "%s: R = %.4g m from the %s, where the file header states %.4g m",
                 path, p->R, strcmp(given, "plan") == 0 ? "plan" : "--R option", c->R);
@@ -355,7 +364,8 @@ lf_fit_input_from_curve(const char *path, const lf_probe *probe, const lf_input_
 
     if (s == NULL)
         s = &def;
-    if (!isnan(probe->R) && !isnan(probe->b) && (status = lf_probe_check(probe, err)) != LF_OK)
+    if ((!isnan(probe->R) || !lf_probe_uses_R(probe)) && !isnan(probe->b)
+        && (status = lf_probe_check(probe, err)) != LF_OK)
         return status;
     if (input_alloc(in, 1) != LF_OK) {
         lf_fit_input_free(in);

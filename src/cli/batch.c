@@ -1009,7 +1009,7 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
             cli_refuse_options(argc, argv, probes, sizeof probes / sizeof probes[0],
                                "curve files; a batch of a plan takes each curve's probe and "
                                "sample from its row (columns k, R, b, interface, tip, "
-                               "half-angle, B, sample)");
+                               "half_angle, prefactor, sample)");
     }
     cli_parse("fit", argc, argv, opts, &npos, &help);
     /* `fit --batch --help`: the help, not a plan called --help */

@@ -127,7 +127,7 @@ read_input(int npos, char **pos, const fit_args *a, const cli_fit_args *fa,
     int status;
     if (npos == 1 && cli_probe_given(&a->probe) != NULL && cli_reads_as_plan(path))
         cli_die(CLI_EXIT_USAGE, "fit: %s applies to curve files; %s is a plan, which gives each "
-                "curve's probe in its row (columns k, R, b, interface, tip, half-angle, B; R may "
+                "curve's probe in its row (columns k, R, b, interface, tip, half_angle, prefactor; R may "
                 "read 'header'): fit it without the probe options", cli_probe_given(&a->probe),
                 path);
     if (npos > 1 || !cli_reads_as_plan(path)) {

@@ -64,7 +64,9 @@ cli_observed_text(FILE *f, const lf_observables *o, const lf_fit_curve_result *c
 
     fprintf(f, "      measured (no model): adhesion force %s", cli_human(a, sizeof a,
             o->adhesion_force, "N"));
-    if (cr != NULL && cr->pulloff_determined && isfinite(o->adhesion_force))
+    if (isfinite(o->adhesion_force) && o->adhesion_force < 3.0 * o->noise)
+        fputs(" (within 3 noise sd of the baseline: none seen)", f);
+    else if (cr != NULL && cr->pulloff_determined && isfinite(o->adhesion_force))
         fprintf(f, " (the model's pull-off %s)", cli_human(b, sizeof b, cr->pulloff.P_po, "N"));
     fprintf(f, ", detachment work %s,\n        contact point %s (%s), deepest indentation %s, "
             "largest force %s\n", cli_human(b, sizeof b, o->detachment_work, "J"),

@@ -75,7 +75,7 @@ run_ok check "$tmp/plan2.csv" && \
     has "plan check: a map row listed" "$tmp/out" "  curves    6: a fit takes one"
 run_ok fit --batch "$tmp/plan2.csv" --model halfspace --out "$tmp/p2.csv" --quiet && \
     [ "$(grep -c ',ok,' "$tmp/p2.csv")" -eq 7 ] && ok || bad "batch plan: the map's 6 curves and the wave"
-expect_fail 2 "layerfit: fit: --k is for curve files; a batch of a plan takes each curve's probe and sample from its row (columns k, R, b, interface, tip, half-angle, B, sample)" fit --batch "$tmp/plan2.csv" --k 2
+expect_fail 2 "layerfit: fit: --k is for curve files; a batch of a plan takes each curve's probe and sample from its row (columns k, R, b, interface, tip, half_angle, prefactor, sample)" fit --batch "$tmp/plan2.csv" --k 2
 
 # what a file is when no reader takes it
 printf 'hello\n' > "$tmp/notes.txt"

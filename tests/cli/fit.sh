@@ -60,9 +60,9 @@ has "JSON: w's interval method" "$tmp/hsb.json" '"ci95_method": "'
 expect_fail 2 "layerfit: fit: --b needs --interface (frictionless or bonded); the half-space model uses neither: leave both out" fit "$tmp/sph/curve1.csv" --model halfspace --k 2 --R 1um --b 1um
 # a file in the wrong role is named for what it is
 expect_fail 2 "layerfit: fit: $tmp/d/curve1.csv is a curve file, not a plan: state the probe of its curves, e.g. --k 2 --model halfspace (R from the file's header, or --R; --b and --interface for a layer), or --tip sphere, cone, berkovich or pyramid" fit "$tmp/d/curve1.csv"
-expect_fail 2 "layerfit: fit: --k applies to curve files; $tmp/d/plan.csv is a plan, which gives each curve's probe in its row (columns k, R, b, interface, tip, half-angle, B; R may read 'header'): fit it without the probe options" fit "$tmp/d/plan.csv" --k 2 --R 1mm --b 1um --interface frictionless
+expect_fail 2 "layerfit: fit: --k applies to curve files; $tmp/d/plan.csv is a plan, which gives each curve's probe in its row (columns k, R, b, interface, tip, half_angle, prefactor; R may read 'header'): fit it without the probe options" fit "$tmp/d/plan.csv" --k 2 --R 1mm --b 1um --interface frictionless
 expect_fail 2 "layerfit: fit: --json is for a single fit; a batch writes one row per fit to --out FILE.csv or --out FILE.jsonl" fit --batch "$tmp/d/plan.csv" --json "$tmp/x.json"
-expect_fail 2 "layerfit: fit: --k is for curve files; a batch of a plan takes each curve's probe and sample from its row (columns k, R, b, interface, tip, half-angle, B, sample)" fit --batch "$tmp/d/plan.csv" --k 2
+expect_fail 2 "layerfit: fit: --k is for curve files; a batch of a plan takes each curve's probe and sample from its row (columns k, R, b, interface, tip, half_angle, prefactor, sample)" fit --batch "$tmp/d/plan.csv" --k 2
 expect_fail 2 "layerfit: fit: --threads is for fit --batch PLAN; a single fit writes --json, --curves, --plot and --report" fit "$tmp/d/plan.csv" --threads 2
 # a file name with an unquoted comma shifts the row: the likely cause said
 cp "$tmp/d/curve1.csv" "$tmp/d/a,b.csv"
