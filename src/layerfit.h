@@ -170,18 +170,18 @@ typedef struct {
 /* The profile's prefactor B of f = B r^k, m^(1-k): as stated, from R
  * (1/(k R^(k-1))), or cot of the (equivalent) cone's half-angle; for a
  * sphere its apex's paraboloid, 1/(2R).  NaN for a probe without one. */
-double lf_probe_prefactor(const lf_probe *probe);
+LF_API double lf_probe_prefactor(const lf_probe *probe);
 /* The half-angle of a k = 1 tip's (equivalent) cone, rad; NaN for others. */
-double lf_probe_cone_angle(const lf_probe *probe);
+LF_API double lf_probe_cone_angle(const lf_probe *probe);
 /* A tip's name ("power", "cone", "berkovich", "pyramid", "sphere"), and the
  * tip of a name (those and "paraboloid", the power law with k = 2), with
  * the k the name implies (*k: 1, 2, or NaN when it implies none; may be
  * NULL); -1 for an unknown name. */
-const char *lf_tip_name(lf_tip tip);
-int lf_tip_find(const char *name, double *k);
+LF_API const char *lf_tip_name(lf_tip tip);
+LF_API int lf_tip_find(const char *name, double *k);
 /* 1 when the probe's shape is stated by R (a power law without a stated
  * B, a sphere); 0 when R is unused (a cone, a pyramid, a stated B). */
-int lf_probe_uses_R(const lf_probe *probe);
+LF_API int lf_probe_uses_R(const lf_probe *probe);
 
 /* The material: what a fit estimates. */
 typedef struct {
@@ -1036,7 +1036,7 @@ LF_API int lf_plan_of_file(const char *path, const lf_probe *probe, lf_segment s
                     lf_error *err);
 /* The same for n files, one row each in their order (`layerfit fit a.txt
  * b.txt ...`): every row the same probe and segment, no sample. */
-int lf_plan_of_files(size_t n, const char *const *paths, const lf_probe *probe, lf_segment seg,
+LF_API int lf_plan_of_files(size_t n, const char *const *paths, const lf_probe *probe, lf_segment seg,
                      lf_plan **out, lf_error *err);
 /* Name each row's sample by a rule (`layerfit fit --group-by RULE`):
  *   "field:KEY"  the value of the curve file's header field KEY (its
@@ -1047,7 +1047,7 @@ int lf_plan_of_files(size_t n, const char *const *paths, const lf_probe *probe, 
  *   "dir"        the file's folder.
  * A row the rule does not match is LF_EDATA naming it.  Rows that name a
  * file of many curves take the field of its first curve. */
-int lf_plan_group(lf_plan *plan, const char *rule, const lf_read_opts *o, lf_error *err);
+LF_API int lf_plan_group(lf_plan *plan, const char *rule, const lf_read_opts *o, lf_error *err);
 /* Make one row per curve of every file of many curves that a row names
  * without an index (the row's other cells copied; index 0..N-1), opening
  * each such file once (lf_file_open, o as there) and keeping it open in
@@ -1135,16 +1135,16 @@ typedef struct {
     "the baseline (the approach segment's, else the retract's)"
 
 /* Fill *o for curve c (every segment it holds).  LF_ENOMEM only. */
-int lf_observe(const lf_curve *c, lf_observables *o, lf_error *err);
+LF_API int lf_observe(const lf_curve *c, lf_observables *o, lf_error *err);
 
 /* The window that keeps everything, and whether w is it. */
-lf_window lf_window_all(void);
-int lf_window_is_all(const lf_window *w);
+LF_API lf_window lf_window_all(void);
+LF_API int lf_window_is_all(const lf_window *w);
 /* Parse "LO:HI" ("0:500nm", "0:30%", ":2uN", "-20nN:"): each side empty
  * (open), a percentage, a value with a unit of q (LF_Q_LENGTH or
  * LF_Q_FORCE), or a bare 0; both sides of one kind.  LF_EINVAL or LF_EUNIT
  * with a message. */
-int lf_range_parse(const char *text, lf_quantity q, lf_range *r, lf_error *err);
+LF_API int lf_range_parse(const char *text, lf_quantity q, lf_range *r, lf_error *err);
 
 /* A window placed on one curve, in its own depth and force. */
 typedef struct {
@@ -1161,10 +1161,10 @@ typedef struct {
 /* Place w on a curve from its observables: LF_EDATA (with what is missing)
  * when the curve shows no contact point for a depth window, no baseline
  * for a force window, or nothing to take a fraction of. */
-int lf_window_place(const lf_window *w, const lf_observables *o, lf_window_placed *out,
+LF_API int lf_window_place(const lf_window *w, const lf_observables *o, lf_window_placed *out,
                     lf_error *err);
 /* 1 when a point lies within the placed window. */
-int lf_window_keeps(const lf_window_placed *p, double depth, double force);
+LF_API int lf_window_keeps(const lf_window_placed *p, double depth, double force);
 
 /* ------------------------------------------------------------------------
  * Planning a test: what a set of candidate curves would measure (fit/design.c)
