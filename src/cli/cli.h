@@ -232,12 +232,13 @@ typedef struct {
     char (*caption)[1200];
 } cli_figures;
 /* Write the scripts and data into dir (created when missing) and run
- * gnuplot on them.  Returns 0, -1 with a message (a folder or file not
+ * gnuplot on them; in (may be NULL) gives each curve's shape words and fit
+ * window, drawn as dashed lines.  Returns 0, -1 with a message (a folder or file not
  * made, gnuplot failed), or 1 with a message when gnuplot is not installed
  * (the scripts and data are still written and figs filled). */
 int cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
-                 const lf_fit_result *res, const char *command_line, cli_figures *figs,
-                 char *msg, size_t n);
+                 const lf_fit_result *res, const lf_fit_input *in, const char *command_line,
+                 cli_figures *figs, char *msg, size_t n);
 void cli_figures_free(cli_figures *f);
 /* Run dir/script (cwd dir) with its images going to a temporary folder in
  * dir (gnuplot -e "out='.layerfit-XXXXXX/img'"; the script writes
@@ -258,7 +259,7 @@ void cli_plot_files(const char *dir, size_t ncurves, void (*each)(const char *pa
  * when the page could not be written. */
 int cli_html_report(const char *file, const char *plotdir, size_t ncurves,
                     const lf_fit_curve *curves, const lf_fit_result *r,
-                    const char *command_line, char *msg, size_t n);
+                    const lf_fit_input *in, const char *command_line, char *msg, size_t n);
 /* ---- Outputs and inputs (output.c, read.c) -------------------------------
  * Every output file goes through cli_out: a temporary file in the same
  * folder, renamed into place by cli_out_commit after fflush, fsync and a

@@ -236,14 +236,14 @@ figures_note(const char *plotdir, size_t ncurves)
  * and write the page (html.c); what goes wrong short of an I/O error on
  * the page (gnuplot missing) is said on stderr without failing. */
 static void
-figures(const char *plotdir, const char *report, size_t ncurves, const lf_fit_curve *curves,
+figures(const char *plotdir, const char *report, const lf_fit_input *in,
         const lf_fit_result *res, const char *command_line)
 {
     char msg[1400];
 
     if (plotdir != NULL && report == NULL) {
         cli_figures figs = { 0, NULL, NULL };
-        int st = cli_plot_fit(plotdir, ncurves, curves, res, command_line, &figs, msg,
+        int st = cli_plot_fit(plotdir, in->n, in->curves, res, in, command_line, &figs, msg,
                               sizeof msg);
         cli_figures_free(&figs);
         if (st < 0)         /* a folder or file not made, gnuplot failed */
@@ -252,7 +252,7 @@ figures(const char *plotdir, const char *report, size_t ncurves, const lf_fit_cu
             fprintf(stderr, "layerfit: fit: %s\n", msg);
     }
     if (report != NULL) {
-        int st = cli_html_report(report, plotdir, ncurves, curves, res, command_line, msg,
+        int st = cli_html_report(report, plotdir, in->n, in->curves, res, in, command_line, msg,
                                  sizeof msg);
         if (st < 0)
             cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
@@ -518,7 +518,7 @@ cli_fit(int argc, char **argv, const char *command_line)
         write_file(a.curves, report_curves, &in, &r);
         cli_provenance_sidecar("fit", a.curves, command_line);
     }
-    figures(plot_dir, report_html, d.n, d.curves, &r, command_line);
+    figures(plot_dir, report_html, &d, &r, command_line);
     if (status == LF_OK && cli_disagreeing(&r, bad, sizeof bad) > 0) {
         fprintf(stderr, "layerfit: fit: converged, but the model does not describe curve%s %s "
                 "(DISAGREES): the values are those of a model that does not fit, not a "

@@ -290,21 +290,23 @@ td_estimate(FILE *f, double x, double se, int free, const char *unit)
 }
 
 static void
-curves_table(FILE *f, const lf_fit_result *r)
+curves_table(FILE *f, const lf_fit_result *r, const lf_fit_input *in)
 {
     size_t j;
+    char shape[160];
 
     fputs("<section id=\"curves\">\n<h2>Curves</h2>\n<div class=\"wide\"><table id=\"curve-table\">\n"
-          "<tr><th>#</th><th>file</th><th>k</th><th>R</th><th>b</th><th>interface</th>"
+          "<tr><th>#</th><th>file</th><th>probe</th><th>b</th><th>interface</th>"
           "<th>branch</th><th>points</th><th>z0</th><th>F0</th>"
           "<th>noise &sigma;</th><th>rms residual</th><th>rms/&sigma;</th><th>pull-off force</th>"
-          "<th>pull-off radius</th><th>b/a at pull-off</th></tr>\n", f);
+          "<th>pull-off radius</th><th>b/a at pull-off</th><th>measured adhesion force</th>"
+          "<th>detachment work</th><th>contact point (no model)</th>"
+          "<th>instrument's E[eff]</th><th>fit window</th></tr>\n", f);
     for (j = 0; j < r->ncurves; j++) {
         const lf_fit_curve_result *c = &r->curves[j];
         fprintf(f, "<tr><td class=\"num\">%zu</td>", j + 1);
         td_text(f, c->name ? c->name : "");
-        td_num(f, c->probe.k, 6, "");
-        td_human(f, c->probe.R, "m");
+        td_text(f, cli_probe_words(shape, sizeof shape, &c->probe));
         if (cli_model_ignores_b(c->model)) {   /* b inside is only a stand-in */
             td_text(f, "none");
             td_text(f, "half-space");
@@ -332,6 +334,20 @@ curves_table(FILE *f, const lf_fit_result *r)
             td_num(f, c->b_over_a_pulloff, 3, "");
         else
             td_text(f, "not determined");
+        if (in != NULL) {   /* what the curve shows without a model */
+            const lf_observables *o = &in->observed[j];
+            char kept[64];
+            td_human(f, o->adhesion_force, "N");
+            td_human(f, o->detachment_work, "J");
+            td_human(f, o->contact_point, "m");
+            if (isfinite(o->instrument_Eeff))
+                td_human(f, o->instrument_Eeff, "Pa");
+            else
+                td_text(f, "not stated");
+            snprintf(kept, sizeof kept, "%zu of %zu points", in->window[j].n_kept,
+                     in->window[j].n_in);
+            td_text(f, in->window[j].active ? kept : "all points");
+        }
         fputs("</tr>\n", f);
     }
     fputs("</table></div>\n</section>\n", f);
@@ -458,8 +474,8 @@ remove_figures(const char *dir, size_t ncurves)
 
 int
 cli_html_report(const char *file, const char *plotdir, size_t ncurves,
-                const lf_fit_curve *curves, const lf_fit_result *r, const char *command_line,
-                char *msg, size_t n)
+                const lf_fit_curve *curves, const lf_fit_result *r, const lf_fit_input *in,
+                const char *command_line, char *msg, size_t n)
 {
     cli_figures figs = { 0, NULL, NULL };
     char tmpdir[4096], note[1200];
@@ -477,7 +493,7 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
         }
         dir = tmpdir;
     }
-    if (cli_plot_fit(dir, ncurves, curves, r, command_line, &figs, note, sizeof note) != 0)
+    if (cli_plot_fit(dir, ncurves, curves, r, in, command_line, &figs, note, sizeof note) != 0)
         have_note = 1;
     if ((f = cli_out_open(&out, file, msg, n)) == NULL) {
         status = -1;
@@ -506,7 +522,7 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
     assessment(f, r);
     correlations(f, r);
     statistics(f, r);
-    curves_table(f, r);
+    curves_table(f, r, in);
     figures(f, dir, &figs, have_note ? note : NULL);
     provenance(f);
     fputs("</body>\n</html>\n", f);
