@@ -182,7 +182,7 @@ const char *cli_probe_given(const cli_probe_args *a);
 int cli_probe_shape_given(const cli_probe_args *a);
 /* The probe of the options for a fit with `model`; dies with status 2
  * naming only what is missing or contradicts. */
-void cli_fit_probe(const char *model, const cli_probe_args *a, lf_probe *p);
+void cli_fit_probe(const char *cmd, const char *model, const cli_probe_args *a, lf_probe *p);
 /* Curve files files[0..n-1] as a plan of one row each (lf_plan_of_files)
  * with the probe of the options, on the settings' segment, each file's
  * sample --sample (sample) or formed by --group-by (group_by), or none;

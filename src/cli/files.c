@@ -46,34 +46,34 @@ cli_probe_shape_given(const cli_probe_args *a)
 /* The layer of the options: b and interface together, or neither for a
  * half-space; *base filled.  Dies naming what is missing. */
 static void
-layer_of(const char *model, const cli_probe_args *a, lf_base *base)
+layer_of(const char *cmd, const char *model, const cli_probe_args *a, lf_base *base)
 {
     const int halfspace = cli_model_ignores_b(model);
     int bb;
 
     *base = LF_BASE_FRICTIONLESS;
     if (!isnan(a->b) && a->interface == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: --b needs --interface (frictionless or bonded)%s",
+        cli_die(CLI_EXIT_USAGE, "%s: --b needs --interface (frictionless or bonded)%s", cmd,
                 halfspace ? "; the half-space model uses neither: leave both out" : "");
     if (isnan(a->b) && a->interface != NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: --interface needs --b (the layer's thickness, e.g. "
-                "--b 1um)%s", halfspace ? "; the half-space model uses neither: leave both out"
+        cli_die(CLI_EXIT_USAGE, "%s: --interface needs --b (the layer's thickness, e.g. "
+                "--b 1um)%s", cmd, halfspace ? "; the half-space model uses neither: leave both out"
                 : "");
     if (isnan(a->b)) {
         if (!halfspace)
-            cli_die(CLI_EXIT_USAGE, "fit: the %s model needs the layer: --b and --interface "
+            cli_die(CLI_EXIT_USAGE, "%s: the %s model needs the layer: --b and --interface "
                     "(e.g. --b 1um --interface frictionless), or fit the curves as a half-space "
-                    "with --model halfspace (no layer)", model);
+                    "with --model halfspace (no layer)", cmd, model);
         return;
     }
     if ((bb = cli_base(a->interface)) < 0)
-        cli_die(CLI_EXIT_USAGE, "fit: unknown interface '%s' (frictionless or bonded)",
+        cli_die(CLI_EXIT_USAGE, "%s: unknown interface '%s' (frictionless or bonded)", cmd,
                 a->interface);
     *base = (lf_base) bb;
 }
 
 void
-cli_fit_probe(const char *model, const cli_probe_args *a, lf_probe *p)
+cli_fit_probe(const char *cmd, const char *model, const cli_probe_args *a, lf_probe *p)
 {
     double k = a->k, kt = NAN;
     int tip = LF_TIP_POWER;
@@ -83,10 +83,10 @@ cli_fit_probe(const char *model, const cli_probe_args *a, lf_probe *p)
     memset(p, 0, sizeof *p);
     if (a->tip != NULL) {
         if ((tip = lf_tip_find(a->tip, &kt)) < 0)
-            cli_die(CLI_EXIT_USAGE, "fit: unknown --tip '%s' (paraboloid, sphere, cone, "
-                    "berkovich, pyramid, or power with --k)", a->tip);
+            cli_die(CLI_EXIT_USAGE, "%s: unknown --tip '%s' (paraboloid, sphere, cone, "
+                    "berkovich, pyramid, or power with --k)", cmd, a->tip);
         if (!isnan(kt) && !isnan(k) && k != kt)
-            cli_die(CLI_EXIT_USAGE, "fit: --tip %s is k = %g: leave --k out (got --k %g)",
+            cli_die(CLI_EXIT_USAGE, "%s: --tip %s is k = %g: leave --k out (got --k %g)", cmd,
                     a->tip, kt, k);
         if (!isnan(kt))
             k = kt;
@@ -96,31 +96,31 @@ cli_fit_probe(const char *model, const cli_probe_args *a, lf_probe *p)
             k = 1.0;
     }
     if (isnan(k))
-        cli_die(CLI_EXIT_USAGE, "fit: state the probe's shape: --k K (with --R, or R from the "
-                "file's header, or --B), or --tip paraboloid, sphere, cone, berkovich or pyramid");
+        cli_die(CLI_EXIT_USAGE, "%s: state the probe's shape: --k K (with --R, or R from the "
+                "file's header, or --B), or --tip paraboloid, sphere, cone, berkovich or pyramid", cmd);
     if ((tip == LF_TIP_CONE || tip == LF_TIP_PYRAMID) && isnan(a->half_angle))
-        cli_die(CLI_EXIT_USAGE, "fit: --tip %s needs its %shalf-angle (e.g. --half-angle 35deg)",
+        cli_die(CLI_EXIT_USAGE, "%s: --tip %s needs its %shalf-angle (e.g. --half-angle 35deg)", cmd,
                 lf_tip_name((lf_tip) tip), tip == LF_TIP_PYRAMID ? "faces' " : "");
     if (!isnan(a->half_angle) && tip != LF_TIP_CONE && tip != LF_TIP_PYRAMID)
-        cli_die(CLI_EXIT_USAGE, "fit: --half-angle states a cone or a four-sided pyramid "
-                "(--tip cone, --tip pyramid); %s", tip == LF_TIP_BERKOVICH
+        cli_die(CLI_EXIT_USAGE, "%s: --half-angle states a cone or a four-sided pyramid "
+                "(--tip cone, --tip pyramid); %s", cmd, tip == LF_TIP_BERKOVICH
                 ? "a Berkovich tip has its own equivalent cone (70.3 deg): leave it out"
                 : "this probe is stated by --R or --B");
     if (!isnan(a->B) && tip != LF_TIP_POWER)
-        cli_die(CLI_EXIT_USAGE, "fit: --B is the prefactor of a power law f = B r^k (with --k); "
-                "a %s is stated by %s", lf_tip_name((lf_tip) tip),
+        cli_die(CLI_EXIT_USAGE, "%s: --B is the prefactor of a power law f = B r^k (with --k); "
+                "a %s is stated by %s", cmd, lf_tip_name((lf_tip) tip),
                 tip == LF_TIP_SPHERE ? "--R" : "its half-angle");
     if (!isnan(a->B) && !isnan(a->R))
-        cli_die(CLI_EXIT_USAGE, "fit: --R and --B both state the profile (B = 1/(k R^(k-1))): "
-                "give one");
+        cli_die(CLI_EXIT_USAGE, "%s: --R and --B both state the profile (B = 1/(k R^(k-1))): "
+                "give one", cmd);
     if (!isnan(a->R) && (tip == LF_TIP_CONE || tip == LF_TIP_BERKOVICH || tip == LF_TIP_PYRAMID))
-        cli_die(CLI_EXIT_USAGE, "fit: R does not shape a %s (f = r cot(alpha)): leave --R out",
+        cli_die(CLI_EXIT_USAGE, "%s: R does not shape a %s (f = r cot(alpha)): leave --R out", cmd,
                 lf_tip_name((lf_tip) tip));
     if (tip == LF_TIP_POWER && k == 1.0 && isnan(a->B))
-        cli_die(CLI_EXIT_USAGE, "fit: k = 1 is a cone, and R does not shape a cone (f = r "
+        cli_die(CLI_EXIT_USAGE, "%s: k = 1 is a cone, and R does not shape a cone (f = r "
                 "whatever R): state its half-angle (--half-angle 35deg, --tip berkovich, or "
-                "--tip pyramid --half-angle THETA of its faces) or its prefactor --B (f = B r)");
-    layer_of(model, a, &p->base);
+                "--tip pyramid --half-angle THETA of its faces) or its prefactor --B (f = B r)", cmd);
+    layer_of(cmd, model, a, &p->base);
     p->k = k;
     p->tip = (lf_tip) tip;
     p->angle = tip == LF_TIP_CONE || tip == LF_TIP_PYRAMID ? a->half_angle : 0.0;
@@ -133,7 +133,7 @@ cli_fit_probe(const char *model, const cli_probe_args *a, lf_probe *p)
     if (isnan(chk.b))
         chk.b = 1.0;
     if (lf_probe_check(&chk, &err) != LF_OK)
-        cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
+        cli_die(CLI_EXIT_USAGE, "%s: %s", cmd, err.msg);
 }
 
 lf_plan *
@@ -152,7 +152,7 @@ cli_files_plan(const char *model, size_t n, char *const *files, const cli_probe_
                 "curves, e.g. --k 2 --model halfspace (R from the file's header, or --R; --b and "
                 "--interface for a layer), or --tip sphere, cone, berkovich or pyramid",
                 files[0]);
-    cli_fit_probe(model, pa, &p);
+    cli_fit_probe("fit", model, pa, &p);
     if (sample != NULL && group_by != NULL)
         cli_die(CLI_EXIT_USAGE, "fit: --sample names one sample for all the files, --group-by "
                 "forms several: give one");

@@ -37,6 +37,13 @@ run_ok fit "$d/vendors/chiaro.txt" --half-angle 70deg --model halfspace --json "
     has "cone: R not used" "$tmp/out" "from: R not used"
 }
 
+# ---- layerfit model states its probe the same way
+expect_fail 2 "layerfit: model: k = 1 is a cone, and R does not shape a cone (f = r whatever R): state its half-angle (--half-angle 35deg, --tip berkovich, or --tip pyramid --half-angle THETA of its faces) or its prefactor --B (f = B r)" model --k 1 --R 1um --b 1um --w 10mJ/m2 --E 1GPa
+run_ok model --model halfspace --tip berkovich --w 10mJ/m2 --E 1GPa --summary && \
+    has "model: a Berkovich tip" "$tmp/out" "probe            Berkovich tip as its equivalent cone, half-angle 70.3°, half-space"
+run_ok model --model halfspace --half-angle 35deg --w 10mJ/m2 --E 1GPa --json && \
+    has "model JSON: the cone" "$tmp/out" '"tip": "cone"'
+
 # ---- segment words: retract is unload, approach is load
 w_of() { sed -n 's/.*"w": {"value": \([^,]*\),.*/\1/p' "$1" | head -n 1; }
 run_ok fit "$d/plan.csv" --segment retract --json "$tmp/r1.json" && \
