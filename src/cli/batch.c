@@ -799,15 +799,21 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     if (o->out != NULL) {
         if (ends_with(o->out, ".jsonl"))
             cfg.json = 1;
-        else if (!ends_with(o->out, ".csv"))
+        else if (!ends_with(o->out, ".csv")) {
+            lf_plan_free(o->files);
             cli_die(CLI_EXIT_USAGE, "fit: --out %s: the batch output must end in .csv or .jsonl",
                     o->out);
+        }
     }
-    if (o->shard != NULL && cli_shard_parse(o->shard, &shard_i, &shard_n) != 0)
+    if (o->shard != NULL && cli_shard_parse(o->shard, &shard_i, &shard_n) != 0) {
+        lf_plan_free(o->files);
         cli_die(CLI_EXIT_USAGE, "fit: --shard '%s' is not I/N with 1 <= I <= N (e.g. --shard 3/8)",
                 o->shard);
-    if (threads != 0 && (threads < 1 || threads > CLI_MAX_THREADS))
+    }
+    if (threads != 0 && (threads < 1 || threads > CLI_MAX_THREADS)) {
+        lf_plan_free(o->files);
         cli_die(CLI_EXIT_USAGE, "fit: --threads must be 1..%d (got %ld)", CLI_MAX_THREADS, threads);
+    }
 #ifdef _OPENMP
     if (threads <= 0)
         threads = omp_get_num_procs();

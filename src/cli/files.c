@@ -172,15 +172,19 @@ cli_files_plan(const char *model, size_t n, char *const *files, const cli_probe_
         cli_die_error(err.status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, &err);
     for (i = 0; i < plan->n && sample != NULL; i++) {
         char *s = malloc(strlen(sample) + 1);
-        if (s == NULL)
+        if (s == NULL) {
+            lf_plan_free(plan);
             cli_die(CLI_EXIT_FAIL, "out of memory");
+        }
         strcpy(s, sample);
         free(plan->rows[i].sample);
         plan->rows[i].sample = s;
     }
-    if (group_by != NULL && lf_plan_group(plan, group_by, is->read, &err) != LF_OK)
+    if (group_by != NULL && lf_plan_group(plan, group_by, is->read, &err) != LF_OK) {
+        lf_plan_free(plan);
         cli_die(err.status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, "fit: --group-by: %s",
                 err.msg);
+    }
     return plan;
 }
 

@@ -136,10 +136,14 @@ read_input(int npos, char **pos, const fit_args *a, const cli_fit_args *fa,
         const char *s1, *s2;
         plan = cli_files_plan(fa->model, (size_t) npos, pos, &a->probe, is, fa->sample,
                               fa->group_by);
-        if (!cli_plan_one_sample(plan, &s1, &s2))
-            cli_die(CLI_EXIT_USAGE, "fit: the files form several samples ('%s', '%s', ...): a "
-                    "joint fit is of one material; fit each sample on its own with "
-                    "layerfit fit --batch FILE... --group-by ...", s1, s2);
+        if (!cli_plan_one_sample(plan, &s1, &s2)) {
+            char msg[600];
+            snprintf(msg, sizeof msg, "fit: the files form several samples ('%s', '%s', ...): a "
+                     "joint fit is of one material; fit each sample on its own with "
+                     "layerfit fit --batch FILE... --group-by ...", s1, s2);
+            lf_plan_free(plan);
+            cli_die(CLI_EXIT_USAGE, "%s", msg);
+        }
         if (npos == 1 && plan->rows[0].index < 0) {
             /* a single curve named on the command line may be a pipe (read once) */
             one.open_flags = LF_INPUT_STREAM;
