@@ -1107,9 +1107,9 @@ LF_API int lf_segment_find(const char *word);
 
 /* What a lab reads off a curve without any contact model (src/observe.c),
  * in SI.  Each segment is taken in order of depth; its baseline is the
- * median force over the shallowest fifth of its depth range.  A value the
- * curve does not show (no retract segment, no rise above the baseline) is
- * NaN. */
+ * median force over its flat shallow end (the shallowest fifth of its
+ * depth range, halved while not flat).  A value the curve does not show
+ * (no retract segment, no rise above the baseline) is NaN. */
 typedef struct {
     double adhesion_force;   /* N, >= 0: the retract segment's baseline less
                                 its least force (the largest pull) */

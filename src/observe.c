@@ -6,9 +6,14 @@
  *
  * Each segment is taken in order of depth (the curve's depth axis: the
  * tip-sample separation where the reader forms one, positive into the
- * sample).  Its baseline is the median force over the shallowest fifth of
- * its depth range (BASELINE_SPAN), the noise there 1.4826 times the median
- * absolute deviation.  Then:
+ * sample).  Its baseline is the median force over its flat shallow end:
+ * the shallowest fifth of its depth range (BASELINE_SPAN), halved while
+ * that stretch is not flat (the medians of its shallower and deeper halves
+ * differ by more than the noise sd) and still holds BASELINE_MIN points,
+ * so that a curve recorded just past its detachment keeps its short
+ * baseline clear of the adhesive dip; the noise there is 1.4826 times the
+ * median absolute deviation (a curve that ends before its detachment has
+ * no baseline, and its shallowest points stand in).  Then:
  *  - adhesion force: the retract segment's baseline minus its least force;
  *  - detachment work: the area between the retract segment and its
  *    baseline over the stretch around that least force where the curve
@@ -29,6 +34,7 @@
 #include "readers.h"
 
 #define BASELINE_SPAN 0.2     /* the shallowest fifth of a segment's depth range */
+#define BASELINE_MIN 8        /* points a halved baseline stretch keeps at least */
 #define CONTACT_SD 3.0        /* noise sd that mark the approach leaving the baseline */
 
 /* One segment's points in order of depth, and its baseline. */
@@ -72,7 +78,7 @@ static int
 seg_load(const lf_curve *c, lf_segment seg, seg_points *s)
 {
     size_t n = lf_curve_segment(c, seg, NULL, NULL), i, m = 0;
-    double *pair, *tmp, lim;
+    double *pair, *tmp, lim, span;
 
     memset(s, 0, sizeof *s);
     s->baseline = s->noise = NAN;
@@ -100,12 +106,39 @@ seg_load(const lf_curve *c, lf_segment seg, seg_points *s)
     }
     free(pair);
     s->n = n;
-    lim = s->z[0] + BASELINE_SPAN * (s->z[n - 1] - s->z[0]);
-    for (i = 0; i < n && s->z[i] <= lim; i++)
-        tmp[m++] = s->F[i];
-    if (m < 3)                           /* too few there: the shallowest three */
-        for (m = 0; m < 3; m++)
-            tmp[m] = s->F[m];
+    for (span = BASELINE_SPAN;; span *= 0.5) {
+        double sd, lo, hi;
+        size_t h;
+        lim = s->z[0] + span * (s->z[n - 1] - s->z[0]);
+        for (m = 0; m < n && s->z[m] <= lim; m++)
+            ;
+        if (m < BASELINE_MIN)
+            break;
+        /* flat: the medians of its two halves within the noise sd */
+        h = m / 2;
+        for (i = 0; i < m; i++)
+            tmp[i] = s->F[i];
+        lo = median_of(tmp, h);
+        hi = median_of(tmp + h, m - h);
+        for (i = 0; i < m; i++)
+            tmp[i] = s->F[i];
+        s->baseline = median_of(tmp, m);
+        for (i = 0; i < m; i++)
+            tmp[i] = fabs(s->F[i] - s->baseline);
+        sd = 1.4826 * median_of(tmp, m);
+        if (fabs(hi - lo) <= sd || span < 1e-3)
+            break;
+    }
+    if (m < BASELINE_MIN) {   /* the last stretch that held enough, or the first points */
+        m = 0;
+        lim = s->z[0] + 2.0 * span * (s->z[n - 1] - s->z[0]);
+        while (m < n && s->z[m] <= lim)
+            m++;
+        if (m < 3)
+            m = n < 3 ? n : 3;
+    }
+    for (i = 0; i < m; i++)
+        tmp[i] = s->F[i];
     s->baseline = median_of(tmp, m);
     for (i = 0; i < m; i++)
         tmp[i] = fabs(tmp[i] - s->baseline);
