@@ -680,6 +680,29 @@ test_shared_conditions(void)
            job[0].po.P_po, job[0].e[4].P);
 }
 
+/* Two models' unloading forces over depths up to dmax agree within 2e-3
+ * of the largest, with contact past 0.7 R. */
+static void
+sphere_agree(const lf_model *x, const lf_model *y, const lf_material *m, double dmax, double R,
+             const char *what)
+{
+    enum { N = 40 };
+    double d[N], worst = 0.0, scale = 0.0;
+    lf_eval a[N], b[N];
+    size_t i;
+
+    for (i = 0; i < N; i++)
+        d[i] = dmax * (double) (i + 1) / N;
+    t_int(lf_model_eval(x, m, LF_BRANCH_UNLOAD, N, d, a, NULL), LF_OK, "%s: first model", what);
+    t_int(lf_model_eval(y, m, LF_BRANCH_UNLOAD, N, d, b, NULL), LF_OK, "%s: second model", what);
+    for (i = 0; i < N; i++) {
+        worst = fmax(worst, fabs(a[i].P - b[i].P));
+        scale = fmax(scale, fabs(b[i].P));
+    }
+    t_true(b[N - 1].a > 0.7 * R, "%s: contact reaches %.2f R", what, b[N - 1].a / R);
+    t_true(worst < 2e-3 * scale, "%s: force within %.1e", what, worst / scale);
+}
+
 /* A sphere of radius R on the layer (exact_sphere.c): the correction of
  * the k = 2 tables against Nystrom solves with the sphere's own
  * right-hand side (its documented accuracy: 7e-3 up to a = 0.5 R, 2e-2 to
@@ -749,39 +772,19 @@ test_sphere(void)
         lf_model *th = lf_model_alloc(&lf_model_thin, &thin, NULL);
         lf_model *exm = lf_model_alloc(&lf_model_exact, &mid, NULL);
         enum { NP = 40 };
-        double d[NP], worst = 0.0, scale = 0.0;
-        lf_eval a[NP], b[NP];
+        double d[NP], scale = 0.0;
         lf_pulloff pa, pb;
 
         if (!t_true(ex && hs && ext && th && exm, "sphere models"))
             goto done;
-        for (i = 0; i < NP; i++)
-            d[i] = 6e-6 * (double) (i + 1) / NP;
         /* thick: contact to ~0.8 R, a/b below 1e-3: the half-space's to its
          * first order in a/b */
-        t_int(lf_model_eval(ex, &m, LF_BRANCH_UNLOAD, NP, d, a, NULL), LF_OK, "exact sphere, thick");
-        t_int(lf_model_eval(hs, &m, LF_BRANCH_UNLOAD, NP, d, b, NULL), LF_OK, "half-space sphere");
-        for (i = 0; i < NP; i++) {
-            worst = fmax(worst, fabs(a[i].P - b[i].P));
-            scale = fmax(scale, fabs(b[i].P));
-        }
-        t_true(b[NP - 1].a > 0.7 * R, "thick: contact reaches %.2f R", b[NP - 1].a / R);
-        t_true(worst < 2e-3 * scale, "thick layer: the half-space sphere's force within %.1e", worst / scale);
+        sphere_agree(ex, hs, &m, 6e-6, R, "thick layer: the half-space sphere");
         t_int(lf_model_pulloff(ex, &m, &pa, NULL), LF_OK, "exact sphere pull-off");
         t_int(lf_model_pulloff(hs, &m, &pb, NULL), LF_OK, "half-space sphere pull-off");
         t_rel(pa.P_po, pb.P_po, 1e-3, "thick layer: the half-space sphere's pull-off");
         /* thin: the cap's law to its first order in b/a */
-        for (i = 0; i < NP; i++)
-            d[i] = 3e-6 * (double) (i + 1) / NP;
-        worst = scale = 0.0;
-        t_int(lf_model_eval(ext, &m, LF_BRANCH_UNLOAD, NP, d, a, NULL), LF_OK, "exact sphere, thin");
-        t_int(lf_model_eval(th, &m, LF_BRANCH_UNLOAD, NP, d, b, NULL), LF_OK, "thin sphere");
-        for (i = 0; i < NP; i++) {
-            worst = fmax(worst, fabs(a[i].P - b[i].P));
-            scale = fmax(scale, fabs(b[i].P));
-        }
-        t_true(b[NP - 1].a > 0.7 * R, "thin: contact reaches %.2f R", b[NP - 1].a / R);
-        t_true(worst < 2e-3 * scale, "thin layer: the thin layer's sphere within %.1e", worst / scale);
+        sphere_agree(ext, th, &m, 3e-6, R, "thin layer: the thin layer's sphere");
         /* b = R, bonded: fast path and precise evaluation, and the Jacobian */
         {
             lf_material mm = m;
