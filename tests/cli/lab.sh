@@ -98,6 +98,14 @@ run_ok fit --batch "$real"/10*.txt --k 2 --model halfspace --group-by 'name:^(.*
     p=$(sed -n 's/.*"w": {"value": \([^,]*\),.*/\1/p' "$tmp/plan.json")
     near "group-by: w as the joint fit" "$g" "$p" 1e-12
 }
+run_ok fit --batch "$real"/10*.txt --k 2 --model halfspace --sample PEG10 \
+    --out "$tmp/s.csv" --quiet && {
+    [ "$(wc -l < "$tmp/s.csv")" -eq 2 ] && ok || bad "--sample: one sample, one row"
+    has "--sample: its name and both curves" "$tmp/s.csv" "1,PEG10,$peg1;$peg2,2,ok,"
+    p=$(sed -n 's/.*"w": {"value": \([^,]*\),.*/\1/p' "$tmp/plan.json")
+    near "--sample: w as the joint fit" "$(csv_field "$tmp/s.csv" 2 9)" "$p" 1e-12
+}
+expect_fail 2 "layerfit: fit: --sample names one sample for all the files, --group-by forms several: give one" fit "$real"/10*.txt --k 2 --model halfspace --sample PEG10 --group-by dir
 run_ok fit --batch "$real"/10*.txt --k 2 --model halfspace --group-by 'name:Y-([0-9])' \
     --out "$tmp/g2.csv" --quiet && {
     [ "$(wc -l < "$tmp/g2.csv")" -eq 3 ] && ok || bad "group-by Y: two samples, two rows"
