@@ -48,12 +48,26 @@ double lf_probe_length(const lf_probe *p);
  * (model_thin.c): C / M = pi/b k/(k+2) B^(-2/k). */
 double lf_thin_scale(const lf_probe *p);
 
+/* LF_OK when the open file fd (named path) is no larger than
+ * lf_input_limit(), else LF_EIO with a message saying so and how to raise
+ * it (input.c): for readers that read a whole file, in blocks, into what
+ * they keep (plans, tables). */
+int lf_input_check_size(int fd, const char *path, lf_error *err);
+
 /* A strdup that does not depend on POSIX feature macros. */
 char *lf_strdup(const char *s);
 
 /* lf_input_read on a descriptor already opened by lf_input_open (read from
- * its current place to its end; the caller closes it). */
-int lf_input_read_fd(int fd, const char *path, lf_input *in, lf_error *err);
+ * its current place to its end; the caller closes it), with the same
+ * limit and, with LF_INPUT_TEXT, the same text checks; when binary is
+ * given, it says from the first LF_SNIFF_BYTES (or all, if fewer) whether
+ * the input is a binary format's, which then goes unchecked (a binary
+ * format read as a stream). */
+int lf_input_read_fd(int fd, const char *path, unsigned flags,
+                     int (*binary)(const char *head, size_t len), lf_input *in, lf_error *err);
+/* The same, opening path first (lf_input_open with flags). */
+int lf_input_read_path(const char *path, unsigned flags, int (*binary)(const char *, size_t),
+                       lf_input *in, lf_error *err);
 
 /* Largest finite magnitude a derivative is allowed to reach. */
 #define LF_BIG 1e300

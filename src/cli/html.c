@@ -358,26 +358,21 @@ curves_table(FILE *f, const lf_fit_result *r, const lf_fit_input *in)
 static int
 inline_svg(FILE *f, const char *path, size_t fig)
 {
-    FILE *s = fopen(path, "r");
+    lf_input in;
+    lf_error err;
     char *buf, *p, *q;
-    long len;
     char prefix[32];
     size_t seq = 0;
 
-    if (s == NULL)
+    /* opened as every input is: without blocking, a regular file only */
+    if (lf_input_read(path, 0, &in, &err) != LF_OK)
         return -1;
-    if (fseek(s, 0, SEEK_END) != 0 || (len = ftell(s)) < 0 || fseek(s, 0, SEEK_SET) != 0) {
-        fclose(s);
-        return -1;
-    }
-    buf = malloc((size_t) len + 1);
-    if (buf == NULL || fread(buf, 1, (size_t) len, s) != (size_t) len) {
-        free(buf);
-        fclose(s);
+    buf = realloc(in.data, in.len + 1);
+    if (buf == NULL) {
+        lf_input_free(&in);
         return -1;
     }
-    fclose(s);
-    buf[len] = '\0';
+    buf[in.len] = '\0';
     p = strstr(buf, "<svg");
     if (p == NULL) {
         free(buf);
@@ -480,7 +475,7 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
     cli_figures figs = { 0, NULL, NULL };
     char tmpdir[4096], note[1200];
     const char *dir = plotdir;
-    int have_note = 0, status = 0;
+    int have_note = 0, status = 0, slot = -1;
     cli_out out;
     FILE *f;
 
@@ -491,6 +486,7 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
             snprintf(msg, n, "cannot create a temporary folder for the figures: %s", strerror(errno));
             return -1;
         }
+        slot = cli_temp_add(tmpdir, 1);     /* removed, whatever stops the run */
         dir = tmpdir;
     }
     if (cli_plot_fit(dir, ncurves, curves, r, in, command_line, &figs, note, sizeof note) != 0)
@@ -533,8 +529,10 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
         status = 1;
     }
 done:
-    if (plotdir == NULL)
+    if (plotdir == NULL) {
         remove_figures(dir, ncurves);
+        cli_temp_forget(slot);
+    }
     cli_figures_free(&figs);
     return status;
 }
