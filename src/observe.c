@@ -274,3 +274,19 @@ lf_observe(const lf_curve *c, lf_observables *o, lf_error *err)
     seg_free(&re);
     return LF_OK;
 }
+
+const char *const lf_observed_keys[LF_NOBSERVED] = {
+    "adhesion_force_N", "detachment_work_J", "contact_point_m", "max_indentation_m",
+    "max_force_N", "instrument_Eeff_Pa"
+};
+
+void
+lf_observed_values(const lf_observables *o, double v[LF_NOBSERVED])
+{
+    v[0] = o->adhesion_force;
+    v[1] = o->detachment_work;
+    v[2] = o->contact_point;
+    v[3] = o->max_indentation;
+    v[4] = o->max_force;
+    v[5] = o->instrument_Eeff;
+}

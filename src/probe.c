@@ -18,6 +18,7 @@
  * own (model_thin.c, model_halfspace.c, model_exact.c).
  */
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 #include "internal.h"
@@ -166,4 +167,140 @@ int
 lf_probe_uses_R(const lf_probe *p)
 {
     return p->tip == LF_TIP_SPHERE || (p->tip == LF_TIP_POWER && p->B == 0);
+}
+
+/* The layer of the statement: b and interface together, or neither for a
+ * half-space. */
+static int
+layer_of(const lf_probe_statement *a, lf_base *base, lf_error *err)
+{
+    const char *leave = a->halfspace ? "; the half-space model uses neither: leave both out" : "";
+
+    *base = LF_BASE_FRICTIONLESS;
+    if (!isnan(a->b) && a->interface == NULL)
+        return lf_fail(err, LF_EINVAL, "--b needs --interface (frictionless or bonded)%s", leave);
+    if (isnan(a->b) && a->interface != NULL)
+        return lf_fail(err, LF_EINVAL, "--interface needs --b (the layer's thickness, e.g. "
+                       "--b 1um)%s", leave);
+    if (isnan(a->b)) {
+        if (!a->halfspace)
+            return lf_fail(err, LF_EINVAL, "the %s model needs the layer: --b and --interface "
+                           "(e.g. --b 1um --interface frictionless), or fit the curves as a "
+                           "half-space with --model halfspace (no layer)",
+                           a->model != NULL ? a->model : "auto");
+        return LF_OK;
+    }
+    if (strcmp(a->interface, "frictionless") == 0)
+        *base = LF_BASE_FRICTIONLESS;
+    else if (strcmp(a->interface, "bonded") == 0)
+        *base = LF_BASE_BONDED;
+    else
+        return lf_fail(err, LF_EINVAL, "unknown interface '%s' (frictionless or bonded)",
+                       a->interface);
+    return LF_OK;
+}
+
+int
+lf_probe_shape_stated(const lf_probe_statement *a)
+{
+    return !isnan(a->k) || a->tip != NULL || !isnan(a->half_angle) || !isnan(a->B);
+}
+
+int
+lf_probe_state(const lf_probe_statement *a, lf_probe *p, lf_error *err)
+{
+    double k = a->k, kt = NAN;
+    int tip = LF_TIP_POWER, status;
+    lf_probe chk;
+    lf_error e;
+
+    memset(p, 0, sizeof *p);
+    if (a->tip != NULL) {
+        if ((tip = lf_tip_find(a->tip, &kt)) < 0)
+            return lf_fail(err, LF_EINVAL, "unknown --tip '%s' (paraboloid, sphere, cone, "
+                           "berkovich, pyramid, or power with --k)", a->tip);
+        if (!isnan(kt) && !isnan(k) && k != kt)
+            return lf_fail(err, LF_EINVAL, "--tip %s is k = %g: leave --k out (got --k %g)",
+                           a->tip, kt, k);
+        if (!isnan(kt))
+            k = kt;
+    } else if (!isnan(a->half_angle)) {
+        tip = LF_TIP_CONE;        /* a half-angle alone states a cone */
+        if (isnan(k))
+            k = 1.0;
+    }
+    if (isnan(k))
+        return lf_fail(err, LF_EINVAL, "state the probe's shape: --k K (with --R, or R from the "
+                       "file's header, or --B), or --tip paraboloid, sphere, cone, berkovich or "
+                       "pyramid");
+    if ((tip == LF_TIP_CONE || tip == LF_TIP_PYRAMID) && isnan(a->half_angle))
+        return lf_fail(err, LF_EINVAL, "--tip %s needs its %shalf-angle (e.g. --half-angle 35deg)",
+                       lf_tip_name((lf_tip) tip), tip == LF_TIP_PYRAMID ? "faces' " : "");
+    if (!isnan(a->half_angle) && tip != LF_TIP_CONE && tip != LF_TIP_PYRAMID)
+        return lf_fail(err, LF_EINVAL, "--half-angle states a cone or a four-sided pyramid "
+                       "(--tip cone, --tip pyramid); %s", tip == LF_TIP_BERKOVICH
+                       ? "a Berkovich tip has its own equivalent cone (70.3 deg): leave it out"
+                       : "this probe is stated by --R or --B");
+    if (!isnan(a->B) && tip != LF_TIP_POWER)
+        return lf_fail(err, LF_EINVAL, "--B is the prefactor of a power law f = B r^k (with "
+                       "--k); a %s is stated by %s", lf_tip_name((lf_tip) tip),
+                       tip == LF_TIP_SPHERE ? "--R" : "its half-angle");
+    if (!isnan(a->B) && !isnan(a->R))
+        return lf_fail(err, LF_EINVAL, "--R and --B both state the profile (B = 1/(k R^(k-1))): "
+                       "give one");
+    if (!isnan(a->R) && (tip == LF_TIP_CONE || tip == LF_TIP_BERKOVICH || tip == LF_TIP_PYRAMID))
+        return lf_fail(err, LF_EINVAL, "R does not shape a %s (f = r cot(alpha)): leave --R out",
+                       lf_tip_name((lf_tip) tip));
+    if (tip == LF_TIP_POWER && k == 1.0 && isnan(a->B))
+        return lf_fail(err, LF_EINVAL, "k = 1 is a cone, and R does not shape a cone (f = r "
+                       "whatever R): state its half-angle (--half-angle 35deg, --tip berkovich, "
+                       "or --tip pyramid --half-angle THETA of its faces) or its prefactor --B "
+                       "(f = B r)");
+    if ((status = layer_of(a, &p->base, err)) != LF_OK)
+        return status;
+    p->k = k;
+    p->tip = (lf_tip) tip;
+    p->angle = tip == LF_TIP_CONE || tip == LF_TIP_PYRAMID ? a->half_angle : 0.0;
+    p->B = isnan(a->B) ? 0.0 : a->B;
+    p->R = a->R;              /* NaN: from each file's header, where it is used */
+    p->b = a->b;              /* NaN: no layer (a half-space) */
+    chk = *p;
+    if (isnan(chk.R) && lf_probe_uses_R(&chk))
+        chk.R = 1.0;          /* checked with the file's R once it is read */
+    if (isnan(chk.b))
+        chk.b = 1.0;
+    if (lf_probe_check(&chk, &e) != LF_OK)
+        return lf_fail(err, e.status, "%s", e.msg);
+    return LF_OK;
+}
+
+const char *
+lf_probe_words(char *buf, size_t n, const lf_probe *p)
+{
+    char r[48];
+
+    switch (p->tip) {
+    case LF_TIP_CONE:
+        snprintf(buf, n, "cone, half-angle %.4g°", p->angle * (180.0 / M_PI));
+        break;
+    case LF_TIP_BERKOVICH:
+        snprintf(buf, n, "Berkovich tip as its equivalent cone, half-angle %.4g°",
+                 lf_probe_cone_angle(p) * (180.0 / M_PI));
+        break;
+    case LF_TIP_PYRAMID:
+        snprintf(buf, n, "four-sided pyramid, face half-angle %.4g°, as its equivalent cone "
+                 "(equal projected area), half-angle %.4g°", p->angle * (180.0 / M_PI),
+                 lf_probe_cone_angle(p) * (180.0 / M_PI));
+        break;
+    case LF_TIP_SPHERE:
+        snprintf(buf, n, "sphere, R = %s", lf_human(r, sizeof r, p->R, "m"));
+        break;
+    default:
+        if (p->B > 0)
+            snprintf(buf, n, "k = %g, B = %.4g m^%g (f = B r^k)", p->k, p->B, 1.0 - p->k);
+        else
+            snprintf(buf, n, "k = %g, R = %s", p->k, lf_human(r, sizeof r, p->R, "m"));
+        break;
+    }
+    return buf;
 }

@@ -10,136 +10,36 @@
 
 #include "cli.h"
 
-void
-cli_probe_args_init(cli_probe_args *a)
-{
-    a->k = a->R = a->b = a->half_angle = a->B = NAN;
-    a->interface = a->tip = NULL;
-}
-
-size_t
-cli_probe_opts(cli_probe_args *a, cli_opt *opts)
-{
-    const cli_opt table[CLI_PROBE_NOPTS] = {
-        { "k", CLI_NUMBER, &a->k }, { "R", CLI_LENGTH, &a->R }, { "b", CLI_LENGTH, &a->b },
-        { "interface", CLI_STRING, &a->interface }, { "tip", CLI_STRING, &a->tip },
-        { "half-angle", CLI_ANGLE, &a->half_angle }, { "B", CLI_NUMBER, &a->B },
-    };
-    memcpy(opts, table, sizeof table);
-    return CLI_PROBE_NOPTS;
-}
-
 const char *
-cli_probe_given(const cli_probe_args *a)
+cli_probe_given(const lf_fit_options *o)
 {
-    return !isnan(a->k) ? "--k" : !isnan(a->R) ? "--R" : !isnan(a->b) ? "--b"
-         : a->interface != NULL ? "--interface" : a->tip != NULL ? "--tip"
-         : !isnan(a->half_angle) ? "--half-angle" : !isnan(a->B) ? "--B" : NULL;
-}
+    static const char *const names[] = { "k", "R", "b", "interface", "tip", "half-angle", "B" };
+    static const char *const flags[] = { "--k", "--R", "--b", "--interface", "--tip",
+                                         "--half-angle", "--B" };
+    size_t i;
 
-int
-cli_probe_shape_given(const cli_probe_args *a)
-{
-    return !isnan(a->k) || a->tip != NULL || !isnan(a->half_angle) || !isnan(a->B);
-}
-
-/* The layer of the options: b and interface together, or neither for a
- * half-space; *base filled.  Dies naming what is missing. */
-static void
-layer_of(const char *cmd, const char *model, const cli_probe_args *a, lf_base *base)
-{
-    const int halfspace = cli_model_ignores_b(model);
-    int bb;
-
-    *base = LF_BASE_FRICTIONLESS;
-    if (!isnan(a->b) && a->interface == NULL)
-        cli_die(CLI_EXIT_USAGE, "%s: --b needs --interface (frictionless or bonded)%s", cmd,
-                halfspace ? "; the half-space model uses neither: leave both out" : "");
-    if (isnan(a->b) && a->interface != NULL)
-        cli_die(CLI_EXIT_USAGE, "%s: --interface needs --b (the layer's thickness, e.g. "
-                "--b 1um)%s", cmd, halfspace ? "; the half-space model uses neither: leave both out"
-                : "");
-    if (isnan(a->b)) {
-        if (!halfspace)
-            cli_die(CLI_EXIT_USAGE, "%s: the %s model needs the layer: --b and --interface "
-                    "(e.g. --b 1um --interface frictionless), or fit the curves as a half-space "
-                    "with --model halfspace (no layer)", cmd, model);
-        return;
-    }
-    if ((bb = cli_base(a->interface)) < 0)
-        cli_die(CLI_EXIT_USAGE, "%s: unknown interface '%s' (frictionless or bonded)", cmd,
-                a->interface);
-    *base = (lf_base) bb;
+    for (i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (lf_fit_options_get(o, names[i]) != NULL)
+            return flags[i];
+    return NULL;
 }
 
 void
-cli_fit_probe(const char *cmd, const char *model, const cli_probe_args *a, lf_probe *p)
+cli_probe_state(const char *cmd, const lf_probe_statement *a, lf_probe *p)
 {
-    double k = a->k, kt = NAN;
-    int tip = LF_TIP_POWER;
-    lf_probe chk;
     lf_error err;
 
-    memset(p, 0, sizeof *p);
-    if (a->tip != NULL) {
-        if ((tip = lf_tip_find(a->tip, &kt)) < 0)
-            cli_die(CLI_EXIT_USAGE, "%s: unknown --tip '%s' (paraboloid, sphere, cone, "
-                    "berkovich, pyramid, or power with --k)", cmd, a->tip);
-        if (!isnan(kt) && !isnan(k) && k != kt)
-            cli_die(CLI_EXIT_USAGE, "%s: --tip %s is k = %g: leave --k out (got --k %g)", cmd,
-                    a->tip, kt, k);
-        if (!isnan(kt))
-            k = kt;
-    } else if (!isnan(a->half_angle)) {
-        tip = LF_TIP_CONE;        /* a half-angle alone states a cone */
-        if (isnan(k))
-            k = 1.0;
-    }
-    if (isnan(k))
-        cli_die(CLI_EXIT_USAGE, "%s: state the probe's shape: --k K (with --R, or R from the "
-                "file's header, or --B), or --tip paraboloid, sphere, cone, berkovich or pyramid", cmd);
-    if ((tip == LF_TIP_CONE || tip == LF_TIP_PYRAMID) && isnan(a->half_angle))
-        cli_die(CLI_EXIT_USAGE, "%s: --tip %s needs its %shalf-angle (e.g. --half-angle 35deg)", cmd,
-                lf_tip_name((lf_tip) tip), tip == LF_TIP_PYRAMID ? "faces' " : "");
-    if (!isnan(a->half_angle) && tip != LF_TIP_CONE && tip != LF_TIP_PYRAMID)
-        cli_die(CLI_EXIT_USAGE, "%s: --half-angle states a cone or a four-sided pyramid "
-                "(--tip cone, --tip pyramid); %s", cmd, tip == LF_TIP_BERKOVICH
-                ? "a Berkovich tip has its own equivalent cone (70.3 deg): leave it out"
-                : "this probe is stated by --R or --B");
-    if (!isnan(a->B) && tip != LF_TIP_POWER)
-        cli_die(CLI_EXIT_USAGE, "%s: --B is the prefactor of a power law f = B r^k (with --k); "
-                "a %s is stated by %s", cmd, lf_tip_name((lf_tip) tip),
-                tip == LF_TIP_SPHERE ? "--R" : "its half-angle");
-    if (!isnan(a->B) && !isnan(a->R))
-        cli_die(CLI_EXIT_USAGE, "%s: --R and --B both state the profile (B = 1/(k R^(k-1))): "
-                "give one", cmd);
-    if (!isnan(a->R) && (tip == LF_TIP_CONE || tip == LF_TIP_BERKOVICH || tip == LF_TIP_PYRAMID))
-        cli_die(CLI_EXIT_USAGE, "%s: R does not shape a %s (f = r cot(alpha)): leave --R out", cmd,
-                lf_tip_name((lf_tip) tip));
-    if (tip == LF_TIP_POWER && k == 1.0 && isnan(a->B))
-        cli_die(CLI_EXIT_USAGE, "%s: k = 1 is a cone, and R does not shape a cone (f = r "
-                "whatever R): state its half-angle (--half-angle 35deg, --tip berkovich, or "
-                "--tip pyramid --half-angle THETA of its faces) or its prefactor --B (f = B r)", cmd);
-    layer_of(cmd, model, a, &p->base);
-    p->k = k;
-    p->tip = (lf_tip) tip;
-    p->angle = tip == LF_TIP_CONE || tip == LF_TIP_PYRAMID ? a->half_angle : 0.0;
-    p->B = isnan(a->B) ? 0.0 : a->B;
-    p->R = a->R;              /* NaN: from each file's header, where it is used */
-    p->b = a->b;              /* NaN: no layer (a half-space) */
-    chk = *p;
-    if (isnan(chk.R) && lf_probe_uses_R(&chk))
-        chk.R = 1.0;          /* checked with the file's R once it is read */
-    if (isnan(chk.b))
-        chk.b = 1.0;
-    if (lf_probe_check(&chk, &err) != LF_OK)
+    if (lf_probe_state(a, p, &err) != LF_OK)
         cli_die(CLI_EXIT_USAGE, "%s: %s", cmd, err.msg);
 }
 
 lf_plan *
-cli_files_plan(const char *model, size_t n, char *const *files, const cli_probe_args *pa,
-               const lf_input_settings *is, const char *sample, const char *group_by)
+cli_files_plan(const lf_fit_options *o, const lf_fit_request *req, size_t n, char *const *files)
 {
+    const char *sample = lf_fit_options_get(o, "sample");
+    const char *group_by = lf_fit_options_get(o, "group-by");
+    const lf_input_settings *is = &req->input;
+    lf_probe_statement pa;
     char file[4096];
     lf_plan *plan;
     lf_probe p;
@@ -147,12 +47,13 @@ cli_files_plan(const char *model, size_t n, char *const *files, const cli_probe_
     long index;
     size_t i;
 
-    if (!cli_probe_shape_given(pa))
+    lf_fit_options_statement(o, &pa);
+    if (!lf_probe_shape_stated(&pa))
         cli_die(CLI_EXIT_USAGE, "fit: %s is a curve file, not a plan: state the probe of its "
                 "curves, e.g. --k 2 --model halfspace (R from the file's header, or --R; --b and "
                 "--interface for a layer), or --tip sphere, cone, berkovich or pyramid",
                 files[0]);
-    cli_fit_probe("fit", model, pa, &p);
+    cli_probe_state("fit", &pa, &p);
     if (sample != NULL && group_by != NULL)
         cli_die(CLI_EXIT_USAGE, "fit: --sample names one sample for all the files, --group-by "
                 "forms several: give one");

@@ -1,61 +1,10 @@
-/* cli/observed.c: the words and columns of what a lab states and reads
- * off: a probe's shape as it was stated (a cone by its half-angle, a
- * pyramid by its equivalent cone, a sphere, a power law by R or B), and
- * the model-free observables of a curve (lf_observe) beside the fit. */
+/* cli/observed.c: the words of what a lab reads off: the model-free
+ * observables of a curve (lf_observe) beside the fit, and its fit window. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
 #include "cli.h"
-
-#define DEG (180.0 / M_PI)
-
-const char *
-cli_probe_words(char *buf, size_t n, const lf_probe *p)
-{
-    char r[48];
-
-    switch (p->tip) {
-    case LF_TIP_CONE:
-        snprintf(buf, n, "cone, half-angle %.4g°", p->angle * DEG);
-        break;
-    case LF_TIP_BERKOVICH:
-        snprintf(buf, n, "Berkovich tip as its equivalent cone, half-angle %.4g°",
-                 lf_probe_cone_angle(p) * DEG);
-        break;
-    case LF_TIP_PYRAMID:
-        snprintf(buf, n, "four-sided pyramid, face half-angle %.4g°, as its equivalent cone "
-                 "(equal projected area), half-angle %.4g°", p->angle * DEG,
-                 lf_probe_cone_angle(p) * DEG);
-        break;
-    case LF_TIP_SPHERE:
-        snprintf(buf, n, "sphere, R = %s", cli_human(r, sizeof r, p->R, "m"));
-        break;
-    default:
-        if (p->B > 0)
-            snprintf(buf, n, "k = %g, B = %.4g m^%g (f = B r^k)", p->k, p->B, 1.0 - p->k);
-        else
-            snprintf(buf, n, "k = %g, R = %s", p->k, cli_human(r, sizeof r, p->R, "m"));
-        break;
-    }
-    return buf;
-}
-
-const char *const cli_observed_keys[CLI_NOBSERVED] = {
-    "adhesion_force_N", "detachment_work_J", "contact_point_m", "max_indentation_m",
-    "max_force_N", "instrument_Eeff_Pa"
-};
-
-void
-cli_observed_values(const lf_observables *o, double v[CLI_NOBSERVED])
-{
-    v[0] = o->adhesion_force;
-    v[1] = o->detachment_work;
-    v[2] = o->contact_point;
-    v[3] = o->max_indentation;
-    v[4] = o->max_force;
-    v[5] = o->instrument_Eeff;
-}
 
 void
 cli_observed_text(FILE *f, const lf_observables *o, const lf_fit_curve_result *cr)
