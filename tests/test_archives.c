@@ -314,6 +314,38 @@ naming(void)
 
 /* ---- Bruker Nanoscope, Igor, AFM Workshop map, tab, hld --------------- */
 
+/* A Nanoscope map of side x side curves over 1 um each: grid places,
+ * positions, w by column (map_w), the same from memory. */
+static void
+nanoscope_grid(const char *name, size_t side)
+{
+    lf_file *f = NULL;
+    lf_curve *c;
+    lf_curve_info info;
+    lf_error err;
+    size_t i;
+    if (t_int(lf_file_open(vpath(name), 0, NULL, &f, NULL, &err), LF_OK, "%s opens (%s)",
+              name, err.msg)) {
+        t_int((long) lf_file_count(f), (long) (side * side), "%s: a curve per pixel", name);
+        for (i = 0; i < lf_file_count(f); i++) {
+            char what[64];
+            if (lf_file_info(f, i, &info, &err) == LF_OK) {
+                t_int(info.grid_i, (long) (i % side), "%s %zu: column", name, i);
+                t_int(info.grid_j, (long) (i / side), "%s %zu: row", name, i);
+                t_rel(info.x, ((double) (i % side) + 0.5) * 1e-6, 1e-12, "%s %zu: x", name, i);
+                t_rel(info.y, ((double) (i / side) + 0.5) * 1e-6, 1e-12, "%s %zu: y", name, i);
+            }
+            if (lf_file_curve(f, i, &c, NULL, &err) == LF_OK) {
+                snprintf(what, sizeof what, "%s#%zu", name, i);
+                fits_to(c, map_w[i % side], 1e-3, what);
+                lf_curve_free(c);
+            }
+        }
+        lf_file_close(f);
+    }
+    file_and_memory_agree(name, NULL);
+}
+
 /* nanoscope.pfc: PeakForce Capture, 2 x 2 curves of one period of a sine
  * Z, 64 + 64 samples of 2 bytes.  The generator's truth: Z = A (1 -
  * cos(pi u / 64)), A = 1500 nm, u = (time index - s + 64) mod 128 with the
@@ -328,7 +360,6 @@ peakforce_capture(void)
     const double lsb = 0.000375 * 40e-9, amp = 1500e-9, k = 2.0;
     lf_file *f = NULL;
     lf_curve *c;
-    lf_curve_info info;
     lf_error err;
     size_t len = 0, i, load = 0;
     char *raw = slurp(vpath("nanoscope.pfc"), &len), *bad;
@@ -355,22 +386,7 @@ peakforce_capture(void)
 #undef PFC_RAW
     }
     lf_curve_free(c);
-    if (t_int(lf_file_open(vpath("nanoscope.pfc"), 0, NULL, &f, NULL, &err), LF_OK,
-              "nanoscope.pfc opens (%s)", err.msg)) {
-        t_int((long) lf_file_count(f), 4, "pfc: a curve per pixel of the 2 x 2 scan");
-        for (i = 0; i < lf_file_count(f); i++) {
-            char what[64];
-            if (lf_file_info(f, i, &info, &err) == LF_OK)
-                t_rel(info.y, ((double) (i / 2) + 0.5) * 1e-6, 1e-12, "pfc %zu: y", i);
-            if (lf_file_curve(f, i, &c, NULL, &err) == LF_OK) {
-                snprintf(what, sizeof what, "nanoscope.pfc#%zu", i);
-                fits_to(c, map_w[i % 2], 1e-3, what);
-                lf_curve_free(c);
-            }
-        }
-        lf_file_close(f);
-    }
-    file_and_memory_agree("nanoscope.pfc", NULL);
+    nanoscope_grid("nanoscope.pfc", 2);
     /* what the sine needs, named when it is missing */
     if (raw != NULL && (bad = strstr(raw, "Sample Points")) != NULL) {
         bad[12] = 'z';
@@ -412,25 +428,7 @@ other_synthetic(void)
     }
     lf_curve_free(c);
     free(raw);
-    if (t_int(lf_file_open(vpath("nanoscope_fv.spm"), 0, NULL, &f, NULL, &err), LF_OK,
-              "nanoscope_fv opens (%s)", err.msg)) {
-        t_int((long) lf_file_count(f), 9, "force volume: 3 x 3 curves");
-        for (i = 0; i < lf_file_count(f); i++) {
-            char what[64];
-            if (lf_file_info(f, i, &info, &err) == LF_OK) {
-                t_int(info.grid_i, (long) (i % 3), "force volume %zu: column", i);
-                t_int(info.grid_j, (long) (i / 3), "force volume %zu: row", i);
-                t_rel(info.x, ((double) (i % 3) + 0.5) * 1e-6, 1e-12, "force volume %zu: x", i);
-            }
-            if (lf_file_curve(f, i, &c, NULL, &err) == LF_OK) {
-                snprintf(what, sizeof what, "nanoscope_fv#%zu", i);
-                fits_to(c, map_w[i % 3], 1e-3, what);
-                lf_curve_free(c);
-            }
-        }
-        lf_file_close(f);
-    }
-    file_and_memory_agree("nanoscope_fv.spm", NULL);
+    nanoscope_grid("nanoscope_fv.spm", 3);
     peakforce_capture();
 
     /* Igor waves: little-endian float32 with the note's Indexes, big-endian

@@ -498,15 +498,16 @@ def jpk_all():
 # --- Bruker Nanoscope ---------------------------------------------------------
 
 NS_K, NS_SENS, NS_ZSENS, NS_HARD, NS_ZHARD = 2.0, 40e-9, 20e-9, 0.000375, 0.006713765
+NS_TABLES = {}
 
 
-def ns_curve(npts, ramp_v, w="1mJ/m2", z0=0.5e-6):
-    """Deflection raw values of one curve, approach then retract, both
-    stored from the most extended Z back: Z = (npts - 1 - k) x step (into
-    the sample), the separation solved from Z = separation + z0 + F/k with
-    F from the unload branch (both segments; a test of the reader)."""
-    step = ramp_v * NS_ZSENS / npts
-    dd, ff = model("8um", w, "25kPa", "-2um", "3um", 4000, "unload")
+def ns_raw(z, z0, w):
+    """The raw deflection at piezo Z: the separation solved from Z =
+    separation + z0 + F/k with F from the unload branch (both segments; a
+    test of the reader), the table of w computed once."""
+    if w not in NS_TABLES:
+        NS_TABLES[w] = model("8um", w, "25kPa", "-2um", "3um", 4000, "unload")
+    dd, ff = NS_TABLES[w]
 
     def force(delta):
         if delta <= dd[0]:
@@ -517,14 +518,18 @@ def ns_curve(npts, ramp_v, w="1mJ/m2", z0=0.5e-6):
         t = (delta - dd[i]) / (dd[i + 1] - dd[i])
         return ff[i] + t * (ff[i + 1] - ff[i])
 
-    raw = []
-    for k in range(npts):
-        z = (npts - 1 - k) * step
-        delta = z - z0
-        for _ in range(200):            # delta = z - z0 - F(delta)/k, a contraction here
-            delta = z - z0 - force(delta) / NS_K
-        raw.append(int(round(force(delta) / NS_K / NS_SENS / NS_HARD)))
-    return raw * 2
+    delta = z - z0
+    for _ in range(200):                # delta = z - z0 - F(delta)/k, a contraction here
+        delta = z - z0 - force(delta) / NS_K
+    return int(round(force(delta) / NS_K / NS_SENS / NS_HARD))
+
+
+def ns_curve(npts, ramp_v, w="1mJ/m2", z0=0.5e-6):
+    """Deflection raw values of one curve, approach then retract, both
+    stored from the most extended Z back: Z = (npts - 1 - k) x step (into
+    the sample)."""
+    step = ramp_v * NS_ZSENS / npts
+    return [ns_raw((npts - 1 - k) * step, z0, w) for k in range(npts)] * 2
 
 
 def nanoscope(name, fv):
@@ -565,28 +570,11 @@ def nanoscope(name, fv):
 def pfc_curve(n, amp, sync, w, z0=0.5e-6):
     """Deflection raw values of one PeakForce Capture curve: 2n samples of
     one period in time order, Z = amp (1 - cos(pi u / n)) with u = (k - sync
-    + n) mod 2n (the peak at sample sync), the separation solved as in
-    ns_curve; stored as Nanoscope stores them (the first n backwards), the
-    first sample in time replaced by the marker -32768."""
-    dd, ff = model("8um", w, "25kPa", "-2um", "3um", 4000, "unload")
-
-    def force(delta):
-        if delta <= dd[0]:
-            return ff[0]
-        if delta >= dd[-1]:
-            return ff[-1]
-        i = bisect.bisect_right(dd, delta) - 1
-        t = (delta - dd[i]) / (dd[i + 1] - dd[i])
-        return ff[i] + t * (ff[i + 1] - ff[i])
-
-    timed = []
-    for k in range(2 * n):
-        u = (k - sync + n) % (2 * n)
-        z = amp * (1 - math.cos(math.pi * u / n))
-        delta = z - z0
-        for _ in range(200):
-            delta = z - z0 - force(delta) / NS_K
-        timed.append(int(round(force(delta) / NS_K / NS_SENS / NS_HARD)))
+    + n) mod 2n (the peak at sample sync); stored as Nanoscope stores them
+    (the first n backwards), the first sample in time replaced by the
+    marker -32768."""
+    timed = [ns_raw(amp * (1 - math.cos(math.pi * ((k - sync + n) % (2 * n)) / n)), z0, w)
+             for k in range(2 * n)]
     timed[0] = -32768
     return timed[n - 1::-1] + timed[n:]
 
