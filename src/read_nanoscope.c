@@ -294,7 +294,7 @@ ns_open(lf_file *f, lf_warnings *warn, lf_error *err)
     const char *v, *section = "Ciao force image list";
     size_t len, at = 0, sect_at = 0, i;
     uint64_t data_len;
-    double hard, full, ramp, zsoft;
+    double hard, full, ramp, zsoft, gs, gl;
     char soft[64], zsoft_name[64];
     int status, fv;
 
@@ -377,47 +377,43 @@ ns_open(lf_file *f, lf_warnings *warn, lf_error *err)
         st->nret = st->napp;    /* one period of 2n: both halves the first number */
         if ((status = pfc_sine(f, st, err)) != LF_OK)
             return status;
-    }
-    /* the ramp: in the force image list, else the force list */
-    v = get(st, section, "Ramp Size", sect_at, NULL);
-    if (v == NULL)
-        v = get(st, section, "Ramp size", sect_at, NULL);
-    if (v == NULL)
-        v = get(st, "Ciao force list", "Ramp size", 0, NULL);
-    if (v == NULL)
-        v = get(st, "Ciao force list", "Ramp Size Zsweep", 0, NULL);
-    ciao_value(v, &hard, zsoft_name, sizeof zsoft_name, &ramp);
-    zsoft = soft_scale(st, zsoft_name[0] ? zsoft_name : "Sens. Zsens");
-    if (isnan(zsoft))
-        zsoft = soft_scale(st, "Sens. Zscan");
-    if (st->pfc)
-        ;
-    else if (!(ramp > 0) || !(zsoft > 0))
-        return lf_fail_at(err, LF_EFORMAT, f->path, 0, 0, "no Z ramp: '\\@4:Ramp size' and the "
-                          "Z sensitivity '\\@Sens. Zsens' are needed for the piezo's travel");
-    else
+    } else {
+        /* the ramp: in the force image list, else the force list */
+        v = get(st, section, "Ramp Size", sect_at, NULL);
+        if (v == NULL)
+            v = get(st, section, "Ramp size", sect_at, NULL);
+        if (v == NULL)
+            v = get(st, "Ciao force list", "Ramp size", 0, NULL);
+        if (v == NULL)
+            v = get(st, "Ciao force list", "Ramp Size Zsweep", 0, NULL);
+        ciao_value(v, &hard, zsoft_name, sizeof zsoft_name, &ramp);
+        zsoft = soft_scale(st, zsoft_name[0] ? zsoft_name : "Sens. Zsens");
+        if (isnan(zsoft))
+            zsoft = soft_scale(st, "Sens. Zscan");
+        if (!(ramp > 0) || !(zsoft > 0))
+            return lf_fail_at(err, LF_EFORMAT, f->path, 0, 0, "no Z ramp: '\\@4:Ramp size' and "
+                              "the Z sensitivity '\\@Sens. Zsens' are needed for the piezo's "
+                              "travel");
         st->zstep = ramp * zsoft / (double) (st->napp > st->nret ? st->napp : st->nret);
+    }
     /* one curve, or a force volume; PeakForce Capture: a curve per pixel
      * of the scan when the data hold that many, else one */
     v = get(st, "Ciao scan list", "Operating mode", 0, NULL);
     fv = v != NULL && strstr(v, "Force Volume") != NULL;
-    if (st->pfc && !fv) {
-        double s = number(get(st, "Ciao scan list", "Samps/line", 0, NULL), NULL);
-        double l = number(get(st, "Ciao scan list", "Lines", 0, NULL), NULL);
-        double per = s * l * 2.0 * (double) st->napp;
-        fv = s >= 1 && l >= 1 && s * l < 1e8 && s * l > 1
-            && ((double) data_len == 2 * per || (double) data_len == 4 * per);
+    gs = number(get(st, "Ciao scan list", "Samps/line", 0, NULL), NULL);
+    gl = number(get(st, "Ciao scan list", "Lines", 0, NULL), NULL);
+    if (st->pfc && !fv && gs * gl > 1 && gs * gl < 1e8) {
+        double per = gs * gl * 2.0 * (double) st->napp;
+        fv = (double) data_len == 2 * per || (double) data_len == 4 * per;
     }
     st->ncurves = 1;
     if (fv) {
-        double s = number(get(st, "Ciao scan list", "Samps/line", 0, NULL), NULL);
-        double l = number(get(st, "Ciao scan list", "Lines", 0, NULL), NULL);
-        if (!(s >= 1 && l >= 1 && s * l < 1e8))
+        if (!(gs >= 1 && gl >= 1 && gs * gl < 1e8))
             return lf_fail_at(err, LF_EFORMAT, f->path, 0, 0, "a force volume without its grid "
                               "('\\Samps/line' and '\\Lines' of the scan list)");
-        st->samps = (long) s;
-        st->lines = (long) l;
-        st->ncurves = (size_t) (s * l);
+        st->samps = (long) gs;
+        st->lines = (long) gl;
+        st->ncurves = (size_t) (gs * gl);
         st->x0 = st->y0 = 0;
         st->sx = st->sy = NAN;
         v = get(st, "Ciao image list", "Scan Size", 0, NULL);
