@@ -62,6 +62,53 @@ assumptions(FILE *f, const lf_assumption *assumed, size_t n, size_t ncurves)
     fputs("</ul>\n</section>\n", f);
 }
 
+static void
+td_human(FILE *f, double x, const char *unit)
+{
+    char buf[64];
+    if (!isfinite(x)) {
+        fputs("<td class=\"na\">&ndash;</td>", f);
+        return;
+    }
+    fputs("<td class=\"num\">", f);
+    esc(f, cli_human(buf, sizeof buf, x, unit));
+    fputs("</td>", f);
+}
+
+/* What each curve shows without a model, beside the fit's tables: the
+ * measured adhesion force, detachment work and contact point, the
+ * instrument's own E[eff], and the fit window. */
+static void
+observed_table(FILE *f, const lf_fit_input *in)
+{
+    size_t j;
+
+    fputs("<section id=\"observed\">\n<h2>Measured without a model</h2>\n<div class=\"wide\">"
+          "<table id=\"observed-table\">\n<tr><th>#</th><th>file</th>"
+          "<th>measured adhesion force</th><th>detachment work</th>"
+          "<th>contact point (no model)</th><th>deepest indentation</th><th>largest force</th>"
+          "<th>instrument's E[eff]</th><th>fit window</th></tr>\n", f);
+    for (j = 0; j < in->n; j++) {
+        const lf_observables *o = &in->observed[j];
+        char kept[64];
+        fprintf(f, "<tr><td class=\"num\">%zu</td>", j + 1);
+        td_text(f, in->names[j] ? in->names[j] : "");
+        td_human(f, o->adhesion_force, "N");
+        td_human(f, o->detachment_work, "J");
+        td_human(f, o->contact_point, "m");
+        td_human(f, o->max_indentation, "m");
+        td_human(f, o->max_force, "N");
+        if (isfinite(o->instrument_Eeff))
+            td_human(f, o->instrument_Eeff, "Pa");
+        else
+            td_text(f, "not stated");
+        snprintf(kept, sizeof kept, "%zu of %zu points", in->window[j].n_kept, in->window[j].n_in);
+        td_text(f, in->window[j].active ? kept : "all points");
+        fputs("</tr>\n", f);
+    }
+    fputs("</table></div>\n</section>\n", f);
+}
+
 /* Copy an SVG file into the page from its <svg element on, prefixing every
  * id and every reference to one with "fN-". */
 static int
@@ -178,8 +225,9 @@ remove_figures(const char *dir, size_t ncurves)
 
 int
 cli_html_report(const char *file, const char *plotdir, size_t ncurves,
-                const lf_fit_curve *curves, const lf_fit_result *r, const char *command_line,
-                const lf_assumption *assumed, size_t nassumed, char *msg, size_t n)
+                const lf_fit_curve *curves, const lf_fit_result *r, const lf_fit_input *in,
+                const char *command_line, const lf_assumption *assumed, size_t nassumed,
+                char *msg, size_t n)
 {
     cli_figures figs = { 0, NULL, NULL };
     char tmpdir[4096], note[1200];
@@ -198,7 +246,7 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
         slot = cli_temp_add(tmpdir, 1);     /* removed, whatever stops the run */
         dir = tmpdir;
     }
-    if (cli_plot_fit(dir, ncurves, curves, r, command_line, &figs, note, sizeof note) != 0)
+    if (cli_plot_fit(dir, ncurves, curves, r, in, command_line, &figs, note, sizeof note) != 0)
         have_note = 1;
     if ((f = cli_out_open(&out, file, msg, n)) == NULL) {
         status = -1;
@@ -229,6 +277,8 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
         lf_free(tables);
     }
     figures(f, dir, &figs, have_note ? note : NULL);
+    if (in != NULL)
+        observed_table(f, in);
     provenance(f);
     fputs("</body>\n</html>\n", f);
     if (cli_out_commit(&out, msg, n) != 0)

@@ -201,7 +201,7 @@ per_point(void)
         d[i] = 50e-9 - 60e-9 * (double) i / (NPTS - 1.0);
     printf("one evaluation of %d points, per point:\n", NPTS);
     for (j = 0; j < sizeof ks / sizeof ks[0]; j++) {
-        lf_probe p = { ks[j], 1e-3, 1e-6, LF_BASE_FRICTIONLESS };
+        lf_probe p = { ks[j], 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 };
         lf_model *mt = lf_model_alloc(&lf_model_thin, &p, NULL);
         lf_model *mh = lf_model_alloc(&lf_model_halfspace, &p, NULL);
         lf_model *me = lf_model_alloc(&lf_model_exact, &p, NULL);
@@ -223,16 +223,16 @@ main(void)
 {
     const bscene scenes[] = {
         { "k=2 b=1um frictionless, 0.2% noise", 1,
-          { { 2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS } }, 0.3, 2e-3, 50e-9, 0 },
+          { { 2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 } }, 0.3, 2e-3, 50e-9, 0 },
         { "k=2,3 b=1um frictionless, 0.5% noise", 2,
-          { { 2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS }, { 3, 1e-3, 1e-6, LF_BASE_FRICTIONLESS } },
+          { { 2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, { 3, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 } },
           0.3, 5e-3, 50e-9, 0 },
         { "k=2 b=5um frictionless, 0.02% noise", 1,
-          { { 2, 1e-3, 5e-6, LF_BASE_FRICTIONLESS } }, 0.3, 2e-4, 200e-9, 0 },
+          { { 2, 1e-3, 5e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 } }, 0.3, 2e-4, 200e-9, 0 },
         { "k=2 b=1um bonded nu=0.45 held, 0.02%", 1,
-          { { 2, 1e-3, 1e-6, LF_BASE_BONDED } }, 0.45, 2e-4, 50e-9, 1 },
+          { { 2, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0 } }, 0.45, 2e-4, 50e-9, 1 },
         { "k=2 fric + k=3 bonded b=1um, nu free", 2,
-          { { 2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS }, { 3, 1e-3, 1e-6, LF_BASE_BONDED } },
+          { { 2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, { 3, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0 } },
           0.35, 2e-3, 30e-9, 0 },
     };
     size_t i;
