@@ -315,7 +315,7 @@ many_curves(void)
 {
     enum { N = 40, NP = 300 };
     static const double ks[4] = { 2.0, 3.0, 1.5, 4.0 }, Rs[4] = { 1e-3, 1e-3, 5e-4, 2e-3 };
-    lf_probe probe[N];
+    lf_probe probe[N] = { { 0 } };   /* power laws of R */
     double *depth[N], *force[N], sigma[N];
     lf_fit_curve cv[N];
     lf_sim_settings sim = lf_sim_settings_default();
@@ -550,7 +550,7 @@ static void
 joint_many(void)
 {
     enum { N = 34, NP = 120 };
-    lf_probe probe[N];
+    lf_probe probe[N] = { { 0 } };   /* power laws of R */
     double *depth[N], *force[N], sigma[N];
     lf_fit_curve cv[N];
     lf_sim_settings sim = lf_sim_settings_default();

@@ -84,9 +84,13 @@ many_init(many_data *d, size_t n, const lf_material *truth)
         || !d->F0 || !d->fc || !d->dc)
         cli_die(CLI_EXIT_FAIL, "bench: out of memory");
     for (j = 0; j < n; j++) {
-        lf_probe pr = { shapes[j % 4].k, shapes[j % 4].R, 1e-6, LF_BASE_FRICTIONLESS };
+        lf_probe pr = { 0 };      /* the power law of R */
         lf_pulloff po;
         double lo;
+        pr.k = shapes[j % 4].k;
+        pr.R = shapes[j % 4].R;
+        pr.b = 1e-6;
+        pr.base = LF_BASE_FRICTIONLESS;
         d->model[j] = lf_model_alloc(&lf_model_thin, &pr, &err);
         if (d->model[j] == NULL || lf_model_pulloff(d->model[j], truth, &po, &err) != LF_OK)
             cli_die_error(CLI_EXIT_FAIL, &err);
