@@ -504,7 +504,7 @@ test_fast_path(void)
         lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
         lf_pulloff po;
         static double d[NP_FAST];
-        char label[64];
+        char label[96];
         if (mod == NULL || lf_model_pulloff(mod, &m, &po, NULL) != LF_OK) {
             t_true(0, "alloc/pulloff case %zu", ci);
             lf_model_free(mod);
@@ -541,7 +541,7 @@ test_fast_grid(void)
                     for (Ei = 0; Ei < 2; Ei++) {
                         lf_material m = {ws[wi], Es[Ei], nus[ki]};
                         lf_pulloff po;
-                        char label[96];
+                        char label[160];
                         if (lf_model_pulloff(mod, &m, &po, NULL) != LF_OK) {
                             t_true(0, "pulloff k %g base %d b %g", ks[ki], base, bs[bi]);
                             continue;
