@@ -153,6 +153,11 @@ extern const char cli_fit_help[];
 #define cli_interval_words lf_interval_words
 #define cli_interval_method lf_interval_method
 #define cli_bound_text lf_bound_text
+/* How the curves of one material differ, in words (words.c, command.h) */
+#define cli_spread_text lf_spread_text
+#define cli_param_text lf_param_text
+#define cli_p_text lf_p_text
+#define cli_hetero_lines lf_hetero_lines
 
 /* Batch fitting (batch.c). */
 #define CLI_MAX_THREADS 1024      /* --threads is 1..CLI_MAX_THREADS */
@@ -206,12 +211,14 @@ void cli_plot_files(const char *dir, size_t ncurves, void (*each)(const char *pa
 
 /* Write a self-contained HTML report of a fit (html.c) with the figures
  * inlined as SVG; they are drawn into plotdir, or into a temporary folder
- * removed afterwards when plotdir is NULL.  Returns 0; 1 when the page was
+ * removed afterwards when plotdir is NULL; assumed[0..nassumed-1] are the
+ * values the fit assumed (lf_fit_assumptions), said at the top.  Returns 0; 1 when the page was
  * written without figures (msg says why, e.g. gnuplot missing); -1 with msg
  * when the page could not be written. */
 int cli_html_report(const char *file, const char *plotdir, size_t ncurves,
                     const lf_fit_curve *curves, const lf_fit_result *r,
-                    const char *command_line, char *msg, size_t n);
+                    const char *command_line, const lf_assumption *assumed, size_t nassumed,
+                    char *msg, size_t n);
 /* ---- Outputs and inputs (output.c, read.c) -------------------------------
  * Every output file goes through cli_out: a temporary file in the same
  * folder (registered for removal on exit or a signal: cli_temp_add),
@@ -300,6 +307,8 @@ void cli_provenance_json(FILE *f, const char *indent, const char *command_line);
  * (--csv-raw) is set. */
 extern int cli_csv_raw;
 void cli_csv_cell(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
+/* The same into f. */
+void cli_put_csv_cell(FILE *f, const char *s);
 /* The run's provenance record for the library's writers: its arrays
  * point at the noted inputs (cli_provenance_free releases the arrays). */
 void cli_provenance_of(const char *command_line, lf_provenance *p);

@@ -273,7 +273,7 @@ figures_note(const char *plotdir, size_t ncurves)
  * the page (gnuplot missing) is said on stderr without failing. */
 static void
 figures(const char *plotdir, const char *report, size_t ncurves, const lf_fit_curve *curves,
-        const lf_fit_result *res, const char *command_line)
+        const lf_fit_result *res, const char *command_line, const report_input *in)
 {
     char msg[1400];
 
@@ -288,8 +288,8 @@ figures(const char *plotdir, const char *report, size_t ncurves, const lf_fit_cu
             cli_say("fit: %s", msg);
     }
     if (report != NULL) {
-        int st = cli_html_report(report, plotdir, ncurves, curves, res, command_line, msg,
-                                 sizeof msg);
+        int st = cli_html_report(report, plotdir, ncurves, curves, res, command_line,
+                                 in->assumed, in->nassumed, msg, sizeof msg);
         if (st < 0)
             cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
         if (st > 0)
@@ -314,6 +314,7 @@ cli_fit(int argc, char **argv, const char *command_line)
     lf_fit_result r;
     lf_error err;
     report_input in;
+    lf_assumption assumed[16];
     size_t no;
     char bad[256];
 
@@ -367,6 +368,8 @@ cli_fit(int argc, char **argv, const char *command_line)
     in.curves = d.curves;
     in.origin = d.origin;
     in.command_line = command_line;
+    in.assumed = assumed;
+    in.nassumed = lf_fit_assumptions(&req, &d, &r, assumed, sizeof assumed / sizeof assumed[0]);
     if (!to_stdout(a.json) && !to_stdout(a.curves)) {
         /* standard output carries the report unless it carries an output
          * (--json -, --curves -): then that alone, for the next program */
@@ -377,7 +380,7 @@ cli_fit(int argc, char **argv, const char *command_line)
         write_file(a.json, report_json, &in, &r, NULL);
     if (a.curves != NULL)
         write_file(a.curves, report_curves, &in, &r, command_line);
-    figures(plot_dir, report_html, d.n, d.curves, &r, command_line);
+    figures(plot_dir, report_html, d.n, d.curves, &r, command_line, &in);
     if (status == LF_OK && cli_disagreeing(&r, bad, sizeof bad) > 0) {
         cli_say("fit: converged, but the model does not describe curve%s %s "
                 "(DISAGREES): the values are those of a model that does not fit, not a "

@@ -44,6 +44,24 @@ td_text(FILE *f, const char *s)
     fputs("</td>", f);
 }
 
+/* What the fit assumed rather than fitted, at the top. */
+static void
+assumptions(FILE *f, const lf_assumption *assumed, size_t n, size_t ncurves)
+{
+    char buf[200];
+    size_t i;
+
+    if (n == 0)
+        return;
+    fputs("<section id=\"assumed\">\n<h2>Assumed, not fitted</h2>\n<ul>\n", f);
+    for (i = 0; i < n; i++) {
+        fputs("<li>", f);
+        esc(f, lf_assumption_text(buf, sizeof buf, &assumed[i], ncurves));
+        fputs("</li>\n", f);
+    }
+    fputs("</ul>\n</section>\n", f);
+}
+
 /* Copy an SVG file into the page from its <svg element on, prefixing every
  * id and every reference to one with "fN-". */
 static int
@@ -161,7 +179,7 @@ remove_figures(const char *dir, size_t ncurves)
 int
 cli_html_report(const char *file, const char *plotdir, size_t ncurves,
                 const lf_fit_curve *curves, const lf_fit_result *r, const char *command_line,
-                char *msg, size_t n)
+                const lf_assumption *assumed, size_t nassumed, char *msg, size_t n)
 {
     cli_figures figs = { 0, NULL, NULL };
     char tmpdir[4096], note[1200];
@@ -200,6 +218,7 @@ cli_html_report(const char *file, const char *plotdir, size_t ncurves,
             r->ncurves, r->ncurves == 1 ? "" : "s");
     esc(f, command_line);
     fputs("</code>\n</header>\n", f);
+    assumptions(f, assumed, nassumed, r->ncurves);
     {
         /* the tables: the library's, as a notebook shows them */
         lf_error err;
