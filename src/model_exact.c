@@ -397,7 +397,7 @@ slot_claim(exact_state *st)
  * lf_exact_eval_precise keeps the exponentials, and tests/test_exact.c
  * holds the two to 1e-12). */
 #define PP_SUB 16
-#define PP_DEG 6
+#define PP_DEG 6             /* curve_poly's Estrin scheme is written for 6 */
 #define PP_NC (PP_DEG + 1)
 #define PP_NF 5              /* the four products and tau = e^u itself */
 
@@ -579,6 +579,7 @@ typedef struct {
     double d2, P2, ddelta_nu_u, dP_nu_u;
     double shift1, shift2, Ssh1, Ssh2, P11, P12;
     double tau;                        /* e^u, from curve_poly (else NAN) */
+    double idd;                        /* 1/dd, from invert */
 } exact_pt;
 
 /* The mix at one u: ln f, g = d ln f/du, dg = dg/du. */
@@ -673,40 +674,36 @@ curve_at2(const exact_ctx *c, double u, int want_nu, exact_pt *o)
 }
 
 /* curve_at2 from the products' polynomials (frictionless, no nu terms);
- * 0 when u lies outside them (then nothing is written). */
+ * 0 when u lies outside them (then nothing is written).  Values and
+ * first derivatives by Estrin's scheme (independent pairs of terms: fewer
+ * dependent operations than Horner's); the second derivatives only scale
+ * the last step of invert (du^2/2 <= 5e-13) and the first-order update
+ * of the slopes there, so their series is cut after t^2, which leaves
+ * ~((k + 2) |t|)^3/6 of them (1e-5 at k = 12, |t| <= 0.003). */
 static inline int
 curve_poly(const exact_ctx *c, double u, exact_pt *o)
 {
     const prodpoly *pp = c->pp;
     const double x = (u - pp->u0) * pp->inv_hs;
-    double y[4], y1[4], y2[4], t, tv;
-    const double *cf;
+    double y[4], y1[4], y2[4], t, t2, t4, tv;
+    const double *a;
     size_t q;
-    int j, n;
+    int j;
 
     if (!(x >= 0.0 && x < (double) pp->nq))
         return 0;
     q = (size_t) x;
     t = u - (pp->u0 + ((double) q + 0.5) * pp->hs);
-    cf = pp->c + PP_NF * q * PP_NC;
-#pragma GCC unroll 4
-    for (j = 0; j < 4; j++) {
-        /* value and first two derivatives by Horner */
-        const double *a = cf + j * PP_NC;
-        double v = a[PP_DEG], d1 = 0.0, d2 = 0.0;
-#pragma GCC unroll 8
-        for (n = PP_DEG - 1; n >= 0; n--) {
-            d2 = d2 * t + d1;
-            d1 = d1 * t + v;
-            v = v * t + a[n];
-        }
-        y[j] = v;
-        y1[j] = d1;
-        y2[j] = 2.0 * d2;
+    t2 = t * t;
+    t4 = t2 * t2;
+    a = pp->c + PP_NF * q * PP_NC;
+    for (j = 0; j < 4; j++, a += PP_NC) {
+        y[j] = (a[0] + a[1] * t) + t2 * (a[2] + a[3] * t) + t4 * ((a[4] + a[5] * t) + a[6] * t2);
+        y1[j] = (a[1] + 2.0 * a[2] * t) + t2 * (3.0 * a[3] + 4.0 * a[4] * t)
+                + t4 * (5.0 * a[5] + 6.0 * a[6] * t);
+        y2[j] = 2.0 * a[2] + t * (6.0 * a[3] + t * 12.0 * a[4]);
     }
-#pragma GCC unroll 8
-    for (tv = cf[4 * PP_NC + PP_DEG], n = PP_DEG - 1; n >= 0; n--)
-        tv = tv * t + cf[4 * PP_NC + n];
+    tv = (a[0] + a[1] * t) + t2 * (a[2] + a[3] * t) + t4 * ((a[4] + a[5] * t) + a[6] * t2);
     o->tau = tv;
     o->shift = c->A2 * y[1];
     o->shift1 = c->A2 * y1[1];
@@ -1014,13 +1011,13 @@ ctx_init(exact_ctx *c, exact_state *st, const lf_probe *pr, const lf_material *m
  * bracket [lo, hi] with delta(lo) < target <= delta(hi) (hi = U_HIGH until
  * a point above the target is seen: then steps of at most one e-fold).
  * *out receives the curve at the returned ln tau (with the nu derivatives
- * when want_nu).  taylor: finish a step below STEP_TAYLOR to first order
- * (header) instead of evaluating once more. */
+ * when want_nu) and out->idd = 1/dd there.  taylor: finish a step below
+ * STEP_TAYLOR to second order (header) instead of evaluating once more. */
 static double
 invert(const exact_ctx *c, double target, double guess, int want_nu, int taylor, exact_pt *out)
 {
     exact_pt pt;
-    double lo = isfinite(c->u_det) ? c->u_det : U_LOW, hi = c->u_top, u;
+    double lo = isfinite(c->u_det) ? c->u_det : U_LOW, hi = c->u_top, u, idd = NAN;
     int i;
 
     u = guess;
@@ -1040,18 +1037,24 @@ invert(const exact_ctx *c, double target, double guess, int want_nu, int taylor,
         /* done at the rounding level of delta = A1 tau^k d - shift (the
          * two terms nearly cancel near detachment): chasing g further only
          * bisects rounding noise */
+        idd = NAN;
         if (fabs(g) <= 1e-14 * (fabs(pt.delta + pt.shift) + fabs(pt.shift)))
             break;
-        un = pt.dd > 0.0 ? u - g / pt.dd : NAN;
+        idd = 1.0 / pt.dd;
+        un = pt.dd > 0.0 ? u - g * idd : NAN;
         if (!(un > lo && un < hi)) {
             un = hi < c->u_top ? 0.5 * (lo + hi) : fmin(lo + 1.0, c->u_top);
         } else if (taylor && fabs(un - u) <= STEP_TAYLOR
                    && fabs((un - u) * pt.d2) <= CURV_TAYLOR * pt.dd) {
             /* the second-order step (the Newton step corrected by the
-             * curvature) and the curve carried there: header */
-            double du = un - u;
-            du -= 0.5 * pt.d2 * du * du / pt.dd;
+             * curvature) and the curve carried there (header); 1/dd
+             * follows dd by its series in e = d2 du/dd (|e| <= 1e-5,
+             * error e^3) instead of another division */
+            double du = un - u, e;
+            du -= 0.5 * pt.d2 * du * du * idd;
             curve_advance2(&pt, du);
+            e = pt.d2 * du * idd;
+            idd *= 1.0 - e + e * e;
             u += du;
             break;
         }
@@ -1062,6 +1065,7 @@ invert(const exact_ctx *c, double target, double guess, int want_nu, int taylor,
         u = un;
     }
     *out = pt;
+    out->idd = isnan(idd) ? 1.0 / pt.dd : idd;
     return u;
 }
 
@@ -1069,7 +1073,7 @@ invert(const exact_ctx *c, double target, double guess, int want_nu, int taylor,
 static void
 fill_point(const exact_ctx *c, double u, const exact_pt *p, int bonded, lf_eval *e)
 {
-    double dPdd = p->dP / p->dd;
+    double dPdd = p->dP * p->idd;
 
     if (!(p->dd > 0.0))
         dPdd = LF_BIG;
@@ -1187,7 +1191,7 @@ eval_points(const exact_ctx *c, int bonded, int fast, lf_branch branch, size_t n
         fill_point(c, u, &pt, bonded, e);
         if (pt.dd > 0.0 && delta[i] != d2) {
             d1 = d2; u1 = u2; s1 = s2;
-            d2 = delta[i]; u2 = u; s2 = 1.0 / pt.dd;
+            d2 = delta[i]; u2 = u; s2 = pt.idd;
         }
     }
     return LF_OK;

@@ -421,6 +421,68 @@ test_thin_limit(void)
  * their largest magnitude over the curve, and each to 1e-8 of itself
  * wherever it is above 1e-3 of that largest value.  Both are 1e4 times
  * below the tables' own accuracy in derivatives (3e-5, test_tables). */
+#define NP_FAST 240
+
+/* One evaluation of the model against lf_exact_eval_precise on the same
+ * indentations, with the tolerances above; label names the case. */
+static void
+fast_vs_precise(lf_model *mod, const lf_probe *pr, const lf_material *m, lf_branch b,
+                const double *d, const char *label)
+{
+    static lf_eval ef[NP_FAST], ep[NP_FAST];
+    double smax[6] = {0}, emax[6] = {0}, pmax = 0.0;
+    int bad = -1, i, j;
+
+    t_int(lf_model_eval(mod, m, b, NP_FAST, d, ef, NULL), LF_OK, "fast eval %s", label);
+    t_int(lf_exact_eval_precise(pr, m, b, NP_FAST, d, ep, NULL), LF_OK, "precise eval %s", label);
+    for (i = 0; i < NP_FAST; i++) {
+        double q[6] = {ep[i].P, ep[i].a, ep[i].dP_ddelta, ep[i].dP_dlogw, ep[i].dP_dlogE, ep[i].dP_dnu};
+        for (j = 0; j < 6; j++)
+            smax[j] = fmax(smax[j], fabs(q[j]));
+    }
+    for (i = 0; i < NP_FAST; i++) {
+        double f[6] = {ef[i].P, ef[i].a, ef[i].dP_ddelta, ef[i].dP_dlogw, ef[i].dP_dlogE, ef[i].dP_dnu};
+        double q[6] = {ep[i].P, ep[i].a, ep[i].dP_ddelta, ep[i].dP_dlogw, ep[i].dP_dlogE, ep[i].dP_dnu};
+        for (j = 0; j < 6; j++) {
+            double e = smax[j] > 0.0 ? fabs(f[j] - q[j]) / smax[j] : fabs(f[j] - q[j]);
+            emax[j] = fmax(emax[j], e);
+            if (j >= 2 && fabs(q[j]) > 1e-3 * smax[j]) {
+                double r = fabs(f[j] / q[j] - 1.0);
+                if (r > pmax) {
+                    pmax = r;
+                    bad = i;
+                }
+            }
+        }
+    }
+    t_true(emax[0] <= 1e-12 && emax[1] <= 1e-12,
+           "fast path %s: P, a within %.1e, %.1e of scale (<= 1e-12)", label, emax[0], emax[1]);
+    t_true(emax[2] <= 1e-9 && emax[3] <= 1e-9 && emax[4] <= 1e-9 && emax[5] <= 1e-9,
+           "fast path %s: derivatives within %.1e %.1e %.1e %.1e of scale (<= 1e-9)",
+           label, emax[2], emax[3], emax[4], emax[5]);
+    t_true(pmax <= 1e-8, "fast path %s: derivatives within %.1e of themselves "
+           "(<= 1e-8; worst point %d)", label, pmax, bad);
+}
+
+/* The largest indentation of a case: well into the thin-layer range of a
+ * layer of thickness b whose detachment is at lo. */
+static double
+fast_top(double lo, double b)
+{
+    return fmax(60e-9, 4.0 * fabs(lo)) * sqrt(b / 1e-6);
+}
+
+/* Indentations from just past detachment (lo) to hi, unevenly spaced, a
+ * few points repeated. */
+static void
+fast_depths(double lo, double hi, double *d)
+{
+    int i;
+
+    for (i = 0; i < NP_FAST; i++)
+        d[i] = lo + (hi - lo) * pow((i + 0.5 - (i % 37 == 5)) / NP_FAST, 1.7);
+}
+
 static void
 test_fast_path(void)
 {
@@ -433,9 +495,8 @@ test_fast_path(void)
         {1.0, LF_BASE_FRICTIONLESS, 0.3, 1e-6, 0.01, 1e9},
         {2.0, LF_BASE_FRICTIONLESS, 0.3, 1e-6, 0.0, 1e9},
         {6.0, LF_BASE_FRICTIONLESS, 0.3, 1e-6, 0.01, 1e9}};
-    enum { NP = 240 };
     size_t ci;
-    int br, i, j;
+    int br;
 
     for (ci = 0; ci < sizeof c / sizeof c[0]; ci++) {
         lf_probe pr = {c[ci].k, 1e-3, c[ci].bb, c[ci].b, LF_TIP_POWER, 0.0,
@@ -443,57 +504,61 @@ test_fast_path(void)
         lf_material m = {c[ci].w, c[ci].E, c[ci].nu};
         lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
         lf_pulloff po;
-        static double d[NP];
-        static lf_eval ef[NP], ep[NP];
-        double lo, hi;
+        static double d[NP_FAST];
+        char label[96];
         if (mod == NULL || lf_model_pulloff(mod, &m, &po, NULL) != LF_OK) {
             t_true(0, "alloc/pulloff case %zu", ci);
             lf_model_free(mod);
             continue;
         }
-        /* from just past detachment to well into the thin-layer range,
-         * unevenly spaced, a few points repeated */
-        lo = po.delta_detach;
-        hi = fmax(60e-9, 4.0 * fabs(lo)) * pow(c[ci].bb / 1e-6, 0.5);
-        for (i = 0; i < NP; i++)
-            d[i] = lo + (hi - lo) * pow((i + 0.5 - (i % 37 == 5)) / NP, 1.7);
+        fast_depths(po.delta_detach, fast_top(po.delta_detach, c[ci].bb), d);
         for (br = 0; br < 2; br++) {
-            lf_branch b = br ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD;
-            double smax[6] = {0}, emax[6] = {0}, pmax = 0.0;
-            int bad = -1;
-            t_int(lf_model_eval(mod, &m, b, NP, d, ef, NULL), LF_OK, "fast eval case %zu", ci);
-            t_int(lf_exact_eval_precise(&pr, &m, b, NP, d, ep, NULL), LF_OK, "precise eval case %zu", ci);
-            for (i = 0; i < NP; i++) {
-                double q[6] = {ep[i].P, ep[i].a, ep[i].dP_ddelta, ep[i].dP_dlogw, ep[i].dP_dlogE, ep[i].dP_dnu};
-                for (j = 0; j < 6; j++)
-                    smax[j] = fmax(smax[j], fabs(q[j]));
-            }
-            for (i = 0; i < NP; i++) {
-                double f[6] = {ef[i].P, ef[i].a, ef[i].dP_ddelta, ef[i].dP_dlogw, ef[i].dP_dlogE, ef[i].dP_dnu};
-                double q[6] = {ep[i].P, ep[i].a, ep[i].dP_ddelta, ep[i].dP_dlogw, ep[i].dP_dlogE, ep[i].dP_dnu};
-                for (j = 0; j < 6; j++) {
-                    double e = smax[j] > 0.0 ? fabs(f[j] - q[j]) / smax[j] : fabs(f[j] - q[j]);
-                    emax[j] = fmax(emax[j], e);
-                    if (j >= 2 && fabs(q[j]) > 1e-3 * smax[j]) {
-                        double r = fabs(f[j] / q[j] - 1.0);
-                        if (r > pmax) {
-                            pmax = r;
-                            bad = i;
-                        }
-                    }
-                }
-            }
-            t_true(emax[0] <= 1e-12 && emax[1] <= 1e-12,
-                   "fast path case %zu branch %d: P, a within %.1e, %.1e of scale (<= 1e-12)",
-                   ci, br, emax[0], emax[1]);
-            t_true(emax[2] <= 1e-9 && emax[3] <= 1e-9 && emax[4] <= 1e-9 && emax[5] <= 1e-9,
-                   "fast path case %zu branch %d: derivatives within %.1e %.1e %.1e %.1e of scale (<= 1e-9)",
-                   ci, br, emax[2], emax[3], emax[4], emax[5]);
-            t_true(pmax <= 1e-8, "fast path case %zu branch %d: derivatives within %.1e of themselves "
-                   "(<= 1e-8; worst point %d)", ci, br, pmax, bad);
+            snprintf(label, sizeof label, "case %zu branch %d", ci, br);
+            fast_vs_precise(mod, &pr, &m, br ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD, d, label);
         }
         lf_model_free(mod);
     }
+}
+
+/* The same over a grid of the probes the benchmarks time (k = 1.5, 2, 3),
+ * both bases, layer thicknesses, works of adhesion and moduli (the
+ * curve's scale against the layer's), and both branches; bonded layers at
+ * one nu per k (nu moves only the tables' mix, test_fast_path). */
+static void
+test_fast_grid(void)
+{
+    static const double ks[] = {1.5, 2.0, 3.0}, nus[] = {0.1, 0.45, 0.3};
+    static const double bs[] = {3e-7, 1e-6, 4e-6}, ws[] = {0.003, 0.04}, Es[] = {3e8, 2.5e9};
+    static double d[NP_FAST];
+    size_t ki, bi, wi, Ei;
+    int base, br;
+
+    for (ki = 0; ki < 3; ki++)
+        for (base = 0; base < 2; base++)
+            for (bi = 0; bi < 3; bi++) {
+                lf_probe pr = {ks[ki], 1e-3, bs[bi], base ? LF_BASE_BONDED : LF_BASE_FRICTIONLESS,
+                               LF_TIP_POWER, 0.0, 0.0};
+                lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
+                for (wi = 0; wi < 2 && mod != NULL; wi++)
+                    for (Ei = 0; Ei < 2; Ei++) {
+                        lf_material m = {ws[wi], Es[Ei], nus[ki]};
+                        lf_pulloff po;
+                        char label[160];
+                        if (lf_model_pulloff(mod, &m, &po, NULL) != LF_OK) {
+                            t_true(0, "pulloff k %g base %d b %g", ks[ki], base, bs[bi]);
+                            continue;
+                        }
+                        fast_depths(po.delta_detach, fast_top(po.delta_detach, bs[bi]), d);
+                        for (br = 0; br < 2; br++) {
+                            snprintf(label, sizeof label, "k %g base %d b %g w %g E* %g branch %d",
+                                     ks[ki], base, bs[bi], ws[wi], Es[Ei], br);
+                            fast_vs_precise(mod, &pr, &m, br ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD,
+                                            d, label);
+                        }
+                    }
+                t_true(mod != NULL, "alloc k %g base %d b %g", ks[ki], base, bs[bi]);
+                lf_model_free(mod);
+            }
 }
 
 /* The per-nu data a model object keeps (a few slots, replaced least
@@ -853,6 +918,7 @@ main(void)
     test_jacobian();
     test_branches();
     test_fast_path();
+    test_fast_grid();
     test_slots();
     test_thin_limit();
     test_threads();
