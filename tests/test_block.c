@@ -310,47 +310,72 @@ decompositions(void)
 
 /* ---- many curves, end to end -------------------------------------------- */
 
+/* n curves of np points of truth, the thin-layer model's, z0 and F0
+ * free: probes k = 2, 3, 1.5, 4 in turn (the first nshapes of them),
+ * 1% noise; depth and force allocated (many_free). */
 static void
-many_curves(void)
+many_simulate(size_t n, size_t np, size_t nshapes, unsigned long seed, const lf_material *truth,
+              double **depth, double **force, lf_fit_curve *cv, const char *label)
 {
-    enum { N = 40, NP = 300 };
     static const double ks[4] = { 2.0, 3.0, 1.5, 4.0 }, Rs[4] = { 1e-3, 1e-3, 5e-4, 2e-3 };
-    lf_probe probe[N] = { { 0 } };   /* power laws of R */
-    double *depth[N], *force[N], sigma[N];
-    lf_fit_curve cv[N];
+    lf_probe *probe = calloc(n, sizeof *probe);       /* power laws of R */
+    double *sigma = calloc(n, sizeof *sigma);
     lf_sim_settings sim = lf_sim_settings_default();
-    lf_fit_settings set = lf_fit_settings_default();
-    lf_material truth = { 10e-3, 1e9, 0.3 };
-    lf_fit_result res;
-    lf_error err;
-    lf_fit *f;
-    size_t j, k, l;
-    int st;
+    size_t j;
 
     sim.noise = 0.01;
-    sim.points = NP;
+    sim.points = np;
     sim.z0 = 3e-9;
     sim.F0 = 1e-6;
-    sim.seed = 7;
-    for (j = 0; j < N; j++) {
-        probe[j].k = ks[j % 4];
-        probe[j].R = Rs[j % 4];
+    sim.seed = seed;
+    for (j = 0; j < n; j++) {
+        probe[j].k = ks[j % nshapes];
+        probe[j].R = Rs[j % nshapes];
         probe[j].b = 1e-6;
         probe[j].base = LF_BASE_FRICTIONLESS;
-        depth[j] = malloc(NP * sizeof(double));
-        force[j] = malloc(NP * sizeof(double));
+        depth[j] = malloc(np * sizeof(double));
+        force[j] = malloc(np * sizeof(double));
     }
-    t_int(lf_simulate(&sim, &lf_model_thin, &truth, N, probe, depth, force, sigma, NULL), LF_OK,
-          "many curves: simulated");
-    for (j = 0; j < N; j++) {
+    t_int(lf_simulate(&sim, &lf_model_thin, truth, n, probe, depth, force, sigma, NULL), LF_OK,
+          "%s: simulated", label);
+    for (j = 0; j < n; j++) {
         memset(&cv[j], 0, sizeof cv[j]);
-        cv[j].n = NP;
+        cv[j].n = np;
         cv[j].depth = depth[j];
         cv[j].force = force[j];
         cv[j].probe = probe[j];
         cv[j].branch = LF_BRANCH_UNLOAD;
         cv[j].z0 = cv[j].F0 = NAN;
     }
+    free(probe);
+    free(sigma);
+}
+
+static void
+many_free(size_t n, double **depth, double **force)
+{
+    size_t j;
+    for (j = 0; j < n; j++) {
+        free(depth[j]);
+        free(force[j]);
+    }
+}
+
+static void
+many_curves(void)
+{
+    enum { N = 40, NP = 300 };
+    double *depth[N], *force[N];
+    lf_fit_curve cv[N];
+    lf_fit_settings set = lf_fit_settings_default();
+    lf_material truth = { 10e-3, 1e9, 0.3 };
+    lf_fit_result res;
+    lf_error err;
+    lf_fit *f;
+    size_t k, l;
+    int st;
+
+    many_simulate(N, NP, 4, 7, &truth, depth, force, cv, "many curves");
     f = lf_fit_alloc(&set, N, cv, &err);
     st = f != NULL ? lf_fit_run(f, &res, &err) : LF_EINVAL;
     if (t_int(st, LF_OK, "many curves: %d curves converge", N)) {
@@ -387,10 +412,7 @@ many_curves(void)
         lf_fit_result_free(&res);
     }
     lf_fit_free(f);
-    for (j = 0; j < N; j++) {
-        free(depth[j]);
-        free(force[j]);
-    }
+    many_free(N, depth, force);
 }
 
 /* ---- the model choice's biases from the Schur complement --------------- */
@@ -550,42 +572,16 @@ static void
 joint_many(void)
 {
     enum { N = 34, NP = 120 };
-    lf_probe probe[N] = { { 0 } };   /* power laws of R */
-    double *depth[N], *force[N], sigma[N];
+    double *depth[N], *force[N];
     lf_fit_curve cv[N];
-    lf_sim_settings sim = lf_sim_settings_default();
     lf_fit_settings set = lf_fit_settings_default();
     lf_material truth = { 10e-3, 1e9, 0.3 };
     lf_fit_result res;
     lf_error err;
-    size_t j;
     int st;
 
-    sim.noise = 0.01;
-    sim.points = NP;
-    sim.z0 = 3e-9;
-    sim.F0 = 1e-6;
-    sim.seed = 11;
     set.model = &lf_model_thin;
-    for (j = 0; j < N; j++) {
-        probe[j].k = j % 2 ? 3.0 : 2.0;
-        probe[j].R = 1e-3;
-        probe[j].b = 1e-6;
-        probe[j].base = LF_BASE_FRICTIONLESS;
-        depth[j] = malloc(NP * sizeof(double));
-        force[j] = malloc(NP * sizeof(double));
-    }
-    t_int(lf_simulate(&sim, &lf_model_thin, &truth, N, probe, depth, force, sigma, NULL), LF_OK,
-          "joint many: simulated");
-    for (j = 0; j < N; j++) {
-        memset(&cv[j], 0, sizeof cv[j]);
-        cv[j].n = NP;
-        cv[j].depth = depth[j];
-        cv[j].force = force[j];
-        cv[j].probe = probe[j];
-        cv[j].branch = LF_BRANCH_UNLOAD;
-        cv[j].z0 = cv[j].F0 = NAN;
-    }
+    many_simulate(N, NP, 2, 11, &truth, depth, force, cv, "joint many");
     st = lf_fit_joint(&set, NULL, N, cv, LF_PROFILE_LINEAR, &res, &err);
     if (t_int(st, LF_OK, "joint many: %d curves fitted by lf_fit_joint", N)) {
         t_true(res.npar > FIT_DENSE_P && res.cov == NULL, "joint many: %zu parameters, the "
@@ -599,10 +595,7 @@ joint_many(void)
                "blocks (%.3f)", lf_fit_result_corr(&res, 0, 1));
         lf_fit_result_free(&res);
     }
-    for (j = 0; j < N; j++) {
-        free(depth[j]);
-        free(force[j]);
-    }
+    many_free(N, depth, force);
 }
 
 int
