@@ -95,8 +95,25 @@ $(SO): $(LIB_OBJ)
 	ln -sf $(notdir $@) $(BUILD)/$(SONAME)
 	ln -sf $(SONAME) $(BUILD)/liblayerfit.so
 
-$(PROG): $(CLI_OBJ) $(LIB_ALL)
-	$(CC) $(ALL_LDFLAGS) -o $@ $(CLI_OBJ) $(LIB_ALL) $(LDLIBS)
+# The report's script and style (src/cli/page.js, page.css) as C arrays,
+# embedded into the command (cli/page.c writes them into every page).
+PAGE_ASSETS := $(BUILD)/src/cli/page_assets.o
+$(BUILD)/src/cli/page_assets.c: src/cli/page.js src/cli/page.css
+	@mkdir -p $(dir $@)
+	@{ echo '/* made by the Makefile from src/cli/page.js and page.css */'; \
+	  echo '#include <stddef.h>'; \
+	  for v in js css; do \
+	    echo "extern const unsigned char cli_page_$$v[]; extern const size_t cli_page_$${v}_len;"; \
+	    echo "const unsigned char cli_page_$$v[] = {"; \
+	    od -An -v -tx1 src/cli/page.$$v | sed 's/\([0-9a-f][0-9a-f]\)/0x\1,/g'; \
+	    echo '0 };'; \
+	    echo "const size_t cli_page_$${v}_len = sizeof cli_page_$$v - 1;"; \
+	  done; } > $@.tmp && mv $@.tmp $@
+$(PAGE_ASSETS): $(BUILD)/src/cli/page_assets.c
+	$(CC) $(CLI_CFLAGS) -c $< -o $@
+
+$(PROG): $(CLI_OBJ) $(PAGE_ASSETS) $(LIB_ALL)
+	$(CC) $(ALL_LDFLAGS) -o $@ $(CLI_OBJ) $(PAGE_ASSETS) $(LIB_ALL) $(LDLIBS)
 
 $(BUILD)/tests/%: tests/%.c tests/testlib.c tests/scene.c $(LIB_ALL) $(HEADERS) tests/scene.h
 	@mkdir -p $(dir $@)

@@ -264,6 +264,9 @@ typedef struct {
     int json;
     int auto_model;        /* lf_fit_choose_driver instead of lf_fit_driver */
     int linear_only;       /* --intervals linear: no profile-likelihood check */
+    cli_page_store *page;  /* --report: each fit's curves, by its place in
+                              the output (u - first), or NULL */
+    size_t first;
 } batch_config;
 
 static void
@@ -567,6 +570,7 @@ row:
         join_warnings(&msg, &res.warnings, &firstw);
         for (j = 0; j < res.ncurves; j++)
             join_warnings(&msg, &res.curves[j].warnings, &firstw);
+        cli_page_store_fit(cfg->page, u - cfg->first, n, in.curves, rows, &res);
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status,
                 res.model ? res.model : "", num,
                 sizeof num / sizeof num[0], text, ident.s ? ident.s : "", msg.s ? msg.s : "",
@@ -583,6 +587,7 @@ row:
             { "Estar_ci95_hi_Pa", NAN }, { "nu_ci95_lo", NAN }, { "nu_ci95_hi", NAN },
         };
         const char *text[NTEXT] = { "", "", "" };
+        cli_page_store_fit(cfg->page, u - cfg->first, n, NULL, rows, NULL);
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status, "", num,
                 sizeof num / sizeof num[0], text, "", ebuf, grid);
     }
@@ -675,6 +680,10 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     cfg.json = 0;
     cfg.auto_model = o->auto_model;
     cfg.linear_only = o->linear_only;
+    cfg.page = NULL;
+    if (o->report != NULL && (o->out == NULL || !ends_with(o->out, ".csv")))
+        cli_die(CLI_EXIT_USAGE, "fit: --report %s: the page is made from the results; give them "
+                "as --out FILE.csv", o->report);
     if (o->out != NULL) {
         if (ends_with(o->out, ".jsonl"))
             cfg.json = 1;
@@ -697,6 +706,8 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
 #endif
     cli_output_note("fit", o->out);
     cli_output_note_sidecar("fit", o->out);
+    cli_output_note("fit", o->report);
+    cli_output_folder_check("fit", o->report);
     if (o->probe != NULL) {
         /* a file of curves (a force map): each curve with the one probe */
         lf_error err;
@@ -728,6 +739,9 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     lo = (size_t) ((double) ul.nunits * (double) (shard_i - 1) / (double) shard_n);
     hi = (size_t) ((double) ul.nunits * (double) shard_i / (double) shard_n);
     total = hi - lo;
+    cfg.first = lo;
+    if (o->report != NULL && (cfg.page = cli_page_store_new(total)) == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
     if (o->out != NULL && (out = cli_out_open(&atomic, o->out, msg, sizeof msg)) == NULL)
         cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
     if (!cfg.json) {
@@ -783,6 +797,11 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
             cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
         cli_provenance_sidecar("fit", o->out, o->command_line);
     }
+    if (cfg.page != NULL) {
+        if (cli_page_map(o->report, o->out, cfg.page, o->command_line, msg, sizeof msg) != 0)
+            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
+        cli_page_store_free(cfg.page);
+    }
     if (failed > 0) {
         fprintf(stderr, "layerfit: fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s)\n",
                 failed, total, o->out ? o->out : "the output");
@@ -837,17 +856,17 @@ batch_of_curves(int argc, char **argv)
 int
 cli_fit_batch(int argc, char **argv, const char *command_line)
 {
-    const char *plan = NULL, *out = NULL, *shard = NULL, *interface = NULL;
+    const char *plan = NULL, *out = NULL, *shard = NULL, *interface = NULL, *report = NULL;
     long threads_opt = -1;
     int npos, help = 0, quiet = 0, progress = 0, curves_file;
     double k = NAN, R = NAN, b = NAN;
     cli_fit_args fa;
-    cli_opt opts[10 + CLI_FIT_NOPTS + 1] = {
+    cli_opt opts[11 + CLI_FIT_NOPTS + 1] = {
         { "batch", CLI_STRING, &plan }, { "out", CLI_STRING, &out },
         { "threads", CLI_COUNT, &threads_opt }, { "shard", CLI_STRING, &shard },
         { "progress", CLI_FLAG, &progress }, { "quiet", CLI_FLAG, &quiet },
         { "k", CLI_NUMBER, &k }, { "R", CLI_LENGTH, &R }, { "b", CLI_LENGTH, &b },
-        { "interface", CLI_STRING, &interface },
+        { "interface", CLI_STRING, &interface }, { "report", CLI_STRING, &report },
     };
     lf_fit_settings s = lf_fit_settings_default();
     cli_batch_opts o;
@@ -855,13 +874,13 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
     size_t no;
 
     cli_fit_args_init(&fa);
-    no = 10 + cli_fit_opts(&fa, opts + 10);
+    no = 11 + cli_fit_opts(&fa, opts + 11);
     opts[no].name = NULL;
     curves_file = batch_of_curves(argc, argv);
     {
         /* a single fit's outputs, and a single curve's probe for a plan,
          * asked of a batch: say where they belong */
-        static const char *const single[] = { "--json", "--curves", "--plot", "--report" };
+        static const char *const single[] = { "--json", "--curves", "--plot" };
         static const char *const probes[] = { "--k", "--R", "--b", "--interface" };
         cli_refuse_options(argc, argv, single, sizeof single / sizeof single[0],
                            "a single fit; a batch writes one row per fit to --out FILE.csv or "
@@ -877,7 +896,8 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
         help = 1;
     if (help) {
         printf("usage: layerfit fit --batch PLAN.csv [--out FILE.csv|FILE.jsonl] [--threads N]\n"
-               "                    [--shard I/N] [--progress|--quiet] [fit options]\n"
+               "                    [--shard I/N] [--progress|--quiet] [--report MAP.html]\n"
+               "                    [fit options]\n"
                "       layerfit fit --batch MAP --k K [--R LENGTH] [--b LENGTH --interface I]\n"
                "                    [options as above]\n\n"
                "Fits every curve of the plan, or every group of curves with the same\n"
@@ -894,6 +914,8 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
                "  --shard I/N       only the I-th of N contiguous shares of the fits; the\n"
                "                    outputs of 1..N concatenated (one CSV header) are the\n"
                "                    output of the whole plan\n"
+               "  --report MAP.html one interactive page of every fit: heat maps, histograms,\n"
+               "                    the results, each curve with its fit (needs --out FILE.csv)\n"
                "  --progress        progress bar on stderr even when it is not a terminal\n"
                "  --quiet           no progress bar\n"
                "fit options, as for a single fit and with the same defaults:\n",
@@ -928,6 +950,7 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
     o.linear_only = fa.linear_only;
     o.plan = plan;
     o.out = out;
+    o.report = report;
     o.command_line = command_line;
     o.shard = shard;
     if (threads_opt == 0)

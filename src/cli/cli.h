@@ -180,6 +180,7 @@ extern const char cli_fit_help[];
 typedef struct {
     const char *plan;      /* the plan */
     const char *out;       /* FILE.csv or FILE.jsonl; NULL: CSV on stdout */
+    const char *report;    /* --report MAP.html (page.c), or NULL */
     const char *shard;     /* "I/N" or NULL for all */
     long threads;          /* 0: all cores */
     int progress;          /* 1 on, 0 off, -1 when stderr is a terminal */
@@ -228,14 +229,29 @@ int cli_draw_script(const char *dir, const char *script, const char *base,
  * provenance.json), each path handed to each(). */
 void cli_plot_files(const char *dir, size_t ncurves, void (*each)(const char *path));
 
-/* Write a self-contained HTML report of a fit (html.c) with the figures
- * inlined as SVG; they are drawn into plotdir, or into a temporary folder
- * removed afterwards when plotdir is NULL.  Returns 0; 1 when the page was
- * written without figures (msg says why, e.g. gnuplot missing); -1 with msg
- * when the page could not be written. */
-int cli_html_report(const char *file, const char *plotdir, size_t ncurves,
-                    const lf_fit_curve *curves, const lf_fit_result *r,
-                    const char *command_line, char *msg, size_t n);
+/* The fitted model of curve j (plotfit.c) on n >= 2 depths spanning its
+ * data and past detachment, in instrument coordinates: z, F and each
+ * point's class cls (0 out of contact, 1 stable under force control, 2
+ * unstable), the caller's arrays of n; the force-controlled pull-off point
+ * (NaN when none).  0, or -1 when no model could be drawn. */
+int cli_model_curve(const lf_fit_curve *c, const lf_fit_curve_result *cr,
+                    const lf_fit_result *res, size_t n, double *z, double *F, int *cls,
+                    double *z_po, double *F_po);
+
+/* The interactive report of many fits (page.c): the curves of a batch
+ * kept as each fit ends (cli_page_store_fit: fit i of the results, its n
+ * curves, their plan rows and its result, NULL when it failed; safe from
+ * several threads for different i), then the page written from the
+ * results CSV and the store (NULL: the results alone).  0, or -1 with
+ * msg. */
+typedef struct cli_page_store cli_page_store;
+cli_page_store *cli_page_store_new(size_t nfits);
+void cli_page_store_fit(cli_page_store *s, size_t i, size_t n, const lf_fit_curve *curves,
+                        const lf_plan_row *rows, const lf_fit_result *res);
+void cli_page_store_free(cli_page_store *s);
+int cli_page_map(const char *file, const char *results, const cli_page_store *s,
+                 const char *command_line, char *msg, size_t n);
+
 /* ---- Outputs and inputs (output.c, read.c) -------------------------------
  * Every output file goes through cli_out: a temporary file in the same
  * folder, renamed into place by cli_out_commit after fflush, fsync and a

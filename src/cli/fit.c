@@ -23,7 +23,7 @@ static const char usage_text[] =
     "  --json FILE          the result in SI as JSON\n"
     "  --curves FILE        per point: depth, force, fitted force, residual, contact radius\n"
     "  --plot DIR           figures (PNG, SVG) with their gnuplot scripts and data\n"
-    "  --report FILE.html   one self-contained page: tables, warnings, figures\n"
+    "  --report FILE.html   one self-contained interactive page: tables, warnings, figures\n"
     "  --batch PLAN.csv     every curve or sample an independent fit (see --batch --help)\n"
     "  a single curve takes R from its file's header when --R is absent; with\n"
     "  --model halfspace it needs no --b (not used) and no --interface\n"
@@ -238,17 +238,17 @@ figures_note(const char *plotdir, size_t ncurves)
 
 /* `layerfit fit --plot DIR --report FILE.html` (either may be NULL),
  * checked by figures_check before the fit: draw the figures (plotfit.c)
- * and write the page (html.c); what goes wrong short of an I/O error on
- * the page (gnuplot missing) is said on stderr without failing. */
+ * and write the interactive page (page.c); gnuplot missing is said on
+ * stderr without failing. */
 static void
-figures(const char *plotdir, const char *report, size_t ncurves, const lf_fit_curve *curves,
+figures(const char *plotdir, const char *report, const report_input *in, size_t ncurves,
         const lf_fit_result *res, const char *command_line)
 {
     char msg[1400];
 
-    if (plotdir != NULL && report == NULL) {
+    if (plotdir != NULL) {
         cli_figures figs = { 0, NULL, NULL };
-        int st = cli_plot_fit(plotdir, ncurves, curves, res, command_line, &figs, msg,
+        int st = cli_plot_fit(plotdir, ncurves, in->curves, res, command_line, &figs, msg,
                               sizeof msg);
         cli_figures_free(&figs);
         if (st < 0)         /* a folder or file not made, gnuplot failed */
@@ -256,14 +256,8 @@ figures(const char *plotdir, const char *report, size_t ncurves, const lf_fit_cu
         if (st > 0)         /* no gnuplot: scripts and data written */
             fprintf(stderr, "layerfit: fit: %s\n", msg);
     }
-    if (report != NULL) {
-        int st = cli_html_report(report, plotdir, ncurves, curves, res, command_line, msg,
-                                 sizeof msg);
-        if (st < 0)
-            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
-        if (st > 0)
-            fprintf(stderr, "layerfit: fit: %s\n", msg);
-    }
+    if (report != NULL && cli_page_fit(report, in, res, msg, sizeof msg) != 0)
+        cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
 }
 
 void
@@ -507,7 +501,7 @@ cli_fit(int argc, char **argv, const char *command_line)
         write_file(a.curves, report_curves, &in, &r);
         cli_provenance_sidecar("fit", a.curves, command_line);
     }
-    figures(plot_dir, report_html, d.n, d.curves, &r, command_line);
+    figures(plot_dir, report_html, &in, d.n, &r, command_line);
     if (status == LF_OK && cli_disagreeing(&r, bad, sizeof bad) > 0) {
         fprintf(stderr, "layerfit: fit: converged, but the model does not describe curve%s %s "
                 "(DISAGREES): the values are those of a model that does not fit, not a "

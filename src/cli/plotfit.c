@@ -103,33 +103,36 @@ value_text(char *buf, size_t n, double x, const char *unit)
 
 /* One curve's model on a grid of indentations, in instrument coordinates. */
 typedef struct {
-    double z[GRID], F[GRID], delta[GRID];
+    double z[GRID], F[GRID];
     int cls[GRID];          /* 0 baseline (no contact), 1 stable, 2 unstable */
     int have;               /* 0 when the model could not be evaluated */
     double z_po, F_po;      /* pull-off point, NaN if none */
 } model_curve;
 
-static void
-model_for(const lf_fit_curve *c, const lf_fit_curve_result *cr, const lf_fit_result *res,
-          model_curve *mc)
+/* Curve j's fitted model on n >= 2 depths spanning its data (and past
+ * detachment), in instrument coordinates: z, F and each point's class cls
+ * (0 out of contact, 1 stable under force control, 2 unstable), the
+ * caller's arrays of n; *z_po, *F_po the force-controlled pull-off point
+ * (NaN when none).  Returns 0, or -1 when no model could be drawn. */
+int
+cli_model_curve(const lf_fit_curve *c, const lf_fit_curve_result *cr, const lf_fit_result *res,
+                size_t n, double *z, double *F, int *cls, double *z_po, double *F_po)
 {
     /* each curve's own model (under --model auto the fit's is "mixed") */
     const lf_model_type *type = lf_model_type_find(cr->model != NULL ? cr->model
                                                    : res->model ? res->model : "thin");
+    double s = isfinite(cr->slope) ? cr->slope : 0.0;
+    double lo = INFINITY, hi = -INFINITY;
     lf_material mat;
     lf_model *model;
-    lf_eval ev[GRID];
+    lf_eval *ev;
     lf_error err;
-    double lo = INFINITY, hi = -INFINITY;
     size_t i;
+    int st;
 
-    mc->have = 0;
-    mc->z_po = mc->F_po = NAN;
-    if (type == NULL || draw_material(res, &mat) != 0)
-        return;
-    model = lf_model_alloc(type, &c->probe, &err);
-    if (model == NULL)
-        return;
+    *z_po = *F_po = NAN;
+    if (n < 2 || type == NULL || draw_material(res, &mat) != 0)
+        return -1;
     for (i = 0; i < c->n; i++) {
         double d = c->depth[i] - cr->z0;
         lo = fmin(lo, d);
@@ -137,25 +140,37 @@ model_for(const lf_fit_curve *c, const lf_fit_curve_result *cr, const lf_fit_res
     }
     if (cr->branch == LF_BRANCH_UNLOAD && isfinite(cr->pulloff.delta_detach))
         lo = fmin(lo, cr->pulloff.delta_detach - 0.05 * (hi - cr->pulloff.delta_detach));
-    for (i = 0; i < GRID; i++)
-        mc->delta[i] = lo + (hi - lo) * (double) i / (GRID - 1);
-    if (!(hi > lo) || lf_model_eval(model, &mat, cr->branch, GRID, mc->delta, ev, &err) != LF_OK) {
-        lf_model_free(model);
-        return;
+    if (!(hi > lo) || (ev = malloc(n * sizeof *ev)) == NULL)
+        return -1;
+    if ((model = lf_model_alloc(type, &c->probe, &err)) == NULL) {
+        free(ev);
+        return -1;
     }
-    for (i = 0; i < GRID; i++) {
-        double s = isfinite(cr->slope) ? cr->slope : 0.0;
-        mc->z[i] = mc->delta[i] + cr->z0;
-        mc->F[i] = ev[i].P + cr->F0 + s * mc->delta[i];
-        mc->cls[i] = ev[i].a <= 0.0 ? 0 : ev[i].dP_ddelta > 0.0 ? 1 : 2;
-    }
-    if (cr->branch == LF_BRANCH_UNLOAD && cr->pulloff_determined && isfinite(cr->pulloff.P_po)) {
-        double s = isfinite(cr->slope) ? cr->slope : 0.0;
-        mc->z_po = cr->pulloff.delta_po + cr->z0;
-        mc->F_po = cr->pulloff.P_po + cr->F0 + s * cr->pulloff.delta_po;
-    }
-    mc->have = 1;
+    for (i = 0; i < n; i++)     /* the indentations first, z after the call */
+        z[i] = lo + (hi - lo) * (double) i / (double) (n - 1);
+    st = lf_model_eval(model, &mat, cr->branch, n, z, ev, &err);
     lf_model_free(model);
+    for (i = 0; st == LF_OK && i < n; i++) {
+        F[i] = ev[i].P + cr->F0 + s * z[i];
+        cls[i] = ev[i].a <= 0.0 ? 0 : ev[i].dP_ddelta > 0.0 ? 1 : 2;
+        z[i] += cr->z0;
+    }
+    free(ev);
+    if (st != LF_OK)
+        return -1;
+    if (cr->branch == LF_BRANCH_UNLOAD && cr->pulloff_determined && isfinite(cr->pulloff.P_po)) {
+        *z_po = cr->pulloff.delta_po + cr->z0;
+        *F_po = cr->pulloff.P_po + cr->F0 + s * cr->pulloff.delta_po;
+    }
+    return 0;
+}
+
+static void
+model_for(const lf_fit_curve *c, const lf_fit_curve_result *cr, const lf_fit_result *res,
+          model_curve *mc)
+{
+    mc->have = cli_model_curve(c, cr, res, GRID, mc->z, mc->F, mc->cls, &mc->z_po,
+                               &mc->F_po) == 0;
 }
 
 /* Write the model points of class cls as one data set, contiguous runs

@@ -1,0 +1,490 @@
+/* cli/page.c: the interactive report, one self-contained HTML page.
+ *
+ *   layerfit fit PLAN --report fit.html                  a single or joint fit
+ *   layerfit fit --batch PLAN --out r.csv --report map.html   every fit of a batch
+ *   layerfit map r.csv --report map.html                 a batch result
+ *
+ * The page is the project's own script and style (page.js, page.css,
+ * embedded into the command at build time as page_assets.c) and the data
+ * as JSON inside <script type="application/json">.  Every '<', '>', '&',
+ * U+2028 and U+2029 of that JSON is written as a \u escape, so no file name
+ * or metadata can close the script element or become code; the script
+ * shows names through textContent only.
+ *
+ * A curve is drawn from its points quantized to `levels` steps of its own
+ * depth, force and residual ranges (integers: a third of the bytes of
+ * decimal numbers).  A map's curves keep at most MAP_POINTS points: every
+ * point near contact and near the lowest force (pull-off), and the lowest
+ * and highest force of each stretch elsewhere (the envelope the eye sees);
+ * the full data are in the curve files, named in the results. */
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli.h"
+#include "report.h"
+
+/* page_assets.c, made by the Makefile from page.js and page.css */
+extern const unsigned char cli_page_js[], cli_page_css[];
+extern const size_t cli_page_js_len, cli_page_css_len;
+
+#define FIT_POINTS 20000    /* a single fit's curves: all points up to this */
+#define FIT_GRID 400        /* its model curves */
+#define FIT_LEVELS 1000000L
+#define MAP_POINTS 64       /* a map's curves */
+#define MAP_GRID 48
+#define MAP_LEVELS 1000L
+
+/* ------------------------------------------------------------------------
+ * JSON into the page.
+ * --------------------------------------------------------------------- */
+
+/* JSON text as it may stand inside a script element: '<', '>', '&' and
+ * the line separators U+2028, U+2029 (JavaScript line ends in old engines)
+ * as \u escapes.  Outside strings JSON holds none of them, so the text
+ * parses to the same value. */
+static void
+json_safe(FILE *f, const char *s, size_t n)
+{
+    size_t i;
+    for (i = 0; i < n; i++) {
+        unsigned char c = (unsigned char) s[i];
+        if (c == '<' || c == '>' || c == '&')
+            fprintf(f, "\\u%04x", c);
+        else if (c == 0xE2 && i + 2 < n && (unsigned char) s[i + 1] == 0x80
+                 && ((unsigned char) s[i + 2] == 0xA8 || (unsigned char) s[i + 2] == 0xA9)) {
+            fprintf(f, "\\u%04x", (unsigned char) s[i + 2] == 0xA8 ? 0x2028 : 0x2029);
+            i += 2;
+        } else
+            fputc(c, f);
+    }
+}
+
+static void
+jnum(FILE *f, double x)
+{
+    if (isfinite(x))
+        fprintf(f, "%.9g", x);
+    else
+        fputs("null", f);
+}
+
+/* ------------------------------------------------------------------------
+ * One curve for drawing.
+ * --------------------------------------------------------------------- */
+
+static int
+cmp_size(const void *a, const void *b)
+{
+    size_t x = *(const size_t *) a, y = *(const size_t *) b;
+    return x < y ? -1 : x > y;
+}
+
+/* Indices (file order) of at most maxpts points of c to draw: all when
+ * there are no more; else every point within 4% of the depth range of the
+ * contact point z0 and of the lowest force (pull-off), strided where those
+ * are too many, and the lowest and highest force of each stretch of the
+ * rest.  Returns how many, into keep (room for maxpts + 2). */
+static size_t
+pick(const lf_fit_curve *c, double z0, size_t maxpts, size_t *keep)
+{
+    double lo = INFINITY, hi = -INFINITY, zmin, near;
+    size_t i, k = 0, imin = 0, nnear = 0, stride, nb, b;
+    unsigned char *mark;
+
+    if (c->n <= maxpts) {
+        for (i = 0; i < c->n; i++)
+            keep[i] = i;
+        return c->n;
+    }
+    for (i = 0; i < c->n; i++) {
+        lo = fmin(lo, c->depth[i]);
+        hi = fmax(hi, c->depth[i]);
+        if (c->force[i] < c->force[imin])
+            imin = i;
+    }
+    zmin = c->depth[imin];
+    near = 0.04 * (hi - lo);
+    if ((mark = calloc(c->n, 1)) == NULL) {
+        keep[0] = 0;
+        return 1;
+    }
+    for (i = 0; i < c->n; i++)
+        if ((isfinite(z0) && fabs(c->depth[i] - z0) <= near) || fabs(c->depth[i] - zmin) <= near) {
+            mark[i] = 1;
+            nnear++;
+        }
+    stride = nnear > maxpts / 2 ? (nnear + maxpts / 2 - 1) / (maxpts / 2) : 1;
+    for (i = 0, b = 0; i < c->n; i++)
+        if (mark[i] && b++ % stride == 0)
+            keep[k++] = i;
+    keep[k++] = imin;
+    nb = (maxpts - k) / 2;
+    for (b = 0; b < nb; b++) {
+        size_t from = c->n * b / nb, to = c->n * (b + 1) / nb, jlo = SIZE_MAX, jhi = SIZE_MAX;
+        for (i = from; i < to; i++) {
+            if (mark[i])
+                continue;
+            if (jlo == SIZE_MAX || c->force[i] < c->force[jlo])
+                jlo = i;
+            if (jhi == SIZE_MAX || c->force[i] > c->force[jhi])
+                jhi = i;
+        }
+        if (jlo != SIZE_MAX)
+            keep[k++] = jlo;
+        if (jhi != SIZE_MAX && jhi != jlo)
+            keep[k++] = jhi;
+    }
+    free(mark);
+    qsort(keep, k, sizeof *keep, cmp_size);
+    for (i = 0, b = 0; i < k; i++)      /* imin may be there twice */
+        if (b == 0 || keep[i] != keep[b - 1])
+            keep[b++] = keep[i];
+    return b;
+}
+
+/* "[lo,hi]" and x[idx[i]] (or x[i] without idx) as integers 0..levels
+ * over [lo, hi]. */
+static void
+quantized(FILE *f, const char *key, const double *x, const size_t *idx, size_t n, double lo,
+          double hi, long levels)
+{
+    double scale = hi > lo ? (double) levels / (hi - lo) : 0.0;
+    size_t i;
+    fprintf(f, "\"%s\":[", key);
+    for (i = 0; i < n; i++) {
+        double v = x[idx ? idx[i] : i];
+        fprintf(f, i ? ",%ld" : "%ld", isfinite(v) ? lround((v - lo) * scale) : -1L);
+    }
+    fputc(']', f);
+}
+
+static void
+widen(double *lo, double *hi, const double *x, size_t n)
+{
+    size_t i;
+    for (i = 0; i < n; i++)
+        if (isfinite(x[i])) {
+            *lo = fmin(*lo, x[i]);
+            *hi = fmax(*hi, x[i]);
+        }
+}
+
+/* Curve j of a fit for the page's script: {"q": levels, "z": [lo, hi],
+ * "f": [lo, hi], "r": [lo, hi] (SI: m, N, N), "n": points in the fit,
+ * "z0", "F0": its offsets,
+ * "pz", "pf", "pr": the drawn points' depth, force and residual, "mz",
+ * "mf": the model, "mc": its classes (a digit per point: 0 out of contact,
+ * 1 stable, 2 unstable under force control), "po": the model's pull-off
+ * point [z, F] or null}. */
+static void
+plot_json(FILE *f, const lf_fit_curve *c, const lf_fit_curve_result *cr, const lf_fit_result *res,
+          size_t maxpts, size_t grid, long levels)
+{
+    size_t *keep = malloc((maxpts + 2) * sizeof *keep), nk, i;
+    double *z = malloc(grid * sizeof *z), *F = malloc(grid * sizeof *F);
+    double *resid = malloc((c->n ? c->n : 1) * sizeof *resid);
+    int *cls = malloc(grid * sizeof *cls), have = 0;
+    double zpo = NAN, Fpo = NAN, zlo = INFINITY, zhi = -INFINITY, flo = INFINITY, fhi = -INFINITY;
+    double rlo = INFINITY, rhi = -INFINITY;
+
+    if (keep == NULL || z == NULL || F == NULL || resid == NULL || cls == NULL) {
+        fputs("null", f);
+        goto done;
+    }
+    nk = pick(c, cr->z0, maxpts, keep);
+    for (i = 0; i < c->n; i++)
+        resid[i] = cr->fitted != NULL ? c->force[i] - cr->fitted[i] : NAN;
+    have = cli_model_curve(c, cr, res, grid, z, F, cls, &zpo, &Fpo) == 0;
+    widen(&zlo, &zhi, c->depth, c->n);
+    widen(&flo, &fhi, c->force, c->n);
+    widen(&rlo, &rhi, resid, c->n);
+    if (have) {
+        widen(&zlo, &zhi, z, grid);
+        widen(&flo, &fhi, F, grid);
+    }
+    fprintf(f, "{\"q\":%ld,\"z\":[", levels);
+    jnum(f, zlo);
+    fputc(',', f);
+    jnum(f, zhi);
+    fputs("],\"f\":[", f);
+    jnum(f, flo);
+    fputc(',', f);
+    jnum(f, fhi);
+    fputs("],\"r\":[", f);
+    jnum(f, rlo);
+    fputc(',', f);
+    jnum(f, rhi);
+    fprintf(f, "],\"n\":%zu,\"z0\":", c->n);
+    jnum(f, cr->z0);
+    fputs(",\"F0\":", f);
+    jnum(f, cr->F0);
+    fputc(',', f);
+    quantized(f, "pz", c->depth, keep, nk, zlo, zhi, levels);
+    fputc(',', f);
+    quantized(f, "pf", c->force, keep, nk, flo, fhi, levels);
+    fputc(',', f);
+    quantized(f, "pr", resid, keep, nk, rlo, rhi, levels);
+    if (have) {
+        fputc(',', f);
+        quantized(f, "mz", z, NULL, grid, zlo, zhi, levels);
+        fputc(',', f);
+        quantized(f, "mf", F, NULL, grid, flo, fhi, levels);
+        fputs(",\"mc\":\"", f);
+        for (i = 0; i < grid; i++)
+            fputc('0' + cls[i], f);
+        fputc('"', f);
+    }
+    fputs(",\"po\":", f);
+    if (isfinite(zpo) && isfinite(Fpo)) {
+        fputc('[', f);
+        jnum(f, zpo);
+        fputc(',', f);
+        jnum(f, Fpo);
+        fputc(']', f);
+    } else
+        fputs("null", f);
+    fputc('}', f);
+done:
+    free(keep);
+    free(z);
+    free(F);
+    free(resid);
+    free(cls);
+}
+
+/* ------------------------------------------------------------------------
+ * The page.
+ * --------------------------------------------------------------------- */
+
+/* The page around the data (JSON text of n bytes). */
+static int
+page_write(const char *file, const char *title, const char *json, size_t n, char *msg, size_t nmsg)
+{
+    cli_out out;
+    FILE *f = cli_out_open(&out, file, msg, nmsg);
+
+    if (f == NULL)
+        return -1;
+    fprintf(f, "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+               "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
+               "<meta name=\"generator\" content=\"layerfit %s\">\n<title>%s</title>\n<style>\n",
+            LF_VERSION, title);
+    fwrite(cli_page_css, 1, cli_page_css_len, f);
+    fputs("</style>\n</head>\n<body>\n<noscript><p>This report draws its tables and figures "
+          "with JavaScript; the numbers are in the results and the --json output.</p></noscript>\n"
+          "<script type=\"application/json\" id=\"lf-data\">", f);
+    json_safe(f, json, n);
+    fputs("</script>\n<script>\n", f);
+    fwrite(cli_page_js, 1, cli_page_js_len, f);
+    fputs("</script>\n</body>\n</html>\n", f);
+    return cli_out_commit(&out, msg, nmsg);
+}
+
+int
+cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r, char *msg, size_t n)
+{
+    char *buf = NULL;
+    size_t len = 0, j;
+    FILE *f = open_memstream(&buf, &len);
+    int st;
+
+    if (f == NULL) {
+        snprintf(msg, n, "out of memory");
+        return -1;
+    }
+    fputs("{\"kind\":\"fit\",\"result\":", f);
+    report_json(f, in, r);
+    fputs(",\"plots\":[", f);
+    for (j = 0; j < r->ncurves; j++) {
+        fputs(j ? ",\n" : "\n", f);
+        plot_json(f, &in->curves[j], &r->curves[j], r, FIT_POINTS, FIT_GRID, FIT_LEVELS);
+    }
+    fputs("]}", f);
+    if (fclose(f) != 0 || buf == NULL) {
+        free(buf);
+        snprintf(msg, n, "out of memory");
+        return -1;
+    }
+    st = page_write(file, "layerfit fit report", buf, len, msg, n);
+    free(buf);
+    return st;
+}
+
+/* ------------------------------------------------------------------------
+ * Maps: the curves of a batch, kept as each fit ends (any thread).
+ * --------------------------------------------------------------------- */
+
+struct cli_page_store {
+    size_t n;
+    char **fit;         /* per fit: {"c": [curves], "p": [plan rows]}, or NULL */
+};
+
+cli_page_store *
+cli_page_store_new(size_t nfits)
+{
+    cli_page_store *s = malloc(sizeof *s);
+    if (s == NULL || (s->fit = calloc(nfits ? nfits : 1, sizeof *s->fit)) == NULL) {
+        free(s);
+        return NULL;
+    }
+    s->n = nfits;
+    return s;
+}
+
+void
+cli_page_store_free(cli_page_store *s)
+{
+    size_t i;
+    if (s == NULL)
+        return;
+    for (i = 0; i < s->n; i++)
+        free(s->fit[i]);
+    free(s->fit);
+    free(s);
+}
+
+static void
+jstr(FILE *f, const char *s)
+{
+    cli_json_string(f, s != NULL ? s : "");
+}
+
+void
+cli_page_store_fit(cli_page_store *s, size_t i, size_t n, const lf_fit_curve *curves,
+                   const lf_plan_row *rows, const lf_fit_result *res)
+{
+    char *buf = NULL;
+    size_t len = 0, j;
+    FILE *f;
+
+    if (s == NULL || i >= s->n || (f = open_memstream(&buf, &len)) == NULL)
+        return;
+    fputs("{\"c\":[", f);
+    for (j = 0; res != NULL && j < n && j < res->ncurves; j++) {
+        fputs(j ? "," : "", f);
+        plot_json(f, &curves[j], &res->curves[j], res, MAP_POINTS, MAP_GRID, MAP_LEVELS);
+    }
+    /* each curve as a row of a plan: file, index, sample, k, R, b,
+     * interface, nu, segment (SI) */
+    fputs("],\"p\":[", f);
+    for (j = 0; j < n; j++) {
+        const lf_plan_row *r = &rows[j];
+        fputs(j ? ",[" : "[", f);
+        jstr(f, r->file);
+        fputc(',', f);
+        if (r->index >= 0)
+            fprintf(f, "%ld", r->index);
+        else
+            fputs("null", f);
+        fputc(',', f);
+        jstr(f, r->sample);
+        fputc(',', f);
+        jnum(f, r->probe.k);
+        fputc(',', f);
+        jnum(f, r->probe.R);
+        fputc(',', f);
+        jnum(f, r->probe.b);
+        fputc(',', f);
+        jstr(f, isnan(r->probe.b) ? "" : cli_base_name(r->probe.base));
+        fputc(',', f);
+        jnum(f, r->nu);
+        fputc(',', f);
+        jstr(f, lf_segment_name(r->segment));
+        fputc(']', f);
+    }
+    fputs("]}", f);
+    if (fclose(f) != 0) {
+        free(buf);
+        return;
+    }
+    s->fit[i] = buf;
+}
+
+/* The results' columns the page shows, where the file has them. */
+static const char *const map_columns[] = {
+    "fit", "sample", "file", "curves", "status", "model", "x_m", "y_m", "grid_i", "grid_j",
+    "w_J_m2", "w_se_J_m2", "w_upper_bound", "Estar_Pa", "Estar_se_Pa", "nu", "nu_se", "M_Pa",
+    "chi2_dof", "rms_N", "P_po_N", "adhesion_force_N", "iterations", "message", NULL
+};
+static const char *const text_columns[] = { "sample", "file", "status", "model", "message", NULL };
+
+static int
+is_text(const char *name)
+{
+    size_t i;
+    for (i = 0; text_columns[i] != NULL; i++)
+        if (strcmp(name, text_columns[i]) == 0)
+            return 1;
+    return 0;
+}
+
+int
+cli_page_map(const char *file, const char *results, const cli_page_store *s,
+             const char *command_line, char *msg, size_t n)
+{
+    lf_table *t = NULL;
+    lf_error err;
+    long col[sizeof map_columns / sizeof map_columns[0]];
+    char *buf = NULL;
+    size_t len = 0, r, i, ncol = 0;
+    FILE *f;
+    int st;
+
+    if (lf_table_read(results, &t, &err) != LF_OK) {
+        snprintf(msg, n, "%s", err.msg);
+        return -1;
+    }
+    if ((f = open_memstream(&buf, &len)) == NULL) {
+        lf_table_free(t);
+        snprintf(msg, n, "out of memory");
+        return -1;
+    }
+    fputs("{\"kind\":\"map\",\"layerfit\":", f);
+    jstr(f, LF_VERSION);
+    fputs(",\"command_line\":", f);
+    jstr(f, command_line);
+    fputs(",\"results\":", f);
+    jstr(f, results);
+    fputs(",\"columns\":[", f);
+    for (i = 0; map_columns[i] != NULL; i++)
+        if ((col[i] = lf_table_column(t, map_columns[i])) >= 0) {
+            fputs(ncol++ ? "," : "", f);
+            jstr(f, map_columns[i]);
+        }
+    fputs("],\"rows\":[", f);
+    for (r = 0; r < t->nrows; r++) {
+        char *const *row = t->cells + r * t->ncols;
+        size_t k = 0;
+        fputs(r ? ",\n[" : "\n[", f);
+        for (i = 0; map_columns[i] != NULL; i++) {
+            double v;
+            if (col[i] < 0)
+                continue;
+            fputs(k++ ? "," : "", f);
+            if (is_text(map_columns[i]))
+                jstr(f, row[col[i]]);
+            else if (row[col[i]][0] != '\0' && lf_table_number(row[col[i]], &v) == LF_OK)
+                jnum(f, v);
+            else
+                fputs("null", f);
+        }
+        fputc(']', f);
+    }
+    fputs("],\"fits\":[", f);
+    for (r = 0; r < t->nrows; r++) {
+        fputs(r ? ",\n" : "\n", f);
+        fputs(s != NULL && r < s->n && s->fit[r] != NULL ? s->fit[r] : "null", f);
+    }
+    fputs("]}", f);
+    lf_table_free(t);
+    if (fclose(f) != 0 || buf == NULL) {
+        free(buf);
+        snprintf(msg, n, "out of memory");
+        return -1;
+    }
+    st = page_write(file, "layerfit map report", buf, len, msg, n);
+    free(buf);
+    return st;
+}
