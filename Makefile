@@ -45,11 +45,14 @@ LIB_ALL := $(BUILD)/liblayerfit-internal.a
 PROG := $(BUILD)/layerfit
 
 DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev zlib1g-dev gnuplot-nox
-# wanted by some tests (the report test loads the page in headless
-# Chromium, the example test uses pkg-config, `layerfit bench` runs the
+# wanted by some tests (the browser test drives headless Chromium from
+# node, the example test uses pkg-config, `layerfit bench` runs the
 # scipy and lmfit peers), which skip with a note
 # when they are missing: installed when possible, never required
-OPT_DEBS := chromium pkgconf python3-scipy python3-lmfit
+OPT_DEBS := chromium nodejs npm pkgconf python3-scipy python3-lmfit
+# puppeteer-core for the browser test (tests/cli/browser.sh), from npm at the
+# versions of tests/browser/package-lock.json, into tests/browser/node_modules
+BROWSER_MODULES := tests/browser/node_modules/puppeteer-core/package.json
 
 .PHONY: all deps demo check tests sanitize install uninstall clean bench-batch bench-demo bench bench-quick coverage
 
@@ -141,6 +144,11 @@ deps:
 	  echo "installing (optional, for tests):$$optional"; \
 	  (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$optional >/dev/null) \
 	    || echo "could not install$$optional: the tests that use them will say so and skip"; \
+	fi; \
+	if [ ! -f $(BROWSER_MODULES) ] && command -v npm >/dev/null 2>&1; then \
+	  echo "installing puppeteer-core (npm ci in tests/browser)"; \
+	  (cd tests/browser && npm ci --no-audit --no-fund --loglevel=error >/dev/null) \
+	    || echo "could not install puppeteer-core: the browser test will fail"; \
 	fi
 
 demo: deps

@@ -174,8 +174,9 @@ widen(double *lo, double *hi, const double *x, size_t n)
 /* Curve j of a fit for the page's script: {"q": levels, "z": [lo, hi],
  * "f": [lo, hi], "r": [lo, hi] (SI: m, N, N), "n": points in the fit,
  * "z0", "F0": its offsets,
- * "pz", "pf", "pr": the drawn points' depth, force and residual, "mz",
- * "mf": the model, "mc": its classes (a digit per point: 0 out of contact,
+ * "pz", "pf", "pr": the drawn points' depth, force and residual, "mz":
+ * the model's first and last depth (SI; its depths are evenly spaced),
+ * "mf": its forces, "mc": its classes (a digit per point: 0 out of contact,
  * 1 stable, 2 unstable under force control), "po": the model's pull-off
  * point [z, F] or null}. */
 static void
@@ -227,9 +228,11 @@ plot_json(FILE *f, const lf_fit_curve *c, const lf_fit_curve_result *cr, const l
     fputc(',', f);
     quantized(f, "pr", resid, keep, nk, rlo, rhi, levels);
     if (have) {
+        fputs(",\"mz\":[", f);      /* the grid is even in depth: its ends */
+        jnum(f, z[0]);
         fputc(',', f);
-        quantized(f, "mz", z, NULL, grid, zlo, zhi, levels);
-        fputc(',', f);
+        jnum(f, z[grid - 1]);
+        fputs("],", f);
         quantized(f, "mf", F, NULL, grid, flo, fhi, levels);
         fputs(",\"mc\":\"", f);
         for (i = 0; i < grid; i++)

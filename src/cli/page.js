@@ -1,6 +1,6 @@
 /* layerfit report: the page's script (embedded by the Makefile).
  *
- * Reads the data from <script type="application/json" id="lf-data"> and
+ * Reads the data from the JSON script element #lf-data and
  * builds the page: a fit's tables and figures, or a batch's heat maps,
  * histograms, results table and the curve of a clicked pixel.  Text from
  * the data is only ever set through textContent (el() below), never as
@@ -83,11 +83,12 @@ function decode(plot, z0, F0) {
   }
   o.model = [[], [], []];
   if (plot.mz) {
-    for (i = 0; i < plot.mz.length; i++) {
-      var c = +plot.mc[i], pt = [X(dz(plot.mz[i])), Y(df(plot.mf[i]))];
+    var nm = plot.mf.length;
+    for (i = 0; i < nm; i++) {
+      var c = +plot.mc[i], pt = [X(plot.mz[0] + (plot.mz[1] - plot.mz[0]) * i / (nm - 1)), Y(df(plot.mf[i]))];
       /* runs of a class share their end points so that the parts join */
       o.model[c].push(pt);
-      if (i + 1 < plot.mz.length && +plot.mc[i + 1] !== c) {
+      if (i + 1 < nm && +plot.mc[i + 1] !== c) {
         o.model[c].push(null);
         o.model[+plot.mc[i + 1]].push(pt);
       }
@@ -334,7 +335,7 @@ function warningList(list, cls) {
   var ul = el('ul');
   groupedWarnings(list).forEach(function (g) {
     var li = el('li', { cls: cls }, [g.n > 1 ? el('span', { cls: 'count', text: '×' + g.n }) : null, g.first]);
-    if (g.n > 1 && g.where.length) li.appendChild(el('span', { style: 'color:#666', text: ' (curves ' + g.where.join(', ') + ')' }));
+    if (g.where.length) li.appendChild(el('span', { style: 'color:#666', text: ' (curve' + (g.where.length > 1 ? 's ' : ' ') + g.where.join(', ') + ')' }));
     ul.appendChild(li);
   });
   return ul;
