@@ -645,7 +645,7 @@ function mapPage() {
       histBox.appendChild(box);
       if (!v.length) { box.appendChild(el('div', { text: 'no value' })); return; }
       function at(p) { var x = p * (v.length - 1), i = Math.floor(x); return i + 1 < v.length ? v[i] + (v[i + 1] - v[i]) * (x - i) : v[i]; }
-      var lo = at(0.005), hi = at(0.995), nb = Math.min(40, Math.max(5, Math.round(Math.sqrt(v.length)))), h = new Array(nb).fill(0), out = 0;
+      var lo = v.length < 200 ? v[0] : at(0.005), hi = v.length < 200 ? v[v.length - 1] : at(0.995), nb = Math.min(40, Math.max(5, Math.round(Math.sqrt(v.length)))), h = new Array(nb).fill(0), out = 0;
       v.forEach(function (a) { if (a < lo || a > hi) { out++; return; } h[Math.min(nb - 1, Math.floor((a - lo) / ((hi - lo) || 1) * nb))]++; });
       var W = cv.clientWidth || 290, H = 120, dpr = window.devicePixelRatio || 1, g = cv.getContext('2d'), mx = Math.max.apply(null, h);
       cv.width = W * dpr; cv.height = H * dpr; g.setTransform(dpr, 0, 0, dpr, 0, 0);
