@@ -230,8 +230,8 @@ FUZZ_SECONDS ?= 20
 # known leaks of third-party libraries (libudunits2), not layerfit's
 LSAN_SUPP := $(CURDIR)/tests/fuzz/lsan.supp
 FUZZ_CC ?= clang
-FUZZ_TARGETS := curve plan chiaro jpk workshop ntmdt hysitron text tab jpk_force workshop_map \
-                nanoscope igor
+FUZZ_TARGETS := curve plan design chiaro jpk workshop ntmdt hysitron text tab jpk_force \
+                workshop_map nanoscope igor
 FUZZ_SAN := -fsanitize=address,undefined -fno-sanitize-recover=all
 
 .PHONY: fuzz fuzz-build

@@ -149,6 +149,15 @@ prepare(const lf_design_settings *s, const lf_design_candidate *in, prepared *pp
     m = lf_model_alloc(lf_fit_rung_type(FIT_RUNG_EXACT), &c->probe, err);
     if (m == NULL)
         return err ? err->status : LF_EINVAL;
+    /* a probe the model cannot evaluate would give numbers of no meaning */
+    if ((st = lf_model_check_region(m, &s->truth, err)) != LF_OK) {
+        if (err != NULL) {
+            char why[sizeof err->msg];
+            snprintf(why, sizeof why, "%s", err->msg);
+            lf_fail(err, st, "%s: %s", c->name, why);
+        }
+        goto done;
+    }
     st = lf_model_pulloff(m, &s->truth, &po, err);
     if (st != LF_OK)
         goto done;

@@ -24,6 +24,11 @@ const char *lf_thin_scope(double b_over_a, double limit);
 /* Length of the valid UTF-8 sequence that starts at s (1..4), or 0 when
  * the bytes there are not UTF-8 (overlong forms and surrogates included). */
 size_t lf_utf8_len(const unsigned char *s);
+/* lf_input_read (flags: LF_INPUT_STREAM or 0) of a file that may be a text
+ * export, a plan or a binary format read as a stream: checked as text as
+ * it arrives (LF_INPUT_TEXT) unless its first LF_SNIFF_BYTES are a binary
+ * format's (file.c). */
+int lf_input_read_sniffed(const char *path, unsigned flags, lf_input *in, lf_error *err);
 /* lf_file_kind_of for a file already in memory (name for messages). */
 int lf_file_kind_parse(const char *buf, size_t len, const char *name, lf_file_kind *kind,
                        lf_error *err);

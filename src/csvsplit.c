@@ -42,6 +42,8 @@ typedef struct {
     size_t ntcap;
     long cur_col;             /* column of the byte being parsed */
     long fstart_line, fstart_col;
+    int fbegun, fquoted;      /* the field has a byte other than a space;
+                                 its first such byte was a quote */
 } splitter;
 
 static int
@@ -82,19 +84,23 @@ csv_space(unsigned char c)
     return c == ' ';
 }
 
-/* libcsv: end of a field.  Keeps the text and where it started. */
+/* libcsv: end of a field.  Keeps the text and where it started.  Blanks
+ * around an unquoted field are dropped; a quoted field is kept byte for
+ * byte (libcsv has dropped the spaces outside its quotes). */
 static void
 on_field(void *data, size_t n, void *vs)
 {
     splitter *s = vs;
     const char *text = data ? data : "";
     size_t b = 0, e = n;
+    int quoted = s->fquoted;
 
+    s->fbegun = s->fquoted = 0;
     if (s->status != LF_OK)
         return;
-    while (b < e && is_blank((unsigned char) text[b]))
+    while (!quoted && b < e && is_blank((unsigned char) text[b]))
         b++;
-    while (e > b && is_blank((unsigned char) text[e - 1]))
+    while (!quoted && e > b && is_blank((unsigned char) text[e - 1]))
         e--;
     if (grow((void **) &s->fbuf, &s->fcap, s->flen + (e - b) + 1, 1) != 0
         || grow((void **) &s->fpos, &s->nfcap, s->nf + 1, sizeof *s->fpos) != 0) {
@@ -176,6 +182,10 @@ static int
 parse_byte(splitter *s, char c, long col)
 {
     s->cur_col = col;
+    if (!s->fbegun && c != ' ') {
+        s->fbegun = 1;
+        s->fquoted = c == '"';
+    }
     if (csv_parse(&s->csv, &c, 1, on_field, on_record, s) != 1 && s->status == LF_OK)
         s->status = lf_fail_at(s->err, LF_EFORMAT, s->name, s->lineno, col,
                                "malformed quotes (quote a whole field, and double "
@@ -207,9 +217,10 @@ split_line(splitter *s, char *t, size_t n)
     return s->status;
 }
 
-/* Handle one complete physical line, without its terminator. */
+/* Handle one complete physical line, without its terminator (term: '\r'
+ * or '\n', what ended it; '\n' at the end of the input). */
 static int
-process_line(splitter *s, char *t, size_t n)
+process_line(splitter *s, char *t, size_t n, char term)
 {
     size_t i, b;
     long col = 0;
@@ -277,18 +288,18 @@ process_line(splitter *s, char *t, size_t n)
             col++;
         parse_byte(s, t[i], col);
     }
-    if (s->status == LF_OK)
-        parse_byte(s, '\n', col + 1);
+    if (s->status == LF_OK)     /* a line break inside quotes is kept as it was */
+        parse_byte(s, term, col + 1);
     return s->status;   /* in_record still set: a quoted field goes on */
 }
 
 static int
-end_line(splitter *s)
+end_line(splitter *s, char term)
 {
     if (grow((void **) &s->line, &s->cap, s->len + 1, 1) != 0)
         return nomem(s);
     s->line[s->len] = '\0';
-    process_line(s, s->line, s->len);
+    process_line(s, s->line, s->len, term);
     s->len = 0;
     s->lineno++;
     return s->status;
@@ -301,8 +312,13 @@ feed(splitter *s, const char *buf, size_t n)
     while (i < n && s->status == LF_OK) {
         char c = buf[i];
         if (c == '\n' || c == '\r') {
-            if (!(c == '\n' && s->prev_cr))     /* an LF after a CR is eaten */
-                end_line(s);
+            if (!(c == '\n' && s->prev_cr))     /* an LF after a CR ends no line */
+                end_line(s, c);
+            else if (s->in_record && s->status == LF_OK) {
+                /* ... but inside quotes it is kept: CRLF stays CRLF */
+                s->rec_bytes++;
+                parse_byte(s, c, 0);
+            }
             s->prev_cr = c == '\r';
             i++;
             continue;
@@ -328,7 +344,7 @@ static int
 finish(splitter *s)
 {
     if (s->status == LF_OK && s->len > 0)
-        end_line(s);
+        end_line(s, '\n');
     if (s->status == LF_OK && s->in_record)
         s->status = lf_fail_at(s->err, LF_EFORMAT, s->name, s->fstart_line,
                                s->fstart_col, "quote opened here is never closed "
@@ -394,9 +410,14 @@ lf_csv_read_file(const char *path, const lf_csv_handler *h, lf_error *err)
     int fd, status;
 
     lf_error_clear(err);
-    /* a regular file, checked on the open descriptor (input.c) */
+    /* a regular file, checked on the open descriptor (input.c), no
+     * larger than the inputs read whole: what is read is kept */
     if ((status = lf_input_open(path, 0, &fd, err)) != LF_OK)
         return status;
+    if ((status = lf_input_check_size(fd, path, err)) != LF_OK) {
+        close(fd);
+        return status;
+    }
     if (start(&s, path, h, err) == LF_OK) {
         while (s.status == LF_OK) {
             n = read(fd, block, sizeof block);
@@ -437,6 +458,8 @@ static void
 copy_trimmed(char *dst, size_t n, const char *b, const char *e)
 {
     size_t len;
+    if (e < b)
+        e = b;
     while (b < e && is_blank((unsigned char) *b))
         b++;
     while (e > b && is_blank((unsigned char) e[-1]))
@@ -485,7 +508,7 @@ lf_csv_header_cell(const char *cell, char *name, size_t nname, char *unit,
         && cut > cell) {
         copy_trimmed(name, nname, cell, cut);
         copy_trimmed(unit, nunit, cut + 1, end - 1);
-    } else if ((cut = strstr(cell, " / ")) != NULL) {
+    } else if ((cut = strstr(cell, " / ")) != NULL && cut + 3 <= end) {
         copy_trimmed(name, nname, cell, cut);
         copy_trimmed(unit, nunit, cut + 3, end);
     } else if ((cut = strrchr(cell, '_')) != NULL && cut > cell) {

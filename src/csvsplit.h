@@ -24,7 +24,8 @@ typedef struct {
     long index;      /* 0 for the header, then 1, 2, ... */
     long line;       /* line where the record starts */
     size_t n;        /* number of fields */
-    char **text;     /* NUL-terminated, surrounding spaces removed */
+    char **text;     /* NUL-terminated; blanks around an unquoted field
+                        removed, a quoted field kept byte for byte */
     const long *fline, *fcol;   /* where each field starts */
     char delim;      /* ',', ';' or '\t' */
 } lf_csv_record;

@@ -204,14 +204,16 @@ grid(double step, size_t *n, double *l0, double *h)
     *h = (lmax - lmin) / (double) (*n - 1);
 }
 
-/* Read a whole file (at most `limit` bytes); NULL when it cannot be read. */
+/* Read a whole regular file (at most `limit` bytes); NULL when it cannot
+ * be read.  Opened without blocking and checked on the descriptor: a FIFO
+ * (or a device) put where a table should be is passed over, not waited on. */
 static unsigned char *
 read_all(const char *path, size_t limit, size_t *len)
 {
     struct stat sb;
     unsigned char *buf;
     size_t got = 0;
-    int fd = open(path, O_RDONLY);
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
 
     if (fd < 0)
         return NULL;

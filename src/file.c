@@ -243,6 +243,19 @@ file_start(lf_file *f, const char *head, size_t len, const lf_read_opts *o,
     return f->multi->open(f, warn, err);
 }
 
+/* 1 when the first bytes of a stream are a format of many curves (binary). */
+static int
+binary_head(const char *head, size_t len)
+{
+    return lf_multi_of(lf_reader_sniff(head, len)) != NULL;
+}
+
+int
+lf_input_read_sniffed(const char *path, unsigned flags, lf_input *in, lf_error *err)
+{
+    return lf_input_read_path(path, flags | LF_INPUT_TEXT, binary_head, in, err);
+}
+
 int
 lf_file_open(const char *path, unsigned flags, const lf_read_opts *o, lf_file **out,
              lf_warnings *warn, lf_error *err)
@@ -263,8 +276,11 @@ lf_file_open(const char *path, unsigned flags, const lf_read_opts *o, lf_file **
         return status;
     }
     if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
-        /* a stream: read once, whole */
-        status = lf_input_read_fd(fd, path, &in, err);
+        /* a stream: read once, whole, checked as text as it arrives unless
+         * its first bytes are a binary format's */
+        int forced = o != NULL && o->format != NULL && lf_multi_of(lf_reader_find(o->format));
+        status = lf_input_read_fd(fd, path, forced ? 0 : LF_INPUT_TEXT,
+                                  forced ? NULL : binary_head, &in, err);
         close(fd);
         if (status != LF_OK) {
             lf_file_close(f);
@@ -289,7 +305,7 @@ lf_file_open(const char *path, unsigned flags, const lf_read_opts *o, lf_file **
             && !(o != NULL && o->format != NULL && lf_multi_of(lf_reader_find(o->format)))) {
             /* a text export, or something no reader claims: read it whole
              * (what is parsed is what is hashed) */
-            status = lf_input_read_fd(fd, path, &in, err);
+            status = lf_input_read_fd(fd, path, LF_INPUT_TEXT, NULL, &in, err);
             if (status != LF_OK) {
                 lf_file_close(f);
                 return status;

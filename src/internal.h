@@ -30,12 +30,26 @@ int lf_fail_at(lf_error *err, int status, const char *file, long line,
  * a warning is never worth failing for). */
 void lf_warn(lf_warnings *w, const char *fmt, ...) LF_PRINTF(2, 3);
 
+/* LF_OK when the open file fd (named path) is no larger than
+ * lf_input_limit(), else LF_EIO with a message saying so and how to raise
+ * it (input.c): for readers that read a whole file, in blocks, into what
+ * they keep (plans, tables). */
+int lf_input_check_size(int fd, const char *path, lf_error *err);
+
 /* A strdup that does not depend on POSIX feature macros. */
 char *lf_strdup(const char *s);
 
 /* lf_input_read on a descriptor already opened by lf_input_open (read from
- * its current place to its end; the caller closes it). */
-int lf_input_read_fd(int fd, const char *path, lf_input *in, lf_error *err);
+ * its current place to its end; the caller closes it), with the same
+ * limit and, with LF_INPUT_TEXT, the same text checks; when binary is
+ * given, it says from the first LF_SNIFF_BYTES (or all, if fewer) whether
+ * the input is a binary format's, which then goes unchecked (a binary
+ * format read as a stream). */
+int lf_input_read_fd(int fd, const char *path, unsigned flags,
+                     int (*binary)(const char *head, size_t len), lf_input *in, lf_error *err);
+/* The same, opening path first (lf_input_open with flags). */
+int lf_input_read_path(const char *path, unsigned flags, int (*binary)(const char *, size_t),
+                       lf_input *in, lf_error *err);
 
 /* Largest finite magnitude a derivative is allowed to reach. */
 #define LF_BIG 1e300

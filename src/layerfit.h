@@ -225,6 +225,20 @@ LF_API const lf_model_type *lf_model_type_find(const char *name);
 LF_API int lf_probe_check(const lf_probe *probe, lf_error *err);
 LF_API int lf_material_check(const lf_material *mat, lf_base base, lf_error *err);
 
+/* Whether model m can be evaluated for material mat where its curve lives
+ * (from detachment over ten pull-off widths): the pull-off and the
+ * unloading branch there finite, an adhesive material pulling off, the
+ * deepest point pressing.  Each model computes powers of its lengths in
+ * double precision, so far from k = 2, or with lengths far from the
+ * micrometre, its numbers can leave double precision: such a region is
+ * LF_EINVAL with a message that names the model, k, R, b, w and E*.
+ * lf_model_check_probe checks a model type for a probe alone, with the
+ * seed paper's material (w = 10 mJ/m^2, E* = 1 GPa, nu = 0.3), for a fit
+ * whose material is not known yet. */
+LF_API int lf_model_check_region(const lf_model *m, const lf_material *mat, lf_error *err);
+LF_API int lf_model_check_probe(const lf_model_type *type, const lf_probe *probe,
+                                lf_error *err);
+
 /* A model bound to one probe.  lf_model_alloc copies the probe and returns
  * a new object owned by the caller (NULL with err filled on a bad probe or
  * no memory); lf_model_free releases it (NULL allowed).  The getters return
@@ -991,17 +1005,35 @@ LF_API int lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err);
  * then makes it blocking again: a regular file is required unless flags
  * has LF_INPUT_STREAM, which admits a FIFO, pipe or device (read once, as
  * a stream; at most LF_STREAM_WAIT seconds are waited for the first byte).
- * On success *fd is open and owned by the caller.  lf_input_read reads the
- * whole input into in->data (owned by in, lf_input_free) and puts its
- * SHA-256 in hex into in->sha256.  Errors: LF_EIO, LF_ENOMEM, naming path.
- * Every reader opens its files through these. */
+ * On success *fd is open and owned by the caller; nothing is read, so a
+ * reader of large binary files (random access, pread or mmap) opens them
+ * with it, without the limit below.  lf_input_read reads the whole input
+ * into in->data (owned by in, lf_input_free) and puts its SHA-256 in hex
+ * into in->sha256.  It reads at most lf_input_limit() bytes (a regular
+ * file larger than that is refused from its size before anything is read,
+ * a stream when it gets there).  With LF_INPUT_TEXT in flags it also
+ * checks text as it arrives: at a control byte (other than tab, CR, LF), a
+ * UTF-16 byte order mark or a line over 1 MiB it stops reading (nothing
+ * after is read, in->stopped is 1) and keeps the bytes up to that one, so
+ * that a text reader refuses them with its own message at the same place
+ * as it would the whole file.  Errors: LF_EIO, LF_ENOMEM, naming path.
+ * Every reader opens its files through these.  lf_input_set_limit sets
+ * the limit for the process (set it before reading starts; default
+ * LF_INPUT_LIMIT, 256 MiB). */
 #define LF_INPUT_STREAM 1u
+#define LF_INPUT_TEXT 2u
 #define LF_STREAM_WAIT 10
+#define LF_INPUT_LIMIT ((size_t) 256 * 1024 * 1024)
 typedef struct {
     char *data;               /* the bytes read (not NUL-terminated) */
     size_t len;
     char sha256[65];          /* lowercase hex */
+    int stopped;              /* 1 (LF_INPUT_TEXT): reading stopped at a byte
+                                 no text reader takes (only the bytes up to
+                                 it are here) */
 } lf_input;
+LF_API void lf_input_set_limit(size_t bytes);
+LF_API size_t lf_input_limit(void);
 LF_API int lf_input_open(const char *path, unsigned flags, int *fd, lf_error *err);
 LF_API int lf_input_read(const char *path, unsigned flags, lf_input *in, lf_error *err);
 LF_API void lf_input_free(lf_input *in);

@@ -1,6 +1,7 @@
 /* model.c: the table of forward models, their shared domain checks and the
  * lf_model object that binds a model to one probe. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -167,6 +168,91 @@ lf_model_prepare(lf_model *m, double nu_lo, double nu_hi, lf_error *err)
     if (m->type->prepare == NULL || m->probe.base != LF_BASE_BONDED)
         return LF_OK;
     return m->type->prepare(m->state, &m->probe, nu_lo, nu_hi, err);
+}
+
+/* ---------------------------------------------------------------------
+ * Where a model can be evaluated.  Each model computes in SI, with powers
+ * of k of the lengths (b^k, R^(k-1), k^((k+2)/k)): far enough from k = 2,
+ * or with lengths far from the micrometre, these leave double precision
+ * and the model's numbers become 0, inf or NaN.  Rather than bounds on k,
+ * R and b that would hold for one model and not another, the model is
+ * tried where a curve lives, from detachment over ten pull-off widths as
+ * `layerfit model` draws it: the pull-off and 16 points of the unloading
+ * branch must be finite, an adhesive material must pull off (P_po < 0 at
+ * a_po > 0), and the deepest point must press (P > 0).
+ * ------------------------------------------------------------------- */
+
+#define REGION_POINTS 16
+
+#define LEAVES_DOUBLE "its numbers leave double precision for these k, R and b"
+
+static int
+region_fail(const lf_model *m, const lf_material *mat, lf_error *err, const char *why,
+            double at)
+{
+    char where[64] = "", b[48] = "";
+
+    if (!isnan(at))
+        snprintf(where, sizeof where, " at an indentation of %.4g m", at);
+    if (m->type->scope != LF_SCOPE_HALFSPACE)
+        snprintf(b, sizeof b, ", b = %g m", m->probe.b);
+    return lf_fail(err, LF_EINVAL, "model %s cannot be evaluated at k = %g, R = %g m%s "
+                   "(w = %g J/m^2, E* = %g Pa): %s%s", m->type->name, m->probe.k, m->probe.R,
+                   b, mat->w, mat->Estar, why, where);
+}
+
+int
+lf_model_check_region(const lf_model *m, const lf_material *mat, lf_error *err)
+{
+    lf_pulloff po;
+    lf_eval e[REGION_POINTS];
+    double delta[REGION_POINTS], span, scale;
+    size_t i;
+    int status;
+
+    if ((status = lf_model_pulloff(m, mat, &po, err)) != LF_OK)
+        return status;
+    if (!(isfinite(po.delta_detach) && isfinite(po.P_detach) && isfinite(po.a_detach)
+          && isfinite(po.delta_po) && isfinite(po.P_po) && isfinite(po.a_po)
+          && isfinite(po.sigma_po) && isfinite(po.P_jump) && isfinite(po.c)))
+        return region_fail(m, mat, err, "its pull-off is not a finite number: " LEAVES_DOUBLE,
+                           NAN);
+    if (mat->w > 0 && !(po.P_po < 0 && po.a_po > 0))
+        return region_fail(m, mat, err, "it finds no pull-off for an adhesive material (no "
+                           "stable adhesive branch, or " LEAVES_DOUBLE ")", NAN);
+    span = fmax(fabs(po.delta_po - po.delta_detach), fabs(po.delta_detach));
+    /* without adhesion the curve starts at 0: a thousandth of the layer
+     * (of R for a half-space) */
+    scale = m->type->scope == LF_SCOPE_HALFSPACE ? m->probe.R : fmin(m->probe.b, m->probe.R);
+    if (!(span > 0))
+        span = 1e-4 * scale;
+    for (i = 0; i < REGION_POINTS; i++)
+        delta[i] = po.delta_detach + 10.0 * span * (double) (i + 1) / REGION_POINTS;
+    if ((status = lf_model_eval(m, mat, LF_BRANCH_UNLOAD, REGION_POINTS, delta, e, err)) != LF_OK)
+        return status;
+    for (i = 0; i < REGION_POINTS; i++)
+        if (!(isfinite(e[i].P) && isfinite(e[i].a) && isfinite(e[i].dP_ddelta)
+              && isfinite(e[i].dP_dlogw) && isfinite(e[i].dP_dlogE) && isfinite(e[i].dP_dnu)))
+            return region_fail(m, mat, err, "its force is not a finite number: " LEAVES_DOUBLE,
+                               delta[i]);
+    if (!(e[REGION_POINTS - 1].P > 0 && e[REGION_POINTS - 1].a > 0))
+        return region_fail(m, mat, err, "it gives no compressive force: " LEAVES_DOUBLE,
+                           delta[REGION_POINTS - 1]);
+    return LF_OK;
+}
+
+int
+lf_model_check_probe(const lf_model_type *type, const lf_probe *probe, lf_error *err)
+{
+    const lf_material paper = { 0.01, 1e9, 0.3 };
+    lf_model *m = lf_model_alloc(type, probe, err);
+    int status;
+
+    if (m == NULL)
+        return err != NULL && err->status != LF_OK ? err->status : LF_EINVAL;
+    status = lf_model_check_region(m, &paper, err);
+    lf_model_free(m);
+    return status;
 }
 
 double

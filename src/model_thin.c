@@ -226,7 +226,9 @@ thin_pulloff(void *state, const lf_probe *p, const lf_material *m,
     out->a_detach = 0.0;
     out->delta_po = d1po - t.c;
     out->P_po = -t.C * pow(d1po, 2.0 / k) * t.c;
-    out->a_po = pow(2.0 * pow(p->R, k - 1.0) * t.c, 1.0 / k);
+    /* (2 R^(k-1) c)^(1/k) from logarithms: R^(k-1) alone leaves double
+     * precision for a flat punch (k of a few hundred) */
+    out->a_po = t.c > 0.0 ? exp((log(2.0 * t.c) + (k - 1.0) * log(p->R)) / k) : 0.0;
     out->sigma_po = out->a_po > 0.0 ? -out->P_po / (M_PI * out->a_po * out->a_po) : 0.0;
     out->P_jump = -(2.0 / k) * t.C * pow(t.c, (k + 2.0) / k);
     return LF_OK;

@@ -572,7 +572,7 @@ lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err)
     /* a binary file of many curves is a curve file: not read whole */
     if (lf_file_sniff_multi(path, NULL))
         return LF_OK;
-    if ((status = lf_input_read(path, 0, &in, err)) != LF_OK)
+    if ((status = lf_input_read(path, LF_INPUT_TEXT, &in, err)) != LF_OK)
         return status;
     status = lf_file_kind_parse(in.data, in.len, path, kind, err);
     lf_input_free(&in);

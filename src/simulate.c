@@ -94,7 +94,9 @@ lf_simulate(const lf_sim_settings *s, const lf_model_type *type,
             status = err ? err->status : LF_EINVAL;
             break;
         }
-        status = simulate_curve(s, m, mat, ev, depth[j], force[j], &fbig, err);
+        status = lf_model_check_region(m, mat, err);
+        if (status == LF_OK)
+            status = simulate_curve(s, m, mat, ev, depth[j], force[j], &fbig, err);
         lf_model_free(m);
         if (status != LF_OK)
             break;
@@ -102,7 +104,16 @@ lf_simulate(const lf_sim_settings *s, const lf_model_type *type,
         for (i = 0; i < s->points; i++) {
             depth[j][i] += s->z0;
             force[j][i] += s->F0 + (sd > 0 ? gsl_ran_gaussian(rng, sd) : 0.0);
+            if (!isfinite(depth[j][i]) || !isfinite(force[j][i])) {
+                status = lf_fail(err, LF_EINVAL, "curve %zu: the %s at indentation %.4g m is not "
+                                 "a finite number (offsets, noise or depths too large for "
+                                 "double precision)", j + 1,
+                                 isfinite(depth[j][i]) ? "force" : "depth", depth[j][i] - s->z0);
+                break;
+            }
         }
+        if (status != LF_OK)
+            break;
         if (sigma != NULL)
             sigma[j] = sd;
     }

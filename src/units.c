@@ -189,8 +189,12 @@ lf_units_parse(const char *text, lf_quantity q, double *si, lf_error *err)
     if (end == text)
         return lf_fail(err, LF_EINVAL, "'%s' does not start with a number (e.g. %s)",
                        text, quantities[(size_t) q < NQUANT ? q : 0].example);
+    if (errno == ERANGE && fabs(value) < 1.0)
+        return lf_fail(err, LF_EINVAL, "'%s' is too small for double precision (its magnitude "
+                       "is below about 1e-308)", text);
     if (errno == ERANGE || !isfinite(value))
-        return lf_fail(err, LF_EINVAL, "'%s' is not a finite number", text);
+        return lf_fail(err, LF_EINVAL, "'%s' is not a finite number%s", text,
+                       errno == ERANGE ? " (its magnitude is above about 1e308)" : "");
     status = lf_units_factor(end, q, &factor, err);
     if (status != LF_OK) {
         if (end[strspn(end, " \t")] == '\0')
@@ -201,6 +205,9 @@ lf_units_parse(const char *text, lf_quantity q, double *si, lf_error *err)
     *si = value * factor;
     if (!isfinite(*si))
         return lf_fail(err, LF_EINVAL, "'%s' overflows in SI units", text);
+    if (*si == 0.0 && value != 0.0)
+        return lf_fail(err, LF_EINVAL, "'%s' underflows in SI units (too small for double "
+                       "precision)", text);
     return LF_OK;
 }
 

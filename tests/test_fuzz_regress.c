@@ -1,5 +1,5 @@
 /* test_fuzz_regress.c: replay every input kept in tests/fuzz/regress (and
- * the fuzz seeds) through the curve and plan readers with the checks of the
+ * the fuzz seeds) through the curve, plan and design-plan readers with the checks of the
  * fuzz targets (tests/fuzz/fuzz_check.h) at chunk sizes 1 to 13, so that an
  * input that once broke a reader keeps being tried by `make check`. */
 #include <dirent.h>
@@ -41,6 +41,7 @@ replay(const char *sub)
         }
         t_int(bad_curve, 0, "%s/%s: curve reader consistent", sub, e->d_name);
         t_int(bad_plan, 0, "%s/%s: plan reader consistent", sub, e->d_name);
+        t_int(fuzz_design(buf, len), 0, "%s/%s: design-plan reader consistent", sub, e->d_name);
         free(buf);
         n++;
     }
@@ -112,6 +113,7 @@ main(int argc, char **argv)
     t_true(replay("regress") > 0, "regression inputs present");
     t_true(replay("curve") > 0, "curve seeds present");
     t_true(replay("plan") > 0, "plan seeds present");
+    t_true(replay("design") > 0, "design-plan seeds present");
     replay_readers();
     return t_summary();
 }

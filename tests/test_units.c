@@ -50,7 +50,7 @@ static const struct {
     { "", LF_Q_FORCE, LF_EINVAL, "'' does not start with a number (e.g. 10uN)" },
     { "nan m", LF_Q_LENGTH, LF_EINVAL, "'nan m' is not a finite number" },
     { "inf Pa", LF_Q_PRESSURE, LF_EINVAL, "'inf Pa' is not a finite number" },
-    { "1e999 m", LF_Q_LENGTH, LF_EINVAL, "'1e999 m' is not a finite number" },
+    { "1e999 m", LF_Q_LENGTH, LF_EINVAL, "'1e999 m' is not a finite number (its magnitude is above about 1e308)" },
     { "1 degC", LF_Q_LENGTH, LF_EUNIT, "unit 'degC' is another kind of quantity, not a length (e.g. 1um)" },
 };
 

@@ -99,24 +99,15 @@ sb_put(void *ctx, const char *s, size_t n)
     sb_printf((sbuf *) ctx, "%.*s", (int) n, s);
 }
 
-/* Text as a CSV cell (quoted when it holds a comma, quote or line break) or
- * as a JSON string. */
+/* Text as a CSV cell (cli_csv_cell: quoted where needed, a formula made
+ * text) or as a JSON string. */
 static void
 sb_text(sbuf *b, const char *s, int json)
 {
-    const char *p;
-    if (json) {
+    if (json)
         cli_json_escape(s, sb_put, b);   /* valid UTF-8 whatever the bytes */
-        return;
-    }
-    if (strpbrk(s, ",\"\r\n") == NULL) {
-        sb_printf(b, "%s", s);
-        return;
-    }
-    sb_printf(b, "\"");
-    for (p = s; *p; p++)
-        sb_printf(b, *p == '"' ? "\"\"" : "%c", *p);
-    sb_printf(b, "\"");
+    else
+        cli_csv_cell(s, sb_put, b);
 }
 
 /* ------------------------------------------------------------------------
@@ -792,10 +783,10 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
     if (io_error)
         cli_die(CLI_EXIT_FAIL, "fit: error writing %s", o->out ? o->out : "standard output");
     if (out != stdout) {
-        /* the results replace an earlier file only now, whole */
-        if (cli_out_commit(&atomic, msg, sizeof msg) != 0)
+        /* the results and their sidecar replace earlier ones only now,
+         * whole and together */
+        if (cli_out_commit_sidecar(&atomic, o->command_line, msg, sizeof msg) != 0)
             cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
-        cli_provenance_sidecar("fit", o->out, o->command_line);
     }
     if (cfg.page != NULL) {
         if (cli_page_map(o->report, o->out, cfg.page, o->command_line, msg, sizeof msg) != 0)
@@ -803,13 +794,13 @@ cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings)
         cli_page_store_free(cfg.page);
     }
     if (failed > 0) {
-        fprintf(stderr, "layerfit: fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s)\n",
+        cli_say("fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s)",
                 failed, total, o->out ? o->out : "the output");
         return CLI_EXIT_SOME_FAILED;
     }
     if (misfits > 0) {
-        fprintf(stderr, "layerfit: fit: %zu of %zu fits converged, but the model does not "
-                "describe a curve of theirs (status 'misfit' in %s)\n", misfits, total,
+        cli_say("fit: %zu of %zu fits converged, but the model does not "
+                "describe a curve of theirs (status 'misfit' in %s)", misfits, total,
                 o->out ? o->out : "the output");
         return CLI_EXIT_MISFIT;
     }

@@ -16,6 +16,7 @@
  * scipy.optimize.least_squares on the same data (tests/bench/peer_scipy.py).
  */
 #include <errno.h>
+#include <fcntl.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -568,10 +569,13 @@ write_peer_case(const char *dir, size_t si, size_t ni, size_t nseeds, gsl_rng *r
     char path[4200];
     FILE *f;
     size_t j, k, i;
+    int fd;
     const bench_scene *s = d->scene;
 
     snprintf(path, sizeof path, "%s/case_%zu_%zu.txt", dir, si, ni);
-    f = fopen(path, "w");
+    /* a new file in layerfit's own temporary folder: made, never opened */
+    fd = open(path, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0600);
+    f = fd >= 0 ? fdopen(fd, "w") : NULL;
     if (f == NULL)
         cli_die(CLI_EXIT_FAIL, "bench: cannot write %s: %s", path, strerror(errno));
     fprintf(f, "# scene %s\n# noise %.17g\n# truth %.17g %.17g %.17g\n# free_nu %d\n"
@@ -595,11 +599,12 @@ write_peer_case(const char *dir, size_t si, size_t ni, size_t nseeds, gsl_rng *r
 static void
 run_peer(bench_peer *peer, const char *script_opt, const int *use_scene, size_t nseeds)
 {
-    char script[4200], dir[] = "/tmp/layerfit-bench-XXXXXX", cmd[9000], line[512];
+    char script[4200], dir[] = "/tmp/layerfit-bench-XXXXXX", line[512];
     gsl_rng *rng;
+    cli_child child;
     FILE *p;
     size_t si, ni, q;
-    int rc;
+    int rc, slot;
 
     memset(peer, 0, sizeof *peer);
     for (q = 0; q < NPEER; q++)
@@ -611,14 +616,19 @@ run_peer(bench_peer *peer, const char *script_opt, const int *use_scene, size_t 
         snprintf(peer->note, sizeof peer->note, "skipped: peer script %.250s not found", script);
         return;
     }
-    if (!file_exists(PYTHON)
-        || system(PYTHON " -c 'import scipy.optimize' >/dev/null 2>&1") != 0) {
-        snprintf(peer->note, sizeof peer->note,
-                 "skipped: " PYTHON " has no scipy (apt-get install python3-scipy)");
-        return;
+    {
+        static const char *const check[] = { PYTHON, "-c", "import scipy.optimize", NULL };
+        cli_child c;
+        if (!file_exists(PYTHON) || cli_spawn(&c, check, NULL, CLI_SPAWN_QUIET) != 0
+            || cli_child_wait(&c) != 0) {
+            snprintf(peer->note, sizeof peer->note,
+                     "skipped: " PYTHON " has no scipy (apt-get install python3-scipy)");
+            return;
+        }
     }
     if (mkdtemp(dir) == NULL)
         cli_die(CLI_EXIT_FAIL, "bench: cannot make a temporary directory: %s", strerror(errno));
+    slot = cli_temp_add(dir, 1);
     rng = gsl_rng_alloc(gsl_rng_mt19937);
     if (rng == NULL)
         cli_die(CLI_EXIT_FAIL, "bench: out of memory");
@@ -632,10 +642,13 @@ run_peer(bench_peer *peer, const char *script_opt, const int *use_scene, size_t 
         data_free(&d);
     }
     gsl_rng_free(rng);
-    snprintf(cmd, sizeof cmd, PYTHON " '%s' '%s' 2>&1", script, dir);
-    p = popen(cmd, "r");
-    if (p == NULL)
-        cli_die(CLI_EXIT_FAIL, "bench: cannot run %s", PYTHON);
+    {
+        /* the script and the folder are arguments, never a command line */
+        const char *argv[] = { PYTHON, script, dir, NULL };
+        if (cli_spawn(&child, argv, NULL, CLI_SPAWN_STDOUT | CLI_SPAWN_STDERR_TO_OUT) != 0)
+            cli_die(CLI_EXIT_FAIL, "bench: cannot run %s: %s", PYTHON, strerror(errno));
+        p = child.out;
+    }
     /* "case S N time_us err_w err_E err_nu conv PEER" per case and peer;
      * other lines are kept as the note when the script fails */
     while (fgets(line, sizeof line, p) != NULL) {
@@ -656,15 +669,15 @@ run_peer(bench_peer *peer, const char *script_opt, const int *use_scene, size_t 
             peer->ran = 1;
         } else {
             /* anything else is the script complaining: pass it on */
-            fprintf(stderr, "layerfit: peer_scipy.py: %s", line);
+            line[strcspn(line, "\n")] = '\0';
+            cli_say("peer_scipy.py: %s", line);
             snprintf(peer->note, sizeof peer->note, "%.290s", line);
-            peer->note[strcspn(peer->note, "\n")] = '\0';
         }
     }
-    rc = pclose(p);
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", dir);
-    if (system(cmd) != 0)
-        fprintf(stderr, "layerfit: warning: could not remove %s\n", dir);
+    rc = cli_child_wait(&child);
+    if (cli_remove_tree(dir) != 0)
+        cli_say("warning: could not remove %s", dir);
+    cli_temp_forget(slot);
     if (rc != 0) {
         peer->ran = 0;
         if (peer->note[0] == '\0')
@@ -813,8 +826,7 @@ write_csv(const char *path, const bench_row *rows, size_t nrows, const char *com
     bench_table t;
     t.rows = rows;
     t.nrows = nrows;
-    cli_write_file("bench: --csv", path, csv_writer, &t);
-    cli_provenance_sidecar("bench: --csv", path, command_line);
+    cli_write_file_sidecar("bench: --csv", path, command_line, csv_writer, &t);
 }
 
 /* Error of w against time per fit, one point per row, a series per scene
@@ -917,6 +929,14 @@ cli_bench(int argc, char **argv, const char *command_line)
     }
     if (plot != NULL && !plot_have_gnuplot())
         cli_die(CLI_EXIT_USAGE, "bench: --plot: gnuplot is not installed: %s", PLOT_INSTALL_HINT);
+    if (plot != NULL && plot_terminal(plot) == NULL)
+        cli_die(CLI_EXIT_USAGE, "bench: --plot %s: the file must end in .svg or .png", plot);
+    /* the outputs checked before minutes of fits, not after them */
+    cli_output_note("bench", csv);
+    cli_output_note_sidecar("bench", csv);
+    cli_output_note("bench", plot);
+    cli_output_folder_check("bench", csv);
+    cli_output_folder_check("bench", plot);
     rows = calloc(NSCENES * NNOISE * NCONFIGS, sizeof *rows);
     rng = gsl_rng_alloc(gsl_rng_mt19937);
     if (rows == NULL || rng == NULL)

@@ -255,7 +255,7 @@ cli_check(int argc, char **argv, const char *command_line)
     if (index < 0 && o.format == NULL
         && !(stat(file, &st) == 0 && S_ISREG(st.st_mode)
              && lf_file_kind_of(file, &kind, &err) == LF_OK && kind == LF_FILE_CURVE)) {
-        status = lf_input_read(file, LF_INPUT_STREAM, &in, &err);
+        status = lf_input_read_sniffed(file, LF_INPUT_STREAM, &in, &err);
         if (status == LF_OK)
             status = lf_file_kind_parse(in.data, in.len, file, &kind, &err);
         if (status == LF_OK && kind == LF_FILE_PLAN) {

@@ -41,8 +41,17 @@ CLI_NORETURN void cli_die(int code, const char *fmt, ...) CLI_PRINTF(2, 3);
 /* Print a library error as "layerfit: FILE:LINE:COLUMN: message" (the parts
  * that are known) and exit with code. */
 CLI_NORETURN void cli_die_error(int code, const lf_error *err);
-/* Print warnings as "layerfit: warning: ..." on stderr. */
+/* Print warnings as "layerfit: warning: ..." on stderr; of warnings that
+ * differ only in their place and numbers, the first 3 are printed and the
+ * rest counted, "... and N more like it (...)" at the end of the run (or
+ * when cli_warnings_flush is called). */
 void cli_print_warnings(const lf_warnings *w);
+void cli_warnings_flush(void);
+/* Print "layerfit: MESSAGE" on stderr and go on.  Every message of the
+ * command goes through these: control characters and bytes that are not
+ * UTF-8 (from a file name, say) are written escaped (\n, \xHH), so that a
+ * message stays one line and cannot drive the terminal. */
+void cli_say(const char *fmt, ...) CLI_PRINTF(1, 2);
 
 /* Options.  A value option is "--name VALUE" or "--name=VALUE".  A double
  * target starts as NaN, meaning "not given". */
@@ -77,10 +86,15 @@ const char *cli_base_name(lf_base base);
  * scope in the model table is the half-space). */
 int cli_model_ignores_b(const char *model);
 
+/* A size in bytes: a number >= 1 with an optional unit (B, kB, MB, GB, TB;
+ * K or KiB, M or MiB, G or GiB, T or TiB).  0, or -1 when it is not one. */
+int cli_parse_size(const char *text, double *bytes);
+
 /* Monotonic wall-clock time in seconds, for progress and benchmarks. */
 double cli_now(void);
 
-/* Write a number that reads back exactly ("%.17g"); NaN/Inf as given. */
+/* Write a number that reads back exactly ("%.17g"); NaN and inf write
+ * nothing (an empty CSV cell; JSON writers write null themselves). */
 void cli_print_double(FILE *f, double x);
 /* Write a number for people with an SI prefix chosen for it:
  * cli_human(buf, n, 1.2e-8, "m") -> "12 nm".  Returns buf. */
@@ -254,30 +268,51 @@ int cli_page_map(const char *file, const char *results, const cli_page_store *s,
 
 /* ---- Outputs and inputs (output.c, read.c) -------------------------------
  * Every output file goes through cli_out: a temporary file in the same
- * folder, renamed into place by cli_out_commit after fflush, fsync and a
- * check of every write; cli_out_discard (or exit) removes it. */
+ * folder (registered for removal on exit or a signal: cli_temp_add),
+ * renamed into place by cli_out_commit after fflush, fsync and a check of
+ * every write; cli_out_discard (or exit) removes it. */
 typedef struct cli_out {
     FILE *f;
-    char *path, *tmp;
+    char *path;             /* the file replaced (a link's target) */
+    char *name;             /* the output as named (for its sidecar) */
+    char *tmp;
+    int slot;               /* cli_temp_add's, or -1 */
     int direct;             /* written in place: standard output ("-"), a
                                pipe or a device (nothing there to keep) */
-    struct cli_out *next;
 } cli_out;
 /* Open path for writing (NULL with msg when not possible, or when path is
  * a noted input).  "-" is standard output; a symbolic link is followed (its
- * target replaced, the link kept); a pipe or device is written in place. */
+ * target replaced, the link kept); a pipe or device is written in place,
+ * opened without blocking (a FIFO with no reader is waited for at most
+ * LF_STREAM_WAIT seconds, then refused). */
 FILE *cli_out_open(cli_out *o, const char *path, char *msg, size_t n);
 /* Exit 1 (before any work) when the folder path would be written in does
  * not exist ("-" and a bare name need none). */
 void cli_output_folder_check(const char *cmd, const char *path);
 /* Finish and rename into place: 0, or -1 with msg (the temp is removed). */
 int cli_out_commit(cli_out *o, char *msg, size_t n);
+/* Commit o together with its provenance sidecar NAME.provenance.json (for
+ * CSV and JSON Lines outputs; command_line for its record): both temporaries are written and checked
+ * before either is renamed, both renames happen under a lock on the
+ * folder with signals held, and a second rename that fails undoes the
+ * first, so the two always describe each other.  An output written in
+ * place (standard output, a pipe, a device) gets no sidecar.  0, or -1
+ * with msg (nothing replaced). */
+int cli_out_commit_sidecar(cli_out *o, const char *command_line, char *msg, size_t n);
 void cli_out_discard(cli_out *o);
-/* PATH's temporary name ".NAME.XXXXXX" in its folder, malloc'ed. */
+/* Put the finished file from in place as to (a symbolic link to: its
+ * target, as cli_out_open does; across file systems by a copy): 0, or -1
+ * with msg.  For files another program wrote (gnuplot's images). */
+int cli_put_in_place(const char *from, const char *to, char *msg, size_t n);
+/* PATH's temporary name ".NAME.XXXXXX" in its folder (NAME cut so that
+ * it fits in NAME_MAX), malloc'ed. */
 int cli_tmp_name(const char *path, char **tmp);
-/* cli_out_open + writer + commit; dies with status 1 on failure. */
+/* cli_out_open + writer + commit; dies with status 1 on failure.  The
+ * _sidecar form commits with the provenance sidecar (cli_out_commit_sidecar). */
 void cli_write_file(const char *cmd, const char *path, void (*writer)(FILE *, const void *),
                     const void *ctx);
+void cli_write_file_sidecar(const char *cmd, const char *path, const char *command_line,
+                            void (*writer)(FILE *, const void *), const void *ctx);
 /* Die (status 2) when path exists and force is 0, or when it is an input:
  * for commands that make a folder of new files (simulate, map --synthetic),
  * called for every file before the first is written. */
@@ -289,12 +324,19 @@ int cli_stdout_close(void);
  * an output that is the same file (device and inode) as an input is refused
  * with exit status 2 from whichever call comes second, and so is an output
  * that is the same file as an earlier output of the run (by device and
- * inode, or by the real path of its folder and its name). */
+ * inode, or by the real path of its folder and its name).  What can be
+ * known about writing it is checked too, before any work: an empty name or
+ * one longer than NAME_MAX (exit 2); a link to nothing, a folder, an
+ * immutable file, a folder that cannot be written, a FIFO that no reader
+ * opens (exit 1). */
 void cli_output_note(const char *cmd, const char *path);
 /* The same for the provenance sidecar PATH.provenance.json of an output
- * (cli_provenance_sidecar); nothing for NULL or "-". */
+ * (cli_out_commit_sidecar); nothing for NULL, "-", a pipe or a device. */
 void cli_output_note_sidecar(const char *cmd, const char *path);
 void cli_input_guard(const char *cmd, const char *path);
+/* 1 when paths a and b (which need not exist) name the same place: the
+ * same name in the same real folder. */
+int cli_same_place(const char *a, const char *b);
 /* 1 when path is the same file as a noted input (for files that are put in
  * place by rename, such as gnuplot's images: checked again just before). */
 int cli_is_input(const char *path);
@@ -307,8 +349,14 @@ const char *cli_input_sha256(size_t i);
  * with indent before each line after the first; command_line as main()
  * passed it to the subcommand. */
 void cli_provenance_json(FILE *f, const char *indent, const char *command_line);
-/* OUTPUT.provenance.json beside an output that has no room for it (CSV). */
-void cli_provenance_sidecar(const char *cmd, const char *output, const char *command_line);
+/* CSV cells (RFC 4180: quoted when they hold a comma, quote, line break, or
+ * start or end with a blank, quotes doubled).  Text that a spreadsheet
+ * would run as a formula (a cell starting with =, +, -, @, tab or CR) gets
+ * a leading ' (OWASP, "CSV injection"), unless cli_csv_raw (--csv-raw) is
+ * set.  Numbers are not written through this: a negative number stays a
+ * number. */
+extern int cli_csv_raw;
+void cli_csv_cell(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
 
 /* Text from data (lf_utf8_len: the library's UTF-8 check).  cli_json_escape: a JSON string, always valid UTF-8
  * (invalid bytes become U+FFFD); cli_percent_escape: a JSON string of the
@@ -327,6 +375,45 @@ void cli_percent_escape(const char *s, void (*put)(void *, const char *, size_t)
 void cli_json_string(FILE *f, const char *s);
 void cli_json_name(FILE *f, const char *key, const char *name);
 void cli_gnuplot_string(FILE *g, const char *s);
+
+/* ---- Other programs and temporaries (spawn.c, temps.c) ------------------
+ * No shell ever runs: cli_spawn starts argv[0] (looked up along PATH) with
+ * argv as its arguments (posix_spawnp), in folder dir (NULL: here), with
+ * how: CLI_SPAWN_STDIN (c->in: a pipe to its standard input),
+ * CLI_SPAWN_STDOUT (c->out: a pipe from its standard output),
+ * CLI_SPAWN_STDERR_TO_OUT (its standard error there too), CLI_SPAWN_QUIET
+ * (its output to /dev/null).  0, or -1 with errno.  cli_child_wait closes
+ * the pipes and returns the program's exit status (-1: it did not exit
+ * normally, or could not be waited for).  cli_have_program: 1 when name
+ * is an executable file along PATH. */
+#define CLI_SPAWN_STDIN 1u
+#define CLI_SPAWN_STDOUT 2u
+#define CLI_SPAWN_STDERR_TO_OUT 4u
+#define CLI_SPAWN_QUIET 8u
+typedef struct {
+    long pid;
+    FILE *in, *out;
+} cli_child;
+int cli_spawn(cli_child *c, const char *const *argv, const char *dir, unsigned how);
+int cli_child_wait(cli_child *c);
+int cli_have_program(const char *name);
+/* Temporaries of the run (files, or folders with what they hold), removed
+ * at exit and on SIGINT, SIGTERM, SIGHUP, SIGQUIT or SIGPIPE (then the
+ * signal is raised again), unless forgotten first (committed or removed by
+ * their owner).  cli_temp_add returns a slot for cli_temp_forget (-1 when
+ * the table is full: the path is then only the caller's to remove).
+ * cli_temp_child names a program to stop with the run (0: none).
+ * cli_signals_hold / _release bracket what a signal must not cut in two
+ * (the renames of an output and its sidecar). */
+void cli_signals_install(void);
+int cli_temp_add(const char *path, int is_dir);
+void cli_temp_forget(int slot);
+void cli_temp_child(long pid);
+void cli_signals_hold(void);
+void cli_signals_release(void);
+/* Remove a folder and everything in it, without a shell (nftw): 0, or -1
+ * when something is left. */
+int cli_remove_tree(const char *dir);
 
 /* Reading (read.c).  The fewest points of a segment worth fitting: one more
  * than the most parameters a fit can have (w, E*, nu, z0, F0); `check` and

@@ -561,8 +561,8 @@ draw_sweep(const char *file, lf_design_factor factor, size_t nv, const double *x
     fig.nseries = ns;
     fig.series = ser;
     if (ns == 0) {
-        fprintf(stderr, "layerfit: warning: design: nothing is determined anywhere in the sweep: "
-                "no figure drawn\n");
+        cli_say("warning: design: nothing is determined anywhere in the sweep: "
+                "no figure drawn");
     } else {
         if (plot_draw(&fig, file, msg, sizeof msg) != 0)
             cli_die(CLI_EXIT_FAIL, "design: --plot: %s", msg);
@@ -732,7 +732,7 @@ cli_design(int argc, char **argv, const char *command_line)
     {
         lf_input in;
         cli_input_guard("design", a.plan);
-        if (lf_input_read(a.plan, LF_INPUT_STREAM, &in, &err) != LF_OK)
+        if (lf_input_read(a.plan, LF_INPUT_STREAM | LF_INPUT_TEXT, &in, &err) != LF_OK)
             cli_die_error(CLI_EXIT_USAGE, &err);
         cli_input_note(a.plan, in.sha256);
         cli_output_note("design", a.json);
@@ -791,25 +791,26 @@ cli_design(int argc, char **argv, const char *command_line)
                     err.msg);
     }
 
-    /* the text */
-    fprintf(out, "layerfit design: %zu candidate%s; truth w = %s, E* = %s, nu = %.4g%s; noise ",
-            plan->n, plan->n == 1 ? "" : "s", cli_human(a1, sizeof a1, s.truth.w, "J/m^2"),
-            cli_human(a2, sizeof a2, s.truth.Estar, "Pa"), s.truth.nu, s.fix_nu ? " (held)" : "");
-    if (isfinite(s.noise_abs))
-        fprintf(out, "sd %s", cli_human(a1, sizeof a1, s.noise_abs, "N"));
-    else
-        fprintf(out, "%.3g%% of each curve's largest |force|", 100.0 * s.noise_rel);
-    fprintf(out, "; model %s\n", s.model ? s.model->name : "auto");
-    text_curves(out, plan, &all);
-    text_set(out, "the whole set", &all, plan, &s);
-    text_contributions(out, plan, &all, &con);
-    if (a.choose > 0) {
-        text_choice(out, plan, &choice, target, exh_status, best, nsets);
-        text_set(out, "the chosen set", &chosen_r, plan, &s);
+    /* the text, unless standard output carries --json - or --csv - */
+    if (!(a.json != NULL && strcmp(a.json, "-") == 0) && !(a.csv != NULL && strcmp(a.csv, "-") == 0)) {
+        fprintf(out, "layerfit design: %zu candidate%s; truth w = %s, E* = %s, nu = %.4g%s; noise ",
+                plan->n, plan->n == 1 ? "" : "s", cli_human(a1, sizeof a1, s.truth.w, "J/m^2"),
+                cli_human(a2, sizeof a2, s.truth.Estar, "Pa"), s.truth.nu, s.fix_nu ? " (held)" : "");
+        if (isfinite(s.noise_abs))
+            fprintf(out, "sd %s", cli_human(a1, sizeof a1, s.noise_abs, "N"));
+        else
+            fprintf(out, "%.3g%% of each curve's largest |force|", 100.0 * s.noise_rel);
+        fprintf(out, "; model %s\n", s.model ? s.model->name : "auto");
+        text_curves(out, plan, &all);
+        text_set(out, "the whole set", &all, plan, &s);
+        text_contributions(out, plan, &all, &con);
+        if (a.choose > 0) {
+            text_choice(out, plan, &choice, target, exh_status, best, nsets);
+            text_set(out, "the chosen set", &chosen_r, plan, &s);
+        }
+        if (nv > 0)
+            text_sweep(out, factor, nv, values, sweep, scope);
     }
-    if (nv > 0)
-        text_sweep(out, factor, nv, values, sweep, scope);
-
     if (a.csv != NULL)
         csv_sweep(a.csv, factor, nv, values, sweep);
     if (a.plot != NULL)

@@ -236,6 +236,10 @@ cli_figure(int figure, const char *plot)
                 "or 6: thin-layer error against a/b)", figure);
     if (plot != NULL && !plot_have_gnuplot())
         cli_die(CLI_EXIT_FAIL, "model: --plot: gnuplot is not installed: %s", PLOT_INSTALL_HINT);
+    if (plot != NULL && plot_terminal(plot) == NULL)
+        cli_die(CLI_EXIT_USAGE, "model: --plot %s: the file must end in .svg or .png", plot);
+    cli_output_note("model", plot);
+    cli_output_folder_check("model", plot);
     d = calloc(1, sizeof *d);
     if (d == NULL)
         cli_die(CLI_EXIT_FAIL, "model: out of memory");
@@ -247,7 +251,7 @@ cli_figure(int figure, const char *plot)
             free(d);
             cli_die(CLI_EXIT_FAIL, "model: --plot: %s", msg);
         }
-        fprintf(stderr, "layerfit: figure %d drawn in %s\n", figure, plot);
+        cli_say("figure %d drawn in %s", figure, plot);
     }
     free(d);
     return CLI_EXIT_OK;

@@ -66,10 +66,11 @@ const char cli_fit_help[] =
     "  --skip-bad-rows      skip rows with missing cells, with a warning\n";
 
 static const char exit_text[] =
-    "exit status: 0 converged; 3 not converged (report still written); 4 converged,\n"
-    "but the model does not describe a curve (DISAGREES; report still written); 2 bad\n"
-    "command line or input file; 1 a failure of the run itself (e.g. an output not\n"
-    "written)\n";
+    "exit status: 0 converged; 3 not converged or the model cannot be evaluated at\n"
+    "the start (report still written when there is one); 4 converged, but the model\n"
+    "does not describe a curve (DISAGREES; report still written); 2 bad command line,\n"
+    "option value or input file, or a probe the model cannot evaluate (all before the\n"
+    "fit); 1 input, output or memory (e.g. an output not written)\n";
 
 typedef struct {
     const char *json, *curves, *interface;
@@ -92,6 +93,34 @@ print_input_notes(const fit_args *a, const lf_fit_input *in)
             printf("%s: R = %s from the file header (%s export)\n", in->curves[j].name,
                    cli_human(buf, sizeof buf, in->curves[j].probe.R, "m"),
                    in->format[j] != NULL ? in->format[j] : "?");
+}
+
+static int
+to_stdout(const char *output)
+{
+    return output != NULL && strcmp(output, "-") == 0;
+}
+
+/* A probe the fit's model cannot evaluate (lf_model_check_probe: k, R or
+ * b where its numbers leave double precision) is refused before the fit,
+ * naming the curve; --model auto starts from the thin-layer model. */
+static void
+check_probes(const lf_fit_input *in, const char *model)
+{
+    const lf_model_type *type = lf_model_type_find(model);
+    lf_error err;
+    size_t j, i;
+
+    if (type == NULL)
+        type = &lf_model_thin;
+    for (j = 0; j < in->n; j++) {
+        const lf_probe *p = &in->curves[j].probe;
+        for (i = 0; i < j; i++)       /* each probe once */
+            if (memcmp(&in->curves[i].probe, p, sizeof *p) == 0)
+                break;
+        if (i == j && lf_model_check_probe(type, p, &err) != LF_OK)
+            cli_die(CLI_EXIT_USAGE, "fit: %s: %s", in->names[j], err.msg);
+    }
 }
 
 void
@@ -174,6 +203,7 @@ read_input(const char *path, const fit_args *a, const char *model, const lf_inpu
         cli_die_error(status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, &err);
     for (j = 0; j < in->n; j++)     /* provenance: each curve as it was read */
         cli_input_note(in->names[j], in->sha256[j]);
+    check_probes(in, model);
 }
 
 /* --json and --curves: through the atomic writer (output.c). */
@@ -190,15 +220,19 @@ fit_output_write(FILE *f, const void *ctx)
     o->writer(f, o->in, o->r);
 }
 
+/* Write path (with its provenance sidecar when command_line is not NULL). */
 static void
 write_file(const char *path, void (*writer)(FILE *, const report_input *, const lf_fit_result *),
-           const report_input *in, const lf_fit_result *r)
+           const report_input *in, const lf_fit_result *r, const char *command_line)
 {
     fit_output o;
     o.writer = writer;
     o.in = in;
     o.r = r;
-    cli_write_file("fit", path, fit_output_write, &o);
+    if (command_line != NULL)
+        cli_write_file_sidecar("fit", path, command_line, fit_output_write, &o);
+    else
+        cli_write_file("fit", path, fit_output_write, &o);
 }
 
 /* Check --plot and --report before fitting (exit 2 on a bad value). */
@@ -212,6 +246,9 @@ figures_check(const char *plotdir, const char *report)
     if (plotdir != NULL && stat(plotdir, &st) == 0 && !S_ISDIR(st.st_mode))
         cli_die(CLI_EXIT_FAIL, "fit: --plot %s: that is a file, not a folder (name a folder "
                 "for the figures)", plotdir);
+    if (plotdir != NULL && report != NULL && cli_same_place(plotdir, report))
+        cli_die(CLI_EXIT_USAGE, "fit: --plot %s and --report %s name the same path: the figures "
+                "go into a folder, the report is a file (name them apart)", plotdir, report);
     if (report != NULL) {
         size_t len = strlen(report);
         if (len < 5 || (strcmp(report + len - 5, ".html") != 0 && strcmp(report + len - 4, ".htm") != 0))
@@ -254,7 +291,7 @@ figures(const char *plotdir, const char *report, const report_input *in, size_t 
         if (st < 0)         /* a folder or file not made, gnuplot failed */
             cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
         if (st > 0)         /* no gnuplot: scripts and data written */
-            fprintf(stderr, "layerfit: fit: %s\n", msg);
+            cli_say("fit: %s", msg);
     }
     if (report != NULL && cli_page_fit(report, in, res, msg, sizeof msg) != 0)
         cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
@@ -466,7 +503,10 @@ cli_fit(int argc, char **argv, const char *command_line)
     else
         status = lf_fit_driver(&set, d.n, d.curves, &r, &err);
     if (status != LF_OK && status != LF_ENOCONV)
-        cli_die(status == LF_EDATA || status == LF_EINVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL,
+        /* a model that cannot be evaluated (LF_ENUMERIC) is a fit that
+         * cannot be made: 3, as one that does not converge */
+        cli_die(status == LF_EDATA || status == LF_EINVAL ? CLI_EXIT_USAGE
+                : status == LF_ENOMEM || status == LF_EIO ? CLI_EXIT_FAIL : CLI_EXIT_NOCONV,
                 "fit: %s", err.msg);
     for (j = 0; j < d.n && d.origin[j].b != NULL; j++)
         ;           /* a curve without a layer has no thin-layer comparison */
@@ -474,7 +514,7 @@ cli_fit(int argc, char **argv, const char *command_line)
         lf_error terr;
         int st = lf_fit_compare_thin(&set, d.n, d.curves, &r, &terr);
         if (st != LF_OK)
-            fprintf(stderr, "layerfit: warning: the thin-layer comparison fit failed: %s\n",
+            cli_say("warning: the thin-layer comparison fit failed: %s",
                     terr.msg);
     }
     {
@@ -483,7 +523,7 @@ cli_fit(int argc, char **argv, const char *command_line)
         lf_error perr;
         if (lf_fit_profile(&set, d.n, d.curves, &r, fa.linear_only ? LF_PROFILE_LINEAR : 0,
                            &perr) != LF_OK)
-            fprintf(stderr, "layerfit: warning: profile-likelihood intervals: %s\n", perr.msg);
+            cli_say("warning: profile-likelihood intervals: %s", perr.msg);
         if (status == LF_OK && !r.converged)
             status = LF_ENOCONV;    /* a local minimum, or nothing determined */
     }
@@ -493,24 +533,26 @@ cli_fit(int argc, char **argv, const char *command_line)
     in.curves = d.curves;
     in.origin = d.origin;
     in.command_line = command_line;
-    print_input_notes(&a, &d);
-    report_text(stdout, &in, &r);
-    if (a.json != NULL)
-        write_file(a.json, report_json, &in, &r);
-    if (a.curves != NULL) {
-        write_file(a.curves, report_curves, &in, &r);
-        cli_provenance_sidecar("fit", a.curves, command_line);
+    if (!to_stdout(a.json) && !to_stdout(a.curves)) {
+        /* standard output carries the report unless it carries an output
+         * (--json -, --curves -): then that alone, for the next program */
+        print_input_notes(&a, &d);
+        report_text(stdout, &in, &r);
     }
+    if (a.json != NULL)
+        write_file(a.json, report_json, &in, &r, NULL);
+    if (a.curves != NULL)
+        write_file(a.curves, report_curves, &in, &r, command_line);
     figures(plot_dir, report_html, &in, d.n, &r, command_line);
     if (status == LF_OK && cli_disagreeing(&r, bad, sizeof bad) > 0) {
-        fprintf(stderr, "layerfit: fit: converged, but the model does not describe curve%s %s "
+        cli_say("fit: converged, but the model does not describe curve%s %s "
                 "(DISAGREES): the values are those of a model that does not fit, not a "
-                "measurement (check k, R, b, interface and segment)\n",
+                "measurement (check k, R, b, interface and segment)",
                 strchr(bad, ',') != NULL ? "s" : "", bad);
         misfit = 1;
     }
     if (status == LF_ENOCONV)
-        fprintf(stderr, "layerfit: fit: %s%s\n", r.stop_reason,
+        cli_say("fit: %s%s", r.stop_reason,
                 r.stop == LF_STOP_ITERATIONS
                 ? " (--max-iter N allows more; a fit that creeps along a kink of the cost may "
                   "still not settle)" : "");

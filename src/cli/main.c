@@ -1,4 +1,5 @@
 /* main.c: the layerfit command, a table of subcommands. */
+#include <stdint.h>
 #include <stdio.h>
 #include <string.h>
 
@@ -29,8 +30,13 @@ usage(FILE *f)
         fprintf(f, "  %-10s %s\n", c->name, c->summary);
     fprintf(f, "\n'layerfit COMMAND --help' describes each command.\n"
                "Every dimensional value takes a unit: --b 1um, --E 1GPa, --w 10mJ/m2.\n"
-               "--no-cache (anywhere on the line): do not read or write the exact\n"
-               "model's tables on disk (see 'layerfit cache --help').\n");
+               "Anywhere on the line:\n"
+               "  --no-cache        do not read or write the exact model's tables on disk\n"
+               "                    (see 'layerfit cache --help')\n"
+               "  --max-input SIZE  read inputs of up to SIZE bytes whole (default 256MiB;\n"
+               "                    e.g. --max-input 2GiB)\n"
+               "  --csv-raw         write CSV text cells as they are, without the quote\n"
+               "                    that keeps a spreadsheet from running =, +, -, @\n");
 }
 
 /* The command line as typed, shell-quoted ("layerfit" for argv[0]), into
@@ -71,17 +77,39 @@ quote_command_line(int argc, char **argv, char *buf, size_t n)
         buf[n - 1] = '\0';
 }
 
-/* Take the global options out of argv: --no-cache. */
+/* Take the global options out of argv: --no-cache, --max-input SIZE,
+ * --csv-raw. */
 static int
 global_options(int argc, char **argv)
 {
     int i, n = 1;
 
     for (i = 1; i < argc; i++) {
+        const char *size = NULL;
+        if (strcmp(argv[i], "--") == 0) {      /* the rest are not options */
+            while (i < argc)
+                argv[n++] = argv[i++];
+            break;
+        }
         if (strcmp(argv[i], "--no-cache") == 0)
             lf_cache_set_enabled(0);
-        else
+        else if (strcmp(argv[i], "--csv-raw") == 0)
+            cli_csv_raw = 1;
+        else if (strncmp(argv[i], "--max-input=", 12) == 0)
+            size = argv[i] + 12;
+        else if (strcmp(argv[i], "--max-input") == 0) {
+            if (i + 1 >= argc)
+                cli_die(CLI_EXIT_USAGE, "--max-input needs a size (e.g. --max-input 2GiB)");
+            size = argv[++i];
+        } else
             argv[n++] = argv[i];
+        if (size != NULL) {
+            double bytes;
+            if (cli_parse_size(size, &bytes) != 0)
+                cli_die(CLI_EXIT_USAGE, "--max-input: '%s' is not a size in bytes (e.g. "
+                        "--max-input 2GiB, 512MiB or 1e9)", size);
+            lf_input_set_limit(bytes >= (double) SIZE_MAX ? SIZE_MAX : (size_t) bytes);
+        }
     }
     argv[n] = NULL;
     return n;
@@ -104,6 +132,7 @@ main(int argc, char **argv)
     static char command_line[8192];
 
     gsl_set_error_handler_off();
+    cli_signals_install();
     quote_command_line(argc, argv, command_line, sizeof command_line);
     argc = global_options(argc, argv);
     if (argc < 2) {
@@ -124,6 +153,6 @@ main(int argc, char **argv)
     for (c = commands; c->name != NULL; c++)
         if (strcmp(argv[1], c->name) == 0)
             return finish(c->run(argc - 1, argv + 1, command_line));
-    fprintf(stderr, "layerfit: unknown command '%s' (see 'layerfit --help')\n", argv[1]);
+    cli_say("unknown command '%s' (see 'layerfit --help')", argv[1]);
     return CLI_EXIT_USAGE;
 }

@@ -162,7 +162,7 @@ synthetic(const char *dir, long size, long every, long points, double noise,
         }
     if (cli_out_commit(&out, msg, sizeof msg) != 0)
         cli_die(CLI_EXIT_FAIL, "map: %s", msg);
-    fprintf(stderr, "layerfit: map: wrote %ld curves and %s\n", n, path);
+    cli_say("map: wrote %ld curves and %s", n, path);
     return CLI_EXIT_OK;
 }
 
@@ -208,11 +208,22 @@ map_read(map_reader *m)
         char *const *row = t->cells + r * t->ncols;
         double v[6];
         for (i = 0; i < 6; i++) {
+            /* the scale of each column in the map (um, mJ/m^2, at most
+             * Pa; grid places): a value must stay finite there and in the
+             * differences of the axes' ranges */
+            static const double scale[6] = { 2e6, 2e6, 1e3, 1.0, 1.0, 1.0 };
             long c = i < 4 ? col[i] : gcol[i - 4];
             v[i] = NAN;
-            if (c >= 0 && lf_table_number(row[c], &v[i]) != LF_OK)
+            if (c < 0)
+                continue;
+            if (lf_table_number(row[c], &v[i]) != LF_OK)
                 cli_die(CLI_EXIT_USAGE, "%s:%ld:%ld: '%s' is not a number", m->path,
                         t->line[r], t->col[r * t->ncols + (size_t) c], row[c]);
+            if (row[c][0] != '\0' && !isfinite(v[i] * scale[i]))
+                cli_die(CLI_EXIT_USAGE, "%s:%ld:%ld: %s '%s' is not a finite number a map can "
+                        "show (an empty cell is a fit without a value)", m->path, t->line[r],
+                        t->col[r * t->ncols + (size_t) c], i < 4 ? mcol_name[i]
+                        : i == 4 ? "grid_i" : "grid_j", row[c]);
         }
         if (!isfinite(v[0]) || !isfinite(v[1])) {
             m->skipped++;
@@ -465,7 +476,7 @@ draw_map(const char *result, const char *image)
         cli_die(CLI_EXIT_FAIL, "map: %s (the script and data are in %s/%s and %s/%s)",
                 msg, dir, gp, dir, dat);
     if (m.skipped > 0)
-        fprintf(stderr, "layerfit: map: %zu rows of %s have no position and are not shown\n",
+        cli_say("map: %zu rows of %s have no position and are not shown",
                 m.skipped, result);
     free(ux);
     free(uy);
@@ -509,6 +520,8 @@ cli_map(int argc, char **argv, const char *command_line)
         return CLI_EXIT_OK;
     }
     if (syn != NULL) {
+        if (*syn == '\0')
+            cli_die(CLI_EXIT_USAGE, "map: --synthetic needs a folder name (got an empty one)");
         if (npos > 0)
             cli_die(CLI_EXIT_USAGE, "map: --synthetic takes no other file ('%s')", argv[0]);
         return synthetic(syn, size, every, points, isfinite(noise) ? noise : 0.01,

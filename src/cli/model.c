@@ -95,6 +95,10 @@ make_model(const model_args *a, lf_probe *probe, lf_material *mat)
         lf_model_free(m);
         cli_die(CLI_EXIT_USAGE, "model: %s", err.msg);
     }
+    /* parameters the model cannot evaluate: refused before a number is
+     * written (the message names the model and the parameters) */
+    if (lf_model_check_region(m, mat, &err) != LF_OK)
+        cli_die_error(CLI_EXIT_USAGE, &err);
     return m;
 }
 
@@ -266,6 +270,12 @@ print_curve(const lf_model *m, const lf_material *mat, lf_branch branch,
         delta[i] = points == 1 ? from : from + (to - from) * (double) i / (double) (points - 1);
     if (lf_model_eval(m, mat, branch, (size_t) points, delta, e, &err) != LF_OK)
         cli_die(CLI_EXIT_FAIL, "model: %s", err.msg);
+    for (i = 0; i < points; i++)      /* no NaN or inf is ever written */
+        if (!isfinite(delta[i]) || !isfinite(e[i].P) || !isfinite(e[i].a)
+            || (layer && e[i].a > 0 && !isfinite(b / e[i].a)))
+            cli_die(CLI_EXIT_USAGE, "model: the model cannot be evaluated at an indentation of "
+                    "%g m (its force or contact radius is not a finite number there): give "
+                    "--from and --to within the curve", delta[i]);
     printf("depth_m,force_N,radius_m,b_over_a,stable\n");
     for (i = 0; i < points; i++) {
         cli_print_double(stdout, delta[i]);
@@ -342,7 +352,7 @@ cli_model(int argc, char **argv, const char *command_line)
         /* numbers without the summary's words: the warning goes beside them */
         const char *scope = thin_scope(&s, s.probe.b / s.po.a_po);
         if (*scope)
-            fprintf(stderr, "layerfit: model: warning: b/a = %.4g at pull-off: %s\n",
+            cli_say("model: warning: b/a = %.4g at pull-off: %s",
                     s.probe.b / s.po.a_po, scope);
     }
     if (a.summary)

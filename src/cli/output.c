@@ -14,10 +14,17 @@
  *   input, for the JSON, HTML and sidecar writers. */
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/file.h>
+#include <sys/ioctl.h>
 #include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
+#ifdef __linux__
+#include <linux/fs.h>
+#endif
 
 #include "cli.h"
 
@@ -33,6 +40,8 @@ typedef struct {
     char sha256[65];      /* "" when not hashed */
     char *where;          /* outputs: the real path of its folder + "/" +
                              its name ("-" for standard output), or NULL */
+    int fifo;             /* outputs: a FIFO opened for writing once a reader
+                             came (output_check), kept for cli_out_open; -1 */
 } file_note;
 
 static file_note *inputs, *outputs;
@@ -58,6 +67,7 @@ note(file_note **list, size_t *n, const char *path, const char *sha256)
     l += *n;
     memset(l, 0, sizeof *l);
     l->path = dup_text(path);
+    l->fifo = -1;
     if (stat(path, &st) == 0) {
         l->dev = st.st_dev;
         l->ino = st.st_ino;
@@ -130,6 +140,16 @@ output_where(const char *path)
     return out;
 }
 
+int
+cli_same_place(const char *a, const char *b)
+{
+    char *pa = output_where(a), *pb = output_where(b);
+    int same = pa != NULL && pb != NULL && strcmp(pa, pb) == 0;
+    free(pa);
+    free(pb);
+    return same;
+}
+
 /* "PATH.provenance.json", the sidecar of output path (free). */
 static char *
 sidecar_path(const char *path)
@@ -140,6 +160,130 @@ sidecar_path(const char *path)
         cli_die(CLI_EXIT_FAIL, "out of memory");
     sprintf(side, "%s.provenance.json", path);
     return side;
+}
+
+/* 1 when the regular file path cannot be replaced or removed whatever the
+ * permissions (Linux: the immutable or append-only attribute). */
+static int
+file_immutable(const char *path)
+{
+#if defined(__linux__) && defined(FS_IOC_GETFLAGS)
+    int fd = open(path, O_RDONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC), flags = 0, r;
+    if (fd < 0)
+        return 0;
+    r = ioctl(fd, FS_IOC_GETFLAGS, &flags);
+    close(fd);
+    return r == 0 && (flags & (FS_IMMUTABLE_FL | FS_APPEND_FL)) != 0;
+#else
+    (void) path;
+    return 0;
+#endif
+}
+
+/* Open a FIFO (or other special file) output for writing without
+ * blocking: a FIFO with no reader yet (ENXIO) is tried again for at most
+ * LF_STREAM_WAIT seconds, as an input FIFO waits for a writer.  The
+ * descriptor is made blocking for the writes.  -1 with errno (ENXIO: no
+ * reader came). */
+static int
+open_special(const char *path)
+{
+    int fd, fl, tries;
+    struct stat st;
+
+    for (tries = 0;; tries++) {
+        fd = open(path, O_WRONLY | O_NONBLOCK | O_NOCTTY | O_CLOEXEC);
+        if (fd >= 0 || errno != ENXIO || tries >= 20 * LF_STREAM_WAIT)
+            break;
+        {
+            struct timespec ts = { 0, 50000000L };
+            nanosleep(&ts, NULL);
+        }
+    }
+    if (fd < 0)
+        return -1;
+    if (fstat(fd, &st) != 0 || S_ISREG(st.st_mode) || S_ISDIR(st.st_mode)
+        || (fl = fcntl(fd, F_GETFL)) < 0 || fcntl(fd, F_SETFL, fl & ~O_NONBLOCK) != 0) {
+        close(fd);
+        errno = EINVAL;
+        return -1;
+    }
+    return fd;
+}
+
+static const char *
+special_error(int e)
+{
+    return e == ENXIO ? "it is a FIFO and nothing opened it for reading within 10 s "
+                        "(start the reader first)"
+                      : strerror(e);
+}
+
+/* The file an output named path replaces: path, or for a symbolic link
+ * the file it names (malloc'ed, NULL with msg for a link to nothing). */
+static char *
+replaced_file(const char *path, char *msg, size_t n)
+{
+    struct stat st;
+    char *target;
+
+    if (!(lstat(path, &st) == 0 && S_ISLNK(st.st_mode)))
+        return dup_text(path);
+    if ((target = realpath(path, NULL)) == NULL)
+        snprintf(msg, n, "cannot write %s: a symbolic link to %s", path,
+                 errno == ENOENT ? "a file that does not exist" : strerror(errno));
+    return target;
+}
+
+/* What can be known about writing path before any work: a name longer than
+ * a file name may be, a symbolic link to nothing, a folder, a file that
+ * cannot be replaced (immutable or append-only), a folder that cannot be
+ * written; a FIFO is opened now (a reader waited for).  Dies with status
+ * 2 (a name that cannot be one) or 1. */
+static void
+output_check(const char *cmd, const char *path, file_note *note_out)
+{
+    const char *dir, *name;
+    char *copy, *target, msg[4400];
+    struct stat st;
+
+    if (strcmp(path, "-") == 0)
+        return;
+    copy = split_path(path, &dir, &name);
+    if (strlen(name) > NAME_MAX)
+        cli_die(CLI_EXIT_USAGE, "%s: cannot write %s: a file name has at most %d bytes (this "
+                "one %zu)", cmd, path, NAME_MAX, strlen(name));
+    free(copy);
+    /* the file replaced: path, or what a link names */
+    if ((target = replaced_file(path, msg, sizeof msg)) == NULL)
+        cli_die(CLI_EXIT_FAIL, "%s: %s", cmd, msg);
+    if (stat(target, &st) == 0) {
+        if (S_ISDIR(st.st_mode))
+            cli_die(CLI_EXIT_FAIL, "%s: cannot write %s: it is a folder", cmd, path);
+        if (S_ISREG(st.st_mode) && file_immutable(target))
+            cli_die(CLI_EXIT_FAIL, "%s: cannot replace %s: it is immutable or append-only "
+                    "(chattr -i -a removes that)", cmd, path);
+        if (!S_ISREG(st.st_mode)) {
+            /* written in place: opened now, so that a FIFO without a
+             * reader is said before the work, not after it */
+            int fd = open_special(path);
+            if (fd < 0)
+                cli_die(CLI_EXIT_FAIL, "%s: cannot write %s: %s", cmd, path, special_error(errno));
+            note_out->fifo = fd;
+            free(target);
+            return;
+        }
+    }
+    /* replaced by a rename in the target's folder (a missing folder is
+     * cli_output_folder_check's to say) */
+    copy = split_path(target, &dir, &name);
+    if (dir == NULL)
+        dir = ".";
+    if (stat(dir, &st) == 0 && access(dir, W_OK | X_OK) != 0)
+        cli_die(CLI_EXIT_FAIL, "%s: cannot write %s: the folder %s cannot be written (%s)",
+                cmd, path, dir, strerror(errno));
+    free(copy);
+    free(target);
 }
 
 void
@@ -153,6 +297,8 @@ cli_output_note(const char *cmd, const char *path)
 
     if (path == NULL)
         return;
+    if (*path == '\0')
+        cli_die(CLI_EXIT_USAGE, "%s: an output needs a name (got an empty one)", cmd);
     if ((in = same_as_input(path)) != NULL)
         cli_die(CLI_EXIT_USAGE, "%s: output %s is the input %s: refusing to replace an input "
                 "(name another output)", cmd, path, in);
@@ -177,14 +323,18 @@ cli_output_note(const char *cmd, const char *path)
     }
     note(&outputs, &noutputs, path, NULL);
     outputs[noutputs - 1].where = where;
+    output_check(cmd, path, &outputs[noutputs - 1]);
 }
 
 void
 cli_output_note_sidecar(const char *cmd, const char *path)
 {
+    struct stat st;
     char *side;
 
-    if (path == NULL || strcmp(path, "-") == 0)
+    /* an output written in place (standard output, a pipe, a device) has
+     * no sidecar: /dev/stdout.provenance.json is nothing to make */
+    if (path == NULL || strcmp(path, "-") == 0 || (stat(path, &st) == 0 && !S_ISREG(st.st_mode)))
         return;
     side = sidecar_path(path);
     cli_output_note(cmd, side);
@@ -249,54 +399,39 @@ cli_input_sha256(size_t i)
  * Atomic output files.
  * --------------------------------------------------------------------- */
 
-static cli_out *pending;        /* open outputs, removed at exit if not committed */
-static int cleanup_set;
-
-static void
-remove_pending(void)
-{
-    cli_out *o;
-    for (o = pending; o != NULL; o = o->next)
-        if (o->tmp != NULL)
-            unlink(o->tmp);
-}
-
-static void
-unlink_pending(cli_out *o)
-{
-    cli_out **p;
-    for (p = &pending; *p != NULL; p = &(*p)->next)
-        if (*p == o) {
-            *p = o->next;
-            break;
-        }
-    o->next = NULL;
-}
-
 int
 cli_tmp_name(const char *path, char **tmp)
 {
     const char *slash = strrchr(path, '/');
     size_t nd = slash ? (size_t) (slash - path) + 1 : 0;
     const char *base = path + nd;
-    char *t = malloc(nd + strlen(base) + 16);
+    size_t nb = strlen(base);
+    char *t = malloc(nd + nb + 16);
     if (t == NULL)
         return -1;
+    /* ".NAME.XXXXXX" has 8 bytes more than NAME: a long name is cut so
+     * that the temporary name still fits in NAME_MAX */
+    if (nb > NAME_MAX - 8)
+        nb = NAME_MAX - 8;
     memcpy(t, path, nd);
-    sprintf(t + nd, ".%s.XXXXXX", base);
+    t[nd] = '.';
+    memcpy(t + nd + 1, base, nb);
+    strcpy(t + nd + 1 + nb, ".XXXXXX");
     *tmp = t;
     return 0;
 }
 
 /* An output that is no regular file to replace: standard output ("-"), or
  * an existing pipe, device or socket (a link to one: /dev/stdout), opened
- * for writing in place.  1 when it was one (o->f NULL with msg on failure),
- * 0 for a path to be written atomically. */
+ * for writing in place without blocking (a FIFO waits, boundedly, for a
+ * reader: open_special).  1 when it was one (o->f NULL with msg on
+ * failure), 0 for a path to be written atomically. */
 static int
 open_direct(cli_out *o, const char *path, char *msg, size_t n)
 {
     struct stat st;
-    int fd;
+    size_t i;
+    int fd = -1;
 
     if (strcmp(path, "-") == 0) {
         o->f = stdout;
@@ -309,11 +444,19 @@ open_direct(cli_out *o, const char *path, char *msg, size_t n)
         snprintf(msg, n, "cannot write %s: it is a folder", path);
         return 1;
     }
-    fd = open(path, O_WRONLY | O_NOCTTY);
-    if (fd < 0 || (o->f = fdopen(fd, "w")) == NULL) {
+    for (i = 0; i < noutputs; i++)      /* opened by output_check */
+        if (outputs[i].fifo >= 0 && strcmp(outputs[i].path, path) == 0) {
+            fd = outputs[i].fifo;
+            outputs[i].fifo = -1;
+            break;
+        }
+    if (fd < 0 && (fd = open_special(path)) < 0) {
+        snprintf(msg, n, "cannot write %s: %s", path, special_error(errno));
+        return 1;
+    }
+    if ((o->f = fdopen(fd, "w")) == NULL) {
         snprintf(msg, n, "cannot write %s: %s", path, strerror(errno));
-        if (fd >= 0)
-            close(fd);
+        close(fd);
         return 1;
     }
     o->direct = 1;
@@ -324,31 +467,27 @@ FILE *
 cli_out_open(cli_out *o, const char *path, char *msg, size_t n)
 {
     const char *in;
-    char *target = NULL;
-    struct stat st;
+    char *target;
     mode_t mask;
     int fd;
 
     memset(o, 0, sizeof o[0]);
+    o->slot = -1;
     if ((in = same_as_input(path)) != NULL) {
         snprintf(msg, n, "output %s is the input %s: refusing to replace an input", path, in);
         return NULL;
     }
     if (open_direct(o, path, msg, n)) {
-        if (o->f != NULL)
+        if (o->f != NULL) {
             o->path = dup_text(path);
+            o->name = dup_text(path);
+        }
         return o->f;
     }
-    if (lstat(path, &st) == 0 && S_ISLNK(st.st_mode)) {
-        /* replace what the link names, not the link */
-        if ((target = realpath(path, NULL)) == NULL) {
-            snprintf(msg, n, "cannot write %s: a symbolic link to %s", path,
-                     errno == ENOENT ? "a file that does not exist" : strerror(errno));
-            return NULL;
-        }
-        path = target;
-    }
-    if (cli_tmp_name(path, &o->tmp) != 0) {
+    /* a link: what it names is replaced, the link stays */
+    if ((target = replaced_file(path, msg, n)) == NULL)
+        return NULL;
+    if (cli_tmp_name(target, &o->tmp) != 0) {
         free(target);
         snprintf(msg, n, "out of memory");
         return NULL;
@@ -361,6 +500,7 @@ cli_out_open(cli_out *o, const char *path, char *msg, size_t n)
         o->tmp = NULL;
         return NULL;
     }
+    o->slot = cli_temp_add(o->tmp, 0);
     /* mkstemp makes 0600; an output gets the usual 0666 less the umask */
     mask = umask(0);
     umask(mask);
@@ -370,42 +510,24 @@ cli_out_open(cli_out *o, const char *path, char *msg, size_t n)
         snprintf(msg, n, "cannot write %s: %s", path, strerror(errno));
         close(fd);
         unlink(o->tmp);
+        cli_temp_forget(o->slot);
         free(o->tmp);
         free(target);
         o->tmp = NULL;
         return NULL;
     }
-    o->path = dup_text(path);
-    free(target);
-    if (!cleanup_set) {
-        atexit(remove_pending);
-        cleanup_set = 1;
-    }
-    o->next = pending;
-    pending = o;
+    o->path = target;
+    o->name = dup_text(path);
     return o->f;
 }
 
-int
-cli_out_commit(cli_out *o, char *msg, size_t n)
+/* Flush, fsync and close the temporary of o: 0, or -1 with msg (the
+ * temporary is then removed). */
+static int
+finish_tmp(cli_out *o, char *msg, size_t n)
 {
     int bad = 0, e = 0;
 
-    if (o->f == NULL)
-        return -1;
-    if (o->direct) {
-        /* in place: flushed (standard output stays open for the report) */
-        bad = fflush(o->f) != 0 || ferror(o->f);
-        e = bad ? errno : 0;
-        if (o->f != stdout && fclose(o->f) != 0 && !bad)
-            bad = 1, e = errno;
-        if (bad)
-            snprintf(msg, n, "error writing %s: %s", o->path, e ? strerror(e) : "write failed");
-        o->f = NULL;
-        free(o->path);
-        o->path = NULL;
-        return bad ? -1 : 0;
-    }
     if (fflush(o->f) != 0 || ferror(o->f))
         bad = 1, e = errno;
     if (!bad && fsync(fileno(o->f)) != 0)
@@ -413,16 +535,56 @@ cli_out_commit(cli_out *o, char *msg, size_t n)
     if (fclose(o->f) != 0 && !bad)
         bad = 1, e = errno;
     o->f = NULL;
-    if (!bad && rename(o->tmp, o->path) != 0)
-        bad = 1, e = errno;
     if (bad) {
         snprintf(msg, n, "error writing %s: %s", o->path, e ? strerror(e) : "write failed");
         unlink(o->tmp);
     }
-    unlink_pending(o);
+    return bad ? -1 : 0;
+}
+
+static void
+release(cli_out *o)
+{
+    cli_temp_forget(o->slot);
     free(o->tmp);
     free(o->path);
-    o->tmp = o->path = NULL;
+    free(o->name);
+    o->tmp = o->path = o->name = NULL;
+    o->slot = -1;
+}
+
+/* Finish a direct output: flushed (standard output stays open for the
+ * report), closed otherwise. */
+static int
+commit_direct(cli_out *o, char *msg, size_t n)
+{
+    int bad = fflush(o->f) != 0 || ferror(o->f), e = bad ? errno : 0;
+
+    if (o->f != stdout && fclose(o->f) != 0 && !bad)
+        bad = 1, e = errno;
+    if (bad)
+        snprintf(msg, n, "error writing %s: %s", o->path, e ? strerror(e) : "write failed");
+    o->f = NULL;
+    release(o);
+    return bad ? -1 : 0;
+}
+
+int
+cli_out_commit(cli_out *o, char *msg, size_t n)
+{
+    int bad;
+
+    if (o->f == NULL)
+        return -1;
+    if (o->direct)
+        return commit_direct(o, msg, n);
+    bad = finish_tmp(o, msg, n) != 0;
+    if (!bad && rename(o->tmp, o->path) != 0) {
+        snprintf(msg, n, "error writing %s: %s", o->path, strerror(errno));
+        unlink(o->tmp);
+        bad = 1;
+    }
+    release(o);
     return bad ? -1 : 0;
 }
 
@@ -433,15 +595,174 @@ cli_out_discard(cli_out *o)
         fclose(o->f);
     if (o->tmp != NULL)
         unlink(o->tmp);
-    unlink_pending(o);
-    free(o->tmp);
-    free(o->path);
+    release(o);
     memset(o, 0, sizeof o[0]);
+    o->slot = -1;
 }
 
-void
-cli_write_file(const char *cmd, const char *path, void (*writer)(FILE *, const void *),
-               const void *ctx)
+/* An exclusive lock on the folder that holds path (flock: held by the
+ * descriptor, so a run that dies lets it go), or -1 where the system
+ * gives none (then the pair is put in place unlocked). */
+static int
+lock_folder_of(const char *path)
+{
+    const char *dir, *name;
+    char *copy = split_path(path, &dir, &name);
+    int fd = open(dir != NULL ? dir : ".", O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+
+    free(copy);
+    if (fd >= 0 && flock(fd, LOCK_EX) != 0) {
+        close(fd);
+        fd = -1;
+    }
+    return fd;
+}
+
+/* Both temporaries written and checked, then both renamed into place
+ * under one lock, with signals held: another run that writes the same
+ * pair waits for the lock, so the last to commit leaves its pair whole.
+ * If the second rename fails, the first is undone (the earlier main file
+ * was kept as a hard link for that), so a failed run leaves the earlier
+ * pair as it was. */
+static int
+commit_pair(cli_out *o, cli_out *side, char *msg, size_t n)
+{
+    char *keep = NULL;
+    int lock, bad = 0, had_main;
+    struct stat st;
+
+    if (finish_tmp(o, msg, n) != 0) {
+        cli_out_discard(side);
+        release(o);
+        return -1;
+    }
+    if (finish_tmp(side, msg, n) != 0) {
+        unlink(o->tmp);
+        release(o);
+        release(side);
+        return -1;
+    }
+    cli_signals_hold();
+    lock = lock_folder_of(o->path);
+    had_main = lstat(o->path, &st) == 0;
+    if (had_main && cli_tmp_name(o->path, &keep) == 0) {
+        int fd = mkstemp(keep);
+        /* the name reserved, then taken by a link to the earlier file */
+        if (fd < 0 || (close(fd), unlink(keep), link(o->path, keep)) != 0) {
+            free(keep);
+            keep = NULL;
+        }
+    }
+    if (rename(o->tmp, o->path) != 0) {
+        snprintf(msg, n, "error writing %s: %s", o->path, strerror(errno));
+        unlink(o->tmp);
+        unlink(side->tmp);
+        bad = 1;
+    } else if (rename(side->tmp, side->path) != 0) {
+        snprintf(msg, n, "error writing %s: %s (%s is left as it was)", side->path,
+                 strerror(errno), o->path);
+        unlink(side->tmp);
+        if (keep != NULL)
+            (void) rename(keep, o->path);
+        else if (!had_main)
+            (void) unlink(o->path);
+        bad = 1;
+    }
+    if (keep != NULL) {
+        (void) unlink(keep);
+        free(keep);
+    }
+    if (lock >= 0)
+        close(lock);
+    release(o);
+    release(side);
+    cli_signals_release();
+    return bad ? -1 : 0;
+}
+
+int
+cli_out_commit_sidecar(cli_out *o, const char *command_line, char *msg, size_t n)
+{
+    cli_out side;
+    char *spath;
+    FILE *f;
+
+    if (o->f == NULL)
+        return -1;
+    if (o->direct)          /* written in place: no sidecar */
+        return cli_out_commit(o, msg, n);
+    spath = sidecar_path(o->name);
+    f = cli_out_open(&side, spath, msg, n);
+    free(spath);
+    if (f == NULL) {
+        cli_out_discard(o);
+        return -1;
+    }
+    cli_provenance_json(f, "", command_line);
+    fputc('\n', f);
+    if (side.direct) {
+        /* a pipe or device where the sidecar goes: written in place after
+         * the output (nothing there to keep whole) */
+        if (cli_out_commit(o, msg, n) != 0) {
+            cli_out_discard(&side);
+            return -1;
+        }
+        return cli_out_commit(&side, msg, n);
+    }
+    return commit_pair(o, &side, msg, n);
+}
+
+int
+cli_put_in_place(const char *from, const char *to, char *msg, size_t n)
+{
+    char *target = replaced_file(to, msg, n);
+    int status = 0;
+
+    if (target == NULL)
+        return -1;
+    if (cli_is_input(target)) {
+        snprintf(msg, n, "output %s is an input: refusing to replace an input", to);
+        status = -1;
+    } else if (rename(from, target) != 0) {
+        if (errno == EXDEV) {
+            /* the link names a file on another file system: copied there
+             * through a temporary beside it */
+            cli_out o;
+            FILE *in = fopen(from, "rb"), *out = in ? cli_out_open(&o, target, msg, n) : NULL;
+            char buf[65536];
+            size_t got;
+            if (in == NULL || out == NULL) {
+                if (in == NULL)
+                    snprintf(msg, n, "cannot read %s: %s", from, strerror(errno));
+                status = -1;
+            } else {
+                while ((got = fread(buf, 1, sizeof buf, in)) > 0)
+                    fwrite(buf, 1, got, out);
+                if (ferror(in)) {
+                    cli_out_discard(&o);
+                    snprintf(msg, n, "cannot read %s", from);
+                    status = -1;
+                } else {
+                    status = cli_out_commit(&o, msg, n);
+                }
+            }
+            if (in != NULL)
+                fclose(in);
+            unlink(from);
+        } else {
+            snprintf(msg, n, "cannot put %s in place: %s", to, strerror(errno));
+            status = -1;
+        }
+    }
+    free(target);
+    return status;
+}
+
+/* cli_write_file and cli_write_file_sidecar (command_line: the sidecar's;
+ * NULL: none). */
+static void
+write_file(const char *cmd, const char *path, const char *command_line,
+           void (*writer)(FILE *, const void *), const void *ctx)
 {
     cli_out o;
     char msg[4400];
@@ -449,8 +770,23 @@ cli_write_file(const char *cmd, const char *path, void (*writer)(FILE *, const v
     if (f == NULL)
         cli_die(CLI_EXIT_FAIL, "%s: %s", cmd, msg);
     writer(f, ctx);
-    if (cli_out_commit(&o, msg, sizeof msg) != 0)
+    if ((command_line != NULL ? cli_out_commit_sidecar(&o, command_line, msg, sizeof msg)
+                              : cli_out_commit(&o, msg, sizeof msg)) != 0)
         cli_die(CLI_EXIT_FAIL, "%s: %s", cmd, msg);
+}
+
+void
+cli_write_file(const char *cmd, const char *path, void (*writer)(FILE *, const void *),
+               const void *ctx)
+{
+    write_file(cmd, path, NULL, writer, ctx);
+}
+
+void
+cli_write_file_sidecar(const char *cmd, const char *path, const char *command_line,
+                       void (*writer)(FILE *, const void *), const void *ctx)
+{
+    write_file(cmd, path, command_line != NULL ? command_line : "", writer, ctx);
 }
 
 void
@@ -470,7 +806,7 @@ cli_stdout_close(void)
     if (fclose(stdout) != 0)
         bad = 1;
     if (bad) {
-        fprintf(stderr, "layerfit: error writing standard output: %s\n",
+        cli_say("error writing standard output: %s",
                 errno ? strerror(errno) : "write failed");
         return -1;
     }
@@ -590,6 +926,33 @@ cli_json_name(FILE *f, const char *key, const char *name)
     }
 }
 
+int cli_csv_raw;
+
+void
+cli_csv_cell(const char *s, void (*put)(void *, const char *, size_t), void *ctx)
+{
+    const char *p;
+    size_t len;
+    int formula, quote;
+
+    s = s != NULL ? s : "";
+    len = strlen(s);
+    formula = !cli_csv_raw && s[0] != '\0' && strchr("=+-@\t\r", s[0]) != NULL;
+    quote = strpbrk(s, ",\"\r\n") != NULL
+            || (len > 0 && (s[0] == ' ' || s[0] == '\t' || s[len - 1] == ' ' || s[len - 1] == '\t'));
+    if (quote)
+        put(ctx, "\"", 1);
+    if (formula)
+        put(ctx, "'", 1);
+    for (p = s; *p; p++) {
+        put(ctx, p, 1);
+        if (*p == '"')            /* then the cell is quoted */
+            put(ctx, "\"", 1);
+    }
+    if (quote)
+        put(ctx, "\"", 1);
+}
+
 void
 cli_gnuplot_string(FILE *g, const char *s)
 {
@@ -637,17 +1000,3 @@ cli_provenance_json(FILE *f, const char *indent, const char *command_line)
     fprintf(f, "%s%s]\n%s}", ninputs ? "\n  " : "", ninputs ? indent : "", indent);
 }
 
-static void
-sidecar_writer(FILE *f, const void *ctx)
-{
-    cli_provenance_json(f, "", ctx);
-    fputc('\n', f);
-}
-
-void
-cli_provenance_sidecar(const char *cmd, const char *output, const char *command_line)
-{
-    char *path = sidecar_path(output);
-    cli_write_file(cmd, path, sidecar_writer, command_line);
-    free(path);
-}

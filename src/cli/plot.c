@@ -1,4 +1,5 @@
-/* plot.c: figures through a gnuplot pipe, data inline as datablocks. */
+/* plot.c: figures through a pipe to gnuplot (started without a shell,
+ * cli_spawn), data inline as datablocks. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -13,7 +14,7 @@
 int
 plot_have_gnuplot(void)
 {
-    return system("command -v gnuplot >/dev/null 2>&1") == 0;
+    return cli_have_program("gnuplot");
 }
 
 const char *
@@ -40,11 +41,12 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
                                     "#d35400", "#2c3e50", "#16a085", "#7f8c8d" };
     static const int shapes[] = { 7, 5, 9, 13, 11, 15 };   /* filled markers */
     const char *term = plot_terminal(file);
+    cli_child child;
     char *tmp = NULL;
     const char *t;
     FILE *g;
     size_t s, i;
-    int rc, fd;
+    int rc, fd, slot;
 
     if (term == NULL) {
         snprintf(msg, n, "%s: the plot file must end in .svg or .png", file);
@@ -67,19 +69,20 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
         (void) fchmod(fd, 0666 & ~mask);
     }
     close(fd);
+    slot = cli_temp_add(tmp, 0);
+    rc = -1;
     for (t = tmp; *t; t++)
         if ((unsigned char) *t < 0x20 || *t == 0x7F) {
             snprintf(msg, n, "cannot draw into a path with control characters");
-            unlink(tmp);
-            free(tmp);
-            return -1;
+            goto done;
         }
-    g = popen("gnuplot", "w");
-    if (g == NULL) {
-        snprintf(msg, n, "could not start gnuplot");
-        unlink(tmp);
-        free(tmp);
-        return -1;
+    {
+        static const char *const argv[] = { "gnuplot", NULL };
+        if (cli_spawn(&child, argv, NULL, CLI_SPAWN_STDIN) != 0) {
+            snprintf(msg, n, "could not start gnuplot: %s", strerror(errno));
+            goto done;
+        }
+        g = child.in;
     }
     for (s = 0; s < f->nseries; s++) {
         fprintf(g, "$d%zu << EOD\n", s);
@@ -110,63 +113,54 @@ plot_draw(const plot_figure *f, const char *file, char *msg, size_t n)
     }
     fprintf(g, "\nset output\n");
     rc = ferror(g) ? -1 : 0;
-    if (pclose(g) != 0 || rc != 0) {
+    if (cli_child_wait(&child) != 0 || rc != 0) {
         snprintf(msg, n, "gnuplot failed drawing %s", file);
-        unlink(tmp);
-        free(tmp);
-        return -1;
+        rc = -1;
+    } else {
+        rc = cli_put_in_place(tmp, file, msg, n);
     }
-    if (cli_is_input(file)) {
-        snprintf(msg, n, "output %s is an input: refusing to replace an input", file);
+done:
+    if (rc != 0)
         unlink(tmp);
-        free(tmp);
-        return -1;
-    }
-    if (rename(tmp, file) != 0) {
-        snprintf(msg, n, "cannot put %s in place: %s", file, strerror(errno));
-        unlink(tmp);
-        free(tmp);
-        return -1;
-    }
+    cli_temp_forget(slot);
     free(tmp);
-    return 0;
+    return rc;
 }
 
 int
 plot_run_script(const char *dir, const char *script, const char *out, char *msg, size_t n)
 {
-    pid_t pid;
+    cli_child child;
     int rc;
 
     if (!plot_have_gnuplot()) {
         snprintf(msg, n, "gnuplot is not installed: %s", PLOT_INSTALL_HINT);
         return -1;
     }
-    fflush(NULL);
-    pid = fork();
-    if (pid < 0) {
-        snprintf(msg, n, "could not start gnuplot");
-        return -1;
-    }
-    if (pid == 0) {
-        if (chdir(dir) != 0)
-            _exit(126);
+    {
+        /* out is a name layerfit made, never data; quoted all the same */
+        char e[4200];
+        const char *argv[5];
+        size_t k = 0;
+        argv[k++] = "gnuplot";
         if (out != NULL) {
-            /* out is a name layerfit made, never data; quoted all the same */
-            size_t len = strlen(out) + 16;
-            char *e = malloc(len);
-            if (e == NULL || strchr(out, '\'') != NULL)
-                _exit(126);
-            snprintf(e, len, "out='%s'", out);
-            execlp("gnuplot", "gnuplot", "-e", e, script, (char *) NULL);
-        } else {
-            execlp("gnuplot", "gnuplot", script, (char *) NULL);
+            if (strchr(out, '\'') != NULL
+                || (size_t) snprintf(e, sizeof e, "out='%s'", out) >= sizeof e) {
+                snprintf(msg, n, "cannot draw into %s", out);
+                return -1;
+            }
+            argv[k++] = "-e";
+            argv[k++] = e;
         }
-        _exit(127);
+        argv[k++] = script;
+        argv[k] = NULL;
+        if (cli_spawn(&child, argv, dir, 0) != 0) {
+            snprintf(msg, n, "could not start gnuplot: %s", strerror(errno));
+            return -1;
+        }
     }
-    if (waitpid(pid, &rc, 0) != pid || !WIFEXITED(rc) || WEXITSTATUS(rc) != 0) {
-        snprintf(msg, n, "gnuplot failed on %s/%s (status %d)", dir, script,
-                 WIFEXITED(rc) ? WEXITSTATUS(rc) : rc);
+    if ((rc = cli_child_wait(&child)) != 0) {
+        snprintf(msg, n, "gnuplot failed on %s/%s (status %d)", dir, script, rc);
         return -1;
     }
     return 0;

@@ -562,12 +562,13 @@ cli_draw_script(const char *dir, const char *script, const char *base,
 {
     char tmp[4096], out[4200], *leaf;
     size_t e;
-    int status;
+    int status, slot;
 
     if (plot_path(tmp, sizeof tmp, dir, ".layerfit-XXXXXX") != 0 || mkdtemp(tmp) == NULL) {
         snprintf(msg, n, "cannot create a temporary folder in %s: %s", dir, strerror(errno));
         return -1;
     }
+    slot = cli_temp_add(tmp, 1);
     leaf = strrchr(tmp, '/') + 1;
     snprintf(out, sizeof out, "%s/img", leaf);
     status = plot_run_script(dir, script, out, msg, n);
@@ -580,16 +581,14 @@ cli_draw_script(const char *dir, const char *script, const char *base,
         if (status == 0 && plot_path(to, sizeof to, dir, name) != 0) {
             snprintf(msg, n, "cannot put %s/%s in place: %s", dir, name, strerror(ENAMETOOLONG));
             status = -1;
-        } else if (status == 0 && cli_is_input(to)) {
-            snprintf(msg, n, "output %s is an input: refusing to replace an input", to);
-            status = -1;
-        } else if (status == 0 && rename(from, to) != 0) {
-            snprintf(msg, n, "cannot put %s/%s in place: %s", dir, name, strerror(errno));
-            status = -1;
+        } else if (status == 0) {
+            /* written through a symbolic link there, as every output is */
+            status = cli_put_in_place(from, to, msg, n);
         }
         unlink(from);     /* what a failed run left */
     }
     rmdir(tmp);
+    cli_temp_forget(slot);
     return status;
 }
 

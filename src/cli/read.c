@@ -91,7 +91,7 @@ cli_plan_load(const char *cmd, const char *path)
     lf_error err;
 
     cli_input_guard(cmd, path);
-    if (lf_input_read(path, LF_INPUT_STREAM, &in, &err) != LF_OK)
+    if (lf_input_read(path, LF_INPUT_STREAM | LF_INPUT_TEXT, &in, &err) != LF_OK)
         cli_die_error(CLI_EXIT_USAGE, &err);
     cli_input_note(path, in.sha256);
     if (cli_plan_from(&in, path, &plan, &warn, &err) != LF_OK) {

@@ -134,8 +134,9 @@ cli_simulate(int argc, char **argv, const char *command_line)
         fputs(usage_text, stdout);
         return CLI_EXIT_OK;
     }
-    if (out == NULL)
-        cli_die(CLI_EXIT_USAGE, "simulate: --out is required (e.g. --out datasets/demo)");
+    if (out == NULL || *out == '\0')
+        cli_die(CLI_EXIT_USAGE, "simulate: --out %s (e.g. --out datasets/demo)",
+                out == NULL ? "is required" : "needs a folder name (got an empty one)");
     if (isnan(w) || isnan(E))
         cli_die(CLI_EXIT_USAGE, "simulate: --w and --E are required (e.g. --w 10mJ/m2 --E 1GPa)");
     if (npos == 0)

@@ -29,8 +29,9 @@ for name in 'x";system "touch pwned" #.csv' "x';system 'touch pwned' #.csv" \
     if [ "$have_gnuplot" -eq 1 ]; then
         [ -s fig/curve1.svg ] && [ -s fig/curve1.png ] && [ -s fig/overview.svg ] && ok \
             || bad "hostile name: figures not drawn: $(cat "$tmp/err")"
-        grep -q '<svg' rep.html && ok || bad "hostile name: report without figures"
     fi
+    grep -q '<script type="application/json" id="lf-data">{"kind":"fit"' rep.html && ok \
+        || bad "hostile name: report without its data"
     rm -f "$name"
 done
 # quotes, a backslash and a line break: still figures, one line per comment
@@ -326,5 +327,308 @@ has "batch CSV sidecar" "$tmp/b.csv.provenance.json" "$(sha "$tmp/s/plan.csv")"
 $PY -c 'import csv,sys; r = list(csv.DictReader(open(sys.argv[1]))); assert len(r) == 2' "$tmp/b.csv" \
     && ok || bad "batch CSV still parses as CSV"
 ls -a "$tmp/s" "$tmp" | grep -q '^\.[^.].*\.[A-Za-z0-9]\{6\}$' && bad "temporary files left behind" || ok
+
+
+# ==== issue 33: nothing a name, a stream or a signal can do ================
+# (each case below failed on the build before it)
+have_chattr=0
+echo x >"$tmp/attr"; chattr +i "$tmp/attr" 2>/dev/null && { chattr -i "$tmp/attr"; have_chattr=1; }
+lines() { wc -l <"$1" | tr -d ' '; }
+
+# ---- no shell anywhere ---------------------------------------------------
+# no source hands a command string to a shell
+if grep -nE '(^|[^a-z_.])(popen|system)\(' "$top"/src/*.c "$top"/src/cli/*.c "$top"/fit/*.c \
+        >"$tmp/shell.txt"; then
+    bad "a shell is called: $(cat "$tmp/shell.txt")"
+else ok; fi
+if $PY -c 'import scipy.optimize' >/dev/null 2>&1; then
+    # a peer script whose name is a shell command runs as a script, and so
+    # does the default one under a folder whose name holds a quote
+    mkdir -p "$tmp/pw"
+    printf 'print("peer here")\n' >"$tmp/pw/x';touch PWNED;'.py"
+    (cd "$tmp/pw" && "$LF" bench --quick --seeds 2 --batch 8 --scene single-k2 \
+        --scipy "x';touch PWNED;'.py" >out 2>err)
+    [ ! -e "$tmp/pw/PWNED" ] && ok || bad "bench --scipy NAME ran a shell command"
+    has "bench --scipy NAME: the script ran" "$tmp/pw/err" "peer here"
+    q="$tmp/it's here"
+    mkdir -p "$q/build" "$q/tests/bench"
+    cp "$LF" "$q/build/layerfit"
+    printf 'print("default peer here")\n' >"$q/tests/bench/peer_scipy.py"
+    (cd "$tmp/pw" && "$q/build/layerfit" bench --quick --seeds 2 --batch 8 --scene single-k2 \
+        >out 2>err)
+    has "bench under a folder with a quote: the script ran" "$tmp/pw/err" "default peer here"
+    rm -rf "$q"
+else
+    echo "skipped: $PY has no scipy (the bench peer)"
+fi
+
+# ---- an output and its sidecar: a pair, checked before the fit -----------
+mkdir -p "$tmp/pair"
+run_ok fit --batch "$tmp/s/plan.csv" --out "$tmp/pair/o.csv"
+cp "$tmp/pair/o.csv" "$tmp/pair/o.orig"
+cp "$tmp/pair/o.csv.provenance.json" "$tmp/pair/side.orig"
+rm "$tmp/pair/o.csv.provenance.json"
+head -n 2 "$tmp/s/plan.csv" >"$tmp/s/pa.csv"
+{ head -n 1 "$tmp/s/plan.csv"; sed -n 3p "$tmp/s/plan.csv"; } >"$tmp/s/pb.csv"
+pair_refused() {     # WHAT: the sidecar is unwritable: exit 1 before the fit
+    "$LF" fit --batch "$tmp/s/pa.csv" --out "$tmp/pair/o.csv" >"$tmp/out" 2>"$tmp/err"; rc=$?
+    [ "$rc" -eq 1 ] && ok || bad "$1: exit $rc, want 1"
+    has "$1: said" "$tmp/err" "cannot "
+    cmp -s "$tmp/pair/o.csv" "$tmp/pair/o.orig" && ok || bad "$1: the CSV was replaced"
+    [ ! -s "$tmp/out" ] && ok || bad "$1: the fit ran and wrote first"
+}
+ln -s nowhere.json "$tmp/pair/o.csv.provenance.json"
+pair_refused "sidecar a link to nothing"
+rm "$tmp/pair/o.csv.provenance.json"
+mkdir "$tmp/pair/o.csv.provenance.json"
+pair_refused "sidecar a folder"
+rmdir "$tmp/pair/o.csv.provenance.json"
+if [ "$have_chattr" -eq 1 ]; then
+    cp "$tmp/pair/side.orig" "$tmp/pair/o.csv.provenance.json"
+    chattr +i "$tmp/pair/o.csv.provenance.json"
+    pair_refused "sidecar immutable"
+    chattr -i "$tmp/pair/o.csv.provenance.json"
+    cmp -s "$tmp/pair/o.csv.provenance.json" "$tmp/pair/side.orig" && ok \
+        || bad "immutable sidecar: changed"
+    rm "$tmp/pair/o.csv.provenance.json"
+else
+    echo "skipped: chattr +i not allowed here (immutable sidecar)"
+fi
+# made unwritable while the batch runs: the pair is left as it was
+run_ok map --synthetic "$tmp/mid" --size 18 --points 300
+cp "$tmp/big/results.csv" "$tmp/mid/r2.csv"
+cp "$tmp/big/results.csv" "$tmp/r2.orig"
+mid_batch() {        # WHAT CMD: run CMD once the batch has made its temporary
+    "$LF" fit --batch "$tmp/mid/plan.csv" --threads 1 --quiet --out "$tmp/mid/r2.csv" \
+        >/dev/null 2>"$tmp/err" &
+    pid=$!
+    i=0
+    while [ $i -lt 400 ] && [ -z "$(ls -a "$tmp/mid" | grep '^\.r2\.csv\.')" ]; do
+        i=$((i + 1)); sleep 0.01
+    done
+    eval "$2"
+    wait $pid; rc=$?
+    [ "$rc" -eq 1 ] && ok || bad "$1: exit $rc, want 1: $(cat "$tmp/err")"
+    cmp -s "$tmp/mid/r2.csv" "$tmp/r2.orig" && ok || bad "$1: the CSV was replaced"
+    [ -z "$(ls -a "$tmp/mid" | grep '^\.r2\.csv')" ] && ok || bad "$1: temporaries left"
+}
+mid_batch "sidecar a folder made mid-run" 'mkdir "$tmp/mid/r2.csv.provenance.json"'
+rmdir "$tmp/mid/r2.csv.provenance.json"
+if [ "$have_chattr" -eq 1 ]; then
+    cp "$tmp/pair/side.orig" "$tmp/mid/r2.csv.provenance.json"
+    mid_batch "sidecar made immutable mid-run" 'chattr +i "$tmp/mid/r2.csv.provenance.json"'
+    chattr -i "$tmp/mid/r2.csv.provenance.json"
+    cmp -s "$tmp/mid/r2.csv.provenance.json" "$tmp/pair/side.orig" && ok \
+        || bad "sidecar made immutable mid-run: changed"
+fi
+# two batches writing one --out at once leave one whole pair
+mixed=0; i=0
+while [ $i -lt 40 ]; do
+    rm -f "$tmp/pair/c.csv" "$tmp/pair/c.csv.provenance.json"
+    "$LF" fit --batch "$tmp/s/pa.csv" --out "$tmp/pair/c.csv" >/dev/null 2>&1 & a=$!
+    "$LF" fit --batch "$tmp/s/pb.csv" --out "$tmp/pair/c.csv" >/dev/null 2>&1 & b=$!
+    wait $a; wait $b
+    if grep -q curve1.csv "$tmp/pair/c.csv"; then w=pa.csv; else w=pb.csv; fi
+    grep -q "$w" "$tmp/pair/c.csv.provenance.json" || mixed=$((mixed + 1))
+    i=$((i + 1))
+done
+[ "$mixed" -eq 0 ] && ok || bad "concurrent batches: $mixed of 40 pairs mixed"
+# fit --curves and its sidecar: the same
+ln -s nowhere.json "$tmp/pair/cv.csv.provenance.json"
+"$LF" fit "$good" $PROBE --curves "$tmp/pair/cv.csv" >"$tmp/out" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 1 ] && [ ! -e "$tmp/pair/cv.csv" ] && [ ! -s "$tmp/out" ] && ok \
+    || bad "--curves with a dangling sidecar: exit $rc, or written"
+
+# ---- streams read with limits ----------------------------------------------
+# binary data, an endless line, an endless stream: stopped as they arrive
+timeout 30 "$LF" check /dev/zero >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "check /dev/zero: exit $rc, want 2"
+has "check /dev/zero: said" "$tmp/err" "binary data"
+(echo depth_nm,force_uN; tr '\000' a </dev/zero) | timeout 30 "$LF" check /dev/stdin \
+    >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "an endless line: exit $rc, want 2"
+has "an endless line: said" "$tmp/err" "line longer than 1 MiB"
+(echo depth_nm,force_uN; yes 1,2) | timeout 30 "$LF" check /dev/stdin --max-input 1MiB \
+    >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "an endless stream: exit $rc, want 2"
+has "an endless stream: said" "$tmp/err" "more than the 1 MiB layerfit reads whole (--max-input"
+# a regular file past the limit is refused from its size, before reading
+truncate -s 300M "$tmp/sparse.csv" 2>/dev/null || dd if=/dev/null of="$tmp/sparse.csv" bs=1 seek=300M 2>/dev/null
+"$LF" check "$tmp/sparse.csv" >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "a 300 MiB file: exit $rc, want 2"
+has "a 300 MiB file: said" "$tmp/err" "holds 300 MiB, more than the 256 MiB layerfit reads whole"
+rm -f "$tmp/sparse.csv"
+# ... and so is a plan or a table read in blocks into what is kept
+"$LF" --max-input 1KiB map "$tmp/big/results.csv" --plot "$tmp/lim.svg" >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "map of a table past --max-input: exit $rc, want 2"
+has "map of a table past --max-input: said" "$tmp/err" "more than the 1 KiB layerfit reads whole"
+run_ok check "$good" --max-input 2GiB
+expect_fail 2 "layerfit: --max-input: 'lots' is not a size in bytes (e.g. --max-input 2GiB, 512MiB or 1e9)" \
+    check "$good" --max-input lots
+
+# ---- outputs and caches never block ----------------------------------------
+# a FIFO output nobody reads: exit 1 after a bounded wait, before the fit
+mkdir -p "$tmp/ff"
+for o in f.json c.csv r.html out.csv; do mkfifo "$tmp/ff/$o"; done
+timeout 60 "$LF" fit "$good" $PROBE --json "$tmp/ff/f.json" >"$tmp/ff/o1" 2>"$tmp/ff/e1" &
+p1=$!
+timeout 60 "$LF" fit "$good" $PROBE --curves "$tmp/ff/c.csv" >"$tmp/ff/o2" 2>"$tmp/ff/e2" &
+p2=$!
+timeout 60 "$LF" fit "$good" $PROBE --report "$tmp/ff/r.html" >"$tmp/ff/o3" 2>"$tmp/ff/e3" &
+p3=$!
+timeout 60 "$LF" fit --batch "$tmp/s/plan.csv" --out "$tmp/ff/out.csv" >"$tmp/ff/o4" 2>"$tmp/ff/e4" &
+p4=$!
+# a FIFO in the table cache folder: passed over, not waited on
+mkdir -p "$tmp/fcache/layerfit"
+mkfifo "$tmp/fcache/layerfit/exact-k2-frictionless.lft"
+XDG_CACHE_HOME="$tmp/fcache" timeout 60 "$LF" fit "$good" $PROBE --model exact \
+    >/dev/null 2>"$tmp/ff/e5"; rc=$?
+[ "$rc" -eq 0 ] && ok || bad "a FIFO in the table cache: exit $rc: $(cat "$tmp/ff/e5")"
+n=1
+for p in $p1 $p2 $p3 $p4; do
+    wait $p; rc=$?
+    [ "$rc" -eq 1 ] && ok || bad "FIFO output without a reader ($n): exit $rc, want 1"
+    grep -q "nothing opened it for reading" "$tmp/ff/e$n" && ok \
+        || bad "FIFO output without a reader ($n): $(cat "$tmp/ff/e$n")"
+    [ ! -s "$tmp/ff/o$n" ] && ok || bad "FIFO output without a reader ($n): the fit ran first"
+    n=$((n + 1))
+done
+
+# ---- no NaN or inf in any output -------------------------------------------
+nonfinite() { grep -qiE '(^|[^a-z])[-+]?(nan|inf)([^a-z]|$)' "$@"; }
+M="--R 1mm --b 1um --w 10mJ/m2 --E 1GPa"
+for k in 0.01 0.3 1000 1e6; do
+    for m in thin exact halfspace; do
+        "$LF" model --model $m --k $k $M >"$tmp/out" 2>"$tmp/err"; rc=$?
+        nonfinite "$tmp/out" && bad "model --model $m --k $k: NaN or inf written" || ok
+        [ "$rc" -eq 0 ] || [ "$rc" -eq 2 ] && ok || bad "model --model $m --k $k: exit $rc"
+        [ "$rc" -eq 0 ] || [ ! -s "$tmp/out" ] && ok || bad "model --model $m --k $k: refused after writing"
+        grep -q "give --from and --to" "$tmp/err" && bad "model --model $m --k $k: blames --from/--to" || ok
+    done
+done
+"$LF" model --model thin --k 0.01 $M --summary >"$tmp/out" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "model --k 0.01 --summary: exit $rc, want 2"
+has "--k 0.01: the region named" "$tmp/err" "model thin cannot be evaluated at k = 0.01"
+"$LF" model --k 2 --R 1e300m --b 1um --w 10mJ/m2 --E 1GPa >"$tmp/out" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && [ ! -s "$tmp/out" ] && ok || bad "model --R 1e300m: exit $rc, want 2"
+run_ok model --k 1000 $M --summary
+has "a flat punch k = 1000: its pull-off radius" "$tmp/out" "a = 988.4 µm"
+for args in "k=0.01,R=1mm,b=1um" "k=1000,R=1mm,b=1um --model exact"; do
+    rm -rf "$tmp/sim"
+    "$LF" simulate --out "$tmp/sim" --w 10mJ/m2 --E 1GPa $args >/dev/null 2>"$tmp/err"; rc=$?
+    [ "$rc" -eq 2 ] && ok || bad "simulate $args: exit $rc, want 2"
+    [ ! -e "$tmp/sim/curve1.csv" ] && ok || bad "simulate $args: a curve written"
+done
+"$LF" fit "$good" --k 1000 --R 1mm --b 1um --interface frictionless --model exact \
+    >"$tmp/out" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && [ ! -s "$tmp/out" ] && ok || bad "fit --model exact --k 1000: exit $rc, want 2"
+# map: a result holding inf, nan or 1e308 is refused at its cell
+run_ok fit --batch "$tmp/m/plan.csv" --out "$tmp/m/r.csv"
+for v in inf nan 1e308; do
+    awk -F, -v v=$v 'BEGIN { OFS = "," } NR == 1 { for (i = 1; i <= NF; i++) if ($i == "x_m") c = i }
+                     NR == 3 { $c = v } { print }' "$tmp/m/r.csv" >"$tmp/m/bad.csv"
+    rm -f "$tmp/m/bad_map.dat" "$tmp/m/bad_map.gp"
+    "$LF" map "$tmp/m/bad.csv" --plot "$tmp/m/bad_map.svg" >/dev/null 2>"$tmp/err"; rc=$?
+    [ "$rc" -eq 2 ] && ok || bad "map with x_m = $v: exit $rc, want 2"
+    has "map with x_m = $v: its cell" "$tmp/err" "$tmp/m/bad.csv:3:"
+    [ ! -e "$tmp/m/bad_map.dat" ] && ok || bad "map with x_m = $v: data written"
+done
+
+# ---- names kept byte for byte; stdout for the output alone ------------------
+mkdir -p "$tmp/nm"
+cp "$good" "$tmp/nm/c3.csv"
+cp "$tmp/s/curve2.csv" "$tmp/nm/ c3.csv"
+printf 'file,k,R,b,interface\n" c3.csv",3,1mm,1um,frictionless\n' >"$tmp/nm/plan.csv"
+run_ok check "$tmp/nm/plan.csv"
+has "a quoted plan cell keeps its leading space" "$tmp/out" "$tmp/nm/ c3.csv (plan line 2)"
+cr=$(printf 'a\rb.csv')
+cp "$good" "$tmp/nm/$cr"
+printf 'file,k,R,b,interface\n"a\rb.csv",2,1mm,1um,frictionless\n' >"$tmp/nm/plan_cr.csv"
+run_ok check "$tmp/nm/plan_cr.csv"
+run_ok fit --batch "$tmp/nm/plan.csv" --out "$tmp/nm/r.csv"
+$PY -c 'import csv,sys; r = list(csv.DictReader(open(sys.argv[1]))); assert r[0]["file"].endswith("/ c3.csv"), r[0]["file"]' \
+    "$tmp/nm/r.csv" 2>"$tmp/err" && ok || bad "a name with a leading space in batch output: $(cat "$tmp/err")"
+run_ok fit "$good" $PROBE --json -
+$PY -c 'import json,sys; json.load(open(sys.argv[1]))' "$tmp/out" 2>"$tmp/err" && ok \
+    || bad "--json -: standard output is not the JSON alone: $(head -c 300 "$tmp/err")"
+
+# ---- exit codes and messages -------------------------------------------------
+expect_fail 2 "layerfit: fit: an output needs a name (got an empty one)" fit "$good" $PROBE --json ""
+"$LF" fit "$good" $PROBE --report "$tmp/rp.html" --plot "$tmp/rp.html" >"$tmp/out" 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && [ ! -s "$tmp/out" ] && ok || bad "--report X --plot X: exit $rc, want 2 before the fit"
+"$LF" fit "$good" --k 2 --R 1mm --b 1e-400m --interface frictionless >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "--b 1e-400m: exit $rc"
+has "--b 1e-400m: too small" "$tmp/err" "is too small for double precision"
+"$LF" model --model exact --k 0.01 $M >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 2 ] && ok || bad "model --model exact --k 0.01: exit $rc"
+grep -q -- "--from and --to" "$tmp/err" && bad "model --model exact --k 0.01 blames --from and --to" || ok
+# a model that cannot be evaluated at the fit's start: 3, not 1
+"$LF" fit "$good" $PROBE --fix-F0 1e300N >/dev/null 2>"$tmp/err"; rc=$?
+[ "$rc" -eq 3 ] && ok || bad "--fix-F0 1e300N: exit $rc, want 3: $(cat "$tmp/err")"
+# output names up to NAME_MAX (255 bytes) work; longer ones are refused
+long=$(printf '%0249d' 0).json       # 254 bytes
+run_ok fit "$good" $PROBE --json "$tmp/$long"
+[ -s "$tmp/$long" ] && ok || bad "a 254-byte output name: not written"
+long=$(printf '%0251d' 0).json       # 256 bytes
+expect_fail 2 "layerfit: fit: cannot write $tmp/$long: a file name has at most 255 bytes (this one 256)" \
+    fit "$good" $PROBE --json "$tmp/$long"
+# a line break in a name stays on the message's line
+"$LF" check "$(printf '%s/no\nsuch.csv' "$tmp")" >/dev/null 2>"$tmp/err"
+[ "$(lines "$tmp/err")" -eq 1 ] && ok || bad "a line break in a name split the message"
+has "the line break escaped" "$tmp/err" 'no\nsuch.csv'
+esc=$(printf 'e\033[2Jf.csv')
+"$LF" check "$tmp/$esc" >/dev/null 2>"$tmp/err"
+has "an escape character escaped" "$tmp/err" 'e\x1b[2Jf.csv'
+# CSV cells a spreadsheet would run: a leading quote; --csv-raw keeps them
+cp "$good" "$tmp/nm/=1+2.csv"
+printf 'file,k,R,b,interface,sample\n=1+2.csv,2,1mm,1um,frictionless,"=HYPERLINK(""http://x"")"\n' \
+    >"$tmp/nm/plan_f.csv"
+(cd "$tmp/nm" && "$LF" fit --batch plan_f.csv --out f.csv >/dev/null 2>&1) && ok || bad "a formula name: exit $?"
+$PY -c 'import csv,sys
+r = list(csv.DictReader(open(sys.argv[1])))[0]
+assert r["sample"] == "'"'"'=HYPERLINK(\"http://x\")", r["sample"]
+assert r["file"] == "'"'"'=1+2.csv", r["file"]
+assert r["P_po_N"].startswith("-"), r["P_po_N"]       # a negative number stays a number
+' "$tmp/nm/f.csv" 2>"$tmp/err" && ok || bad "CSV formula cells: $(cat "$tmp/err")"
+run_ok --csv-raw fit --batch "$tmp/nm/plan_f.csv" --out "$tmp/nm/fr.csv"
+$PY -c 'import csv,sys
+r = list(csv.DictReader(open(sys.argv[1])))[0]
+assert r["sample"] == "=HYPERLINK(\"http://x\")", r["sample"]
+' "$tmp/nm/fr.csv" 2>"$tmp/err" && ok || bad "--csv-raw: $(cat "$tmp/err")"
+# catchable signals remove the temporaries, and the run ends by the signal
+for sig in TERM HUP INT; do
+    rm -f "$tmp/big"/.r3.csv.*
+    env --default-signal=INT "$LF" fit --batch "$tmp/big/plan.csv" --threads 1 --quiet \
+        --out "$tmp/big/r3.csv" >/dev/null 2>&1 &
+    pid=$!
+    i=0
+    while [ $i -lt 200 ]; do
+        t=$(ls "$tmp/big"/.r3.csv.* 2>/dev/null | head -n 1)
+        [ -n "$t" ] && [ -s "$t" ] && break
+        i=$((i + 1)); sleep 0.05
+    done
+    kill -$sig $pid
+    wait $pid; rc=$?
+    [ "$rc" -gt 128 ] && ok || bad "SIG$sig: exit $rc (the run did not end by the signal)"
+    [ -z "$(ls -a "$tmp/big" | grep '^\.r3\.csv')" ] && ok || bad "SIG$sig: temporaries left"
+done
+# --plot writes through a symbolic link in its folder (the link stays)
+if [ "$have_gnuplot" -eq 1 ]; then
+    mkdir -p "$tmp/lp" "$tmp/lt"
+    echo old >"$tmp/lt/keep.svg"
+    ln -s ../lt/keep.svg "$tmp/lp/curve1.svg"
+    run_ok fit "$good" $PROBE --plot "$tmp/lp"
+    [ -L "$tmp/lp/curve1.svg" ] && ok || bad "--plot: a link in the folder was replaced"
+    grep -q '<svg' "$tmp/lt/keep.svg" && ok || bad "--plot: the link's target was not written"
+fi
+# repeated warnings are summarised
+run_ok map --synthetic "$tmp/wm" --size 10 --points 40
+run_ok check "$tmp/wm/plan.csv"
+[ "$(lines "$tmp/err")" -le 6 ] && ok || bad "100 warnings of one kind: $(lines "$tmp/err") lines"
+has "warnings summarised" "$tmp/err" "... and 97 more like it"
+# the README says what the readers take: plan cells up to the line limit
+grep -q 'Plan cells of any length' "$top/README.md" && bad "README: plan cells of any length" || ok
+ls -a "$tmp/s" "$tmp/pair" "$tmp/nm" "$tmp" | grep '^\.[^.].*\.[A-Za-z0-9]\{6\}$' >"$tmp/left.txt"
+[ -s "$tmp/left.txt" ] && bad "temporary files left behind: $(cat "$tmp/left.txt")" || ok
 
 summary

@@ -164,4 +164,32 @@ fuzz_plan(const char *buf, size_t len, size_t chunk, const char *dir)
     return bad;
 }
 
+/* The design-plan reader on buf: an error always says what, and a plan
+ * read has rows whose probes and settings are in their domain. */
+static inline int
+fuzz_design(const char *buf, size_t len)
+{
+    lf_design_plan *p = NULL;
+    lf_error e;
+    int st, bad = 0;
+    size_t i;
+
+    st = lf_design_plan_parse(buf, len, "fuzz.csv", &p, &e);
+    if (st != LF_OK)
+        bad = p != NULL || e.msg[0] == '\0' || e.status != st;
+    else {
+        bad = p == NULL || p->n == 0;
+        for (i = 0; !bad && i < p->n; i++) {
+            const lf_design_candidate *c = &p->rows[i];
+            bad = lf_probe_check(&c->probe, NULL) != LF_OK
+                || !(c->delta_max != c->delta_max || (c->delta_max > 0 && c->delta_max < 1e308))
+                || !(c->noise_rel != c->noise_rel || c->noise_rel >= 0)
+                || !(c->noise_abs != c->noise_abs || c->noise_abs >= 0)
+                || memchr(c->name, '\0', sizeof c->name) == NULL;
+        }
+    }
+    lf_design_plan_free(p);
+    return bad;
+}
+
 #endif
