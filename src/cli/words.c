@@ -1,5 +1,5 @@
 /* cli/words.c: the command's words for a fit's intervals and bounds, one
- * module that the text report, the JSON (report.c), the HTML page (html.c)
+ * module that the text report, the JSON (report.c), the interactive page
  * and the batch table (batch.c) call, so that they say the same. */
 #include <math.h>
 #include <stdio.h>
