@@ -278,9 +278,10 @@ figures_note(const char *plotdir, size_t ncurves)
  * and write the interactive page (page.c); gnuplot missing is said on
  * stderr without failing. */
 static void
-figures(const char *plotdir, const char *report, const report_input *in, size_t ncurves,
-        const lf_fit_result *res, const char *command_line)
+figures(const char *plotdir, const char *report, const report_input *in, const lf_fit_input *d,
+        const lf_read_opts *ro, const lf_fit_result *res, const char *command_line)
 {
+    size_t ncurves = d->n;
     char msg[1400];
 
     if (plotdir != NULL) {
@@ -293,7 +294,7 @@ figures(const char *plotdir, const char *report, const report_input *in, size_t 
         if (st > 0)         /* no gnuplot: scripts and data written */
             cli_say("fit: %s", msg);
     }
-    if (report != NULL && cli_page_fit(report, in, res, msg, sizeof msg) != 0)
+    if (report != NULL && cli_page_fit(report, in, res, d, ro, msg, sizeof msg) != 0)
         cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
 }
 
@@ -543,7 +544,7 @@ cli_fit(int argc, char **argv, const char *command_line)
         write_file(a.json, report_json, &in, &r, NULL);
     if (a.curves != NULL)
         write_file(a.curves, report_curves, &in, &r, command_line);
-    figures(plot_dir, report_html, &in, d.n, &r, command_line);
+    figures(plot_dir, report_html, &in, &d, is.read, &r, command_line);
     if (status == LF_OK && cli_disagreeing(&r, bad, sizeof bad) > 0) {
         cli_say("fit: converged, but the model does not describe curve%s %s "
                 "(DISAGREES): the values are those of a model that does not fit, not a "

@@ -178,7 +178,8 @@ widen(double *lo, double *hi, const double *x, size_t n)
  * the model's first and last depth (SI; its depths are evenly spaced),
  * "mf": its forces, "mc": its classes (a digit per point: 0 out of contact,
  * 1 stable, 2 unstable under force control), "po": the model's pull-off
- * point [z, F] or null}. */
+ * point [z, F] or null}, the closing brace the caller's (others_json may
+ * add to it); {"q": 0 without memory. */
 static void
 plot_json(FILE *f, const lf_fit_curve *c, const lf_fit_curve_result *cr, const lf_fit_result *res,
           size_t maxpts, size_t grid, long levels)
@@ -191,7 +192,7 @@ plot_json(FILE *f, const lf_fit_curve *c, const lf_fit_curve_result *cr, const l
     double rlo = INFINITY, rhi = -INFINITY;
 
     if (keep == NULL || z == NULL || F == NULL || resid == NULL || cls == NULL) {
-        fputs("null", f);
+        fputs("{\"q\":0", f);   /* out of memory: an empty plot */
         goto done;
     }
     nk = pick(c, cr->z0, maxpts, keep);
@@ -248,13 +249,81 @@ plot_json(FILE *f, const lf_fit_curve *c, const lf_fit_curve_result *cr, const l
         fputc(']', f);
     } else
         fputs("null", f);
-    fputc('}', f);
 done:
     free(keep);
     free(z);
     free(F);
     free(resid);
     free(cls);
+}
+
+/* The segments of curve j's file that the fit left out (approach, hold,
+ * or retract when the approach was fitted), read again from the file with
+ * the fit's read options and drawn greyed: ,"o": {"q", "z", "f" as above,
+ * "pz", "pf", "s": a digit per point, its lf_segment}.  Nothing when the
+ * file cannot be read again as it was (a pipe, or changed since: its
+ * SHA-256 differs) or holds no other segment. */
+static void
+others_json(FILE *f, const lf_fit_input *d, size_t j, const lf_read_opts *ro, lf_branch fitted,
+            size_t maxpts, long levels)
+{
+    lf_read_opts o;
+    lf_file *file = NULL;
+    lf_curve *c = NULL;
+    lf_error err;
+    double zlo = INFINITY, zhi = -INFINITY, flo = INFINITY, fhi = -INFINITY;
+    size_t i, n = 0, stride, *keep = NULL, k = 0;
+
+    if (d->names == NULL || d->names[j] == NULL)
+        return;
+    if (ro != NULL)
+        o = *ro;
+    else
+        memset(&o, 0, sizeof o);
+    if (d->format != NULL)
+        o.format = d->format[j];
+    if (lf_file_open(d->names[j], 0, &o, &file, NULL, &err) != LF_OK)
+        return;
+    if (strcmp(lf_file_sha256(file), d->sha256[j]) != 0
+        || lf_file_curve(file, d->index != NULL && d->index[j] > 0 ? (size_t) d->index[j] : 0, &c,
+                         NULL, &err) != LF_OK
+        || c->segment == NULL)
+        goto done;
+    for (i = 0; i < c->n; i++)
+        if (c->segment[i] != fitted && isfinite(c->depth[i]) && isfinite(c->force[i])) {
+            n++;
+            zlo = fmin(zlo, c->depth[i]);
+            zhi = fmax(zhi, c->depth[i]);
+            flo = fmin(flo, c->force[i]);
+            fhi = fmax(fhi, c->force[i]);
+        }
+    if (n == 0 || (keep = malloc(n * sizeof *keep)) == NULL)
+        goto done;
+    stride = (n + maxpts - 1) / maxpts;
+    for (i = 0, n = 0; i < c->n; i++)
+        if (c->segment[i] != fitted && isfinite(c->depth[i]) && isfinite(c->force[i])
+            && n++ % stride == 0)
+            keep[k++] = i;
+    fprintf(f, ",\"o\":{\"q\":%ld,\"z\":[", levels);
+    jnum(f, zlo);
+    fputc(',', f);
+    jnum(f, zhi);
+    fputs("],\"f\":[", f);
+    jnum(f, flo);
+    fputc(',', f);
+    jnum(f, fhi);
+    fputs("],", f);
+    quantized(f, "pz", c->depth, keep, k, zlo, zhi, levels);
+    fputc(',', f);
+    quantized(f, "pf", c->force, keep, k, flo, fhi, levels);
+    fputs(",\"s\":\"", f);
+    for (i = 0; i < k; i++)
+        fputc('0' + (c->segment[keep[i]] <= 2 ? c->segment[keep[i]] : 2), f);
+    fputs("\"}", f);
+done:
+    free(keep);
+    lf_curve_free(c);
+    lf_file_close(file);
 }
 
 /* ------------------------------------------------------------------------
@@ -286,7 +355,8 @@ page_write(const char *file, const char *title, const char *json, size_t n, char
 }
 
 int
-cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r, char *msg, size_t n)
+cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r,
+             const lf_fit_input *d, const lf_read_opts *ro, char *msg, size_t n)
 {
     char *buf = NULL;
     size_t len = 0, j;
@@ -303,6 +373,9 @@ cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r, c
     for (j = 0; j < r->ncurves; j++) {
         fputs(j ? ",\n" : "\n", f);
         plot_json(f, &in->curves[j], &r->curves[j], r, FIT_POINTS, FIT_GRID, FIT_LEVELS);
+        if (d != NULL && j < d->n)
+            others_json(f, d, j, ro, r->curves[j].branch, FIT_POINTS, FIT_LEVELS);
+        fputc('}', f);
     }
     fputs("]}", f);
     if (fclose(f) != 0 || buf == NULL) {
@@ -368,6 +441,7 @@ cli_page_store_fit(cli_page_store *s, size_t i, size_t n, const lf_fit_curve *cu
     for (j = 0; res != NULL && j < n && j < res->ncurves; j++) {
         fputs(j ? "," : "", f);
         plot_json(f, &curves[j], &res->curves[j], res, MAP_POINTS, MAP_GRID, MAP_LEVELS);
+        fputc('}', f);
     }
     /* each curve as a row of a plan: file, index, sample, k, R, b,
      * interface, nu, segment (SI) */

@@ -94,6 +94,13 @@ function decode(plot, z0, F0) {
       }
     }
   }
+  /* the segments the fit left out (lf_segment: 0 retract, 1 approach, 2 hold) */
+  o.other = [[], [], []];
+  if (plot.o) {
+    var P = plot.o;
+    for (i = 0; i < P.pz.length; i++)
+      o.other[+P.s[i]].push([X(P.z[0] + (P.z[1] - P.z[0]) * P.pz[i] / P.q), Y(P.f[0] + (P.f[1] - P.f[0]) * P.pf[i] / P.q)]);
+  }
   o.po = plot.po ? [X(plot.po[0]), Y(plot.po[1])] : null;
   var lo = null;
   o.pts.forEach(function (p) { if (!lo || p[1] < lo[1]) lo = p; });
@@ -156,7 +163,7 @@ Chart.prototype.visible = function (s) { return !this.hidden[s.name]; };
 Chart.prototype.reset = function () {
   var xs = [], ys = [], rs = [], sp = this.spec, self = this;
   sp.series.forEach(function (s) {
-    if (!self.visible(s)) return;
+    if (!self.visible(s) || s.context) return;    /* the view opens on what was fitted */
     s.pts.forEach(function (p) { if (p) { xs.push(p[0]); ys.push(p[1]); } });
   });
   (sp.marks || []).forEach(function (m) { if (m.pt) { xs.push(m.pt[0]); ys.push(m.pt[1]); } });
@@ -297,6 +304,9 @@ function curveChart(host, plot, z0, F0, bad) {
   var o = decode(plot, z0, F0);
   var spec = {
     series: [
+      { name: 'approach (not fitted)', pts: o.other[1], color: '#c8c8c8', kind: 'pts', context: true },
+      { name: 'hold (not fitted)', pts: o.other[2], color: '#e0d8c8', kind: 'pts', context: true },
+      { name: 'retract (not fitted)', pts: o.other[0], color: '#c8c8c8', kind: 'pts', context: true },
       { name: 'data', pts: o.pts, color: PAL[0], kind: 'pts' },
       { name: 'model, stable', pts: o.model[1], color: PAL[1], kind: 'line' },
       { name: 'model, unstable', pts: o.model[2], color: PAL[1], kind: 'line', dash: [6, 4] },
@@ -429,9 +439,9 @@ function fitPage() {
   s = section('figures', 'Figures');
   s.appendChild(el('h3', { text: 'All curves: indentation δ = z − z0' }));
   var series = [], fu = 0, fname = 'N';
-  D.plots.forEach(function (p, j) { if (p) { var o = decode(p, C[j].z0, C[j].F0); if (o.fu > fu) { fu = o.fu; fname = o.fname; } } });
+  D.plots.forEach(function (p, j) { if (p && p.q) { var o = decode(p, C[j].z0, C[j].F0); if (o.fu > fu) { fu = o.fu; fname = o.fname; } } });
   D.plots.forEach(function (p, j) {
-    if (!p) return;
+    if (!p || !p.q) return;
     var o = decode(p, C[j].z0, C[j].F0), k = o.fu / fu;
     function sc(a) { return a.map(function (q) { return q && [q[0], q[1] * k]; }); }
     var col = PAL[j % PAL.length];
@@ -454,7 +464,7 @@ function fitPage() {
     panel.appendChild(el('p', { id: 'curve-numbers', text: 'k = ' + num(c.k) + ', R = ' + human(c.R, 'm') + (c.b_source ? ', b = ' + human(c.b, 'm') + ', ' + c.interface : ', half-space') +
       ' · ' + c.branch + ' · z0 = ' + human(c.z0, 'm') + ' · F0 = ' + human(c.F0, 'N') + ' · rms/σ = ' + num(c.rms / c.noise_sigma, 3) +
       ' · pull-off ' + human(c.P_po, 'N') + ' · ' + (c.agreement || '') }));
-    if (D.plots[n - 1]) curveChart(panel, D.plots[n - 1], c.z0, c.F0, F.converged ? null : 'did not converge: ' + F.stop_reason);
+    if (D.plots[n - 1] && D.plots[n - 1].q) curveChart(panel, D.plots[n - 1], c.z0, c.F0, F.converged ? null : 'did not converge: ' + F.stop_reason);
     else panel.appendChild(el('p', { cls: 'note', text: 'The model could not be drawn for this curve.' }));
   }
   window.addEventListener('hashchange', show);
@@ -734,6 +744,7 @@ function mapPage() {
     panel.appendChild(el('button', { type: 'button', text: 'close', style: 'margin-left:1em', onclick: function () { history.back(); } }));
     if (f && f.c && f.c.length) {
       f.c.forEach(function (p, j) {
+        if (!p.q) return;
         if (f.c.length > 1) panel.appendChild(el('div', { text: 'curve ' + (j + 1) + ': ' + basename(f.p[j][0]) }));
         curveChart(panel, p, p.z0, p.F0, st === 'noconv' ? 'did not converge' : st === 'misfit' ? 'the model does not describe this curve' : null);
       });
