@@ -7,7 +7,7 @@
 //
 // DIR holds fit.html (a joint fit of two curves, one of them named to
 // break out of a script element), noconv.html (a fit stopped after one
-// iteration), map.html (fit --batch --report of a synthetic 8 x 8 map),
+// iteration), approach.html (a retract fit with its approach), map.html (fit --batch --report of a synthetic 8 x 8 map),
 // r.csv (its results) and results.html (map r.csv --report).
 'use strict';
 const fs = require('fs');
@@ -90,6 +90,14 @@ async function fitReport(browser) {
   check(await page.$eval('#curve-file', e => e.title.endsWith('.csv') && !e.title.endsWith('curve2.csv')), 'fit report: the back button returns to curve 1');
   await page.screenshot({ path: path.join(shots, 'fit.png'), fullPage: true });
   check(errors.length === 0, 'fit report: no console error (' + errors.join(' | ') + ')');
+  await page.close();
+}
+
+async function approachReport(browser) {
+  const { page, errors } = await open(browser, 'approach.html');
+  const legend = await page.$$eval('#curve-panel input[data-series]', b => b.map(e => e.getAttribute('data-series')));
+  check(legend.includes('approach (not fitted)') && legend.includes('data'), 'approach: the segment not fitted is drawn greyed (' + legend.join(', ') + ')');
+  check(errors.length === 0, 'approach: no console error (' + errors.join(' | ') + ')');
   await page.close();
 }
 
@@ -184,6 +192,7 @@ async function resultsOnly(browser) {
   try {
     await fitReport(browser);
     await noconvReport(browser);
+    await approachReport(browser);
     await mapReport(browser);
     await resultsOnly(browser);
   } finally {
