@@ -70,6 +70,12 @@ jnum(FILE *f, double x)
         fputs("null", f);
 }
 
+static void
+jstr(FILE *f, const char *s)
+{
+    cli_json_string(f, s != NULL ? s : "");
+}
+
 /* ------------------------------------------------------------------------
  * One curve for drawing.
  * --------------------------------------------------------------------- */
@@ -327,6 +333,128 @@ done:
 }
 
 /* ------------------------------------------------------------------------
+ * A fit's numbers in words, as the text report says them (cli_human,
+ * words.c), for the page's tables: "words": {"parameters": {"w": {"value",
+ * "se", "rel", "ci", "status"}, ...}, "curves": [{"b", "interface", "z0",
+ * "F0", "pulloff", "a_po", "b_over_a"}]}.  A value that is not a number
+ * is "–" or says why.
+ * --------------------------------------------------------------------- */
+
+static void
+jkey(FILE *f, const char *key, const char *text, int first)
+{
+    fprintf(f, "%s\"%s\":", first ? "" : ",", key);
+    jstr(f, text);
+}
+
+static const char *
+human_or_dash(char *buf, size_t n, double x, const char *unit)
+{
+    if (!isfinite(x))
+        return "–";
+    return unit[0] != '\0' ? cli_human(buf, n, x, unit) : (snprintf(buf, n, "%.4g", x), buf);
+}
+
+static void
+parameter_words(FILE *f, const char *key, const char *name, const lf_fit_estimate *e,
+                const char *unit, int first)
+{
+    char a[64], b[64], bound[128], why[300], ci[300];
+    const char *status, *words, *bounded = cli_bound_text(e, name, unit, bound, sizeof bound);
+
+    if (e->upper_bound_only)
+        status = "upper bound only (adhesion below the noise)";
+    else if (bounded != NULL)
+        status = bounded[0] == '\0' ? "not determined: the data do not bound it"
+                 : isfinite(e->ci95[0]) ? "not determined: bounded only from below"
+                                        : "not determined: bounded only from above";
+    else if (!e->free && e->determined)
+        status = "fixed";
+    else if (!e->determined && e->why != NULL) {
+        snprintf(why, sizeof why, "not determined: %s", e->why);
+        status = why;
+    } else if (!e->determined)
+        status = "not determined by the data";
+    else
+        status = "fitted";
+    if (isfinite(e->ci95[0]) && isfinite(e->ci95[1]) && (e->free || e->upper_bound_only)) {
+        words = cli_interval_words(e, 1);
+        snprintf(ci, sizeof ci, "%s – %s%s%s%s", human_or_dash(a, sizeof a, e->ci95[0], unit),
+                 human_or_dash(b, sizeof b, e->ci95[1], unit), words ? " (" : "", words ? words : "",
+                 words ? ")" : "");
+    } else if (bounded != NULL && bounded[0] != '\0')
+        snprintf(ci, sizeof ci, "%s (profile likelihood)", bounded);
+    else
+        snprintf(ci, sizeof ci, "–");
+    fprintf(f, "%s\"%s\":{", first ? "" : ",", key);
+    jkey(f, "value", human_or_dash(a, sizeof a, e->upper_bound_only ? NAN : e->value, unit), 1);
+    jkey(f, "se", human_or_dash(b, sizeof b, e->se, unit), 0);
+    if (e->free && e->determined && e->value != 0 && isfinite(e->se))
+        snprintf(a, sizeof a, "%.2g %%", 100.0 * e->se / fabs(e->value));
+    else
+        snprintf(a, sizeof a, "–");
+    jkey(f, "rel", a, 0);
+    jkey(f, "ci", ci, 0);
+    jkey(f, "status", status, 0);
+    fputc('}', f);
+}
+
+/* "value ± se", "value (fixed)", or "not determined" (a free offset the
+ * data do not determine). */
+static const char *
+estimate_text(char *buf, size_t n, double x, double se, int free, const char *unit)
+{
+    char a[64], b[64];
+    if (isnan(x))
+        return "not determined";
+    cli_human(a, sizeof a, x, unit);
+    if (!free)
+        snprintf(buf, n, "%s (fixed)", a);
+    else if (isfinite(se))
+        snprintf(buf, n, "%s ± %s", a, cli_human(b, sizeof b, se, unit));
+    else
+        snprintf(buf, n, "%s", a);
+    return buf;
+}
+
+static void
+words_json(FILE *f, const lf_fit_result *r)
+{
+    size_t j;
+    char buf[160];
+
+    fputs("{\"parameters\":{", f);
+    parameter_words(f, "w", "w", &r->w, "J/m²", 1);
+    parameter_words(f, "Estar", "E*", &r->Estar, "Pa", 0);
+    parameter_words(f, "nu", "nu", &r->nu, "", 0);
+    if (isfinite(r->M.value))
+        parameter_words(f, "M", "M", &r->M, "Pa", 0);
+    fputs("},\"curves\":[", f);
+    for (j = 0; j < r->ncurves; j++) {
+        const lf_fit_curve_result *c = &r->curves[j];
+        int none = cli_model_ignores_b(c->model);   /* b inside is only a stand-in */
+        fputs(j ? ",{" : "{", f);
+        jkey(f, "b", none ? "none" : cli_human(buf, sizeof buf, c->probe.b, "m"), 1);
+        jkey(f, "interface", none ? "half-space" : cli_base_name(c->probe.base), 0);
+        jkey(f, "z0", estimate_text(buf, sizeof buf, c->z0, c->z0_se, c->z0_free, "m"), 0);
+        jkey(f, "F0", estimate_text(buf, sizeof buf, c->F0, c->F0_se, c->F0_free, "N"), 0);
+        jkey(f, "pulloff", c->pulloff_determined ? human_or_dash(buf, sizeof buf, c->pulloff.P_po, "N")
+                                                 : "not determined (w is not)", 0);
+        jkey(f, "a_po", c->pulloff_determined ? human_or_dash(buf, sizeof buf, c->pulloff.a_po, "m")
+                                              : "not determined", 0);
+        if (none)
+            snprintf(buf, sizeof buf, "none");
+        else if (c->pulloff_determined)
+            human_or_dash(buf, sizeof buf, c->b_over_a_pulloff, "");
+        else
+            snprintf(buf, sizeof buf, "not determined");
+        jkey(f, "b_over_a", buf, 0);
+        fputc('}', f);
+    }
+    fputs("]}", f);
+}
+
+/* ------------------------------------------------------------------------
  * The page.
  * --------------------------------------------------------------------- */
 
@@ -369,6 +497,8 @@ cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r,
     }
     fputs("{\"kind\":\"fit\",\"result\":", f);
     report_json(f, in, r);
+    fputs(",\"words\":", f);
+    words_json(f, r);
     fputs(",\"plots\":[", f);
     for (j = 0; j < r->ncurves; j++) {
         fputs(j ? ",\n" : "\n", f);
@@ -419,12 +549,6 @@ cli_page_store_free(cli_page_store *s)
         free(s->fit[i]);
     free(s->fit);
     free(s);
-}
-
-static void
-jstr(FILE *f, const char *s)
-{
-    cli_json_string(f, s != NULL ? s : "");
 }
 
 void

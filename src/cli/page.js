@@ -371,18 +371,14 @@ function fitPage() {
     main.appendChild(el('p', { cls: 'bad', id: 'not-converged', text: 'The fit did not converge: the numbers are where it stopped (' + F.stop_reason + ').' }));
 
   var s = section('parameters', 'Material parameters');
-  var t = el('table', { id: 'parameter-table' }, [el('tr', {}, ['parameter', 'value', 'standard error', 'relative', '95 % interval', 'how', 'status'].map(function (h) { return el('th', { text: h }); }))]);
-  [['w', 'w (work of adhesion)', 'J/m²'], ['Estar', 'E* (effective modulus)', 'Pa'], ['nu', 'ν (Poisson’s ratio)', ''], ['M', 'M = Z E* (bonded curves)', 'Pa']].forEach(function (p) {
-    var e = P[p[0]];
-    if (!e || (p[0] === 'M' && !fin(e.value))) return;
-    function v(x) { return p[2] ? human(x, p[2]) : num(x, 4); }
-    var status = e.upper_bound_only ? 'upper bound only' : !e.free && e.determined ? 'fixed'
-      : !e.determined ? 'not determined' + (e.why_not_determined ? ': ' + e.why_not_determined : '') : 'fitted';
-    var ci = e.ci95 || [null, null];
-    t.appendChild(el('tr', {}, [el('th', { text: p[1] }), tdn(e.upper_bound_only ? '–' : v(e.value)), tdn(v(e.stderr)),
-      tdn(fin(e.stderr) && fin(e.value) && e.value ? num(100 * e.stderr / Math.abs(e.value), 2) + ' %' : '–'),
-      tdn(fin(ci[0]) || fin(ci[1]) ? (fin(ci[0]) ? v(ci[0]) : '…') + ' – ' + (fin(ci[1]) ? v(ci[1]) : '…') : '–'),
-      td(e.ci95_method || ''), td(status)]));
+  var t = el('table', { id: 'parameter-table' }, [el('tr', {}, ['parameter', 'value', 'standard error', 'relative', '95 % interval', 'how found', 'status'].map(function (h) { return el('th', { text: h }); }))]);
+  /* the words are the command's (cli/page.c), as its text report says them */
+  var W = D.words;
+  [['w', 'w (work of adhesion)'], ['Estar', 'E* (effective modulus)'], ['nu', 'ν (Poisson’s ratio)'], ['M', 'M = Z E* (bonded curves)']].forEach(function (p) {
+    var e = P[p[0]], w = W.parameters[p[0]];
+    if (!e || !w) return;
+    t.appendChild(el('tr', {}, [el('th', { text: p[1] }), tdn(w.value), tdn(w.se), tdn(w.rel), tdn(w.ci),
+      td(e.ci95_method || ''), td(w.status)]));
   });
   s.appendChild(el('div', { cls: 'wide' }, [t]));
   s.appendChild(el('p', { text: 'Standard errors scaled by ' + num(F.se_scale, 3) + ' (sqrt of χ²/dof and the noise correlation time).' }));
@@ -402,7 +398,7 @@ function fitPage() {
     var tb = el('table', { id: id }, [el('tr', {}, [el('th')].concat(idx.map(function (i) { return el('th', { text: names[i] }); })))]);
     idx.forEach(function (i) {
       tb.appendChild(el('tr', {}, [el('th', { text: names[i] })].concat(idx.map(function (j) {
-        var c = cov[i] && fin(cov[i][j]) && cov[i][i] > 0 && cov[j][j] > 0 ? cov[i][j] / Math.sqrt(cov[i][i] * cov[j][j]) : NaN;
+        var c = cov[i] && fin(cov[i][j]) && cov[i][i] > 0 && cov[j][j] > 0 ? cov[i][j] / Math.sqrt(cov[i][i] * cov[j][j]) : null;
         var cell = tdn(num(c, 3));
         if (fin(c)) cell.style.background = (c >= 0 ? 'rgba(192,57,43,' : 'rgba(27,108,168,') + (0.6 * Math.abs(c)).toFixed(2) + ')';
         return cell;
@@ -424,13 +420,14 @@ function fitPage() {
   ].map(function (r) { return el('tr', {}, [el('th', { text: r[0] }), r[0] === 'converged' ? el('td', { cls: F.converged ? 'ok' : 'fail', text: r[1] }) : td(r[1])]); })));
 
   s = section('curves', 'Curves');
-  var ct = el('table', { id: 'curve-table' }, [el('tr', {}, ['#', 'file', 'k', 'R', 'b', 'interface', 'model', 'branch', 'points', 'z0', 'F0', 'noise σ', 'rms/σ', 'pull-off force', 'agreement'].map(function (h) { return el('th', { text: h }); }))]);
+  var ct = el('table', { id: 'curve-table' }, [el('tr', {}, ['#', 'file', 'k', 'R', 'b', 'interface', 'model', 'branch', 'points', 'z0', 'F0', 'noise σ', 'rms/σ', 'pull-off force', 'b/a at pull-off', 'agreement'].map(function (h) { return el('th', { text: h }); }))]);
   C.forEach(function (c, j) {
+    var w = W.curves[j];
     var tr = el('tr', { cls: 'pick', 'data-curve': j + 1, onclick: function () { location.hash = 'curve=' + (j + 1); } }, [
       tdn(String(j + 1)), el('td', {}, [nameCell(c.file)]), tdn(num(c.k, 4)), tdn(human(c.R, 'm')),
-      tdn(c.b_source ? human(c.b, 'm') : 'none'), td(c.b_source ? c.interface : 'half-space'), td(c.model), td(c.branch), tdn(String(c.points)),
-      tdn(human(c.z0, 'm')), tdn(human(c.F0, 'N')), tdn(human(c.noise_sigma, 'N')),
-      tdn(num(c.rms / c.noise_sigma, 3)), tdn(human(c.P_po, 'N')), td(c.agreement)]);
+      td(w.b), td(w.interface), td(c.model), td(c.branch), tdn(String(c.points)),
+      tdn(w.z0), tdn(w.F0), tdn(human(c.noise_sigma, 'N')),
+      tdn(num(c.rms / c.noise_sigma, 3)), tdn(w.pulloff), tdn(w.b_over_a), td(c.agreement)]);
     ct.appendChild(tr);
   });
   s.appendChild(el('div', { cls: 'wide' }, [ct]));
@@ -459,11 +456,11 @@ function fitPage() {
     if (n > C.length) n = 1;
     panel.textContent = '';
     Array.prototype.forEach.call(ct.querySelectorAll('tr[data-curve]'), function (tr) { tr.className = 'pick' + (+tr.getAttribute('data-curve') === n ? ' sel' : ''); });
-    var c = C[n - 1];
+    var c = C[n - 1], w = W.curves[n - 1];
     panel.appendChild(el('h3', {}, ['Curve ' + n + ': ', el('span', { id: 'curve-file', title: String(c.file), text: basename(c.file) })]));
-    panel.appendChild(el('p', { id: 'curve-numbers', text: 'k = ' + num(c.k) + ', R = ' + human(c.R, 'm') + (c.b_source ? ', b = ' + human(c.b, 'm') + ', ' + c.interface : ', half-space') +
-      ' · ' + c.branch + ' · z0 = ' + human(c.z0, 'm') + ' · F0 = ' + human(c.F0, 'N') + ' · rms/σ = ' + num(c.rms / c.noise_sigma, 3) +
-      ' · pull-off ' + human(c.P_po, 'N') + ' · ' + (c.agreement || '') }));
+    panel.appendChild(el('p', { id: 'curve-numbers', text: 'k = ' + num(c.k) + ', R = ' + human(c.R, 'm') + (w.b !== 'none' ? ', b = ' + w.b + ', ' + w.interface : ', half-space') +
+      ' · ' + c.branch + ' · z0 = ' + w.z0 + ' · F0 = ' + w.F0 + ' · rms/σ = ' + num(c.rms / c.noise_sigma, 3) +
+      ' · pull-off ' + w.pulloff + ' · ' + (c.agreement || '') }));
     if (D.plots[n - 1] && D.plots[n - 1].q) curveChart(panel, D.plots[n - 1], c.z0, c.F0, F.converged ? null : 'did not converge: ' + F.stop_reason);
     else panel.appendChild(el('p', { cls: 'note', text: 'The model could not be drawn for this curve.' }));
   }
