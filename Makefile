@@ -7,6 +7,9 @@ LIBDIR  ?= $(PREFIX)/lib
 INCDIR  ?= $(PREFIX)/include
 MANDIR  ?= $(PREFIX)/share/man
 PKGDIR  ?= $(LIBDIR)/pkgconfig
+# the Python package (src/python/layerfit): Debian's /usr/bin/python3 looks
+# in /usr/lib/python3/dist-packages and /usr/local/lib/python3/dist-packages
+PYDIR   ?= $(LIBDIR)/python3/dist-packages
 BUILD   ?= build
 
 CC      ?= cc
@@ -35,6 +38,7 @@ HEADERS := $(wildcard src/*.h src/cli/*.h fit/*.h) tests/testlib.h
 
 VERSION := $(shell sed -n 's/^\#define LF_VERSION "\(.*\)"/\1/p' src/layerfit.h)
 SONAME  := liblayerfit.so.$(firstword $(subst ., ,$(VERSION)))
+PYSRC   := $(wildcard src/python/layerfit/*.py)
 # the installed libraries, static and shared: they export exactly what
 # src/layerfit.h declares (LF_API; tests/cli/symbols.sh checks)
 LIB  := $(BUILD)/liblayerfit.a
@@ -44,12 +48,13 @@ SO   := $(BUILD)/liblayerfit.so.$(VERSION)
 LIB_ALL := $(BUILD)/liblayerfit-internal.a
 PROG := $(BUILD)/layerfit
 
-DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev zlib1g-dev gnuplot-nox
+DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev zlib1g-dev gnuplot-nox python3-pytest
 # wanted by some tests (the browser test drives headless Chromium from
 # node, the example test uses pkg-config, `layerfit bench` runs the
-# scipy and lmfit peers), which skip with a note
+# scipy and lmfit peers, the Python package gives numpy arrays and draws
+# with matplotlib), which skip with a note
 # when they are missing: installed when possible, never required
-OPT_DEBS := chromium nodejs npm pkgconf python3-scipy python3-lmfit
+OPT_DEBS := chromium nodejs npm pkgconf python3-scipy python3-lmfit python3-numpy python3-matplotlib
 # puppeteer-core for the browser test (tests/cli/browser.sh), from npm at the
 # versions of tests/browser/package-lock.json, into tests/browser/node_modules
 BROWSER_MODULES := tests/browser/node_modules/puppeteer-core/package.json
@@ -122,8 +127,13 @@ $(BUILD)/tests/%: tests/%.c tests/testlib.c tests/scene.c $(LIB_ALL) $(HEADERS) 
 	@mkdir -p $(dir $@)
 	$(CC) $(ALL_CFLAGS) -Itests $(ALL_LDFLAGS) -o $@ $< tests/testlib.c tests/scene.c $(LIB_ALL) $(LDLIBS)
 
+# the layout of the structures the Python package mirrors (tests/python)
+$(BUILD)/tests/python_abi: tests/python/abi.c src/layerfit.h
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) -o $@ $<
+
 # the symbol test reads the installed libraries' symbols
-tests: $(TEST_BIN) $(PROG) $(LIB) $(SO)
+tests: $(TEST_BIN) $(PROG) $(LIB) $(SO) $(BUILD)/tests/python_abi
 
 # Install what is missing (as root), or say the exact command to run.
 deps:
@@ -196,6 +206,10 @@ install: all $(BUILD)/layerfit.pc
 	install -m 644 src/layerfit.h $(DESTDIR)$(INCDIR)/layerfit.h
 	install -m 644 $(BUILD)/layerfit.pc $(DESTDIR)$(PKGDIR)/layerfit.pc
 	install -m 644 src/layerfit.1 $(DESTDIR)$(MANDIR)/man1/layerfit.1
+	install -d $(DESTDIR)$(PYDIR)/layerfit
+	install -m 644 $(PYSRC) $(DESTDIR)$(PYDIR)/layerfit/
+	ln -sf "$$(realpath -m --relative-to=$(PYDIR)/layerfit $(LIBDIR)/$(SONAME))" \
+	    $(DESTDIR)$(PYDIR)/layerfit/$(SONAME)
 
 uninstall:
 	rm -f $(DESTDIR)$(BINDIR)/layerfit $(DESTDIR)$(LIBDIR)/liblayerfit.a \
@@ -203,6 +217,7 @@ uninstall:
 	      $(DESTDIR)$(LIBDIR)/liblayerfit.so \
 	      $(DESTDIR)$(INCDIR)/layerfit.h $(DESTDIR)$(PKGDIR)/layerfit.pc \
 	      $(DESTDIR)$(MANDIR)/man1/layerfit.1
+	rm -rf $(DESTDIR)$(PYDIR)/layerfit
 
 clean:
 	rm -rf build build-san build-fuzz
@@ -293,6 +308,18 @@ bench-quick: $(PROG)
 
 bench: $(PROG)
 	$(PROG) bench --csv $(BUILD)/bench.csv --plot $(BUILD)/bench.svg
+
+# What a call from Python costs over the same fit inside C: a 300-point
+# single-curve fit through layerfit.fit() against bench_call (reported,
+# not asserted; tests/bench/python_overhead.py).
+$(BUILD)/bench_call: tests/bench/bench_call.c $(SO) src/layerfit.h
+	@mkdir -p $(dir $@)
+	$(CC) $(ALL_CFLAGS) $(ALL_LDFLAGS) -o $@ $< -L$(BUILD) -llayerfit -Wl,-rpath,$(CURDIR)/$(BUILD) \
+	    -lgsl -lgslcblas
+
+.PHONY: bench-python
+bench-python: all $(BUILD)/bench_call
+	/usr/bin/python3 tests/bench/python_overhead.py $(BUILD)
 
 # The cost of one thin-model evaluation over 300 points (not part of
 # `make check`).

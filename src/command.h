@@ -21,6 +21,85 @@ const char *lf_sensitivity_shown(double si, const char *si_unit, double *shown);
  * model's, `layerfit model --figure 6`). */
 const char *lf_thin_scope(double b_over_a, double limit);
 
+/* A number of option opt's kind from text (LF_OPTION_NUMBER, _COUNT,
+ * _QUANTITY in SI) with the fit options' messages ("--NAME: ..."); the
+ * command parses every option's number through it. */
+int lf_option_number(const lf_option *opt, const char *text, double *x, lf_error *err);
+
+/* A plan already in memory (lf_input_read of path), its curves resolved
+ * against path's folder. */
+int lf_plan_from_input(const lf_input *in, const char *path, lf_plan **out, lf_warnings *warn,
+                       lf_error *err);
+/* LF_EDATA at the first row of plan without b and interface (no layer),
+ * unless the fit's model (its name, "auto" included) is the half-space. */
+int lf_plan_need_layers(const lf_plan *plan, const char *model, lf_error *err);
+
+/* ------------------------------------------------------------------------
+ * Text for reports (src/text.c, src/words.c), shared by the library's
+ * writers and the command's own.
+ * --------------------------------------------------------------------- */
+
+/* A number that reads back exactly ("%.15g", "%.17g" where that is needed)
+ * into buf; NaN and Inf as printf writes them.  Returns buf. */
+const char *lf_number_text(char buf[40], double x);
+/* A number for people with an SI prefix chosen for it:
+ * lf_human(buf, n, 1.2e-8, "m") -> "12 nm"; NaN as "undefined".  Returns buf. */
+char *lf_human(char *buf, size_t n, double x, const char *unit);
+/* 1 when s is valid UTF-8 (lf_utf8_len). */
+int lf_utf8_valid(const char *s);
+/* Text from data handed to put in pieces: lf_text_clean as one line of
+ * valid UTF-8 (control characters as spaces, line breaks kept when
+ * keep_newlines, invalid bytes as U+FFFD); lf_json_escape as a JSON string,
+ * always valid UTF-8 (invalid bytes become \ufffd); lf_percent_escape as a
+ * JSON string of the raw bytes, every byte outside printable ASCII and
+ * % " \ as %XX.  NULL is "". */
+void lf_text_clean(const char *s, int keep_newlines, void (*put)(void *, const char *, size_t),
+                   void *ctx);
+void lf_json_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
+void lf_percent_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
+/* Text as a CSV cell (RFC 4180: quoted when it holds a comma, quote or
+ * line break, or starts or ends with a blank; quotes doubled).  Unless raw,
+ * text that a spreadsheet would run as a formula (a cell starting with =,
+ * +, -, @, tab or CR) gets a leading ' (OWASP, "CSV injection").  Numbers
+ * are not written through this: a negative number stays a number. */
+void lf_csv_cell(const char *s, int raw, void (*put)(void *, const char *, size_t), void *ctx);
+/* The provenance record {"layerfit", "command_line", "inputs"} with indent
+ * before each line after the first, into *json (lf_free). */
+int lf_provenance_json(const lf_provenance *p, const char *indent, char **json, lf_error *err);
+
+/* Text as HTML (markup characters escaped, control characters as spaces
+ * but line breaks, invalid UTF-8 as U+FFFD), handed to put in pieces. */
+void lf_html_text(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
+/* The HTML report's style sheet (static). */
+const char *lf_report_css(void);
+
+/* The value where the fit ended of the free parameter NAME ("w", "E*",
+ * "nu", "z0[1]", ...: lf_fit_result.names), NaN when it was not free. */
+double lf_fit_result_value(const lf_fit_result *res, const char *name);
+
+/* The words a report puts after an interval for how it was found (NULL: a
+ * checked linear interval, nothing said); brief: the HTML table's. */
+const char *lf_interval_words(const lf_fit_estimate *e, int brief);
+/* How a free estimate's 95% interval was found (JSON ci95_method, the
+ * batch's *_ci95_method): "linear (Wald)" or e->interval_method; with no
+ * interval, the method that looked for one (a profile that found no
+ * bound), else NULL, as for a held parameter. */
+const char *lf_interval_method(const lf_fit_estimate *e);
+/* What a free estimate that the data do not determine is bounded by, from
+ * its profile (text and HTML say the same): into buf "LO < NAME" (bounded
+ * only from below), "NAME < HI" (only from above) or "" (not bounded at
+ * all, the profile open on both sides); NULL when it is not such an
+ * estimate (determined, fixed, an upper bound of w, or never profiled). */
+const char *lf_bound_text(const lf_fit_estimate *e, const char *name, const char *unit,
+                          char *buf, size_t n);
+/* 1 when the reports call curve cr DISAGREES: it is not described by the
+ * model (misfit beyond 5% of its force range) or, in a joint fit, it
+ * disagrees with the others. */
+int lf_curve_disagrees(const lf_fit_curve_result *cr);
+/* The curves of a converged r that disagree, as "1, 3" into buf (at most n
+ * bytes); their count (0: none, or r did not converge). */
+size_t lf_disagreeing(const lf_fit_result *r, char *buf, size_t n);
+
 /* Length of the valid UTF-8 sequence that starts at s (1..4), or 0 when
  * the bytes there are not UTF-8 (overlong forms and surrogates included). */
 size_t lf_utf8_len(const unsigned char *s);

@@ -51,6 +51,42 @@ int lf_input_read_fd(int fd, const char *path, unsigned flags,
 int lf_input_read_path(const char *path, unsigned flags, int (*binary)(const char *, size_t),
                        lf_input *in, lf_error *err);
 
+/* A growable string for the library's writers (src/text.c).  Every call
+ * is a no-op once an allocation failed (failed = 1); lf_str_take hands the
+ * text over (NULL and LF_ENOMEM after a failure) and empties b.  Zero
+ * initialised: an empty string. */
+typedef struct {
+    char *s;
+    size_t len, cap;
+    int failed;
+} lf_str;
+
+void lf_str_put(lf_str *b, const char *s, size_t n);
+void lf_str_puts(lf_str *b, const char *s);
+void lf_str_printf(lf_str *b, const char *fmt, ...) LF_PRINTF(2, 3);
+/* lf_str_put for the escapes' put(ctx, s, n) (ctx is the lf_str). */
+void lf_str_put_cb(void *ctx, const char *s, size_t n);
+/* A number that reads back exactly, or nonfinite ("null", "") for NaN, Inf. */
+void lf_str_number(lf_str *b, double x, const char *nonfinite);
+/* A JSON string (lf_json_escape); null for NULL; "key": name plus
+ * "key_raw": its bytes percent-escaped when name is not UTF-8. */
+void lf_str_json(lf_str *b, const char *s);
+void lf_str_json_or_null(lf_str *b, const char *s);
+void lf_str_json_name(lf_str *b, const char *key, const char *name);
+/* lf_provenance_json into b. */
+void lf_str_provenance(lf_str *b, const char *indent, const lf_provenance *p);
+int lf_str_take(lf_str *b, char **out, lf_error *err);
+void lf_str_free(lf_str *b);
+
+/* Options held by name (src/fit_options.c), for the fit's and the
+ * design's tables: lf_optset_set keeps a copy of the text given to
+ * option `name` of table in text[i] and, for a number, its value in
+ * values[i] (checked by lf_option_number; a flag's text "1");
+ * lf_optset_get returns the text given, or NULL. */
+int lf_optset_set(const lf_option *table, char **text, double *values, const char *name,
+                  const char *value, lf_error *err);
+const char *lf_optset_get(const lf_option *table, char *const *text, const char *name);
+
 /* Largest finite magnitude a derivative is allowed to reach. */
 #define LF_BIG 1e300
 

@@ -68,6 +68,10 @@ typedef struct {
     char msg[512];
 } lf_error;
 
+/* The library's LF_VERSION, as it was built (a program or binding loaded
+ * against another header can compare). */
+LF_API const char *lf_version(void);
+
 /* A short constant name of a status code ("invalid argument", ...). */
 LF_API const char *lf_strerror(int status);
 
@@ -266,6 +270,30 @@ LF_API int lf_model_pulloff(const lf_model *m, const lf_material *mat,
 LF_API int lf_model_prepare(lf_model *m, double nu_lo, double nu_hi, lf_error *err);
 /* The cheapest model of a scope in lf_model_types (NULL if none). */
 LF_API const lf_model_type *lf_model_type_cheapest(lf_model_scope scope);
+
+/* What `layerfit model --summary` and `--json` report of model m at one
+ * material: the pull-off and detachment (lf_model_pulloff), Z, with a
+ * theoretical strength sigma_th (NaN: none) the critical thickness of
+ * Eq. (19) and b_cr/a_po there (Eq. 20; NaN without sigma_th or w = 0),
+ * and the range a curve is drawn over by default: from detachment over
+ * ten pull-off widths, [from, from + width]. */
+typedef struct {
+    lf_probe probe;
+    lf_material mat;
+    const lf_model_type *type;
+    lf_pulloff pulloff;
+    double Z;
+    double sigma_th;       /* as given, or NaN */
+    double b_cr;           /* m, or NaN */
+    double b_cr_over_a;    /* or NaN */
+    double from, width;    /* the default range of a curve, m */
+} lf_model_summary;
+
+LF_API int lf_model_summarise(const lf_model *m, const lf_material *mat, double sigma_th,
+                              lf_model_summary *s, lf_error *err);
+/* The summary as the JSON of `layerfit model --json` (SI, null for NaN),
+ * into *json (lf_free). */
+LF_API int lf_model_summary_json(const lf_model_summary *s, char **json, lf_error *err);
 
 /* Closed-form helpers of the thin-layer model (seed paper). */
 LF_API double lf_thin_Z(lf_base base, double nu);      /* 1, or (1-nu)^2/(1-2nu) */
@@ -992,8 +1020,17 @@ LF_API int lf_plan_expand(lf_plan *plan, const lf_read_opts *o, lf_error *err);
 /* Only the first half of lf_plan_expand: open each file of many curves the
  * rows name (row->source, plan->files), leaving the rows as they are; a
  * caller that walks a row's curves itself (a batch over a large map) needs
- * no row per curve. */
+ * no row per curve.  A row whose source is set already (a call before,
+ * lf_plan_set_source) keeps it. */
 LF_API int lf_plan_open_files(lf_plan *plan, const lf_read_opts *o, lf_error *err);
+
+/* Read row `row`'s curve from the open file f, curve index of it (-1: its
+ * only one), instead of from the file the row names, which stays its name
+ * in reports: for curves a program holds open or in memory
+ * (lf_file_open_memory).  f stays the caller's, open while the plan is
+ * used.  LF_EINVAL for a row or curve that does not exist. */
+LF_API int lf_plan_set_source(lf_plan *plan, size_t row, lf_file *f, long index,
+                              lf_error *err);
 
 /* Whether a CSV file is a plan (its header has a "file" column) or a curve,
  * from its header alone. */
@@ -1379,6 +1416,384 @@ LF_API int lf_fit_input_from_curve(const char *path, const lf_probe *probe,
 LF_API void lf_fit_input_apply_nu(const lf_fit_input *in, lf_fit_settings *settings);
 /* Release what the input owns (NULL and an empty input allowed). */
 LF_API void lf_fit_input_free(lf_fit_input *in);
+
+/* ------------------------------------------------------------------------
+ * The fit's options, as `layerfit fit` takes them (src/fit_options.c)
+ *
+ * One table of options for the command and for programs and bindings:
+ * each is set by its name on the command line (without "--") from text
+ * as a command line gives it ("0.3", "1mm", "10 mJ/m2"), so that a
+ * program asks for a fit in the command's words and gets the command's
+ * checks and messages.  lf_fit_options_request turns them into the
+ * settings of the fit, lf_fit_options_probe into the probe of a single
+ * curve (or of every curve of a file of many), and lf_fit_request_run
+ * makes the fit as the command does: the model choice or the model asked
+ * for, the thin-layer comparison, the profile-likelihood check of the
+ * intervals.
+ *
+ * Ownership: the options are the caller's (lf_fit_options_free) and hold
+ * copies of the text they are given; a request points into its options,
+ * which must outlive it.
+ * --------------------------------------------------------------------- */
+
+typedef enum {
+    LF_OPTION_FLAG = 0,      /* no value: given or not */
+    LF_OPTION_TEXT,          /* a word or a name (checked by the request) */
+    LF_OPTION_NUMBER,        /* a bare number */
+    LF_OPTION_COUNT,         /* a whole number >= 0 */
+    LF_OPTION_QUANTITY       /* a number with its unit, of `quantity` */
+} lf_option_kind;
+
+typedef struct {
+    const char *name;        /* "fix-nu", "R", ... (the command's --NAME) */
+    lf_option_kind kind;
+    lf_quantity quantity;    /* LF_OPTION_QUANTITY, and a text option that
+                                is a quantity checked later (spring-constant):
+                                what its unit measures; else
+                                LF_Q_DIMENSIONLESS */
+} lf_option;
+
+/* The options of a fit, ended by an entry whose name is NULL: method,
+ * jacobian, model, segment, nu, fix-nu, fix-z0, fix-F0, max-b-over-a,
+ * model-tol, slope, max-iter, guess-w, guess-E, guess-nu, loss,
+ * loss-scale, intervals, format, spring-constant, sensitivity,
+ * depth-unit, force-unit, skip-bad-rows, and the probe of a single curve
+ * k, R, b, interface (`layerfit fit --help` says what each means). */
+LF_API extern const lf_option lf_fit_option_table[];
+
+/* The fewest points of a segment worth fitting: one more than the most
+ * parameters a fit can have (w, E*, nu, z0, F0); `layerfit check` and
+ * every fit of a request refuse a curve with fewer. */
+#define LF_FIT_MIN_POINTS 6
+
+typedef struct lf_fit_options lf_fit_options;
+
+/* Options at their defaults (NULL when out of memory). */
+LF_API lf_fit_options *lf_fit_options_alloc(void);
+LF_API void lf_fit_options_free(lf_fit_options *o);
+/* Set option `name` from text (value NULL for a flag, which turns it on;
+ * a flag given a value, a value option given none, an unknown name, a
+ * value that is not a number or not of the option's quantity: LF_EINVAL or
+ * LF_EUNIT with a message "--NAME: ..." as the command's).  A later call
+ * for the same name replaces the value. */
+LF_API int lf_fit_options_set(lf_fit_options *o, const char *name, const char *value,
+                              lf_error *err);
+/* The text an option was given (a flag: "1"), or NULL when it was not. */
+LF_API const char *lf_fit_options_get(const lf_fit_options *o, const char *name);
+
+/* What a request of options asks: the settings of the fit, of the model
+ * choice and of reading the curves. */
+typedef struct {
+    lf_fit_settings fit;
+    lf_choose_settings choose;
+    lf_input_settings input;     /* input.read points into the options */
+    int model_auto;              /* --model auto: each curve's model chosen
+                                    (lf_fit_choose_driver) */
+    int profile;                 /* lf_fit_profile's mode of a single fit:
+                                    LF_PROFILE_CHECK, or LF_PROFILE_LINEAR
+                                    (--intervals linear) */
+    const char *model;           /* --model as given ("auto", ...) */
+} lf_fit_request;
+
+/* Check the options together and fill req (LF_EINVAL or LF_EUNIT naming
+ * the option otherwise). */
+LF_API int lf_fit_options_request(lf_fit_options *o, lf_fit_request *req, lf_error *err);
+/* The same for programs that keep objects by handle: the request held by
+ * the options themselves (valid until they are set again or freed), or
+ * NULL with err. */
+LF_API const lf_fit_request *lf_fit_options_checked(lf_fit_options *o, lf_error *err);
+/* How the options read curve files (format, spring-constant,
+ * sensitivity, depth-unit, force-unit, skip-bad-rows): checked, held by
+ * the options as the request's are; NULL with err on a bad value. */
+LF_API const lf_read_opts *lf_fit_options_read(lf_fit_options *o, lf_error *err);
+/* The probe options k, R, b, interface: with k given, *single = 1 and p
+ * the probe of a single curve or of every curve of a file of many (R NaN:
+ * from the file's header; b NaN with no interface: no layer, for the
+ * half-space model, which then needs neither); without k, *single = 0
+ * (a plan gives each curve's probe in its row, and R, b or interface
+ * given then is an error).  LF_EINVAL naming what is missing or wrong. */
+LF_API int lf_fit_options_probe(const lf_fit_options *o, lf_probe *p, int *single,
+                                lf_error *err);
+
+/* A fit of one of `layerfit fit --batch`: the profile check screened
+ * cheaply first (LF_PROFILE_SCREEN unless --intervals linear), no
+ * thin-layer comparison beside a fit with another model. */
+#define LF_RUN_BATCH 1u
+/* Fit the curves of in as `layerfit fit` does (the input's nu held unless
+ * the request holds nu): lf_fit_choose_driver for --model auto, else
+ * lf_fit_driver and, where every curve has a layer and the model is not
+ * the thin one, lf_fit_compare_thin; then lf_fit_profile.  What goes
+ * wrong after the fit (the comparison or the profile failed) is a note in
+ * notes (may be NULL), the result standing.  Returns LF_OK, LF_ENOCONV
+ * (res complete, not converged: also when the profile found the minimum
+ * was a local one) or an error of the fit (res empty). */
+LF_API int lf_fit_request_run(const lf_fit_request *req, const lf_fit_input *in, unsigned flags,
+                              lf_fit_result *res, lf_warnings *notes, lf_error *err);
+
+/* A fit held in one object, for programs and bindings that keep objects by
+ * handle: made as `layerfit fit PATH [options]` makes it.
+ * lf_fit_job_path reads a single curve when the options give k (R, b,
+ * interface, as the command's --k, --R, ...), else the plan at path (a
+ * file, a pipe or FIFO read once); lf_fit_job_plan takes a plan already
+ * read (lf_plan_parse of rows a program wrote, its rows' curves perhaps
+ * open files of the program's: lf_plan_set_source).  A plan's rows without
+ * a layer need --model halfspace (LF_EDATA at the row otherwise).  On
+ * LF_OK *out is the caller's (lf_fit_job_free), its fit converged or not
+ * (lf_fit_job_status: LF_OK or LF_ENOCONV); warnings of the readers and
+ * notes of the fit go to warn (may be NULL).  Errors as the readers' and
+ * lf_fit_request_run's, err naming the file, line and column where the
+ * cause sits.  The job keeps what it needs of the options: they may be
+ * set again or freed once it is made. */
+typedef struct lf_fit_job lf_fit_job;
+
+LF_API int lf_fit_job_path(lf_fit_options *o, const char *path, lf_fit_job **out,
+                           lf_warnings *warn, lf_error *err);
+LF_API int lf_fit_job_plan(lf_fit_options *o, const lf_plan *plan, lf_fit_job **out,
+                           lf_warnings *warn, lf_error *err);
+LF_API const lf_fit_result *lf_fit_job_result(const lf_fit_job *j);
+LF_API const lf_fit_input *lf_fit_job_input(const lf_fit_job *j);
+LF_API int lf_fit_job_status(const lf_fit_job *j);
+/* Curve i's points (pointers owned by the job): depth and force fitted,
+ * the fitted force and the contact radius there; their number, 0 when
+ * there is no curve i. */
+LF_API size_t lf_fit_job_curve(const lf_fit_job *j, size_t i, const double **depth,
+                               const double **force, const double **fitted,
+                               const double **radius);
+/* The result as `layerfit fit --json` writes it (lf_fit_result_json), its
+ * provenance the command line (or a binding's call) given and the inputs
+ * in the order the command records them: the plan read from a file, then
+ * each curve with its SHA-256. */
+LF_API int lf_fit_job_json(const lf_fit_job *j, const char *command_line, char **json,
+                           lf_error *err);
+LF_API void lf_fit_job_free(lf_fit_job *j);
+
+/* What the figures of a fit draw of curve j (`layerfit fit --plot`, a
+ * binding's plot): the offsets it is drawn with (the reported ones, else
+ * where the fit ended, else 0), the fitted model on n >= 2 depths z[]
+ * spanning the curve's data (and past detachment), in instrument
+ * coordinates, with forces F[] and each point's class cls[] (0 out of
+ * contact, 1 stable under force control, 2 unstable), and the
+ * force-controlled pull-off point (NaN when w is not determined or the
+ * branch is loading).  have = 0 when no model could be drawn (a material
+ * not determined).  z, F and cls are the caller's arrays of n; n = 0: the
+ * offsets alone. */
+typedef struct {
+    double z0, F0, slope;  /* m, N, N/m */
+    double z_po, F_po;     /* m, N, or NaN */
+    double delta_detach, delta_po;  /* indentations of detachment and of
+                              pull-off at the fitted material, m, or NaN */
+    int have;
+} lf_fit_figure;
+
+LF_API int lf_fit_figure_curve(const lf_fit_result *res, size_t j, const lf_fit_curve *c,
+                               size_t n, double *z, double *F, int *cls, lf_fit_figure *out,
+                               lf_error *err);
+/* The same for curve i of a job. */
+LF_API int lf_fit_job_figure(const lf_fit_job *j, size_t i, size_t n, double *z, double *F,
+                             int *cls, lf_fit_figure *out, lf_error *err);
+
+/* ------------------------------------------------------------------------
+ * Many independent fits: the batch of `layerfit fit --batch` (src/batch.c)
+ *
+ * Every curve of a plan, or every group of curves that share a non-empty
+ * sample, is fitted on its own, as lf_fit_request_run(LF_RUN_BATCH) fits
+ * it, by worker threads; each fit is one row of the batch's table, handed
+ * to the caller's function as soon as it may be (lf_batch_settings.ordered).
+ * A plan row naming a file of many curves without an index stands for each
+ * of its curves (the file opened once, lf_plan_open_files).  A bad curve
+ * (a missing file included) is a row with status "error" and its message;
+ * the batch goes on.  The rows, in plan order, do not depend on the number
+ * of threads.
+ * --------------------------------------------------------------------- */
+
+typedef struct {
+    int json;              /* rows as JSON Lines (1) or CSV (0, default:
+                              lf_batch_csv_header's columns) */
+    long threads;          /* worker threads, 0 (default): one per processor */
+    long shard_index, shard_count;  /* only the I-th of N contiguous shares
+                              of the fits (1, 1: all); the rows of shards
+                              1..N in order are those of the whole plan */
+    int ordered;           /* 1 (default): rows handed over in plan order,
+                              at most 128 per thread waiting for an earlier
+                              one; 0: as the fits finish */
+    int results;           /* 1: each row carries its fit's result and
+                              input (0, default: the text only) */
+    int csv_raw;           /* 1: CSV text cells as they are; 0 (default): a
+                              cell a spreadsheet would run as a formula
+                              (starting with =, +, -, @, tab or CR) gets a
+                              leading ' (OWASP, "CSV injection") */
+} lf_batch_settings;
+
+LF_API lf_batch_settings lf_batch_settings_default(void);
+
+typedef enum {
+    LF_BATCH_OK = 0,       /* status "ok" */
+    LF_BATCH_FAILED = 1,   /* "error" or "noconv" */
+    LF_BATCH_MISFIT = 2    /* "misfit": converged, but the model does not
+                              describe a curve of the fit */
+} lf_batch_outcome;
+
+/* One fit of a batch, as handed over.  Everything it points to is valid
+ * during the call only. */
+typedef struct {
+    size_t fit;            /* its number in the plan, from 1 */
+    const char *sample;    /* its sample ("" for a curve on its own) */
+    const char *status;    /* "ok", "misfit", "noconv", "error" */
+    lf_batch_outcome outcome;
+    const char *text;      /* the row as the command writes it: a CSV line
+                              or a JSON line, with its line break */
+    size_t len;            /* strlen(text) */
+    const lf_fit_result *result;  /* with settings.results: the fit (NULL
+                              for an error row) */
+    const lf_fit_input *input;    /* with settings.results: its curves
+                              (NULL when they could not be read) */
+    size_t done, total;    /* rows handed over so far, this one included,
+                              of the shard's */
+    size_t failed, misfits; /* of those done */
+} lf_batch_row;
+
+/* Called once per row, one call at a time, from the worker threads (the
+ * caller's among them).  A nonzero return stops the batch: no fit starts
+ * after it, and those running end without being handed over. */
+typedef int (*lf_batch_fn)(void *ctx, const lf_batch_row *row);
+
+typedef struct {
+    size_t fits;           /* fits of the whole plan */
+    size_t total;          /* fits of this shard */
+    size_t done, failed, misfits;  /* rows handed over, failed, misfits */
+    int stopped;           /* the function stopped the batch */
+} lf_batch_summary;
+
+/* The CSV rows' header line ("fit,sample,file,...,sha256\n"; static). */
+LF_API const char *lf_batch_csv_header(void);
+
+/* Fit every fit of the plan with the request's settings, handing each row
+ * to each(ctx, row) (each may be NULL).  bs NULL: the defaults; sum (may
+ * be NULL) says how many fits there were, were handed over and failed.
+ * Returns LF_OK when the batch ran (whatever its fits' outcomes, or when
+ * each stopped it), LF_EINVAL for bad settings, LF_EDATA at the first row
+ * without b and interface unless the model is the half-space, LF_ENOMEM
+ * when a row could not be made (the batch stops there). */
+LF_API int lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *bs,
+                        lf_batch_fn each, void *ctx, lf_batch_summary *sum, lf_error *err);
+/* A row's fit (settings.results) as `layerfit fit --json` writes a fit of
+ * its curves (lf_fit_result_json; req the batch's), its provenance the
+ * command line given and the row's curves.  LF_EINVAL for a row without
+ * a result (an error row). */
+LF_API int lf_batch_row_json(const lf_batch_row *row, const lf_fit_request *req,
+                             const char *command_line, char **json, lf_error *err);
+
+/* ------------------------------------------------------------------------
+ * Results as text (src/report_json.c, src/report_html.c, src/text.c)
+ *
+ * The documents `layerfit fit` writes, made by the library so that a
+ * program or a binding gets the very same: the JSON of --json and the
+ * tables of the --report page.  The library never prints: each writer
+ * returns a new NUL-terminated string, the caller's, released with
+ * lf_free (LF_ENOMEM when it could not be made, *out NULL then).
+ * --------------------------------------------------------------------- */
+
+/* Release memory the library handed over (the writers' strings); NULL
+ * allowed. */
+LF_API void lf_free(void *p);
+
+/* What a program records of where a result came from: how it was asked
+ * for (a command line, a binding's call) and what it read. */
+typedef struct {
+    const char *command_line;      /* NULL: null */
+    size_t ninputs;
+    const char *const *input;      /* ninputs paths, in the order read */
+    const char *const *sha256;     /* ninputs SHA-256 digests in hex, an entry
+                                      NULL or "" when not hashed; or NULL */
+} lf_provenance;
+
+/* What the fit was asked, beside its result. */
+typedef struct {
+    const char *model_request;     /* --model as given ("auto", "exact", ...);
+                                      NULL: the result's model */
+    double model_tol;              /* the auto choice's tolerance, NaN else */
+    const lf_curve_origin *origin; /* where each curve's probe and AFM
+                                      constants came from (lf_fit_input), or
+                                      NULL */
+    const lf_provenance *provenance; /* NULL: no "provenance" key */
+} lf_report_info;
+
+/* The result as the JSON document of `layerfit fit --json` (SI, numbers
+ * that read back exactly, NaN and Inf as null, text from data as valid
+ * UTF-8): parameters, fit, thin_comparison, free_parameters, values,
+ * covariance, singular_values, curves, identifiability, warnings and
+ * provenance.  info may be NULL. */
+LF_API int lf_fit_result_json(const lf_fit_result *r, const lf_report_info *info, char **json,
+                              lf_error *err);
+
+/* The tables of the `layerfit fit --report` page as HTML: a note when the
+ * fit did not converge, then the sections parameters, identifiability,
+ * warnings, correlations, statistics and curves (text from data escaped).
+ * scope NULL: the sections alone, for a page with the report's style;
+ * else a class name (letters, digits, - and _; LF_EINVAL otherwise), and
+ * the sections come inside <div class="SCOPE"> with the report's style
+ * confined to it, for a notebook. */
+LF_API int lf_fit_result_html(const lf_fit_result *r, const char *scope, char **html,
+                              lf_error *err);
+
+/* What `layerfit design PLAN [options]` answers, for the command and for
+ * bindings alike (src/design_run.c).  The options are set by name from
+ * text as a command line gives them (as lf_fit_options_set does): w, E,
+ * nu, fix-nu, noise, points, delta-max, model, model-tol, choose, target,
+ * grid, vary (`layerfit design --help`).  lf_design_run evaluates the
+ * whole set of the plan's candidates, the set without each (what each
+ * adds), with choose the greedy choice of that many for the target (and
+ * the best of all sets by exhaustive search where there are at most 2000)
+ * and the chosen set, with grid the sweep of a factor over every
+ * candidate or the one vary names; lf_design_report_json writes the
+ * command's --json document of it.  The report is the caller's
+ * (lf_design_report_free); it points at the plan, which must outlive it. */
+typedef struct lf_design_options lf_design_options;
+
+LF_API extern const lf_option lf_design_option_table[];
+LF_API lf_design_options *lf_design_options_alloc(void);
+LF_API void lf_design_options_free(lf_design_options *o);
+LF_API int lf_design_options_set(lf_design_options *o, const char *name, const char *value,
+                                 lf_error *err);
+LF_API const char *lf_design_options_get(const lf_design_options *o, const char *name);
+/* The settings the options give (LF_EINVAL naming the option otherwise:
+ * w and E required, nu, noise "1%", 0.01 or "2uN", points, delta-max,
+ * model, model-tol, target, grid and choose apart). */
+LF_API int lf_design_options_settings(const lf_design_options *o, lf_design_settings *s,
+                                      lf_error *err);
+/* The grid's factor and values (values: room for 200), *nv = 0 without
+ * one: "k=2,2.5,3" (values with units), "delta_max=20nm:200nm:10"
+ * (LO:HI:N), "b=0.1um:10um:9:log". */
+LF_API int lf_design_options_grid(const lf_design_options *o, lf_design_factor *factor,
+                                  double *values, size_t *nv, lf_error *err);
+
+typedef struct {
+    lf_design_settings settings;
+    const lf_design_plan *plan;
+    lf_design_target target;
+    lf_design_result all;          /* the whole set */
+    size_t n;                      /* candidates */
+    lf_design_result *without;     /* n: the set without candidate i */
+    int *without_done;             /* n: 1 where it was evaluated (n > 1) */
+    size_t nchoose;                /* choose, or 0 */
+    lf_design_choice choice;       /* nchoose > 0: the greedy choice */
+    int exhaustive;                /* 1: best[] is the best of all nsets sets */
+    int *best;
+    size_t nsets;
+    lf_design_result chosen;       /* nchoose > 0: the chosen set */
+    size_t nsweep;                 /* grid values, or 0 */
+    lf_design_factor factor;
+    size_t which;                  /* the swept candidate, (size_t) -1: all */
+    double *values;
+    lf_design_result *sweep;       /* nsweep results */
+} lf_design_report;
+
+LF_API int lf_design_run(const lf_design_options *o, const lf_design_plan *plan,
+                         lf_design_report **out, lf_error *err);
+/* prov NULL: no "provenance" key.  Into *json (lf_free). */
+LF_API int lf_design_report_json(const lf_design_report *r, const lf_provenance *prov,
+                                 char **json, lf_error *err);
+LF_API void lf_design_report_free(lf_design_report *r);
 
 /* ------------------------------------------------------------------------
  * Instrument readers (src/reader.c, one src/read_*.c file per format)

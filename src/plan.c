@@ -660,6 +660,8 @@ lf_plan_open_files(lf_plan *plan, const lf_read_opts *o, lf_error *err)
             lf_read_opts_default(&ro);
         if (ro.format == NULL && r->format[0] != '\0')
             ro.format = r->format;
+        if (r->source != NULL)
+            continue;           /* open already (here before, or the caller's) */
         if ((f = plan_file_open(plan, r->file, r->format)) == NULL) {
             if (!lf_file_sniff_multi(r->file, ro.format)
                 || lf_file_open(r->file, 0, &ro, &f, NULL, &e) != LF_OK)

@@ -471,7 +471,8 @@ curve_headers(const lf_file *f, size_t i, jpk_curve *cv, lf_error *err)
             curve_free(cv);
             return status;
         }
-    qsort(cv->col.ent, cv->col.nent, sizeof *cv->col.ent, cmp_entry);
+    if (cv->col.nent > 1)       /* none: no array to sort (qsort of NULL) */
+        qsort(cv->col.ent, cv->col.nent, sizeof *cv->col.ent, cmp_entry);
     cv->ents = cv->col.ent;
     cv->nents = cv->col.nent;
     if (!st->map) {

@@ -29,6 +29,20 @@ for s in "$top"/tests/cli/*.sh; do
     [ -f "$s" ] || continue
     run_one "cli/$(basename "$s" .sh)" sh "$s" "$top/$build/layerfit"
 done
+# the Python package (tests/python) on this build's library; a sanitizer
+# build's library is loaded with its runtime first (LD_PRELOAD), leaks not
+# counted (the interpreter keeps its own objects to the end)
+if [ -d "$top/tests/python" ]; then
+    pre=""
+    if nm "$build/liblayerfit.a" 2>/dev/null | grep -q __asan_; then
+        pre="$(${CC:-cc} -print-file-name=libasan.so) $(${CC:-cc} -print-file-name=libubsan.so)"
+    fi
+    run_one "python" env PYTHONPATH="$top/src/python" PYTHONDONTWRITEBYTECODE=1 \
+        LAYERFIT_LIBRARY="$top/$build/$(cd "$build" && ls liblayerfit.so.[0-9]* | head -n 1)" \
+        LAYERFIT_BUILD="$top/$build" LD_PRELOAD="$pre" \
+        ASAN_OPTIONS="${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0" \
+        /usr/bin/python3 -m pytest -q -rs -p no:cacheprovider "$top/tests/python"
+fi
 [ -n "$broken" ] && echo "broken:$broken"
 echo "$total_pass passed, $total_fail failed"
 [ "$total_fail" -eq 0 ]

@@ -63,7 +63,11 @@ typedef enum {
     CLI_LENGTH,      /* double *, SI, through udunits2 */
     CLI_FORCE,
     CLI_ADHESION,
-    CLI_PRESSURE
+    CLI_PRESSURE,
+    CLI_FIT,         /* lf_fit_options *: the library's fit option of this name */
+    CLI_FIT_FLAG,    /* the same, a flag */
+    CLI_DESIGN,      /* lf_design_options *: the library's design option */
+    CLI_DESIGN_FLAG  /* the same, a flag */
 } cli_kind;
 
 typedef struct {
@@ -96,24 +100,19 @@ double cli_now(void);
 /* Write a number that reads back exactly ("%.17g"); NaN and inf write
  * nothing (an empty CSV cell; JSON writers write null themselves). */
 void cli_print_double(FILE *f, double x);
-/* Write a number for people with an SI prefix chosen for it:
- * cli_human(buf, n, 1.2e-8, "m") -> "12 nm".  Returns buf. */
-char *cli_human(char *buf, size_t n, double x, const char *unit);
+/* A number for people with an SI prefix (lf_human, command.h). */
+#define cli_human lf_human
 /* Options of the other mode of `fit` (single or --batch): the first of
  * argv that is one of names[0..n-1] ("--json" or "--json=...") stops the
  * command with exit 2, "fit: --json is for WHY". */
 void cli_refuse_options(int argc, char **argv, const char *const *names, size_t n,
                         const char *why);
-/* 1 when the report calls curve cr DISAGREES: it is not described by the
- * model (misfit beyond 5% of its force range) or, in a joint fit, it
- * disagrees with the others. */
-int cli_curve_disagrees(const lf_fit_curve_result *cr);
-/* The curves of a converged r that disagree, as "1, 3" into buf (at most n
- * bytes); their count (0: none, or r did not converge). */
-size_t cli_disagreeing(const lf_fit_result *r, char *buf, size_t n);
-/* The value where the fit ended of the free parameter NAME ("w", "E*",
- * "nu", "z0[1]", ...: lf_fit_result.names), NaN when it was not free. */
-double cli_fitted_value(const lf_fit_result *res, const char *name);
+/* The report's DISAGREES and the curves of a converged fit that do
+ * (lf_curve_disagrees, lf_disagreeing: command.h). */
+#define cli_curve_disagrees lf_curve_disagrees
+#define cli_disagreeing lf_disagreeing
+/* The value where the fit ended of a free parameter (lf_fit_result_value). */
+#define cli_fitted_value lf_fit_result_value
 
 
 
@@ -135,59 +134,25 @@ int cli_map(int argc, char **argv, const char *command_line);
 /* `layerfit design`: what a planned test would measure (design.c). */
 int cli_design(int argc, char **argv, const char *command_line);
 
-/* The fit options a single fit and a batch share: one table, one set of
- * defaults (fit.c).  cli_fit_args_init sets the defaults; cli_fit_opts puts
- * the table's entries into opts (room for CLI_FIT_NOPTS) and returns how
- * many; cli_fit_settings checks the values and fills the fit, model-choice
- * and input settings, returning 1 for --model auto.  Bad values exit 2. */
-typedef struct {
-    const char *method, *jacobian, *model, *segment, *loss;
-    const char *intervals;    /* auto: profile likelihood where needed; linear */
-    int linear_only;          /* --intervals linear (set by cli_fit_settings) */
-    double nu, fix_nu, fix_z0, fix_F0, max_ba, model_tol;
-    double guess_w, guess_E, guess_nu, loss_scale;
-    long max_iter;
-    int slope;
-    const char *format, *spring_constant, *sensitivity;  /* how curves are read */
-    lf_read_opts read;    /* filled by cli_fit_settings; is->read points here */
-} cli_fit_args;
-
-#define CLI_FIT_NOPTS 24
-void cli_fit_args_init(cli_fit_args *a);
-size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
-int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
-                     lf_input_settings *is);
+/* The fit options a single fit and a batch share: the library's table
+ * (lf_fit_option_table), one set of defaults.  cli_fit_opts puts one entry
+ * per option into opts (room for CLI_FIT_NOPTS), each setting o by name
+ * (lf_fit_options_set), and returns how many; cli_fit_request checks them
+ * and fills req (lf_fit_options_request); cli_fit_probe the probe of a
+ * single curve or a file of many (lf_fit_options_probe; *single 0 for a
+ * plan).  Bad values exit 2. */
+#define CLI_FIT_NOPTS 40
+size_t cli_fit_opts(lf_fit_options *o, cli_opt *opts);
+void cli_fit_request(lf_fit_options *o, lf_fit_request *req);
+void cli_fit_probe(const lf_fit_options *o, lf_probe *p, int *single);
 /* The fit options' help lines, shared by both usage texts. */
 extern const char cli_fit_help[];
 
-/* Words (words.c).  The words a report puts after an interval for how it was found (NULL: a
- * checked linear interval, nothing said); brief: the HTML table's. */
-const char *cli_interval_words(const lf_fit_estimate *e, int brief);
-/* How a free estimate's 95% interval was found (JSON ci95_method, the
- * batch's *_ci95_method): "linear (Wald)" or e->interval_method; with no
- * interval, the method that looked for one (a profile that found no
- * bound), else NULL, as for a held parameter. */
-const char *cli_interval_method(const lf_fit_estimate *e);
-/* What a free estimate that the data do not determine is bounded by, from
- * its profile (text and HTML say the same): into buf "LO < NAME" (bounded
- * only from below), "NAME < HI" (only from above) or "" (not bounded at
- * all, the profile open on both sides); NULL when it is not such an
- * estimate (determined, fixed, an upper bound of w, or never profiled). */
-const char *cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit,
-                           char *buf, size_t n);
-#define CLI_FIT_NOPTS 24
-void cli_fit_args_init(cli_fit_args *a);
-size_t cli_fit_opts(cli_fit_args *a, cli_opt *opts);
-int cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
-                     lf_input_settings *is);
-/* The probe of a single curve, or of every curve of a file of many, from
- * --k, --R, --b, --interface (R NaN: from the file's header; b NaN with no
- * interface: no layer, for a half-space model); dies with status 2 naming
- * what is missing or wrong. */
-void cli_fit_probe(const char *model, double k, double R, double b, const char *interface,
-                   lf_probe *p);
-/* The fit options' help lines, shared by both usage texts. */
-extern const char cli_fit_help[];
+/* The words for intervals and bounds (the library's words.c, command.h),
+ * so that every report says the same. */
+#define cli_interval_words lf_interval_words
+#define cli_interval_method lf_interval_method
+#define cli_bound_text lf_bound_text
 
 /* Batch fitting (batch.c). */
 #define CLI_MAX_THREADS 1024      /* --threads is 1..CLI_MAX_THREADS */
@@ -198,17 +163,14 @@ typedef struct {
     const char *shard;     /* "I/N" or NULL for all */
     long threads;          /* 0: all cores */
     int progress;          /* 1 on, 0 off, -1 when stderr is a terminal */
-    int auto_model;        /* 1: choose each fit's models (lf_fit_choose_driver) */
-    int linear_only;       /* --intervals linear */
-    lf_choose_settings choose;  /* the model choice's settings */
-    lf_input_settings input;    /* segment, held offsets */
+    const lf_fit_request *req;  /* the fit options' settings */
     const char *command_line;   /* for the provenance record */
     const lf_probe *probe;      /* not NULL: `plan` is a file of curves, each fitted
                                    with this probe (--k, --R, --b, --interface) */
 } cli_batch_opts;
 /* Fit every fit of the plan with the settings; returns the exit status
  * (CLI_EXIT_OK, or CLI_EXIT_SOME_FAILED with a summary line on stderr). */
-int cli_batch_run(const cli_batch_opts *o, const lf_fit_settings *settings);
+int cli_batch_run(const cli_batch_opts *o);
 /* "I/N" with 1 <= I <= N; -1 when malformed. */
 int cli_shard_parse(const char *text, long *index, long *count);
 /* `layerfit fit --batch ...` and whether argv asks for it. */
@@ -243,25 +205,15 @@ int cli_draw_script(const char *dir, const char *script, const char *base,
  * provenance.json), each path handed to each(). */
 void cli_plot_files(const char *dir, size_t ncurves, void (*each)(const char *path));
 
-/* The fitted model of curve j (plotfit.c) on n >= 2 depths spanning its
- * data and past detachment, in instrument coordinates: z, F and each
- * point's class cls (0 out of contact, 1 stable under force control, 2
- * unstable), the caller's arrays of n; the force-controlled pull-off point
- * (NaN when none).  0, or -1 when no model could be drawn. */
-int cli_model_curve(const lf_fit_curve *c, const lf_fit_curve_result *cr,
-                    const lf_fit_result *res, size_t n, double *z, double *F, int *cls,
-                    double *z_po, double *F_po);
-
 /* The interactive report of many fits (page.c): the curves of a batch
- * kept as each fit ends (cli_page_store_fit: fit i of the results, its n
- * curves, their plan rows and its result, NULL when it failed; safe from
- * several threads for different i), then the page written from the
- * results CSV and the store (NULL: the results alone).  0, or -1 with
- * msg. */
+ * kept as each row is handed over, one at a time (cli_page_store_fit: row
+ * i of the results, its fit's input and result, either NULL when it failed
+ * before, and its sample), then the page written from the results CSV and the
+ * store (NULL: the results alone).  0, or -1 with msg. */
 typedef struct cli_page_store cli_page_store;
-cli_page_store *cli_page_store_new(size_t nfits);
-void cli_page_store_fit(cli_page_store *s, size_t i, size_t n, const lf_fit_curve *curves,
-                        const lf_plan_row *rows, const lf_fit_result *res);
+cli_page_store *cli_page_store_new(void);
+void cli_page_store_fit(cli_page_store *s, size_t i, const lf_fit_input *in,
+                        const lf_fit_result *res, const char *sample);
 void cli_page_store_free(cli_page_store *s);
 int cli_page_map(const char *file, const char *results, const cli_page_store *s,
                  const char *command_line, char *msg, size_t n);
@@ -349,31 +301,26 @@ const char *cli_input_sha256(size_t i);
  * with indent before each line after the first; command_line as main()
  * passed it to the subcommand. */
 void cli_provenance_json(FILE *f, const char *indent, const char *command_line);
-/* CSV cells (RFC 4180: quoted when they hold a comma, quote, line break, or
- * start or end with a blank, quotes doubled).  Text that a spreadsheet
- * would run as a formula (a cell starting with =, +, -, @, tab or CR) gets
- * a leading ' (OWASP, "CSV injection"), unless cli_csv_raw (--csv-raw) is
- * set.  Numbers are not written through this: a negative number stays a
- * number. */
+/* A CSV cell as lf_csv_cell writes it (quoted where needed, a cell a
+ * spreadsheet would run as a formula made text) unless cli_csv_raw
+ * (--csv-raw) is set. */
 extern int cli_csv_raw;
 void cli_csv_cell(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
+/* The run's provenance record for the library's writers: its arrays
+ * point at the noted inputs (cli_provenance_free releases the arrays). */
+void cli_provenance_of(const char *command_line, lf_provenance *p);
+void cli_provenance_free(lf_provenance *p);
 
-/* Text from data (lf_utf8_len: the library's UTF-8 check).  cli_json_escape: a JSON string, always valid UTF-8
- * (invalid bytes become U+FFFD); cli_percent_escape: a JSON string of the
- * raw bytes, every byte outside printable ASCII and % " \ as %XX;
- * cli_json_name: "key": name, plus "key_raw": percent-escaped bytes when
- * name is not valid UTF-8.  cli_gnuplot_string: a single-quoted gnuplot
- * string ('' for ', control characters as spaces, invalid UTF-8 as ?).
- * cli_put_clean / cli_text_clean: one line of valid UTF-8 (control
+/* Text from data (the library's escapes, command.h: lf_json_escape,
+ * lf_text_clean, ...).  cli_json_string: a JSON string, always valid UTF-8
+ * (invalid bytes become U+FFFD).  cli_gnuplot_string: a single-quoted
+ * gnuplot string ('' for ', control characters as spaces, invalid UTF-8
+ * as ?).  cli_put_clean / cli_text_clean: one line of valid UTF-8 (control
  * characters as spaces, invalid bytes as U+FFFD). */
-int cli_utf8_valid(const char *s);
-void cli_text_clean(const char *s, int keep_newlines,
-                    void (*put)(void *, const char *, size_t), void *ctx);
+#define cli_text_clean lf_text_clean
+#define cli_json_escape lf_json_escape
 void cli_put_clean(FILE *f, const char *s);
-void cli_json_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
-void cli_percent_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
 void cli_json_string(FILE *f, const char *s);
-void cli_json_name(FILE *f, const char *key, const char *name);
 void cli_gnuplot_string(FILE *g, const char *s);
 
 /* ---- Other programs and temporaries (spawn.c, temps.c) ------------------
@@ -418,7 +365,7 @@ int cli_remove_tree(const char *dir);
 /* Reading (read.c).  The fewest points of a segment worth fitting: one more
  * than the most parameters a fit can have (w, E*, nu, z0, F0); `check` and
  * every fit refuse a curve with fewer. */
-#define CLI_MIN_POINTS 6
+#define CLI_MIN_POINTS LF_FIT_MIN_POINTS
 /* A plan already in memory, its curves resolved against path's folder. */
 int cli_plan_from(const lf_input *in, const char *path, lf_plan **out, lf_warnings *warn,
                   lf_error *err);

@@ -47,119 +47,6 @@ static const char usage_text[] =
     "  --json FILE        everything in SI as JSON\n"
     "exit status: 0 done, 1 failure, 2 bad input\n";
 
-#define MAX_GRID 200
-
-typedef struct {
-    const char *plan, *noise, *model, *target, *grid, *vary, *plot, *csv, *json;
-    double w, E, nu, delta_max, model_tol;
-    long points, choose;
-    int fix_nu;
-} design_args;
-
-/* ---- small helpers ------------------------------------------------------ */
-
-/* "1%", "0.01" -> fraction; "2uN" -> force. */
-static void
-parse_noise(const char *text, lf_design_settings *s)
-{
-    char buf[64], *end;
-    size_t len = strlen(text);
-    double v;
-    lf_error err;
-
-    if (len > 0 && len < sizeof buf && text[len - 1] == '%') {
-        memcpy(buf, text, len - 1);
-        buf[len - 1] = '\0';
-        errno = 0;
-        v = strtod(buf, &end);
-        if (end != buf && *end == '\0' && errno == 0 && v > 0 && isfinite(v)) {
-            s->noise_rel = v / 100.0;
-            return;
-        }
-    } else {
-        errno = 0;
-        v = strtod(text, &end);
-        if (end != text && *end == '\0') {
-            if (errno == 0 && v > 0 && isfinite(v)) {
-                s->noise_rel = v;
-                return;
-            }
-        } else if (lf_units_parse(text, LF_Q_FORCE, &v, &err) == LF_OK && v > 0) {
-            s->noise_abs = v;
-            return;
-        }
-    }
-    cli_die(CLI_EXIT_USAGE, "design: --noise: '%s' is not a positive fraction or force "
-            "(e.g. --noise 1%% or --noise 2uN)", text);
-}
-
-/* The grid: "k=2,2.5,3", "delta_max=20nm:200nm:10", "b=0.1um:10um:9:log". */
-static size_t
-parse_grid(const char *text, lf_design_factor *factor, double *values)
-{
-    char name[32], buf[512], *tok, *save = NULL;
-    const char *eq = strchr(text, '=');
-    lf_quantity q;
-    size_t n = 0, len;
-    int f;
-
-    if (eq == NULL || (len = (size_t) (eq - text)) == 0 || len >= sizeof name)
-        cli_die(CLI_EXIT_USAGE, "design: --grid '%s': expected FACTOR=VALUES "
-                "(e.g. --grid k=2,2.5,3 or --grid delta_max=20nm:200nm:10)", text);
-    memcpy(name, text, len);
-    name[len] = '\0';
-    if ((f = lf_design_factor_find(name)) < 0)
-        cli_die(CLI_EXIT_USAGE, "design: --grid: unknown factor '%s' "
-                "(k, delta_max, points, b, R or baseline)", name);
-    *factor = (lf_design_factor) f;
-    q = lf_design_factor_quantity(*factor);
-    if (strlen(eq + 1) >= sizeof buf)
-        cli_die(CLI_EXIT_USAGE, "design: --grid: too long");
-    strcpy(buf, eq + 1);
-    if (strchr(buf, ':') != NULL) {
-        char *part[4];
-        double lo, hi;
-        long count;
-        int np = 0, logs = 0;
-        lf_error err;
-        char *end;
-        for (tok = strtok_r(buf, ":", &save); tok != NULL && np < 4; tok = strtok_r(NULL, ":", &save))
-            part[np++] = tok;
-        if (np == 4 && strcmp(part[3], "log") == 0)
-            logs = 1;
-        else if (np != 3 || tok != NULL)
-            cli_die(CLI_EXIT_USAGE, "design: --grid '%s': a range is LO:HI:N or LO:HI:N:log", text);
-        if (lf_units_parse(part[0], q, &lo, &err) != LF_OK
-            || lf_units_parse(part[1], q, &hi, &err) != LF_OK)
-            cli_die(CLI_EXIT_USAGE, "design: --grid '%s': %s", text, err.msg);
-        errno = 0;
-        count = strtol(part[2], &end, 10);
-        if (end == part[2] || *end != '\0' || errno != 0 || count < 2 || count > MAX_GRID)
-            cli_die(CLI_EXIT_USAGE, "design: --grid '%s': N must be a whole number from 2 to %d",
-                    text, MAX_GRID);
-        if (logs && !(lo > 0 && hi > 0))
-            cli_die(CLI_EXIT_USAGE, "design: --grid '%s': a log range needs LO, HI > 0", text);
-        for (n = 0; n < (size_t) count; n++) {
-            double t = (double) n / (double) (count - 1);
-            values[n] = logs ? lo * pow(hi / lo, t) : lo + t * (hi - lo);
-            if (*factor == LF_FACTOR_POINTS)
-                values[n] = floor(values[n] + 0.5);
-        }
-        return n;
-    }
-    for (tok = strtok_r(buf, ",", &save); tok != NULL; tok = strtok_r(NULL, ",", &save)) {
-        lf_error err;
-        if (n == MAX_GRID)
-            cli_die(CLI_EXIT_USAGE, "design: --grid: at most %d values", MAX_GRID);
-        if (lf_units_parse(tok, q, &values[n], &err) != LF_OK)
-            cli_die(CLI_EXIT_USAGE, "design: --grid '%s': %s", text, err.msg);
-        n++;
-    }
-    if (n == 0)
-        cli_die(CLI_EXIT_USAGE, "design: --grid '%s': no values", text);
-    return n;
-}
-
 /* "8.7%", "+- 0.0031", or words ("upper bound": w below two of its
  * standard errors, which a fit reports as an upper bound): never a NaN. */
 static const char *
@@ -278,134 +165,11 @@ text_set(FILE *f, const char *title, const lf_design_result *r, const lf_design_
 
 /* ---- JSON ---------------------------------------------------------------- */
 
-static void
-json_estimate(FILE *f, const char *name, const lf_design_estimate *e, const char *tail)
-{
-    fprintf(f, "\"%s\": {\"free\": %s, \"determined\": %s, \"stderr\": ", name,
-            e->free ? "true" : "false", e->determined ? "true" : "false");
-    report_json_number(f, e->se);
-    fputs(", \"relative_stderr\": ", f);
-    report_json_number(f, e->rel);
-    if (e->upper_bound_only)
-        fputs(", \"upper_bound_only\": true", f);
-    if (e->why != NULL) {
-        fputs(", \"why_not_determined\": ", f);
-        report_json_string(f, e->why);
-    }
-    fprintf(f, "}%s", tail);
-}
-
-static void
-json_warnings(FILE *f, const lf_warnings *w)
-{
-    size_t i;
-    fputc('[', f);
-    for (i = 0; i < w->n; i++) {
-        fputs(i ? ", " : "", f);
-        report_json_string(f, w->msg[i]);
-    }
-    fputc(']', f);
-}
-
-static void
-json_set(FILE *f, const lf_design_result *r, int curves, const lf_design_plan *plan)
-{
-    size_t j;
-
-    fputs("{", f);
-    json_estimate(f, "w", &r->w, ", ");
-    json_estimate(f, "Estar", &r->Estar, ", ");
-    json_estimate(f, "nu", &r->nu, ", ");
-    json_estimate(f, "M", &r->M, ", ");
-    fputs("\"corr_w_Estar\": ", f);
-    report_json_number(f, r->corr_wE);
-    fprintf(f, ", \"free_parameters\": %zu, \"determined\": %zu, \"log_det_information\": ",
-            r->npar, r->ndetermined);
-    report_json_number(f, r->logdet);
-    fputs(", \"identifiability\": ", f);
-    json_warnings(f, &r->identifiability);
-    fputs(", \"notes\": ", f);
-    json_warnings(f, &r->notes);
-    fputs(", \"candidates\": [", f);
-    for (j = 0; j < r->ncurves; j++) {
-        const lf_design_curve_info *ci = &r->curves[j];
-        const lf_design_candidate *cd = &plan->rows[ci->index];
-        if (!curves) {
-            fprintf(f, "%s%zu", j ? ", " : "", ci->index + 1);
-            continue;
-        }
-        fprintf(f, "%s\n    {\"row\": %zu, \"name\": ", j ? "," : "", ci->index + 1);
-        report_json_string(f, cd->name);
-        fputs(", \"k\": ", f);
-        report_json_number(f, cd->probe.k);
-        fputs(", \"R_m\": ", f);
-        report_json_number(f, cd->probe.R);
-        fputs(", \"b_m\": ", f);
-        report_json_number(f, cd->probe.b);
-        fprintf(f, ", \"interface\": \"%s\", \"branch\": \"%s\", \"points\": %zu, "
-                "\"points_past_detachment\": %zu, \"delta_min_m\": ", cli_base_name(cd->probe.base),
-                cd->branch == LF_BRANCH_LOAD ? "load" : "unload", ci->n, ci->n_past);
-        report_json_number(f, ci->delta_lo);
-        fputs(", \"delta_max_m\": ", f);
-        report_json_number(f, ci->delta_hi);
-        fputs(", \"delta_detach_m\": ", f);
-        report_json_number(f, ci->delta_detach);
-        fprintf(f, ", \"z0_free\": %s, \"F0_free\": %s, \"noise_sd_N\": ",
-                ci->free_z0 ? "true" : "false", ci->free_F0 ? "true" : "false");
-        report_json_number(f, ci->sigma);
-        fputs(", \"max_force_N\": ", f);
-        report_json_number(f, ci->fmax);
-        fputs(", \"model\": ", f);
-        report_json_string(f, ci->model->name);
-        fputs(", \"model_reason\": ", f);
-        report_json_string(f, ci->model_reason);
-        fputs(", \"thin_bias_se\": ", f);
-        report_json_number(f, ci->thin_bias);
-        fputs(", \"b_over_a\": [", f);
-        report_json_number(f, ci->ba_min);
-        fputs(", ", f);
-        report_json_number(f, ci->ba_max);
-        fputs("], \"b_over_a_pulloff\": ", f);
-        report_json_number(f, ci->ba_pulloff);
-        fputs("}", f);
-    }
-    fputs(curves ? "\n  ]}" : "]}", f);
-}
-
 /* ---- the parts of a run ------------------------------------------------ */
-
-typedef struct {
-    size_t n;
-    lf_design_result *without;   /* n: the set without candidate i */
-    int *done;
-} contributions;
-
-static void
-compute_contributions(lf_design *d, size_t n, contributions *c)
-{
-    int *use = malloc(n * sizeof *use);
-    size_t i;
-    lf_error err;
-
-    c->n = n;
-    c->without = calloc(n, sizeof *c->without);
-    c->done = calloc(n, sizeof *c->done);
-    if (!use || !c->without || !c->done)
-        cli_die(CLI_EXIT_FAIL, "design: out of memory");
-    for (i = 0; i < n && n > 1; i++) {
-        size_t k;
-        for (k = 0; k < n; k++)
-            use[k] = k != i;
-        if (lf_design_eval(d, use, &c->without[i], &err) != LF_OK)
-            cli_die(CLI_EXIT_FAIL, "design: %s", err.msg);
-        c->done[i] = 1;
-    }
-    free(use);
-}
 
 static void
 text_contributions(FILE *f, const lf_design_plan *plan, const lf_design_result *all,
-                   const contributions *c)
+                   const lf_design_report *c)
 {
     char a[32], b[32], d[32], l[96], lab[128];
     size_t i;
@@ -638,161 +402,75 @@ csv_sweep(const char *path, lf_design_factor factor, size_t nv, const double *x,
 int
 cli_design(int argc, char **argv, const char *command_line)
 {
-    design_args a;
-    const cli_opt opts[] = {
-        { "w", CLI_ADHESION, &a.w }, { "E", CLI_PRESSURE, &a.E }, { "nu", CLI_NUMBER, &a.nu },
-        { "fix-nu", CLI_FLAG, &a.fix_nu }, { "noise", CLI_STRING, &a.noise },
-        { "points", CLI_COUNT, &a.points }, { "delta-max", CLI_LENGTH, &a.delta_max },
-        { "model", CLI_STRING, &a.model }, { "model-tol", CLI_NUMBER, &a.model_tol },
-        { "choose", CLI_COUNT, &a.choose }, { "target", CLI_STRING, &a.target },
-        { "grid", CLI_STRING, &a.grid }, { "vary", CLI_STRING, &a.vary },
-        { "plot", CLI_STRING, &a.plot }, { "csv", CLI_STRING, &a.csv },
-        { "json", CLI_STRING, &a.json }, { NULL, CLI_FLAG, NULL }
+    const char *plot = NULL, *csv = NULL, *json = NULL;
+    lf_design_options *o = lf_design_options_alloc();
+    cli_opt opts[3 + 16 + 1] = {
+        { "plot", CLI_STRING, &plot }, { "csv", CLI_STRING, &csv }, { "json", CLI_STRING, &json },
     };
-    lf_design_settings s = lf_design_settings_default();
+    lf_design_settings s;
     lf_design_plan *plan = NULL;
-    lf_design *d = NULL;
-    lf_design_result all;
-    contributions con = { 0, NULL, NULL };
-    lf_design_choice choice;
-    lf_design_result chosen_r, *sweep = NULL;
-    lf_design_factor factor = LF_FACTOR_K;
-    lf_design_target target = LF_TARGET_W;
+    lf_design_report *rep = NULL;
+    lf_design_factor factor;
     lf_error err;
-    double values[MAX_GRID];
-    size_t nv = 0, i, which = (size_t) -1, nsets = 1;
-    int npos, help, exh_status = -1, *best = NULL;
+    double values[200];
+    size_t nv, i, no = 3;
+    int npos, help;
     char scope[128] = "every candidate", a1[48], a2[48], l[96];
+    const char *plan_path;
     FILE *out = stdout;
 
-    memset(&a, 0, sizeof a);
-    a.w = a.E = a.nu = a.delta_max = a.model_tol = NAN;
-    a.points = a.choose = -1;
-    a.model = "auto";
-    a.target = "w";
-    memset(&choice, 0, sizeof choice);
-    memset(&chosen_r, 0, sizeof chosen_r);
+    if (o == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    for (i = 0; lf_design_option_table[i].name != NULL; i++, no++) {
+        if (no == 3 + 16)           /* a table that outgrew the room: never silently */
+            cli_die(CLI_EXIT_FAIL, "design: more options than room for them");
+        opts[no].name = lf_design_option_table[i].name;
+        opts[no].kind = lf_design_option_table[i].kind == LF_OPTION_FLAG ? CLI_DESIGN_FLAG
+                                                                        : CLI_DESIGN;
+        opts[no].target = o;
+    }
+    opts[no].name = NULL;
     cli_parse("design", argc, argv, opts, &npos, &help);
     if (help) {
         fputs(usage_text, stdout);
+        lf_design_options_free(o);
         return CLI_EXIT_OK;
     }
     if (npos != 1)
         cli_die(CLI_EXIT_USAGE, "design: give one design plan (see 'layerfit design --help')");
-    a.plan = argv[0];
-    if (isnan(a.w) || isnan(a.E))
-        cli_die(CLI_EXIT_USAGE, "design: --w and --E are required (e.g. --w 10mJ/m2 --E 1GPa)");
-    if (!(a.w > 0))
-        cli_die(CLI_EXIT_USAGE, "design: --w must be > 0 (its error is given relative to it)");
-    if (!(a.E > 0))
-        cli_die(CLI_EXIT_USAGE, "design: --E must be > 0");
-    s.truth.w = a.w;
-    s.truth.Estar = a.E;
-    if (!isnan(a.nu)) {
-        if (!(a.nu >= 0 && a.nu < 0.5))
-            cli_die(CLI_EXIT_USAGE, "design: --nu must lie in [0, 0.5) (got %g)", a.nu);
-        s.truth.nu = a.nu;
-    }
-    s.fix_nu = a.fix_nu;
-    if (a.noise != NULL)
-        parse_noise(a.noise, &s);
-    if (a.points >= 0) {
-        if (a.points < 5)
-            cli_die(CLI_EXIT_USAGE, "design: --points must be at least 5");
-        s.points = (size_t) a.points;
-    }
-    if (!isnan(a.delta_max)) {
-        if (!(a.delta_max > 0))
-            cli_die(CLI_EXIT_USAGE, "design: --delta-max must be > 0 (e.g. --delta-max 50nm)");
-        s.delta_max = a.delta_max;
-    }
-    if (strcmp(a.model, "auto") != 0) {
-        s.model = lf_model_type_find(a.model);
-        if (s.model == NULL)
-            cli_die(CLI_EXIT_USAGE, "design: unknown model '%s' (auto, thin, exact, halfspace)", a.model);
-    }
-    if (!isnan(a.model_tol)) {
-        if (!(a.model_tol > 0))
-            cli_die(CLI_EXIT_USAGE, "design: --model-tol must be > 0 (e.g. --model-tol 0.2)");
-        if (s.model != NULL)
-            cli_die(CLI_EXIT_USAGE, "design: --model-tol applies to --model auto only");
-        s.choose.tol = a.model_tol;
-    }
-    if (lf_design_target_find(a.target) < 0)
-        cli_die(CLI_EXIT_USAGE, "design: --target must be w, E, nu or all (got '%s')", a.target);
-    target = (lf_design_target) lf_design_target_find(a.target);
-    if (a.grid != NULL && a.choose >= 0)
-        cli_die(CLI_EXIT_USAGE, "design: --grid and --choose are separate questions (give one)");
-    if ((a.plot != NULL || a.csv != NULL || a.vary != NULL) && a.grid == NULL)
+    plan_path = argv[0];
+    if (lf_design_options_settings(o, &s, &err) != LF_OK)
+        cli_die(CLI_EXIT_USAGE, "design: %s", err.msg);
+    if ((plot != NULL || csv != NULL || lf_design_options_get(o, "vary") != NULL)
+        && lf_design_options_get(o, "grid") == NULL)
         cli_die(CLI_EXIT_USAGE, "design: --plot, --csv and --vary go with --grid");
-    if (a.plot != NULL && plot_terminal(a.plot) == NULL)
-        cli_die(CLI_EXIT_USAGE, "design: --plot %s: the file must end in .svg or .png", a.plot);
-    if (a.grid != NULL)
-        nv = parse_grid(a.grid, &factor, values);
+    if (plot != NULL && plot_terminal(plot) == NULL)
+        cli_die(CLI_EXIT_USAGE, "design: --plot %s: the file must end in .svg or .png", plot);
+    if (lf_design_options_grid(o, &factor, values, &nv, &err) != LF_OK)
+        cli_die(CLI_EXIT_USAGE, "design: %s", err.msg);
     {
         lf_input in;
-        cli_input_guard("design", a.plan);
-        if (lf_input_read(a.plan, LF_INPUT_STREAM | LF_INPUT_TEXT, &in, &err) != LF_OK)
+        cli_input_guard("design", plan_path);
+        if (lf_input_read(plan_path, LF_INPUT_STREAM | LF_INPUT_TEXT, &in, &err) != LF_OK)
             cli_die_error(CLI_EXIT_USAGE, &err);
-        cli_input_note(a.plan, in.sha256);
-        cli_output_note("design", a.json);
-        cli_output_note("design", a.csv);
-        cli_output_note("design", a.plot);
-        if (lf_design_plan_parse(in.data, in.len, a.plan, &plan, &err) != LF_OK)
+        cli_input_note(plan_path, in.sha256);
+        cli_output_note("design", json);
+        cli_output_note("design", csv);
+        cli_output_note("design", plot);
+        if (lf_design_plan_parse(in.data, in.len, plan_path, &plan, &err) != LF_OK)
             cli_die_error(CLI_EXIT_USAGE, &err);
         lf_input_free(&in);
     }
-    if (a.choose == 0 || (a.choose > 0 && (size_t) a.choose > plan->n))
-        cli_die(CLI_EXIT_USAGE, "design: --choose must lie between 1 and the %zu candidates",
-                plan->n);
-    if (a.vary != NULL) {
-        char *end;
-        long k = strtol(a.vary, &end, 10);
-        for (i = 0; i < plan->n; i++)
-            if (strcmp(plan->rows[i].name, a.vary) == 0)
-                which = i;
-        if (which == (size_t) -1 && *end == '\0' && end != a.vary && k >= 1 && (size_t) k <= plan->n)
-            which = (size_t) k - 1;
-        if (which == (size_t) -1)
-            cli_die(CLI_EXIT_USAGE, "design: --vary %s: no candidate of that name or number", a.vary);
-        snprintf(scope, sizeof scope, "candidate %s", cand_label(l, sizeof l, &plan->rows[which], which));
-    }
-
-    d = lf_design_alloc(&s, plan->n, plan->rows, &err);
-    if (d == NULL)
-        cli_die(err.status == LF_ENOMEM || err.status == LF_ENUMERIC ? CLI_EXIT_FAIL : CLI_EXIT_USAGE,
+    /* the whole set, what each adds, the choice, the sweep: the library's */
+    if (lf_design_run(o, plan, &rep, &err) != LF_OK)
+        cli_die(err.status == LF_EINVAL || err.status == LF_EDATA ? CLI_EXIT_USAGE : CLI_EXIT_FAIL,
                 "design: %s", err.msg);
-    if (lf_design_eval(d, NULL, &all, &err) != LF_OK)
-        cli_die(CLI_EXIT_FAIL, "design: %s", err.msg);
-    compute_contributions(d, plan->n, &con);
-    if (a.choose > 0) {
-        if (lf_design_choose(d, (size_t) a.choose, target, &choice, &err) != LF_OK)
-            cli_die(CLI_EXIT_FAIL, "design: %s", err.msg);
-        best = calloc(plan->n, sizeof *best);
-        if (best == NULL)
-            cli_die(CLI_EXIT_FAIL, "design: out of memory");
-        for (i = 0; i < (size_t) a.choose; i++)
-            nsets = nsets * (plan->n - i) / (i + 1);
-        if (nsets <= 2000) {
-            lf_design_score sc;
-            exh_status = lf_design_exhaustive(d, (size_t) a.choose, target, 2000, best, &sc, &err);
-            if (exh_status != LF_OK)
-                cli_die(CLI_EXIT_FAIL, "design: %s", err.msg);
-        }
-        if (lf_design_eval(d, choice.chosen, &chosen_r, &err) != LF_OK)
-            cli_die(CLI_EXIT_FAIL, "design: %s", err.msg);
-    }
-    if (nv > 0) {
-        sweep = calloc(nv, sizeof *sweep);
-        if (sweep == NULL)
-            cli_die(CLI_EXIT_FAIL, "design: out of memory");
-        if (lf_design_sweep(&s, plan->n, plan->rows, factor, which, nv, values, sweep, &err) != LF_OK)
-            cli_die(err.status == LF_EINVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL, "design: --grid: %s",
-                    err.msg);
-    }
+    if (rep->which != (size_t) -1)
+        snprintf(scope, sizeof scope, "candidate %s",
+                 cand_label(l, sizeof l, &plan->rows[rep->which], rep->which));
 
     /* the text, unless standard output carries --json - or --csv - */
-    if (!(a.json != NULL && strcmp(a.json, "-") == 0) && !(a.csv != NULL && strcmp(a.csv, "-") == 0)) {
+    if (!(json != NULL && strcmp(json, "-") == 0) && !(csv != NULL && strcmp(csv, "-") == 0)) {
         fprintf(out, "layerfit design: %zu candidate%s; truth w = %s, E* = %s, nu = %.4g%s; noise ",
                 plan->n, plan->n == 1 ? "" : "s", cli_human(a1, sizeof a1, s.truth.w, "J/m^2"),
                 cli_human(a2, sizeof a2, s.truth.Estar, "Pa"), s.truth.nu, s.fix_nu ? " (held)" : "");
@@ -801,121 +479,39 @@ cli_design(int argc, char **argv, const char *command_line)
         else
             fprintf(out, "%.3g%% of each curve's largest |force|", 100.0 * s.noise_rel);
         fprintf(out, "; model %s\n", s.model ? s.model->name : "auto");
-        text_curves(out, plan, &all);
-        text_set(out, "the whole set", &all, plan, &s);
-        text_contributions(out, plan, &all, &con);
-        if (a.choose > 0) {
-            text_choice(out, plan, &choice, target, exh_status, best, nsets);
-            text_set(out, "the chosen set", &chosen_r, plan, &s);
+        text_curves(out, plan, &rep->all);
+        text_set(out, "the whole set", &rep->all, plan, &s);
+        text_contributions(out, plan, &rep->all, rep);
+        if (rep->nchoose > 0) {
+            text_choice(out, plan, &rep->choice, rep->target, rep->exhaustive ? LF_OK : -1, rep->best,
+                        rep->nsets);
+            text_set(out, "the chosen set", &rep->chosen, plan, &s);
         }
-        if (nv > 0)
-            text_sweep(out, factor, nv, values, sweep, scope);
+        if (rep->nsweep > 0)
+            text_sweep(out, rep->factor, rep->nsweep, rep->values, rep->sweep, scope);
     }
-    if (a.csv != NULL)
-        csv_sweep(a.csv, factor, nv, values, sweep);
-    if (a.plot != NULL)
-        draw_sweep(a.plot, factor, nv, values, sweep, scope);
-    if (a.json != NULL) {
-        cli_out o;
-        char msg[4400];
-        FILE *f = cli_out_open(&o, a.json, msg, sizeof msg);
+    if (csv != NULL)
+        csv_sweep(csv, rep->factor, rep->nsweep, rep->values, rep->sweep);
+    if (plot != NULL)
+        draw_sweep(plot, rep->factor, rep->nsweep, rep->values, rep->sweep, scope);
+    if (json != NULL) {
+        cli_out jo;
+        char msg[4400], *doc;
+        lf_provenance prov;
+        FILE *f = cli_out_open(&jo, json, msg, sizeof msg);
         if (f == NULL)
             cli_die(CLI_EXIT_FAIL, "design: %s", msg);
-        fputs("{\n  \"truth\": {\"w_J_m2\": ", f);
-        report_json_number(f, s.truth.w);
-        fputs(", \"Estar_Pa\": ", f);
-        report_json_number(f, s.truth.Estar);
-        fputs(", \"nu\": ", f);
-        report_json_number(f, s.truth.nu);
-        fprintf(f, ", \"nu_held\": %s},\n  \"noise\": {\"relative\": ", s.fix_nu ? "true" : "false");
-        report_json_number(f, isfinite(s.noise_abs) ? NAN : s.noise_rel);
-        fputs(", \"sd_N\": ", f);
-        report_json_number(f, s.noise_abs);
-        fputs("},\n  \"model\": ", f);
-        report_json_string(f, s.model ? s.model->name : "auto");
-        fputs(",\n  \"set\": ", f);
-        json_set(f, &all, 1, plan);
-        fputs(",\n  \"without\": [", f);
-        for (i = 0; i < con.n; i++) {
-            if (!con.done[i])
-                continue;
-            fprintf(f, "%s\n    {\"row\": %zu, \"set\": ", i ? "," : "", i + 1);
-            json_set(f, &con.without[i], 0, plan);
-            fputs("}", f);
-        }
-        fputs(con.n > 1 ? "\n  ]" : "]", f);
-        if (a.choose > 0) {
-            size_t st;
-            fprintf(f, ",\n  \"choice\": {\"target\": \"%s\", \"steps\": [",
-                    lf_design_target_name(target));
-            for (st = 0; st < choice.nsteps; st++) {
-                const lf_design_step *sp = &choice.steps[st];
-                fprintf(f, "%s\n    {\"added\": %zu, \"score\": ", st ? "," : "", sp->added + 1);
-                report_json_number(f, sp->score.target_determined ? sp->score.value : NAN);
-                fputs(", ", f);
-                json_estimate(f, "w", &sp->w, ", ");
-                json_estimate(f, "Estar", &sp->Estar, ", ");
-                json_estimate(f, "nu", &sp->nu, ", \"runner_up\": ");
-                if (sp->runner_up == (size_t) -1)
-                    fputs("null}", f);
-                else
-                    fprintf(f, "%zu}", sp->runner_up + 1);
-            }
-            fputs("\n  ], \"chosen\": [", f);
-            for (i = 0, st = 0; i < plan->n; i++)
-                if (choice.chosen[i])
-                    fprintf(f, "%s%zu", st++ ? ", " : "", i + 1);
-            fputs("], \"exhaustive_best\": ", f);
-            if (exh_status == LF_OK) {
-                fputc('[', f);
-                for (i = 0, st = 0; i < plan->n; i++)
-                    if (best[i])
-                        fprintf(f, "%s%zu", st++ ? ", " : "", i + 1);
-                fputc(']', f);
-            } else {
-                fputs("null", f);
-            }
-            fputs(", \"set\": ", f);
-            json_set(f, &chosen_r, 0, plan);
-            fputs("}", f);
-        }
-        if (nv > 0) {
-            size_t v;
-            fprintf(f, ",\n  \"sweep\": {\"factor\": \"%s\", \"candidate\": ",
-                    lf_design_factor_name(factor));
-            if (which == (size_t) -1)
-                fputs("null", f);
-            else
-                fprintf(f, "%zu", which + 1);
-            fputs(", \"points\": [", f);
-            for (v = 0; v < nv; v++) {
-                fprintf(f, "%s\n    {\"value\": ", v ? "," : "");
-                report_json_number(f, values[v]);
-                fputs(", \"set\": ", f);
-                json_set(f, &sweep[v], 0, plan);
-                fputs("}", f);
-            }
-            fputs("\n  ]}", f);
-        }
-        fputs(",\n  \"provenance\": ", f);
-        cli_provenance_json(f, "  ", command_line);
-        fputs("\n}\n", f);
-        if (cli_out_commit(&o, msg, sizeof msg) != 0)
+        cli_provenance_of(command_line, &prov);
+        if (lf_design_report_json(rep, &prov, &doc, &err) != LF_OK)
+            cli_die(CLI_EXIT_FAIL, "design: %s", err.msg);
+        fputs(doc, f);
+        lf_free(doc);
+        cli_provenance_free(&prov);
+        if (cli_out_commit(&jo, msg, sizeof msg) != 0)
             cli_die(CLI_EXIT_FAIL, "design: %s", msg);
     }
-
-    lf_design_result_free(&all);
-    for (i = 0; i < con.n; i++)
-        lf_design_result_free(&con.without[i]);
-    free(con.without);
-    free(con.done);
-    lf_design_choice_free(&choice);
-    lf_design_result_free(&chosen_r);
-    for (i = 0; i < nv; i++)
-        lf_design_result_free(&sweep[i]);
-    free(sweep);
-    free(best);
-    lf_design_free(d);
+    lf_design_report_free(rep);
     lf_design_plan_free(plan);
+    lf_design_options_free(o);
     return CLI_EXIT_OK;
 }

@@ -73,8 +73,9 @@ static const char exit_text[] =
     "fit); 1 input, output or memory (e.g. an output not written)\n";
 
 typedef struct {
-    const char *json, *curves, *interface;
-    double k, R, b;
+    const char *json, *curves;
+    int single;         /* a single curve (--k given), not a plan */
+    lf_probe probe;     /* its probe (lf_fit_options_probe) */
 } fit_args;
 
 /* The report's notes on its input, once the fit has run (an error exit
@@ -86,7 +87,7 @@ print_input_notes(const fit_args *a, const lf_fit_input *in)
 {
     char buf[48];
     size_t j;
-    if (!isnan(a->k) && isnan(a->b) && in->n == 1)
+    if (a->single && isnan(a->probe.b) && in->n == 1)
         printf("%s: half-space model: no layer thickness or interface used\n", in->names[0]);
     for (j = 0; j < in->n; j++)
         if (in->R_source[j] != NULL && strcmp(in->R_source[j], "file header") == 0)
@@ -124,34 +125,36 @@ check_probes(const lf_fit_input *in, const char *model)
 }
 
 void
-cli_fit_probe(const char *model, double k, double R, double b, const char *interface,
-              lf_probe *p)
+cli_fit_probe(const lf_fit_options *o, lf_probe *p, int *single)
 {
-    int base = LF_BASE_FRICTIONLESS;
-    /* a half-space has no thickness and no interface: b NaN, a stand-in
-     * (R) that no half-space formula uses; R NaN: from the file header */
-    int halfspace = cli_model_ignores_b(model);
     lf_error err;
-    if (halfspace && isnan(b) != (interface == NULL))
-        cli_die(CLI_EXIT_USAGE, "fit: --b and --interface go together (and the half-space "
-                "model uses neither: leave both out)");
-    if (!(halfspace && isnan(b) && interface == NULL)) {
-        if (isnan(b) || interface == NULL)
-            cli_die(CLI_EXIT_USAGE, "fit: a single curve needs --k, --R, --b and --interface "
-                    "(e.g. --k 2 --R 1mm --b 1um --interface frictionless)");
-        base = cli_base(interface);
-        if (base < 0)
-            cli_die(CLI_EXIT_USAGE, "fit: unknown interface '%s' (frictionless or bonded)",
-                    interface);
-    }
-    p->k = k;
-    p->R = isnan(R) ? 1.0 : R;    /* checked with the file's R after reading */
-    p->b = isnan(b) ? p->R : b;
-    p->base = (lf_base) base;
-    if (lf_probe_check(p, &err) != LF_OK)
+
+    if (lf_fit_options_probe(o, p, single, &err) != LF_OK)
         cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
-    p->R = R;
-    p->b = b;
+}
+
+void
+cli_fit_request(lf_fit_options *o, lf_fit_request *req)
+{
+    lf_error err;
+
+    if (lf_fit_options_request(o, req, &err) != LF_OK)
+        cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
+}
+
+size_t
+cli_fit_opts(lf_fit_options *o, cli_opt *opts)
+{
+    size_t n;
+
+    for (n = 0; lf_fit_option_table[n].name != NULL; n++) {
+        if (n == CLI_FIT_NOPTS)     /* a table that outgrew the room: never silently */
+            cli_die(CLI_EXIT_FAIL, "fit: more options than CLI_FIT_NOPTS (%d)", CLI_FIT_NOPTS);
+        opts[n].name = lf_fit_option_table[n].name;
+        opts[n].kind = lf_fit_option_table[n].kind == LF_OPTION_FLAG ? CLI_FIT_FLAG : CLI_FIT;
+        opts[n].target = o;
+    }
+    return n;
 }
 
 /* Read the plan (or the single curve) into in (lf_fit_input_from_plan:
@@ -165,30 +168,21 @@ read_input(const char *path, const fit_args *a, const char *model, const lf_inpu
     lf_input_settings one = *is;
     size_t j;
     int status;
-    if (!isnan(a->k)) {
-        lf_probe p;
+    if (a->single) {
         char file[4096];
         long index;
-        cli_fit_probe(model, a->k, a->R, a->b, a->interface, &p);
         /* a curve named on the command line may be a pipe (read once) */
         one.open_flags = LF_INPUT_STREAM;
         if (lf_curve_path_split(path, file, sizeof file, &index) != LF_OK)
             cli_die(CLI_EXIT_USAGE, "fit: %s: path too long", path);
         cli_input_guard("fit", file);
-        status = lf_fit_input_from_curve(path, &p, &one, in, &warn, &err);
+        status = lf_fit_input_from_curve(path, &a->probe, &one, in, &warn, &err);
         if (status != LF_OK && status != LF_ENOMEM && cli_reads_as_plan(path))
             cli_die(CLI_EXIT_USAGE, "fit: %s is a plan: --k, --R, --b and --interface are for a "
                     "single curve (a plan gives each curve's probe in its row); fit the plan "
                     "without them", path);
     } else {
-        lf_plan *plan;
-        /* a plan gives each curve's probe in its own row: an option that
-         * would be ignored is refused */
-        if (!isnan(a->R) || !isnan(a->b) || a->interface != NULL)
-            cli_die(CLI_EXIT_USAGE, "fit: --%s applies to a single curve (with --k); a plan gives "
-                    "each curve's probe in its row (columns k, R, b, interface; R may read "
-                    "'header')", !isnan(a->R) ? "R" : !isnan(a->b) ? "b" : "interface");
-        plan = cli_plan_load("fit", path);
+        lf_plan *plan = cli_plan_load("fit", path);
         cli_plan_need_layers(plan, model);
         for (j = 0; j < plan->n; j++)   /* no output may replace a curve */
             cli_input_guard("fit", plan->rows[j].file);
@@ -298,176 +292,29 @@ figures(const char *plotdir, const char *report, const report_input *in, const l
         cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
 }
 
-void
-cli_fit_args_init(cli_fit_args *a)
-{
-    a->method = "lm";
-    a->jacobian = "analytic";
-    a->model = "auto";
-    a->segment = NULL;
-    a->loss = "linear";
-    a->intervals = "auto";
-    a->linear_only = 0;
-    a->nu = a->fix_nu = a->fix_z0 = a->fix_F0 = a->max_ba = a->model_tol = NAN;
-    a->guess_w = a->guess_E = a->guess_nu = a->loss_scale = NAN;
-    a->max_iter = -1;
-    a->slope = 0;
-    a->format = a->spring_constant = a->sensitivity = NULL;
-    lf_read_opts_default(&a->read);
-}
-
-size_t
-cli_fit_opts(cli_fit_args *a, cli_opt *opts)
-{
-    const cli_opt table[] = {
-        { "method", CLI_STRING, &a->method }, { "jacobian", CLI_STRING, &a->jacobian },
-        { "model", CLI_STRING, &a->model }, { "segment", CLI_STRING, &a->segment },
-        { "nu", CLI_NUMBER, &a->nu }, { "fix-nu", CLI_NUMBER, &a->fix_nu },
-        { "fix-z0", CLI_LENGTH, &a->fix_z0 }, { "fix-F0", CLI_FORCE, &a->fix_F0 },
-        { "max-b-over-a", CLI_NUMBER, &a->max_ba }, { "model-tol", CLI_NUMBER, &a->model_tol },
-        { "slope", CLI_FLAG, &a->slope }, { "max-iter", CLI_COUNT, &a->max_iter },
-        { "guess-w", CLI_ADHESION, &a->guess_w }, { "guess-E", CLI_PRESSURE, &a->guess_E },
-        { "guess-nu", CLI_NUMBER, &a->guess_nu }, { "loss", CLI_STRING, &a->loss },
-        { "loss-scale", CLI_NUMBER, &a->loss_scale }, { "intervals", CLI_STRING, &a->intervals },
-        { "format", CLI_STRING, &a->format }, { "spring-constant", CLI_STRING, &a->spring_constant },
-        { "sensitivity", CLI_STRING, &a->sensitivity },
-        { "depth-unit", CLI_STRING, &a->read.depth_unit },
-        { "force-unit", CLI_STRING, &a->read.force_unit },
-        { "skip-bad-rows", CLI_FLAG, &a->read.skip_bad_rows },
-    };
-    size_t n = sizeof table / sizeof table[0];
-
-    memcpy(opts, table, sizeof table);
-    return n;
-}
-
-int
-cli_fit_settings(cli_fit_args *a, lf_fit_settings *s, lf_choose_settings *cs,
-                 lf_input_settings *is)
-{
-    int model_auto = strcmp(a->model, "auto") == 0;
-    double nu;
-    size_t i;
-    lf_error err;
-
-    s->model = model_auto ? &lf_model_thin : lf_model_type_find(a->model);
-    if (s->model == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: unknown model '%s' (auto, thin, exact, halfspace)", a->model);
-    for (i = 0; lf_fit_methods[i] != NULL; i++)
-        if (strcmp(lf_fit_methods[i], a->method) == 0)
-            break;
-    if (lf_fit_methods[i] == NULL)
-        cli_die(CLI_EXIT_USAGE, "fit: unknown method '%s' (lm, lmaccel, dogleg, ddogleg, subspace2D)",
-                a->method);
-    s->method = a->method;
-    if (strcmp(a->jacobian, "analytic") == 0)
-        s->jacobian = LF_JAC_ANALYTIC;
-    else if (strcmp(a->jacobian, "forward") == 0)
-        s->jacobian = LF_JAC_FORWARD;
-    else if (strcmp(a->jacobian, "central") == 0)
-        s->jacobian = LF_JAC_CENTRAL;
-    else
-        cli_die(CLI_EXIT_USAGE, "fit: --jacobian must be analytic, forward or central (got '%s')",
-                a->jacobian);
-    if (!isnan(a->max_ba)) {
-        if (!(a->max_ba > 0))
-            cli_die(CLI_EXIT_USAGE, "fit: --max-b-over-a must be > 0 (e.g. --max-b-over-a 0.1)");
-        s->max_b_over_a = a->max_ba;
-    }
-    if (!isnan(a->model_tol)) {
-        if (!(a->model_tol > 0) || !isfinite(a->model_tol))
-            cli_die(CLI_EXIT_USAGE, "fit: --model-tol must be a number > 0 (e.g. --model-tol 0.2)");
-        if (!model_auto)
-            cli_die(CLI_EXIT_USAGE, "fit: --model-tol applies to --model auto only");
-        cs->tol = a->model_tol;
-    }
-    if (strcmp(a->intervals, "auto") == 0)
-        a->linear_only = 0;
-    else if (strcmp(a->intervals, "linear") == 0)
-        a->linear_only = 1;
-    else
-        cli_die(CLI_EXIT_USAGE, "fit: --intervals must be auto or linear (got '%s')", a->intervals);
-    if (a->segment != NULL) {
-        if (strcmp(a->segment, "unload") == 0)
-            is->segment = LF_SEG_UNLOAD;
-        else if (strcmp(a->segment, "load") == 0)
-            is->segment = LF_SEG_LOAD;
-        else
-            cli_die(CLI_EXIT_USAGE, "fit: --segment must be unload or load (got '%s')", a->segment);
-    }
-    is->z0 = a->fix_z0;
-    is->F0 = a->fix_F0;
-    is->min_points = CLI_MIN_POINTS;    /* the same test as `layerfit check` */
-    if (a->format != NULL && lf_reader_find(a->format) == NULL) {
-        char list[400];
-        size_t r, len = 0;
-        list[0] = '\0';
-        for (r = 0; lf_reader_types[r] != NULL; r++)
-            len += (size_t) snprintf(list + len, len < sizeof list ? sizeof list - len : 0,
-                                     "%s%s", r ? ", " : "", lf_reader_types[r]->name);
-        cli_die(CLI_EXIT_USAGE, "fit: unknown format '%s' (%s)", a->format, list);
-    }
-    a->read.format = a->format;
-    if (lf_read_opts_constants(&a->read, a->spring_constant, a->sensitivity, &err) != LF_OK)
-        cli_die(CLI_EXIT_USAGE, "fit: %s", err.msg);
-    is->read = &a->read;
-    s->fit_slope = a->slope;
-    if (!isnan(a->guess_w) && !(a->guess_w > 0))
-        cli_die(CLI_EXIT_USAGE, "fit: --guess-w must be > 0 (e.g. --guess-w 10mJ/m2)");
-    if (!isnan(a->guess_E) && !(a->guess_E > 0))
-        cli_die(CLI_EXIT_USAGE, "fit: --guess-E must be > 0 (e.g. --guess-E 1GPa)");
-    if (!isnan(a->guess_nu) && !(a->guess_nu > 0 && a->guess_nu < 0.5))
-        cli_die(CLI_EXIT_USAGE, "fit: --guess-nu must lie in (0, 0.5) (e.g. --guess-nu 0.3)");
-    if (lf_loss_find(a->loss) < 0)
-        cli_die(CLI_EXIT_USAGE, "fit: --loss must be linear, huber or cauchy (got '%s')", a->loss);
-    s->loss = (lf_loss) lf_loss_find(a->loss);
-    if (!isnan(a->loss_scale) && !(a->loss_scale > 0))
-        cli_die(CLI_EXIT_USAGE, "fit: --loss-scale must be > 0 (e.g. --loss-scale 1.345)");
-    s->loss_scale = a->loss_scale;
-    s->w.guess = a->guess_w;
-    s->Estar.guess = a->guess_E;
-    s->nu.guess = a->guess_nu;
-    if (a->max_iter == 0)
-        cli_die(CLI_EXIT_USAGE, "fit: --max-iter: '0' is not a whole number >= 1 (e.g. --max-iter 200)");
-    if (a->max_iter > 0)
-        s->max_iter = (size_t) a->max_iter;
-    /* nu from the command line holds it (and wins over a plan's nu column) */
-    nu = !isnan(a->fix_nu) ? a->fix_nu : a->nu;
-    if (!isnan(nu)) {
-        if (!(nu >= 0 && nu < 0.5))
-            cli_die(CLI_EXIT_USAGE, "fit: nu must lie in [0, 0.5) (got %g)", nu);
-        s->nu.mode = LF_PARAM_FIXED;
-        s->nu.value = nu;
-    }
-    return model_auto;
-}
-
 int
 cli_fit(int argc, char **argv, const char *command_line)
 {
-    fit_args a = { NULL, NULL, NULL, NAN, NAN, NAN };
-    cli_fit_args fa;
+    fit_args a = { NULL, NULL, 0, { NAN, NAN, NAN, LF_BASE_FRICTIONLESS } };
+    lf_fit_options *fo = lf_fit_options_alloc();
     const char *plot_dir = NULL, *report_html = NULL;
-    cli_opt opts[8 + CLI_FIT_NOPTS + 1] = {
+    cli_opt opts[4 + CLI_FIT_NOPTS + 1] = {
         { "json", CLI_STRING, &a.json }, { "curves", CLI_STRING, &a.curves },
-        { "interface", CLI_STRING, &a.interface }, { "k", CLI_NUMBER, &a.k },
-        { "R", CLI_LENGTH, &a.R }, { "b", CLI_LENGTH, &a.b },
         { "plot", CLI_STRING, &plot_dir }, { "report", CLI_STRING, &report_html },
     };
     int npos, help, status, misfit = 0;
-    lf_fit_settings set = lf_fit_settings_default();
-    lf_choose_settings choose = lf_choose_settings_default();
-    lf_input_settings is = lf_input_settings_default();
-    int model_auto;
+    lf_fit_request req;
+    lf_warnings notes = { 0, NULL };
     lf_fit_input d;
     lf_fit_result r;
     lf_error err;
     report_input in;
-    size_t no, j;
+    size_t no;
     char bad[256];
 
-    cli_fit_args_init(&fa);
-    no = 8 + cli_fit_opts(&fa, opts + 8);
+    if (fo == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    no = 4 + cli_fit_opts(fo, opts + 4);
     opts[no].name = NULL;
     {
         /* a batch's options, asked of a single fit: say where they belong */
@@ -482,6 +329,7 @@ cli_fit(int argc, char **argv, const char *command_line)
         fputs(usage_text, stdout);
         fputs(cli_fit_help, stdout);
         fputs(exit_text, stdout);
+        lf_fit_options_free(fo);
         return CLI_EXIT_OK;
     }
     if (npos != 1)
@@ -495,42 +343,22 @@ cli_fit(int argc, char **argv, const char *command_line)
     cli_output_folder_check("fit", a.curves);
     cli_output_folder_check("fit", report_html);
     cli_output_folder_check("fit", plot_dir);      /* its parent: --plot makes one level */
-    model_auto = cli_fit_settings(&fa, &set, &choose, &is);
-    read_input(argv[0], &a, fa.model, &is, &d);
+    cli_fit_request(fo, &req);
+    cli_fit_probe(fo, &a.probe, &a.single);
+    read_input(argv[0], &a, req.model, &req.input, &d);
     figures_note(plot_dir, d.n);
-    lf_fit_input_apply_nu(&d, &set);
-    if (model_auto)
-        status = lf_fit_choose_driver(&set, &choose, d.n, d.curves, &r, &err);
-    else
-        status = lf_fit_driver(&set, d.n, d.curves, &r, &err);
+    status = lf_fit_request_run(&req, &d, 0, &r, &notes, &err);
     if (status != LF_OK && status != LF_ENOCONV)
         /* a model that cannot be evaluated (LF_ENUMERIC) is a fit that
          * cannot be made: 3, as one that does not converge */
         cli_die(status == LF_EDATA || status == LF_EINVAL ? CLI_EXIT_USAGE
                 : status == LF_ENOMEM || status == LF_EIO ? CLI_EXIT_FAIL : CLI_EXIT_NOCONV,
                 "fit: %s", err.msg);
-    for (j = 0; j < d.n && d.origin[j].b != NULL; j++)
-        ;           /* a curve without a layer has no thin-layer comparison */
-    if (!model_auto && set.model != &lf_model_thin && j == d.n) {
-        lf_error terr;
-        int st = lf_fit_compare_thin(&set, d.n, d.curves, &r, &terr);
-        if (st != LF_OK)
-            cli_say("warning: the thin-layer comparison fit failed: %s",
-                    terr.msg);
-    }
-    {
-        /* profile-likelihood intervals where the linear ones are unreliable
-         * (--intervals linear: the linear ones, unchecked) */
-        lf_error perr;
-        if (lf_fit_profile(&set, d.n, d.curves, &r, fa.linear_only ? LF_PROFILE_LINEAR : 0,
-                           &perr) != LF_OK)
-            cli_say("warning: profile-likelihood intervals: %s", perr.msg);
-        if (status == LF_OK && !r.converged)
-            status = LF_ENOCONV;    /* a local minimum, or nothing determined */
-    }
-    in.settings = &set;
-    in.model_request = fa.model;
-    in.model_tol = model_auto ? choose.tol : NAN;
+    cli_print_warnings(&notes);
+    lf_warnings_free(&notes);
+    in.settings = &req.fit;
+    in.model_request = req.model;
+    in.model_tol = req.model_auto ? req.choose.tol : NAN;
     in.curves = d.curves;
     in.origin = d.origin;
     in.command_line = command_line;
@@ -544,7 +372,7 @@ cli_fit(int argc, char **argv, const char *command_line)
         write_file(a.json, report_json, &in, &r, NULL);
     if (a.curves != NULL)
         write_file(a.curves, report_curves, &in, &r, command_line);
-    figures(plot_dir, report_html, &in, &d, is.read, &r, command_line);
+    figures(plot_dir, report_html, &in, &d, req.input.read, &r, command_line);
     if (status == LF_OK && cli_disagreeing(&r, bad, sizeof bad) > 0) {
         cli_say("fit: converged, but the model does not describe curve%s %s "
                 "(DISAGREES): the values are those of a model that does not fit, not a "
@@ -559,5 +387,6 @@ cli_fit(int argc, char **argv, const char *command_line)
                   "still not settle)" : "");
     lf_fit_result_free(&r);
     lf_fit_input_free(&d);
+    lf_fit_options_free(fo);
     return status != LF_OK ? CLI_EXIT_NOCONV : misfit ? CLI_EXIT_MISFIT : CLI_EXIT_OK;
 }

@@ -42,17 +42,8 @@ typedef struct {
     long figure;
 } model_args;
 
-/* Everything the summary and JSON report. */
-typedef struct {
-    lf_probe probe;
-    lf_material mat;
-    const lf_model_type *type;
-    lf_pulloff po;
-    double Z;
-    double b_cr;          /* critical thickness, NaN without --sigma-th */
-    double b_cr_over_a;   /* Eq. (20), NaN without --sigma-th */
-    int want_b_cr;        /* --sigma-th given */
-} model_summary;
+/* Everything the summary and JSON report (the library's). */
+typedef lf_model_summary model_summary;
 
 static void
 need(const char *name, double v, const char *example)
@@ -105,32 +96,14 @@ make_model(const model_args *a, lf_probe *probe, lf_material *mat)
 static void
 summarise(const lf_model *m, const model_args *a, model_summary *s)
 {
+    lf_material mat;
     lf_error err;
 
-    s->probe = *lf_model_get_probe(m);
-    s->type = lf_model_get_type(m);
-    s->mat.w = a->w;
-    s->mat.Estar = a->E;
-    s->mat.nu = isnan(a->nu) ? 0.0 : a->nu;
-    s->Z = lf_thin_Z(s->probe.base, s->mat.nu);
-    if (lf_model_pulloff(m, &s->mat, &s->po, &err) != LF_OK)
+    mat.w = a->w;
+    mat.Estar = a->E;
+    mat.nu = isnan(a->nu) ? 0.0 : a->nu;
+    if (lf_model_summarise(m, &mat, a->sigma_th, s, &err) != LF_OK)
         cli_die_error(err.status == LF_EINVAL ? CLI_EXIT_USAGE : CLI_EXIT_FAIL, &err);
-    s->b_cr = s->b_cr_over_a = NAN;
-    s->want_b_cr = !isnan(a->sigma_th);
-    if (!isnan(a->sigma_th) && s->mat.w > 0) {   /* w = 0: no pull-off stress */
-        /* Eq. (19) and (20): the pull-off radius of a layer of thickness b_cr */
-        lf_probe crit = s->probe;
-        lf_pulloff po;
-        lf_model *mc;
-
-        s->b_cr = lf_thin_b_critical(s->probe.k, s->mat.w, s->Z * s->mat.Estar, a->sigma_th);
-        crit.b = s->b_cr;
-        mc = lf_model_alloc(&lf_model_thin, &crit, &err);
-        if (mc == NULL || lf_model_pulloff(mc, &s->mat, &po, &err) != LF_OK)
-            cli_die_error(CLI_EXIT_FAIL, &err);
-        s->b_cr_over_a = s->b_cr / po.a_po;
-        lf_model_free(mc);
-    }
 }
 
 /* The thin-layer model at b/a (at pull-off): "" where b << a holds (up to
@@ -149,7 +122,7 @@ static void
 print_summary(const model_summary *s)
 {
     char b1[64], b2[64];
-    const lf_pulloff *po = &s->po;
+    const lf_pulloff *po = &s->pulloff;
 
     printf("model            %s: %s\n", s->type->name, s->type->description);
     if (s->type->scope == LF_SCOPE_HALFSPACE)
@@ -195,61 +168,21 @@ print_summary(const model_summary *s)
         printf("critical b       %s  (Eq. 19: |sigma_po| reaches sigma_th)\n",
                cli_human(b1, sizeof b1, s->b_cr, "m"));
         printf("b_cr/a_po at b_cr %.4g  (Eq. 20)\n", s->b_cr_over_a);
-    } else if (s->want_b_cr) {
+    } else if (!isnan(s->sigma_th)) {
         printf("critical b       undefined (no adhesion: w = 0, so no pull-off stress)\n");
     }
 }
 
 static void
-json_num(const char *name, double x, int last)
-{
-    printf("  \"%s\": ", name);
-    if (isfinite(x))
-        cli_print_double(stdout, x);
-    else
-        fputs("null", stdout);
-    fputs(last ? "\n" : ",\n", stdout);
-}
-
-static void
 print_json(const model_summary *s)
 {
-    const lf_pulloff *po = &s->po;
+    lf_error err;
+    char *json;
 
-    printf("{\n  \"model\": \"%s\",\n  \"interface\": \"%s\",\n", s->type->name,
-           cli_base_name(s->probe.base));
-    json_num("k", s->probe.k, 0);
-    json_num("R_m", s->probe.R, 0);
-    json_num("b_m", s->type->scope == LF_SCOPE_HALFSPACE ? NAN : s->probe.b, 0);
-    json_num("w_J_per_m2", s->mat.w, 0);
-    json_num("Estar_Pa", s->mat.Estar, 0);
-    json_num("nu", s->probe.base == LF_BASE_BONDED ? s->mat.nu : NAN, 0);
-    json_num("Z", s->Z, 0);
-    json_num("c_m", po->c, 0);
-    json_num("delta_detach_m", po->delta_detach, 0);
-    json_num("P_detach_N", po->P_detach, 0);
-    json_num("a_detach_m", po->a_detach, 0);
-    json_num("delta_po_m", po->delta_po, 0);
-    json_num("P_po_N", po->P_po, 0);
-    json_num("a_po_m", po->a_po, 0);
-    json_num("sigma_po_Pa", po->sigma_po, 0);
-    json_num("P_jump_N", po->P_jump, 0);
-    json_num("b_over_a_po", s->type->scope == LF_SCOPE_HALFSPACE ? NAN : s->probe.b / po->a_po, 0);
-    json_num("a_jkr_sphere_po_m", lf_jkr_sphere_a_po(s->probe.R, s->mat.w, s->mat.Estar), 0);
-    json_num("b_cr_m", s->b_cr, 0);
-    json_num("b_cr_over_a_po", s->b_cr_over_a, 1);
-    printf("}\n");
-}
-
-/* Default range: from detachment over ten pull-off widths. */
-static void
-default_range(const lf_pulloff *po, double *from, double *to)
-{
-    double span = fmax(fabs(po->delta_po - po->delta_detach), fabs(po->delta_detach));
-    if (isnan(*from))
-        *from = po->delta_detach;
-    if (isnan(*to))
-        *to = *from + 10.0 * span;
+    if (lf_model_summary_json(s, &json, &err) != LF_OK)
+        cli_die(CLI_EXIT_FAIL, "model: %s", err.msg);
+    fputs(json, stdout);
+    lf_free(json);
 }
 
 static void
@@ -348,19 +281,22 @@ cli_model(int argc, char **argv, const char *command_line)
 
     m = make_model(&a, &probe, &mat);
     summarise(m, &a, &s);
-    if (!a.summary && s.po.a_po > 0 && s.probe.b / s.po.a_po >= 1.0) {
+    if (!a.summary && s.pulloff.a_po > 0 && s.probe.b / s.pulloff.a_po >= 1.0) {
         /* numbers without the summary's words: the warning goes beside them */
-        const char *scope = thin_scope(&s, s.probe.b / s.po.a_po);
+        const char *scope = thin_scope(&s, s.probe.b / s.pulloff.a_po);
         if (*scope)
             cli_say("model: warning: b/a = %.4g at pull-off: %s",
-                    s.probe.b / s.po.a_po, scope);
+                    s.probe.b / s.pulloff.a_po, scope);
     }
     if (a.summary)
         print_summary(&s);
     else if (a.json)
         print_json(&s);
     else {
-        default_range(&s.po, &a.from, &a.to);
+        if (isnan(a.from))
+            a.from = s.from;
+        if (isnan(a.to))
+            a.to = a.from + s.width;
         if (!(a.to > a.from) && a.points > 1)
             cli_die(CLI_EXIT_USAGE, "model: the range is empty: give --from and --to with --to > --from");
         print_curve(m, &mat, branch, a.from, a.to, a.points);

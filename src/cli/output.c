@@ -817,39 +817,6 @@ cli_stdout_close(void)
  * Text from data, escaped for where it goes.
  * --------------------------------------------------------------------- */
 
-int
-cli_utf8_valid(const char *s)
-{
-    const unsigned char *p = (const unsigned char *) s;
-    while (*p) {
-        size_t n = lf_utf8_len(p);
-        if (n == 0)
-            return 0;
-        p += n;
-    }
-    return 1;
-}
-
-void
-cli_text_clean(const char *s, int keep_newlines,
-               void (*put)(void *, const char *, size_t), void *ctx)
-{
-    const unsigned char *p = (const unsigned char *) (s ? s : "");
-    while (*p) {
-        size_t n = lf_utf8_len(p);
-        if (n == 0) {
-            put(ctx, "\xEF\xBF\xBD", 3);   /* U+FFFD */
-            p++;
-        } else if (n == 1 && (*p < 0x20 || *p == 0x7F) && !(keep_newlines && *p == '\n')) {
-            put(ctx, " ", 1);
-            p++;
-        } else {
-            put(ctx, (const char *) p, n);
-            p += n;
-        }
-    }
-}
-
 static void
 put_file(void *ctx, const char *s, size_t n)
 {
@@ -863,67 +830,9 @@ cli_put_clean(FILE *f, const char *s)
 }
 
 void
-cli_json_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx)
-{
-    const unsigned char *p = (const unsigned char *) (s ? s : "");
-    put(ctx, "\"", 1);
-    while (*p) {
-        size_t n = lf_utf8_len(p);
-        char buf[8];
-        if (n == 0) {
-            put(ctx, "\\ufffd", 6);
-            p++;
-            continue;
-        }
-        if (*p == '"' || *p == '\\') {
-            buf[0] = '\\';
-            buf[1] = (char) *p;
-            put(ctx, buf, 2);
-        } else if (*p == '\n') {
-            put(ctx, "\\n", 2);
-        } else if (*p < 0x20 || *p == 0x7F) {
-            snprintf(buf, sizeof buf, "\\u%04x", *p);
-            put(ctx, buf, 6);
-        } else {
-            put(ctx, (const char *) p, n);
-        }
-        p += n;
-    }
-    put(ctx, "\"", 1);
-}
-
-void
-cli_percent_escape(const char *s, void (*put)(void *, const char *, size_t), void *ctx)
-{
-    const unsigned char *p = (const unsigned char *) (s ? s : "");
-    put(ctx, "\"", 1);
-    for (; *p; p++) {
-        if (*p > 0x20 && *p < 0x7F && *p != '%' && *p != '"' && *p != '\\') {
-            put(ctx, (const char *) p, 1);
-        } else {
-            char buf[4];
-            snprintf(buf, sizeof buf, "%%%02X", *p);
-            put(ctx, buf, 3);
-        }
-    }
-    put(ctx, "\"", 1);
-}
-
-void
 cli_json_string(FILE *f, const char *s)
 {
     cli_json_escape(s, put_file, f);
-}
-
-void
-cli_json_name(FILE *f, const char *key, const char *name)
-{
-    fprintf(f, "\"%s\": ", key);
-    cli_json_escape(name, put_file, f);
-    if (name != NULL && !cli_utf8_valid(name)) {
-        fprintf(f, ", \"%s_raw\": ", key);
-        cli_percent_escape(name, put_file, f);
-    }
 }
 
 int cli_csv_raw;
@@ -931,26 +840,7 @@ int cli_csv_raw;
 void
 cli_csv_cell(const char *s, void (*put)(void *, const char *, size_t), void *ctx)
 {
-    const char *p;
-    size_t len;
-    int formula, quote;
-
-    s = s != NULL ? s : "";
-    len = strlen(s);
-    formula = !cli_csv_raw && s[0] != '\0' && strchr("=+-@\t\r", s[0]) != NULL;
-    quote = strpbrk(s, ",\"\r\n") != NULL
-            || (len > 0 && (s[0] == ' ' || s[0] == '\t' || s[len - 1] == ' ' || s[len - 1] == '\t'));
-    if (quote)
-        put(ctx, "\"", 1);
-    if (formula)
-        put(ctx, "'", 1);
-    for (p = s; *p; p++) {
-        put(ctx, p, 1);
-        if (*p == '"')            /* then the cell is quoted */
-            put(ctx, "\"", 1);
-    }
-    if (quote)
-        put(ctx, "\"", 1);
+    lf_csv_cell(s, cli_csv_raw, put, ctx);
 }
 
 void
@@ -982,21 +872,43 @@ cli_gnuplot_string(FILE *g, const char *s)
  * --------------------------------------------------------------------- */
 
 void
+cli_provenance_of(const char *command_line, lf_provenance *p)
+{
+    const char **path = malloc((ninputs ? ninputs : 1) * sizeof *path);
+    const char **sha = malloc((ninputs ? ninputs : 1) * sizeof *sha);
+    size_t i;
+
+    if (path == NULL || sha == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    for (i = 0; i < ninputs; i++) {
+        path[i] = inputs[i].path;
+        sha[i] = inputs[i].sha256;
+    }
+    p->command_line = command_line;
+    p->ninputs = ninputs;
+    p->input = path;
+    p->sha256 = sha;
+}
+
+void
+cli_provenance_free(lf_provenance *p)
+{
+    free((void *) p->input);
+    free((void *) p->sha256);
+}
+
+void
 cli_provenance_json(FILE *f, const char *indent, const char *command_line)
 {
-    size_t i;
-    fprintf(f, "{\n%s  \"layerfit\": \"%s\",\n%s  \"command_line\": ", indent, LF_VERSION, indent);
-    cli_json_string(f, command_line);
-    fprintf(f, ",\n%s  \"inputs\": [", indent);
-    for (i = 0; i < ninputs; i++) {
-        fprintf(f, "%s\n%s    {", i ? "," : "", indent);
-        cli_json_name(f, "file", inputs[i].path);
-        fputs(", \"sha256\": ", f);
-        if (inputs[i].sha256[0] != '\0')
-            fprintf(f, "\"%s\"}", inputs[i].sha256);
-        else
-            fputs("null}", f);
-    }
-    fprintf(f, "%s%s]\n%s}", ninputs ? "\n  " : "", ninputs ? indent : "", indent);
+    lf_provenance p;
+    lf_error err;
+    char *json;
+
+    cli_provenance_of(command_line, &p);
+    if (lf_provenance_json(&p, indent, &json, &err) != LF_OK)
+        cli_die(CLI_EXIT_FAIL, "%s", err.msg);
+    fputs(json, f);
+    lf_free(json);
+    cli_provenance_free(&p);
 }
 

@@ -179,7 +179,7 @@ widen(double *lo, double *hi, const double *x, size_t n)
 
 /* Curve j of a fit for the page's script: {"q": levels, "z": [lo, hi],
  * "f": [lo, hi], "r": [lo, hi] (SI: m, N, N), "n": points in the fit,
- * "z0", "F0": its offsets,
+ * "z0", "F0": the offsets it is drawn with (lf_fit_figure_curve),
  * "pz", "pf", "pr": the drawn points' depth, force and residual, "mz":
  * the model's first and last depth (SI; its depths are evenly spaced),
  * "mf": its forces, "mc": its classes (a digit per point: 0 out of contact,
@@ -187,9 +187,12 @@ widen(double *lo, double *hi, const double *x, size_t n)
  * point [z, F] or null}, the closing brace the caller's (others_json may
  * add to it); {"q": 0 without memory. */
 static void
-plot_json(FILE *f, const lf_fit_curve *c, const lf_fit_curve_result *cr, const lf_fit_result *res,
-          size_t maxpts, size_t grid, long levels)
+plot_json(FILE *f, const lf_fit_result *res, size_t j, const lf_fit_curve *c, size_t maxpts,
+          size_t grid, long levels)
 {
+    const lf_fit_curve_result *cr = &res->curves[j];
+    lf_fit_figure fig;
+    lf_error err;
     size_t *keep = malloc((maxpts + 2) * sizeof *keep), nk, i;
     double *z = malloc(grid * sizeof *z), *F = malloc(grid * sizeof *F);
     double *resid = malloc((c->n ? c->n : 1) * sizeof *resid);
@@ -201,10 +204,16 @@ plot_json(FILE *f, const lf_fit_curve *c, const lf_fit_curve_result *cr, const l
         fputs("{\"q\":0", f);   /* out of memory: an empty plot */
         goto done;
     }
-    nk = pick(c, cr->z0, maxpts, keep);
+    /* the model where the fit ended, with the offsets it is drawn with */
+    if (lf_fit_figure_curve(res, j, c, grid, z, F, cls, &fig, &err) == LF_OK) {
+        have = fig.have;
+        zpo = fig.z_po;
+        Fpo = fig.F_po;
+    } else
+        fig.z0 = fig.F0 = NAN;
+    nk = pick(c, fig.z0, maxpts, keep);
     for (i = 0; i < c->n; i++)
         resid[i] = cr->fitted != NULL ? c->force[i] - cr->fitted[i] : NAN;
-    have = cli_model_curve(c, cr, res, grid, z, F, cls, &zpo, &Fpo) == 0;
     widen(&zlo, &zhi, c->depth, c->n);
     widen(&flo, &fhi, c->force, c->n);
     widen(&rlo, &rhi, resid, c->n);
@@ -225,9 +234,9 @@ plot_json(FILE *f, const lf_fit_curve *c, const lf_fit_curve_result *cr, const l
     fputc(',', f);
     jnum(f, rhi);
     fprintf(f, "],\"n\":%zu,\"z0\":", c->n);
-    jnum(f, cr->z0);
+    jnum(f, fig.z0);
     fputs(",\"F0\":", f);
-    jnum(f, cr->F0);
+    jnum(f, fig.F0);
     fputc(',', f);
     quantized(f, "pz", c->depth, keep, nk, zlo, zhi, levels);
     fputc(',', f);
@@ -333,134 +342,21 @@ done:
 }
 
 /* ------------------------------------------------------------------------
- * A fit's numbers in words, as the text report says them (cli_human,
- * words.c), for the page's tables: "words": {"parameters": {"w": {"value",
- * "se", "rel", "ci", "status"}, ...}, "curves": [{"b", "interface", "z0",
- * "F0", "pulloff", "a_po", "b_over_a"}]}.  A value that is not a number
- * is "–" or says why.
- * --------------------------------------------------------------------- */
-
-static void
-jkey(FILE *f, const char *key, const char *text, int first)
-{
-    fprintf(f, "%s\"%s\":", first ? "" : ",", key);
-    jstr(f, text);
-}
-
-static const char *
-human_or_dash(char *buf, size_t n, double x, const char *unit)
-{
-    if (!isfinite(x))
-        return "–";
-    return unit[0] != '\0' ? cli_human(buf, n, x, unit) : (snprintf(buf, n, "%.4g", x), buf);
-}
-
-static void
-parameter_words(FILE *f, const char *key, const char *name, const lf_fit_estimate *e,
-                const char *unit, int first)
-{
-    char a[64], b[64], bound[128], why[300], ci[300];
-    const char *status, *words, *bounded = cli_bound_text(e, name, unit, bound, sizeof bound);
-
-    if (e->upper_bound_only)
-        status = "upper bound only (adhesion below the noise)";
-    else if (bounded != NULL)
-        status = bounded[0] == '\0' ? "not determined: the data do not bound it"
-                 : isfinite(e->ci95[0]) ? "not determined: bounded only from below"
-                                        : "not determined: bounded only from above";
-    else if (!e->free && e->determined)
-        status = "fixed";
-    else if (!e->determined && e->why != NULL) {
-        snprintf(why, sizeof why, "not determined: %s", e->why);
-        status = why;
-    } else if (!e->determined)
-        status = "not determined by the data";
-    else
-        status = "fitted";
-    if (isfinite(e->ci95[0]) && isfinite(e->ci95[1]) && (e->free || e->upper_bound_only)) {
-        words = cli_interval_words(e, 1);
-        snprintf(ci, sizeof ci, "%s – %s%s%s%s", human_or_dash(a, sizeof a, e->ci95[0], unit),
-                 human_or_dash(b, sizeof b, e->ci95[1], unit), words ? " (" : "", words ? words : "",
-                 words ? ")" : "");
-    } else if (bounded != NULL && bounded[0] != '\0')
-        snprintf(ci, sizeof ci, "%s (profile likelihood)", bounded);
-    else
-        snprintf(ci, sizeof ci, "–");
-    fprintf(f, "%s\"%s\":{", first ? "" : ",", key);
-    jkey(f, "value", human_or_dash(a, sizeof a, e->upper_bound_only ? NAN : e->value, unit), 1);
-    jkey(f, "se", human_or_dash(b, sizeof b, e->se, unit), 0);
-    if (e->free && e->determined && e->value != 0 && isfinite(e->se))
-        snprintf(a, sizeof a, "%.2g %%", 100.0 * e->se / fabs(e->value));
-    else
-        snprintf(a, sizeof a, "–");
-    jkey(f, "rel", a, 0);
-    jkey(f, "ci", ci, 0);
-    jkey(f, "status", status, 0);
-    fputc('}', f);
-}
-
-/* "value ± se", "value (fixed)", or "not determined" (a free offset the
- * data do not determine). */
-static const char *
-estimate_text(char *buf, size_t n, double x, double se, int free, const char *unit)
-{
-    char a[64], b[64];
-    if (isnan(x))
-        return "not determined";
-    cli_human(a, sizeof a, x, unit);
-    if (!free)
-        snprintf(buf, n, "%s (fixed)", a);
-    else if (isfinite(se))
-        snprintf(buf, n, "%s ± %s", a, cli_human(b, sizeof b, se, unit));
-    else
-        snprintf(buf, n, "%s", a);
-    return buf;
-}
-
-static void
-words_json(FILE *f, const lf_fit_result *r)
-{
-    size_t j;
-    char buf[160];
-
-    fputs("{\"parameters\":{", f);
-    parameter_words(f, "w", "w", &r->w, "J/m²", 1);
-    parameter_words(f, "Estar", "E*", &r->Estar, "Pa", 0);
-    parameter_words(f, "nu", "nu", &r->nu, "", 0);
-    if (isfinite(r->M.value))
-        parameter_words(f, "M", "M", &r->M, "Pa", 0);
-    fputs("},\"curves\":[", f);
-    for (j = 0; j < r->ncurves; j++) {
-        const lf_fit_curve_result *c = &r->curves[j];
-        int none = cli_model_ignores_b(c->model);   /* b inside is only a stand-in */
-        fputs(j ? ",{" : "{", f);
-        jkey(f, "b", none ? "none" : cli_human(buf, sizeof buf, c->probe.b, "m"), 1);
-        jkey(f, "interface", none ? "half-space" : cli_base_name(c->probe.base), 0);
-        jkey(f, "z0", estimate_text(buf, sizeof buf, c->z0, c->z0_se, c->z0_free, "m"), 0);
-        jkey(f, "F0", estimate_text(buf, sizeof buf, c->F0, c->F0_se, c->F0_free, "N"), 0);
-        jkey(f, "pulloff", c->pulloff_determined ? human_or_dash(buf, sizeof buf, c->pulloff.P_po, "N")
-                                                 : "not determined (w is not)", 0);
-        jkey(f, "a_po", c->pulloff_determined ? human_or_dash(buf, sizeof buf, c->pulloff.a_po, "m")
-                                              : "not determined", 0);
-        if (none)
-            snprintf(buf, sizeof buf, "none");
-        else if (c->pulloff_determined)
-            human_or_dash(buf, sizeof buf, c->b_over_a_pulloff, "");
-        else
-            snprintf(buf, sizeof buf, "not determined");
-        jkey(f, "b_over_a", buf, 0);
-        fputc('}', f);
-    }
-    fputs("]}", f);
-}
-
-/* ------------------------------------------------------------------------
  * The page.
  * --------------------------------------------------------------------- */
 
-/* The page around the data (JSON text of n bytes). */
+static void
+put_file(void *ctx, const char *s, size_t n)
+{
+    fwrite(s, 1, n, (FILE *) ctx);
+}
+
+/* The page around the data (JSON text of n bytes): its style, the header
+ * (title, version, command line), body (HTML or NULL), the data and the
+ * script. */
 static int
-page_write(const char *file, const char *title, const char *json, size_t n, char *msg, size_t nmsg)
+page_write(const char *file, const char *title, const char *command_line, const char *body,
+           const char *json, size_t n, char *msg, size_t nmsg)
 {
     cli_out out;
     FILE *f = cli_out_open(&out, file, msg, nmsg);
@@ -469,12 +365,18 @@ page_write(const char *file, const char *title, const char *json, size_t n, char
         return -1;
     fprintf(f, "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
                "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
-               "<meta name=\"generator\" content=\"layerfit %s\">\n<title>%s</title>\n<style>\n",
-            LF_VERSION, title);
+               "<meta name=\"generator\" content=\"layerfit %s\">\n<title>%s</title>\n<style>\n%s",
+            LF_VERSION, title, lf_report_css());
     fwrite(cli_page_css, 1, cli_page_css_len, f);
-    fputs("</style>\n</head>\n<body>\n<noscript><p>This report draws its tables and figures "
-          "with JavaScript; the numbers are in the results and the --json output.</p></noscript>\n"
-          "<script type=\"application/json\" id=\"lf-data\">", f);
+    fprintf(f, "</style>\n</head>\n<body>\n<main id=\"page\">\n<header>\n<h1>%s</h1>\n"
+               "<p id=\"version\">layerfit %s</p>\n<code class=\"cmd\" id=\"command-line\">",
+            title, LF_VERSION);
+    lf_html_text(command_line != NULL ? command_line : "", put_file, f);
+    fputs("</code>\n</header>\n<noscript><p class=\"note\">The figures, maps and the choice "
+          "of a curve need JavaScript.</p></noscript>\n", f);
+    if (body != NULL)
+        fputs(body, f);
+    fputs("</main>\n<script type=\"application/json\" id=\"lf-data\">", f);
     json_safe(f, json, n);
     fputs("</script>\n<script>\n", f);
     fwrite(cli_page_js, 1, cli_page_js_len, f);
@@ -486,23 +388,28 @@ int
 cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r,
              const lf_fit_input *d, const lf_read_opts *ro, char *msg, size_t n)
 {
-    char *buf = NULL;
+    char *buf = NULL, *tables = NULL;
     size_t len = 0, j;
-    FILE *f = open_memstream(&buf, &len);
+    lf_error err;
+    FILE *f;
     int st;
 
-    if (f == NULL) {
+    /* the tables are the library's, as every report of a fit says them */
+    if (lf_fit_result_html(r, NULL, &tables, &err) != LF_OK) {
+        snprintf(msg, n, "%s", err.msg);
+        return -1;
+    }
+    if ((f = open_memstream(&buf, &len)) == NULL) {
+        lf_free(tables);
         snprintf(msg, n, "out of memory");
         return -1;
     }
     fputs("{\"kind\":\"fit\",\"result\":", f);
     report_json(f, in, r);
-    fputs(",\"words\":", f);
-    words_json(f, r);
     fputs(",\"plots\":[", f);
     for (j = 0; j < r->ncurves; j++) {
         fputs(j ? ",\n" : "\n", f);
-        plot_json(f, &in->curves[j], &r->curves[j], r, FIT_POINTS, FIT_GRID, FIT_LEVELS);
+        plot_json(f, r, j, &in->curves[j], FIT_POINTS, FIT_GRID, FIT_LEVELS);
         if (d != NULL && j < d->n)
             others_json(f, d, j, ro, r->curves[j].branch, FIT_POINTS, FIT_LEVELS);
         fputc('}', f);
@@ -510,11 +417,13 @@ cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r,
     fputs("]}", f);
     if (fclose(f) != 0 || buf == NULL) {
         free(buf);
+        lf_free(tables);
         snprintf(msg, n, "out of memory");
         return -1;
     }
-    st = page_write(file, "layerfit fit report", buf, len, msg, n);
+    st = page_write(file, "layerfit fit report", in->command_line, tables, buf, len, msg, n);
     free(buf);
+    lf_free(tables);
     return st;
 }
 
@@ -523,20 +432,14 @@ cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r,
  * --------------------------------------------------------------------- */
 
 struct cli_page_store {
-    size_t n;
-    char **fit;         /* per fit: {"c": [curves], "p": [plan rows]}, or NULL */
+    size_t n, cap;
+    char **fit;         /* per row: {"c": [curves], "p": [plan rows]}, or NULL */
 };
 
 cli_page_store *
-cli_page_store_new(size_t nfits)
+cli_page_store_new(void)
 {
-    cli_page_store *s = malloc(sizeof *s);
-    if (s == NULL || (s->fit = calloc(nfits ? nfits : 1, sizeof *s->fit)) == NULL) {
-        free(s);
-        return NULL;
-    }
-    s->n = nfits;
-    return s;
+    return calloc(1, sizeof(cli_page_store));
 }
 
 void
@@ -552,47 +455,60 @@ cli_page_store_free(cli_page_store *s)
 }
 
 void
-cli_page_store_fit(cli_page_store *s, size_t i, size_t n, const lf_fit_curve *curves,
-                   const lf_plan_row *rows, const lf_fit_result *res)
+cli_page_store_fit(cli_page_store *s, size_t i, const lf_fit_input *in, const lf_fit_result *res,
+                   const char *sample)
 {
     char *buf = NULL;
     size_t len = 0, j;
     FILE *f;
 
-    if (s == NULL || i >= s->n || (f = open_memstream(&buf, &len)) == NULL)
+    if (s == NULL)
+        return;
+    if (i >= s->cap) {      /* rows come one at a time: the store grows */
+        size_t cap = s->cap ? 2 * s->cap : 1024, k;
+        char **fit;
+        while (cap <= i)
+            cap *= 2;
+        if ((fit = realloc(s->fit, cap * sizeof *fit)) == NULL)
+            return;
+        for (k = s->cap; k < cap; k++)
+            fit[k] = NULL;
+        s->fit = fit;
+        s->cap = cap;
+    }
+    if (i >= s->n)
+        s->n = i + 1;
+    if ((f = open_memstream(&buf, &len)) == NULL)
         return;
     fputs("{\"c\":[", f);
-    for (j = 0; res != NULL && j < n && j < res->ncurves; j++) {
+    for (j = 0; in != NULL && res != NULL && j < in->n && j < res->ncurves; j++) {
         fputs(j ? "," : "", f);
-        plot_json(f, &curves[j], &res->curves[j], res, MAP_POINTS, MAP_GRID, MAP_LEVELS);
+        plot_json(f, res, j, &in->curves[j], MAP_POINTS, MAP_GRID, MAP_LEVELS);
         fputc('}', f);
     }
     /* each curve as a row of a plan: file, index, sample, k, R, b,
-     * interface, nu, segment (SI) */
+     * interface, nu, segment (SI; an index names the only curve of a file
+     * as well) */
     fputs("],\"p\":[", f);
-    for (j = 0; j < n; j++) {
-        const lf_plan_row *r = &rows[j];
+    for (j = 0; in != NULL && j < in->n; j++) {
+        const lf_fit_curve *c = &in->curves[j];
+        int layer = in->origin == NULL || in->origin[j].b != NULL;
         fputs(j ? ",[" : "[", f);
-        jstr(f, r->file);
+        jstr(f, in->names[j]);
+        fprintf(f, ",%ld,", in->index != NULL ? in->index[j] : 0L);
+        jstr(f, sample);
         fputc(',', f);
-        if (r->index >= 0)
-            fprintf(f, "%ld", r->index);
-        else
-            fputs("null", f);
+        jnum(f, c->probe.k);
         fputc(',', f);
-        jstr(f, r->sample);
+        jnum(f, c->probe.R);
         fputc(',', f);
-        jnum(f, r->probe.k);
+        jnum(f, layer ? c->probe.b : NAN);
         fputc(',', f);
-        jnum(f, r->probe.R);
+        jstr(f, layer ? cli_base_name(c->probe.base) : "");
         fputc(',', f);
-        jnum(f, r->probe.b);
+        jnum(f, in->nu);
         fputc(',', f);
-        jstr(f, isnan(r->probe.b) ? "" : cli_base_name(r->probe.base));
-        fputc(',', f);
-        jnum(f, r->nu);
-        fputc(',', f);
-        jstr(f, lf_segment_name(r->segment));
+        jstr(f, lf_segment_name(c->branch));
         fputc(']', f);
     }
     fputs("]}", f);
@@ -642,11 +558,7 @@ cli_page_map(const char *file, const char *results, const cli_page_store *s,
         snprintf(msg, n, "out of memory");
         return -1;
     }
-    fputs("{\"kind\":\"map\",\"layerfit\":", f);
-    jstr(f, LF_VERSION);
-    fputs(",\"command_line\":", f);
-    jstr(f, command_line);
-    fputs(",\"results\":", f);
+    fputs("{\"kind\":\"map\",\"results\":", f);
     jstr(f, results);
     fputs(",\"columns\":[", f);
     for (i = 0; map_columns[i] != NULL; i++)
@@ -685,7 +597,7 @@ cli_page_map(const char *file, const char *results, const cli_page_store *s,
         snprintf(msg, n, "out of memory");
         return -1;
     }
-    st = page_write(file, "layerfit map report", buf, len, msg, n);
+    st = page_write(file, "layerfit batch and map report", command_line, NULL, buf, len, msg, n);
     free(buf);
     return st;
 }

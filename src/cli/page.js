@@ -9,8 +9,7 @@
 (function () {
 var D = JSON.parse(document.getElementById('lf-data').textContent);
 var PAL = ['#1b6ca8', '#c0392b', '#27ae60', '#8e44ad', '#d35400', '#2c3e50', '#16a085', '#7f8c8d'];
-var main = document.createElement('main');
-document.body.appendChild(main);
+var main = document.getElementById('page');
 
 /* ---- helpers ---------------------------------------------------------- */
 function el(tag, attrs, kids) {
@@ -361,85 +360,56 @@ function hashCurve() {
  * A single or joint fit
  * ==================================================================== */
 function fitPage() {
-  var R = D.result, F = R.fit, P = R.parameters, C = R.curves, prov = R.provenance || {};
+  var R = D.result, F = R.fit, C = R.curves, prov = R.provenance || {};
   document.title = 'layerfit fit: ' + C.length + ' curve' + (C.length === 1 ? '' : 's');
-  main.appendChild(el('h1', { text: 'layerfit fit report' }));
-  main.appendChild(el('p', { id: 'version', text: 'layerfit ' + prov.layerfit + ' · model ' + F.model +
-    ' · method ' + F.method + ' · ' + C.length + ' curve' + (C.length === 1 ? '' : 's') }));
-  main.appendChild(el('code', { cls: 'cmd', id: 'command-line', text: prov.command_line || '' }));
-  if (!F.converged)
-    main.appendChild(el('p', { cls: 'bad', id: 'not-converged', text: 'The fit did not converge: the numbers are where it stopped (' + F.stop_reason + ').' }));
-
-  var s = section('parameters', 'Material parameters');
-  var t = el('table', { id: 'parameter-table' }, [el('tr', {}, ['parameter', 'value', 'standard error', 'relative', '95 % interval', 'how found', 'status'].map(function (h) { return el('th', { text: h }); }))]);
-  /* the words are the command's (cli/page.c), as its text report says them */
-  var W = D.words;
-  [['w', 'w (work of adhesion)'], ['Estar', 'E* (effective modulus)'], ['nu', 'ν (Poisson’s ratio)'], ['M', 'M = Z E* (bonded curves)']].forEach(function (p) {
-    var e = P[p[0]], w = W.parameters[p[0]];
-    if (!e || !w) return;
-    t.appendChild(el('tr', {}, [el('th', { text: p[1] }), tdn(w.value), tdn(w.se), tdn(w.rel), tdn(w.ci),
-      td(e.ci95_method || ''), td(w.status)]));
+  document.getElementById('version').textContent = 'layerfit ' + prov.layerfit + ' · model ' + F.model +
+    ' · method ' + F.method + ' · ' + C.length + ' curve' + (C.length === 1 ? '' : 's');
+  /* the tables are the library's (lf_fit_result_html); here they get
+   * long names shortened, the offsets' correlations folded, the warnings
+   * grouped and the curves' rows a click */
+  var ct = document.getElementById('curve-table');
+  Array.prototype.forEach.call(ct.querySelectorAll('tr'), function (tr, i) {
+    if (i === 0) return;
+    var cell = tr.cells[1], name = cell.textContent;
+    cell.textContent = '';
+    cell.appendChild(nameCell(name));
+    tr.className = 'pick';
+    tr.setAttribute('data-curve', i);
+    tr.addEventListener('click', function () { location.hash = 'curve=' + i; });
   });
-  s.appendChild(el('div', { cls: 'wide' }, [t]));
-  s.appendChild(el('p', { text: 'Standard errors scaled by ' + num(F.se_scale, 3) + ' (sqrt of χ²/dof and the noise correlation time).' }));
-
-  s = section('identifiability', 'What the data determine');
-  s.appendChild(warningList((R.identifiability || []).map(function (x) { return { text: x }; }), 'ident'));
-  s = section('warnings', 'Validity warnings');
-  var wl = (R.warnings || []).map(function (x) { return { text: x }; });
-  C.forEach(function (c, j) { (c.warnings || []).forEach(function (x) { wl.push({ text: x, curve: j + 1 }); }); });
-  if (wl.length) s.appendChild(warningList(wl, 'warn'));
-  else s.appendChild(el('p', { cls: 'ok', text: 'none' }));
-
-  /* correlations of the material parameters; the offsets folded */
-  s = section('correlations', 'Correlations');
-  var names = R.free_parameters || [], cov = R.covariance || [];
-  function corrTable(idx, id) {
-    var tb = el('table', { id: id }, [el('tr', {}, [el('th')].concat(idx.map(function (i) { return el('th', { text: names[i] }); })))]);
-    idx.forEach(function (i) {
-      tb.appendChild(el('tr', {}, [el('th', { text: names[i] })].concat(idx.map(function (j) {
-        var c = cov[i] && fin(cov[i][j]) && cov[i][i] > 0 && cov[j][j] > 0 ? cov[i][j] / Math.sqrt(cov[i][i] * cov[j][j]) : null;
-        var cell = tdn(num(c, 3));
-        if (fin(c)) cell.style.background = (c >= 0 ? 'rgba(192,57,43,' : 'rgba(27,108,168,') + (0.6 * Math.abs(c)).toFixed(2) + ')';
-        return cell;
-      }))));
-    });
-    return el('div', { cls: 'wide' }, [tb]);
+  var cor = document.getElementById('correlation-table');
+  if (cor) {
+    var heads = Array.prototype.map.call(cor.rows[0].cells, function (c) { return c.textContent; });
+    var off = heads.map(function (h) { return /\[/.test(h); }), noff = off.filter(Boolean).length;
+    var folded = true;
+    function fold() {
+      Array.prototype.forEach.call(cor.rows, function (tr, i) {
+        tr.hidden = folded && i > 0 && off[i];
+        Array.prototype.forEach.call(tr.cells, function (c, j) { c.hidden = folded && off[j]; });
+      });
+      tog.textContent = folded ? 'show the per-curve offsets (' + noff + ')' : 'the material parameters only';
+    }
+    var tog = el('button', { type: 'button', id: 'correlation-offsets', onclick: function () { folded = !folded; fold(); } });
+    if (noff) { cor.parentNode.parentNode.appendChild(tog); fold(); }
   }
-  var mat = [], off = [];
-  names.forEach(function (n, i) { (/\[/.test(n) ? off : mat).push(i); });
-  if (mat.length) s.appendChild(corrTable(mat, 'correlation-table'));
-  else s.appendChild(el('p', { text: 'No free material parameter.' }));
-  if (off.length) s.appendChild(el('details', {}, [el('summary', { text: 'with the per-curve offsets (' + off.length + ')' }), corrTable(mat.concat(off), 'correlation-table-all')]));
+  var wl = document.querySelector('#warnings ul');
+  if (wl) {
+    var items = Array.prototype.map.call(wl.querySelectorAll('li'), function (li) {
+      var m = /^curve (\d+): ([\s\S]*)$/.exec(li.textContent);
+      return m ? { text: m[2], curve: +m[1] } : { text: li.textContent };
+    });
+    wl.parentNode.replaceChild(warningList(items, 'warn'), wl);
+  }
 
-  s = section('statistics', 'Fit');
-  s.appendChild(el('table', { id: 'fit-table' }, [
-    ['model', F.model], ['method', F.method], ['converged', F.converged ? 'yes' : 'no'], ['stop reason', F.stop_reason],
-    ['iterations / evaluations', F.iterations + ' / ' + F.evaluations],
-    ['χ² / dof', num(F.chi2, 4) + ' / ' + F.dof + ' = ' + num(F.chi2 / F.dof, 4)]
-  ].map(function (r) { return el('tr', {}, [el('th', { text: r[0] }), r[0] === 'converged' ? el('td', { cls: F.converged ? 'ok' : 'fail', text: r[1] }) : td(r[1])]); })));
-
-  s = section('curves', 'Curves');
-  var ct = el('table', { id: 'curve-table' }, [el('tr', {}, ['#', 'file', 'k', 'R', 'b', 'interface', 'model', 'branch', 'points', 'z0', 'F0', 'noise σ', 'rms/σ', 'pull-off force', 'b/a at pull-off', 'agreement'].map(function (h) { return el('th', { text: h }); }))]);
-  C.forEach(function (c, j) {
-    var w = W.curves[j];
-    var tr = el('tr', { cls: 'pick', 'data-curve': j + 1, onclick: function () { location.hash = 'curve=' + (j + 1); } }, [
-      tdn(String(j + 1)), el('td', {}, [nameCell(c.file)]), tdn(num(c.k, 4)), tdn(human(c.R, 'm')),
-      td(w.b), td(w.interface), td(c.model), td(c.branch), tdn(String(c.points)),
-      tdn(w.z0), tdn(w.F0), tdn(human(c.noise_sigma, 'N')),
-      tdn(num(c.rms / c.noise_sigma, 3)), tdn(w.pulloff), tdn(w.b_over_a), td(c.agreement)]);
-    ct.appendChild(tr);
-  });
-  s.appendChild(el('div', { cls: 'wide' }, [ct]));
-
-  /* every curve on shared axes */
-  s = section('figures', 'Figures');
+  /* every curve on shared axes, then the one chosen */
+  var s = el('section', { id: 'figures' }, [el('h2', { text: 'Figures' })]);
+  document.getElementById('curves').after(s);
   s.appendChild(el('h3', { text: 'All curves: indentation δ = z − z0' }));
   var series = [], fu = 0, fname = 'N';
-  D.plots.forEach(function (p, j) { if (p && p.q) { var o = decode(p, C[j].z0, C[j].F0); if (o.fu > fu) { fu = o.fu; fname = o.fname; } } });
+  D.plots.forEach(function (p) { if (p && p.q) { var o = decode(p, p.z0, p.F0); if (o.fu > fu) { fu = o.fu; fname = o.fname; } } });
   D.plots.forEach(function (p, j) {
     if (!p || !p.q) return;
-    var o = decode(p, C[j].z0, C[j].F0), k = o.fu / fu;
+    var o = decode(p, p.z0, p.F0), k = o.fu / fu;
     function sc(a) { return a.map(function (q) { return q && [q[0], q[1] * k]; }); }
     var col = PAL[j % PAL.length];
     series.push({ name: (j + 1) + ': ' + basename(C[j].file), pts: sc(o.pts), color: col, kind: 'pts' });
@@ -447,8 +417,8 @@ function fitPage() {
   });
   var ov = el('div', { id: 'overview' });
   s.appendChild(ov);
-  new Chart(ov, { series: series, marks: [], res: null, xlabel: 'indentation δ (nm)', ylabel: 'force − F0 (' + fname + ')', funit: fname,
-                  bad: F.converged ? null : 'did not converge: ' + F.stop_reason });
+  var bad = F.converged ? null : 'did not converge: ' + F.stop_reason;
+  new Chart(ov, { series: series, marks: [], res: null, xlabel: 'indentation δ (nm)', ylabel: 'force − F0 (' + fname + ')', funit: fname, bad: bad });
   var panel = el('div', { id: 'curve-panel' });
   s.appendChild(panel);
   function show() {
@@ -456,12 +426,13 @@ function fitPage() {
     if (n > C.length) n = 1;
     panel.textContent = '';
     Array.prototype.forEach.call(ct.querySelectorAll('tr[data-curve]'), function (tr) { tr.className = 'pick' + (+tr.getAttribute('data-curve') === n ? ' sel' : ''); });
-    var c = C[n - 1], w = W.curves[n - 1];
+    var c = C[n - 1], row = ct.querySelector('tr[data-curve="' + n + '"]');
     panel.appendChild(el('h3', {}, ['Curve ' + n + ': ', el('span', { id: 'curve-file', title: String(c.file), text: basename(c.file) })]));
-    panel.appendChild(el('p', { id: 'curve-numbers', text: 'k = ' + num(c.k) + ', R = ' + human(c.R, 'm') + (w.b !== 'none' ? ', b = ' + w.b + ', ' + w.interface : ', half-space') +
-      ' · ' + c.branch + ' · z0 = ' + w.z0 + ' · F0 = ' + w.F0 + ' · rms/σ = ' + num(c.rms / c.noise_sigma, 3) +
-      ' · pull-off ' + w.pulloff + ' · ' + (c.agreement || '') }));
-    if (D.plots[n - 1] && D.plots[n - 1].q) curveChart(panel, D.plots[n - 1], c.z0, c.F0, F.converged ? null : 'did not converge: ' + F.stop_reason);
+    /* its numbers: its row of the curve table */
+    var nt = el('table', { id: 'curve-numbers' }, [ct.rows[0].cloneNode(true), row.cloneNode(true)]);
+    nt.rows[1].className = '';
+    panel.appendChild(el('div', { cls: 'wide' }, [nt]));
+    if (D.plots[n - 1] && D.plots[n - 1].q) curveChart(panel, D.plots[n - 1], D.plots[n - 1].z0, D.plots[n - 1].F0, bad);
     else panel.appendChild(el('p', { cls: 'note', text: 'The model could not be drawn for this curve.' }));
   }
   window.addEventListener('hashchange', show);
@@ -502,13 +473,11 @@ function mapPage() {
   function get(r, k) { return ci[k] == null ? null : rows[r][ci[k]]; }
   var excluded = new Uint8Array(N), pass = new Uint8Array(N), sel = 0;
   document.title = 'layerfit map: ' + N + ' fits';
-  main.appendChild(el('h1', { text: 'layerfit batch and map report' }));
   var counts = {};
   for (var r = 0; r < N; r++) { var st = get(r, 'status'); counts[st] = (counts[st] || 0) + 1; }
-  main.appendChild(el('p', { id: 'version', text: 'layerfit ' + D.layerfit + ' · ' + N + ' fits: ' +
-    Object.keys(counts).map(function (k) { return counts[k] + ' ' + k; }).join(', ') }));
-  main.appendChild(el('p', {}, ['Results: ', el('span', { id: 'results-file', text: D.results })]));
-  main.appendChild(el('code', { cls: 'cmd', id: 'command-line', text: D.command_line }));
+  var ver = document.getElementById('version');
+  ver.textContent += ' · ' + N + ' fits: ' + Object.keys(counts).map(function (k) { return counts[k] + ' ' + k; }).join(', ');
+  ver.after(el('p', {}, ['Results: ', el('span', { id: 'results-file', text: D.results })]));
   var quants = QUANT.filter(function (q) {
     if (ci[q.key] == null) return false;
     for (var r = 0; r < N; r++) if (fin(get(r, q.key))) return true;

@@ -49,41 +49,6 @@ base_name(const char *path)
     return s ? s + 1 : path;
 }
 
-/* Curve j's offset or slope (what: "z0", "F0", "s") to draw with: the
- * reported one, else where the fit ended (the report gives no number for
- * what the data do not determine), else 0 (none fitted). */
-static double
-curve_at_end(const lf_fit_result *res, const char *what, size_t j, double reported)
-{
-    char name[32];
-    double v;
-
-    if (isfinite(reported))
-        return reported;
-    snprintf(name, sizeof name, "%s[%zu]", what, j + 1);
-    v = cli_fitted_value(res, name);
-    return isfinite(v) ? v : 0.0;
-}
-
-/* The material to draw with: the fitted one; where E* is not determined
- * (bonded curves alone fix only M = Z E*), E* = M with nu = 0 (Z = 1) draws
- * the same thin-layer curve; a w the data do not determine is drawn where
- * the fit ended (the curve it fitted; titles say "not determined"). */
-static int
-draw_material(const lf_fit_result *res, lf_material *m)
-{
-    m->w = isfinite(res->w.value) ? res->w.value : cli_fitted_value(res, "w");
-    m->Estar = res->Estar.value;
-    m->nu = isfinite(res->nu.value) ? res->nu.value : 0.3;
-    if (!isfinite(m->Estar) && isfinite(res->M.value)) {
-        m->Estar = res->M.value;
-        m->nu = 0.0;
-    }
-    if (!isfinite(m->w) && res->w.upper_bound_only)
-        m->w = 0.0;
-    return isfinite(m->w) && isfinite(m->Estar) ? 0 : -1;
-}
-
 /* A value for a title: "not determined" for NaN (no NaN ever reaches a
  * figure's text). */
 static const char *
@@ -101,7 +66,8 @@ value_text(char *buf, size_t n, double x, const char *unit)
  * NaN reaches any output). */
 #define NO_POINT "- -\n"
 
-/* One curve's model on a grid of indentations, in instrument coordinates. */
+/* One curve's model on a grid of indentations, in instrument coordinates
+ * (the library's lf_fit_figure_curve). */
 typedef struct {
     double z[GRID], F[GRID];
     int cls[GRID];          /* 0 baseline (no contact), 1 stable, 2 unstable */
@@ -109,68 +75,19 @@ typedef struct {
     double z_po, F_po;      /* pull-off point, NaN if none */
 } model_curve;
 
-/* Curve j's fitted model on n >= 2 depths spanning its data (and past
- * detachment), in instrument coordinates: z, F and each point's class cls
- * (0 out of contact, 1 stable under force control, 2 unstable), the
- * caller's arrays of n; *z_po, *F_po the force-controlled pull-off point
- * (NaN when none).  Returns 0, or -1 when no model could be drawn. */
-int
-cli_model_curve(const lf_fit_curve *c, const lf_fit_curve_result *cr, const lf_fit_result *res,
-                size_t n, double *z, double *F, int *cls, double *z_po, double *F_po)
-{
-    /* each curve's own model (under --model auto the fit's is "mixed") */
-    const lf_model_type *type = lf_model_type_find(cr->model != NULL ? cr->model
-                                                   : res->model ? res->model : "thin");
-    double s = isfinite(cr->slope) ? cr->slope : 0.0;
-    double lo = INFINITY, hi = -INFINITY;
-    lf_material mat;
-    lf_model *model;
-    lf_eval *ev;
-    lf_error err;
-    size_t i;
-    int st;
-
-    *z_po = *F_po = NAN;
-    if (n < 2 || type == NULL || draw_material(res, &mat) != 0)
-        return -1;
-    for (i = 0; i < c->n; i++) {
-        double d = c->depth[i] - cr->z0;
-        lo = fmin(lo, d);
-        hi = fmax(hi, d);
-    }
-    if (cr->branch == LF_BRANCH_UNLOAD && isfinite(cr->pulloff.delta_detach))
-        lo = fmin(lo, cr->pulloff.delta_detach - 0.05 * (hi - cr->pulloff.delta_detach));
-    if (!(hi > lo) || (ev = malloc(n * sizeof *ev)) == NULL)
-        return -1;
-    if ((model = lf_model_alloc(type, &c->probe, &err)) == NULL) {
-        free(ev);
-        return -1;
-    }
-    for (i = 0; i < n; i++)     /* the indentations first, z after the call */
-        z[i] = lo + (hi - lo) * (double) i / (double) (n - 1);
-    st = lf_model_eval(model, &mat, cr->branch, n, z, ev, &err);
-    lf_model_free(model);
-    for (i = 0; st == LF_OK && i < n; i++) {
-        F[i] = ev[i].P + cr->F0 + s * z[i];
-        cls[i] = ev[i].a <= 0.0 ? 0 : ev[i].dP_ddelta > 0.0 ? 1 : 2;
-        z[i] += cr->z0;
-    }
-    free(ev);
-    if (st != LF_OK)
-        return -1;
-    if (cr->branch == LF_BRANCH_UNLOAD && cr->pulloff_determined && isfinite(cr->pulloff.P_po)) {
-        *z_po = cr->pulloff.delta_po + cr->z0;
-        *F_po = cr->pulloff.P_po + cr->F0 + s * cr->pulloff.delta_po;
-    }
-    return 0;
-}
-
 static void
-model_for(const lf_fit_curve *c, const lf_fit_curve_result *cr, const lf_fit_result *res,
-          model_curve *mc)
+model_for(const lf_fit_curve *c, size_t j, const lf_fit_result *res, model_curve *mc)
 {
-    mc->have = cli_model_curve(c, cr, res, GRID, mc->z, mc->F, mc->cls, &mc->z_po,
-                               &mc->F_po) == 0;
+    lf_fit_figure fig;
+    lf_error err;
+
+    mc->have = 0;
+    mc->z_po = mc->F_po = NAN;
+    if (lf_fit_figure_curve(res, j, c, GRID, mc->z, mc->F, mc->cls, &fig, &err) != LF_OK)
+        return;
+    mc->have = fig.have;
+    mc->z_po = fig.z_po;
+    mc->F_po = fig.F_po;
 }
 
 /* Write the model points of class cls as one data set, contiguous runs
@@ -295,7 +212,7 @@ curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
         snprintf(msg, n, "out of memory");
         return -1;
     }
-    model_for(c, cr, res, mc);
+    model_for(c, j, res, mc);
     for (i = 0; i < c->n; i++)
         fpeak = fmax(fpeak, fabs(c->force[i]));
     force_unit(fpeak, &fs, &fu);
@@ -458,7 +375,7 @@ overview_figure(const char *dir, const char *base, size_t nc, const lf_fit_curve
                "# data, +1: model stable, +2: model unstable, +3: pull-off point.\n", base, fu);
     for (j = 0; j < nc; j++) {
         const lf_fit_curve_result *cr = &res->curves[j];
-        model_for(&c[j], cr, res, mc);
+        model_for(&c[j], j, res, mc);
         if (j > 0)
             fprintf(d, "\n\n");
         fprintf(d, "# curve %zu: ", j + 1);
@@ -654,10 +571,14 @@ cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
     }
     for (j = 0; j < ncurves; j++) {
         lf_fit_curve_result *cr = &draw.curves[j];
+        lf_fit_figure fig;
+        lf_error err;
         *cr = res->curves[j];
-        cr->z0 = curve_at_end(res, "z0", j, cr->z0);
-        cr->F0 = curve_at_end(res, "F0", j, cr->F0);
-        cr->slope = curve_at_end(res, "s", j, cr->slope);
+        if (lf_fit_figure_curve(res, j, &curves[j], 0, NULL, NULL, NULL, &fig, &err) == LF_OK) {
+            cr->z0 = fig.z0;
+            cr->F0 = fig.F0;
+            cr->slope = fig.slope;
+        }
     }
     status = overview_figure(dir, figs->base[0], ncurves, curves, &draw, msg, n);
     for (j = 0; status == 0 && j < ncurves; j++, k++) {

@@ -12,43 +12,16 @@ int
 cli_plan_from(const lf_input *in, const char *path, lf_plan **out, lf_warnings *warn,
               lf_error *err)
 {
-    const char *slash = strrchr(path, '/');
-    char *dir = NULL;
-    int status;
-
-    if (slash != NULL) {
-        size_t n = (size_t) (slash - path);
-        if ((dir = malloc(n + 2)) == NULL)
-            return LF_ENOMEM;
-        memcpy(dir, path, n);
-        dir[n] = '\0';
-        if (n == 0)
-            strcpy(dir, "/");
-    }
-    status = lf_plan_parse(in->data, in->len, 0, path, dir, out, warn, err);
-    free(dir);
-    return status;
+    return lf_plan_from_input(in, path, out, warn, err);
 }
 
 void
 cli_plan_need_layers(const lf_plan *plan, const char *model)
 {
     lf_error err;
-    size_t i;
-    if (strcmp(model, "halfspace") == 0)
-        return;
-    for (i = 0; i < plan->n; i++) {
-        if (!isnan(plan->rows[i].probe.b))
-            continue;
-        err.status = LF_EDATA;
-        err.line = plan->rows[i].line;
-        err.column = 0;
-        snprintf(err.file, sizeof err.file, "%s", plan->path);
-        snprintf(err.msg, sizeof err.msg, "b and interface are empty (no layer): only "
-                 "the half-space model needs neither; the model '%s' needs both (give "
-                 "them, or fit with --model halfspace)", model);
+
+    if (lf_plan_need_layers(plan, model, &err) != LF_OK)
         cli_die_error(CLI_EXIT_USAGE, &err);
-    }
 }
 
 /* The format of an input that reads as a curve ("csv", "chiaro", ...): an

@@ -248,10 +248,10 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
     }
 }
 
-/* ---- JSON --------------------------------------------------------------- */
+/* ---- JSON: the library's writer ----------------------------------------- */
 
-static void
-jnum(FILE *f, double x)
+void
+report_json_number(FILE *f, double x)
 {
     if (isfinite(x))
         cli_print_double(f, x);
@@ -259,215 +259,30 @@ jnum(FILE *f, double x)
         fputs("null", f);
 }
 
-/* A JSON string, or null for NULL. */
-static void
-jstr_or_null(FILE *f, const char *s)
-{
-    if (s == NULL)
-        fputs("null", f);
-    else
-        cli_json_string(f, s);
-}
-
-/* A JSON array of n numbers. */
-static void
-jnums(FILE *f, const double *x, size_t n)
-{
-    size_t i;
-    fputc('[', f);
-    for (i = 0; i < n; i++) {
-        fputs(i ? ", " : "", f);
-        jnum(f, x[i]);
-    }
-    fputc(']', f);
-}
-
-/* Valid UTF-8 whatever the bytes (output.c). */
-static void
-jstr(FILE *f, const char *s)
+void
+report_json_string(FILE *f, const char *s)
 {
     cli_json_string(f, s);
 }
 
 void
-report_json_number(FILE *f, double x)
-{
-    jnum(f, x);
-}
-
-void
-report_json_string(FILE *f, const char *s)
-{
-    jstr(f, s);
-}
-
-static void
-jwarnings(FILE *f, const lf_warnings *w)
-{
-    size_t i;
-    fputc('[', f);
-    for (i = 0; i < w->n; i++) {
-        if (i)
-            fputs(", ", f);
-        jstr(f, w->msg[i]);
-    }
-    fputc(']', f);
-}
-
-static void
-jestimate(FILE *f, const char *name, const lf_fit_estimate *e, int last)
-{
-    fprintf(f, "    \"%s\": {\"value\": ", name);
-    jnum(f, e->value);
-    fputs(", \"stderr\": ", f);
-    jnum(f, e->se);
-    fputs(", \"ci95\": [", f);
-    jnum(f, e->ci95[0]);
-    fputs(", ", f);
-    jnum(f, e->ci95[1]);
-    fputs("], \"ci95_method\": ", f);
-    jstr_or_null(f, cli_interval_method(e));
-    fprintf(f, ", \"free\": %s, \"determined\": %s, \"upper_bound_only\": %s",
-            e->free ? "true" : "false", e->determined ? "true" : "false",
-            e->upper_bound_only ? "true" : "false");
-    if (e->why != NULL) {
-        fputs(", \"why_not_determined\": ", f);
-        jstr(f, e->why);
-    }
-    fprintf(f, "}%s\n", last ? "" : ",");
-}
-
-void
 report_json(FILE *f, const report_input *in, const lf_fit_result *r)
 {
-    size_t i, j;
+    lf_provenance prov;
+    lf_report_info info;
+    lf_error err;
+    char *json;
 
-    fputs("{\n  \"parameters\": {\n", f);
-    jestimate(f, "w", &r->w, 0);
-    jestimate(f, "Estar", &r->Estar, 0);
-    jestimate(f, "nu", &r->nu, 0);
-    jestimate(f, "M", &r->M, 1);
-    fputs("  },\n  \"fit\": {\"chi2\": ", f);
-    jnum(f, r->chi2);
-    fprintf(f, ", \"dof\": %zu, \"se_scale\": ", r->dof);
-    jnum(f, r->se_scale);
-    fprintf(f, ", \"iterations\": %zu, \"evaluations\": %zu, \"converged\": %s, \"stop\": ",
-            r->iterations, r->evaluations, r->converged ? "true" : "false");
-    jstr(f, lf_fit_stop_name(r->stop));
-    fputs(", \"stop_reason\": ", f);
-    jstr(f, r->stop_reason);
-    fputs(", \"method\": ", f);
-    jstr(f, r->method);
-    fputs(", \"loss\": ", f);
-    jstr(f, r->loss);
-    fputs(", \"model\": ", f);
-    jstr(f, r->model);
-    fputs(", \"model_request\": ", f);
-    jstr(f, in->model_request ? in->model_request : r->model);
-    fprintf(f, ", \"model_rounds\": %zu, \"model_tol\": ", r->model_rounds);
-    jnum(f, in->model_tol);
-    fputs("},\n  \"thin_comparison\": ", f);
-    if (r->thin.done) {
-        fputs("{\n", f);
-        jestimate(f, "w", &r->thin.w, 0);
-        jestimate(f, "Estar", &r->thin.Estar, 0);
-        jestimate(f, "nu", &r->thin.nu, 0);
-        fputs("    \"w_rel_diff\": ", f);
-        jnum(f, r->thin.w_rel);
-        fputs(", \"Estar_rel_diff\": ", f);
-        jnum(f, r->thin.Estar_rel);
-        fputs(", \"nu_diff\": ", f);
-        jnum(f, r->thin.nu_diff);
-        fputs(", \"w_diff_in_se\": ", f);
-        jnum(f, r->thin.w_in_se);
-        fputs(", \"chi2\": ", f);
-        jnum(f, r->thin.chi2);
-        fprintf(f, ", \"converged\": %s\n  }", r->thin.converged ? "true" : "false");
-    } else {
-        fputs("null", f);
-    }
-    fputs(",\n  \"free_parameters\": [", f);
-    for (i = 0; i < r->npar; i++) {
-        fputs(i ? ", " : "", f);
-        jstr(f, r->names[i]);
-    }
-    fputs("],\n  \"values\": ", f);
-    jnums(f, r->value, r->npar);
-    fputs(",\n  \"covariance\": [", f);
-    for (i = 0; i < r->npar; i++) {
-        fputs(i ? ",\n    " : "\n    ", f);
-        jnums(f, r->cov + i * r->npar, r->npar);
-    }
-    fputs("],\n  \"singular_values\": ", f);
-    jnums(f, r->singular, r->npar);
-    fputs(",\n  \"curves\": [\n", f);
-    for (j = 0; j < r->ncurves; j++) {
-        const lf_fit_curve_result *c = &r->curves[j];
-        int nolayer = no_layer(in, r, j);
-        int po = c->pulloff_determined;
-        fputs("    {", f);
-        cli_json_name(f, "file", c->name);
-        const struct { const char *key; double v; } num[] = {
-            { "k", c->probe.k }, { "R", c->probe.R },
-            { "b", nolayer ? NAN : c->probe.b },
-            { "z0", c->z0 }, { "z0_stderr", c->z0_se }, { "F0", c->F0 },
-            { "F0_stderr", c->F0_se }, { "noise_sigma", c->sigma }, { "rms", c->rms },
-            { "P_po", po ? c->pulloff.P_po : NAN }, { "a_po", po ? c->pulloff.a_po : NAN },
-            { "sigma_po", po ? c->pulloff.sigma_po : NAN },
-            { "b_over_a_min_contact", nolayer ? NAN : c->b_over_a_min_contact },
-            { "b_over_a_pulloff", nolayer || !po ? NAN : c->b_over_a_pulloff },
-            { "chi2_per_point", c->chi2_per_point }, { "p_value", c->p_value },
-            { "runs_z", c->runs_z }, { "corr_time", c->corr_time }, { "n_eff", c->n_eff },
-            { "noise_sd", c->noise_sd }, { "misfit_rel", c->misfit_rel }
-        };
-        for (i = 0; i < sizeof num / sizeof num[0]; i++) {
-            fprintf(f, ", \"%s\": ", num[i].key);
-            jnum(f, num[i].v);
-        }
-        fputs(",\n     \"interface\": ", f);
-        jstr_or_null(f, nolayer ? NULL : cli_base_name(c->probe.base));
-        fprintf(f, ", \"branch\": \"%s\", \"points\": %zu, "
-                "\"z0_free\": %s, \"F0_free\": %s, \"consistent\": %s, \"downweighted\": %zu",
-                branch_name(c->branch), c->n,
-                c->z0_free ? "true" : "false", c->F0_free ? "true" : "false",
-                c->consistent ? "true" : "false", c->downweighted);
-        fprintf(f, ", \"agreement\": \"%s\"", c->agreement == 2 ? "within the noise"
-                : c->agreement == 1 ? "systematic deviations" : "disagrees");
-        fputs(",\n     \"model\": ", f);
-        jstr(f, c->model);
-        fputs(", \"model_reason\": ", f);
-        jstr(f, c->model_reason);
-        fputs(", \"thin_bias_in_se\": ", f);
-        jnum(f, c->thin_bias);
-        if (in->origin != NULL) {   /* where R, b and the AFM constants came from */
-            const lf_curve_origin *o = &in->origin[j];
-            const struct { const char *key, *s; int num; double v; } src[] = {
-                { "R_source", o->R, 0, 0 }, { "b_source", nolayer ? NULL : o->b, 0, 0 },
-                { "spring_constant", NULL, 1, o->spring_constant },
-                { "spring_constant_source", o->spring_constant_source, 0, 0 },
-                { "sensitivity", NULL, 1, o->sensitivity },
-                { "sensitivity_unit", o->sensitivity_source ? o->sensitivity_unit : NULL, 0, 0 },
-                { "sensitivity_source", o->sensitivity_source, 0, 0 },
-            };
-            for (i = 0; i < sizeof src / sizeof src[0]; i++) {
-                fprintf(f, "%s\"%s\": ", i == 0 ? ",\n     " : ", ", src[i].key);
-                if (src[i].num)
-                    jnum(f, src[i].v);
-                else
-                    jstr_or_null(f, src[i].s);
-            }
-        }
-        fputs(", \"warnings\": ", f);
-        jwarnings(f, &c->warnings);
-        fprintf(f, "}%s\n", j + 1 < r->ncurves ? "," : "");
-    }
-    fputs("  ],\n  \"identifiability\": ", f);
-    jwarnings(f, &r->identifiability);
-    fputs(",\n  \"warnings\": ", f);
-    jwarnings(f, &r->warnings);
-    fputs(",\n  \"provenance\": ", f);
-    cli_provenance_json(f, "  ", in->command_line);
-    fputs("\n}\n", f);
+    cli_provenance_of(in->command_line, &prov);
+    info.model_request = in->model_request;
+    info.model_tol = in->model_tol;
+    info.origin = in->origin;
+    info.provenance = &prov;
+    if (lf_fit_result_json(r, &info, &json, &err) != LF_OK)
+        cli_die(CLI_EXIT_FAIL, "fit: %s", err.msg);
+    fputs(json, f);
+    lf_free(json);
+    cli_provenance_free(&prov);
 }
 
 void

@@ -1,6 +1,7 @@
 /* cli/util.c: messages, option parsing and number formatting for the
  * layerfit command. */
 #include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
@@ -230,49 +231,51 @@ cli_parse_size(const char *text, double *bytes)
     return -1;
 }
 
-static lf_quantity
-kind_quantity(cli_kind kind)
+/* The library's kind of an option of the command's own. */
+static lf_option
+lib_option(const cli_opt *o)
 {
-    switch (kind) {
-    case CLI_LENGTH:   return LF_Q_LENGTH;
-    case CLI_FORCE:    return LF_Q_FORCE;
-    case CLI_ADHESION: return LF_Q_ADHESION;
-    case CLI_PRESSURE: return LF_Q_PRESSURE;
-    default:           return LF_Q_DIMENSIONLESS;
+    lf_option opt = { o->name, LF_OPTION_QUANTITY, LF_Q_DIMENSIONLESS };
+    switch (o->kind) {
+    case CLI_NUMBER:   opt.kind = LF_OPTION_NUMBER; break;
+    case CLI_COUNT:    opt.kind = LF_OPTION_COUNT; break;
+    case CLI_LENGTH:   opt.quantity = LF_Q_LENGTH; break;
+    case CLI_FORCE:    opt.quantity = LF_Q_FORCE; break;
+    case CLI_ADHESION: opt.quantity = LF_Q_ADHESION; break;
+    default:           opt.quantity = LF_Q_PRESSURE; break;
     }
+    return opt;
 }
 
 static void
 set_value(const char *cmd, const cli_opt *o, const char *value)
 {
     lf_error err;
-    char *end;
+    lf_option opt;
+    double x;
 
     switch (o->kind) {
     case CLI_STRING:
         *(const char **) o->target = value;
         return;
-    case CLI_NUMBER:
-        errno = 0;
-        *(double *) o->target = strtod(value, &end);
-        if (end == value || *end != '\0' || errno == ERANGE
-            || !isfinite(*(double *) o->target))
-            cli_die(CLI_EXIT_USAGE, "%s: --%s: '%s' is not a number (e.g. --%s 0.3)",
-                    cmd, o->name, value, o->name);
+    case CLI_FIT:
+    case CLI_FIT_FLAG:
+    case CLI_DESIGN:
+    case CLI_DESIGN_FLAG:
+        if ((o->kind == CLI_FIT || o->kind == CLI_FIT_FLAG
+             ? lf_fit_options_set(o->target, o->name, value, &err)
+             : lf_design_options_set(o->target, o->name, value, &err)) != LF_OK)
+            cli_die(err.status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, "%s: %s", cmd,
+                    err.msg);
         return;
-    case CLI_COUNT: {
-        long v;
-        errno = 0;
-        v = strtol(value, &end, 10);
-        if (end == value || *end != '\0' || errno == ERANGE || v < 0)
-            cli_die(CLI_EXIT_USAGE, "%s: --%s: '%s' is not a whole number >= 0 (e.g. --%s 200)",
-                    cmd, o->name, value, o->name);
-        *(long *) o->target = v;
-        return;
-    }
     default:
-        if (lf_units_parse(value, kind_quantity(o->kind), (double *) o->target, &err) != LF_OK)
-            cli_die(CLI_EXIT_USAGE, "%s: --%s: %s", cmd, o->name, err.msg);
+        opt = lib_option(o);
+        if (lf_option_number(&opt, value, &x, &err) != LF_OK)
+            cli_die(CLI_EXIT_USAGE, "%s: %s", cmd, err.msg);
+        if (o->kind == CLI_COUNT)   /* whole, >= 0; LONG_MAX where a long ends */
+            *(long *) o->target = x < 9.2e18 ? (long) x : LONG_MAX;
+        else
+            *(double *) o->target = x;
         return;
     }
 }
@@ -311,10 +314,13 @@ cli_parse(const char *cmd, int argc, char **argv, const cli_opt *opts,
         if (o->name == NULL)
             cli_die(CLI_EXIT_USAGE, "%s: unknown option '--%.*s' (see 'layerfit %s --help')",
                     cmd, (int) len, arg, cmd);
-        if (o->kind == CLI_FLAG) {
+        if (o->kind == CLI_FLAG || o->kind == CLI_FIT_FLAG || o->kind == CLI_DESIGN_FLAG) {
             if (eq != NULL)
                 cli_die(CLI_EXIT_USAGE, "%s: --%s takes no value", cmd, o->name);
-            *(int *) o->target = 1;
+            if (o->kind != CLI_FLAG)
+                set_value(cmd, o, NULL);
+            else
+                *(int *) o->target = 1;
             continue;
         }
         if (eq != NULL)
@@ -357,35 +363,7 @@ cli_print_double(FILE *f, double x)
     char buf[40];
     if (!isfinite(x))
         return;             /* never "nan" or "inf": an empty CSV cell */
-    snprintf(buf, sizeof buf, "%.15g", x);
-    if (strtod(buf, NULL) != x)
-        snprintf(buf, sizeof buf, "%.17g", x);
-    fputs(buf, f);
-}
-
-char *
-cli_human(char *buf, size_t n, double x, const char *unit)
-{
-    static const struct { double scale; const char *prefix; } pre[] = {
-        { 1e12, "T" }, { 1e9, "G" }, { 1e6, "M" }, { 1e3, "k" }, { 1, "" },
-        { 1e-3, "m" }, { 1e-6, "µ" }, { 1e-9, "n" }, { 1e-12, "p" }, { 1e-15, "f" }
-    };
-    size_t i, last = sizeof pre / sizeof pre[0] - 1;
-    double ax = fabs(x);
-
-    if (isnan(x)) {             /* no NaN reaches an output */
-        snprintf(buf, n, "undefined");
-        return buf;
-    }
-    if (isinf(x) || x == 0.0) {  /* "0", never "-0" */
-        snprintf(buf, n, "%s%s %s", x < 0 ? "-" : "", x == 0.0 ? "0" : "infinite", unit);
-        return buf;
-    }
-    for (i = 0; i < last; i++)
-        if (ax >= pre[i].scale * 0.9995)
-            break;
-    snprintf(buf, n, "%.4g %s%s", x / pre[i].scale, pre[i].prefix, unit);
-    return buf;
+    fputs(lf_number_text(buf, x), f);
 }
 
 double
@@ -394,44 +372,6 @@ cli_now(void)
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
     return (double) t.tv_sec + 1e-9 * (double) t.tv_nsec;
-}
-
-double
-cli_fitted_value(const lf_fit_result *res, const char *name)
-{
-    size_t i;
-
-    for (i = 0; i < res->npar; i++)
-        if (strcmp(res->names[i], name) == 0)
-            return res->value[i];
-    return NAN;
-}
-
-int
-cli_curve_disagrees(const lf_fit_curve_result *cr)
-{
-    return !cr->consistent && cr->agreement != 1;
-}
-
-size_t
-cli_disagreeing(const lf_fit_result *r, char *buf, size_t n)
-{
-    size_t j, count = 0, len = 0;
-
-    if (n > 0)
-        buf[0] = '\0';
-    if (!r->converged)
-        return 0;
-    for (j = 0; j < r->ncurves; j++) {
-        int w;
-        if (!cli_curve_disagrees(&r->curves[j]))
-            continue;
-        w = snprintf(buf + len, n - len, "%s%zu", count ? ", " : "", j + 1);
-        if (w > 0 && (size_t) w < n - len)
-            len += (size_t) w;
-        count++;
-    }
-    return count;
 }
 
 void

@@ -64,4 +64,20 @@ if [ -f "$top/README.md" ]; then
         [ -z "$l" ] && continue; grep -qxF -- "$l" "$top/README.md" || echo "$l"; done | head -n 3)
     [ -z "$missing" ] && ok || bad "README does not quote tests/example/example.c: $missing"
 fi
+# the Python package installed beside the libraries, found from anywhere
+# through its link to the installed shared library (a sanitizer build's
+# library needs its runtime preloaded: run.sh's Python tests cover it)
+py="$dest/usr/lib/python3/dist-packages"
+[ -f "$py/layerfit/__init__.py" ] && [ -f "$py/layerfit/liblayerfit.so.0" ] && ok \
+    || bad "installed the Python package and its link to the library"
+if [ -z "$san" ] && [ -x /usr/bin/python3 ]; then
+    (cd "$tmp" && env -u LAYERFIT_LIBRARY PYTHONPATH="$py" PYTHONDONTWRITEBYTECODE=1 /usr/bin/python3 -c "
+import layerfit
+print(layerfit.library_path)
+r = layerfit.fit('$top/datasets/plan.csv')
+print('converged' if r.converged else 'not converged', r.w.value)") >"$tmp/py.out" 2>"$tmp/py.err" \
+        && ok || bad "installed Python package: $(tail -n 3 "$tmp/py.err")"
+    has "python finds the installed library" "$tmp/py.out" "$py/layerfit/liblayerfit.so.0"
+    has "python fits from the install" "$tmp/py.out" "converged"
+fi
 summary

@@ -1,14 +1,15 @@
-/* cli/words.c: the command's words for a fit's intervals and bounds, one
- * module that the text report, the JSON (report.c), the interactive page
- * and the batch table (batch.c) call, so that they say the same. */
+/* words.c: the words for a fit's intervals and bounds, one module that the
+ * command's text report, the JSON (report_json.c), the HTML tables
+ * (report_html.c) and the batch rows (batch.c) call, so that they say the
+ * same; and what a report calls a curve that disagrees. */
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
 
-#include "cli.h"
+#include "internal.h"
 
 const char *
-cli_interval_method(const lf_fit_estimate *e)
+lf_interval_method(const lf_fit_estimate *e)
 {
     if (!e->free)
         return NULL;
@@ -18,7 +19,7 @@ cli_interval_method(const lf_fit_estimate *e)
 }
 
 const char *
-cli_interval_words(const lf_fit_estimate *e, int brief)
+lf_interval_words(const lf_fit_estimate *e, int brief)
 {
     const char *m = e->interval_method;
 
@@ -39,7 +40,7 @@ cli_interval_words(const lf_fit_estimate *e, int brief)
 }
 
 const char *
-cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit, char *buf,
+lf_bound_text(const lf_fit_estimate *e, const char *name, const char *unit, char *buf,
                size_t n)
 {
     char v[48];
@@ -51,7 +52,7 @@ cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit, cha
         || strcmp(m, "profile likelihood") != 0 || (below && above))
         return NULL;
     if (unit[0] != '\0')
-        cli_human(v, sizeof v, bound, unit);
+        lf_human(v, sizeof v, bound, unit);
     else
         snprintf(v, sizeof v, "%.4g", bound);
     if (below)
@@ -61,4 +62,31 @@ cli_bound_text(const lf_fit_estimate *e, const char *name, const char *unit, cha
     else
         buf[0] = '\0';
     return buf;
+}
+
+int
+lf_curve_disagrees(const lf_fit_curve_result *cr)
+{
+    return !cr->consistent && cr->agreement != 1;
+}
+
+size_t
+lf_disagreeing(const lf_fit_result *r, char *buf, size_t n)
+{
+    size_t j, count = 0, len = 0;
+
+    if (n > 0)
+        buf[0] = '\0';
+    if (!r->converged)
+        return 0;
+    for (j = 0; j < r->ncurves; j++) {
+        int w;
+        if (!lf_curve_disagrees(&r->curves[j]))
+            continue;
+        w = snprintf(buf + len, n - len, "%s%zu", count ? ", " : "", j + 1);
+        if (w > 0 && (size_t) w < n - len)
+            len += (size_t) w;
+        count++;
+    }
+    return count;
 }

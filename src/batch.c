@@ -1,0 +1,819 @@
+/* batch.c: many independent fits, the engine of `layerfit fit --batch`
+ * (lf_batch_run in layerfit.h).
+ *
+ * Every curve of the plan, or every group of curves that share a non-empty
+ * `sample`, is one fit of its own.  Worker threads take the fits in plan
+ * order, one at a time; each reads its curves, fits them as the command
+ * does (lf_fit_request_run, LF_RUN_BATCH) and formats its own row.  A row
+ * is handed to the caller as soon as it may be: in plan order (the rows
+ * of later fits wait for the earlier ones, and no worker starts a fit more
+ * than 128 per thread ahead of the first one not handed over), or as the
+ * fits finish.  Memory is therefore bounded by that window, not by the
+ * number of curves, and rows in plan order do not depend on the thread
+ * count: every fit sees only its own data and the fitter keeps no global
+ * state.
+ *
+ * A shard keeps the I-th of N contiguous shares of the fits, so that the
+ * rows of shards 1..N, concatenated in order, are those of the whole plan.
+ * A bad curve (a missing file included) gives a row with status "error"
+ * and its message. */
+#include <math.h>
+#include <pthread.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <unistd.h>
+
+#include "internal.h"
+
+/* Text as a CSV cell (lf_csv_cell: quoted where needed, a formula made
+ * text unless raw) or as a JSON string. */
+static void
+sb_text(lf_str *b, const char *s, int json, int raw)
+{
+    if (json)
+        lf_str_json(b, s);   /* valid UTF-8 whatever the bytes */
+    else
+        lf_csv_cell(s, raw, lf_str_put_cb, b);
+}
+
+/* ------------------------------------------------------------------------
+ * The fits of a plan: units of one or more rows.
+ * --------------------------------------------------------------------- */
+
+typedef struct {
+    const lf_plan *plan;
+    size_t nunits;
+    size_t *start;      /* unit u has items row[start[u] .. start[u+1]-1] */
+    size_t *row;
+    size_t nitems;      /* a curve each: a plan row, or one curve of a row */
+    size_t *item_row;   /* that names a file of many without an index */
+    long *item_index;
+} unit_list;
+
+typedef struct {
+    const char *sample;
+    size_t row;
+} sample_key;
+
+static int
+cmp_sample(const void *a, const void *b)
+{
+    const sample_key *x = a, *y = b;
+    int c = strcmp(x->sample, y->sample);
+    if (c != 0)
+        return c;
+    return x->row < y->row ? -1 : x->row > y->row;
+}
+
+typedef struct {
+    size_t first, n, at;   /* first row, rows, offset into the sorted keys */
+} group;
+
+static int
+cmp_group(const void *a, const void *b)
+{
+    const group *x = a, *y = b;
+    return x->first < y->first ? -1 : x->first > y->first;
+}
+
+/* The curves of the plan, one item each: a row, or each curve of a row
+ * that names a file of many without an index (its file opened once by
+ * lf_plan_open_files; the curves are not copied into rows of their own,
+ * so a map of any size costs two numbers per curve here). */
+static int
+items_make(const lf_plan *plan, unit_list *u)
+{
+    size_t i, k, n = 0, w = 0;
+    for (i = 0; i < plan->n; i++)
+        n += plan->rows[i].source != NULL && plan->rows[i].index < 0
+             ? lf_file_count(plan->rows[i].source) : 1;
+    u->item_row = malloc((n ? n : 1) * sizeof *u->item_row);
+    u->item_index = malloc((n ? n : 1) * sizeof *u->item_index);
+    if (u->item_row == NULL || u->item_index == NULL)
+        return -1;
+    for (i = 0; i < plan->n; i++) {
+        const lf_plan_row *r = &plan->rows[i];
+        size_t m = r->source != NULL && r->index < 0 ? lf_file_count(r->source) : 0;
+        if (m == 0) {
+            u->item_row[w] = i;
+            u->item_index[w++] = r->index;
+        }
+        for (k = 0; k < m; k++) {
+            u->item_row[w] = i;
+            u->item_index[w++] = (long) k;
+        }
+    }
+    u->nitems = n;
+    return 0;
+}
+
+/* Group the plan's curves into fits, in the order of each fit's first one:
+ * a curve of a row with an empty sample alone, those of one sample
+ * together. */
+static int
+units_make(const lf_plan *plan, unit_list *u)
+{
+    size_t n, i, ng = 0, k = 0;
+    sample_key *key;
+    group *g;
+
+    u->plan = plan;
+    if (items_make(plan, u) != 0)
+        return -1;
+    n = u->nitems;
+    key = malloc((n ? n : 1) * sizeof *key);
+    g = malloc((n ? n : 1) * sizeof *g);
+    u->start = malloc((n + 1) * sizeof *u->start);
+    u->row = malloc((n ? n : 1) * sizeof *u->row);
+    if (key == NULL || g == NULL || u->start == NULL || u->row == NULL) {
+        free(key);
+        free(g);
+        return -1;
+    }
+    for (i = 0; i < n; i++) {
+        const char *sample = plan->rows[u->item_row[i]].sample;
+        key[i].sample = sample ? sample : "";
+        key[i].row = i;
+    }
+    qsort(key, n, sizeof *key, cmp_sample);
+    for (i = 0; i < n; i++) {
+        if (key[i].sample[0] != '\0' && ng > 0 && g[ng - 1].n > 0
+            && strcmp(key[g[ng - 1].at].sample, key[i].sample) == 0) {
+            g[ng - 1].n++;
+            continue;
+        }
+        g[ng].first = key[i].row;
+        g[ng].n = 1;
+        g[ng].at = i;
+        ng++;
+    }
+    qsort(g, ng, sizeof *g, cmp_group);
+    for (i = 0; i < ng; i++) {
+        size_t j;
+        u->start[i] = k;
+        for (j = 0; j < g[i].n; j++)
+            u->row[k++] = key[g[i].at + j].row;
+    }
+    u->start[ng] = k;
+    u->nunits = ng;
+    free(key);
+    free(g);
+    return 0;
+}
+
+static void
+units_free(unit_list *u)
+{
+    free(u->start);
+    free(u->row);
+    free(u->item_row);
+    free(u->item_index);
+}
+
+/* ------------------------------------------------------------------------
+ * One fit.
+ * --------------------------------------------------------------------- */
+
+typedef struct {
+    const lf_fit_request *req;
+    int json;
+    int csv_raw;           /* CSV text cells as they are (no ' before =) */
+    int keep;              /* rows keep their fit's result and input */
+} batch_config;
+
+/* A fit done: its row and what the caller may see of it. */
+typedef struct {
+    lf_str text;           /* the row, CSV or JSON line */
+    int ready;             /* done, not yet handed over */
+    lf_batch_outcome outcome;
+    const char *status;    /* "ok", "misfit", "noconv", "error" */
+    const char *sample;    /* the plan's */
+    int have_res, have_in; /* res and in hold a fit (kept: cfg->keep) */
+    lf_fit_result res;
+    lf_fit_input in;
+} unit_out;
+
+static void
+format_error(char *buf, size_t n, const lf_error *err)
+{
+    size_t len = 0;
+    buf[0] = '\0';
+    if (err->file[0] != '\0') {
+        len = (size_t) snprintf(buf, n, "%s:", err->file);
+        if (err->line > 0 && len < n)
+            len += (size_t) snprintf(buf + len, n - len, "%ld:", err->line);
+        if (err->column > 0 && len < n)
+            len += (size_t) snprintf(buf + len, n - len, "%ld:", err->column);
+        if (len < n)
+            len += (size_t) snprintf(buf + len, n - len, " ");
+    }
+    if (len < n)
+        snprintf(buf + len, n - len, "%s", err->msg[0] ? err->msg : lf_strerror(err->status));
+}
+
+static void
+join_warnings(lf_str *b, const lf_warnings *w, int *first)
+{
+    size_t i;
+    for (i = 0; i < w->n; i++) {
+        lf_str_printf(b, "%s%s", *first ? "" : " | ", w->msg[i]);
+        *first = 0;
+    }
+}
+
+/* The column names, in the order put_row writes them. */
+static const char *const columns[] = {
+    "fit", "sample", "file", "curves", "status", "model", "x_m", "y_m",
+    "w_J_m2", "w_se_J_m2", "w_upper_bound", "Estar_Pa", "Estar_se_Pa",
+    "nu", "nu_se", "M_Pa", "M_se_Pa", "corr_w_Estar", "chi2_dof",
+    "rms_N", "P_po_N", "iterations",
+    "w_ci95_lo_J_m2", "w_ci95_hi_J_m2", "Estar_ci95_lo_Pa", "Estar_ci95_hi_Pa",
+    "nu_ci95_lo", "nu_ci95_hi", "w_ci95_method", "Estar_ci95_method", "nu_ci95_method",
+    "identifiability", "message", "grid_i", "grid_j", "sha256", NULL
+};
+
+/* Sum of squared residuals relative to the points, over all curves. */
+static double
+rms_all(const lf_fit_result *r)
+{
+    double ss = 0.0;
+    size_t j, n = 0;
+    for (j = 0; j < r->ncurves; j++) {
+        ss += r->curves[j].rms * r->curves[j].rms * (double) r->curves[j].n;
+        n += r->curves[j].n;
+    }
+    return n ? sqrt(ss / (double) n) : NAN;
+}
+
+static double
+corr_w_E(const lf_fit_result *r)
+{
+    int iw = -1, iE = -1;
+    size_t i;
+    for (i = 0; i < r->npar; i++) {
+        if (strcmp(r->names[i], "w") == 0)
+            iw = (int) i;
+        else if (strcmp(r->names[i], "E*") == 0)
+            iE = (int) i;
+    }
+    if (iw < 0 || iE < 0 || r->corr == NULL)
+        return NAN;
+    return r->corr[(size_t) iw * r->npar + (size_t) iE];
+}
+
+typedef struct {
+    const char *key;
+    double value;
+} num_field;
+
+/* The text columns between the numbers and identifiability. */
+#define NTEXT 3
+static const char *const text_keys[NTEXT] = {
+    "w_ci95_method", "Estar_ci95_method", "nu_ci95_method"
+};
+
+/* How an estimate's 95% interval was found ("" for none). */
+static const char *
+ci_method(const lf_fit_estimate *e)
+{
+    const char *m = lf_interval_method(e);
+    return m != NULL ? m : "";
+}
+
+/* The curves of one fit: names and SHA-256 of what was read ("" if not). */
+typedef struct {
+    size_t n;
+    const char **name;
+    char (*sha)[65];
+} unit_files;
+
+/* The file names of a joint fit in one cell: joined by ';', a name that
+ * holds ';', '"' or starts or ends with a space in double quotes (quotes
+ * doubled), so that the names can be told apart again. */
+static void
+join_names(lf_str *b, const unit_files *uf)
+{
+    size_t i;
+    for (i = 0; i < uf->n; i++) {
+        const char *p = uf->name[i];
+        size_t len = strlen(p);
+        lf_str_printf(b, i ? ";" : "");
+        if (uf->n > 1 && (strpbrk(p, ";\"") != NULL || (len > 0 && (p[0] == ' ' || p[len - 1] == ' ')))) {
+            lf_str_printf(b, "\"");
+            for (; *p; p++)
+                lf_str_printf(b, *p == '"' ? "\"\"" : "%c", *p);
+            lf_str_printf(b, "\"");
+        } else {
+            lf_str_printf(b, "%s", p);
+        }
+    }
+}
+
+/* Write one row: key/value pairs for JSON Lines, cells for CSV. */
+static void
+put_row(lf_str *b, const batch_config *cfg, size_t fit_no, const char *sample,
+        const char *files, const unit_files *uf, size_t ncurves, const char *status,
+        const char *model, const num_field *num, size_t nnum, const char *const *text,
+        const char *ident, const char *msg, const double grid[2])
+{
+    int json = cfg->json;
+    size_t i;
+
+    if (json)
+        lf_str_printf(b, "{\"fit\": %zu, \"sample\": ", fit_no);
+    else
+        lf_str_printf(b, "%zu,", fit_no);
+    sb_text(b, sample, json, cfg->csv_raw);
+    lf_str_printf(b, json ? ", \"file\": " : ",");
+    sb_text(b, files, json, cfg->csv_raw);
+    lf_str_printf(b, json ? ", \"curves\": %zu, \"status\": " : ",%zu,", ncurves);
+    sb_text(b, status, json, cfg->csv_raw);
+    lf_str_printf(b, json ? ", \"model\": " : ",");
+    sb_text(b, model, json, cfg->csv_raw);
+    for (i = 0; i < nnum; i++) {
+        lf_str_printf(b, json ? ", \"%s\": " : ",", num[i].key);
+        lf_str_number(b, num[i].value, json ? "null" : "");
+    }
+    for (i = 0; i < NTEXT; i++) {
+        lf_str_printf(b, json ? ", \"%s\": " : ",", text_keys[i]);
+        sb_text(b, text[i], json, cfg->csv_raw);
+    }
+    lf_str_printf(b, json ? ", \"identifiability\": " : ",");
+    sb_text(b, ident, json, cfg->csv_raw);
+    lf_str_printf(b, json ? ", \"message\": " : ",");
+    sb_text(b, msg, json, cfg->csv_raw);
+    for (i = 0; i < 2; i++) {   /* the curve's place on a map's grid */
+        lf_str_printf(b, json ? ", \"%s\": " : ",", i ? "grid_j" : "grid_i");
+        lf_str_number(b, grid[i], json ? "null" : "");
+    }
+    if (json) {
+        int raw = 0;
+        lf_str_printf(b, ", \"files\": [");
+        for (i = 0; i < uf->n; i++) {
+            lf_str_printf(b, i ? ", " : "");
+            lf_str_json(b, uf->name[i]);
+            raw |= !lf_utf8_valid(uf->name[i]);
+        }
+        if (raw) {   /* the bytes of names that are not UTF-8, percent-escaped */
+            lf_str_printf(b, "], \"files_raw\": [");
+            for (i = 0; i < uf->n; i++) {
+                lf_str_printf(b, i ? ", " : "");
+                lf_percent_escape(uf->name[i], lf_str_put_cb, b);
+            }
+        }
+        lf_str_printf(b, "], \"sha256\": [");
+        for (i = 0; i < uf->n; i++)
+            lf_str_printf(b, uf->sha[i][0] ? "%s\"%s\"" : "%snull", i ? ", " : "", uf->sha[i]);
+        lf_str_printf(b, "]}\n");
+    } else {
+        lf_str_printf(b, ",");
+        for (i = 0; i < uf->n; i++)
+            lf_str_printf(b, "%s%s", i ? ";" : "", uf->sha[i]);
+        lf_str_printf(b, "\n");
+    }
+}
+
+/* Read, fit and format fit number u (0-based) of the plan into o: its
+ * outcome LF_BATCH_FAILED when the fit failed (error or no convergence),
+ * LF_BATCH_MISFIT when it converged but the model does not describe a
+ * curve (status misfit), LF_BATCH_OK when it succeeded.  What goes wrong
+ * is written into the row; o->text.failed when the row could not be. */
+static void
+fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, unit_out *o)
+{
+    lf_str *out = &o->text;
+    const lf_plan *plan = ul->plan;
+    size_t first = ul->start[u], n = ul->start[u + 1] - first, j;
+    lf_fit_input in;
+    lf_fit_result res;
+    lf_error err;
+    lf_plan one = *plan;        /* the unit's curves as rows of a plan of their own */
+    lf_plan_row *rows = malloc((n ? n : 1) * sizeof *rows);
+    unit_files uf = { n, calloc(n, sizeof(const char *)), calloc(n, sizeof(char[65])) };
+    lf_str files = { NULL, 0, 0, 0 }, ident = { NULL, 0, 0, 0 }, msg = { NULL, 0, 0, 0 };
+    char ebuf[1200];
+    const char *sample = plan->rows[ul->item_row[ul->row[first]]].sample;
+    const char *status = "error";
+    double x = NAN, y = NAN, grid[2] = { NAN, NAN };
+    int st = LF_EINVAL, have_res = 0, failed = 1, firstw = 1;
+
+    lf_error_clear(&err);
+    o->status = status;
+    o->sample = sample;
+    o->outcome = LF_BATCH_FAILED;
+    o->have_res = o->have_in = 0;
+    if (uf.name == NULL || uf.sha == NULL || rows == NULL) {
+        free(uf.name);
+        free(uf.sha);
+        free(rows);
+        out->failed = 1;
+        return;
+    }
+    memset(&in, 0, sizeof in);
+    for (j = 0; j < n; j++) {
+        /* a curve of a file of many is named FILE#N */
+        size_t item = ul->row[first + j];
+        const lf_plan_row *r = &rows[j];
+        rows[j] = plan->rows[ul->item_row[item]];   /* shallow: the plan owns its strings */
+        rows[j].index = ul->item_index[item];
+        uf.name[j] = r->file;
+        if (r->index >= 0) {
+            size_t len = strlen(r->file) + 24;
+            char *name = malloc(len);
+            if (name != NULL) {
+                snprintf(name, len, "%s#%ld", r->file, r->index);
+                uf.name[j] = name;
+            }
+        }
+    }
+    join_names(&files, &uf);
+    /* the one step from a plan to a fit's input, the one rule for nu: each
+     * curve a regular file checked when it is opened, the same checks as
+     * `layerfit check`; whatever goes wrong is this fit's row */
+    one.n = n;
+    one.rows = rows;
+    if (lf_fit_input_from_plan(&one, NULL, n, &cfg->req->input, &in, NULL, &err) != LF_OK) {
+        format_error(ebuf, sizeof ebuf, &err);
+        goto row;
+    }
+    for (j = 0; j < n; j++)
+        memcpy(uf.sha[j], in.sha256[j], sizeof uf.sha[j]);
+    x = in.x;
+    y = in.y;
+    grid[0] = in.grid_i >= 0 ? (double) in.grid_i : NAN;
+    grid[1] = in.grid_j >= 0 ? (double) in.grid_j : NAN;
+    /* as a single fit is made, after the profile's cheap screen */
+    st = lf_fit_request_run(cfg->req, &in, LF_RUN_BATCH, &res, NULL, &err);
+    if (st == LF_OK || st == LF_ENOCONV) {
+        have_res = 1;
+        /* the profile may find the minimum was a local one (noconv) */
+        status = st == LF_OK ? "ok" : "noconv";
+        failed = st != LF_OK;
+        if (!failed && lf_disagreeing(&res, ebuf, sizeof ebuf) > 0) {
+            status = "misfit";      /* the report's DISAGREES: no measurement */
+            failed = 2;
+        }
+    } else {
+        format_error(ebuf, sizeof ebuf, &err);
+    }
+row:
+    if (have_res) {
+        num_field num[] = {
+            { "x_m", x }, { "y_m", y },
+            { "w_J_m2", res.w.value }, { "w_se_J_m2", res.w.se },
+            { "w_upper_bound", res.w.upper_bound_only ? 1.0 : 0.0 },
+            { "Estar_Pa", res.Estar.value }, { "Estar_se_Pa", res.Estar.se },
+            { "nu", res.nu.free || res.nu.determined ? res.nu.value : NAN },
+            { "nu_se", res.nu.se },
+            { "M_Pa", res.M.value }, { "M_se_Pa", res.M.se },
+            { "corr_w_Estar", corr_w_E(&res) },
+            /* as the single fit's report: chi2 / dof (se_scale^2 also
+             * holds the correlation time of the noise) */
+            { "chi2_dof", res.dof > 0 ? res.chi2 / (double) res.dof : NAN },
+            { "rms_N", rms_all(&res) },
+            { "P_po_N", res.ncurves && res.curves[0].pulloff_determined
+                        ? res.curves[0].pulloff.P_po : NAN },
+            { "iterations", (double) res.iterations },
+            { "w_ci95_lo_J_m2", res.w.free ? res.w.ci95[0] : NAN },
+            { "w_ci95_hi_J_m2", res.w.free ? res.w.ci95[1] : NAN },
+            { "Estar_ci95_lo_Pa", res.Estar.free ? res.Estar.ci95[0] : NAN },
+            { "Estar_ci95_hi_Pa", res.Estar.free ? res.Estar.ci95[1] : NAN },
+            { "nu_ci95_lo", res.nu.free ? res.nu.ci95[0] : NAN },
+            { "nu_ci95_hi", res.nu.free ? res.nu.ci95[1] : NAN },
+        };
+        const char *text[NTEXT] = { ci_method(&res.w), ci_method(&res.Estar),
+                                    ci_method(&res.nu) };
+        firstw = 1;
+        join_warnings(&ident, &res.identifiability, &firstw);
+        firstw = 1;
+        join_warnings(&msg, &res.warnings, &firstw);
+        for (j = 0; j < res.ncurves; j++)
+            join_warnings(&msg, &res.curves[j].warnings, &firstw);
+        put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status,
+                res.model ? res.model : "", num,
+                sizeof num / sizeof num[0], text, ident.s ? ident.s : "", msg.s ? msg.s : "",
+                grid);
+        if (cfg->keep) {
+            o->res = res;
+            o->have_res = 1;
+        } else {
+            lf_fit_result_free(&res);
+        }
+    } else {
+        num_field num[] = {
+            { "x_m", x }, { "y_m", y },
+            { "w_J_m2", NAN }, { "w_se_J_m2", NAN }, { "w_upper_bound", NAN },
+            { "Estar_Pa", NAN }, { "Estar_se_Pa", NAN }, { "nu", NAN }, { "nu_se", NAN },
+            { "M_Pa", NAN }, { "M_se_Pa", NAN }, { "corr_w_Estar", NAN },
+            { "chi2_dof", NAN }, { "rms_N", NAN }, { "P_po_N", NAN }, { "iterations", NAN },
+            { "w_ci95_lo_J_m2", NAN }, { "w_ci95_hi_J_m2", NAN }, { "Estar_ci95_lo_Pa", NAN },
+            { "Estar_ci95_hi_Pa", NAN }, { "nu_ci95_lo", NAN }, { "nu_ci95_hi", NAN },
+        };
+        const char *text[NTEXT] = { "", "", "" };
+        put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status, "", num,
+                sizeof num / sizeof num[0], text, "", ebuf, grid);
+    }
+    if (cfg->keep && in.n > 0) {
+        o->in = in;
+        o->have_in = 1;
+    } else {
+        lf_fit_input_free(&in);
+    }
+    o->status = status;
+    o->outcome = (lf_batch_outcome) failed;
+    free(files.s);
+    free(ident.s);
+    free(msg.s);
+    for (j = 0; j < n; j++)
+        if (uf.name[j] != rows[j].file)
+            free((char *) uf.name[j]);
+    free(uf.name);
+    free(uf.sha);
+    free(rows);
+}
+
+
+/* ------------------------------------------------------------------------
+ * The engine.
+ * --------------------------------------------------------------------- */
+
+lf_batch_settings
+lf_batch_settings_default(void)
+{
+    lf_batch_settings s;
+    s.json = 0;
+    s.threads = 0;
+    s.shard_index = s.shard_count = 1;
+    s.ordered = 1;
+    s.results = 0;
+    s.csv_raw = 0;
+    return s;
+}
+
+static char csv_header[1024];
+
+static void
+make_header(void)
+{
+    size_t i, len = 0;
+
+    for (i = 0; columns[i] != NULL; i++)
+        len += (size_t) snprintf(csv_header + len, sizeof csv_header - len, "%s%s", i ? "," : "",
+                                 columns[i]);
+    snprintf(csv_header + len, sizeof csv_header - len, "\n");
+}
+
+const char *
+lf_batch_csv_header(void)
+{
+    static pthread_once_t once = PTHREAD_ONCE_INIT;
+
+    pthread_once(&once, make_header);
+    return csv_header;
+}
+
+typedef struct {
+    const unit_list *ul;
+    const batch_config *cfg;
+    lf_batch_fn each;
+    void *ctx;
+    size_t lo, hi;          /* the shard's fits */
+    size_t window;          /* ordered: fits in flight ahead of `deliver` */
+    int ordered;
+    pthread_mutex_t lock;
+    pthread_cond_t moved;   /* `deliver` moved on, or the batch stopped */
+    size_t next;            /* the next fit to start */
+    size_t deliver;         /* ordered: the next fit to hand over */
+    unit_out *slot;         /* ordered: window slots, fit u in u % window */
+    size_t done, failed, misfits;
+    int stop;               /* the caller stopped it, or a row was lost */
+    int status;
+    lf_error err;
+} engine;
+
+static void
+unit_release(unit_out *o)
+{
+    if (o->have_res)
+        lf_fit_result_free(&o->res);
+    if (o->have_in)
+        lf_fit_input_free(&o->in);
+    o->have_res = o->have_in = 0;
+    o->ready = 0;
+    o->text.len = 0;
+    o->text.failed = 0;
+    if (o->text.s != NULL)
+        o->text.s[0] = '\0';
+}
+
+/* Hand fit u's row to the caller (the lock held). */
+static void
+hand_over(engine *e, size_t u, unit_out *o)
+{
+    lf_batch_row row;
+
+    if (e->stop)
+        return;
+    if (o->text.failed || o->text.s == NULL) {
+        e->status = lf_fail(&e->err, LF_ENOMEM, "out of memory writing fit %zu", u + 1);
+        e->stop = 1;
+        return;
+    }
+    e->done++;
+    e->failed += o->outcome == LF_BATCH_FAILED;
+    e->misfits += o->outcome == LF_BATCH_MISFIT;
+    row.fit = u + 1;
+    row.sample = o->sample != NULL ? o->sample : "";
+    row.status = o->status;
+    row.outcome = o->outcome;
+    row.text = o->text.s;
+    row.len = o->text.len;
+    row.result = o->have_res ? &o->res : NULL;
+    row.input = o->have_in ? &o->in : NULL;
+    row.done = e->done;
+    row.total = e->hi - e->lo;
+    row.failed = e->failed;
+    row.misfits = e->misfits;
+    if (e->each != NULL && e->each(e->ctx, &row) != 0)
+        e->stop = 1;
+}
+
+static void *
+worker(void *arg)
+{
+    engine *e = arg;
+    unit_out own;
+
+    memset(&own, 0, sizeof own);
+    pthread_mutex_lock(&e->lock);
+    for (;;) {
+        size_t u;
+        unit_out *o;
+        if (e->stop || e->next >= e->hi)
+            break;
+        if (e->ordered && e->next >= e->deliver + e->window) {
+            pthread_cond_wait(&e->moved, &e->lock);
+            continue;
+        }
+        u = e->next++;
+        o = e->ordered ? &e->slot[u % e->window] : &own;
+        pthread_mutex_unlock(&e->lock);
+        /* the slot is this worker's alone until it is marked ready */
+        fit_unit(e->ul, u, e->cfg, o);
+        pthread_mutex_lock(&e->lock);
+        if (!e->ordered) {
+            hand_over(e, u, o);
+            unit_release(o);
+            continue;
+        }
+        o->ready = 1;
+        while (e->deliver < e->hi && e->slot[e->deliver % e->window].ready) {
+            unit_out *d = &e->slot[e->deliver % e->window];
+            hand_over(e, e->deliver, d);
+            unit_release(d);
+            e->deliver++;
+        }
+        pthread_cond_broadcast(&e->moved);
+    }
+    pthread_cond_broadcast(&e->moved);
+    pthread_mutex_unlock(&e->lock);
+    unit_release(&own);
+    lf_str_free(&own.text);
+    return NULL;
+}
+
+/* Processors to run on: the threads asked for, or one per processor. */
+static size_t
+thread_count(long asked)
+{
+    long n = asked > 0 ? asked : sysconf(_SC_NPROCESSORS_ONLN);
+    return n > 0 ? (size_t) n : 1;
+}
+
+int
+lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *bs,
+             lf_batch_fn each, void *ctx, lf_batch_summary *sum, lf_error *err)
+{
+    lf_batch_settings def = lf_batch_settings_default();
+    batch_config cfg;
+    unit_list ul;
+    engine e;
+    pthread_t *tid = NULL;
+    size_t nthreads, started = 0, i;
+    int status;
+
+    if (bs == NULL)
+        bs = &def;
+    if (sum != NULL)
+        memset(sum, 0, sizeof *sum);
+    if (bs->shard_count < 1 || bs->shard_index < 1 || bs->shard_index > bs->shard_count)
+        return lf_fail(err, LF_EINVAL, "shard %ld of %ld: it must be I of N with 1 <= I <= N",
+                       bs->shard_index, bs->shard_count);
+    if (bs->threads < 0)
+        return lf_fail(err, LF_EINVAL, "threads %ld: it must be 0 (one per processor) or more",
+                       bs->threads);
+    /* a file of many curves named without an index: each curve a fit (its
+     * file opened once, its curves read from it one at a time) */
+    if ((status = lf_plan_open_files(plan, req->input.read, err)) != LF_OK
+        || (status = lf_plan_need_layers(plan, req->model, err)) != LF_OK)
+        return status;
+    memset(&ul, 0, sizeof ul);
+    if (units_make(plan, &ul) != 0) {
+        units_free(&ul);
+        return lf_fail(err, LF_ENOMEM, "out of memory");
+    }
+    cfg.req = req;
+    cfg.json = bs->json;
+    cfg.csv_raw = bs->csv_raw;
+    cfg.keep = bs->results;
+    memset(&e, 0, sizeof e);
+    e.ul = &ul;
+    e.cfg = &cfg;
+    e.each = each;
+    e.ctx = ctx;
+    e.lo = (size_t) ((double) ul.nunits * (double) (bs->shard_index - 1) / (double) bs->shard_count);
+    e.hi = (size_t) ((double) ul.nunits * (double) bs->shard_index / (double) bs->shard_count);
+    e.next = e.deliver = e.lo;
+    e.ordered = bs->ordered;
+    nthreads = thread_count(bs->threads);
+    if (nthreads > e.hi - e.lo)
+        nthreads = e.hi - e.lo > 0 ? e.hi - e.lo : 1;
+    /* large enough that slow fits average out across threads */
+    e.window = 128 * nthreads;
+    e.status = LF_OK;
+    pthread_mutex_init(&e.lock, NULL);
+    pthread_cond_init(&e.moved, NULL);
+    if (e.ordered && (e.slot = calloc(e.window, sizeof *e.slot)) == NULL) {
+        e.status = lf_fail(&e.err, LF_ENOMEM, "out of memory");
+        e.stop = 1;
+    }
+    if (!e.stop && nthreads > 1 && (tid = malloc(nthreads * sizeof *tid)) == NULL)
+        nthreads = 1;
+    /* the caller's thread is one of the workers */
+    for (i = 1; !e.stop && i < nthreads; i++)
+        if (pthread_create(&tid[started], NULL, worker, &e) == 0)
+            started++;
+    if (!e.stop)
+        worker(&e);
+    for (i = 0; i < started; i++)
+        pthread_join(tid[i], NULL);
+    free(tid);
+    if (e.slot != NULL) {
+        for (i = 0; i < e.window; i++) {
+            unit_release(&e.slot[i]);
+            lf_str_free(&e.slot[i].text);
+        }
+        free(e.slot);
+    }
+    pthread_cond_destroy(&e.moved);
+    pthread_mutex_destroy(&e.lock);
+    if (sum != NULL) {
+        sum->fits = ul.nunits;
+        sum->total = e.hi - e.lo;
+        sum->done = e.done;
+        sum->failed = e.failed;
+        sum->misfits = e.misfits;
+        sum->stopped = e.stop && e.status == LF_OK && e.done < e.hi - e.lo;
+    }
+    units_free(&ul);
+    if (e.status != LF_OK && err != NULL)
+        *err = e.err;
+    return e.status;
+}
+
+int
+lf_batch_row_json(const lf_batch_row *row, const lf_fit_request *req, const char *command_line,
+                  char **json, lf_error *err)
+{
+    const lf_fit_input *in = row->input;
+    lf_provenance prov;
+    lf_report_info info;
+
+    *json = NULL;
+    if (row->result == NULL || in == NULL)
+        return lf_fail(err, LF_EINVAL, "fit %zu has no result (status %s%s)", row->fit,
+                       row->status, row->result == NULL ? "" : "; rows keep results only "
+                       "with lf_batch_settings.results");
+    prov.command_line = command_line;
+    prov.ninputs = in->n;
+    prov.input = (const char *const *) in->names;
+    prov.sha256 = NULL;
+    info.model_request = req->model;
+    info.model_tol = req->model_auto ? req->choose.tol : NAN;
+    info.origin = in->origin;
+    info.provenance = &prov;
+    {
+        /* the digests as strings */
+        const char **sha = malloc((in->n ? in->n : 1) * sizeof *sha);
+        size_t i;
+        int status;
+        if (sha == NULL)
+            return lf_fail(err, LF_ENOMEM, "out of memory");
+        for (i = 0; i < in->n; i++)
+            sha[i] = in->sha256[i];
+        prov.sha256 = sha;
+        status = lf_fit_result_json(row->result, &info, json, err);
+        free((void *) sha);
+        return status;
+    }
+}
