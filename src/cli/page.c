@@ -372,10 +372,10 @@ page_write(const char *file, const char *title, const char *command_line, const 
                "<p id=\"version\">layerfit %s</p>\n<code class=\"cmd\" id=\"command-line\">",
             title, LF_VERSION);
     lf_html_text(command_line != NULL ? command_line : "", put_file, f);
-    fputs("</code>\n</header>\n<noscript><p class=\"note\">The figures, maps and the choice "
-          "of a curve need JavaScript.</p></noscript>\n", f);
-    if (body != NULL)
-        fputs(body, f);
+    fputs("</code>\n<noscript><p class=\"note\">The figures, maps and the choice of a curve "
+          "need JavaScript.</p></noscript>\n</header>\n", f);
+    if (body != NULL)       /* a fit's tables, and its figures after them */
+        fprintf(f, "%s<section id=\"figures\">\n<h2>Figures</h2>\n</section>\n", body);
     fputs("</main>\n<script type=\"application/json\" id=\"lf-data\">", f);
     json_safe(f, json, n);
     fputs("</script>\n<script>\n", f);

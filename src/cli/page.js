@@ -402,8 +402,7 @@ function fitPage() {
   }
 
   /* every curve on shared axes, then the one chosen */
-  var s = el('section', { id: 'figures' }, [el('h2', { text: 'Figures' })]);
-  document.getElementById('curves').after(s);
+  var s = document.getElementById('figures');
   s.appendChild(el('h3', { text: 'All curves: indentation δ = z − z0' }));
   var series = [], fu = 0, fname = 'N';
   D.plots.forEach(function (p) { if (p && p.q) { var o = decode(p, p.z0, p.F0); if (o.fu > fu) { fu = o.fu; fname = o.fname; } } });
