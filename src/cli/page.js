@@ -118,8 +118,10 @@ function Chart(host, spec) {
   var canvas = el('canvas', { style: 'height:' + (spec.res ? 440 : 340) + 'px' });
   var tip = el('div', { cls: 'tip' });
   this.spec = spec; this.canvas = canvas; this.hidden = {};
-  spec.series.concat(spec.marks || []).forEach(function (s) {
-    if (!s.pts && !s.pt) return;
+  var named = {};
+  spec.series.concat(spec.marks || [], spec.lines || []).forEach(function (s) {
+    if ((!s.pts && !s.pt && s.x == null && s.y == null) || named[s.name]) return;
+    named[s.name] = 1;
     var box = el('input', { type: 'checkbox', 'data-series': s.name });
     box.checked = true;
     box.addEventListener('change', function () { self.hidden[s.name] = !box.checked; self.draw(); });
@@ -261,6 +263,14 @@ Chart.prototype.draw = function () {
       g.setLineDash([3, 3]); g.lineWidth = 1; g.beginPath(); g.moveTo(X, L.t); g.lineTo(X, L.t + L.h); g.stroke();
       g.setLineDash([]);
     });
+    /* lines across the figure: the fit window's ends */
+    (sp.lines || []).forEach(function (ln) {
+      if (!self.visible(ln)) return;
+      g.strokeStyle = ln.color; g.lineWidth = 1.5; g.setLineDash([8, 4]); g.beginPath();
+      if (ln.x != null) { g.moveTo(sx(ln.x), L.t); g.lineTo(sx(ln.x), L.t + L.h); }
+      else { g.moveTo(L.l, sy(ln.y)); g.lineTo(L.l + L.w, sy(ln.y)); }
+      g.stroke(); g.setLineDash([]);
+    });
     if (sp.bad) {
       g.fillStyle = 'rgba(176,58,46,0.85)'; g.font = 'bold 15px Helvetica,Arial,sans-serif';
       g.textAlign = 'center'; g.textBaseline = 'top';
@@ -299,8 +309,14 @@ Chart.prototype.hover = function (e) {
 /* The figure of one curve: data, model (stable solid, unstable dashed,
  * out of contact dotted), pull-off of the model and the lowest measured
  * force, residuals below on the same depth axis. */
-function curveChart(host, plot, z0, F0, bad) {
-  var o = decode(plot, z0, F0);
+function curveChart(host, plot, z0, F0, bad, info) {
+  var o = decode(plot, z0, F0), lines = [], W = info && info.window;
+  /* the fit window (where the report gives one): its ends on the depth
+   * and force axes, as placed on this curve */
+  if (W) {
+    [W.depth_lo_m, W.depth_hi_m].forEach(function (v) { if (fin(v)) lines.push({ name: 'fit window', x: (v - z0) * 1e9, color: '#16a085' }); });
+    [W.force_lo_N, W.force_hi_N].forEach(function (v) { if (fin(v)) lines.push({ name: 'fit window', y: (v - F0) / o.fu, color: '#16a085' }); });
+  }
   var spec = {
     series: [
       { name: 'approach (not fitted)', pts: o.other[1], color: '#c8c8c8', kind: 'pts', context: true },
@@ -313,8 +329,9 @@ function curveChart(host, plot, z0, F0, bad) {
     ],
     marks: [
       { name: 'pull-off (model)', pt: o.po, color: '#8e44ad' },
-      { name: 'lowest force (measured)', pt: o.lowest, color: '#d35400', shape: 'x' }
+      { name: info && fin(info.adhesion) ? 'measured adhesion ' + human(info.adhesion, 'N') : 'lowest force (measured)', pt: o.lowest, color: '#d35400', shape: 'x' }
     ],
+    lines: lines,
     res: o.res,
     xlabel: o.indent ? 'indentation δ = z − z0 (nm)' : 'depth z (nm; contact point not determined)',
     ylabel: (fin(F0) ? 'force − F0' : 'force') + ' (' + o.fname + ')',
@@ -431,7 +448,8 @@ function fitPage() {
     var nt = el('table', { id: 'curve-numbers' }, [ct.rows[0].cloneNode(true), row.cloneNode(true)]);
     nt.rows[1].className = '';
     panel.appendChild(el('div', { cls: 'wide' }, [nt]));
-    if (D.plots[n - 1] && D.plots[n - 1].q) curveChart(panel, D.plots[n - 1], D.plots[n - 1].z0, D.plots[n - 1].F0, bad);
+    if (D.plots[n - 1] && D.plots[n - 1].q)
+      curveChart(panel, D.plots[n - 1], D.plots[n - 1].z0, D.plots[n - 1].F0, bad, { window: c.window, adhesion: c.adhesion_force_N });
     else panel.appendChild(el('p', { cls: 'note', text: 'The model could not be drawn for this curve.' }));
   }
   window.addEventListener('hashchange', show);
@@ -711,7 +729,8 @@ function mapPage() {
       f.c.forEach(function (p, j) {
         if (!p.q) return;
         if (f.c.length > 1) panel.appendChild(el('div', { text: 'curve ' + (j + 1) + ': ' + basename(f.p[j][0]) }));
-        curveChart(panel, p, p.z0, p.F0, st === 'noconv' ? 'did not converge' : st === 'misfit' ? 'the model does not describe this curve' : null);
+        curveChart(panel, p, p.z0, p.F0, st === 'noconv' ? 'did not converge' : st === 'misfit' ? 'the model does not describe this curve' : null,
+                   { adhesion: f.c.length === 1 ? get(r, 'adhesion_force_N') : null });
       });
     } else if (f == null && D.fits.every(function (x) { return x == null; })) {
       panel.appendChild(el('p', { cls: 'note', text: 'This report holds the results only (layerfit map RESULTS --report); `layerfit fit --batch ... --report` keeps every curve with its fit to draw here.' }));
