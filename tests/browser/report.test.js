@@ -55,7 +55,9 @@ async function fitReport(browser) {
   const pwned = await page.evaluate(() => window.pwned === 1 || document.querySelectorAll('img').length > 0);
   check(!pwned, 'fit report: a file name holding </script><img onerror=...> runs nothing');
   const names = await page.$$eval('#curve-table span.name', s => s.map(e => e.title));
-  check(names.some(n => n.includes('</script><img src=x onerror=window.pwned=1>')), 'fit report: the hostile name is shown whole, as text');
+  check(names.some(n => n.includes('</script><img src=x onerror=window.pwned=1>&amp;\u2028.csv')), 'fit report: the hostile name is shown whole, as text');
+  const json = await page.$eval('#lf-data', e => JSON.parse(e.textContent).result.curves[0].file);
+  check(json.endsWith('a</script><img src=x onerror=window.pwned=1>&amp;\u2028.csv'), 'fit report: the name reads back whole from the page\'s JSON');
   // a click on the second curve's row selects it (#curve=2)
   await page.click('#curve-table tr[data-curve="2"]');
   await page.waitForFunction(() => location.hash === '#curve=2');

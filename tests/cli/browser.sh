@@ -28,12 +28,17 @@ rm -rf "$shots"
 "$LF" simulate --out "$tmp/d" --w 12mJ/m2 --E 1.3GPa --noise 0.003 --seed 11 --z0 20nm \
     --points 120 k=2,R=1mm,b=1um,interface=frictionless k=3,R=1mm,b=1um,interface=frictionless \
     >/dev/null 2>"$tmp/err" && ok || bad "simulate: $(cat "$tmp/err")"
-evil='a</script><img src=x onerror=window.pwned=1>.csv'
+# (and an ampersand entity and U+2028, a line end to old JavaScript)
+evil="a</script><img src=x onerror=window.pwned=1>&amp;$(printf '\342\200\250').csv"
 mkdir -p "$tmp/d/a<"
 mv "$tmp/d/curve1.csv" "$tmp/d/$evil"
-sed "s|^curve1.csv,|\"$evil\",|" "$tmp/d/plan.csv" >"$tmp/d/evil.csv"
+{ head -n 1 "$tmp/d/plan.csv"; printf '"%s"' "$evil"; sed -n '2s/^curve1\.csv//p' "$tmp/d/plan.csv"
+  tail -n +3 "$tmp/d/plan.csv"; } >"$tmp/d/evil.csv"
 run_ok fit "$tmp/d/evil.csv" --report "$tmp/fit.html"
 grep -q '<img' "$tmp/fit.html" && bad "the page holds the name's <img unescaped" || ok
+# the page's data: no '<', '>', '&' or U+2028 but as \u escapes
+sed -n '/id="lf-data">/,/<\/script>/p' "$tmp/fit.html" | sed '1s/.*id="lf-data">//; $s/<\/script>.*//' \
+    | grep -q "[<>&]\|$(printf '\342\200\250')" && bad "the page's JSON holds < > & or U+2028 raw" || ok
 # a fit stopped after one iteration: marked as not converged
 run_exit 3 fit "$tmp/d/evil.csv" --max-iter 1 --report "$tmp/noconv.html"
 # a Chiaro export's retract fitted: its approach greyed on the figure
