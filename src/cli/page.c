@@ -88,10 +88,11 @@ cmp_size(const void *a, const void *b)
 }
 
 /* Indices (file order) of at most maxpts points of c to draw: all when
- * there are no more; else every point within 4% of the depth range of the
- * contact point z0 and of the lowest force (pull-off), strided where those
- * are too many, and the lowest and highest force of each stretch of the
- * rest.  Returns how many, into keep (room for maxpts + 2). */
+ * there are no more; else every point within 2% of the depth range of the
+ * contact point z0 and of the lowest force (pull-off), every n-th where
+ * those are more than two thirds of maxpts, and the lowest and highest
+ * force of each stretch of the rest.  Returns how many, into keep (room
+ * for maxpts + 2). */
 static size_t
 pick(const lf_fit_curve *c, double z0, size_t maxpts, size_t *keep)
 {
@@ -111,7 +112,7 @@ pick(const lf_fit_curve *c, double z0, size_t maxpts, size_t *keep)
             imin = i;
     }
     zmin = c->depth[imin];
-    near = 0.04 * (hi - lo);
+    near = 0.02 * (hi - lo);
     if ((mark = calloc(c->n, 1)) == NULL) {
         keep[0] = 0;
         return 1;
@@ -121,7 +122,7 @@ pick(const lf_fit_curve *c, double z0, size_t maxpts, size_t *keep)
             mark[i] = 1;
             nnear++;
         }
-    stride = nnear > maxpts / 2 ? (nnear + maxpts / 2 - 1) / (maxpts / 2) : 1;
+    stride = nnear > 2 * maxpts / 3 ? (nnear + 2 * maxpts / 3 - 1) / (2 * maxpts / 3) : 1;
     for (i = 0, b = 0; i < c->n; i++)
         if (mark[i] && b++ % stride == 0)
             keep[k++] = i;

@@ -60,6 +60,38 @@ fi
 expect_fail 2 "layerfit: fit: --report $tmp/r.pdf: the report is a web page, FILE.html" \
     fit "$tmp/d/plan.csv" --report "$tmp/r.pdf"
 
+# a map's page keeps every point near contact and pull-off of a 300-point
+# curve, and at most 64: against the fit's page of the same curve (all of
+# its points)
+if command -v python3 >/dev/null 2>&1; then
+    "$LF" map --synthetic "$tmp/m" --size 2 --points 300 --seed 3 >/dev/null 2>&1 && ok || bad "map --synthetic"
+    run_ok fit --batch "$tmp/m/plan.csv" --out "$tmp/m.csv" --report "$tmp/m.html" --model thin --quiet
+    c1=$(sed -n 2p "$tmp/m.csv" | cut -d, -f3)
+    run_ok fit "$c1" --k 3 --R 1mm --b 1um --interface frictionless --model thin --report "$tmp/one.html"
+    python3 - "$tmp/m.html" "$tmp/one.html" <<'PY' && ok || bad "the map's page keeps every point near contact and pull-off"
+import json, sys
+def data(path):
+    s = open(path, encoding="utf-8").read()
+    a = s.index('id="lf-data">') + len('id="lf-data">')
+    return json.loads(s[a:s.index("</script>", a)])
+def points(p):
+    q, z, f = p["q"], p["z"], p["f"]
+    return [(z[0] + (z[1] - z[0]) * a / q, f[0] + (f[1] - f[0]) * b / q) for a, b in zip(p["pz"], p["pf"])]
+m = data(sys.argv[1])["fits"][0]["c"][0]
+full = points(data(sys.argv[2])["plots"][0])
+kept = points(m)
+assert len(full) == 300 and len(kept) <= 64, (len(full), len(kept))
+zs = [z for z, _ in full]
+span = max(zs) - min(zs)
+zmin = min(full, key=lambda p: p[1])[0]
+fspan = m["f"][1] - m["f"][0]
+near = [p for p in full if abs(p[0] - m["z0"]) <= 0.02 * span or abs(p[0] - zmin) <= 0.02 * span]
+assert len(near) >= 10, len(near)
+for z, F in near:    # within a step of the map's quantization
+    assert any(abs(z - a) <= 1.5e-3 * span and abs(F - b) <= 1.5e-3 * fspan for a, b in kept), (z, F)
+PY
+fi
+
 # headless Chromium: the DOM its script builds holds the tables and figures
 chrome=$(command -v chromium || command -v chromium-browser || true)
 if [ -n "$chrome" ]; then
