@@ -180,6 +180,12 @@ sanitize: deps
 bench-batch: all
 	@sh tests/bench/batch.sh $(PROG)
 
+# The map report of 16 384 curves: its size and how long Chromium takes to
+# open it (reported, not asserted).
+.PHONY: bench-report
+bench-report: all
+	@sh tests/bench/report.sh $(PROG)
+
 # The whole process: `fit --model auto` on the demo against `--model thin`
 # (alternated runs, medians), and one cold run (reported, not asserted).
 bench-demo: all
