@@ -352,18 +352,36 @@ put_file(void *ctx, const char *s, size_t n)
     fwrite(s, 1, n, (FILE *) ctx);
 }
 
-/* The page around the data (JSON text of n bytes): its style, the header
+/* A memory stream for the page's data (page_write closes it). */
+static FILE *
+data_open(char **buf, size_t *len, char *msg, size_t n)
+{
+    FILE *f = open_memstream(buf, len);
+    if (f == NULL)
+        snprintf(msg, n, "out of memory");
+    return f;
+}
+
+/* The page around the data, the JSON text in *json (n bytes) written to
+ * the memory stream d, closed and freed here: its style, the header
  * (title, version, command line), body (HTML or NULL), the data and the
  * script. */
 static int
 page_write(const char *file, const char *title, const char *command_line, const char *body,
-           const char *json, size_t n, char *msg, size_t nmsg)
+           FILE *d, char **json, size_t *n, char *msg, size_t nmsg)
 {
     cli_out out;
-    FILE *f = cli_out_open(&out, file, msg, nmsg);
+    FILE *f;
 
-    if (f == NULL)
+    if (fclose(d) != 0 || *json == NULL) {
+        free(*json);
+        snprintf(msg, nmsg, "out of memory");
         return -1;
+    }
+    if ((f = cli_out_open(&out, file, msg, nmsg)) == NULL) {
+        free(*json);
+        return -1;
+    }
     fprintf(f, "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
                "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n"
                "<meta name=\"generator\" content=\"layerfit %s\">\n<title>%s</title>\n<style>\n%s",
@@ -378,7 +396,8 @@ page_write(const char *file, const char *title, const char *command_line, const 
     if (body != NULL)       /* a fit's tables, and its figures after them */
         fprintf(f, "%s<section id=\"figures\">\n<h2>Figures</h2>\n</section>\n", body);
     fputs("</main>\n<script type=\"application/json\" id=\"lf-data\">", f);
-    json_safe(f, json, n);
+    json_safe(f, *json, *n);
+    free(*json);
     fputs("</script>\n<script>\n", f);
     fwrite(cli_page_js, 1, cli_page_js_len, f);
     fputs("</script>\n</body>\n</html>\n", f);
@@ -400,9 +419,8 @@ cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r,
         snprintf(msg, n, "%s", err.msg);
         return -1;
     }
-    if ((f = open_memstream(&buf, &len)) == NULL) {
+    if ((f = data_open(&buf, &len, msg, n)) == NULL) {
         lf_free(tables);
-        snprintf(msg, n, "out of memory");
         return -1;
     }
     fputs("{\"kind\":\"fit\",\"result\":", f);
@@ -416,14 +434,7 @@ cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r,
         fputc('}', f);
     }
     fputs("]}", f);
-    if (fclose(f) != 0 || buf == NULL) {
-        free(buf);
-        lf_free(tables);
-        snprintf(msg, n, "out of memory");
-        return -1;
-    }
-    st = page_write(file, "layerfit fit report", in->command_line, tables, buf, len, msg, n);
-    free(buf);
+    st = page_write(file, "layerfit fit report", in->command_line, tables, f, &buf, &len, msg, n);
     lf_free(tables);
     return st;
 }
@@ -548,15 +559,13 @@ cli_page_map(const char *file, const char *results, const cli_page_store *s,
     char *buf = NULL;
     size_t len = 0, r, i, ncol = 0;
     FILE *f;
-    int st;
 
     if (lf_table_read(results, &t, &err) != LF_OK) {
         snprintf(msg, n, "%s", err.msg);
         return -1;
     }
-    if ((f = open_memstream(&buf, &len)) == NULL) {
+    if ((f = data_open(&buf, &len, msg, n)) == NULL) {
         lf_table_free(t);
-        snprintf(msg, n, "out of memory");
         return -1;
     }
     fputs("{\"kind\":\"map\",\"results\":", f);
@@ -593,12 +602,6 @@ cli_page_map(const char *file, const char *results, const cli_page_store *s,
     }
     fputs("]}", f);
     lf_table_free(t);
-    if (fclose(f) != 0 || buf == NULL) {
-        free(buf);
-        snprintf(msg, n, "out of memory");
-        return -1;
-    }
-    st = page_write(file, "layerfit batch and map report", command_line, NULL, buf, len, msg, n);
-    free(buf);
-    return st;
+    return page_write(file, "layerfit batch and map report", command_line, NULL, f, &buf, &len,
+                      msg, n);
 }
