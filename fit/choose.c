@@ -383,6 +383,14 @@ lf_fit_compare_thin(const lf_fit_settings *settings, size_t ncurves,
     return LF_OK;
 }
 
+/* A bonded curve at a held nu of FIT_NU_INCOMPRESSIBLE or more. */
+static int
+incompressible(const lf_fit_settings *s, const lf_fit_curve *c)
+{
+    return c->probe.base == LF_BASE_BONDED && s->nu.mode != LF_PARAM_FREE
+           && s->nu.value >= FIT_NU_INCOMPRESSIBLE;
+}
+
 int
 lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *cs,
                      size_t ncurves, const lf_fit_curve *curves, lf_fit_result *res,
@@ -407,6 +415,10 @@ lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *
         return lf_fail(err, LF_ENOMEM, "out of memory");
     for (j = 0; j < ncurves; j++) {
         cv[j] = curves[j];
+        /* a nearly incompressible bonded layer: the exact model alone
+         * holds there (problem.c) */
+        if (cv[j].model == NULL && incompressible(settings, &curves[j]))
+            cv[j].model = lf_fit_rung_type(FIT_RUNG_EXACT);
         if (cv[j].model == NULL)
             cv[j].model = lf_fit_rung_type(FIT_RUNG_THIN);
         else if (cv[j].model != lf_fit_rung_type(FIT_RUNG_THIN))
@@ -422,7 +434,7 @@ lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *
         goto done;
     }
     for (j = 0; j < ncurves; j++) {
-        ch.fixed[j] = curves[j].model != NULL;
+        ch.fixed[j] = curves[j].model != NULL || incompressible(settings, &curves[j]);
         ch.k[j] = curves[j].probe.k;
         ch.rung[j] = lf_fit_rung_of(cv[j].model);
     }
@@ -457,6 +469,10 @@ lf_fit_choose_driver(const lf_fit_settings *settings, const lf_choose_settings *
         cr->model = lf_fit_rung_type(ch.rung[j])->name;
         lf_judge_model_reason(cr->model_reason, sizeof cr->model_reason, ch.rung[j], ch.fixed[j],
                               &ch.thin[j], &ch.half_b[j], ch.ab_lo[j], ch.ab_hi[j], cs->tol);
+        if (curves[j].model == NULL && incompressible(settings, &curves[j]))
+            snprintf(cr->model_reason, sizeof cr->model_reason, "a bonded layer at nu >= %g is "
+                     "nearly incompressible, where the thin-layer model does not hold",
+                     FIT_NU_INCOMPRESSIBLE);
         cr->thin_bias = ch.thin[j].ok ? lf_judge_bias_max(ch.thin[j].r, NULL) : NAN;
         for (m = 0; m < FIT_NMAT; m++)
             cr->thin_bias_se[m] = ch.thin[j].ok ? ch.thin[j].r[m] : NAN;

@@ -1,11 +1,15 @@
 /* fit.h: the fitter's internal header (not installed), one file per piece
  * in the way of GSL's multifit_nlinear.  Calls go one way, down this list
  * (tests/cli/callgraph.sh checks that no file calls back up):
+ *   joint.c       a fit of many curves: each alone, the joint fit from two
+ *                 starts, its intervals, how the curves differ (lf_fit_joint)
  *   choose.c      the model choice over whole fits (lf_fit_choose_driver)
  *   profile.c     profile-likelihood intervals (lf_fit_profile)
+ *   descend.c     the minimum, always: a lower chi2 near the fit restarts it
  *   driver.c      one run: start, solve, assessment, leave-one-out (loo.c)
  *   design.c      what a planned set of curves would measure (at the truth)
  *   uncertainty.c the assessment: covariance, intervals, estimates
+ *                 (plausible.c: numbers no real test gives)
  *   judge.c       what the data determine and why, in words: the one
  *                 judgement of a fit at its solution and a design at the
  *                 truth (and the model choice's rule)
@@ -22,6 +26,7 @@
  *   decomp.c      the decomposition shared by uncertainty.c and choose.c
  *   noise.c       each curve's noise and the noise model of the residuals
  *   result.c      the result's lifetime;  median.c  medians
+ *   hetero.c      how much curves differ (random effects; lf_heterogeneity_of)
  *
  * Three sets of coordinates:
  *  - physical ("rep", what reports and the covariance use):
@@ -40,6 +45,15 @@
 #include "internal.h"
 
 enum { FIT_W = 0, FIT_E, FIT_NU, FIT_NMAT };
+
+/* A bonded layer at this nu and above is nearly incompressible: only a
+ * model that states its own limit (the exact model's tables: 0.4995)
+ * holds there (problem.c). */
+#define FIT_NU_INCOMPRESSIBLE 0.4995
+/* The nu of a fit where no curve depends on it (frictionless layers,
+ * half-spaces) and none was given: a stand-in that changes no curve, never
+ * reported (nu is then "not determined"). */
+#define FIT_NU_UNUSED 0.25
 
 /* The normal distribution's 97.5% and 95% points: two-sided and
  * one-sided 95% intervals. */
@@ -162,7 +176,8 @@ typedef struct {
     double zlo, zhi;     /* the data's shallowest and deepest depth, m */
     double flo, fhi;     /* the data's smallest and largest force, N */
     double eps;          /* derivative guard width at detachment, m */
-    double sigma;        /* noise sd, N */
+    double sigma;        /* noise sd, N: at least quantum / sqrt(12) */
+    double quantum;      /* the force's quantization step, N (0: none) */
     int iz0, iF0, islope;   /* index in x, or -1 when held */
     double z0, F0, slope;   /* held values or the origin's (physical) */
     guess_sub sub;
@@ -259,6 +274,15 @@ void lf_fit_estimate_drop(lf_fit_estimate *e, const char *why);
 /* Every curve's pull-off follows w: determined exactly when w is (after
  * anything that changes w's verdict). */
 void lf_fit_pulloff_follows(lf_fit_result *r);
+/* nr, a refit of res's curves with the models res's choice gave them,
+ * takes what that choice said (model_rounds, thin, each curve's reason
+ * and thin bias), the single-curve fits and heterogeneity, and adds res's
+ * iterations and evaluations to its own. */
+void lf_fit_keep_choice(lf_fit_result *nr, const lf_fit_result *res);
+/* The words of what the data determine follow the intervals: the bound
+ * of w said in them is the estimate's (its ci95[1]), and where w is no
+ * longer bounded from above only, they no longer say it is. */
+void lf_fit_bound_words(lf_fit_result *r);
 /* Take the verdict (converged, stop, user_test, why) of another run. */
 void lf_fit_run_verdict_from(fit_run *run, const fit_run *from);
 
@@ -379,6 +403,8 @@ void lf_fit_guess_subsample(lf_fit *f, size_t j);
  * largest |force|). */
 double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,
                           size_t n, double fbig, double *work);
+/* The step of a quantized force signal, or 0 (noise.c; work holds n). */
+double lf_fit_quantum(const double *force, size_t n, double fbig, double *work);
 
 /* iterate.c: the trust-region iteration from x (overwritten with where it
  * stopped) and its stopping rules; adds to run's totals and sets its
@@ -442,6 +468,32 @@ typedef struct {
     lf_material lower_mat;
     double *lower_off;         /* 3 ncurves: z0, F0, slope */
 } fit_prof;
+/* hetero.c: a curve estimate with nothing determined, of probe p. */
+void lf_curve_estimate_none(lf_curve_estimate *e, const lf_probe *p);
+/* descend.c: the minimum, always (see there).  chi2 at the points t[q]
+ * (multiples of its standard error) of parameter name's linear path about
+ * res, every other free parameter moved by its regression on it (strict:
+ * a parameter without a covariance makes the point NaN; else it stays);
+ * NaN where the path leaves the parameters' domain.  With mat_low, the
+ * material and offsets (3 per curve) of the lowest point into mat_low and
+ * off_low; returns 1 when there is one. */
+int lf_fit_path_chi2(const lf_fit_settings *s, size_t nc, const lf_fit_curve *cc,
+                     const lf_fit_result *res, const char *name, int strict, size_t nt,
+                     const double *t, double *chi2, lf_material *mat_low, double *off_low);
+/* A fit of the curves cc solved from material mat and offsets off (3 per
+ * curve, NaN: the held value or 0), everything free (lf_fit_solve). */
+int lf_fit_refit_from(const lf_fit_settings *s, size_t nc, const lf_fit_curve *cc,
+                      const lf_material *mat, const double *off, lf_fit_result *nr);
+/* Refit from p's lower point (p->lower_*); where that ends lower than res
+ * by FIT_PROFILE_LOWER of the threshold, it replaces res (the model
+ * choice's notes and the single-curve fits kept, a warning naming `where`
+ * and the parameter) and 1 is returned (2: it ended lower without
+ * converging; res is then that fit, its intervals not yet set); 0: res
+ * stands. */
+int lf_fit_refit_lower(fit_prof *p, lf_fit_result *res, const char *where);
+/* The search of descend.c about res (converged) on p's curves and
+ * settings; 1 when it moved res. */
+int lf_fit_descend(fit_prof *p, lf_fit_result *res);
 /* a profile point lower than the best fit by this fraction of the
  * threshold means the best fit was not the global minimum */
 #define FIT_PROFILE_LOWER 0.01
@@ -537,6 +589,13 @@ void lf_fit_decomp_project(fit_decomp *d, const double *v, double *coef);
                                    for its baseline to count */
 #define FIT_K2_W_HIGH 4.0       /* k = 2: ln of the factor w is held higher
                                    by to see whether the data bound it */
+/* The words of w bounded from above only, with the bound: the judgement's
+ * at the solution, made again from the estimate's own interval once the
+ * intervals are made (lf_fit_bound_words), so that a report states one
+ * bound. */
+#define FIT_W_BOUND_WORDS "adhesion below the noise: w < %.4g J/m^2 (95%%)"
+#define FIT_W_BOUND_PREFIX "adhesion below the noise: w < "
+
 /* What the judgement needs to know of one curve. */
 typedef struct {
     char label[64];          /* how the words name it: "1", "2", ... (a fit)
@@ -669,11 +728,20 @@ double lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res,
 double lf_fit_noise_of(double *work, size_t cnt);
 int lf_fit_noise_above(const double *work, size_t cnt, double thr);
 
+/* plausible.c: numbers no real test gives, with their likely cause: per
+ * curve at the solution (contact point z0, largest contact radius amax;
+ * f->ws.ev at the solution), and the moduli of the result. */
+void lf_fit_plausible_curve(const lf_fit *f, size_t j, double z0, double amax, lf_warnings *w);
+void lf_fit_plausible(lf_fit_result *r);
+
 /* uncertainty.c */
 /* Wald-Wolfowitz runs test of the signs of curve j's residuals in order of
  * depth: about N(0, 1) when the model fits; below FIT_RUNS_Z_BAD, the
  * curve's shape is not the model's. */
 #define FIT_RUNS_Z_BAD (-4.0)
+/* The residuals' shape (noise.c): the rms of their means over stretches of
+ * the curve over the noise sd; above this, systematic. */
+#define FIT_SHAPE_MAX 1.0
 double lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res);
 /* The same over every stride-th residual in depth order (noise.c). */
 double lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, size_t stride);

@@ -142,9 +142,11 @@ lf_fit_hold_rise(fit_prof *p, double v)
         g->mu0 = p->mu0;
     g->mat.w = start_in(p, "w", v, p->best->w.value, 0.0, HUGE_VAL);
     g->mat.Estar = start_in(p, "E*", v, p->best->Estar.value, 0.0, HUGE_VAL);
-    g->mat.nu = start_in(p, "nu", v, p->best->nu.value, 0.0, 0.5);
-    if (!isfinite(g->mat.nu))
-        g->mat.nu = p->s->nu.value;
+    {
+        double nu = start_in(p, "nu", v, p->best->nu.value, 0.0, 0.5);
+        if (isfinite(nu))       /* else the held value (or stand-in) of alloc */
+            g->mat.nu = nu;
+    }
     if (!isfinite(g->mat.w))
         g->mat.w = 0.0;
     if (p->which == FIT_W)

@@ -212,7 +212,7 @@ say(const judge_in *in, const judge_out *o, int any_bonded, lf_warnings *words)
         lf_warn(words, "w cannot be separated from the force offsets (record the baseline past "
                 "detachment or fix F0)");
     if (o->w_upper)
-        lf_warn(words, "adhesion below the noise: w < %.4g J/m^2 (95%%)", o->w_bound);
+        lf_warn(words, FIT_W_BOUND_WORDS, o->w_bound);
     /* the rest, in column order, that no sentence above explains */
     buf[0] = '\0';
     for (c = 0; c < FIT_NMAT; c++) {

@@ -38,7 +38,8 @@ lf_fit_settings_default(void)
     s.jacobian = LF_JAC_ANALYTIC;
     s.w.mode = s.Estar.mode = s.nu.mode = LF_PARAM_AUTO;
     s.w.value = s.Estar.value = NAN;
-    s.nu.value = 0.3;
+    s.nu.value = NAN;           /* no assumed nu: bonded curves that need
+                                   one and cannot determine it are refused */
     s.w.prior_sd = s.Estar.prior_sd = s.nu.prior_sd = NAN;
     s.w.guess = s.Estar.guess = s.nu.guess = NAN;
     s.fit_slope = 0;
@@ -197,6 +198,12 @@ curve_scales(lf_fit *f, lf_error *err)
         c->eps = 1e-3 * c->L / (double) (c->data.n - 1);
         c->sigma = lf_fit_noise_sigma(c->data.depth, c->data.force, f->order + c->row, c->data.n,
                                       fbig, f->ws.work);
+        /* a quantized signal's noise is never below its step's own: the
+         * rounding error of a step q is uniform, of sd q / sqrt(12) (smooth
+         * data on a coarse lattice leave most point-to-point departures at
+         * exactly 0, and the median estimate with them) */
+        c->quantum = lf_fit_quantum(c->data.force, c->data.n, fbig, f->ws.work);
+        c->sigma = lf_fmax(c->sigma, c->quantum / sqrt(12.0));
         lf_fit_guess_subsample(f, j);
     }
     return LF_OK;

@@ -25,6 +25,7 @@
  * test. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "fit.h"
 
@@ -149,6 +150,59 @@ lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau
     *noise_out = m == 1 ? c->sigma : lf_fmax(c->sigma, sm);
 }
 
+/* The residuals' shape against the noise, whatever the correlation: a
+ * misfit makes neighbouring residuals alike just as a filter does, and its
+ * correlation time, like the noise's, widens the errors and the noise
+ * against which chi2 and the runs test judge the curve, until it hides
+ * itself (the 1 um layer with depths 1000 times too small: E* = 546 TPa at
+ * chi2/dof 2266, "consistent" at a correlation time of 162 points).  So
+ * the residuals, in order of depth, are averaged over SHAPE_BLOCKS
+ * stretches of the curve (at least SHAPE_MIN_BLOCK points each): the rms
+ * of those means, which for noise of any correlation shorter than a
+ * stretch is below the noise's own sd (a mean's variance never exceeds
+ * the points'), over the noise sd at a stride of at most a quarter of a
+ * stretch (the point-to-point departures of the residuals at the noise's
+ * correlation, lf_fit_curve_noise's plateau, where a smooth misfit hardly
+ * shows).  Above FIT_SHAPE_MAX the residuals follow a shape larger than
+ * the noise: systematic, whatever their correlation. */
+#define SHAPE_BLOCKS 16
+#define SHAPE_MIN_BLOCK 8
+static double
+shape(const lf_fit *f, size_t j, const gsl_vector *res, size_t m)
+{
+    const fit_curve *c = &f->c[j];
+    const size_t *ord = f->order + c->row;
+    size_t n = c->data.n, nb = n / SHAPE_MIN_BLOCK < SHAPE_BLOCKS ? n / SHAPE_MIN_BLOCK
+                                                                   : SHAPE_BLOCKS;
+    size_t b, i, stride;
+    double *e = f->ws.work, *work = f->ws.work + n, mean = 0.0, ss = 0.0, noise;
+
+    if (nb < 2)
+        return 0.0;
+    for (i = 0; i < n; i++) {
+        e[i] = gsl_vector_get(res, c->row + i) * c->sigma / f->ws.sqrtw[c->row + i];
+        mean += e[i];
+    }
+    mean /= (double) n;
+    for (b = 0; b < nb; b++) {
+        size_t lo = b * n / nb, hi = (b + 1) * n / nb;
+        double s = 0.0;
+        for (i = lo; i < hi; i++)
+            s += e[ord[i]];
+        s = s / (double) (hi - lo) - mean;
+        ss += s * s;
+    }
+    stride = m;
+    if (stride > n / nb / 4)
+        stride = n / nb / 4;
+    if (stride < 1)
+        stride = 1;
+    noise = lf_fit_noise_of(work, departures(c, ord, e, stride, work));
+    if (!(noise > 0))
+        return 0.0;
+    return sqrt(ss / (double) nb) / noise;
+}
+
 double
 lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_result *cr)
 {
@@ -172,7 +226,9 @@ lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curv
     cr->runs_z = lf_fit_runs_z_stride(f, j, res, m);
     cr->chi2_per_point = chi2 / (double) n;
     cr->misfit_rel = Fmax > Fmin ? rms / (Fmax - Fmin) : NAN;
-    cr->consistent = !(cr->runs_z < FIT_RUNS_Z_BAD || cr->chi2_per_point > 4.0);
+    cr->shape = shape(f, j, res, m);
+    cr->consistent = !(cr->runs_z < FIT_RUNS_Z_BAD || cr->chi2_per_point > 4.0
+                       || cr->shape > FIT_SHAPE_MAX);
     cr->agreement = cr->consistent ? 2 : cr->misfit_rel < AGREE_REL ? 1 : 0;
     return tau;
 }
@@ -245,4 +301,50 @@ lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order
     med /= 0.6745;
     /* noise-free data: keep the weight finite */
     return lf_fmax(med, fbig > 0 ? 1e-12 * fbig : 1e-300);
+}
+
+/* The step of a quantized force signal (an instrument's converter, or a
+ * file written with few digits), or 0 when the forces lie on no lattice.
+ * Sorted, the distinct forces (apart by more than 1e-9 of the largest, the
+ * rounding of a unit conversion) are apart by multiples of one step q,
+ * the smallest gap: quantized when at least QUANTUM_MIN_GAPS gaps and
+ * QUANTUM_SHARE of them lie within QUANTUM_TOL of a multiple of q (forces
+ * that are not quantized, their gaps random, do so by chance with a
+ * probability far below 1e-10).  work holds n. */
+#define QUANTUM_MIN_GAPS 20
+#define QUANTUM_SHARE 0.99
+#define QUANTUM_TOL 0.02
+static int
+cmp_double(const void *a, const void *b)
+{
+    const double x = *(const double *) a, y = *(const double *) b;
+    return (x > y) - (x < y);
+}
+
+double
+lf_fit_quantum(const double *force, size_t n, double fbig, double *work)
+{
+    const double tol = 1e-9 * fbig;
+    double q = HUGE_VAL, last;
+    size_t i, gaps = 0, on = 0;
+
+    if (n < QUANTUM_MIN_GAPS || !(fbig > 0))
+        return 0.0;
+    memcpy(work, force, n * sizeof *work);
+    qsort(work, n, sizeof *work, cmp_double);
+    for (i = 1, last = work[0]; i < n; i++)
+        if (work[i] - last > tol) {
+            q = lf_fmin(q, work[i] - last);
+            last = work[i];
+            gaps++;
+        }
+    if (gaps < QUANTUM_MIN_GAPS || !(q < HUGE_VAL))
+        return 0.0;
+    for (i = 1, last = work[0]; i < n; i++)
+        if (work[i] - last > tol) {
+            double r = (work[i] - last) / q;
+            on += fabs(r - floor(r + 0.5)) <= QUANTUM_TOL;
+            last = work[i];
+        }
+    return (double) on >= QUANTUM_SHARE * (double) gaps ? q : 0.0;
 }

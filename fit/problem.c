@@ -98,6 +98,59 @@ lf_fit_set_origin(lf_fit *f)
     lf_fit_invalidate(f);
 }
 
+/* Curve j's model depends on nu: a bonded layer under a model with a
+ * thickness (the half-space ignores the interface). */
+static int
+uses_nu(const lf_fit *f, size_t j)
+{
+    return f->c[j].data.probe.base == LF_BASE_BONDED
+           && lf_model_get_type(f->c[j].model)->scope != LF_SCOPE_HALFSPACE;
+}
+
+/* nu held (not fitted): no assumed value, and none where the curves'
+ * models do not hold.  A bonded layer needs nu, and bonded curves alone do
+ * not determine it (they fix M = Z E*): without a value given, LF_EDATA,
+ * never a default.  At nu >= FIT_NU_INCOMPRESSIBLE a bonded layer is nearly
+ * incompressible: the thin-layer form's Z = (1-nu)^2/(1-2nu) passes 250 and
+ * its limit needs a contact far wider than 18 thicknesses (Jaffar 1989,
+ * Chadwick 2002); a model that states no limit of its own (nu_max 0) is
+ * refused there, one that does (the exact model's tables end at 0.4995) is
+ * refused beyond it. */
+static int
+held_nu_check(const lf_fit *f, lf_error *err)
+{
+    const double nu = f->set.nu.value;
+    size_t j;
+
+    for (j = 0; j < f->ncurves; j++) {
+        const lf_model_type *t = lf_model_get_type(f->c[j].model);
+        const char *name = f->c[j].data.name ? f->c[j].data.name : "";
+        if (!uses_nu(f, j))
+            continue;
+        if (!isfinite(nu))
+            return lf_fail(err, LF_EDATA, "curve %zu (%s): a bonded layer needs Poisson's ratio "
+                           "nu, and these curves do not determine it (bonded curves alone fix "
+                           "only M = Z E*): give nu (a plan's nu column, or layerfit fit --nu), or "
+                           "add a frictionless curve of the same material, with which nu is "
+                           "fitted", j + 1, name);
+        if (t->nu_max > 0 ? nu > t->nu_max : nu >= FIT_NU_INCOMPRESSIBLE) {
+            char v[32];
+            /* every digit where fewer would read 0.5 */
+            snprintf(v, sizeof v, "%.6g", nu);
+            if (strcmp(v, "0.5") == 0)
+                snprintf(v, sizeof v, "%.17g", nu);
+            return lf_fail(err, LF_EINVAL, "curve %zu (%s): a bonded layer at nu = %s is "
+                           "nearly incompressible, where the %s model does not hold (%s); "
+                           "the exact model holds up to nu = %g, no model of layerfit beyond",
+                           j + 1, name, v, t->name,
+                           t->nu_max > 0 ? "its tables end below this nu"
+                                         : "the thin-layer form's Z = (1-nu)^2/(1-2nu) diverges",
+                           FIT_NU_INCOMPRESSIBLE);
+        }
+    }
+    return LF_OK;
+}
+
 int
 lf_fit_problem_setup(lf_fit *f, lf_error *err)
 {
@@ -129,9 +182,18 @@ lf_fit_problem_setup(lf_fit *f, lf_error *err)
     f->mat.w = s->w.value;
     f->mat.Estar = s->Estar.value;
     f->mat.nu = s->nu.value;
-    if (s->nu.mode != LF_PARAM_AUTO || isfinite(s->nu.value))
+    if (s->nu.mode == LF_PARAM_FIXED || isfinite(s->nu.value))
         if (!(s->nu.value >= 0 && s->nu.value < 0.5))
             return lf_fail(err, LF_EINVAL, "nu must lie in [0, 0.5) (got %g)", s->nu.value);
+    if (nu_prior && !isfinite(s->nu.value))
+        return lf_fail(err, LF_EINVAL, "a prior on nu needs its mean (nu.value)");
+    if (f->imat[FIT_NU] < 0) {
+        int status = held_nu_check(f, err);
+        if (status != LF_OK)
+            return status;
+        if (!isfinite(f->mat.nu))
+            f->mat.nu = FIT_NU_UNUSED;  /* no curve depends on it */
+    }
     if (!isnan(s->w.guess) && !(s->w.guess > 0 && isfinite(s->w.guess)))
         return lf_fail(err, LF_EINVAL, "a guess of w must be finite and > 0 (got %g)", s->w.guess);
     if (!isnan(s->Estar.guess) && !(s->Estar.guess > 0 && isfinite(s->Estar.guess)))

@@ -203,70 +203,15 @@ search_side(fit_prof *p, double t_hat, double h, double r_h, int dir, double tmi
 static int
 linear_holds(fit_prof *p, const lf_fit_result *res, const char *name)
 {
-    lf_fit *g;
-    gsl_vector *r;
-    size_t i, j, np = res->npar, k = np;
-    int side, holds = 1;
+    const double t[2] = { -FIT_Z95, FIT_Z95 };
+    double chi2[2];
+    int side;
 
-    for (i = 0; i < np; i++)
-        if (strcmp(res->names[i], name) == 0)
-            k = i;
-    if (k == np || !(res->cov[k * np + k] > 0))
-        return 0;
-    g = lf_fit_alloc(p->s, p->nc, p->cc, NULL);
-    if (g == NULL)
-        return 0;
-    r = gsl_vector_alloc(g->nres);
-    if (r == NULL || g->np != np) {
-        gsl_vector_free(r);
-        lf_fit_free(g);
-        return 0;
-    }
-    for (i = 0; i < g->ndata; i++)
-        g->ws.sqrtw[i] = 1.0;        /* least squares (as lf_fit_solve sets) */
-    for (side = -1; side <= 1 && holds; side += 2) {
-        double d = side * FIT_Z95 * sqrt(res->cov[k * np + k]), cost;
-        lf_material mat = { res->w.value, res->Estar.value, res->nu.value };
-        mat.w = lf_fit_best_value(res, "w", res->w.value);
-        mat.Estar = lf_fit_best_value(res, "E*", res->Estar.value);
-        mat.nu = lf_fit_best_value(res, "nu", isfinite(res->nu.value) ? res->nu.value
-                                                                : p->s->nu.value);
-        for (j = 0; j < p->nc; j++)
-            g->c[j].slope = 0.0;
-        for (i = 0; i < np; i++) {
-            double c = res->cov[i * np + k] / res->cov[k * np + k];
-            double v = res->value[i] + c * d;
-            size_t jj;
-            if (!isfinite(v)) {
-                holds = 0;
-                break;
-            }
-            if (strcmp(res->names[i], "w") == 0)
-                mat.w = v;
-            else if (strcmp(res->names[i], "E*") == 0)
-                mat.Estar = v;
-            else if (strcmp(res->names[i], "nu") == 0)
-                mat.nu = v;
-            else if (sscanf(res->names[i], "z0[%zu]", &jj) == 1 && jj >= 1 && jj <= p->nc)
-                g->c[jj - 1].z0 = v;
-            else if (sscanf(res->names[i], "F0[%zu]", &jj) == 1 && jj >= 1 && jj <= p->nc)
-                g->c[jj - 1].F0 = v;
-            else if (sscanf(res->names[i], "s[%zu]", &jj) == 1 && jj >= 1 && jj <= p->nc)
-                g->c[jj - 1].slope = v;
-        }
-        if (!holds || !(mat.w > 0) || !(mat.Estar > 0) || !(mat.nu >= 0.0 && mat.nu < 0.5)) {
-            holds = 0;
-            break;
-        }
-        g->mat = mat;
-        lf_fit_set_origin(g);
-        gsl_vector_set_all(g->ws.x, 1.0);
-        cost = lf_fit_cost(g, g->ws.x, r);
-        holds = isfinite(cost) && fabs((2.0 * cost - res->chi2) / p->thr - 1.0) < PROFILE_TOL;
-    }
-    gsl_vector_free(r);
-    lf_fit_free(g);
-    return holds;
+    lf_fit_path_chi2(p->s, p->nc, p->cc, res, name, 1, 2, t, chi2, NULL, NULL);
+    for (side = 0; side < 2; side++)
+        if (!isfinite(chi2[side]) || !(fabs((chi2[side] - res->chi2) / p->thr - 1.0) < PROFILE_TOL))
+            return 0;
+    return 1;
 }
 
 /* The threshold's calibration where the profile is used: the rise's 95%
@@ -479,78 +424,6 @@ intervals_at_stop(lf_fit_result *r)
     intervals_linear(r, LF_INTERVAL_AT_STOP);
 }
 
-/* The profile found chi2 below the best fit's: that was not the global
- * minimum.  Refit with every parameter free from the lower point.  When
- * that converges lower, it replaces *res (what the model choice said is
- * kept) and 1 is returned: the profiles start again from the new minimum.
- * When it ends lower without converging, it replaces *res too, as a fit
- * that did not converge (its intervals the linear ones where it stopped),
- * and 2 is returned: the first fit's "converged" was a local minimum, and
- * no minimum below it was reached.  0: res stands. */
-static int
-refit_from_lower(fit_prof *p, lf_fit_result *res)
-{
-    static const char *const pname[FIT_NMAT] = { "w", "E*", "nu" };
-    lf_fit *g = lf_fit_alloc(p->s, p->nc, p->cc, NULL);
-    lf_fit_result nr;
-    size_t j;
-    int st;
-
-    if (g == NULL)
-        return 0;
-    g->mat = p->lower_mat;
-    for (j = 0; j < p->nc; j++) {
-        if (g->c[j].iz0 >= 0 && isfinite(p->lower_off[3 * j]))
-            g->c[j].z0 = p->lower_off[3 * j];
-        if (g->c[j].iF0 >= 0 && isfinite(p->lower_off[3 * j + 1]))
-            g->c[j].F0 = p->lower_off[3 * j + 1];
-        g->c[j].slope = isfinite(p->lower_off[3 * j + 2]) ? p->lower_off[3 * j + 2] : 0.0;
-    }
-    lf_fit_set_origin(g);
-    st = lf_fit_solve(g, NULL, &nr, NULL);
-    p->fits++;
-    lf_fit_free(g);
-    if (st != LF_OK && st != LF_ENOCONV)
-        return 0;
-    if (!(nr.chi2 < res->chi2 - FIT_PROFILE_LOWER * p->thr)) {
-        lf_fit_result_free(&nr);
-        return 0;
-    }
-    if (st == LF_OK) {
-        lf_warn(&nr.warnings, "the profile of %s passed below the first fit's minimum (chi2 "
-                "%.6g, here %.6g): the fit was continued from there", pname[p->which],
-                res->chi2, nr.chi2);
-    } else {
-        char why[sizeof nr.stop_reason];
-        lf_warn(&nr.warnings, "the profile of %s passed below the first fit's minimum (chi2 "
-                "%.6g, at %s = %.6g held: %.6g), so that was a local minimum; the fit continued "
-                "from there stopped at chi2 %.6g without converging (%s): these are the numbers "
-                "where it stopped", pname[p->which], res->chi2, pname[p->which],
-                p->which == FIT_W ? p->lower_mat.w : p->which == FIT_E ? p->lower_mat.Estar
-                                                                        : p->lower_mat.nu,
-                p->lower_chi2, nr.chi2, nr.stop_reason);
-        snprintf(why, sizeof why, "%s", nr.stop_reason);
-        snprintf(nr.stop_reason, sizeof nr.stop_reason, "not converged: below a local "
-                 "minimum the fit went on and stopped (%.90s)",
-                 strncmp(why, "not converged: ", 15) == 0 ? why + 15 : why);
-        intervals_at_stop(&nr);
-    }
-    nr.model_rounds = res->model_rounds;
-    nr.thin = res->thin;
-    nr.iterations += res->iterations;
-    nr.evaluations += res->evaluations;
-    for (j = 0; j < p->nc; j++) {
-        memcpy(nr.curves[j].model_reason, res->curves[j].model_reason,
-               sizeof nr.curves[j].model_reason);
-        nr.curves[j].thin_bias = res->curves[j].thin_bias;
-        memcpy(nr.curves[j].thin_bias_se, res->curves[j].thin_bias_se,
-               sizeof nr.curves[j].thin_bias_se);
-    }
-    lf_fit_result_free(res);
-    *res = nr;
-    return st == LF_OK ? 1 : 2;
-}
-
 /* What follows the intervals' verdicts: the pull-off follows w's, and a fit
  * where none is determined is degenerate. */
 static void
@@ -558,6 +431,7 @@ verdicts_follow(lf_fit_result *res)
 {
     lf_fit_pulloff_follows(res);
     lf_fit_degenerate_end(res);
+    lf_fit_bound_words(res);
 }
 
 int
@@ -566,8 +440,8 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
 {
     static const int which[FIT_NMAT] = { FIT_W, FIT_E, FIT_NU };
     fit_prof p;
-    size_t j, fits = 0;
-    int round, k;
+    size_t j;
+    int round, k, linear;
 
     if (res == NULL || res->ncurves != ncurves)
         return lf_fail(err, LF_EINVAL, "lf_fit_profile: the result is not of these curves");
@@ -575,12 +449,6 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
         /* rises from a point that is no minimum measure nothing (they go
          * negative where the fit would have gone on) */
         intervals_at_stop(res);
-        verdicts_follow(res);
-        return LF_OK;
-    }
-    if ((always & 3) == LF_PROFILE_LINEAR || settings->loss != LF_LOSS_LINEAR) {
-        /* asked for, or chi2 of a robust loss is not a likelihood */
-        intervals_linear(res, settings->loss != LF_LOSS_LINEAR ? NULL : LF_INTERVAL_UNCHECKED);
         verdicts_follow(res);
         return LF_OK;
     }
@@ -602,26 +470,47 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
     }
     p.s = settings;
     p.nc = ncurves;
-    p.mode = always & 3;
-    p.calibrate = (always & LF_PROFILE_CALIBRATE) != 0;
-    for (round = 0;; round++) {
-        lf_fit_estimate *e[FIT_NMAT] = { &res->w, &res->Estar, &res->nu };
-        p.best = res;
-        p.thr = lf_fit_hold_threshold(res);
-        p.lower_chi2 = res->chi2;
-        for (k = 0; k < FIT_NMAT && !(p.lower_chi2 < res->chi2); k++) {
-            p.which = which[k];
-            profile_one(&p, e[k]);
+    /* the linear intervals reported: the search of the check all the same
+     * (its refits are where lower minima are found) */
+    linear = (always & 3) == LF_PROFILE_LINEAR || (always & LF_PROFILE_REPORT_LINEAR) != 0;
+    p.mode = (always & 3) == LF_PROFILE_LINEAR ? LF_PROFILE_CHECK : always & 3;
+    p.calibrate = (always & LF_PROFILE_CALIBRATE) != 0 && !linear;
+    /* the minimum, always, whatever the intervals asked (descend.c); the
+     * chi2 of a robust loss is no likelihood: its minimum is the
+     * reweighting's */
+    if (settings->loss == LF_LOSS_LINEAR)
+        lf_fit_descend(&p, res);
+    if (!res->converged) {
+        intervals_at_stop(res);         /* below a local minimum, no minimum reached */
+    } else if (settings->loss != LF_LOSS_LINEAR) {
+        intervals_linear(res, NULL);    /* chi2 of a robust loss is no likelihood */
+    } else {
+        for (round = 0;; round++) {
+            lf_fit_estimate *e[FIT_NMAT] = { &res->w, &res->Estar, &res->nu };
+            lf_fit_estimate copy[FIT_NMAT];
+            int moved;
+            p.best = res;
+            p.thr = lf_fit_hold_threshold(res);
+            p.lower_chi2 = res->chi2;
+            for (k = 0; k < FIT_NMAT && !(p.lower_chi2 < res->chi2); k++) {
+                p.which = which[k];
+                copy[k] = *e[k];
+                profile_one(&p, linear ? &copy[k] : e[k]);
+            }
+            /* a lower point: refit there and profile again (res is
+             * converged: a refit that is not ends the rounds) */
+            if (!(p.lower_chi2 < res->chi2) || round >= PROFILE_MAX_REFITS)
+                break;
+            moved = lf_fit_refit_lower(&p, res, "profile");
+            if (moved == 2)
+                intervals_at_stop(res);
+            if (moved != 1)
+                break;
         }
-        /* a lower point: refit there and profile again (res is converged:
-         * a refit that is not ends the rounds) */
-        if (p.lower_chi2 < res->chi2 && round < PROFILE_MAX_REFITS
-            && refit_from_lower(&p, res) == 1)
-            continue;
-        break;
+        if (linear && res->converged)
+            intervals_linear(res, LF_INTERVAL_UNCHECKED);
     }
-    fits += p.fits;
-    res->profile_fits = fits;
+    res->profile_fits = p.fits;
     verdicts_follow(res);
     free(p.cc);
     free(p.lower_off);

@@ -3,6 +3,7 @@
  * and the two edits every later verdict makes to it: an estimate dropped
  * as not determined, and the pull-off following w. */
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -29,7 +30,9 @@ lf_fit_result_alloc(const lf_fit *f, lf_fit_result *r)
         r->curves[j].contact_radius = calloc(n, sizeof *r->curves[j].contact_radius);
         if (!r->curves[j].fitted || !r->curves[j].contact_radius)
             return LF_ENOMEM;
+        lf_curve_estimate_none(&r->curves[j].alone, &f->c[j].data.probe);
     }
+    lf_heterogeneity_of(0, NULL, &r->heterogeneity, NULL);
     return LF_OK;
 }
 
@@ -73,4 +76,52 @@ lf_fit_pulloff_follows(lf_fit_result *r)
 
     for (j = 0; j < r->ncurves; j++)
         r->curves[j].pulloff_determined = r->w.determined;
+}
+
+void
+lf_fit_keep_choice(lf_fit_result *nr, const lf_fit_result *res)
+{
+    size_t j;
+
+    nr->model_rounds = res->model_rounds;
+    nr->thin = res->thin;
+    nr->iterations += res->iterations;
+    nr->evaluations += res->evaluations;
+    for (j = 0; j < res->ncurves && j < nr->ncurves; j++) {
+        memcpy(nr->curves[j].model_reason, res->curves[j].model_reason,
+               sizeof nr->curves[j].model_reason);
+        nr->curves[j].thin_bias = res->curves[j].thin_bias;
+        memcpy(nr->curves[j].thin_bias_se, res->curves[j].thin_bias_se,
+               sizeof nr->curves[j].thin_bias_se);
+        nr->curves[j].alone = res->curves[j].alone;
+    }
+    nr->heterogeneity = res->heterogeneity;
+}
+
+void
+lf_fit_bound_words(lf_fit_result *r)
+{
+    lf_warnings *w = &r->identifiability;
+    size_t i, k = 0;
+
+    for (i = 0; i < w->n; i++) {
+        char *m = w->msg[i];
+        if (strncmp(m, FIT_W_BOUND_PREFIX, strlen(FIT_W_BOUND_PREFIX)) == 0) {
+            if (!r->w.upper_bound_only || !isfinite(r->w.ci95[1])) {
+                free(m);        /* no longer an upper bound only */
+                continue;
+            }
+            {
+                int len = snprintf(NULL, 0, FIT_W_BOUND_WORDS, r->w.ci95[1]);
+                char *t = len >= 0 ? malloc((size_t) len + 1) : NULL;
+                if (t != NULL) {
+                    snprintf(t, (size_t) len + 1, FIT_W_BOUND_WORDS, r->w.ci95[1]);
+                    free(m);
+                    m = t;
+                }
+            }
+        }
+        w->msg[k++] = m;
+    }
+    w->n = k;
 }

@@ -314,6 +314,11 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r, const fit_d
     if (c->iF0 >= 0 && (!lf_judge_col_determined(d, c->iF0) || o->k2))
         cr->F0 = cr->F0_se = NAN;
     cr->sigma = c->sigma;
+    cr->quantum = c->quantum;
+    if (c->quantum > 0 && !(c->sigma > c->quantum / sqrt(12.0)))
+        lf_warn(&cr->warnings, "the force is quantized in steps of %.3g N and varies less "
+                "from point to point than that: its noise is taken as the step's own rounding, "
+                "step / sqrt(12) = %.3g N", c->quantum, c->sigma);
     for (i = 0; i < c->data.n; i++) {
         size_t k = c->row + i;
         double e = gsl_vector_get(res, k) * c->sigma / f->ws.sqrtw[k];
@@ -339,11 +344,17 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r, const fit_d
                                  f->set.max_b_over_a);
     }
     sphere_check(&c->data.probe, amax, &cr->warnings);
+    lf_fit_plausible_curve(f, j, z0, amax, &cr->warnings);
     contact_point_check(c, cr, &cr->warnings);
     consistency(f, j, res, cr);
     if (cr->downweighted > 0)
         lf_warn(&cr->warnings, "%zu points weigh less than half under the %s loss (outliers)",
                 cr->downweighted, lf_loss_name(f->set.loss));
+    if (cr->shape > FIT_SHAPE_MAX && cr->chi2_per_point <= 4.0 && !(cr->runs_z < FIT_RUNS_Z_BAD))
+        lf_warn(&cr->warnings, "its residuals follow a shape %.2g times the noise (the rms of "
+                "their means over sixteenths of the curve, against the noise sd): a systematic "
+                "misfit, which the correlation of neighbouring residuals does not explain",
+                cr->shape);
     /* against the noise model's sd (noise.c: = sigma for white noise) */
     if (cr->rms > 1.5 * cr->noise_sd && cr->agreement == 1)
         lf_warn(&cr->warnings, "residuals are %.2g times the noise estimated from the data: "
@@ -599,6 +610,7 @@ lf_fit_assess(lf_fit *f, const double *x, const fit_run *run, lf_fit_result *r, 
     for (j = 0; j < f->ncurves; j++)
         assess_curve(f, x, j, r, &d, &o, res);
     agreement(f, r);
+    lf_fit_plausible(r);
     if (r->corr_time > 1.5)
         lf_warn(&r->warnings, "neighbouring residuals are correlated (filtered or oversampled "
                 "data): about one independent point in %.3g; standard errors include that "

@@ -788,6 +788,7 @@ lf_batch_row_json(const lf_batch_row *row, const lf_fit_request *req, const char
     const lf_fit_input *in = row->input;
     lf_provenance prov;
     lf_report_info info;
+    lf_assumption assumed[16];
 
     *json = NULL;
     if (row->result == NULL || in == NULL)
@@ -802,6 +803,9 @@ lf_batch_row_json(const lf_batch_row *row, const lf_fit_request *req, const char
     info.model_tol = req->model_auto ? req->choose.tol : NAN;
     info.origin = in->origin;
     info.provenance = &prov;
+    info.assumed = assumed;
+    info.nassumed = lf_fit_assumptions(req, in, row->result, assumed,
+                                       sizeof assumed / sizeof assumed[0]);
     {
         /* the digests as strings */
         const char **sha = malloc((in->n ? in->n : 1) * sizeof *sha);

@@ -99,6 +99,25 @@ int lf_curve_disagrees(const lf_fit_curve_result *cr);
 /* The curves of a converged r that disagree, as "1, 3" into buf (at most n
  * bytes); their count (0: none, or r did not converge). */
 size_t lf_disagreeing(const lf_fit_result *r, char *buf, size_t n);
+/* Numbers of the heterogeneity in words: a spread, relative ("12%") or
+ * absolute ("0.012", nu); a value of parameter m (LF_MAT_*) in its unit; a
+ * p-value ("p = 0.41", "p < 1e-16").  Each returns buf. */
+const char *lf_spread_text(char *buf, size_t n, double x, int relative);
+const char *lf_param_text(char *buf, size_t n, double x, int m);
+const char *lf_p_text(char *buf, size_t n, double p);
+/* How the curves of one material differ, in words, one line per call of
+ * put: first whether they agree within their errors, then each
+ * parameter's spread and population, then the probes (nothing for fewer
+ * than two curves).  The text report, the HTML tables and a batch's
+ * summary say the same. */
+void lf_hetero_lines(const lf_heterogeneity *h, void (*put)(void *, const char *), void *ctx);
+/* One assumption in words: "nu = 0.45 (--nu)", "R = 8 µm, curves 1-11
+ * (the file headers, chiaro exports)"; ncurves those of the fit. */
+const char *lf_assumption_text(char *buf, size_t n, const lf_assumption *a, size_t ncurves);
+/* The object "heterogeneity" of the fit's JSON (report_json.c), indent
+ * before each line after the first, for a batch's summary; NULL when out
+ * of memory (lf_free). */
+char *lf_heterogeneity_json(const lf_heterogeneity *h, const char *indent);
 
 /* Length of the valid UTF-8 sequence that starts at s (1..4), or 0 when
  * the bytes there are not UTF-8 (overlong forms and surrogates included). */

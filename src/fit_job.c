@@ -19,6 +19,8 @@ struct lf_fit_job {
     int status;                 /* LF_OK or LF_ENOCONV */
     char *plan_path;            /* the plan read from a file, or NULL */
     char plan_sha256[65];
+    lf_assumption assumed[16];  /* what the fit assumed (lf_fit_assumptions) */
+    size_t nassumed;
 };
 
 int
@@ -101,6 +103,8 @@ job_fit(lf_fit_job *j, lf_warnings *warn, lf_error *err)
     if (status != LF_OK && status != LF_ENOCONV)
         return status;
     j->have_res = 1;
+    j->nassumed = lf_fit_assumptions(j->req, &j->in, &j->res, j->assumed,
+                                     sizeof j->assumed / sizeof j->assumed[0]);
     j->status = status;
     j->req = NULL;              /* the options may change from here on */
     return LF_OK;
@@ -247,6 +251,8 @@ lf_fit_job_json(const lf_fit_job *j, const char *command_line, char **json, lf_e
     info.model_tol = j->model_tol;
     info.origin = j->in.origin;
     info.provenance = &prov;
+    info.assumed = j->assumed;
+    info.nassumed = j->nassumed;
     status = lf_fit_result_json(&j->res, &info, json, err);
     free(path);
     free((void *) sha);

@@ -255,6 +255,7 @@ lf_fit_options_request(lf_fit_options *o, lf_fit_request *req, lf_error *err)
     *cs = lf_choose_settings_default();
     *is = lf_input_settings_default();
     req->model = model;
+    req->nu_option = NULL;
     req->model_auto = strcmp(model, "auto") == 0;
     s->model = req->model_auto ? &lf_model_thin : lf_model_type_find(model);
     if (s->model == NULL)
@@ -335,6 +336,7 @@ lf_fit_options_request(lf_fit_options *o, lf_fit_request *req, lf_error *err)
         s->nu.mode = LF_PARAM_FIXED;
         s->nu.value = nu;
     }
+    req->nu_option = !isnan(v[O_FIX_NU]) ? "--fix-nu" : !isnan(v[O_NU]) ? "--nu" : NULL;
     return LF_OK;
 }
 
@@ -397,10 +399,14 @@ lf_fit_request_run(const lf_fit_request *req, const lf_fit_input *in, unsigned f
     size_t j;
 
     lf_fit_input_apply_nu(in, &s);
-    if (req->model_auto)
-        status = lf_fit_choose_driver(&s, &req->choose, in->n, in->curves, res, err);
-    else
-        status = lf_fit_driver(&s, in->n, in->curves, res, err);
+    /* the joint fit, each curve alone, the intervals (profile-likelihood
+     * where the linear ones are unreliable, a batch after the profile's
+     * cheap screen; --intervals linear: the linear ones, the search for the
+     * minimum made all the same) and how the curves differ (lf_fit_joint) */
+    status = lf_fit_joint(&s, req->model_auto ? &req->choose : NULL, in->n, in->curves,
+                          !batch ? req->profile
+                          : LF_PROFILE_SCREEN | (req->profile == LF_PROFILE_LINEAR
+                                                 ? LF_PROFILE_REPORT_LINEAR : 0), res, err);
     if (status != LF_OK && status != LF_ENOCONV)
         return status;
     for (j = 0; j < in->n && in->origin[j].b != NULL; j++)
@@ -408,13 +414,6 @@ lf_fit_request_run(const lf_fit_request *req, const lf_fit_input *in, unsigned f
     if (!batch && !req->model_auto && s.model != &lf_model_thin && j == in->n
         && lf_fit_compare_thin(&s, in->n, in->curves, res, &e) != LF_OK)
         lf_warn(notes, "the thin-layer comparison fit failed: %s", e.msg);
-    /* profile-likelihood intervals where the linear ones are unreliable (a
-     * batch screens cheaply first; --intervals linear: the linear ones,
-     * unchecked); a failure keeps the linear ones */
-    if (lf_fit_profile(&s, in->n, in->curves, res,
-                       batch && req->profile != LF_PROFILE_LINEAR ? LF_PROFILE_SCREEN
-                                                                 : req->profile, &e) != LF_OK)
-        lf_warn(notes, "profile-likelihood intervals: %s", e.msg);
     if (status == LF_OK && !res->converged)
         status = LF_ENOCONV;    /* a local minimum, or nothing determined */
     return status;

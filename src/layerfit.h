@@ -398,7 +398,15 @@ typedef struct {
     lf_jacobian jacobian;
     lf_fit_param w;             /* default AUTO (= free) */
     lf_fit_param Estar;         /* default AUTO (= free) */
-    lf_fit_param nu;            /* default AUTO, held at 0.3 when undetermined */
+    lf_fit_param nu;            /* default AUTO: fitted where the plan
+                                   determines it (bonded and frictionless
+                                   curves together, or E* held), else held
+                                   at nu.value, which is NaN by default:
+                                   then a bonded curve that depends on nu
+                                   is refused (LF_EDATA), never fitted at
+                                   an assumed nu.  Bonded nu >= 0.4995 is
+                                   refused unless the model states a limit
+                                   it holds to (exact: 0.4995) */
     int fit_slope;              /* 1: fit a baseline slope s_j per curve */
     size_t max_iter;            /* default 200 */
     double xtol, gtol, ftol;    /* GSL convergence tests (defaults 1e-11,
@@ -472,6 +480,81 @@ typedef struct {
  * abrupt contact edge) nearer to the estimate than the linear end. */
 #define LF_INTERVAL_JUMP "profile likelihood, linear where it jumps"
 
+/* Many curves of one material: how much they differ (fit/hetero.c).
+ *
+ * What one curve's own fit says of the material: its estimates of w, E*
+ * and nu with their standard errors, for the heterogeneity of several
+ * curves and the summaries of a batch (lf_heterogeneity_of).  Indices
+ * LF_MAT_W, LF_MAT_E, LF_MAT_NU. */
+enum { LF_MAT_W = 0, LF_MAT_E = 1, LF_MAT_NU = 2 };
+typedef struct {
+    double value[3];        /* w (J/m^2), E* (Pa), nu: NaN where the curve's
+                               own fit does not determine it (an upper bound
+                               of w, a fixed or undetermined parameter) */
+    double se[3];           /* their standard errors (the fit's, scaled by
+                               its chi2/dof and noise correlation); NaN */
+    double ci95[3][2];      /* their 95% intervals (profile likelihood where
+                               the fit made one), NaN where not known: a
+                               curve's weight in the analysis comes from the
+                               side of its interval that faces the
+                               population's mean (single-curve profiles of w
+                               are often lopsided), else from se */
+    double corr_wE;         /* correlation of w and E*, NaN unless both */
+    lf_probe probe;         /* the curve's probe and layer */
+} lf_curve_estimate;
+
+/* What single-curve estimates of one parameter say of the population of
+ * spots the curves sample (random effects: each curve's value is the
+ * population's plus a spot's deviation of SD tau, measured with its own
+ * standard error).  w and E* are analysed as the fit estimates them, in
+ * ln w and ln E* (a log-normal population), nu as it is.  Every member
+ * is NaN where it is not determined (why says why). */
+typedef struct {
+    size_t n;               /* curves whose own fit determines it */
+    double mean, sd;        /* of those estimates, SI (sd: n - 1 divisor) */
+    double median, q1, q3;  /* quartiles (linear interpolation) */
+    double Q;               /* Cochran's Q, n - 1 degrees of freedom */
+    double p_homogeneous;   /* P(chi2 >= Q) if the curves agree */
+    double I2;              /* share of the spread beyond the errors, [0, 1] */
+    double tau_rel;         /* between-curve SD on the analysed scale: of
+                               ln w, ln E* (a relative SD), of nu itself;
+                               REML (Viechtbauer 2005) */
+    double tau_rel_ci95[2]; /* Q-profile interval (Viechtbauer 2007) */
+    double tau;             /* between-curve SD in SI: tau_rel times the
+                               population mean for w and E*, tau_rel for nu */
+    double tau_ci95[2];
+    double population_mean; /* the population's centre in SI: exp(mu) for w
+                               and E* (a log-normal population's median, its
+                               geometric mean), mu for nu */
+    double population_ci95[2];  /* 95% interval, including tau
+                               (Hartung-Knapp-Sidik-Jonkman: Student's t on
+                               n - 1 degrees of freedom) */
+    const char *why;        /* NULL, or why there is no population estimate
+                               (static words) */
+} lf_population_estimate;
+
+typedef struct {
+    size_t curves;          /* curves analysed (0: none) */
+    /* all determined parameters together (a multivariate Cochran's Q over
+     * the curves that determine them all, with each curve's covariance) */
+    double Q, df, p_homogeneous, I2;
+    lf_population_estimate w, Estar, nu;
+    /* probes of different k, R, b or interface on the one material: */
+    size_t probes;          /* distinct probes among the curves */
+    size_t probes_tested;   /* probes that enter the comparison */
+    double probes_p;        /* between-probe test, NaN when not made (fewer
+                               than two probes, or one curve per probe:
+                               then spot-to-spot variation and model error
+                               cannot be told apart) */
+    int probes_disagree;    /* probes_p < 0.05: model error, not spot-to-spot
+                               variation */
+    lf_probe probe_departs; /* the probe that departs most from the others */
+    int probe_param;        /* LF_MAT_* where it departs most */
+    double probe_diff;      /* its pooled estimate against the others':
+                               relative (w, E*) or absolute (nu) */
+    double probe_z;         /* that difference in standard errors */
+} lf_heterogeneity;
+
 typedef struct {
     const char *name;       /* the curve's label (not owned) */
     lf_probe probe;
@@ -482,6 +565,9 @@ typedef struct {
     double slope, slope_se; /* N/m */
     int z0_free, F0_free, slope_free;
     double sigma;           /* noise sd used as the weight, N */
+    double quantum;         /* the force's quantization step, N (0: the
+                               forces lie on no lattice); sigma is never
+                               below quantum / sqrt(12) */
     double rms;             /* rms residual, N */
     lf_pulloff pulloff;     /* predicted at the fitted material */
     double b_over_a_min_contact; /* b/a at the shallowest point in contact */
@@ -516,8 +602,15 @@ typedef struct {
     double runs_z;          /* Wald-Wolfowitz runs test of the residuals'
                                signs in order of depth: about N(0, 1) if the
                                model fits, far below 0 for systematic misfit */
-    int consistent;         /* 0: the curve disagrees (runs_z < -4, or
-                               chi2_per_point > 4) */
+    double shape;           /* the residuals' shape over the noise: the rms
+                               of their means over sixteenths of the curve
+                               (in depth order) over the noise sd; noise of
+                               any correlation shorter than a sixteenth
+                               stays below 1 (fit/noise.c) */
+    int consistent;         /* 0: the curve disagrees (runs_z < -4,
+                               chi2_per_point > 4, or shape > 1: a
+                               systematic shape larger than the noise,
+                               whatever the correlation) */
     size_t downweighted;    /* robust loss: points weighted below 1/2 */
     /* The noise model of real data (fit/noise.c): filtered, oversampled
      * curves have correlated neighbouring residuals.  From the residuals'
@@ -532,6 +625,8 @@ typedef struct {
                                below 5% of the force range (the model
                                describes the shape, not within the noise);
                                0: disagrees */
+    lf_curve_estimate alone;  /* this curve fitted alone (lf_fit_joint; its
+                               values NaN when not) */
     lf_warnings warnings;
 } lf_fit_curve_result;
 
@@ -598,6 +693,8 @@ typedef struct {
     lf_fit_curve_result *curves;
     size_t model_rounds;    /* fits made by lf_fit_choose_driver (1 else) */
     lf_fit_thin_comparison thin;
+    lf_heterogeneity heterogeneity; /* how the curves differ (lf_fit_joint;
+                               curves = 0 when not analysed) */
     lf_warnings identifiability; /* what the data determine, in words */
     lf_warnings warnings;        /* everything else worth saying */
 } lf_fit_result;
@@ -623,8 +720,11 @@ LF_API void lf_fit_free(lf_fit *fit);
  * the profile never closes marks w or E* not determined.  Costs a few fits
  * per parameter (res->profile_fits).  The threshold is s^2 F(1, n_eff - p)
  * (3.84 s^2 for many points) and the interval the hull of the values below
- * it.  A profile point below res's own chi2 (res stopped in a local
- * minimum): res is replaced by the fit continued from there (converged fits
+ * it.  First, in every mode, the search for the minimum (fit/descend.c):
+ * chi2 along each determined parameter's linear path, 0.5 to 6 standard
+ * errors either side; a point below res's chi2 restarts the fit there.  A
+ * profile point below res's own chi2 (res stopped in a local minimum)
+ * likewise: res is replaced by the fit continued from there (converged fits
  * only; a warning says so, the model choice's notes are kept).  A fit that
  * did not converge keeps its linear intervals, marked LF_INTERVAL_AT_STOP.
  * Where a linear interval is the one reported (a fit that did not converge,
@@ -639,9 +739,13 @@ LF_API void lf_fit_free(lf_fit *fit);
 #define LF_PROFILE_CHECK 0
 #define LF_PROFILE_ALWAYS 1
 #define LF_PROFILE_SCREEN 2
-/* No profile at all: the linear intervals stand, marked
- * LF_INTERVAL_UNCHECKED. */
+/* The linear intervals reported, marked LF_INTERVAL_UNCHECKED: the
+ * search of LF_PROFILE_CHECK is made all the same, its refits being where
+ * a lower minimum is found, so that the estimate does not depend on the
+ * intervals asked.  LF_PROFILE_REPORT_LINEAR or'ed into a mode does the
+ * same after that mode's search (LF_PROFILE_SCREEN for a batch). */
 #define LF_PROFILE_LINEAR 3
+#define LF_PROFILE_REPORT_LINEAR 8
 /* Or'ed into a mode: the threshold of each profile that is used is
  * calibrated by a parametric bootstrap (200 data sets from the fit, each
  * fitted free and held: some 400 fits per parameter), for likelihoods that
@@ -713,6 +817,67 @@ LF_API int lf_fit_choose_driver(const lf_fit_settings *settings,
 LF_API int lf_fit_compare_thin(const lf_fit_settings *settings, size_t ncurves,
                         const lf_fit_curve *curves, lf_fit_result *res,
                         lf_error *err);
+
+/* ------------------------------------------------------------------------
+ * Many curves of one material: how much they differ (fit/joint.c,
+ * fit/hetero.c)
+ *
+ * A joint fit assumes that every curve probes the same material.  Real
+ * samples vary from spot to spot, and then the joint fit's standard errors
+ * say how well the model pins the material of these spots taken as one,
+ * not what another set of spots would give.  So lf_fit_joint fits each
+ * curve alone as well and measures how the curves differ:
+ *
+ *  1. each curve alone, with the joint fit's settings (its model the
+ *     curve's own, the settings', or chosen for it alone when choose is
+ *     given), with lf_fit_profile(LF_PROFILE_LINEAR): its estimates into
+ *     res->curves[j].alone;
+ *  2. the joint fit from the automatic guess (lf_fit_choose_driver when
+ *     choose is given, else lf_fit_driver), and again from the pooled
+ *     single fits (the material at the single fits' random-effects mean,
+ *     each curve's offsets at its own fit's) with the models the first
+ *     chose: the lower chi2 wins;
+ *  3. lf_fit_profile(intervals): a lower chi2 found on any parameter's
+ *     linear path or profile restarts the fit from there, whatever the
+ *     intervals asked, then the intervals;
+ *  4. lf_heterogeneity_of over the single-curve estimates into
+ *     res->heterogeneity.
+ * With one curve, steps 1, 2 (its second start) and 4 are skipped and
+ * res->curves[0].alone holds the fit's own estimates.  Returns as
+ * lf_fit_driver; res is complete on LF_OK and LF_ENOCONV.
+ *
+ * lf_heterogeneity_of: a random-effects meta-analysis of n single-curve
+ * estimates per material parameter (w and E* in logs, where the fit
+ * estimates them; nu as it is), over the curves whose own fit determines
+ * it (lf_population_estimate): Cochran's Q and I^2, the between-curve SD
+ * tau by restricted maximum likelihood (Viechtbauer 2005, J. Educ. Behav.
+ * Stat. 30:261) with its Q-profile interval (Viechtbauer 2007, Stat. Med.
+ * 26:37), and the population mean with the Hartung-Knapp-Sidik-Jonkman
+ * interval (Hartung & Knapp 2001, Stat. Med. 20:1771; Sidik & Jonkman
+ * 2002, Stat. Med. 21:3153), which keeps its coverage with few curves.
+ * Where fewer than two curves determine a parameter alone (a k = 2 curve
+ * without baseline cannot determine w), its population estimate is "not
+ * determined from single curves" (why says so; no hierarchical fit is
+ * made).  All parameters together: a multivariate Q over the curves that
+ * determine them all, with each curve's covariance of ln w and ln E*.
+ * Probes that differ (k, R, b or interface) are compared by their pooled
+ * estimates, each with the spot-to-spot spread measured within the
+ * probes: where they disagree beyond their errors (p < 0.05), that is
+ * model error, not spot-to-spot variation, and the probe that departs most
+ * is named.  I^2 is (Q - (n - 1)) / Q (Higgins & Thompson 2002).  out is
+ * filled whole (scratch of n numbers is allocated and freed: LF_ENOMEM);
+ * LF_EINVAL when n > 0 and each is NULL.
+ *
+ * lf_curve_estimate_of: the estimates of a fit of one curve (curves[0]'s
+ * probe) as a single-curve estimate.
+ * --------------------------------------------------------------------- */
+
+LF_API int lf_fit_joint(const lf_fit_settings *settings, const lf_choose_settings *choose,
+                        size_t ncurves, const lf_fit_curve *curves, int intervals,
+                        lf_fit_result *res, lf_error *err);
+LF_API int lf_heterogeneity_of(size_t n, const lf_curve_estimate *each, lf_heterogeneity *out,
+                               lf_error *err);
+LF_API void lf_curve_estimate_of(const lf_fit_result *r, lf_curve_estimate *e);
 
 /* ------------------------------------------------------------------------
  * Model tables kept on disk (src/exact_cache.c)
@@ -1493,6 +1658,8 @@ typedef struct {
                                     LF_PROFILE_CHECK, or LF_PROFILE_LINEAR
                                     (--intervals linear) */
     const char *model;           /* --model as given ("auto", ...) */
+    const char *nu_option;       /* "--fix-nu" or "--nu" when an option
+                                    holds nu, else NULL (static) */
 } lf_fit_request;
 
 /* Check the options together and fill req (LF_EINVAL or LF_EUNIT naming
@@ -1521,8 +1688,9 @@ LF_API int lf_fit_options_probe(const lf_fit_options *o, lf_probe *p, int *singl
 #define LF_RUN_BATCH 1u
 /* Fit the curves of in as `layerfit fit` does (the input's nu held unless
  * the request holds nu): lf_fit_choose_driver for --model auto, else
- * lf_fit_driver and, where every curve has a layer and the model is not
- * the thin one, lf_fit_compare_thin; then lf_fit_profile.  What goes
+ * lf_fit_driver, each curve also alone, the profile and how the curves
+ * differ (lf_fit_joint), and, where every curve has a layer and the model
+ * is not the thin one, lf_fit_compare_thin.  What goes
  * wrong after the fit (the comparison or the profile failed) is a note in
  * notes (may be NULL), the result standing.  Returns LF_OK, LF_ENOCONV
  * (res complete, not converged: also when the profile found the minimum
@@ -1707,6 +1875,25 @@ typedef struct {
                                       NULL or "" when not hashed; or NULL */
 } lf_provenance;
 
+/* A value a fit assumed rather than fitted, stated at the top of every
+ * report: held (w, E*, nu, an offset z0 or F0) or a probe radius read from
+ * a file's header.  first..last: the curves it concerns, from 1 (0, 0:
+ * every curve). */
+typedef struct {
+    const char *name;       /* "w", "E*", "nu", "z0", "F0", "R" (static) */
+    double value;           /* SI */
+    const char *unit;       /* "J/m^2", "Pa", "", "m", "N" (static) */
+    size_t first, last;
+    char source[96];        /* where it came from: "--nu", "the plan's nu
+                               column", "the file headers, chiaro exports" */
+} lf_assumption;
+
+/* The assumptions of a fit of in made with req (lf_fit_request_run), in
+ * the order w, E*, nu, z0, F0, R, runs of curves with one value and one
+ * source together, into out[0..max-1]; returns how many. */
+LF_API size_t lf_fit_assumptions(const lf_fit_request *req, const lf_fit_input *in,
+                                 const lf_fit_result *r, lf_assumption *out, size_t max);
+
 /* What the fit was asked, beside its result. */
 typedef struct {
     const char *model_request;     /* --model as given ("auto", "exact", ...);
@@ -1716,18 +1903,22 @@ typedef struct {
                                       constants came from (lf_fit_input), or
                                       NULL */
     const lf_provenance *provenance; /* NULL: no "provenance" key */
+    const lf_assumption *assumed;  /* what the fit assumed rather than
+                                      fitted (lf_fit_assumptions), or NULL */
+    size_t nassumed;
 } lf_report_info;
 
 /* The result as the JSON document of `layerfit fit --json` (SI, numbers
  * that read back exactly, NaN and Inf as null, text from data as valid
- * UTF-8): parameters, fit, thin_comparison, free_parameters, values,
- * covariance, singular_values, curves, identifiability, warnings and
- * provenance.  info may be NULL. */
+ * UTF-8): assumed, heterogeneity, parameters, fit, thin_comparison,
+ * free_parameters, values, covariance, singular_values, curves,
+ * identifiability, warnings and provenance.  info may be NULL. */
 LF_API int lf_fit_result_json(const lf_fit_result *r, const lf_report_info *info, char **json,
                               lf_error *err);
 
 /* The tables of the `layerfit fit --report` page as HTML: a note when the
- * fit did not converge, then the sections parameters, identifiability,
+ * fit did not converge, then the sections heterogeneity (how the curves
+ * differ, for two or more), parameters, identifiability,
  * warnings, correlations, statistics and curves (text from data escaped).
  * scope NULL: the sections alone, for a page with the report's style;
  * else a class name (letters, digits, - and _; LF_EINVAL otherwise), and

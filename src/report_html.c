@@ -231,6 +231,96 @@ parameter_row(lf_str *f, const char *name, const lf_fit_estimate *e, const char 
 }
 
 static void
+li_line(void *ctx, const char *line)
+{
+    lf_str *f = ctx;
+    lf_str_puts(f, "<li>");
+    esc(f, line);
+    lf_str_puts(f, "</li>\n");
+}
+
+/* A cell of a spread: relative (w, E*) in %, absolute for nu. */
+static void
+td_spread(lf_str *f, double x, int m)
+{
+    if (m == LF_MAT_NU)
+        td_num(f, x, 3, "");
+    else
+        td_num(f, 100.0 * x, 2, " %");
+}
+
+/* How the curves differ: the words, then per parameter the single fits'
+ * spread, tau and the population's mean and interval. */
+static void
+heterogeneity(lf_str *f, const lf_fit_result *r)
+{
+    static const char *const name[3] = { "w", "E*", "nu" };
+    static const char *const unit[3] = { "J/m²", "Pa", "" };
+    const lf_heterogeneity *h = &r->heterogeneity;
+    const lf_population_estimate *pe[3] = { &h->w, &h->Estar, &h->nu };
+    char buf[64];
+    int m;
+
+    if (h->curves < 2)
+        return;
+    lf_str_printf(f, "<section id=\"heterogeneity\">\n<h2>How the %zu curves differ</h2>\n<ul>\n",
+                  h->curves);
+    lf_hetero_lines(h, li_line, f);
+    lf_str_puts(f, "</ul>\n<table id=\"heterogeneity-table\">\n<tr><th>parameter</th>"
+                "<th>curves alone</th><th>their mean</th><th>their SD</th><th>median</th>"
+                "<th>spot-to-spot SD (tau)</th><th>tau 95 %</th><th>population mean</th>"
+                "<th>population 95 %</th><th>I²</th><th>p (homogeneous)</th></tr>\n");
+    for (m = 0; m < 3; m++) {
+        const lf_population_estimate *x = pe[m];
+        if (x->n == 0)
+            continue;
+        lf_str_printf(f, "<tr><th>%s</th><td class=\"num\">%zu</td>", name[m], x->n);
+        if (m == LF_MAT_NU) {
+            td_num(f, x->mean, 4, "");
+            td_num(f, x->sd, 3, "");
+            td_num(f, x->median, 4, "");
+        } else {
+            td_human(f, x->mean, unit[m]);
+            td_spread(f, x->mean > 0 ? x->sd / x->mean : NAN, m);
+            td_human(f, x->median, unit[m]);
+        }
+        td_spread(f, x->tau_rel, m);
+        if (isfinite(x->tau_rel_ci95[0]) && isfinite(x->tau_rel_ci95[1])) {
+            if (m == LF_MAT_NU)
+                lf_str_printf(f, "<td class=\"num\">%.3g &ndash; %.3g</td>", x->tau_rel_ci95[0],
+                              x->tau_rel_ci95[1]);
+            else
+                lf_str_printf(f, "<td class=\"num\">%.2g %% &ndash; %.2g %%</td>",
+                              100.0 * x->tau_rel_ci95[0], 100.0 * x->tau_rel_ci95[1]);
+        } else {
+            lf_str_puts(f, "<td class=\"na\">&ndash;</td>");
+        }
+        if (m == LF_MAT_NU)
+            td_num(f, x->population_mean, 4, "");
+        else
+            td_human(f, x->population_mean, unit[m]);
+        if (isfinite(x->population_ci95[0]) && isfinite(x->population_ci95[1])) {
+            lf_str_puts(f, "<td class=\"num\">");
+            if (m == LF_MAT_NU) {
+                lf_str_printf(f, "%.4g &ndash; %.4g", x->population_ci95[0],
+                              x->population_ci95[1]);
+            } else {
+                esc(f, lf_human(buf, sizeof buf, x->population_ci95[0], unit[m]));
+                lf_str_puts(f, " &ndash; ");
+                esc(f, lf_human(buf, sizeof buf, x->population_ci95[1], unit[m]));
+            }
+            lf_str_puts(f, "</td>");
+        } else {
+            lf_str_puts(f, "<td class=\"na\">&ndash;</td>");
+        }
+        td_num(f, 100.0 * x->I2, 3, " %");
+        td_num(f, x->p_homogeneous, 2, "");
+        lf_str_puts(f, "</tr>\n");
+    }
+    lf_str_puts(f, "</table>\n</section>\n");
+}
+
+static void
 parameters(lf_str *f, const lf_fit_result *r)
 {
     lf_str_puts(f, "<section id=\"parameters\">\n<h2>Material parameters</h2>\n"
@@ -422,6 +512,7 @@ lf_fit_result_html(const lf_fit_result *r, const char *scope, char **html, lf_er
         esc(&b, r->stop_reason);
         lf_str_puts(&b, ").</p>\n");
     }
+    heterogeneity(&b, r);
     parameters(&b, r);
     assessment(&b, r);
     correlations(&b, r);

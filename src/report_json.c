@@ -19,6 +19,9 @@ base_name(lf_base base)
     return base == LF_BASE_BONDED ? "bonded" : "frictionless";
 }
 
+/* The material parameters' JSON keys, in the order LF_MAT_W, _E, _NU. */
+static const char *const mat_key[3] = { "w", "Estar", "nu" };
+
 /* Curve j has no layer: none given (b a stand-in), or its model (the
  * half-space) uses none. */
 static int
@@ -95,14 +98,15 @@ jcurve(lf_str *b, const lf_report_info *in, const lf_fit_result *r, size_t j)
         { "k", c->probe.k }, { "R", c->probe.R },
         { "b", nolayer ? NAN : c->probe.b },
         { "z0", c->z0 }, { "z0_stderr", c->z0_se }, { "F0", c->F0 },
-        { "F0_stderr", c->F0_se }, { "noise_sigma", c->sigma }, { "rms", c->rms },
+        { "F0_stderr", c->F0_se }, { "noise_sigma", c->sigma },
+        { "quantum_N", c->quantum > 0 ? c->quantum : NAN }, { "rms", c->rms },
         { "P_po", po ? c->pulloff.P_po : NAN }, { "a_po", po ? c->pulloff.a_po : NAN },
         { "sigma_po", po ? c->pulloff.sigma_po : NAN },
         { "b_over_a_min_contact", nolayer ? NAN : c->b_over_a_min_contact },
         { "b_over_a_pulloff", nolayer || !po ? NAN : c->b_over_a_pulloff },
         { "chi2_per_point", c->chi2_per_point }, { "p_value", c->p_value },
         { "runs_z", c->runs_z }, { "corr_time", c->corr_time }, { "n_eff", c->n_eff },
-        { "noise_sd", c->noise_sd }, { "misfit_rel", c->misfit_rel }
+        { "noise_sd", c->noise_sd }, { "misfit_rel", c->misfit_rel }, { "shape", c->shape }
     };
     size_t i;
 
@@ -145,21 +149,153 @@ jcurve(lf_str *b, const lf_report_info *in, const lf_fit_result *r, size_t j)
                 lf_str_json_or_null(b, src[i].s);
         }
     }
-    lf_str_puts(b, ", \"warnings\": ");
+    lf_str_puts(b, ",\n     \"alone\": {");
+    for (i = 0; i < 3; i++) {       /* LF_MAT_W, LF_MAT_E, LF_MAT_NU */
+        lf_str_printf(b, "%s\"%s\": ", i ? ", " : "", mat_key[i]);
+        jnum(b, c->alone.value[i]);
+        lf_str_printf(b, ", \"%s_stderr\": ", mat_key[i]);
+        jnum(b, c->alone.se[i]);
+    }
+    lf_str_puts(b, "}, \"warnings\": ");
     jwarnings(b, &c->warnings);
     lf_str_printf(b, "}%s\n", j + 1 < r->ncurves ? "," : "");
+}
+
+/* [lo, hi] */
+static void
+jpair(lf_str *b, const double x[2])
+{
+    lf_str_puts(b, "[");
+    jnum(b, x[0]);
+    lf_str_puts(b, ", ");
+    jnum(b, x[1]);
+    lf_str_puts(b, "]");
+}
+
+static void
+jpopulation(lf_str *b, const char *key, const lf_population_estimate *e, const char *indent,
+            int last)
+{
+    const struct { const char *key; double v; } num[] = {
+        { "mean", e->mean }, { "sd", e->sd }, { "median", e->median }, { "q1", e->q1 },
+        { "q3", e->q3 }, { "Q", e->Q }, { "p_homogeneous", e->p_homogeneous }, { "I2", e->I2 },
+        { "tau", e->tau }, { "tau_rel", e->tau_rel }, { "population_mean", e->population_mean },
+    };
+    const struct { const char *key; const double *v; } pair[] = {
+        { "tau_ci95", e->tau_ci95 }, { "tau_rel_ci95", e->tau_rel_ci95 },
+        { "population_ci95", e->population_ci95 },
+    };
+    size_t i;
+
+    lf_str_printf(b, "%s    \"%s\": {\"n\": %zu", indent, key, e->n);
+    for (i = 0; i < sizeof num / sizeof num[0]; i++) {
+        lf_str_printf(b, ", \"%s\": ", num[i].key);
+        jnum(b, num[i].v);
+    }
+    for (i = 0; i < sizeof pair / sizeof pair[0]; i++) {
+        lf_str_printf(b, ", \"%s\": ", pair[i].key);
+        jpair(b, pair[i].v);
+    }
+    lf_str_puts(b, ", \"why_not_determined\": ");
+    lf_str_json_or_null(b, e->why);
+    lf_str_printf(b, "}%s\n", last ? "" : ",");
+}
+
+/* The object "heterogeneity" (the fit's, a batch summary's groups'). */
+static void
+jheterogeneity(lf_str *b, const lf_heterogeneity *h, const char *indent)
+{
+    const struct { const char *key; double v; } num[] = {
+        { "p_homogeneous", h->p_homogeneous }, { "I2", h->I2 }, { "Q", h->Q }, { "df", h->df }
+    };
+    size_t i;
+
+    lf_str_printf(b, "{\"curves\": %zu", h->curves);
+    for (i = 0; i < sizeof num / sizeof num[0]; i++) {
+        lf_str_printf(b, ", \"%s\": ", num[i].key);
+        jnum(b, num[i].v);
+    }
+    lf_str_printf(b, ",\n%s  \"parameters\": {\n", indent);
+    jpopulation(b, mat_key[LF_MAT_W], &h->w, indent, 0);
+    jpopulation(b, mat_key[LF_MAT_E], &h->Estar, indent, 0);
+    jpopulation(b, mat_key[LF_MAT_NU], &h->nu, indent, 1);
+    lf_str_printf(b, "%s  },\n%s  \"probes\": {\"count\": %zu, \"tested\": %zu, \"p\": ",
+                  indent, indent, h->probes, h->probes_tested);
+    jnum(b, h->probes_p);
+    lf_str_printf(b, ", \"disagree\": %s, \"departs\": ", h->probes_disagree ? "true" : "false");
+    if (h->probes_disagree) {
+        const struct { const char *key; double v; } at[] = {
+            { "k", h->probe_departs.k }, { "R", h->probe_departs.R }, { "b", h->probe_departs.b }
+        };
+        for (i = 0; i < sizeof at / sizeof at[0]; i++) {
+            lf_str_printf(b, "%s\"%s\": ", i ? ", " : "{", at[i].key);
+            jnum(b, at[i].v);
+        }
+        lf_str_puts(b, ", \"interface\": ");
+        lf_str_json(b, base_name(h->probe_departs.base));
+        lf_str_puts(b, ", \"parameter\": ");
+        lf_str_json(b, h->probe_param >= 0 ? mat_key[h->probe_param] : "");
+        lf_str_puts(b, ", \"difference\": ");
+        jnum(b, h->probe_diff);
+        lf_str_puts(b, ", \"z\": ");
+        jnum(b, h->probe_z);
+        lf_str_puts(b, "}");
+    } else {
+        lf_str_puts(b, "null");
+    }
+    lf_str_printf(b, "}\n%s}", indent);
+}
+
+char *
+lf_heterogeneity_json(const lf_heterogeneity *h, const char *indent)
+{
+    lf_str b = { NULL, 0, 0, 0 };
+    char *out;
+
+    jheterogeneity(&b, h, indent);
+    return lf_str_take(&b, &out, NULL) == LF_OK ? out : NULL;
+}
+
+/* "assumed": what the fit held or read rather than fitted. */
+static void
+jassumed(lf_str *b, const lf_report_info *in)
+{
+    size_t i;
+
+    lf_str_puts(b, "  \"assumed\": [");
+    for (i = 0; i < in->nassumed; i++) {
+        const lf_assumption *a = &in->assumed[i];
+        lf_str_printf(b, "%s\n    {\"parameter\": ", i ? "," : "");
+        lf_str_json(b, a->name);
+        lf_str_puts(b, ", \"value\": ");
+        jnum(b, a->value);
+        lf_str_puts(b, ", \"unit\": ");
+        lf_str_json(b, a->unit);
+        if (a->first == 0)
+            lf_str_puts(b, ", \"curves\": null");
+        else
+            lf_str_printf(b, ", \"curves\": [%zu, %zu]", a->first, a->last);
+        lf_str_puts(b, ", \"source\": ");
+        lf_str_json(b, a->source);
+        lf_str_puts(b, "}");
+    }
+    lf_str_printf(b, "%s],\n", in->nassumed ? "\n  " : "");
 }
 
 int
 lf_fit_result_json(const lf_fit_result *r, const lf_report_info *info, char **json,
                    lf_error *err)
 {
-    static const lf_report_info none = { NULL, NAN, NULL, NULL };
+    static const lf_report_info none = { NULL, NAN, NULL, NULL, NULL, 0 };
     const lf_report_info *in = info != NULL ? info : &none;
     lf_str b = { NULL, 0, 0, 0 };
     size_t i, j;
 
-    lf_str_puts(&b, "{\n  \"parameters\": {\n");
+    lf_str_puts(&b, "{\n");
+    jassumed(&b, in);
+    lf_str_puts(&b, "  \"heterogeneity\": ");
+    jheterogeneity(&b, &r->heterogeneity, "  ");
+    lf_str_puts(&b, ",\n  \"parameters\": {\n");
     jestimate(&b, "w", &r->w, 0);
     jestimate(&b, "Estar", &r->Estar, 0);
     jestimate(&b, "nu", &r->nu, 0);

@@ -81,16 +81,6 @@ evaluate(const lf_design_settings *s, size_t n, const lf_design_candidate *c,
     return 0;
 }
 
-static int
-has_message(const lf_warnings *w, const char *text)
-{
-    size_t i;
-    for (i = 0; i < w->n; i++)
-        if (strstr(w->msg[i], text) != NULL)
-            return 1;
-    return 0;
-}
-
 /* ---- 1. against lf_crb --------------------------------------------------- */
 
 static void
@@ -185,9 +175,9 @@ identifiability(void)
         t_true(!r.w.determined && r.w.free, "k2 alone, no baseline: w not determined");
         t_true(isnan(r.w.se) && isnan(r.w.rel), "k2 alone, no baseline: no number for w");
         t_true(r.Estar.determined, "k2 alone, no baseline: E* determined");
-        t_true(has_message(&r.identifiability, "k = 2 alone with free F0 and z0 cannot separate w"),
+        t_true(t_says(&r.identifiability, "k = 2 alone with free F0 and z0 cannot separate w"),
                "k2 alone, no baseline: the fitter's words say why");
-        t_true(has_message(&r.identifiability, "frictionless curves do not depend on nu"),
+        t_true(t_says(&r.identifiability, "frictionless curves do not depend on nu"),
                "k2 alone: nu not determined by frictionless curves");
         t_int((long) r.curves[0].n_past, 0, "k2 alone, no baseline: no point past detachment");
         lf_design_result_free(&r);
@@ -198,7 +188,7 @@ identifiability(void)
          * bound only, and so does the design (the same judgement) */
         t_true(!r.w.determined && r.w.upper_bound_only, "k2 alone with a baseline, 1%% noise: w "
                "below the noise");
-        t_true(has_message(&r.identifiability, "adhesion below the noise: w < "),
+        t_true(t_says(&r.identifiability, "adhesion below the noise: w < "),
                "k2 alone with a baseline, 1%% noise: the fitter's words");
         lf_design_result_free(&r);
     }
@@ -207,7 +197,7 @@ identifiability(void)
         t_true(r.w.determined && r.w.rel > 0, "k2 alone with a baseline: w determined (%.3g)", r.w.rel);
         t_true(r.curves[0].n_past >= 15 * 150 / 100, "k2 with a baseline: %zu of 150 points past "
                "detachment", r.curves[0].n_past);
-        t_true(!has_message(&r.identifiability, "cannot separate w"), "k2 with a baseline: no w message");
+        t_true(!t_says(&r.identifiability, "cannot separate w"), "k2 with a baseline: no w message");
         lf_design_result_free(&r);
     }
     s.noise_rel = 0.01;
@@ -223,7 +213,7 @@ identifiability(void)
         t_true(!r.Estar.determined, "bonded only: E* not determined");
         t_true(r.M.determined && r.M.rel > 0, "bonded only: M = Z E* determined (%.3g)", r.M.rel);
         t_true(r.w.determined, "bonded only: w determined");
-        t_true(has_message(&r.identifiability, "only bonded curves"), "bonded only: the words say so");
+        t_true(t_says(&r.identifiability, "only bonded curves"), "bonded only: the words say so");
         lf_design_result_free(&r);
     }
     s.fix_nu = 1;
@@ -239,7 +229,7 @@ identifiability(void)
                "bonded + frictionless: nu determined (se %.3g)", r.nu.se);
         t_int((long) r.ndetermined, 3, "mixed: w, E*, nu determined");
         t_true(isfinite(r.logdet), "mixed: finite log det");
-        t_true(has_message(&r.identifiability, "every free parameter is determined"),
+        t_true(t_says(&r.identifiability, "every free parameter is determined"),
                "mixed: everything determined");
         lf_design_result_free(&r);
     }

@@ -35,6 +35,9 @@ check_scene(const scan_scene *sc)
     double worst = 0.0;
     lf_fit_settings set = lf_fit_settings_default();
     lf_fit_curve fc;
+
+    set.nu.mode = LF_PARAM_FIXED;       /* the truth's: bonded layers need it */
+    set.nu.value = truth.nu;
     lf_model *m;
     lf_pulloff po;
     lf_fit *f;

@@ -159,3 +159,13 @@ t_summary(void)
     printf("%ld passed, %ld failed\n", passed, failed);
     return failed == 0 ? 0 : 1;
 }
+
+int
+t_says(const lf_warnings *w, const char *text)
+{
+    size_t i;
+    for (i = 0; i < w->n; i++)
+        if (strstr(w->msg[i], text) != NULL)
+            return 1;
+    return 0;
+}

@@ -4,6 +4,8 @@
 #ifndef LF_TESTLIB_H
 #define LF_TESTLIB_H
 
+#include "layerfit.h"
+
 #if defined(__GNUC__)
 #define T_PRINTF(a, b) __attribute__((format(printf, a, b)))
 #else
@@ -20,6 +22,9 @@ int t_int(long got, long want, const char *fmt, ...) T_PRINTF(3, 4);
 int t_str(const char *got, const char *want, const char *fmt, ...) T_PRINTF(3, 4);
 /* got contains want as a substring */
 int t_contains(const char *got, const char *want, const char *fmt, ...) T_PRINTF(3, 4);
+
+/* 1 when some message of the list w contains text. */
+int t_says(const lf_warnings *w, const char *text);
 
 /* Print the totals and return the exit status (0 when nothing failed). */
 int t_summary(void);

@@ -20,6 +20,249 @@
 #include "cli.h"
 
 /* ------------------------------------------------------------------------
+ * Summaries: per sample and for all curves, from each curve's own fit
+ * (lf_heterogeneity_of: n, mean, SD, median, quartiles, and the random-
+ * effects population mean with its interval and the spot-to-spot SD).
+ * --------------------------------------------------------------------- */
+
+typedef struct {
+    char *sample;           /* NULL: every curve of the batch (or shard) */
+    lf_heterogeneity h;
+} summary_group;
+
+/* Each curve's own estimates as the rows come (a curve that could not be
+ * fitted: NaN), and a group per sample; the last group, all the curves,
+ * is made at the end (summary_add_group(sm, NULL, 0)). */
+typedef struct {
+    lf_curve_estimate *est;
+    size_t nest, cap;
+    size_t n, ncap;
+    summary_group *g;
+} summary;
+
+/* A group of the curves est[first..nest-1]. */
+static void
+summary_add_group(summary *sm, const char *sample, size_t first)
+{
+    lf_error err;
+    summary_group *g;
+
+    if (sm->n == sm->ncap) {
+        sm->ncap = sm->ncap ? 2 * sm->ncap : 16;
+        if ((sm->g = realloc(sm->g, sm->ncap * sizeof *sm->g)) == NULL)
+            cli_die(CLI_EXIT_FAIL, "out of memory");
+    }
+    g = &sm->g[sm->n++];
+    g->sample = NULL;
+    if (sample != NULL && (g->sample = strdup(sample)) == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    if (lf_heterogeneity_of(sm->nest - first, sm->est + first, &g->h, &err) != LF_OK)
+        cli_die(CLI_EXIT_FAIL, "fit: summary: %s", err.msg);
+}
+
+/* A row's curves into the summary (136 bytes a curve), and its sample's
+ * group. */
+static void
+summary_row(summary *sm, const lf_batch_row *row)
+{
+    const lf_fit_result *r = row->result;
+    size_t n = r != NULL ? r->ncurves : row->input != NULL ? row->input->n : 0;
+    size_t first = sm->nest, j;
+
+    if (sm->nest + n > sm->cap) {
+        sm->cap = sm->nest + n > 2 * sm->cap ? sm->nest + n : 2 * sm->cap;
+        if ((sm->est = realloc(sm->est, sm->cap * sizeof *sm->est)) == NULL)
+            cli_die(CLI_EXIT_FAIL, "out of memory");
+    }
+    for (j = 0; j < n; j++) {
+        lf_curve_estimate *e = &sm->est[sm->nest++];
+        if (r != NULL) {
+            *e = r->curves[j].alone;
+            e->probe = r->curves[j].probe;
+            continue;
+        }
+        memset(e, 0, sizeof *e);
+        e->value[0] = e->value[1] = e->value[2] = NAN;
+        e->se[0] = e->se[1] = e->se[2] = e->corr_wE = NAN;
+        e->ci95[0][0] = e->ci95[0][1] = e->ci95[1][0] = NAN;
+        e->ci95[1][1] = e->ci95[2][0] = e->ci95[2][1] = NAN;
+        e->probe = row->input->curves[j].probe;
+    }
+    if (row->sample[0] != '\0')
+        summary_add_group(sm, row->sample, first);
+}
+
+static void
+summary_free(summary *sm)
+{
+    size_t i;
+    for (i = 0; i < sm->n; i++)
+        free(sm->g[i].sample);
+    free(sm->g);
+    free(sm->est);
+}
+
+/* "OUT.summary.EXT": OUT without its .csv or .jsonl (free). */
+static char *
+summary_path(const char *out, const char *ext)
+{
+    size_t len = strlen(out), stem = len;
+    char *p;
+    if (len > 4 && strcmp(out + len - 4, ".csv") == 0)
+        stem = len - 4;
+    else if (len > 6 && strcmp(out + len - 6, ".jsonl") == 0)
+        stem = len - 6;
+    p = malloc(stem + strlen(ext) + 10);
+    if (p == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    sprintf(p, "%.*s.summary.%s", (int) stem, out, ext);
+    return p;
+}
+
+static const char *const summary_param[3] = { "w", "Estar", "nu" };
+static const char *const summary_unit[3] = { "J/m^2", "Pa", "" };
+
+static const lf_population_estimate *
+summary_estimate(const lf_heterogeneity *h, int m)
+{
+    return m == LF_MAT_W ? &h->w : m == LF_MAT_E ? &h->Estar : &h->nu;
+}
+
+static void
+csv_num(FILE *f, double x)
+{
+    fputc(',', f);
+    if (isfinite(x))
+        cli_print_double(f, x);
+}
+
+/* One row per group and parameter (nu only where some curve determines it). */
+static void
+summary_csv(FILE *f, const void *ctx)
+{
+    const summary *sm = ctx;
+    size_t i;
+    int m;
+
+    fputs("scope,sample,curves,parameter,unit,n,mean,sd,median,q1,q3,population_mean,"
+          "population_ci95_lo,population_ci95_hi,tau,tau_ci95_lo,tau_ci95_hi,tau_rel,I2,"
+          "p_homogeneous\n", f);
+    for (i = 0; i < sm->n; i++) {
+        const summary_group *g = &sm->g[i];
+        for (m = 0; m < 3; m++) {
+            const lf_population_estimate *e = summary_estimate(&g->h, m);
+            /* the columns after n, in the header's order */
+            const double v[] = { e->mean, e->sd, e->median, e->q1, e->q3, e->population_mean,
+                                 e->population_ci95[0], e->population_ci95[1], e->tau,
+                                 e->tau_ci95[0], e->tau_ci95[1], e->tau_rel, e->I2,
+                                 e->p_homogeneous };
+            size_t k;
+            if (m == LF_MAT_NU && e->n == 0)
+                continue;
+            fprintf(f, "%s,", g->sample ? "sample" : "all");
+            cli_put_csv_cell(f, g->sample ? g->sample : "");
+            fprintf(f, ",%zu,%s,%s,%zu", g->h.curves, summary_param[m], summary_unit[m], e->n);
+            for (k = 0; k < sizeof v / sizeof v[0]; k++)
+                csv_num(f, v[k]);
+            fputc('\n', f);
+        }
+    }
+}
+
+typedef struct {
+    const summary *sm;
+    const char *command_line;
+} summary_json_ctx;
+
+/* One group's "heterogeneity" (the fit JSON's object). */
+static void
+json_heterogeneity(FILE *f, const lf_heterogeneity *h, const char *indent)
+{
+    char *json = lf_heterogeneity_json(h, indent);
+    if (json == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    fputs(json, f);
+    lf_free(json);
+}
+
+static void
+summary_json(FILE *f, const void *ctx)
+{
+    const summary_json_ctx *c = ctx;
+    size_t i, k = 0;
+
+    fputs("{\n  \"groups\": [", f);
+    for (i = 0; i < c->sm->n; i++) {
+        const summary_group *g = &c->sm->g[i];
+        if (g->sample == NULL)
+            continue;
+        fprintf(f, "%s\n    {\"sample\": ", k++ ? "," : "");
+        cli_json_string(f, g->sample);
+        fprintf(f, ", \"curves\": %zu, \"heterogeneity\": ", g->h.curves);
+        json_heterogeneity(f, &g->h, "    ");
+        fputc('}', f);
+    }
+    fprintf(f, "%s],\n  \"all\": {\"curves\": %zu, \"heterogeneity\": ", k ? "\n  " : "",
+            c->sm->g[c->sm->n - 1].h.curves);
+    json_heterogeneity(f, &c->sm->g[c->sm->n - 1].h, "  ");
+    fputs("},\n  \"provenance\": ", f);
+    cli_provenance_json(f, "  ", c->command_line);
+    fputs("\n}\n", f);
+}
+
+/* The summary for people: one line per group and parameter. */
+static void
+summary_text(FILE *f, const summary *sm)
+{
+    static const char *const name[3] = { "w", "E*", "nu" };
+    char a[48], b[48], c[48];
+    size_t i;
+    int m;
+
+    fputs("summary (each curve fitted alone; population mean and spot-to-spot SD by random "
+          "effects, 95% intervals):\n", f);
+    for (i = 0; i < sm->n; i++) {
+        const summary_group *g = &sm->g[i];
+        for (m = 0; m < 3; m++) {
+            const lf_population_estimate *e = summary_estimate(&g->h, m);
+            int rel = m != LF_MAT_NU;
+            if (m == LF_MAT_NU && e->n == 0)
+                continue;
+            if (g->sample != NULL) {
+                fputs("  sample ", f);
+                cli_put_clean(f, g->sample);
+            } else {
+                fputs("  all", f);
+            }
+            fprintf(f, " (%zu curve%s), %s: ", g->h.curves, g->h.curves == 1 ? "" : "s", name[m]);
+            if (e->n == 0) {
+                fputs("no curve determines it alone\n", f);
+                continue;
+            }
+            fprintf(f, "%zu determined; mean %s", e->n, cli_param_text(a, sizeof a, e->mean, m));
+            if (isfinite(e->sd))
+                fprintf(f, ", SD %s", cli_spread_text(a, sizeof a, rel ? e->sd / e->mean : e->sd,
+                                                      rel));
+            fprintf(f, ", median %s", cli_param_text(a, sizeof a, e->median, m));
+            fprintf(f, ", quartiles %s to %s", cli_param_text(a, sizeof a, e->q1, m),
+                    cli_param_text(b, sizeof b, e->q3, m));
+            if (isfinite(e->population_mean)) {
+                fprintf(f, "; population mean %s (%s to %s)",
+                        cli_param_text(a, sizeof a, e->population_mean, m),
+                        cli_param_text(b, sizeof b, e->population_ci95[0], m),
+                        cli_param_text(c, sizeof c, e->population_ci95[1], m));
+                fprintf(f, ", spot-to-spot SD %s", cli_spread_text(a, sizeof a, e->tau_rel, rel));
+                fprintf(f, " (%s to %s)", cli_spread_text(a, sizeof a, e->tau_rel_ci95[0], rel),
+                        cli_spread_text(b, sizeof b, e->tau_rel_ci95[1], rel));
+                fprintf(f, ", I^2 %.3g%%, %s", 100.0 * e->I2,
+                        cli_p_text(a, sizeof a, e->p_homogeneous));
+            }
+            fputc('\n', f);
+        }
+    }
+}
+
+/* ------------------------------------------------------------------------
  * Progress on a terminal.
  * --------------------------------------------------------------------- */
 
@@ -81,6 +324,7 @@ typedef struct {
     int progress;
     double t0, last;
     cli_page_store *page;  /* --report, or NULL */
+    summary sm;             /* each curve's own fit, for the summaries */
 } batch_sink;
 
 static int
@@ -93,6 +337,7 @@ write_row(void *ctx, const lf_batch_row *row)
 
     if (fwrite(row->text, 1, row->len, k->out) != row->len)
         k->io_error = 1;
+    summary_row(&k->sm, row);
     if (k->progress && (cli_now() - k->last > 0.2 || row->done == row->total)) {
         k->last = cli_now();
         progress_show(row->done, row->total, row->failed, k->t0, 0);
@@ -106,13 +351,18 @@ cli_batch_run(const cli_batch_opts *o)
     lf_plan *plan = NULL;
     lf_batch_settings bs = lf_batch_settings_default();
     lf_batch_summary sum;
-    batch_sink sink = { stdout, 0, 0, 0.0, 0.0, NULL };
+    batch_sink sink;
     cli_out atomic;
     lf_error err;
     char msg[4400];
     size_t i;
+    int beside;
+    struct stat st;
 
+    memset(&sink, 0, sizeof sink);
+    sink.out = stdout;
     sink.t0 = cli_now();
+    bs.results = 1;             /* each curve's own fit, for the summaries */
     if (o->out != NULL) {
         if (ends_with(o->out, ".jsonl"))
             bs.json = 1;
@@ -141,6 +391,17 @@ cli_batch_run(const cli_batch_opts *o)
     cli_output_note_sidecar("fit", o->out);
     cli_output_note("fit", o->report);
     cli_output_folder_check("fit", o->report);
+    /* the summaries beside a results file (none beside an output written
+     * in place: a pipe, a device, as no sidecar) */
+    beside = o->out != NULL && strcmp(o->out, "-") != 0
+             && (stat(o->out, &st) != 0 || S_ISREG(st.st_mode));
+    if (beside) {
+        char *sc = summary_path(o->out, "csv"), *sj = summary_path(o->out, "json");
+        cli_output_note("fit", sc);
+        cli_output_note("fit", sj);
+        free(sc);
+        free(sj);
+    }
     if (o->probe != NULL) {
         /* a file of curves (a force map): each curve with the one probe */
         cli_input_guard("fit", o->plan);
@@ -171,6 +432,7 @@ cli_batch_run(const cli_batch_opts *o)
     if (sink.out == stdout && (fflush(stdout) != 0 || ferror(stdout)))
         sink.io_error = 1;
     lf_plan_free(plan);
+    summary_add_group(&sink.sm, NULL, 0);      /* all the curves */
     if (sink.io_error)
         cli_die(CLI_EXIT_FAIL, "fit: error writing %s", o->out ? o->out : "standard output");
     if (sink.out != stdout) {
@@ -184,6 +446,21 @@ cli_batch_run(const cli_batch_opts *o)
             cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
         cli_page_store_free(sink.page);
     }
+    if (beside) {               /* the summaries beside them */
+        summary_json_ctx jc;
+        char *sc = summary_path(o->out, "csv"), *sj = summary_path(o->out, "json");
+        cli_write_file("fit", sc, summary_csv, &sink.sm);
+        jc.sm = &sink.sm;
+        jc.command_line = o->command_line;
+        cli_write_file("fit", sj, summary_json, &jc);
+        free(sc);
+        free(sj);
+    }
+    /* the summary for people: on standard output beside a results file,
+     * else on stderr (standard output then carries the rows) */
+    if (sink.sm.nest >= 2)
+        summary_text(sink.out != stdout ? stdout : stderr, &sink.sm);
+    summary_free(&sink.sm);
     if (sum.failed > 0) {
         cli_say("fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s)",
                 sum.failed, sum.total, o->out ? o->out : "the output");

@@ -153,6 +153,11 @@ extern const char cli_fit_help[];
 #define cli_interval_words lf_interval_words
 #define cli_interval_method lf_interval_method
 #define cli_bound_text lf_bound_text
+/* How the curves of one material differ, in words (words.c, command.h) */
+#define cli_spread_text lf_spread_text
+#define cli_param_text lf_param_text
+#define cli_p_text lf_p_text
+#define cli_hetero_lines lf_hetero_lines
 
 /* Batch fitting (batch.c). */
 #define CLI_MAX_THREADS 1024      /* --threads is 1..CLI_MAX_THREADS */
@@ -306,6 +311,8 @@ void cli_provenance_json(FILE *f, const char *indent, const char *command_line);
  * (--csv-raw) is set. */
 extern int cli_csv_raw;
 void cli_csv_cell(const char *s, void (*put)(void *, const char *, size_t), void *ctx);
+/* The same into f. */
+void cli_put_csv_cell(FILE *f, const char *s);
 /* The run's provenance record for the library's writers: its arrays
  * point at the noted inputs (cli_provenance_free releases the arrays). */
 void cli_provenance_of(const char *command_line, lf_provenance *p);

@@ -309,6 +309,7 @@ cli_fit(int argc, char **argv, const char *command_line)
     lf_fit_result r;
     lf_error err;
     report_input in;
+    lf_assumption assumed[16];
     size_t no;
     char bad[256];
 
@@ -362,6 +363,8 @@ cli_fit(int argc, char **argv, const char *command_line)
     in.curves = d.curves;
     in.origin = d.origin;
     in.command_line = command_line;
+    in.assumed = assumed;
+    in.nassumed = lf_fit_assumptions(&req, &d, &r, assumed, sizeof assumed / sizeof assumed[0]);
     if (!to_stdout(a.json) && !to_stdout(a.curves)) {
         /* standard output carries the report unless it carries an output
          * (--json -, --curves -): then that alone, for the next program */

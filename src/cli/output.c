@@ -835,6 +835,12 @@ cli_json_string(FILE *f, const char *s)
     cli_json_escape(s, put_file, f);
 }
 
+void
+cli_put_csv_cell(FILE *f, const char *s)
+{
+    cli_csv_cell(s, put_file, f);
+}
+
 int cli_csv_raw;
 
 void

@@ -408,19 +408,39 @@ int
 cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r,
              const lf_fit_input *d, const lf_read_opts *ro, char *msg, size_t n)
 {
-    char *buf = NULL, *tables = NULL;
-    size_t len = 0, j;
+    char *buf = NULL, *tables = NULL, *body = NULL, text[200];
+    size_t len = 0, blen = 0, i, j;
     lf_error err;
-    FILE *f;
+    FILE *f, *h;
     int st;
 
-    /* the tables are the library's, as every report of a fit says them */
+    /* what the fit assumed rather than fitted, then the tables: the
+     * library's, as every report of a fit says them */
     if (lf_fit_result_html(r, NULL, &tables, &err) != LF_OK) {
         snprintf(msg, n, "%s", err.msg);
         return -1;
     }
-    if ((f = data_open(&buf, &len, msg, n)) == NULL) {
-        lf_free(tables);
+    if ((h = open_memstream(&body, &blen)) != NULL) {
+        if (in->nassumed > 0) {
+            fputs("<section id=\"assumed\">\n<h2>Assumed, not fitted</h2>\n<ul>\n", h);
+            for (i = 0; i < in->nassumed; i++) {
+                fputs("<li>", h);
+                lf_html_text(lf_assumption_text(text, sizeof text, &in->assumed[i], r->ncurves),
+                             put_file, h);
+                fputs("</li>\n", h);
+            }
+            fputs("</ul>\n</section>\n", h);
+        }
+        fputs(tables, h);
+        if (fclose(h) != 0) {
+            free(body);
+            body = NULL;
+        }
+    }
+    lf_free(tables);
+    if (body == NULL || (f = data_open(&buf, &len, msg, n)) == NULL) {
+        free(body);
+        snprintf(msg, n, "out of memory");
         return -1;
     }
     fputs("{\"kind\":\"fit\",\"result\":", f);
@@ -434,13 +454,13 @@ cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r,
         fputc('}', f);
     }
     fputs("]}", f);
-    st = page_write(file, "layerfit fit report", in->command_line, tables, f, &buf, &len, msg, n);
-    lf_free(tables);
+    st = page_write(file, "layerfit fit report", in->command_line, body, f, &buf, &len, msg, n);
+    free(body);
     return st;
 }
 
 /* ------------------------------------------------------------------------
- * Maps: the curves of a batch, kept as each fit ends (any thread).
+ * Maps: the curves of a batch, kept as each row is handed over.
  * --------------------------------------------------------------------- */
 
 struct cli_page_store {

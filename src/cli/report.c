@@ -134,6 +134,33 @@ origin_text(FILE *f, const lf_curve_origin *o, int nolayer)
     fputc('\n', f);
 }
 
+static void
+put_indented(void *ctx, const char *line)
+{
+    fprintf((FILE *) ctx, "  %s\n", line);
+}
+
+/* The top of the report: what was assumed, then how the curves differ. */
+static void
+text_top(FILE *f, const report_input *in, const lf_fit_result *r)
+{
+    size_t i, shown = 0;
+    char buf[200];
+
+    for (i = 0; i < in->nassumed; i++) {
+        if (strcmp(in->assumed[i].name, "R") == 0)
+            continue;       /* said above, per file */
+        fprintf(f, "%s%s", shown++ ? "\n  " : "\nassumed, not fitted:\n  ",
+                lf_assumption_text(buf, sizeof buf, &in->assumed[i], r->ncurves));
+    }
+    if (shown)
+        fputc('\n', f);
+    if (r->heterogeneity.curves >= 2) {
+        fprintf(f, "\nhow the %zu curves differ (each also fitted alone):\n", r->heterogeneity.curves);
+        cli_hetero_lines(&r->heterogeneity, put_indented, f);
+    }
+}
+
 void
 report_text(FILE *f, const report_input *in, const lf_fit_result *r)
 {
@@ -152,6 +179,7 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
         fprintf(f, "robust loss %s (%zu reweighting rounds)\n", r->loss, r->reweightings);
     if (!r->converged)
         fprintf(f, "*** NOT CONVERGED: the values below are where the fit stopped ***\n");
+    text_top(f, in, r);
     if (r->corr_time > 1.5)
         fprintf(f, "\nmaterial (+- one standard error, scaled by sqrt(chi2/dof x correlation "
                 "time %.3g) = %.3g)\n", r->corr_time, r->se_scale);
@@ -196,12 +224,15 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                     branch_name(cr->branch), cr->n);
         if (in->origin != NULL)
             origin_text(f, &in->origin[j], no_layer(in, r, j));
-        fprintf(f, "      z0 = %s%s, F0 = %s%s, noise %s, rms residual %s\n",
+        fprintf(f, "      z0 = %s%s, F0 = %s%s, noise %s, rms residual %s",
                 isnan(cr->z0) ? "not determined" : cli_human(a, sizeof a, cr->z0, "m"),
                 cr->z0_free ? "" : " (fixed)",
                 isnan(cr->F0) ? "not determined" : cli_human(b, sizeof b, cr->F0, "N"),
                 cr->F0_free ? "" : " (fixed)",
                 cli_human(c, sizeof c, cr->sigma, "N"), cli_human(d, sizeof d, cr->rms, "N"));
+        if (cr->quantum > 0)
+            fprintf(f, "; force quantized at %s", cli_human(a, sizeof a, cr->quantum, "N"));
+        fputc('\n', f);
         if (cr->corr_time > 1.5)
             fprintf(f, "      correlated noise: one independent point in %.3g (%.0f of %zu), "
                     "noise %s at that lag\n", cr->corr_time, cr->n_eff, cr->n,
@@ -225,6 +256,17 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
             if (strstr(cr->model_reason, " se") != NULL && r->se_scale > 1.5)
                 fprintf(f, "      (the model choice's se are those of the noise alone; the "
                         "errors reported above are %.3g times larger)\n", r->se_scale);
+        }
+        if (r->heterogeneity.curves >= 2) {
+            const lf_curve_estimate *e = &cr->alone;
+            fprintf(f, "      fitted alone: w %s, E* %s",
+                    isfinite(e->value[LF_MAT_W]) ? cli_human(a, sizeof a, e->value[LF_MAT_W], "J/m^2")
+                                                 : "not determined",
+                    isfinite(e->value[LF_MAT_E]) ? cli_human(b, sizeof b, e->value[LF_MAT_E], "Pa")
+                                                 : "not determined");
+            if (isfinite(e->value[LF_MAT_NU]))
+                fprintf(f, ", nu %.4f", e->value[LF_MAT_NU]);
+            fputc('\n', f);
         }
         if (cr->agreement == 1)
             fprintf(f, "      agreement: chi2/point %.3g (p = %.2g), runs test z = %.2f: the model "
@@ -278,6 +320,8 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
     info.model_tol = in->model_tol;
     info.origin = in->origin;
     info.provenance = &prov;
+    info.assumed = in->assumed;
+    info.nassumed = in->nassumed;
     if (lf_fit_result_json(r, &info, &json, &err) != LF_OK)
         cli_die(CLI_EXIT_FAIL, "fit: %s", err.msg);
     fputs(json, f);

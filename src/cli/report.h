@@ -16,6 +16,8 @@ typedef struct {
     const lf_curve_origin *origin; /* where each curve's probe R, b and AFM
                                       constants came from, or NULL */
     const char *command_line;      /* as main() passed it, for provenance */
+    const lf_assumption *assumed;  /* what the fit assumed (lf_fit_assumptions) */
+    size_t nassumed;
 } report_input;
 
 /* People: values with units (cli_human), errors, intervals, correlations,

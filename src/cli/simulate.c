@@ -115,7 +115,7 @@ cli_simulate(int argc, char **argv, const char *command_line)
         { "model", CLI_STRING, &model }, { "force", CLI_FLAG, &force_replace },
         { NULL, CLI_FLAG, NULL }
     };
-    int npos, help, i;
+    int npos, help, i, all_bonded = 1;
     cli_out oplan, otruth, ocurve;
     lf_sim_settings s = lf_sim_settings_default();
     const lf_model_type *type;
@@ -190,6 +190,8 @@ cli_simulate(int argc, char **argv, const char *command_line)
         cli_refuse_existing("simulate", path, force_replace);
     }
 
+    for (j = 0; j < (size_t) npos; j++)
+        all_bonded &= probes[j].base == LF_BASE_BONDED;
     plan = open_out(&oplan, out, "plan.csv", path, sizeof path);
     fputs("file,k,R_m,b_m,interface,nu\n", plan);
     for (j = 0; j < (size_t) npos; j++) {
@@ -203,7 +205,13 @@ cli_simulate(int argc, char **argv, const char *command_line)
         cli_print_double(plan, probes[j].R);
         fputc(',', plan);
         cli_print_double(plan, probes[j].b);
-        fprintf(plan, ",%s,\n", cli_base_name(probes[j].base));
+        fprintf(plan, ",%s,", cli_base_name(probes[j].base));
+        /* nu where the fit needs it given: bonded curves alone do not
+         * determine it (with a frictionless one they do, and it is left
+         * to the fit) */
+        if (probes[j].base == LF_BASE_BONDED && all_bonded)
+            cli_print_double(plan, nu);
+        fputc('\n', plan);
         c = open_out(&ocurve, out, name, cpath, sizeof cpath);
         fputs("depth_m,force_N,segment\n", c);
         for (k = 0; k < s.points; k++) {

@@ -89,12 +89,17 @@ expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (g
     has "json: curves" "$tmp/r.json" '"b_over_a_min_contact": '
     has "curves CSV header" "$tmp/c.csv" "depth_m,force_N,fitted_N,residual_N,contact_radius_m,curve"
     [ "$(wc -l < "$tmp/c.csv")" -eq 601 ] && ok || bad "curves CSV: 600 points + header"
-    # bonded curve alone: nu and E* not determined, said in words
-    run_ok fit "$tmp/d/curve2.csv" --k 3 --R 1mm --b 1um --interface bonded --json "$tmp/b.json"
-    has "bonded alone: M message" "$tmp/out" "only bonded curves: the data fix M = Z*E* = "
-    has "bonded alone: nu null" "$tmp/b.json" '"nu": {"value": null, "stderr": null'
-    run_ok fit "$tmp/d/curve2.csv" --k 3 --R 1mm --b 1um --interface bonded --fix-nu 0.35
+    # bonded curve alone: it cannot determine nu, and no nu is assumed
+    # (it was held at 0.3 without a word, its M as with --nu 0.3: issue 35)
+    expect_fail 2 "layerfit: fit: curve 1 ($tmp/d/curve2.csv): a bonded layer needs Poisson's ratio nu, and these curves do not determine it (bonded curves alone fix only M = Z E*): give nu (a plan's nu column, or layerfit fit --nu), or add a frictionless curve of the same material, with which nu is fitted" \
+        fit "$tmp/d/curve2.csv" --k 3 --R 1mm --b 1um --interface bonded --json "$tmp/b.json"
+    [ ! -e "$tmp/b.json" ] && ok || bad "bonded alone without nu: a JSON written"
+    run_ok fit "$tmp/d/curve2.csv" --k 3 --R 1mm --b 1um --interface bonded --fix-nu 0.35 --json "$tmp/b.json"
     has "bonded, nu fixed" "$tmp/out" "nu   = 0.35 (fixed)"
+    # the value assumed is stated at the top, text and JSON
+    [ "$(sed -n '3,4p' "$tmp/out")" = "assumed, not fitted:
+  nu = 0.35 (--fix-nu)" ] && ok || bad "bonded, nu fixed: the assumption not at the top: $(sed -n '1,5p' "$tmp/out")"
+    has "bonded, nu fixed: JSON assumed" "$tmp/b.json" '{"parameter": "nu", "value": 0.35, "unit": "", "curves": null, "source": "--fix-nu"}'
     expect_fail 2 "layerfit: fit: a single curve needs --k, --R, --b and --interface (e.g. --k 2 --R 1mm --b 1um --interface frictionless)" fit "$tmp/d/curve2.csv" --k 3
     # a joint fit is of one material: two samples in one plan are refused
     printf 'file,k,R_m,b_m,interface,sample\ncurve1.csv,2,0.001,1e-06,frictionless,film-A\ncurve2.csv,3,0.001,1e-06,frictionless,film-B\n' >"$tmp/d/two.csv"

@@ -189,7 +189,7 @@ else
         >"$tmp/pegs.csv"
     if run_ok fit "$tmp/pegs.csv" --model halfspace --json "$tmp/pegs.json"; then
         has "PEG joint: the jump named" "$tmp/out" "(profile likelihood; linear on a side where chi2 jumps as a point crosses the contact edge)"
-        line=$(grep -o '"Estar": {[^}]*}' "$tmp/pegs.json")
+        line=$(grep -o '"Estar": {"value"[^}]*}' "$tmp/pegs.json")
         has "PEG joint: JSON method" "$tmp/pegs.json" '"ci95_method": "profile likelihood, linear where it jumps"'
         # E*'s upper side, where the jump was, no nearer than the linear end
         # (log-normal: 1.96 se/E*; its lower side is a smooth crossing)

@@ -1,0 +1,237 @@
+/* descend.c: the minimum, always.  Before any interval is made, the fit's
+ * estimate becomes the lowest chi2 a search around it finds, in every
+ * interval mode (lf_fit_profile calls lf_fit_descend first, for
+ * LF_PROFILE_LINEAR too), so that no estimate depends on the intervals
+ * asked; and a lower point found anywhere (here, or by a profile's held
+ * refits) restarts the fit from there (lf_fit_refit_lower).
+ *
+ * Where the model's contact edge is abrupt (the half-space's detachment
+ * under displacement control, a k > 2 probe's edge), chi2 jumps each time a
+ * point crosses it and is smooth between the jumps: a staircase of basins,
+ * and the solver ends in one of them.  A lower one can lie a few standard
+ * errors away: eleven PEG hydrogel exports fitted jointly as half-spaces
+ * end at chi2 9.02e7 (w = 1.098 mJ/m^2), while 8.70e7 lies six standard
+ * errors of w away, chi2 falling by jumps of some 1e6 along the way.  So
+ * chi2 is evaluated on each determined material parameter's linear path
+ * (every other free parameter moved by its regression on it, from the
+ * covariance: the valley of the local quadratic) at DESCEND_STEPS standard
+ * errors either side, one evaluation of the model per point and no fit;
+ * the lowest point below the fit's chi2 by FIT_PROFILE_LOWER of the
+ * profile's threshold restarts the fit there, and the search is made again
+ * from the new minimum, at most DESCEND_ROUNDS times. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fit.h"
+
+/* multiples of the standard error walked either side */
+static const double descend_steps[] = { 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0 };
+#define DESCEND_NSTEPS (sizeof descend_steps / sizeof descend_steps[0])
+#define DESCEND_ROUNDS 3
+
+int
+lf_fit_path_chi2(const lf_fit_settings *s, size_t nc, const lf_fit_curve *cc,
+                 const lf_fit_result *res, const char *name, int strict, size_t nt,
+                 const double *t, double *chi2, lf_material *mat_low, double *off_low)
+{
+    lf_fit *g;
+    gsl_vector *r;
+    size_t i, j, np = res->npar, k = np, q;
+    double best = HUGE_VAL;
+    int found = 0;
+
+    for (q = 0; q < nt; q++)
+        chi2[q] = NAN;
+    for (i = 0; i < np; i++)
+        if (strcmp(res->names[i], name) == 0)
+            k = i;
+    if (k == np || !(res->cov[k * np + k] > 0))
+        return 0;
+    g = lf_fit_alloc(s, nc, cc, NULL);
+    if (g == NULL)
+        return 0;
+    r = gsl_vector_alloc(g->nres);
+    if (r == NULL || g->np != np) {
+        gsl_vector_free(r);
+        lf_fit_free(g);
+        return 0;
+    }
+    for (i = 0; i < g->ndata; i++)
+        g->ws.sqrtw[i] = 1.0;        /* least squares (as lf_fit_solve sets) */
+    for (q = 0; q < nt; q++) {
+        double d = t[q] * sqrt(res->cov[k * np + k]), cost;
+        lf_material mat;
+        int ok = 1;
+        mat.w = lf_fit_best_value(res, "w", res->w.value);
+        mat.Estar = lf_fit_best_value(res, "E*", res->Estar.value);
+        mat.nu = lf_fit_best_value(res, "nu", isfinite(res->nu.value) ? res->nu.value
+                                                                      : g->mat.nu);
+        for (j = 0; j < nc; j++)
+            g->c[j].slope = 0.0;
+        for (i = 0; i < np && ok; i++) {
+            double c = res->cov[i * np + k] / res->cov[k * np + k], v;
+            size_t jj;
+            if (!isfinite(c) && !strict)
+                c = 0.0;        /* an undetermined one stays where it is */
+            v = res->value[i] + c * d;
+            if (!isfinite(v)) {
+                ok = 0;
+                break;
+            }
+            if (strcmp(res->names[i], "w") == 0)
+                mat.w = v;
+            else if (strcmp(res->names[i], "E*") == 0)
+                mat.Estar = v;
+            else if (strcmp(res->names[i], "nu") == 0)
+                mat.nu = v;
+            else if (sscanf(res->names[i], "z0[%zu]", &jj) == 1 && jj >= 1 && jj <= nc)
+                g->c[jj - 1].z0 = v;
+            else if (sscanf(res->names[i], "F0[%zu]", &jj) == 1 && jj >= 1 && jj <= nc)
+                g->c[jj - 1].F0 = v;
+            else if (sscanf(res->names[i], "s[%zu]", &jj) == 1 && jj >= 1 && jj <= nc)
+                g->c[jj - 1].slope = v;
+        }
+        if (!ok || !(mat.w > 0) || !(mat.Estar > 0)
+            || (g->imat[FIT_NU] >= 0 && !(mat.nu > 0.0 && mat.nu < 0.5)))
+            continue;
+        g->mat = mat;
+        lf_fit_set_origin(g);
+        gsl_vector_set_all(g->ws.x, 1.0);
+        cost = lf_fit_cost(g, g->ws.x, r);
+        if (!isfinite(cost))
+            continue;
+        chi2[q] = 2.0 * cost;
+        if (mat_low != NULL && chi2[q] < best) {
+            best = chi2[q];
+            found = 1;
+            *mat_low = mat;
+            for (j = 0; j < nc; j++) {
+                off_low[3 * j] = g->c[j].z0;
+                off_low[3 * j + 1] = g->c[j].F0;
+                off_low[3 * j + 2] = g->c[j].slope;
+            }
+        }
+    }
+    gsl_vector_free(r);
+    lf_fit_free(g);
+    return found;
+}
+
+int
+lf_fit_refit_from(const lf_fit_settings *s, size_t nc, const lf_fit_curve *cc,
+                  const lf_material *mat, const double *off, lf_fit_result *nr)
+{
+    lf_fit *g = lf_fit_alloc(s, nc, cc, NULL);
+    size_t j;
+    int st;
+
+    memset(nr, 0, sizeof *nr);
+    if (g == NULL)
+        return LF_EINVAL;
+    g->mat = *mat;
+    for (j = 0; j < nc; j++) {
+        if (g->c[j].iz0 >= 0 && isfinite(off[3 * j]))
+            g->c[j].z0 = off[3 * j];
+        if (g->c[j].iF0 >= 0 && isfinite(off[3 * j + 1]))
+            g->c[j].F0 = off[3 * j + 1];
+        g->c[j].slope = isfinite(off[3 * j + 2]) ? off[3 * j + 2] : 0.0;
+    }
+    lf_fit_set_origin(g);
+    st = lf_fit_solve(g, NULL, nr, NULL);
+    lf_fit_free(g);
+    return st;
+}
+
+int
+lf_fit_refit_lower(fit_prof *p, lf_fit_result *res, const char *where)
+{
+    static const char *const pname[FIT_NMAT] = { "w", "E*", "nu" };
+    lf_fit_result nr;
+    int st;
+
+    st = lf_fit_refit_from(p->s, p->nc, p->cc, &p->lower_mat, p->lower_off, &nr);
+    p->fits++;
+    if (st != LF_OK && st != LF_ENOCONV)
+        return 0;
+    if (!(nr.chi2 < res->chi2 - FIT_PROFILE_LOWER * p->thr)) {
+        lf_fit_result_free(&nr);
+        return 0;
+    }
+    if (st == LF_OK) {
+        lf_warn(&nr.warnings, "the %s of %s passed below the first fit's minimum (chi2 "
+                "%.6g, here %.6g): the fit was continued from there", where, pname[p->which],
+                res->chi2, nr.chi2);
+    } else {
+        char why[sizeof nr.stop_reason];
+        lf_warn(&nr.warnings, "the %s of %s passed below the first fit's minimum (chi2 "
+                "%.6g, at %s = %.6g: %.6g), so that was a local minimum; the fit continued "
+                "from there stopped at chi2 %.6g without converging (%s): these are the numbers "
+                "where it stopped", where, pname[p->which], res->chi2, pname[p->which],
+                p->which == FIT_W ? p->lower_mat.w : p->which == FIT_E ? p->lower_mat.Estar
+                                                                        : p->lower_mat.nu,
+                p->lower_chi2, nr.chi2, nr.stop_reason);
+        snprintf(why, sizeof why, "%s", nr.stop_reason);
+        snprintf(nr.stop_reason, sizeof nr.stop_reason, "not converged: below a local "
+                 "minimum the fit went on and stopped (%.90s)",
+                 strncmp(why, "not converged: ", 15) == 0 ? why + 15 : why);
+    }
+    lf_fit_keep_choice(&nr, res);
+    lf_fit_result_free(res);
+    *res = nr;
+    return st == LF_OK ? 1 : 2;
+}
+
+int
+lf_fit_descend(fit_prof *p, lf_fit_result *res)
+{
+    static const int which[FIT_NMAT] = { FIT_W, FIT_E, FIT_NU };
+    static const char *const name[FIT_NMAT] = { "w", "E*", "nu" };
+    double t[2 * DESCEND_NSTEPS], chi2[2 * DESCEND_NSTEPS];
+    double *off = malloc((p->nc ? 3 * p->nc : 1) * sizeof *off);
+    size_t q;
+    int round, k, moved = 0;
+
+    if (off == NULL)
+        return 0;
+    for (q = 0; q < DESCEND_NSTEPS; q++) {
+        t[2 * q] = -descend_steps[q];
+        t[2 * q + 1] = descend_steps[q];
+    }
+    for (round = 0; round < DESCEND_ROUNDS && res->converged; round++) {
+        const lf_fit_estimate *e[FIT_NMAT] = { &res->w, &res->Estar, &res->nu };
+        double thr = lf_fit_hold_threshold(res);
+        int found = 0;
+        p->best = res;
+        p->thr = thr;
+        p->lower_chi2 = res->chi2 - FIT_PROFILE_LOWER * thr;
+        for (k = 0; k < FIT_NMAT; k++) {
+            lf_material m;
+            size_t i;
+            if (!e[k]->free || !e[k]->determined)
+                continue;
+            if (!lf_fit_path_chi2(p->s, p->nc, p->cc, res, name[k], 0, 2 * DESCEND_NSTEPS, t,
+                                  chi2, &m, off))
+                continue;
+            for (i = 0; i < 2 * DESCEND_NSTEPS; i++)
+                if (chi2[i] < p->lower_chi2)
+                    break;
+            if (i == 2 * DESCEND_NSTEPS)
+                continue;
+            /* the lowest point of this path (lf_fit_path_chi2 kept it) */
+            p->lower_chi2 = chi2[i];
+            for (; i < 2 * DESCEND_NSTEPS; i++)
+                p->lower_chi2 = lf_fmin(p->lower_chi2, chi2[i]);
+            p->which = which[k];
+            p->lower_mat = m;
+            memcpy(p->lower_off, off, 3 * p->nc * sizeof *off);
+            found = 1;
+        }
+        if (!found || lf_fit_refit_lower(p, res, "linear path") == 0)
+            break;
+        moved = 1;
+    }
+    free(off);
+    return moved;
+}

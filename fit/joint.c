@@ -1,0 +1,197 @@
+/* joint.c: a fit of several curves of one material, honest about how
+ * they differ (lf_fit_joint; the steps are in layerfit.h):
+ *
+ *   joint fit A   from the automatic guess (choose.c or driver.c)
+ *   singles       each curve alone, nu held at A's value where A fitted it
+ *                 (bonded and frictionless curves together: a curve alone
+ *                 would not fix it)
+ *   joint fit B   from the pooled singles: the material at their
+ *                 random-effects mean (hetero.c), each curve's offsets at
+ *                 its own fit's, with the models A chose; the lower chi2
+ *                 of A and B is the fit
+ *   intervals     lf_fit_profile (profile.c, after descend.c's search)
+ *   spread        lf_heterogeneity_of over the singles (hetero.c)
+ *
+ * Two starts because the cost of real curves is a staircase of basins (a
+ * jump wherever a point crosses the model's abrupt contact edge): the
+ * automatic guess and the pooled singles land in different ones as often
+ * as not, and the lower is the estimate. */
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "fit.h"
+
+/* Fit one curve alone into *e (its estimates, NaN where not determined or
+ * not converged) and off[0..2] (its offsets at the solution, NaN where
+ * none); nu held at the joint fit's where that fitted it (see the top). */
+static void
+single(const lf_fit_settings *settings, const lf_choose_settings *choose,
+       const lf_fit_curve *curve, const lf_fit_result *joint, lf_curve_estimate *e, double *off)
+{
+    lf_fit_settings s = *settings;
+    lf_fit_result r;
+    int st;
+
+    lf_curve_estimate_none(e, &curve->probe);
+    off[0] = off[1] = off[2] = NAN;
+    if (s.nu.mode == LF_PARAM_AUTO) {
+        double nu = lf_fit_best_value(joint, "nu", NAN);
+        if (isfinite(nu)) {
+            s.nu.mode = LF_PARAM_FIXED;
+            s.nu.value = nu;
+        }
+    }
+    if (choose != NULL) {
+        lf_choose_settings cs = *choose;
+        cs.thin_comparison = 0;
+        st = lf_fit_choose_driver(&s, &cs, 1, curve, &r, NULL);
+    } else {
+        st = lf_fit_driver(&s, 1, curve, &r, NULL);
+    }
+    if (st != LF_OK && st != LF_ENOCONV)
+        return;
+    lf_fit_profile(&s, 1, curve, &r, LF_PROFILE_SCREEN, NULL);
+    if (r.converged)
+        lf_curve_estimate_of(&r, e);
+    off[0] = lf_fit_best_value(&r, "z0[1]", NAN);
+    off[1] = lf_fit_best_value(&r, "F0[1]", NAN);
+    off[2] = lf_fit_best_value(&r, "s[1]", NAN);
+    lf_fit_result_free(&r);
+}
+
+/* The start of joint fit B: the singles' population mean of each material
+ * parameter where two or more curves determine it, the one curve's where
+ * one does, else A's solution. */
+static lf_material
+pooled(const lf_heterogeneity *h, const lf_fit_result *a, size_t n, const lf_curve_estimate *each)
+{
+    const lf_population_estimate *pe[3] = { &h->w, &h->Estar, &h->nu };
+    static const char *const name[3] = { "w", "E*", "nu" };
+    double v[3];
+    int m;
+
+    for (m = 0; m < 3; m++) {
+        size_t i;
+        v[m] = pe[m]->population_mean;
+        for (i = 0; i < n && !isfinite(v[m]); i++)
+            if (pe[m]->n == 1 && isfinite(each[i].value[m]))
+                v[m] = each[i].value[m];
+        if (!isfinite(v[m]))
+            v[m] = lf_fit_best_value(a, name[m], m == 0 ? a->w.value : m == 1 ? a->Estar.value
+                                                                         : a->nu.value);
+    }
+    return (lf_material) { v[0], v[1], v[2] };
+}
+
+/* Joint fit B from mat and the singles' offsets (NaN: profiled at mat),
+ * on the models A chose; its status, LF_EINVAL when it cannot be made. */
+static int
+from_pooled(const lf_fit_settings *s, size_t n, const lf_fit_curve *curves,
+            const lf_fit_result *a, const lf_material *mat, const double *off,
+            lf_fit_result *b)
+{
+    lf_fit_curve *cc = malloc(n * sizeof *cc);
+    lf_fit *f;
+    size_t j;
+    int st;
+
+    memset(b, 0, sizeof *b);
+    if (cc == NULL)
+        return LF_ENOMEM;
+    for (j = 0; j < n; j++) {
+        cc[j] = curves[j];
+        if (a->curves[j].model != NULL && lf_model_type_find(a->curves[j].model) != NULL)
+            cc[j].model = lf_model_type_find(a->curves[j].model);
+    }
+    f = lf_fit_alloc(s, n, cc, NULL);
+    if (f == NULL || !(mat->w > 0) || !(mat->Estar > 0)) {
+        lf_fit_free(f);
+        free(cc);
+        return LF_EINVAL;
+    }
+    /* what is held stays at its value (lf_fit_alloc put it in f->mat) */
+    if (f->imat[FIT_W] >= 0)
+        f->mat.w = mat->w;
+    if (f->imat[FIT_E] >= 0)
+        f->mat.Estar = mat->Estar;
+    if (f->imat[FIT_NU] >= 0)
+        f->mat.nu = mat->nu > 0 && mat->nu < 0.5 ? mat->nu : lf_fit_best_value(a, "nu", 0.25);
+    lf_fit_guess_offsets(f);
+    for (j = 0; j < n; j++) {
+        if (f->c[j].iz0 >= 0 && isfinite(off[3 * j]))
+            f->c[j].z0 = off[3 * j];
+        if (f->c[j].iF0 >= 0 && isfinite(off[3 * j + 1]))
+            f->c[j].F0 = off[3 * j + 1];
+        if (f->c[j].islope >= 0)
+            f->c[j].slope = isfinite(off[3 * j + 2]) ? off[3 * j + 2] : 0.0;
+    }
+    lf_fit_set_origin(f);
+    st = lf_fit_solve(f, NULL, b, NULL);
+    lf_fit_free(f);
+    free(cc);
+    return st;
+}
+
+int
+lf_fit_joint(const lf_fit_settings *settings, const lf_choose_settings *choose,
+             size_t n, const lf_fit_curve *curves, int intervals, lf_fit_result *res,
+             lf_error *err)
+{
+    lf_curve_estimate *each = NULL;
+    double *off = NULL;
+    lf_error perr;
+    size_t j;
+    int st;
+
+    memset(res, 0, sizeof *res);
+    st = choose != NULL ? lf_fit_choose_driver(settings, choose, n, curves, res, err)
+                        : lf_fit_driver(settings, n, curves, res, err);
+    if (st != LF_OK && st != LF_ENOCONV)
+        return st;
+    if (n >= 2) {
+        lf_heterogeneity h;
+        each = malloc(n * sizeof *each);
+        off = malloc(3 * n * sizeof *off);
+        if (each == NULL || off == NULL) {
+            free(each);
+            free(off);
+            lf_fit_result_free(res);
+            return lf_fail(err, LF_ENOMEM, "out of memory");
+        }
+        for (j = 0; j < n; j++)
+            single(settings, choose, &curves[j], res, &each[j], off + 3 * j);
+        if (lf_heterogeneity_of(n, each, &h, NULL) == LF_OK) {
+            lf_material m = pooled(&h, res, n, each);
+            lf_fit_result b;
+            int sb = from_pooled(settings, n, curves, res, &m, off, &b);
+            /* B wins where it converged like A, or better, at a lower chi2 */
+            if ((sb == LF_OK || sb == LF_ENOCONV) && b.converged >= res->converged
+                && b.chi2 < res->chi2 * (1.0 - 1e-9)) {
+                lf_fit_keep_choice(&b, res);
+                lf_fit_result_free(res);
+                *res = b;
+                st = b.converged ? LF_OK : LF_ENOCONV;
+            } else if (sb == LF_OK || sb == LF_ENOCONV) {
+                res->iterations += b.iterations;
+                res->evaluations += b.evaluations;
+                lf_fit_result_free(&b);
+            }
+        }
+    }
+    if (lf_fit_profile(settings, n, curves, res, intervals, &perr) != LF_OK)
+        lf_warn(&res->warnings, "the intervals could not be made (%s): the linear ones stand",
+                perr.msg);
+    if (st == LF_OK && !res->converged)
+        st = LF_ENOCONV;        /* a local minimum, or nothing determined */
+    if (n >= 2) {
+        for (j = 0; j < n; j++)
+            res->curves[j].alone = each[j];
+        lf_heterogeneity_of(n, each, &res->heterogeneity, NULL);
+    } else if (res->converged) {
+        lf_curve_estimate_of(res, &res->curves[0].alone);
+    }
+    free(each);
+    free(off);
+    return st;
+}
