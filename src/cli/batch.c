@@ -103,8 +103,8 @@ summary_free(summary *sm)
 }
 
 /* "OUT.summary.EXT": OUT without its .csv or .jsonl (free). */
-static char *
-summary_path(const char *out, const char *ext)
+char *
+cli_summary_path(const char *out, const char *ext)
 {
     size_t len = strlen(out), stem = len;
     char *p;
@@ -396,7 +396,7 @@ cli_batch_run(const cli_batch_opts *o)
     beside = o->out != NULL && strcmp(o->out, "-") != 0
              && (stat(o->out, &st) != 0 || S_ISREG(st.st_mode));
     if (beside) {
-        char *sc = summary_path(o->out, "csv"), *sj = summary_path(o->out, "json");
+        char *sc = cli_summary_path(o->out, "csv"), *sj = cli_summary_path(o->out, "json");
         cli_output_note("fit", sc);
         cli_output_note("fit", sj);
         free(sc);
@@ -441,14 +441,9 @@ cli_batch_run(const cli_batch_opts *o)
         if (cli_out_commit_sidecar(&atomic, o->command_line, msg, sizeof msg) != 0)
             cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
     }
-    if (sink.page != NULL) {
-        if (cli_page_map(o->report, o->out, sink.page, o->command_line, msg, sizeof msg) != 0)
-            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
-        cli_page_store_free(sink.page);
-    }
     if (beside) {               /* the summaries beside them */
         summary_json_ctx jc;
-        char *sc = summary_path(o->out, "csv"), *sj = summary_path(o->out, "json");
+        char *sc = cli_summary_path(o->out, "csv"), *sj = cli_summary_path(o->out, "json");
         cli_write_file("fit", sc, summary_csv, &sink.sm);
         jc.sm = &sink.sm;
         jc.command_line = o->command_line;
@@ -461,6 +456,11 @@ cli_batch_run(const cli_batch_opts *o)
     if (sink.sm.nest >= 2)
         summary_text(sink.out != stdout ? stdout : stderr, &sink.sm);
     summary_free(&sink.sm);
+    if (sink.page != NULL) {    /* the page, from the results and their summary */
+        if (cli_page_map(o->report, o->out, sink.page, o->command_line, msg, sizeof msg) != 0)
+            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
+        cli_page_store_free(sink.page);
+    }
     if (sum.failed > 0) {
         cli_say("fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s)",
                 sum.failed, sum.total, o->out ? o->out : "the output");

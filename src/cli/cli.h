@@ -176,6 +176,9 @@ typedef struct {
 /* Fit every fit of the plan with the settings; returns the exit status
  * (CLI_EXIT_OK, or CLI_EXIT_SOME_FAILED with a summary line on stderr). */
 int cli_batch_run(const cli_batch_opts *o);
+/* "OUT.summary.EXT" beside a batch's results OUT (OUT without its .csv or
+ * .jsonl; the caller frees it; dies without memory). */
+char *cli_summary_path(const char *out, const char *ext);
 /* "I/N" with 1 <= I <= N; -1 when malformed. */
 int cli_shard_parse(const char *text, long *index, long *count);
 /* `layerfit fit --batch ...` and whether argv asks for it. */
@@ -213,8 +216,9 @@ void cli_plot_files(const char *dir, size_t ncurves, void (*each)(const char *pa
 /* The interactive report of many fits (page.c): the curves of a batch
  * kept as each row is handed over, one at a time (cli_page_store_fit: row
  * i of the results, its fit's input and result, either NULL when it failed
- * before, and its sample), then the page written from the results CSV and the
- * store (NULL: the results alone).  0, or -1 with msg. */
+ * before, and its sample), then the page written from the results CSV, the
+ * population summary beside it (cli_summary_path, where there is one) and
+ * the store (NULL: the results alone).  0, or -1 with msg. */
 typedef struct cli_page_store cli_page_store;
 cli_page_store *cli_page_store_new(void);
 void cli_page_store_fit(cli_page_store *s, size_t i, const lf_fit_input *in,

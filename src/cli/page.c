@@ -615,7 +615,25 @@ cli_page_map(const char *file, const char *results, const cli_page_store *s,
         }
         fputc(']', f);
     }
-    fputs("],\"fits\":[", f);
+    fputs("],\"summary\":", f);
+    {
+        /* the batch's population summary beside the results: its JSON as
+         * a string, which the script reads where it parses */
+        char *path = cli_summary_path(results, "json"), *text = NULL;
+        lf_input sj;
+        int got = lf_input_read(path, LF_INPUT_TEXT, &sj, &err) == LF_OK;
+        if (got && (text = realloc(sj.data, sj.len + 1)) != NULL) {
+            text[sj.len] = '\0';
+            jstr(f, text);
+            free(text);
+        } else {
+            if (got)
+                lf_input_free(&sj);
+            fputs("null", f);
+        }
+        free(path);
+    }
+    fputs(",\"fits\":[", f);
     for (r = 0; r < t->nrows; r++) {
         fputs(r ? ",\n" : "\n", f);
         fputs(s != NULL && r < s->n && s->fit[r] != NULL ? s->fit[r] : "null", f);

@@ -653,8 +653,36 @@ function mapPage() {
       box.appendChild(el('div', { text: v.length + ' fits · median ' + human(at(0.5), q.unit) + ' · quartiles ' + human(at(0.25), q.unit) + ' – ' + human(at(0.75), q.unit) +
         ' · spread (IQR/median) ' + (at(0.5) ? num(100 * (at(0.75) - at(0.25)) / Math.abs(at(0.5)), 2) + ' %' : '–') + (out ? ' · ' + out + ' outside the axis' : '') }));
     });
-    if (D.summary) histBox.appendChild(el('pre', { id: 'population-summary', text: JSON.stringify(D.summary, null, 1) }));
   }
+
+  /* the batch's population summary (RESULTS.summary.json): every fit, and
+   * each sample, as the batch computed it (not the filter's) */
+  function summaryTable() {
+    var S = null;
+    try { S = D.summary ? JSON.parse(D.summary) : null; } catch (e) { S = null; }
+    if (!S || !S.all) return;
+    var sec = section('population', 'Population summary (the batch’s, of every fit)');
+    var UNITS = { w: 'J/m²', Estar: 'Pa', nu: '' };
+    var t = el('table', { id: 'population-summary' }, [el('tr', {}, ['fits', 'parameter', 'n', 'median (quartiles)', 'population mean (95 %)',
+      'spot-to-spot SD (95 %)', 'I²', 'p (same everywhere)'].map(function (h) { return el('th', { text: h }); }))]);
+    [['all', S.all]].concat((S.groups || []).map(function (g) { return [g.sample || g.name || 'sample', g]; })).forEach(function (g) {
+      var H = g[1].heterogeneity || g[1], P = H.parameters || {};
+      Object.keys(UNITS).forEach(function (k) {
+        var e = P[k], u = UNITS[k];
+        if (!e || !e.n) return;
+        function v(x) { return u ? human(x, u) : num(x, 4); }
+        function ci(a) { return a && fin(a[0]) && fin(a[1]) ? ' (' + v(a[0]) + ' – ' + v(a[1]) + ')' : ''; }
+        t.appendChild(el('tr', {}, [td(g[0]), td(k === 'Estar' ? 'E*' : k), tdn(String(e.n)),
+          tdn(v(e.median) + ' (' + v(e.q1) + ' – ' + v(e.q3) + ')'),
+          tdn(fin(e.population_mean) ? v(e.population_mean) + ci(e.population_ci95) : (e.why_not_determined || '–')),
+          tdn(fin(e.tau_rel) ? num(100 * e.tau_rel, 2) + ' %' + (e.tau_rel_ci95 && fin(e.tau_rel_ci95[1]) ? ' (' + num(100 * e.tau_rel_ci95[0], 2) + ' – ' + num(100 * e.tau_rel_ci95[1], 2) + ' %)' : '') : '–'),
+          tdn(fin(e.I2) ? num(100 * e.I2, 3) + ' %' : '–'), tdn(fin(e.p_homogeneous) ? (e.p_homogeneous < 1e-16 ? '< 1e-16' : num(e.p_homogeneous, 2)) : '–')]));
+      });
+    });
+    sec.appendChild(el('div', { cls: 'wide' }, [t]));
+    histSec.after(sec);
+  }
+  summaryTable();
 
   /* the results, a page at a time */
   var page = 0, PER = 100, shownCols = ['fit', 'status', 'file', 'sample', 'w_J_m2', 'Estar_Pa', 'nu', 'chi2_dof', 'adhesion_force_N', 'P_po_N', 'message'].filter(function (c) { return ci[c] != null; });

@@ -144,6 +144,9 @@ async function mapReport(browser) {
   const hidden = await canvasImage(page, fig);
   await page.click('#curve-panel input[data-series="model, stable"]');
   check(hidden !== await canvasImage(page, fig), 'map report: the model is hidden and shown again');
+  const pop = await page.$$eval('#population-summary tr', t => t.map(r => Array.from(r.cells, c => c.textContent)));
+  check(pop.length === 3 && pop[1][0] === 'all' && pop[1][1] === 'w' && pop[1][2] === String(rows.length),
+        'map report: the batch\'s population summary of w and E* (' + (pop[1] || []).slice(0, 4).join(' | ') + ')');
   await page.screenshot({ path: path.join(shots, 'map.png'), fullPage: true });
   // exclude this fit, then export the kept ones as a plan
   await page.click('#curve-keep');
