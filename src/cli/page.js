@@ -561,6 +561,8 @@ function mapPage() {
     G.cell = G.rows.map(function (r) {
       return useGrid ? [get(r, 'grid_i'), get(r, 'grid_j')] : [index(ux, get(r, 'x_m')), index(uy, get(r, 'y_m'))];
     });
+    G.at = {};      /* "i,j" -> the row there */
+    G.cell.forEach(function (c, t) { G.at[c[0] + ',' + c[1]] = G.rows[t]; });
     G.nx = 1 + Math.max.apply(null, G.cell.map(function (c) { return c[0]; }));
     G.ny = 1 + Math.max.apply(null, G.cell.map(function (c) { return c[1]; }));
   });
@@ -578,9 +580,15 @@ function mapPage() {
       else box.appendChild(el('div', { cls: 'scale' }, Object.keys(STATUS_COL).map(function (s) { return el('span', {}, [el('span', { cls: 'swatch', style: 'background:rgb(' + STATUS_COL[s] + ')' }), s]); })));
       mapsBox.appendChild(box);
       cv.style.aspectRatio = G.nx + ' / ' + G.ny;
-      cv.addEventListener('click', function (e) {
+      function rowAt(e) {
         var b = cv.getBoundingClientRect(), i = Math.floor((e.clientX - b.left) / b.width * G.nx), j = G.ny - 1 - Math.floor((e.clientY - b.top) / b.height * G.ny);
-        for (var t = 0; t < G.rows.length; t++) if (G.cell[t][0] === i && G.cell[t][1] === j) { location.hash = 'curve=' + (G.rows[t] + 1); return; }
+        return G.at[i + ',' + j];
+      }
+      cv.addEventListener('click', function (e) { var r = rowAt(e); if (r != null) location.hash = 'curve=' + (r + 1); });
+      /* the pixel's fit and value under the pointer */
+      cv.addEventListener('mousemove', function (e) {
+        var r = rowAt(e), v = r == null ? null : get(r, q.key);
+        cv.title = r == null ? '' : 'fit ' + (r + 1) + ' (' + get(r, 'status') + '): ' + (q.key === 'status' ? v : typeof v === 'number' ? (q.unit ? human(v, q.unit) : num(v, 4)) : '–');
       });
       maps.push({ G: G, q: q, cv: cv, bar: bar, scale: scale });
     });

@@ -124,6 +124,9 @@ async function mapReport(browser) {
   const cv = await page.$('#heatmap-w_J_m2');
   const b = await cv.boundingBox();
   const nx = xs.length, ny = ys.length;
+  await page.mouse.move(b.x + (2.5 / nx) * b.width, b.y + ((ny - 1 - 5) + 0.5) / ny * b.height);
+  const title = await page.$eval('#heatmap-w_J_m2', c => c.title);
+  check(title.startsWith('fit ' + want + ' (' + rows[want - 1].status + '): ') && title.endsWith(' mJ/m²'), 'map report: the pixel under the pointer names its fit and w (' + title + ')');
   await page.mouse.click(b.x + (2.5 / nx) * b.width, b.y + ((ny - 1 - 5) + 0.5) / ny * b.height);
   await page.waitForFunction(() => /curve=\d+/.test(location.hash), { timeout: 5000 }).catch(() => {});
   const hash = await page.evaluate(() => location.hash);
