@@ -366,9 +366,8 @@ cli_batch_run(const cli_batch_opts *o)
         if (o->out == NULL || !ends_with(o->out, ".csv"))
             cli_die(CLI_EXIT_USAGE, "fit: --report %s: the page is made from the results; give "
                     "them as --out FILE.csv", o->report);
-        if ((sink.page = cli_page_store_new()) == NULL)
+        if ((sink.page = cli_page_store_new()) == NULL)     /* rows carry their fits */
             cli_die(CLI_EXIT_FAIL, "out of memory");
-        bs.results = 1;
     }
     cli_output_note("fit", o->out);
     cli_output_note_sidecar("fit", o->out);

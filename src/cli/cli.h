@@ -176,8 +176,8 @@ typedef struct {
 /* Fit every fit of the plan with the settings; returns the exit status
  * (CLI_EXIT_OK, or CLI_EXIT_SOME_FAILED with a summary line on stderr). */
 int cli_batch_run(const cli_batch_opts *o);
-/* "OUT.summary.EXT" beside a batch's results OUT (OUT without its .csv or
- * .jsonl; the caller frees it; dies without memory). */
+/* "OUT.summary.EXT" beside a batch's results OUT (util.c; OUT without its
+ * .csv or .jsonl; the caller frees it; dies without memory). */
 char *cli_summary_path(const char *out, const char *ext);
 /* "I/N" with 1 <= I <= N; -1 when malformed. */
 int cli_shard_parse(const char *text, long *index, long *count);

@@ -9,7 +9,8 @@
  * as JSON inside <script type="application/json">.  Every '<', '>', '&',
  * U+2028 and U+2029 of that JSON is written as a \u escape, so no file name
  * or metadata can close the script element or become code; the script
- * shows names through textContent only.
+ * shows names through textContent only.  A fit's tables are the library's
+ * (lf_fit_result_html), in the page as HTML; the script draws the figures.
  *
  * A curve is drawn from its points quantized to `levels` steps of its own
  * depth, force and residual ranges (integers: a third of the bytes of
