@@ -54,9 +54,10 @@ DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev zlib1g-dev gnuplot-nox 
 # scipy and lmfit peers, the Python package gives numpy arrays and draws
 # with matplotlib), which skip with a note
 # when they are missing: installed when possible, never required
-OPT_DEBS := chromium nodejs npm pkgconf python3-scipy python3-lmfit python3-numpy python3-matplotlib
+OPT_DEBS := chromium pkgconf python3-scipy python3-lmfit python3-numpy python3-matplotlib
 # puppeteer-core for the browser test (tests/cli/browser.sh), from npm at the
 # versions of tests/browser/package-lock.json, into tests/browser/node_modules
+# (Debian's nodejs and npm first where there is no npm)
 BROWSER_MODULES := tests/browser/node_modules/puppeteer-core/package.json
 
 .PHONY: all deps demo check tests sanitize install uninstall clean bench-batch bench-demo bench bench-quick coverage
@@ -155,10 +156,17 @@ deps:
 	  (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$optional >/dev/null) \
 	    || echo "could not install$$optional: the tests that use them will say so and skip"; \
 	fi; \
-	if [ ! -f $(BROWSER_MODULES) ] && command -v npm >/dev/null 2>&1; then \
-	  echo "installing puppeteer-core (npm ci in tests/browser)"; \
-	  (cd tests/browser && npm ci --no-audit --no-fund --loglevel=error >/dev/null) \
-	    || echo "could not install puppeteer-core: the browser test will fail"; \
+	if [ ! -f $(BROWSER_MODULES) ]; then \
+	  if ! command -v npm >/dev/null 2>&1 && [ "$$(id -u)" = 0 ]; then \
+	    echo "installing (optional, for the browser test): nodejs npm"; \
+	    (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq nodejs npm >/dev/null) \
+	      || echo "could not install nodejs npm: the browser test will say so"; \
+	  fi; \
+	  if command -v npm >/dev/null 2>&1; then \
+	    echo "installing puppeteer-core (npm ci in tests/browser)"; \
+	    (cd tests/browser && npm ci --no-audit --no-fund --loglevel=error >/dev/null) \
+	      || echo "could not install puppeteer-core: the browser test will fail"; \
+	  fi; \
 	fi
 
 demo: deps
