@@ -43,6 +43,7 @@ typedef struct {
     const double *z, *F;   /* subsample */
     size_t n;
     double k, K;
+    double R_sphere;       /* a sphere's R (its thin-layer law), else 0 */
     lf_branch branch;
     int F0_free;
     double F0_held;
@@ -154,8 +155,11 @@ guess_pow_2k(double x, double k)
 
 /* The sums of one trial over the points i0..n-1 of the subsample, all in
  * contact (d1 = z - zd > 0 there).  KC is 2, 3 (d1 within the range of
- * the fast cube root at both ends, so at every point: d1 grows with z) or
- * 0 (any k, by guess_pow_2k); zd_kind the two-column basis.  Constants in
+ * the fast cube root at both ends, so at every point: d1 grows with z), 0
+ * (any k, by guess_pow_2k) or -1, a sphere of radius R_sphere, whose thin
+ * layer's law (model_thin.c) has the basis d1^2 - d1^3/(3R) and
+ * d1 - d1^2/(2R) in place of d1^2 and d1 (past the equator, d1 > R, the
+ * flat punch's R (d1 - R/3) and R/2); zd_kind the two-column basis.  Constants in
  * each instance, so the loop over the points tests neither.  Returns the
  * count of points with a positive basis. */
 LF_KERNEL size_t
@@ -171,6 +175,29 @@ trial_loop(const profile *p, size_t i0, double zd, double c, double held, int KC
     for (i = i0; i < p->n; i++) {
         const double d1 = p->z[i] - zd;
         double g, x0, y;
+        if (KC == -1) {
+            const double R = p->R_sphere;
+            const double y0 = d1 > R ? R * (d1 - R / 3.0) : d1 * d1 * (1.0 - d1 / (3.0 * R));
+            const double y1 = d1 > R ? 0.5 * R : d1 * (1.0 - 0.5 * d1 / R);
+            if (!(d1 > 0))
+                continue;
+            ncontact++;
+            y = p->F[i] - held;
+            if (zd_kind) {
+                const double x1 = K * y1;
+                x0 = K * y0;
+                a11 += x1 * x1;
+                a21 += x1;
+                r1 += x1 * y;
+                a10 += x1 * x0;
+            } else {
+                x0 = K * (y0 - kk * c * y1);
+            }
+            a00 += x0 * x0;
+            a20 += x0;
+            r0 += x0 * y;
+            continue;
+        }
         if (KC == 2)
             g = d1;
         else if (KC == 3)
@@ -240,7 +267,9 @@ profile_cost(profile *p, double s)
     }
     if (lo < p->n) {
         const double first = p->z[lo] - zd, last = p->z[p->n - 1] - zd;
-        if (k == 2.0)
+        if (p->R_sphere > 0)
+            kc = -1;
+        else if (k == 2.0)
             kc = 2;
         else if (k == 3.0 && first >= 1e-300 && last <= 1e300)
             kc = 3;
@@ -248,10 +277,12 @@ profile_cost(profile *p, double s)
     if (zd_kind)
         ncontact = kc == 2 ? trial_loop(p, lo, zd, c, held, 2, 1, &t)
                  : kc == 3 ? trial_loop(p, lo, zd, c, held, 3, 1, &t)
+                 : kc == -1 ? trial_loop(p, lo, zd, c, held, -1, 1, &t)
                            : trial_loop(p, lo, zd, c, held, 0, 1, &t);
     else
         ncontact = kc == 2 ? trial_loop(p, lo, zd, c, held, 2, 0, &t)
                  : kc == 3 ? trial_loop(p, lo, zd, c, held, 3, 0, &t)
+                 : kc == -1 ? trial_loop(p, lo, zd, c, held, -1, 0, &t)
                            : trial_loop(p, lo, zd, c, held, 0, 0, &t);
     if (ncontact < 3)
         return HUGE_VAL;
@@ -436,7 +467,6 @@ void
 lf_fit_guess_subsample(lf_fit *f, size_t j)
 {
     fit_curve *c = &f->c[j];
-    const double k = c->data.probe.k, R = c->data.probe.R;
     const double held = c->iF0 >= 0 ? 0.0 : c->F0;
     const size_t n = c->data.n, nshallow = GUESS_NSUB / 4;
     const size_t *ord = f->order + c->row;     /* by depth */
@@ -468,8 +498,7 @@ lf_fit_guess_subsample(lf_fit *f, size_t j)
     c->sub.z = z;
     c->sub.F = F;
     c->sub.n = m;
-    c->sub.K = M_PI / c->data.probe.b * pow(k, (k + 2.0) / k) / (k + 2.0)
-               * pow(R, 2.0 * (k - 1.0) / k);
+    c->sub.K = lf_thin_scale(&c->data.probe);
     sub_sums(&c->sub, held);
 }
 
@@ -488,6 +517,7 @@ profile_init(lf_fit *f, size_t j, profile *p)
     p->n = c->sub.n;
     p->k = c->data.probe.k;
     p->K = c->sub.K;
+    p->R_sphere = c->data.probe.tip == LF_TIP_SPHERE ? c->data.probe.R : 0.0;
     p->branch = c->data.branch;
     p->F0_free = c->iF0 >= 0;
     p->F0_held = c->F0;

@@ -182,8 +182,8 @@ w_for_pulloff(const fit_curve *c, double Estar, double nu, double target)
     q.Estar = Estar;
     q.nu = nu;
     q.target = target;
-    return exp(root_in(w_gap, &q, log(1e-300 + 1e-18 * Estar * c->data.probe.R),
-                       log(1e6 * Estar * c->data.probe.R)));
+    return exp(root_in(w_gap, &q, log(1e-300 + 1e-18 * Estar * lf_probe_length(&c->data.probe)),
+                       log(1e6 * Estar * lf_probe_length(&c->data.probe))));
 }
 
 /* The model's force at indentation delta, or NaN. */
@@ -422,7 +422,7 @@ features_material(lf_fit *f, size_t j, double nu, lf_material *out)
 {
     const fit_curve *c = &f->c[j];
     double F0 = offset_F0(f, j);
-    double zpo, Fmin, zmax, Fmax, Ppo, rise, z0ref, R = c->data.probe.R, t, P, d;
+    double zpo, Fmin, zmax, Fmax, Ppo, rise, z0ref, R = lf_probe_length(&c->data.probe), t, P, d;
     int adhesive;
     x_search q;
     lf_material m;

@@ -248,15 +248,26 @@ consistency(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curve_resul
  * contact radius of the curve is a warning. */
 #define SPHERE_A_OVER_R 0.43
 static void
-sphere_check(const lf_probe *p, double amax, lf_warnings *w)
+sphere_check(const lf_probe *p, const lf_model_type *t, double amax, lf_warnings *w)
 {
-    double q = amax / p->R;
+    double q = amax / lf_probe_length(p);
 
-    if (fabs(p->k - 2.0) > 1e-9 || !(q > SPHERE_A_OVER_R))
+    /* a true sphere (LF_TIP_SPHERE) is modelled as one: exactly on a
+     * half-space; on a thin layer up to its equator; by the exact model
+     * through a correction of its paraboloid (src/exact_sphere.c) */
+    if (p->tip == LF_TIP_SPHERE && t->scope == LF_SCOPE_THIN && q >= 1.0 - 1e-9)
+        lf_warn(w, "the contact reaches the sphere's equator (a = R): past it the thin-layer "
+                "model takes a flat punch of radius R");
+    if (p->tip == LF_TIP_SPHERE && t->scope == LF_SCOPE_ANY && q > 0.5)
+        lf_warn(w, "the contact radius reaches a = %.2g R: the exact model's sphere is a "
+                "correction of its paraboloid, within 0.7%% of the force up to a = 0.5 R, 2%% up "
+                "to 0.7 R, 7%% up to 0.9 R", q);
+    if (p->tip != LF_TIP_POWER || fabs(p->k - 2.0) > 1e-9 || !(q > SPHERE_A_OVER_R))
         return;
     if (q < 1.0)
         lf_warn(w, "the contact radius reaches a = %.3g m, %.2g R: a sphere of radius R departs "
-                "there from the paraboloid of k = 2 by %.2g%% in height (the model takes a << R)",
+                "there from the paraboloid of k = 2 by %.2g%% in height (the model takes a << R; "
+                "tip sphere models the sphere itself)",
                 amax, q, 100.0 * ((1.0 - sqrt(1.0 - q * q)) / (0.5 * q * q) - 1.0));
     else
         lf_warn(w, "the contact radius reaches a = %.3g m, %.2g R: no sphere of radius R makes "
@@ -343,7 +354,7 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r, const fit_d
             lf_judge_thin_strain(&cr->warnings, NULL, cr->b_over_a_pulloff, "at pull-off",
                                  f->set.max_b_over_a);
     }
-    sphere_check(&c->data.probe, amax, &cr->warnings);
+    sphere_check(&c->data.probe, lf_model_get_type(c->model), amax, &cr->warnings);
     lf_fit_plausible_curve(f, j, z0, amax, &cr->warnings);
     contact_point_check(c, cr, &cr->warnings);
     consistency(f, j, res, cr);

@@ -191,6 +191,7 @@ typedef struct {
     int have_res, have_in; /* res and in hold a fit (kept: cfg->keep) */
     lf_fit_result res;
     lf_fit_input in;
+    char *why, *cause;     /* a failed fit: why, and its cause (cause_of) */
 } unit_out;
 
 static void
@@ -229,7 +230,10 @@ static const char *const columns[] = {
     "rms_N", "P_po_N", "iterations",
     "w_ci95_lo_J_m2", "w_ci95_hi_J_m2", "Estar_ci95_lo_Pa", "Estar_ci95_hi_Pa",
     "nu_ci95_lo", "nu_ci95_hi", "w_ci95_method", "Estar_ci95_method", "nu_ci95_method",
-    "identifiability", "message", "grid_i", "grid_j", "sha256", NULL
+    "identifiability", "message", "grid_i", "grid_j", "sha256",
+    /* what the first curve shows without a model (lf_observe) */
+    "adhesion_force_N", "detachment_work_J", "contact_point_m", "max_indentation_m",
+    "max_force_N", "instrument_Eeff_Pa", "instrument_model", NULL
 };
 
 /* Sum of squared residuals relative to the points, over all curves. */
@@ -314,9 +318,10 @@ static void
 put_row(lf_str *b, const batch_config *cfg, size_t fit_no, const char *sample,
         const char *files, const unit_files *uf, size_t ncurves, const char *status,
         const char *model, const num_field *num, size_t nnum, const char *const *text,
-        const char *ident, const char *msg, const double grid[2])
+        const char *ident, const char *msg, const double grid[2], const lf_observables *obs)
 {
     int json = cfg->json;
+    double ov[LF_NOBSERVED];
     size_t i;
 
     if (json)
@@ -364,13 +369,59 @@ put_row(lf_str *b, const batch_config *cfg, size_t fit_no, const char *sample,
         lf_str_printf(b, "], \"sha256\": [");
         for (i = 0; i < uf->n; i++)
             lf_str_printf(b, uf->sha[i][0] ? "%s\"%s\"" : "%snull", i ? ", " : "", uf->sha[i]);
-        lf_str_printf(b, "]}\n");
+        lf_str_printf(b, "]");
     } else {
         lf_str_printf(b, ",");
         for (i = 0; i < uf->n; i++)
             lf_str_printf(b, "%s%s", i ? ";" : "", uf->sha[i]);
-        lf_str_printf(b, "\n");
     }
+    /* the first curve's observables (as P_po_N is its pull-off) */
+    for (i = 0; i < LF_NOBSERVED; i++)
+        ov[i] = NAN;
+    if (obs != NULL)
+        lf_observed_values(obs, ov);
+    for (i = 0; i < LF_NOBSERVED; i++) {
+        lf_str_printf(b, json ? ", \"%s\": " : ",", lf_observed_keys[i]);
+        lf_str_number(b, ov[i], json ? "null" : "");
+    }
+    lf_str_printf(b, json ? ", \"instrument_model\": " : ",");
+    if (json && (obs == NULL || obs->instrument_model[0] == '\0'))
+        lf_str_printf(b, "null");
+    else
+        sb_text(b, obs != NULL ? obs->instrument_model : "", json, cfg->csv_raw);
+    lf_str_printf(b, json ? "}\n" : "\n");
+}
+
+/* A failure's cause: its message with its files' names (@) and every
+ * number (#) blanked out, so that the failures of one cause count
+ * together; NULL when out of memory. */
+static char *
+cause_of(const char *why, const unit_files *uf)
+{
+    size_t i = 0, k = 0, j;
+    char *key = malloc(strlen(why) + 1);
+
+    if (key == NULL)
+        return NULL;
+    while (why[i] != '\0') {
+        size_t len = 0;
+        for (j = 0; j < uf->n && len == 0; j++)
+            if (uf->name[j] != NULL && strncmp(why + i, uf->name[j], strlen(uf->name[j])) == 0)
+                len = strlen(uf->name[j]);
+        if (len > 0) {                  /* a file's name */
+            key[k++] = '@';
+            i += len;
+        } else if (why[i] >= '0' && why[i] <= '9') {   /* a number */
+            key[k++] = '#';
+            while ((why[i] >= '0' && why[i] <= '9') || why[i] == '.' || why[i] == 'e'
+                   || ((why[i] == '-' || why[i] == '+') && i > 0 && why[i - 1] == 'e'))
+                i++;
+        } else {
+            key[k++] = why[i++];
+        }
+    }
+    key[k] = '\0';
+    return key;
 }
 
 /* Read, fit and format fit number u (0-based) of the plan into o: its
@@ -492,7 +543,9 @@ row:
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status,
                 res.model ? res.model : "", num,
                 sizeof num / sizeof num[0], text, ident.s ? ident.s : "", msg.s ? msg.s : "",
-                grid);
+                grid, in.n > 0 ? &in.observed[0] : NULL);
+        if (failed == 1)
+            o->why = lf_strdup(res.stop_reason);
         if (cfg->keep) {
             o->res = res;
             o->have_res = 1;
@@ -511,7 +564,9 @@ row:
         };
         const char *text[NTEXT] = { "", "", "" };
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status, "", num,
-                sizeof num / sizeof num[0], text, "", ebuf, grid);
+                sizeof num / sizeof num[0], text, "", ebuf, grid,
+                in.n > 0 ? &in.observed[0] : NULL);
+        o->why = lf_strdup(ebuf);
     }
     if (cfg->keep && in.n > 0) {
         o->in = in;
@@ -521,6 +576,8 @@ row:
     }
     o->status = status;
     o->outcome = (lf_batch_outcome) failed;
+    if (o->why != NULL)
+        o->cause = cause_of(o->why, &uf);
     free(files.s);
     free(ident.s);
     free(msg.s);
@@ -599,6 +656,9 @@ unit_release(unit_out *o)
     if (o->have_in)
         lf_fit_input_free(&o->in);
     o->have_res = o->have_in = 0;
+    free(o->why);
+    free(o->cause);
+    o->why = o->cause = NULL;
     o->ready = 0;
     o->text.len = 0;
     o->text.failed = 0;
@@ -630,6 +690,8 @@ hand_over(engine *e, size_t u, unit_out *o)
     row.len = o->text.len;
     row.result = o->have_res ? &o->res : NULL;
     row.input = o->have_in ? &o->in : NULL;
+    row.why = o->why;
+    row.cause = o->cause;
     row.done = e->done;
     row.total = e->hi - e->lo;
     row.failed = e->failed;
@@ -806,6 +868,8 @@ lf_batch_row_json(const lf_batch_row *row, const lf_fit_request *req, const char
     info.assumed = assumed;
     info.nassumed = lf_fit_assumptions(req, in, row->result, assumed,
                                        sizeof assumed / sizeof assumed[0]);
+    info.observed = in->observed;
+    info.window = in->window;
     {
         /* the digests as strings */
         const char **sha = malloc((in->n ? in->n : 1) * sizeof *sha);

@@ -26,6 +26,36 @@ const char *lf_thin_scope(double b_over_a, double limit);
  * command parses every option's number through it. */
 int lf_option_number(const lf_option *opt, const char *text, double *x, lf_error *err);
 
+/* A probe as a lab states it, in the options' words (`fit` and `model`):
+ * NaN and NULL where not given.  k, tip, half_angle and B state its shape
+ * (R from each file's header where R is NaN and the shape uses it); b and
+ * interface its layer, neither for a half-space. */
+typedef struct {
+    double k, R, B, half_angle, b;
+    const char *tip, *interface;
+    const char *model;        /* the model's name, for messages */
+    int halfspace;            /* 1: the model needs no layer */
+} lf_probe_statement;
+/* 1 when a statement gives the shape (k, tip, half-angle or B). */
+int lf_probe_shape_stated(const lf_probe_statement *a);
+/* The probe of a statement into *p (R NaN: from the file's header; b NaN:
+ * no layer); LF_EINVAL naming only what is missing or contradicts. */
+int lf_probe_state(const lf_probe_statement *a, lf_probe *p, lf_error *err);
+/* The statement of the fit options (k, R, B, half-angle, b, tip,
+ * interface, and the model asked for). */
+void lf_fit_options_statement(const lf_fit_options *o, lf_probe_statement *a);
+
+/* A probe's shape as it was stated, in words: "cone, half-angle 35°",
+ * "Berkovich tip as its equivalent cone, ...", "sphere, R = 8 µm", "k = 2,
+ * R = 8 µm", "k = 1.5, B = 2000 m^-0.5 (f = B r^k)".  Returns buf. */
+const char *lf_probe_words(char *buf, size_t n, const lf_probe *p);
+/* The model-free observables' column and key names (adhesion_force_N,
+ * detachment_work_J, contact_point_m, max_indentation_m, max_force_N,
+ * instrument_Eeff_Pa) and their values, in that order. */
+#define LF_NOBSERVED 6
+extern const char *const lf_observed_keys[LF_NOBSERVED];
+void lf_observed_values(const lf_observables *o, double v[LF_NOBSERVED]);
+
 /* A plan already in memory (lf_input_read of path), its curves resolved
  * against path's folder. */
 int lf_plan_from_input(const lf_input *in, const char *path, lf_plan **out, lf_warnings *warn,

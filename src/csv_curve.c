@@ -67,6 +67,12 @@ lf_segment_name(lf_segment seg)
 }
 
 int
+lf_segment_find(const char *word)
+{
+    return lf_csv_segment_word(word);
+}
+
+int
 lf_csv_segment_word(const char *w)
 {
     static const char *const load[] = { "load", "loading", "approach", "extend", NULL };

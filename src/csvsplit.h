@@ -125,7 +125,7 @@ int lf_csv_cell_number(const char *file, const lf_csv_record *r, long k,
  * plan.c): the columns it may have and, once its header is read, where
  * each sits and the factor of its header unit.  The readers fill file,
  * cols, ncol and hint and zero the rest. */
-#define LF_CSV_MAX_COLUMNS 16
+#define LF_CSV_MAX_COLUMNS 24
 typedef struct {
     const char *file;           /* for messages */
     const lf_csv_column *cols;  /* ncol (at most LF_CSV_MAX_COLUMNS) */

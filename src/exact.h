@@ -61,6 +61,22 @@ typedef struct {
 int lf_exact_solve(const lf_exact_kernel *kr, double k, double tau, size_t N,
                    lf_exact_point *out, lf_error *err);
 
+/* The same for a sphere of radius R at contact radius a = rho R
+ * (0 < rho < 1): the second right-hand side is the sphere's
+ * g(x a) R/a^2 = x atanh(rho x)/rho (x^2 as rho -> 0), so that d and p are
+ * those of the paraboloid of R's scales (k = 2, B = 1/(2R)): delta1 =
+ * (h^2/R) tau^2 d, P1 = 2 E* (h^3/R) tau^3 p.  Derivatives at fixed rho. */
+int lf_exact_solve_sphere(const lf_exact_kernel *kr, double rho, double tau, size_t N,
+                          lf_exact_point *out, lf_error *err);
+
+/* The exact model's sphere of radius R (exact_sphere.c): ln f of the k = 2
+ * tables at u = ln tau (F, g = dF/du and, where not NULL, dg = dg/du,
+ * H = dF/dnu, dH = dH/du), as lf_exact_mix_eval_u gives them, turned into
+ * the sphere's in place (entries 2 and 3, d and p) at rho = a/R =
+ * tau h/R = exp(u + ln_hR); NaN where rho >= 1. */
+void lf_exact_sphere_adjust(double ln_hR, double u, double F[4], double g[4], double dg[4],
+                            double H[4], double dH[4]);
+
 /* The node count the tables use at tau for relative accuracy ~1e-8. */
 size_t lf_exact_nodes(double tau);
 

@@ -304,9 +304,39 @@ solve(const gsl_matrix *A, const gsl_permutation *perm, int chol, gsl_vector *b)
     return chol ? gsl_linalg_cholesky_svx(A, b) : gsl_linalg_LU_svx(A, perm, b);
 }
 
+/* The right-hand side of the second solution at x = t/a: x^k for a power
+ * law, x atanh(rho x)/rho for a sphere with a = rho R (rho > 0). */
+static double
+rhs_at(double k, double rho, double x)
+{
+    return rho > 0.0 ? x * atanh(rho * x) / rho : pow(x, k);
+}
+
+static int
+solve_rhs(const lf_exact_kernel *kr, double k, double rho, double tau, size_t N,
+          lf_exact_point *out, lf_error *err);
+
 int
 lf_exact_solve(const lf_exact_kernel *kr, double k, double tau, size_t N,
                lf_exact_point *out, lf_error *err)
+{
+    return solve_rhs(kr, k, 0.0, tau, N, out, err);
+}
+
+int
+lf_exact_solve_sphere(const lf_exact_kernel *kr, double rho, double tau, size_t N,
+                      lf_exact_point *out, lf_error *err)
+{
+    if (!(rho > 0.0 && rho < 1.0))
+        return lf_fail(err, LF_EINVAL, "a sphere's a/R must lie in (0, 1) (got %g)", rho);
+    return solve_rhs(kr, 2.0, rho, tau, N, out, err);
+}
+
+/* One Nystrom solve; the second right-hand side is rhs_at(k, rho, x).  For
+ * a sphere (rho > 0) the tau-derivatives are at fixed rho. */
+static int
+solve_rhs(const lf_exact_kernel *kr, double k, double rho, double tau, size_t N,
+          lf_exact_point *out, lf_error *err)
 {
     gsl_matrix *A = NULL;
     gsl_permutation *perm = NULL;
@@ -348,7 +378,7 @@ lf_exact_solve(const lf_exact_kernel *kr, double k, double tau, size_t N,
             gsl_matrix_set(A, j, i, b);
         }
         gsl_vector_set(U, i, wi);
-        gsl_vector_set(V, i, wi * pow(xi, k));
+        gsl_vector_set(V, i, wi * rhs_at(k, rho, xi));
     }
     if (gsl_linalg_cholesky_decomp1(A) == GSL_SUCCESS) {
         chol = 1;
@@ -401,7 +431,7 @@ lf_exact_solve(const lf_exact_kernel *kr, double k, double tau, size_t N,
     }
     /* edge values by Nystrom interpolation at x = 1, integrals by the rule */
     u1e = 1.0;
-    ve = 1.0;
+    ve = rhs_at(k, rho, 1.0);
     du1e = dve = su = sv = dsu = dsv = 0.0;
     for (j = 0; j < N; j++) {
         double xj = gsl_vector_get(x, j), wj = gsl_vector_get(w, j);

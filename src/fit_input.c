@@ -16,6 +16,7 @@ lf_input_settings_default(void)
     s.z0 = s.F0 = NAN;
     s.read = NULL;
     s.min_points = 5;
+    s.window = lf_window_all();
     s.open_flags = 0;
     return s;
 }
@@ -40,6 +41,8 @@ lf_fit_input_free(lf_fit_input *in)
     free(in->format);
     free(in->origin);
     free(in->index);
+    free(in->observed);
+    free(in->window);
     free(in->curves);
     memset(in, 0, sizeof *in);
 }
@@ -59,8 +62,10 @@ input_alloc(lf_fit_input *in, size_t n)
     in->format = calloc(n ? n : 1, sizeof *in->format);
     in->origin = calloc(n ? n : 1, sizeof *in->origin);
     in->index = calloc(n ? n : 1, sizeof *in->index);
+    in->observed = calloc(n ? n : 1, sizeof *in->observed);
+    in->window = calloc(n ? n : 1, sizeof *in->window);
     return in->curves && in->points && in->names && in->sha256 && in->R_source && in->format
-           && in->origin && in->index ? LF_OK : LF_ENOMEM;
+           && in->origin && in->index && in->observed && in->window ? LF_OK : LF_ENOMEM;
 }
 
 /* The probe of a curve: R from the file's header where the caller gives
@@ -72,6 +77,15 @@ resolve_probe(lf_probe *p, const lf_curve *c, const char *path, const char *give
 {
     lf_error e;
     *R_source = given;
+    if (!lf_probe_uses_R(p)) {
+        /* a cone, a pyramid or a stated prefactor: no R, none from the file */
+        *R_source = "not used";
+        if (isnan(p->b))
+            p->b = lf_probe_length(p);
+        if (lf_probe_check(p, &e) != LF_OK)
+            return lf_fail(err, e.status, "%s: %s", path, e.msg);
+        return LF_OK;
+    }
     if (!isnan(p->R) && c->R > 0 && isfinite(c->R) && fabs(p->R - c->R) > 1e-9 * c->R)
         lf_warn(warn, "%s: R = %.4g m from the %s, where the file header states %.4g m",
                 path, p->R, strcmp(given, "plan") == 0 ? "plan" : "--R option", c->R);
@@ -119,13 +133,37 @@ read_one(const char *path, long index, lf_file *source, const lf_read_opts *ro,
     return status;
 }
 
+/* Keep the points of curve j within its placed window (in->window[j]),
+ * in order; LF_EDATA when fewer than min_points remain. */
+static int
+apply_window(lf_fit_input *in, size_t j, size_t *n, size_t min_points, lf_error *err)
+{
+    lf_window_placed *w = &in->window[j];
+    double *z = in->points[2 * j], *F = in->points[2 * j + 1];
+    size_t i, m = 0;
+
+    w->n_in = *n;
+    for (i = 0; i < *n; i++)
+        if (!w->active || lf_window_keeps(w, z[i], F[i])) {
+            z[m] = z[i];
+            F[m++] = F[i];
+        }
+    w->n_kept = *n = m;
+    if (m < min_points)
+        return lf_fail(err, LF_EDATA, "%s: the fit window keeps %zu of its %zu points (at "
+                       "least %zu are needed)", in->names[j], m, w->n_in, min_points);
+    return LF_OK;
+}
+
 /* Curve j of in from the file at path (curve index of it, -1 its only
  * one; source: the file already open, or NULL); format is the plan's
- * format column ("" or NULL: the settings' format, else sniffed). */
+ * format column ("" or NULL: the settings' format, else sniffed); win the
+ * row's fit window (the settings' wins where it is not all). */
 static int
 add_curve(lf_fit_input *in, size_t j, const char *path, long index, lf_file *source,
           lf_segment seg, const lf_probe *probe, const char *given, const char *format,
-          double z0, double F0, const lf_input_settings *s, lf_warnings *warn, lf_error *err)
+          double z0, double F0, const lf_window *win, const lf_input_settings *s,
+          lf_warnings *warn, lf_error *err)
 {
     lf_curve *c = NULL;
     lf_fit_curve *fc = &in->curves[j];
@@ -134,6 +172,7 @@ add_curve(lf_fit_input *in, size_t j, const char *path, long index, lf_file *sou
     char split[4096];
     size_t n;
     int status;
+    lf_error e;
 
     if (s->read != NULL)
         ro = *s->read;
@@ -168,9 +207,16 @@ add_curve(lf_fit_input *in, size_t j, const char *path, long index, lf_file *sou
     in->points[2 * j] = malloc(n * sizeof(double));
     in->points[2 * j + 1] = malloc(n * sizeof(double));
     in->names[j] = lf_strdup(c->file);
-    if (!in->points[2 * j] || !in->points[2 * j + 1] || !in->names[j]) {
+    if (!in->points[2 * j] || !in->points[2 * j + 1] || !in->names[j]
+        || lf_observe(c, &in->observed[j], NULL) != LF_OK) {
         lf_curve_free(c);
         return lf_fail(err, LF_ENOMEM, "out of memory reading %s", path);
+    }
+    if (!lf_window_is_all(&s->window))
+        win = &s->window;
+    if ((status = lf_window_place(win, &in->observed[j], &in->window[j], &e)) != LF_OK) {
+        lf_curve_free(c);
+        return lf_fail(err, status, "%s: %s", in->names[j], e.msg);
     }
     in->index[j] = c->index;
     in->format[j] = c->format;
@@ -183,6 +229,8 @@ add_curve(lf_fit_input *in, size_t j, const char *path, long index, lf_file *sou
     in->origin[j].sensitivity_source = c->sensitivity_source;
     lf_curve_segment(c, seg, in->points[2 * j], in->points[2 * j + 1]);
     lf_curve_free(c);
+    if ((status = apply_window(in, j, &n, s->min_points, err)) != LF_OK)
+        return status;
     fc->name = in->names[j];
     fc->n = n;
     fc->depth = in->points[2 * j];
@@ -205,14 +253,20 @@ same_data_before(const lf_plan *plan, const size_t *rows, const lf_fit_input *in
     const lf_plan_row *row = &plan->rows[rows ? rows[j] : j];
     size_t i;
 
-    for (i = 0; i < j; i++)
-        if (in->curves[i].branch == in->curves[j].branch && in->index[i] == in->index[j]
-            && strcmp(in->sha256[i], in->sha256[j]) == 0)
-            return lf_fail_at(err, LF_EDATA, plan->path, row->line, 0,
-                              "%s holds the same data as %s (line %ld; SHA-256 %.12s...): one "
-                              "measurement listed twice would count twice (list it once)",
-                              row->file, in->names[i], plan->rows[rows ? rows[i] : i].line,
-                              in->sha256[j]);
+    for (i = 0; i < j; i++) {
+        if (in->curves[i].branch != in->curves[j].branch || in->index[i] != in->index[j]
+            || strcmp(in->sha256[i], in->sha256[j]) != 0)
+            continue;
+        if (plan->of_files)         /* files named by the caller, no plan lines */
+            return lf_fail(err, LF_EDATA, "%s holds the same data as %s (SHA-256 %.12s...): one "
+                           "measurement given twice would count twice (give it once)",
+                           row->file, in->names[i], in->sha256[j]);
+        return lf_fail_at(err, LF_EDATA, plan->path, row->line, 0,
+                          "%s holds the same data as %s (line %ld; SHA-256 %.12s...): one "
+                          "measurement listed twice would count twice (list it once)",
+                          row->file, in->names[i], plan->rows[rows ? rows[i] : i].line,
+                          in->sha256[j]);
+    }
     return LF_OK;
 }
 
@@ -287,8 +341,9 @@ lf_fit_input_from_plan(const lf_plan *plan, const size_t *rows, size_t nrows,
         }
         status = add_curve(in, j, row->file, row->index, row->source,
                            s->segment >= 0 ? (lf_segment) s->segment : row->segment,
-                           &row->probe, "plan", row->format, row->z0, row->F0, s, warn, err);
-        if (status != LF_OK && err != NULL && err->file[0] == '\0')
+                           &row->probe, plan->of_files ? "option" : "plan", row->format,
+                           row->z0, row->F0, &row->window, s, warn, err);
+        if (status != LF_OK && err != NULL && err->file[0] == '\0' && !plan->of_files)
             at_row(err, plan, row);
         if (status == LF_OK)
             status = same_data_before(plan, rows, in, j, err);
@@ -309,7 +364,8 @@ lf_fit_input_from_curve(const char *path, const lf_probe *probe, const lf_input_
 
     if (s == NULL)
         s = &def;
-    if (!isnan(probe->R) && !isnan(probe->b) && (status = lf_probe_check(probe, err)) != LF_OK)
+    if ((!isnan(probe->R) || !lf_probe_uses_R(probe)) && !isnan(probe->b)
+        && (status = lf_probe_check(probe, err)) != LF_OK)
         return status;
     if (input_alloc(in, 1) != LF_OK) {
         lf_fit_input_free(in);
@@ -317,7 +373,7 @@ lf_fit_input_from_curve(const char *path, const lf_probe *probe, const lf_input_
     }
     status = add_curve(in, 0, path, -1, NULL,
                        s->segment >= 0 ? (lf_segment) s->segment : LF_SEG_UNLOAD,
-                       probe, "option", NULL, NAN, NAN, s, warn, err);
+                       probe, "option", NULL, NAN, NAN, &s->window, s, warn, err);
     if (status != LF_OK)
         lf_fit_input_free(in);
     return status;

@@ -253,6 +253,8 @@ lf_fit_job_json(const lf_fit_job *j, const char *command_line, char **json, lf_e
     info.provenance = &prov;
     info.assumed = j->assumed;
     info.nassumed = j->nassumed;
+    info.observed = j->in.observed;
+    info.window = j->in.window;
     status = lf_fit_result_json(&j->res, &info, json, err);
     free(path);
     free((void *) sha);

@@ -16,7 +16,8 @@ enum {
     O_METHOD, O_JACOBIAN, O_MODEL, O_SEGMENT, O_NU, O_FIX_NU, O_FIX_Z0, O_FIX_F0, O_MAX_BA,
     O_MODEL_TOL, O_SLOPE, O_MAX_ITER, O_GUESS_W, O_GUESS_E, O_GUESS_NU, O_LOSS, O_LOSS_SCALE,
     O_INTERVALS, O_FORMAT, O_SPRING, O_SENSITIVITY, O_DEPTH_UNIT, O_FORCE_UNIT, O_SKIP_BAD,
-    O_K, O_R, O_B, O_INTERFACE, O_COUNT
+    O_K, O_R, O_B, O_INTERFACE, O_TIP, O_HALF_ANGLE, O_PREFACTOR, O_DEPTH_RANGE, O_FORCE_RANGE,
+    O_SAMPLE, O_GROUP_BY, O_COUNT
 };
 
 const lf_option lf_fit_option_table[] = {
@@ -48,6 +49,13 @@ const lf_option lf_fit_option_table[] = {
     { "R", LF_OPTION_QUANTITY, LF_Q_LENGTH },
     { "b", LF_OPTION_QUANTITY, LF_Q_LENGTH },
     { "interface", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },
+    { "tip", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },
+    { "half-angle", LF_OPTION_QUANTITY, LF_Q_ANGLE },
+    { "B", LF_OPTION_NUMBER, LF_Q_DIMENSIONLESS },
+    { "depth-range", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },
+    { "force-range", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },
+    { "sample", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },
+    { "group-by", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },
     { NULL, LF_OPTION_FLAG, LF_Q_DIMENSIONLESS }
 };
 
@@ -250,6 +258,7 @@ lf_fit_options_request(lf_fit_options *o, lf_fit_request *req, lf_error *err)
     const double *v = o->value;
     double nu;
     size_t i;
+    lf_error e;
 
     *s = lf_fit_settings_default();
     *cs = lf_choose_settings_default();
@@ -295,13 +304,22 @@ lf_fit_options_request(lf_fit_options *o, lf_fit_request *req, lf_error *err)
     else
         return lf_fail(err, LF_EINVAL, "--intervals must be auto or linear (got '%s')", intervals);
     if (segment != NULL) {
-        if (strcmp(segment, "unload") == 0)
-            is->segment = LF_SEG_UNLOAD;
-        else if (strcmp(segment, "load") == 0)
-            is->segment = LF_SEG_LOAD;
-        else
-            return lf_fail(err, LF_EINVAL, "--segment must be unload or load (got '%s')", segment);
+        /* the words of a plan's segment column */
+        int seg = lf_segment_find(segment);
+        if (seg == LF_SEG_HOLD)
+            return lf_fail(err, LF_EINVAL, "--segment %s is a hold, which is never fitted "
+                           "(unload, retract or withdraw; load, approach or extend)", segment);
+        if (seg < 0)
+            return lf_fail(err, LF_EINVAL, "--segment must be unload (retract, withdraw) or load "
+                           "(approach, extend) (got '%s')", segment);
+        is->segment = seg;
     }
+    if (o->text[O_DEPTH_RANGE] != NULL
+        && lf_range_parse(o->text[O_DEPTH_RANGE], LF_Q_LENGTH, &is->window.depth, &e) != LF_OK)
+        return lf_fail(err, e.status, "--depth-range: %s", e.msg);
+    if (o->text[O_FORCE_RANGE] != NULL
+        && lf_range_parse(o->text[O_FORCE_RANGE], LF_Q_FORCE, &is->window.force, &e) != LF_OK)
+        return lf_fail(err, e.status, "--force-range: %s", e.msg);
     is->z0 = v[O_FIX_Z0];
     is->F0 = v[O_FIX_F0];
     is->min_points = LF_FIT_MIN_POINTS;     /* the same test as `layerfit check` */
@@ -340,51 +358,42 @@ lf_fit_options_request(lf_fit_options *o, lf_fit_request *req, lf_error *err)
     return LF_OK;
 }
 
+void
+lf_fit_options_statement(const lf_fit_options *o, lf_probe_statement *a)
+{
+    const lf_model_type *t = lf_model_type_find(text_of(o, O_MODEL));
+
+    a->k = o->value[O_K];
+    a->R = o->value[O_R];
+    a->B = o->value[O_PREFACTOR];
+    a->half_angle = o->value[O_HALF_ANGLE];
+    a->b = o->value[O_B];
+    a->tip = o->text[O_TIP];
+    a->interface = o->text[O_INTERFACE];
+    a->model = text_of(o, O_MODEL);
+    a->halfspace = t != NULL && t->scope == LF_SCOPE_HALFSPACE;
+}
+
 int
 lf_fit_options_probe(const lf_fit_options *o, lf_probe *p, int *single, lf_error *err)
 {
-    const char *interface = o->text[O_INTERFACE];
-    double k = o->value[O_K], R = o->value[O_R], b = o->value[O_B];
-    const lf_model_type *t = lf_model_type_find(text_of(o, O_MODEL));
-    /* a half-space has no thickness and no interface: b NaN, a stand-in
-     * (R) that no half-space formula uses; R NaN: from the file header */
-    int halfspace = t != NULL && t->scope == LF_SCOPE_HALFSPACE;
-    int base = LF_BASE_FRICTIONLESS;
-    lf_error e;
+    lf_probe_statement a;
+    int status;
 
+    lf_fit_options_statement(o, &a);
     *single = 0;
-    if (isnan(k)) {
+    if (!lf_probe_shape_stated(&a)) {
         /* a plan gives each curve's probe in its own row: an option that
          * would be ignored is refused */
-        if (!isnan(R) || !isnan(b) || interface != NULL)
-            return lf_fail(err, LF_EINVAL, "--%s applies to a single curve (with --k); a plan "
-                           "gives each curve's probe in its row (columns k, R, b, interface; R "
-                           "may read 'header')", !isnan(R) ? "R" : !isnan(b) ? "b" : "interface");
+        if (!isnan(a.R) || !isnan(a.b) || a.interface != NULL)
+            return lf_fail(err, LF_EINVAL, "--%s applies to curve files (with --k or --tip); a "
+                           "plan gives each curve's probe in its row (columns k, R, b, interface, "
+                           "tip, half_angle, prefactor; R may read 'header')",
+                           !isnan(a.R) ? "R" : !isnan(a.b) ? "b" : "interface");
         return LF_OK;
     }
-    if (halfspace && isnan(b) != (interface == NULL))
-        return lf_fail(err, LF_EINVAL, "--b and --interface go together (and the half-space "
-                       "model uses neither: leave both out)");
-    if (!(halfspace && isnan(b) && interface == NULL)) {
-        if (isnan(b) || interface == NULL)
-            return lf_fail(err, LF_EINVAL, "a single curve needs --k, --R, --b and --interface "
-                           "(e.g. --k 2 --R 1mm --b 1um --interface frictionless)");
-        if (strcmp(interface, "frictionless") == 0)
-            base = LF_BASE_FRICTIONLESS;
-        else if (strcmp(interface, "bonded") == 0)
-            base = LF_BASE_BONDED;
-        else
-            return lf_fail(err, LF_EINVAL, "unknown interface '%s' (frictionless or bonded)",
-                           interface);
-    }
-    p->k = k;
-    p->R = isnan(R) ? 1.0 : R;    /* checked with the file's R after reading */
-    p->b = isnan(b) ? p->R : b;
-    p->base = (lf_base) base;
-    if (lf_probe_check(p, &e) != LF_OK)
-        return lf_fail(err, e.status, "%s", e.msg);
-    p->R = R;
-    p->b = b;
+    if ((status = lf_probe_state(&a, p, err)) != LF_OK)
+        return status;
     *single = 1;
     return LF_OK;
 }

@@ -30,6 +30,24 @@ int lf_fail_at(lf_error *err, int status, const char *file, long line,
  * a warning is never worth failing for). */
 void lf_warn(lf_warnings *w, const char *fmt, ...) LF_PRINTF(2, 3);
 
+/* ln of the profile's prefactor B (lf_probe_prefactor), formed without B
+ * itself, which leaves double precision for large k. */
+double lf_probe_log_prefactor(const lf_probe *p);
+/* 1 for a power law stated by R (LF_TIP_POWER without B), whose models
+ * keep the seed paper's arithmetic in R. */
+static inline int
+lf_probe_by_R(const lf_probe *p)
+{
+    return p->tip == LF_TIP_POWER && !(p->B > 0);
+}
+/* A length that scales the probe: R where it is given, else the R of its
+ * B (k != 1), else 1 m (a cone has none); for brackets of searches. */
+double lf_probe_length(const lf_probe *p);
+
+/* The thin-layer force scale C of a probe per unit constrained modulus M
+ * (model_thin.c): C / M = pi/b k/(k+2) B^(-2/k). */
+double lf_thin_scale(const lf_probe *p);
+
 /* LF_OK when the open file fd (named path) is no larger than
  * lf_input_limit(), else LF_EIO with a message saying so and how to raise
  * it (input.c): for readers that read a whole file, in blocks, into what

@@ -102,7 +102,8 @@ typedef enum {
     LF_Q_SENS_VOLT,   /* m/V (deflection sensitivity of a voltage signal) */
     LF_Q_SENS_AMP,    /* m/A (deflection sensitivity of a current signal) */
     LF_Q_VOLTAGE,     /* V (a raw signal) */
-    LF_Q_CURRENT      /* A (a raw signal) */
+    LF_Q_CURRENT,     /* A (a raw signal) */
+    LF_Q_ANGLE        /* rad (a probe's half-angle: "35deg", "35°", "0.61rad") */
 } lf_quantity;
 
 /* The SI unit symbol of a quantity ("m", "N", "J/m^2", "Pa", "s", ""). */
@@ -135,13 +136,56 @@ typedef enum {
     LF_BRANCH_LOAD = 1        /* approach / extend: contact made at delta = 0 */
 } lf_branch;
 
-/* What is known about one probe and the layer under it. */
+/* How a probe's shape is stated (lf_probe.tip).  Every shape but the
+ * sphere is a power law f(r) = B r^k, B its prefactor in m^(1-k)
+ * (lf_probe_prefactor). */
+typedef enum {
+    LF_TIP_POWER = 0, /* f = B r^k with B as stated, else B = 1/(k R^(k-1))
+                         from R (k = 2: a paraboloid of radius R) */
+    LF_TIP_CONE,      /* k = 1, a cone of half-angle `angle`: f = r cot(angle) */
+    LF_TIP_BERKOVICH, /* k = 1, a Berkovich pyramid as its equivalent cone, the
+                         cone of the same area-to-depth ratio (24.5): half-angle
+                         70.3 deg (Oliver & Pharr 1992, J. Mater. Res. 7:1564;
+                         Fischer-Cripps, Nanoindentation) */
+    LF_TIP_PYRAMID,   /* k = 1, a four-sided pyramid of face half-angle `angle`
+                         as the cone of the same projected area at every depth,
+                         tan(alpha) = 2 tan(angle) / sqrt(pi) (Bilodeau 1992,
+                         J. Appl. Mech. 59:519; Rico et al. 2005, Phys. Rev. E
+                         72:021914) */
+    LF_TIP_SPHERE     /* k = 2, a sphere of radius R: f = R - sqrt(R^2 - r^2),
+                         contact radius a < R, no assumption a << R */
+} lf_tip;
+
+/* What is known about one probe and the layer under it.  A probe zeroed
+ * beyond its first four members is the power law of R. */
 typedef struct {
     double k;        /* profile exponent, > 0 */
-    double R;        /* reference length of the profile, m, > 0 */
+    double R;        /* reference length of the profile, m, > 0; unused (NaN
+                        allowed) by a cone, a pyramid, or a stated B */
     double b;        /* layer thickness, m, > 0 */
     lf_base base;    /* interface with the rigid substrate */
+    lf_tip tip;      /* the shape (LF_TIP_POWER by default) */
+    double angle;    /* LF_TIP_CONE: its half-angle; LF_TIP_PYRAMID: its face
+                        half-angle; rad, in (0, pi/2); else unused */
+    double B;        /* LF_TIP_POWER: the prefactor of f = B r^k, m^(1-k), or
+                        0: from R; else unused */
 } lf_probe;
+
+/* The profile's prefactor B of f = B r^k, m^(1-k): as stated, from R
+ * (1/(k R^(k-1))), or cot of the (equivalent) cone's half-angle; for a
+ * sphere its apex's paraboloid, 1/(2R).  NaN for a probe without one. */
+LF_API double lf_probe_prefactor(const lf_probe *probe);
+/* The half-angle of a k = 1 tip's (equivalent) cone, rad; NaN for others. */
+LF_API double lf_probe_cone_angle(const lf_probe *probe);
+/* A tip's name ("power", "cone", "berkovich", "pyramid", "sphere"), and the
+ * tip of a name (those and "paraboloid", the power law with k = 2), with
+ * the k the name implies (*k: 1, 2, or NaN when it implies none; may be
+ * NULL); -1 for an unknown name. */
+LF_API const char *lf_tip_name(lf_tip tip);
+LF_API int lf_tip_find(const char *name, double *k);
+/* 1 when the probe's shape is stated by R (a power law without a stated
+ * B, a sphere); 0 when R is unused (a cone, a pyramid, a stated B). */
+LF_API int lf_probe_uses_R(const lf_probe *probe);
 
 /* The material: what a fit estimates. */
 typedef struct {
@@ -224,8 +268,10 @@ LF_API extern const lf_model_type *const lf_model_types[];
 LF_API const lf_model_type *lf_model_type_find(const char *name);
 
 /* Check a probe and a material against the domain every model shares
- * (k > 0, R > 0, b > 0, w >= 0, E* > 0, 0 <= nu < 0.5 for bonded layers,
- * everything finite).  LF_EINVAL with a message naming the parameter. */
+ * (k > 0, R > 0 where the shape uses it, b > 0, w >= 0, E* > 0,
+ * 0 <= nu < 0.5 for bonded layers, everything finite; a tip's k and
+ * angle).  A k = 1 power law needs a stated B: R does not shape a cone.
+ * LF_EINVAL with a message naming the parameter. */
 LF_API int lf_probe_check(const lf_probe *probe, lf_error *err);
 LF_API int lf_material_check(const lf_material *mat, lf_base base, lf_error *err);
 
@@ -1025,6 +1071,21 @@ typedef struct {
     long index;               /* its place in its file (0 for a file of one curve) */
 } lf_curve;
 
+/* A fit window (src/window.c): the part of a curve a fit takes.  Depth
+ * bounds the indentation from the curve's contact point, force the force
+ * above its baseline, both found without a model (lf_observe); each bound
+ * in SI (m, N), or, when relative, a fraction of the deepest indentation
+ * or the largest force (0.3 for 30%); NaN: open. */
+typedef struct {
+    double lo, hi;
+    int relative;
+} lf_range;
+
+typedef struct {
+    lf_range depth;
+    lf_range force;
+} lf_window;
+
 /* One row of a fit plan: which curve, and what is known about it.
  * A value that the plan leaves open is NaN (nu) or empty (sample). */
 typedef struct {
@@ -1037,6 +1098,8 @@ typedef struct {
     double z0;                /* contact point offset, m, if the plan fixes it, else NaN */
     double F0;                /* force offset, N, if the plan fixes it, else NaN */
     char *format;             /* the curve file's reader name, "" = sniffed */
+    lf_window window;         /* the fit window of the row's curve (its
+                                 depth_range and force_range cells), or all */
     long index;               /* which curve of a file of many (`file#N` or the
                                  index column), or -1: the file's only curve
                                  (lf_plan_expand: all of them) */
@@ -1054,6 +1117,9 @@ typedef struct {
     lf_plan_row *rows;
     size_t nfiles;            /* files opened by lf_plan_expand or */
     struct lf_file **files;   /* lf_plan_open_files, closed by lf_plan_free */
+    int of_files;             /* 1: made by lf_plan_of_files from files and a
+                                 probe given by the caller, not read from a
+                                 plan file (messages say so) */
 } lf_plan;
 
 /* Release a curve or a plan made by the readers below and everything it
@@ -1175,6 +1241,20 @@ LF_API int lf_plan_parse(const char *buf, size_t len, size_t chunk, const char *
  * seg; for `layerfit fit --batch MAP --k ...`. */
 LF_API int lf_plan_of_file(const char *path, const lf_probe *probe, lf_segment seg, lf_plan **out,
                     lf_error *err);
+/* The same for n files, one row each in their order (`layerfit fit a.txt
+ * b.txt ...`): every row the same probe and segment, no sample. */
+LF_API int lf_plan_of_files(size_t n, const char *const *paths, const lf_probe *probe, lf_segment seg,
+                     lf_plan **out, lf_error *err);
+/* Name each row's sample by a rule (`layerfit fit --group-by RULE`):
+ *   "field:KEY"  the value of the curve file's header field KEY (its
+ *                metadata, as `layerfit check` lists it);
+ *   "name:REGEX" the first group (else the whole match) of the POSIX
+ *                extended regular expression REGEX in the file's name
+ *                (without its folder);
+ *   "dir"        the file's folder.
+ * A row the rule does not match is LF_EDATA naming it.  Rows that name a
+ * file of many curves take the field of its first curve. */
+LF_API int lf_plan_group(lf_plan *plan, const char *rule, const lf_read_opts *o, lf_error *err);
 /* Make one row per curve of every file of many curves that a row names
  * without an index (the row's other cells copied; index 0..N-1), opening
  * each such file once (lf_file_open, o as there) and keeping it open in
@@ -1252,8 +1332,73 @@ LF_API size_t lf_curve_segment(const lf_curve *c, lf_segment seg, double *depth,
 LF_API int lf_curve_check_fit(const lf_curve *c, lf_segment seg, size_t min_points,
                        lf_error *err);
 
-/* The name of a segment ("load", "unload", "hold"). */
+/* The name of a segment ("load", "unload", "hold"), and the segment of a
+ * word as plans and options take it (case aside): load, loading, approach,
+ * extend; unload, unloading, retract, withdraw; hold, holding, pause,
+ * dwell.  -1 for another word. */
 LF_API const char *lf_segment_name(lf_segment seg);
+LF_API int lf_segment_find(const char *word);
+
+/* What a lab reads off a curve without any contact model (src/observe.c),
+ * in SI.  Each segment is taken in order of depth; its baseline is the
+ * median force over its flat shallow end (the shallowest fifth of its
+ * depth range, halved while not flat).  A value the curve does not show
+ * (no retract segment, no rise above the baseline) is NaN. */
+typedef struct {
+    double adhesion_force;   /* N, >= 0: the retract segment's baseline less
+                                its least force (the largest pull) */
+    double detachment_work;  /* J, >= 0: the area between the retract
+                                segment and its baseline, over the dip
+                                around that least force, in depth */
+    double contact_point;    /* m: the zero-force point (LF_CONTACT_METHOD) */
+    lf_segment contact_segment; /* the segment it was found on (approach,
+                                else retract) */
+    double max_indentation;  /* m: the deepest point less the contact point */
+    double max_force;        /* N: the largest force less the baseline */
+    double baseline;         /* N: the retract's baseline force, else the
+                                approach's */
+    double noise;            /* N: the force's sd about that baseline */
+    double instrument_Eeff;  /* Pa: the modulus the instrument's header states
+                                (Chiaro / Piuma "E[eff] (Pa)"), or NaN */
+    char instrument_model[32]; /* the header's model of it ("Hertz"), or "" */
+} lf_observables;
+
+/* How the contact point is found, in words for reports. */
+#define LF_CONTACT_METHOD "zero-force point: from the deepest point towards the surface, " \
+    "past the first point within 3 noise sd of the baseline, where the force crosses " \
+    "the baseline (the approach segment's, else the retract's)"
+
+/* Fill *o for curve c (every segment it holds).  LF_ENOMEM only. */
+LF_API int lf_observe(const lf_curve *c, lf_observables *o, lf_error *err);
+
+/* The window that keeps everything, and whether w is it. */
+LF_API lf_window lf_window_all(void);
+LF_API int lf_window_is_all(const lf_window *w);
+/* Parse "LO:HI" ("0:500nm", "0:30%", ":2uN", "-20nN:"): each side empty
+ * (open), a percentage, a value with a unit of q (LF_Q_LENGTH or
+ * LF_Q_FORCE), or a bare 0; both sides of one kind.  LF_EINVAL or LF_EUNIT
+ * with a message. */
+LF_API int lf_range_parse(const char *text, lf_quantity q, lf_range *r, lf_error *err);
+
+/* A window placed on one curve, in its own depth and force. */
+typedef struct {
+    int active;                /* 0: every point kept */
+    lf_window window;          /* as stated */
+    double depth_lo, depth_hi; /* the curve's depth, m (-inf, inf: open) */
+    double force_lo, force_hi; /* the curve's force, N */
+    double contact_point;      /* m, and the baseline, N, it was placed from */
+    double baseline;
+    size_t n_in, n_kept;       /* the segment's points, and those kept
+                                  (filled by the caller) */
+} lf_window_placed;
+
+/* Place w on a curve from its observables: LF_EDATA (with what is missing)
+ * when the curve shows no contact point for a depth window, no baseline
+ * for a force window, or nothing to take a fraction of. */
+LF_API int lf_window_place(const lf_window *w, const lf_observables *o, lf_window_placed *out,
+                    lf_error *err);
+/* 1 when a point lies within the placed window. */
+LF_API int lf_window_keeps(const lf_window_placed *p, double depth, double force);
 
 /* ------------------------------------------------------------------------
  * Planning a test: what a set of candidate curves would measure (fit/design.c)
@@ -1513,6 +1658,8 @@ typedef struct {
     unsigned open_flags;  /* lf_input_read flags for the curve files: 0
                              (default) regular files only; LF_INPUT_STREAM
                              also a pipe or FIFO (a file named by a user) */
+    lf_window window;     /* all (default): each row's window (none unless
+                             its plan gives one); else every curve's */
 } lf_input_settings;
 
 LF_API lf_input_settings lf_input_settings_default(void);
@@ -1546,6 +1693,10 @@ typedef struct {
     lf_curve_origin *origin;  /* n: where each curve's probe and constants came from */
     long *index;              /* n: each curve's place in its file (0 for a file
                                  of one curve) */
+    lf_observables *observed; /* n: what each curve shows without a model
+                                 (lf_observe, over all its segments) */
+    lf_window_placed *window; /* n: each curve's fit window as placed (its
+                                 points outside it are not in curves[]) */
 } lf_fit_input;
 
 /* Read the curves of rows[0..nrows-1] of the plan (rows NULL: every row,
@@ -1622,8 +1773,10 @@ typedef struct {
  * jacobian, model, segment, nu, fix-nu, fix-z0, fix-F0, max-b-over-a,
  * model-tol, slope, max-iter, guess-w, guess-E, guess-nu, loss,
  * loss-scale, intervals, format, spring-constant, sensitivity,
- * depth-unit, force-unit, skip-bad-rows, and the probe of a single curve
- * k, R, b, interface (`layerfit fit --help` says what each means). */
+ * depth-unit, force-unit, skip-bad-rows, the probe of curve files k, R,
+ * b, interface, tip, half-angle, B, the fit windows depth-range and
+ * force-range, and the samples of curve files sample and group-by
+ * (`layerfit fit --help` says what each means). */
 LF_API extern const lf_option lf_fit_option_table[];
 
 /* The fewest points of a segment worth fitting: one more than the most
@@ -1673,10 +1826,11 @@ LF_API const lf_fit_request *lf_fit_options_checked(lf_fit_options *o, lf_error 
  * sensitivity, depth-unit, force-unit, skip-bad-rows): checked, held by
  * the options as the request's are; NULL with err on a bad value. */
 LF_API const lf_read_opts *lf_fit_options_read(lf_fit_options *o, lf_error *err);
-/* The probe options k, R, b, interface: with k given, *single = 1 and p
- * the probe of a single curve or of every curve of a file of many (R NaN:
- * from the file's header; b NaN with no interface: no layer, for the
- * half-space model, which then needs neither); without k, *single = 0
+/* The probe options k, R, b, interface, tip, half-angle, B: with the
+ * shape given (k, tip, half-angle or B), *single = 1 and p the probe of a
+ * single curve, of every curve of a file of many or of curve files (R NaN:
+ * from each file's header; b NaN with no interface: no layer, for the
+ * half-space model, which then needs neither); without it, *single = 0
  * (a plan gives each curve's probe in its row, and R, b or interface
  * given then is an error).  LF_EINVAL naming what is missing or wrong. */
 LF_API int lf_fit_options_probe(const lf_fit_options *o, lf_probe *p, int *single,
@@ -1818,6 +1972,11 @@ typedef struct {
     size_t done, total;    /* rows handed over so far, this one included,
                               of the shard's */
     size_t failed, misfits; /* of those done */
+    const char *why;       /* a failed fit (LF_BATCH_FAILED): why, its message
+                              or the fit's stop reason; else NULL */
+    const char *cause;     /* the same with its files' names as '@' and every
+                              number as '#', so that failures of one cause
+                              compare equal; NULL with why (or out of memory) */
 } lf_batch_row;
 
 /* Called once per row, one call at a time, from the worker threads (the
@@ -1906,6 +2065,10 @@ typedef struct {
     const lf_assumption *assumed;  /* what the fit assumed rather than
                                       fitted (lf_fit_assumptions), or NULL */
     size_t nassumed;
+    const lf_observables *observed; /* what each curve shows without a model
+                                      (lf_fit_input), or NULL */
+    const lf_window_placed *window; /* each curve's fit window (lf_fit_input),
+                                      or NULL */
 } lf_report_info;
 
 /* The result as the JSON document of `layerfit fit --json` (SI, numbers

@@ -31,20 +31,6 @@ lf_model_type_find(const char *name)
 }
 
 int
-lf_probe_check(const lf_probe *p, lf_error *err)
-{
-    if (!(isfinite(p->k) && p->k > 0))
-        return lf_fail(err, LF_EINVAL, "k must be a finite number > 0 (got %g)", p->k);
-    if (!(isfinite(p->R) && p->R > 0))
-        return lf_fail(err, LF_EINVAL, "R must be a finite length > 0 (got %g m)", p->R);
-    if (!(isfinite(p->b) && p->b > 0))
-        return lf_fail(err, LF_EINVAL, "b must be a finite length > 0 (got %g m)", p->b);
-    if (p->base != LF_BASE_FRICTIONLESS && p->base != LF_BASE_BONDED)
-        return lf_fail(err, LF_EINVAL, "interface must be frictionless or bonded");
-    return LF_OK;
-}
-
-int
 lf_material_check(const lf_material *m, lf_base base, lf_error *err)
 {
     if (!(isfinite(m->w) && m->w >= 0))
@@ -190,14 +176,19 @@ static int
 region_fail(const lf_model *m, const lf_material *mat, lf_error *err, const char *why,
             double at)
 {
-    char where[64] = "", b[48] = "";
+    char where[64] = "", b[48] = "", shape[64];
 
     if (!isnan(at))
         snprintf(where, sizeof where, " at an indentation of %.4g m", at);
     if (m->type->scope != LF_SCOPE_HALFSPACE)
         snprintf(b, sizeof b, ", b = %g m", m->probe.b);
-    return lf_fail(err, LF_EINVAL, "model %s cannot be evaluated at k = %g, R = %g m%s "
-                   "(w = %g J/m^2, E* = %g Pa): %s%s", m->type->name, m->probe.k, m->probe.R,
+    if (lf_probe_uses_R(&m->probe))
+        snprintf(shape, sizeof shape, "R = %g m", m->probe.R);
+    else        /* a cone's or a stated B's R shapes nothing */
+        snprintf(shape, sizeof shape, "B = %g m^%g", lf_probe_prefactor(&m->probe),
+                 1.0 - m->probe.k);
+    return lf_fail(err, LF_EINVAL, "model %s cannot be evaluated at k = %g, %s%s "
+                   "(w = %g J/m^2, E* = %g Pa): %s%s", m->type->name, m->probe.k, shape,
                    b, mat->w, mat->Estar, why, where);
 }
 
@@ -223,7 +214,8 @@ lf_model_check_region(const lf_model *m, const lf_material *mat, lf_error *err)
     span = fmax(fabs(po.delta_po - po.delta_detach), fabs(po.delta_detach));
     /* without adhesion the curve starts at 0: a thousandth of the layer
      * (of R for a half-space) */
-    scale = m->type->scope == LF_SCOPE_HALFSPACE ? m->probe.R : fmin(m->probe.b, m->probe.R);
+    scale = m->type->scope == LF_SCOPE_HALFSPACE ? lf_probe_length(&m->probe)
+                                                 : fmin(m->probe.b, lf_probe_length(&m->probe));
     if (!(span > 0))
         span = 1e-4 * scale;
     for (i = 0; i < REGION_POINTS; i++)

@@ -109,7 +109,24 @@ typedef struct {
 /* Per-probe constants. */
 typedef struct {
     double k, h, A1, Fc;          /* Fc = F1/E* = 2 h A1 */
+    double ln_hR;                 /* a sphere (exact_sphere.c): ln(h/R); else NaN */
 } probe_consts;
+
+/* The largest a/R of a sphere's contact: the correction of the k = 2
+ * tables (exact_sphere.c) holds to a few percent up to 0.9 R and has a
+ * logarithmic singularity at R. */
+#define SPHERE_RHO_MAX 0.99
+
+/* The tables' ln f at u for a probe: the mix's, made a sphere's where
+ * ln_hR is a number (exact_sphere.c). */
+static void
+mix_u(const lf_exact_mix *mx, double ln_hR, double u, double F[4], double g[4], double dg[4],
+      double H[4], double dH[4])
+{
+    lf_exact_mix_eval_u(mx, u, F, g, dg, H, dH);
+    if (!isnan(ln_hR))
+        lf_exact_sphere_adjust(ln_hR, u, F, g, dg, H, dH);
+}
 
 /* The model object's state: the tables it uses, resolved from the process
  * store when the model is made (frictionless) or prepared for a nu range
@@ -164,12 +181,15 @@ memo_slot(unsigned long long serial, const lf_material *m, uint64_t key[3])
 static void
 probe_consts_of(const lf_probe *pr, probe_consts *pc)
 {
-    double kap = lf_exact_kappa(pr->k), B = 1.0 / (pr->k * pow(pr->R, pr->k - 1.0));
-
     pc->k = pr->k;
     pc->h = pr->b;
-    pc->A1 = B * kap * pow(pr->b, pr->k);
+    /* B kappa_k h^k; from logarithms where B alone leaves double precision
+     * (a flat punch) */
+    pc->A1 = lf_probe_prefactor(pr) * lf_exact_kappa(pr->k) * pow(pr->b, pr->k);
+    if (!isnormal(pc->A1))
+        pc->A1 = exp(lf_probe_log_prefactor(pr) + log(lf_exact_kappa(pr->k)) + pr->k * log(pr->b));
     pc->Fc = 2.0 * pr->b * pc->A1;
+    pc->ln_hR = pr->tip == LF_TIP_SPHERE ? log(pr->b / pr->R) : NAN;
 }
 
 /* The table of nu node `node` (ignored when frictionless), from the state
@@ -261,6 +281,8 @@ lf_exact_conditions_built(void)
 static int
 mixdata_build(mixdata *md, exact_state *st, const lf_probe *pr, double nu, lf_error *err)
 {
+    const double ln_hR = pr->tip == LF_TIP_SPHERE ? log(pr->b / pr->R) : NAN;
+    const double u_top = isnan(ln_hR) ? INFINITY : log(SPHERE_RHO_MAX) - ln_hR;
     int i, w, status;
 
     atomic_fetch_add_explicit(&conditions_built, 1, memory_order_relaxed);
@@ -273,7 +295,15 @@ mixdata_build(mixdata *md, exact_state *st, const lf_probe *pr, double nu, lf_er
     lf_exact_premix_init(&md->premix, &md->mix);
     for (i = 0; i < GRID_N; i++) {
         double F[4], g[4], dg[4], u = GRID_U0 + GRID_HU * i;
-        lf_exact_mix_eval_u(&md->mix, u, F, g, dg, NULL, NULL);
+        if (u >= u_top) {
+            /* past a sphere's largest contact: delta, P rise there */
+            for (w = 0; w < 3; w++) {
+                md->r[w][i] = INFINITY;
+                md->dr[w][i] = NAN;
+            }
+            continue;
+        }
+        mix_u(&md->mix, ln_hR, u, F, g, dg, NULL, NULL);
         for (w = 0; w < 3; w++) {
             md->r[w][i] = rho_of(w, pr->k, u, F, g);
             md->dr[w][i] = drho_of(w, pr->k, g, dg);
@@ -367,7 +397,7 @@ slot_claim(exact_state *st)
  * lf_exact_eval_precise keeps the exponentials, and tests/test_exact.c
  * holds the two to 1e-12). */
 #define PP_SUB 16
-#define PP_DEG 6
+#define PP_DEG 6             /* curve_poly's Estrin scheme is written for 6 */
 #define PP_NC (PP_DEG + 1)
 #define PP_NF 5              /* the four products and tau = e^u itself */
 
@@ -497,7 +527,9 @@ mixdata_get(exact_state *st, const lf_probe *pr, double nu, mixdata *local,
     *held = NULL;
     if (pr->base != LF_BASE_BONDED) {
         nu = 0.0;
-        if (st != NULL && (*out = shared_mixdata(st)) != NULL)
+        /* a frictionless table's shared mixdata is a power law's: a
+         * sphere's conditions depend on its R/h too, kept in its slot */
+        if (st != NULL && pr->tip != LF_TIP_SPHERE && (*out = shared_mixdata(st)) != NULL)
             return LF_OK;
     }
     if (st != NULL) {
@@ -547,6 +579,7 @@ typedef struct {
     double d2, P2, ddelta_nu_u, dP_nu_u;
     double shift1, shift2, Ssh1, Ssh2, P11, P12;
     double tau;                        /* e^u, from curve_poly (else NAN) */
+    double idd;                        /* 1/dd, from invert */
 } exact_pt;
 
 /* The mix at one u: ln f, g = d ln f/du, dg = dg/du. */
@@ -562,6 +595,9 @@ typedef struct {
     double k, h;
     double A1, A2, F1, Sc;  /* Sc = 2 E* h A2: S shift = Sc tau^(3/2) s/e */
     double L;             /* ln lambda = ln (A2/A1) */
+    double ln_hR;         /* a sphere: ln(h/R) (mix_u); else NaN */
+    double u_top;         /* the largest ln tau: U_HIGH, or a sphere's at
+                             SPHERE_RHO_MAX */
     double u_det;         /* ln tau at detachment, -INFINITY when none */
     double delta_det;
     exact_pt det;         /* the curve at u_det (when finite) */
@@ -623,7 +659,7 @@ curve_at(const exact_ctx *c, double u, int want_nu, exact_pt *o)
 {
     double F[4], g[4], H[4];
 
-    lf_exact_mix_eval_u(c->mx, u, F, g, NULL, want_nu ? H : NULL, NULL);
+    mix_u(c->mx, c->ln_hR, u, F, g, NULL, want_nu ? H : NULL, NULL);
     curve_from(c, u, F, g, NULL, want_nu ? H : NULL, NULL, o);
 }
 
@@ -633,45 +669,41 @@ curve_at2(const exact_ctx *c, double u, int want_nu, exact_pt *o)
 {
     double F[4], g[4], dg[4], H[4], dH[4];
 
-    lf_exact_mix_eval_u(c->mx, u, F, g, dg, want_nu ? H : NULL, want_nu ? dH : NULL);
+    mix_u(c->mx, c->ln_hR, u, F, g, dg, want_nu ? H : NULL, want_nu ? dH : NULL);
     curve_from(c, u, F, g, dg, want_nu ? H : NULL, want_nu ? dH : NULL, o);
 }
 
 /* curve_at2 from the products' polynomials (frictionless, no nu terms);
- * 0 when u lies outside them (then nothing is written). */
+ * 0 when u lies outside them (then nothing is written).  Values and
+ * first derivatives by Estrin's scheme (independent pairs of terms: fewer
+ * dependent operations than Horner's); the second derivatives only scale
+ * the last step of invert (du^2/2 <= 5e-13) and the first-order update
+ * of the slopes there, so their series is cut after t^2, which leaves
+ * ~((k + 2) |t|)^3/6 of them (1e-5 at k = 12, |t| <= 0.003). */
 static inline int
 curve_poly(const exact_ctx *c, double u, exact_pt *o)
 {
     const prodpoly *pp = c->pp;
     const double x = (u - pp->u0) * pp->inv_hs;
-    double y[4], y1[4], y2[4], t, tv;
-    const double *cf;
+    double y[4], y1[4], y2[4], t, t2, t4, tv;
+    const double *a;
     size_t q;
-    int j, n;
+    int j;
 
     if (!(x >= 0.0 && x < (double) pp->nq))
         return 0;
     q = (size_t) x;
     t = u - (pp->u0 + ((double) q + 0.5) * pp->hs);
-    cf = pp->c + PP_NF * q * PP_NC;
-#pragma GCC unroll 4
-    for (j = 0; j < 4; j++) {
-        /* value and first two derivatives by Horner */
-        const double *a = cf + j * PP_NC;
-        double v = a[PP_DEG], d1 = 0.0, d2 = 0.0;
-#pragma GCC unroll 8
-        for (n = PP_DEG - 1; n >= 0; n--) {
-            d2 = d2 * t + d1;
-            d1 = d1 * t + v;
-            v = v * t + a[n];
-        }
-        y[j] = v;
-        y1[j] = d1;
-        y2[j] = 2.0 * d2;
+    t2 = t * t;
+    t4 = t2 * t2;
+    a = pp->c + PP_NF * q * PP_NC;
+    for (j = 0; j < 4; j++, a += PP_NC) {
+        y[j] = (a[0] + a[1] * t) + t2 * (a[2] + a[3] * t) + t4 * ((a[4] + a[5] * t) + a[6] * t2);
+        y1[j] = (a[1] + 2.0 * a[2] * t) + t2 * (3.0 * a[3] + 4.0 * a[4] * t)
+                + t4 * (5.0 * a[5] + 6.0 * a[6] * t);
+        y2[j] = 2.0 * a[2] + t * (6.0 * a[3] + t * 12.0 * a[4]);
     }
-#pragma GCC unroll 8
-    for (tv = cf[4 * PP_NC + PP_DEG], n = PP_DEG - 1; n >= 0; n--)
-        tv = tv * t + cf[4 * PP_NC + n];
+    tv = (a[0] + a[1] * t) + t2 * (a[2] + a[3] * t) + t4 * ((a[4] + a[5] * t) + a[6] * t2);
     o->tau = tv;
     o->shift = c->A2 * y[1];
     o->shift1 = c->A2 * y1[1];
@@ -729,7 +761,9 @@ cond_at(const exact_ctx *c, int which, double u)
 {
     double F[4], g[4];
 
-    lf_exact_mix_eval_u(c->mx, u, F, g, NULL, NULL, NULL);
+    if (u >= c->u_top)
+        return INFINITY;     /* past a sphere's largest contact */
+    mix_u(c->mx, c->ln_hR, u, F, g, NULL, NULL, NULL);
     return rho_of(which, c->k, u, F, g) - c->L;
 }
 
@@ -750,8 +784,10 @@ cond_newton(const exact_ctx *c, int which, double lo, double hi, double u, mixva
         double f, d, un;
         if (!(u > lo && u < hi))
             u = 0.5 * (lo + hi);
+        if (u >= c->u_top)
+            u = 0.5 * (lo + c->u_top);
         v->u = u;
-        lf_exact_mix_eval_u(c->mx, u, v->F, v->g, v->dg, NULL, NULL);
+        mix_u(c->mx, c->ln_hR, u, v->F, v->g, v->dg, NULL, NULL);
         f = rho_of(which, c->k, u, v->F, v->g) - c->L;
         d = drho_of(which, c->k, v->g, v->dg);
         if (f <= 0.0)
@@ -813,11 +849,11 @@ cond_up(const exact_ctx *c, int which, double *lo, double *flo, double *hi, doub
     double step = 0.25;
 
     for (;;) {
-        *hi = fmin(*lo + step, U_HIGH);
+        *hi = fmin(*lo + step, c->u_top);
         *fhi = cond_at(c, which, *hi);
         if (*fhi > 0.0)
             return 1;
-        if (*hi >= U_HIGH)
+        if (*hi >= c->u_top)
             return 0;
         *lo = *hi;
         *flo = *fhi;
@@ -854,10 +890,10 @@ cond_first_above(const exact_ctx *c, int which, double lo, double flo, mixval *v
         flo = r[j] - c->L;
     }
     if (!cond_up(c, which, &lo, &flo, &hi, &fhi)) {
-        v->u = U_HIGH;
-        lf_exact_mix_eval_u(c->mx, U_HIGH, v->F, v->g, v->dg, NULL, NULL);
+        v->u = c->u_top;
+        mix_u(c->mx, c->ln_hR, c->u_top, v->F, v->g, v->dg, NULL, NULL);
         *du = 0.0;
-        return U_HIGH;
+        return c->u_top;
     }
     return cond_newton(c, which, lo, hi, falsi(lo, hi, flo, fhi), v, du);
 }
@@ -883,7 +919,7 @@ find_detach(exact_ctx *c)
         lo = GRID_U0 + GRID_HU * i;
         flo = r[i] - c->L;
         if (!cond_up(c, RHO_D, &lo, &flo, &hi, &fhi))
-            lo = hi = U_HIGH;
+            lo = hi = c->u_top;
         start = falsi(lo, hi, flo, fhi);
     } else if (i >= 0) {
         lo = GRID_U0 + GRID_HU * i;
@@ -915,7 +951,7 @@ find_detach(exact_ctx *c)
     }
     if (lo == hi) {
         c->vdet.u = lo;
-        lf_exact_mix_eval_u(c->mx, lo, c->vdet.F, c->vdet.g, c->vdet.dg, NULL, NULL);
+        mix_u(c->mx, c->ln_hR, lo, c->vdet.F, c->vdet.g, c->vdet.dg, NULL, NULL);
         c->du_det = 0.0;
         c->u_det = lo;
     } else {
@@ -940,6 +976,8 @@ ctx_set(exact_ctx *c, const mixdata *md, const probe_consts *pc, const lf_materi
     c->A2 = sqrt(2.0 * M_PI * pc->h * m->w / m->Estar);
     c->Sc = 2.0 * m->Estar * pc->h * c->A2;
     c->L = log(c->A2 / c->A1);
+    c->ln_hR = pc->ln_hR;
+    c->u_top = isnan(pc->ln_hR) ? U_HIGH : log(SPHERE_RHO_MAX) - pc->ln_hR;
     find_detach(c);
 }
 
@@ -973,18 +1011,18 @@ ctx_init(exact_ctx *c, exact_state *st, const lf_probe *pr, const lf_material *m
  * bracket [lo, hi] with delta(lo) < target <= delta(hi) (hi = U_HIGH until
  * a point above the target is seen: then steps of at most one e-fold).
  * *out receives the curve at the returned ln tau (with the nu derivatives
- * when want_nu).  taylor: finish a step below STEP_TAYLOR to first order
- * (header) instead of evaluating once more. */
+ * when want_nu) and out->idd = 1/dd there.  taylor: finish a step below
+ * STEP_TAYLOR to second order (header) instead of evaluating once more. */
 static double
 invert(const exact_ctx *c, double target, double guess, int want_nu, int taylor, exact_pt *out)
 {
     exact_pt pt;
-    double lo = isfinite(c->u_det) ? c->u_det : U_LOW, hi = U_HIGH, u;
+    double lo = isfinite(c->u_det) ? c->u_det : U_LOW, hi = c->u_top, u, idd = NAN;
     int i;
 
     u = guess;
     if (!(u > lo && u < hi)) /* first guess from the half-space form */
-        u = fmin(fmax(log(fmax(target - c->delta_det, 1e-300) / c->A1) / c->k, lo + 0.5), U_HIGH);
+        u = fmin(fmax(log(fmax(target - c->delta_det, 1e-300) / c->A1) / c->k, lo + 0.5), c->u_top);
     for (i = 0; i < 200; i++) {
         double g, un;
         if (taylor && !(c->pp != NULL && !want_nu && curve_poly(c, u, &pt)))
@@ -999,18 +1037,24 @@ invert(const exact_ctx *c, double target, double guess, int want_nu, int taylor,
         /* done at the rounding level of delta = A1 tau^k d - shift (the
          * two terms nearly cancel near detachment): chasing g further only
          * bisects rounding noise */
+        idd = NAN;
         if (fabs(g) <= 1e-14 * (fabs(pt.delta + pt.shift) + fabs(pt.shift)))
             break;
-        un = pt.dd > 0.0 ? u - g / pt.dd : NAN;
+        idd = 1.0 / pt.dd;
+        un = pt.dd > 0.0 ? u - g * idd : NAN;
         if (!(un > lo && un < hi)) {
-            un = hi < U_HIGH ? 0.5 * (lo + hi) : fmin(lo + 1.0, U_HIGH);
+            un = hi < c->u_top ? 0.5 * (lo + hi) : fmin(lo + 1.0, c->u_top);
         } else if (taylor && fabs(un - u) <= STEP_TAYLOR
                    && fabs((un - u) * pt.d2) <= CURV_TAYLOR * pt.dd) {
             /* the second-order step (the Newton step corrected by the
-             * curvature) and the curve carried there: header */
-            double du = un - u;
-            du -= 0.5 * pt.d2 * du * du / pt.dd;
+             * curvature) and the curve carried there (header); 1/dd
+             * follows dd by its series in e = d2 du/dd (|e| <= 1e-5,
+             * error e^3) instead of another division */
+            double du = un - u, e;
+            du -= 0.5 * pt.d2 * du * du * idd;
             curve_advance2(&pt, du);
+            e = pt.d2 * du * idd;
+            idd *= 1.0 - e + e * e;
             u += du;
             break;
         }
@@ -1021,6 +1065,7 @@ invert(const exact_ctx *c, double target, double guess, int want_nu, int taylor,
         u = un;
     }
     *out = pt;
+    out->idd = isnan(idd) ? 1.0 / pt.dd : idd;
     return u;
 }
 
@@ -1028,7 +1073,7 @@ invert(const exact_ctx *c, double target, double guess, int want_nu, int taylor,
 static void
 fill_point(const exact_ctx *c, double u, const exact_pt *p, int bonded, lf_eval *e)
 {
-    double dPdd = p->dP / p->dd;
+    double dPdd = p->dP * p->idd;
 
     if (!(p->dd > 0.0))
         dPdd = LF_BIG;
@@ -1070,7 +1115,8 @@ exact_alloc(void **state, const lf_probe *probe, lf_error *err)
             free(st);
             return status;
         }
-        (void) table_mixdata(st, probe, NULL);
+        if (probe->tip != LF_TIP_SPHERE)
+            (void) table_mixdata(st, probe, NULL);
     }
     *state = st;
     return LF_OK;
@@ -1107,8 +1153,9 @@ exact_free(void *state)
 
 /* The evaluation of n indentations with a context (shared by the model's
  * eval and lf_exact_eval_precise).  fast: warm starts and first-order
- * finish (header); else every point is solved on its own to rounding. */
-static void
+ * finish (header); else every point is solved on its own to rounding.
+ * LF_EINVAL for a point past a sphere's largest contact (SPHERE_RHO_MAX). */
+static int
 eval_points(const exact_ctx *c, int bonded, int fast, lf_branch branch, size_t n,
             const double *delta, lf_eval *out)
 {
@@ -1139,12 +1186,15 @@ eval_points(const exact_ctx *c, int bonded, int fast, lf_branch branch, size_t n
             }
         }
         u = invert(c, delta[i], guess, bonded, fast, &pt);
+        if (u >= c->u_top && pt.delta < delta[i] - 1e-9 * fabs(delta[i]))
+            return LF_EINVAL;
         fill_point(c, u, &pt, bonded, e);
         if (pt.dd > 0.0 && delta[i] != d2) {
             d1 = d2; u1 = u2; s1 = s2;
-            d2 = delta[i]; u2 = u; s2 = 1.0 / pt.dd;
+            d2 = delta[i]; u2 = u; s2 = pt.idd;
         }
     }
+    return LF_OK;
 }
 
 static int
@@ -1154,12 +1204,13 @@ exact_eval(void *state, const lf_probe *probe, const lf_material *mat,
     exact_ctx c;
     mixdata local;
     slot *held;
+    int status;
 
     if (ctx_init(&c, state, probe, mat, &local, &held, NULL) != LF_OK)
         return LF_EINVAL;
-    eval_points(&c, probe->base == LF_BASE_BONDED, 1, branch, n, delta, out);
+    status = eval_points(&c, probe->base == LF_BASE_BONDED, 1, branch, n, delta, out);
     mixdata_done(held);
-    return LF_OK;
+    return status;
 }
 
 int
@@ -1174,8 +1225,10 @@ lf_exact_eval_precise(const lf_probe *probe, const lf_material *mat, lf_branch b
     if (local == NULL)
         return lf_fail(err, LF_ENOMEM, "out of memory (exact model)");
     status = ctx_init(&c, NULL, probe, mat, local, &held, err);
-    if (status == LF_OK)
-        eval_points(&c, probe->base == LF_BASE_BONDED, 0, branch, n, delta, out);
+    if (status == LF_OK
+        && eval_points(&c, probe->base == LF_BASE_BONDED, 0, branch, n, delta, out) != LF_OK)
+        status = lf_fail(err, LF_EINVAL, "an indentation lies past the sphere's largest contact "
+                         "(a = %g R)", SPHERE_RHO_MAX);
     free(local);
     return status;
 }
@@ -1358,6 +1411,8 @@ lf_exact_far_eval(const lf_probe *pr, const lf_material *mat, lf_branch branch, 
         || (status = lf_material_check(mat, pr->base, err)) != LF_OK
         || (status = lf_exact_mix_weights(&mx, pr->base, mat->nu, err)) != LF_OK)
         return status;
+    if (pr->tip == LF_TIP_SPHERE)
+        return lf_fail(err, LF_EDATA, "a sphere has no thin-layer tail form (its R/b enters)");
     /* quick refusal before any solve: every point beyond TAU_MAX by the
      * thin-layer radius a = (k R^(k-1) (delta + c))^(1/k) with a margin */
     Mth = lf_thin_Z(pr->base, mat->nu) * mat->Estar;
@@ -1366,7 +1421,7 @@ lf_exact_far_eval(const lf_probe *pr, const lf_material *mat, lf_branch branch, 
         double d1 = delta[i] + cth;
         if (branch == LF_BRANCH_LOAD && delta[i] < 0.0)
             continue;
-        if (!(d1 > 0.0) || pow(pr->k * pow(pr->R, pr->k - 1.0) * d1, 1.0 / pr->k)
+        if (!(d1 > 0.0) || exp((log(d1) - lf_probe_log_prefactor(pr)) / pr->k)
                                < 1.2 * LF_EXACT_TAU_MAX * pr->b)
             return lf_fail(err, LF_EDATA, "point %zu is not beyond a/b = %g", i, LF_EXACT_TAU_MAX);
     }
@@ -1424,12 +1479,14 @@ lf_exact_far_eval(const lf_probe *pr, const lf_material *mat, lf_branch branch, 
     c.F1 = mat->Estar * pc.Fc;
     c.A2 = sqrt(2.0 * M_PI * pr->b * mat->w / mat->Estar);
     c.Sc = 2.0 * mat->Estar * pc.h * c.A2;
+    c.ln_hR = NAN;          /* a power law (a sphere was refused above) */
+    c.u_top = U_HIGH;
     /* Newton in ln tau on the monotonic part of the branch, never below
      * TAU_MAX (the root there is the stable branch's: delta rises with tau
      * from the detachment up) */
     for (i = 0; i < n; i++) {
         exact_pt e;
-        double u = log(pow(pr->k * pow(pr->R, pr->k - 1.0) * (delta[i] + cth), 1.0 / pr->k) / pr->b);
+        double u = (log(delta[i] + cth) - lf_probe_log_prefactor(pr)) / pr->k - log(pr->b);
         int it, done = 0;
         if (branch == LF_BRANCH_LOAD && delta[i] < 0.0) {
             P[i] = 0.0;

@@ -339,12 +339,12 @@ r_of(const hs_table *tb, double t, double *v)
 /* What a model object keeps for its probe. */
 typedef struct {
     const hs_table *tab;
-    double A;              /* kappa_k / (k R^(k-1)) */
+    double A, lnA;         /* A = kappa_k B = kappa_k / (k R^(k-1)), ln A */
 } hs_state;
 
 /* The constants of one (probe, material). */
 typedef struct {
-    double k, A, Estar, q;   /* q = sqrt(2 pi w / E*) */
+    double k, A, lnA, Estar, q;   /* q = sqrt(2 pi w / E*) */
     double a_det, delta_det;
     /* the scales (header), when they are normal numbers */
     int scaled;
@@ -365,10 +365,17 @@ hs_curve(const hs_ctx *c, double a, double *delta, double *ddelta, double *P,
     *dP = 2.0 * c->Estar * c->A * c->k * ak - 3.0 * c->Estar * c->q * sa;
 }
 
+/* A = kappa_k B, and *lnA its logarithm (B leaves double precision for a
+ * flat punch, where the scales below may not; A is then exp(ln A)). */
 static double
-A_of(const lf_probe *p)
+A_of(const lf_probe *p, double *lnA)
 {
-    return lf_exact_kappa(p->k) / (p->k * pow(p->R, p->k - 1.0));
+    double kap = lf_exact_kappa(p->k);
+    double A = lf_probe_by_R(p) ? kap / (p->k * pow(p->R, p->k - 1.0))
+                                : kap * lf_probe_prefactor(p);
+
+    *lnA = log(kap) + lf_probe_log_prefactor(p);
+    return isnormal(A) ? A : exp(*lnA);
 }
 
 static int
@@ -379,7 +386,12 @@ hs_init(hs_ctx *c, const hs_state *st, const lf_probe *p, const lf_material *m)
     if (!(p->k > 0.5))
         return LF_EINVAL;
     c->k = p->k;
-    c->A = st != NULL ? st->A : A_of(p);
+    if (st != NULL) {
+        c->A = st->A;
+        c->lnA = st->lnA;
+    } else {
+        c->A = A_of(p, &c->lnA);
+    }
     c->Estar = m->Estar;
     c->q = sqrt(2.0 * M_PI * m->w / m->Estar);
     c->a_det = 0.0;
@@ -387,8 +399,8 @@ hs_init(hs_ctx *c, const hs_state *st, const lf_probe *p, const lf_material *m)
     if (c->q > 0.0 && st != NULL) {
         /* ln a_s, and the scales where every one of them, and 1/delta_s,
          * is a normal number with room to spare */
-        ln_as = (log(c->q) - log(c->A)) / (c->k - 0.5);
-        if (fabs(ln_as) < 300.0 && fabs(ln_as * c->k + log(c->A)) < 600.0) {
+        ln_as = (log(c->q) - c->lnA) / (c->k - 0.5);
+        if (fabs(ln_as) < 300.0 && fabs(ln_as * c->k + c->lnA) < 600.0) {
             c->a_s = exp(ln_as);
             c->delta_s = c->q * sqrt(c->a_s);
             c->inv_ds = 1.0 / c->delta_s;
@@ -525,6 +537,220 @@ point_hertz(const hs_ctx *c, double delta, lf_eval *e)
     e->dP_dnu = 0.0;
 }
 
+/* ---- a sphere of radius R ------------------------------------------------
+ *
+ * Exact for a sphere on a half-space, whatever a/R (Maugis 1995, J. Colloid
+ * Interface Sci. 170:447, Eqs. 5-6): with a = R tanh(v), v = atanh(a/R),
+ *   delta1 = (a/2) ln((R + a)/(R - a)) = R v tanh(v),
+ *   P1     = (E* / 2) [(a^2 + R^2) ln((R + a)/(R - a)) - 2 a R]
+ *          = E* R^2 [(1 + tanh^2 v) v - tanh v],
+ * and the JKR edge condition with the flat punch's stiffness 2 E* a, as for
+ * the power laws: delta = delta1 - q sqrt(a), P = P1 - 2 E* q a^(3/2).
+ * v runs over (0, inf) as a runs over (0, R): every indentation has its
+ * contact, which tends to R as delta1 grows without bound.  In v,
+ *   d delta/dv = R (t + v s) - q R s / (2 sqrt a),   t = tanh v, s = 1 - t^2,
+ *   dP/dv      = 2 E* a R (t + v s) - 3 E* q R s sqrt(a),
+ * so each condition is one increasing function of v equal to a number:
+ *   detachment (d delta/dv = 0):   (sinh v cosh v + v) sqrt(a) = q/2,
+ *   pull-off (dP/dv = 0):          (sinh v cosh v + v) sqrt(a) = 3q/2,
+ *   contact on loading (delta = 0): v sqrt(a) = q.
+ * For a << R these are the paraboloid's (k = 2) of the header. */
+
+typedef struct {
+    double R, Estar, q;
+    double v_det, delta_det;   /* v_det 0 and delta_det 0 without adhesion */
+} sp_ctx;
+
+/* (1 + t^2) v - t, t = tanh v: by its series in t where the two terms
+ * nearly cancel (t < 0.1: they cancel to 4/3 t^2 of themselves, two
+ * digits at t = 0.1, where eight terms of the series reach rounding), sum
+ * over n >= 1 of 4n t^(2n+1) / (4n^2 - 1). */
+static double
+sp_cap(double v, double t)
+{
+    double t2 = t * t, term = t * t2, sum = 0.0;
+    int n;
+
+    if (t >= 0.1)
+        return (1.0 + t2) * v - t;
+    for (n = 1; n < 60; n++) {
+        double add = 4.0 * n / (4.0 * n * n - 1.0) * term;
+        sum += add;
+        if (add < 1e-17 * sum)
+            break;
+        term *= t2;
+    }
+    return sum;
+}
+
+typedef struct {
+    double a, delta, dd, P, dP, P1, shift;
+} sp_pt;
+
+static void
+sp_curve(const sp_ctx *c, double v, sp_pt *o)
+{
+    /* tanh v and sech^2 v = 1 - t^2 from one expm1(2v) (past v = 350 the
+     * exponential overflows: t = 1, s = 0) */
+    const double em = v < 350.0 ? expm1(2.0 * v) : INFINITY;
+    const double t = isfinite(em) ? em / (em + 2.0) : 1.0;
+    const double s = isfinite(em) ? 4.0 * (em + 1.0) / ((em + 2.0) * (em + 2.0)) : 0.0;
+    const double a = c->R * t, sa = sqrt(a), d1v = c->R * (t + v * s);
+
+    o->a = a;
+    o->shift = c->q * sa;
+    o->delta = c->R * v * t - o->shift;
+    o->dd = d1v - (sa > 0.0 ? 0.5 * c->q / sa * c->R * s : 0.0);
+    o->P1 = c->Estar * c->R * c->R * sp_cap(v, t);
+    o->P = o->P1 - 2.0 * c->Estar * a * o->shift;
+    o->dP = 2.0 * c->Estar * a * d1v - 3.0 * c->Estar * c->q * c->R * s * sa;
+}
+
+/* The conditions of the header: (sinh v cosh v + v) sqrt(a) (which 0), or
+ * v sqrt(a) (which 1). */
+static double
+sp_cond(const sp_ctx *c, int which, double v)
+{
+    double ra = sqrt(c->R * tanh(v));
+    return which == 0 ? (0.5 * sinh(2.0 * v) + v) * ra : v * ra;
+}
+
+/* v > 0 where the increasing sp_cond(which) equals target > 0: bisection
+ * in ln v on a bracket grown from the small-v law (cond ~ 2 v^(3/2) R^(1/2)
+ * or v^(3/2) R^(1/2)), to the rounding of v. */
+static double
+sp_root(const sp_ctx *c, int which, double target)
+{
+    double x = target / ((which == 0 ? 2.0 : 1.0) * sqrt(c->R));
+    double lo = log(fmax(cbrt(x * x), 1e-300)), hi = lo;
+    int i;
+
+    while (sp_cond(c, which, exp(lo)) > target && lo > -700.0)
+        lo -= 1.0;
+    while (sp_cond(c, which, exp(hi)) <= target && hi < 700.0)
+        hi += 1.0;
+    for (i = 0; i < 200 && hi - lo > 1e-15 * fmax(1.0, fabs(lo)); i++) {
+        double m = 0.5 * (lo + hi);
+        if (sp_cond(c, which, exp(m)) > target)
+            hi = m;
+        else
+            lo = m;
+    }
+    return exp(0.5 * (lo + hi));
+}
+
+static void
+sp_init(sp_ctx *c, const lf_probe *p, const lf_material *m)
+{
+    sp_pt pt;
+
+    c->R = p->R;
+    c->Estar = m->Estar;
+    c->q = sqrt(2.0 * M_PI * m->w / m->Estar);
+    c->v_det = c->delta_det = 0.0;
+    if (c->q > 0.0) {
+        c->v_det = sp_root(c, 0, 0.5 * c->q);
+        sp_curve(c, c->v_det, &pt);
+        c->delta_det = pt.delta;
+    }
+}
+
+/* v on the stable branch where delta(v) = target > delta_det: Newton from
+ * `guess` (NAN: from delta1 ~ R v^2 at small v, R v at large), kept in a
+ * bracket grown by doubling. */
+static double
+sp_invert(const sp_ctx *c, double target, double guess, sp_pt *o)
+{
+    double lo = c->v_det, hi = INFINITY, v = guess, x;
+    int i;
+
+    if (!(v > lo && isfinite(v))) {
+        x = fmax(target - c->delta_det, 0.0) / c->R;
+        v = fmax(sqrt(x + x * x), lo * (1.0 + 1e-6) + 1e-300);
+    }
+    for (i = 0; i < 300; i++) {
+        double g, vn;
+        sp_curve(c, v, o);
+        g = o->delta - target;
+        if (g > 0.0)
+            hi = v;
+        else
+            lo = v;
+        if (fabs(g) <= 1e-15 * (fabs(o->delta + o->shift) + o->shift))
+            break;
+        vn = o->dd > 0.0 ? v - g / o->dd : NAN;
+        if (!(vn > lo && vn < hi))
+            vn = isfinite(hi) ? 0.5 * (lo + hi) : 2.0 * v;
+        if (fabs(vn - v) <= 1e-15 * v || (isfinite(hi) && hi - lo <= 1e-15 * hi))
+            break;
+        v = vn;
+    }
+    return v;
+}
+
+static int
+sp_eval(const lf_probe *probe, const lf_material *mat, lf_branch branch, size_t n,
+        const double *delta, lf_eval *out)
+{
+    const int load = branch == LF_BRANCH_LOAD;
+    sp_ctx c;
+    double v = NAN, start;
+    size_t i;
+
+    sp_init(&c, probe, mat);
+    start = load ? fmax(0.0, c.delta_det) : c.delta_det;
+    for (i = 0; i < n; i++) {
+        lf_eval *e = &out[i];
+        int touching = load ? delta[i] >= start : delta[i] > start;
+        double S, dPdd;
+        sp_pt pt;
+
+        if (!touching || (c.q == 0.0 && delta[i] <= 0.0)) {
+            e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
+            continue;
+        }
+        v = sp_invert(&c, delta[i], v, &pt);   /* warm start: data come in order */
+        S = 2.0 * c.Estar * pt.a;
+        dPdd = pt.dd > 0.0 ? pt.dP / pt.dd : LF_BIG;
+        e->P = pt.P;
+        e->a = pt.a;
+        e->dP_ddelta = lf_capped(dPdd);
+        /* at fixed a: d delta/dln w = -shift/2, dP/dln w = -S shift/2;
+         * d delta/dln E* = shift/2, dP/dln E* = P1 - S shift/2 */
+        e->dP_dlogw = lf_capped(-0.5 * S * pt.shift + 0.5 * dPdd * pt.shift);
+        e->dP_dlogE = lf_capped(pt.P1 - 0.5 * S * pt.shift - 0.5 * dPdd * pt.shift);
+        e->dP_dnu = 0.0;
+    }
+    return LF_OK;
+}
+
+static int
+sp_pulloff(const lf_probe *probe, const lf_material *mat, lf_pulloff *out)
+{
+    sp_ctx c;
+    sp_pt pt;
+
+    sp_init(&c, probe, mat);
+    out->c = 0.0;
+    if (c.q == 0.0) {
+        out->delta_detach = out->P_detach = out->a_detach = 0.0;
+        out->delta_po = out->P_po = out->a_po = out->sigma_po = out->P_jump = 0.0;
+        return LF_OK;
+    }
+    sp_curve(&c, c.v_det, &pt);
+    out->delta_detach = pt.delta;
+    out->P_detach = pt.P;
+    out->a_detach = pt.a;
+    sp_curve(&c, sp_root(&c, 0, 1.5 * c.q), &pt);
+    out->delta_po = pt.delta;
+    out->P_po = pt.P;
+    out->a_po = pt.a;
+    out->sigma_po = -pt.P / (M_PI * pt.a * pt.a);
+    sp_curve(&c, sp_root(&c, 1, c.q), &pt);
+    out->P_jump = pt.P;
+    return LF_OK;
+}
+
 static int
 hs_eval(void *state, const lf_probe *probe, const lf_material *mat,
         lf_branch branch, size_t n, const double *delta, lf_eval *out)
@@ -535,6 +761,8 @@ hs_eval(void *state, const lf_probe *probe, const lf_material *mat,
     size_t i;
     double a_prev = NAN, start;   /* warm start of the direct path: data come in order */
 
+    if (probe->tip == LF_TIP_SPHERE)
+        return sp_eval(probe, mat, branch, n, delta, out);
     if (hs_init(&c, st, probe, mat) != LF_OK)
         return LF_EINVAL;
     start = load ? fmax(0.0, c.delta_det) : c.delta_det;
@@ -570,6 +798,8 @@ hs_pulloff(void *state, const lf_probe *probe, const lf_material *mat,
     hs_ctx c;
     double d, dd, P, dP, sh, P1, a_c, a_0;
 
+    if (probe->tip == LF_TIP_SPHERE)
+        return sp_pulloff(probe, mat, out);
     if (hs_init(&c, state, probe, mat) != LF_OK)
         return LF_EINVAL;
     out->c = 0.0;
@@ -608,7 +838,7 @@ hs_alloc(void **state, const lf_probe *probe, lf_error *err)
         free(st);
         return lf_fail(err, LF_ENOMEM, "out of memory (half-space model)");
     }
-    st->A = A_of(probe);
+    st->A = A_of(probe, &st->lnA);
     *state = st;
     return LF_OK;
 }

@@ -64,12 +64,16 @@ lf_model_summary_json(const lf_model_summary *s, char **json, lf_error *err)
 {
     const lf_pulloff *po = &s->pulloff;
     int halfspace = s->type->scope == LF_SCOPE_HALFSPACE;
+    int has_R = lf_probe_uses_R(&s->probe);   /* a cone's or a B's R is nothing */
     lf_str b = { NULL, 0, 0, 0 };
 
     lf_str_printf(&b, "{\n  \"model\": \"%s\",\n  \"interface\": \"%s\",\n", s->type->name,
                   s->probe.base == LF_BASE_BONDED ? "bonded" : "frictionless");
+    lf_str_printf(&b, "  \"tip\": \"%s\",\n", lf_tip_name(s->probe.tip));
     jnum(&b, "k", s->probe.k, 0);
-    jnum(&b, "R_m", s->probe.R, 0);
+    jnum(&b, "R_m", has_R ? s->probe.R : NAN, 0);
+    jnum(&b, "B", lf_probe_prefactor(&s->probe), 0);
+    jnum(&b, "cone_half_angle_rad", lf_probe_cone_angle(&s->probe), 0);
     jnum(&b, "b_m", halfspace ? NAN : s->probe.b, 0);
     jnum(&b, "w_J_per_m2", s->mat.w, 0);
     jnum(&b, "Estar_Pa", s->mat.Estar, 0);
@@ -85,7 +89,8 @@ lf_model_summary_json(const lf_model_summary *s, char **json, lf_error *err)
     jnum(&b, "sigma_po_Pa", po->sigma_po, 0);
     jnum(&b, "P_jump_N", po->P_jump, 0);
     jnum(&b, "b_over_a_po", halfspace ? NAN : s->probe.b / po->a_po, 0);
-    jnum(&b, "a_jkr_sphere_po_m", lf_jkr_sphere_a_po(s->probe.R, s->mat.w, s->mat.Estar), 0);
+    jnum(&b, "a_jkr_sphere_po_m", has_R ? lf_jkr_sphere_a_po(s->probe.R, s->mat.w, s->mat.Estar)
+                                        : NAN, 0);
     jnum(&b, "b_cr_m", s->b_cr, 0);
     jnum(&b, "b_cr_over_a_po", s->b_cr_over_a, 1);
     lf_str_puts(&b, "}\n");

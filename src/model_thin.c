@@ -44,6 +44,18 @@ lf_thin_b_critical(double k, double w, double M, double sigma_th)
     return 2.0 * q * q * M * w / (sigma_th * sigma_th);
 }
 
+double
+lf_thin_scale(const lf_probe *p)
+{
+    const double k = p->k;
+
+    /* pi/b k/(k+2) B^(-2/k), with B = 1/(k R^(k-1)) as the paper writes it
+     * for a probe stated by R (a sphere: its apex's paraboloid) */
+    if (lf_probe_by_R(p))
+        return M_PI / p->b * pow(k, (k + 2.0) / k) / (k + 2.0) * pow(p->R, 2.0 * (k - 1.0) / k);
+    return M_PI / p->b * k / (k + 2.0) * exp(-2.0 / k * lf_probe_log_prefactor(p));
+}
+
 /* The constants of one (probe, material) pair. */
 typedef struct {
     double M;      /* constrained modulus Z E*, Pa */
@@ -56,12 +68,10 @@ static thin_consts
 thin_setup(const lf_probe *p, const lf_material *m)
 {
     thin_consts t;
-    double k = p->k;
 
     t.M = lf_thin_Z(p->base, m->nu) * m->Estar;
     t.c = sqrt(2.0 * p->b * m->w / t.M);
-    t.C = M_PI * t.M / p->b * pow(k, (k + 2.0) / k) / (k + 2.0)
-          * pow(p->R, 2.0 * (k - 1.0) / k);
+    t.C = t.M * lf_thin_scale(p);
     t.dlogZ = lf_thin_dlogZ_dnu(p->base, m->nu);
     return t;
 }
@@ -87,29 +97,30 @@ typedef struct {
     root_kind kind;
     double inv_k;      /* 1/k */
     double e1;         /* 2/k - 1 */
-    double log_rk;     /* ln(k R^(k-1)) */
-    double ak;         /* (k R^(k-1))^(1/k) */
+    double log_rk;     /* ln(k R^(k-1)) = -ln B */
+    double ak;         /* (k R^(k-1))^(1/k) = B^(-1/k) */
 } thin_powers;
 
 static thin_powers
 powers_setup(const lf_probe *p)
 {
     thin_powers w;
+    const int by_R = lf_probe_by_R(p);
+
     w.inv_k = 1.0 / p->k;
     w.e1 = 2.0 / p->k - 1.0;
-    w.log_rk = log(p->k) + (p->k - 1.0) * log(p->R);
+    w.log_rk = by_R ? log(p->k) + (p->k - 1.0) * log(p->R) : -lf_probe_log_prefactor(p);
     w.ak = exp(w.inv_k * w.log_rk);
     if (p->k == 1.0) {
         w.kind = ROOT_ONE;
-        w.ak = 1.0;
     } else if (p->k == 2.0) {
         w.kind = ROOT_SQRT;
-        w.ak = sqrt(2.0 * p->R);
+        w.ak = by_R ? sqrt(2.0 * p->R) : sqrt(exp(w.log_rk));
     } else if (p->k == 3.0) {
         w.kind = ROOT_CBRT;
     } else if (p->k == 4.0) {
         w.kind = ROOT_SQRT2;
-        w.ak = sqrt(sqrt(4.0 * p->R * p->R * p->R));
+        w.ak = by_R ? sqrt(sqrt(4.0 * p->R * p->R * p->R)) : sqrt(sqrt(exp(w.log_rk)));
     } else {
         w.kind = p->k > 2.0 ? ROOT_EXP : ROOT_LOG;
     }
@@ -127,7 +138,7 @@ powers_at(const thin_powers *w, double d1, double y, double *g, double *p2, doub
     case ROOT_ONE:
         *g = d1;
         *p2 = d1 * d1;
-        *a = d1;
+        *a = w->ak * d1;
         return;
     case ROOT_SQRT:
         *g = 1.0;
@@ -161,6 +172,84 @@ powers_at(const thin_powers *w, double d1, double y, double *g, double *p2, doub
     *a = w->ak * r;
 }
 
+/* ---- a sphere of radius R ------------------------------------------
+ *
+ * The pressure is local, p = (M/b)(delta1 - f(r)) inside the contact and
+ * delta1 = f(a), so the adhesionless force is M/b times the volume of the
+ * spherical cap of height delta1,
+ *   P1 = (pi M/b) delta1^2 (R - delta1/3),     a^2 = delta1 (2R - delta1),
+ * and the JKR energy balance with the flat-punch stiffness S = pi a^2 M/b
+ * of a thin layer keeps delta1 - delta = c = sqrt(2 b w/M) as for the
+ * power laws (the seed paper's Eq. 1-2 with S' = 2 pi a M/b):
+ *   P = (pi M/b) [delta1^2 (R - delta1/3) - c delta1 (2R - delta1)].
+ * For delta1 << R this is the paraboloid's Eq. (10) at k = 2.  Derivatives
+ * at fixed delta:
+ *   dP/ddelta = (pi M/b) [delta1 (2R - delta1) - 2c (R - delta1)]
+ *   dP/dln w  = -(pi M/b) c^2 (R - delta1),  dP/dln M = P - dP/dln w.
+ * Force-controlled pull-off where dP/ddelta = 0:
+ *   delta1_po = 2 R c / (R + c + sqrt(R^2 + c^2)).
+ * Past the equator (delta1 > R) no contact is wider than the sphere: the
+ * contact stays at a = R, a flat punch of radius R whose pressure no longer
+ * vanishes at the edge, P = (pi M/b) (R^2 delta - R^3/3) (the same relation
+ * P = P1 - S c with a fixed, where c cancels), continuous with its slope at
+ * delta1 = R; the fit says when a curve gets there (fit/uncertainty.c). */
+static double
+sphere_force(double K, double R, double c, double d1)
+{
+    if (d1 > R)
+        return K * R * R * (d1 - c - R / 3.0);
+    return K * (d1 * d1 * (R - d1 / 3.0) - c * d1 * (2.0 * R - d1));
+}
+
+static int
+sphere_eval(const lf_probe *p, const thin_consts *t, lf_branch branch, size_t n,
+            const double *delta, lf_eval *out)
+{
+    const double R = p->R, c = t->c, K = M_PI * t->M / p->b;
+    const int load = branch == LF_BRANCH_LOAD;
+    size_t i;
+
+    for (i = 0; i < n; i++) {
+        lf_eval *e = &out[i];
+        double d1 = delta[i] + c;
+
+        if (d1 <= 0.0 || (load && delta[i] < 0.0)) {
+            e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
+            continue;
+        }
+        e->P = sphere_force(K, R, c, d1);
+        if (d1 > R) {                /* past the equator: a flat punch */
+            e->a = R;
+            e->dP_ddelta = K * R * R;
+            e->dP_dlogw = 0.0;
+        } else {
+            e->a = sqrt(d1 * (2.0 * R - d1));
+            e->dP_ddelta = K * (d1 * (2.0 * R - d1) - 2.0 * c * (R - d1));
+            e->dP_dlogw = -K * c * c * (R - d1);
+        }
+        e->dP_dlogE = e->P - e->dP_dlogw;
+        e->dP_dnu = e->dP_dlogE * t->dlogZ;
+    }
+    return LF_OK;
+}
+
+static void
+sphere_pulloff(const lf_probe *p, const thin_consts *t, lf_pulloff *out)
+{
+    const double R = p->R, c = t->c, K = M_PI * t->M / p->b;
+    const double d1 = 2.0 * R * c / (R + c + sqrt(R * R + c * c));
+
+    out->c = c;
+    out->delta_detach = -c;
+    out->P_detach = out->a_detach = 0.0;
+    out->delta_po = d1 - c;
+    out->P_po = sphere_force(K, R, c, d1);
+    out->a_po = sqrt(d1 * (2.0 * R - d1));
+    out->sigma_po = out->a_po > 0.0 ? -out->P_po / (M_PI * out->a_po * out->a_po) : 0.0;
+    /* contact made at delta = 0, delta1 = c (the sphere's when c < R) */
+    out->P_jump = sphere_force(K, R, c, c);
+}
+
 #define BLOCK 64   /* points whose k = 3 roots are taken together */
 
 static int
@@ -177,6 +266,8 @@ thin_eval(void *state, const lf_probe *p, const lf_material *m,
     size_t i0;
 
     (void) state;
+    if (p->tip == LF_TIP_SPHERE)
+        return sphere_eval(p, &t, branch, n, delta, out);
     for (i0 = 0; i0 < n; i0 += BLOCK) {
         size_t nb = n - i0 < BLOCK ? n - i0 : BLOCK, j;
         /* k = 3: the roots of a block first, in a loop of independent
@@ -220,15 +311,21 @@ thin_pulloff(void *state, const lf_probe *p, const lf_material *m,
     double d1po = 2.0 * t.c / k;
 
     (void) state;
+    if (p->tip == LF_TIP_SPHERE) {
+        sphere_pulloff(p, &t, out);
+        return LF_OK;
+    }
     out->c = t.c;
     out->delta_detach = -t.c;
     out->P_detach = 0.0;
     out->a_detach = 0.0;
     out->delta_po = d1po - t.c;
     out->P_po = -t.C * pow(d1po, 2.0 / k) * t.c;
-    /* (2 R^(k-1) c)^(1/k) from logarithms: R^(k-1) alone leaves double
-     * precision for a flat punch (k of a few hundred) */
-    out->a_po = t.c > 0.0 ? exp((log(2.0 * t.c) + (k - 1.0) * log(p->R)) / k) : 0.0;
+    /* (2 c / (k B))^(1/k) from logarithms: B, or R^(k-1), alone leaves
+     * double precision for a flat punch (k of a few hundred) */
+    out->a_po = !(t.c > 0.0) ? 0.0
+                : lf_probe_by_R(p) ? exp((log(2.0 * t.c) + (k - 1.0) * log(p->R)) / k)
+                : exp((log(2.0 * t.c / k) - lf_probe_log_prefactor(p)) / k);
     out->sigma_po = out->a_po > 0.0 ? -out->P_po / (M_PI * out->a_po * out->a_po) : 0.0;
     out->P_jump = -(2.0 / k) * t.C * pow(t.c, (k + 2.0) / k);
     return LF_OK;

@@ -15,7 +15,7 @@
 #include "readers.h"
 
 enum { P_FILE, P_K, P_R, P_B, P_INTERFACE, P_NU, P_SEGMENT, P_SAMPLE, P_Z0, P_F0, P_FORMAT,
-       P_INDEX, NPCOL };
+       P_INDEX, P_TIP, P_HALF_ANGLE, P_PREFACTOR, P_DEPTH_RANGE, P_FORCE_RANGE, NPCOL };
 
 typedef enum { TEXT, NUMBER, FREE_NUMBER } cell_kind;  /* FREE_NUMBER: empty/NaN = free */
 
@@ -33,16 +33,24 @@ static const lf_csv_column pcols[NPCOL] = {
     [P_FORMAT]    = { "format", LF_Q_DIMENSIONLESS, 0, NULL },  /* empty: sniffed */
     [P_INDEX]     = { "index", LF_Q_DIMENSIONLESS, 0, NULL },   /* empty: the file's only
                                                                    curve, or all (batch) */
+    [P_TIP]       = { "tip", LF_Q_DIMENSIONLESS, 0, NULL },     /* empty: the power law */
+    [P_HALF_ANGLE] = { "half_angle", LF_Q_ANGLE, 0, NULL },
+    [P_PREFACTOR] = { "prefactor", LF_Q_DIMENSIONLESS, 0, NULL }, /* B of f = B r^k, SI */
+    [P_DEPTH_RANGE] = { "depth_range", LF_Q_DIMENSIONLESS, 0, NULL }, /* "LO:HI" */
+    [P_FORCE_RANGE] = { "force_range", LF_Q_DIMENSIONLESS, 0, NULL },
 };
 
 /* What each column's cells hold. */
 static const cell_kind pkind[NPCOL] = {
     [P_FILE] = TEXT, [P_K] = NUMBER, [P_R] = NUMBER, [P_B] = NUMBER, [P_INTERFACE] = TEXT,
     [P_NU] = FREE_NUMBER, [P_SEGMENT] = TEXT, [P_SAMPLE] = TEXT, [P_Z0] = FREE_NUMBER,
-    [P_F0] = FREE_NUMBER, [P_FORMAT] = TEXT, [P_INDEX] = FREE_NUMBER,
+    [P_F0] = FREE_NUMBER, [P_FORMAT] = TEXT, [P_INDEX] = FREE_NUMBER, [P_TIP] = TEXT,
+    [P_HALF_ANGLE] = FREE_NUMBER, [P_PREFACTOR] = FREE_NUMBER, [P_DEPTH_RANGE] = TEXT,
+    [P_FORCE_RANGE] = TEXT,
 };
 
-#define COLUMNS_HINT "a plan has the columns file,k,R,b,interface and may add nu,segment,sample,z0,F0,format,index"
+#define COLUMNS_HINT "a plan has the columns file,k,R,b,interface and may add nu,segment," \
+    "sample,z0,F0,format,index,tip,half_angle,prefactor,depth_range,force_range"
 
 typedef struct {
     const char *name;
@@ -277,14 +285,84 @@ plan_file(plan_reader *rd, const lf_csv_record *r, size_t idx, lf_error *err)
 static long
 probe_column(const plan_reader *rd, const char *msg)
 {
-    static const int named[] = { P_K, P_R, P_B, P_INTERFACE };
+    static const struct { const char *word; int col; } named[] = {
+        { "k", P_K }, { "R", P_R }, { "b", P_B }, { "interface", P_INTERFACE },
+        { "tip:", P_TIP }, { "half-angle", P_HALF_ANGLE }, { "B", P_PREFACTOR },
+    };
     size_t i, n;
     for (i = 0; i < sizeof named / sizeof named[0]; i++) {
-        n = strlen(pcols[named[i]].name);
-        if (strncmp(msg, pcols[named[i]].name, n) == 0 && msg[n] == ' ')
-            return rd->t.col[named[i]];
+        n = strlen(named[i].word);
+        if (strncmp(msg, named[i].word, n) == 0 && msg[n] == ' ')
+            return rd->t.col[named[i].col];
     }
     return -1;
+}
+
+/* The row's probe shape from its tip, half_angle and prefactor cells
+ * (tip empty: a power law; a half-angle alone: a cone), and the k the tip
+ * implies (*k_tip, NaN for none). */
+static int
+plan_shape(plan_reader *rd, const lf_csv_record *r, lf_plan_row *row, double *k_tip,
+           lf_error *err)
+{
+    long k = rd->t.col[P_TIP];
+    char buf[64];
+    int status, tip = LF_TIP_POWER;
+    size_t i;
+
+    *k_tip = NAN;
+    if (k >= 0 && r->text[k][0] != '\0') {
+        lf_csv_excerpt(r->text[k], buf, sizeof buf);
+        for (i = 0; buf[i]; i++)
+            buf[i] = (char) (buf[i] >= 'A' && buf[i] <= 'Z' ? buf[i] - 'A' + 'a' : buf[i]);
+        if ((tip = lf_tip_find(buf, k_tip)) < 0)
+            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                              "unknown tip '%s' (paraboloid, sphere, cone, berkovich, pyramid "
+                              "or power; empty: the power law of k and R)", buf);
+    }
+    if ((status = plan_number(rd, r, P_HALF_ANGLE, &row->probe.angle, err)) != LF_OK
+        || (status = plan_number(rd, r, P_PREFACTOR, &row->probe.B, err)) != LF_OK)
+        return status;
+    if (!isnan(row->probe.angle) && tip == LF_TIP_POWER && isnan(*k_tip)) {
+        tip = LF_TIP_CONE;        /* a half-angle alone states a cone */
+        *k_tip = 1.0;
+    }
+    k = rd->t.col[P_HALF_ANGLE];
+    if (!isnan(row->probe.angle) && tip != LF_TIP_CONE && tip != LF_TIP_PYRAMID)
+        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                          "a half-angle states a cone or a pyramid, not a %s (leave it empty)",
+                          lf_tip_name((lf_tip) tip));
+    if ((tip == LF_TIP_CONE || tip == LF_TIP_PYRAMID) && isnan(row->probe.angle))
+        return lf_fail_at(err, LF_EFORMAT, rd->name, r->line, k >= 0 ? r->fcol[k] : 0,
+                          "a %s needs its half-angle (a half_angle column, e.g. 35deg)",
+                          lf_tip_name((lf_tip) tip));
+    k = rd->t.col[P_PREFACTOR];
+    if (!isnan(row->probe.B) && tip != LF_TIP_POWER)
+        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                          "a prefactor states a power law f = B r^k, not a %s (leave it empty)",
+                          lf_tip_name((lf_tip) tip));
+    row->probe.tip = (lf_tip) tip;
+    if (isnan(row->probe.angle))
+        row->probe.angle = 0.0;
+    if (isnan(row->probe.B))
+        row->probe.B = 0.0;
+    return LF_OK;
+}
+
+/* A window cell ("0:500nm", "0:30%"), empty: open. */
+static int
+plan_range(plan_reader *rd, const lf_csv_record *r, int c, lf_quantity q, lf_range *out,
+           lf_error *err)
+{
+    long k = rd->t.col[c];
+    lf_error e;
+
+    if (k < 0 || r->text[k][0] == '\0')
+        return LF_OK;
+    if (lf_range_parse(r->text[k], q, out, &e) != LF_OK)
+        return lf_fail_at(err, e.status, rd->name, r->fline[k], r->fcol[k], "%s: %s",
+                          pcols[c].name, e.msg);
+    return LF_OK;
 }
 
 /* An R cell reading "header": the probe radius stated in the curve file's
@@ -332,6 +410,7 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     char buf[64];
     long k;
     int status;
+    double k_tip;
 
     if ((status = lf_csv_row_cells(rd->name, r, rd->t.ncells, err)) != LF_OK)
         return status;
@@ -355,6 +434,7 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     if ((status = lf_csv_table_segment(&rd->t, r, P_SEGMENT, &row->segment, err)) != LF_OK)
         return status;
     row->index = -1;
+    row->window = lf_window_all();
     k = rd->t.col[P_INTERFACE];
     if (no_layer(rd, r) != (r->text[k][0] == '\0'))
         return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
@@ -378,8 +458,33 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
     p->n++;          /* from here on the row is owned by the plan */
     if (row->sample == NULL || row->format == NULL)
         return lf_fail_at(err, LF_ENOMEM, rd->name, r->line, 0, "out of memory");
-    if ((status = plan_number(rd, r, P_K, &row->probe.k, err)) != LF_OK
-        || (!R_from_header(rd, r)
+    if ((status = plan_shape(rd, r, row, &k_tip, err)) != LF_OK
+        || (status = plan_range(rd, r, P_DEPTH_RANGE, LF_Q_LENGTH, &row->window.depth,
+                                err)) != LF_OK
+        || (status = plan_range(rd, r, P_FORCE_RANGE, LF_Q_FORCE, &row->window.force,
+                                err)) != LF_OK)
+        return status;
+    k = rd->t.col[P_K];
+    if (isnan(k_tip) || r->text[k][0] != '\0')
+        status = plan_number(rd, r, P_K, &row->probe.k, err);
+    else
+        row->probe.k = k_tip;     /* a cone's or a sphere's k, implied */
+    if (status == LF_OK && !isnan(k_tip) && row->probe.k != k_tip)
+        return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                          "k %g, but a %s is k = %g (leave k empty)", row->probe.k,
+                          lf_tip_name(row->probe.tip), k_tip);
+    k = rd->t.col[P_R];
+    if (status == LF_OK && !lf_probe_uses_R(&row->probe)) {
+        /* a cone, a pyramid or a stated prefactor: R is not used */
+        if (r->text[k][0] != '\0')
+            return lf_fail_at(err, LF_EFORMAT, rd->name, r->fline[k], r->fcol[k],
+                              "R does not shape a %s: leave R empty",
+                              row->probe.tip == LF_TIP_POWER ? "probe stated by its prefactor"
+                                                             : lf_tip_name(row->probe.tip));
+        row->probe.R = NAN;
+    }
+    if (status != LF_OK
+        || (lf_probe_uses_R(&row->probe) && !R_from_header(rd, r)
             && (status = plan_number(rd, r, P_R, &row->probe.R, err)) != LF_OK)
         || (!no_layer(rd, r)
             && (status = plan_number(rd, r, P_B, &row->probe.b, err)) != LF_OK)
@@ -399,12 +504,12 @@ plan_row_cells(plan_reader *rd, const lf_csv_record *r, lf_error *err)
         if (!isnan(v))
             row->index = (long) v;
     }
-    if (R_from_header(rd, r))      /* checked with the curve's R by the fit */
-        row->probe.R = 1.0;
+    if (R_from_header(rd, r) && lf_probe_uses_R(&row->probe))
+        row->probe.R = 1.0;        /* checked with the curve's R by the fit */
     if (no_layer(rd, r))
         row->probe.b = 1.0;
     status = lf_probe_check(&row->probe, &e);
-    if (R_from_header(rd, r))
+    if (R_from_header(rd, r) && lf_probe_uses_R(&row->probe))
         row->probe.R = NAN;
     if (no_layer(rd, r))
         row->probe.b = NAN;
@@ -582,39 +687,54 @@ lf_file_kind_of(const char *path, lf_file_kind *kind, lf_error *err)
 /* ---------------------------------------------------------------------- */
 
 int
-lf_plan_of_file(const char *path, const lf_probe *probe, lf_segment seg, lf_plan **out,
-                lf_error *err)
+lf_plan_of_files(size_t n, const char *const *paths, const lf_probe *probe, lf_segment seg,
+                 lf_plan **out, lf_error *err)
 {
     char split[4096];
     lf_plan *p;
-    lf_plan_row *row;
-    long index;
+    size_t i;
 
     *out = NULL;
-    if (lf_curve_path_split(path, split, sizeof split, &index) != LF_OK)
-        return lf_fail_at(err, LF_EINVAL, path, 0, 0, "path too long");
+    if (n == 0)
+        return lf_fail(err, LF_EINVAL, "no curve files");
     p = calloc(1, sizeof *p);
-    if (p == NULL || (p->path = lf_strdup(path)) == NULL
-        || (p->rows = calloc(1, sizeof *p->rows)) == NULL) {
+    if (p == NULL || (p->path = lf_strdup(paths[0])) == NULL
+        || (p->rows = calloc(n, sizeof *p->rows)) == NULL) {
         lf_plan_free(p);
-        return lf_fail_at(err, LF_ENOMEM, path, 0, 0, "out of memory");
+        return lf_fail_at(err, LF_ENOMEM, paths[0], 0, 0, "out of memory");
     }
-    row = &p->rows[0];
-    row->file = lf_strdup(split);
-    row->sample = lf_strdup("");
-    row->format = lf_strdup("");
-    p->n = 1;
-    if (row->file == NULL || row->sample == NULL || row->format == NULL) {
-        lf_plan_free(p);
-        return lf_fail_at(err, LF_ENOMEM, path, 0, 0, "out of memory");
+    for (i = 0; i < n; i++) {
+        lf_plan_row *row = &p->rows[i];
+        long index;
+        if (lf_curve_path_split(paths[i], split, sizeof split, &index) != LF_OK) {
+            lf_plan_free(p);
+            return lf_fail_at(err, LF_EINVAL, paths[i], 0, 0, "path too long");
+        }
+        row->file = lf_strdup(split);
+        row->sample = lf_strdup("");
+        row->format = lf_strdup("");
+        p->n = i + 1;
+        if (row->file == NULL || row->sample == NULL || row->format == NULL) {
+            lf_plan_free(p);
+            return lf_fail_at(err, LF_ENOMEM, paths[i], 0, 0, "out of memory");
+        }
+        row->line = 0;
+        row->probe = *probe;
+        row->nu = row->z0 = row->F0 = NAN;
+        row->segment = seg;
+        row->index = index;
+        row->window = lf_window_all();
     }
-    row->line = 0;
-    row->probe = *probe;
-    row->nu = row->z0 = row->F0 = NAN;
-    row->segment = seg;
-    row->index = index;
+    p->of_files = 1;
     *out = p;
     return LF_OK;
+}
+
+int
+lf_plan_of_file(const char *path, const lf_probe *probe, lf_segment seg, lf_plan **out,
+                lf_error *err)
+{
+    return lf_plan_of_files(1, &path, probe, seg, out, err);
 }
 
 /* The open file of path among the plan's, or NULL. */

@@ -21,6 +21,26 @@
  * of its "\*Ciao scan list", one after another, row by row, over the
  * "\Scan Size" of the image.
  *
+ * PeakForce Capture ("\PeakForce Capture: Allow" in the scan list, files
+ * .pfc) stores one curve per pixel of the scan (its "\Samps/line" x
+ * "\Lines", else a single curve), Z driven as a sine and not recorded:
+ * each curve is one period of 2n samples, n the first number of the force
+ * image list's "\Samps/line" (both halves n, as NanoScope's own toolbox
+ * reads them), stored as above (the first n backwards).  In time order
+ * the most extended Z (the peak force) falls at sample s = S x 2n / P
+ * (mod 2n), S the "\Sync Distance QNM" (else "\Sync Distance") and P the
+ * "\Sample Points" per period that S counts in; the curve is taken from
+ * the Z minimum before that peak, s - n, round the period, so that with
+ * u = (time index - s + n) mod 2n,
+ *     Z = A (1 - cos(pi u / n)),  A the "\Peak Force Amplitude" (nm),
+ * the approach being u < n and the retract u >= n.  The first sample in
+ * time may hold the integer's least value, a marker: it takes the mean of
+ * its neighbours in phase, the second and the last sample (AtomicJ reports
+ * Bruker's MATLAB toolbox doing so).  (AtomicJ's Nanoscope reader, P.
+ * Hermanowicz, and the readers of magic-afm and pyAF state the same sine
+ * and, to a sample, the same phase; Bruker does not document them.)  Z is
+ * relative to the sine's lowest point: the height image is not used.
+ *
  * Conventions: the deflection d (raw x hard x soft) is positive when the
  * cantilever pushes; Z grows into the sample; the tip-sample separation,
  * positive into the sample, is Z - d; the force is k d with k the "\Spring
@@ -51,6 +71,10 @@ typedef struct {
     double hard, soft;          /* V/LSB, m/V (NaN: not stated) */
     double k;                   /* N/m, NaN */
     double zstep;               /* m per point of the ramp */
+    int pfc;                    /* PeakForce Capture: Z a sine */
+    double amp, sync, delta;    /* its amplitude (m), peak sample s, ceil(s-n)-(s-n) */
+    size_t k0;                  /* the time index of its first point */
+    const char *sync_key;
     double dsc;                 /* deflection sensitivity correction, NaN */
     long samps, lines;          /* force volume grid, 0 for one curve */
     double sx, sy, x0, y0;      /* scan size and offsets, m */
@@ -214,6 +238,43 @@ scan_size(const char *v, double *x, double *y)
     return 0;
 }
 
+/* PeakForce Capture: the sine of Z from the scan list (see the top). */
+static int
+pfc_sine(const lf_file *f, ns_state *st, lf_error *err)
+{
+    const char *v, *rest = NULL, *missing = NULL;
+    double amp, sync, points, n2 = 2.0 * (double) st->napp, c, unit = 1e-9;
+    char word[16] = "";
+
+    amp = number(get(st, NULL, "Peak Force Amplitude", 0, NULL), &rest);
+    if (isfinite(amp) && rest != NULL && sscanf(rest, " %15s", word) == 1)
+        unit = strcmp(word, "nm") == 0 ? 1e-9 : strcmp(word, "~m") == 0
+            || strcmp(word, "um") == 0 ? 1e-6 : NAN;
+    st->sync_key = "Sync Distance QNM";
+    if ((v = get(st, NULL, st->sync_key, 0, NULL)) == NULL)
+        v = get(st, NULL, st->sync_key = "Sync Distance", 0, NULL);
+    sync = number(v, NULL);
+    points = number(get(st, NULL, "Sample Points", 0, NULL), NULL);
+    if (!(amp > 0 && amp < 1e9 && isfinite(unit)))
+        missing = "'\\Peak Force Amplitude' (nm), the sine's amplitude";
+    else if (!(fabs(sync) < 1e9))
+        missing = "'\\Sync Distance QNM' or '\\Sync Distance', the sine's phase";
+    else if (!(points >= 1 && points < 1e9))
+        missing = "'\\Sample Points', the samples per period the sync distance counts in";
+    if (missing != NULL)
+        return lf_fail_at(err, LF_EFORMAT, f->path, 0, 0, "PeakForce Capture data: the Z of "
+                          "its curves is a sine the header states, and it does not state %s",
+                          missing);
+    st->amp = amp * unit;
+    st->sync = fmod(sync * n2 / points, n2);
+    if (st->sync < 0)
+        st->sync += n2;
+    c = st->sync - (double) st->napp;           /* the Z minimum before the peak */
+    st->delta = ceil(c) - c;
+    st->k0 = (size_t) fmod(ceil(c) + n2, n2);
+    return LF_OK;
+}
+
 static void
 ns_close(lf_file *f)
 {
@@ -233,7 +294,7 @@ ns_open(lf_file *f, lf_warnings *warn, lf_error *err)
     const char *v, *section = "Ciao force image list";
     size_t len, at = 0, sect_at = 0, i;
     uint64_t data_len;
-    double hard, full, ramp, zsoft;
+    double hard, full, ramp, zsoft, gs, gl;
     char soft[64], zsoft_name[64];
     int status, fv;
 
@@ -310,39 +371,49 @@ ns_open(lf_file *f, lf_warnings *warn, lf_error *err)
     if (isnan(st->k))
         st->k = number(get(st, section, "Spring constant", sect_at, NULL), NULL);
     st->dsc = number(get(st, NULL, "Deflection Sensitivity Correction", 0, NULL), NULL);
-    /* the ramp: in the force image list, else the force list */
-    v = get(st, section, "Ramp Size", sect_at, NULL);
-    if (v == NULL)
-        v = get(st, section, "Ramp size", sect_at, NULL);
-    if (v == NULL)
-        v = get(st, "Ciao force list", "Ramp size", 0, NULL);
-    if (v == NULL)
-        v = get(st, "Ciao force list", "Ramp Size Zsweep", 0, NULL);
-    ciao_value(v, &hard, zsoft_name, sizeof zsoft_name, &ramp);
-    zsoft = soft_scale(st, zsoft_name[0] ? zsoft_name : "Sens. Zsens");
-    if (isnan(zsoft))
-        zsoft = soft_scale(st, "Sens. Zscan");
-    if (!(ramp > 0) || !(zsoft > 0))
-        return lf_fail_at(err, LF_EFORMAT, f->path, 0, 0, "no Z ramp: '\\@4:Ramp size' and the "
-                          "Z sensitivity '\\@Sens. Zsens' are needed for the piezo's travel");
-    st->zstep = ramp * zsoft / (double) (st->napp > st->nret ? st->napp : st->nret);
     v = get(st, NULL, "PeakForce Capture", 0, NULL);
-    if (v != NULL && strncmp(v, "Allow", 5) == 0)
-        return lf_fail_at(err, LF_EFORMAT, f->path, 0, 0, "PeakForce Capture data: the Z of its "
-                          "curves follows a sine, not a ramp, and layerfit does not read it");
-    /* one curve, or a force volume */
+    st->pfc = v != NULL && (v[0] == 'A' || v[0] == 'a') && strncmp(v + 1, "llow", 4) == 0;
+    if (st->pfc) {
+        st->nret = st->napp;    /* one period of 2n: both halves the first number */
+        if ((status = pfc_sine(f, st, err)) != LF_OK)
+            return status;
+    } else {
+        /* the ramp: in the force image list, else the force list */
+        v = get(st, section, "Ramp Size", sect_at, NULL);
+        if (v == NULL)
+            v = get(st, section, "Ramp size", sect_at, NULL);
+        if (v == NULL)
+            v = get(st, "Ciao force list", "Ramp size", 0, NULL);
+        if (v == NULL)
+            v = get(st, "Ciao force list", "Ramp Size Zsweep", 0, NULL);
+        ciao_value(v, &hard, zsoft_name, sizeof zsoft_name, &ramp);
+        zsoft = soft_scale(st, zsoft_name[0] ? zsoft_name : "Sens. Zsens");
+        if (isnan(zsoft))
+            zsoft = soft_scale(st, "Sens. Zscan");
+        if (!(ramp > 0) || !(zsoft > 0))
+            return lf_fail_at(err, LF_EFORMAT, f->path, 0, 0, "no Z ramp: '\\@4:Ramp size' and "
+                              "the Z sensitivity '\\@Sens. Zsens' are needed for the piezo's "
+                              "travel");
+        st->zstep = ramp * zsoft / (double) (st->napp > st->nret ? st->napp : st->nret);
+    }
+    /* one curve, or a force volume; PeakForce Capture: a curve per pixel
+     * of the scan when the data hold that many, else one */
     v = get(st, "Ciao scan list", "Operating mode", 0, NULL);
     fv = v != NULL && strstr(v, "Force Volume") != NULL;
+    gs = number(get(st, "Ciao scan list", "Samps/line", 0, NULL), NULL);
+    gl = number(get(st, "Ciao scan list", "Lines", 0, NULL), NULL);
+    if (st->pfc && !fv && gs * gl > 1 && gs * gl < 1e8) {
+        double per = gs * gl * 2.0 * (double) st->napp;
+        fv = (double) data_len == 2 * per || (double) data_len == 4 * per;
+    }
     st->ncurves = 1;
     if (fv) {
-        double s = number(get(st, "Ciao scan list", "Samps/line", 0, NULL), NULL);
-        double l = number(get(st, "Ciao scan list", "Lines", 0, NULL), NULL);
-        if (!(s >= 1 && l >= 1 && s * l < 1e8))
+        if (!(gs >= 1 && gl >= 1 && gs * gl < 1e8))
             return lf_fail_at(err, LF_EFORMAT, f->path, 0, 0, "a force volume without its grid "
                               "('\\Samps/line' and '\\Lines' of the scan list)");
-        st->samps = (long) s;
-        st->lines = (long) l;
-        st->ncurves = (size_t) (s * l);
+        st->samps = (long) gs;
+        st->lines = (long) gl;
+        st->ncurves = (size_t) (gs * gl);
         st->x0 = st->y0 = 0;
         st->sx = st->sy = NAN;
         v = get(st, "Ciao image list", "Scan Size", 0, NULL);
@@ -392,6 +463,40 @@ ns_info(const lf_file *f, size_t i, lf_curve_info *info, lf_error *err)
     return LF_OK;
 }
 
+/* The value stored at index at. */
+static long
+raw_at(const unsigned char *raw, size_t bytes, size_t at)
+{
+    const unsigned char *p = raw + at * bytes;
+    return bytes == 2 ? (long) (int16_t) lf_le16(p) : (long) (int32_t) lf_le32(p);
+}
+
+/* A PeakForce Capture curve from its raw values (s metres per LSB): the
+ * period from the Z minimum before its peak, Z the sine (see the top).
+ * Returns whether its first sample in time was the marker. */
+static int
+pfc_points(const ns_state *st, const unsigned char *raw, double s, lf_curve *c)
+{
+    size_t n = st->napp, m;
+    long least = st->bytes == 2 ? INT16_MIN : INT32_MIN;
+    int marker = 0;
+    for (m = 0; m < 2 * n; m++) {
+        size_t k = (st->k0 + m) % (2 * n);             /* its time index */
+        long rv = raw_at(raw, st->bytes, k < n ? n - 1 - k : k);
+        double d = (double) rv * s;
+        if (k == 0 && rv == least) {    /* the marker: its neighbours in phase */
+            d = 0.5 * s * (double) (raw_at(raw, st->bytes, n - 2)
+                                    + raw_at(raw, st->bytes, 2 * n - 1));
+            marker = 1;
+        }
+        c->depth[m] = st->amp * (1.0 - cos(M_PI * ((double) m + st->delta) / (double) n)) - d;
+        c->force[m] = c->spring_constant * d;
+        c->segment[m] = (unsigned char) (m < n ? LF_SEG_LOAD : LF_SEG_UNLOAD);
+        c->line[m] = (long) m + 1;
+    }
+    return marker;
+}
+
 static int
 ns_curve(const lf_file *f, size_t i, lf_curve *c, lf_warnings *warn, lf_error *err)
 {
@@ -400,7 +505,7 @@ ns_curve(const lf_file *f, size_t i, lf_curve *c, lf_warnings *warn, lf_error *e
     unsigned char *raw;
     lf_curve_info info;
     const char *v;
-    int status;
+    int status, marker = 0;
     double s;
 
     memset(&info, 0, sizeof info);
@@ -425,15 +530,16 @@ ns_curve(const lf_file *f, size_t i, lf_curve *c, lf_warnings *warn, lf_error *e
         return status;
     }
     s = st->hard * c->sensitivity;      /* m per LSB */
-    for (m = 0; m < n; m++) {
+    if (st->pfc)
+        marker = pfc_points(st, raw, s, c);
+    for (m = 0; m < n && !st->pfc; m++) {
         /* approach: stored from the most extended Z back, so read it
          * backwards; retract: as stored */
         size_t seg_n = m < st->napp ? st->napp : st->nret;
         size_t k = m < st->napp ? st->napp - 1 - m : m - st->napp;
         size_t at = m < st->napp ? k : st->napp + k;
-        const unsigned char *p = raw + at * st->bytes;
-        double rv = st->bytes == 2 ? (double) (int16_t) lf_le16(p) : (double) (int32_t) lf_le32(p);
-        double d = rv * s, z = (double) (seg_n - 1 - k) * st->zstep;
+        double d = (double) raw_at(raw, st->bytes, at) * s;
+        double z = (double) (seg_n - 1 - k) * st->zstep;
         c->depth[m] = z - d;
         c->force[m] = c->spring_constant * d;
         c->segment[m] = (unsigned char) (m < st->napp ? LF_SEG_LOAD : LF_SEG_UNLOAD);
@@ -456,10 +562,25 @@ ns_curve(const lf_file *f, size_t i, lf_curve *c, lf_warnings *warn, lf_error *e
     if (isfinite(st->dsc) && st->dsc != 1.0)
         lf_warn(&c->info, "Deflection Sensitivity Correction %.6g stated, not applied",
                 st->dsc);
-    lf_warn(&c->info, "depth: tip-sample separation = Z - deflection (into the sample "
-            "positive), Z the ramp in steps of %.6g nm", st->zstep * 1e9);
-    lf_warn(&c->info, "segments: approach %zu (stored backwards), retract %zu points",
-            st->napp, st->nret);
+    if (st->pfc) {
+        lf_warn(&c->info, "depth: tip-sample separation = Z - deflection (into the sample "
+                "positive), Z = A (1 - cos(pi u / %zu)) the PeakForce Capture sine, A = %.6g nm "
+                "('Peak Force Amplitude'), u the sample's place from the Z minimum",
+                st->napp, st->amp * 1e9);
+        lf_warn(&c->info, "segments: one period of %zu samples in time order, its peak at "
+                "sample %.6g ('%s' x %zu / 'Sample Points'), from the Z minimum before it: "
+                "approach %zu, retract %zu points", n, st->sync, st->sync_key, n, st->napp,
+                st->nret);
+        if (marker)
+            lf_warn(&c->info, "the first sample in time holds the integer's least value (a "
+                    "marker, not a deflection): it takes the mean of its neighbours in phase, "
+                    "the second and the last sample");
+    } else {
+        lf_warn(&c->info, "depth: tip-sample separation = Z - deflection (into the sample "
+                "positive), Z the ramp in steps of %.6g nm", st->zstep * 1e9);
+        lf_warn(&c->info, "segments: approach %zu (stored backwards), retract %zu points",
+                st->napp, st->nret);
+    }
     return lf_curve_finish(c, warn, err);
 }
 

@@ -445,9 +445,10 @@ static void
 curves_table(lf_str *f, const lf_fit_result *r)
 {
     size_t j;
+    char shape[160];
 
     lf_str_puts(f, "<section id=\"curves\">\n<h2>Curves</h2>\n<div class=\"wide\"><table id=\"curve-table\">\n"
-          "<tr><th>#</th><th>file</th><th>k</th><th>R</th><th>b</th><th>interface</th>"
+          "<tr><th>#</th><th>file</th><th>probe</th><th>b</th><th>interface</th>"
           "<th>branch</th><th>points</th><th>z0</th><th>F0</th>"
           "<th>noise &sigma;</th><th>rms residual</th><th>rms/&sigma;</th><th>pull-off force</th>"
           "<th>pull-off radius</th><th>b/a at pull-off</th></tr>\n");
@@ -455,8 +456,7 @@ curves_table(lf_str *f, const lf_fit_result *r)
         const lf_fit_curve_result *c = &r->curves[j];
         lf_str_printf(f, "<tr><td class=\"num\">%zu</td>", j + 1);
         td_text(f, c->name ? c->name : "");
-        td_num(f, c->probe.k, 6, "");
-        td_human(f, c->probe.R, "m");
+        td_text(f, lf_probe_words(shape, sizeof shape, &c->probe));
         if (halfspace_model(c->model)) {   /* b inside is only a stand-in */
             td_text(f, "none");
             td_text(f, "half-space");

@@ -88,6 +88,49 @@ jestimate(lf_str *b, const char *name, const lf_fit_estimate *e, int last)
     lf_str_printf(b, "}%s\n", last ? "" : ",");
 }
 
+/* A range as stated: {"lo": .., "hi": .., "relative": ..}, or null. */
+static void
+jrange(lf_str *b, const lf_range *r)
+{
+    if (isnan(r->lo) && isnan(r->hi)) {
+        lf_str_puts(b, "null");
+        return;
+    }
+    lf_str_puts(b, "{\"lo\": ");
+    jnum(b, r->lo);
+    lf_str_puts(b, ", \"hi\": ");
+    jnum(b, r->hi);
+    lf_str_printf(b, ", \"relative\": %s}", r->relative ? "true" : "false");
+}
+
+/* ", "window": {...}" of a curve: the window as stated (relative: as
+ * fractions) and as placed on the curve's depth and force (open: null),
+ * the points kept; null when it keeps everything. */
+static void
+jwindow(lf_str *b, const lf_window_placed *w)
+{
+    const struct { const char *key; double v; } num[] = {
+        { "depth_lo_m", w->depth_lo }, { "depth_hi_m", w->depth_hi },
+        { "force_lo_N", w->force_lo }, { "force_hi_N", w->force_hi },
+    };
+    size_t i;
+
+    lf_str_puts(b, ",\n     \"window\": ");
+    if (!w->active) {
+        lf_str_puts(b, "null");
+        return;
+    }
+    lf_str_puts(b, "{\"depth_range\": ");
+    jrange(b, &w->window.depth);
+    lf_str_puts(b, ", \"force_range\": ");
+    jrange(b, &w->window.force);
+    for (i = 0; i < sizeof num / sizeof num[0]; i++) {
+        lf_str_printf(b, ", \"%s\": ", num[i].key);
+        jnum(b, num[i].v);          /* an open side (infinite) is null */
+    }
+    lf_str_printf(b, ", \"points_kept\": %zu, \"points\": %zu}", w->n_kept, w->n_in);
+}
+
 static void
 jcurve(lf_str *b, const lf_report_info *in, const lf_fit_result *r, size_t j)
 {
@@ -95,8 +138,12 @@ jcurve(lf_str *b, const lf_report_info *in, const lf_fit_result *r, size_t j)
     int nolayer = no_layer(in, r, j);
     int po = c->pulloff_determined;
     const struct { const char *key; double v; } num[] = {
-        { "k", c->probe.k }, { "R", c->probe.R },
+        { "k", c->probe.k }, { "R", lf_probe_uses_R(&c->probe) ? c->probe.R : NAN },
         { "b", nolayer ? NAN : c->probe.b },
+        { "B", lf_probe_prefactor(&c->probe) },
+        { "half_angle_rad", c->probe.tip == LF_TIP_CONE || c->probe.tip == LF_TIP_PYRAMID
+                            ? c->probe.angle : NAN },
+        { "cone_half_angle_rad", lf_probe_cone_angle(&c->probe) },
         { "z0", c->z0 }, { "z0_stderr", c->z0_se }, { "F0", c->F0 },
         { "F0_stderr", c->F0_se }, { "noise_sigma", c->sigma },
         { "quantum_N", c->quantum > 0 ? c->quantum : NAN }, { "rms", c->rms },
@@ -116,7 +163,9 @@ jcurve(lf_str *b, const lf_report_info *in, const lf_fit_result *r, size_t j)
         lf_str_printf(b, ", \"%s\": ", num[i].key);
         jnum(b, num[i].v);
     }
-    lf_str_puts(b, ",\n     \"interface\": ");
+    lf_str_puts(b, ",\n     \"tip\": ");
+    lf_str_json(b, lf_tip_name(c->probe.tip));
+    lf_str_puts(b, ", \"interface\": ");
     lf_str_json_or_null(b, nolayer ? NULL : base_name(c->probe.base));
     lf_str_printf(b, ", \"branch\": \"%s\", \"points\": %zu, "
                   "\"z0_free\": %s, \"F0_free\": %s, \"consistent\": %s, \"downweighted\": %zu",
@@ -156,7 +205,23 @@ jcurve(lf_str *b, const lf_report_info *in, const lf_fit_result *r, size_t j)
         lf_str_printf(b, ", \"%s_stderr\": ", mat_key[i]);
         jnum(b, c->alone.se[i]);
     }
-    lf_str_puts(b, "}, \"warnings\": ");
+    lf_str_puts(b, "}");
+    if (in->observed != NULL) {  /* what the curve shows without a model */
+        double v[LF_NOBSERVED];
+        lf_observed_values(&in->observed[j], v);
+        for (i = 0; i < LF_NOBSERVED; i++) {
+            lf_str_printf(b, "%s\"%s\": ", i == 0 ? ",\n     " : ", ", lf_observed_keys[i]);
+            jnum(b, v[i]);
+        }
+        lf_str_puts(b, ", \"instrument_model\": ");
+        lf_str_json_or_null(b, in->observed[j].instrument_model[0]
+                               ? in->observed[j].instrument_model : NULL);
+        lf_str_puts(b, ", \"contact_point_method\": ");
+        lf_str_json(b, LF_CONTACT_METHOD);
+    }
+    if (in->window != NULL)
+        jwindow(b, &in->window[j]);
+    lf_str_puts(b, ", \"warnings\": ");
     jwarnings(b, &c->warnings);
     lf_str_printf(b, "}%s\n", j + 1 < r->ncurves ? "," : "");
 }
@@ -286,7 +351,7 @@ int
 lf_fit_result_json(const lf_fit_result *r, const lf_report_info *info, char **json,
                    lf_error *err)
 {
-    static const lf_report_info none = { NULL, NAN, NULL, NULL, NULL, 0 };
+    static const lf_report_info none = { NULL, NAN, NULL, NULL, NULL, 0, NULL, NULL };
     const lf_report_info *in = info != NULL ? info : &none;
     lf_str b = { NULL, 0, 0, 0 };
     size_t i, j;

@@ -37,6 +37,7 @@ static const struct {
     [LF_Q_SENS_AMP]      = { "m/A", "m/A", "a sensitivity (length per ampere)", "61nm/nA" },
     [LF_Q_VOLTAGE]       = { "V", "V", "a voltage", "1V" },
     [LF_Q_CURRENT]       = { "A", "A", "a current", "1nA" },
+    [LF_Q_ANGLE]         = { "rad", "rad", "an angle", "35deg" },
 };
 #define NQUANT (sizeof quantities / sizeof quantities[0])
 
@@ -140,6 +141,10 @@ lf_units_factor(const char *unit, lf_quantity q, double *factor, lf_error *err)
         return lf_fail(err, LF_EUNIT, "missing unit: expected %s such as %s",
                        quantities[q].noun, quantities[q].example);
     }
+    /* udunits2 spells the degree "degree", "arc_degree" or with its sign;
+     * "deg", as labs write it, is an alias here */
+    if (q == LF_Q_ANGLE && strcmp(name, "deg") == 0)
+        name = "degree";
     pthread_mutex_lock(&units_lock);
     if (memo_find(name, q, factor)) {
         pthread_mutex_unlock(&units_lock);

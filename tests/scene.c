@@ -24,11 +24,13 @@ scene_default(const char *label)
 void
 scene_add(scene *s, double k, double R, double b, lf_base base)
 {
-    lf_probe p;
+    lf_probe p = { 0 };
     p.k = k;
     p.R = R;
     p.b = b;
     p.base = base;
+    if (k == 1.0)
+        p.B = 1.0;   /* R cancels at k = 1: the paper's profile is f = r */
     if (s->n < SCENE_MAX)
         s->probe[s->n++] = p;
 }

@@ -314,6 +314,91 @@ naming(void)
 
 /* ---- Bruker Nanoscope, Igor, AFM Workshop map, tab, hld --------------- */
 
+/* A Nanoscope map of side x side curves over 1 um each: grid places,
+ * positions, w by column (map_w), the same from memory. */
+static void
+nanoscope_grid(const char *name, size_t side)
+{
+    lf_file *f = NULL;
+    lf_curve *c;
+    lf_curve_info info;
+    lf_error err;
+    size_t i;
+    if (t_int(lf_file_open(vpath(name), 0, NULL, &f, NULL, &err), LF_OK, "%s opens (%s)",
+              name, err.msg)) {
+        t_int((long) lf_file_count(f), (long) (side * side), "%s: a curve per pixel", name);
+        for (i = 0; i < lf_file_count(f); i++) {
+            char what[64];
+            if (lf_file_info(f, i, &info, &err) == LF_OK) {
+                t_int(info.grid_i, (long) (i % side), "%s %zu: column", name, i);
+                t_int(info.grid_j, (long) (i / side), "%s %zu: row", name, i);
+                t_rel(info.x, ((double) (i % side) + 0.5) * 1e-6, 1e-12, "%s %zu: x", name, i);
+                t_rel(info.y, ((double) (i / side) + 0.5) * 1e-6, 1e-12, "%s %zu: y", name, i);
+            }
+            if (lf_file_curve(f, i, &c, NULL, &err) == LF_OK) {
+                snprintf(what, sizeof what, "%s#%zu", name, i);
+                fits_to(c, map_w[i % side], 1e-3, what);
+                lf_curve_free(c);
+            }
+        }
+        lf_file_close(f);
+    }
+    file_and_memory_agree(name, NULL);
+}
+
+/* nanoscope.pfc: PeakForce Capture, 2 x 2 curves of one period of a sine
+ * Z, 64 + 64 samples of 2 bytes.  The generator's truth: Z = A (1 -
+ * cos(pi u / 64)), A = 1500 nm, u = (time index - s + 64) mod 128 with the
+ * peak at s = 171.3 ('Sync Distance QNM') x 128 / 256 ('Sample Points') =
+ * 85.65, so that the curve starts at time index 22 (u = 0.35); the time
+ * index k is stored at 63 - k (k < 64) or k; the first sample in time holds
+ * the marker -32768. */
+static void
+peakforce_capture(void)
+{
+    static const size_t spot[] = { 0, 20, 41, 42, 63, 64, 90, 105, 107, 127 };
+    const double lsb = 0.000375 * 40e-9, amp = 1500e-9, k = 2.0;
+    lf_file *f = NULL;
+    lf_curve *c;
+    lf_error err;
+    size_t len = 0, i, load = 0;
+    char *raw = slurp(vpath("nanoscope.pfc"), &len), *bad;
+
+    c = curve_of(vpath("nanoscope.pfc"), 1, NULL);
+    if (c != NULL && raw != NULL && len == 8192 + 4 * 256) {
+        const unsigned char *p = (const unsigned char *) raw + 8192 + 256;     /* curve 1 */
+#define PFC_RAW(at) ((double) (int16_t) (p[2 * (at)] | p[2 * (at) + 1] << 8))
+        t_int((long) c->n, 128, "pfc: 128 points");
+        for (i = 0; i < c->n; i++)
+            load += c->segment[i] == LF_SEG_LOAD;
+        t_int((long) load, 64, "pfc: 64 approach points");
+        t_int(c->segment[63] == LF_SEG_LOAD && c->segment[64] == LF_SEG_UNLOAD, 1,
+              "pfc: the approach ends at the peak of Z");
+        for (i = 0; i < sizeof spot / sizeof spot[0]; i++) {
+            size_t m = spot[i], t = (22 + m) % 128, at = t < 64 ? 63 - t : t;
+            double z = amp * (1 - cos(M_PI * ((double) m + 0.35) / 64)), d = PFC_RAW(at) * lsb;
+            t_rel(c->force[m], k * d, 1e-12, "pfc point %zu: raw x hard x sensitivity x k", m);
+            t_rel(c->depth[m], z - d, 1e-12, "pfc point %zu: the sine's Z - deflection", m);
+        }
+        t_rel(PFC_RAW(63), -32768, 0, "pfc: the first sample in time is the marker");
+        t_rel(c->force[106], k * lsb * 0.5 * (PFC_RAW(62) + PFC_RAW(127)), 1e-12,
+              "pfc: the marker takes the mean of its neighbours in phase");
+#undef PFC_RAW
+    }
+    lf_curve_free(c);
+    nanoscope_grid("nanoscope.pfc", 2);
+    /* what the sine needs, named when it is missing */
+    if (raw != NULL && (bad = strstr(raw, "Sample Points")) != NULL) {
+        bad[12] = 'z';
+        if (t_int(lf_file_open_memory(raw, len, "x.pfc", NULL, &f, NULL, &err), LF_EFORMAT,
+                  "pfc without Sample Points refused"))
+            t_contains(err.msg, "does not state '\\Sample Points'", "pfc: names the key");
+        else
+            lf_file_close(f);
+    }
+    free(raw);
+}
+
 static void
 other_synthetic(void)
 {
@@ -343,25 +428,8 @@ other_synthetic(void)
     }
     lf_curve_free(c);
     free(raw);
-    if (t_int(lf_file_open(vpath("nanoscope_fv.spm"), 0, NULL, &f, NULL, &err), LF_OK,
-              "nanoscope_fv opens (%s)", err.msg)) {
-        t_int((long) lf_file_count(f), 9, "force volume: 3 x 3 curves");
-        for (i = 0; i < lf_file_count(f); i++) {
-            char what[64];
-            if (lf_file_info(f, i, &info, &err) == LF_OK) {
-                t_int(info.grid_i, (long) (i % 3), "force volume %zu: column", i);
-                t_int(info.grid_j, (long) (i / 3), "force volume %zu: row", i);
-                t_rel(info.x, ((double) (i % 3) + 0.5) * 1e-6, 1e-12, "force volume %zu: x", i);
-            }
-            if (lf_file_curve(f, i, &c, NULL, &err) == LF_OK) {
-                snprintf(what, sizeof what, "nanoscope_fv#%zu", i);
-                fits_to(c, map_w[i % 3], 1e-3, what);
-                lf_curve_free(c);
-            }
-        }
-        lf_file_close(f);
-    }
-    file_and_memory_agree("nanoscope_fv.spm", NULL);
+    nanoscope_grid("nanoscope_fv.spm", 3);
+    peakforce_capture();
 
     /* Igor waves: little-endian float32 with the note's Indexes, big-endian
      * float64 without (segments from the profile) */

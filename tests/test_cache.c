@@ -183,7 +183,7 @@ forces(const lf_probe *p, const lf_material *m, int cache_on, size_t n, const do
 static void
 model_hit_is_fresh(void)
 {
-    lf_probe p = { 2.5, 1e-3, 1e-6, LF_BASE_FRICTIONLESS };
+    lf_probe p = { 2.5, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 };
     lf_material m = { 10e-3, 1e9, 0.3 };
     double d[5] = { -2e-9, 0.0, 5e-9, 20e-9, 60e-9 };
     lf_eval a[5], b[5];
@@ -284,7 +284,7 @@ two_processes(void)
 static void
 model_resolves(void)
 {
-    lf_probe p = { 2.0, 1e-3, 1e-6, LF_BASE_BONDED };
+    lf_probe p = { 2.0, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0 };
     lf_material m = { 10e-3, 1e9, 0.31 };
     double d[4] = { 1e-9, 10e-9, 30e-9, 50e-9 };
     lf_eval a[4], b[4];
@@ -415,7 +415,7 @@ list_clear(void)
 static void
 far_eval(void)
 {
-    lf_probe p[2] = { { 2.0, 1e-3, 5e-9, LF_BASE_FRICTIONLESS }, { 3.0, 1e-3, 10e-9, LF_BASE_BONDED } };
+    lf_probe p[2] = { { 2.0, 1e-3, 5e-9, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, { 3.0, 1e-3, 10e-9, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0 } };
     lf_material m = { 12e-3, 1.5e9, 0.33 };
     double d[6] = { 2e-9, 5e-9, 10e-9, 20e-9, 40e-9, -1e-9 }, P[6], maxd[2] = { 0, 0 };
     lf_eval ev[6];
@@ -517,7 +517,7 @@ static void
 fit_prepares(void)
 {
     enum { N = 60 };
-    lf_probe p = { 2.0, 1e-3, 3e-6, LF_BASE_BONDED };
+    lf_probe p = { 2.0, 1e-3, 3e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0 };
     lf_material m = { 10e-3, 1e9, 0.33 };
     double d[N], F[N];
     lf_eval ev[N];

@@ -40,8 +40,8 @@ static void
 mixed_models(void)
 {
     lf_material mat = { 12.3e-3, 1.85e9, 0.35 };
-    lf_probe p[2] = { { 3, 1e-3, 0.2e-6, LF_BASE_FRICTIONLESS },
-                      { 2, 1e-3, 3e-6, LF_BASE_FRICTIONLESS } };
+    lf_probe p[2] = { { 3, 1e-3, 0.2e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 },
+                      { 2, 1e-3, 3e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 } };
     const lf_model_type *types[2] = { &lf_model_thin, &lf_model_exact };
     static double depth[2][300], force[2][300];
     double *dp, *fp;
@@ -116,7 +116,7 @@ static const bias_row rows[] = {
 static int
 row_data(const bias_row *rw, double *depth, double *force)
 {
-    lf_probe p = { rw->k, rw->R, rw->b, rw->base };
+    lf_probe p = { rw->k, rw->R, rw->b, rw->base, LF_TIP_POWER, 0.0, 0.0 };
     lf_material mat = { rw->w, rw->Estar, rw->nu };
     lf_sim_settings sim = lf_sim_settings_default();
     lf_pulloff po;

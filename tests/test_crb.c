@@ -27,7 +27,7 @@ two_probes(lf_base base2, int free_z0, int free_F0, int free_nu, lf_crb_result *
     for (i = 0; i < N; i++)
         delta[i] = -0.9 * c + (50e-9 + 0.9 * c) * (double) i / (N - 1);
     for (j = 0; j < 2; j++) {
-        lf_probe p = { 2.0 + (double) j, 1e-3, 1e-6, j ? base2 : LF_BASE_FRICTIONLESS };
+        lf_probe p = { 2.0 + (double) j, 1e-3, 1e-6, j ? base2 : LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 };
         double pmax = 0;
         m[j] = lf_model_alloc(&lf_model_thin, &p, NULL);
         lf_model_eval(m[j], &truth, LF_BRANCH_UNLOAD, N, delta, e, NULL);

@@ -185,7 +185,7 @@ test_limits(void)
 static lf_model *
 model(const lf_model_type *t, double k, double R, double b, lf_base base)
 {
-    lf_probe p;
+    lf_probe p = { 0 };
     lf_error err;
     lf_model *m;
     p.k = k; p.R = R; p.b = b; p.base = base;
@@ -230,7 +230,7 @@ test_halfspace_limit(void)
 static void
 test_jkr_construction(void)
 {
-    lf_probe pr = {3.0, 1e-3, 1e-6, LF_BASE_BONDED};
+    lf_probe pr = {3.0, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0};
     lf_material m0 = {0.0, 1.37e9, 0.3}, m = {0.0114, 1.37e9, 0.3};
     lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
     double avals[] = {1.5e-5, 2.5e-5, 4e-5};   /* above a_detach ~ 1.1e-5 */
@@ -287,7 +287,7 @@ test_jacobian(void)
     lf_base bases[] = {LF_BASE_FRICTIONLESS, LF_BASE_BONDED};
     int bi, i;
     for (bi = 0; bi < 2; bi++) {
-        lf_probe pr = {2.0, 1e-3, 1e-6, bases[bi]};
+        lf_probe pr = {2.0, 1e-3, 1e-6, bases[bi], LF_TIP_POWER, 0.0, 0.0};
         lf_material m = {0.0114, 1.37e9, 0.41};
         lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
         lf_pulloff po;
@@ -332,7 +332,7 @@ test_jacobian(void)
 static void
 test_branches(void)
 {
-    lf_probe pr = {2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS};
+    lf_probe pr = {2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0};
     lf_material m = {0.01, 1e9, 0.3};
     lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
     lf_pulloff po;
@@ -385,7 +385,7 @@ test_branches(void)
 static void
 test_thin_limit(void)
 {
-    lf_probe pr = {3.0, 1e-3, 1e-7, LF_BASE_FRICTIONLESS};
+    lf_probe pr = {3.0, 1e-3, 1e-7, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0};
     lf_material m = {0.01, 1e9, 0.3};
     lf_model *me = model(&lf_model_exact, 3.0, 1e-3, 1e-7, LF_BASE_FRICTIONLESS);
     lf_model *mt = model(&lf_model_thin, 3.0, 1e-3, 1e-7, LF_BASE_FRICTIONLESS);
@@ -421,6 +421,68 @@ test_thin_limit(void)
  * their largest magnitude over the curve, and each to 1e-8 of itself
  * wherever it is above 1e-3 of that largest value.  Both are 1e4 times
  * below the tables' own accuracy in derivatives (3e-5, test_tables). */
+#define NP_FAST 240
+
+/* One evaluation of the model against lf_exact_eval_precise on the same
+ * indentations, with the tolerances above; label names the case. */
+static void
+fast_vs_precise(lf_model *mod, const lf_probe *pr, const lf_material *m, lf_branch b,
+                const double *d, const char *label)
+{
+    static lf_eval ef[NP_FAST], ep[NP_FAST];
+    double smax[6] = {0}, emax[6] = {0}, pmax = 0.0;
+    int bad = -1, i, j;
+
+    t_int(lf_model_eval(mod, m, b, NP_FAST, d, ef, NULL), LF_OK, "fast eval %s", label);
+    t_int(lf_exact_eval_precise(pr, m, b, NP_FAST, d, ep, NULL), LF_OK, "precise eval %s", label);
+    for (i = 0; i < NP_FAST; i++) {
+        double q[6] = {ep[i].P, ep[i].a, ep[i].dP_ddelta, ep[i].dP_dlogw, ep[i].dP_dlogE, ep[i].dP_dnu};
+        for (j = 0; j < 6; j++)
+            smax[j] = fmax(smax[j], fabs(q[j]));
+    }
+    for (i = 0; i < NP_FAST; i++) {
+        double f[6] = {ef[i].P, ef[i].a, ef[i].dP_ddelta, ef[i].dP_dlogw, ef[i].dP_dlogE, ef[i].dP_dnu};
+        double q[6] = {ep[i].P, ep[i].a, ep[i].dP_ddelta, ep[i].dP_dlogw, ep[i].dP_dlogE, ep[i].dP_dnu};
+        for (j = 0; j < 6; j++) {
+            double e = smax[j] > 0.0 ? fabs(f[j] - q[j]) / smax[j] : fabs(f[j] - q[j]);
+            emax[j] = fmax(emax[j], e);
+            if (j >= 2 && fabs(q[j]) > 1e-3 * smax[j]) {
+                double r = fabs(f[j] / q[j] - 1.0);
+                if (r > pmax) {
+                    pmax = r;
+                    bad = i;
+                }
+            }
+        }
+    }
+    t_true(emax[0] <= 1e-12 && emax[1] <= 1e-12,
+           "fast path %s: P, a within %.1e, %.1e of scale (<= 1e-12)", label, emax[0], emax[1]);
+    t_true(emax[2] <= 1e-9 && emax[3] <= 1e-9 && emax[4] <= 1e-9 && emax[5] <= 1e-9,
+           "fast path %s: derivatives within %.1e %.1e %.1e %.1e of scale (<= 1e-9)",
+           label, emax[2], emax[3], emax[4], emax[5]);
+    t_true(pmax <= 1e-8, "fast path %s: derivatives within %.1e of themselves "
+           "(<= 1e-8; worst point %d)", label, pmax, bad);
+}
+
+/* The largest indentation of a case: well into the thin-layer range of a
+ * layer of thickness b whose detachment is at lo. */
+static double
+fast_top(double lo, double b)
+{
+    return fmax(60e-9, 4.0 * fabs(lo)) * sqrt(b / 1e-6);
+}
+
+/* Indentations from just past detachment (lo) to hi, unevenly spaced, a
+ * few points repeated. */
+static void
+fast_depths(double lo, double hi, double *d)
+{
+    int i;
+
+    for (i = 0; i < NP_FAST; i++)
+        d[i] = lo + (hi - lo) * pow((i + 0.5 - (i % 37 == 5)) / NP_FAST, 1.7);
+}
+
 static void
 test_fast_path(void)
 {
@@ -433,66 +495,70 @@ test_fast_path(void)
         {1.0, LF_BASE_FRICTIONLESS, 0.3, 1e-6, 0.01, 1e9},
         {2.0, LF_BASE_FRICTIONLESS, 0.3, 1e-6, 0.0, 1e9},
         {6.0, LF_BASE_FRICTIONLESS, 0.3, 1e-6, 0.01, 1e9}};
-    enum { NP = 240 };
     size_t ci;
-    int br, i, j;
+    int br;
 
     for (ci = 0; ci < sizeof c / sizeof c[0]; ci++) {
-        lf_probe pr = {c[ci].k, 1e-3, c[ci].bb, c[ci].b};
+        lf_probe pr = {c[ci].k, 1e-3, c[ci].bb, c[ci].b, LF_TIP_POWER, 0.0,
+                       c[ci].k == 1.0 ? 1.0 : 0.0};    /* k = 1: f = r */
         lf_material m = {c[ci].w, c[ci].E, c[ci].nu};
         lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
         lf_pulloff po;
-        static double d[NP];
-        static lf_eval ef[NP], ep[NP];
-        double lo, hi;
+        static double d[NP_FAST];
+        char label[96];
         if (mod == NULL || lf_model_pulloff(mod, &m, &po, NULL) != LF_OK) {
             t_true(0, "alloc/pulloff case %zu", ci);
             lf_model_free(mod);
             continue;
         }
-        /* from just past detachment to well into the thin-layer range,
-         * unevenly spaced, a few points repeated */
-        lo = po.delta_detach;
-        hi = fmax(60e-9, 4.0 * fabs(lo)) * pow(c[ci].bb / 1e-6, 0.5);
-        for (i = 0; i < NP; i++)
-            d[i] = lo + (hi - lo) * pow((i + 0.5 - (i % 37 == 5)) / NP, 1.7);
+        fast_depths(po.delta_detach, fast_top(po.delta_detach, c[ci].bb), d);
         for (br = 0; br < 2; br++) {
-            lf_branch b = br ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD;
-            double smax[6] = {0}, emax[6] = {0}, pmax = 0.0;
-            int bad = -1;
-            t_int(lf_model_eval(mod, &m, b, NP, d, ef, NULL), LF_OK, "fast eval case %zu", ci);
-            t_int(lf_exact_eval_precise(&pr, &m, b, NP, d, ep, NULL), LF_OK, "precise eval case %zu", ci);
-            for (i = 0; i < NP; i++) {
-                double q[6] = {ep[i].P, ep[i].a, ep[i].dP_ddelta, ep[i].dP_dlogw, ep[i].dP_dlogE, ep[i].dP_dnu};
-                for (j = 0; j < 6; j++)
-                    smax[j] = fmax(smax[j], fabs(q[j]));
-            }
-            for (i = 0; i < NP; i++) {
-                double f[6] = {ef[i].P, ef[i].a, ef[i].dP_ddelta, ef[i].dP_dlogw, ef[i].dP_dlogE, ef[i].dP_dnu};
-                double q[6] = {ep[i].P, ep[i].a, ep[i].dP_ddelta, ep[i].dP_dlogw, ep[i].dP_dlogE, ep[i].dP_dnu};
-                for (j = 0; j < 6; j++) {
-                    double e = smax[j] > 0.0 ? fabs(f[j] - q[j]) / smax[j] : fabs(f[j] - q[j]);
-                    emax[j] = fmax(emax[j], e);
-                    if (j >= 2 && fabs(q[j]) > 1e-3 * smax[j]) {
-                        double r = fabs(f[j] / q[j] - 1.0);
-                        if (r > pmax) {
-                            pmax = r;
-                            bad = i;
-                        }
-                    }
-                }
-            }
-            t_true(emax[0] <= 1e-12 && emax[1] <= 1e-12,
-                   "fast path case %zu branch %d: P, a within %.1e, %.1e of scale (<= 1e-12)",
-                   ci, br, emax[0], emax[1]);
-            t_true(emax[2] <= 1e-9 && emax[3] <= 1e-9 && emax[4] <= 1e-9 && emax[5] <= 1e-9,
-                   "fast path case %zu branch %d: derivatives within %.1e %.1e %.1e %.1e of scale (<= 1e-9)",
-                   ci, br, emax[2], emax[3], emax[4], emax[5]);
-            t_true(pmax <= 1e-8, "fast path case %zu branch %d: derivatives within %.1e of themselves "
-                   "(<= 1e-8; worst point %d)", ci, br, pmax, bad);
+            snprintf(label, sizeof label, "case %zu branch %d", ci, br);
+            fast_vs_precise(mod, &pr, &m, br ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD, d, label);
         }
         lf_model_free(mod);
     }
+}
+
+/* The same over a grid of the probes the benchmarks time (k = 1.5, 2, 3),
+ * both bases, layer thicknesses, works of adhesion and moduli (the
+ * curve's scale against the layer's), and both branches; bonded layers at
+ * one nu per k (nu moves only the tables' mix, test_fast_path). */
+static void
+test_fast_grid(void)
+{
+    static const double ks[] = {1.5, 2.0, 3.0}, nus[] = {0.1, 0.45, 0.3};
+    static const double bs[] = {3e-7, 1e-6, 4e-6}, ws[] = {0.003, 0.04}, Es[] = {3e8, 2.5e9};
+    static double d[NP_FAST];
+    size_t ki, bi, wi, Ei;
+    int base, br;
+
+    for (ki = 0; ki < 3; ki++)
+        for (base = 0; base < 2; base++)
+            for (bi = 0; bi < 3; bi++) {
+                lf_probe pr = {ks[ki], 1e-3, bs[bi], base ? LF_BASE_BONDED : LF_BASE_FRICTIONLESS,
+                               LF_TIP_POWER, 0.0, 0.0};
+                lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
+                for (wi = 0; wi < 2 && mod != NULL; wi++)
+                    for (Ei = 0; Ei < 2; Ei++) {
+                        lf_material m = {ws[wi], Es[Ei], nus[ki]};
+                        lf_pulloff po;
+                        char label[160];
+                        if (lf_model_pulloff(mod, &m, &po, NULL) != LF_OK) {
+                            t_true(0, "pulloff k %g base %d b %g", ks[ki], base, bs[bi]);
+                            continue;
+                        }
+                        fast_depths(po.delta_detach, fast_top(po.delta_detach, bs[bi]), d);
+                        for (br = 0; br < 2; br++) {
+                            snprintf(label, sizeof label, "k %g base %d b %g w %g E* %g branch %d",
+                                     ks[ki], base, bs[bi], ws[wi], Es[Ei], br);
+                            fast_vs_precise(mod, &pr, &m, br ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD,
+                                            d, label);
+                        }
+                    }
+                t_true(mod != NULL, "alloc k %g base %d b %g", ks[ki], base, bs[bi]);
+                lf_model_free(mod);
+            }
 }
 
 /* The per-nu data a model object keeps (a few slots, replaced least
@@ -542,7 +608,7 @@ slot_thread(void *arg)
 static void
 test_slots(void)
 {
-    lf_probe pr = {2.0, 1e-3, 1e-6, LF_BASE_BONDED};
+    lf_probe pr = {2.0, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0};
     lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL), *fresh;
     lf_eval e0[5], e1[5];
     lf_pulloff p0, p1;
@@ -569,7 +635,7 @@ test_slots(void)
     {
         /* pull-offs are kept per model object: a new model (maybe at the
          * freed one's address) with another probe answers for its own */
-        lf_probe p3 = {3.0, 1e-3, 1e-6, LF_BASE_BONDED};
+        lf_probe p3 = {3.0, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0};
         lf_model *a = lf_model_alloc(&lf_model_exact, &pr, NULL), *b3, *c3;
         lf_material m = {0.01, 1e9, 0.3};
         lf_pulloff pa, pb, pc;
@@ -639,7 +705,7 @@ static void *
 shared_thread(void *arg)
 {
     shared_job *j = arg;
-    lf_probe pr = {1.5, 1e-3, 1e-6, LF_BASE_FRICTIONLESS};
+    lf_probe pr = {1.5, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0};
     lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
     j->ok = mod != NULL;
     if (mod != NULL)
@@ -679,6 +745,165 @@ test_shared_conditions(void)
            job[0].po.P_po, job[0].e[4].P);
 }
 
+/* Two models' unloading forces over depths up to dmax agree within 2e-3
+ * of the largest, with contact past 0.7 R. */
+static void
+sphere_agree(const lf_model *x, const lf_model *y, const lf_material *m, double dmax, double R,
+             const char *what)
+{
+    enum { N = 40 };
+    double d[N], worst = 0.0, scale = 0.0;
+    lf_eval a[N], b[N];
+    size_t i;
+
+    for (i = 0; i < N; i++)
+        d[i] = dmax * (double) (i + 1) / N;
+    t_int(lf_model_eval(x, m, LF_BRANCH_UNLOAD, N, d, a, NULL), LF_OK, "%s: first model", what);
+    t_int(lf_model_eval(y, m, LF_BRANCH_UNLOAD, N, d, b, NULL), LF_OK, "%s: second model", what);
+    for (i = 0; i < N; i++) {
+        worst = fmax(worst, fabs(a[i].P - b[i].P));
+        scale = fmax(scale, fabs(b[i].P));
+    }
+    t_true(b[N - 1].a > 0.7 * R, "%s: contact reaches %.2f R", what, b[N - 1].a / R);
+    t_true(worst < 2e-3 * scale, "%s: force within %.1e", what, worst / scale);
+}
+
+/* A sphere of radius R on the layer (exact_sphere.c): the correction of
+ * the k = 2 tables against Nystrom solves with the sphere's own
+ * right-hand side (its documented accuracy: 7e-3 up to a = 0.5 R, 2e-2 to
+ * 0.7 R, 7e-2 to 0.9 R), exact at rho -> 0 and in both limits; the model
+ * against the half-space sphere (Maugis) on a thick layer and the thin
+ * layer's cap on a thin one; its fast path against lf_exact_eval_precise;
+ * its Jacobian against central differences; and no contact past
+ * a = 0.99 R. */
+static void
+test_sphere(void)
+{
+    static const struct { lf_base base; double nu; } bases[] = {
+        { LF_BASE_FRICTIONLESS, 0.0 }, { LF_BASE_BONDED, 0.3 }, { LF_BASE_BONDED, 0.45 } };
+    static const double taus[] = { 0.01, 0.1, 0.3, 1.0, 3.0, 10.0, 30.0, 100.0 };
+    static const double rhos[] = { 0.05, 0.3, 0.5, 0.7, 0.9 };
+    static const double bound[] = { 1e-4, 7e-3, 7e-3, 2e-2, 7e-2 };
+    size_t bi, i, j;
+
+    for (bi = 0; bi < sizeof bases / sizeof bases[0]; bi++) {
+        lf_exact_kernel *kr = kernel(bases[bi].base, bases[bi].nu);
+        lf_exact_mix mx;
+        double worst[5] = { 0 };
+        if (kr == NULL || lf_exact_mix_init(&mx, 2.0, bases[bi].base, bases[bi].nu, NULL) != LF_OK) {
+            t_true(0, "sphere: tables of base %d", (int) bases[bi].base);
+            lf_exact_kernel_free(kr);
+            continue;
+        }
+        for (i = 0; i < sizeof taus / sizeof taus[0]; i++)
+            for (j = 0; j < sizeof rhos / sizeof rhos[0]; j++) {
+                const double u = log(taus[i]);
+                double F[4], g[4];
+                lf_exact_point pt;
+                size_t N = lf_exact_nodes(taus[i]);
+                lf_exact_mix_eval_u(&mx, u, F, g, NULL, NULL, NULL);
+                lf_exact_sphere_adjust(log(rhos[j] / taus[i]), u, F, g, NULL, NULL, NULL);
+                if (lf_exact_solve_sphere(kr, rhos[j], taus[i], N < 240 ? 240 : N, &pt, NULL) != LF_OK) {
+                    t_true(0, "sphere Nystrom at tau %g, a/R %g", taus[i], rhos[j]);
+                    continue;
+                }
+                worst[j] = fmax(worst[j], fmax(fabs(exp(F[2]) / pt.d - 1.0), fabs(exp(F[3]) / pt.p - 1.0)));
+            }
+        for (j = 0; j < sizeof rhos / sizeof rhos[0]; j++)
+            t_true(worst[j] <= bound[j], "sphere correction, base %d nu %g, a = %g R: d, p within "
+                   "%.2e of Nystrom (<= %g)", (int) bases[bi].base, bases[bi].nu, rhos[j], worst[j],
+                   bound[j]);
+        {
+            /* the half-space sphere's Nystrom solve is Maugis' closed form */
+            lf_exact_point pt;
+            double r = 0.8, A = atanh(r);
+            lf_exact_solve_sphere(kr, r, 1e-6, 240, &pt, NULL);
+            t_rel(pt.d, A / r, 1e-5, "sphere, tau -> 0: d = atanh(rho)/rho (Maugis' delta1)");
+            t_rel(pt.p, ((1 + r * r) * A - r) / (2 * r * r * r), 1e-5,
+                  "sphere, tau -> 0: p (Maugis' P1)");
+        }
+        lf_exact_kernel_free(kr);
+    }
+
+    {
+        const double R = 8e-6;
+        const lf_material m = { 5e-3, 25e3, 0.3 };
+        lf_probe thick = { 2.0, R, 1e4 * R, LF_BASE_FRICTIONLESS, LF_TIP_SPHERE, 0.0, 0.0 };
+        lf_probe thin = { 2.0, R, R / 2000.0, LF_BASE_FRICTIONLESS, LF_TIP_SPHERE, 0.0, 0.0 };
+        lf_probe mid = { 2.0, R, R, LF_BASE_BONDED, LF_TIP_SPHERE, 0.0, 0.0 };
+        lf_model *ex = lf_model_alloc(&lf_model_exact, &thick, NULL);
+        lf_model *hs = lf_model_alloc(&lf_model_halfspace, &thick, NULL);
+        lf_model *ext = lf_model_alloc(&lf_model_exact, &thin, NULL);
+        lf_model *th = lf_model_alloc(&lf_model_thin, &thin, NULL);
+        lf_model *exm = lf_model_alloc(&lf_model_exact, &mid, NULL);
+        enum { NP = 40 };
+        double d[NP], scale = 0.0;
+        lf_pulloff pa, pb;
+
+        if (!t_true(ex && hs && ext && th && exm, "sphere models"))
+            goto done;
+        /* thick: contact to ~0.8 R, a/b below 1e-3: the half-space's to its
+         * first order in a/b */
+        sphere_agree(ex, hs, &m, 6e-6, R, "thick layer: the half-space sphere");
+        t_int(lf_model_pulloff(ex, &m, &pa, NULL), LF_OK, "exact sphere pull-off");
+        t_int(lf_model_pulloff(hs, &m, &pb, NULL), LF_OK, "half-space sphere pull-off");
+        t_rel(pa.P_po, pb.P_po, 1e-3, "thick layer: the half-space sphere's pull-off");
+        /* thin: the cap's law to its first order in b/a */
+        sphere_agree(ext, th, &m, 3e-6, R, "thin layer: the thin layer's sphere");
+        /* b = R, bonded: fast path and precise evaluation, and the Jacobian */
+        {
+            lf_material mm = m;
+            lf_eval p[NP], q[NP], plus[NP], minus[NP];
+            double dev = 0.0, jac = 0.0;
+            int br;
+            t_int(lf_model_pulloff(exm, &mm, &pa, NULL), LF_OK, "exact sphere b = R: pull-off");
+            for (i = 0; i < NP; i++)
+                d[i] = pa.delta_detach + (5e-6 - pa.delta_detach) * pow((i + 0.5) / NP, 1.5);
+            for (br = 0; br < 2; br++) {
+                lf_branch bb = br ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD;
+                t_int(lf_model_eval(exm, &mm, bb, NP, d, p, NULL), LF_OK, "fast eval");
+                t_int(lf_exact_eval_precise(&mid, &mm, bb, NP, d, q, NULL), LF_OK, "precise eval");
+                for (i = 0; i < NP; i++)
+                    dev = fmax(dev, fabs(p[i].P - q[i].P) / fmax(fabs(q[i].P), 1e-12));
+            }
+            t_true(dev < 1e-9, "exact sphere: fast path within %.1e of the precise one", dev);
+            /* dP/dnu and dP/dln w by central differences */
+            mm.nu = 0.3 + 1e-5;
+            lf_model_eval(exm, &mm, LF_BRANCH_UNLOAD, NP, d, plus, NULL);
+            mm.nu = 0.3 - 1e-5;
+            lf_model_eval(exm, &mm, LF_BRANCH_UNLOAD, NP, d, minus, NULL);
+            mm.nu = 0.3;
+            lf_model_eval(exm, &mm, LF_BRANCH_UNLOAD, NP, d, p, NULL);
+            scale = 0.0;
+            for (i = 0; i < NP; i++)
+                scale = fmax(scale, fabs(p[i].dP_dnu));
+            for (i = 0; i < NP; i++)
+                jac = fmax(jac, fabs((plus[i].P - minus[i].P) / 2e-5 - p[i].dP_dnu) / scale);
+            t_true(jac < 1e-4, "exact sphere: dP/dnu against central differences, %.1e", jac);
+            jac = scale = 0.0;
+            mm.w = m.w * (1 + 1e-6);
+            lf_model_eval(exm, &mm, LF_BRANCH_UNLOAD, NP, d, plus, NULL);
+            mm.w = m.w * (1 - 1e-6);
+            lf_model_eval(exm, &mm, LF_BRANCH_UNLOAD, NP, d, minus, NULL);
+            for (i = 0; i < NP; i++)
+                scale = fmax(scale, fabs(p[i].dP_dlogw));
+            for (i = 1; i < NP; i++)
+                jac = fmax(jac, fabs((plus[i].P - minus[i].P) / 2e-6 - p[i].dP_dlogw) / scale);
+            t_true(jac < 1e-4, "exact sphere: dP/dln w against central differences, %.1e", jac);
+            /* past 0.99 R: out of the model's domain */
+            d[0] = 20.0 * R;
+            t_int(lf_model_eval(exm, &mm, LF_BRANCH_UNLOAD, 1, d, p, NULL), LF_EINVAL,
+                  "exact sphere: no contact past a = 0.99 R");
+        }
+done:
+        lf_model_free(ex);
+        lf_model_free(hs);
+        lf_model_free(ext);
+        lf_model_free(th);
+        lf_model_free(exm);
+    }
+}
+
 int
 main(void)
 {
@@ -693,10 +918,12 @@ main(void)
     test_jacobian();
     test_branches();
     test_fast_path();
+    test_fast_grid();
     test_slots();
     test_thin_limit();
     test_threads();
     test_shared_conditions();
+    test_sphere();
     t_str(lf_model_type_find("exact")->name, "exact", "exact is registered");
     lf_exact_cache_clear();
     return t_summary();

@@ -19,11 +19,14 @@
  * nearly flat punch. */
 static const double sweep_k[] = { 0.6, 0.7, 0.8, 1.0, 1.2, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0 };
 #define NSWEEP (sizeof sweep_k / sizeof sweep_k[0])
+/* The prefactor B of the paper's profile r^k/(k R^(k-1)) stated at k = 1,
+ * where R cancels (f = r); from R otherwise. */
+#define K1_B(k) ((k) == 1.0 ? 1.0 : 0.0)
 
 static void
 test_pulloff(double k)
 {
-    lf_probe pr = {k, 1.7e-3, 2e-6, LF_BASE_FRICTIONLESS};
+    lf_probe pr = {k, 1.7e-3, 2e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, K1_B(k)};
     lf_material m = {0.0237, 2.385e6, 0.3};
     lf_error err;
     lf_model *mod = lf_model_alloc(&lf_model_halfspace, &pr, &err);
@@ -72,7 +75,7 @@ test_pulloff(double k)
 static void
 test_adhesiveless(void)
 {
-    lf_probe pr = {2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS};
+    lf_probe pr = {2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0};
     lf_material m = {0.0, 1.3e9, 0.3};
     lf_model *mod = lf_model_alloc(&lf_model_halfspace, &pr, NULL);
     double d = 1e-8;
@@ -92,7 +95,7 @@ test_adhesiveless(void)
 static void
 test_jacobian(void)
 {
-    lf_probe pr = {2.6, 1e-3, 1e-6, LF_BASE_BONDED};
+    lf_probe pr = {2.6, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0};
     lf_material m = {0.0114, 1.37e9, 0.41};
     lf_model *mod = lf_model_alloc(&lf_model_halfspace, &pr, NULL);
     lf_pulloff po;
@@ -172,7 +175,7 @@ test_closed_forms(void)
 
     for (ik = 0; ik < NSWEEP; ik++) {
         const double k = sweep_k[ik];
-        lf_probe pr = {k, 7.3e-6, 1e-6, LF_BASE_FRICTIONLESS};
+        lf_probe pr = {k, 7.3e-6, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, K1_B(k)};
         lf_material m = {0.0123, 3.1e5, 0.3};
         lf_model *mod = lf_model_alloc(&lf_model_halfspace, &pr, NULL);
         const double A = lf_exact_kappa(k) / (k * pow(pr.R, k - 1.0));
@@ -246,7 +249,7 @@ test_jacobian_sweep(void)
 
     for (ik = 0; ik < NSWEEP; ik++) {
         const double k = sweep_k[ik];
-        lf_probe pr = {k, 7.3e-6, 1e-6, LF_BASE_FRICTIONLESS};
+        lf_probe pr = {k, 7.3e-6, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, K1_B(k)};
         lf_material m = {0.0123, 3.1e5, 0.3}, tiny = {1e-250, 3.1e5, 0.3};
         lf_model *mod = lf_model_alloc(&lf_model_halfspace, &pr, NULL);
         lf_pulloff po;
@@ -461,7 +464,7 @@ test_recover_noisy(void)
 int
 main(void)
 {
-    lf_probe bad = {0.5, 1e-3, 1e-6, LF_BASE_FRICTIONLESS};
+    lf_probe bad = {0.5, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0};
     lf_error err;
 
     gsl_set_error_handler_off();

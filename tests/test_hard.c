@@ -272,7 +272,7 @@ case_near_detachment(void)
     size_t i, j, n = seeds(30), bad = 0, nconv = 0;
 
     for (j = 0; j < 2; j++) {
-        lf_probe p = { ks[j], 1e-3, 1e-6, LF_BASE_FRICTIONLESS };
+        lf_probe p = { ks[j], 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 };
         lf_eval e[N];
         double c = offset_c(&p, &mat);
         m[j] = lf_model_alloc(&lf_model_thin, &p, NULL);

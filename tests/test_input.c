@@ -147,7 +147,7 @@ test_plan_input(void)
 static void
 test_curve_input(void)
 {
-    lf_probe probe = { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS }, bad = probe;
+    lf_probe probe = { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, bad = probe;
     lf_fit_input in;
     lf_error err;
     char path[256];

@@ -124,7 +124,9 @@ jkr_numeric(indent *s, double w, double delta1, double *delta, double *P)
 static lf_model *
 model_for(double k, double R, double b, lf_base base)
 {
-    lf_probe p = { k, R, b, base };
+    /* the paper's f = r^k/(k R^(k-1)); at k = 1, where R cancels, stated by
+     * its prefactor (f = r, the 45-degree cone) */
+    lf_probe p = { k, R, b, base, LF_TIP_POWER, 0.0, k == 1.0 ? 1.0 : 0.0 };
     return lf_model_alloc(&lf_model_thin, &p, NULL);
 }
 
@@ -402,12 +404,12 @@ test_branches_and_domain(void)
 
     {
         static const struct { lf_probe p; const char *msg; } badp[] = {
-            { { 0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS }, "k must be a finite number > 0 (got 0)" },
-            { { -2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS }, "k must be a finite number > 0 (got -2)" },
-            { { 2, -1e-3, 1e-6, LF_BASE_FRICTIONLESS }, "R must be a finite length > 0 (got -0.001 m)" },
-            { { 2, 1e-3, 0, LF_BASE_FRICTIONLESS }, "b must be a finite length > 0 (got 0 m)" },
-            { { 2, 1e-3, NAN, LF_BASE_FRICTIONLESS }, "b must be a finite length > 0 (got nan m)" },
-            { { INFINITY, 1e-3, 1e-6, LF_BASE_FRICTIONLESS }, "k must be a finite number > 0 (got inf)" },
+            { { 0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, "k must be a finite number > 0 (got 0)" },
+            { { -2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, "k must be a finite number > 0 (got -2)" },
+            { { 2, -1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, "R must be a finite length > 0 (got -0.001 m)" },
+            { { 2, 1e-3, 0, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, "b must be a finite length > 0 (got 0 m)" },
+            { { 2, 1e-3, NAN, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, "b must be a finite length > 0 (got nan m)" },
+            { { INFINITY, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, "k must be a finite number > 0 (got inf)" },
         };
         for (i = 0; i < sizeof badp / sizeof badp[0]; i++) {
             lf_error_clear(&err);

@@ -61,7 +61,7 @@ curve_of(const lf_probe *p, size_t n, double *depth, double *force)
 static void
 quantized(void)
 {
-    lf_probe p = { 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS };
+    lf_probe p = { 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 };
     double depth[N], force[N], step, fbig = 0.0;
     lf_fit_settings s = lf_fit_settings_default();
     lf_fit_curve c;
@@ -113,7 +113,7 @@ static void
 shape_under_correlation(void)
 {
     enum { M = 1000, W = 20 };
-    lf_probe p = { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS };
+    lf_probe p = { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 };
     double *depth = malloc(M * sizeof *depth), *force = malloc(M * sizeof *force);
     double *g = malloc((M + W) * sizeof *g), fbig = 0.0;
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
@@ -177,7 +177,7 @@ shape_under_correlation(void)
 static void
 too_deep(void)
 {
-    lf_probe p = { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS };
+    lf_probe p = { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 };
     double depth[N], force[N];
     gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
     lf_fit_settings s = lf_fit_settings_default();
@@ -208,7 +208,7 @@ too_deep(void)
 static void
 bonded_nu(void)
 {
-    lf_probe p = { 3.0, 1e-3, 1e-6, LF_BASE_BONDED };
+    lf_probe p = { 3.0, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0 };
     double depth[N], force[N];
     lf_fit_settings s = lf_fit_settings_default();
     lf_choose_settings cs = lf_choose_settings_default();

@@ -137,17 +137,17 @@ main(void)
 {
     static const scan_scene scenes[] = {
         { "exact k=2 frictionless unload", &lf_model_exact,
-          { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS }, LF_BRANCH_UNLOAD },
+          { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, LF_BRANCH_UNLOAD },
         { "exact k=3 frictionless unload", &lf_model_exact,
-          { 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS }, LF_BRANCH_UNLOAD },
+          { 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, LF_BRANCH_UNLOAD },
         { "exact k=2 bonded unload (thick)", &lf_model_exact,
-          { 2.0, 1e-3, 5e-6, LF_BASE_BONDED }, LF_BRANCH_UNLOAD },
+          { 2.0, 1e-3, 5e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0 }, LF_BRANCH_UNLOAD },
         { "exact k=3 bonded load", &lf_model_exact,
-          { 3.0, 1e-3, 1e-6, LF_BASE_BONDED }, LF_BRANCH_LOAD },
+          { 3.0, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0 }, LF_BRANCH_LOAD },
         { "halfspace k=2 unload", &lf_model_halfspace,
-          { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS }, LF_BRANCH_UNLOAD },
+          { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, LF_BRANCH_UNLOAD },
         { "halfspace k=3 load", &lf_model_halfspace,
-          { 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS }, LF_BRANCH_LOAD },
+          { 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, LF_BRANCH_LOAD },
     };
     size_t i;
 

@@ -14,6 +14,7 @@ benchmark (tests/bench/maps.sh) instead.
 """
 import bisect
 import json
+import math
 import struct
 import subprocess
 import zipfile
@@ -497,15 +498,16 @@ def jpk_all():
 # --- Bruker Nanoscope ---------------------------------------------------------
 
 NS_K, NS_SENS, NS_ZSENS, NS_HARD, NS_ZHARD = 2.0, 40e-9, 20e-9, 0.000375, 0.006713765
+NS_TABLES = {}
 
 
-def ns_curve(npts, ramp_v, w="1mJ/m2", z0=0.5e-6):
-    """Deflection raw values of one curve, approach then retract, both
-    stored from the most extended Z back: Z = (npts - 1 - k) x step (into
-    the sample), the separation solved from Z = separation + z0 + F/k with
-    F from the unload branch (both segments; a test of the reader)."""
-    step = ramp_v * NS_ZSENS / npts
-    dd, ff = model("8um", w, "25kPa", "-2um", "3um", 4000, "unload")
+def ns_raw(z, z0, w):
+    """The raw deflection at piezo Z: the separation solved from Z =
+    separation + z0 + F/k with F from the unload branch (both segments; a
+    test of the reader), the table of w computed once."""
+    if w not in NS_TABLES:
+        NS_TABLES[w] = model("8um", w, "25kPa", "-2um", "3um", 4000, "unload")
+    dd, ff = NS_TABLES[w]
 
     def force(delta):
         if delta <= dd[0]:
@@ -516,14 +518,18 @@ def ns_curve(npts, ramp_v, w="1mJ/m2", z0=0.5e-6):
         t = (delta - dd[i]) / (dd[i + 1] - dd[i])
         return ff[i] + t * (ff[i + 1] - ff[i])
 
-    raw = []
-    for k in range(npts):
-        z = (npts - 1 - k) * step
-        delta = z - z0
-        for _ in range(200):            # delta = z - z0 - F(delta)/k, a contraction here
-            delta = z - z0 - force(delta) / NS_K
-        raw.append(int(round(force(delta) / NS_K / NS_SENS / NS_HARD)))
-    return raw * 2
+    delta = z - z0
+    for _ in range(200):                # delta = z - z0 - F(delta)/k, a contraction here
+        delta = z - z0 - force(delta) / NS_K
+    return int(round(force(delta) / NS_K / NS_SENS / NS_HARD))
+
+
+def ns_curve(npts, ramp_v, w="1mJ/m2", z0=0.5e-6):
+    """Deflection raw values of one curve, approach then retract, both
+    stored from the most extended Z back: Z = (npts - 1 - k) x step (into
+    the sample)."""
+    step = ramp_v * NS_ZSENS / npts
+    return [ns_raw((npts - 1 - k) * step, z0, w) for k in range(npts)] * 2
 
 
 def nanoscope(name, fv):
@@ -554,6 +560,54 @@ def nanoscope(name, fv):
         "\\@4:Image Data: S [DeflectionError] \"Deflection Error\"",
         "\\@4:Z scale: V [Sens. DeflSens] (%.10f V/LSB) 2.500000 V" % NS_HARD,
         "\\@4:Ramp Size: V [Sens. Zsens] (%.9f V/LSB) %.4f V" % (NS_ZHARD, ramp_v),
+        "\\*File list end"]
+    head = ("\r\n".join(lines) + "\r\n").encode("latin-1") + b"\x1a"
+    assert len(head) <= offset
+    with open(OUT + name, "wb") as fh:
+        fh.write(head + b"\0" * (offset - len(head)) + data)
+
+
+def pfc_curve(n, amp, sync, w, z0=0.5e-6):
+    """Deflection raw values of one PeakForce Capture curve: 2n samples of
+    one period in time order, Z = amp (1 - cos(pi u / n)) with u = (k - sync
+    + n) mod 2n (the peak at sample sync); stored as Nanoscope stores them
+    (the first n backwards), the first sample in time replaced by the
+    marker -32768."""
+    timed = [ns_raw(amp * (1 - math.cos(math.pi * ((k - sync + n) % (2 * n)) / n)), z0, w)
+             for k in range(2 * n)]
+    timed[0] = -32768
+    return timed[n - 1::-1] + timed[n:]
+
+
+def nanoscope_pfc(name):
+    """A PeakForce Capture map of 2 x 2 curves, 64 + 64 samples, amplitude
+    1500 nm, Sync Distance QNM 171.3 of 256 Sample Points: the peak at
+    sample 85.65 of 128 (a decoy Sync Distance that must not be used)."""
+    n, side, amp_nm, sync_qnm, points = 64, 2, 1500.0, 171.3, 256
+    sync = sync_qnm * 2 * n / points
+    data = bytearray()
+    for c in range(side * side):
+        raw = pfc_curve(n, amp_nm * 1e-9, sync, MAP_W[c % side])
+        data += struct.pack("<%dh" % len(raw), *raw)
+    offset = 8192
+    lines = [
+        "\\*Force file list", "\\Version: 0x09400000", "\\Date: 10:00:00 AM Thu Feb 01 2024",
+        "\\Data length: %d" % offset,
+        "\\*Equipment list", "\\Microscope: synthetic",
+        "\\*Ciao scan list", "\\Operating mode: PeakForce Capture",
+        "\\Scan Size: 2000 nm", "\\X Offset: 0 nm", "\\Y Offset: 0 nm",
+        "\\Samps/line: %d" % side, "\\Lines: %d" % side,
+        "\\PeakForce Capture: Allow", "\\Sample Points: %d" % points,
+        "\\Sync Distance: 137.833", "\\Sync Distance New: 99.5",
+        "\\Sync Distance QNM: %g" % sync_qnm, "\\Auto Sync Distance QNM: On",
+        "\\Peak Force Amplitude: %g" % amp_nm, "\\PFT Freq: 2.00000 KHz",
+        "\\@Sens. DeflSens: V %.5f nm/V" % (NS_SENS * 1e9),
+        "\\*Ciao force list", "\\force/line: %d" % side,
+        "\\*Ciao force image list", "\\Data offset: %d" % offset, "\\Data length: %d" % len(data),
+        "\\Bytes/pixel: 2", "\\Samps/line: %d %d" % (n, n),
+        "\\Spring Constant: %g" % NS_K,
+        "\\@4:Image Data: S [DeflectionError] \"Deflection Error\"",
+        "\\@4:Z scale: V [Sens. DeflSens] (%.10f V/LSB) 2.500000 V" % NS_HARD,
         "\\*File list end"]
     head = ("\r\n".join(lines) + "\r\n").encode("latin-1") + b"\x1a"
     assert len(head) <= offset
@@ -696,6 +750,7 @@ if __name__ == "__main__":
     jpk_all()
     nanoscope("nanoscope.spm", False)
     nanoscope("nanoscope_fv.spm", True)
+    nanoscope_pfc("nanoscope.pfc")
     igor("igor.ibw", True, False, ["Raw", "Defl", "ZSnsr"], True)
     igor("igor_be.ibw", False, True, ["Height", "Deflection", "ZSensor"], False)
     workshop_map()

@@ -300,7 +300,23 @@ ends_with(const char *s, const char *suffix)
     return a >= b && strcmp(s + a - b, suffix) == 0;
 }
 
-/* Where the rows go, the progress bar and the report's curves. */
+/* One cause of failures: its key (lf_batch_row.cause), how many, the
+ * first message. */
+typedef struct {
+    char *key, *why;
+    size_t count, first;
+} cause;
+
+static int
+cmp_cause(const void *a, const void *b)
+{
+    const cause *x = a, *y = b;
+    return x->count != y->count ? (x->count < y->count) - (x->count > y->count)
+                                : (x->first > y->first) - (x->first < y->first);
+}
+
+/* Where the rows go, the progress bar, the causes of the failed fits and
+ * the report's curves. */
 typedef struct {
     FILE *out;
     int io_error;
@@ -308,7 +324,77 @@ typedef struct {
     double t0, last;
     cli_page_store *page;  /* --report, or NULL */
     summary sm;             /* each curve's own fit, for the summaries */
+    cause *causes;
+    size_t ncauses, cap, nfailed;
+    int lost;              /* out of memory counting them */
 } batch_sink;
+
+/* Count a failed row's cause. */
+static void
+cause_count(batch_sink *k, const lf_batch_row *row)
+{
+    size_t j;
+
+    if (row->why == NULL || row->cause == NULL) {
+        k->lost |= row->why != NULL;
+        return;
+    }
+    k->nfailed++;
+    for (j = 0; j < k->ncauses && strcmp(k->causes[j].key, row->cause) != 0; j++)
+        ;
+    if (j == k->ncauses) {
+        cause *grown = k->ncauses < k->cap ? k->causes
+                       : realloc(k->causes, (k->cap = 2 * k->cap + 16) * sizeof *grown);
+        char *key = grown != NULL ? strdup(row->cause) : NULL;
+        char *why = key != NULL ? strdup(row->why) : NULL;
+        if (grown != NULL)
+            k->causes = grown;
+        if (why == NULL) {
+            free(key);
+            k->lost = 1;
+            return;
+        }
+        k->causes[j].key = key;
+        k->causes[j].why = why;
+        k->causes[j].count = 0;
+        k->causes[j].first = k->nfailed;
+        k->ncauses++;
+    }
+    k->causes[j].count++;
+}
+
+/* The most common causes of the failures, with their counts, on stderr;
+ * then released. */
+#define CAUSES_SHOWN 3
+static void
+causes_print(batch_sink *k)
+{
+    size_t i, nc = k->ncauses;
+
+    qsort(k->causes, nc, sizeof *k->causes, cmp_cause);
+    for (i = 0; i < nc && i < CAUSES_SHOWN; i++) {
+        fprintf(stderr, "  %zu fit%s: ", k->causes[i].count, k->causes[i].count == 1 ? "" : "s");
+        cli_put_clean(stderr, k->causes[i].why);
+        if (k->causes[i].count > 1)
+            fprintf(stderr, " (and %zu more like it)", k->causes[i].count - 1);
+        fputc('\n', stderr);
+    }
+    if (nc > CAUSES_SHOWN)
+        fprintf(stderr, "  and %zu other reason%s\n", nc - CAUSES_SHOWN,
+                nc - CAUSES_SHOWN == 1 ? "" : "s");
+}
+
+static void
+causes_free(batch_sink *k)
+{
+    size_t i;
+
+    for (i = 0; i < k->ncauses; i++) {
+        free(k->causes[i].key);
+        free(k->causes[i].why);
+    }
+    free(k->causes);
+}
 
 static int
 write_row(void *ctx, const lf_batch_row *row)
@@ -321,6 +407,7 @@ write_row(void *ctx, const lf_batch_row *row)
     if (fwrite(row->text, 1, row->len, k->out) != row->len)
         k->io_error = 1;
     summary_row(&k->sm, row);
+    cause_count(k, row);
     if (k->progress && (cli_now() - k->last > 0.2 || row->done == row->total)) {
         k->last = cli_now();
         progress_show(row->done, row->total, row->failed, k->t0, 0);
@@ -349,16 +436,22 @@ cli_batch_run(const cli_batch_opts *o)
     if (o->out != NULL) {
         if (ends_with(o->out, ".jsonl"))
             bs.json = 1;
-        else if (!ends_with(o->out, ".csv"))
+        else if (!ends_with(o->out, ".csv")) {
+            lf_plan_free(o->files);
             cli_die(CLI_EXIT_USAGE, "fit: --out %s: the batch output must end in .csv or .jsonl",
                     o->out);
+        }
     }
-    if (o->shard != NULL && cli_shard_parse(o->shard, &bs.shard_index, &bs.shard_count) != 0)
+    if (o->shard != NULL && cli_shard_parse(o->shard, &bs.shard_index, &bs.shard_count) != 0) {
+        lf_plan_free(o->files);
         cli_die(CLI_EXIT_USAGE, "fit: --shard '%s' is not I/N with 1 <= I <= N (e.g. --shard 3/8)",
                 o->shard);
-    if (o->threads != 0 && (o->threads < 1 || o->threads > CLI_MAX_THREADS))
+    }
+    if (o->threads != 0 && (o->threads < 1 || o->threads > CLI_MAX_THREADS)) {
+        lf_plan_free(o->files);
         cli_die(CLI_EXIT_USAGE, "fit: --threads must be 1..%d (got %ld)", CLI_MAX_THREADS,
                 o->threads);
+    }
     bs.threads = o->threads;
     bs.csv_raw = cli_csv_raw;
     if (o->report != NULL) {
@@ -384,14 +477,10 @@ cli_batch_run(const cli_batch_opts *o)
         free(sc);
         free(sj);
     }
-    if (o->probe != NULL) {
-        /* a file of curves (a force map): each curve with the one probe */
-        cli_input_guard("fit", o->plan);
-        if (lf_plan_of_file(o->plan, o->probe, LF_SEG_UNLOAD, &plan, &err) != LF_OK)
-            cli_die_error(err.status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, &err);
-    } else {
+    if (o->files != NULL)
+        plan = o->files;      /* curve files (force maps among them), one probe for all */
+    else
         plan = cli_plan_load("fit", o->plan);
-    }
     cli_plan_need_layers(plan, o->req->model);
     for (i = 0; i < plan->n; i++)      /* no output may replace a curve */
         if (i == 0 || strcmp(plan->rows[i].file, plan->rows[i - 1].file) != 0)
@@ -400,8 +489,16 @@ cli_batch_run(const cli_batch_opts *o)
      * file opened once here, for the provenance of a map fitted whole) */
     if (lf_plan_open_files(plan, o->req->input.read, &err) != LF_OK)
         cli_die(CLI_EXIT_FAIL, "out of memory");
-    if (o->probe != NULL)
-        cli_input_note(o->plan, plan->nfiles > 0 ? lf_file_sha256(plan->files[0]) : NULL);
+    for (i = 0; o->files != NULL && i < plan->n; i++) {
+        /* provenance: the files named on the command line (a file of many
+         * curves by its digest, taken when it was opened) */
+        const char *sha = NULL;
+        size_t f;
+        for (f = 0; f < plan->nfiles; f++)
+            if (plan->rows[i].source == plan->files[f])
+                sha = lf_file_sha256(plan->files[f]);
+        cli_input_note(plan->rows[i].file, sha);
+    }
     if (o->out != NULL && (sink.out = cli_out_open(&atomic, o->out, msg, sizeof msg)) == NULL)
         cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
     if (!bs.json)
@@ -444,10 +541,15 @@ cli_batch_run(const cli_batch_opts *o)
         cli_page_store_free(sink.page);
     }
     if (sum.failed > 0) {
-        cli_say("fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s)",
-                sum.failed, sum.total, o->out ? o->out : "the output");
-        return CLI_EXIT_SOME_FAILED;
+        cli_say("fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s); the most "
+                "common reasons:", sum.failed, sum.total, o->out ? o->out : "the output");
+        causes_print(&sink);
+        if (sink.lost)
+            fputs("  (out of memory counting the rest)\n", stderr);
     }
+    causes_free(&sink);
+    if (sum.failed > 0)
+        return CLI_EXIT_SOME_FAILED;
     if (sum.misfits > 0) {
         cli_say("fit: %zu of %zu fits converged, but the model does not "
                 "describe a curve of theirs (status 'misfit' in %s)", sum.misfits, sum.total,
@@ -499,7 +601,7 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
 {
     const char *plan = NULL, *out = NULL, *shard = NULL, *report = NULL;
     long threads_opt = -1;
-    int npos, help = 0, quiet = 0, progress = 0, curves_file, one_curve, status;
+    int npos, help = 0, quiet = 0, progress = 0, curves_file, status;
     lf_fit_options *fo = lf_fit_options_alloc();
     cli_opt opts[7 + CLI_FIT_NOPTS + 1] = {
         { "batch", CLI_STRING, &plan }, { "out", CLI_STRING, &out },
@@ -509,7 +611,6 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
     };
     lf_fit_request req;
     cli_batch_opts o;
-    lf_probe probe;
     size_t no;
 
     if (fo == NULL)
@@ -518,17 +619,19 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
     opts[no].name = NULL;
     curves_file = batch_of_curves(argc, argv);
     {
-        /* a single fit's outputs, and a single curve's probe for a plan,
+        /* a single fit's outputs, and the probe of curve files for a plan,
          * asked of a batch: say where they belong */
         static const char *const single[] = { "--json", "--curves", "--plot" };
-        static const char *const probes[] = { "--k", "--R", "--b", "--interface" };
+        static const char *const probes[] = { "--k", "--R", "--b", "--interface", "--tip",
+                                              "--half-angle", "--B", "--sample", "--group-by" };
         cli_refuse_options(argc, argv, single, sizeof single / sizeof single[0],
                            "a single fit; a batch writes one row per fit to --out FILE.csv or "
                            "--out FILE.jsonl");
         if (!curves_file)
             cli_refuse_options(argc, argv, probes, sizeof probes / sizeof probes[0],
-                               "a single curve; a batch takes each curve's probe from its row "
-                               "of the plan (columns k, R, b, interface)");
+                               "curve files; a batch of a plan takes each curve's probe and "
+                               "sample from its row (columns k, R, b, interface, tip, "
+                               "half_angle, prefactor, sample)");
     }
     cli_parse("fit", argc, argv, opts, &npos, &help);
     /* `fit --batch --help`: the help, not a plan called --help */
@@ -538,16 +641,21 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
         printf("usage: layerfit fit --batch PLAN.csv [--out FILE.csv|FILE.jsonl] [--threads N]\n"
                "                    [--shard I/N] [--progress|--quiet] [--report MAP.html]\n"
                "                    [fit options]\n"
-               "       layerfit fit --batch MAP --k K [--R LENGTH] [--b LENGTH --interface I]\n"
+               "       layerfit fit --batch FILE... PROBE [--sample NAME | --group-by RULE]\n"
                "                    [options as above]\n\n"
                "Fits every curve of the plan, or every group of curves with the same\n"
                "'sample', on its own, in parallel; one output row per fit, in plan order,\n"
                "with its status (ok, misfit, noconv, error) and message.  A plan row that\n"
                "names a file of many curves (a force map, QI data, a force volume) without\n"
-               "an index stands for each of its curves; MAP, a file of curves given instead\n"
-               "of a plan, has every curve fitted with the probe of --k, --R, --b and\n"
-               "--interface.  Each row carries the curve's position (x_m, y_m) and grid\n"
-               "place (grid_i, grid_j) where its file states them.\n\n"
+               "an index stands for each of its curves.  Curve files given instead of a\n"
+               "plan (as the shell expands *.txt) are fitted with the probe of the options:\n"
+               "--k with --R (else each file's header) or --B, or --tip, --half-angle; and\n"
+               "--b with --interface for a layer.  --sample NAME makes them one sample,\n"
+               "fitted jointly; --group-by RULE forms samples by a header field\n"
+               "(field:KEY), a pattern in the file names (name:REGEX, its first group) or\n"
+               "their folders (dir).  Each row carries the curve's position (x_m, y_m) and\n"
+               "grid place (grid_i, grid_j) where its file states them, and what the first\n"
+               "curve shows without a model (adhesion_force_N, ...).\n\n"
                "  --out FILE        .csv or .jsonl (default: CSV on standard output)\n"
                "  --threads N       parallel fits, 1..%d (default: all cores); the output\n"
                "                    does not depend on N\n"
@@ -563,7 +671,9 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
         fputs(cli_fit_help, stdout);
         lf_fit_options_free(fo);
         printf("\nEvery problem with one curve (a missing or unreadable file included) is\n"
-               "that fit's row; the batch goes on.  --out FILE gets FILE.provenance.json.\n\n"
+               "that fit's row; the batch goes on, and stderr says the most common reasons\n"
+               "of the fits that failed, with their counts.  --out FILE gets\n"
+               "FILE.provenance.json.\n\n"
                "exit status: 0 every fit ok; 3 some fits failed (rows with status error or\n"
                "noconv; stderr says how many); 4 none failed, but some converged where the\n"
                "model does not describe a curve (status misfit); 2 bad command line or plan\n"
@@ -571,21 +681,31 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
                "written)\n");
         return CLI_EXIT_OK;
     }
-    if (npos > 0)
-        cli_die(CLI_EXIT_USAGE, "fit: --batch takes the plan as its value; unexpected '%s'", argv[0]);
     if (plan == NULL || *plan == '\0')
-        cli_die(CLI_EXIT_USAGE, "fit: --batch needs a plan (e.g. --batch plan.csv)");
+        cli_die(CLI_EXIT_USAGE, "fit: --batch needs a plan or curve files (e.g. --batch plan.csv, "
+                "--batch *.txt --k 2 --model halfspace)");
+    if (npos > 0 && !curves_file)
+        cli_die(CLI_EXIT_USAGE, "fit: --batch %s is a plan: fit it alone (unexpected '%s'; curve "
+                "files are named after --batch with their probe)", plan, argv[0]);
     cli_fit_request(fo, &req);
     o.req = &req;
-    o.probe = NULL;
+    o.files = NULL;
     if (curves_file) {
-        /* a file of curves: every curve with the probe of the options */
-        if (lf_fit_options_get(fo, "k") == NULL)
-            cli_die(CLI_EXIT_USAGE, "fit: %s is a curve file, not a plan: give the probe of its "
-                    "curves, e.g. --batch %s --k 2 --R 5um --model halfspace (or --b and "
-                    "--interface for a layer)", plan, plan);
-        cli_fit_probe(fo, &probe, &one_curve);
-        o.probe = &probe;
+        /* curve files: every curve with the probe of the options */
+        char **files = malloc(((size_t) npos + 1) * sizeof *files);
+        int i;
+        if (files == NULL)
+            cli_die(CLI_EXIT_FAIL, "out of memory");
+        files[0] = (char *) plan;
+        for (i = 0; i < npos; i++)
+            files[i + 1] = argv[i];
+        o.files = cli_files_plan(fo, &req, (size_t) npos + 1, files);
+        free(files);
+    } else if (lf_fit_options_get(fo, "sample") != NULL
+               || lf_fit_options_get(fo, "group-by") != NULL) {
+        cli_die(CLI_EXIT_USAGE, "fit: --%s forms the samples of curve files; a plan's sample "
+                "column names its samples",
+                lf_fit_options_get(fo, "sample") != NULL ? "sample" : "group-by");
     }
     o.plan = plan;
     o.out = out;

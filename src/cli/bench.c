@@ -81,7 +81,7 @@ typedef struct {
     int free_offsets;     /* z0 and F0 fitted on every curve */
 } bench_scene;
 
-#define PAPER_PROBE(k, base) { k, 1e-3, 1e-6, base }
+#define PAPER_PROBE(k, base) { k, 1e-3, 1e-6, base, LF_TIP_POWER, 0.0, 0.0 }
 
 static const bench_scene scenes[] = {
     { "two-probe", "k = 2, 3; R = 1 mm; b = 1 um; frictionless; w = 10 mJ/m^2, E* = 1 GPa; "
@@ -97,7 +97,7 @@ static const bench_scene scenes[] = {
       { 10e-3, 1e9, 0.3 }, 0.9, 50e-9, 0 },
     { "soft-coating", "k = 2, 3; R = 5 mm; b = 20 um; w = 40 mJ/m^2, E* = 2 MPa; "
       "delta -1.2c..3 um (baseline seen); z0, F0 free",
-      2, { { 2.0, 5e-3, 20e-6, LF_BASE_FRICTIONLESS }, { 3.0, 5e-3, 20e-6, LF_BASE_FRICTIONLESS } },
+      2, { { 2.0, 5e-3, 20e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, { 3.0, 5e-3, 20e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 } },
       { 40e-3, 2e6, 0.3 }, 1.2, 3e-6, 1 },
     { "single-k2", "one k = 2 curve, paper's numbers, delta -0.9c..50 nm; z0, F0 known",
       1, { PAPER_PROBE(2.0, LF_BASE_FRICTIONLESS) },

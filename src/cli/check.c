@@ -111,12 +111,15 @@ print_curve(const lf_curve *c, lf_segment seg)
 static void
 print_probe(const lf_plan_row *r, const lf_curve *c)
 {
-    char R[48], b[48];
+    char shape[160], b[48];
+    lf_probe p = r->probe;
+    const int from_header = isnan(p.R) && lf_probe_uses_R(&p);
     if (isnan(r->probe.b))          /* no layer: a half-space fit only */
         snprintf(b, sizeof b, "none");
-    printf("  %-9s k = %g, R = %s%s, b = %s, %s\n", "probe", r->probe.k,
-           cli_human(R, sizeof R, isnan(r->probe.R) ? (c ? c->R : NAN) : r->probe.R, "m"),
-           isnan(r->probe.R) ? " (file header)" : "",
+    if (from_header)
+        p.R = c ? c->R : NAN;
+    printf("  %-9s %s%s, b = %s, %s\n", "probe", cli_probe_words(shape, sizeof shape, &p),
+           from_header ? " (file header)" : "",
            isnan(r->probe.b) ? b : cli_human(b, sizeof b, r->probe.b, "m"),
            isnan(r->probe.b) ? "no interface (--model halfspace only)"
                              : cli_base_name(r->probe.base));
@@ -293,7 +296,8 @@ cli_check(int argc, char **argv, const char *command_line)
             snprintf(err.file, sizeof err.file, "%s", plan->path);
             err.line = row->line;
         }
-        if (status == LF_OK && isnan(row->probe.R) && curves[i].curve != NULL
+        if (status == LF_OK && isnan(row->probe.R) && lf_probe_uses_R(&row->probe)
+            && curves[i].curve != NULL
             && !(curves[i].curve->R > 0)) {
             snprintf(err.file, sizeof err.file, "%s", plan->path);
             err.line = row->line;

@@ -64,6 +64,7 @@ typedef enum {
     CLI_FORCE,
     CLI_ADHESION,
     CLI_PRESSURE,
+    CLI_ANGLE,       /* double *, rad ("35deg") */
     CLI_FIT,         /* lf_fit_options *: the library's fit option of this name */
     CLI_FIT_FLAG,    /* the same, a flag */
     CLI_DESIGN,      /* lf_design_options *: the library's design option */
@@ -158,6 +159,22 @@ extern const char cli_fit_help[];
 #define cli_param_text lf_param_text
 #define cli_p_text lf_p_text
 #define cli_hetero_lines lf_hetero_lines
+/* Curves named on the command line (files.c): the first probe option
+ * given ("--k", ...), or NULL. */
+const char *cli_probe_given(const lf_fit_options *o);
+/* The probe of a statement (lf_probe_state); dies with status 2 naming
+ * only what is missing or contradicts, the command's name first. */
+void cli_probe_state(const char *cmd, const lf_probe_statement *a, lf_probe *p);
+/* Curve files files[0..n-1] as a plan of one row each (lf_plan_of_files)
+ * with the probe of the options, on the request's segment, each file's
+ * sample --sample or formed by --group-by, or none; dies with status 2 on
+ * a plan among them, a missing probe or a grouping that fails.  The plan
+ * is the caller's. */
+lf_plan *cli_files_plan(const lf_fit_options *o, const lf_fit_request *req, size_t n,
+                        char *const *files);
+/* 1 when every row of the plan has the same sample; else 0 with two that
+ * differ in *a, *b. */
+int cli_plan_one_sample(const lf_plan *plan, const char **a, const char **b);
 
 /* Batch fitting (batch.c). */
 #define CLI_MAX_THREADS 1024      /* --threads is 1..CLI_MAX_THREADS */
@@ -170,8 +187,9 @@ typedef struct {
     int progress;          /* 1 on, 0 off, -1 when stderr is a terminal */
     const lf_fit_request *req;  /* the fit options' settings */
     const char *command_line;   /* for the provenance record */
-    const lf_probe *probe;      /* not NULL: `plan` is a file of curves, each fitted
-                                   with this probe (--k, --R, --b, --interface) */
+    lf_plan *files;             /* not NULL: curve files named on the command line
+                                   (cli_files_plan), fitted instead of `plan`;
+                                   freed by cli_batch_run */
 } cli_batch_opts;
 /* Fit every fit of the plan with the settings; returns the exit status
  * (CLI_EXIT_OK, or CLI_EXIT_SOME_FAILED with a summary line on stderr). */
@@ -194,12 +212,13 @@ typedef struct {
     char (*caption)[1200];
 } cli_figures;
 /* Write the scripts and data into dir (created when missing) and run
- * gnuplot on them.  Returns 0, -1 with a message (a folder or file not
+ * gnuplot on them; in (may be NULL) gives each curve's shape words and fit
+ * window, drawn as dashed lines.  Returns 0, -1 with a message (a folder or file not
  * made, gnuplot failed), or 1 with a message when gnuplot is not installed
  * (the scripts and data are still written and figs filled). */
 int cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
-                 const lf_fit_result *res, const char *command_line, cli_figures *figs,
-                 char *msg, size_t n);
+                 const lf_fit_result *res, const lf_fit_input *in, const char *command_line,
+                 cli_figures *figs, char *msg, size_t n);
 void cli_figures_free(cli_figures *f);
 /* Run dir/script (cwd dir) with its images going to a temporary folder in
  * dir (gnuplot -e "out='.layerfit-XXXXXX/img'"; the script writes
@@ -388,4 +407,18 @@ int cli_reads_as_plan(const char *path);
 /* Exit with status 2 naming the first row of plan without b and interface
  * (no layer) unless the fit's model is the half-space (model: its name). */
 void cli_plan_need_layers(const lf_plan *plan, const char *model);
+/* ---- cli/observed.c: model-free observables and fit windows in words ---- */
+
+/* The library's words (command.h). */
+#define cli_probe_words lf_probe_words
+#define CLI_NOBSERVED LF_NOBSERVED
+#define cli_observed_keys lf_observed_keys
+#define cli_observed_values lf_observed_values
+/* The report's lines of a curve's observables and its instrument's own
+ * result, beside the fit's pull-off (cr may be NULL). */
+void cli_observed_text(FILE *f, const lf_observables *o, const lf_fit_curve_result *cr);
+/* The report's line of a curve's fit window as stated and what it kept
+ * (nothing when the window keeps everything). */
+void cli_window_text(FILE *f, const lf_window_placed *w, const lf_observables *o);
+
 #endif

@@ -31,15 +31,15 @@ typedef struct {
 static const cov_scene cov_scenes[] = {
     { "paper-offsets", "the paper's two probes (k = 2, 3; R = 1 mm; b = 1 um; frictionless; "
       "w = 10 mJ/m^2, E* = 1 GPa), delta -0.9c..50 nm, z0 and F0 free, 1% noise",
-      2, { { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS }, { 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS } },
+      2, { { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, { 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 } },
       { 10e-3, 1e9, 0.3 }, 0.9, 50e-9, 0.01, 1 },
     { "mixed-nu", "k = 2 frictionless + k = 3 bonded, nu = 0.3 determined; the paper's w, E*, "
       "R, b; z0, F0 known, 1% noise",
-      2, { { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS }, { 3.0, 1e-3, 1e-6, LF_BASE_BONDED } },
+      2, { { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, { 3.0, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0 } },
       { 10e-3, 1e9, 0.3 }, 0.9, 50e-9, 0.01, 0 },
     { "soft-coating", "k = 2, 3; R = 5 mm; b = 20 um; w = 40 mJ/m^2, E* = 2 MPa; delta "
       "-1.2c..3 um; z0 and F0 free, 1% noise",
-      2, { { 2.0, 5e-3, 20e-6, LF_BASE_FRICTIONLESS }, { 3.0, 5e-3, 20e-6, LF_BASE_FRICTIONLESS } },
+      2, { { 2.0, 5e-3, 20e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, { 3.0, 5e-3, 20e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 } },
       { 40e-3, 2e6, 0.3 }, 1.2, 3e-6, 0.01, 1 },
 };
 #define NCOV (sizeof cov_scenes / sizeof cov_scenes[0])

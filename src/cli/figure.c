@@ -52,7 +52,9 @@ push(figure_data *d, plot_series *s, double x, double y)
 static void
 thin_pulloff(double k, double R, double b, lf_pulloff *po)
 {
-    lf_probe p = { k, R, b, LF_BASE_FRICTIONLESS };
+    /* the paper's profile r^k/(k R^(k-1)); at k = 1, where R cancels, its
+     * prefactor (f = r) is stated */
+    lf_probe p = { k, R, b, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, k == 1.0 ? 1.0 : 0.0 };
     lf_material m = { PAPER_W, PAPER_E, 0.0 };
     lf_error err;
     lf_model *model = lf_model_alloc(&lf_model_thin, &p, &err);
@@ -88,7 +90,7 @@ figure3(figure_data *d)
 
     printf("k,delta_bar,P_bar,depth_m,force_N,stable\n");
     for (j = 0; j < 3; j++) {
-        lf_probe p = { ks[j], PAPER_R, PAPER_B, LF_BASE_FRICTIONLESS };
+        lf_probe p = { ks[j], PAPER_R, PAPER_B, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 };
         lf_error err;
         lf_model *model = lf_model_alloc(&lf_model_thin, &p, &err);
         lf_pulloff po;

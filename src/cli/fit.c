@@ -12,21 +12,30 @@
 
 static const char usage_text[] =
     "usage: layerfit fit PLAN.csv [options]\n"
-    "       layerfit fit CURVE.csv --k K --R LENGTH --b LENGTH --interface I [options]\n"
+    "       layerfit fit FILE... PROBE [--b LENGTH --interface I] [options]\n"
     "       layerfit fit EXPORT.txt --model halfspace --k 2 [--R LENGTH] [options]\n"
     "       layerfit fit MAP.jpk-force-map#N ...   curve N (from 0) of a file of many\n"
     "\n"
     "Fits w, E* and (where the plan determines it) nu jointly to every curve,\n"
     "with each curve's contact point z0 and force offset F0 free unless fixed.\n"
+    "Curve files named on the command line (a.txt b.txt, or *.txt as the shell\n"
+    "expands it) are one material, with one probe for all: R from each file's\n"
+    "header where --R is absent; with --model halfspace no --b and --interface.\n"
     "\n"
+    "the probe (PROBE) of curve files:\n"
+    "  --k K --R LENGTH     a power law f = r^k/(k R^(k-1)) (k = 2: a paraboloid)\n"
+    "  --k K --B PREFACTOR  the same stated by f = B r^k, B in m^(1-k)\n"
+    "  --tip T              paraboloid, sphere (a true sphere of radius --R, contact up\n"
+    "                       to R), cone, berkovich (its equivalent cone, 70.3 deg),\n"
+    "                       pyramid (four-sided: the cone of equal projected area)\n"
+    "  --half-angle ANGLE   a cone's half-angle (35deg), a pyramid's faces'\n"
+    "  --b LENGTH --interface frictionless|bonded   the layer under it\n"
     "options:\n"
     "  --json FILE          the result in SI as JSON\n"
     "  --curves FILE        per point: depth, force, fitted force, residual, contact radius\n"
     "  --plot DIR           figures (PNG, SVG) with their gnuplot scripts and data\n"
     "  --report FILE.html   one self-contained interactive page: tables, warnings, figures\n"
     "  --batch PLAN.csv     every curve or sample an independent fit (see --batch --help)\n"
-    "  a single curve takes R from its file's header when --R is absent; with\n"
-    "  --model halfspace it needs no --b (not used) and no --interface\n"
     "fit options (the same, with the same defaults, for --batch):\n";
 
 const char cli_fit_help[] =
@@ -43,7 +52,16 @@ const char cli_fit_help[] =
     "  --slope              fit a baseline slope per curve\n"
     "  --max-iter N         iterations allowed (200)\n"
     "  --max-b-over-a X     warn where b/a exceeds X (0.1)\n"
-    "  --segment S          unload or load for every curve (default: the plan's, unload)\n"
+    "  --segment S          unload (retract, withdraw) or load (approach, extend) for\n"
+    "                       every curve (default: the plan's, unload)\n"
+    "  --depth-range LO:HI  fit only the points whose indentation from the curve's\n"
+    "                       contact point lies within: 0:500nm, or 0:30% of its deepest\n"
+    "                       indentation; a side left empty is open (:50%)\n"
+    "  --force-range LO:HI  fit only the points whose force above the baseline lies\n"
+    "                       within: -20nN:2uN, or :80% of its largest force\n"
+    "  --sample NAME        curve files on the command line are one sample NAME\n"
+    "  --group-by RULE      their samples by a header field (field:KEY), a pattern in\n"
+    "                       their names (name:REGEX, its first group) or folder (dir)\n"
     "  --guess-w ADH        start the iteration at this w (e.g. 10mJ/m2) instead of\n"
     "                       the automatic guess\n"
     "  --guess-E PRESSURE   start at this E* (e.g. 1GPa)\n"
@@ -157,33 +175,50 @@ cli_fit_opts(lf_fit_options *o, cli_opt *opts)
     return n;
 }
 
-/* Read the plan (or the single curve) into in (lf_fit_input_from_plan:
- * the one step from a plan to a fit's input, the one rule for nu). */
+/* Read the plan, the single curve or the curve files into in
+ * (lf_fit_input_from_plan: the one step from a plan to a fit's input, the
+ * one rule for nu). */
 static void
-read_input(const char *path, const fit_args *a, const char *model, const lf_input_settings *is,
+read_input(int npos, char **pos, const lf_fit_options *fo, const lf_fit_request *req,
            lf_fit_input *in)
 {
+    const lf_input_settings *is = &req->input;
     lf_warnings warn = { 0, NULL };
     lf_error err;
     lf_input_settings one = *is;
+    const char *path = pos[0];
     size_t j;
     int status;
-    if (a->single) {
-        char file[4096];
-        long index;
-        /* a curve named on the command line may be a pipe (read once) */
-        one.open_flags = LF_INPUT_STREAM;
-        if (lf_curve_path_split(path, file, sizeof file, &index) != LF_OK)
-            cli_die(CLI_EXIT_USAGE, "fit: %s: path too long", path);
-        cli_input_guard("fit", file);
-        status = lf_fit_input_from_curve(path, &a->probe, &one, in, &warn, &err);
-        if (status != LF_OK && status != LF_ENOMEM && cli_reads_as_plan(path))
-            cli_die(CLI_EXIT_USAGE, "fit: %s is a plan: --k, --R, --b and --interface are for a "
-                    "single curve (a plan gives each curve's probe in its row); fit the plan "
-                    "without them", path);
+    if (npos > 1 || !cli_reads_as_plan(path)) {
+        /* curve files, each with the probe of the options */
+        lf_plan *plan;
+        const char *s1, *s2;
+        plan = cli_files_plan(fo, req, (size_t) npos, pos);
+        if (!cli_plan_one_sample(plan, &s1, &s2)) {
+            char msg[600];
+            snprintf(msg, sizeof msg, "fit: the files form several samples ('%s', '%s', ...): a "
+                     "joint fit is of one material; fit each sample on its own with "
+                     "layerfit fit --batch FILE... --group-by ...", s1, s2);
+            lf_plan_free(plan);
+            cli_die(CLI_EXIT_USAGE, "%s", msg);
+        }
+        if (npos == 1 && plan->rows[0].index < 0) {
+            /* a single curve named on the command line may be a pipe (read once) */
+            one.open_flags = LF_INPUT_STREAM;
+            status = lf_fit_input_from_curve(path, &plan->rows[0].probe, &one, in, &warn, &err);
+        } else {
+            status = lf_fit_input_from_plan(plan, NULL, 0, is, in, &warn, &err);
+        }
+        lf_plan_free(plan);
     } else {
-        lf_plan *plan = cli_plan_load("fit", path);
-        cli_plan_need_layers(plan, model);
+        lf_plan *plan;
+        const char *sample = lf_fit_options_get(fo, "sample");
+        if (sample != NULL || lf_fit_options_get(fo, "group-by") != NULL)
+            cli_die(CLI_EXIT_USAGE, "fit: --%s forms the samples of curve files; %s is a plan, "
+                    "whose sample column names them", sample != NULL ? "sample" : "group-by",
+                    path);
+        plan = cli_plan_load("fit", path);
+        cli_plan_need_layers(plan, req->model);
         for (j = 0; j < plan->n; j++)   /* no output may replace a curve */
             cli_input_guard("fit", plan->rows[j].file);
         status = lf_fit_input_from_plan(plan, NULL, 0, is, in, &warn, &err);
@@ -197,7 +232,7 @@ read_input(const char *path, const fit_args *a, const char *model, const lf_inpu
         cli_die_error(status == LF_ENOMEM ? CLI_EXIT_FAIL : CLI_EXIT_USAGE, &err);
     for (j = 0; j < in->n; j++)     /* provenance: each curve as it was read */
         cli_input_note(in->names[j], in->sha256[j]);
-    check_probes(in, model);
+    check_probes(in, req->model);
 }
 
 /* --json and --curves: through the atomic writer (output.c). */
@@ -275,12 +310,11 @@ static void
 figures(const char *plotdir, const char *report, const report_input *in, const lf_fit_input *d,
         const lf_read_opts *ro, const lf_fit_result *res, const char *command_line)
 {
-    size_t ncurves = d->n;
     char msg[1400];
 
     if (plotdir != NULL) {
         cli_figures figs = { 0, NULL, NULL };
-        int st = cli_plot_fit(plotdir, ncurves, in->curves, res, command_line, &figs, msg,
+        int st = cli_plot_fit(plotdir, d->n, d->curves, res, d, command_line, &figs, msg,
                               sizeof msg);
         cli_figures_free(&figs);
         if (st < 0)         /* a folder or file not made, gnuplot failed */
@@ -295,7 +329,7 @@ figures(const char *plotdir, const char *report, const report_input *in, const l
 int
 cli_fit(int argc, char **argv, const char *command_line)
 {
-    fit_args a = { NULL, NULL, 0, { NAN, NAN, NAN, LF_BASE_FRICTIONLESS } };
+    fit_args a = { NULL, NULL, 0, { NAN, NAN, NAN, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 } };
     lf_fit_options *fo = lf_fit_options_alloc();
     const char *plot_dir = NULL, *report_html = NULL;
     cli_opt opts[4 + CLI_FIT_NOPTS + 1] = {
@@ -333,8 +367,9 @@ cli_fit(int argc, char **argv, const char *command_line)
         lf_fit_options_free(fo);
         return CLI_EXIT_OK;
     }
-    if (npos != 1)
-        cli_die(CLI_EXIT_USAGE, "fit: give one plan or curve file (see 'layerfit fit --help')");
+    if (npos < 1)
+        cli_die(CLI_EXIT_USAGE, "fit: give a plan, or curve files with their probe (see "
+                "'layerfit fit --help')");
     figures_check(plot_dir, report_html);
     cli_output_note("fit", a.json);
     cli_output_note("fit", a.curves);
@@ -345,8 +380,13 @@ cli_fit(int argc, char **argv, const char *command_line)
     cli_output_folder_check("fit", report_html);
     cli_output_folder_check("fit", plot_dir);      /* its parent: --plot makes one level */
     cli_fit_request(fo, &req);
+    if (npos == 1 && cli_probe_given(fo) != NULL && cli_reads_as_plan(argv[0]))
+        cli_die(CLI_EXIT_USAGE, "fit: %s applies to curve files; %s is a plan, which gives each "
+                "curve's probe in its row (columns k, R, b, interface, tip, half_angle, prefactor; "
+                "R may read 'header'): fit it without the probe options", cli_probe_given(fo),
+                argv[0]);
     cli_fit_probe(fo, &a.probe, &a.single);
-    read_input(argv[0], &a, req.model, &req.input, &d);
+    read_input(npos, argv, fo, &req, &d);
     figures_note(plot_dir, d.n);
     status = lf_fit_request_run(&req, &d, 0, &r, &notes, &err);
     if (status != LF_OK && status != LF_ENOCONV)
@@ -365,6 +405,8 @@ cli_fit(int argc, char **argv, const char *command_line)
     in.command_line = command_line;
     in.assumed = assumed;
     in.nassumed = lf_fit_assumptions(&req, &d, &r, assumed, sizeof assumed / sizeof assumed[0]);
+    in.observed = d.observed;
+    in.window = d.window;
     if (!to_stdout(a.json) && !to_stdout(a.curves)) {
         /* standard output carries the report unless it carries an output
          * (--json -, --curves -): then that alone, for the next program */

@@ -70,7 +70,7 @@ static void
 syn_curve(const char *dir, long size, long ix, long iy, long points, double noise,
           unsigned long seed)
 {
-    const lf_probe probe = { SYN_K, SYN_R, SYN_B, LF_BASE_FRICTIONLESS };
+    const lf_probe probe = { SYN_K, SYN_R, SYN_B, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 };
     double x = (double) ix * SYN_PITCH, y = (double) iy * SYN_PITCH;
     lf_material mat;
     lf_model *model;

@@ -16,8 +16,12 @@ static const char model_help[] =
     "(depth_m,force_N,radius_m,b_over_a,stable: SI units, stable = 1 where the\n"
     "curve is stable under force control).\n"
     "\n"
-    "  --k K              profile exponent (2 paraboloid, 1 cone, large k flat punch)\n"
+    "  --k K              profile exponent (2 paraboloid, large k flat punch)\n"
     "  --R LEN            reference length of the profile, e.g. 1mm\n"
+    "  --B PREFACTOR      the profile as f = B r^k, B in SI (m^(1-k)), instead of --R\n"
+    "  --tip T            paraboloid, sphere (true sphere of radius --R), cone,\n"
+    "                     berkovich, pyramid (their equivalent cones)\n"
+    "  --half-angle ANGLE a cone's half-angle (35deg), a pyramid's faces'\n"
     "  --b LEN            layer thickness, e.g. 1um (not for --model halfspace)\n"
     "  --w ADH            work of adhesion, e.g. 10mJ/m2 (also J/m^2, N/m)\n"
     "  --E PRESSURE       effective modulus E* = E/(1-nu^2), e.g. 1GPa\n"
@@ -40,6 +44,8 @@ typedef struct {
     const char *interface, *model, *branch, *plot;
     int summary, json;
     long figure;
+    const char *tip;
+    double half_angle, B;
 } model_args;
 
 /* Everything the summary and JSON report (the library's). */
@@ -65,19 +71,33 @@ make_model(const model_args *a, lf_probe *probe, lf_material *mat)
     if (base < 0)
         cli_die(CLI_EXIT_USAGE, "model: --interface: unknown interface '%s' "
                 "(frictionless or bonded)", a->interface);
-    need("k", a->k, "2");
-    need("R", a->R, "1mm");
+    if (a->tip == NULL && isnan(a->half_angle))
+        need("k", a->k, "2");
     if (type->scope != LF_SCOPE_HALFSPACE)   /* a half-space has no thickness */
         need("b", a->b, "1um");
     need("w", a->w, "10mJ/m2");
     need("E", a->E, "1GPa");
     if (base == LF_BASE_BONDED && isnan(a->nu))
         cli_die(CLI_EXIT_USAGE, "model: --nu is required for a bonded layer (e.g. --nu 0.3)");
-    probe->k = a->k;
-    probe->R = a->R;
+    {
+        /* the shape as fit states it: --k with --R or --B, --tip, --half-angle */
+        lf_probe_statement pa;
+        pa.k = a->k;
+        pa.R = a->R;
+        pa.tip = a->tip;
+        pa.half_angle = a->half_angle;
+        pa.B = a->B;
+        pa.b = type->scope == LF_SCOPE_HALFSPACE ? NAN : a->b;
+        pa.interface = isnan(pa.b) ? NULL : a->interface;
+        pa.model = type->name;
+        pa.halfspace = type->scope == LF_SCOPE_HALFSPACE;
+        cli_probe_state("model", &pa, probe);
+    }
+    if (lf_probe_uses_R(probe))
+        need("R", a->R, "1mm");
     /* a half-space's b is only a stand-in that no formula of it uses */
-    probe->b = isnan(a->b) ? a->R : a->b;
-    probe->base = (lf_base) base;
+    if (isnan(probe->b))
+        probe->b = isfinite(probe->R) ? probe->R : 1.0;
     mat->w = a->w;
     mat->Estar = a->E;
     mat->nu = isnan(a->nu) ? 0.0 : a->nu;
@@ -121,16 +141,17 @@ thin_scope(const model_summary *s, double ba)
 static void
 print_summary(const model_summary *s)
 {
-    char b1[64], b2[64];
+    char b1[64], b2[64], shape[160];
+    const int has_R = lf_probe_uses_R(&s->probe);
     const lf_pulloff *po = &s->pulloff;
 
     printf("model            %s: %s\n", s->type->name, s->type->description);
     if (s->type->scope == LF_SCOPE_HALFSPACE)
-        printf("probe            k = %g, R = %s, half-space (no layer)",
-               s->probe.k, cli_human(b1, sizeof b1, s->probe.R, "m"));
+        printf("probe            %s, half-space (no layer)",
+               cli_probe_words(shape, sizeof shape, &s->probe));
     else
-        printf("probe            k = %g, R = %s, b = %s, %s base",
-               s->probe.k, cli_human(b1, sizeof b1, s->probe.R, "m"),
+        printf("probe            %s, b = %s, %s base",
+               cli_probe_words(shape, sizeof shape, &s->probe),
                cli_human(b2, sizeof b2, s->probe.b, "m"), cli_base_name(s->probe.base));
     if (s->probe.base == LF_BASE_BONDED)
         printf(", nu = %g (Z = %.6g)", s->mat.nu, s->Z);
@@ -147,7 +168,9 @@ print_summary(const model_summary *s)
            cli_human(b1, sizeof b1, po->delta_po, "m"),
            cli_human(b2, sizeof b2, po->P_po, "N"),
            cli_human((char[64]){ 0 }, 64, po->a_po, "m"));
-    if (s->mat.w > 0 && isfinite(po->P_po))
+    if (!has_R)
+        ;                       /* no R: no pull-off in units of R */
+    else if (s->mat.w > 0 && isfinite(po->P_po))
         printf("P_po/(2 pi R w)  %.6g\n", po->P_po / (2 * M_PI * s->probe.R * s->mat.w));
     else
         printf("P_po/(2 pi R w)  undefined (no adhesion: w = 0)\n");
@@ -162,8 +185,10 @@ print_summary(const model_summary *s)
     }
     else
         printf("b/a at pull-off  undefined (no contact left at pull-off)\n");
-    printf("JKR sphere a_po  %s  (half-space, (9 pi R^2 w/(8 E*))^(1/3), for comparison)\n",
-           cli_human(b1, sizeof b1, lf_jkr_sphere_a_po(s->probe.R, s->mat.w, s->mat.Estar), "m"));
+    if (has_R)
+        printf("JKR sphere a_po  %s  (half-space, (9 pi R^2 w/(8 E*))^(1/3), for comparison)\n",
+               cli_human(b1, sizeof b1, lf_jkr_sphere_a_po(s->probe.R, s->mat.w, s->mat.Estar),
+                         "m"));
     if (isfinite(s->b_cr) && isfinite(s->b_cr_over_a)) {
         printf("critical b       %s  (Eq. 19: |sigma_po| reaches sigma_th)\n",
                cli_human(b1, sizeof b1, s->b_cr, "m"));
@@ -229,7 +254,7 @@ int
 cli_model(int argc, char **argv, const char *command_line)
 {
     model_args a = { NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, NAN, 200,
-                     "frictionless", "thin", "unload", NULL, 0, 0, 0 };
+                     "frictionless", "thin", "unload", NULL, 0, 0, 0, NULL, NAN, NAN };
     const cli_opt opts[] = {
         { "k", CLI_NUMBER, &a.k }, { "R", CLI_LENGTH, &a.R }, { "b", CLI_LENGTH, &a.b },
         { "w", CLI_ADHESION, &a.w }, { "E", CLI_PRESSURE, &a.E }, { "nu", CLI_NUMBER, &a.nu },
@@ -238,10 +263,12 @@ cli_model(int argc, char **argv, const char *command_line)
         { "to", CLI_LENGTH, &a.to }, { "points", CLI_COUNT, &a.points },
         { "summary", CLI_FLAG, &a.summary }, { "json", CLI_FLAG, &a.json },
         { "sigma-th", CLI_PRESSURE, &a.sigma_th }, { "figure", CLI_COUNT, &a.figure },
+        { "tip", CLI_STRING, &a.tip }, { "half-angle", CLI_ANGLE, &a.half_angle },
+        { "B", CLI_NUMBER, &a.B },
         { "plot", CLI_STRING, &a.plot }, { NULL, CLI_FLAG, NULL }
     };
     int npos, help;
-    lf_probe probe;
+    lf_probe probe = { 0 };
     lf_material mat;
     lf_model *m;
     model_summary s;

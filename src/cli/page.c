@@ -274,16 +274,32 @@ done:
     free(cls);
 }
 
-/* The segments of curve j's file that the fit left out (approach, hold,
- * or retract when the approach was fitted), read again from the file with
- * the fit's read options and drawn greyed: ,"o": {"q", "z", "f" as above,
- * "pz", "pf", "s": a digit per point, its lf_segment}.  Nothing when the
- * file cannot be read again as it was (a pipe, or changed since: its
- * SHA-256 differs) or holds no other segment. */
+/* Point i of c is one the fit left out: of another segment, or of the
+ * fitted one outside its window w (NULL: none). */
+static int
+left_out(const lf_curve *c, size_t i, lf_branch fitted, const lf_window_placed *w)
+{
+    if (!isfinite(c->depth[i]) || !isfinite(c->force[i]))
+        return 0;
+    if (c->segment[i] != fitted)
+        return 1;
+    return w != NULL && w->active
+           && !(c->depth[i] >= w->depth_lo && c->depth[i] <= w->depth_hi
+                && c->force[i] >= w->force_lo && c->force[i] <= w->force_hi);
+}
+
+/* The points of curve j's file that the fit left out (the approach, hold,
+ * or retract when the approach was fitted, and the fitted segment's points
+ * outside its window), read again from the file with the fit's read
+ * options and drawn greyed: ,"o": {"q", "z", "f" as above, "pz", "pf",
+ * "s": a digit per point, its lf_segment, or 3 outside the window}.
+ * Nothing when the file cannot be read again as it was (a pipe, or changed
+ * since: its SHA-256 differs) or no point was left out. */
 static void
 others_json(FILE *f, const lf_fit_input *d, size_t j, const lf_read_opts *ro, lf_branch fitted,
             size_t maxpts, long levels)
 {
+    const lf_window_placed *w = d->window != NULL ? &d->window[j] : NULL;
     lf_read_opts o;
     lf_file *file = NULL;
     lf_curve *c = NULL;
@@ -307,7 +323,7 @@ others_json(FILE *f, const lf_fit_input *d, size_t j, const lf_read_opts *ro, lf
         || c->segment == NULL)
         goto done;
     for (i = 0; i < c->n; i++)
-        if (c->segment[i] != fitted && isfinite(c->depth[i]) && isfinite(c->force[i])) {
+        if (left_out(c, i, fitted, w)) {
             n++;
             zlo = fmin(zlo, c->depth[i]);
             zhi = fmax(zhi, c->depth[i]);
@@ -318,8 +334,7 @@ others_json(FILE *f, const lf_fit_input *d, size_t j, const lf_read_opts *ro, lf
         goto done;
     stride = (n + maxpts - 1) / maxpts;
     for (i = 0, n = 0; i < c->n; i++)
-        if (c->segment[i] != fitted && isfinite(c->depth[i]) && isfinite(c->force[i])
-            && n++ % stride == 0)
+        if (left_out(c, i, fitted, w) && n++ % stride == 0)
             keep[k++] = i;
     fprintf(f, ",\"o\":{\"q\":%ld,\"z\":[", levels);
     jnum(f, zlo);
@@ -334,8 +349,9 @@ others_json(FILE *f, const lf_fit_input *d, size_t j, const lf_read_opts *ro, lf
     fputc(',', f);
     quantized(f, "pf", c->force, keep, k, flo, fhi, levels);
     fputs(",\"s\":\"", f);
-    for (i = 0; i < k; i++)
-        fputc('0' + (c->segment[keep[i]] <= 2 ? c->segment[keep[i]] : 2), f);
+    for (i = 0; i < k; i++)     /* 3: the fitted segment, outside the window */
+        fputc(c->segment[keep[i]] == fitted ? '3'
+              : '0' + (c->segment[keep[i]] <= 2 ? c->segment[keep[i]] : 2), f);
     fputs("\"}", f);
 done:
     free(keep);
@@ -351,6 +367,54 @@ static void
 put_file(void *ctx, const char *s, size_t n)
 {
     fwrite(s, 1, n, (FILE *) ctx);
+}
+
+/* A number with its unit as a table cell ("–" when there is none). */
+static void
+td_human(FILE *f, double x, const char *unit)
+{
+    char buf[64];
+    if (!isfinite(x)) {
+        fputs("<td class=\"na\">&ndash;</td>", f);
+        return;
+    }
+    fprintf(f, "<td class=\"num\">%s</td>", cli_human(buf, sizeof buf, x, unit));
+}
+
+/* What each curve shows without a model, beside the fit's tables: the
+ * measured adhesion force, detachment work and contact point, the
+ * instrument's own E[eff], and the fit window. */
+static void
+observed_table(FILE *f, const lf_fit_input *in)
+{
+    size_t j;
+
+    fputs("<section id=\"observed\">\n<h2>Measured without a model</h2>\n<div class=\"wide\">"
+          "<table id=\"observed-table\">\n<tr><th>#</th><th>file</th>"
+          "<th>measured adhesion force</th><th>detachment work</th>"
+          "<th>contact point (no model)</th><th>deepest indentation</th><th>largest force</th>"
+          "<th>instrument's E[eff]</th><th>fit window</th></tr>\n", f);
+    for (j = 0; j < in->n; j++) {
+        const lf_observables *o = &in->observed[j];
+        fprintf(f, "<tr><td class=\"num\">%zu</td><td>", j + 1);
+        lf_html_text(in->names[j] ? in->names[j] : "", put_file, f);
+        fputs("</td>", f);
+        td_human(f, o->adhesion_force, "N");
+        td_human(f, o->detachment_work, "J");
+        td_human(f, o->contact_point, "m");
+        td_human(f, o->max_indentation, "m");
+        td_human(f, o->max_force, "N");
+        if (isfinite(o->instrument_Eeff))
+            td_human(f, o->instrument_Eeff, "Pa");
+        else
+            fputs("<td>not stated</td>", f);
+        if (in->window != NULL && in->window[j].active)
+            fprintf(f, "<td>%zu of %zu points</td>", in->window[j].n_kept, in->window[j].n_in);
+        else
+            fputs("<td>all points</td>", f);
+        fputs("</tr>\n", f);
+    }
+    fputs("</table></div>\n</section>\n", f);
 }
 
 /* A memory stream for the page's data (page_write closes it). */
@@ -369,7 +433,7 @@ data_open(char **buf, size_t *len, char *msg, size_t n)
  * script. */
 static int
 page_write(const char *file, const char *title, const char *command_line, const char *body,
-           FILE *d, char **json, size_t *n, char *msg, size_t nmsg)
+           const char *after, FILE *d, char **json, size_t *n, char *msg, size_t nmsg)
 {
     cli_out out;
     FILE *f;
@@ -396,6 +460,8 @@ page_write(const char *file, const char *title, const char *command_line, const 
           "need JavaScript.</p></noscript>\n</header>\n", f);
     if (body != NULL)       /* a fit's tables, and its figures after them */
         fprintf(f, "%s<section id=\"figures\">\n<h2>Figures</h2>\n</section>\n", body);
+    if (after != NULL)
+        fputs(after, f);
     fputs("</main>\n<script type=\"application/json\" id=\"lf-data\">", f);
     json_safe(f, *json, *n);
     free(*json);
@@ -409,8 +475,8 @@ int
 cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r,
              const lf_fit_input *d, const lf_read_opts *ro, char *msg, size_t n)
 {
-    char *buf = NULL, *tables = NULL, *body = NULL, text[200];
-    size_t len = 0, blen = 0, i, j;
+    char *buf = NULL, *tables = NULL, *body = NULL, *after = NULL, text[200];
+    size_t len = 0, blen = 0, alen = 0, i, j;
     lf_error err;
     FILE *f, *h;
     int st;
@@ -455,8 +521,17 @@ cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r,
         fputc('}', f);
     }
     fputs("]}", f);
-    st = page_write(file, "layerfit fit report", in->command_line, body, f, &buf, &len, msg, n);
+    if (d != NULL && d->observed != NULL && (h = open_memstream(&after, &alen)) != NULL) {
+        observed_table(h, d);
+        if (fclose(h) != 0) {
+            free(after);
+            after = NULL;
+        }
+    }
+    st = page_write(file, "layerfit fit report", in->command_line, body, after, f, &buf, &len,
+                    msg, n);
     free(body);
+    free(after);
     return st;
 }
 
@@ -641,6 +716,6 @@ cli_page_map(const char *file, const char *results, const cli_page_store *s,
     }
     fputs("]}", f);
     lf_table_free(t);
-    return page_write(file, "layerfit batch and map report", command_line, NULL, f, &buf, &len,
+    return page_write(file, "layerfit batch and map report", command_line, NULL, NULL, f, &buf, &len,
                       msg, n);
 }

@@ -94,15 +94,15 @@ function decode(plot, z0, F0) {
     }
   }
   /* the segments the fit left out (lf_segment: 0 retract, 1 approach, 2 hold) */
-  o.other = [[], [], []];
+  o.other = [[], [], [], []];
   if (plot.o) {
     var P = plot.o;
     for (i = 0; i < P.pz.length; i++)
       o.other[+P.s[i]].push([X(P.z[0] + (P.z[1] - P.z[0]) * P.pz[i] / P.q), Y(P.f[0] + (P.f[1] - P.f[0]) * P.pf[i] / P.q)]);
   }
   o.po = plot.po ? [X(plot.po[0]), Y(plot.po[1])] : null;
-  var lo = null;
-  o.pts.forEach(function (p) { if (!lo || p[1] < lo[1]) lo = p; });
+  var lo = null;    /* the lowest force of the fitted segment, window or not */
+  o.pts.concat(o.other[3]).forEach(function (p) { if (!lo || p[1] < lo[1]) lo = p; });
   o.lowest = lo;
   o.n = plot.n; o.shown = plot.pz.length;
   return o;
@@ -322,6 +322,7 @@ function curveChart(host, plot, z0, F0, bad, info) {
       { name: 'approach (not fitted)', pts: o.other[1], color: '#c8c8c8', kind: 'pts', context: true },
       { name: 'hold (not fitted)', pts: o.other[2], color: '#e0d8c8', kind: 'pts', context: true },
       { name: 'retract (not fitted)', pts: o.other[0], color: '#c8c8c8', kind: 'pts', context: true },
+      { name: 'outside the fit window', pts: o.other[3], color: '#9ec9e2', kind: 'pts', context: true },
       { name: 'data', pts: o.pts, color: PAL[0], kind: 'pts' },
       { name: 'model, stable', pts: o.model[1], color: PAL[1], kind: 'line' },
       { name: 'model, unstable', pts: o.model[2], color: PAL[1], kind: 'line', dash: [6, 4] },

@@ -197,7 +197,7 @@ curve_layers(FILE *g, const char *base, size_t nst, size_t nun, size_t nbase, in
 /* One curve: data + model over the residuals, and the part around pull-off. */
 static int
 curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
-             const lf_fit_result *res, char *msg, size_t n)
+             const lf_fit_result *res, const lf_window_placed *win, char *msg, size_t n)
 {
     const lf_fit_curve_result *cr = &res->curves[j];
     model_curve *mc = malloc(sizeof *mc);
@@ -251,14 +251,14 @@ curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
      * around pull-off, where the paper's Fig. 3 draws the branches.  The
      * title holds the file name: a gnuplot string, never script text. */
     {
-        char pb[64], title[1400], layer[160];
+        char pb[64], title[1400], layer[160], shape[160];
         if (cli_model_ignores_b(cr->model))
             snprintf(layer, sizeof layer, "half-space");
         else
             snprintf(layer, sizeof layer, "b = %s, %s",
                      cli_human(pb, sizeof pb, c->probe.b, "m"), cli_base_name(c->probe.base));
-        snprintf(title, sizeof title, "%s: k = %g, R = %s, %s;  w = %s, E* = %s",
-                 base_name(c->name), c->probe.k, cli_human(buf, sizeof buf, c->probe.R, "m"),
+        snprintf(title, sizeof title, "%s: %s, %s;  w = %s, E* = %s",
+                 base_name(c->name), cli_probe_words(shape, sizeof shape, &c->probe),
                  layer, value_text(wb, sizeof wb, res->w.value, "J/m²"),
                  value_text(Eb, sizeof Eb, res->Estar.value, "Pa"));
         fputs("set multiplot title ", g);
@@ -289,8 +289,25 @@ curve_figure(const char *dir, const char *base, size_t j, const lf_fit_curve *c,
                "set tmargin at screen 0.90\nset bmargin at screen 0.36\n"
                "set format x ''\nunset xlabel\nset ylabel 'force (%s)'\n"
                "set key top left Left reverse box opaque\n", fu);
+    if (win != NULL && win->active) {
+        /* the fit window's bounds, where it has them: dashed grey lines */
+        const double at[4] = { win->depth_lo * 1e9, win->depth_hi * 1e9, win->force_lo / fs,
+                               win->force_hi / fs };
+        int a;
+        for (a = 0; a < 4; a++) {
+            if (!isfinite(at[a]))
+                continue;
+            if (a < 2)
+                fprintf(g, "set arrow %d from %.9g, graph 0 to %.9g, graph 1 nohead dt 2 "
+                           "lc rgb '#888888'\n", a + 1, at[a], at[a]);
+            else
+                fprintf(g, "set arrow %d from graph 0, first %.9g to graph 1, first %.9g "
+                           "nohead dt 2 lc rgb '#888888'\n", a + 1, at[a], at[a]);
+        }
+    }
     curve_layers(g, base, nst, nun, nbase, mc->have, isfinite(mc->F_po), 1,
                  cli_human(buf, sizeof buf, cr->pulloff.P_po, "N"));
+    fputs("unset arrow\n", g);
     fprintf(g, "set tmargin at screen 0.34\nset bmargin at screen 0.09\n"
                "set format x '%%g'\nset xlabel 'depth z (nm)'\nset ylabel 'residual (%s)'\n"
                "unset key\n", fu);
@@ -349,7 +366,7 @@ overview_figure(const char *dir, const char *base, size_t nc, const lf_fit_curve
     size_t j, i, *cnt = calloc(4 * (nc ? nc : 1), sizeof *cnt);
     double fs, fpeak = 0.0;
     const char *fu;
-    char name[1100], buf[64], wb[64], Eb[64];
+    char name[1100], buf[160], wb[64], Eb[64];
     cli_out od, og;
     FILE *d, *g;
     int first = 1;
@@ -418,9 +435,9 @@ overview_figure(const char *dir, const char *base, size_t nc, const lf_fit_curve
     fprintf(g, "plot ");
     for (j = 0; j < nc; j++) {
         const char *col = palette[j % NPAL];
-        char label[128];
-        snprintf(label, sizeof label, "%zu: k = %g, %s", j + 1, c[j].probe.k,
-                 cli_human(buf, sizeof buf, c[j].probe.R, "m"));
+        char label[200];
+        snprintf(label, sizeof label, "%zu: %s", j + 1,
+                 cli_probe_words(buf, sizeof buf, &c[j].probe));
         fprintf(g, "%s'%s.dat' index %zu with points pt 6 ps 0.5 lc rgb '%s' title '%s'",
                 first ? "" : ", \\\n     ", base, 4 * j, col, label);
         first = 0;
@@ -538,8 +555,8 @@ cli_figures_free(cli_figures *f)
 
 int
 cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
-             const lf_fit_result *res, const char *command_line, cli_figures *figs,
-             char *msg, size_t n)
+             const lf_fit_result *res, const lf_fit_input *in, const char *command_line,
+             cli_figures *figs, char *msg, size_t n)
 {
     lf_fit_result draw;
     size_t j, k = 0;
@@ -586,7 +603,13 @@ cli_plot_fit(const char *dir, size_t ncurves, const lf_fit_curve *curves,
         snprintf(figs->caption[k], sizeof figs->caption[0], "Curve %zu: %s, with residuals.",
                  j + 1, curves[j].name ? curves[j].name : "");
         figs->n = k + 1;
-        status = curve_figure(dir, figs->base[k], j, &curves[j], &draw, msg, n);
+        if (in != NULL && in->window[j].active)
+            snprintf(figs->caption[k] + strlen(figs->caption[k]),
+                     sizeof figs->caption[0] - strlen(figs->caption[k]),
+                     " Dashed grey lines: the fit window (%zu of %zu points fitted).",
+                     in->window[j].n_kept, in->window[j].n_in);
+        status = curve_figure(dir, figs->base[k], j, &curves[j], &draw,
+                              in != NULL ? &in->window[j] : NULL, msg, n);
     }
     free(draw.curves);
     if (status != 0)

@@ -164,7 +164,7 @@ text_top(FILE *f, const report_input *in, const lf_fit_result *r)
 void
 report_text(FILE *f, const report_input *in, const lf_fit_result *r)
 {
-    char a[48], b[48], c[48], d[48];
+    char a[48], b[48], c[48], d[48], shape[160];
     size_t i, j, k;
 
     if (in->model_request != NULL && strcmp(in->model_request, "auto") == 0)
@@ -214,16 +214,18 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
         fprintf(f, "  [%zu] ", j + 1);
         cli_put_clean(f, cr->name);
         if (no_layer(in, r, j))
-            fprintf(f, ": k = %g, R = %s, no layer (half-space), %s branch, %zu points\n",
-                    cr->probe.k, cli_human(a, sizeof a, cr->probe.R, "m"),
-                    branch_name(cr->branch), cr->n);
+            fprintf(f, ": %s, no layer (half-space), %s branch, %zu points\n",
+                    cli_probe_words(shape, sizeof shape, &cr->probe), branch_name(cr->branch),
+                    cr->n);
         else
-            fprintf(f, ": k = %g, R = %s, b = %s, %s, %s branch, %zu points\n", cr->probe.k,
-                    cli_human(a, sizeof a, cr->probe.R, "m"),
+            fprintf(f, ": %s, b = %s, %s, %s branch, %zu points\n",
+                    cli_probe_words(shape, sizeof shape, &cr->probe),
                     cli_human(b, sizeof b, cr->probe.b, "m"), cli_base_name(cr->probe.base),
                     branch_name(cr->branch), cr->n);
         if (in->origin != NULL)
             origin_text(f, &in->origin[j], no_layer(in, r, j));
+        if (in->window != NULL && in->observed != NULL)
+            cli_window_text(f, &in->window[j], &in->observed[j]);
         fprintf(f, "      z0 = %s%s, F0 = %s%s, noise %s, rms residual %s",
                 isnan(cr->z0) ? "not determined" : cli_human(a, sizeof a, cr->z0, "m"),
                 cr->z0_free ? "" : " (fixed)",
@@ -244,6 +246,8 @@ report_text(FILE *f, const report_input *in, const lf_fit_result *r)
                     cli_human(c, sizeof c, cr->pulloff.sigma_po, "Pa"));
         else
             fputs("      pull-off not determined (w is not)\n", f);
+        if (in->observed != NULL)
+            cli_observed_text(f, &in->observed[j], cr);
         if (!no_layer(in, r, j)) {    /* no layer: no b/a */
             fprintf(f, "      b/a = %.3g at the shallowest contact point", cr->b_over_a_min_contact);
             if (cr->pulloff_determined)
@@ -322,6 +326,8 @@ report_json(FILE *f, const report_input *in, const lf_fit_result *r)
     info.provenance = &prov;
     info.assumed = in->assumed;
     info.nassumed = in->nassumed;
+    info.observed = in->observed;
+    info.window = in->window;
     if (lf_fit_result_json(r, &info, &json, &err) != LF_OK)
         cli_die(CLI_EXIT_FAIL, "fit: %s", err.msg);
     fputs(json, f);

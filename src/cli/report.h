@@ -18,6 +18,9 @@ typedef struct {
     const char *command_line;      /* as main() passed it, for provenance */
     const lf_assumption *assumed;  /* what the fit assumed (lf_fit_assumptions) */
     size_t nassumed;
+    const lf_observables *observed; /* what each curve shows without a model
+                                      (lf_observe), or NULL */
+    const lf_window_placed *window; /* each curve's fit window, or NULL */
 } report_input;
 
 /* People: values with units (cli_human), errors, intervals, correlations,

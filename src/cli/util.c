@@ -242,6 +242,7 @@ lib_option(const cli_opt *o)
     case CLI_LENGTH:   opt.quantity = LF_Q_LENGTH; break;
     case CLI_FORCE:    opt.quantity = LF_Q_FORCE; break;
     case CLI_ADHESION: opt.quantity = LF_Q_ADHESION; break;
+    case CLI_ANGLE:    opt.quantity = LF_Q_ANGLE; break;
     default:           opt.quantity = LF_Q_PRESSURE; break;
     }
     return opt;

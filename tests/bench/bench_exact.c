@@ -109,7 +109,7 @@ nu_interp_errors(double k)
 static void
 eval_speed(void)
 {
-    lf_probe pr = {2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS};
+    lf_probe pr = {2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0};
     lf_material m = {0.01, 1e9, 0.3};
     const lf_model_type *types[] = {&lf_model_thin, &lf_model_exact, &lf_model_halfspace};
     enum { NP = 2000 };

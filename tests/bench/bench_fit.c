@@ -65,7 +65,8 @@ main(int argc, char **argv)
     int reps = argc > 2 ? atoi(argv[2]) : 300, r;
     static double d0[NPTS], d1[NPTS], f0[NPTS], f1[NPTS];
     double *depth[2] = { d0, d1 }, *force[2] = { f0, f1 }, *t;
-    lf_probe p[2] = { { 2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS }, { 3, 1e-3, 1e-6, LF_BASE_BONDED } };
+    lf_probe p[2] = { { 2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 },
+                      { 3, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0 } };
     lf_material mat = { 12.3e-3, 1.85e9, 0.35 };
     lf_sim_settings sim = lf_sim_settings_default();
     lf_fit_settings set = lf_fit_settings_default();

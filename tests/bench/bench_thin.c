@@ -32,7 +32,7 @@ main(void)
     for (i = 0; i < NPTS; i++)          /* a little below contact up to 4 um */
         delta[i] = -2e-7 + 4e-6 * (double) i / (NPTS - 1);
     for (j = 0; j < sizeof ks / sizeof ks[0]; j++) {
-        lf_probe p = { ks[j], 1e-3, 1e-6, LF_BASE_BONDED };
+        lf_probe p = { ks[j], 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0 };
         lf_material m = { 0.05, 1e6, 0.3 };
         lf_error err;
         lf_model *model = lf_model_alloc(&lf_model_thin, &p, &err);

@@ -7,7 +7,7 @@
 //
 // DIR holds fit.html (a joint fit of two curves, one of them named to
 // break out of a script element), noconv.html (a fit stopped after one
-// iteration), approach.html (a retract fit with its approach), map.html (fit --batch --report of a synthetic 8 x 8 map),
+// iteration), approach.html (a retract fit in a window, with its approach), map.html (fit --batch --report of a synthetic 8 x 8 map),
 // r.csv (its results) and results.html (map r.csv --report).
 'use strict';
 const fs = require('fs');
@@ -64,7 +64,7 @@ async function fitReport(browser) {
   const file2 = await page.$eval('#curve-file', e => e.title);
   check(file2.endsWith('curve2.csv'), 'fit report: a click on row 2 shows curve2.csv (' + file2 + ')');
   const nums = await page.$$eval('#curve-numbers td', t => t.map(e => e.textContent));
-  check(nums[2] === '3' && nums[3] === '1 mm', 'fit report: the curve panel gives its probe (' + nums.slice(0, 5).join(' | ') + ')');
+  check(nums[0] === '2' && nums.some(t => /k = 3\b/.test(t) && /R = 1 mm/.test(t)), 'fit report: the curve panel gives its probe (' + nums.slice(0, 5).join(' | ') + ')');
   // zoom and toggle change the figure; toggling back restores it
   const fig = '#curve-panel canvas';
   const before = await canvasImage(page, fig);
@@ -99,6 +99,10 @@ async function approachReport(browser) {
   const { page, errors } = await open(browser, 'approach.html');
   const legend = await page.$$eval('#curve-panel input[data-series]', b => b.map(e => e.getAttribute('data-series')));
   check(legend.includes('approach (not fitted)') && legend.includes('data'), 'approach: the segment not fitted is drawn greyed (' + legend.join(', ') + ')');
+  check(legend.includes('fit window'), 'approach: the fit window is marked');
+  check(legend.some(n => /^measured adhesion \d/.test(n)), 'approach: the measured adhesion is named');
+  check(await page.$('#observed-table') !== null, 'approach: the table of what was measured without a model');
+  await page.screenshot({ path: path.join(shots, 'window.png'), fullPage: true });
   check(errors.length === 0, 'approach: no console error (' + errors.join(' | ') + ')');
   await page.close();
 }

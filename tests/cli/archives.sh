@@ -61,7 +61,7 @@ run_ok map "$tmp/map.csv" --plot "$tmp/map.svg" && {
 }
 run_ok fit --batch "$v/nanoscope_fv.spm" --k 2 --R 8um --model halfspace --out "$tmp/fv.csv" --quiet && \
     [ "$(grep -c ',ok,' "$tmp/fv.csv")" -eq 9 ] && ok || bad "batch force volume: 9 rows ok"
-expect_fail 2 "layerfit: fit: $v/jpk_map.jpk-force-map is a curve file, not a plan: give the probe of its curves, e.g. --batch $v/jpk_map.jpk-force-map --k 2 --R 5um --model halfspace (or --b and --interface for a layer)" fit --batch "$v/jpk_map.jpk-force-map"
+expect_fail 2 "layerfit: fit: $v/jpk_map.jpk-force-map is a curve file, not a plan: state the probe of its curves, e.g. --k 2 --model halfspace (R from the file's header, or --R; --b and --interface for a layer), or --tip sphere, cone, berkovich or pyramid" fit --batch "$v/jpk_map.jpk-force-map"
 
 # plans: FILE#N and the index column; a batch plan row naming a map
 printf 'file,k,R,b,interface,index\n%s#0,2,8um,,,\n%s,2,8um,,,2\n' "$v/jpk_map.jpk-force-map" "$v/jpk_qi.jpk-qi-data" > "$tmp/plan.csv"
@@ -75,7 +75,7 @@ run_ok check "$tmp/plan2.csv" && \
     has "plan check: a map row listed" "$tmp/out" "  curves    6: a fit takes one"
 run_ok fit --batch "$tmp/plan2.csv" --model halfspace --out "$tmp/p2.csv" --quiet && \
     [ "$(grep -c ',ok,' "$tmp/p2.csv")" -eq 7 ] && ok || bad "batch plan: the map's 6 curves and the wave"
-expect_fail 2 "layerfit: fit: --k is for a single curve; a batch takes each curve's probe from its row of the plan (columns k, R, b, interface)" fit --batch "$tmp/plan2.csv" --k 2
+expect_fail 2 "layerfit: fit: --k is for curve files; a batch of a plan takes each curve's probe and sample from its row (columns k, R, b, interface, tip, half_angle, prefactor, sample)" fit --batch "$tmp/plan2.csv" --k 2
 
 # what a file is when no reader takes it
 printf 'hello\n' > "$tmp/notes.txt"

@@ -130,7 +130,7 @@ expect_fail 2 "layerfit: fit: --shard '0/3' is not I/N with 1 <= I <= N (e.g. --
     fit --batch "$tmp/fm/plan.csv" --shard 0/3
 expect_fail 2 "layerfit: fit: --shard '4/3' is not I/N with 1 <= I <= N (e.g. --shard 3/8)" \
     fit --batch "$tmp/fm/plan.csv" --shard 4/3
-expect_fail 2 "layerfit: fit: --batch needs a plan (e.g. --batch plan.csv)" fit --batch=
+expect_fail 2 "layerfit: fit: --batch needs a plan or curve files (e.g. --batch plan.csv, --batch *.txt --k 2 --model halfspace)" fit --batch=
 expect_fail 2 "layerfit: map: give one batch result (layerfit map RESULT.csv --plot map.png)" map
 expect_fail 2 "layerfit: $tmp/fm/plan.csv:3: no column 'x_m': expected the CSV output of 'layerfit fit --batch PLAN --out RESULT.csv'" \
     map "$tmp/fm/plan.csv" --plot "$tmp/m.png"

@@ -41,8 +41,10 @@ sed -n '/id="lf-data">/,/<\/script>/p' "$tmp/fit.html" | sed '1s/.*id="lf-data">
     | grep -q "[<>&]\|$(printf '\342\200\250')" && bad "the page's JSON holds < > & or U+2028 raw" || ok
 # a fit stopped after one iteration: marked as not converged
 run_exit 3 fit "$tmp/d/evil.csv" --max-iter 1 --report "$tmp/noconv.html"
-# a Chiaro export's retract fitted: its approach greyed on the figure
-run_ok fit "$top/datasets/vendors/chiaro.txt" --model halfspace --k 2 --report "$tmp/approach.html"
+# a Chiaro export's retract fitted in a window: its approach greyed, the
+# window's ends and the measured adhesion on the figure
+run_ok fit "$top/datasets/vendors/chiaro.txt" --model halfspace --k 2 --depth-range 0:80% \
+    --report "$tmp/approach.html"
 # a synthetic 8 x 8 force map, every fit in one page
 "$LF" map --synthetic "$tmp/m" --size 8 --points 80 --seed 7 >/dev/null 2>&1 && ok || bad "map --synthetic"
 run_ok fit --batch "$tmp/m/plan.csv" --out "$tmp/r.csv" --report "$tmp/map.html" --model thin \

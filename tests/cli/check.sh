@@ -70,8 +70,8 @@ expect 2 "layerfit: $b/plan_negative_b.csv:2:24: b must be a finite length > 0 (
 expect 2 "layerfit: $b/plan_nu_bonded.csv:3:37: nu must lie in [0, 0.5) for a bonded layer (got 0.5) (leave nu empty to fit it)" check $b/plan_nu_bonded.csv
 expect 2 "layerfit: $b/plan_interface.csv:2:26: unknown interface 'glued' (expected frictionless or bonded)" check $b/plan_interface.csv
 expect 2 "layerfit: $b/plan_duplicate.csv:4:1: duplicate row: curve './../curve_comma.csv' and segment unload are listed at line 2 already (list each once)" check $b/plan_duplicate.csv
-expect 2 "layerfit: $b/plan_unknown_column.csv:1:28: unknown column 'colour' (a plan has the columns file,k,R,b,interface and may add nu,segment,sample,z0,F0,format,index)" check $b/plan_unknown_column.csv
-expect 2 "layerfit: $b/plan_no_b.csv:1:1: no b column in the header (a plan has the columns file,k,R,b,interface and may add nu,segment,sample,z0,F0,format,index)" check $b/plan_no_b.csv
+expect 2 "layerfit: $b/plan_unknown_column.csv:1:28: unknown column 'colour' (a plan has the columns file,k,R,b,interface and may add nu,segment,sample,z0,F0,format,index,tip,half_angle,prefactor,depth_range,force_range)" check $b/plan_unknown_column.csv
+expect 2 "layerfit: $b/plan_no_b.csv:1:1: no b column in the header (a plan has the columns file,k,R,b,interface and may add nu,segment,sample,z0,F0,format,index,tip,half_angle,prefactor,depth_range,force_range)" check $b/plan_no_b.csv
 expect 2 "layerfit: $b/plan_cell_unit.csv:2:22: R '1mm' is not a number (the header gives the unit, so a bare number such as 1.5)" check $b/plan_cell_unit.csv
 expect 2 "layerfit: $b/curve_nan.csv:3:1: depth_nm 'NaN' is not a finite number (give a measured value, or delete the row)" check $b/plan_bad_curve.csv
 # the command line

@@ -33,7 +33,7 @@ expect_fail 2 "layerfit: simulate: probe 'k=2,R=1mm,b=1um,interface=glued': unkn
 expect_fail 2 "layerfit: simulate: --branch must be unload or load (got 'up')" simulate --out "$tmp/x" --w 1mJ/m2 --E 1GPa --branch up $P1
 
 # fit: usage errors that need no data
-expect_fail 2 "layerfit: fit: give one plan or curve file (see 'layerfit fit --help')" fit
+expect_fail 2 "layerfit: fit: give a plan, or curve files with their probe (see 'layerfit fit --help')" fit
 expect_fail 2 "layerfit: fit: unknown model 'thick' (auto, thin, exact, halfspace)" fit "$tmp/d/plan.csv" --model thick
 expect_fail 2 "layerfit: fit: --max-iter: '0' is not a whole number >= 1 (e.g. --max-iter 200)" fit "$tmp/d/plan.csv" --max-iter 0
 # k = 2 stands for a sphere only where a << R: a contact radius of 0.75 R is
@@ -57,12 +57,12 @@ has "half-space --b: JSON interface null" "$tmp/hsb.json" '"interface": null'
 grep -q '"nu": {"value": null, "stderr": null, "ci95": \[null, null\], "ci95_method": null' "$tmp/hsb.json" \
     && ok || bad "JSON: nu without an interval still names a method"
 has "JSON: w's interval method" "$tmp/hsb.json" '"ci95_method": "'
-expect_fail 2 "layerfit: fit: --b and --interface go together (and the half-space model uses neither: leave both out)" fit "$tmp/sph/curve1.csv" --model halfspace --k 2 --R 1um --b 1um
+expect_fail 2 "layerfit: fit: --b needs --interface (frictionless or bonded); the half-space model uses neither: leave both out" fit "$tmp/sph/curve1.csv" --model halfspace --k 2 --R 1um --b 1um
 # a file in the wrong role is named for what it is
-expect_fail 2 "layerfit: fit: $tmp/d/curve1.csv is a curve (a table of depth and force), not a plan: fit it alone with its probe, e.g. layerfit fit FILE --k 2 --R 8um --model halfspace (or --b and --interface for a layer)" fit "$tmp/d/curve1.csv"
-expect_fail 2 "layerfit: fit: $tmp/d/plan.csv is a plan: --k, --R, --b and --interface are for a single curve (a plan gives each curve's probe in its row); fit the plan without them" fit "$tmp/d/plan.csv" --k 2 --R 1mm --b 1um --interface frictionless
+expect_fail 2 "layerfit: fit: $tmp/d/curve1.csv is a curve file, not a plan: state the probe of its curves, e.g. --k 2 --model halfspace (R from the file's header, or --R; --b and --interface for a layer), or --tip sphere, cone, berkovich or pyramid" fit "$tmp/d/curve1.csv"
+expect_fail 2 "layerfit: fit: --k applies to curve files; $tmp/d/plan.csv is a plan, which gives each curve's probe in its row (columns k, R, b, interface, tip, half_angle, prefactor; R may read 'header'): fit it without the probe options" fit "$tmp/d/plan.csv" --k 2 --R 1mm --b 1um --interface frictionless
 expect_fail 2 "layerfit: fit: --json is for a single fit; a batch writes one row per fit to --out FILE.csv or --out FILE.jsonl" fit --batch "$tmp/d/plan.csv" --json "$tmp/x.json"
-expect_fail 2 "layerfit: fit: --k is for a single curve; a batch takes each curve's probe from its row of the plan (columns k, R, b, interface)" fit --batch "$tmp/d/plan.csv" --k 2
+expect_fail 2 "layerfit: fit: --k is for curve files; a batch of a plan takes each curve's probe and sample from its row (columns k, R, b, interface, tip, half_angle, prefactor, sample)" fit --batch "$tmp/d/plan.csv" --k 2
 expect_fail 2 "layerfit: fit: --threads is for fit --batch PLAN; a single fit writes --json, --curves, --plot and --report" fit "$tmp/d/plan.csv" --threads 2
 # a file name with an unquoted comma shifts the row: the likely cause said
 cp "$tmp/d/curve1.csv" "$tmp/d/a,b.csv"
@@ -71,7 +71,7 @@ expect_fail 2 "layerfit: $tmp/d/comma.csv:2:17: unknown interface '1e-06' (expec
 printf 'file,k,R_m,b_m,interface,nu\n"a,b.csv",2,0.001,1e-06,frictionless,\n' > "$tmp/d/comma.csv"
 run_ok fit "$tmp/d/comma.csv" --model thin
 expect_fail 2 "layerfit: fit: unknown method 'newton' (lm, lmaccel, dogleg, ddogleg, subspace2D)" fit "$tmp/d/plan.csv" --method newton
-expect_fail 2 "layerfit: fit: --segment must be unload or load (got 'up')" fit "$tmp/d/plan.csv" --segment up
+expect_fail 2 "layerfit: fit: --segment must be unload (retract, withdraw) or load (approach, extend) (got 'up')" fit "$tmp/d/plan.csv" --segment up
 expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (got 'exact')" fit "$tmp/d/plan.csv" --jacobian exact
 
 # fit: the data
@@ -100,7 +100,7 @@ expect_fail 2 "layerfit: fit: --jacobian must be analytic, forward or central (g
     [ "$(sed -n '3,4p' "$tmp/out")" = "assumed, not fitted:
   nu = 0.35 (--fix-nu)" ] && ok || bad "bonded, nu fixed: the assumption not at the top: $(sed -n '1,5p' "$tmp/out")"
     has "bonded, nu fixed: JSON assumed" "$tmp/b.json" '{"parameter": "nu", "value": 0.35, "unit": "", "curves": null, "source": "--fix-nu"}'
-    expect_fail 2 "layerfit: fit: a single curve needs --k, --R, --b and --interface (e.g. --k 2 --R 1mm --b 1um --interface frictionless)" fit "$tmp/d/curve2.csv" --k 3
+    expect_fail 2 "layerfit: fit: the auto model needs the layer: --b and --interface (e.g. --b 1um --interface frictionless), or fit the curves as a half-space with --model halfspace (no layer)" fit "$tmp/d/curve2.csv" --k 3
     # a joint fit is of one material: two samples in one plan are refused
     printf 'file,k,R_m,b_m,interface,sample\ncurve1.csv,2,0.001,1e-06,frictionless,film-A\ncurve2.csv,3,0.001,1e-06,frictionless,film-B\n' >"$tmp/d/two.csv"
     expect_fail 2 "layerfit: $tmp/d/two.csv:3: sample 'film-B', where an earlier row's is 'film-A': a joint fit is of one material (give each sample a plan of its own, or run 'layerfit fit --batch', which fits each sample on its own)" fit "$tmp/d/two.csv"

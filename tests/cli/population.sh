@@ -170,8 +170,8 @@ if [ -x "$PY" ]; then
     "$PY" -c 'import json,sys; c=json.load(open(sys.argv[1]))["curves"][0]; sys.exit(0 if abs(c["quantum_N"]/1e-12-1)<1e-6 and c["noise_sigma"]>=1e-12/12**0.5 else 1)' \
         "$tmp/ws.json" && ok || bad "workshop 2021: quantum_N or the noise"
 fi
-# the Hysitron steel export as a cone: one bound of w in the report
-if run_ok fit "$real/RobinSteel0000LC.txt" --k 1 --R 5um --model halfspace; then
+# the Hysitron steel export (a Berkovich indent): one bound of w in the report
+if run_ok fit "$real/RobinSteel0000LC.txt" --tip berkovich --model halfspace; then
     top_bound=$(sed -n 's/^  w    < \(.*\) (95%, one-sided).*/\1/p' "$tmp/out")
     words=$(sed -n 's/^  adhesion below the noise: w < \(.*\) J\/m^2 (95%)$/\1/p' "$tmp/out")
     awk -v a="$top_bound" -v b="$words" 'BEGIN {

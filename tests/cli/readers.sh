@@ -86,7 +86,7 @@ expect_fail 2 "layerfit: $tmp/hplan2.csv:2: $v/jpk_volts.txt: no probe radius: t
 # a plan's probes are its rows': the single-curve options are refused, not ignored
 for o in "--R 8um" "--b 1um" "--interface bonded"; do
     # shellcheck disable=SC2086
-    expect_fail 2 "layerfit: fit: --$(echo $o | sed 's/--\([a-zA-Z]*\).*/\1/') applies to a single curve (with --k); a plan gives each curve's probe in its row (columns k, R, b, interface; R may read 'header')" fit "$tmp/hplan2.csv" --model halfspace $o
+    expect_fail 2 "layerfit: fit: --$(echo $o | sed 's/--\([a-zA-Z]*\).*/\1/') applies to curve files; $tmp/hplan2.csv is a plan, which gives each curve's probe in its row (columns k, R, b, interface, tip, half_angle, prefactor; R may read 'header'): fit it without the probe options" fit "$tmp/hplan2.csv" --model halfspace $o
 done
 
 # batch fits read exports too

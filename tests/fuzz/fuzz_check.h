@@ -41,6 +41,21 @@ fuzz_curve(const char *buf, size_t len, size_t chunk, int skip_bad_rows)
             || memcmp(a->force, b->force, a->n * sizeof *a->force) != 0;
         if (lf_curve_check_fit(a, LF_SEG_UNLOAD, 6, &ea) != LF_OK && ea.msg[0] == '\0')
             bad = 1;
+        {
+            /* what the curve shows without a model, and a window placed
+             * from it: no crash, no negative pull or work */
+            lf_observables ob;
+            lf_window win = lf_window_all();
+            lf_window_placed wp;
+            if (lf_observe(a, &ob, &ea) != LF_OK
+                || ob.adhesion_force < 0 || ob.detachment_work < 0)
+                bad = 1;
+            win.depth.hi = 0.3;
+            win.depth.relative = 1;
+            win.force.lo = 0.0;
+            if (lf_window_place(&win, &ob, &wp, &ea) != LF_OK && ea.msg[0] == '\0')
+                bad = 1;
+        }
     }
     lf_curve_free(a);
     lf_curve_free(b);

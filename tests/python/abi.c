@@ -50,7 +50,8 @@ main(void)
     S(lf_curve_info); F(lf_curve_info, x); F(lf_curve_info, y); F(lf_curve_info, grid_i);
     F(lf_curve_info, grid_j); F(lf_curve_info, points); F(lf_curve_info, segment_points); end();
     S(lf_option); F(lf_option, name); F(lf_option, kind); F(lf_option, quantity); end();
-    S(lf_probe); F(lf_probe, k); F(lf_probe, R); F(lf_probe, b); F(lf_probe, base); end();
+    S(lf_probe); F(lf_probe, k); F(lf_probe, R); F(lf_probe, b); F(lf_probe, base);
+    F(lf_probe, tip); F(lf_probe, angle); F(lf_probe, B); end();
     S(lf_material); F(lf_material, w); F(lf_material, Estar); F(lf_material, nu); end();
     S(lf_pulloff); F(lf_pulloff, delta_detach); F(lf_pulloff, P_detach);
     F(lf_pulloff, a_detach); F(lf_pulloff, delta_po); F(lf_pulloff, P_po); F(lf_pulloff, a_po);
@@ -72,7 +73,8 @@ main(void)
     S(lf_batch_row); F(lf_batch_row, fit); F(lf_batch_row, sample); F(lf_batch_row, status);
     F(lf_batch_row, outcome); F(lf_batch_row, text); F(lf_batch_row, len);
     F(lf_batch_row, result); F(lf_batch_row, input); F(lf_batch_row, done);
-    F(lf_batch_row, total); F(lf_batch_row, failed); F(lf_batch_row, misfits); end();
+    F(lf_batch_row, total); F(lf_batch_row, failed); F(lf_batch_row, misfits);
+    F(lf_batch_row, why); F(lf_batch_row, cause); end();
     S(lf_batch_summary); F(lf_batch_summary, fits); F(lf_batch_summary, total);
     F(lf_batch_summary, done); F(lf_batch_summary, failed); F(lf_batch_summary, misfits);
     F(lf_batch_summary, stopped); end();

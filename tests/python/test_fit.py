@@ -266,3 +266,19 @@ def test_a_curve_in_memory_is_never_a_file_of_its_name(tmp_path, monkeypatch):
     shutil.copy(os.path.join(TOP, "datasets", "vendors", "jpk_map.jpk-force-map"), "curve.csv")
     rows = list(layerfit.batch([c], threads=1, **probe))
     assert [row["status"] for row in rows] == ["ok"]
+
+
+def test_probe_shapes_windows_and_observables_are_the_commands(tmp_path):
+    path = "datasets/vendors/chiaro.txt"
+    for args, kw in ((["--model", "halfspace", "--tip", "sphere"],
+                      {"model": "halfspace", "tip": "sphere"}),
+                     (["--model", "halfspace", "--half-angle", "70deg", "--depth-range", ":50%"],
+                      {"model": "halfspace", "half_angle": "70deg", "depth_range": ":50%"})):
+        r = layerfit.fit(path, **kw)
+        assert same_but_command_line(r.to_dict(), command_json(tmp_path, path, *args)), args
+    c = r.to_dict()["curves"][0]
+    assert c["tip"] == "cone" and c["R"] is None
+    assert 0 < c["window"]["points_kept"] < c["window"]["points"]
+    assert c["adhesion_force_N"] > 0 and c["instrument_Eeff_Pa"] == 25000
+    with pytest.raises(layerfit.Error, match="k = 1 is a cone, and R does not shape a cone"):
+        layerfit.fit(path, model="halfspace", k=1, R="5um")

@@ -23,7 +23,7 @@ VENDORS = {
     "hysitron.txt": {}, "text_space_comma.txt": {}, "jpk_force.jpk-force": {},
     "jpk_calibration.jpk-force": {"spring_constant": "0.032N/m", "sensitivity": "50nm/V"},
     "jpk_map.jpk-force-map": {}, "jpk_qi.jpk-qi-data": {}, "nanoscope.spm": {},
-    "nanoscope_fv.spm": {}, "igor.ibw": {}, "igor_be.ibw": {}, "workshop_map.zip": {},
+    "nanoscope_fv.spm": {}, "nanoscope.pfc": {}, "igor.ibw": {}, "igor_be.ibw": {}, "workshop_map.zip": {},
     "afmformats.tab": {}, "hysitron.hld": {},
 }
 REAL = {

@@ -109,7 +109,8 @@ class LfOption(Structure):
 
 
 class LfProbe(Structure):
-    _fields_ = [("k", c_double), ("R", c_double), ("b", c_double), ("base", c_int)]
+    _fields_ = [("k", c_double), ("R", c_double), ("b", c_double), ("base", c_int),
+                ("tip", c_int), ("angle", c_double), ("B", c_double)]
 
 
 class LfMaterial(Structure):
@@ -149,7 +150,8 @@ class LfBatchRow(Structure):
     _fields_ = [("fit", c_size_t), ("sample", c_char_p), ("status", c_char_p),
                 ("outcome", c_int), ("text", c_void_p), ("len", c_size_t),
                 ("result", c_void_p), ("input", c_void_p), ("done", c_size_t),
-                ("total", c_size_t), ("failed", c_size_t), ("misfits", c_size_t)]
+                ("total", c_size_t), ("failed", c_size_t), ("misfits", c_size_t),
+                ("why", c_char_p), ("cause", c_char_p)]
 
 
 class LfBatchSummary(Structure):
