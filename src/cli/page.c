@@ -169,6 +169,27 @@ quantized(FILE *f, const char *key, const double *x, const size_t *idx, size_t n
 }
 
 static void
+pair_json(FILE *f, double a, double b)
+{
+    fputc('[', f);
+    jnum(f, a);
+    fputc(',', f);
+    jnum(f, b);
+    fputc(']', f);
+}
+
+/* The start of a drawn set of points: {"q": levels, "z": [lo, hi], "f":
+ * [lo, hi] (its brace left open). */
+static void
+scale_json(FILE *f, long levels, double zlo, double zhi, double flo, double fhi)
+{
+    fprintf(f, "{\"q\":%ld,\"z\":", levels);
+    pair_json(f, zlo, zhi);
+    fputs(",\"f\":", f);
+    pair_json(f, flo, fhi);
+}
+
+static void
 widen(double *lo, double *hi, const double *x, size_t n)
 {
     size_t i;
@@ -223,19 +244,10 @@ plot_json(FILE *f, const lf_fit_result *res, size_t j, const lf_fit_curve *c, si
         widen(&zlo, &zhi, z, grid);
         widen(&flo, &fhi, F, grid);
     }
-    fprintf(f, "{\"q\":%ld,\"z\":[", levels);
-    jnum(f, zlo);
-    fputc(',', f);
-    jnum(f, zhi);
-    fputs("],\"f\":[", f);
-    jnum(f, flo);
-    fputc(',', f);
-    jnum(f, fhi);
-    fputs("],\"r\":[", f);
-    jnum(f, rlo);
-    fputc(',', f);
-    jnum(f, rhi);
-    fprintf(f, "],\"n\":%zu,\"z0\":", c->n);
+    scale_json(f, levels, zlo, zhi, flo, fhi);
+    fputs(",\"r\":", f);
+    pair_json(f, rlo, rhi);
+    fprintf(f, ",\"n\":%zu,\"z0\":", c->n);
     jnum(f, fig.z0);
     fputs(",\"F0\":", f);
     jnum(f, fig.F0);
@@ -246,11 +258,9 @@ plot_json(FILE *f, const lf_fit_result *res, size_t j, const lf_fit_curve *c, si
     fputc(',', f);
     quantized(f, "pr", resid, keep, nk, rlo, rhi, levels);
     if (have) {
-        fputs(",\"mz\":[", f);      /* the grid is even in depth: its ends */
-        jnum(f, z[0]);
+        fputs(",\"mz\":", f);       /* the grid is even in depth: its ends */
+        pair_json(f, z[0], z[grid - 1]);
         fputc(',', f);
-        jnum(f, z[grid - 1]);
-        fputs("],", f);
         quantized(f, "mf", F, NULL, grid, flo, fhi, levels);
         fputs(",\"mc\":\"", f);
         for (i = 0; i < grid; i++)
@@ -258,13 +268,9 @@ plot_json(FILE *f, const lf_fit_result *res, size_t j, const lf_fit_curve *c, si
         fputc('"', f);
     }
     fputs(",\"po\":", f);
-    if (isfinite(zpo) && isfinite(Fpo)) {
-        fputc('[', f);
-        jnum(f, zpo);
-        fputc(',', f);
-        jnum(f, Fpo);
-        fputc(']', f);
-    } else
+    if (isfinite(zpo) && isfinite(Fpo))
+        pair_json(f, zpo, Fpo);
+    else
         fputs("null", f);
 done:
     free(keep);
@@ -336,15 +342,9 @@ others_json(FILE *f, const lf_fit_input *d, size_t j, const lf_read_opts *ro, lf
     for (i = 0, n = 0; i < c->n; i++)
         if (left_out(c, i, fitted, w) && n++ % stride == 0)
             keep[k++] = i;
-    fprintf(f, ",\"o\":{\"q\":%ld,\"z\":[", levels);
-    jnum(f, zlo);
+    fputs(",\"o\":", f);
+    scale_json(f, levels, zlo, zhi, flo, fhi);
     fputc(',', f);
-    jnum(f, zhi);
-    fputs("],\"f\":[", f);
-    jnum(f, flo);
-    fputc(',', f);
-    jnum(f, fhi);
-    fputs("],", f);
     quantized(f, "pz", c->depth, keep, k, zlo, zhi, levels);
     fputc(',', f);
     quantized(f, "pf", c->force, keep, k, flo, fhi, levels);
