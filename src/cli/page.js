@@ -385,12 +385,20 @@ function fitPage() {
   /* the tables are the library's (lf_fit_result_html); here they get
    * long names shortened, the offsets' correlations folded, the warnings
    * grouped and the curves' rows a click */
+  /* the file names of a table's second column, shortened */
+  function shorten(t) {
+    Array.prototype.forEach.call(t ? t.rows : [], function (tr, i) {
+      if (i === 0) return;
+      var name = tr.cells[1].textContent;
+      tr.cells[1].textContent = '';
+      tr.cells[1].appendChild(nameCell(name));
+    });
+  }
   var ct = document.getElementById('curve-table');
+  shorten(ct);
+  shorten(document.getElementById('observed-table'));
   Array.prototype.forEach.call(ct.querySelectorAll('tr'), function (tr, i) {
     if (i === 0) return;
-    var cell = tr.cells[1], name = cell.textContent;
-    cell.textContent = '';
-    cell.appendChild(nameCell(name));
     tr.className = 'pick';
     tr.setAttribute('data-curve', i);
     tr.addEventListener('click', function () { location.hash = 'curve=' + i; });
