@@ -488,6 +488,8 @@ function viridis(t) {
   var i = Math.min(VIR.length - 2, Math.floor(t)), f = t - i, a = VIR[i], b = VIR[i + 1];
   return [a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f, a[2] + (b[2] - a[2]) * f];
 }
+/* a quantity's value: with its unit in SI prefixes, a bare number without one */
+function qtext(v, q, d) { return q.unit ? human(v, q.unit, d) : num(v, d || 4); }
 function csvCell(v) {
   var s = v == null ? '' : String(v);
   return /[",\n\r]/.test(s) ? '"' + s.replace(/"/g, '""') + '"' : s;
@@ -597,7 +599,7 @@ function mapPage() {
       /* the pixel's fit and value under the pointer */
       cv.addEventListener('mousemove', function (e) {
         var r = rowAt(e), v = r == null ? null : get(r, q.key);
-        cv.title = r == null ? '' : 'fit ' + (r + 1) + ' (' + get(r, 'status') + '): ' + (q.key === 'status' ? v : typeof v === 'number' ? (q.unit ? human(v, q.unit) : num(v, 4)) : '–');
+        cv.title = r == null ? '' : 'fit ' + (r + 1) + ' (' + get(r, 'status') + '): ' + (q.key === 'status' ? v : typeof v === 'number' ? qtext(v, q) : '–');
       });
       maps.push({ G: G, q: q, cv: cv, bar: bar, scale: scale });
     });
@@ -636,8 +638,8 @@ function mapPage() {
         for (var i = 0; i < 200; i++) { var c2 = viridis(i / 199); bi.data.set([c2[0], c2[1], c2[2], 255], 4 * i); }
         bg.putImageData(bi, 0, 0);
         m.scale.textContent = '';
-        m.scale.appendChild(el('span', { text: R ? human(R[0], q.unit) : '–' }));
-        m.scale.appendChild(el('span', { text: R ? human(R[1], q.unit) : '–' }));
+        m.scale.appendChild(el('span', { text: R ? qtext(R[0], q) : '–' }));
+        m.scale.appendChild(el('span', { text: R ? qtext(R[1], q) : '–' }));
       }
     });
   }
@@ -665,9 +667,9 @@ function mapPage() {
         if (!(hi > lo)) return;
         var X = (m[0] - lo) / (hi - lo) * W; g.strokeStyle = m[1]; g.beginPath(); g.moveTo(X, 0); g.lineTo(X, H - 14); g.stroke();
       });
-      g.fillStyle = '#333'; g.font = '10px sans-serif'; g.textAlign = 'left'; g.fillText(human(lo, q.unit, 3), 0, H - 2);
-      g.textAlign = 'right'; g.fillText(human(hi, q.unit, 3), W, H - 2);
-      box.appendChild(el('div', { text: v.length + ' fits · median ' + human(at(0.5), q.unit) + ' · quartiles ' + human(at(0.25), q.unit) + ' – ' + human(at(0.75), q.unit) +
+      g.fillStyle = '#333'; g.font = '10px sans-serif'; g.textAlign = 'left'; g.fillText(qtext(lo, q, 3), 0, H - 2);
+      g.textAlign = 'right'; g.fillText(qtext(hi, q, 3), W, H - 2);
+      box.appendChild(el('div', { text: v.length + ' fits · median ' + qtext(at(0.5), q) + ' · quartiles ' + qtext(at(0.25), q) + ' – ' + qtext(at(0.75), q) +
         ' · spread (IQR/median) ' + (at(0.5) ? num(100 * (at(0.75) - at(0.25)) / Math.abs(at(0.5)), 2) + ' %' : '–') + (out ? ' · ' + out + ' outside the axis' : '') }));
     });
   }
