@@ -49,12 +49,16 @@ LIB_ALL := $(BUILD)/liblayerfit-internal.a
 PROG := $(BUILD)/layerfit
 
 DEBS := libgsl-dev libcsv-dev libudunits2-dev nettle-dev zlib1g-dev gnuplot-nox python3-pytest
-# wanted by some tests (the report test loads the page in headless
-# Chromium, the example test uses pkg-config, `layerfit bench` runs the
+# wanted by some tests (the browser test drives headless Chromium from
+# node, the example test uses pkg-config, `layerfit bench` runs the
 # scipy and lmfit peers, the Python package gives numpy arrays and draws
 # with matplotlib), which skip with a note
 # when they are missing: installed when possible, never required
 OPT_DEBS := chromium pkgconf python3-scipy python3-lmfit python3-numpy python3-matplotlib
+# puppeteer-core for the browser test (tests/cli/browser.sh), from npm at the
+# versions of tests/browser/package-lock.json, into tests/browser/node_modules
+# (Debian's nodejs and npm first where there is no npm)
+BROWSER_MODULES := tests/browser/node_modules/puppeteer-core/package.json
 
 .PHONY: all deps demo check tests sanitize install uninstall clean bench-batch bench-demo bench bench-quick coverage
 
@@ -100,8 +104,25 @@ $(SO): $(LIB_OBJ)
 	ln -sf $(notdir $@) $(BUILD)/$(SONAME)
 	ln -sf $(SONAME) $(BUILD)/liblayerfit.so
 
-$(PROG): $(CLI_OBJ) $(LIB_ALL)
-	$(CC) $(ALL_LDFLAGS) -o $@ $(CLI_OBJ) $(LIB_ALL) $(LDLIBS)
+# The report's script and style (src/cli/page.js, page.css) as C arrays,
+# embedded into the command (cli/page.c writes them into every page).
+PAGE_ASSETS := $(BUILD)/src/cli/page_assets.o
+$(BUILD)/src/cli/page_assets.c: src/cli/page.js src/cli/page.css
+	@mkdir -p $(dir $@)
+	@{ echo '/* made by the Makefile from src/cli/page.js and page.css */'; \
+	  echo '#include <stddef.h>'; \
+	  for v in js css; do \
+	    echo "extern const unsigned char cli_page_$$v[]; extern const size_t cli_page_$${v}_len;"; \
+	    echo "const unsigned char cli_page_$$v[] = {"; \
+	    od -An -v -tx1 src/cli/page.$$v | sed 's/\([0-9a-f][0-9a-f]\)/0x\1,/g'; \
+	    echo '0 };'; \
+	    echo "const size_t cli_page_$${v}_len = sizeof cli_page_$$v - 1;"; \
+	  done; } > $@.tmp && mv $@.tmp $@
+$(PAGE_ASSETS): $(BUILD)/src/cli/page_assets.c
+	$(CC) $(CLI_CFLAGS) -c $< -o $@
+
+$(PROG): $(CLI_OBJ) $(PAGE_ASSETS) $(LIB_ALL)
+	$(CC) $(ALL_LDFLAGS) -o $@ $(CLI_OBJ) $(PAGE_ASSETS) $(LIB_ALL) $(LDLIBS)
 
 $(BUILD)/tests/%: tests/%.c tests/testlib.c tests/scene.c $(LIB_ALL) $(HEADERS) tests/scene.h
 	@mkdir -p $(dir $@)
@@ -134,6 +155,18 @@ deps:
 	  echo "installing (optional, for tests):$$optional"; \
 	  (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq $$optional >/dev/null) \
 	    || echo "could not install$$optional: the tests that use them will say so and skip"; \
+	fi; \
+	if [ ! -f $(BROWSER_MODULES) ]; then \
+	  if ! command -v npm >/dev/null 2>&1 && [ "$$(id -u)" = 0 ]; then \
+	    echo "installing (optional, for the browser test): nodejs npm"; \
+	    (apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq nodejs npm >/dev/null) \
+	      || echo "could not install nodejs npm: the browser test will say so"; \
+	  fi; \
+	  if command -v npm >/dev/null 2>&1; then \
+	    echo "installing puppeteer-core (npm ci in tests/browser)"; \
+	    (cd tests/browser && npm ci --no-audit --no-fund --loglevel=error >/dev/null) \
+	      || echo "could not install puppeteer-core: the browser test will fail"; \
+	  fi; \
 	fi
 
 demo: deps
@@ -154,6 +187,12 @@ sanitize: deps
 # of 300 points (reported, not asserted).
 bench-batch: all
 	@sh tests/bench/batch.sh $(PROG)
+
+# The map report of 16 384 curves: its size and how long Chromium takes to
+# open it (reported, not asserted).
+.PHONY: bench-report
+bench-report: all
+	@sh tests/bench/report.sh $(PROG)
 
 # The whole process: `fit --model auto` on the demo against `--model thin`
 # (alternated runs, medians), and one cold run (reported, not asserted).

@@ -102,23 +102,6 @@ summary_free(summary *sm)
     free(sm->est);
 }
 
-/* "OUT.summary.EXT": OUT without its .csv or .jsonl (free). */
-static char *
-summary_path(const char *out, const char *ext)
-{
-    size_t len = strlen(out), stem = len;
-    char *p;
-    if (len > 4 && strcmp(out + len - 4, ".csv") == 0)
-        stem = len - 4;
-    else if (len > 6 && strcmp(out + len - 6, ".jsonl") == 0)
-        stem = len - 6;
-    p = malloc(stem + strlen(ext) + 10);
-    if (p == NULL)
-        cli_die(CLI_EXIT_FAIL, "out of memory");
-    sprintf(p, "%.*s.summary.%s", (int) stem, out, ext);
-    return p;
-}
-
 static const char *const summary_param[3] = { "w", "Estar", "nu" };
 static const char *const summary_unit[3] = { "J/m^2", "Pa", "" };
 
@@ -332,12 +315,14 @@ cmp_cause(const void *a, const void *b)
                                 : (x->first > y->first) - (x->first < y->first);
 }
 
-/* Where the rows go, the progress bar and the causes of the failed fits. */
+/* Where the rows go, the progress bar, the causes of the failed fits and
+ * the report's curves. */
 typedef struct {
     FILE *out;
     int io_error;
     int progress;
     double t0, last;
+    cli_page_store *page;  /* --report, or NULL */
     summary sm;             /* each curve's own fit, for the summaries */
     cause *causes;
     size_t ncauses, cap, nfailed;
@@ -416,6 +401,9 @@ write_row(void *ctx, const lf_batch_row *row)
 {
     batch_sink *k = ctx;
 
+    /* rows come in plan order: the row's place in the output */
+    cli_page_store_fit(k->page, row->done - 1, row->input, row->result, row->sample);
+
     if (fwrite(row->text, 1, row->len, k->out) != row->len)
         k->io_error = 1;
     summary_row(&k->sm, row);
@@ -466,14 +454,24 @@ cli_batch_run(const cli_batch_opts *o)
     }
     bs.threads = o->threads;
     bs.csv_raw = cli_csv_raw;
+    if (o->report != NULL) {
+        /* the page is made from the results file and each fit's curves */
+        if (o->out == NULL || !ends_with(o->out, ".csv"))
+            cli_die(CLI_EXIT_USAGE, "fit: --report %s: the page is made from the results; give "
+                    "them as --out FILE.csv", o->report);
+        if ((sink.page = cli_page_store_new()) == NULL)     /* rows carry their fits */
+            cli_die(CLI_EXIT_FAIL, "out of memory");
+    }
     cli_output_note("fit", o->out);
     cli_output_note_sidecar("fit", o->out);
+    cli_output_note("fit", o->report);
+    cli_output_folder_check("fit", o->report);
     /* the summaries beside a results file (none beside an output written
      * in place: a pipe, a device, as no sidecar) */
     beside = o->out != NULL && strcmp(o->out, "-") != 0
              && (stat(o->out, &st) != 0 || S_ISREG(st.st_mode));
     if (beside) {
-        char *sc = summary_path(o->out, "csv"), *sj = summary_path(o->out, "json");
+        char *sc = cli_summary_path(o->out, "csv"), *sj = cli_summary_path(o->out, "json");
         cli_output_note("fit", sc);
         cli_output_note("fit", sj);
         free(sc);
@@ -524,7 +522,7 @@ cli_batch_run(const cli_batch_opts *o)
     }
     if (beside) {               /* the summaries beside them */
         summary_json_ctx jc;
-        char *sc = summary_path(o->out, "csv"), *sj = summary_path(o->out, "json");
+        char *sc = cli_summary_path(o->out, "csv"), *sj = cli_summary_path(o->out, "json");
         cli_write_file("fit", sc, summary_csv, &sink.sm);
         jc.sm = &sink.sm;
         jc.command_line = o->command_line;
@@ -537,6 +535,11 @@ cli_batch_run(const cli_batch_opts *o)
     if (sink.sm.nest >= 2)
         summary_text(sink.out != stdout ? stdout : stderr, &sink.sm);
     summary_free(&sink.sm);
+    if (sink.page != NULL) {    /* the page, from the results and their summary */
+        if (cli_page_map(o->report, o->out, sink.page, o->command_line, msg, sizeof msg) != 0)
+            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
+        cli_page_store_free(sink.page);
+    }
     if (sum.failed > 0) {
         cli_say("fit: %zu of %zu fits failed (status 'error' or 'noconv' in %s); the most "
                 "common reasons:", sum.failed, sum.total, o->out ? o->out : "the output");
@@ -596,14 +599,15 @@ batch_of_curves(int argc, char **argv)
 int
 cli_fit_batch(int argc, char **argv, const char *command_line)
 {
-    const char *plan = NULL, *out = NULL, *shard = NULL;
+    const char *plan = NULL, *out = NULL, *shard = NULL, *report = NULL;
     long threads_opt = -1;
     int npos, help = 0, quiet = 0, progress = 0, curves_file, status;
     lf_fit_options *fo = lf_fit_options_alloc();
-    cli_opt opts[6 + CLI_FIT_NOPTS + 1] = {
+    cli_opt opts[7 + CLI_FIT_NOPTS + 1] = {
         { "batch", CLI_STRING, &plan }, { "out", CLI_STRING, &out },
         { "threads", CLI_COUNT, &threads_opt }, { "shard", CLI_STRING, &shard },
         { "progress", CLI_FLAG, &progress }, { "quiet", CLI_FLAG, &quiet },
+        { "report", CLI_STRING, &report },
     };
     lf_fit_request req;
     cli_batch_opts o;
@@ -611,13 +615,13 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
 
     if (fo == NULL)
         cli_die(CLI_EXIT_FAIL, "out of memory");
-    no = 6 + cli_fit_opts(fo, opts + 6);
+    no = 7 + cli_fit_opts(fo, opts + 7);
     opts[no].name = NULL;
     curves_file = batch_of_curves(argc, argv);
     {
         /* a single fit's outputs, and the probe of curve files for a plan,
          * asked of a batch: say where they belong */
-        static const char *const single[] = { "--json", "--curves", "--plot", "--report" };
+        static const char *const single[] = { "--json", "--curves", "--plot" };
         static const char *const probes[] = { "--k", "--R", "--b", "--interface", "--tip",
                                               "--half-angle", "--B", "--sample", "--group-by" };
         cli_refuse_options(argc, argv, single, sizeof single / sizeof single[0],
@@ -635,7 +639,8 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
         help = 1;
     if (help) {
         printf("usage: layerfit fit --batch PLAN.csv [--out FILE.csv|FILE.jsonl] [--threads N]\n"
-               "                    [--shard I/N] [--progress|--quiet] [fit options]\n"
+               "                    [--shard I/N] [--progress|--quiet] [--report MAP.html]\n"
+               "                    [fit options]\n"
                "       layerfit fit --batch FILE... PROBE [--sample NAME | --group-by RULE]\n"
                "                    [options as above]\n\n"
                "Fits every curve of the plan, or every group of curves with the same\n"
@@ -657,6 +662,8 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
                "  --shard I/N       only the I-th of N contiguous shares of the fits; the\n"
                "                    outputs of 1..N concatenated (one CSV header) are the\n"
                "                    output of the whole plan\n"
+               "  --report MAP.html one interactive page of every fit: heat maps, histograms,\n"
+               "                    the results, each curve with its fit (needs --out FILE.csv)\n"
                "  --progress        progress bar on stderr even when it is not a terminal\n"
                "  --quiet           no progress bar\n"
                "fit options, as for a single fit and with the same defaults:\n",
@@ -702,6 +709,7 @@ cli_fit_batch(int argc, char **argv, const char *command_line)
     }
     o.plan = plan;
     o.out = out;
+    o.report = report;
     o.command_line = command_line;
     o.shard = shard;
     if (threads_opt == 0)

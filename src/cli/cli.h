@@ -183,6 +183,7 @@ int cli_plan_one_sample(const lf_plan *plan, const char **a, const char **b);
 typedef struct {
     const char *plan;      /* the plan */
     const char *out;       /* FILE.csv or FILE.jsonl; NULL: CSV on stdout */
+    const char *report;    /* --report MAP.html (page.c), or NULL */
     const char *shard;     /* "I/N" or NULL for all */
     long threads;          /* 0: all cores */
     int progress;          /* 1 on, 0 off, -1 when stderr is a terminal */
@@ -195,6 +196,9 @@ typedef struct {
 /* Fit every fit of the plan with the settings; returns the exit status
  * (CLI_EXIT_OK, or CLI_EXIT_SOME_FAILED with a summary line on stderr). */
 int cli_batch_run(const cli_batch_opts *o);
+/* "OUT.summary.EXT" beside a batch's results OUT (util.c; OUT without its
+ * .csv or .jsonl; the caller frees it; dies without memory). */
+char *cli_summary_path(const char *out, const char *ext);
 /* "I/N" with 1 <= I <= N; -1 when malformed. */
 int cli_shard_parse(const char *text, long *index, long *count);
 /* `layerfit fit --batch ...` and whether argv asks for it. */
@@ -230,16 +234,20 @@ int cli_draw_script(const char *dir, const char *script, const char *base,
  * provenance.json), each path handed to each(). */
 void cli_plot_files(const char *dir, size_t ncurves, void (*each)(const char *path));
 
-/* Write a self-contained HTML report of a fit (html.c) with the figures
- * inlined as SVG; they are drawn into plotdir, or into a temporary folder
- * removed afterwards when plotdir is NULL; assumed[0..nassumed-1] are the
- * values the fit assumed (lf_fit_assumptions), said at the top.  Returns 0; 1 when the page was
- * written without figures (msg says why, e.g. gnuplot missing); -1 with msg
- * when the page could not be written. */
-int cli_html_report(const char *file, const char *plotdir, size_t ncurves,
-                    const lf_fit_curve *curves, const lf_fit_result *r,
-                    const lf_fit_input *in, const char *command_line,
-                    const lf_assumption *assumed, size_t nassumed, char *msg, size_t n);
+/* The interactive report of many fits (page.c): the curves of a batch
+ * kept as each row is handed over, one at a time (cli_page_store_fit: row
+ * i of the results, its fit's input and result, either NULL when it failed
+ * before, and its sample), then the page written from the results CSV, the
+ * population summary beside it (cli_summary_path, where there is one) and
+ * the store (NULL: the results alone).  0, or -1 with msg. */
+typedef struct cli_page_store cli_page_store;
+cli_page_store *cli_page_store_new(void);
+void cli_page_store_fit(cli_page_store *s, size_t i, const lf_fit_input *in,
+                        const lf_fit_result *res, const char *sample);
+void cli_page_store_free(cli_page_store *s);
+int cli_page_map(const char *file, const char *results, const cli_page_store *s,
+                 const char *command_line, char *msg, size_t n);
+
 /* ---- Outputs and inputs (output.c, read.c) -------------------------------
  * Every output file goes through cli_out: a temporary file in the same
  * folder (registered for removal on exit or a signal: cli_temp_add),

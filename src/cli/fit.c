@@ -34,7 +34,7 @@ static const char usage_text[] =
     "  --json FILE          the result in SI as JSON\n"
     "  --curves FILE        per point: depth, force, fitted force, residual, contact radius\n"
     "  --plot DIR           figures (PNG, SVG) with their gnuplot scripts and data\n"
-    "  --report FILE.html   one self-contained page: tables, warnings, figures\n"
+    "  --report FILE.html   one self-contained interactive page: tables, warnings, figures\n"
     "  --batch PLAN.csv     every curve or sample an independent fit (see --batch --help)\n"
     "fit options (the same, with the same defaults, for --batch):\n";
 
@@ -304,17 +304,17 @@ figures_note(const char *plotdir, size_t ncurves)
 
 /* `layerfit fit --plot DIR --report FILE.html` (either may be NULL),
  * checked by figures_check before the fit: draw the figures (plotfit.c)
- * and write the page (html.c); what goes wrong short of an I/O error on
- * the page (gnuplot missing) is said on stderr without failing. */
+ * and write the interactive page (page.c); gnuplot missing is said on
+ * stderr without failing. */
 static void
-figures(const char *plotdir, const char *report, const lf_fit_input *in,
-        const lf_fit_result *res, const char *command_line, const report_input *rin)
+figures(const char *plotdir, const char *report, const report_input *in, const lf_fit_input *d,
+        const lf_read_opts *ro, const lf_fit_result *res, const char *command_line)
 {
     char msg[1400];
 
-    if (plotdir != NULL && report == NULL) {
+    if (plotdir != NULL) {
         cli_figures figs = { 0, NULL, NULL };
-        int st = cli_plot_fit(plotdir, in->n, in->curves, res, in, command_line, &figs, msg,
+        int st = cli_plot_fit(plotdir, d->n, d->curves, res, d, command_line, &figs, msg,
                               sizeof msg);
         cli_figures_free(&figs);
         if (st < 0)         /* a folder or file not made, gnuplot failed */
@@ -322,14 +322,8 @@ figures(const char *plotdir, const char *report, const lf_fit_input *in,
         if (st > 0)         /* no gnuplot: scripts and data written */
             cli_say("fit: %s", msg);
     }
-    if (report != NULL) {
-        int st = cli_html_report(report, plotdir, in->n, in->curves, res, in, command_line,
-                                 rin->assumed, rin->nassumed, msg, sizeof msg);
-        if (st < 0)
-            cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
-        if (st > 0)
-            cli_say("fit: %s", msg);
-    }
+    if (report != NULL && cli_page_fit(report, in, res, d, ro, msg, sizeof msg) != 0)
+        cli_die(CLI_EXIT_FAIL, "fit: %s", msg);
 }
 
 int
@@ -423,7 +417,7 @@ cli_fit(int argc, char **argv, const char *command_line)
         write_file(a.json, report_json, &in, &r, NULL);
     if (a.curves != NULL)
         write_file(a.curves, report_curves, &in, &r, command_line);
-    figures(plot_dir, report_html, &d, &r, command_line, &in);
+    figures(plot_dir, report_html, &in, &d, req.input.read, &r, command_line);
     if (status == LF_OK && cli_disagreeing(&r, bad, sizeof bad) > 0) {
         cli_say("fit: converged, but the model does not describe curve%s %s "
                 "(DISAGREES): the values are those of a model that does not fit, not a "

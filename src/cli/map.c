@@ -488,12 +488,13 @@ draw_map(const char *result, const char *image)
 int
 cli_map(int argc, char **argv, const char *command_line)
 {
-    const char *plot = NULL, *syn = NULL;
+    const char *plot = NULL, *syn = NULL, *report = NULL;
     long size = 64, every = 1, points = 150, seed = 1;
     double noise = NAN;
     int npos, help, force = 0;
     const cli_opt opts[] = {
         { "plot", CLI_STRING, &plot },
+        { "report", CLI_STRING, &report },
         { "synthetic", CLI_STRING, &syn },
         { "size", CLI_COUNT, &size },
         { "every", CLI_COUNT, &every },
@@ -504,16 +505,17 @@ cli_map(int argc, char **argv, const char *command_line)
         { NULL, 0, NULL }
     };
 
-    (void) command_line;    /* no provenance record */
     cli_parse("map", argc, argv, opts, &npos, &help);
     if (help) {
-        printf("usage: layerfit map RESULT.csv --plot MAP.png|MAP.svg\n"
+        printf("usage: layerfit map RESULT.csv [--plot MAP.png|MAP.svg] [--report MAP.html]\n"
                "       layerfit map --synthetic DIR [--size 64] [--every 1] [--points 150]\n"
                "                    [--noise 0.01] [--seed 1] [--force]\n\n"
                "The first form draws heat maps of w and E* from the CSV output of\n"
                "'layerfit fit --batch', keeping the gnuplot script and data next to the\n"
-               "image (MAP.gp, MAP.dat).  The second writes a synthetic force map with a\n"
-               "known pattern: DIR/plan.csv and DIR/curves/xXX_yYY.csv (every N-th pixel);\n"
+               "image (MAP.gp, MAP.dat); --report writes one interactive page of the results\n"
+               "(heat maps, histograms, a filter, a selection exported as a plan; the curves\n"
+               "themselves are drawn in the page of 'fit --batch ... --report').  The second\n"
+               "writes a synthetic force map with a known pattern: DIR/plan.csv and DIR/curves/xXX_yYY.csv (every N-th pixel);\n"
                "files of an earlier map are replaced only with --force.\n");
         return CLI_EXIT_OK;
     }
@@ -527,7 +529,19 @@ cli_map(int argc, char **argv, const char *command_line)
     }
     if (npos != 1)
         cli_die(CLI_EXIT_USAGE, "map: give one batch result (layerfit map RESULT.csv --plot map.png)");
-    if (plot == NULL)
-        cli_die(CLI_EXIT_USAGE, "map: say where to draw the map (--plot map.png or --plot map.svg)");
-    return draw_map(argv[0], plot);
+    if (plot == NULL && report == NULL)
+        cli_die(CLI_EXIT_USAGE, "map: say where to draw the map (--plot map.png or --plot map.svg, "
+                "or --report map.html)");
+    if (report != NULL) {
+        char msg[1200];
+        size_t len = strlen(report);
+        if (len < 5 || strcmp(report + len - 5, ".html") != 0)
+            cli_die(CLI_EXIT_USAGE, "map: --report %s: the report is a web page, FILE.html", report);
+        cli_output_note("map", report);
+        cli_output_folder_check("map", report);
+        cli_input_guard("map", argv[0]);
+        if (cli_page_map(report, argv[0], NULL, command_line, msg, sizeof msg) != 0)
+            cli_die(CLI_EXIT_USAGE, "map: %s", msg);
+    }
+    return plot != NULL ? draw_map(argv[0], plot) : CLI_EXIT_OK;
 }

@@ -30,6 +30,12 @@ void report_text(FILE *f, const report_input *in, const lf_fit_result *r);
 void report_json(FILE *f, const report_input *in, const lf_fit_result *r);
 /* depth_m,force_N,fitted_N,residual_N,contact_radius_m,curve */
 void report_curves(FILE *f, const report_input *in, const lf_fit_result *r);
+/* The interactive page of a fit (page.c): the JSON above and each
+ * curve's points and model for its figures, with the segments the fit left
+ * out read again from the files of d (NULL: none) with the read options
+ * ro.  0, or -1 with msg. */
+int cli_page_fit(const char *file, const report_input *in, const lf_fit_result *r,
+                 const lf_fit_input *d, const lf_read_opts *ro, char *msg, size_t n);
 /* JSON pieces for other reports: a number (NaN and Inf as null) and a
  * string with quotes and control characters escaped. */
 void report_json_number(FILE *f, double x);

@@ -389,3 +389,20 @@ cli_refuse_options(int argc, char **argv, const char *const *names, size_t n, co
                 cli_die(CLI_EXIT_USAGE, "fit: %s is for %s", names[k], why);
         }
 }
+
+/* "OUT.summary.EXT": OUT without its .csv or .jsonl (free). */
+char *
+cli_summary_path(const char *out, const char *ext)
+{
+    size_t len = strlen(out), stem = len;
+    char *p;
+    if (len > 4 && strcmp(out + len - 4, ".csv") == 0)
+        stem = len - 4;
+    else if (len > 6 && strcmp(out + len - 6, ".jsonl") == 0)
+        stem = len - 6;
+    p = malloc(stem + strlen(ext) + 10);
+    if (p == NULL)
+        cli_die(CLI_EXIT_FAIL, "out of memory");
+    sprintf(p, "%.*s.summary.%s", (int) stem, out, ext);
+    return p;
+}

@@ -1,5 +1,6 @@
 # report.sh: `layerfit fit --plot DIR` and `--report FILE.html`; the page is
-# loaded in headless Chromium, which must find every table and figure.
+# loaded in headless Chromium, whose DOM must hold every table and figure
+# (tests/cli/browser.sh clicks through it).
 . "$(dirname "$0")/common"
 
 "$LF" simulate --out "$tmp/d" --w 12mJ/m2 --E 1.3GPa --noise 0.003 --seed 11 --z0 20nm \
@@ -39,45 +40,73 @@ PATH=/nonexistent "$LF" fit "$tmp/d/plan.csv" --plot "$tmp/nog" >"$tmp/out" 2>"$
 has "fit result still printed" "$tmp/out" "E*   ="
 has "how to install gnuplot" "$tmp/err" "apt-get install gnuplot-nox"
 [ -s "$tmp/nog/curve1.gp" ] && ok || bad "scripts are written without gnuplot"
+# the page needs no gnuplot: it draws its figures itself (page.js)
 PATH=/nonexistent "$LF" fit "$tmp/d/plan.csv" --report "$tmp/nog.html" >/dev/null 2>"$tmp/err"; rc=$?
-[ "$rc" -eq 0 ] && ok || bad "fit --report without gnuplot: exit $rc"
-has "report without gnuplot keeps the tables" "$tmp/nog.html" 'id="parameter-table"'
-has "report without gnuplot says why" "$tmp/nog.html" "gnuplot is not installed"
+[ "$rc" -eq 0 ] && [ ! -s "$tmp/err" ] && ok || bad "fit --report without gnuplot: exit $rc: $(cat "$tmp/err")"
 
-# the page
+# the page: one file, its script and style inline, the data as JSON that
+# no name can break out of (tests/cli/browser.sh loads it in a browser)
 run_ok fit "$tmp/d/plan.csv" --report "$tmp/r.html"
-for id in parameter-table correlation-table curve-table fit-table identifiability warnings command-line; do
-    has "page has $id" "$tmp/r.html" "id=\"$id\""
-done
-has "page has the version" "$tmp/r.html" "layerfit 0."
+has "page has the data" "$tmp/r.html" '<script type="application/json" id="lf-data">{"kind":"fit"'
+has "page has the version" "$tmp/r.html" '<meta name="generator" content="layerfit 0.'
 has "page has the command line" "$tmp/r.html" "layerfit fit $tmp/d/plan.csv --report $tmp/r.html"
-[ "$(grep -c '<figure class="fit-figure"' "$tmp/r.html")" -eq 3 ] && ok || bad "3 figures on the page"
-grep -q '<?xml' "$tmp/r.html" && bad "XML prolog inside HTML" || ok
-dups=$(grep -o " id=['\"][^'\"]*['\"]" "$tmp/r.html" | sort | uniq -d | head -n 3)
-[ -z "$dups" ] && ok || bad "duplicate ids on the page: $dups"
-[ ! -e "$tmp/figs2" ] && ok
+grep -Eq '<(link|img|iframe)|src=|https?:' "$tmp/r.html" && bad "the page loads nothing from elsewhere" || ok
+[ "$(grep -c '</script>' "$tmp/r.html")" -eq 2 ] && ok || bad "two script elements, each closed once"
+awk '/id="lf-data">/,/<\/script>/' "$tmp/r.html" | sed 's/.*id="lf-data">//; s/<\/script>.*//' >"$tmp/data.json"
+if command -v python3 >/dev/null 2>&1; then
+    python3 -c 'import json, sys; d = json.load(open(sys.argv[1])); assert len(d["plots"]) == 2 and d["result"]["fit"]["converged"]' \
+        "$tmp/data.json" && ok || bad "the page's data are the fit's JSON and its two curves"
+fi
 expect_fail 2 "layerfit: fit: --report $tmp/r.pdf: the report is a web page, FILE.html" \
     fit "$tmp/d/plan.csv" --report "$tmp/r.pdf"
 
-# headless Chromium: the DOM it builds holds the tables and every figure
+# a map's page keeps every point near contact and pull-off of a 300-point
+# curve, and at most 64: against the fit's page of the same curve (all of
+# its points)
+if command -v python3 >/dev/null 2>&1; then
+    "$LF" map --synthetic "$tmp/m" --size 2 --points 300 --seed 3 >/dev/null 2>&1 && ok || bad "map --synthetic"
+    run_ok fit --batch "$tmp/m/plan.csv" --out "$tmp/m.csv" --report "$tmp/m.html" --model thin --quiet
+    c1=$(sed -n 2p "$tmp/m.csv" | cut -d, -f3)
+    run_ok fit "$c1" --k 3 --R 1mm --b 1um --interface frictionless --model thin --report "$tmp/one.html"
+    python3 - "$tmp/m.html" "$tmp/one.html" <<'PY' && ok || bad "the map's page keeps every point near contact and pull-off"
+import json, sys
+def data(path):
+    s = open(path, encoding="utf-8").read()
+    a = s.index('id="lf-data">') + len('id="lf-data">')
+    return json.loads(s[a:s.index("</script>", a)])
+def points(p):
+    q, z, f = p["q"], p["z"], p["f"]
+    return [(z[0] + (z[1] - z[0]) * a / q, f[0] + (f[1] - f[0]) * b / q) for a, b in zip(p["pz"], p["pf"])]
+m = data(sys.argv[1])["fits"][0]["c"][0]
+full = points(data(sys.argv[2])["plots"][0])
+kept = points(m)
+assert len(full) == 300 and len(kept) <= 64, (len(full), len(kept))
+zs = [z for z, _ in full]
+span = max(zs) - min(zs)
+zmin = min(full, key=lambda p: p[1])[0]
+fspan = m["f"][1] - m["f"][0]
+near = [p for p in full if abs(p[0] - m["z0"]) <= 0.02 * span or abs(p[0] - zmin) <= 0.02 * span]
+assert len(near) >= 10, len(near)
+for z, F in near:    # within a step of the map's quantization
+    assert any(abs(z - a) <= 1.5e-3 * span and abs(F - b) <= 1.5e-3 * fspan for a, b in kept), (z, F)
+PY
+fi
+
+# headless Chromium: the DOM its script builds holds the tables and figures
 chrome=$(command -v chromium || command -v chromium-browser || true)
 if [ -n "$chrome" ]; then
     prof=$(mktemp -d)
-    timeout 120 "$chrome" --headless --no-sandbox --disable-gpu --disable-background-networking \
+    timeout 120 "$chrome" --headless --no-sandbox --disable-gpu --disable-quic --disable-background-networking \
         --no-first-run --disable-component-update --disable-sync --user-data-dir="$prof" \
         --dump-dom "file://$tmp/r.html" >"$tmp/dom.html" 2>"$tmp/chrome.err"
     rm -rf "$prof"
     [ -s "$tmp/dom.html" ] && ok || bad "chromium --dump-dom gave nothing: $(tail -n 3 "$tmp/chrome.err")"
-    for id in parameter-table correlation-table curve-table; do
+    for id in parameter-table correlation-table curve-table fit-table; do
         grep -q "<table id=\"$id\"" "$tmp/dom.html" && ok || bad "DOM has table $id"
     done
-    for f in overview curve1 curve2; do
-        # the figure element and an svg element inside it
-        awk -v id="figure-$f" 'index($0, "id=\"" id "\"") { on = 1 } on && /<svg/ { found = 1; exit }
-            on && /<\/figure>/ { exit } END { exit !found }' "$tmp/dom.html" && ok \
-            || bad "DOM has figure $f with its SVG"
-    done
-    n=$(grep -c '<path' "$tmp/dom.html"); [ "$n" -gt 20 ] && ok || bad "SVG paths in the DOM ($n)"
+    n=$(grep -o '<canvas' "$tmp/dom.html" | wc -l); [ "$n" -eq 2 ] && ok || bad "DOM has the overview and the curve's canvas ($n)"
+    dups=$(grep -o " id=['\"][^'\"]*['\"]" "$tmp/dom.html" | sort | uniq -d | head -n 3)
+    [ -z "$dups" ] && ok || bad "duplicate ids on the page: $dups"
 else
     echo "note: chromium is not installed (apt-get install -y chromium); the page was not loaded in a browser"
 fi

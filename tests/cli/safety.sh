@@ -29,8 +29,9 @@ for name in 'x";system "touch pwned" #.csv' "x';system 'touch pwned' #.csv" \
     if [ "$have_gnuplot" -eq 1 ]; then
         [ -s fig/curve1.svg ] && [ -s fig/curve1.png ] && [ -s fig/overview.svg ] && ok \
             || bad "hostile name: figures not drawn: $(cat "$tmp/err")"
-        grep -q '<svg' rep.html && ok || bad "hostile name: report without figures"
     fi
+    grep -q '<script type="application/json" id="lf-data">{"kind":"fit"' rep.html && ok \
+        || bad "hostile name: report without its data"
     rm -f "$name"
 done
 # quotes, a backslash and a line break: still figures, one line per comment
