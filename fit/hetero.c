@@ -109,11 +109,23 @@ q_root(size_t k, const double *y, const double *v, double target, double scale)
     return 0.5 * (a + b);
 }
 
-/* tau2 by REML from the DerSimonian-Laird value dl (see the top). */
+/* The restricted log-likelihood of tau2 (up to a constant; Viechtbauer
+ * 2005): -1/2 [sum ln(v_i + tau2) + ln sum w_i + sum w_i (y_i - mu)^2]. */
 static double
-reml_tau2(size_t k, const double *y, const double *v, double dl)
+reml_loglik(size_t k, const double *y, const double *v, double t)
 {
-    double t = dl;
+    double sw, mu = weighted_mean(k, y, v, t, &sw), s = log(sw);
+    size_t i;
+    for (i = 0; i < k; i++)
+        s += log(v[i] + t) + (y[i] - mu) * (y[i] - mu) / (v[i] + t);
+    return -0.5 * s;
+}
+
+/* The fixed point of the REML equation (see the top) from t; NaN when
+ * none is reached. */
+static double
+reml_fixed_point(size_t k, const double *y, const double *v, double t)
+{
     int it;
 
     for (it = 0; it < HET_REML_ITER; it++) {
@@ -127,12 +139,40 @@ reml_tau2(size_t k, const double *y, const double *v, double dl)
         }
         next = lf_fmax(num / sw2 + 1.0 / sw, 0.0);
         if (!isfinite(next))
-            return dl;
+            return NAN;
         if (fabs(next - t) <= HET_REML_TOL * lf_fmax(next, 1e-300) || next == t)
             return next;
         t = next;
     }
-    return dl;      /* no fixed point reached: the moment estimate */
+    return NAN;
+}
+
+/* tau2 by REML: the restricted likelihood's highest maximum.  With
+ * variances far apart it can have two (a precise pair that agrees and an
+ * imprecise curve far off: the fixed point from the DerSimonian-Laird
+ * value dl then stops at the pair's spread, below the Q-profile interval),
+ * so the likelihood is also scanned over tau2 = 0 and ten points a decade
+ * from 1e-8 to 1e4 of scale (the largest squared departure or variance),
+ * and the fixed point is started again from the scan's best where that
+ * is higher (no fixed point from there: the scan's best itself). */
+static double
+reml_tau2(size_t k, const double *y, const double *v, double dl, double scale)
+{
+    double t = reml_fixed_point(k, y, v, dl), best = 0.0, lbest = reml_loglik(k, y, v, 0.0);
+    int j;
+
+    for (j = 0; j <= 120; j++) {
+        double u = scale * pow(10.0, -8.0 + 0.1 * j), l = reml_loglik(k, y, v, u);
+        if (l > lbest) {
+            lbest = l;
+            best = u;
+        }
+    }
+    if (!isfinite(t) || lbest > reml_loglik(k, y, v, t) + 1e-9 * fabs(lbest)) {
+        double u = best > 0.0 ? reml_fixed_point(k, y, v, best) : 0.0;
+        t = isfinite(u) && reml_loglik(k, y, v, u) >= lbest ? u : best;
+    }
+    return t;
 }
 
 /* The analysis of k >= 2 estimates y with variances v (all > 0). */
@@ -154,7 +194,12 @@ random_effects(size_t k, const double *y, const double *v, re_fit *o)
     o->I2 = o->Q > df ? (o->Q - df) / o->Q : 0.0;
     c = sw - sw2 / sw;
     dl = c > 0 ? lf_fmax((o->Q - df) / c, 0.0) : 0.0;
-    o->tau2 = reml_tau2(k, y, v, dl);
+    {
+        double vmax = 0.0;
+        for (i = 0; i < k; i++)
+            vmax = lf_fmax(vmax, v[i]);
+        o->tau2 = reml_tau2(k, y, v, dl, lf_fmax(lf_fmax(spread * spread, vmax), 1e-300));
+    }
     /* the Q-profile interval: Q(0) below a point means that end is 0 */
     {
         double hi_q = gsl_cdf_chisq_Qinv(0.025, df), lo_q = gsl_cdf_chisq_Qinv(0.975, df);

@@ -88,6 +88,27 @@ bcg(void)
 
 /* Identical estimates: Q = 0, tau = 0 (interval [0, 0]), the population
  * interval the t-interval of a mean of no spread (zero width). */
+/* A precise pair that agrees and an imprecise curve far off: the restricted
+ * likelihood has two maxima, and REML's tau is the higher one (tau^2 =
+ * 4.5093, found by a bounded minimiser), inside its Q-profile interval;
+ * the fixed point from the DerSimonian-Laird value stopped at the pair's
+ * spread (tau 0.044), below that interval (0.92 to 14.8). */
+static void
+two_maxima(void)
+{
+    static const double E[3] = { 437.0, 25150.0, 26730.0 }, sd[3] = { 1.0, 0.007, 0.006 };
+    lf_curve_estimate e[3];
+    lf_heterogeneity h;
+    size_t i;
+
+    for (i = 0; i < 3; i++)
+        e[i] = estimate(NAN, NAN, E[i], E[i] * sd[i], NAN, NAN);
+    t_int(lf_heterogeneity_of(3, e, &h, NULL), LF_OK, "two maxima: analysed");
+    t_rel(h.Estar.tau_rel * h.Estar.tau_rel, 4.509303, 1e-5, "two maxima: tau^2 (REML, the higher)");
+    t_true(h.Estar.tau_rel >= h.Estar.tau_rel_ci95[0] && h.Estar.tau_rel <= h.Estar.tau_rel_ci95[1],
+           "two maxima: tau inside its Q-profile interval");
+}
+
 static void
 edge_cases(void)
 {
@@ -193,6 +214,7 @@ main(void)
 {
     gsl_set_error_handler_off();
     bcg();
+    two_maxima();
     edge_cases();
     probes_disagree();
     correlated();

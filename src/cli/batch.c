@@ -38,6 +38,7 @@ typedef struct {
     size_t nest, cap;
     size_t n, ncap;
     summary_group *g;
+    size_t misfits;         /* curves of misfit rows, left out */
 } summary;
 
 /* A group of the curves est[first..nest-1]. */
@@ -65,8 +66,10 @@ summary_add_group(summary *sm, const char *sample, size_t first)
 static void
 summary_row(summary *sm, const lf_batch_row *row)
 {
-    const lf_fit_result *r = row->result;
-    size_t n = r != NULL ? r->ncurves : row->input != NULL ? row->input->n : 0;
+    /* a misfit's values are those of a model that does not describe its
+     * curve, not measurements: left out as a failed fit's are */
+    const lf_fit_result *r = row->outcome == LF_BATCH_OK ? row->result : NULL;
+    size_t n = row->result != NULL ? row->result->ncurves : row->input != NULL ? row->input->n : 0;
     size_t first = sm->nest, j;
 
     if (sm->nest + n > sm->cap) {
@@ -81,12 +84,15 @@ summary_row(summary *sm, const lf_batch_row *row)
             e->probe = r->curves[j].probe;
             continue;
         }
+        if (row->outcome == LF_BATCH_MISFIT)
+            sm->misfits++;
         memset(e, 0, sizeof *e);
         e->value[0] = e->value[1] = e->value[2] = NAN;
         e->se[0] = e->se[1] = e->se[2] = e->corr_wE = NAN;
         e->ci95[0][0] = e->ci95[0][1] = e->ci95[1][0] = NAN;
         e->ci95[1][1] = e->ci95[2][0] = e->ci95[2][1] = NAN;
-        e->probe = row->input->curves[j].probe;
+        e->probe = row->input != NULL ? row->input->curves[j].probe
+                                       : row->result->curves[j].probe;
     }
     if (row->sample[0] != '\0')
         summary_add_group(sm, row->sample, first);
@@ -204,6 +210,10 @@ summary_text(FILE *f, const summary *sm)
 
     fputs("summary (each curve fitted alone; population mean and spot-to-spot SD by random "
           "effects, 95% intervals):\n", f);
+    if (sm->misfits > 0)
+        fprintf(f, "  %zu curve%s of misfit fits left out (the model does not describe %s: "
+                "%s values are not measurements)\n", sm->misfits, sm->misfits == 1 ? "" : "s",
+                sm->misfits == 1 ? "it" : "them", sm->misfits == 1 ? "its" : "their");
     for (i = 0; i < sm->n; i++) {
         const summary_group *g = &sm->g[i];
         for (m = 0; m < 3; m++) {

@@ -181,4 +181,15 @@ if run_ok fit "$real/RobinSteel0000LC.txt" --tip berkovich --model halfspace; th
         || bad "Hysitron k = 1: two bounds of w: '$top_bound' and '$words J/m^2'"
     has "Hysitron k = 1: a modulus no solid has" "$tmp/out" "is stiffer than any solid"
 fi
+# a misfit's values are no measurement: left out of the batch's summary
+# (the AEBP1 export is a cell indented from its approach, a misfit as a
+# half-space retract), and said
+run_exit 4 fit --batch "$real/10 wv pc PEGFN S-1 X-1 Y-1 I-1.txt" "$real/10 wv pc PEGFN S-1 X-1 Y-2 I-1.txt" \
+    "$real/fmt-chiaro-txt_AEBP1_Indentation_002.txt" --model halfspace --k 2 --out "$tmp/three.csv"
+if grep -q ',misfit,' "$tmp/three.csv"; then
+    has "batch summary: misfit left out, said" "$tmp/out" "1 curve of misfit fits left out"
+    has "batch summary: E* of the two others" "$tmp/out" "all (3 curves), E*: 2 determined"
+else
+    bad "batch summary: the AEBP1 export was expected to be a misfit as a half-space"
+fi
 summary
