@@ -521,6 +521,13 @@ ns_curve(const lf_file *f, size_t i, lf_curve *c, lf_warnings *warn, lf_error *e
         || (status = lf_afm_spring_constant(c, st->k, "Spring Constant", &f->opts,
                                             "to turn the deflection into a force", err)) != LF_OK)
         return status;
+    /* the probe's radius where the header states one (NanoScope writes
+     * '\Tip Radius' in nm) */
+    if ((v = get(st, NULL, "Tip Radius", 0, NULL)) != NULL && (s = number(v, NULL)) > 0
+        && isfinite(s)) {
+        c->R = 1e-9 * s;
+        lf_warn(&c->info, "probe radius %.6g m (file header '\\Tip Radius', nm)", c->R);
+    }
     if (lf_curve_reserve(c, n, 0) != 0 || (raw = malloc(n * st->bytes)) == NULL)
         return lf_fail_at(err, LF_ENOMEM, c->file, 0, 0, "out of memory");
     status = lf_src_read(&f->src, st->data_offset + (uint64_t) i * n * st->bytes, raw,

@@ -790,6 +790,7 @@ real_exports(void)
         double d0 = r0 * 0.000375 * 27.39e-9, step = 227.2211 * 13.203e-9 / 1024;
         t_rel(c->sensitivity, 27.39e-9, 1e-12, "spm: deflection sensitivity 27.39 nm/V");
         t_rel(c->spring_constant, 0.1332, 1e-12, "spm: spring constant 0.1332 N/m");
+        t_rel(c->R, 20e-9, 1e-12, "spm: probe radius from '\\Tip Radius: 20' (nm)");
         t_int((long) lf_curve_segment(c, LF_SEG_LOAD, NULL, NULL), 1024, "spm: 1024 approach");
         t_int((long) lf_curve_segment(c, LF_SEG_UNLOAD, NULL, NULL), 1024, "spm: 1024 retract");
         t_true(has_info(c, "at byte 80960"), "spm: data at byte 80960");
