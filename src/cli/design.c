@@ -344,6 +344,17 @@ value_text(char *buf, size_t n, lf_design_factor factor, double v)
         snprintf(buf, n, "%g", v);
 }
 
+/* A field width for s that printf (which counts bytes) pads to width
+ * characters: one more for each UTF-8 continuation byte (the 'µ' of µm). */
+static int
+text_width(const char *s, int width)
+{
+    const unsigned char *p;
+    for (p = (const unsigned char *) s; *p; p++)
+        width += (*p & 0xC0) == 0x80;
+    return width;
+}
+
 static void
 text_sweep(FILE *f, lf_design_factor factor, size_t nv, const double *x,
            const lf_design_result *res, const char *scope)
@@ -357,8 +368,11 @@ text_sweep(FILE *f, lf_design_factor factor, size_t nv, const double *x,
             "models (by candidate)");
     for (v = 0; v < nv; v++) {
         value_text(vb, sizeof vb, factor, x[v]);
-        fprintf(f, "  %-12s %-14s %-14s %-14s ", vb, rel_text(a, sizeof a, &res[v].w, 0),
-                rel_text(b, sizeof b, &res[v].Estar, 0), rel_text(d, sizeof d, &res[v].nu, 1));
+        rel_text(a, sizeof a, &res[v].w, 0);
+        rel_text(b, sizeof b, &res[v].Estar, 0);
+        rel_text(d, sizeof d, &res[v].nu, 1);
+        fprintf(f, "  %-*s %-*s %-*s %-*s ", text_width(vb, 12), vb, text_width(a, 14), a,
+                text_width(b, 14), b, text_width(d, 14), d);
         for (j = 0; j < res[v].ncurves; j++)
             fprintf(f, "%s%s", j ? "," : "", res[v].curves[j].model->name);
         fputc('\n', f);

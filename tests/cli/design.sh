@@ -94,6 +94,13 @@ if run_ok design "$plan" --w 10mJ/m2 --E 1GPa --grid delta_max=20nm:100nm:3 --cs
     near "csv value 2" "$(csv_field "$tmp/g.csv" 3 1)" 6e-08 1e-12
     if [ "$(wc -l <"$tmp/g.csv")" -eq 4 ]; then ok; else bad "csv: 3 rows and a header"; fi
 fi
+# a value in um keeps the table's columns (printf pads bytes, the 'µ' is two)
+if run_ok design "$plan" --w 10mJ/m2 --E 1GPa --grid b=500nm,1um; then
+    cols=$(sed -n '/^  b  /,$p' "$tmp/out" | sed -n '2,3p' \
+           | /usr/bin/python3 -c 'import sys; print(" ".join(str(l.rstrip("\n").index(l.split()[2])) for l in sys.stdin))')
+    [ "$(echo $cols | cut -d" " -f1)" = "$(echo $cols | cut -d" " -f2)" ] && ok \
+        || bad "sweep table: the w column of 500 nm and 1 µm rows at $cols"
+fi
 if run_ok design "$plan" --w 10mJ/m2 --E 1GPa --grid k=2,2.5,3,4 --vary k3; then
     has "vary one candidate" "$tmp/out" "(candidate [3] k3)"
     has "k row" "$tmp/out" "  2.5 "
