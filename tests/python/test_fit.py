@@ -282,3 +282,53 @@ def test_probe_shapes_windows_and_observables_are_the_commands(tmp_path):
     assert c["adhesion_force_N"] > 0 and c["instrument_Eeff_Pa"] == 25000
     with pytest.raises(layerfit.Error, match="k = 1 is a cone, and R does not shape a cone"):
         layerfit.fit(path, model="halfspace", k=1, R="5um")
+
+
+def test_curve_files_with_the_probe_are_the_commands(realdata, tmp_path):
+    # two exports with R in their headers: `layerfit fit A B --model halfspace
+    # --k 2` (no R, b or interface given), as files, as read() curves, in a batch
+    paths = [os.path.join(realdata, PEG), os.path.join(realdata, PEG.replace("Y-1", "Y-2"))]
+    want = command_json(tmp_path, *paths, "--model", "halfspace", "--k", "2")
+    r = layerfit.fit(paths, model="halfspace", k=2)
+    assert same_but_command_line(r.to_dict(), want)
+    assert len(r.curves) == 2
+    curves = [layerfit.read(p) for p in paths]
+    assert same_but_command_line(layerfit.fit(curves, model="halfspace", k=2).to_dict(), want)
+    # R given as on the command line
+    assert same_but_command_line(
+        layerfit.fit(paths, model="halfspace", k=2, R="8um").to_dict(),
+        command_json(tmp_path, *paths, "--model", "halfspace", "--k", "2", "--R", "8um"))
+    rows = list(layerfit.batch(paths, model="halfspace", k=2, ordered=True, threads=1))
+    assert [row["status"] for row in rows] == ["ok", "ok"]
+    rows = list(layerfit.batch(curves, model="halfspace", k=2, ordered=True, threads=1))
+    assert [row["status"] for row in rows] == ["ok", "ok"]
+
+
+def test_vendor_files_with_the_probe_are_the_commands(tmp_path):
+    # the same on a clean clone: a Chiaro export (R in its header) and a copy
+    # of it as another place's (Y 2)
+    c = "datasets/vendors/chiaro.txt"
+    with open(c, "rb") as f:
+        data = f.read()
+    d = tmp_path / "chiaro Y-2.txt"
+    d.write_bytes(data.replace(b"Y (#)\t1", b"Y (#)\t2", 1))
+    want = command_json(tmp_path, c, d, "--model", "halfspace", "--k", "2")
+    assert same_but_command_line(
+        layerfit.fit([c, d], model="halfspace", k=2).to_dict(), want)
+    rows = list(layerfit.batch([c, layerfit.read(d)], model="halfspace", k=2, threads=1))
+    assert [row["status"] for row in rows] == ["ok", "ok"]
+
+
+def test_a_curve_file_without_its_probe_is_diagnosed():
+    c = "datasets/vendors/chiaro.txt"
+    rc, _, msg = run("fit", c)
+    assert rc != 0 and "is a curve file, not a plan" in msg
+    for call in (lambda: layerfit.fit(c), lambda: layerfit.fit([c, c]),
+                 lambda: layerfit.fit([layerfit.read(c)]), lambda: next(layerfit.batch(c)),
+                 lambda: next(layerfit.batch([c, c]))):
+        with pytest.raises(layerfit.Error) as e:
+            call()
+        assert e.value.file == c
+        assert "a curve file, not a plan" in e.value.message
+        assert "k=2, model='halfspace'" in e.value.message and "--k" not in e.value.message
+        assert str(e.value).startswith(c + ": ")

@@ -115,6 +115,8 @@ OPTIONS = _option_table(_lib.OPTIONS)
 READ_OPTIONS = ("format", "spring-constant", "sensitivity", "depth-unit", "force-unit",
                 "skip-bad-rows")
 PROBE_OPTIONS = ("k", "R", "b", "interface")
+# the options that state the probe of curve files (the command's cli_probe_given)
+_PROBE_STATEMENT = PROBE_OPTIONS + ("tip", "half-angle", "B")
 
 
 def _option_name(key, table=None, command="fit"):
@@ -483,6 +485,11 @@ class _Plan:
                                  byref(err)), err)
         self.h = h.value
         self.warnings = _lib.warnings_list(w)
+        self._read_from(sources)
+
+    def _read_from(self, sources):
+        """Rows r read curve c from its open file, for (r, c) in sources."""
+        err = LfError()
         self.curves = []
         for r, c in sources:
             self.curves.append(c)       # their files stay open while the plan lives
@@ -492,6 +499,63 @@ class _Plan:
         if getattr(self, "h", None):
             lib.lf_plan_free(self.h)
             self.h = None
+
+
+class _FilesPlan(_Plan):
+    """Curve files (and curves read from files) with one probe, a plan of
+    one row each as the command makes it of `layerfit fit FILE... --k 2`
+    (lf_plan_of_files: R NaN is each file's header's, b NaN a half-space;
+    the segment is the fit options')."""
+
+    def __init__(self, items, paths, probe):
+        err = LfError()
+        h = c_void_p()
+        arr = (c_char_p * len(paths))(*[enc(p) for p in paths])
+        _check(lib.lf_plan_of_files(len(paths), arr, byref(probe), 0, byref(h), byref(err)),
+               err)
+        self.h = h.value
+        self.warnings = []
+        self._read_from([(r, c) for r, c in enumerate(items) if isinstance(c, Curve)])
+
+
+def _curve_file_error(path):
+    """The command's diagnosis of a curve file given without its probe."""
+    path = os.fsdecode(path)
+    return Error("a curve file, not a plan: state the probe of its curves, e.g. k=2, "
+                 "model='halfspace' (R from the file's header, or R='8um'; b and interface for "
+                 "a layer), or tip='sphere', 'cone', 'berkovich' or 'pyramid'", path)
+
+
+def _curve_files(items):
+    """The paths of items when every one is a curve file or a curve read
+    from one (without a probe of its own), else None."""
+    paths = []
+    for item in items:
+        if isinstance(item, (str, bytes, os.PathLike)):
+            paths.append(os.fsdecode(item))
+        elif isinstance(item, Curve) and not item._memory and item.probe is None:
+            paths.append(item.file)
+        else:
+            return None
+    return paths or None
+
+
+def _plan_of(items, kw, probe):
+    """(plan, fit options) of a list fit() and batch() take.  Curve files
+    and curves read from files are fitted as the command fits `layerfit fit
+    FILE... --k 2 --model halfspace`: the probe stated once by the options
+    (lf_fit_options_probe), the files a plan of one row each; other lists
+    are plan rows (_Plan), probe keywords filling the cells they leave
+    empty."""
+    items = [items] if isinstance(items, (Curve, dict)) else list(items)
+    paths = _curve_files(items)
+    if paths is None:
+        return _Plan(items, probe), _Options(kw)
+    p, single = _Options(dict(kw, **probe)).probe()
+    if not single:
+        raise _curve_file_error(paths[0])
+    rest = {k: v for k, v in kw.items() if _option_name(k) not in _PROBE_STATEMENT}
+    return _FilesPlan(items, paths, p), _Options(rest)
 
 
 # ---------------------------------------------------------------------------
@@ -684,7 +748,10 @@ def fit(curves_or_plan, model="auto", k=None, R=None, b=None, interface=None, nu
     Curve.from_arrays()), or a list of Curves, curve files and plan rows
     (dicts with the plan's columns: file or curve, k, R, b, interface, nu,
     segment, sample, z0, F0, format, index) fitted jointly, k, R, b and
-    interface applying to the rows that give none.  model: auto, thin,
+    interface applying to the rows that give none.  A list of curve files
+    and curves read from files only is the command's `layerfit fit FILE...
+    --k 2 --model halfspace`: one probe stated by the keywords (R from each
+    file's header when None).  model: auto, thin,
     exact or halfspace.  nu: hold nu (the command's --nu).  options: every
     option of `layerfit fit`, '_' for '-' (intervals="linear", fix_nu=0.3,
     fix_z0="5nm", segment="load", slope=True, guess_w="10mJ/m2", ...): a
@@ -705,11 +772,11 @@ def fit(curves_or_plan, model="auto", k=None, R=None, b=None, interface=None, nu
         item = item.file
     if isinstance(item, (str, bytes, os.PathLike)):
         opts = _Options(dict(kw, **probe))
+        if not opts.probe()[1] and _is_curve_file(item):
+            raise _curve_file_error(item)
         status = lib.lf_fit_job_path(opts.h, enc(item), byref(job), byref(w), byref(err))
     else:
-        items = [item] if isinstance(item, (Curve, dict)) else list(item)
-        plan = _Plan(items, probe)
-        opts = _Options(kw)
+        plan, opts = _plan_of(item, kw, probe)
         status = lib.lf_fit_job_plan(opts.h, plan.h, byref(job), byref(w), byref(err))
     notes = _lib.warnings_list(w)
     _check(status, err)
@@ -760,9 +827,7 @@ def batch(plan_or_curves, threads=0, progress=None, ordered=False, shard=None, r
             opts = _Options(dict(kw, **probe))
             p, single = opts.probe()
             if not single:
-                raise Error("%s is a curve file, not a plan: give the probe of its curves (k, R "
-                            "and model='halfspace', or b and interface for a layer)"
-                            % os.fsdecode(plan_or_curves))
+                raise _curve_file_error(plan_or_curves)
             _check(lib.lf_plan_of_file(enc(plan_or_curves), byref(p), 0, byref(h), byref(err)),
                    err)
         else:
@@ -772,11 +837,8 @@ def batch(plan_or_curves, threads=0, progress=None, ordered=False, shard=None, r
         plan_h = h.value
         owned = True
     else:
-        items = [plan_or_curves] if isinstance(plan_or_curves, (Curve, dict)) \
-            else list(plan_or_curves)
-        plan = _Plan(items, probe)
+        plan, opts = _plan_of(plan_or_curves, kw, probe)
         keep.append(plan)
-        opts = _Options(kw)
         plan_h = plan.h
         owned = False
     try:

@@ -228,6 +228,8 @@ _proto("lf_plan_parse", c_int, c_void_p, c_size_t, c_size_t, c_char_p, c_char_p,
        _W, _E)
 _proto("lf_plan_read", c_int, c_char_p, POINTER(_P), _W, _E)
 _proto("lf_plan_of_file", c_int, c_char_p, POINTER(LfProbe), c_int, POINTER(_P), _E)
+_proto("lf_plan_of_files", c_int, c_size_t, POINTER(c_char_p), POINTER(LfProbe), c_int,
+       POINTER(_P), _E)
 _proto("lf_plan_set_source", c_int, _P, c_size_t, _P, c_long, _E)
 _proto("lf_plan_free", None, _P)
 _proto("lf_fit_job_path", c_int, _P, c_char_p, POINTER(_P), _W, _E)
