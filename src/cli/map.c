@@ -352,7 +352,8 @@ map_tics(FILE *f, const double *lo, const double *hi, int svg)
 
 /* One heat map: column 3 + q of the .dat file (q = 0 w, 1 E*), values of
  * grid[2 i + q] times `scale`.  Its colour range is the span of the values
- * (a single value gets a span of its own, +-5%); a panel without a value
+ * (a single value, or values equal to 6 digits, gets a span of its own,
+ * +-5%); a panel without a value
  * says so in words.  `with image` needs two cells along each axis to size
  * its pixels, so a one-row or one-column map draws its cells as boxes of
  * half-widths hx, hy (um). */
@@ -379,8 +380,14 @@ map_panel(FILE *f, const char *dat, const double *grid, size_t cells, int q, dou
                    "unset label 1\nset colorbox\n", name);
         return;
     }
-    s = vmax > vmin ? 0.0 : vmin != 0.0 ? 0.05 * fabs(vmin) : 1.0;
-    fprintf(f, "set cbrange [%.6g:%.6g]\nplot ", vmin - s, vmax + s);
+    /* values equal to the 6 digits written are one value */
+    if (vmax - vmin <= 1e-5 * fmax(fabs(vmin), fabs(vmax))) {
+        s = vmin != 0.0 ? 0.05 * fabs(vmin) : 1.0;
+        vmin = vmax = 0.5 * (vmin + vmax);
+        vmin -= s;
+        vmax += s;
+    }
+    fprintf(f, "set cbrange [%.6g:%.6g]\nplot ", vmin, vmax);
     cli_gnuplot_string(f, dat);
     /* a "-" cell is a blank pixel: an undefined value keeps its place in the
      * image's grid (a missing one would be dropped and break the grid) */

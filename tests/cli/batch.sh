@@ -131,11 +131,13 @@ if command -v gnuplot >/dev/null 2>&1; then
     has "w panel without a value says so" "$tmp/m4/row.svg" "w not determined at any point of the map"
     (cd "$tmp/m4" && gnuplot row.gp 2>"$tmp/gperr") && [ ! -s "$tmp/gperr" ] && ok \
         || bad "one-row map: gnuplot: $(cat "$tmp/gperr")"
-    printf 'x_m,y_m,w_J_m2,Estar_Pa,status\n0,0,0.02,4000,ok\n1e-6,0,,5000,ok\n0,1e-6,,6000,ok\n1e-6,1e-6,,7000,ok\n' \
+    # (E*: values equal to the digits written are one value too)
+    printf 'x_m,y_m,w_J_m2,Estar_Pa,status\n0,0,0.02,4000,ok\n1e-6,0,,4000.00001,ok\n0,1e-6,,4000,ok\n1e-6,1e-6,,4000,ok\n' \
         > "$tmp/m4/one.csv"
     "$LF" map "$tmp/m4/one.csv" --plot "$tmp/m4/one.png" >/dev/null 2>"$tmp/err"; rc=$?
     [ "$rc" -eq 0 ] && [ ! -s "$tmp/err" ] && ok || bad "one w value: exit $rc, said '$(cat "$tmp/err")'"
     has "one w value: a colour range around it" "$tmp/m4/one.gp" "set cbrange [19:21]"
+    has "one E* value to 6 digits: a colour range around it" "$tmp/m4/one.gp" "set cbrange [3.8:4.2]"
     grep -q 'with image' "$tmp/m4/one.gp" && ok || bad "a 2 x 2 map is an image"
 else
     echo "note: gnuplot not installed, map drawing not tested"
