@@ -327,11 +327,84 @@ open_in_dir(cli_out *o, const char *dir, const char *name)
     return f;
 }
 
+/* A tic step of 1, 2 or 5 times a power of ten that puts at most one tic
+ * per `room` pixels along `px` pixels of an axis spanning `span`. */
+static double
+tic_step(double span, double px, double room)
+{
+    double n = fmax(1.0, floor(px / room)), raw = span / n;
+    double p = pow(10.0, floor(log10(raw))), m = raw / p;
+    return (m <= 1.0 ? 1.0 : m <= 2.0 ? 2.0 : m <= 5.0 ? 5.0 : 10.0) * p;
+}
+
+/* Tics that do not overlap: the panel (about 480 x 480 pixels of plot area
+ * in the PNG, 380 x 380 in the SVG) keeps the map's aspect (size ratio -1),
+ * so a map much taller than wide has a narrow x axis, and the reverse. */
+static void
+map_tics(FILE *f, const double *lo, const double *hi, int svg)
+{
+    double side = svg ? 380.0 : 480.0, a = (hi[1] - lo[1]) / (hi[0] - lo[0]);
+    double w = a > 1.0 ? side / a : side, h = a > 1.0 ? side : side * a;
+    double sx = tic_step(hi[0] - lo[0], w, 70.0), sy = tic_step(hi[1] - lo[1], h, 50.0);
+    if (sx > 0.0 && sy > 0.0 && isfinite(sx) && isfinite(sy))   /* else gnuplot's own */
+        fprintf(f, "set xtics %.6g\nset ytics %.6g\n", sx, sy);
+}
+
+/* One heat map: column 3 + q of the .dat file (q = 0 w, 1 E*), values of
+ * grid[2 i + q] times `scale`.  Its colour range is the span of the values
+ * (a single value, or values equal to 6 digits, gets a span of its own,
+ * +-5%); a panel without a value
+ * says so in words.  `with image` needs two cells along each axis to size
+ * its pixels, so a one-row or one-column map draws its cells as boxes of
+ * half-widths hx, hy (um). */
+static void
+map_panel(FILE *f, const char *dat, const double *grid, size_t cells, int q, double scale,
+          const char *name, const char *title, size_t nx, size_t ny, double hx, double hy)
+{
+    double vmin = INFINITY, vmax = -INFINITY, s;
+    size_t i, n = 0;
+    for (i = 0; i < cells; i++) {
+        double v = grid[2 * i + q] * scale;
+        if (isfinite(v)) {
+            vmin = fmin(vmin, v);
+            vmax = fmax(vmax, v);
+            n++;
+        }
+    }
+    fputs("set title ", f);
+    cli_gnuplot_string(f, title);
+    fputc('\n', f);
+    if (n == 0) {
+        fprintf(f, "unset colorbox\nset label 1 '%s not determined at any point of the map' "
+                   "at graph 0.5, 0.5 center front\nplot 1/0 notitle\n"
+                   "unset label 1\nset colorbox\n", name);
+        return;
+    }
+    /* values equal to the 6 digits written are one value */
+    if (vmax - vmin <= 1e-5 * fmax(fabs(vmin), fabs(vmax))) {
+        s = vmin != 0.0 ? 0.05 * fabs(vmin) : 1.0;
+        vmin = vmax = 0.5 * (vmin + vmax);
+        vmin -= s;
+        vmax += s;
+    }
+    fprintf(f, "set cbrange [%.6g:%.6g]\nplot ", vmin, vmax);
+    cli_gnuplot_string(f, dat);
+    /* a "-" cell is a blank pixel: an undefined value keeps its place in the
+     * image's grid (a missing one would be dropped and break the grid) */
+    if (nx > 1 && ny > 1)
+        fprintf(f, " using 1:2:(strcol(%d) eq '-' ? NaN : $%d) with image notitle\n",
+                3 + q, 3 + q);
+    else
+        fprintf(f, " using 1:2:(%.6g):(%.6g):(strcol(%d) eq '-' ? NaN : $%d) "
+                   "with boxxyerror fs solid 1.0 noborder fc palette notitle\n",
+                hx, hy, 3 + q, 3 + q);
+}
+
 static int
 draw_map(const char *result, const char *image)
 {
     map_reader m;
-    double *ux, *uy, *grid, Escale;
+    double *ux, *uy, *grid, Escale, cx, cy, lo[2], hi[2];
     const char *Eunit;
     size_t nx, ny, i;
     char dir[4096], base[1024], path[4096], msg[600], gp[1100], dat[1100];
@@ -455,21 +528,25 @@ draw_map(const char *result, const char *image)
     cli_gnuplot_string(f, base);
     fprintf(f, "\nset output out.'%s'\n", ext);
     fprintf(f, "set multiplot layout 1,2 title '%zu x %zu map, %zu fits'\n", nx, ny, m.n);
+    /* a cell's size: the grid's spacing; along an axis of one cell, the
+     * other axis' spacing (square cells), 1 um for a single cell */
+    cx = nx > 1 ? ux[1] - ux[0] : ny > 1 ? uy[1] - uy[0] : 1e-6;
+    cy = ny > 1 ? uy[1] - uy[0] : cx;
+    lo[0] = (ux[0] - 0.5 * cx) * 1e6;
+    hi[0] = (ux[nx - 1] + 0.5 * cx) * 1e6;
+    lo[1] = (uy[0] - 0.5 * cy) * 1e6;
+    hi[1] = (uy[ny - 1] + 0.5 * cy) * 1e6;
     fprintf(f, "set size ratio -1\nset xlabel 'x (µm)'\nset ylabel 'y (µm)'\n"
                "set palette defined (0 '#440154', 1 '#3b528b', 2 '#21918c', 3 '#5ec962', 4 '#fde725')\n"
                "set xrange [%.6g:%.6g]\nset yrange [%.6g:%.6g]\nset tics out\n",
-            (ux[0] - 0.5 * (nx > 1 ? ux[1] - ux[0] : 1e-6)) * 1e6,
-            (ux[nx - 1] + 0.5 * (nx > 1 ? ux[1] - ux[0] : 1e-6)) * 1e6,
-            (uy[0] - 0.5 * (ny > 1 ? uy[1] - uy[0] : 1e-6)) * 1e6,
-            (uy[ny - 1] + 0.5 * (ny > 1 ? uy[1] - uy[0] : 1e-6)) * 1e6);
-    fputs("set title 'work of adhesion w (mJ/m^2)'\nplot ", f);
-    cli_gnuplot_string(f, dat);
-    /* a "-" cell is a blank pixel: an undefined value keeps its place in the
-     * image's grid (a missing one would be dropped and break the grid) */
-    fprintf(f, " using 1:2:(strcol(3) eq '-' ? NaN : $3) with image notitle\n"
-            "set title 'effective modulus E* (%s)'\nplot ", Eunit);
-    cli_gnuplot_string(f, dat);
-    fputs(" using 1:2:(strcol(4) eq '-' ? NaN : $4) with image notitle\nunset multiplot\n", f);
+            lo[0], hi[0], lo[1], hi[1]);
+    map_tics(f, lo, hi, strcmp(ext, ".svg") == 0);
+    map_panel(f, dat, grid, nx * ny, 0, 1e3, "w", "work of adhesion w (mJ/m^2)",
+              nx, ny, 0.5 * cx * 1e6, 0.5 * cy * 1e6);
+    snprintf(msg, sizeof msg, "effective modulus E* (%s)", Eunit);
+    map_panel(f, dat, grid, nx * ny, 1, 1.0 / Escale, "E*", msg,
+              nx, ny, 0.5 * cx * 1e6, 0.5 * cy * 1e6);
+    fputs("unset multiplot\n", f);
     if (cli_out_commit(&out, msg, sizeof msg) != 0)
         cli_die(CLI_EXIT_FAIL, "map: %s", msg);
     if (cli_draw_script(dir, gp, base, &ext_word, 1, msg, sizeof msg) != 0)

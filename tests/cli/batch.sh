@@ -116,6 +116,29 @@ if command -v gnuplot >/dev/null 2>&1; then
     grep -qi nan "$tmp/m3/map.dat" && bad "map with a hole: NaN in map.dat" || ok
     (cd "$tmp/m3" && gnuplot map.gp 2>"$tmp/gperr") && [ ! -s "$tmp/gperr" ] && ok \
         || bad "map with a hole: gnuplot: $(cat "$tmp/gperr")"
+    # a one-row map (a QI line, 4 x 1): gnuplot's `with image` sizes its
+    # pixels from two cells along each axis and draws nothing for one row,
+    # so its cells are boxes; a panel with no value says so in words (no
+    # colour range around nothing); a single value gets a colour range of
+    # its own (no "empty cb range" warning reaching the user)
+    mkdir -p "$tmp/m4" && printf 'x_m,y_m,w_J_m2,Estar_Pa,status\n' > "$tmp/m4/r.csv"
+    for i in 0 1 2 3; do echo "$i.0e-6,-7e-6,,$((3 + i))000,ok"; done >> "$tmp/m4/r.csv"
+    run_ok map "$tmp/m4/r.csv" --plot "$tmp/m4/row.svg"
+    [ "$(grep -c '^-\?[0-9]' "$tmp/m4/row.dat")" -eq 4 ] && ok || bad "one-row map: 4 pixels"
+    grep -q 'with image' "$tmp/m4/row.gp" && bad "one-row map drawn 'with image' (nothing drawn)" || ok
+    has "one-row map: E* cells drawn as boxes" "$tmp/m4/row.gp" "\$4) with boxxyerror fs solid 1.0 noborder fc palette"
+    has "one-row map: E* colour range of its values" "$tmp/m4/row.gp" "set cbrange [3:6]"
+    has "w panel without a value says so" "$tmp/m4/row.svg" "w not determined at any point of the map"
+    (cd "$tmp/m4" && gnuplot row.gp 2>"$tmp/gperr") && [ ! -s "$tmp/gperr" ] && ok \
+        || bad "one-row map: gnuplot: $(cat "$tmp/gperr")"
+    # (E*: values equal to the digits written are one value too)
+    printf 'x_m,y_m,w_J_m2,Estar_Pa,status\n0,0,0.02,4000,ok\n1e-6,0,,4000.00001,ok\n0,1e-6,,4000,ok\n1e-6,1e-6,,4000,ok\n' \
+        > "$tmp/m4/one.csv"
+    "$LF" map "$tmp/m4/one.csv" --plot "$tmp/m4/one.png" >/dev/null 2>"$tmp/err"; rc=$?
+    [ "$rc" -eq 0 ] && [ ! -s "$tmp/err" ] && ok || bad "one w value: exit $rc, said '$(cat "$tmp/err")'"
+    has "one w value: a colour range around it" "$tmp/m4/one.gp" "set cbrange [19:21]"
+    has "one E* value to 6 digits: a colour range around it" "$tmp/m4/one.gp" "set cbrange [3.8:4.2]"
+    grep -q 'with image' "$tmp/m4/one.gp" && ok || bad "a 2 x 2 map is an image"
 else
     echo "note: gnuplot not installed, map drawing not tested"
 fi
