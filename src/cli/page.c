@@ -735,15 +735,16 @@ row_fit_json(FILE *f, char *const *row, const long *rc)
     snprintf(path, sizeof path, "%s", cell);
     if (lf_curve_path_split(cell, path, sizeof path, &index) != LF_OK
         || lf_plan_of_file(path, &probe, (lf_segment) seg, &plan, &err) != LF_OK)
-        snprintf(why, sizeof why, "cannot read %s", cell);
+        snprintf(why, sizeof why, "cannot read %.300s", cell);
     else {
         lf_input_settings is = lf_input_settings_default();
         plan->rows[0].index = index;
         plan->rows[0].nu = cell_num(row, rc, RC_NUH);
         if (lf_fit_input_from_plan(plan, NULL, 1, &is, &in, NULL, &err) != LF_OK)
-            snprintf(why, sizeof why, "%s", err.msg);
+            snprintf(why, sizeof why, "%.300s%s%.280s", strstr(err.msg, path) ? "" : path,
+                     strstr(err.msg, path) ? "" : ": ", err.msg);
         else if (strcmp(in.sha256[0], sha) != 0)
-            snprintf(why, sizeof why, "%s has changed since it was fitted (its SHA-256 differs "
+            snprintf(why, sizeof why, "%.300s has changed since it was fitted (its SHA-256 differs "
                      "from the results')", cell);
     }
     lf_plan_free(plan);
