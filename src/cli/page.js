@@ -780,8 +780,6 @@ function mapPage() {
         curveChart(panel, p, p.z0, p.F0, st === 'noconv' ? 'did not converge' : st === 'misfit' ? 'the model does not describe this curve' : null,
                    { adhesion: f.c.length === 1 ? get(r, 'adhesion_force_N') : null });
       });
-    } else if (f == null && D.fits.every(function (x) { return x == null; })) {
-      panel.appendChild(el('p', { cls: 'note', text: 'This report holds the results only (layerfit map RESULTS --report); `layerfit fit --batch ... --report` keeps every curve with its fit to draw here.' }));
     } else if (!(f && f.note)) panel.appendChild(el('p', { cls: 'note', text: 'No curve to draw: the fit failed before a result.' }));
     drawMaps();
     drawTable();
