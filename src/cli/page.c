@@ -562,6 +562,31 @@ cli_page_store_free(cli_page_store *s)
     free(s);
 }
 
+/* A curve as a row of a plan: [file, index, sample, k, R, b, interface,
+ * nu, segment] (SI; b and interface empty without a layer). */
+static void
+plan_row_json(FILE *f, const char *file, long index, const char *sample, const lf_probe *p,
+              int layer, double nu, lf_segment seg)
+{
+    fputc('[', f);
+    jstr(f, file);
+    fprintf(f, ",%ld,", index);
+    jstr(f, sample);
+    fputc(',', f);
+    jnum(f, p->k);
+    fputc(',', f);
+    jnum(f, p->R);
+    fputc(',', f);
+    jnum(f, layer ? p->b : NAN);
+    fputc(',', f);
+    jstr(f, layer ? cli_base_name(p->base) : "");
+    fputc(',', f);
+    jnum(f, nu);
+    fputc(',', f);
+    jstr(f, lf_segment_name(seg));
+    fputc(']', f);
+}
+
 /* A fit's curves for the page: {"c": [curves], "p": [plan rows] (its
  * closing brace the caller's). */
 static void
@@ -580,25 +605,10 @@ fit_json(FILE *f, const lf_fit_input *in, const lf_fit_result *res, const char *
      * as well) */
     fputs("],\"p\":[", f);
     for (j = 0; in != NULL && j < in->n; j++) {
-        const lf_fit_curve *c = &in->curves[j];
-        int layer = in->origin == NULL || in->origin[j].b != NULL;
-        fputs(j ? ",[" : "[", f);
-        jstr(f, in->names[j]);
-        fprintf(f, ",%ld,", in->index != NULL ? in->index[j] : 0L);
-        jstr(f, sample);
-        fputc(',', f);
-        jnum(f, c->probe.k);
-        fputc(',', f);
-        jnum(f, c->probe.R);
-        fputc(',', f);
-        jnum(f, layer ? c->probe.b : NAN);
-        fputc(',', f);
-        jstr(f, layer ? cli_base_name(c->probe.base) : "");
-        fputc(',', f);
-        jnum(f, in->nu);
-        fputc(',', f);
-        jstr(f, lf_segment_name(c->branch));
-        fputc(']', f);
+        fputs(j ? "," : "", f);
+        plan_row_json(f, in->names[j], in->index != NULL ? in->index[j] : 0L, sample,
+                      &in->curves[j].probe, in->origin == NULL || in->origin[j].b != NULL, in->nu,
+                      in->curves[j].branch);
     }
     fputc(']', f);
 }
@@ -753,23 +763,10 @@ row_fit_json(FILE *f, char *const *row, const long *rc)
     if (why[0] != '\0') {
         /* the plan row stays: the curve may still be refitted */
         lf_fit_input_free(&in);
-        fputs("{\"c\":[],\"p\":[[", f);
-        jstr(f, path);
-        fprintf(f, ",%ld,", index >= 0 ? index : 0L);
-        jstr(f, rc[RC_SAMPLE] >= 0 ? row[rc[RC_SAMPLE]] : "");
-        fputc(',', f);
-        jnum(f, probe.k);
-        fputc(',', f);
-        jnum(f, probe.R);
-        fputc(',', f);
-        jnum(f, probe.b);
-        fputc(',', f);
-        jstr(f, rc[RC_IFACE] >= 0 ? row[rc[RC_IFACE]] : "");
-        fputc(',', f);
-        jnum(f, cell_num(row, rc, RC_NUH));
-        fputc(',', f);
-        jstr(f, lf_segment_name((lf_segment) seg));
-        fputs("]],\"note\":", f);
+        fputs("{\"c\":[],\"p\":[", f);
+        plan_row_json(f, path, index >= 0 ? index : 0L, rc[RC_SAMPLE] >= 0 ? row[rc[RC_SAMPLE]] : "",
+                      &probe, isfinite(probe.b), cell_num(row, rc, RC_NUH), (lf_segment) seg);
+        fputs("],\"note\":", f);
         snprintf(path, sizeof path, "Not drawn: %s.", why);
         jstr(f, path);
         return;
