@@ -233,8 +233,21 @@ static const char *const columns[] = {
     "identifiability", "message", "grid_i", "grid_j", "sha256",
     /* what the first curve shows without a model (lf_observe) */
     "adhesion_force_N", "detachment_work_J", "contact_point_m", "max_indentation_m",
-    "max_force_N", "instrument_Eeff_Pa", "instrument_model", NULL
+    "max_force_N", "instrument_Eeff_Pa", "instrument_model",
+    /* what redraws a fit of one curve (`map RESULTS --report`): its probe,
+     * segment, the offsets the figures draw with and a nu that was held */
+    "k", "R_m", "b_m", "interface", "tip", "half_angle_rad", "B", "segment",
+    "z0_m", "F0_N", "slope_N_m", "nu_held", NULL
 };
+
+/* The cells of a fit of one curve that redraw it; NULL for a joint fit. */
+typedef struct {
+    const lf_probe *probe;
+    int layer;                  /* the plan gave b and interface */
+    lf_segment segment;
+    double z0, F0, slope;       /* as the figures draw it (NaN: no fit) */
+    double nu_held;             /* nu where the fit held it, else NaN */
+} curve_cells;
 
 /* Sum of squared residuals relative to the points, over all curves. */
 static double
@@ -318,7 +331,8 @@ static void
 put_row(lf_str *b, const batch_config *cfg, size_t fit_no, const char *sample,
         const char *files, const unit_files *uf, size_t ncurves, const char *status,
         const char *model, const num_field *num, size_t nnum, const char *const *text,
-        const char *ident, const char *msg, const double grid[2], const lf_observables *obs)
+        const char *ident, const char *msg, const double grid[2], const lf_observables *obs,
+        const curve_cells *cc)
 {
     int json = cfg->json;
     double ov[LF_NOBSERVED];
@@ -389,6 +403,31 @@ put_row(lf_str *b, const batch_config *cfg, size_t fit_no, const char *sample,
         lf_str_printf(b, "null");
     else
         sb_text(b, obs != NULL ? obs->instrument_model : "", json, cfg->csv_raw);
+    {
+        const lf_probe *p = cc != NULL ? cc->probe : NULL;
+        int shaped = p != NULL && (p->tip == LF_TIP_CONE || p->tip == LF_TIP_PYRAMID);
+        const num_field pn[] = {
+            { "k", p ? p->k : NAN }, { "R_m", p ? p->R : NAN },
+            { "b_m", p && cc->layer ? p->b : NAN }, { "interface", NAN },
+            { "tip", NAN }, { "half_angle_rad", shaped ? p->angle : NAN },
+            { "B", p && p->tip == LF_TIP_POWER && p->B > 0.0 ? p->B : NAN },
+            { "segment", NAN }, { "z0_m", p ? cc->z0 : NAN }, { "F0_N", p ? cc->F0 : NAN },
+            { "slope_N_m", p ? cc->slope : NAN }, { "nu_held", p ? cc->nu_held : NAN },
+        };
+        const char *tv[sizeof pn / sizeof pn[0]] = { NULL };
+        tv[3] = p && cc->layer ? (p->base == LF_BASE_BONDED ? "bonded" : "frictionless") : "";
+        tv[4] = p ? lf_tip_name(p->tip) : "";
+        tv[7] = p ? lf_segment_name(cc->segment) : "";
+        for (i = 0; i < sizeof pn / sizeof pn[0]; i++) {
+            lf_str_printf(b, json ? ", \"%s\": " : ",", pn[i].key);
+            if (tv[i] == NULL)
+                lf_str_number(b, pn[i].value, json ? "null" : "");
+            else if (json && tv[i][0] == '\0')
+                lf_str_printf(b, "null");
+            else
+                sb_text(b, tv[i], json, cfg->csv_raw);
+        }
+    }
     lf_str_printf(b, json ? "}\n" : "\n");
 }
 
@@ -447,6 +486,7 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, unit_out *o)
     const char *status = "error";
     double x = NAN, y = NAN, grid[2] = { NAN, NAN };
     int st = LF_EINVAL, have_res = 0, failed = 1, firstw = 1;
+    curve_cells cc;
 
     lf_error_clear(&err);
     o->status = status;
@@ -508,6 +548,20 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, unit_out *o)
         format_error(ebuf, sizeof ebuf, &err);
     }
 row:
+    if (n == 1) {       /* a fit of one curve: what redraws it */
+        lf_fit_figure fig;
+        cc.probe = in.n == 1 ? &in.curves[0].probe : &rows[0].probe;
+        cc.layer = in.n == 1 ? in.origin == NULL || in.origin[0].b != NULL : !isnan(rows[0].probe.b);
+        cc.segment = in.n == 1 ? in.curves[0].branch : rows[0].segment;
+        cc.z0 = cc.F0 = cc.slope = cc.nu_held = NAN;
+        if (have_res && in.n == 1
+            && lf_fit_figure_curve(&res, 0, &in.curves[0], 0, NULL, NULL, NULL, &fig, &err) == LF_OK) {
+            cc.z0 = fig.z0;
+            cc.F0 = fig.F0;
+            cc.slope = fig.slope;
+            cc.nu_held = res.nu.free ? NAN : res.nu.value;
+        }
+    }
     if (have_res) {
         num_field num[] = {
             { "x_m", x }, { "y_m", y },
@@ -543,7 +597,7 @@ row:
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status,
                 res.model ? res.model : "", num,
                 sizeof num / sizeof num[0], text, ident.s ? ident.s : "", msg.s ? msg.s : "",
-                grid, in.n > 0 ? &in.observed[0] : NULL);
+                grid, in.n > 0 ? &in.observed[0] : NULL, n == 1 ? &cc : NULL);
         if (failed == 1)
             o->why = lf_strdup(res.stop_reason);
         if (cfg->keep) {
@@ -565,7 +619,7 @@ row:
         const char *text[NTEXT] = { "", "", "" };
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status, "", num,
                 sizeof num / sizeof num[0], text, "", ebuf, grid,
-                in.n > 0 ? &in.observed[0] : NULL);
+                in.n > 0 ? &in.observed[0] : NULL, n == 1 ? &cc : NULL);
         o->why = lf_strdup(ebuf);
     }
     if (cfg->keep && in.n > 0) {

@@ -590,8 +590,9 @@ cli_map(int argc, char **argv, const char *command_line)
                "The first form draws heat maps of w and E* from the CSV output of\n"
                "'layerfit fit --batch', keeping the gnuplot script and data next to the\n"
                "image (MAP.gp, MAP.dat); --report writes one interactive page of the results\n"
-               "(heat maps, histograms, a filter, a selection exported as a plan; the curves\n"
-               "themselves are drawn in the page of 'fit --batch ... --report').  The second\n"
+               "(heat maps, histograms, a filter, a selection exported as a plan, and each\n"
+               "fit of one curve redrawn from its file where its SHA-256 is the results').\n"
+               "The second\n"
                "writes a synthetic force map with a known pattern: DIR/plan.csv and DIR/curves/xXX_yYY.csv (every N-th pixel);\n"
                "files of an earlier map are replaced only with --force.\n");
         return CLI_EXIT_OK;

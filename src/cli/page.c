@@ -562,12 +562,63 @@ cli_page_store_free(cli_page_store *s)
     free(s);
 }
 
+/* A curve as a row of a plan: [file, index, sample, k, R, b, interface,
+ * nu, segment] (SI; b and interface empty without a layer). */
+static void
+plan_row_json(FILE *f, const char *file, long index, const char *sample, const lf_probe *p,
+              int layer, double nu, lf_segment seg)
+{
+    fputc('[', f);
+    jstr(f, file);
+    fprintf(f, ",%ld,", index);
+    jstr(f, sample);
+    fputc(',', f);
+    jnum(f, p->k);
+    fputc(',', f);
+    jnum(f, p->R);
+    fputc(',', f);
+    jnum(f, layer ? p->b : NAN);
+    fputc(',', f);
+    jstr(f, layer ? cli_base_name(p->base) : "");
+    fputc(',', f);
+    jnum(f, nu);
+    fputc(',', f);
+    jstr(f, lf_segment_name(seg));
+    fputc(']', f);
+}
+
+/* A fit's curves for the page: {"c": [curves], "p": [plan rows] (its
+ * closing brace the caller's). */
+static void
+fit_json(FILE *f, const lf_fit_input *in, const lf_fit_result *res, const char *sample)
+{
+    size_t j;
+
+    fputs("{\"c\":[", f);
+    for (j = 0; in != NULL && res != NULL && j < in->n && j < res->ncurves; j++) {
+        fputs(j ? "," : "", f);
+        plot_json(f, res, j, &in->curves[j], MAP_POINTS, MAP_GRID, MAP_LEVELS);
+        fputc('}', f);
+    }
+    /* each curve as a row of a plan: file, index, sample, k, R, b,
+     * interface, nu, segment (SI; an index names the only curve of a file
+     * as well) */
+    fputs("],\"p\":[", f);
+    for (j = 0; in != NULL && j < in->n; j++) {
+        fputs(j ? "," : "", f);
+        plan_row_json(f, in->names[j], in->index != NULL ? in->index[j] : 0L, sample,
+                      &in->curves[j].probe, in->origin == NULL || in->origin[j].b != NULL, in->nu,
+                      in->curves[j].branch);
+    }
+    fputc(']', f);
+}
+
 void
 cli_page_store_fit(cli_page_store *s, size_t i, const lf_fit_input *in, const lf_fit_result *res,
                    const char *sample)
 {
     char *buf = NULL;
-    size_t len = 0, j;
+    size_t len = 0;
     FILE *f;
 
     if (s == NULL)
@@ -588,38 +639,8 @@ cli_page_store_fit(cli_page_store *s, size_t i, const lf_fit_input *in, const lf
         s->n = i + 1;
     if ((f = open_memstream(&buf, &len)) == NULL)
         return;
-    fputs("{\"c\":[", f);
-    for (j = 0; in != NULL && res != NULL && j < in->n && j < res->ncurves; j++) {
-        fputs(j ? "," : "", f);
-        plot_json(f, res, j, &in->curves[j], MAP_POINTS, MAP_GRID, MAP_LEVELS);
-        fputc('}', f);
-    }
-    /* each curve as a row of a plan: file, index, sample, k, R, b,
-     * interface, nu, segment (SI; an index names the only curve of a file
-     * as well) */
-    fputs("],\"p\":[", f);
-    for (j = 0; in != NULL && j < in->n; j++) {
-        const lf_fit_curve *c = &in->curves[j];
-        int layer = in->origin == NULL || in->origin[j].b != NULL;
-        fputs(j ? ",[" : "[", f);
-        jstr(f, in->names[j]);
-        fprintf(f, ",%ld,", in->index != NULL ? in->index[j] : 0L);
-        jstr(f, sample);
-        fputc(',', f);
-        jnum(f, c->probe.k);
-        fputc(',', f);
-        jnum(f, c->probe.R);
-        fputc(',', f);
-        jnum(f, layer ? c->probe.b : NAN);
-        fputc(',', f);
-        jstr(f, layer ? cli_base_name(c->probe.base) : "");
-        fputc(',', f);
-        jnum(f, in->nu);
-        fputc(',', f);
-        jstr(f, lf_segment_name(c->branch));
-        fputc(']', f);
-    }
-    fputs("]}", f);
+    fit_json(f, in, res, sample);
+    fputc('}', f);
     if (fclose(f) != 0) {
         free(buf);
         return;
@@ -645,13 +666,172 @@ is_text(const char *name)
     return 0;
 }
 
+/* ------------------------------------------------------------------------
+ * Maps from a results file alone (`layerfit map RESULTS --report`): each
+ * fit of one curve redrawn from its file and the row's probe, offsets and
+ * material, the model evaluated by the library as the fit's figures do.
+ * --------------------------------------------------------------------- */
+
+/* The results' columns a curve is redrawn from. */
+enum {
+    RC_FILE, RC_SAMPLE, RC_CURVES, RC_MODEL, RC_W, RC_WUB, RC_E, RC_NU, RC_M, RC_PPO, RC_SHA,
+    RC_K, RC_R, RC_B, RC_IFACE, RC_TIP, RC_ANGLE, RC_PREF, RC_SEG, RC_Z0, RC_F0, RC_SLOPE,
+    RC_NUH, RC_STATUS, NRC
+};
+static const char *const rc_name[NRC] = {
+    "file", "sample", "curves", "model", "w_J_m2", "w_upper_bound", "Estar_Pa", "nu", "M_Pa",
+    "P_po_N", "sha256", "k", "R_m", "b_m", "interface", "tip", "half_angle_rad", "B", "segment",
+    "z0_m", "F0_N", "slope_N_m", "nu_held", "status"
+};
+
+static double
+cell_num(char *const *row, const long *rc, int c)
+{
+    double v;
+    if (rc[c] < 0 || row[rc[c]][0] == '\0' || lf_table_number(row[rc[c]], &v) != LF_OK)
+        return NAN;
+    return v;
+}
+
+/* Row r's fit as the batch's page holds it, with ,"note": why it is not
+ * drawn where it is not; the closing brace the caller's.  The material is
+ * the one the fit's figures draw with (lf_fit_figure_curve): E* = M with
+ * nu = 0 where only M is determined, w = 0 where only its upper bound is. */
+static void
+row_fit_json(FILE *f, char *const *row, const long *rc)
+{
+    char path[4096], why[600];
+    const char *cell = rc[RC_FILE] >= 0 ? row[rc[RC_FILE]] : "";
+    const char *sha = rc[RC_SHA] >= 0 ? row[rc[RC_SHA]] : "";
+    const char *model = rc[RC_MODEL] >= 0 ? row[rc[RC_MODEL]] : "";
+    lf_probe probe = { 0 };
+    lf_plan *plan = NULL;
+    lf_fit_input in;
+    lf_fit_result res;
+    lf_fit_curve_result cr;
+    lf_material mat;
+    lf_model *m = NULL;
+    lf_eval *ev = NULL;
+    lf_error err;
+    double *delta = NULL, *fitted = NULL, s;
+    long index = -1;
+    int seg = rc[RC_SEG] >= 0 ? lf_segment_find(row[rc[RC_SEG]]) : -1;
+    int tip = rc[RC_TIP] >= 0 ? lf_tip_find(row[rc[RC_TIP]], NULL) : -1;
+    size_t i;
+
+    memset(&in, 0, sizeof in);
+    why[0] = '\0';
+    if (cell_num(row, rc, RC_CURVES) != 1.0) {
+        fputs("{\"c\":[],\"p\":[],\"note\":", f);
+        jstr(f, "A joint fit of several curves: its curves are not drawn from the results, "
+                "nor in the exported plan (the page of `layerfit fit --batch ... --report` "
+                "holds them).");
+        return;
+    }
+    probe.k = cell_num(row, rc, RC_K);
+    probe.R = cell_num(row, rc, RC_R);
+    probe.b = cell_num(row, rc, RC_B);
+    probe.base = rc[RC_IFACE] >= 0 && strcmp(row[rc[RC_IFACE]], "bonded") == 0
+                 ? LF_BASE_BONDED : LF_BASE_FRICTIONLESS;
+    probe.tip = tip >= 0 ? (lf_tip) tip : LF_TIP_POWER;
+    probe.angle = cell_num(row, rc, RC_ANGLE);
+    probe.B = isfinite(cell_num(row, rc, RC_PREF)) ? cell_num(row, rc, RC_PREF) : 0.0;
+    if (!isfinite(probe.k) || seg < 0) {
+        fputs("{\"c\":[],\"p\":[],\"note\":", f);
+        jstr(f, "No curve to draw: these results do not name the probe (results of an older "
+                "layerfit); `layerfit fit --batch ... --report` draws it.");
+        return;
+    }
+    snprintf(path, sizeof path, "%s", cell);
+    if (lf_curve_path_split(cell, path, sizeof path, &index) != LF_OK
+        || lf_plan_of_file(path, &probe, (lf_segment) seg, &plan, &err) != LF_OK)
+        snprintf(why, sizeof why, "cannot read %.300s", cell);
+    else {
+        lf_input_settings is = lf_input_settings_default();
+        plan->rows[0].index = index;
+        plan->rows[0].nu = cell_num(row, rc, RC_NUH);
+        if (lf_fit_input_from_plan(plan, NULL, 1, &is, &in, NULL, &err) != LF_OK)
+            snprintf(why, sizeof why, "%.300s%s%.280s", strstr(err.msg, path) ? "" : path,
+                     strstr(err.msg, path) ? "" : ": ", err.msg);
+        else if (strcmp(in.sha256[0], sha) != 0)
+            snprintf(why, sizeof why, "%.300s has changed since it was fitted (its SHA-256 differs "
+                     "from the results')", cell);
+    }
+    lf_plan_free(plan);
+    if (why[0] == '\0' && rc[RC_STATUS] >= 0 && strcmp(row[rc[RC_STATUS]], "error") == 0)
+        snprintf(why, sizeof why, "the fit failed before a result");
+    if (why[0] != '\0') {
+        /* the plan row stays: the curve may still be refitted */
+        lf_fit_input_free(&in);
+        fputs("{\"c\":[],\"p\":[", f);
+        plan_row_json(f, path, index >= 0 ? index : 0L, rc[RC_SAMPLE] >= 0 ? row[rc[RC_SAMPLE]] : "",
+                      &probe, isfinite(probe.b), cell_num(row, rc, RC_NUH), (lf_segment) seg);
+        fputs("],\"note\":", f);
+        snprintf(path, sizeof path, "Not drawn: %s.", why);
+        jstr(f, path);
+        return;
+    }
+    /* the fit as its figures need it */
+    memset(&res, 0, sizeof res);
+    memset(&cr, 0, sizeof cr);
+    res.w.value = cell_num(row, rc, RC_W);
+    res.w.upper_bound_only = cell_num(row, rc, RC_WUB) == 1.0;
+    res.Estar.value = cell_num(row, rc, RC_E);
+    res.nu.value = isfinite(cell_num(row, rc, RC_NU)) ? cell_num(row, rc, RC_NU)
+                                                     : cell_num(row, rc, RC_NUH);
+    res.M.value = cell_num(row, rc, RC_M);
+    res.model = model;
+    res.ncurves = 1;
+    res.curves = &cr;
+    cr.probe = in.curves[0].probe;
+    cr.branch = in.curves[0].branch;
+    cr.n = in.curves[0].n;
+    cr.model = model;
+    cr.z0 = cell_num(row, rc, RC_Z0);
+    cr.F0 = cell_num(row, rc, RC_F0);
+    cr.slope = cell_num(row, rc, RC_SLOPE);
+    cr.pulloff_determined = isfinite(cell_num(row, rc, RC_PPO));
+    cr.pulloff.delta_po = cr.pulloff.delta_detach = cr.pulloff.P_po = NAN;
+    s = isfinite(cr.slope) ? cr.slope : 0.0;
+    mat.w = isfinite(res.w.value) ? res.w.value : res.w.upper_bound_only ? 0.0 : NAN;
+    mat.Estar = res.Estar.value;
+    mat.nu = isfinite(res.nu.value) ? res.nu.value : 0.3;
+    if (!isfinite(mat.Estar) && isfinite(res.M.value)) {
+        mat.Estar = res.M.value;
+        mat.nu = 0.0;
+    }
+    if (isfinite(mat.w) && isfinite(mat.Estar) && isfinite(cr.z0) && isfinite(cr.F0)
+        && lf_model_type_find(model) != NULL
+        && (m = lf_model_alloc(lf_model_type_find(model), &in.curves[0].probe, &err)) != NULL
+        && (delta = malloc((cr.n ? cr.n : 1) * sizeof *delta)) != NULL
+        && (fitted = malloc((cr.n ? cr.n : 1) * sizeof *fitted)) != NULL
+        && (ev = malloc((cr.n ? cr.n : 1) * sizeof *ev)) != NULL) {
+        lf_pulloff po;
+        if (lf_model_pulloff(m, &mat, &po, &err) == LF_OK)
+            cr.pulloff = po;
+        for (i = 0; i < cr.n; i++)
+            delta[i] = in.curves[0].depth[i] - cr.z0;
+        if (lf_model_eval(m, &mat, cr.branch, cr.n, delta, ev, &err) == LF_OK) {
+            for (i = 0; i < cr.n; i++)
+                fitted[i] = ev[i].P + cr.F0 + s * delta[i];
+            cr.fitted = fitted;
+        }
+    }
+    fit_json(f, &in, &res, rc[RC_SAMPLE] >= 0 ? row[rc[RC_SAMPLE]] : "");
+    lf_model_free(m);
+    free(delta);
+    free(fitted);
+    free(ev);
+    lf_fit_input_free(&in);
+}
+
 int
 cli_page_map(const char *file, const char *results, const cli_page_store *s,
              const char *command_line, char *msg, size_t n)
 {
     lf_table *t = NULL;
     lf_error err;
-    long col[sizeof map_columns / sizeof map_columns[0]];
+    long col[sizeof map_columns / sizeof map_columns[0]], rc[NRC];
     char *buf = NULL;
     size_t len = 0, r, i, ncol = 0;
     FILE *f;
@@ -710,9 +890,15 @@ cli_page_map(const char *file, const char *results, const cli_page_store *s,
         free(path);
     }
     fputs(",\"fits\":[", f);
+    for (i = 0; s == NULL && i < NRC; i++)
+        rc[i] = lf_table_column(t, rc_name[i]);
     for (r = 0; r < t->nrows; r++) {
         fputs(r ? ",\n" : "\n", f);
-        fputs(s != NULL && r < s->n && s->fit[r] != NULL ? s->fit[r] : "null", f);
+        if (s == NULL) {        /* the results alone: each curve from its file */
+            row_fit_json(f, t->cells + r * t->ncols, rc);
+            fputc('}', f);
+        } else
+            fputs(r < s->n && s->fit[r] != NULL ? s->fit[r] : "null", f);
     }
     fputs("]}", f);
     lf_table_free(t);

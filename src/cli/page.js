@@ -772,6 +772,7 @@ function mapPage() {
     keep.addEventListener('change', function () { excluded[r] = keep.checked ? 0 : 1; refresh(); });
     panel.appendChild(el('label', {}, [keep, ' keep this fit in the exported plan']));
     panel.appendChild(el('button', { type: 'button', text: 'close', style: 'margin-left:1em', onclick: function () { history.back(); } }));
+    if (f && f.note) panel.appendChild(el('p', { cls: 'note', id: 'curve-note', text: f.note }));
     if (f && f.c && f.c.length) {
       f.c.forEach(function (p, j) {
         if (!p.q) return;
@@ -779,9 +780,7 @@ function mapPage() {
         curveChart(panel, p, p.z0, p.F0, st === 'noconv' ? 'did not converge' : st === 'misfit' ? 'the model does not describe this curve' : null,
                    { adhesion: f.c.length === 1 ? get(r, 'adhesion_force_N') : null });
       });
-    } else if (f == null && D.fits.every(function (x) { return x == null; })) {
-      panel.appendChild(el('p', { cls: 'note', text: 'This report holds the results only (layerfit map RESULTS --report); `layerfit fit --batch ... --report` keeps every curve with its fit to draw here.' }));
-    } else panel.appendChild(el('p', { cls: 'note', text: 'No curve to draw: the fit failed before a result.' }));
+    } else if (!(f && f.note)) panel.appendChild(el('p', { cls: 'note', text: 'No curve to draw: the fit failed before a result.' }));
     drawMaps();
     drawTable();
   }

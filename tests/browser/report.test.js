@@ -182,13 +182,20 @@ async function mapReport(browser) {
 }
 
 // `layerfit map r.csv --report`: the results alone, the same maps; a click
-// shows the numbers and says where the curves are drawn
+// draws the curve redrawn from its file, as the batch's page draws it
 async function resultsOnly(browser) {
   const { page, errors } = await open(browser, 'results.html', '#curve=3');
   check(await page.$('#heatmap-w_J_m2') !== null, 'results page: the heat map of w');
   const rows = results(path.join(dir, 'r.csv'));
   check(await page.$eval('#curve-file', e => e.title) === rows[2].file, 'results page: #curve=3 opens fit 3');
-  check(await page.$eval('#curve-panel', e => /fit --batch/.test(e.textContent)), 'results page: says which report draws the curves');
+  check(await page.$('#curve-panel canvas') !== null, 'results page: the curve panel draws the curve and its fit');
+  const batch = await open(browser, 'map.html', '#curve=3');
+  check(await canvasImage(page, '#curve-panel canvas') === await canvasImage(batch.page, '#curve-panel canvas'),
+        'results page: curve 3 drawn as the batch page draws it');
+  await batch.page.close();
+  const head = await page.evaluate(async () => (await (await fetch(document.getElementById('export-plan').href)).text()).split('\n')[0]);
+  check(head === 'file,index,sample,k,R_m,b_m,interface,nu,segment', 'results page: the export is a plan (' + head + ')');
+  await page.screenshot({ path: path.join(shots, 'results.png'), fullPage: true });
   check(errors.length === 0, 'results page: no console error (' + errors.join(' | ') + ')');
   await page.close();
 }

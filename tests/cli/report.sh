@@ -90,6 +90,35 @@ assert len(near) >= 10, len(near)
 for z, F in near:    # within a step of the map's quantization
     assert any(abs(z - a) <= 1.5e-3 * span and abs(F - b) <= 1.5e-3 * fspan for a, b in kept), (z, F)
 PY
+    # the page of the results alone (`map R.csv --report`) redraws each
+    # curve from its file and the row's probe, offsets and material: the
+    # same points, model and plan rows as the batch's page; a changed file
+    # and a missing one are said, not drawn; a joint fit is said
+    has "batch rows: the curve's probe and offsets" "$tmp/m.csv" ",instrument_model,k,R_m,b_m,interface,tip,half_angle_rad,B,segment,z0_m,F0_N,slope_N_m,nu_held"
+    run_ok map "$tmp/m.csv" --report "$tmp/mr.html"
+    cp -r "$tmp/m" "$tmp/m2"
+    sed "s#$tmp/m/#$tmp/m2/#g" "$tmp/m.csv" >"$tmp/m2.csv"
+    echo "# changed" >>"$(sed -n 2p "$tmp/m2.csv" | cut -d, -f3)"
+    rm "$(sed -n 3p "$tmp/m2.csv" | cut -d, -f3)"
+    run_ok map "$tmp/m2.csv" --report "$tmp/m2.html"
+    awk -F, 'NR == 1 { print $0 ",sample" } NR > 1 { print $0 ",s1" }' "$tmp/d/plan.csv" >"$tmp/d/joint.csv"
+    "$LF" fit --batch "$tmp/d/joint.csv" --out "$tmp/j.csv" --quiet >/dev/null 2>&1
+    run_ok map "$tmp/j.csv" --report "$tmp/j.html"
+    python3 - "$tmp/m.html" "$tmp/mr.html" "$tmp/m2.html" "$tmp/j.html" <<'PY' && ok || bad "map R.csv --report draws the batch page's curves, notes a changed or missing file"
+import json, sys
+def data(path):
+    s = open(path, encoding="utf-8").read()
+    a = s.index('id="lf-data">') + len('id="lf-data">')
+    return json.loads(s[a:s.index("</script>", a)])["fits"]
+batch, alone, changed, joint = (data(p) for p in sys.argv[1:])
+assert len(batch) == 4 and all(f["c"] and "mf" in f["c"][0] for f in batch)
+assert alone == batch, [(a == b) for a, b in zip(alone, batch)]
+assert changed[0]["c"] == [] and "has changed since it was fitted" in changed[0]["note"], changed[0]
+assert changed[1]["c"] == [] and "Not drawn" in changed[1]["note"], changed[1]
+assert changed[0]["p"][0][3:] == batch[0]["p"][0][3:]     # still in the exported plan
+assert changed[2]["c"] == batch[2]["c"]
+assert joint[0]["c"] == [] and "joint fit" in joint[0]["note"], joint
+PY
 fi
 
 # headless Chromium: the DOM its script builds holds the tables and figures
