@@ -85,8 +85,9 @@ enum { RHO_D, RHO_P, RHO_0 };
 typedef struct prodpoly prodpoly;
 typedef struct {
     double nu;                    /* as asked for (0 when frictionless) */
-    const prodpoly *pp;           /* the products' polynomials (frictionless
-                                     tables' shared mixdata), or NULL */
+    const prodpoly *pp;           /* the products' polynomials (a frictionless
+                                     table's shared mixdata, a bonded held
+                                     nu's), or NULL */
     lf_exact_mix mix;
     lf_exact_premix premix;       /* bonded: the mix flattened for this nu */
     double r[3][GRID_N];          /* rho_d, rho_p, rho_0 at the nodes */
@@ -138,6 +139,8 @@ mix_u(const lf_exact_mix *mx, double ln_hR, double u, double F[4], double g[4], 
  * use by eval or pulloff without allocating. */
 typedef struct {
     _Atomic(const lf_exact_table *) tab[LF_EXACT_NY + 2];
+    _Atomic(const void *) held;   /* bonded: the mixdata of the nu last
+                                     prepared alone (held_mixdata), or NULL */
     unsigned long long serial;    /* for the pull-off memo */
     probe_consts pc;
     _Atomic unsigned long clock;
@@ -413,28 +416,51 @@ slot_claim(exact_state *st)
 #define PP_TAU (PP_D2 + 4 * 3)
 #define PP_MID (PP_TAU + PP_NC)
 #define PP_STRIDE (PP_MID + 1)
+/* a bonded mix's: then d ln f_j/dnu (its table's cubic) at 4 n + j */
+#define PP_NU PP_STRIDE
+#define PP_STRIDE_NU (PP_NU + 16)
 
 struct prodpoly {
     double u0, hs, inv_hs;   /* sub-cell q: [u0 + q hs, u0 + (q + 1) hs] */
     size_t nq;               /* sub-cells */
-    double *c;               /* sub-cell q at c + PP_STRIDE q */
+    size_t stride;           /* PP_STRIDE, or PP_STRIDE_NU for a bonded mix */
+    double *c;               /* sub-cell q at c + stride q */
 };
+
+/* The one table whose cubics in u a mix evaluates inside the grid: a
+ * frictionless table, or a bonded mix flattened for its nu. */
+static const lf_exact_table *
+mix_table(const lf_exact_mix *mx)
+{
+    return mx->pm != NULL ? &mx->pm->pre : mx->t[0];
+}
 
 /* The storage prodpoly_build needs for table t (beyond sizeof(mixdata)),
  * with room to align the coefficients to 16 bytes. */
 static size_t
-prodpoly_size(const lf_exact_table *t)
+prodpoly_size(const lf_exact_table *t, int bonded)
 {
-    return sizeof(prodpoly) + 16 + (t->n - 1) * PP_SUB * PP_STRIDE * sizeof(double);
+    return sizeof(prodpoly) + 16
+           + (t->n - 1) * PP_SUB * (bonded ? PP_STRIDE_NU : PP_STRIDE) * sizeof(double);
 }
 
-/* Build the polynomials of the frictionless mix mx (one table) into mem
- * (prodpoly_size bytes); returns them. */
+/* The constant third derivative on a table's cell of the cubic Hermite
+ * interpolant with values F[0], F[NFUN] and slopes G[0], G[NFUN]. */
+static double
+cubic_d3(const double *F, const double *G, double h)
+{
+    return (12.0 * (F[0] - F[LF_EXACT_NFUN]) + 6.0 * h * (G[0] + G[LF_EXACT_NFUN])) / (h * h * h);
+}
+
+/* Build the polynomials of the mix mx (one frictionless table, or a
+ * flattened bonded mix, then with its d ln f/dnu) into mem (prodpoly_size
+ * bytes); returns them. */
 static const prodpoly *
 prodpoly_build(void *mem, const lf_exact_mix *mx, double k)
 {
-    const lf_exact_table *t = mx->t[0];
+    const lf_exact_table *t = mix_table(mx), *nu = mx->pm != NULL ? &mx->pm->pre_nu : NULL;
     prodpoly *pp = mem;
+    lf_exact_mix hm;
     size_t i, q, j, n;
 
     pp->c = (double *) (((uintptr_t) (pp + 1) + 15) & ~(uintptr_t) 15);
@@ -442,13 +468,24 @@ prodpoly_build(void *mem, const lf_exact_mix *mx, double k)
     pp->inv_hs = 1.0 / pp->hs;
     pp->u0 = t->l0;
     pp->nq = (t->n - 1) * PP_SUB;
+    pp->stride = nu != NULL ? PP_STRIDE_NU : PP_STRIDE;
+    if (nu != NULL) {
+        /* d ln f/dnu of a bonded mix: its flattened table alone */
+        memset(&hm, 0, sizeof hm);
+        hm.m = 1;
+        hm.t[0] = nu;
+        hm.wl[0] = 1.0;
+    }
     for (i = 0; i + 1 < t->n; i++) {
         const double *Fa = t->F + LF_EXACT_NFUN * i, *Ga = t->G + LF_EXACT_NFUN * i;
-        double F3[4];
-        /* the cell's constant third derivative of each ln f */
-        for (j = 0; j < 4; j++)
-            F3[j] = (12.0 * (Fa[j] - Fa[j + LF_EXACT_NFUN])
-                     + 6.0 * t->h * (Ga[j] + Ga[j + LF_EXACT_NFUN])) / (t->h * t->h * t->h);
+        double F3[4], H3[4];
+        /* the cell's constant third derivative of each ln f (and of each
+         * d ln f/dnu) */
+        for (j = 0; j < 4; j++) {
+            F3[j] = cubic_d3(Fa + j, Ga + j, t->h);
+            if (nu != NULL)
+                H3[j] = cubic_d3(nu->F + LF_EXACT_NFUN * i + j, nu->G + LF_EXACT_NFUN * i + j, t->h);
+        }
         for (q = 0; q < PP_SUB; q++) {
             const size_t qq = i * PP_SUB + q;
             const double u = t->l0 + (double) i * t->h + ((double) q + 0.5) * pp->hs;
@@ -465,8 +502,18 @@ prodpoly_build(void *mem, const lf_exact_mix *mx, double k)
             cc[3][2] = 0.5 * dg[3];                cc[3][3] = F3[3] / 6.0;
             cc[4][0] = u;                          cc[4][1] = 1.0;
             cc[4][2] = 0.0;                        cc[4][3] = 0.0;
+            if (nu != NULL) {
+                double H[4], gH[4], dgH[4], *out = pp->c + pp->stride * qq;
+                lf_exact_mix_eval_u(&hm, u, H, gH, dgH, NULL, NULL);
+                for (j = 0; j < 4; j++) {
+                    out[PP_NU + j] = H[j];
+                    out[PP_NU + 4 + j] = gH[j];
+                    out[PP_NU + 8 + j] = 0.5 * dgH[j];
+                    out[PP_NU + 12 + j] = H3[j] / 6.0;
+                }
+            }
             for (j = 0; j < PP_NF; j++) {
-                double y[PP_NC], *out = pp->c + PP_STRIDE * qq;
+                double y[PP_NC], *out = pp->c + pp->stride * qq;
                 y[0] = exp(cc[j][0]);
                 for (n = 1; n < PP_NC; n++)
                     y[n] = (cc[j][1] * y[n - 1] + (n >= 2 ? 2.0 * cc[j][2] * y[n - 2] : 0.0)
@@ -524,7 +571,7 @@ table_mixdata(exact_state *st, const lf_probe *pr, lf_error *err)
         return NULL;
     if ((ready = shared_mixdata(st)) != NULL)
         return ready;
-    if ((md = malloc(sizeof(mixdata) + prodpoly_size(t))) == NULL)
+    if ((md = malloc(sizeof(mixdata) + prodpoly_size(t, 0))) == NULL)
         return NULL;
     if (mixdata_build(md, st, pr, 0.0, err) != LF_OK) {
         free(md);
@@ -540,6 +587,61 @@ table_mixdata(exact_state *st, const lf_probe *pr, lf_error *err)
     return md;
 }
 
+/* ---- a bonded layer at a held nu ----------------------------------
+ *
+ * A fit that holds nu prepares its models for that nu alone (fit/), and
+ * then evaluates them many times there: the mixdata of that nu is built
+ * with its products' polynomials, as a frictionless table's (about 1 MB
+ * and 0.3-0.5 ms), once per process: a list on the `derived` member of
+ * the nu's first node table (unused otherwise by bonded tables; a list's
+ * first member is its link, which lf_exact_table_free follows), at most
+ * HELD_MAX nu per node table (beyond, today's path).  A fit with nu free
+ * never builds one. */
+#define HELD_MAX 8
+
+typedef struct held_md held_md;
+struct held_md {
+    held_md *next;       /* first member (exact.h) */
+    uint64_t key;        /* bits of nu */
+    mixdata md;          /* then its polynomials */
+};
+
+static const mixdata *
+held_mixdata(exact_state *st, const lf_probe *pr, double nu)
+{
+    lf_exact_mix mx;
+    lf_exact_table *t0;
+    held_md *h, *head;
+    const uint64_t key = lf_bits(nu);
+    int count = 0;
+    void *old;
+
+    if (pr->tip == LF_TIP_SPHERE || state_mix(st, pr, nu, &mx, NULL) != LF_OK)
+        return NULL;
+    t0 = (lf_exact_table *) mx.t[0];
+    head = atomic_load_explicit(&t0->derived, memory_order_acquire);
+    for (h = head; h != NULL; h = h->next, count++)
+        if (h->key == key)
+            return &h->md;
+    if (count >= HELD_MAX || (h = malloc(sizeof *h + prodpoly_size(t0, 1))) == NULL)
+        return NULL;
+    h->key = key;
+    if (mixdata_build(&h->md, st, pr, nu, NULL) != LF_OK || h->md.mix.pm == NULL
+        || mix_table(&h->md.mix)->n != t0->n) {
+        free(h);
+        return NULL;
+    }
+    h->md.pp = prodpoly_build(h + 1, &h->md.mix, pr->k);
+    /* published at the head; a key pushed twice by two threads at once is
+     * harmless (the same data, the first found is used) */
+    old = head;
+    do
+        h->next = old;
+    while (!atomic_compare_exchange_weak_explicit(&t0->derived, &old, h, memory_order_acq_rel,
+                                                  memory_order_acquire));
+    return &h->md;
+}
+
 /* The mixdata of nu for one call: a frictionless table's shared one, from
  * a slot of the state (*held then holds a reference, released by
  * mixdata_done), built into a fresh slot, or, with no state or no free
@@ -552,7 +654,13 @@ mixdata_get(exact_state *st, const lf_probe *pr, double nu, mixdata *local,
     int status;
 
     *held = NULL;
-    if (pr->base != LF_BASE_BONDED) {
+    if (pr->base == LF_BASE_BONDED && st != NULL) {
+        const mixdata *hm = atomic_load_explicit(&st->held, memory_order_acquire);
+        if (hm != NULL && lf_bits(hm->nu) == lf_bits(nu)) {
+            *out = hm;
+            return LF_OK;
+        }
+    } else if (pr->base != LF_BASE_BONDED) {
         nu = 0.0;
         /* a frictionless table's shared mixdata is a power law's: a
          * sphere's conditions depend on its R/h too, kept in its slot */
@@ -780,7 +888,7 @@ curve_poly(const exact_ctx *c, double u, exact_pt *o)
 
     if (!(x >= 0.0 && x < (double) pp->nq))
         return 0;
-    a = pp->c + PP_STRIDE * (size_t) x;
+    a = pp->c + pp->stride * (size_t) x;
     t = u - a[PP_MID];
     t2 = t * t;
     t4 = t2 * t2;
@@ -1184,7 +1292,7 @@ poly_newton(const exact_ctx *c, poly_step *s)
 
     if (!(u > s->lo && u < s->hi) || !(x >= 0.0 && x < (double) pp->nq))
         return -1;
-    s->a = pp->c + PP_STRIDE * (size_t) x;
+    s->a = pp->c + pp->stride * (size_t) x;
     s->t = u - s->a[PP_MID];
     s->t2 = s->t * s->t;
     s->t4 = s->t2 * s->t2;
@@ -1239,7 +1347,7 @@ poly_newton(const exact_ctx *c, poly_step *s)
  * products and tau at s->u carried to the root (curve_advance2), then
  * fill_point's. */
 LF_KERNEL void
-poly_finish(const exact_ctx *c, const poly_step *s, lf_eval *e)
+poly_finish(const exact_ctx *c, int bonded, const poly_step *s, lf_eval *e)
 {
     const double *a = s->a, t = s->t, t2 = s->t2, t4 = s->t4, du = s->du;
     const pp_v2 y = pp_val2(a + PP_VAL + 2, t, t2, t4), y1 = pp_d12(a + PP_D1 + 2, t, t2, t4);
@@ -1265,6 +1373,17 @@ poly_finish(const exact_ctx *c, const poly_step *s, lf_eval *e)
     e->dP_dlogw = lf_capped(-0.5 * Ssh + dPdd * 0.5 * shift);
     e->dP_dlogE = lf_capped(P1 - 0.5 * Ssh - dPdd * 0.5 * shift);
     e->dP_dnu = 0.0;
+    if (bonded) {
+        /* d/dnu at fixed tau from the mix at the root (curve_from's, with
+         * A1 tau^k d = delta + shift there) */
+        const double tr = t + du;
+        const pp_v2 h01 = pp_ld(a + PP_NU) + tr * (pp_ld(a + PP_NU + 4) + tr * (pp_ld(a + PP_NU + 8)
+                                                  + tr * pp_ld(a + PP_NU + 12)));
+        const pp_v2 h23 = pp_ld(a + PP_NU + 2) + tr * (pp_ld(a + PP_NU + 6) + tr * (pp_ld(a + PP_NU + 10)
+                                                      + tr * pp_ld(a + PP_NU + 14)));
+        e->dP_dnu = lf_capped(P1 * h23[1] - Ssh * (h01[0] - h01[1])
+                              - dPdd * ((s->target + shift) * h23[0] + shift * h01[1]));
+    }
 }
 
 /* The evaluation at ln tau = u from the curve there. */
@@ -1297,6 +1416,7 @@ exact_alloc(void **state, const lf_probe *probe, lf_error *err)
         return lf_fail(err, LF_ENOMEM, "out of memory (exact model)");
     for (i = 0; i < LF_EXACT_NY + 2; i++)
         atomic_init(&st->tab[i], NULL);
+    atomic_init(&st->held, NULL);
     st->nslot = nslot;
     for (i = 0; i < nslot; i++) {
         atomic_init(&st->slots[i].word, SLOT_EMPTY);
@@ -1340,6 +1460,11 @@ exact_prepare(void *state, const lf_probe *probe, double nu_lo, double nu_hi, lf
     for (i = lo.node0; i <= hi.node0 + 3; i++)
         if ((status = resolve(state, probe, i, &t, err)) != LF_OK)
             return status;
+    if (nu_lo == nu_hi) {
+        /* nu held: its mixdata with polynomials (NULL: today's path) */
+        exact_state *st = state;
+        atomic_store_explicit(&st->held, held_mixdata(st, probe, nu_lo), memory_order_release);
+    }
     return LF_OK;
 }
 
@@ -1421,7 +1546,7 @@ eval_point(const exact_ctx *c, int bonded, int fast, double delta, double guess,
 #define CHUNK 16
 
 static int
-eval_runs(const exact_ctx *c, int load, double start, size_t n, const double *delta,
+eval_runs(const exact_ctx *c, int bonded, int load, double start, size_t n, const double *delta,
           lf_eval *out)
 {
     warm w[NRUN];
@@ -1468,7 +1593,7 @@ eval_runs(const exact_ctx *c, int load, double start, size_t n, const double *de
                     continue;
                 }
                 s->a = NULL;
-                if (eval_point(c, 0, 1, delta[i], warm_guess(&w[r], delta[i]), &out[i], &w[r])
+                if (eval_point(c, bonded, 1, delta[i], warm_guess(&w[r], delta[i]), &out[i], &w[r])
                     != LF_OK)
                     return LF_EINVAL;
             }
@@ -1476,7 +1601,7 @@ eval_runs(const exact_ctx *c, int load, double start, size_t n, const double *de
         for (r = 0; r < nrun; r++)
             for (j = 0; j < nj; j++)
                 if (st[r][j].a != NULL)
-                    poly_finish(c, &st[r][j], &out[r * len + j0 + j]);
+                    poly_finish(c, bonded, &st[r][j], &out[r * len + j0 + j]);
     }
     return LF_OK;
 }
@@ -1494,8 +1619,8 @@ eval_points(const exact_ctx *c, int bonded, int fast, lf_branch branch, size_t n
     warm w = { NAN, NAN, NAN, NAN, NAN, NAN };
     size_t i;
 
-    if (fast && !bonded && c->pp != NULL)
-        return eval_runs(c, load, start, n, delta, out);
+    if (fast && c->pp != NULL)
+        return eval_runs(c, bonded, load, start, n, delta, out);
     for (i = 0; i < n; i++) {
         lf_eval *e = &out[i];
         if (!touching(c, load, start, delta[i])) {
