@@ -591,54 +591,80 @@ table_mixdata(exact_state *st, const lf_probe *pr, lf_error *err)
  *
  * A fit that holds nu prepares its models for that nu alone (fit/), and
  * then evaluates them many times there: the mixdata of that nu is built
- * with its products' polynomials, as a frictionless table's (about 1 MB
- * and 0.3-0.5 ms), once per process: a list on the `derived` member of
- * the nu's first node table (unused otherwise by bonded tables; a list's
- * first member is its link, which lf_exact_table_free follows), at most
- * HELD_MAX nu per node table (beyond, today's path).  A fit with nu free
- * never builds one. */
+ * with its products' polynomials, as a frictionless table's (about 1.3
+ * MB and 1 ms), once per process: a list on the `derived` member of the
+ * nu's first node table (unused otherwise by bonded tables; a block's
+ * first member is its link, which lf_exact_table_free follows).  Built
+ * the second time a nu is prepared (a map's second curve, a fit's
+ * second start), so that a nu held once (a profile's refits at many nu)
+ * costs a small note and no build; at most HELD_MAX nu per node table
+ * (beyond, today's path).  A fit with nu free never builds one. */
 #define HELD_MAX 8
+#define HELD_NOTES 64
 
-typedef struct held_md held_md;
-struct held_md {
-    held_md *next;       /* first member (exact.h) */
+typedef struct held_note held_note;
+struct held_note {
+    held_note *next;     /* first member (exact.h) */
     uint64_t key;        /* bits of nu */
-    mixdata md;          /* then its polynomials */
+    int full;            /* a held_md (else a note alone) */
 };
+typedef struct {
+    held_note note;
+    mixdata md;          /* then its polynomials */
+} held_md;
+
+/* Publish h at the head of t's list (a nu pushed twice by two threads at
+ * once is harmless: the same data, the first found is used). */
+static void
+held_push(lf_exact_table *t, held_note *h)
+{
+    void *old = atomic_load_explicit(&t->derived, memory_order_acquire);
+
+    do
+        h->next = old;
+    while (!atomic_compare_exchange_weak_explicit(&t->derived, &old, h, memory_order_acq_rel,
+                                                  memory_order_acquire));
+}
 
 static const mixdata *
 held_mixdata(exact_state *st, const lf_probe *pr, double nu)
 {
     lf_exact_mix mx;
     lf_exact_table *t0;
-    held_md *h, *head;
+    held_note *n;
+    held_md *h;
     const uint64_t key = lf_bits(nu);
-    int count = 0;
-    void *old;
+    int full = 0, notes = 0, seen = 0;
 
     if (pr->tip == LF_TIP_SPHERE || state_mix(st, pr, nu, &mx, NULL) != LF_OK)
         return NULL;
     t0 = (lf_exact_table *) mx.t[0];
-    head = atomic_load_explicit(&t0->derived, memory_order_acquire);
-    for (h = head; h != NULL; h = h->next, count++)
-        if (h->key == key)
-            return &h->md;
-    if (count >= HELD_MAX || (h = malloc(sizeof *h + prodpoly_size(t0, 1))) == NULL)
+    for (n = atomic_load_explicit(&t0->derived, memory_order_acquire); n != NULL; n = n->next) {
+        if (n->full && n->key == key)
+            return &((held_md *) n)->md;
+        seen |= n->key == key;
+        full += n->full;
+        notes += !n->full;
+    }
+    if (!seen) {
+        if (notes < HELD_NOTES && (n = malloc(sizeof *n)) != NULL) {
+            n->key = key;
+            n->full = 0;
+            held_push(t0, n);
+        }
         return NULL;
-    h->key = key;
+    }
+    if (full >= HELD_MAX || (h = malloc(sizeof *h + prodpoly_size(t0, 1))) == NULL)
+        return NULL;
+    h->note.key = key;
+    h->note.full = 1;
     if (mixdata_build(&h->md, st, pr, nu, NULL) != LF_OK || h->md.mix.pm == NULL
         || mix_table(&h->md.mix)->n != t0->n) {
         free(h);
         return NULL;
     }
     h->md.pp = prodpoly_build(h + 1, &h->md.mix, pr->k);
-    /* published at the head; a key pushed twice by two threads at once is
-     * harmless (the same data, the first found is used) */
-    old = head;
-    do
-        h->next = old;
-    while (!atomic_compare_exchange_weak_explicit(&t0->derived, &old, h, memory_order_acq_rel,
-                                                  memory_order_acquire));
+    held_push(t0, &h->note);
     return &h->md;
 }
 

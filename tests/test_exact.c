@@ -574,9 +574,10 @@ test_fast_grid(void)
 }
 
 /* A bonded model prepared for one nu alone (a fit holding nu) evaluates
- * with that nu's data and products' polynomials, built once per process:
- * a second model prepared for the same nu builds no grid of its own and
- * gives the same bits, and both agree with lf_exact_eval_precise. */
+ * with that nu's data and products' polynomials, built once per process
+ * the second time that nu is prepared: a third model prepared for it
+ * builds no grid of its own and gives the same bits, and all agree with
+ * lf_exact_eval_precise. */
 static void
 test_held_nu(void)
 {
@@ -584,11 +585,21 @@ test_held_nu(void)
     lf_material m = {0.02, 5e8, 0.41};
     static double d[NP_FAST];
     static lf_eval ea[NP_FAST], eb[NP_FAST];
+    lf_model *first = lf_model_alloc(&lf_model_exact, &pr, NULL);
     lf_model *a = lf_model_alloc(&lf_model_exact, &pr, NULL);
     lf_model *b = lf_model_alloc(&lf_model_exact, &pr, NULL);
     lf_pulloff po;
     unsigned long n0, n1;
 
+    if (first == NULL || lf_model_prepare(first, m.nu, m.nu, NULL) != LF_OK) {
+        t_true(0, "held nu: first prepare");
+        lf_model_free(first);
+        first = NULL;
+    }
+    fast_depths(-1e-8, 3e-8, d);
+    if (first != NULL)
+        fast_vs_precise(first, &pr, &m, LF_BRANCH_UNLOAD, d, "held nu k 2.5, prepared once");
+    lf_model_free(first);
     if (a == NULL || b == NULL || lf_model_prepare(a, m.nu, m.nu, NULL) != LF_OK
         || lf_model_pulloff(a, &m, &po, NULL) != LF_OK) {
         t_true(0, "held nu: alloc, prepare, pull-off");
