@@ -597,10 +597,16 @@ table_mixdata(exact_state *st, const lf_probe *pr, lf_error *err)
  * first member is its link, which lf_exact_table_free follows).  Built
  * the second time a nu is prepared (a map's second curve, a fit's
  * second start), so that a nu held once (a profile's refits at many nu)
- * costs a small note and no build; at most HELD_MAX nu per node table
- * (beyond, today's path).  A fit with nu free never builds one. */
+ * costs a small note and no build.  Models are also prepared at a free
+ * nu's current value (fit/choose.c), so the process builds at most
+ * HELD_MAX in all (about 10 MB and 10 ms; beyond, today's path), and
+ * notes at most HELD_NOTES nu per node table. */
 #define HELD_MAX 8
 #define HELD_NOTES 64
+
+/* Held nu built in the process (never decremented: after
+ * lf_exact_cache_clear, tests only, fewer can be built). */
+static _Atomic int held_built;
 
 typedef struct held_note held_note;
 struct held_note {
@@ -634,7 +640,7 @@ held_mixdata(exact_state *st, const lf_probe *pr, double nu)
     held_note *n;
     held_md *h;
     const uint64_t key = lf_bits(nu);
-    int full = 0, notes = 0, seen = 0;
+    int notes = 0, seen = 0;
 
     if (pr->tip == LF_TIP_SPHERE || state_mix(st, pr, nu, &mx, NULL) != LF_OK)
         return NULL;
@@ -643,7 +649,6 @@ held_mixdata(exact_state *st, const lf_probe *pr, double nu)
         if (n->full && n->key == key)
             return &((held_md *) n)->md;
         seen |= n->key == key;
-        full += n->full;
         notes += !n->full;
     }
     if (!seen) {
@@ -654,15 +659,17 @@ held_mixdata(exact_state *st, const lf_probe *pr, double nu)
         }
         return NULL;
     }
-    if (full >= HELD_MAX || (h = malloc(sizeof *h + prodpoly_size(t0, 1))) == NULL)
+    if (atomic_fetch_add_explicit(&held_built, 1, memory_order_relaxed) >= HELD_MAX)
         return NULL;
-    h->note.key = key;
-    h->note.full = 1;
-    if (mixdata_build(&h->md, st, pr, nu, NULL) != LF_OK || h->md.mix.pm == NULL
+    h = malloc(sizeof *h + prodpoly_size(t0, 1));
+    if (h == NULL || mixdata_build(&h->md, st, pr, nu, NULL) != LF_OK || h->md.mix.pm == NULL
         || mix_table(&h->md.mix)->n != t0->n) {
         free(h);
+        atomic_fetch_sub_explicit(&held_built, 1, memory_order_relaxed);
         return NULL;
     }
+    h->note.key = key;
+    h->note.full = 1;
     h->md.pp = prodpoly_build(h + 1, &h->md.mix, pr->k);
     held_push(t0, &h->note);
     return &h->md;
