@@ -843,34 +843,16 @@ curve_at2(const exact_ctx *c, double u, int want_nu, exact_pt *o)
     curve_from(c, u, F, g, dg, want_nu ? H : NULL, want_nu ? dH : NULL, o);
 }
 
-/* Product j's value, first and second derivative at t from its
- * coefficients (a = the block's first of the kind + j): Estrin's scheme
- * (independent pairs of terms: fewer dependent operations than Horner's). */
-LF_KERNEL double
-pp_val(const double *a, double t, double t2, double t4)
-{
-    return (a[0] + a[4] * t) + t2 * (a[8] + a[12] * t) + t4 * ((a[16] + a[20] * t) + a[24] * t2);
-}
-
-LF_KERNEL double
-pp_d1(const double *a, double t, double t2, double t4)
-{
-    return (a[0] + a[4] * t) + t2 * (a[8] + a[12] * t) + t4 * (a[16] + a[20] * t);
-}
-
-LF_KERNEL double
-pp_d2(const double *a, double t)
-{
-    return a[0] + t * (a[4] + t * 12.0 * a[8]);
-}
-
+/* tau's series at t (Estrin's scheme: independent pairs of terms, fewer
+ * dependent operations than Horner's). */
 LF_KERNEL double
 pp_tau(const double *a, double t, double t2, double t4)
 {
     return (a[0] + a[1] * t) + t2 * (a[2] + a[3] * t) + t4 * ((a[4] + a[5] * t) + a[6] * t2);
 }
 
-/* Two products side by side (a at product 0 or 2 of the kind): the same
+/* Two products' value, first and second derivative at t side by side
+ * (a at product 0 or 2 of the kind), by Estrin's scheme: the same
  * operations on both in one vector register (GCC/Clang vector
  * extensions; plain SSE2). */
 typedef double pp_v2 __attribute__((vector_size(16)));
@@ -925,10 +907,15 @@ curve_poly(const exact_ctx *c, double u, exact_pt *o)
     t = u - a[PP_MID];
     t2 = t * t;
     t4 = t2 * t2;
-    for (j = 0; j < 4; j++) {
-        y[j] = pp_val(a + PP_VAL + j, t, t2, t4);
-        y1[j] = pp_d1(a + PP_D1 + j, t, t2, t4);
-        y2[j] = pp_d2(a + PP_D2 + j, t);
+    for (j = 0; j < 4; j += 2) {
+        const pp_v2 v = pp_val2(a + PP_VAL + j, t, t2, t4), v1 = pp_d12(a + PP_D1 + j, t, t2, t4);
+        const pp_v2 v2 = pp_d22(a + PP_D2 + j, t);
+        y[j] = v[0];
+        y[j + 1] = v[1];
+        y1[j] = v1[0];
+        y1[j + 1] = v1[1];
+        y2[j] = v2[0];
+        y2[j + 1] = v2[1];
     }
     tv = pp_tau(a + PP_TAU, t, t2, t4);
     o->tau = tv;
