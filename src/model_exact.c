@@ -45,10 +45,12 @@
  * interpolant's own second derivatives, exact.h): the root and the values
  * are then off by O(du^3) ~ 1e-18 relative, the derivative columns by
  * O(du^2) <= ~1e-10, far below the tables' own accuracy in derivatives
- * (3e-5, tests/test_exact.c).  On a frictionless layer the curve at u
- * comes from polynomials of its four products, expanded once per table
- * (prodpoly below), instead of the tables' interpolation and four
- * exponentials.  lf_exact_eval_precise skips all this.
+ * (3e-5, tests/test_exact.c).  On a frictionless layer, and on a bonded
+ * one at a nu a fit holds, the curve at u comes from polynomials of its
+ * four products, expanded once per table or held nu (prodpoly below),
+ * instead of the tables' interpolation and four exponentials; the points
+ * are then taken in two runs whose root searches the processor overlaps
+ * (eval_runs).  lf_exact_eval_precise skips all this.
  */
 #include <math.h>
 #include <stdatomic.h>

@@ -409,7 +409,8 @@ test_thin_limit(void)
 
 /* The model's evaluation (warm starts, small Newton steps finished by a
  * second-order expansion, per-nu data kept in the model object, on
- * frictionless layers the curve from its products' polynomials) against
+ * frictionless layers and at a held nu the curve from its products'
+ * polynomials, in two runs of points) against
  * lf_exact_eval_precise, which solves every indentation on its own to
  * rounding.  The finish leaves the root and the values O(du^3) ~ 1e-18
  * from the converged ones (du <= 1e-6), so P and a must agree to 1e-12 of
