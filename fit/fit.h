@@ -586,6 +586,12 @@ typedef struct {
     size_t walk_stamp;         /* moves + 1 at the last walk, 0: none */
     int walk_ok[FIT_NMAT];
     double walk_chi2[FIT_NMAT][FIT_WALK_N];
+    /* the last profile point's fit (hold.c), made again for the next point
+     * of the same parameter, best fit and curves; freed by its owner */
+    lf_fit *held;
+    int held_which;
+    const lf_fit_result *held_best;
+    const lf_fit_curve *held_cc;
 } fit_prof;
 /* hetero.c: a curve estimate with nothing determined, of probe p. */
 void lf_curve_estimate_none(lf_curve_estimate *e, const lf_probe *p);

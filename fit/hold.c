@@ -128,7 +128,17 @@ hold_alloc(fit_prof *p, double v)
     if (p->which != FIT_NU && !has_parameter(p->best, "nu") && s.nu.mode == LF_PARAM_AUTO
         && isfinite(s.nu.value))
         s.nu.mode = LF_PARAM_FIXED;
-    g = lf_fit_alloc(&s, p->nc, p->cc, NULL);
+    if (p->held != NULL && p->held_which == p->which && p->held_best == p->best
+        && p->held_cc == p->cc && p->held->set.nu.mode == s.nu.mode) {
+        /* the last point's fit: the same layout, curves and noise; what a
+         * point sets is set below, the held value here */
+        g = p->held;
+        p->held = NULL;
+        g->set = s;
+        g->mu0 = FIT_LM_MU0;
+    } else {
+        g = lf_fit_alloc(&s, p->nc, p->cc, NULL);
+    }
     if (g == NULL)
         return NULL;
     g->chi2_step = PROFILE_CHI2_STEP;
@@ -179,6 +189,17 @@ hold_alloc(fit_prof *p, double v)
     return g;
 }
 
+/* Keep g, a point's fit, for the next point (hold_alloc). */
+static void
+hold_keep(fit_prof *p, lf_fit *g)
+{
+    lf_fit_free(p->held);
+    p->held = g;
+    p->held_which = p->which;
+    p->held_best = p->best;
+    p->held_cc = p->cc;
+}
+
 /* chi2 minus the best chi2 with parameter `which` held at v (NaN on a
  * failed fit). */
 double
@@ -213,7 +234,7 @@ lf_fit_hold_rise(fit_prof *p, double v)
             }
         }
     }
-    lf_fit_free(g);
+    hold_keep(p, g);
     return out;
 }
 
@@ -251,7 +272,7 @@ lf_fit_hold_predict(fit_prof *p, double v, double *start_rise)
         lf_arrow_free(&A);
     }
     free(gr);
-    lf_fit_free(g);
+    hold_keep(p, g);
     return out;
 }
 
@@ -296,6 +317,7 @@ lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor)
     p.thr = lf_fit_hold_threshold(r);
     up = lf_fit_hold_rise(&p, w * factor);
     open = isfinite(up) && up < p.thr;
+    lf_fit_free(p.held);
     free(p.cc);
     return open;
 }

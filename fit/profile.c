@@ -298,6 +298,8 @@ calibrate(fit_prof *p, double v_hat)
     }
     p->cc = data;
     p->lower_off = lower;
+    lf_fit_free(p->held);       /* a fit of the made-up data */
+    p->held = NULL;
     f95 = lf_fit_f95((double) res->dof);
     if (nt >= PROFILE_BOOT / 2) {
         gsl_sort(t, 1, nt);
@@ -542,6 +544,7 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
     res->profile_fits = p.fits;
     verdicts_follow(res);
     lf_fit_free(p.walker);
+    lf_fit_free(p.held);
     free(p.cc);
     free(p.lower_off);
     return LF_OK;
