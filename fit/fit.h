@@ -511,8 +511,9 @@ void lf_fit_guess_subsample(lf_fit *f, size_t j);
  * largest |force|). */
 double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,
                           size_t n, double fbig, double *work);
-/* The step of a quantized force signal, or 0 (noise.c; work holds n). */
-double lf_fit_quantum(const double *force, size_t n, double fbig, double *work);
+/* The step of a quantized force signal, or 0 (noise.c; work holds n,
+ * start n + 1). */
+double lf_fit_quantum(const double *force, size_t n, double fbig, double *work, size_t *start);
 
 /* iterate.c: the trust-region iteration from x (overwritten with where it
  * stopped) and its stopping rules; adds to run's totals and sets its

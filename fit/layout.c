@@ -130,22 +130,15 @@ sort_by_depth(const double *z, size_t n, size_t *order, depth_index *di)
 }
 
 /* f->order: each curve's points sorted by depth, ties in file order, so
- * that nothing the fit computes depends on the order of the rows. */
-static int
-depth_order(lf_fit *f)
+ * that nothing the fit computes depends on the order of the rows (di:
+ * scratch for the longest curve). */
+static void
+depth_order(lf_fit *f, depth_index *di)
 {
-    size_t j, nmax = 0;
-    depth_index *di;
+    size_t j;
 
     for (j = 0; j < f->ncurves; j++)
-        nmax = f->c[j].data.n > nmax ? f->c[j].data.n : nmax;
-    di = malloc(nmax * sizeof *di);
-    if (di == NULL)
-        return LF_ENOMEM;
-    for (j = 0; j < f->ncurves; j++)
         sort_by_depth(f->c[j].data.depth, f->c[j].data.n, f->order + f->c[j].row, di);
-    free(di);
-    return LF_OK;
 }
 
 const char *
@@ -168,9 +161,10 @@ lf_loss_find(const char *name)
     return -1;
 }
 
-/* Depth span, force scale, guard width and noise of each curve. */
+/* Depth span, force scale, guard width and noise of each curve (start:
+ * scratch of n + 1 for the longest). */
 static int
-curve_scales(lf_fit *f, lf_error *err)
+curve_scales(lf_fit *f, size_t *start, lf_error *err)
 {
     size_t i, j;
 
@@ -202,7 +196,7 @@ curve_scales(lf_fit *f, lf_error *err)
          * rounding error of a step q is uniform, of sd q / sqrt(12) (smooth
          * data on a coarse lattice leave most point-to-point departures at
          * exactly 0, and the median estimate with them) */
-        c->quantum = lf_fit_quantum(c->data.force, c->data.n, fbig, f->ws.work);
+        c->quantum = lf_fit_quantum(c->data.force, c->data.n, fbig, f->ws.work, start);
         c->sigma = lf_fmax(c->sigma, c->quantum / sqrt(12.0));
         lf_fit_guess_subsample(f, j);
     }
@@ -304,6 +298,7 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     lf_fit *f;
     gsl_multifit_nlinear_parameters par = gsl_multifit_nlinear_default_parameters();
     size_t j, nm = sizeof methods / sizeof methods[0], im, nmax;
+    void *scratch = NULL;       /* the depth sort's and the quantum's, of the longest curve */
 
     if (settings->model == NULL || settings->method == NULL) {
         lf_fail(err, LF_EINVAL, "fit settings need a model and a method");
@@ -374,9 +369,10 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     for (j = 0, nmax = 0; j < ncurves; j++)
         nmax = curves[j].n > nmax ? curves[j].n : nmax;
     f->ws.ev = malloc((f->ndata + nmax) * sizeof *f->ws.ev);
-    if (f->order == NULL || f->ws.ev == NULL || work_alloc(f) != LF_OK
-        || depth_order(f) != LF_OK)
+    scratch = malloc(nmax * sizeof(depth_index) + sizeof(size_t));
+    if (f->order == NULL || f->ws.ev == NULL || scratch == NULL || work_alloc(f) != LF_OK)
         goto nomem;
+    depth_order(f, scratch);
     f->ws.scan_ev = f->ws.ev + f->ndata;
     /* GSL's workspace: made when a run first needs it (lf_fit_gsl) */
     f->gsl_par = par;
@@ -391,12 +387,15 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     f->fdf.n = f->nres;
     f->fdf.p = f->np;
     f->fdf.params = f;
-    if (curve_scales(f, err) != LF_OK) {
+    if (curve_scales(f, scratch, err) != LF_OK) {
+        free(scratch);
         lf_fit_free(f);
         return NULL;
     }
+    free(scratch);
     return f;
 nomem:
+    free(scratch);
     lf_fit_free(f);
     lf_fail(err, LF_ENOMEM, "out of memory allocating a fit");
     return NULL;

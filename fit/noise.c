@@ -105,9 +105,12 @@ lf_fit_noise_above(const double *work, size_t cnt, double thr)
 
     if (cnt == 0)
         return 0;
-    for (i = 0; i < cnt; i++) {
+    for (i = 0; i < cnt; i++) {     /* a branch on the rare value near t only */
         const double x = work[i];
-        not_above += x < lo || (!(x > hi) && !(sqrt(x) / 0.6745 > thr));
+        const int below = x < lo, above = x > hi;      /* never both */
+        not_above += (size_t) below;
+        if (below + above == 0)
+            not_above += !(sqrt(x) / 0.6745 > thr);
     }
     return not_above <= cnt / 2;
 }
@@ -303,17 +306,15 @@ lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order
     return lf_fmax(med, fbig > 0 ? 1e-12 * fbig : 1e-300);
 }
 
-/* The step of a quantized force signal (an instrument's converter, or a
- * file written with few digits), or 0 when the forces lie on no lattice.
- * Sorted, the distinct forces (apart by more than 1e-9 of the largest, the
- * rounding of a unit conversion) are apart by multiples of one step q,
- * the smallest gap: quantized when at least QUANTUM_MIN_GAPS gaps and
- * QUANTUM_SHARE of them lie within QUANTUM_TOL of a multiple of q (forces
- * that are not quantized, their gaps random, do so by chance with a
- * probability far below 1e-10).  work holds n. */
-#define QUANTUM_MIN_GAPS 20
-#define QUANTUM_SHARE 0.99
-#define QUANTUM_TOL 0.02
+/* v[0..n-1], finite, sorted into out[0..n-1] in expected linear time for
+ * values spread over their range [lo, hi]: each goes to one of n buckets
+ * of equal width, in order of the buckets, and one pass of insertion then
+ * orders the values that share a bucket (qsort instead once that has moved
+ * values more than SORT_SHIFTS times per value: a far outlier crowds the
+ * rest into one bucket).  Rounded arithmetic is monotone, so a value never
+ * lands in a bucket before a smaller one's: the result is the sort's,
+ * value for value.  start holds n + 1. */
+#define SORT_SHIFTS 4
 static int
 cmp_double(const void *a, const void *b)
 {
@@ -321,17 +322,74 @@ cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+static size_t
+bucket_of(double x, double lo, double scale, size_t n)
+{
+    const double v = (x - lo) * scale, top = (double) (n - 1);
+    return (size_t) (v < top ? v : top);
+}
+
+static void
+sort_spread(const double *v, size_t n, double lo, double hi, double *out, size_t *start)
+{
+    const double scale = (double) n / (hi - lo);
+    size_t i, b, shifts = 0;
+
+    if (!(scale > 0 && scale < HUGE_VAL)) {     /* all equal, or a range out of reach */
+        memcpy(out, v, n * sizeof *out);
+        qsort(out, n, sizeof *out, cmp_double);
+        return;
+    }
+    memset(start, 0, (n + 1) * sizeof *start);
+    for (i = 0; i < n; i++)
+        start[bucket_of(v[i], lo, scale, n) + 1]++;
+    for (b = 1; b <= n; b++)            /* start[b]: where bucket b begins */
+        start[b] += start[b - 1];
+    for (i = 0; i < n; i++)
+        out[start[bucket_of(v[i], lo, scale, n)]++] = v[i];
+    for (i = 1; i < n; i++) {
+        const double x = out[i];
+        size_t k = i;
+        if (!(out[i - 1] > x))
+            continue;
+        do {
+            out[k] = out[k - 1];
+            k--;
+            shifts++;
+        } while (k > 0 && out[k - 1] > x);
+        out[k] = x;
+        if (shifts > SORT_SHIFTS * n) {
+            qsort(out, n, sizeof *out, cmp_double);
+            return;
+        }
+    }
+}
+
+/* The step of a quantized force signal (an instrument's converter, or a
+ * file written with few digits), or 0 when the forces lie on no lattice.
+ * Sorted, the distinct forces (apart by more than 1e-9 of the largest, the
+ * rounding of a unit conversion) are apart by multiples of one step q,
+ * the smallest gap: quantized when at least QUANTUM_MIN_GAPS gaps and
+ * QUANTUM_SHARE of them lie within QUANTUM_TOL of a multiple of q (forces
+ * that are not quantized, their gaps random, do so by chance with a
+ * probability far below 1e-10).  work holds n, start n + 1. */
+#define QUANTUM_MIN_GAPS 20
+#define QUANTUM_SHARE 0.99
+#define QUANTUM_TOL 0.02
 double
-lf_fit_quantum(const double *force, size_t n, double fbig, double *work)
+lf_fit_quantum(const double *force, size_t n, double fbig, double *work, size_t *start)
 {
     const double tol = 1e-9 * fbig;
-    double q = HUGE_VAL, last;
-    size_t i, gaps = 0, on = 0;
+    double q = HUGE_VAL, last, lo, hi;
+    size_t i, gaps = 0, on = 0, off = 0;
 
     if (n < QUANTUM_MIN_GAPS || !(fbig > 0))
         return 0.0;
-    memcpy(work, force, n * sizeof *work);
-    qsort(work, n, sizeof *work, cmp_double);
+    for (i = 1, lo = hi = force[0]; i < n; i++) {      /* finite: no NaN to pass over */
+        lo = force[i] < lo ? force[i] : lo;
+        hi = force[i] > hi ? force[i] : hi;
+    }
+    sort_spread(force, n, lo, hi, work, start);
     for (i = 1, last = work[0]; i < n; i++)
         if (work[i] - last > tol) {
             q = lf_fmin(q, work[i] - last);
@@ -340,10 +398,15 @@ lf_fit_quantum(const double *force, size_t n, double fbig, double *work)
         }
     if (gaps < QUANTUM_MIN_GAPS || !(q < HUGE_VAL))
         return 0.0;
+    /* counted until the gaps off the lattice are too many for the share
+     * (forces on no lattice: after a few) */
     for (i = 1, last = work[0]; i < n; i++)
         if (work[i] - last > tol) {
             double r = (work[i] - last) / q;
-            on += fabs(r - floor(r + 0.5)) <= QUANTUM_TOL;
+            if (fabs(r - floor(r + 0.5)) <= QUANTUM_TOL)
+                on++;
+            else if ((double) (gaps - ++off) < QUANTUM_SHARE * (double) gaps)
+                return 0.0;
             last = work[i];
         }
     return (double) on >= QUANTUM_SHARE * (double) gaps ? q : 0.0;

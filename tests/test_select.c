@@ -4,11 +4,14 @@
  * and every k of small arrays.  After the selection the values below k must
  * be no larger than the k-th and those above no smaller (the median of an
  * even count reads the lower half).  The noise sd's threshold question
- * (fit/noise.c), answered by counting, against the selection. */
+ * (fit/noise.c), answered by counting, against the selection.  The force
+ * quantum (fit/noise.c, sorted by buckets) against the same rule on a
+ * qsort: on lattices, with rounding jitter, noise, outliers and ties. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
 #include "fit.h"
@@ -37,6 +40,59 @@ fill(double *v, size_t n, int kind, gsl_rng *rng)
         case 4: v[i] = 2.5; break;                                      /* all equal */
         default: v[i] = (double) (i % 7 == 0 ? 1 : 0); break;          /* mostly zeros */
         }
+}
+
+/* The quantum by its rule on a qsort (as lf_fit_quantum stood before it
+ * sorted by buckets): the value it must give, bit for bit. */
+static double
+quantum_by_qsort(const double *force, size_t n, double fbig)
+{
+    static double w[4096];
+    const double tol = 1e-9 * fbig;
+    double q = HUGE_VAL, last;
+    size_t i, gaps = 0, on = 0;
+
+    if (n < 20 || !(fbig > 0))
+        return 0.0;
+    memcpy(w, force, n * sizeof *w);
+    qsort(w, n, sizeof *w, cmp);
+    for (i = 1, last = w[0]; i < n; i++)
+        if (w[i] - last > tol) {
+            q = fmin(q, w[i] - last);
+            last = w[i];
+            gaps++;
+        }
+    if (gaps < 20 || !(q < HUGE_VAL))
+        return 0.0;
+    for (i = 1, last = w[0]; i < n; i++)
+        if (w[i] - last > tol) {
+            double r = (w[i] - last) / q;
+            on += fabs(r - floor(r + 0.5)) <= 0.02;
+            last = w[i];
+        }
+    return (double) on >= 0.99 * (double) gaps ? q : 0.0;
+}
+
+/* Forces of one kind: a smooth curve with noise, on a lattice, with
+ * jitter of a unit conversion, with far outliers, crowded near one value,
+ * few levels, and a curve with a lattice broken by one value in fifty. */
+static void
+forces(double *v, size_t n, int kind, gsl_rng *rng)
+{
+    const double q = 3.7e-11;
+    size_t i;
+    for (i = 0; i < n; i++) {
+        const double t = (double) i / (double) n, smooth = 1e-7 * (t * t - 0.3 * t - 0.05);
+        switch (kind) {
+        case 0: v[i] = smooth + 1e-9 * gsl_ran_gaussian_ziggurat(rng, 1.0); break;
+        case 1: v[i] = q * nearbyint((smooth + 1e-9 * gsl_rng_uniform(rng)) / q); break;
+        case 2: v[i] = q * nearbyint(smooth / q) * (1.0 + 1e-15 * (gsl_rng_uniform(rng) - 0.5)); break;
+        case 3: v[i] = i % 97 == 5 ? 1e3 * (smooth + 1e-7) : smooth; break;
+        case 4: v[i] = i == n / 2 ? 1.0 : 1e-9 * gsl_rng_uniform(rng); break;
+        case 5: v[i] = 1e-9 * (double) gsl_rng_uniform_int(rng, 5) - 2e-9; break;
+        default: v[i] = q * nearbyint(smooth / q) + (i % 50 == 7 ? 0.5 * q : 0.0); break;
+        }
+    }
 }
 
 int
@@ -102,6 +158,28 @@ main(void)
                   n);
         }
     t_int(lf_fit_noise_above(v, 0, 1.0), 0, "no departures: not above");
+    /* the quantum, sorted by buckets, against the qsort rule */
+    {
+        static const size_t qsizes[] = { 19, 20, 21, 64, 300, 2600, 4096 };
+        static double f[4096], work[4096];
+        static size_t start[4097];
+        int nonzero = 0;
+        for (kind = 0; kind < 7; kind++)
+            for (is = 0; is < sizeof qsizes / sizeof qsizes[0]; is++) {
+                const size_t n = qsizes[is];
+                double fbig = 0.0, want, got;
+                forces(f, n, kind, rng);
+                for (i = 0; i < n; i++)
+                    fbig = fmax(fbig, fabs(f[i]));
+                want = quantum_by_qsort(f, n, fbig);
+                got = lf_fit_quantum(f, n, fbig, work, start);
+                nonzero += want > 0;
+                t_int(memcmp(&got, &want, sizeof got), 0,
+                      "kind %d, n = %zu: quantum %.17g, by the qsort %.17g", kind, n, got, want);
+            }
+        /* the lattices are found (else the comparison tests little) */
+        t_true(nonzero >= 8, "quantized kinds found quantized (%d)", nonzero);
+    }
     gsl_rng_free(rng);
     return t_summary();
 }
