@@ -313,6 +313,10 @@ typedef struct {
     gsl_vector *x0;      /* np: where an iteration started */
     double *keep;        /* 3 ncurves: offsets kept aside by a second start */
     double *off;         /* 4 ncurves: the guess's offsets (a trial's, the best's) */
+    double *noise_e;     /* ndata: each curve's residuals in force where its noise
+                            was last estimated (lf_fit_curve_noise) */
+    double *noise_s1;    /* 2 ncurves: 1 when noise_e holds curve j's, and its
+                            point-to-point noise sd there (noise.c) */
     fit_arrow_chol jchol;   /* the Cholesky factor of J^T J where the solver
                                last examined it (iterate.c) */
     fit_arrow gsl_jtj;   /* J^T J of GSL's Jacobian (iterate.c) */

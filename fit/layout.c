@@ -235,11 +235,11 @@ work_alloc(lf_fit *f)
      * than a model evaluation of small data) */
     const size_t small = 2 * np                     /* x0_internal, xcache */
                          + (2 * nc + 1) * GUESS_NSUB + GUESS_NODES   /* sub, node */
-                         + 7 * nc                   /* keep, off */
+                         + 9 * nc                   /* keep, off, noise_s1 */
                          + 10 * np                  /* lm.g, lm.D2, lm.colmax, lm.Ah, grad,
                                                        colmax, ainv, gn_x, basin_x, basin_tol */
                          + 6 * np;                  /* lm.x, xt, h, x, x2, x0 */
-    const size_t total = small + 2 * nd + nwork     /* sqrtw, delta, work */
+    const size_t total = small + 3 * nd + nwork     /* sqrtw, delta, noise_e, work */
                          + 4 * nr;                  /* lm.r, rt, r, r2 */
     double *at;
     gsl_vector *v = w->vectors;
@@ -256,6 +256,7 @@ work_alloc(lf_fit *f)
     w->node = take(&at, GUESS_NSUB + GUESS_NODES);
     w->keep = take(&at, 3 * nc);
     w->off = take(&at, 4 * nc);
+    w->noise_s1 = take(&at, 2 * nc);
     w->lm.Ah = take(&at, np);
     w->lm.g = take(&at, np);
     w->lm.D2 = take(&at, np);
@@ -274,6 +275,7 @@ work_alloc(lf_fit *f)
     w->x0 = take_vector(v++, &at, np);
     w->sqrtw = take(&at, nd);
     w->delta = take(&at, nd);
+    w->noise_e = take(&at, nd);
     w->work = take(&at, nwork);
     w->lm.r = take_vector(v++, &at, nr);
     w->lm.rt = take_vector(v++, &at, nr);

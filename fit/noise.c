@@ -131,6 +131,10 @@ lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau
      * the question alone is asked, by counting: white noise stops there,
      * and then the value does not matter) */
     s1 = sm = lf_fit_noise_of(work, departures(c, ord, e, 1, work));
+    /* kept for the shape's noise at stride 1 of the same residuals */
+    memcpy(f->ws.noise_e + c->row, e, n * sizeof *e);
+    f->ws.noise_s1[2 * j] = 1.0;
+    f->ws.noise_s1[2 * j + 1] = s1;
     for (m = 1; 4 * m < n / 2; m *= 2) {
         cnt = departures(c, ord, e, 2 * m, work);
         if (!lf_fit_noise_above(work, cnt, NOISE_GROWTH * sm)) {
@@ -200,7 +204,13 @@ shape(const lf_fit *f, size_t j, const gsl_vector *res, size_t m)
         stride = n / nb / 4;
     if (stride < 1)
         stride = 1;
-    noise = lf_fit_noise_of(work, departures(c, ord, e, stride, work));
+    /* at stride 1 of the residuals whose noise lf_fit_curve_noise
+     * estimated: its value, not computed again */
+    if (stride == 1 && f->ws.noise_s1[2 * j] == 1.0
+        && memcmp(f->ws.noise_e + c->row, e, n * sizeof *e) == 0)
+        noise = f->ws.noise_s1[2 * j + 1];
+    else
+        noise = lf_fit_noise_of(work, departures(c, ord, e, stride, work));
     if (!(noise > 0))
         return 0.0;
     return sqrt(ss / (double) nb) / noise;
