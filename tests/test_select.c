@@ -6,7 +6,9 @@
  * even count reads the lower half).  The noise sd's threshold question
  * (fit/noise.c), answered by counting, against the selection.  The force
  * quantum (fit/noise.c, sorted by buckets) against the same rule on a
- * qsort: on lattices, with rounding jitter, noise, outliers and ties. */
+ * qsort: on lattices, with rounding jitter, noise, outliers and ties.
+ * The memo of both (a refit of the same data takes them from it): keyed
+ * by the data themselves, so that a buffer filled again misses. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,6 +17,7 @@
 #include <gsl/gsl_rng.h>
 
 #include "fit.h"
+#include "scene.h"
 #include "testlib.h"
 
 #define NMAX 701
@@ -93,6 +96,57 @@ forces(double *v, size_t n, int kind, gsl_rng *rng)
         default: v[i] = q * nearbyint(smooth / q) + (i % 50 == 7 ? 0.5 * q : 0.0); break;
         }
     }
+}
+
+/* The noise sd a fit of scene s (as simulated last) estimates for its
+ * curve. */
+static double
+fit_sigma(scene *s)
+{
+    lf_fit *f = lf_fit_alloc(&s->fit, s->n, s->curve, NULL);
+    double sigma = f != NULL ? f->c[0].sigma : NAN;
+    lf_fit_free(f);
+    return sigma;
+}
+
+static void
+test_memo(void)
+{
+    static double d[300], F[300], d2[300], F2[300];
+    scene a = scene_default("memo a"), b = scene_default("memo b");
+    double sg, q, s1, s2, s2b;
+    size_t i;
+
+    for (i = 0; i < 300; i++) {
+        d[i] = 1e-9 * (double) i;
+        F[i] = 1e-6 * sin((double) i);
+    }
+    lf_fit_noise_memo_keep(d, F, 300, 1.25e-7, 0.0);
+    memcpy(d2, d, sizeof d);
+    memcpy(F2, F, sizeof F);
+    t_true(lf_fit_noise_memo_find(d2, F2, 300, &sg, &q) && sg == 1.25e-7 && q == 0.0,
+           "the same data elsewhere: kept values");
+    F2[17] = nextafter(F2[17], 1.0);
+    t_true(!lf_fit_noise_memo_find(d2, F2, 300, &sg, &q), "one force a bit off: not kept");
+    F2[17] = F[17];
+    d2[299] = nextafter(d2[299], 1.0);
+    t_true(!lf_fit_noise_memo_find(d2, F2, 300, &sg, &q), "one depth a bit off: not kept");
+    t_true(!lf_fit_noise_memo_find(d, F, 299, &sg, &q), "fewer points: not kept");
+    /* a fit's buffer filled again with other data: estimated again */
+    scene_add(&a, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    scene_add(&b, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    a.sim.noise = b.sim.noise = 0.01;
+    t_int(scene_simulate(&a, 11), LF_OK, "scene simulated (seed 11)");
+    s1 = fit_sigma(&a);
+    t_int(scene_simulate(&a, 12), LF_OK, "the same buffers simulated again (seed 12)");
+    s2 = fit_sigma(&a);
+    t_int(scene_simulate(&b, 12), LF_OK, "seed 12 in other buffers");
+    s2b = fit_sigma(&b);
+    t_true(s1 > 0 && s2 > 0 && s1 != s2, "the noise of the new data, not the old (%.6g, %.6g)",
+           s1, s2);
+    t_true(s2 == s2b, "seed 12's noise, whatever buffer holds it");
+    scene_free(&a);
+    scene_free(&b);
 }
 
 int
@@ -181,5 +235,6 @@ main(void)
         t_true(nonzero >= 8, "quantized kinds found quantized (%d)", nonzero);
     }
     gsl_rng_free(rng);
+    test_memo();
     return t_summary();
 }
