@@ -307,7 +307,8 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     lf_fit *f;
     gsl_multifit_nlinear_parameters par = gsl_multifit_nlinear_default_parameters();
     size_t j, nm = sizeof methods / sizeof methods[0], im, nmax;
-    void *scratch = NULL;       /* the depth sort's and the quantum's, of the longest curve */
+    void *scratch = NULL;       /* the longest curve's: its depth sort's (nmax depth_index)
+                                   and then its quantum's (nmax + 1 size_t) */
 
     if (settings->model == NULL || settings->method == NULL) {
         lf_fail(err, LF_EINVAL, "fit settings need a model and a method");
