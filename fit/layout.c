@@ -97,15 +97,21 @@ cmp_depth_index(const void *a, const void *b)
 static void
 sort_by_depth(const double *z, size_t n, size_t *order, depth_index *di)
 {
-    size_t i, up = 1, down = 1;
+    size_t i, up = 1, down = 1, strict = 1;
 
     for (i = 1; i < n && (up || down); i++) {
         up &= z[i] >= z[i - 1];
         down &= z[i] <= z[i - 1];
+        strict &= z[i] < z[i - 1];
     }
     if (up) {
         for (i = 0; i < n; i++)
             order[i] = i;
+        return;
+    }
+    if (down && strict) {   /* reversed, no equal depths (a retraction as recorded) */
+        for (i = 0; i < n; i++)
+            order[i] = n - 1 - i;
         return;
     }
     if (down) {     /* reversed, each run of equal depths kept in file order */
