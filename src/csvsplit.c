@@ -580,9 +580,11 @@ fast_decimal(const char *t, size_t n, char point, double *value)
     return 1;
 }
 
-/* Read in place: the text is checked (the characters a decimal may hold,
- * at least one digit) and read in one pass each, and copied only where a
- * decimal comma goes to strtod as a point. */
+/* Read in place: a plain decimal (the usual cell) in one pass by
+ * fast_decimal, whose grammar admits nothing the checks below refuse; any
+ * other text is checked (the characters a decimal may hold, at least one
+ * digit) and read, and copied only where a decimal comma goes to strtod as
+ * a point. */
 int
 lf_csv_number(const char *text, int decimal_comma, double *value)
 {
@@ -590,12 +592,13 @@ lf_csv_number(const char *text, int decimal_comma, double *value)
     const char *p = text + (text[0] == '+' || text[0] == '-');
     size_t n = strlen(text), i, commas = 0, comma = 0;
     int digits = 0, dot = 0;
-    char point = '.';
 
     if (n == 0)
         return LF_NUM_EMPTY;
     if (n >= sizeof buf)
         return LF_NUM_BAD;
+    if (fast_decimal(text, n, '.', value))
+        return LF_NUM_OK;
     if ((*p == 'n' || *p == 'N' || *p == 'i' || *p == 'I')
         && (lf_csv_ieq(p, "nan") || lf_csv_ieq(p, "inf") || lf_csv_ieq(p, "infinity")))
         return LF_NUM_NONFINITE;
@@ -616,9 +619,7 @@ lf_csv_number(const char *text, int decimal_comma, double *value)
         return LF_NUM_BAD;
     if (!digits)
         return LF_NUM_BAD;
-    if (commas > 0)
-        point = ',';
-    if (fast_decimal(text, n, point, value))
+    if (commas > 0 && fast_decimal(text, n, ',', value))
         return LF_NUM_OK;
     errno = 0;
     if (commas > 0) {
