@@ -313,6 +313,10 @@ typedef struct {
     gsl_vector *x0;      /* np: where an iteration started */
     double *keep;        /* 3 ncurves: offsets kept aside by a second start */
     double *off;         /* 4 ncurves: the guess's offsets (a trial's, the best's) */
+    double *noise_e;     /* ndata: each curve's residuals in force where its noise
+                            was last estimated (lf_fit_curve_noise) */
+    double *noise_s1;    /* 2 ncurves: 1 when noise_e holds curve j's, and its
+                            point-to-point noise sd there (noise.c) */
     fit_arrow_chol jchol;   /* the Cholesky factor of J^T J where the solver
                                last examined it (iterate.c) */
     fit_arrow gsl_jtj;   /* J^T J of GSL's Jacobian (iterate.c) */
@@ -511,8 +515,16 @@ void lf_fit_guess_subsample(lf_fit *f, size_t j);
  * largest |force|). */
 double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,
                           size_t n, double fbig, double *work);
-/* The step of a quantized force signal, or 0 (noise.c; work holds n). */
-double lf_fit_quantum(const double *force, size_t n, double fbig, double *work);
+/* The step of a quantized force signal, or 0 (noise.c; work holds n,
+ * start n + 1). */
+double lf_fit_quantum(const double *force, size_t n, double fbig, double *work, size_t *start);
+/* The point-to-point noise sd (lf_fit_noise_sigma) and the quantum of the
+ * last few curves estimated, keyed by their data (noise.c): 1 and the two
+ * when these depths and forces are one's, bit for bit; keep records one. */
+int lf_fit_noise_memo_find(const double *depth, const double *force, size_t n, double *sigma,
+                           double *quantum);
+void lf_fit_noise_memo_keep(const double *depth, const double *force, size_t n, double sigma,
+                            double quantum);
 
 /* iterate.c: the trust-region iteration from x (overwritten with where it
  * stopped) and its stopping rules; adds to run's totals and sets its

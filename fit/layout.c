@@ -97,15 +97,21 @@ cmp_depth_index(const void *a, const void *b)
 static void
 sort_by_depth(const double *z, size_t n, size_t *order, depth_index *di)
 {
-    size_t i, up = 1, down = 1;
+    size_t i, up = 1, down = 1, strict = 1;
 
     for (i = 1; i < n && (up || down); i++) {
         up &= z[i] >= z[i - 1];
         down &= z[i] <= z[i - 1];
+        strict &= z[i] < z[i - 1];
     }
     if (up) {
         for (i = 0; i < n; i++)
             order[i] = i;
+        return;
+    }
+    if (down && strict) {   /* reversed, no equal depths (a retraction as recorded) */
+        for (i = 0; i < n; i++)
+            order[i] = n - 1 - i;
         return;
     }
     if (down) {     /* reversed, each run of equal depths kept in file order */
@@ -130,22 +136,15 @@ sort_by_depth(const double *z, size_t n, size_t *order, depth_index *di)
 }
 
 /* f->order: each curve's points sorted by depth, ties in file order, so
- * that nothing the fit computes depends on the order of the rows. */
-static int
-depth_order(lf_fit *f)
+ * that nothing the fit computes depends on the order of the rows (di:
+ * scratch for the longest curve). */
+static void
+depth_order(lf_fit *f, depth_index *di)
 {
-    size_t j, nmax = 0;
-    depth_index *di;
+    size_t j;
 
     for (j = 0; j < f->ncurves; j++)
-        nmax = f->c[j].data.n > nmax ? f->c[j].data.n : nmax;
-    di = malloc(nmax * sizeof *di);
-    if (di == NULL)
-        return LF_ENOMEM;
-    for (j = 0; j < f->ncurves; j++)
         sort_by_depth(f->c[j].data.depth, f->c[j].data.n, f->order + f->c[j].row, di);
-    free(di);
-    return LF_OK;
 }
 
 const char *
@@ -168,9 +167,10 @@ lf_loss_find(const char *name)
     return -1;
 }
 
-/* Depth span, force scale, guard width and noise of each curve. */
+/* Depth span, force scale, guard width and noise of each curve (start:
+ * scratch of n + 1 for the longest). */
 static int
-curve_scales(lf_fit *f, lf_error *err)
+curve_scales(lf_fit *f, size_t *start, lf_error *err)
 {
     size_t i, j;
 
@@ -196,13 +196,20 @@ curve_scales(lf_fit *f, lf_error *err)
         c->L = zmax - zmin;
         c->Fs = fbig;
         c->eps = 1e-3 * c->L / (double) (c->data.n - 1);
-        c->sigma = lf_fit_noise_sigma(c->data.depth, c->data.force, f->order + c->row, c->data.n,
-                                      fbig, f->ws.work);
+        /* both functions of the data alone: a refit of the same curve
+         * takes them from the memo */
+        if (!lf_fit_noise_memo_find(c->data.depth, c->data.force, c->data.n, &c->sigma,
+                                    &c->quantum)) {
+            c->sigma = lf_fit_noise_sigma(c->data.depth, c->data.force, f->order + c->row,
+                                          c->data.n, fbig, f->ws.work);
+            c->quantum = lf_fit_quantum(c->data.force, c->data.n, fbig, f->ws.work, start);
+            lf_fit_noise_memo_keep(c->data.depth, c->data.force, c->data.n, c->sigma,
+                                   c->quantum);
+        }
         /* a quantized signal's noise is never below its step's own: the
          * rounding error of a step q is uniform, of sd q / sqrt(12) (smooth
          * data on a coarse lattice leave most point-to-point departures at
          * exactly 0, and the median estimate with them) */
-        c->quantum = lf_fit_quantum(c->data.force, c->data.n, fbig, f->ws.work);
         c->sigma = lf_fmax(c->sigma, c->quantum / sqrt(12.0));
         lf_fit_guess_subsample(f, j);
     }
@@ -241,11 +248,11 @@ work_alloc(lf_fit *f)
      * than a model evaluation of small data) */
     const size_t small = 2 * np                     /* x0_internal, xcache */
                          + (2 * nc + 1) * GUESS_NSUB + GUESS_NODES   /* sub, node */
-                         + 7 * nc                   /* keep, off */
+                         + 9 * nc                   /* keep, off, noise_s1 */
                          + 10 * np                  /* lm.g, lm.D2, lm.colmax, lm.Ah, grad,
                                                        colmax, ainv, gn_x, basin_x, basin_tol */
                          + 6 * np;                  /* lm.x, xt, h, x, x2, x0 */
-    const size_t total = small + 2 * nd + nwork     /* sqrtw, delta, work */
+    const size_t total = small + 3 * nd + nwork     /* sqrtw, delta, noise_e, work */
                          + 4 * nr;                  /* lm.r, rt, r, r2 */
     double *at;
     gsl_vector *v = w->vectors;
@@ -262,6 +269,7 @@ work_alloc(lf_fit *f)
     w->node = take(&at, GUESS_NSUB + GUESS_NODES);
     w->keep = take(&at, 3 * nc);
     w->off = take(&at, 4 * nc);
+    w->noise_s1 = take(&at, 2 * nc);
     w->lm.Ah = take(&at, np);
     w->lm.g = take(&at, np);
     w->lm.D2 = take(&at, np);
@@ -280,6 +288,7 @@ work_alloc(lf_fit *f)
     w->x0 = take_vector(v++, &at, np);
     w->sqrtw = take(&at, nd);
     w->delta = take(&at, nd);
+    w->noise_e = take(&at, nd);
     w->work = take(&at, nwork);
     w->lm.r = take_vector(v++, &at, nr);
     w->lm.rt = take_vector(v++, &at, nr);
@@ -304,6 +313,8 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     lf_fit *f;
     gsl_multifit_nlinear_parameters par = gsl_multifit_nlinear_default_parameters();
     size_t j, nm = sizeof methods / sizeof methods[0], im, nmax;
+    void *scratch = NULL;       /* the longest curve's: its depth sort's (nmax depth_index)
+                                   and then its quantum's (nmax + 1 size_t) */
 
     if (settings->model == NULL || settings->method == NULL) {
         lf_fail(err, LF_EINVAL, "fit settings need a model and a method");
@@ -374,9 +385,10 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     for (j = 0, nmax = 0; j < ncurves; j++)
         nmax = curves[j].n > nmax ? curves[j].n : nmax;
     f->ws.ev = malloc((f->ndata + nmax) * sizeof *f->ws.ev);
-    if (f->order == NULL || f->ws.ev == NULL || work_alloc(f) != LF_OK
-        || depth_order(f) != LF_OK)
+    scratch = malloc(nmax * sizeof(depth_index) + sizeof(size_t));
+    if (f->order == NULL || f->ws.ev == NULL || scratch == NULL || work_alloc(f) != LF_OK)
         goto nomem;
+    depth_order(f, scratch);
     f->ws.scan_ev = f->ws.ev + f->ndata;
     /* GSL's workspace: made when a run first needs it (lf_fit_gsl) */
     f->gsl_par = par;
@@ -391,12 +403,15 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     f->fdf.n = f->nres;
     f->fdf.p = f->np;
     f->fdf.params = f;
-    if (curve_scales(f, err) != LF_OK) {
+    if (curve_scales(f, scratch, err) != LF_OK) {
+        free(scratch);
         lf_fit_free(f);
         return NULL;
     }
+    free(scratch);
     return f;
 nomem:
+    free(scratch);
     lf_fit_free(f);
     lf_fail(err, LF_ENOMEM, "out of memory allocating a fit");
     return NULL;

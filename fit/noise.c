@@ -24,6 +24,7 @@
  * it the fit is broken.  For white noise all of this reduces to the plain
  * test. */
 #include <math.h>
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -105,9 +106,12 @@ lf_fit_noise_above(const double *work, size_t cnt, double thr)
 
     if (cnt == 0)
         return 0;
-    for (i = 0; i < cnt; i++) {
+    for (i = 0; i < cnt; i++) {     /* a branch on the rare value near t only */
         const double x = work[i];
-        not_above += x < lo || (!(x > hi) && !(sqrt(x) / 0.6745 > thr));
+        const int below = x < lo, above = x > hi;      /* never both */
+        not_above += (size_t) below;
+        if (below + above == 0)
+            not_above += !(sqrt(x) / 0.6745 > thr);
     }
     return not_above <= cnt / 2;
 }
@@ -128,6 +132,10 @@ lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau
      * the question alone is asked, by counting: white noise stops there,
      * and then the value does not matter) */
     s1 = sm = lf_fit_noise_of(work, departures(c, ord, e, 1, work));
+    /* kept for the shape's noise at stride 1 of the same residuals */
+    memcpy(f->ws.noise_e + c->row, e, n * sizeof *e);
+    f->ws.noise_s1[2 * j] = 1.0;
+    f->ws.noise_s1[2 * j + 1] = s1;
     for (m = 1; 4 * m < n / 2; m *= 2) {
         cnt = departures(c, ord, e, 2 * m, work);
         if (!lf_fit_noise_above(work, cnt, NOISE_GROWTH * sm)) {
@@ -197,7 +205,13 @@ shape(const lf_fit *f, size_t j, const gsl_vector *res, size_t m)
         stride = n / nb / 4;
     if (stride < 1)
         stride = 1;
-    noise = lf_fit_noise_of(work, departures(c, ord, e, stride, work));
+    /* at stride 1 of the residuals whose noise lf_fit_curve_noise
+     * estimated: its value, not computed again */
+    if (stride == 1 && f->ws.noise_s1[2 * j] == 1.0
+        && memcmp(f->ws.noise_e + c->row, e, n * sizeof *e) == 0)
+        noise = f->ws.noise_s1[2 * j + 1];
+    else
+        noise = lf_fit_noise_of(work, departures(c, ord, e, stride, work));
     if (!(noise > 0))
         return 0.0;
     return sqrt(ss / (double) nb) / noise;
@@ -303,17 +317,15 @@ lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order
     return lf_fmax(med, fbig > 0 ? 1e-12 * fbig : 1e-300);
 }
 
-/* The step of a quantized force signal (an instrument's converter, or a
- * file written with few digits), or 0 when the forces lie on no lattice.
- * Sorted, the distinct forces (apart by more than 1e-9 of the largest, the
- * rounding of a unit conversion) are apart by multiples of one step q,
- * the smallest gap: quantized when at least QUANTUM_MIN_GAPS gaps and
- * QUANTUM_SHARE of them lie within QUANTUM_TOL of a multiple of q (forces
- * that are not quantized, their gaps random, do so by chance with a
- * probability far below 1e-10).  work holds n. */
-#define QUANTUM_MIN_GAPS 20
-#define QUANTUM_SHARE 0.99
-#define QUANTUM_TOL 0.02
+/* v[0..n-1], finite, sorted into out[0..n-1] in expected linear time for
+ * values spread over their range [lo, hi]: each goes to one of n buckets
+ * of equal width, in order of the buckets, and one pass of insertion then
+ * orders the values that share a bucket (qsort instead once that has moved
+ * values more than SORT_SHIFTS times per value: a far outlier crowds the
+ * rest into one bucket).  Rounded arithmetic is monotone, so a value never
+ * lands in a bucket before a smaller one's: the result is the sort's,
+ * value for value.  start holds n + 1. */
+#define SORT_SHIFTS 4
 static int
 cmp_double(const void *a, const void *b)
 {
@@ -321,17 +333,74 @@ cmp_double(const void *a, const void *b)
     return (x > y) - (x < y);
 }
 
+static size_t
+bucket_of(double x, double lo, double scale, size_t n)
+{
+    const double v = (x - lo) * scale, top = (double) (n - 1);
+    return (size_t) (v < top ? v : top);
+}
+
+static void
+sort_spread(const double *v, size_t n, double lo, double hi, double *out, size_t *start)
+{
+    const double scale = (double) n / (hi - lo);
+    size_t i, b, shifts = 0;
+
+    if (!(scale > 0 && scale < HUGE_VAL)) {     /* all equal, or a range out of reach */
+        memcpy(out, v, n * sizeof *out);
+        qsort(out, n, sizeof *out, cmp_double);
+        return;
+    }
+    memset(start, 0, (n + 1) * sizeof *start);
+    for (i = 0; i < n; i++)
+        start[bucket_of(v[i], lo, scale, n) + 1]++;
+    for (b = 1; b <= n; b++)            /* start[b]: where bucket b begins */
+        start[b] += start[b - 1];
+    for (i = 0; i < n; i++)
+        out[start[bucket_of(v[i], lo, scale, n)]++] = v[i];
+    for (i = 1; i < n; i++) {
+        const double x = out[i];
+        size_t k = i;
+        if (!(out[i - 1] > x))
+            continue;
+        do {
+            out[k] = out[k - 1];
+            k--;
+            shifts++;
+        } while (k > 0 && out[k - 1] > x);
+        out[k] = x;
+        if (shifts > SORT_SHIFTS * n) {
+            qsort(out, n, sizeof *out, cmp_double);
+            return;
+        }
+    }
+}
+
+/* The step of a quantized force signal (an instrument's converter, or a
+ * file written with few digits), or 0 when the forces lie on no lattice.
+ * Sorted, the distinct forces (apart by more than 1e-9 of the largest, the
+ * rounding of a unit conversion) are apart by multiples of one step q,
+ * the smallest gap: quantized when at least QUANTUM_MIN_GAPS gaps and
+ * QUANTUM_SHARE of them lie within QUANTUM_TOL of a multiple of q (forces
+ * that are not quantized, their gaps random, do so by chance with a
+ * probability far below 1e-10).  work holds n, start n + 1. */
+#define QUANTUM_MIN_GAPS 20
+#define QUANTUM_SHARE 0.99
+#define QUANTUM_TOL 0.02
 double
-lf_fit_quantum(const double *force, size_t n, double fbig, double *work)
+lf_fit_quantum(const double *force, size_t n, double fbig, double *work, size_t *start)
 {
     const double tol = 1e-9 * fbig;
-    double q = HUGE_VAL, last;
-    size_t i, gaps = 0, on = 0;
+    double q = HUGE_VAL, last, lo, hi;
+    size_t i, gaps = 0, on = 0, off = 0;
 
     if (n < QUANTUM_MIN_GAPS || !(fbig > 0))
         return 0.0;
-    memcpy(work, force, n * sizeof *work);
-    qsort(work, n, sizeof *work, cmp_double);
+    for (i = 1, lo = hi = force[0]; i < n; i++) {      /* finite: no NaN to pass over */
+        lo = force[i] < lo ? force[i] : lo;
+        hi = force[i] > hi ? force[i] : hi;
+    }
+    sort_spread(force, n, lo, hi, work, start);
     for (i = 1, last = work[0]; i < n; i++)
         if (work[i] - last > tol) {
             q = lf_fmin(q, work[i] - last);
@@ -340,11 +409,80 @@ lf_fit_quantum(const double *force, size_t n, double fbig, double *work)
         }
     if (gaps < QUANTUM_MIN_GAPS || !(q < HUGE_VAL))
         return 0.0;
+    /* counted until the gaps off the lattice are too many for the share
+     * (forces on no lattice: after a few) */
     for (i = 1, last = work[0]; i < n; i++)
         if (work[i] - last > tol) {
             double r = (work[i] - last) / q;
-            on += fabs(r - floor(r + 0.5)) <= QUANTUM_TOL;
+            if (fabs(r - floor(r + 0.5)) <= QUANTUM_TOL)
+                on++;
+            else if ((double) (gaps - ++off) < QUANTUM_SHARE * (double) gaps)
+                return 0.0;
             last = work[i];
         }
     return (double) on >= QUANTUM_SHARE * (double) gaps ? q : 0.0;
+}
+
+/* The noise sd and quantum of the last NOISE_MEMO curves a fit estimated
+ * them for, with copies of their depths and forces: the refits of the same
+ * data (a profile's held fits, descents, second starts: some ten fits of
+ * each curve of a batch) take them instead of estimating them again.  The
+ * data are the key, compared whole, so that a buffer filled again with
+ * other numbers misses; curves of more than NOISE_MEMO_MAX points are not
+ * kept.  Fits run in parallel threads: under a lock. */
+#define NOISE_MEMO 8
+#define NOISE_MEMO_MAX 65536
+static struct {
+    size_t n, cap;
+    double *data;           /* depths, then forces: 2 n */
+    double sigma, quantum;
+} memo[NOISE_MEMO];
+static size_t memo_next;
+static pthread_mutex_t memo_lock = PTHREAD_MUTEX_INITIALIZER;
+
+int
+lf_fit_noise_memo_find(const double *depth, const double *force, size_t n, double *sigma,
+                       double *quantum)
+{
+    size_t i;
+    int found = 0;
+
+    pthread_mutex_lock(&memo_lock);
+    for (i = 0; i < NOISE_MEMO && !found; i++)
+        if (memo[i].n == n && n > 0 && memcmp(memo[i].data + n, force, n * sizeof *force) == 0
+            && memcmp(memo[i].data, depth, n * sizeof *depth) == 0) {
+            *sigma = memo[i].sigma;
+            *quantum = memo[i].quantum;
+            found = 1;
+        }
+    pthread_mutex_unlock(&memo_lock);
+    return found;
+}
+
+void
+lf_fit_noise_memo_keep(const double *depth, const double *force, size_t n, double sigma,
+                       double quantum)
+{
+    size_t k;
+
+    if (n == 0 || n > NOISE_MEMO_MAX)
+        return;
+    pthread_mutex_lock(&memo_lock);
+    k = memo_next;
+    if (memo[k].cap < 2 * n) {
+        double *d = realloc(memo[k].data, 2 * n * sizeof *d);
+        if (d == NULL) {
+            pthread_mutex_unlock(&memo_lock);
+            return;         /* not kept: estimated again next time */
+        }
+        memo[k].data = d;
+        memo[k].cap = 2 * n;
+    }
+    memcpy(memo[k].data, depth, n * sizeof *depth);
+    memcpy(memo[k].data + n, force, n * sizeof *force);
+    memo[k].n = n;
+    memo[k].sigma = sigma;
+    memo[k].quantum = quantum;
+    memo_next = (k + 1) % NOISE_MEMO;
+    pthread_mutex_unlock(&memo_lock);
 }

@@ -37,32 +37,41 @@
 #define FIT_STALL_SE2 1.0        /* GN decrease, in se^2, of a stall */
 #define FIT_STALL_SLOPE 16.0     /* the most a trial step may beat its slope by */
 
+/* The correlation of curve c's force with its depth: a contact signal
+ * rises with depth even where the noise estimate is inflated (few
+ * points). */
+static double
+depth_force_corr(const fit_curve *c)
+{
+    double mz = 0, mf = 0, szz = 0, sff = 0, szf = 0;
+    size_t i;
+
+    for (i = 0; i < c->data.n; i++) {
+        mz += c->data.depth[i];
+        mf += c->data.force[i];
+    }
+    mz /= (double) c->data.n;
+    mf /= (double) c->data.n;
+    for (i = 0; i < c->data.n; i++) {
+        double dz = c->data.depth[i] - mz, df = c->data.force[i] - mf;
+        szz += dz * dz;
+        sff += df * df;
+        szf += dz * df;
+    }
+    return szz > 0 && sff > 0 ? szf / sqrt(szz * sff) : 0.0;
+}
+
 int
 lf_fit_refuse_degenerate(const lf_fit *f, lf_error *err)
 {
-    size_t j, i;
+    size_t j;
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
         const double lo = c->flo, hi = c->fhi;
-        double mz = 0, mf = 0, szz = 0, sff = 0, szf = 0, rho;
-        for (i = 0; i < c->data.n; i++) {
-            mz += c->data.depth[i];
-            mf += c->data.force[i];
-        }
-        mz /= (double) c->data.n;
-        mf /= (double) c->data.n;
-        for (i = 0; i < c->data.n; i++) {
-            double dz = c->data.depth[i] - mz, df = c->data.force[i] - mf;
-            szz += dz * dz;
-            sff += df * df;
-            szf += dz * df;
-        }
-        /* the force's correlation with depth: a contact signal rises with
-         * depth even where the noise estimate is inflated (few points) */
-        rho = szz > 0 && sff > 0 ? szf / sqrt(szz * sff) : 0.0;
-        /* pure noise of n points spans about 2 sqrt(2 ln n) sd */
+        /* pure noise of n points spans about 2 sqrt(2 ln n) sd; the
+         * correlation is asked only of a span within that */
         if (!(hi > lo) || (!(hi - lo > (2.0 * sqrt(2.0 * log((double) c->data.n)) + 2.0) * c->sigma)
-                           && fabs(rho) < 3.0 / sqrt((double) c->data.n)))
+                           && fabs(depth_force_corr(c)) < 3.0 / sqrt((double) c->data.n)))
             return lf_fail(err, LF_EDATA, "curve %zu (%s): no contact signal: the force varies "
                            "by only %.3g N (%.3g times its noise sd %.3g N); nothing to fit",
                            j + 1, c->data.name ? c->data.name : "", hi - lo,

@@ -538,7 +538,7 @@ lf_csv_decimal_point(char *text, int decimal_comma)
  * (Clinger's fast path), hence the same double as strtod.  0 for any other
  * text (strtod reads it). */
 static int
-fast_decimal(const char *t, size_t n, double *value)
+fast_decimal(const char *t, size_t n, char point, double *value)
 {
     static const double p10[] = {
         1e0, 1e1, 1e2, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9, 1e10, 1e11,
@@ -554,7 +554,7 @@ fast_decimal(const char *t, size_t n, double *value)
     for (; p < end && *p >= '0' && *p <= '9'; p++, digits++)
         if (sig > 0 || *p != '0')
             m = m * 10 + (unsigned) (*p - '0'), sig++;
-    if (p < end && *p == '.')
+    if (p < end && *p == point)
         for (p++; p < end && *p >= '0' && *p <= '9'; p++, digits++, scale--)
             if (sig > 0 || *p != '0')
                 m = m * 10 + (unsigned) (*p - '0'), sig++;
@@ -580,39 +580,59 @@ fast_decimal(const char *t, size_t n, double *value)
     return 1;
 }
 
+/* Read in place: a plain decimal (the usual cell) in one pass by
+ * fast_decimal, whose grammar admits nothing the checks below refuse; any
+ * other text is checked (the characters a decimal may hold, at least one
+ * digit) and read, and copied only where a decimal comma goes to strtod as
+ * a point. */
 int
 lf_csv_number(const char *text, int decimal_comma, double *value)
 {
     char buf[80], *end;
-    const char *p = text;
-    size_t n = strlen(text), i;
-    int digits = 0;
+    const char *p = text + (text[0] == '+' || text[0] == '-');
+    size_t n = strlen(text), i, commas = 0, comma = 0;
+    int digits = 0, dot = 0;
 
     if (n == 0)
         return LF_NUM_EMPTY;
     if (n >= sizeof buf)
         return LF_NUM_BAD;
-    memcpy(buf, text, n + 1);
-    lf_csv_decimal_point(buf, decimal_comma);
-    p = buf + (buf[0] == '+' || buf[0] == '-');
-    if ((tolower((unsigned char) *p) == 'n' || tolower((unsigned char) *p) == 'i')
+    if (fast_decimal(text, n, '.', value))
+        return LF_NUM_OK;
+    if ((*p == 'n' || *p == 'N' || *p == 'i' || *p == 'I')
         && (lf_csv_ieq(p, "nan") || lf_csv_ieq(p, "inf") || lf_csv_ieq(p, "infinity")))
         return LF_NUM_NONFINITE;
     for (i = 0; i < n; i++) {
-        char c = buf[i];
-        if (isdigit((unsigned char) c))
+        const char c = text[i];
+        if (c >= '0' && c <= '9')
             digits = 1;
-        else if (!(c == '+' || c == '-' || c == '.' || c == 'e' || c == 'E'))
+        else if (c == '.')
+            dot = 1;
+        else if (c == ',')
+            comma = commas++ == 0 ? i : comma;
+        else if (!(c == '+' || c == '-' || c == 'e' || c == 'E'))
             return LF_NUM_BAD;
     }
+    /* a comma is the decimal point where lf_csv_decimal_point makes it one:
+     * the only one, with no point */
+    if (commas > 0 && !(decimal_comma && !dot && commas == 1))
+        return LF_NUM_BAD;
     if (!digits)
         return LF_NUM_BAD;
-    if (fast_decimal(buf, n, value))
+    if (commas > 0 && fast_decimal(text, n, ',', value))
         return LF_NUM_OK;
     errno = 0;
-    *value = strtod(buf, &end);
-    if (end != buf + n)
-        return LF_NUM_BAD;
+    if (commas > 0) {
+        memcpy(buf, text, n + 1);
+        buf[comma] = '.';
+        *value = strtod(buf, &end);
+        if (end != buf + n)
+            return LF_NUM_BAD;
+    } else {
+        *value = strtod(text, &end);
+        if (end != text + n)
+            return LF_NUM_BAD;
+    }
     if (errno == ERANGE && fabs(*value) > 1.0)
         return LF_NUM_NONFINITE;
     return LF_NUM_OK;

@@ -230,11 +230,15 @@ file_start(lf_file *f, const char *head, size_t len, const lf_read_opts *o,
     if (f->multi == NULL) {
         lf_read_opts ro = f->opts;
         ro.format = f->reader->name;
-        /* a text export: read as lf_curve_parse always did */
+        /* a text export: read as lf_curve_parse always did, by the reader
+         * chosen above from its first bytes (which lf_curve_parse would
+         * look at again: the same reader, and the same verdict on binary
+         * data, the bytes parsed being those read for head or, cut at the
+         * first control byte, their beginning) */
         if (f->src.mem == NULL)
             return lf_fail_at(err, LF_EINVAL, f->path, 0, 0, "internal: a text file not in memory");
-        status = lf_curve_parse((const char *) f->src.mem, (size_t) f->src.size, 0, f->path,
-                                &ro, &f->one, warn, err);
+        status = lf_curve_parse_with(f->reader, (const char *) f->src.mem, (size_t) f->src.size,
+                                     0, f->path, &ro, &f->one, warn, err);
         f->n = status == LF_OK ? 1 : 0;
         return status;
     }

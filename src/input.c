@@ -147,7 +147,9 @@ typedef struct {
     unsigned char first;
 } text_check;
 
-/* How many of the n bytes at p to keep: n, or up to the first refused. */
+/* How many of the n bytes at p to keep: n, or up to the first refused.
+ * Past the first two bytes (a byte order mark's), a printable byte (the
+ * bulk of any text) only lengthens its line: that test comes first. */
 static size_t
 text_scan(text_check *t, const unsigned char *p, size_t n)
 {
@@ -155,6 +157,12 @@ text_scan(text_check *t, const unsigned char *p, size_t n)
     for (i = 0; i < n; i++) {
         unsigned char c = p[i];
         size_t at = t->at++;
+        if (at >= 2 && c >= 0x20 && c != 0x7F) {
+            t->prev_cr = 0;
+            if (++t->linelen > (size_t) LF_CSV_MAX_LINE)
+                return i + 1;
+            continue;
+        }
         if (at == 0)
             t->first = c;
         if (at == 1 && (t->first == 0xFF || t->first == 0xFE) && (c == 0xFE || c == 0xFF))

@@ -1124,6 +1124,9 @@ typedef struct {
     struct lf_file *source;   /* the open file of the row's curve, kept by the
                                  plan (lf_plan_expand, lf_plan_open_files), or
                                  NULL */
+    int text_export;          /* 1: lf_plan_open_files found no file of many
+                                 curves there (a text export, read when the
+                                 row is fitted): not sniffed again */
 } lf_plan_row;               /* probe.R is NaN where the plan's R cell says
                                 "header": the curve file's header gives it;
                                 probe.b is NaN where the b and interface cells

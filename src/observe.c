@@ -72,6 +72,32 @@ seg_free(seg_points *s)
     memset(s, 0, sizeof *s);
 }
 
+/* z and F (n points) in order of depth where the depths are strictly
+ * monotone (a segment as recorded, either way: reversed then, through
+ * scratch of 2 n), the order any sort gives; 0 where they are not, left
+ * as they were. */
+static int
+sorted_by_depth(double *z, double *F, size_t n, double *scratch)
+{
+    size_t i, up = 1, down = 1;
+
+    for (i = 1; i < n && (up || down); i++) {
+        up &= z[i] > z[i - 1];
+        down &= z[i] < z[i - 1];
+    }
+    if (up)
+        return 1;
+    if (!down)
+        return 0;
+    memcpy(scratch, z, n * sizeof *z);
+    memcpy(scratch + n, F, n * sizeof *F);
+    for (i = 0; i < n; i++) {
+        z[i] = scratch[n - 1 - i];
+        F[i] = scratch[2 * n - 1 - i];
+    }
+    return 1;
+}
+
 /* The points of segment seg, sorted by depth, with the baseline; n = 0
  * when the segment has fewer than 5 points.  LF_ENOMEM only. */
 static int
@@ -95,14 +121,16 @@ seg_load(const lf_curve *c, lf_segment seg, seg_points *s)
     s->F = s->z + n;
     tmp = s->F + n;
     lf_curve_segment(c, seg, s->z, s->F);
-    for (i = 0; i < n; i++) {
-        pair[2 * i] = s->z[i];
-        pair[2 * i + 1] = s->F[i];
-    }
-    qsort(pair, n, 2 * sizeof *pair, by_depth);
-    for (i = 0; i < n; i++) {
-        s->z[i] = pair[2 * i];
-        s->F[i] = pair[2 * i + 1];
+    if (!sorted_by_depth(s->z, s->F, n, pair)) {
+        for (i = 0; i < n; i++) {
+            pair[2 * i] = s->z[i];
+            pair[2 * i + 1] = s->F[i];
+        }
+        qsort(pair, n, 2 * sizeof *pair, by_depth);
+        for (i = 0; i < n; i++) {
+            s->z[i] = pair[2 * i];
+            s->F[i] = pair[2 * i + 1];
+        }
     }
     free(pair);
     s->n = n;

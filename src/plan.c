@@ -780,12 +780,15 @@ lf_plan_open_files(lf_plan *plan, const lf_read_opts *o, lf_error *err)
             lf_read_opts_default(&ro);
         if (ro.format == NULL && r->format[0] != '\0')
             ro.format = r->format;
-        if (r->source != NULL)
-            continue;           /* open already (here before, or the caller's) */
+        if (r->source != NULL || r->text_export)
+            continue;           /* open already (here before, or the caller's), or text */
         if ((f = plan_file_open(plan, r->file, r->format)) == NULL) {
-            if (!lf_file_sniff_multi(r->file, ro.format)
-                || lf_file_open(r->file, 0, &ro, &f, NULL, &e) != LF_OK)
-                continue;       /* a text export, or the fit of the row says what is wrong */
+            if (!lf_file_sniff_multi(r->file, ro.format)) {
+                r->text_export = 1;     /* or unreadable: the fit of the row says so */
+                continue;
+            }
+            if (lf_file_open(r->file, 0, &ro, &f, NULL, &e) != LF_OK)
+                continue;       /* the fit of the row says what is wrong */
             files = realloc(plan->files, (plan->nfiles + 1) * sizeof *files);
             if (files == NULL) {
                 lf_file_close(f);

@@ -306,13 +306,24 @@ lf_curve_parse(const char *buf, size_t len, size_t chunk, const char *name,
                lf_error *err)
 {
     const lf_reader_type *r;
-    lf_source in;
 
     *out = NULL;
     lf_error_clear(err);
     r = choose(o, buf ? buf : "", buf ? len : 0, name ? name : "", err);
     if (r == NULL)
         return err != NULL ? err->status : LF_EINVAL;
+    return lf_curve_parse_with(r, buf, len, chunk, name, o, out, warn, err);
+}
+
+int
+lf_curve_parse_with(const lf_reader_type *r, const char *buf, size_t len, size_t chunk,
+                    const char *name, const lf_read_opts *o, lf_curve **out,
+                    lf_warnings *warn, lf_error *err)
+{
+    lf_source in;
+
+    *out = NULL;
+    lf_error_clear(err);
     in.buf = buf ? buf : "";
     in.len = buf ? len : 0;
     in.chunk = chunk;

@@ -53,6 +53,13 @@ size_t lf_count_at_min(const double *x, size_t n);
  * outside contact, which hides the pull-off. */
 int lf_is_clamped(const double *x, size_t n);
 
+/* lf_curve_parse with its reader chosen (and the first bytes found to be
+ * no binary data) by the caller: lf_file_open, which chose it from the
+ * same bytes (src/reader.c). */
+int lf_curve_parse_with(const lf_reader_type *r, const char *buf, size_t len, size_t chunk,
+                        const char *name, const lf_read_opts *o, lf_curve **out,
+                        lf_warnings *warn, lf_error *err);
+
 /* ---- AFM conversions (src/reader.c) ---------------------------------- */
 
 /* The spring constant to use: the file's (file_k, finite and > 0) unless

@@ -1,7 +1,13 @@
 /* test_number.c: lf_csv_number reads a decimal to the same double as
  * strtod (correctly rounded), on the short path for plain decimals and on
- * strtod's for the rest; text that is not a number stays so. */
+ * strtod's for the rest; text that is not a number stays so.  Read in
+ * place, it says of random text (digits, points, commas, signs, exponents,
+ * letters) with and without a decimal comma what the rule on a copy says:
+ * the comma made a point where it is the only one and no point is there,
+ * then strtod. */
+#include <ctype.h>
 #include <errno.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -54,6 +60,41 @@ random_decimal(char *t)
     t[w] = '\0';
 }
 
+/* The rule on a copy (lf_csv_number as it read before it read in place):
+ * the status, and the value where it is LF_NUM_OK. */
+static int
+number_by_copy(const char *text, int decimal_comma, double *value)
+{
+    char buf[80], *end, *p;
+    size_t n = strlen(text), i;
+    int digits = 0;
+
+    if (n == 0)
+        return LF_NUM_EMPTY;
+    if (n >= sizeof buf)
+        return LF_NUM_BAD;
+    memcpy(buf, text, n + 1);
+    lf_csv_decimal_point(buf, decimal_comma);
+    p = buf + (buf[0] == '+' || buf[0] == '-');
+    if (lf_csv_ieq(p, "nan") || lf_csv_ieq(p, "inf") || lf_csv_ieq(p, "infinity"))
+        return LF_NUM_NONFINITE;
+    for (i = 0; i < n; i++) {
+        if (isdigit((unsigned char) buf[i]))
+            digits = 1;
+        else if (!strchr("+-.eE", buf[i]))
+            return LF_NUM_BAD;
+    }
+    if (!digits)
+        return LF_NUM_BAD;
+    errno = 0;
+    *value = strtod(buf, &end);
+    if (end != buf + n)
+        return LF_NUM_BAD;
+    if (errno == ERANGE && fabs(*value) > 1.0)
+        return LF_NUM_NONFINITE;
+    return LF_NUM_OK;
+}
+
 int
 main(void)
 {
@@ -83,5 +124,34 @@ main(void)
     t_int(lf_csv_number("-inf", 0, &v), LF_NUM_NONFINITE, "-inf is not finite");
     t_int(lf_csv_number("1,5", 1, &v), LF_NUM_OK, "1,5 with a decimal comma");
     t_rel(v, 1.5, 0.0, "1,5 is 1.5");
+    {
+        static const char alphabet[] = "0123456789012345678901234567890123456789..,,+-eEnNaIif x";
+        static const char *const words[] = {
+            "1,5", "1,5,6", "1.5,6", ",5", "-,5e3", "1,2345678901234567891", "1,5e999", "NaN",
+            "-Infinity", "inf,", "1,e5", "+,", "1,23456789012345678e-400",
+        };
+        size_t differ = 0, k;
+        int dc;
+        for (k = 0; k < 2 * sizeof words / sizeof words[0] + 400000; k++) {
+            double a = 0.0, b = 0.0;
+            int sa, sb;
+            dc = (int) (k % 2);
+            if (k < 2 * sizeof words / sizeof words[0]) {
+                snprintf(t, sizeof t, "%s", words[k / 2]);
+            } else {
+                size_t len = 1 + next(12), j;
+                for (j = 0; j < len; j++)
+                    t[j] = alphabet[next(sizeof alphabet - 1)];
+                t[len] = '\0';
+            }
+            sa = lf_csv_number(t, dc, &a);
+            sb = number_by_copy(t, dc, &b);
+            if (sa != sb || (sa == LF_NUM_OK && memcmp(&a, &b, sizeof a) != 0))
+                if (differ++ < 5)
+                    printf("  '%s' (decimal comma %d): %d %.17g, on a copy %d %.17g\n", t, dc,
+                           sa, a, sb, b);
+        }
+        t_int((long) differ, 0, "random text read in place as on a copy");
+    }
     return t_summary();
 }

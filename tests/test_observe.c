@@ -4,7 +4,9 @@
  * (piecewise linear, every vertex a point of the curve, so the trapezoid
  * rule is exact), with noise (within a few noise sd), and on the real
  * PEG gel exports (their measured pull-off, about 41 nN; the instrument's
- * own E[eff] from the header). */
+ * own E[eff] from the header).  The order of the rows does not matter:
+ * segments recorded in order of depth (either way) and shuffled give the
+ * same numbers, bit for bit. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -264,10 +266,62 @@ test_real(void)
     }
 }
 
+/* The noisy curve with its rows shuffled within each segment: the
+ * observables of the sorted points, the same as in file order (where
+ * each segment is monotone in depth and read without a sort). */
+static void
+test_row_order(void)
+{
+    char *csv = synthetic_csv(1e-10, 7), *copy, **line, *p, *out;
+    size_t n = 0, i, len = strlen(csv), w = 0;
+    lf_curve *c1 = NULL, *c2 = NULL;
+    lf_observables o1, o2;
+    gsl_rng *rng = gsl_rng_alloc(gsl_rng_mt19937);
+
+    copy = malloc(len + 1);
+    out = malloc(len + 1);
+    line = malloc(len * sizeof *line);
+    memcpy(copy, csv, len + 1);
+    for (p = strtok(copy, "\n"); p != NULL; p = strtok(NULL, "\n"))
+        line[n++] = p;
+    gsl_rng_set(rng, 3);
+    /* lines 1 .. n-1 after the header: shuffle within each segment */
+    for (i = n - 1; i > 1; i--) {
+        size_t j = 1 + gsl_rng_uniform_int(rng, i);     /* 1 .. i */
+        if (strstr(line[i], "approach") != NULL && strstr(line[j], "approach") != NULL)
+            p = line[i], line[i] = line[j], line[j] = p;
+        else if (strstr(line[i], "retract") != NULL && strstr(line[j], "retract") != NULL)
+            p = line[i], line[i] = line[j], line[j] = p;
+    }
+    for (i = 0; i < n; i++)
+        w += (size_t) sprintf(out + w, "%s\n", line[i]);
+    if (t_int(lf_curve_parse(csv, len, 0, "ordered.csv", NULL, &c1, NULL, NULL), LF_OK,
+              "ordered curve read")
+        && t_int(lf_curve_parse(out, w, 0, "shuffled.csv", NULL, &c2, NULL, NULL), LF_OK,
+                 "shuffled curve read")
+        && t_int(lf_observe(c1, &o1, NULL), LF_OK, "observables in file order")
+        && t_int(lf_observe(c2, &o2, NULL), LF_OK, "observables shuffled")) {
+        const double a[] = { o1.adhesion_force, o1.detachment_work, o1.contact_point,
+                             o1.max_indentation, o1.max_force, o1.baseline, o1.noise };
+        const double b[] = { o2.adhesion_force, o2.detachment_work, o2.contact_point,
+                             o2.max_indentation, o2.max_force, o2.baseline, o2.noise };
+        t_int(memcmp(a, b, sizeof a), 0, "the same observables, bit for bit, whatever the order");
+        t_true(isfinite(o1.adhesion_force) && isfinite(o1.contact_point), "they are numbers");
+    }
+    lf_curve_free(c1);
+    lf_curve_free(c2);
+    gsl_rng_free(rng);
+    free(line);
+    free(out);
+    free(copy);
+    free(csv);
+}
+
 int
 main(void)
 {
     test_exact_values();
+    test_row_order();
     test_noisy();
     test_retract_only();
     test_short_baseline();

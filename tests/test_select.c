@@ -4,14 +4,20 @@
  * and every k of small arrays.  After the selection the values below k must
  * be no larger than the k-th and those above no smaller (the median of an
  * even count reads the lower half).  The noise sd's threshold question
- * (fit/noise.c), answered by counting, against the selection. */
+ * (fit/noise.c), answered by counting, against the selection.  The force
+ * quantum (fit/noise.c, sorted by buckets) against the same rule on a
+ * qsort: on lattices, with rounding jitter, noise, outliers and ties.
+ * The memo of both (a refit of the same data takes them from it): keyed
+ * by the data themselves, so that a buffer filled again misses. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_randist.h>
 #include <gsl/gsl_rng.h>
 
 #include "fit.h"
+#include "scene.h"
 #include "testlib.h"
 
 #define NMAX 701
@@ -37,6 +43,110 @@ fill(double *v, size_t n, int kind, gsl_rng *rng)
         case 4: v[i] = 2.5; break;                                      /* all equal */
         default: v[i] = (double) (i % 7 == 0 ? 1 : 0); break;          /* mostly zeros */
         }
+}
+
+/* The quantum by its rule on a qsort (as lf_fit_quantum stood before it
+ * sorted by buckets): the value it must give, bit for bit. */
+static double
+quantum_by_qsort(const double *force, size_t n, double fbig)
+{
+    static double w[4096];
+    const double tol = 1e-9 * fbig;
+    double q = HUGE_VAL, last;
+    size_t i, gaps = 0, on = 0;
+
+    if (n < 20 || !(fbig > 0))
+        return 0.0;
+    memcpy(w, force, n * sizeof *w);
+    qsort(w, n, sizeof *w, cmp);
+    for (i = 1, last = w[0]; i < n; i++)
+        if (w[i] - last > tol) {
+            q = fmin(q, w[i] - last);
+            last = w[i];
+            gaps++;
+        }
+    if (gaps < 20 || !(q < HUGE_VAL))
+        return 0.0;
+    for (i = 1, last = w[0]; i < n; i++)
+        if (w[i] - last > tol) {
+            double r = (w[i] - last) / q;
+            on += fabs(r - floor(r + 0.5)) <= 0.02;
+            last = w[i];
+        }
+    return (double) on >= 0.99 * (double) gaps ? q : 0.0;
+}
+
+/* Forces of one kind: a smooth curve with noise, on a lattice, with
+ * jitter of a unit conversion, with far outliers, crowded near one value,
+ * few levels, and a curve with a lattice broken by one value in fifty. */
+static void
+forces(double *v, size_t n, int kind, gsl_rng *rng)
+{
+    const double q = 3.7e-11;
+    size_t i;
+    for (i = 0; i < n; i++) {
+        const double t = (double) i / (double) n, smooth = 1e-7 * (t * t - 0.3 * t - 0.05);
+        switch (kind) {
+        case 0: v[i] = smooth + 1e-9 * gsl_ran_gaussian_ziggurat(rng, 1.0); break;
+        case 1: v[i] = q * nearbyint((smooth + 1e-9 * gsl_rng_uniform(rng)) / q); break;
+        case 2: v[i] = q * nearbyint(smooth / q) * (1.0 + 1e-15 * (gsl_rng_uniform(rng) - 0.5)); break;
+        case 3: v[i] = i % 97 == 5 ? 1e3 * (smooth + 1e-7) : smooth; break;
+        case 4: v[i] = i == n / 2 ? 1.0 : 1e-9 * gsl_rng_uniform(rng); break;
+        case 5: v[i] = 1e-9 * (double) gsl_rng_uniform_int(rng, 5) - 2e-9; break;
+        default: v[i] = q * nearbyint(smooth / q) + (i % 50 == 7 ? 0.5 * q : 0.0); break;
+        }
+    }
+}
+
+/* The noise sd a fit of scene s (as simulated last) estimates for its
+ * curve. */
+static double
+fit_sigma(scene *s)
+{
+    lf_fit *f = lf_fit_alloc(&s->fit, s->n, s->curve, NULL);
+    double sigma = f != NULL ? f->c[0].sigma : NAN;
+    lf_fit_free(f);
+    return sigma;
+}
+
+static void
+test_memo(void)
+{
+    static double d[300], F[300], d2[300], F2[300];
+    scene a = scene_default("memo a"), b = scene_default("memo b");
+    double sg, q, s1, s2, s2b;
+    size_t i;
+
+    for (i = 0; i < 300; i++) {
+        d[i] = 1e-9 * (double) i;
+        F[i] = 1e-6 * sin((double) i);
+    }
+    lf_fit_noise_memo_keep(d, F, 300, 1.25e-7, 0.0);
+    memcpy(d2, d, sizeof d);
+    memcpy(F2, F, sizeof F);
+    t_true(lf_fit_noise_memo_find(d2, F2, 300, &sg, &q) && sg == 1.25e-7 && q == 0.0,
+           "the same data elsewhere: kept values");
+    F2[17] = nextafter(F2[17], 1.0);
+    t_true(!lf_fit_noise_memo_find(d2, F2, 300, &sg, &q), "one force a bit off: not kept");
+    F2[17] = F[17];
+    d2[299] = nextafter(d2[299], 1.0);
+    t_true(!lf_fit_noise_memo_find(d2, F2, 300, &sg, &q), "one depth a bit off: not kept");
+    t_true(!lf_fit_noise_memo_find(d, F, 299, &sg, &q), "fewer points: not kept");
+    /* a fit's buffer filled again with other data: estimated again */
+    scene_add(&a, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    scene_add(&b, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    a.sim.noise = b.sim.noise = 0.01;
+    t_int(scene_simulate(&a, 11), LF_OK, "scene simulated (seed 11)");
+    s1 = fit_sigma(&a);
+    t_int(scene_simulate(&a, 12), LF_OK, "the same buffers simulated again (seed 12)");
+    s2 = fit_sigma(&a);
+    t_int(scene_simulate(&b, 12), LF_OK, "seed 12 in other buffers");
+    s2b = fit_sigma(&b);
+    t_true(s1 > 0 && s2 > 0 && s1 != s2, "the noise of the new data, not the old (%.6g, %.6g)",
+           s1, s2);
+    t_true(s2 == s2b, "seed 12's noise, whatever buffer holds it");
+    scene_free(&a);
+    scene_free(&b);
 }
 
 int
@@ -102,6 +212,29 @@ main(void)
                   n);
         }
     t_int(lf_fit_noise_above(v, 0, 1.0), 0, "no departures: not above");
+    /* the quantum, sorted by buckets, against the qsort rule */
+    {
+        static const size_t qsizes[] = { 19, 20, 21, 64, 300, 2600, 4096 };
+        static double f[4096], work[4096];
+        static size_t start[4097];
+        int nonzero = 0;
+        for (kind = 0; kind < 7; kind++)
+            for (is = 0; is < sizeof qsizes / sizeof qsizes[0]; is++) {
+                const size_t n = qsizes[is];
+                double fbig = 0.0, want, got;
+                forces(f, n, kind, rng);
+                for (i = 0; i < n; i++)
+                    fbig = fmax(fbig, fabs(f[i]));
+                want = quantum_by_qsort(f, n, fbig);
+                got = lf_fit_quantum(f, n, fbig, work, start);
+                nonzero += want > 0;
+                t_int(memcmp(&got, &want, sizeof got), 0,
+                      "kind %d, n = %zu: quantum %.17g, by the qsort %.17g", kind, n, got, want);
+            }
+        /* the lattices are found (else the comparison tests little) */
+        t_true(nonzero >= 8, "quantized kinds found quantized (%d)", nonzero);
+    }
     gsl_rng_free(rng);
+    test_memo();
     return t_summary();
 }
