@@ -303,6 +303,8 @@ typedef struct {
     double *sqrtw;       /* ndata: square roots of the robust loss's point
                             weights (1 for least squares) */
     double *delta;       /* ndata: indentations */
+    double *roots;       /* each curve's lf_model_eval_roots buffer
+                            (lf_fit_roots) */
     double *xcache;      /* np: the x of ev[]; xcache_ok when valid */
     int xcache_ok;
     double *work;        /* max(2 ndata, 2 GUESS_NSUB): scratch */
@@ -422,6 +424,10 @@ void lf_fit_rebase(lf_fit *f, gsl_vector *x);
 /* The model at every point at x into f->ws.ev (kept while x does not
  * change); LF_ENUMERIC when it cannot be evaluated. */
 int lf_fit_eval_at(lf_fit *f, const double *x);
+/* Curve j's buffer of lf_model_eval_roots in f->ws.roots: the roots of its
+ * last evaluation start the next (the fit evaluates the same depths again
+ * and again, with parameters that move little). */
+double *lf_fit_roots(lf_fit *f, size_t j);
 int lf_fit_residuals(const gsl_vector *x, void *params, gsl_vector *r);
 /* lf_fit_residuals with their sum of squares, summed in row order (the
  * bits of a separate sum over r). */

@@ -385,9 +385,14 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     for (j = 0, nmax = 0; j < ncurves; j++)
         nmax = curves[j].n > nmax ? curves[j].n : nmax;
     f->ws.ev = malloc((f->ndata + nmax) * sizeof *f->ws.ev);
+    f->ws.roots = calloc(LF_MODEL_ROOTS_SIZE(f->ndata) + LF_MODEL_ROOTS_HEAD * ncurves,
+                         sizeof *f->ws.roots);
     scratch = malloc(nmax * sizeof(depth_index) + sizeof(size_t));
-    if (f->order == NULL || f->ws.ev == NULL || scratch == NULL || work_alloc(f) != LF_OK)
+    if (f->order == NULL || f->ws.ev == NULL || f->ws.roots == NULL || scratch == NULL
+        || work_alloc(f) != LF_OK)
         goto nomem;
+    for (j = 0; j < ncurves; j++)
+        lf_fit_roots(f, j)[0] = NAN;
     depth_order(f, scratch);
     f->ws.scan_ev = f->ws.ev + f->ndata;
     /* GSL's workspace: made when a run first needs it (lf_fit_gsl) */
@@ -430,6 +435,7 @@ lf_fit_free(lf_fit *f)
     free(f->c);
     free(f->order);
     free(f->ws.ev);
+    free(f->ws.roots);
     free(f->ws.block);
     lf_arrow_chol_free(&f->ws.lm.L);
     lf_arrow_chol_free(&f->ws.jchol);

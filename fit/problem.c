@@ -244,13 +244,19 @@ eval_all(lf_fit *f, const double *x)
         lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
         for (i = 0; i < c->data.n; i++)
             delta[i] = c->data.depth[i] - z0;
-        if (lf_model_eval(c->model, &mat, c->data.branch, c->data.n, delta,
-                          f->ws.ev + c->row, NULL) != LF_OK)
+        if (lf_model_eval_roots(c->model, &mat, c->data.branch, c->data.n, delta,
+                                f->ws.ev + c->row, lf_fit_roots(f, j)) != LF_OK)
             return LF_ENUMERIC;
     }
     memcpy(f->ws.xcache, x, f->np * sizeof *x);
     f->ws.xcache_ok = 1;
     return LF_OK;
+}
+
+double *
+lf_fit_roots(lf_fit *f, size_t j)
+{
+    return f->ws.roots + LF_MODEL_ROOTS_SIZE(f->c[j].row) + LF_MODEL_ROOTS_HEAD * j;
 }
 
 void
@@ -264,8 +270,8 @@ lf_fit_model_changed(lf_fit *f, size_t j)
     if (!f->ws.xcache_ok)
         return;
     lf_fit_unpack(f, f->ws.xcache, &mat, &z0, &F0, &slope, j);
-    if (lf_model_eval(c->model, &mat, c->data.branch, c->data.n, f->ws.delta + c->row,
-                      f->ws.ev + c->row, NULL) != LF_OK)
+    if (lf_model_eval_roots(c->model, &mat, c->data.branch, c->data.n, f->ws.delta + c->row,
+                            f->ws.ev + c->row, lf_fit_roots(f, j)) != LF_OK)
         f->ws.xcache_ok = 0;
 }
 

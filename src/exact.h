@@ -235,6 +235,13 @@ void lf_exact_mix_eval_u(const lf_exact_mix *mx, double l, double F[4], double g
 int lf_exact_eval_precise(const lf_probe *probe, const lf_material *mat, lf_branch branch,
                           size_t n, const double *delta, lf_eval *out, lf_error *err);
 
+/* The exact model's eval started from the roots of the curve's last
+ * evaluation (lf_model_eval_roots; roots[0..LF_MODEL_ROOTS_HEAD-1]: the
+ * ln lambda, nu and branch they were for). */
+int lf_exact_eval_warm(void *state, const lf_probe *probe, const lf_material *mat,
+                       lf_branch branch, size_t n, const double *delta, lf_eval *out,
+                       double *roots);
+
 /* Build statistics of the last table built in this process (bench). */
 double lf_exact_last_build_seconds(void);
 

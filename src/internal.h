@@ -207,4 +207,16 @@ lf_fmin(double a, double b)
     return a < b || isnan(b) ? a : b;
 }
 
+/* lf_model_eval for a caller that evaluates one curve again and again
+ * (a fit): roots, LF_MODEL_ROOTS_SIZE(n) numbers the caller owns for that
+ * curve (roots[0] = NAN before the first call), keeps what the model's
+ * inversion found (the exact model: each point's ln tau, its slopes and
+ * the parameters it was for) so that the next call starts each point
+ * there.  The answers equal lf_model_eval's to rounding; models without
+ * roots ignore the buffer. */
+#define LF_MODEL_ROOTS_HEAD 3
+#define LF_MODEL_ROOTS_SIZE(n) (LF_MODEL_ROOTS_HEAD + 6 * (size_t) (n))
+int lf_model_eval_roots(const lf_model *m, const lf_material *mat, lf_branch branch,
+                        size_t n, const double *delta, lf_eval *out, double *roots);
+
 #endif

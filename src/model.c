@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "exact.h"
 #include "internal.h"
 
 struct lf_model {
@@ -130,6 +131,22 @@ lf_model_eval(const lf_model *m, const lf_material *mat, lf_branch branch,
     if (status != LF_OK)
         return lf_fail(err, status, "model %s failed to evaluate", m->type->name);
     return LF_OK;
+}
+
+int
+lf_model_eval_roots(const lf_model *m, const lf_material *mat, lf_branch branch,
+                    size_t n, const double *delta, lf_eval *out, double *roots)
+{
+    size_t i;
+
+    if (m->type != &lf_model_exact || roots == NULL)
+        return lf_model_eval(m, mat, branch, n, delta, out, NULL);
+    if (material_in(m, mat, NULL) != LF_OK)
+        return LF_EINVAL;
+    for (i = 0; i < n; i++)
+        if (!isfinite(delta[i]))
+            return LF_EINVAL;
+    return lf_exact_eval_warm(m->state, &m->probe, mat, branch, n, delta, out, roots);
 }
 
 int

@@ -50,7 +50,13 @@
  * four products, expanded once per table or held nu (prodpoly below),
  * instead of the tables' interpolation and four exponentials; the points
  * are then taken in two runs whose root searches the processor overlaps
- * (eval_runs).  lf_exact_eval_precise skips all this.
+ * (eval_runs).  A fit evaluates the same depths again and again with
+ * parameters that move little: there (lf_model_eval_roots, with a buffer
+ * per curve the fit owns) each point starts at its root of the curve's
+ * last evaluation carried to second order by the moves of its depth and
+ * of lambda, so that no point's start waits on another's root and most
+ * points take the second-order finish at once (eval_from).
+ * lf_exact_eval_precise skips all this.
  */
 #include <math.h>
 #include <stdatomic.h>
@@ -1537,11 +1543,46 @@ touching(const exact_ctx *c, int load, double start, double delta)
     return (load ? delta >= start : delta > start) && (isfinite(c->u_det) || delta > 0.0);
 }
 
+/* What a curve's evaluation keeps of each point for the next
+ * (lf_exact_eval_warm): the root u = ln tau (NAN: none), the indentation
+ * it was for, 1/(ddelta/du), the adhesive shift and its u-derivative, and
+ * d2delta/du2 there (0 where not at hand): delta(u, ln lambda) =
+ * A1 tau^k d - shift with d shift/d ln lambda = shift at fixed u, so
+ * these carry the root to second order in the moves of delta and of
+ * ln lambda (root_start). */
+typedef struct {
+    double u, delta, idd, shift, shift1, d2;
+} root_rec;
+
+LF_KERNEL void
+root_put(root_rec *r, double u, double delta, double idd, double shift, double shift1, double d2)
+{
+    r->u = u;
+    r->delta = delta;
+    r->idd = idd;
+    r->shift = shift;
+    r->shift1 = shift1;
+    r->d2 = d2;
+}
+
+/* The start of a point at indentation delta from its record, ln lambda
+ * having moved by dL: the root of the second-order expansion of delta
+ * about the record's, by one fixed-point step from the first-order move
+ * (the error is of third order in the moves). */
+LF_KERNEL double
+root_start(const root_rec *r, double delta, double dL)
+{
+    const double du1 = (delta - r->delta + r->shift * dL) * r->idd;
+
+    return r->u + du1
+           - r->idd * (0.5 * r->d2 * du1 * du1 - r->shift1 * du1 * dL - 0.5 * r->shift * dL * dL);
+}
+
 /* One point of eval_points from guess (NAN: none) with invert, the warm
  * start w updated; LF_EINVAL past a sphere's largest contact. */
 static int
 eval_point(const exact_ctx *c, int bonded, int fast, double delta, double guess, lf_eval *e,
-           warm *w)
+           warm *w, root_rec *ro)
 {
     exact_pt pt;
     double u = invert(c, delta, guess, bonded, fast, &pt);
@@ -1551,6 +1592,8 @@ eval_point(const exact_ctx *c, int bonded, int fast, double delta, double guess,
     fill_point(c, u, &pt, bonded, e);
     if (pt.dd > 0.0)
         warm_push(w, delta, u, pt.idd);
+    if (ro != NULL)
+        root_put(ro, pt.dd > 0.0 ? u : NAN, delta, pt.idd, pt.shift, pt.shift1, pt.d2);
     return LF_OK;
 }
 
@@ -1569,7 +1612,7 @@ eval_point(const exact_ctx *c, int bonded, int fast, double delta, double guess,
 
 static int
 eval_runs(const exact_ctx *c, int bonded, int load, double start, size_t n, const double *delta,
-          lf_eval *out)
+          lf_eval *out, root_rec *ro)
 {
     warm w[NRUN];
     poly_step st[NRUN][CHUNK];
@@ -1594,6 +1637,8 @@ eval_runs(const exact_ctx *c, int bonded, int load, double start, size_t n, cons
                 if (!touching(c, load, start, delta[i])) {
                     lf_eval *e = &out[i];
                     e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
+                    if (ro != NULL)
+                        ro[i].u = NAN;
                     continue;
                 }
                 s->target = delta[i];
@@ -1612,10 +1657,14 @@ eval_runs(const exact_ctx *c, int bonded, int load, double start, size_t n, cons
                     res[r] = poly_newton(c, s);
                 if (res[r] == 1 && s->dd_root > 0.0) {
                     warm_push(&w[r], s->target, s->root, s->idd_root);
+                    if (ro != NULL)
+                        root_put(&ro[i], s->root, s->target, s->idd_root,
+                                 s->shift + s->shift1 * s->du, s->shift1, 0.0);
                     continue;
                 }
                 s->a = NULL;
-                if (eval_point(c, bonded, 1, delta[i], warm_guess(&w[r], delta[i]), &out[i], &w[r])
+                if (eval_point(c, bonded, 1, delta[i], warm_guess(&w[r], delta[i]), &out[i], &w[r],
+                               ro != NULL ? &ro[i] : NULL)
                     != LF_OK)
                     return LF_EINVAL;
             }
@@ -1634,7 +1683,7 @@ eval_runs(const exact_ctx *c, int bonded, int load, double start, size_t n, cons
  * LF_EINVAL for a point past a sphere's largest contact (SPHERE_RHO_MAX). */
 static int
 eval_points(const exact_ctx *c, int bonded, int fast, lf_branch branch, size_t n,
-            const double *delta, lf_eval *out)
+            const double *delta, lf_eval *out, root_rec *ro)
 {
     const int load = branch == LF_BRANCH_LOAD;
     double start = load ? fmax(0.0, c->delta_det) : c->delta_det;
@@ -1642,15 +1691,148 @@ eval_points(const exact_ctx *c, int bonded, int fast, lf_branch branch, size_t n
     size_t i;
 
     if (fast && c->pp != NULL)
-        return eval_runs(c, bonded, load, start, n, delta, out);
+        return eval_runs(c, bonded, load, start, n, delta, out, ro);
     for (i = 0; i < n; i++) {
         lf_eval *e = &out[i];
         if (!touching(c, load, start, delta[i])) {
             e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
+            if (ro != NULL)
+                ro[i].u = NAN;
             continue;
         }
-        if (eval_point(c, bonded, fast, delta[i], fast ? warm_guess(&w, delta[i]) : NAN, e, &w)
+        if (eval_point(c, bonded, fast, delta[i], fast ? warm_guess(&w, delta[i]) : NAN, e, &w,
+                       ro != NULL ? &ro[i] : NULL)
             != LF_OK)
+            return LF_EINVAL;
+    }
+    return LF_OK;
+}
+
+/* One point from a start u near its root: invert's Newton steps on
+ * delta's products (poly_newton's) until one is small enough to be
+ * finished to second order, then P's products and tau at that u carried
+ * to the root, straight to the evaluation, and the point's record *ro.
+ * 1 when done; 0 where invert would leave the polynomials or bisect, or
+ * after PF_STEPS steps (then nothing is written). */
+#define PF_STEPS 6
+LF_KERNEL int
+point_from(const exact_ctx *c, int bonded, double target, double u, lf_eval *e, root_rec *ro)
+{
+    const prodpoly *pp = c->pp;
+    const double *a;
+    double t, t2, t4, tau, shift, shift1, shift2, D, dd, d2, g, idd, du, h, ee;
+    double Ssh, Ssh1, Ssh2, P1, P11, P12, P, dP, dPdd, lo = c->u_lo, hi = c->u_top;
+    pp_v2 v01, v23, y01, y23, z01, z23;
+    int it;
+
+    for (it = 0;; it++) {
+        const double x = (u - pp->u0) * pp->inv_hs;
+        if (it == PF_STEPS || !(u > lo && u < hi) || !(x >= 0.0 && x < (double) pp->nq))
+            return 0;
+        a = pp->c + pp->stride * (size_t) x;
+        t = u - a[PP_MID];
+        t2 = t * t;
+        t4 = t2 * t2;
+        v01 = pp_val2(a + PP_VAL, t, t2, t4);
+        y01 = pp_d12(a + PP_D1, t, t2, t4);
+        z01 = pp_d22(a + PP_D2, t);
+        shift = c->A2 * v01[1];
+        shift1 = c->A2 * y01[1];
+        shift2 = c->A2 * z01[1];
+        D = c->A1 * v01[0];
+        dd = c->A1 * y01[0] - shift1;
+        d2 = c->A1 * z01[0] - shift2;
+        g = (D - shift) - target;
+        if (!(dd > 0.0))
+            return 0;
+        idd = 1.0 / dd;
+        du = -g * idd;
+        if (fabs(g) <= 1e-14 * (fabs(D) + fabs(shift))) {
+            du = 0.0;     /* at the root already */
+            break;
+        }
+        if (g > 0.0)
+            hi = u;
+        else
+            lo = u;
+        if (!(u + du > lo && u + du < hi))
+            return 0;
+        if (fabs(du) <= STEP_TAYLOR && fabs(du * d2) <= CURV_TAYLOR * dd) {
+            du -= 0.5 * d2 * du * du * idd;
+            break;
+        }
+        if (fabs(du) < 1e-13 || hi - lo < 1e-14)
+            return 0;
+        u += du;
+    }
+    h = 0.5 * du * du;
+    ee = d2 * du * idd;
+    idd *= 1.0 - ee + ee * ee;
+    v23 = pp_val2(a + PP_VAL + 2, t, t2, t4);
+    y23 = pp_d12(a + PP_D1 + 2, t, t2, t4);
+    z23 = pp_d22(a + PP_D2 + 2, t);
+    tau = pp_tau(a + PP_TAU, t, t2, t4);
+    Ssh = c->Sc * v23[0];
+    Ssh1 = c->Sc * y23[0];
+    Ssh2 = c->Sc * z23[0];
+    P1 = c->F1 * v23[1];
+    P11 = c->F1 * y23[1];
+    P12 = c->F1 * z23[1];
+    P = (P1 - Ssh) + (P11 - Ssh1) * du + (P12 - Ssh2) * h;
+    dP = (P11 - Ssh1) + (P12 - Ssh2) * du;
+    tau *= 1.0 + du + h;
+    shift += shift1 * du + shift2 * h;
+    Ssh += Ssh1 * du + Ssh2 * h;
+    P1 += P11 * du + P12 * h;
+    dPdd = dP * idd;
+    e->P = P;
+    e->a = tau * c->h;
+    e->dP_ddelta = lf_capped(dPdd);
+    e->dP_dlogw = lf_capped(-0.5 * Ssh + dPdd * 0.5 * shift);
+    e->dP_dlogE = lf_capped(P1 - 0.5 * Ssh - dPdd * 0.5 * shift);
+    e->dP_dnu = 0.0;
+    if (bonded) {
+        const double tr = t + du;
+        const pp_v2 h01 = pp_ld(a + PP_NU) + tr * (pp_ld(a + PP_NU + 4) + tr * (pp_ld(a + PP_NU + 8)
+                                                  + tr * pp_ld(a + PP_NU + 12)));
+        const pp_v2 h23 = pp_ld(a + PP_NU + 2) + tr * (pp_ld(a + PP_NU + 6) + tr * (pp_ld(a + PP_NU + 10)
+                                                      + tr * pp_ld(a + PP_NU + 14)));
+        e->dP_dnu = lf_capped(P1 * h23[1] - Ssh * (h01[0] - h01[1])
+                              - dPdd * ((target + shift) * h23[0] + shift * h01[1]));
+    }
+    root_put(ro, u + du, target, idd, shift, shift1, d2);
+    return 1;
+}
+
+/* eval_points' fast path with each point started at its own root of the
+ * last evaluation of the same curve, carried by the moves of its
+ * indentation and of ln lambda (dL) since (root_start): no point's start
+ * waits on another's root (eval_runs' chain), so the processor overlaps
+ * the points.  point_from takes it from there on the polynomials; a point
+ * it gives up on, without a root, or on the tables (c->pp NULL) goes to
+ * invert from that start (or the half-space form). */
+static int
+eval_from(const exact_ctx *c, int bonded, int load, double start, size_t n, const double *delta,
+          lf_eval *out, root_rec *ro, double dL)
+{
+    warm w = { NAN, NAN, NAN, NAN, NAN, NAN };
+    size_t i;
+
+    for (i = 0; i < n; i++) {
+        root_rec *r = &ro[i];
+        double u0;
+        if (!touching(c, load, start, delta[i])) {
+            lf_eval *e = &out[i];
+            e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
+            r->u = NAN;
+            continue;
+        }
+        u0 = root_start(r, delta[i], dL);
+        if (!isfinite(u0))
+            u0 = NAN;
+        else if (c->pp != NULL && point_from(c, bonded, delta[i], u0, &out[i], r))
+            continue;
+        if (eval_point(c, bonded, 1, delta[i], u0, &out[i], &w, r) != LF_OK)
             return LF_EINVAL;
     }
     return LF_OK;
@@ -1667,8 +1849,50 @@ exact_eval(void *state, const lf_probe *probe, const lf_material *mat,
 
     if (ctx_init(&c, state, probe, mat, &local, &held, NULL) != LF_OK)
         return LF_EINVAL;
-    status = eval_points(&c, probe->base == LF_BASE_BONDED, 1, branch, n, delta, out);
+    status = eval_points(&c, probe->base == LF_BASE_BONDED, 1, branch, n, delta, out, NULL);
     mixdata_done(held);
+    return status;
+}
+
+/* How far ln lambda (and a bonded layer's nu) may have moved since the
+ * roots of a curve's last evaluation for them to start the next: beyond,
+ * eval_runs' chained starts take fewer Newton steps (a fit's first steps
+ * and its guess move that far; 0.1 made a bonded fit at a held nu 15%
+ * slower, bench_models). */
+#define WARM_DL 0.02
+#define WARM_DNU 0.02
+
+_Static_assert(sizeof(root_rec) == 6 * sizeof(double), "LF_MODEL_ROOTS_SIZE counts 6 numbers a point");
+
+/* lf_model_eval_roots for the exact model: eval_from where the last
+ * evaluation's parameters (roots[0..2]: ln lambda, nu, branch) are close,
+ * else the chained starts of eval_points; either keeps each point's
+ * record (root_rec) after the head for the next call. */
+int
+lf_exact_eval_warm(void *state, const lf_probe *probe, const lf_material *mat, lf_branch branch,
+                   size_t n, const double *delta, lf_eval *out, double *roots)
+{
+    exact_ctx c;
+    mixdata local;
+    slot *held;
+    int status, bonded = probe->base == LF_BASE_BONDED;
+    const double nu = bonded ? mat->nu : 0.0;
+    root_rec *ro = (root_rec *) (void *) (roots + LF_MODEL_ROOTS_HEAD);
+
+    if (ctx_init(&c, state, probe, mat, &local, &held, NULL) != LF_OK)
+        return LF_EINVAL;
+    if (fabs(c.L - roots[0]) <= WARM_DL && fabs(nu - roots[1]) <= WARM_DNU
+        && roots[2] == (double) branch) {
+        const int load = branch == LF_BRANCH_LOAD;
+        status = eval_from(&c, bonded, load, load ? fmax(0.0, c.delta_det) : c.delta_det, n, delta,
+                           out, ro, c.L - roots[0]);
+    } else {
+        status = eval_points(&c, bonded, 1, branch, n, delta, out, ro);
+    }
+    mixdata_done(held);
+    roots[0] = status == LF_OK ? c.L : NAN;
+    roots[1] = nu;
+    roots[2] = (double) branch;
     return status;
 }
 
@@ -1685,7 +1909,7 @@ lf_exact_eval_precise(const lf_probe *probe, const lf_material *mat, lf_branch b
         return lf_fail(err, LF_ENOMEM, "out of memory (exact model)");
     status = ctx_init(&c, NULL, probe, mat, local, &held, err);
     if (status == LF_OK
-        && eval_points(&c, probe->base == LF_BASE_BONDED, 0, branch, n, delta, out) != LF_OK)
+        && eval_points(&c, probe->base == LF_BASE_BONDED, 0, branch, n, delta, out, NULL) != LF_OK)
         status = lf_fail(err, LF_EINVAL, "an indentation lies past the sphere's largest contact "
                          "(a = %g R)", SPHERE_RHO_MAX);
     free(local);

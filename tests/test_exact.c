@@ -14,6 +14,7 @@
 #include <gsl/gsl_errno.h>
 
 #include "exact.h"
+#include "internal.h"
 #include "layerfit.h"
 #include "testlib.h"
 
@@ -425,16 +426,21 @@ test_thin_limit(void)
 #define NP_FAST 240
 
 /* One evaluation of the model against lf_exact_eval_precise on the same
- * indentations, with the tolerances above; label names the case. */
+ * indentations, with the tolerances above; label names the case.  roots:
+ * the evaluation of a fit, lf_model_eval_roots with that buffer, or NULL
+ * for lf_model_eval. */
 static void
-fast_vs_precise(lf_model *mod, const lf_probe *pr, const lf_material *m, lf_branch b,
-                const double *d, const char *label)
+fast_vs_precise_roots(lf_model *mod, const lf_probe *pr, const lf_material *m, lf_branch b,
+                      const double *d, const char *label, double *roots)
 {
     static lf_eval ef[NP_FAST], ep[NP_FAST];
     double smax[6] = {0}, emax[6] = {0}, pmax = 0.0;
     int bad = -1, i, j;
 
-    t_int(lf_model_eval(mod, m, b, NP_FAST, d, ef, NULL), LF_OK, "fast eval %s", label);
+    if (roots != NULL)
+        t_int(lf_model_eval_roots(mod, m, b, NP_FAST, d, ef, roots), LF_OK, "fast eval %s", label);
+    else
+        t_int(lf_model_eval(mod, m, b, NP_FAST, d, ef, NULL), LF_OK, "fast eval %s", label);
     t_int(lf_exact_eval_precise(pr, m, b, NP_FAST, d, ep, NULL), LF_OK, "precise eval %s", label);
     for (i = 0; i < NP_FAST; i++) {
         double q[6] = {ep[i].P, ep[i].a, ep[i].dP_ddelta, ep[i].dP_dlogw, ep[i].dP_dlogE, ep[i].dP_dnu};
@@ -465,6 +471,13 @@ fast_vs_precise(lf_model *mod, const lf_probe *pr, const lf_material *m, lf_bran
            "(<= 1e-8; worst point %d)", label, pmax, bad);
 }
 
+static void
+fast_vs_precise(lf_model *mod, const lf_probe *pr, const lf_material *m, lf_branch b,
+                const double *d, const char *label)
+{
+    fast_vs_precise_roots(mod, pr, m, b, d, label, NULL);
+}
+
 /* The largest indentation of a case: well into the thin-layer range of a
  * layer of thickness b whose detachment is at lo. */
 static double
@@ -482,6 +495,61 @@ fast_depths(double lo, double hi, double *d)
 
     for (i = 0; i < NP_FAST; i++)
         d[i] = lo + (hi - lo) * pow((i + 0.5 - (i % 37 == 5)) / NP_FAST, 1.7);
+}
+
+/* The evaluation a fit makes (lf_model_eval_roots: each point started
+ * from its root of the curve's last evaluation, carried by the moves of
+ * its indentation and of the material) against lf_exact_eval_precise
+ * with the fast path's tolerances, along a sequence of evaluations of one
+ * curve whose parameters and offset move by 30% down to 1e-7 (a fit's
+ * first and last steps; the large moves start afresh), points crossing
+ * detachment as the offset moves; frictionless, bonded at a held nu (the
+ * polynomials) and with nu free (the tables), both branches. */
+static void
+test_fast_roots(void)
+{
+    struct { double k; lf_base b; double nu, w, E; int held; } c[] = {
+        {1.5, LF_BASE_FRICTIONLESS, 0.3, 0.01, 1e9, 0},
+        {2.0, LF_BASE_FRICTIONLESS, 0.3, 0.01, 1e9, 0},
+        {3.0, LF_BASE_FRICTIONLESS, 0.3, 0.05, 2e8, 0},
+        {2.0, LF_BASE_FRICTIONLESS, 0.3, 0.0, 1e9, 0},
+        {2.0, LF_BASE_BONDED, 0.45, 0.01, 1e9, 1},
+        {3.0, LF_BASE_BONDED, 0.3, 0.002, 3e9, 0}};
+    static double d0[NP_FAST], d[NP_FAST], roots[LF_MODEL_ROOTS_SIZE(NP_FAST)];
+    size_t ci;
+    int br, s, i;
+
+    for (ci = 0; ci < sizeof c / sizeof c[0]; ci++) {
+        lf_probe pr = {c[ci].k, 1e-3, 1e-6, c[ci].b, LF_TIP_POWER, 0.0, 0.0};
+        lf_material m0 = {c[ci].w, c[ci].E, c[ci].nu};
+        lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
+        lf_pulloff po;
+        char label[96];
+        if (mod == NULL || (c[ci].held && lf_model_prepare(mod, m0.nu, m0.nu, NULL) != LF_OK)
+            || lf_model_pulloff(mod, &m0, &po, NULL) != LF_OK) {
+            t_true(0, "alloc/pulloff roots case %zu", ci);
+            lf_model_free(mod);
+            continue;
+        }
+        fast_depths(po.delta_detach, fast_top(po.delta_detach, 1e-6), d0);
+        for (br = 0; br < 2; br++) {
+            roots[0] = NAN;
+            for (s = 0; s < 16; s++) {
+                const double q = 0.3 * pow(10.0, -0.4 * s), z0 = q * 0.1 * fabs(po.delta_detach);
+                lf_material m = m0;
+                m.w *= 1.0 + q * sin(s + 1.0);
+                m.Estar *= 1.0 + q * cos(s + 2.0);
+                if (c[ci].b == LF_BASE_BONDED && !c[ci].held)
+                    m.nu += 0.05 * q * sin(3.0 * s);
+                for (i = 0; i < NP_FAST; i++)
+                    d[i] = d0[i] - z0 * cos(s + 0.5);
+                snprintf(label, sizeof label, "roots case %zu branch %d step %d", ci, br, s);
+                fast_vs_precise_roots(mod, &pr, &m, br ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD, d,
+                                      label, roots);
+            }
+        }
+        lf_model_free(mod);
+    }
 }
 
 static void
@@ -979,6 +1047,7 @@ main(void)
     test_branches();
     test_fast_path();
     test_fast_grid();
+    test_fast_roots();
     test_held_nu();
     test_slots();
     test_thin_limit();
