@@ -26,38 +26,50 @@
 
 #include "fit.h"
 
-/* multiples of the standard error walked either side */
-static const double descend_steps[] = { 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0 };
-#define DESCEND_NSTEPS (sizeof descend_steps / sizeof descend_steps[0])
+/* multiples of the standard error walked either side (the walk's points
+ * t = -0.5, 0.5, -1, 1, ...: FIT_WALK_N in all) */
+static const double descend_steps[FIT_WALK_N / 2] = { 0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 5.0, 6.0 };
+#define DESCEND_NSTEPS (FIT_WALK_N / 2)
 #define DESCEND_ROUNDS 3
 
+static const char *const mat_name[FIT_NMAT] = { "w", "E*", "nu" };
+
+/* The index of parameter name in res, npar when it is not free. */
+static size_t
+index_of(const lf_fit_result *res, const char *name)
+{
+    size_t i;
+    for (i = 0; i < res->npar; i++)
+        if (strcmp(res->names[i], name) == 0)
+            return i;
+    return res->npar;
+}
+
 int
-lf_fit_path_chi2(const lf_fit_settings *s, size_t nc, const lf_fit_curve *cc,
-                 const lf_fit_result *res, const char *name, int strict, size_t nt,
+lf_fit_path_chi2(fit_prof *p, const lf_fit_result *res, int which, int strict, size_t nt,
                  const double *t, double *chi2, lf_material *mat_low, double *off_low)
 {
+    const size_t nc = p->nc;
     lf_fit *g;
     gsl_vector *r;
-    size_t i, j, np = res->npar, k = np, q;
+    size_t i, j, np = res->npar, k = index_of(res, mat_name[which]), q;
     double best = HUGE_VAL;
     int found = 0;
 
     for (q = 0; q < nt; q++)
         chi2[q] = NAN;
-    for (i = 0; i < np; i++)
-        if (strcmp(res->names[i], name) == 0)
-            k = i;
     if (k == np || !(lf_fit_result_cov(res, k, k) > 0))
         return 0;
-    g = lf_fit_alloc(s, nc, cc, NULL);
-    if (g == NULL)
+    /* one fit of the curves for every path: each point sets all it uses
+     * (the material, the free offsets, the origin) */
+    if (p->walker == NULL)
+        p->walker = lf_fit_alloc(p->s, nc, p->cc, NULL);
+    g = p->walker;
+    if (g == NULL || g->np != np)
         return 0;
     r = gsl_vector_alloc(g->nres);
-    if (r == NULL || g->np != np) {
-        gsl_vector_free(r);
-        lf_fit_free(g);
+    if (r == NULL)
         return 0;
-    }
     for (i = 0; i < g->ndata; i++)
         g->ws.sqrtw[i] = 1.0;        /* least squares (as lf_fit_solve sets) */
     for (q = 0; q < nt; q++) {
@@ -115,8 +127,28 @@ lf_fit_path_chi2(const lf_fit_settings *s, size_t nc, const lf_fit_curve *cc,
         }
     }
     gsl_vector_free(r);
-    lf_fit_free(g);
     return found;
+}
+
+void
+lf_fit_walk_chi2(fit_prof *p, int which, size_t nt, const double *t, double *chi2)
+{
+    const lf_fit_result *res = p->best;
+    size_t i, q, k = index_of(res, mat_name[which]);
+    int walked = p->walk_stamp == p->moves + 1 && p->walk_ok[which] && k < res->npar;
+
+    /* the walk moved a parameter without a covariance by 0 (not strict) */
+    for (i = 0; walked && i < res->npar; i++)
+        walked = isfinite(lf_fit_result_cov(res, i, k));
+    for (q = 0; walked && q < nt; q++) {
+        for (i = 0; i < FIT_WALK_N && descend_steps[i / 2] * (i % 2 ? 1.0 : -1.0) != t[q]; i++)
+            ;
+        walked = i < FIT_WALK_N;
+        if (walked)
+            chi2[q] = p->walk_chi2[which][i];
+    }
+    if (!walked)
+        lf_fit_path_chi2(p, res, which, 1, nt, t, chi2, NULL, NULL);
 }
 
 int
@@ -147,7 +179,6 @@ lf_fit_refit_from(const lf_fit_settings *s, size_t nc, const lf_fit_curve *cc,
 int
 lf_fit_refit_lower(fit_prof *p, lf_fit_result *res, const char *where)
 {
-    static const char *const pname[FIT_NMAT] = { "w", "E*", "nu" };
     lf_fit_result nr;
     int st;
 
@@ -161,14 +192,14 @@ lf_fit_refit_lower(fit_prof *p, lf_fit_result *res, const char *where)
     }
     if (st == LF_OK) {
         lf_warn(&nr.warnings, "the %s of %s passed below the first fit's minimum (chi2 "
-                "%.6g, here %.6g): the fit was continued from there", where, pname[p->which],
+                "%.6g, here %.6g): the fit was continued from there", where, mat_name[p->which],
                 res->chi2, nr.chi2);
     } else {
         char why[sizeof nr.stop_reason];
         lf_warn(&nr.warnings, "the %s of %s passed below the first fit's minimum (chi2 "
                 "%.6g, at %s = %.6g: %.6g), so that was a local minimum; the fit continued "
                 "from there stopped at chi2 %.6g without converging (%s): these are the numbers "
-                "where it stopped", where, pname[p->which], res->chi2, pname[p->which],
+                "where it stopped", where, mat_name[p->which], res->chi2, mat_name[p->which],
                 p->which == FIT_W ? p->lower_mat.w : p->which == FIT_E ? p->lower_mat.Estar
                                                                         : p->lower_mat.nu,
                 p->lower_chi2, nr.chi2, nr.stop_reason);
@@ -180,6 +211,7 @@ lf_fit_refit_lower(fit_prof *p, lf_fit_result *res, const char *where)
     lf_fit_keep_choice(&nr, res);
     lf_fit_result_free(res);
     *res = nr;
+    p->moves++;
     return st == LF_OK ? 1 : 2;
 }
 
@@ -187,8 +219,7 @@ int
 lf_fit_descend(fit_prof *p, lf_fit_result *res)
 {
     static const int which[FIT_NMAT] = { FIT_W, FIT_E, FIT_NU };
-    static const char *const name[FIT_NMAT] = { "w", "E*", "nu" };
-    double t[2 * DESCEND_NSTEPS], chi2[2 * DESCEND_NSTEPS];
+    double t[2 * DESCEND_NSTEPS], *chi2;
     double *off = malloc((p->nc ? 3 * p->nc : 1) * sizeof *off);
     size_t q;
     int round, k, moved = 0;
@@ -203,16 +234,19 @@ lf_fit_descend(fit_prof *p, lf_fit_result *res)
         const lf_fit_estimate *e[FIT_NMAT] = { &res->w, &res->Estar, &res->nu };
         double thr = lf_fit_hold_threshold(res);
         int found = 0;
+        p->walk_stamp = p->moves + 1;
         p->best = res;
         p->thr = thr;
         p->lower_chi2 = res->chi2 - FIT_PROFILE_LOWER * thr;
         for (k = 0; k < FIT_NMAT; k++) {
             lf_material m;
             size_t i;
+            p->walk_ok[k] = 0;
             if (!e[k]->free || !e[k]->determined)
                 continue;
-            if (!lf_fit_path_chi2(p->s, p->nc, p->cc, res, name[k], 0, 2 * DESCEND_NSTEPS, t,
-                                  chi2, &m, off))
+            chi2 = p->walk_chi2[k];
+            p->walk_ok[k] = 1;
+            if (!lf_fit_path_chi2(p, res, k, 0, 2 * DESCEND_NSTEPS, t, chi2, &m, off))
                 continue;
             for (i = 0; i < 2 * DESCEND_NSTEPS; i++)
                 if (chi2[i] < p->lower_chi2)

@@ -554,6 +554,8 @@ int lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err);
  * fit, refit without each in turn and name the culprit in res's warnings. */
 void lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res);
 
+/* descend.c's walk: multiples of the standard error either side */
+#define FIT_WALK_N 18
 /* hold.c: the points of a profile (profile.c).  A profile of parameter
  * `which` around the fit `best` of the curves cc (each with its fitted
  * model) under settings s: */
@@ -575,19 +577,36 @@ typedef struct {
     double lower_chi2;
     lf_material lower_mat;
     double *lower_off;         /* 3 ncurves: z0, F0, slope */
+    /* chi2 along the material parameters' linear paths (descend.c), kept
+     * for the screen of profile.c: evaluated with `walker` (a fit of the
+     * curves made on first use, freed by lf_fit_profile), the last walk
+     * at FIT_WALK_N points about the result as it was after `moves` */
+    lf_fit *walker;
+    size_t moves;              /* results replaced (lf_fit_refit_lower) */
+    size_t walk_stamp;         /* moves + 1 at the last walk, 0: none */
+    int walk_ok[FIT_NMAT];
+    double walk_chi2[FIT_NMAT][FIT_WALK_N];
+    /* the last profile point's fit (hold.c), made again for the next point
+     * of the same parameter, best fit and curves; freed by its owner */
+    lf_fit *held;
+    int held_which;
+    const lf_fit_result *held_best;
+    const lf_fit_curve *held_cc;
 } fit_prof;
 /* hetero.c: a curve estimate with nothing determined, of probe p. */
 void lf_curve_estimate_none(lf_curve_estimate *e, const lf_probe *p);
 /* descend.c: the minimum, always (see there).  chi2 at the points t[q]
- * (multiples of its standard error) of parameter name's linear path about
- * res, every other free parameter moved by its regression on it (strict:
- * a parameter without a covariance makes the point NaN; else it stays);
- * NaN where the path leaves the parameters' domain.  With mat_low, the
- * material and offsets (3 per curve) of the lowest point into mat_low and
- * off_low; returns 1 when there is one. */
-int lf_fit_path_chi2(const lf_fit_settings *s, size_t nc, const lf_fit_curve *cc,
-                     const lf_fit_result *res, const char *name, int strict, size_t nt,
+ * (multiples of its standard error) of material parameter k's linear path
+ * about res on p's curves, every other free parameter moved by its
+ * regression on it (strict: a parameter without a covariance makes the
+ * point NaN; else it stays); NaN where the path leaves the parameters'
+ * domain.  With mat_low, the material and offsets (3 per curve) of the
+ * lowest point into mat_low and off_low; returns 1 when there is one. */
+int lf_fit_path_chi2(fit_prof *p, const lf_fit_result *res, int k, int strict, size_t nt,
                      const double *t, double *chi2, lf_material *mat_low, double *off_low);
+/* The same (strict) for the screen of profile.c: the last walk's numbers
+ * where it was made about res (p->best) at every t, else evaluated. */
+void lf_fit_walk_chi2(fit_prof *p, int k, size_t nt, const double *t, double *chi2);
 /* A fit of the curves cc solved from material mat and offsets off (3 per
  * curve, NaN: the held value or 0), everything free (lf_fit_solve). */
 int lf_fit_refit_from(const lf_fit_settings *s, size_t nc, const lf_fit_curve *cc,
@@ -609,6 +628,10 @@ int lf_fit_descend(fit_prof *p, lf_fit_result *res);
  * failed fit); counts the fit in p->fits and keeps a point below the best
  * in p->lower_*. */
 double lf_fit_hold_rise(fit_prof *p, double v);
+/* The rise with p->which held at v as the refit's first Gauss-Newton step
+ * from the linear path's point predicts it (one evaluation of the model
+ * and Jacobian, no fit); the rise at that point into *start_rise. */
+double lf_fit_hold_predict(fit_prof *p, double v, double *start_rise);
 /* The 95% point of F(1, m), as Student's t at 0.975 squared. */
 double lf_fit_f95(double m);
 /* The threshold of a rise: s^2 F(1, n_eff - p) of the result r. */

@@ -107,19 +107,17 @@ has_parameter(const lf_fit_result *r, const char *name)
     return 0;
 }
 
-/* chi2 minus the best chi2 with parameter `which` held at v (NaN on a
- * failed fit). */
-double
-lf_fit_hold_rise(fit_prof *p, double v)
+/* The fit with parameter p->which held at v, set at the start of its
+ * refit (NULL when it cannot be made). */
+static lf_fit *
+hold_alloc(fit_prof *p, double v)
 {
     lf_fit_settings s = *p->s;
     lf_fit_param *par = p->which == FIT_W ? &s.w : p->which == FIT_E ? &s.Estar
                         : p->which == FIT_NU ? &s.nu : NULL;
-    fit_run run;
     lf_fit *g;
     size_t j;
-    int st, offsets_known = 1;
-    double out = NAN, chi2;
+    int offsets_known = 1;
 
     if (par != NULL) {
         par->mode = LF_PARAM_FIXED;
@@ -130,9 +128,19 @@ lf_fit_hold_rise(fit_prof *p, double v)
     if (p->which != FIT_NU && !has_parameter(p->best, "nu") && s.nu.mode == LF_PARAM_AUTO
         && isfinite(s.nu.value))
         s.nu.mode = LF_PARAM_FIXED;
-    g = lf_fit_alloc(&s, p->nc, p->cc, NULL);
+    if (p->held != NULL && p->held_which == p->which && p->held_best == p->best
+        && p->held_cc == p->cc && p->held->set.nu.mode == s.nu.mode) {
+        /* the last point's fit: the same layout, curves and noise; what a
+         * point sets is set below, the held value here */
+        g = p->held;
+        p->held = NULL;
+        g->set = s;
+        g->mu0 = FIT_LM_MU0;
+    } else {
+        g = lf_fit_alloc(&s, p->nc, p->cc, NULL);
+    }
     if (g == NULL)
-        return NAN;
+        return NULL;
     g->chi2_step = PROFILE_CHI2_STEP;
     /* a profile's points are neighbours, with the same kinks: each refit
      * starts at the damping where the last one took its first step (the
@@ -178,6 +186,33 @@ lf_fit_hold_rise(fit_prof *p, double v)
         lf_fit_set_origin(g);
     else
         lf_fit_guess_offsets(g);
+    return g;
+}
+
+/* Keep g, a point's fit, for the next point (hold_alloc). */
+static void
+hold_keep(fit_prof *p, lf_fit *g)
+{
+    lf_fit_free(p->held);
+    p->held = g;
+    p->held_which = p->which;
+    p->held_best = p->best;
+    p->held_cc = p->cc;
+}
+
+/* chi2 minus the best chi2 with parameter `which` held at v (NaN on a
+ * failed fit). */
+double
+lf_fit_hold_rise(fit_prof *p, double v)
+{
+    fit_run run;
+    lf_fit *g = hold_alloc(p, v);
+    size_t j;
+    int st;
+    double out = NAN, chi2;
+
+    if (g == NULL)
+        return NAN;
     /* the solve without the assessment: a point needs its chi2 alone */
     st = lf_fit_solve_run(g, NULL, &run, NULL, NULL);
     p->fits++;
@@ -199,7 +234,45 @@ lf_fit_hold_rise(fit_prof *p, double v)
             }
         }
     }
-    lf_fit_free(g);
+    hold_keep(p, g);
+    return out;
+}
+
+/* The rise with parameter p->which held at v as a refit's first
+ * Gauss-Newton step predicts it, without the refit: chi2 at the refit's
+ * start (the linear path's point) less the decrease g^T (J^T J)^-1 g of
+ * the other parameters' Gauss-Newton step there (g = J^T r), one
+ * evaluation of the model and its Jacobian; the rise at the start into
+ * *start_rise.  NaN where the model or the normal matrix fails. */
+double
+lf_fit_hold_predict(fit_prof *p, double v, double *start_rise)
+{
+    lf_fit *g = hold_alloc(p, v);
+    fit_arrow A;
+    fit_arrow_chol L;
+    double *gr, cost, out = NAN;
+    size_t i;
+
+    *start_rise = NAN;
+    if (g == NULL)
+        return NAN;
+    for (i = 0; i < g->ndata; i++)
+        g->ws.sqrtw[i] = 1.0;
+    gsl_vector_set_all(g->ws.x, 1.0);
+    cost = lf_fit_cost(g, g->ws.x, g->ws.r);
+    gr = malloc(3 * g->np * sizeof *gr);
+    if (gr != NULL && isfinite(cost) && lf_fit_arrow_alloc(g, 0, &A) == LF_OK) {
+        if (lf_arrow_chol_alloc(&L, &A) == LF_OK) {
+            *start_rise = 2.0 * cost - p->best->chi2;
+            if (lf_fit_normal_sums(g, g->ws.x->data, g->ws.r->data, &A, gr, gr + g->np)
+                == GSL_SUCCESS && lf_arrow_factor(&L, &A, NULL, 0.0, 1e-14))
+                out = *start_rise - lf_arrow_norm2(&L, gr, gr + 2 * g->np);
+            lf_arrow_chol_free(&L);
+        }
+        lf_arrow_free(&A);
+    }
+    free(gr);
+    hold_keep(p, g);
     return out;
 }
 
@@ -244,6 +317,7 @@ lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor)
     p.thr = lf_fit_hold_threshold(r);
     up = lf_fit_hold_rise(&p, w * factor);
     open = isfinite(up) && up < p.thr;
+    lf_fit_free(p.held);
     free(p.cc);
     return open;
 }

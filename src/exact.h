@@ -117,7 +117,10 @@ struct lf_exact_table {
     lf_exact_table *next;  /* the process store's list */
     /* what the exact model derives from this table alone (model_exact.c,
      * frictionless: the grid of its conditions), made by the first model
-     * object that uses the table and freed with it; NULL until then */
+     * object that uses the table and freed with it; NULL until then.  On
+     * a bonded node table: a list of blocks (the data of the nu held by
+     * fits, model_exact.c) whose first member is the next block's
+     * address, freed with it */
     _Atomic(void *) derived;
 };
 

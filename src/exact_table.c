@@ -54,7 +54,17 @@ lf_exact_table_free(lf_exact_table *t)
 {
     if (t == NULL)
         return;
-    free(atomic_load(&t->derived));
+    if (t->base == LF_BASE_BONDED) {
+        /* a list (exact.h) */
+        void *d = atomic_load(&t->derived);
+        while (d != NULL) {
+            void *next = *(void **) d;
+            free(d);
+            d = next;
+        }
+    } else {
+        free(atomic_load(&t->derived));
+    }
     free(t->F);
     free(t->G);
     free(t);
@@ -565,8 +575,8 @@ lf_exact_premix_init(lf_exact_premix *pm, lf_exact_mix *mx)
         if (mx->t[m]->n != t0->n || mx->t[m]->l0 != t0->l0 || mx->t[m]->h != t0->h)
             return;
     nn = NFUN * t0->n;
-    /* a plain copy: a premix is made of bonded tables, which never hold
-     * `derived` (model_exact.c sets it on frictionless ones only) */
+    /* a plain copy, less t0's `derived` (a bonded table's list of the
+     * exact model's held nu, exact.h) */
     *pre = *t0;
     *nu = *t0;
     atomic_init(&pre->derived, NULL);

@@ -787,9 +787,11 @@ LF_API void lf_fit_free(lf_fit *fit);
  * 95% interval wider than a factor 50 each way), or a nu whose interval
  * covers all of [0, 0.5], is marked not determined (e->why says so). */
 /* The modes of lf_fit_profile's `always`: the check by refits at the linear
- * endpoints (0), the profile in any case (1), or first the cheap screen of
- * many fits (`fit --batch`): chi2 at those endpoints along the linear path,
- * no refit, and the check only where that rise is not the threshold's. */
+ * endpoints (0), the profile in any case (1).  Either check is made only
+ * where a cheap screen (chi2 along the linear path, the refits' first
+ * Gauss-Newton step predicted, no fit) does not say that its refits would
+ * bear out the linear interval; LF_PROFILE_SCREEN (`fit --batch`) is now
+ * the same as LF_PROFILE_CHECK. */
 #define LF_PROFILE_CHECK 0
 #define LF_PROFILE_ALWAYS 1
 #define LF_PROFILE_SCREEN 2

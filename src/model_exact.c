@@ -45,10 +45,12 @@
  * interpolant's own second derivatives, exact.h): the root and the values
  * are then off by O(du^3) ~ 1e-18 relative, the derivative columns by
  * O(du^2) <= ~1e-10, far below the tables' own accuracy in derivatives
- * (3e-5, tests/test_exact.c).  On a frictionless layer the curve at u
- * comes from polynomials of its four products, expanded once per table
- * (prodpoly below), instead of the tables' interpolation and four
- * exponentials.  lf_exact_eval_precise skips all this.
+ * (3e-5, tests/test_exact.c).  On a frictionless layer, and on a bonded
+ * one at a nu a fit holds, the curve at u comes from polynomials of its
+ * four products, expanded once per table or held nu (prodpoly below),
+ * instead of the tables' interpolation and four exponentials; the points
+ * are then taken in two runs whose root searches the processor overlaps
+ * (eval_runs).  lf_exact_eval_precise skips all this.
  */
 #include <math.h>
 #include <stdatomic.h>
@@ -85,8 +87,9 @@ enum { RHO_D, RHO_P, RHO_0 };
 typedef struct prodpoly prodpoly;
 typedef struct {
     double nu;                    /* as asked for (0 when frictionless) */
-    const prodpoly *pp;           /* the products' polynomials (frictionless
-                                     tables' shared mixdata), or NULL */
+    const prodpoly *pp;           /* the products' polynomials (a frictionless
+                                     table's shared mixdata, a bonded held
+                                     nu's), or NULL */
     lf_exact_mix mix;
     lf_exact_premix premix;       /* bonded: the mix flattened for this nu */
     double r[3][GRID_N];          /* rho_d, rho_p, rho_0 at the nodes */
@@ -138,6 +141,8 @@ mix_u(const lf_exact_mix *mx, double ln_hR, double u, double F[4], double g[4], 
  * use by eval or pulloff without allocating. */
 typedef struct {
     _Atomic(const lf_exact_table *) tab[LF_EXACT_NY + 2];
+    _Atomic(const void *) held;   /* bonded: the mixdata of the nu last
+                                     prepared alone (held_mixdata), or NULL */
     unsigned long long serial;    /* for the pull-off memo */
     probe_consts pc;
     _Atomic unsigned long clock;
@@ -401,40 +406,88 @@ slot_claim(exact_state *st)
 #define PP_NC (PP_DEG + 1)
 #define PP_NF 5              /* the four products and tau = e^u itself */
 
+/* A sub-cell's coefficients, the four products side by side (index 4 n
+ * + j for product j) so that the evaluation reads them in order: the
+ * Taylor coefficients y_n (n = 0..PP_DEG), those of the first derivative
+ * n y_n (n = 1..PP_DEG) and of the second, 2 y_2, 6 y_3 and y_4 (times
+ * 12 in pp_d2; the series curve_poly cuts there); then tau's y_n and the
+ * sub-cell's centre. */
+#define PP_VAL 0
+#define PP_D1 (PP_VAL + 4 * PP_NC)
+#define PP_D2 (PP_D1 + 4 * PP_DEG)
+#define PP_TAU (PP_D2 + 4 * 3)
+#define PP_MID (PP_TAU + PP_NC)
+#define PP_STRIDE (PP_MID + 1)
+/* a bonded mix's: then d ln f_j/dnu (its table's cubic) at 4 n + j */
+#define PP_NU PP_STRIDE
+#define PP_STRIDE_NU (PP_NU + 16)
+
 struct prodpoly {
     double u0, hs, inv_hs;   /* sub-cell q: [u0 + q hs, u0 + (q + 1) hs] */
     size_t nq;               /* sub-cells */
-    double *c;               /* c[(PP_NF q + j) PP_NC + n] */
+    size_t stride;           /* PP_STRIDE, or PP_STRIDE_NU for a bonded mix */
+    double *c;               /* sub-cell q at c + stride q */
 };
 
-/* The storage prodpoly_build needs for table t (beyond sizeof(mixdata)). */
-static size_t
-prodpoly_size(const lf_exact_table *t)
+/* The one table whose cubics in u a mix evaluates inside the grid: a
+ * frictionless table, or a bonded mix flattened for its nu. */
+static const lf_exact_table *
+mix_table(const lf_exact_mix *mx)
 {
-    return sizeof(prodpoly) + (t->n - 1) * PP_SUB * PP_NF * PP_NC * sizeof(double);
+    return mx->pm != NULL ? &mx->pm->pre : mx->t[0];
 }
 
-/* Build the polynomials of the frictionless mix mx (one table) into mem
- * (prodpoly_size bytes); returns them. */
+/* The storage prodpoly_build needs for table t (beyond sizeof(mixdata)),
+ * with room to align the coefficients to 16 bytes. */
+static size_t
+prodpoly_size(const lf_exact_table *t, int bonded)
+{
+    return sizeof(prodpoly) + 16
+           + (t->n - 1) * PP_SUB * (bonded ? PP_STRIDE_NU : PP_STRIDE) * sizeof(double);
+}
+
+/* The constant third derivative on a table's cell of the cubic Hermite
+ * interpolant with values F[0], F[NFUN] and slopes G[0], G[NFUN]. */
+static double
+cubic_d3(const double *F, const double *G, double h)
+{
+    return (12.0 * (F[0] - F[LF_EXACT_NFUN]) + 6.0 * h * (G[0] + G[LF_EXACT_NFUN])) / (h * h * h);
+}
+
+/* Build the polynomials of the mix mx (one frictionless table, or a
+ * flattened bonded mix, then with its d ln f/dnu) into mem (prodpoly_size
+ * bytes); returns them. */
 static const prodpoly *
 prodpoly_build(void *mem, const lf_exact_mix *mx, double k)
 {
-    const lf_exact_table *t = mx->t[0];
+    const lf_exact_table *t = mix_table(mx), *nu = mx->pm != NULL ? &mx->pm->pre_nu : NULL;
     prodpoly *pp = mem;
+    lf_exact_mix hm;
     size_t i, q, j, n;
 
-    pp->c = (double *) (pp + 1);
+    pp->c = (double *) (((uintptr_t) (pp + 1) + 15) & ~(uintptr_t) 15);
     pp->hs = t->h / PP_SUB;
     pp->inv_hs = 1.0 / pp->hs;
     pp->u0 = t->l0;
     pp->nq = (t->n - 1) * PP_SUB;
+    pp->stride = nu != NULL ? PP_STRIDE_NU : PP_STRIDE;
+    if (nu != NULL) {
+        /* d ln f/dnu of a bonded mix: its flattened table alone */
+        memset(&hm, 0, sizeof hm);
+        hm.m = 1;
+        hm.t[0] = nu;
+        hm.wl[0] = 1.0;
+    }
     for (i = 0; i + 1 < t->n; i++) {
         const double *Fa = t->F + LF_EXACT_NFUN * i, *Ga = t->G + LF_EXACT_NFUN * i;
-        double F3[4];
-        /* the cell's constant third derivative of each ln f */
-        for (j = 0; j < 4; j++)
-            F3[j] = (12.0 * (Fa[j] - Fa[j + LF_EXACT_NFUN])
-                     + 6.0 * t->h * (Ga[j] + Ga[j + LF_EXACT_NFUN])) / (t->h * t->h * t->h);
+        double F3[4], H3[4];
+        /* the cell's constant third derivative of each ln f (and of each
+         * d ln f/dnu) */
+        for (j = 0; j < 4; j++) {
+            F3[j] = cubic_d3(Fa + j, Ga + j, t->h);
+            if (nu != NULL)
+                H3[j] = cubic_d3(nu->F + LF_EXACT_NFUN * i + j, nu->G + LF_EXACT_NFUN * i + j, t->h);
+        }
         for (q = 0; q < PP_SUB; q++) {
             const size_t qq = i * PP_SUB + q;
             const double u = t->l0 + (double) i * t->h + ((double) q + 0.5) * pp->hs;
@@ -451,12 +504,35 @@ prodpoly_build(void *mem, const lf_exact_mix *mx, double k)
             cc[3][2] = 0.5 * dg[3];                cc[3][3] = F3[3] / 6.0;
             cc[4][0] = u;                          cc[4][1] = 1.0;
             cc[4][2] = 0.0;                        cc[4][3] = 0.0;
+            if (nu != NULL) {
+                double H[4], gH[4], dgH[4], *out = pp->c + pp->stride * qq;
+                lf_exact_mix_eval_u(&hm, u, H, gH, dgH, NULL, NULL);
+                for (j = 0; j < 4; j++) {
+                    out[PP_NU + j] = H[j];
+                    out[PP_NU + 4 + j] = gH[j];
+                    out[PP_NU + 8 + j] = 0.5 * dgH[j];
+                    out[PP_NU + 12 + j] = H3[j] / 6.0;
+                }
+            }
             for (j = 0; j < PP_NF; j++) {
-                double *y = pp->c + (PP_NF * qq + j) * PP_NC;
+                double y[PP_NC], *out = pp->c + pp->stride * qq;
                 y[0] = exp(cc[j][0]);
                 for (n = 1; n < PP_NC; n++)
                     y[n] = (cc[j][1] * y[n - 1] + (n >= 2 ? 2.0 * cc[j][2] * y[n - 2] : 0.0)
                             + (n >= 3 ? 3.0 * cc[j][3] * y[n - 3] : 0.0)) / (double) n;
+                if (j == 4) {
+                    for (n = 0; n < PP_NC; n++)
+                        out[PP_TAU + n] = y[n];
+                    out[PP_MID] = pp->u0 + ((double) qq + 0.5) * pp->hs;
+                    continue;
+                }
+                for (n = 0; n < PP_NC; n++)
+                    out[PP_VAL + 4 * n + j] = y[n];
+                for (n = 1; n < PP_NC; n++)
+                    out[PP_D1 + 4 * (n - 1) + j] = (double) n * y[n];
+                out[PP_D2 + j] = 2.0 * y[2];
+                out[PP_D2 + 4 + j] = 6.0 * y[3];
+                out[PP_D2 + 8 + j] = y[4];   /* times 12 t in pp_d2 */
             }
         }
     }
@@ -497,7 +573,7 @@ table_mixdata(exact_state *st, const lf_probe *pr, lf_error *err)
         return NULL;
     if ((ready = shared_mixdata(st)) != NULL)
         return ready;
-    if ((md = malloc(sizeof(mixdata) + prodpoly_size(t))) == NULL)
+    if ((md = malloc(sizeof(mixdata) + prodpoly_size(t, 0))) == NULL)
         return NULL;
     if (mixdata_build(md, st, pr, 0.0, err) != LF_OK) {
         free(md);
@@ -513,6 +589,94 @@ table_mixdata(exact_state *st, const lf_probe *pr, lf_error *err)
     return md;
 }
 
+/* ---- a bonded layer at a held nu ----------------------------------
+ *
+ * A fit that holds nu prepares its models for that nu alone (fit/), and
+ * then evaluates them many times there: the mixdata of that nu is built
+ * with its products' polynomials, as a frictionless table's (about 1.3
+ * MB and 1 ms), once per process: a list on the `derived` member of the
+ * nu's first node table (unused otherwise by bonded tables; a block's
+ * first member is its link, which lf_exact_table_free follows).  Built
+ * the second time a nu is prepared (a map's second curve, a fit's
+ * second start), so that a nu held once (a profile's refits at many nu)
+ * costs a small note and no build.  Models are also prepared at a free
+ * nu's current value (fit/choose.c), so the process builds at most
+ * HELD_MAX in all (about 10 MB and 10 ms; beyond, today's path), and
+ * notes at most HELD_NOTES nu per node table. */
+#define HELD_MAX 8
+#define HELD_NOTES 64
+
+/* Held nu built in the process (never decremented: after
+ * lf_exact_cache_clear, tests only, fewer can be built). */
+static _Atomic int held_built;
+
+typedef struct held_note held_note;
+struct held_note {
+    held_note *next;     /* first member (exact.h) */
+    uint64_t key;        /* bits of nu */
+    int full;            /* a held_md (else a note alone) */
+};
+typedef struct {
+    held_note note;
+    mixdata md;          /* then its polynomials */
+} held_md;
+
+/* Publish h at the head of t's list (a nu pushed twice by two threads at
+ * once is harmless: the same data, the first found is used). */
+static void
+held_push(lf_exact_table *t, held_note *h)
+{
+    void *old = atomic_load_explicit(&t->derived, memory_order_acquire);
+
+    do
+        h->next = old;
+    while (!atomic_compare_exchange_weak_explicit(&t->derived, &old, h, memory_order_acq_rel,
+                                                  memory_order_acquire));
+}
+
+static const mixdata *
+held_mixdata(exact_state *st, const lf_probe *pr, double nu)
+{
+    lf_exact_mix mx;
+    lf_exact_table *t0;
+    held_note *n;
+    held_md *h;
+    const uint64_t key = lf_bits(nu);
+    int notes = 0, seen = 0;
+
+    if (pr->tip == LF_TIP_SPHERE || state_mix(st, pr, nu, &mx, NULL) != LF_OK)
+        return NULL;
+    t0 = (lf_exact_table *) mx.t[0];
+    for (n = atomic_load_explicit(&t0->derived, memory_order_acquire); n != NULL; n = n->next) {
+        if (n->full && n->key == key)
+            return &((held_md *) n)->md;
+        seen |= n->key == key;
+        notes += !n->full;
+    }
+    if (!seen) {
+        if (notes < HELD_NOTES && (n = malloc(sizeof *n)) != NULL) {
+            n->key = key;
+            n->full = 0;
+            held_push(t0, n);
+        }
+        return NULL;
+    }
+    if (atomic_fetch_add_explicit(&held_built, 1, memory_order_relaxed) >= HELD_MAX)
+        return NULL;
+    h = malloc(sizeof *h + prodpoly_size(t0, 1));
+    if (h == NULL || mixdata_build(&h->md, st, pr, nu, NULL) != LF_OK || h->md.mix.pm == NULL
+        || mix_table(&h->md.mix)->n != t0->n) {
+        free(h);
+        atomic_fetch_sub_explicit(&held_built, 1, memory_order_relaxed);
+        return NULL;
+    }
+    h->note.key = key;
+    h->note.full = 1;
+    h->md.pp = prodpoly_build(h + 1, &h->md.mix, pr->k);
+    held_push(t0, &h->note);
+    return &h->md;
+}
+
 /* The mixdata of nu for one call: a frictionless table's shared one, from
  * a slot of the state (*held then holds a reference, released by
  * mixdata_done), built into a fresh slot, or, with no state or no free
@@ -525,7 +689,13 @@ mixdata_get(exact_state *st, const lf_probe *pr, double nu, mixdata *local,
     int status;
 
     *held = NULL;
-    if (pr->base != LF_BASE_BONDED) {
+    if (pr->base == LF_BASE_BONDED && st != NULL) {
+        const mixdata *hm = atomic_load_explicit(&st->held, memory_order_acquire);
+        if (hm != NULL && lf_bits(hm->nu) == lf_bits(nu)) {
+            *out = hm;
+            return LF_OK;
+        }
+    } else if (pr->base != LF_BASE_BONDED) {
         nu = 0.0;
         /* a frictionless table's shared mixdata is a power law's: a
          * sphere's conditions depend on its R/h too, kept in its slot */
@@ -599,6 +769,8 @@ typedef struct {
     double u_top;         /* the largest ln tau: U_HIGH, or a sphere's at
                              SPHERE_RHO_MAX */
     double u_det;         /* ln tau at detachment, -INFINITY when none */
+    double u_lo;          /* the stable branch's lowest ln tau: u_det, or
+                             U_LOW when there is no detachment */
     double delta_det;
     exact_pt det;         /* the curve at u_det (when finite) */
     mixval vdet;          /* the mix near it: u_det = vdet.u + du_det */
@@ -673,6 +845,48 @@ curve_at2(const exact_ctx *c, double u, int want_nu, exact_pt *o)
     curve_from(c, u, F, g, dg, want_nu ? H : NULL, want_nu ? dH : NULL, o);
 }
 
+/* tau's series at t (Estrin's scheme: independent pairs of terms, fewer
+ * dependent operations than Horner's). */
+LF_KERNEL double
+pp_tau(const double *a, double t, double t2, double t4)
+{
+    return (a[0] + a[1] * t) + t2 * (a[2] + a[3] * t) + t4 * ((a[4] + a[5] * t) + a[6] * t2);
+}
+
+/* Two products' value, first and second derivative at t side by side
+ * (a at product 0 or 2 of the kind), by Estrin's scheme: the same
+ * operations on both in one vector register (GCC/Clang vector
+ * extensions; plain SSE2). */
+typedef double pp_v2 __attribute__((vector_size(16)));
+
+LF_KERNEL pp_v2
+pp_ld(const double *a)
+{
+    pp_v2 v;
+    memcpy(&v, a, sizeof v);
+    return v;
+}
+
+LF_KERNEL pp_v2
+pp_val2(const double *a, double t, double t2, double t4)
+{
+    return (pp_ld(a) + pp_ld(a + 4) * t) + t2 * (pp_ld(a + 8) + pp_ld(a + 12) * t)
+           + t4 * ((pp_ld(a + 16) + pp_ld(a + 20) * t) + pp_ld(a + 24) * t2);
+}
+
+LF_KERNEL pp_v2
+pp_d12(const double *a, double t, double t2, double t4)
+{
+    return (pp_ld(a) + pp_ld(a + 4) * t) + t2 * (pp_ld(a + 8) + pp_ld(a + 12) * t)
+           + t4 * (pp_ld(a + 16) + pp_ld(a + 20) * t);
+}
+
+LF_KERNEL pp_v2
+pp_d22(const double *a, double t)
+{
+    return pp_ld(a) + t * (pp_ld(a + 4) + t * 12.0 * pp_ld(a + 8));
+}
+
 /* curve_at2 from the products' polynomials (frictionless, no nu terms);
  * 0 when u lies outside them (then nothing is written).  Values and
  * first derivatives by Estrin's scheme (independent pairs of terms: fewer
@@ -687,23 +901,25 @@ curve_poly(const exact_ctx *c, double u, exact_pt *o)
     const double x = (u - pp->u0) * pp->inv_hs;
     double y[4], y1[4], y2[4], t, t2, t4, tv;
     const double *a;
-    size_t q;
     int j;
 
     if (!(x >= 0.0 && x < (double) pp->nq))
         return 0;
-    q = (size_t) x;
-    t = u - (pp->u0 + ((double) q + 0.5) * pp->hs);
+    a = pp->c + pp->stride * (size_t) x;
+    t = u - a[PP_MID];
     t2 = t * t;
     t4 = t2 * t2;
-    a = pp->c + PP_NF * q * PP_NC;
-    for (j = 0; j < 4; j++, a += PP_NC) {
-        y[j] = (a[0] + a[1] * t) + t2 * (a[2] + a[3] * t) + t4 * ((a[4] + a[5] * t) + a[6] * t2);
-        y1[j] = (a[1] + 2.0 * a[2] * t) + t2 * (3.0 * a[3] + 4.0 * a[4] * t)
-                + t4 * (5.0 * a[5] + 6.0 * a[6] * t);
-        y2[j] = 2.0 * a[2] + t * (6.0 * a[3] + t * 12.0 * a[4]);
+    for (j = 0; j < 4; j += 2) {
+        const pp_v2 v = pp_val2(a + PP_VAL + j, t, t2, t4), v1 = pp_d12(a + PP_D1 + j, t, t2, t4);
+        const pp_v2 v2 = pp_d22(a + PP_D2 + j, t);
+        y[j] = v[0];
+        y[j + 1] = v[1];
+        y1[j] = v1[0];
+        y1[j + 1] = v1[1];
+        y2[j] = v2[0];
+        y2[j + 1] = v2[1];
     }
-    tv = (a[0] + a[1] * t) + t2 * (a[2] + a[3] * t) + t4 * ((a[4] + a[5] * t) + a[6] * t2);
+    tv = pp_tau(a + PP_TAU, t, t2, t4);
     o->tau = tv;
     o->shift = c->A2 * y[1];
     o->shift1 = c->A2 * y1[1];
@@ -979,6 +1195,7 @@ ctx_set(exact_ctx *c, const mixdata *md, const probe_consts *pc, const lf_materi
     c->ln_hR = pc->ln_hR;
     c->u_top = isnan(pc->ln_hR) ? U_HIGH : log(SPHERE_RHO_MAX) - pc->ln_hR;
     find_detach(c);
+    c->u_lo = isfinite(c->u_det) ? c->u_det : U_LOW;
 }
 
 /* st: the model's state, or NULL to take the tables from the store.  The
@@ -1069,6 +1286,128 @@ invert(const exact_ctx *c, double target, double guess, int want_nu, int taylor,
     return u;
 }
 
+/* invert for the common case of the fast path on a frictionless layer
+ * (c->pp), in two parts so that the points of independent runs can be
+ * interleaved (eval_runs): poly_newton, Newton in u from a warm start on
+ * delta's two products alone until the step is small enough to be
+ * finished to second order; poly_finish, P's products and tau at that
+ * point carried to the root, straight to the evaluation.  The same
+ * arithmetic as invert with curve_poly, so the same bits. */
+typedef struct {
+    double target, u, lo, hi;          /* bracket as invert's */
+    const double *a;                   /* the sub-cell's coefficients */
+    double t, t2, t4;
+    double shift, shift1, shift2, dd, d2, idd, du;
+    double root, idd_root, dd_root;    /* u + du and the slope there */
+} poly_step;
+
+/* One Newton step of s: 1 when done (root at s->u + s->du, with
+ * s->root, s->idd_root and s->dd_root set), 0 to step again from s->u, -1
+ * where invert would leave the polynomials or bisect (then invert takes
+ * over from the first start). */
+LF_KERNEL int
+poly_newton(const exact_ctx *c, poly_step *s)
+{
+    const prodpoly *pp = c->pp;
+    const double x = (s->u - pp->u0) * pp->inv_hs, u = s->u;
+    double delta, g, un;
+
+    if (!(u > s->lo && u < s->hi) || !(x >= 0.0 && x < (double) pp->nq))
+        return -1;
+    s->a = pp->c + pp->stride * (size_t) x;
+    s->t = u - s->a[PP_MID];
+    s->t2 = s->t * s->t;
+    s->t4 = s->t2 * s->t2;
+    {
+        const pp_v2 y = pp_val2(s->a + PP_VAL, s->t, s->t2, s->t4);
+        const pp_v2 y1 = pp_d12(s->a + PP_D1, s->t, s->t2, s->t4);
+        s->shift = c->A2 * y[1];
+        s->shift1 = c->A2 * y1[1];
+        delta = c->A1 * y[0] - s->shift;
+        s->dd = c->A1 * y1[0] - s->shift1;
+    }
+    g = delta - s->target;
+    s->du = 0.0;
+    if (fabs(g) <= 1e-14 * (fabs(delta + s->shift) + fabs(s->shift))) {
+        /* at the root already */
+        s->idd = s->idd_root = 1.0 / s->dd;
+        s->dd_root = s->dd;
+        s->root = u;
+        return 1;
+    }
+    if (g > 0.0)
+        s->hi = u;
+    else
+        s->lo = u;
+    s->idd = 1.0 / s->dd;
+    un = s->dd > 0.0 ? u - g * s->idd : NAN;
+    if (!(un > s->lo && un < s->hi))
+        return -1;
+    {
+        const pp_v2 y2 = pp_d22(s->a + PP_D2, s->t);
+        s->shift2 = c->A2 * y2[1];
+        s->d2 = c->A1 * y2[0] - s->shift2;
+    }
+    if (fabs(un - u) <= STEP_TAYLOR && fabs((un - u) * s->d2) <= CURV_TAYLOR * s->dd) {
+        /* invert's second-order finish; 1/dd carried by its series */
+        double e;
+        s->du = un - u;
+        s->du -= 0.5 * s->d2 * s->du * s->du * s->idd;
+        s->dd_root = s->dd + s->d2 * s->du;
+        e = s->d2 * s->du * s->idd;
+        s->idd_root = s->idd * (1.0 - e + e * e);
+        s->root = u + s->du;
+        return 1;
+    }
+    if (fabs(un - u) < 1e-13 || s->hi - s->lo < 1e-14)
+        return -1;
+    s->u = un;
+    return 0;
+}
+
+/* The evaluation at the root of a finished step (poly_newton 1): P's
+ * products and tau at s->u carried to the root (curve_advance2), then
+ * fill_point's. */
+LF_KERNEL void
+poly_finish(const exact_ctx *c, int bonded, const poly_step *s, lf_eval *e)
+{
+    const double *a = s->a, t = s->t, t2 = s->t2, t4 = s->t4, du = s->du;
+    const pp_v2 y = pp_val2(a + PP_VAL + 2, t, t2, t4), y1 = pp_d12(a + PP_D1 + 2, t, t2, t4);
+    double Ssh = c->Sc * y[0], Ssh1 = c->Sc * y1[0], P1 = c->F1 * y[1], P11 = c->F1 * y1[1];
+    double tau = pp_tau(a + PP_TAU, t, t2, t4);
+    double P = P1 - Ssh, dP = P11 - Ssh1, shift = s->shift, dPdd;
+
+    if (du != 0.0) {
+        const pp_v2 y2 = pp_d22(a + PP_D2 + 2, t);
+        double Ssh2 = c->Sc * y2[0], P12 = c->F1 * y2[1];
+        double P2 = P12 - Ssh2, h = 0.5 * du * du;
+        P += dP * du + P2 * h;
+        dP += P2 * du;
+        tau *= 1.0 + du + h;
+        shift += s->shift1 * du + s->shift2 * h;
+        Ssh += Ssh1 * du + Ssh2 * h;
+        P1 += P11 * du + P12 * h;
+    }
+    dPdd = dP * s->idd_root;
+    e->P = P;
+    e->a = tau * c->h;
+    e->dP_ddelta = lf_capped(dPdd);
+    e->dP_dlogw = lf_capped(-0.5 * Ssh + dPdd * 0.5 * shift);
+    e->dP_dlogE = lf_capped(P1 - 0.5 * Ssh - dPdd * 0.5 * shift);
+    e->dP_dnu = 0.0;
+    if (bonded) {
+        /* d/dnu at fixed tau from the mix at the root (curve_from's, with
+         * A1 tau^k d = delta + shift there) */
+        const double tr = t + du;
+        const pp_v2 h01 = pp_ld(a + PP_NU) + tr * (pp_ld(a + PP_NU + 4) + tr * (pp_ld(a + PP_NU + 8)
+                                                  + tr * pp_ld(a + PP_NU + 12)));
+        const pp_v2 h23 = pp_ld(a + PP_NU + 2) + tr * (pp_ld(a + PP_NU + 6) + tr * (pp_ld(a + PP_NU + 10)
+                                                      + tr * pp_ld(a + PP_NU + 14)));
+        e->dP_dnu = lf_capped(P1 * h23[1] - Ssh * (h01[0] - h01[1])
+                              - dPdd * ((s->target + shift) * h23[0] + shift * h01[1]));
+    }
+}
+
 /* The evaluation at ln tau = u from the curve there. */
 static void
 fill_point(const exact_ctx *c, double u, const exact_pt *p, int bonded, lf_eval *e)
@@ -1099,6 +1438,7 @@ exact_alloc(void **state, const lf_probe *probe, lf_error *err)
         return lf_fail(err, LF_ENOMEM, "out of memory (exact model)");
     for (i = 0; i < LF_EXACT_NY + 2; i++)
         atomic_init(&st->tab[i], NULL);
+    atomic_init(&st->held, NULL);
     st->nslot = nslot;
     for (i = 0; i < nslot; i++) {
         atomic_init(&st->slots[i].word, SLOT_EMPTY);
@@ -1142,6 +1482,11 @@ exact_prepare(void *state, const lf_probe *probe, double nu_lo, double nu_hi, lf
     for (i = lo.node0; i <= hi.node0 + 3; i++)
         if ((status = resolve(state, probe, i, &t, err)) != LF_OK)
             return status;
+    if (nu_lo == nu_hi) {
+        /* nu held: its mixdata with polynomials (NULL: today's path) */
+        exact_state *st = state;
+        atomic_store_explicit(&st->held, held_mixdata(st, probe, nu_lo), memory_order_release);
+    }
     return LF_OK;
 }
 
@@ -1149,6 +1494,138 @@ static void
 exact_free(void *state)
 {
     free(state);
+}
+
+/* The warm start of one run of points: data come in order; u(delta)
+ * extrapolated by the cubic through the last two points with their
+ * slopes du/ddelta. */
+typedef struct {
+    double d1, u1, s1, d2, u2, s2;
+} warm;
+
+LF_KERNEL double
+warm_guess(const warm *w, double delta)
+{
+    double guess = NAN;
+
+    if (isfinite(w->d2)) {
+        double hd = delta - w->d2;
+        guess = w->u2 + hd * w->s2;
+        if (isfinite(w->d1) && w->d1 != w->d2) {
+            /* Hermite cubic on [d1, d2] in t = (delta - d1)/H */
+            double H = w->d2 - w->d1, t = (delta - w->d1) / H, t2 = t * t, t3 = t2 * t;
+            guess = (2.0 * t3 - 3.0 * t2 + 1.0) * w->u1 + (t3 - 2.0 * t2 + t) * H * w->s1
+                    + (3.0 * t2 - 2.0 * t3) * w->u2 + (t3 - t2) * H * w->s2;
+        }
+    }
+    return guess;
+}
+
+LF_KERNEL void
+warm_push(warm *w, double delta, double u, double idd)
+{
+    if (delta != w->d2) {
+        w->d1 = w->d2; w->u1 = w->u2; w->s1 = w->s2;
+        w->d2 = delta; w->u2 = u; w->s2 = idd;
+    }
+}
+
+/* Whether a point at delta touches (else it is out of contact). */
+LF_KERNEL int
+touching(const exact_ctx *c, int load, double start, double delta)
+{
+    return (load ? delta >= start : delta > start) && (isfinite(c->u_det) || delta > 0.0);
+}
+
+/* One point of eval_points from guess (NAN: none) with invert, the warm
+ * start w updated; LF_EINVAL past a sphere's largest contact. */
+static int
+eval_point(const exact_ctx *c, int bonded, int fast, double delta, double guess, lf_eval *e,
+           warm *w)
+{
+    exact_pt pt;
+    double u = invert(c, delta, guess, bonded, fast, &pt);
+
+    if (u >= c->u_top && pt.delta < delta - 1e-9 * fabs(delta))
+        return LF_EINVAL;
+    fill_point(c, u, &pt, bonded, e);
+    if (pt.dd > 0.0)
+        warm_push(w, delta, u, pt.idd);
+    return LF_OK;
+}
+
+/* The fast path on a frictionless layer (c->pp).  Each point's warm
+ * start depends on the roots before it: a chain of dependent operations
+ * (a Newton step's evaluation and division), which the processor runs one
+ * after the other.  So the points are cut into NRUN runs of consecutive
+ * points (each with its warm start, at least RUN_MIN points long), whose
+ * chains it overlaps, and taken in chunks of CHUNK points per run in two
+ * passes: first the roots, the runs' Newton steps side by side (delta's
+ * products only), then P's products and the evaluations (independent
+ * points). */
+#define NRUN 2
+#define RUN_MIN 32
+#define CHUNK 16
+
+static int
+eval_runs(const exact_ctx *c, int bonded, int load, double start, size_t n, const double *delta,
+          lf_eval *out)
+{
+    warm w[NRUN];
+    poly_step st[NRUN][CHUNK];
+    size_t nrun = n / RUN_MIN, len, j0, j, r, nj;
+
+    nrun = nrun < 1 ? 1 : nrun > NRUN ? NRUN : nrun;
+    len = (n + nrun - 1) / nrun;
+    for (r = 0; r < nrun; r++)
+        w[r].d1 = w[r].u1 = w[r].s1 = w[r].d2 = w[r].u2 = w[r].s2 = NAN;
+    for (j0 = 0; j0 < len; j0 += nj) {
+        nj = len - j0 < CHUNK ? len - j0 : CHUNK;
+        for (j = 0; j < nj; j++) {
+            int res[NRUN];
+            /* each run's point: its warm start and first Newton step */
+            for (r = 0; r < nrun; r++) {
+                poly_step *s = &st[r][j];
+                const size_t i = r * len + j0 + j;
+                s->a = NULL;
+                res[r] = -2;
+                if (i >= n)
+                    continue;
+                if (!touching(c, load, start, delta[i])) {
+                    lf_eval *e = &out[i];
+                    e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
+                    continue;
+                }
+                s->target = delta[i];
+                s->u = warm_guess(&w[r], delta[i]);
+                s->lo = c->u_lo;
+                s->hi = c->u_top;
+                res[r] = poly_newton(c, s);
+            }
+            /* then the rest of each: more steps, or invert */
+            for (r = 0; r < nrun; r++) {
+                poly_step *s = &st[r][j];
+                const size_t i = r * len + j0 + j;
+                if (res[r] == -2)
+                    continue;
+                while (res[r] == 0)
+                    res[r] = poly_newton(c, s);
+                if (res[r] == 1 && s->dd_root > 0.0) {
+                    warm_push(&w[r], s->target, s->root, s->idd_root);
+                    continue;
+                }
+                s->a = NULL;
+                if (eval_point(c, bonded, 1, delta[i], warm_guess(&w[r], delta[i]), &out[i], &w[r])
+                    != LF_OK)
+                    return LF_EINVAL;
+            }
+        }
+        for (r = 0; r < nrun; r++)
+            for (j = 0; j < nj; j++)
+                if (st[r][j].a != NULL)
+                    poly_finish(c, bonded, &st[r][j], &out[r * len + j0 + j]);
+    }
+    return LF_OK;
 }
 
 /* The evaluation of n indentations with a context (shared by the model's
@@ -1159,40 +1636,22 @@ static int
 eval_points(const exact_ctx *c, int bonded, int fast, lf_branch branch, size_t n,
             const double *delta, lf_eval *out)
 {
-    /* warm start: data come in order; u(delta) extrapolated by the cubic
-     * through the last two points with their slopes du/ddelta */
-    double d1 = NAN, u1 = NAN, s1 = NAN, d2 = NAN, u2 = NAN, s2 = NAN;
-    double start = branch == LF_BRANCH_LOAD ? fmax(0.0, c->delta_det) : c->delta_det;
+    const int load = branch == LF_BRANCH_LOAD;
+    double start = load ? fmax(0.0, c->delta_det) : c->delta_det;
+    warm w = { NAN, NAN, NAN, NAN, NAN, NAN };
     size_t i;
 
+    if (fast && c->pp != NULL)
+        return eval_runs(c, bonded, load, start, n, delta, out);
     for (i = 0; i < n; i++) {
         lf_eval *e = &out[i];
-        int touching = branch == LF_BRANCH_LOAD ? delta[i] >= start : delta[i] > start;
-        double guess = NAN, u;
-        exact_pt pt;
-
-        if (!touching || (!isfinite(c->u_det) && delta[i] <= 0.0)) {
+        if (!touching(c, load, start, delta[i])) {
             e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
             continue;
         }
-        if (fast && isfinite(d2)) {
-            double hd = delta[i] - d2;
-            guess = u2 + hd * s2;
-            if (isfinite(d1) && d1 != d2) {
-                /* Hermite cubic on [d1, d2] in t = (delta - d1)/H */
-                double H = d2 - d1, t = (delta[i] - d1) / H, t2 = t * t, t3 = t2 * t;
-                guess = (2.0 * t3 - 3.0 * t2 + 1.0) * u1 + (t3 - 2.0 * t2 + t) * H * s1
-                        + (3.0 * t2 - 2.0 * t3) * u2 + (t3 - t2) * H * s2;
-            }
-        }
-        u = invert(c, delta[i], guess, bonded, fast, &pt);
-        if (u >= c->u_top && pt.delta < delta[i] - 1e-9 * fabs(delta[i]))
+        if (eval_point(c, bonded, fast, delta[i], fast ? warm_guess(&w, delta[i]) : NAN, e, &w)
+            != LF_OK)
             return LF_EINVAL;
-        fill_point(c, u, &pt, bonded, e);
-        if (pt.dd > 0.0 && delta[i] != d2) {
-            d1 = d2; u1 = u2; s1 = s2;
-            d2 = delta[i]; u2 = u; s2 = pt.idd;
-        }
     }
     return LF_OK;
 }

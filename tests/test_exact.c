@@ -409,7 +409,8 @@ test_thin_limit(void)
 
 /* The model's evaluation (warm starts, small Newton steps finished by a
  * second-order expansion, per-nu data kept in the model object, on
- * frictionless layers the curve from its products' polynomials) against
+ * frictionless layers and at a held nu the curve from its products'
+ * polynomials, in two runs of points) against
  * lf_exact_eval_precise, which solves every indentation on its own to
  * rounding.  The finish leaves the root and the values O(du^3) ~ 1e-18
  * from the converged ones (du <= 1e-6), so P and a must agree to 1e-12 of
@@ -523,7 +524,9 @@ test_fast_path(void)
 /* The same over a grid of the probes the benchmarks time (k = 1.5, 2, 3),
  * both bases, layer thicknesses, works of adhesion and moduli (the
  * curve's scale against the layer's), and both branches; bonded layers at
- * one nu per k (nu moves only the tables' mix, test_fast_path). */
+ * one nu per k (nu moves only the tables' mix, test_fast_path), each
+ * also with a model prepared for that nu alone (a fit holding nu), whose
+ * evaluation takes the products' polynomials as a frictionless one's. */
 static void
 test_fast_grid(void)
 {
@@ -539,6 +542,10 @@ test_fast_grid(void)
                 lf_probe pr = {ks[ki], 1e-3, bs[bi], base ? LF_BASE_BONDED : LF_BASE_FRICTIONLESS,
                                LF_TIP_POWER, 0.0, 0.0};
                 lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
+                lf_model *held = base ? lf_model_alloc(&lf_model_exact, &pr, NULL) : NULL;
+                t_true(!base || (held != NULL
+                                 && lf_model_prepare(held, nus[ki], nus[ki], NULL) == LF_OK),
+                       "prepare held nu k %g b %g", ks[ki], bs[bi]);
                 for (wi = 0; wi < 2 && mod != NULL; wi++)
                     for (Ei = 0; Ei < 2; Ei++) {
                         lf_material m = {ws[wi], Es[Ei], nus[ki]};
@@ -554,11 +561,64 @@ test_fast_grid(void)
                                      ks[ki], base, bs[bi], ws[wi], Es[Ei], br);
                             fast_vs_precise(mod, &pr, &m, br ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD,
                                             d, label);
+                            if (held != NULL) {
+                                strcat(label, " held nu");
+                                fast_vs_precise(held, &pr, &m,
+                                                br ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD, d, label);
+                            }
                         }
                     }
                 t_true(mod != NULL, "alloc k %g base %d b %g", ks[ki], base, bs[bi]);
                 lf_model_free(mod);
+                lf_model_free(held);
             }
+}
+
+/* A bonded model prepared for one nu alone (a fit holding nu) evaluates
+ * with that nu's data and products' polynomials, built once per process
+ * the second time that nu is prepared: a third model prepared for it
+ * builds no grid of its own and gives the same bits, and all agree with
+ * lf_exact_eval_precise. */
+static void
+test_held_nu(void)
+{
+    lf_probe pr = {2.5, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0};
+    lf_material m = {0.02, 5e8, 0.41};
+    static double d[NP_FAST];
+    static lf_eval ea[NP_FAST], eb[NP_FAST];
+    lf_model *first = lf_model_alloc(&lf_model_exact, &pr, NULL);
+    lf_model *a = lf_model_alloc(&lf_model_exact, &pr, NULL);
+    lf_model *b = lf_model_alloc(&lf_model_exact, &pr, NULL);
+    lf_pulloff po;
+    unsigned long n0, n1;
+
+    if (first == NULL || lf_model_prepare(first, m.nu, m.nu, NULL) != LF_OK) {
+        t_true(0, "held nu: first prepare");
+        lf_model_free(first);
+        first = NULL;
+    }
+    fast_depths(-1e-8, 3e-8, d);
+    if (first != NULL)
+        fast_vs_precise(first, &pr, &m, LF_BRANCH_UNLOAD, d, "held nu k 2.5, prepared once");
+    lf_model_free(first);
+    if (a == NULL || b == NULL || lf_model_prepare(a, m.nu, m.nu, NULL) != LF_OK
+        || lf_model_pulloff(a, &m, &po, NULL) != LF_OK) {
+        t_true(0, "held nu: alloc, prepare, pull-off");
+        lf_model_free(a);
+        lf_model_free(b);
+        return;
+    }
+    fast_depths(po.delta_detach, fast_top(po.delta_detach, pr.b), d);
+    fast_vs_precise(a, &pr, &m, LF_BRANCH_UNLOAD, d, "held nu k 2.5");
+    t_int(lf_model_eval(a, &m, LF_BRANCH_UNLOAD, NP_FAST, d, ea, NULL), LF_OK, "held nu eval a");
+    n0 = lf_exact_conditions_built();
+    t_int(lf_model_prepare(b, m.nu, m.nu, NULL), LF_OK, "held nu: prepare b");
+    t_int(lf_model_eval(b, &m, LF_BRANCH_UNLOAD, NP_FAST, d, eb, NULL), LF_OK, "held nu eval b");
+    n1 = lf_exact_conditions_built();
+    t_int((long) (n1 - n0), 0, "a second model prepared for the same held nu builds no grid");
+    t_true(memcmp(ea, eb, sizeof ea) == 0, "and evaluates to the same bits");
+    lf_model_free(a);
+    lf_model_free(b);
 }
 
 /* The per-nu data a model object keeps (a few slots, replaced least
@@ -919,6 +979,7 @@ main(void)
     test_branches();
     test_fast_path();
     test_fast_grid();
+    test_held_nu();
     test_slots();
     test_thin_limit();
     test_threads();

@@ -80,6 +80,12 @@ calls(const bscene *b, const lf_material *mat, const double *depth)
     size_t i;
 
     if (mt != NULL && me != NULL && mh != NULL) {
+        /* nu held: prepared as a fit prepares its models (fit/layout.c),
+         * twice, as a map's curves or a fit's starts do (the exact model
+         * builds the held nu's polynomials on the second) */
+        if (b->fix_nu)
+            for (i = 0; i < 2; i++)
+                lf_model_prepare(me, mat->nu, mat->nu, NULL);
         /* indentations from the data's depths less the simulation's z0 */
         for (i = 0; i < NPTS; i++)
             d[i] = depth[i] - 15e-9;
@@ -190,28 +196,35 @@ run(const bscene *b)
 
 /* The cost per point of one evaluation of each model, for k = 1.5, 2, 3
  * (w = 10 mJ/m^2, E* = 1 GPa, R = 1 mm, b = 1 um frictionless, 300
- * indentations from 50 nm to -10 nm), against the thin model's. */
+ * indentations from 50 nm to -10 nm), against the thin model's; then the
+ * same on a bonded layer (nu = 0.45) with nu free and held (prepared as
+ * a fit holding nu does, twice). */
 static void
 per_point(void)
 {
-    static const double ks[] = { 1.5, 2.0, 3.0 };
+    static const double ks[] = { 1.5, 2.0, 3.0, 2.0, 3.0, 2.0, 3.0 };
     static double d[NPTS];
-    const lf_material mat = { 10e-3, 1e9, 0.3 };
+    const lf_material mat = { 10e-3, 1e9, 0.45 };
+    static const char *what[] = { "", "", "", "bonded", "bonded", "bonded held", "bonded held" };
     size_t i, j;
 
     for (i = 0; i < NPTS; i++)
         d[i] = 50e-9 - 60e-9 * (double) i / (NPTS - 1.0);
     printf("one evaluation of %d points, per point:\n", NPTS);
     for (j = 0; j < sizeof ks / sizeof ks[0]; j++) {
-        lf_probe p = { ks[j], 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 };
+        lf_probe p = { ks[j], 1e-3, 1e-6, j < 3 ? LF_BASE_FRICTIONLESS : LF_BASE_BONDED,
+                       LF_TIP_POWER, 0.0, 0.0 };
         lf_model *mt = lf_model_alloc(&lf_model_thin, &p, NULL);
         lf_model *mh = lf_model_alloc(&lf_model_halfspace, &p, NULL);
         lf_model *me = lf_model_alloc(&lf_model_exact, &p, NULL);
+        if (j >= 5 && me != NULL)
+            for (i = 0; i < 2; i++)
+                lf_model_prepare(me, mat.nu, mat.nu, NULL);
         if (mt != NULL && mh != NULL && me != NULL) {
             double tt = call_time(mt, &mat, d, 0), th = call_time(mh, &mat, d, 0);
             double te = call_time(me, &mat, d, 0);
-            printf("  k = %-4g thin %5.1f ns, halfspace %5.1f ns (%.1fx thin), exact %5.1f ns "
-                   "(%.1fx thin)\n", ks[j], 1e9 * tt / NPTS, 1e9 * th / NPTS, th / tt,
+            printf("  k = %-4g %-11s thin %5.1f ns, halfspace %5.1f ns (%.1fx thin), exact %5.1f ns "
+                   "(%.1fx thin)\n", ks[j], what[j], 1e9 * tt / NPTS, 1e9 * th / NPTS, th / tt,
                    1e9 * te / NPTS, te / tt);
         }
         lf_model_free(mt);
