@@ -1371,6 +1371,30 @@ poly_newton(const exact_ctx *c, poly_step *s)
     return 0;
 }
 
+/* The evaluation at a root from the products there: P, the contact
+ * radius, the derivative columns (fill_point's), and on a bonded layer
+ * d/dnu at fixed tau from the mix's series at tr = t + du in the sub-cell
+ * a (curve_from's, with A1 tau^k d = target + shift there). */
+LF_KERNEL void
+poly_out(const exact_ctx *c, int bonded, const double *a, double tr, double target, double P,
+         double tau, double P1, double Ssh, double shift, double dPdd, lf_eval *e)
+{
+    e->P = P;
+    e->a = tau * c->h;
+    e->dP_ddelta = lf_capped(dPdd);
+    e->dP_dlogw = lf_capped(-0.5 * Ssh + dPdd * 0.5 * shift);
+    e->dP_dlogE = lf_capped(P1 - 0.5 * Ssh - dPdd * 0.5 * shift);
+    e->dP_dnu = 0.0;
+    if (bonded) {
+        const pp_v2 h01 = pp_ld(a + PP_NU) + tr * (pp_ld(a + PP_NU + 4) + tr * (pp_ld(a + PP_NU + 8)
+                                                  + tr * pp_ld(a + PP_NU + 12)));
+        const pp_v2 h23 = pp_ld(a + PP_NU + 2) + tr * (pp_ld(a + PP_NU + 6) + tr * (pp_ld(a + PP_NU + 10)
+                                                      + tr * pp_ld(a + PP_NU + 14)));
+        e->dP_dnu = lf_capped(P1 * h23[1] - Ssh * (h01[0] - h01[1])
+                              - dPdd * ((target + shift) * h23[0] + shift * h01[1]));
+    }
+}
+
 /* The evaluation at the root of a finished step (poly_newton 1): P's
  * products and tau at s->u carried to the root (curve_advance2), then
  * fill_point's. */
@@ -1395,23 +1419,7 @@ poly_finish(const exact_ctx *c, int bonded, const poly_step *s, lf_eval *e)
         P1 += P11 * du + P12 * h;
     }
     dPdd = dP * s->idd_root;
-    e->P = P;
-    e->a = tau * c->h;
-    e->dP_ddelta = lf_capped(dPdd);
-    e->dP_dlogw = lf_capped(-0.5 * Ssh + dPdd * 0.5 * shift);
-    e->dP_dlogE = lf_capped(P1 - 0.5 * Ssh - dPdd * 0.5 * shift);
-    e->dP_dnu = 0.0;
-    if (bonded) {
-        /* d/dnu at fixed tau from the mix at the root (curve_from's, with
-         * A1 tau^k d = delta + shift there) */
-        const double tr = t + du;
-        const pp_v2 h01 = pp_ld(a + PP_NU) + tr * (pp_ld(a + PP_NU + 4) + tr * (pp_ld(a + PP_NU + 8)
-                                                  + tr * pp_ld(a + PP_NU + 12)));
-        const pp_v2 h23 = pp_ld(a + PP_NU + 2) + tr * (pp_ld(a + PP_NU + 6) + tr * (pp_ld(a + PP_NU + 10)
-                                                      + tr * pp_ld(a + PP_NU + 14)));
-        e->dP_dnu = lf_capped(P1 * h23[1] - Ssh * (h01[0] - h01[1])
-                              - dPdd * ((s->target + shift) * h23[0] + shift * h01[1]));
-    }
+    poly_out(c, bonded, a, t + du, s->target, P, tau, P1, Ssh, shift, dPdd, e);
 }
 
 /* The evaluation at ln tau = u from the curve there. */
@@ -1721,7 +1729,7 @@ point_from(const exact_ctx *c, int bonded, double target, double u, lf_eval *e, 
     const prodpoly *pp = c->pp;
     const double *a;
     double t, t2, t4, tau, shift, shift1, shift2, D, dd, d2, g, idd, du, h, ee;
-    double Ssh, Ssh1, Ssh2, P1, P11, P12, P, dP, dPdd, lo = c->u_lo, hi = c->u_top;
+    double Ssh, Ssh1, Ssh2, P1, P11, P12, P, dP, lo = c->u_lo, hi = c->u_top;
     pp_v2 v01, v23, y01, y23, z01, z23;
     int it;
 
@@ -1784,22 +1792,7 @@ point_from(const exact_ctx *c, int bonded, double target, double u, lf_eval *e, 
     shift += shift1 * du + shift2 * h;
     Ssh += Ssh1 * du + Ssh2 * h;
     P1 += P11 * du + P12 * h;
-    dPdd = dP * idd;
-    e->P = P;
-    e->a = tau * c->h;
-    e->dP_ddelta = lf_capped(dPdd);
-    e->dP_dlogw = lf_capped(-0.5 * Ssh + dPdd * 0.5 * shift);
-    e->dP_dlogE = lf_capped(P1 - 0.5 * Ssh - dPdd * 0.5 * shift);
-    e->dP_dnu = 0.0;
-    if (bonded) {
-        const double tr = t + du;
-        const pp_v2 h01 = pp_ld(a + PP_NU) + tr * (pp_ld(a + PP_NU + 4) + tr * (pp_ld(a + PP_NU + 8)
-                                                  + tr * pp_ld(a + PP_NU + 12)));
-        const pp_v2 h23 = pp_ld(a + PP_NU + 2) + tr * (pp_ld(a + PP_NU + 6) + tr * (pp_ld(a + PP_NU + 10)
-                                                      + tr * pp_ld(a + PP_NU + 14)));
-        e->dP_dnu = lf_capped(P1 * h23[1] - Ssh * (h01[0] - h01[1])
-                              - dPdd * ((target + shift) * h23[0] + shift * h01[1]));
-    }
+    poly_out(c, bonded, a, t + du, target, P, tau, P1, Ssh, shift, dP * idd, e);
     root_put(ro, u + du, target, idd, shift, shift1, d2);
     return 1;
 }
