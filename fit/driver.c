@@ -30,30 +30,47 @@ model_name(const lf_fit *f)
 }
 
 int
-lf_fit_solve(lf_fit *f, const fit_start *start, lf_fit_result *res, lf_error *err)
+lf_fit_solve_begin(lf_fit *f, const fit_start *start, fit_run *run, lf_fit_result *res,
+                   lf_error *err)
 {
-    gsl_vector *x = f->ws.x;
-    fit_run run;
     int status;
-    size_t i;
 
     memset(res, 0, sizeof *res);
-    status = lf_fit_solve_run(f, start, &run, &res->warnings, err);
-    res->iterations = run.iters;
-    res->reweightings = run.reweightings;
+    status = lf_fit_solve_run(f, start, run, &res->warnings, err);
+    res->iterations = run->iters;
+    res->reweightings = run->reweightings;
     if (status != LF_OK) {
         lf_warnings_free(&res->warnings);
         return status;
     }
-    res->evaluations = run.evals;
-    status = lf_fit_assess(f, x->data, &run, res, err);
+    res->evaluations = run->evals;
+    return LF_OK;
+}
+
+int
+lf_fit_solve(lf_fit *f, const fit_start *start, lf_fit_result *res, lf_error *err)
+{
+    fit_run run;
+    int status = lf_fit_solve_begin(f, start, &run, res, err);
+
+    return status != LF_OK ? status : lf_fit_solve_end(f, &run, res, err);
+}
+
+int
+lf_fit_solve_end(lf_fit *f, const fit_run *run, lf_fit_result *res, lf_error *err)
+{
+    gsl_vector *x = f->ws.x;
+    int status;
+    size_t i;
+
+    status = lf_fit_assess(f, x->data, run, res, err);
     if (status != LF_OK) {
         lf_fit_result_free(res);
         return status;
     }
-    res->converged = run.converged;
-    res->stop = run.stop;
-    snprintf(res->stop_reason, sizeof res->stop_reason, "%s", run.why);
+    res->converged = run->converged;
+    res->stop = run->stop;
+    snprintf(res->stop_reason, sizeof res->stop_reason, "%s", run->why);
     if (f->ncurves >= 3) {
         size_t j, bad = 0;
         for (j = 0; j < f->ncurves; j++)
@@ -73,9 +90,9 @@ lf_fit_solve(lf_fit *f, const fit_start *start, lf_fit_result *res, lf_error *er
         res->curves[i].thin_bias_se[0] = res->curves[i].thin_bias_se[1] = NAN;
         res->curves[i].thin_bias_se[2] = NAN;
     }
-    if (!run.converged) {
+    if (!run->converged) {
         lf_warn(&res->warnings, "the fit did not converge (%s): the numbers below are where it "
-                "stopped", run.why);
+                "stopped", run->why);
         return LF_ENOCONV;
     }
     lf_fit_degenerate_end(res);
@@ -100,7 +117,7 @@ lf_fit_stop_name(lf_fit_stop stop)
 }
 
 int
-lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
+lf_fit_run_begin(lf_fit *f, fit_run *run, lf_fit_result *res, lf_error *err)
 {
     int status;
 
@@ -114,7 +131,16 @@ lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
     status = lf_fit_guess(f, &start, err);
     if (status != LF_OK)
         return status;
-    return lf_fit_solve(f, &start, res, err);
+    return lf_fit_solve_begin(f, &start, run, res, err);
+}
+
+int
+lf_fit_run(lf_fit *f, lf_fit_result *res, lf_error *err)
+{
+    fit_run run;
+    int status = lf_fit_run_begin(f, &run, res, err);
+
+    return status != LF_OK ? status : lf_fit_solve_end(f, &run, res, err);
 }
 
 int

@@ -676,8 +676,17 @@ int lf_fit_gn_at(const lf_fit *f, const gsl_vector *x);
 int lf_fit_solve_run(lf_fit *f, const fit_start *start, fit_run *run, lf_warnings *warn,
                      lf_error *err);
 /* driver.c: lf_fit_solve_run, then lf_fit_assess and leave-one-out (three
- * or more curves all disagreeing); fills res as lf_fit_run does. */
+ * or more curves all disagreeing); fills res as lf_fit_run does.  In two
+ * steps for a caller that assesses only the better of two runs
+ * (joint.c): _begin solves (res holds the run's warnings and totals; f
+ * stays at the solution, whose chi2 lf_fit_residuals_ss gives), _end
+ * assesses f at that solution and completes res.  lf_fit_run_begin is
+ * lf_fit_run's start and _begin. */
 int lf_fit_solve(lf_fit *f, const fit_start *start, lf_fit_result *res, lf_error *err);
+int lf_fit_solve_begin(lf_fit *f, const fit_start *start, fit_run *run, lf_fit_result *res,
+                       lf_error *err);
+int lf_fit_solve_end(lf_fit *f, const fit_run *run, lf_fit_result *res, lf_error *err);
+int lf_fit_run_begin(lf_fit *f, fit_run *run, lf_fit_result *res, lf_error *err);
 
 /* decomp_block.c: decomp.c's decomposition for many curves, from the
  * block structure (see its top): the scaled Gram, the columns' norms, the
