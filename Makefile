@@ -18,7 +18,7 @@ WARN    := -Wall -Wextra -Wpedantic -Wshadow -Wpointer-arith -Wstrict-prototypes
 ifeq ($(WERROR),1)
 WARN    += -Werror
 endif
-OPT     ?= -O2 -g
+OPT     ?= -O3 -funroll-loops -g
 # project flags first, the user's CFLAGS after them
 OPENMP  ?= -fopenmp
 # HAVE_INLINE: GSL's element accessors (gsl_vector_get, ...) inline, range

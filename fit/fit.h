@@ -940,6 +940,15 @@ extern int lf_fit_choose_fast;
 void lf_judge_model_reason(char *buf, size_t n, int rung, int fixed, const judge_bias *thin,
                            const judge_bias *half, double ab_lo, double ab_hi, double tol);
 
+/* A residual r (weighted, over sigma) back in force units: r sigma / sqrtw,
+ * with no division where the weight is 1 (least squares: every point),
+ * where it would leave the product unchanged. */
+static inline double
+lf_fit_unweighted(double r, double sigma, double sqrtw)
+{
+    return sqrtw == 1.0 ? r * sigma : r * sigma / sqrtw;
+}
+
 /* noise.c: the integrated autocorrelation time of e[0..n-1] (1 for white
  * noise); the noise model of curve j at the residuals res (units of sigma):
  * from cr's corr_time and noise_sd (lf_fit_curve_noise at the same res) and

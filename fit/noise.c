@@ -126,7 +126,8 @@ lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau
     double *e = f->ws.work, *work = f->ws.work + n, s1, sm, tau;
 
     for (i = 0; i < n; i++)
-        e[i] = gsl_vector_get(res, c->row + i) * c->sigma / f->ws.sqrtw[c->row + i];
+        e[i] = lf_fit_unweighted(gsl_vector_get(res, c->row + i), c->sigma,
+                                 f->ws.sqrtw[c->row + i]);
     /* the plateau of the residuals' noise over strides 1, 2, 4, ...: where
      * doubling the stride no longer raises it by NOISE_GROWTH (at stride 2
      * the question alone is asked, by counting: white noise stops there,
@@ -188,7 +189,8 @@ shape(const lf_fit *f, size_t j, const gsl_vector *res, size_t m)
     if (nb < 2)
         return 0.0;
     for (i = 0; i < n; i++) {
-        e[i] = gsl_vector_get(res, c->row + i) * c->sigma / f->ws.sqrtw[c->row + i];
+        e[i] = lf_fit_unweighted(gsl_vector_get(res, c->row + i), c->sigma,
+                                 f->ws.sqrtw[c->row + i]);
         mean += e[i];
     }
     mean /= (double) n;

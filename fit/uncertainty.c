@@ -363,7 +363,7 @@ assess_curve(lf_fit *f, const double *x, size_t j, lf_fit_result *r, const fit_d
                 "step / sqrt(12) = %.3g N", c->quantum, c->sigma);
     for (i = 0; i < c->data.n; i++) {
         size_t k = c->row + i;
-        double e = gsl_vector_get(res, k) * c->sigma / f->ws.sqrtw[k];
+        double e = lf_fit_unweighted(gsl_vector_get(res, k), c->sigma, f->ws.sqrtw[k]);
         ss += e * e;
         cr->fitted[i] = c->data.force[i] + e;
         cr->contact_radius[i] = f->ws.ev[k].a;

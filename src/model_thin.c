@@ -252,51 +252,100 @@ sphere_pulloff(const lf_probe *p, const thin_consts *t, lf_pulloff *out)
 
 #define BLOCK 64   /* points whose k = 3 roots are taken together */
 
+/* The constants of one evaluation's loop. */
+typedef struct {
+    thin_consts t;
+    thin_powers pw;
+    double Ckk, kkc, c2k, wcoef;
+    int load;
+} thin_loop;
+
+/* Points i0..i0+nb-1 of thin_eval, for root kind KIND and ADH = (c > 0),
+ * both constants in each instance (LF_KERNEL), so that the loop over the
+ * points tests neither; y: the block's k = 3 roots. */
+LF_KERNEL void
+thin_block(const thin_loop *L, root_kind KIND, int ADH, size_t nb, const double *delta,
+           const double *y, lf_eval *out)
+{
+    const thin_consts *t = &L->t;
+    thin_powers pw = L->pw;
+    size_t j;
+
+    pw.kind = KIND;
+    for (j = 0; j < nb; j++) {
+        lf_eval *e = &out[j];
+        double d1 = delta[j] + t->c, g, p2;
+
+        if (d1 <= 0.0 || (L->load && delta[j] < 0.0)) {
+            e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
+            continue;
+        }
+        powers_at(&pw, d1, y[j], &g, &p2, &e->a);     /* g = delta1^(2/k-1) */
+        if (ADH) {
+            e->P = t->C * p2 * (d1 - L->kkc);
+            e->dP_ddelta = lf_capped(L->Ckk * g * (d1 - L->c2k));
+            e->dP_dlogw = lf_capped(L->wcoef * g);
+        } else {
+            e->P = t->C * p2 * d1;
+            e->dP_ddelta = L->Ckk * p2;
+            e->dP_dlogw = 0.0;
+        }
+        e->dP_dlogE = lf_capped(e->P - e->dP_dlogw);
+        e->dP_dnu = lf_capped(e->dP_dlogE * t->dlogZ);
+    }
+}
+
 static int
 thin_eval(void *state, const lf_probe *p, const lf_material *m,
           lf_branch branch, size_t n, const double *delta, lf_eval *out)
 {
-    const thin_consts t = thin_setup(p, m);
-    const thin_powers pw = powers_setup(p);
+    thin_loop L;
     const double k = p->k, kk = (k + 2.0) / k;
-    const double Ckk = t.C * kk, kkc = kk * t.c, c2k = 2.0 * t.c / k;
-    const double wcoef = -Ckk / k * t.c * t.c;
-    const int load = branch == LF_BRANCH_LOAD;
     double y[BLOCK] = { 0.0 };
     size_t i0;
 
     (void) state;
+    L.t = thin_setup(p, m);
+    L.pw = powers_setup(p);
+    L.Ckk = L.t.C * kk;
+    L.kkc = kk * L.t.c;
+    L.c2k = 2.0 * L.t.c / k;
+    L.wcoef = -L.Ckk / k * L.t.c * L.t.c;
+    L.load = branch == LF_BRANCH_LOAD;
     if (p->tip == LF_TIP_SPHERE)
-        return sphere_eval(p, &t, branch, n, delta, out);
+        return sphere_eval(p, &L.t, branch, n, delta, out);
     for (i0 = 0; i0 < n; i0 += BLOCK) {
-        size_t nb = n - i0 < BLOCK ? n - i0 : BLOCK, j;
+        const size_t nb = n - i0 < BLOCK ? n - i0 : BLOCK;
+        const double *d = delta + i0;
+        lf_eval *o = out + i0;
+        const int adh = L.t.c > 0.0;
+        size_t j;
         /* k = 3: the roots of a block first, in a loop of independent
          * multiplications that the processor overlaps */
-        if (pw.kind == ROOT_CBRT)
+        if (L.pw.kind == ROOT_CBRT)
             for (j = 0; j < nb; j++) {
-                double x = delta[i0 + j] + t.c;
+                double x = d[j] + L.t.c;
                 y[j] = lf_inv_cbrt(x >= 1e-300 && x <= 1e300 ? x : 1.0);
             }
-        for (j = 0; j < nb; j++) {
-            lf_eval *e = &out[i0 + j];
-            double d1 = delta[i0 + j] + t.c, g, p2;
-
-            if (d1 <= 0.0 || (load && delta[i0 + j] < 0.0)) {
-                e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
-                continue;
-            }
-            powers_at(&pw, d1, y[j], &g, &p2, &e->a);     /* g = delta1^(2/k-1) */
-            if (t.c > 0.0) {
-                e->P = t.C * p2 * (d1 - kkc);
-                e->dP_ddelta = lf_capped(Ckk * g * (d1 - c2k));
-                e->dP_dlogw = lf_capped(wcoef * g);
-            } else {
-                e->P = t.C * p2 * d1;
-                e->dP_ddelta = Ckk * p2;
-                e->dP_dlogw = 0.0;
-            }
-            e->dP_dlogE = lf_capped(e->P - e->dP_dlogw);
-            e->dP_dnu = lf_capped(e->dP_dlogE * t.dlogZ);
+        switch (L.pw.kind) {
+        case ROOT_SQRT:
+            if (adh)
+                thin_block(&L, ROOT_SQRT, 1, nb, d, y, o);
+            else
+                thin_block(&L, ROOT_SQRT, 0, nb, d, y, o);
+            break;
+        case ROOT_CBRT:
+            if (adh)
+                thin_block(&L, ROOT_CBRT, 1, nb, d, y, o);
+            else
+                thin_block(&L, ROOT_CBRT, 0, nb, d, y, o);
+            break;
+        default:        /* the other kinds: the kind tested per point */
+            if (adh)
+                thin_block(&L, L.pw.kind, 1, nb, d, y, o);
+            else
+                thin_block(&L, L.pw.kind, 0, nb, d, y, o);
+            break;
         }
     }
     return LF_OK;

@@ -183,9 +183,9 @@ static int
 wsm_curve(const lf_file *f, size_t i, lf_curve *c, lf_warnings *warn, lf_error *err)
 {
     const ws_state *st = f->state;
-    char *text, name[4400];
+    char *text = NULL, name[4400];
     lf_source in;
-    size_t len;
+    size_t len = 0;
     int status;
 
     if ((status = member_text(f, i, &text, &len, err)) != LF_OK)
