@@ -28,11 +28,13 @@
  *   dP/dln E* = P - dP/dln w   (P is E* times a function of w/E*).
  *
  * Inversion without a search.  r(delta) comes from a table of the stable
- * branch, built once per k in the process (about 1 ms, 70 kB): y = r - r_det
+ * branch, built once per k in the process (about 1 ms, 200 kB): y = r - r_det
  * against s = delta/delta_s - D_det > 0 at the nodes s = 2^e (1 + j/32),
  * 2^-40 <= s <= 2^100, so the cell of an s is read from its bits (exponent
  * and five mantissa bits) and spans 1/32 of its left end.  Cubic Hermite
- * interpolation with the exact slopes dy/ds = 1/D'(r); y behaves like a
+ * interpolation with the exact slopes dy/ds = 1/D'(r) (each cell's cubic in
+ * the fraction u of the cell kept as its four coefficients, so a point
+ * costs a load and three multiply-adds); y behaves like a
  * power of s at both ends (s^(1/2) at detachment, s^(1/(2k)) deep), and on
  * such a cell the interpolation's relative error is below
  * |p(p-1)(p-2)(p-3)| 32^-4 / 384 ~ 2.4e-9 (p = 1/2);
@@ -85,6 +87,11 @@ struct hs_table {
      * D'(r)/D''(r_det), where D'(r) < 2e-4 D''(r_det)^(1/2) */
     double newton_min;
     double *node;          /* y, dy/ds at node i: node[2 i], node[2 i + 1] */
+    /* cell i's cubic in u = (s - s_i)/(s_(i+1) - s_i) in [0, 1):
+     * r = cell[4 i] + u (cell[4 i + 1] + u (cell[4 i + 2] + u cell[4 i + 3])),
+     * the Hermite interpolant of the nodes with r_det added, formed once
+     * here rather than per point */
+    double *cell;
     hs_table *next;        /* the store's list */
 };
 
@@ -178,8 +185,10 @@ solve_y(const hs_table *t, double s, double y, double *slope)
 static void
 table_free(hs_table *t)
 {
-    if (t != NULL)
+    if (t != NULL) {
         free(t->node);
+        free(t->cell);
+    }
     free(t);
 }
 
@@ -190,8 +199,9 @@ table_build(double k)
     double k2 = 2.0 * k, Drr, Drrr, y = 0.0;
     size_t i;
 
-    if (t == NULL || (t->node = malloc(2 * NNODE * sizeof *t->node)) == NULL) {
-        free(t);
+    if (t == NULL || (t->node = malloc(2 * NNODE * sizeof *t->node)) == NULL
+        || (t->cell = malloc(4 * (NNODE - 1) * sizeof *t->cell)) == NULL) {
+        table_free(t);
         return NULL;
     }
     t->k = k;
@@ -215,12 +225,23 @@ table_build(double k)
         y = solve_y(t, s, y, &t->node[2 * i + 1]);
         t->node[2 * i] = y;
     }
+    for (i = 0; i + 1 < NNODE; i++) {
+        /* the slopes in u: times the cell's width, a power of two */
+        const double h = lf_double(((BASE + i) >> MB << 52) - ((uint64_t) MB << 52));
+        const double *nd = t->node + 2 * i;
+        const double y0 = nd[0], y1 = nd[2], m0 = nd[1] * h, m1 = nd[3] * h, dy = y1 - y0;
+        double *cf = t->cell + 4 * i;
+        cf[0] = t->r_det + y0;
+        cf[1] = m0;
+        cf[2] = 3.0 * dy - 2.0 * m0 - m1;
+        cf[3] = m0 + m1 - 2.0 * dy;
+    }
     return t;
 }
 
 /* The process store: a list of immutable tables read without a lock,
  * linked in under a mutex (a second builder of the same k frees its copy),
- * kept for the life of the process (about 70 kB each). */
+ * kept for the life of the process (about 200 kB each). */
 static pthread_mutex_t store_lock = PTHREAD_MUTEX_INITIALIZER;
 static _Atomic(hs_table *) store_head = NULL;
 
@@ -262,12 +283,12 @@ static inline double
 r_start(const hs_table *tb, double s, double t)
 {
     if (s >= S_MIN && s < S_MAX) {
-        const uint64_t b = lf_bits(s), cell = b >> (52 - MB), e = b >> 52;
-        const double *nd = tb->node + 2 * (cell - BASE);
-        const double u = (s - lf_double(cell << (52 - MB))) * lf_double((2046 + MB - e) << 52);
-        const double h = lf_double((e - MB) << 52);
-        const double y0 = nd[0], y1 = nd[2], m0 = nd[1] * h, m1 = nd[3] * h, dy = y1 - y0;
-        return tb->r_det + y0 + u * (m0 + u * (3.0 * dy - 2.0 * m0 - m1 + u * (m0 + m1 - 2.0 * dy)));
+        /* u from the mantissa's bits below the cell's: 2^MB + u - 2^MB,
+         * exact, as (s - s_i)/(s_(i+1) - s_i) is */
+        const uint64_t b = lf_bits(s), low = (UINT64_C(1) << (52 - MB)) - 1;
+        const double *cf = tb->cell + 4 * ((b >> (52 - MB)) - BASE);
+        const double u = lf_double((b & low) | ((uint64_t) (1023 + MB) << 52)) - (double) (1u << MB);
+        return cf[0] + u * (cf[1] + u * (cf[2] + u * cf[3]));
     }
     if (s < S_MIN)
         return tb->r_det + (s > 0.0 ? tb->c1 * sqrt(s) + tb->c2 * s : 0.0);
