@@ -546,6 +546,7 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
         if (linear && res->converged)
             intervals_linear(res, LF_INTERVAL_UNCHECKED);
     }
+    lf_fit_refit_settle(&p, res);       /* res is final: its leave-one-out */
     res->profile_fits = p.fits;
     verdicts_follow(res);
     lf_fit_free(p.walker);
