@@ -657,6 +657,11 @@ void lf_fit_refit_settle(fit_prof *p, lf_fit_result *res);
 /* The search of descend.c about res (converged) on p's curves and
  * settings; 1 when it moved res. */
 int lf_fit_descend(fit_prof *p, lf_fit_result *res);
+/* lf_fit_profile of a result whose leave-one-out its assessment left
+ * waiting (lf_fit_solve_end_at's loo_at; FIT_LOO_NONE: none): made on the
+ * result finally reported, whether res or a lower point that replaced it. */
+int lf_fit_profile_at(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
+                      lf_fit_result *res, int always, size_t loo_at, lf_error *err);
 /* a profile point lower than the best fit by this fraction of the
  * threshold means the best fit was not the global minimum */
 #define FIT_PROFILE_LOWER 0.01
