@@ -153,9 +153,11 @@ lf_fit_walk_chi2(fit_prof *p, int which, size_t nt, const double *t, double *chi
 
 int
 lf_fit_refit_from(const lf_fit_settings *s, size_t nc, const lf_fit_curve *cc,
-                  const lf_material *mat, const double *off, lf_fit_result *nr)
+                  const lf_material *mat, const double *off, lf_fit_result *nr,
+                  size_t *loo_at)
 {
     lf_fit *g = lf_fit_alloc(s, nc, cc, NULL);
+    fit_run run;
     size_t j;
     int st;
 
@@ -171,7 +173,9 @@ lf_fit_refit_from(const lf_fit_settings *s, size_t nc, const lf_fit_curve *cc,
         g->c[j].slope = isfinite(off[3 * j + 2]) ? off[3 * j + 2] : 0.0;
     }
     lf_fit_set_origin(g);
-    st = lf_fit_solve(g, NULL, nr, NULL);
+    st = lf_fit_solve_begin(g, NULL, &run, nr, NULL);
+    if (st == LF_OK)
+        st = lf_fit_solve_end_at(g, &run, nr, loo_at, NULL);
     lf_fit_free(g);
     return st;
 }
@@ -180,9 +184,12 @@ int
 lf_fit_refit_lower(fit_prof *p, lf_fit_result *res, const char *where)
 {
     lf_fit_result nr;
+    size_t loo_at = FIT_LOO_NONE;
     int st;
 
-    st = lf_fit_refit_from(p->s, p->nc, p->cc, &p->lower_mat, p->lower_off, &nr);
+    /* leave-one-out waits: only the point finally reported needs it (it
+     * decides nothing here) */
+    st = lf_fit_refit_from(p->s, p->nc, p->cc, &p->lower_mat, p->lower_off, &nr, &loo_at);
     p->fits++;
     if (st != LF_OK && st != LF_ENOCONV)
         return 0;
@@ -212,7 +219,17 @@ lf_fit_refit_lower(fit_prof *p, lf_fit_result *res, const char *where)
     lf_fit_result_free(res);
     *res = nr;
     p->moves++;
+    p->loo_due = loo_at != FIT_LOO_NONE;
+    p->loo_at = loo_at;
     return st == LF_OK ? 1 : 2;
+}
+
+void
+lf_fit_refit_settle(fit_prof *p, lf_fit_result *res)
+{
+    if (p->loo_due)
+        lf_fit_leave_one_out_at(p->s, p->nc, p->cc, res, p->loo_at);
+    p->loo_due = 0;
 }
 
 int

@@ -59,6 +59,13 @@ lf_fit_solve(lf_fit *f, const fit_start *start, lf_fit_result *res, lf_error *er
 int
 lf_fit_solve_end(lf_fit *f, const fit_run *run, lf_fit_result *res, lf_error *err)
 {
+    return lf_fit_solve_end_at(f, run, res, NULL, err);
+}
+
+int
+lf_fit_solve_end_at(lf_fit *f, const fit_run *run, lf_fit_result *res, size_t *loo_at,
+                    lf_error *err)
+{
     gsl_vector *x = f->ws.x;
     int status;
     size_t i;
@@ -71,11 +78,12 @@ lf_fit_solve_end(lf_fit *f, const fit_run *run, lf_fit_result *res, lf_error *er
     res->converged = run->converged;
     res->stop = run->stop;
     snprintf(res->stop_reason, sizeof res->stop_reason, "%s", run->why);
-    if (f->ncurves >= 3) {
-        size_t j, bad = 0;
-        for (j = 0; j < f->ncurves; j++)
-            bad += !res->curves[j].consistent;
-        if (bad == f->ncurves)
+    if (loo_at != NULL)
+        *loo_at = FIT_LOO_NONE;
+    if (lf_fit_loo_due(res)) {
+        if (loo_at != NULL)
+            *loo_at = res->warnings.n;      /* its words go here when it runs */
+        else
             lf_fit_leave_one_out(f, res);
     }
     res->method = f->set.method;

@@ -571,6 +571,15 @@ int lf_fit_reweight(lf_fit *f, gsl_vector *x, fit_run *run, lf_error *err);
 /* loo.c: when every one of three or more curves disagrees with the joint
  * fit, refit without each in turn and name the culprit in res's warnings. */
 void lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res);
+/* 1 when res calls for it: three or more curves, every one disagreeing */
+int lf_fit_loo_due(const lf_fit_result *res);
+/* Leave-one-out made later than the assessment (descend.c: only for the
+ * point finally reported): of the curves cc[0..n-1] (each with its fitted
+ * model) under s, its words inserted at res->warnings' index at, where
+ * lf_fit_solve_end_at said they belong. */
+void lf_fit_leave_one_out_at(const lf_fit_settings *s, size_t n, const lf_fit_curve *cc,
+                             lf_fit_result *res, size_t at);
+#define FIT_LOO_NONE ((size_t) -1)
 
 /* descend.c's walk: multiples of the standard error either side */
 #define FIT_WALK_N 18
@@ -601,6 +610,10 @@ typedef struct {
      * at FIT_WALK_N points about the result as it was after `moves` */
     lf_fit *walker;
     size_t moves;              /* results replaced (lf_fit_refit_lower) */
+    size_t loo_at;             /* the result replaced last awaits its
+                                  leave-one-out, its words at this index
+                                  (lf_fit_refit_settle); loo_due 0: none */
+    int loo_due;
     size_t walk_stamp;         /* moves + 1 at the last walk, 0: none */
     int walk_ok[FIT_NMAT];
     double walk_chi2[FIT_NMAT][FIT_WALK_N];
@@ -626,9 +639,11 @@ int lf_fit_path_chi2(fit_prof *p, const lf_fit_result *res, int k, int strict, s
  * where it was made about res (p->best) at every t, else evaluated. */
 void lf_fit_walk_chi2(fit_prof *p, int k, size_t nt, const double *t, double *chi2);
 /* A fit of the curves cc solved from material mat and offsets off (3 per
- * curve, NaN: the held value or 0), everything free (lf_fit_solve). */
+ * curve, NaN: the held value or 0), everything free (lf_fit_solve; with
+ * loo_at, leave-one-out left to the caller: lf_fit_solve_end_at). */
 int lf_fit_refit_from(const lf_fit_settings *s, size_t nc, const lf_fit_curve *cc,
-                      const lf_material *mat, const double *off, lf_fit_result *nr);
+                      const lf_material *mat, const double *off, lf_fit_result *nr,
+                      size_t *loo_at);
 /* Refit from p's lower point (p->lower_*); where that ends lower than res
  * by FIT_PROFILE_LOWER of the threshold, it replaces res (the model
  * choice's notes and the single-curve fits kept, a warning naming `where`
@@ -636,9 +651,17 @@ int lf_fit_refit_from(const lf_fit_settings *s, size_t nc, const lf_fit_curve *c
  * converging; res is then that fit, its intervals not yet set); 0: res
  * stands. */
 int lf_fit_refit_lower(fit_prof *p, lf_fit_result *res, const char *where);
+/* The leave-one-out the last replacement of res left waiting (p->loo_due):
+ * called once res is final, before anything reads its curves' agreement. */
+void lf_fit_refit_settle(fit_prof *p, lf_fit_result *res);
 /* The search of descend.c about res (converged) on p's curves and
  * settings; 1 when it moved res. */
 int lf_fit_descend(fit_prof *p, lf_fit_result *res);
+/* lf_fit_profile of a result whose leave-one-out its assessment left
+ * waiting (lf_fit_solve_end_at's loo_at; FIT_LOO_NONE: none): made on the
+ * result finally reported, whether res or a lower point that replaced it. */
+int lf_fit_profile_at(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
+                      lf_fit_result *res, int always, size_t loo_at, lf_error *err);
 /* a profile point lower than the best fit by this fraction of the
  * threshold means the best fit was not the global minimum */
 #define FIT_PROFILE_LOWER 0.01
@@ -692,6 +715,11 @@ int lf_fit_solve(lf_fit *f, const fit_start *start, lf_fit_result *res, lf_error
 int lf_fit_solve_begin(lf_fit *f, const fit_start *start, fit_run *run, lf_fit_result *res,
                        lf_error *err);
 int lf_fit_solve_end(lf_fit *f, const fit_run *run, lf_fit_result *res, lf_error *err);
+/* lf_fit_solve_end without leave-one-out: *loo_at is where its words go
+ * in res->warnings when it is due (lf_fit_loo_due), else FIT_LOO_NONE;
+ * the caller runs it (lf_fit_leave_one_out_at) if res is reported. */
+int lf_fit_solve_end_at(lf_fit *f, const fit_run *run, lf_fit_result *res, size_t *loo_at,
+                        lf_error *err);
 int lf_fit_run_begin(lf_fit *f, fit_run *run, lf_fit_result *res, lf_error *err);
 
 /* decomp_block.c: decomp.c's decomposition for many curves, from the

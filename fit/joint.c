@@ -190,14 +190,15 @@ run_chi2(lf_fit *f)
     return ss;
 }
 
-/* Assess A where it waited (ja->a), into res: its status. */
+/* Assess A where it waited (ja->a), into res: its status; *loo_at where
+ * its leave-one-out's words go (lf_fit_solve_end_at). */
 static int
-a_assess(joint_a *ja, lf_fit_result *res, lf_error *err)
+a_assess(joint_a *ja, lf_fit_result *res, size_t *loo_at, lf_error *err)
 {
     int st = LF_OK;
 
     if (ja->a != NULL) {
-        st = lf_fit_solve_end(ja->a, &ja->run, res, err);
+        st = lf_fit_solve_end_at(ja->a, &ja->run, res, loo_at, err);
         lf_fit_free(ja->a);
         ja->a = NULL;
     }
@@ -214,6 +215,9 @@ lf_fit_joint(const lf_fit_settings *settings, const lf_choose_settings *choose,
     double *off = NULL;
     joint_a ja;
     lf_error perr;
+    /* res's leave-one-out, left waiting for the result finally reported
+     * (lf_fit_profile_at): the descent or a profile may replace res */
+    size_t loo_at = FIT_LOO_NONE, loo_b = FIT_LOO_NONE;
     size_t j;
     int st;
 
@@ -265,9 +269,9 @@ lf_fit_joint(const lf_fit_settings *settings, const lf_choose_settings *choose,
              * assessed only then (and A, where it waited and B did not
              * converge) */
             if (lower) {
-                sb = lf_fit_solve_end(fb, &rb, &b, NULL);
+                sb = lf_fit_solve_end_at(fb, &rb, &b, &loo_b, NULL);
                 if ((sb == LF_OK || sb == LF_ENOCONV) && !b.converged && ja.a != NULL)
-                    st = a_assess(&ja, res, err);
+                    st = a_assess(&ja, res, &loo_at, err);
             }
             if (st != LF_OK && st != LF_ENOCONV) {
                 if (sb == LF_OK || sb == LF_ENOCONV)
@@ -290,6 +294,7 @@ lf_fit_joint(const lf_fit_settings *settings, const lf_choose_settings *choose,
                 }
                 lf_fit_result_free(res);
                 *res = b;
+                loo_at = loo_b;
                 st = b.converged ? LF_OK : LF_ENOCONV;
             } else if (sb == LF_OK || sb == LF_ENOCONV) {
                 res->iterations += b.iterations;
@@ -300,12 +305,12 @@ lf_fit_joint(const lf_fit_settings *settings, const lf_choose_settings *choose,
         }
     }
     free(model);
-    if (ja.a != NULL && (st = a_assess(&ja, res, err)) != LF_OK && st != LF_ENOCONV) {
+    if (ja.a != NULL && (st = a_assess(&ja, res, &loo_at, err)) != LF_OK && st != LF_ENOCONV) {
         free(each);
         free(off);
         return st;
     }
-    if (lf_fit_profile(settings, n, curves, res, intervals, &perr) != LF_OK)
+    if (lf_fit_profile_at(settings, n, curves, res, intervals, loo_at, &perr) != LF_OK)
         lf_warn(&res->warnings, "the intervals could not be made (%s): the linear ones stand",
                 perr.msg);
     if (st == LF_OK && !res->converged)

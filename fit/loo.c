@@ -35,14 +35,26 @@ refit(lf_fit *g, lf_fit_result *r)
     return 1;
 }
 
-/* Every curve of three or more disagrees with the joint fit: refit
- * without each in turn.  When exactly one curve's absence lets all the
- * others agree, that curve is named; when none or several do, the
- * disagreement is reported as general. */
-void
-lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res)
+int
+lf_fit_loo_due(const lf_fit_result *res)
 {
-    size_t j, i, m, culprit = 0, ncul = 0, n = f->ncurves;
+    size_t j, bad = 0;
+
+    for (j = 0; j < res->ncurves; j++)
+        bad += !res->curves[j].consistent;
+    return res->ncurves >= 3 && bad == res->ncurves;
+}
+
+/* Every curve of three or more disagrees with the joint fit: refit
+ * without each in turn (the curves f's, or cc[0..n-1] under s where f is
+ * NULL).  When exactly one curve's absence lets all the others agree,
+ * that curve is named; when none or several do, the disagreement is
+ * reported as general. */
+static void
+leave_one_out(const lf_fit_settings *s, size_t n, const lf_fit *f, const lf_fit_curve *cc,
+              lf_fit_result *res)
+{
+    size_t j, i, m, culprit = 0, ncul = 0;
     lf_fit_curve *sub = malloc(n * sizeof *sub);
     double *worst = malloc(n * sizeof *worst);
     lf_material *mat = malloc(n * sizeof *mat);
@@ -55,9 +67,9 @@ lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res)
         int ok = 1;
         for (i = 0, m = 0; i < n; i++)
             if (i != j)
-                sub[m++] = f->c[i].data;
+                sub[m++] = f != NULL ? f->c[i].data : cc[i];
         worst[j] = HUGE_VAL;
-        g = lf_fit_alloc(&f->set, m, sub, NULL);
+        g = lf_fit_alloc(s, m, sub, NULL);
         if (g == NULL)
             continue;
         if (refit(g, &r)) {
@@ -99,3 +111,28 @@ done:
     free(mat);
 }
 
+
+void
+lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res)
+{
+    leave_one_out(&f->set, f->ncurves, f, NULL, res);
+}
+
+void
+lf_fit_leave_one_out_at(const lf_fit_settings *s, size_t n, const lf_fit_curve *cc,
+                        lf_fit_result *res, size_t at)
+{
+    lf_warnings *w = &res->warnings;
+    size_t n0 = w->n, i;
+
+    leave_one_out(s, n, NULL, cc, res);
+    if (at >= n0)
+        return;
+    /* its words where the assessment would have put them: rotate the new
+     * messages w[n0..] in front of w[at..n0) */
+    for (i = n0; i < w->n; i++) {
+        char *m = w->msg[i];
+        memmove(w->msg + at + 1, w->msg + at, (i - at) * sizeof *w->msg);
+        w->msg[at++] = m;
+    }
+}

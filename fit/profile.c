@@ -474,6 +474,13 @@ int
 lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
                lf_fit_result *res, int always, lf_error *err)
 {
+    return lf_fit_profile_at(settings, ncurves, curves, res, always, FIT_LOO_NONE, err);
+}
+
+int
+lf_fit_profile_at(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
+                  lf_fit_result *res, int always, size_t loo_at, lf_error *err)
+{
     static const int which[FIT_NMAT] = { FIT_W, FIT_E, FIT_NU };
     fit_prof p;
     size_t j;
@@ -481,19 +488,14 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
 
     if (res == NULL || res->ncurves != ncurves)
         return lf_fail(err, LF_EINVAL, "lf_fit_profile: the result is not of these curves");
-    if (!res->converged) {
-        /* rises from a point that is no minimum measure nothing (they go
-         * negative where the fit would have gone on) */
-        intervals_at_stop(res);
-        verdicts_follow(res);
-        return LF_OK;
-    }
     memset(&p, 0, sizeof p);
     p.cc = malloc((ncurves ? ncurves : 1) * sizeof *p.cc);
     p.lower_off = malloc((ncurves ? 3 * ncurves : 1) * sizeof *p.lower_off);
     if (p.cc == NULL || p.lower_off == NULL) {
         free(p.cc);
         free(p.lower_off);
+        if (loo_at != FIT_LOO_NONE)
+            lf_fit_leave_one_out_at(settings, ncurves, curves, res, loo_at);
         return lf_fail(err, LF_ENOMEM, "out of memory");
     }
     for (j = 0; j < ncurves; j++) {
@@ -503,6 +505,20 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
             if (t != NULL)
                 p.cc[j].model = t;
         }
+    }
+    /* res's own leave-one-out, where its assessment left it waiting: made
+     * only if no lower point replaces res (lf_fit_refit_settle) */
+    p.loo_due = loo_at != FIT_LOO_NONE;
+    p.loo_at = loo_at;
+    if (!res->converged) {
+        /* rises from a point that is no minimum measure nothing (they go
+         * negative where the fit would have gone on) */
+        lf_fit_refit_settle(&p, res);
+        intervals_at_stop(res);
+        verdicts_follow(res);
+        free(p.cc);
+        free(p.lower_off);
+        return LF_OK;
     }
     p.s = settings;
     p.nc = ncurves;
@@ -546,6 +562,7 @@ lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_cur
         if (linear && res->converged)
             intervals_linear(res, LF_INTERVAL_UNCHECKED);
     }
+    lf_fit_refit_settle(&p, res);       /* res is final: its leave-one-out */
     res->profile_fits = p.fits;
     verdicts_follow(res);
     lf_fit_free(p.walker);
