@@ -69,7 +69,6 @@
 /* the cell index of s is (bits of s >> (52 - MB)) - BASE */
 #define BASE ((uint64_t) (1023 + LOG2_SMIN) << MB)
 #define S_MIN 0x1p-40
-#define S_MAX 0x1p+100
 
 typedef struct hs_table hs_table;
 struct hs_table {
@@ -282,11 +281,15 @@ table_get(double k)
 static inline double
 r_start(const hs_table *tb, double s, double t)
 {
-    if (s >= S_MIN && s < S_MAX) {
+    /* the cell from the bits, 2^-40 <= s < 2^100 the one test (a negative
+     * s or a NaN has bits above the table's: its cell is out of range) */
+    const uint64_t b = lf_bits(s), i = (b >> (52 - MB)) - BASE;
+
+    if (i < NNODE - 1) {
         /* u from the mantissa's bits below the cell's: 2^MB + u - 2^MB,
          * exact, as (s - s_i)/(s_(i+1) - s_i) is */
-        const uint64_t b = lf_bits(s), low = (UINT64_C(1) << (52 - MB)) - 1;
-        const double *cf = tb->cell + 4 * ((b >> (52 - MB)) - BASE);
+        const uint64_t low = (UINT64_C(1) << (52 - MB)) - 1;
+        const double *cf = tb->cell + 4 * i;
         const double u = lf_double((b & low) | ((uint64_t) (1023 + MB) << 52)) - (double) (1u << MB);
         return cf[0] + u * (cf[1] + u * (cf[2] + u * cf[3]));
     }
