@@ -524,13 +524,6 @@ double lf_fit_noise_sigma(const double *depth, const double *force, const size_t
 /* The step of a quantized force signal, or 0 (noise.c; work holds n,
  * start n + 1). */
 double lf_fit_quantum(const double *force, size_t n, double fbig, double *work, size_t *start);
-/* The point-to-point noise sd (lf_fit_noise_sigma) and the quantum of the
- * last few curves estimated, keyed by their data (noise.c): 1 and the two
- * when these depths and forces are one's, bit for bit; keep records one. */
-int lf_fit_noise_memo_find(const double *depth, const double *force, size_t n, double *sigma,
-                           double *quantum);
-void lf_fit_noise_memo_keep(const double *depth, const double *force, size_t n, double sigma,
-                            double quantum);
 
 /* iterate.c: the trust-region iteration from x (overwritten with where it
  * stopped) and its stopping rules; adds to run's totals and sets its

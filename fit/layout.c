@@ -196,16 +196,9 @@ curve_scales(lf_fit *f, size_t *start, lf_error *err)
         c->L = zmax - zmin;
         c->Fs = fbig;
         c->eps = 1e-3 * c->L / (double) (c->data.n - 1);
-        /* both functions of the data alone: a refit of the same curve
-         * takes them from the memo */
-        if (!lf_fit_noise_memo_find(c->data.depth, c->data.force, c->data.n, &c->sigma,
-                                    &c->quantum)) {
-            c->sigma = lf_fit_noise_sigma(c->data.depth, c->data.force, f->order + c->row,
-                                          c->data.n, fbig, f->ws.work);
-            c->quantum = lf_fit_quantum(c->data.force, c->data.n, fbig, f->ws.work, start);
-            lf_fit_noise_memo_keep(c->data.depth, c->data.force, c->data.n, c->sigma,
-                                   c->quantum);
-        }
+        c->sigma = lf_fit_noise_sigma(c->data.depth, c->data.force, f->order + c->row,
+                                      c->data.n, fbig, f->ws.work);
+        c->quantum = lf_fit_quantum(c->data.force, c->data.n, fbig, f->ws.work, start);
         /* a quantized signal's noise is never below its step's own: the
          * rounding error of a step q is uniform, of sd q / sqrt(12) (smooth
          * data on a coarse lattice leave most point-to-point departures at

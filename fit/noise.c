@@ -24,7 +24,6 @@
  * it the fit is broken.  For white noise all of this reduces to the plain
  * test. */
 #include <math.h>
-#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -423,68 +422,4 @@ lf_fit_quantum(const double *force, size_t n, double fbig, double *work, size_t 
             last = work[i];
         }
     return (double) on >= QUANTUM_SHARE * (double) gaps ? q : 0.0;
-}
-
-/* The noise sd and quantum of the last NOISE_MEMO curves a fit estimated
- * them for, with copies of their depths and forces: the refits of the same
- * data (a profile's held fits, descents, second starts: some ten fits of
- * each curve of a batch) take them instead of estimating them again.  The
- * data are the key, compared whole, so that a buffer filled again with
- * other numbers misses; curves of more than NOISE_MEMO_MAX points are not
- * kept.  Fits run in parallel threads: under a lock. */
-#define NOISE_MEMO 8
-#define NOISE_MEMO_MAX 65536
-static struct {
-    size_t n, cap;
-    double *data;           /* depths, then forces: 2 n */
-    double sigma, quantum;
-} memo[NOISE_MEMO];
-static size_t memo_next;
-static pthread_mutex_t memo_lock = PTHREAD_MUTEX_INITIALIZER;
-
-int
-lf_fit_noise_memo_find(const double *depth, const double *force, size_t n, double *sigma,
-                       double *quantum)
-{
-    size_t i;
-    int found = 0;
-
-    pthread_mutex_lock(&memo_lock);
-    for (i = 0; i < NOISE_MEMO && !found; i++)
-        if (memo[i].n == n && n > 0 && memcmp(memo[i].data + n, force, n * sizeof *force) == 0
-            && memcmp(memo[i].data, depth, n * sizeof *depth) == 0) {
-            *sigma = memo[i].sigma;
-            *quantum = memo[i].quantum;
-            found = 1;
-        }
-    pthread_mutex_unlock(&memo_lock);
-    return found;
-}
-
-void
-lf_fit_noise_memo_keep(const double *depth, const double *force, size_t n, double sigma,
-                       double quantum)
-{
-    size_t k;
-
-    if (n == 0 || n > NOISE_MEMO_MAX)
-        return;
-    pthread_mutex_lock(&memo_lock);
-    k = memo_next;
-    if (memo[k].cap < 2 * n) {
-        double *d = realloc(memo[k].data, 2 * n * sizeof *d);
-        if (d == NULL) {
-            pthread_mutex_unlock(&memo_lock);
-            return;         /* not kept: estimated again next time */
-        }
-        memo[k].data = d;
-        memo[k].cap = 2 * n;
-    }
-    memcpy(memo[k].data, depth, n * sizeof *depth);
-    memcpy(memo[k].data + n, force, n * sizeof *force);
-    memo[k].n = n;
-    memo[k].sigma = sigma;
-    memo[k].quantum = quantum;
-    memo_next = (k + 1) % NOISE_MEMO;
-    pthread_mutex_unlock(&memo_lock);
 }

@@ -7,8 +7,8 @@
  * (fit/noise.c), answered by counting, against the selection.  The force
  * quantum (fit/noise.c, sorted by buckets) against the same rule on a
  * qsort: on lattices, with rounding jitter, noise, outliers and ties.
- * The memo of both (a refit of the same data takes them from it): keyed
- * by the data themselves, so that a buffer filled again misses. */
+ * A fit's noise is of the data its buffers hold now: buffers filled again
+ * with other data give those data's noise. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -110,28 +110,11 @@ fit_sigma(scene *s)
 }
 
 static void
-test_memo(void)
+test_buffers_refilled(void)
 {
-    static double d[300], F[300], d2[300], F2[300];
-    scene a = scene_default("memo a"), b = scene_default("memo b");
-    double sg, q, s1, s2, s2b;
-    size_t i;
+    scene a = scene_default("noise a"), b = scene_default("noise b");
+    double s1, s2, s2b;
 
-    for (i = 0; i < 300; i++) {
-        d[i] = 1e-9 * (double) i;
-        F[i] = 1e-6 * sin((double) i);
-    }
-    lf_fit_noise_memo_keep(d, F, 300, 1.25e-7, 0.0);
-    memcpy(d2, d, sizeof d);
-    memcpy(F2, F, sizeof F);
-    t_true(lf_fit_noise_memo_find(d2, F2, 300, &sg, &q) && sg == 1.25e-7 && q == 0.0,
-           "the same data elsewhere: kept values");
-    F2[17] = nextafter(F2[17], 1.0);
-    t_true(!lf_fit_noise_memo_find(d2, F2, 300, &sg, &q), "one force a bit off: not kept");
-    F2[17] = F[17];
-    d2[299] = nextafter(d2[299], 1.0);
-    t_true(!lf_fit_noise_memo_find(d2, F2, 300, &sg, &q), "one depth a bit off: not kept");
-    t_true(!lf_fit_noise_memo_find(d, F, 299, &sg, &q), "fewer points: not kept");
     /* a fit's buffer filled again with other data: estimated again */
     scene_add(&a, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
     scene_add(&b, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
@@ -235,6 +218,6 @@ main(void)
         t_true(nonzero >= 8, "quantized kinds found quantized (%d)", nonzero);
     }
     gsl_rng_free(rng);
-    test_memo();
+    test_buffers_refilled();
     return t_summary();
 }
