@@ -52,7 +52,7 @@ lf_fit_path_chi2(fit_prof *p, const lf_fit_result *res, int which, int strict, s
     const size_t nc = p->nc;
     lf_fit *g;
     gsl_vector *r;
-    size_t i, j, np = res->npar, k = index_of(res, mat_name[which]), q;
+    size_t i, j, np = res->npar, k = index_of(res, mat_name[which]), q, qq, *by_t;
     double best = HUGE_VAL;
     int found = 0;
 
@@ -68,14 +68,30 @@ lf_fit_path_chi2(fit_prof *p, const lf_fit_result *res, int which, int strict, s
     if (g == NULL || g->np != np)
         return 0;
     r = gsl_vector_alloc(g->nres);
-    if (r == NULL)
+    by_t = malloc((nt ? nt : 1) * sizeof *by_t);
+    if (r == NULL || by_t == NULL) {
+        gsl_vector_free(r);
+        free(by_t);
         return 0;
+    }
+    /* the points in the order of t: each starts the exact model at the
+     * roots of its neighbour on the path (lf_model_eval_roots; a point
+     * across the estimate, the next of t = -0.5, 0.5, -1, 1, ..., lies
+     * too far for those) */
+    for (q = 0; q < nt; q++) {
+        size_t m = q;
+        for (; m > 0 && t[by_t[m - 1]] > t[q]; m--)
+            by_t[m] = by_t[m - 1];
+        by_t[m] = q;
+    }
     for (i = 0; i < g->ndata; i++)
         g->ws.sqrtw[i] = 1.0;        /* least squares (as lf_fit_solve sets) */
-    for (q = 0; q < nt; q++) {
-        double d = t[q] * sqrt(lf_fit_result_cov(res, k, k)), cost;
+    for (qq = 0; qq < nt; qq++) {
+        double d, cost;
         lf_material mat;
         int ok = 1;
+        q = by_t[qq];
+        d = t[q] * sqrt(lf_fit_result_cov(res, k, k));
         mat.w = lf_fit_best_value(res, "w", res->w.value);
         mat.Estar = lf_fit_best_value(res, "E*", res->Estar.value);
         mat.nu = lf_fit_best_value(res, "nu", isfinite(res->nu.value) ? res->nu.value
@@ -127,6 +143,7 @@ lf_fit_path_chi2(fit_prof *p, const lf_fit_result *res, int which, int strict, s
         }
     }
     gsl_vector_free(r);
+    free(by_t);
     return found;
 }
 
