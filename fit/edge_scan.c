@@ -7,6 +7,7 @@
  * and the cost a kink at every data point that crosses it: a gradient
  * method stops at the nearest one. */
 #include <math.h>
+#include <string.h>
 
 #include "fit.h"
 
@@ -191,6 +192,24 @@ lf_fit_scan_cost(lf_fit *f, size_t j, const gsl_vector *x, double z0, int interp
     return curve_cost(f, j, &s, z0, &F0);
 }
 
+/* Curve j's cost at x itself (its force offset re-solved into *F0), from
+ * the model's evaluation at x where the fit holds it (the solver's last:
+ * the same forces, bit for bit, as model_forces would give), else as
+ * curve_cost. */
+static double
+cost_at_x(lf_fit *f, size_t j, const gsl_vector *x, const edge_scan_state *s, double *F0)
+{
+    const fit_curve *c = &f->c[j];
+    double *P = f->ws.work;
+    size_t i;
+
+    if (s->interp || !f->ws.xcache_ok || memcmp(x->data, f->ws.xcache, f->np * sizeof *x->data))
+        return curve_cost(f, j, s, s->z0, F0);
+    for (i = 0; i < c->data.n; i++)
+        P[i] = f->ws.ev[c->row + i].P;
+    return cost_of(f, j, P, s->z0, F0, s->slope);
+}
+
 /* Try curve j's edge between its points ord[q - 1] and ord[q] in depth (the
  * material held, the force offset re-solved): 1 when that beats the best
  * placement so far (then s holds it), else 0. */
@@ -242,7 +261,7 @@ edge_scan(lf_fit *f, gsl_vector *x)
         for (pos = 0; pos < n && c->data.depth[ord[pos]] < edge; pos++)
             ;
         s.best_F0 = s.F0;
-        s.cost = curve_cost(f, j, &s, s.z0, &s.best_F0);
+        s.cost = cost_at_x(f, j, x, &s, &s.best_F0);
         s.best_z0 = s.z0;
         try_edge(f, j, (long) pos, &s);
         for (dir = -1; dir <= 1; dir += 2)
