@@ -257,9 +257,12 @@ lf_fit_scan_cost(lf_fit *f, size_t j, const gsl_vector *x, double z0, int interp
 }
 
 /* Curve j's cost at x itself (its force offset re-solved into *F0), from
- * the model's evaluation at x where the fit holds it (the solver's last:
- * the same forces, bit for bit, as model_forces would give), else as
- * curve_cost. */
+ * the model's evaluation at x where the fit holds it (the solver's last),
+ * else as curve_cost.  The same forces as curve_cost's: bit for bit
+ * without interpolation; interpolated, at x's own indentations the
+ * interpolation returns these evaluations, and the points near the edge
+ * that it would give the model again differ by rounding (the exact
+ * model's solution from another start). */
 static double
 cost_at_x(lf_fit *f, size_t j, const gsl_vector *x, const edge_scan_state *s, double *F0)
 {
@@ -267,7 +270,7 @@ cost_at_x(lf_fit *f, size_t j, const gsl_vector *x, const edge_scan_state *s, do
     double *P = f->ws.work;
     size_t i;
 
-    if (s->interp || !f->ws.xcache_ok || memcmp(x->data, f->ws.xcache, f->np * sizeof *x->data))
+    if (!f->ws.xcache_ok || memcmp(x->data, f->ws.xcache, f->np * sizeof *x->data))
         return curve_cost(f, j, s, s->z0, F0);
     for (i = 0; i < c->data.n; i++)
         P[i] = f->ws.ev[c->row + i].P;
