@@ -206,9 +206,13 @@ trial_loop(const profile *p, size_t i0, double zd, double c, double held, int KC
             g = d1 * lf_inv_cbrt_step(d1, lf_inv_cbrt_step(d1, lf_inv_cbrt_seed(d1)));
         else
             g = guess_pow_2k(d1, k);
-        if (!(g > 0))
-            continue;
-        ncontact++;
+        /* KC = 2, 3: g > 0 at every point, as d1 is (and within the cube
+         * root's range), so the test and the count are left out */
+        if (KC != 2 && KC != 3) {
+            if (!(g > 0))
+                continue;
+            ncontact++;
+        }
         y = p->F[i] - held;
         if (zd_kind) {
             const double x1 = K * g;
@@ -231,7 +235,7 @@ trial_loop(const profile *p, size_t i0, double zd, double c, double held, int KC
     t->a21 = a21;
     t->r0 = r0;
     t->r1 = r1;
-    return ncontact;
+    return KC == 2 || KC == 3 ? (i0 < p->n ? p->n - i0 : 0) : ncontact;
 }
 
 /* The residual sum of squares at trial value s of the profiled parameter;
