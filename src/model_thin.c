@@ -335,7 +335,7 @@ thin_eval(void *state, const lf_probe *p, const lf_material *m,
 {
     thin_loop L;
     const double k = p->k, kk = (k + 2.0) / k;
-    double y[BLOCK] = { 0.0 };
+    double y[BLOCK] = { 0.0 }, xr[BLOCK];
     size_t i0;
 
     L.t = thin_setup(p, state_scale(state, p), m);
@@ -355,11 +355,24 @@ thin_eval(void *state, const lf_probe *p, const lf_material *m,
         size_t j;
         /* k = 3: the roots of a block first, in a loop of independent
          * multiplications that the processor overlaps */
-        if (L.pw.kind == ROOT_CBRT)
+        if (L.pw.kind == ROOT_CBRT) {
             for (j = 0; j < nb; j++) {
                 double x = d[j] + L.t.c;
-                y[j] = lf_inv_cbrt(x >= 1e-300 && x <= 1e300 ? x : 1.0);
+                xr[j] = x >= 1e-300 && x <= 1e300 ? x : 1.0;
+                y[j] = lf_inv_cbrt_seed(xr[j]);
             }
+            /* lf_inv_cbrt's four steps, apart from its integer first
+             * guesses: a loop of arithmetic alone, which the compiler
+             * runs on vectors of points (the same operations on each) */
+            for (j = 0; j < nb; j++) {
+                const double x = xr[j];
+                double r = y[j];
+                r = lf_inv_cbrt_step(x, r);
+                r = lf_inv_cbrt_step(x, r);
+                r = lf_inv_cbrt_step(x, r);
+                y[j] = lf_inv_cbrt_step(x, r);
+            }
+        }
         switch (L.pw.kind) {
         case ROOT_SQRT:
             if (adh)
