@@ -172,8 +172,20 @@ trial_loop(const profile *p, size_t i0, double zd, double c, double held, int KC
     /* the sums in registers: a struct whose address is taken lives in
      * memory, and every addition would wait for the last store */
     double a00 = 0, a10 = 0, a20 = 0, a11 = 0, a21 = 0, r0 = 0, r1 = 0;
+    double root[GUESS_NSUB];
     size_t i, ncontact = 0;
 
+    if (KC == 3) {
+        /* the roots first: the seeds from the bits, then the two Newton
+         * steps in a loop of arithmetic alone, which the compiler runs on
+         * vectors of points (the same operations on each) */
+        for (i = i0; i < p->n; i++)
+            root[i] = lf_inv_cbrt_seed(p->z[i] - zd);
+        for (i = i0; i < p->n; i++) {
+            const double d1 = p->z[i] - zd;
+            root[i] = lf_inv_cbrt_step(d1, lf_inv_cbrt_step(d1, root[i]));
+        }
+    }
     for (i = i0; i < p->n; i++) {
         const double d1 = p->z[i] - zd;
         double g, x0, y;
@@ -203,7 +215,7 @@ trial_loop(const profile *p, size_t i0, double zd, double c, double held, int KC
         if (KC == 2)
             g = d1;
         else if (KC == 3)
-            g = d1 * lf_inv_cbrt_step(d1, lf_inv_cbrt_step(d1, lf_inv_cbrt_seed(d1)));
+            g = d1 * root[i];
         else
             g = guess_pow_2k(d1, k);
         /* KC = 2, 3: g > 0 at every point, as d1 is (and within the cube
