@@ -392,7 +392,7 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     f->gsl_par = par;
     f->gsl_par.trs = f->trs;
     f->gsl_par.scale = gsl_multifit_nlinear_scale_more;
-    f->gsl_par.solver = gsl_multifit_nlinear_solver_cholesky;
+    f->gsl_par.solver = lf_fit_solver_normal;       /* GSL's "cholesky", block form */
     f->gsl_par.fdtype = settings->jacobian == LF_JAC_CENTRAL ? GSL_MULTIFIT_NLINEAR_CTRDIFF
                                                              : GSL_MULTIFIT_NLINEAR_FWDIFF;
     f->fdf.f = lf_fit_residuals;
@@ -436,6 +436,7 @@ lf_fit_free(lf_fit *f)
     lf_arrow_free(&f->ws.lm.A);
     if (f->gsl != NULL)
         gsl_multifit_nlinear_free(f->gsl);
+    lf_fit_fd_free(f);
     free(f);
 }
 
@@ -446,5 +447,5 @@ lf_fit_gsl(lf_fit *f)
     if (f->gsl == NULL)
         f->gsl = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &f->gsl_par, f->nres,
                                             f->np);
-    return f->gsl != NULL ? LF_OK : LF_ENOMEM;
+    return f->gsl != NULL ? lf_fit_fd_alloc(f) : LF_ENOMEM;
 }

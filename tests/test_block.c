@@ -9,11 +9,14 @@
  *    same verdicts (which parameters are determined), covariance, norms
  *    and smallest singular value, on well-posed and degenerate scenes;
  *  - a joint fit of many curves (the block form end to end): the truth
- *    recovered, its covariance that of the dense decomposition. */
+ *    recovered, its covariance that of the dense decomposition;
+ *  - GSL's trust region in block form (gsl_block.c): its Jacobian by
+ *    differences, J^T J and iterations GSL's own bit for bit. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include <gsl/gsl_blas.h>
 #include <gsl/gsl_errno.h>
 #include <gsl/gsl_linalg.h>
 #include <gsl/gsl_rng.h>
@@ -562,6 +565,117 @@ gn_step_determined(void)
           "Gauss-Newton step");
 }
 
+/* ---- GSL's trust region in block form (gsl_block.c) ---------------------- */
+
+/* The block forms give GSL's numbers bit for bit on a joint problem (three
+ * curves, nu, z0, F0 and a slope free: every kind of column): the
+ * forward-difference Jacobian curve by curve against GSL's over all rows,
+ * J^T J summed where columns are not zero against gsl_blas_dsyrk, and ten
+ * iterations of GSL's trust region with both against GSL's own (positions,
+ * residuals, evaluations counted); the exact model keeps GSL's
+ * difference. */
+static void
+gsl_block_bits(void)
+{
+    static const lf_model_type *const models[] = { &lf_model_thin, &lf_model_halfspace };
+    size_t im;
+
+    for (im = 0; im < 2; im++) {
+        scene s = scene_default("gsl block");
+        const char *name = models[im]->name;
+        gsl_multifit_nlinear_parameters par;
+        gsl_multifit_nlinear_workspace *w[2] = { NULL, NULL };
+        gsl_multifit_nlinear_fdf fdf[2];
+        gsl_matrix *J1, *J2, *C1, *C2;
+        gsl_vector *x, *r;
+        size_t *lo, *hi, i, k, it, same_x = 0, np;
+        lf_error err;
+        lf_fit *f;
+
+        scene_add(&s, 2, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+        scene_add(&s, 3, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+        scene_add(&s, 2, 2e-3, 1e-6, LF_BASE_BONDED);
+        s.sim.noise = 0.01;
+        s.fit.model = models[im];
+        s.fit.fit_slope = 1;
+        scene_simulate(&s, 5);
+        f = lf_fit_alloc(&s.fit, s.n, s.curve, &err);
+        if (!t_true(f != NULL && lf_fit_gsl(f) == LF_OK, "gsl block %s: fit allocated", name)) {
+            lf_fit_free(f);
+            scene_free(&s);
+            continue;
+        }
+        np = f->np;
+        x = gsl_vector_alloc(np);
+        r = gsl_vector_alloc(f->nres);
+        J1 = gsl_matrix_alloc(f->nres, np);
+        J2 = gsl_matrix_alloc(f->nres, np);
+        C1 = gsl_matrix_calloc(np, np);
+        C2 = gsl_matrix_calloc(np, np);
+        lo = malloc(2 * np * sizeof *lo);
+        hi = lo + np;
+        for (k = 0; k < np; k++)        /* away from the origin, one coordinate at 0 */
+            gsl_vector_set(x, k, k == 1 ? 0.0 : 1.0 + 0.01 * (double) k);
+        t_true(lf_fit_block_fd(f) == lf_fit_jacobian_fd, "gsl block %s: the block difference "
+               "is taken", name);
+        t_int(lf_fit_jacobian_fd(x, f, J1), GSL_SUCCESS, "gsl block %s: block difference", name);
+        lf_fit_residuals(x, f, r);
+        f->fdf.df = NULL;
+        t_int(gsl_multifit_nlinear_df(f->gsl_par.h_df, GSL_MULTIFIT_NLINEAR_FWDIFF, x, NULL,
+                                      &f->fdf, r, J2, NULL), GSL_SUCCESS,
+              "gsl block %s: GSL's difference", name);
+        t_true(memcmp(J1->data, J2->data, f->nres * np * sizeof *J1->data) == 0,
+               "gsl block %s: the block difference is GSL's bit for bit (%zu x %zu)", name,
+               f->nres, np);
+        lf_fit_jtj_lower(J1, C1, lo, hi);
+        gsl_blas_dsyrk(CblasLower, CblasTrans, 1.0, J1, 0.0, C2);
+        for (i = 0, k = 0; i < np; i++)
+            k += memcmp(gsl_matrix_ptr(C1, i, 0), gsl_matrix_ptr(C2, i, 0),
+                        (i + 1) * sizeof(double)) == 0;
+        t_int((long) k, (long) np, "gsl block %s: J^T J is gsl_blas_dsyrk's bit for bit", name);
+        /* ten iterations of GSL's trust region: block form against GSL's */
+        for (i = 0; i < 2; i++) {
+            par = f->gsl_par;
+            par.solver = i == 0 ? lf_fit_solver_normal : gsl_multifit_nlinear_solver_cholesky;
+            fdf[i] = f->fdf;
+            fdf[i].df = i == 0 ? lf_fit_jacobian_fd : NULL;
+            w[i] = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &par, f->nres, np);
+            gsl_multifit_nlinear_init(x, &fdf[i], w[i]);
+        }
+        for (it = 0; it < 10; it++) {
+            int s0 = gsl_multifit_nlinear_iterate(w[0]), s1 = gsl_multifit_nlinear_iterate(w[1]);
+            const gsl_vector *x0 = gsl_multifit_nlinear_position(w[0]);
+            const gsl_vector *x1 = gsl_multifit_nlinear_position(w[1]);
+            const gsl_vector *f0 = gsl_multifit_nlinear_residual(w[0]);
+            const gsl_vector *f1 = gsl_multifit_nlinear_residual(w[1]);
+            same_x += s0 == s1 && memcmp(x0->data, x1->data, np * sizeof(double)) == 0
+                      && memcmp(f0->data, f1->data, f->nres * sizeof(double)) == 0;
+        }
+        t_int((long) same_x, 10, "gsl block %s: ten trust-region iterations give GSL's "
+              "positions and residuals bit for bit", name);
+        t_int((long) (fdf[0].nevalf + fdf[0].nevaldf * np), (long) (fdf[1].nevalf + fdf[1].nevaldf),
+              "gsl block %s: the same evaluations counted", name);
+        for (i = 0; i < 2; i++)
+            gsl_multifit_nlinear_free(w[i]);
+        if (im == 0) {
+            lf_fit_free(f);
+            s.fit.model = &lf_model_exact;
+            f = lf_fit_alloc(&s.fit, s.n, s.curve, &err);
+            t_true(f != NULL && lf_fit_block_fd(f) == NULL, "gsl block: the exact model keeps "
+                   "GSL's difference");
+        }
+        free(lo);
+        gsl_matrix_free(J1);
+        gsl_matrix_free(J2);
+        gsl_matrix_free(C1);
+        gsl_matrix_free(C2);
+        gsl_vector_free(x);
+        gsl_vector_free(r);
+        lf_fit_free(f);
+        scene_free(&s);
+    }
+}
+
 /* ---- lf_fit_joint beyond the dense covariance ---------------------------- */
 
 /* The whole joint path of `layerfit fit` (each curve alone, the joint fit
@@ -608,5 +722,6 @@ main(void)
     choice_fast();
     gn_step_determined();
     joint_many();
+    gsl_block_bits();
     return t_summary();
 }
