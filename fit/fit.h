@@ -400,6 +400,10 @@ struct lf_fit {
     double mu0;          /* lm.c's first damping (in units of the scaled
                             diagonal): FIT_LM_MU0, or where a profile's last
                             refit took its first step (profile.c) */
+    int k2_waits;        /* the assessment leaves out the k = 2 check's refit,
+                            taking w as not open above, and sets k2_waited
+                            where it would have made it (loo.c) */
+    int k2_waited;
     int start_by_model;  /* the start's offsets from the model's force law
                             (guess_model.c), not the thin profile */
     int any_bonded, any_frictionless;

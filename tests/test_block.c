@@ -11,7 +11,9 @@
  *  - a joint fit of many curves (the block form end to end): the truth
  *    recovered, its covariance that of the dense decomposition;
  *  - GSL's trust region in block form (gsl_block.c): its Jacobian by
- *    differences, J^T J and iterations GSL's own bit for bit. */
+ *    differences, J^T J and iterations GSL's own bit for bit;
+ *  - leave-one-out's refits assessed without the k = 2 check's refit
+ *    (loo.c): only w's verdict changes. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -676,6 +678,72 @@ gsl_block_bits(void)
     }
 }
 
+/* The k = 2 check's refit left out (lf_fit.k2_waits, leave-one-out's
+ * refits, loo.c) changes w's verdict alone: the same refit of the same
+ * curves, assessed with and without it, has every curve's agreement and
+ * chi2/point, E*, nu, M and the solution bit for bit the same.  Three
+ * k = 2 curves on the thin layer and on the half-space, 1% noise, with 20%
+ * of c past detachment or none (the data ending at 0.9 c). */
+static void
+case_k2_waits(void)
+{
+    static const lf_model_type *const models[] = { &lf_model_thin, &lf_model_halfspace };
+    size_t im, seed, pc, runs = 0, same = 0, waited = 0;
+
+    for (im = 0; im < 2; im++)
+        for (pc = 0; pc < 2; pc++)
+            for (seed = 1; seed <= 3; seed++) {
+                scene s = scene_default("k2 waits");
+                lf_fit_result r[2];
+                int ok[2] = { 0, 0 }, w;
+                size_t j;
+                scene_add(&s, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+                scene_add(&s, 2.0, 2e-3, 1e-6, LF_BASE_FRICTIONLESS);
+                scene_add(&s, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+                s.sim.noise = 0.01;
+                if (pc)         /* no baseline: the data end before detachment */
+                    s.sim.delta_min = -0.9 * sqrt(2.0 * s.probe[0].b * s.mat.w
+                                                  / (lf_thin_Z(LF_BASE_FRICTIONLESS, s.mat.nu)
+                                                     * s.mat.Estar));
+                s.fit.model = models[im];
+                scene_simulate(&s, seed);
+                for (w = 0; w < 2; w++) {
+                    lf_fit *g = lf_fit_alloc(&s.fit, s.n, s.curve, NULL);
+                    fit_start start;
+                    fit_run run;
+                    memset(&r[w], 0, sizeof r[w]);
+                    if (g == NULL)
+                        continue;
+                    g->k2_waits = w;
+                    ok[w] = lf_fit_guess(g, &start, NULL) == LF_OK
+                            && lf_fit_solve_run(g, &start, &run, NULL, NULL) == LF_OK
+                            && lf_fit_assess(g, g->ws.x->data, &run, &r[w], NULL) == LF_OK;
+                    waited += g->k2_waited;
+                    lf_fit_free(g);
+                }
+                if (ok[0] && ok[1]) {
+                    int eq = memcmp(&r[0].Estar.value, &r[1].Estar.value, sizeof(double)) == 0
+                             && r[0].Estar.determined == r[1].Estar.determined
+                             && r[0].nu.determined == r[1].nu.determined
+                             && r[0].M.determined == r[1].M.determined
+                             && memcmp(r[0].value, r[1].value, r[0].npar * sizeof *r[0].value) == 0;
+                    for (j = 0; j < s.n; j++)
+                        eq &= r[0].curves[j].consistent == r[1].curves[j].consistent
+                              && r[0].curves[j].chi2_per_point == r[1].curves[j].chi2_per_point;
+                    runs++;
+                    same += eq;
+                }
+                if (ok[0])
+                    lf_fit_result_free(&r[0]);
+                if (ok[1])
+                    lf_fit_result_free(&r[1]);
+                scene_free(&s);
+            }
+    t_int((long) runs, 12, "k2 waits: every refit assessed both ways");
+    t_int((long) same, (long) runs, "k2 waits: agreement, chi2/point, E*, nu and M the same");
+    t_true(waited >= runs / 2, "k2 waits: the check waited in %zu refits", waited);
+}
+
 /* ---- lf_fit_joint beyond the dense covariance ---------------------------- */
 
 /* The whole joint path of `layerfit fit` (each curve alone, the joint fit
@@ -723,5 +791,6 @@ main(void)
     gn_step_determined();
     joint_many();
     gsl_block_bits();
+    case_k2_waits();
     return t_summary();
 }
