@@ -426,8 +426,9 @@ struct lf_fit {
 int lf_fit_gsl(lf_fit *f);
 
 /* gsl_block.c: GSL's trust region in the block form of a joint fit, with
- * GSL's numbers.  lf_fit_solver_normal: GSL's "cholesky" linear solver
- * with J^T J summed where the columns are not zero (lf_fit_jtj_lower: the
+ * GSL's numbers.  lf_fit_scale_more: GSL's "more" scaling, column norms
+ * over the rows not zero.  lf_fit_solver_normal: GSL's "cholesky" linear
+ * solver with J^T J summed where the columns are not zero (lf_fit_jtj_lower: the
  * lower triangle of J^T J into C as gsl_blas_dsyrk gives it; lo, hi:
  * p each, scratch).  lf_fit_jacobian_fd: GSL's forward-difference
  * Jacobian, a curve's own column evaluating that curve alone;
@@ -436,6 +437,7 @@ int lf_fit_gsl(lf_fit *f);
  * freed by lf_fit_fd_alloc and lf_fit_fd_free. */
 typedef int (*fit_df)(const gsl_vector *x, void *params, gsl_matrix *J);
 extern const gsl_multifit_nlinear_solver *const lf_fit_solver_normal;
+extern const gsl_multifit_nlinear_scale *const lf_fit_scale_more;
 int lf_fit_jtj_lower(const gsl_matrix *J, gsl_matrix *C, size_t *lo, size_t *hi);
 int lf_fit_jacobian_fd(const gsl_vector *x, void *params, gsl_matrix *J);
 fit_df lf_fit_block_fd(const lf_fit *f);

@@ -190,11 +190,14 @@ normal_alloc(const size_t n, const size_t p)
     return s;
 }
 
-int
-lf_fit_jtj_lower(const gsl_matrix *J, gsl_matrix *C, size_t *lo, size_t *hi)
+/* Each column's rows that are not zero: from lo[j] to hi[j] - 1 (lo = hi
+ * = 0 for a column of zeros); 0 when an entry is not finite. */
+static int
+column_ranges(const gsl_matrix *J, size_t *lo, size_t *hi)
 {
     const size_t n = J->size1, p = J->size2, tda = J->tda;
-    size_t i, j, k;
+    size_t i, j;
+    int finite = 1;
 
     for (j = 0; j < p; j++) {
         lo[j] = n;
@@ -205,13 +208,26 @@ lf_fit_jtj_lower(const gsl_matrix *J, gsl_matrix *C, size_t *lo, size_t *hi)
         for (j = 0; j < p; j++) {
             if (row[j] == 0.0)
                 continue;
-            if (!isfinite(row[j]))
-                return gsl_blas_dsyrk(CblasLower, CblasTrans, 1.0, J, 0.0, C);
+            finite &= isfinite(row[j]) != 0;
             if (lo[j] == n)
                 lo[j] = i;
             hi[j] = i + 1;
         }
     }
+    for (j = 0; j < p; j++)
+        if (lo[j] == n)
+            lo[j] = 0;
+    return finite;
+}
+
+int
+lf_fit_jtj_lower(const gsl_matrix *J, gsl_matrix *C, size_t *lo, size_t *hi)
+{
+    const size_t p = J->size2, tda = J->tda;
+    size_t i, j, k;
+
+    if (!column_ranges(J, lo, hi))
+        return gsl_blas_dsyrk(CblasLower, CblasTrans, 1.0, J, 0.0, C);
     /* the dense update's sums (C = 0, then C += 1 * sum in row order), over
      * the rows where both columns are not zero */
     for (i = 0; i < p; i++)
@@ -289,6 +305,46 @@ normal_rcond(double *rcond, void *vstate)
         *rcond = sqrt(rc);
     return status;
 }
+
+/* ---- More's scaling (GSL's "more"), column norms where not zero ---- */
+
+/* D_j = max(D_j, |J_j|) (|J_j| = 1 where the column is zero): More 1978,
+ * eq. 6.3, as gsl_multifit_nlinear_scale_more, each norm by gsl_blas_dnrm2
+ * over the column's rows that are not zero (it passes over zeros: the
+ * same bits). */
+static int
+more_update(const gsl_matrix *J, gsl_vector *diag)
+{
+    const size_t p = J->size2;
+    size_t *lo = malloc(2 * p * sizeof *lo), *hi = lo + p, j;
+
+    if (lo == NULL)
+        return GSL_ENOMEM;
+    (void) column_ranges(J, lo, hi);
+    for (j = 0; j < p; j++) {
+        double norm = 0.0, *dj = gsl_vector_ptr(diag, j);
+        if (hi[j] > lo[j]) {
+            gsl_vector_const_view v = gsl_matrix_const_subcolumn(J, j, lo[j], hi[j] - lo[j]);
+            norm = gsl_blas_dnrm2(&v.vector);
+        }
+        if (norm == 0.0)
+            norm = 1.0;
+        *dj = *dj > norm ? *dj : norm;     /* GSL_MAX, NaN as GSL has it */
+    }
+    free(lo);
+    return GSL_SUCCESS;
+}
+
+static int
+more_init(const gsl_matrix *J, gsl_vector *diag)
+{
+    gsl_vector_set_zero(diag);
+    return more_update(J, diag);
+}
+
+static const gsl_multifit_nlinear_scale more_type = { "more", more_init, more_update };
+
+const gsl_multifit_nlinear_scale *const lf_fit_scale_more = &more_type;
 
 static const gsl_multifit_nlinear_solver normal_type = {
     "cholesky", normal_alloc, normal_init, normal_presolve, normal_solve, normal_rcond,

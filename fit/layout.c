@@ -391,7 +391,7 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     /* GSL's workspace: made when a run first needs it (lf_fit_gsl) */
     f->gsl_par = par;
     f->gsl_par.trs = f->trs;
-    f->gsl_par.scale = gsl_multifit_nlinear_scale_more;
+    f->gsl_par.scale = lf_fit_scale_more;           /* GSL's "more", block form */
     f->gsl_par.solver = lf_fit_solver_normal;       /* GSL's "cholesky", block form */
     f->gsl_par.fdtype = settings->jacobian == LF_JAC_CENTRAL ? GSL_MULTIFIT_NLINEAR_CTRDIFF
                                                              : GSL_MULTIFIT_NLINEAR_FWDIFF;

@@ -11,7 +11,7 @@
  *  - a joint fit of many curves (the block form end to end): the truth
  *    recovered, its covariance that of the dense decomposition;
  *  - GSL's trust region in block form (gsl_block.c): its Jacobian by
- *    differences, J^T J and iterations GSL's own bit for bit;
+ *    differences, J^T J, scaling and iterations GSL's own bit for bit;
  *  - leave-one-out's refits assessed without the k = 2 check's refit
  *    (loo.c): only w's verdict changes. */
 #include <math.h>
@@ -639,6 +639,7 @@ gsl_block_bits(void)
         for (i = 0; i < 2; i++) {
             par = f->gsl_par;
             par.solver = i == 0 ? lf_fit_solver_normal : gsl_multifit_nlinear_solver_cholesky;
+            par.scale = i == 0 ? lf_fit_scale_more : gsl_multifit_nlinear_scale_more;
             fdf[i] = f->fdf;
             fdf[i].df = i == 0 ? lf_fit_jacobian_fd : NULL;
             w[i] = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &par, f->nres, np);
