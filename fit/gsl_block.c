@@ -12,8 +12,8 @@
  * Here the same two are done where the numbers are not zero:
  *  - lf_fit_solver_normal, GSL's "cholesky" linear solver (the normal
  *    equations, J^T J + mu D^2 factored by gsl_linalg_cholesky_decomp1)
- *    with each entry of J^T J summed over the rows where both columns are
- *    not zero, in row order: every product left out has an exact zero
+ *    with each entry of J^T J (and of J^T f) summed over the rows where
+ *    both columns are not zero, in row order: every product left out has an exact zero
  *    factor, and adding a zero product to a sum in row order does not
  *    change its bits, so J^T J is the dense update's bit for bit (a
  *    Jacobian with an entry that is not finite takes the dense update, as
@@ -149,6 +149,7 @@ typedef struct {
     gsl_vector *rhs;        /* -J^T f */
     gsl_vector *work3p;     /* gsl_linalg_cholesky_rcond's */
     size_t *lo, *hi;        /* each column's first row not zero, and last + 1 */
+    int finite;             /* every entry of J finite (else GSL's dense sums) */
     double mu;              /* the damping factored, or -1 before any */
 } normal_state;
 
@@ -220,14 +221,13 @@ column_ranges(const gsl_matrix *J, size_t *lo, size_t *hi)
     return finite;
 }
 
-int
-lf_fit_jtj_lower(const gsl_matrix *J, gsl_matrix *C, size_t *lo, size_t *hi)
+/* The lower triangle of J^T J into C from J's column ranges (J finite). */
+static void
+jtj_in_ranges(const gsl_matrix *J, gsl_matrix *C, const size_t *lo, const size_t *hi)
 {
     const size_t p = J->size2, tda = J->tda;
     size_t i, j, k;
 
-    if (!column_ranges(J, lo, hi))
-        return gsl_blas_dsyrk(CblasLower, CblasTrans, 1.0, J, 0.0, C);
     /* the dense update's sums (C = 0, then C += 1 * sum in row order), over
      * the rows where both columns are not zero */
     for (i = 0; i < p; i++)
@@ -240,6 +240,14 @@ lf_fit_jtj_lower(const gsl_matrix *J, gsl_matrix *C, size_t *lo, size_t *hi)
             *cij = 0.0;
             *cij += temp;
         }
+}
+
+int
+lf_fit_jtj_lower(const gsl_matrix *J, gsl_matrix *C, size_t *lo, size_t *hi)
+{
+    if (!column_ranges(J, lo, hi))
+        return gsl_blas_dsyrk(CblasLower, CblasTrans, 1.0, J, 0.0, C);
+    jtj_in_ranges(J, C, lo, hi);
     return GSL_SUCCESS;
 }
 
@@ -249,7 +257,11 @@ normal_init(const void *vtrust_state, void *vstate)
     const gsl_multifit_nlinear_trust_state *ts = vtrust_state;
     normal_state *s = vstate;
 
-    return lf_fit_jtj_lower(ts->J, s->JTJ, s->lo, s->hi);
+    s->finite = column_ranges(ts->J, s->lo, s->hi);
+    if (!s->finite)
+        return gsl_blas_dsyrk(CblasLower, CblasTrans, 1.0, ts->J, 0.0, s->JTJ);
+    jtj_in_ranges(ts->J, s->JTJ, s->lo, s->hi);
+    return GSL_SUCCESS;
 }
 
 static int
@@ -279,7 +291,24 @@ normal_solve(const gsl_vector *fv, gsl_vector *x, const void *vtrust_state, void
     const gsl_multifit_nlinear_trust_state *ts = vtrust_state;
     normal_state *s = vstate;
 
-    gsl_blas_dgemv(CblasTrans, -1.0, ts->J, fv, 0.0, s->rhs);
+    if (!s->finite) {
+        gsl_blas_dgemv(CblasTrans, -1.0, ts->J, fv, 0.0, s->rhs);
+    } else {
+        /* rhs = -J^T f as gsl_blas_dgemv sums it: each entry from 0 over
+         * the rows in order, a row whose -f_i is zero left out; here also
+         * the rows where the column is zero (zero products: the same bits) */
+        const gsl_matrix *J = ts->J;
+        size_t i, k;
+        for (k = 0; k < J->size2; k++) {
+            double acc = 0.0;
+            for (i = s->lo[k]; i < s->hi[k]; i++) {
+                const double t = -1.0 * gsl_vector_get(fv, i);
+                if (t != 0.0)
+                    acc += t * J->data[i * J->tda + k];
+            }
+            gsl_vector_set(s->rhs, k, acc);
+        }
+    }
     return gsl_linalg_cholesky_solve(s->work, s->rhs, x);
 }
 
