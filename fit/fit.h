@@ -468,7 +468,9 @@ int lf_fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J);
 /* Curve j's residual rows at x into r (its n_j rows), its model evaluated
  * into delta and ev (n_j each) without the roots of its last evaluation:
  * lf_fit_residuals' rows of curve j, bit for bit, for a model other than
- * the exact one.  GSL_EDOM as lf_fit_residuals. */
+ * the exact one.  delta and ev NULL: the model's evaluation in f's cache
+ * (lf_fit_eval_at), which x must share but for curve j's F0 and slope.
+ * GSL_EDOM as lf_fit_residuals. */
 int lf_fit_curve_residuals(lf_fit *f, const double *x, size_t j, double *delta, lf_eval *ev,
                            double *r);
 /* The free force offsets (and slopes) of x moved to their least-squares

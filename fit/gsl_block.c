@@ -95,6 +95,18 @@ column_curve(const lf_fit *f, size_t k)
     return f->ncurves;
 }
 
+/* Column k of the difference: rows lo .. hi - 1 from r1 - r0 times
+ * 1 / delta (GSL's expression), the rest left zero. */
+static void
+put_column(lf_fit *f, gsl_matrix *J, size_t k, size_t lo, size_t hi, double delta)
+{
+    size_t i;
+
+    delta = 1.0 / delta;
+    for (i = lo; i < hi; i++)
+        J->data[i * J->tda + k] = (f->fd.r1[i] - f->fd.r0[i]) * delta;
+}
+
 int
 lf_fit_jacobian_fd(const gsl_vector *xv, void *params, gsl_matrix *J)
 {
@@ -103,41 +115,45 @@ lf_fit_jacobian_fd(const gsl_vector *xv, void *params, gsl_matrix *J)
     gsl_vector_view r1 = gsl_vector_view_array(f->fd.r1, f->nres);
     double *x = xv->data;      /* moved and put back, as GSL's difference does */
     const double h = f->gsl_par.h_df;
-    size_t i, k, lo, hi;
+    size_t i, k, pass;
     int status;
 
     if (xv->stride != 1)
         return GSL_EBADFUNC;
+    /* the residuals at x: the model's evaluation at x then in f's cache */
     status = lf_fit_residuals(xv, f, &r0.vector);
     if (status != GSL_SUCCESS)
         return status;
-    for (k = 0; k < f->np; k++) {
-        const double xk = x[k];
-        const size_t j = column_curve(f, k);
-        double delta = h * fabs(xk);
-        if (delta == 0.0)
-            delta = h;
-        x[k] = xk + delta;
-        if (j == f->ncurves) {
-            lo = 0;
-            hi = f->nres;
-            status = lf_fit_residuals(xv, f, &r1.vector);
-        } else {
-            lo = f->c[j].row;
-            hi = lo + f->c[j].data.n;
-            status = lf_fit_curve_residuals(f, x, j, f->fd.delta, f->fd.ev, f->fd.r1 + lo);
+    for (i = 0; i < f->nres; i++)
+        memset(J->data + i * J->tda, 0, f->np * sizeof *J->data);
+    /* the curves' own columns first, F0's and the slope's from the cached
+     * evaluation (the model does not depend on them); then the material's,
+     * which evaluate every curve (and move the cache) */
+    for (pass = 0; pass < 2; pass++)
+        for (k = 0; k < f->np; k++) {
+            const double xk = x[k];
+            const size_t j = column_curve(f, k);
+            size_t lo = 0, hi = f->nres;
+            double delta = h * fabs(xk);
+            if ((j < f->ncurves) != (pass == 0))
+                continue;
+            if (delta == 0.0)
+                delta = h;
+            x[k] = xk + delta;
+            if (j == f->ncurves) {
+                status = lf_fit_residuals(xv, f, &r1.vector);
+            } else {
+                const int own_model = (int) k == f->c[j].iz0;
+                lo = f->c[j].row;
+                hi = lo + f->c[j].data.n;
+                status = lf_fit_curve_residuals(f, x, j, own_model ? f->fd.delta : NULL,
+                                                own_model ? f->fd.ev : NULL, f->fd.r1 + lo);
+            }
+            x[k] = xk;
+            if (status != GSL_SUCCESS)
+                return status;
+            put_column(f, J, k, lo, hi, delta);
         }
-        x[k] = xk;
-        if (status != GSL_SUCCESS)
-            return status;
-        delta = 1.0 / delta;
-        for (i = 0; i < lo; i++)
-            gsl_matrix_set(J, i, k, 0.0);
-        for (i = lo; i < hi; i++)
-            gsl_matrix_set(J, i, k, (f->fd.r1[i] - f->fd.r0[i]) * delta);
-        for (i = hi; i < f->nres; i++)
-            gsl_matrix_set(J, i, k, 0.0);
-    }
     return GSL_SUCCESS;
 }
 

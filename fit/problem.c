@@ -334,10 +334,16 @@ lf_fit_curve_residuals(lf_fit *f, const double *x, size_t j, double *delta, lf_e
     size_t i;
 
     lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
-    for (i = 0; i < c->data.n; i++)
-        delta[i] = c->data.depth[i] - z0;
-    if (lf_model_eval_roots(c->model, &mat, c->data.branch, c->data.n, delta, ev, NULL) != LF_OK)
-        return GSL_EDOM;
+    if (ev == NULL) {           /* f's evaluation holds */
+        delta = f->ws.delta + c->row;
+        ev = f->ws.ev + c->row;
+    } else {
+        for (i = 0; i < c->data.n; i++)
+            delta[i] = c->data.depth[i] - z0;
+        if (lf_model_eval_roots(c->model, &mat, c->data.branch, c->data.n, delta, ev, NULL)
+            != LF_OK)
+            return GSL_EDOM;
+    }
     for (i = 0; i < c->data.n; i++) {
         const size_t k = c->row + i;
         /* lf_fit_residuals_ss's expression */
