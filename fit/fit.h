@@ -428,9 +428,9 @@ int lf_fit_gsl(lf_fit *f);
 /* gsl_block.c: GSL's trust region in the block form of a joint fit, with
  * GSL's numbers.  lf_fit_scale_more: GSL's "more" scaling, column norms
  * over the rows not zero.  lf_fit_solver_normal: GSL's "cholesky" linear
- * solver with J^T J summed where the columns are not zero (lf_fit_jtj_lower: the
- * lower triangle of J^T J into C as gsl_blas_dsyrk gives it; lo, hi:
- * p each, scratch).  lf_fit_jacobian_fd: GSL's forward-difference
+ * solver with J^T J summed where the columns are not zero
+ * (lf_fit_jtj_lower: the lower triangle of J^T J into C as gsl_blas_dsyrk
+ * gives it; lo, hi: p each, scratch).  lf_fit_jacobian_fd: GSL's forward-difference
  * Jacobian, a curve's own column evaluating that curve alone;
  * lf_fit_block_fd: it, where it gives GSL's bits (forward differences, no
  * curve on the exact model), else NULL (GSL's own).  Its scratch made and

@@ -13,11 +13,12 @@
  *  - lf_fit_solver_normal, GSL's "cholesky" linear solver (the normal
  *    equations, J^T J + mu D^2 factored by gsl_linalg_cholesky_decomp1)
  *    with each entry of J^T J (and of J^T f) summed over the rows where
- *    both columns are not zero, in row order: every product left out has an exact zero
- *    factor, and adding a zero product to a sum in row order does not
- *    change its bits, so J^T J is the dense update's bit for bit (a
- *    Jacobian with an entry that is not finite takes the dense update, as
- *    a zero times it is not zero);
+ *    both columns are not zero, in row order: every product left out has
+ *    an exact zero factor, and adding a zero product to a sum in row order
+ *    does not change its bits, so J^T J is the dense update's bit for bit
+ *    (a Jacobian with an entry that is not finite takes the dense update,
+ *    as a zero times it is not zero); More's scaling (lf_fit_scale_more)
+ *    likewise takes each column's norm over its rows that are not zero;
  *  - lf_fit_jacobian_fd, GSL's forward difference (step h |x_k|, or h
  *    where x_k = 0; h = the parameters' h_df) with a column of a curve's
  *    own parameter evaluating that curve alone: the other rows of GSL's

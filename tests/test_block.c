@@ -656,7 +656,8 @@ gsl_block_bits(void)
         }
         t_int((long) same_x, 10, "gsl block %s: ten trust-region iterations give GSL's "
               "positions and residuals bit for bit", name);
-        t_int((long) (fdf[0].nevalf + fdf[0].nevaldf * np), (long) (fdf[1].nevalf + fdf[1].nevaldf),
+        t_int((long) (fdf[0].nevalf + fdf[0].nevaldf * np),
+              (long) (fdf[1].nevalf + fdf[1].nevaldf),
               "gsl block %s: the same evaluations counted", name);
         for (i = 0; i < 2; i++)
             gsl_multifit_nlinear_free(w[i]);
@@ -727,7 +728,8 @@ case_k2_waits(void)
                              && r[0].Estar.determined == r[1].Estar.determined
                              && r[0].nu.determined == r[1].nu.determined
                              && r[0].M.determined == r[1].M.determined
-                             && memcmp(r[0].value, r[1].value, r[0].npar * sizeof *r[0].value) == 0;
+                             && memcmp(r[0].value, r[1].value,
+                                       r[0].npar * sizeof *r[0].value) == 0;
                     for (j = 0; j < s.n; j++)
                         eq &= r[0].curves[j].consistent == r[1].curves[j].consistent
                               && r[0].curves[j].chi2_per_point == r[1].curves[j].chi2_per_point;
