@@ -1797,6 +1797,320 @@ point_from(const exact_ctx *c, int bonded, double target, double u, lf_eval *e, 
     return 1;
 }
 
+/* ---- four points at once (x86-64 with AVX2) ---------------------------
+ *
+ * eval_from's points are independent, so four of them can take
+ * point_from's first Newton step and its second-order finish side by
+ * side, one point per lane of a 256-bit register: the sub-cells'
+ * coefficients (four products side by side in each row, prodpoly) are
+ * read two products at a time from each point's sub-cell and transposed
+ * to one product across the four points.  Every lane performs
+ * point_from's operations on its point in point_from's order (IEEE
+ * operations lane by lane; no fused multiply-add: the target is AVX2
+ * without FMA, and neither path contracts), so a point done here has
+ * point_from's bits (tests/test_exact.c holds the two paths equal bit for
+ * bit).  A point that needs a second step, or that point_from would give
+ * up on, is left to point_from and invert from the same start.  Chosen at
+ * run time (__builtin_cpu_supports); elsewhere eval_from is the scalar
+ * loop. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(LF_EXACT_NO_SIMD)
+#define EXACT_AVX2 1
+#endif
+
+/* -1: as the processor allows; 0: the scalar path (lf_exact_simd) */
+static _Atomic int simd_mode = -1;
+
+static int
+simd_have(void)
+{
+#ifdef EXACT_AVX2
+    return __builtin_cpu_supports("avx2") ? 1 : 0;
+#else
+    return 0;
+#endif
+}
+
+int
+lf_exact_simd(int mode)
+{
+    if (mode >= 0)
+        atomic_store_explicit(&simd_mode, mode ? -1 : 0, memory_order_relaxed);
+    return atomic_load_explicit(&simd_mode, memory_order_relaxed) != 0 && simd_have();
+}
+
+#ifdef EXACT_AVX2
+#include <immintrin.h>
+
+#define AVX2_FN static inline __attribute__((target("avx2")))
+typedef __m256d v4;
+
+/* Products j0, j0 + 1 of the row at off of the four points' sub-cells a[]
+ * as two vectors across the points (lane l: point l). */
+AVX2_FN void
+ld_pair(const double *const a[4], size_t off, v4 *p0, v4 *p1)
+{
+    const v4 x = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(a[0] + off)),
+                                      _mm_loadu_pd(a[2] + off), 1);
+    const v4 y = _mm256_insertf128_pd(_mm256_castpd128_pd256(_mm_loadu_pd(a[1] + off)),
+                                      _mm_loadu_pd(a[3] + off), 1);
+    *p0 = _mm256_unpacklo_pd(x, y);
+    *p1 = _mm256_unpackhi_pd(x, y);
+}
+
+AVX2_FN v4
+bc(double x)
+{
+    return _mm256_set1_pd(x);
+}
+
+/* pp_val2, pp_d12 and pp_d22 (with pp_tau's form for PP_TAU, whose seven
+ * coefficients are read as products 0..3 of two rows) for products j0,
+ * j0 + 1 of the row block at off, across the points */
+AVX2_FN void
+val4(const double *const a[4], size_t off, v4 t, v4 t2, v4 t4, v4 *r0, v4 *r1)
+{
+    v4 c[7][2];
+    int n;
+    for (n = 0; n < 7; n++)
+        ld_pair(a, off + 4 * (size_t) n, &c[n][0], &c[n][1]);
+    for (n = 0; n < 2; n++) {
+        const v4 v = ((c[0][n] + c[1][n] * t) + t2 * (c[2][n] + c[3][n] * t))
+                     + t4 * ((c[4][n] + c[5][n] * t) + c[6][n] * t2);
+        *(n ? r1 : r0) = v;
+    }
+}
+
+AVX2_FN void
+d14(const double *const a[4], size_t off, v4 t, v4 t2, v4 t4, v4 *r0, v4 *r1)
+{
+    v4 c[6][2];
+    int n;
+    for (n = 0; n < 6; n++)
+        ld_pair(a, off + 4 * (size_t) n, &c[n][0], &c[n][1]);
+    for (n = 0; n < 2; n++) {
+        const v4 v = ((c[0][n] + c[1][n] * t) + t2 * (c[2][n] + c[3][n] * t))
+                     + t4 * (c[4][n] + c[5][n] * t);
+        *(n ? r1 : r0) = v;
+    }
+}
+
+AVX2_FN void
+d24(const double *const a[4], size_t off, v4 t, v4 *r0, v4 *r1)
+{
+    v4 c[3][2];
+    const v4 t12 = t * bc(12.0);
+    int n;
+    for (n = 0; n < 3; n++)
+        ld_pair(a, off + 4 * (size_t) n, &c[n][0], &c[n][1]);
+    *r0 = c[0][0] + t * (c[1][0] + t12 * c[2][0]);
+    *r1 = c[0][1] + t * (c[1][1] + t12 * c[2][1]);
+}
+
+AVX2_FN v4
+vabs(v4 x)
+{
+    return _mm256_andnot_pd(bc(-0.0), x);
+}
+
+AVX2_FN v4
+vsel(v4 mask, v4 yes, v4 no)
+{
+    return _mm256_blendv_pd(no, yes, mask);
+}
+
+/* lf_capped lane by lane (a NaN becomes LF_BIG) */
+AVX2_FN v4
+vcapped(v4 x)
+{
+    const v4 r = vsel(_mm256_cmp_pd(x, bc(-LF_BIG), _CMP_GT_OQ), x, bc(-LF_BIG));
+    return vsel(_mm256_cmp_pd(x, bc(LF_BIG), _CMP_LT_OQ), r, bc(LF_BIG));
+}
+
+/* point_from for the four points idx[] (targets delta[idx[l]], starts
+ * u0[l]) where it finishes after its first step; returns the lanes done
+ * (bit l), whose evaluation and record are written. */
+AVX2_FN int
+point_from4(const exact_ctx *c, int bonded, const size_t idx[4], const double *delta,
+            const double u0[4], lf_eval *out, root_rec *ro)
+{
+    const prodpoly *pp = c->pp;
+    const double *a[4];
+    double xs[4];
+    const v4 u = _mm256_loadu_pd(u0);
+    const v4 target = _mm256_set_pd(delta[idx[3]], delta[idx[2]], delta[idx[1]], delta[idx[0]]);
+    const v4 lo = bc(c->u_lo), hi = bc(c->u_top), zero = _mm256_setzero_pd();
+    v4 x, ok, t, t2, t4, v0, v1, y0, y1, z0, z1, shift, shift1, shift2, D, dd, d2, g, idd, du;
+    v4 at, lo2, hi2, un, tay, done;
+    int l, m;
+
+    x = (u - bc(pp->u0)) * bc(pp->inv_hs);
+    ok = _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(u, lo, _CMP_GT_OQ), _mm256_cmp_pd(u, hi, _CMP_LT_OQ)),
+                       _mm256_and_pd(_mm256_cmp_pd(x, zero, _CMP_GE_OQ),
+                                     _mm256_cmp_pd(x, bc((double) pp->nq), _CMP_LT_OQ)));
+    if (_mm256_movemask_pd(ok) == 0)
+        return 0;
+    _mm256_storeu_pd(xs, _mm256_and_pd(ok, x));   /* sub-cell 0 where not ok */
+    for (l = 0; l < 4; l++)
+        a[l] = pp->c + pp->stride * (size_t) xs[l];
+    t = u - _mm256_set_pd(a[3][PP_MID], a[2][PP_MID], a[1][PP_MID], a[0][PP_MID]);
+    t2 = t * t;
+    t4 = t2 * t2;
+    val4(a, PP_VAL, t, t2, t4, &v0, &v1);
+    d14(a, PP_D1, t, t2, t4, &y0, &y1);
+    d24(a, PP_D2, t, &z0, &z1);
+    shift = bc(c->A2) * v1;
+    shift1 = bc(c->A2) * y1;
+    shift2 = bc(c->A2) * z1;
+    D = bc(c->A1) * v0;
+    dd = bc(c->A1) * y0 - shift1;
+    d2 = bc(c->A1) * z0 - shift2;
+    g = (D - shift) - target;
+    ok = _mm256_and_pd(ok, _mm256_cmp_pd(dd, zero, _CMP_GT_OQ));
+    idd = bc(1.0) / dd;
+    du = _mm256_xor_pd(g, bc(-0.0)) * idd;
+    at = _mm256_cmp_pd(vabs(g), bc(1e-14) * (vabs(D) + vabs(shift)), _CMP_LE_OQ);
+    /* not at the root: the bracket, then the second-order finish where the
+     * step is small enough */
+    {
+        const v4 gp = _mm256_cmp_pd(g, zero, _CMP_GT_OQ);
+        hi2 = vsel(gp, u, hi);
+        lo2 = vsel(gp, lo, u);
+    }
+    un = u + du;
+    tay = _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(un, lo2, _CMP_GT_OQ), _mm256_cmp_pd(un, hi2, _CMP_LT_OQ)),
+                        _mm256_and_pd(_mm256_cmp_pd(vabs(du), bc(STEP_TAYLOR), _CMP_LE_OQ),
+                                      _mm256_cmp_pd(vabs(du * d2), bc(CURV_TAYLOR) * dd, _CMP_LE_OQ)));
+    done = _mm256_and_pd(ok, _mm256_or_pd(at, tay));
+    m = _mm256_movemask_pd(done);
+    if (m == 0)
+        return 0;
+    du = vsel(at, zero, du - ((bc(0.5) * d2 * du) * du) * idd);
+    {
+        const v4 h = bc(0.5) * du * du, ee = d2 * du * idd;
+        v4 v2, v3, y2, y3, z2, z3, ta, tb, tc, td, te, tf, tg, tmid, tau, Ssh, Ssh1, Ssh2, P1, P11, P12;
+        v4 P, dP, dPdd, half, res[6], rec[6];
+        double rv[6][4], rr[6][4];
+        idd = idd * ((bc(1.0) - ee) + ee * ee);
+        val4(a, PP_VAL + 2, t, t2, t4, &v2, &v3);
+        d14(a, PP_D1 + 2, t, t2, t4, &y2, &y3);
+        d24(a, PP_D2 + 2, t, &z2, &z3);
+        ld_pair(a, PP_TAU, &ta, &tb);
+        ld_pair(a, PP_TAU + 2, &tc, &td);
+        ld_pair(a, PP_TAU + 4, &te, &tf);
+        ld_pair(a, PP_TAU + 6, &tg, &tmid);
+        tau = ((ta + tb * t) + t2 * (tc + td * t)) + t4 * ((te + tf * t) + tg * t2);
+        Ssh = bc(c->Sc) * v2;
+        Ssh1 = bc(c->Sc) * y2;
+        Ssh2 = bc(c->Sc) * z2;
+        P1 = bc(c->F1) * v3;
+        P11 = bc(c->F1) * y3;
+        P12 = bc(c->F1) * z3;
+        P = ((P1 - Ssh) + (P11 - Ssh1) * du) + (P12 - Ssh2) * h;
+        dP = (P11 - Ssh1) + (P12 - Ssh2) * du;
+        tau = tau * ((bc(1.0) + du) + h);
+        shift = shift + (shift1 * du + shift2 * h);
+        Ssh = Ssh + (Ssh1 * du + Ssh2 * h);
+        P1 = P1 + (P11 * du + P12 * h);
+        dPdd = dP * idd;
+        half = dPdd * bc(0.5);
+        /* poly_out's */
+        res[0] = P;
+        res[1] = tau * bc(c->h);
+        res[2] = vcapped(dPdd);
+        res[3] = vcapped(bc(-0.5) * Ssh + half * shift);
+        res[4] = vcapped((P1 - bc(0.5) * Ssh) - half * shift);
+        res[5] = zero;
+        if (bonded) {
+            const v4 tr = t + du;
+            v4 h0[4], h1[4], h2[4], h3[4], H[4];
+            int j;
+            for (j = 0; j < 4; j += 2) {
+                ld_pair(a, PP_NU + (size_t) j, &h0[j], &h0[j + 1]);
+                ld_pair(a, PP_NU + 4 + (size_t) j, &h1[j], &h1[j + 1]);
+                ld_pair(a, PP_NU + 8 + (size_t) j, &h2[j], &h2[j + 1]);
+                ld_pair(a, PP_NU + 12 + (size_t) j, &h3[j], &h3[j + 1]);
+            }
+            for (j = 0; j < 4; j++)
+                H[j] = h0[j] + tr * (h1[j] + tr * (h2[j] + tr * h3[j]));
+            res[5] = vcapped((P1 * H[3] - Ssh * (H[0] - H[1]))
+                             - dPdd * ((target + shift) * H[2] + shift * H[1]));
+        }
+        /* root_put's */
+        rec[0] = u + du;
+        rec[1] = target;
+        rec[2] = idd;
+        rec[3] = shift;
+        rec[4] = shift1;
+        rec[5] = d2;
+        for (l = 0; l < 6; l++) {
+            _mm256_storeu_pd(rv[l], res[l]);
+            _mm256_storeu_pd(rr[l], rec[l]);
+        }
+        for (l = 0; l < 4; l++) {
+            lf_eval *e = &out[idx[l]];
+            if (!(m & (1 << l)))
+                continue;
+            e->P = rv[0][l];
+            e->a = rv[1][l];
+            e->dP_ddelta = rv[2][l];
+            e->dP_dlogw = rv[3][l];
+            e->dP_dlogE = rv[4][l];
+            e->dP_dnu = rv[5][l];
+            root_put(&ro[idx[l]], rr[0][l], rr[1][l], rr[2][l], rr[3][l], rr[4][l], rr[5][l]);
+        }
+    }
+    return m;
+}
+
+/* eval_from's loop with the points that have a start taken four at a
+ * time by point_from4; the rest as eval_from takes them. */
+__attribute__((target("avx2"))) static int
+eval_from4(const exact_ctx *c, int bonded, int load, double start, size_t n, const double *delta,
+           lf_eval *out, root_rec *ro, double dL)
+{
+    warm w = { NAN, NAN, NAN, NAN, NAN, NAN };
+    size_t i, idx[4];
+    double u0[4];
+    int nb = 0, l, m;
+
+    for (i = 0; i <= n; i++) {
+        if (i < n) {
+            root_rec *r = &ro[i];
+            double s;
+            if (!touching(c, load, start, delta[i])) {
+                lf_eval *e = &out[i];
+                e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
+                r->u = NAN;
+                continue;
+            }
+            s = root_start(r, delta[i], dL);
+            if (!isfinite(s)) {
+                if (eval_point(c, bonded, 1, delta[i], NAN, &out[i], &w, r) != LF_OK)
+                    return LF_EINVAL;
+                continue;
+            }
+            idx[nb] = i;
+            u0[nb++] = s;
+            if (nb < 4)
+                continue;
+            m = point_from4(c, bonded, idx, delta, u0, out, ro);
+        } else {
+            m = 0;     /* the last points, fewer than four */
+        }
+        for (l = 0; l < nb; l++) {
+            const size_t j = idx[l];
+            if ((m & (1 << l))
+                || point_from(c, bonded, delta[j], u0[l], &out[j], &ro[j]))
+                continue;
+            if (eval_point(c, bonded, 1, delta[j], u0[l], &out[j], &w, &ro[j]) != LF_OK)
+                return LF_EINVAL;
+        }
+        nb = 0;
+    }
+    return LF_OK;
+}
+#endif
+
 /* eval_points' fast path with each point started at its own root of the
  * last evaluation of the same curve, carried by the moves of its
  * indentation and of ln lambda (dL) since (root_start): no point's start
@@ -1811,6 +2125,10 @@ eval_from(const exact_ctx *c, int bonded, int load, double start, size_t n, cons
     warm w = { NAN, NAN, NAN, NAN, NAN, NAN };
     size_t i;
 
+#ifdef EXACT_AVX2
+    if (c->pp != NULL && lf_exact_simd(-1))
+        return eval_from4(c, bonded, load, start, n, delta, out, ro, dL);
+#endif
     for (i = 0; i < n; i++) {
         root_rec *r = &ro[i];
         double u0;
