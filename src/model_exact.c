@@ -1863,47 +1863,26 @@ bc(double x)
     return _mm256_set1_pd(x);
 }
 
-/* pp_val2, pp_d12 and pp_d22 (with pp_tau's form for PP_TAU, whose seven
- * coefficients are read as products 0..3 of two rows) for products j0,
- * j0 + 1 of the row block at off, across the points */
+/* pp_val2, pp_d12 and pp_d22 for products j0, j0 + 1 of the sub-cells a[]
+ * (off = PP_VAL + j0), across the points.  Only the values' rows are
+ * read: the derivatives' coefficients are the same multiples of them
+ * that prodpoly_build stores (n y_n; 2 y_2, 6 y_3, y_4), which give the
+ * same bits and cost less than reading them. */
 AVX2_FN void
-val4(const double *const a[4], size_t off, v4 t, v4 t2, v4 t4, v4 *r0, v4 *r1)
+poly4(const double *const a[4], size_t off, v4 t, v4 t2, v4 t4, v4 v[2], v4 y[2], v4 z[2])
 {
     v4 c[7][2];
     int n;
     for (n = 0; n < 7; n++)
         ld_pair(a, off + 4 * (size_t) n, &c[n][0], &c[n][1]);
     for (n = 0; n < 2; n++) {
-        const v4 v = ((c[0][n] + c[1][n] * t) + t2 * (c[2][n] + c[3][n] * t))
-                     + t4 * ((c[4][n] + c[5][n] * t) + c[6][n] * t2);
-        *(n ? r1 : r0) = v;
+        const v4 b0 = c[1][n], b1 = bc(2.0) * c[2][n], b2 = bc(3.0) * c[3][n];
+        const v4 b3 = bc(4.0) * c[4][n], b4 = bc(5.0) * c[5][n], b5 = bc(6.0) * c[6][n];
+        v[n] = ((c[0][n] + c[1][n] * t) + t2 * (c[2][n] + c[3][n] * t))
+               + t4 * ((c[4][n] + c[5][n] * t) + c[6][n] * t2);
+        y[n] = ((b0 + b1 * t) + t2 * (b2 + b3 * t)) + t4 * (b4 + b5 * t);
+        z[n] = b1 + t * (bc(6.0) * c[3][n] + (t * bc(12.0)) * c[4][n]);
     }
-}
-
-AVX2_FN void
-d14(const double *const a[4], size_t off, v4 t, v4 t2, v4 t4, v4 *r0, v4 *r1)
-{
-    v4 c[6][2];
-    int n;
-    for (n = 0; n < 6; n++)
-        ld_pair(a, off + 4 * (size_t) n, &c[n][0], &c[n][1]);
-    for (n = 0; n < 2; n++) {
-        const v4 v = ((c[0][n] + c[1][n] * t) + t2 * (c[2][n] + c[3][n] * t))
-                     + t4 * (c[4][n] + c[5][n] * t);
-        *(n ? r1 : r0) = v;
-    }
-}
-
-AVX2_FN void
-d24(const double *const a[4], size_t off, v4 t, v4 *r0, v4 *r1)
-{
-    v4 c[3][2];
-    const v4 t12 = t * bc(12.0);
-    int n;
-    for (n = 0; n < 3; n++)
-        ld_pair(a, off + 4 * (size_t) n, &c[n][0], &c[n][1]);
-    *r0 = c[0][0] + t * (c[1][0] + t12 * c[2][0]);
-    *r1 = c[0][1] + t * (c[1][1] + t12 * c[2][1]);
 }
 
 AVX2_FN v4
@@ -1926,186 +1905,224 @@ vcapped(v4 x)
     return vsel(_mm256_cmp_pd(x, bc(LF_BIG), _CMP_LT_OQ), r, bc(LF_BIG));
 }
 
-/* point_from for the four points idx[] (targets delta[idx[l]], starts
- * u0[l]) where it finishes after its first step; returns the lanes done
- * (bit l), whose evaluation and record are written. */
+/* Four consecutive records or evaluations (six numbers each) at p:
+ * field pairs (f, f + 1) read as vectors across the points, or written
+ * from them. */
+AVX2_FN void
+ld_six(const double *p, v4 f[6])
+{
+    const double *const a[4] = { p, p + 6, p + 12, p + 18 };
+    ld_pair(a, 0, &f[0], &f[1]);
+    ld_pair(a, 2, &f[2], &f[3]);
+    ld_pair(a, 4, &f[4], &f[5]);
+}
+
+AVX2_FN void
+st_six(double *p, const v4 f[6])
+{
+    int j;
+    for (j = 0; j < 6; j += 2) {
+        const v4 lo = _mm256_unpacklo_pd(f[j], f[j + 1]), hi = _mm256_unpackhi_pd(f[j], f[j + 1]);
+        _mm_storeu_pd(p + j, _mm256_castpd256_pd128(lo));
+        _mm_storeu_pd(p + 6 + j, _mm256_castpd256_pd128(hi));
+        _mm_storeu_pd(p + 12 + j, _mm256_extractf128_pd(lo, 1));
+        _mm_storeu_pd(p + 18 + j, _mm256_extractf128_pd(hi, 1));
+    }
+}
+
+_Static_assert(sizeof(lf_eval) == 6 * sizeof(double), "lf_eval is six numbers");
+
+/* point_from for the NB blocks of four points i .. i + 4 NB - 1 (targets
+ * delta[i ..], starts u[]) where it finishes after its first step; the
+ * blocks' operations interleaved, so that the processor overlaps their
+ * chains.  Returns the points done (bit j: point i + j).  When any is
+ * done the evaluations and records of all are written (those of the
+ * others are point_from's to write again). */
+#define NB 2
 AVX2_FN int
-point_from4(const exact_ctx *c, int bonded, const size_t idx[4], const double *delta,
-            const double u0[4], lf_eval *out, root_rec *ro)
+point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const v4 u[NB],
+            lf_eval *out, root_rec *ro)
 {
     const prodpoly *pp = c->pp;
-    const double *a[4];
-    double xs[4];
-    const v4 u = _mm256_loadu_pd(u0);
-    const v4 target = _mm256_set_pd(delta[idx[3]], delta[idx[2]], delta[idx[1]], delta[idx[0]]);
+    const double *a[NB][4];
     const v4 lo = bc(c->u_lo), hi = bc(c->u_top), zero = _mm256_setzero_pd();
-    v4 x, ok, t, t2, t4, v0, v1, y0, y1, z0, z1, shift, shift1, shift2, D, dd, d2, g, idd, du;
-    v4 at, lo2, hi2, un, tay, done;
-    int l, m;
+    v4 target[NB], ok[NB], t[NB], t2[NB], t4[NB], v01[NB][2], y01[NB][2], z01[NB][2];
+    v4 shift[NB], shift1[NB], shift2[NB], dd[NB], d2[NB], idd[NB], du[NB], at[NB];
+    int l, b, m = 0;
 
-    x = (u - bc(pp->u0)) * bc(pp->inv_hs);
-    ok = _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(u, lo, _CMP_GT_OQ), _mm256_cmp_pd(u, hi, _CMP_LT_OQ)),
-                       _mm256_and_pd(_mm256_cmp_pd(x, zero, _CMP_GE_OQ),
-                                     _mm256_cmp_pd(x, bc((double) pp->nq), _CMP_LT_OQ)));
-    if (_mm256_movemask_pd(ok) == 0)
-        return 0;
-    _mm256_storeu_pd(xs, _mm256_and_pd(ok, x));   /* sub-cell 0 where not ok */
-    for (l = 0; l < 4; l++)
-        a[l] = pp->c + pp->stride * (size_t) xs[l];
-    t = u - _mm256_set_pd(a[3][PP_MID], a[2][PP_MID], a[1][PP_MID], a[0][PP_MID]);
-    t2 = t * t;
-    t4 = t2 * t2;
-    val4(a, PP_VAL, t, t2, t4, &v0, &v1);
-    d14(a, PP_D1, t, t2, t4, &y0, &y1);
-    d24(a, PP_D2, t, &z0, &z1);
-    shift = bc(c->A2) * v1;
-    shift1 = bc(c->A2) * y1;
-    shift2 = bc(c->A2) * z1;
-    D = bc(c->A1) * v0;
-    dd = bc(c->A1) * y0 - shift1;
-    d2 = bc(c->A1) * z0 - shift2;
-    g = (D - shift) - target;
-    ok = _mm256_and_pd(ok, _mm256_cmp_pd(dd, zero, _CMP_GT_OQ));
-    idd = bc(1.0) / dd;
-    du = _mm256_xor_pd(g, bc(-0.0)) * idd;
-    at = _mm256_cmp_pd(vabs(g), bc(1e-14) * (vabs(D) + vabs(shift)), _CMP_LE_OQ);
-    /* not at the root: the bracket, then the second-order finish where the
-     * step is small enough */
-    {
-        const v4 gp = _mm256_cmp_pd(g, zero, _CMP_GT_OQ);
-        hi2 = vsel(gp, u, hi);
-        lo2 = vsel(gp, lo, u);
+    for (b = 0; b < NB; b++) {
+        const v4 x = (u[b] - bc(pp->u0)) * bc(pp->inv_hs);
+        int xs[4];
+        target[b] = _mm256_loadu_pd(delta + i + 4 * (size_t) b);
+        ok[b] = _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(u[b], lo, _CMP_GT_OQ),
+                                            _mm256_cmp_pd(u[b], hi, _CMP_LT_OQ)),
+                              _mm256_and_pd(_mm256_cmp_pd(x, zero, _CMP_GE_OQ),
+                                            _mm256_cmp_pd(x, bc((double) pp->nq), _CMP_LT_OQ)));
+        /* the sub-cell (0 where not ok): x < nq, far inside int */
+        _mm_storeu_si128((__m128i *) (void *) xs, _mm256_cvttpd_epi32(_mm256_and_pd(ok[b], x)));
+        for (l = 0; l < 4; l++)
+            a[b][l] = pp->c + pp->stride * (size_t) xs[l];
+        t[b] = u[b] - _mm256_set_pd(a[b][3][PP_MID], a[b][2][PP_MID], a[b][1][PP_MID], a[b][0][PP_MID]);
+        t2[b] = t[b] * t[b];
+        t4[b] = t2[b] * t2[b];
     }
-    un = u + du;
-    tay = _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(un, lo2, _CMP_GT_OQ), _mm256_cmp_pd(un, hi2, _CMP_LT_OQ)),
-                        _mm256_and_pd(_mm256_cmp_pd(vabs(du), bc(STEP_TAYLOR), _CMP_LE_OQ),
-                                      _mm256_cmp_pd(vabs(du * d2), bc(CURV_TAYLOR) * dd, _CMP_LE_OQ)));
-    done = _mm256_and_pd(ok, _mm256_or_pd(at, tay));
-    m = _mm256_movemask_pd(done);
+    for (b = 0; b < NB; b++)
+        poly4(a[b], PP_VAL, t[b], t2[b], t4[b], v01[b], y01[b], z01[b]);
+    for (b = 0; b < NB; b++) {
+        v4 D, g, gp, un, tay;
+        shift[b] = bc(c->A2) * v01[b][1];
+        shift1[b] = bc(c->A2) * y01[b][1];
+        shift2[b] = bc(c->A2) * z01[b][1];
+        D = bc(c->A1) * v01[b][0];
+        dd[b] = bc(c->A1) * y01[b][0] - shift1[b];
+        d2[b] = bc(c->A1) * z01[b][0] - shift2[b];
+        g = (D - shift[b]) - target[b];
+        ok[b] = _mm256_and_pd(ok[b], _mm256_cmp_pd(dd[b], zero, _CMP_GT_OQ));
+        idd[b] = bc(1.0) / dd[b];
+        du[b] = _mm256_xor_pd(g, bc(-0.0)) * idd[b];
+        at[b] = _mm256_cmp_pd(vabs(g), bc(1e-14) * (vabs(D) + vabs(shift[b])), _CMP_LE_OQ);
+        /* not at the root: the bracket, then the second-order finish where
+         * the step is small enough */
+        gp = _mm256_cmp_pd(g, zero, _CMP_GT_OQ);
+        un = u[b] + du[b];
+        tay = _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(un, vsel(gp, lo, u[b]), _CMP_GT_OQ),
+                                          _mm256_cmp_pd(un, vsel(gp, u[b], hi), _CMP_LT_OQ)),
+                            _mm256_and_pd(_mm256_cmp_pd(vabs(du[b]), bc(STEP_TAYLOR), _CMP_LE_OQ),
+                                          _mm256_cmp_pd(vabs(du[b] * d2[b]), bc(CURV_TAYLOR) * dd[b],
+                                                        _CMP_LE_OQ)));
+        m |= _mm256_movemask_pd(_mm256_and_pd(ok[b], _mm256_or_pd(at[b], tay))) << (4 * b);
+    }
     if (m == 0)
         return 0;
-    du = vsel(at, zero, du - ((bc(0.5) * d2 * du) * du) * idd);
-    {
-        const v4 h = bc(0.5) * du * du, ee = d2 * du * idd;
-        v4 v2, v3, y2, y3, z2, z3, ta, tb, tc, td, te, tf, tg, tmid, tau, Ssh, Ssh1, Ssh2, P1, P11, P12;
-        v4 P, dP, dPdd, half, res[6], rec[6];
-        double rv[6][4], rr[6][4];
-        idd = idd * ((bc(1.0) - ee) + ee * ee);
-        val4(a, PP_VAL + 2, t, t2, t4, &v2, &v3);
-        d14(a, PP_D1 + 2, t, t2, t4, &y2, &y3);
-        d24(a, PP_D2 + 2, t, &z2, &z3);
-        ld_pair(a, PP_TAU, &ta, &tb);
-        ld_pair(a, PP_TAU + 2, &tc, &td);
-        ld_pair(a, PP_TAU + 4, &te, &tf);
-        ld_pair(a, PP_TAU + 6, &tg, &tmid);
-        tau = ((ta + tb * t) + t2 * (tc + td * t)) + t4 * ((te + tf * t) + tg * t2);
-        Ssh = bc(c->Sc) * v2;
-        Ssh1 = bc(c->Sc) * y2;
-        Ssh2 = bc(c->Sc) * z2;
-        P1 = bc(c->F1) * v3;
-        P11 = bc(c->F1) * y3;
-        P12 = bc(c->F1) * z3;
-        P = ((P1 - Ssh) + (P11 - Ssh1) * du) + (P12 - Ssh2) * h;
-        dP = (P11 - Ssh1) + (P12 - Ssh2) * du;
-        tau = tau * ((bc(1.0) + du) + h);
-        shift = shift + (shift1 * du + shift2 * h);
-        Ssh = Ssh + (Ssh1 * du + Ssh2 * h);
-        P1 = P1 + (P11 * du + P12 * h);
-        dPdd = dP * idd;
+    for (b = 0; b < NB; b++) {
+        v4 h, ee, v23[2], y23[2], z23[2], ta, tb, tc, td, te, tf, tg, tmid, tau, Ssh, Ssh1, Ssh2;
+        v4 P1, P11, P12, P, dP, dPdd, half, sh, f[6];
+        du[b] = vsel(at[b], zero, du[b] - ((bc(0.5) * d2[b] * du[b]) * du[b]) * idd[b]);
+        h = bc(0.5) * du[b] * du[b];
+        ee = d2[b] * du[b] * idd[b];
+        idd[b] = idd[b] * ((bc(1.0) - ee) + ee * ee);
+        poly4(a[b], PP_VAL + 2, t[b], t2[b], t4[b], v23, y23, z23);
+        ld_pair(a[b], PP_TAU, &ta, &tb);
+        ld_pair(a[b], PP_TAU + 2, &tc, &td);
+        ld_pair(a[b], PP_TAU + 4, &te, &tf);
+        ld_pair(a[b], PP_TAU + 6, &tg, &tmid);
+        tau = ((ta + tb * t[b]) + t2[b] * (tc + td * t[b])) + t4[b] * ((te + tf * t[b]) + tg * t2[b]);
+        Ssh = bc(c->Sc) * v23[0];
+        Ssh1 = bc(c->Sc) * y23[0];
+        Ssh2 = bc(c->Sc) * z23[0];
+        P1 = bc(c->F1) * v23[1];
+        P11 = bc(c->F1) * y23[1];
+        P12 = bc(c->F1) * z23[1];
+        P = ((P1 - Ssh) + (P11 - Ssh1) * du[b]) + (P12 - Ssh2) * h;
+        dP = (P11 - Ssh1) + (P12 - Ssh2) * du[b];
+        tau = tau * ((bc(1.0) + du[b]) + h);
+        sh = shift[b] + (shift1[b] * du[b] + shift2[b] * h);
+        Ssh = Ssh + (Ssh1 * du[b] + Ssh2 * h);
+        P1 = P1 + (P11 * du[b] + P12 * h);
+        dPdd = dP * idd[b];
         half = dPdd * bc(0.5);
         /* poly_out's */
-        res[0] = P;
-        res[1] = tau * bc(c->h);
-        res[2] = vcapped(dPdd);
-        res[3] = vcapped(bc(-0.5) * Ssh + half * shift);
-        res[4] = vcapped((P1 - bc(0.5) * Ssh) - half * shift);
-        res[5] = zero;
+        f[0] = P;
+        f[1] = tau * bc(c->h);
+        f[2] = vcapped(dPdd);
+        f[3] = vcapped(bc(-0.5) * Ssh + half * sh);
+        f[4] = vcapped((P1 - bc(0.5) * Ssh) - half * sh);
+        f[5] = zero;
         if (bonded) {
-            const v4 tr = t + du;
+            const v4 tr = t[b] + du[b];
             v4 h0[4], h1[4], h2[4], h3[4], H[4];
             int j;
             for (j = 0; j < 4; j += 2) {
-                ld_pair(a, PP_NU + (size_t) j, &h0[j], &h0[j + 1]);
-                ld_pair(a, PP_NU + 4 + (size_t) j, &h1[j], &h1[j + 1]);
-                ld_pair(a, PP_NU + 8 + (size_t) j, &h2[j], &h2[j + 1]);
-                ld_pair(a, PP_NU + 12 + (size_t) j, &h3[j], &h3[j + 1]);
+                ld_pair(a[b], PP_NU + (size_t) j, &h0[j], &h0[j + 1]);
+                ld_pair(a[b], PP_NU + 4 + (size_t) j, &h1[j], &h1[j + 1]);
+                ld_pair(a[b], PP_NU + 8 + (size_t) j, &h2[j], &h2[j + 1]);
+                ld_pair(a[b], PP_NU + 12 + (size_t) j, &h3[j], &h3[j + 1]);
             }
             for (j = 0; j < 4; j++)
                 H[j] = h0[j] + tr * (h1[j] + tr * (h2[j] + tr * h3[j]));
-            res[5] = vcapped((P1 * H[3] - Ssh * (H[0] - H[1]))
-                             - dPdd * ((target + shift) * H[2] + shift * H[1]));
+            f[5] = vcapped((P1 * H[3] - Ssh * (H[0] - H[1]))
+                           - dPdd * ((target[b] + sh) * H[2] + sh * H[1]));
         }
+        st_six(&out[i + 4 * (size_t) b].P, f);
         /* root_put's */
-        rec[0] = u + du;
-        rec[1] = target;
-        rec[2] = idd;
-        rec[3] = shift;
-        rec[4] = shift1;
-        rec[5] = d2;
-        for (l = 0; l < 6; l++) {
-            _mm256_storeu_pd(rv[l], res[l]);
-            _mm256_storeu_pd(rr[l], rec[l]);
-        }
-        for (l = 0; l < 4; l++) {
-            lf_eval *e = &out[idx[l]];
-            if (!(m & (1 << l)))
-                continue;
-            e->P = rv[0][l];
-            e->a = rv[1][l];
-            e->dP_ddelta = rv[2][l];
-            e->dP_dlogw = rv[3][l];
-            e->dP_dlogE = rv[4][l];
-            e->dP_dnu = rv[5][l];
-            root_put(&ro[idx[l]], rr[0][l], rr[1][l], rr[2][l], rr[3][l], rr[4][l], rr[5][l]);
-        }
+        f[0] = u[b] + du[b];
+        f[1] = target[b];
+        f[2] = idd[b];
+        f[3] = sh;
+        f[4] = shift1[b];
+        f[5] = d2[b];
+        st_six(&ro[i + 4 * (size_t) b].u, f);
     }
     return m;
 }
 
-/* eval_from's loop with the points that have a start taken four at a
- * time by point_from4; the rest as eval_from takes them. */
+/* eval_from with the points taken 4 NB at a time by point_from4 where
+ * that many in a row touch and have starts; the rest as eval_from takes
+ * them (one at a time). */
 __attribute__((target("avx2"))) static int
 eval_from4(const exact_ctx *c, int bonded, int load, double start, size_t n, const double *delta,
            lf_eval *out, root_rec *ro, double dL)
 {
     warm w = { NAN, NAN, NAN, NAN, NAN, NAN };
-    size_t i, idx[4];
-    double u0[4];
-    int nb = 0, l, m;
+    const v4 vstart = bc(start), zero = _mm256_setzero_pd(), vdL = bc(dL);
+    const int some_det = isfinite(c->u_det);
+    size_t i = 0;
+    int l, m, b;
 
-    for (i = 0; i <= n; i++) {
-        if (i < n) {
-            root_rec *r = &ro[i];
-            double s;
-            if (!touching(c, load, start, delta[i])) {
-                lf_eval *e = &out[i];
-                e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
-                r->u = NAN;
+    while (i < n) {
+        double u0;
+        if (i + 4 * NB <= n) {
+            v4 u[NB];
+            int good = 1;
+            for (b = 0; b < NB && good; b++) {
+                const v4 dv = _mm256_loadu_pd(delta + i + 4 * (size_t) b);
+                v4 touch = load ? _mm256_cmp_pd(dv, vstart, _CMP_GE_OQ)
+                                : _mm256_cmp_pd(dv, vstart, _CMP_GT_OQ);
+                v4 r[6], du1;
+                if (!some_det)
+                    touch = _mm256_and_pd(touch, _mm256_cmp_pd(dv, zero, _CMP_GT_OQ));
+                /* root_start's */
+                ld_six(&ro[i + 4 * (size_t) b].u, r);
+                du1 = ((dv - r[1]) + r[3] * vdL) * r[2];
+                u[b] = (r[0] + du1) - r[2] * ((((bc(0.5) * r[5]) * du1) * du1 - (r[4] * du1) * vdL)
+                                              - ((bc(0.5) * r[3]) * vdL) * vdL);
+                good = _mm256_movemask_pd(_mm256_and_pd(
+                           touch, _mm256_cmp_pd(vabs(u[b]), bc(INFINITY), _CMP_LT_OQ))) == 15;
+            }
+            if (good) {
+                double us[4 * NB];
+                m = point_from4(c, bonded, i, delta, u, out, ro);
+                for (b = 0; b < NB; b++)
+                    _mm256_storeu_pd(us + 4 * b, u[b]);
+                for (l = 0; l < 4 * NB; l++) {
+                    const size_t j = i + (size_t) l;
+                    if ((m & (1 << l)) || point_from(c, bonded, delta[j], us[l], &out[j], &ro[j]))
+                        continue;
+                    if (eval_point(c, bonded, 1, delta[j], us[l], &out[j], &w, &ro[j]) != LF_OK)
+                        return LF_EINVAL;
+                }
+                i += 4 * NB;
                 continue;
             }
-            s = root_start(r, delta[i], dL);
-            if (!isfinite(s)) {
-                if (eval_point(c, bonded, 1, delta[i], NAN, &out[i], &w, r) != LF_OK)
-                    return LF_EINVAL;
-                continue;
-            }
-            idx[nb] = i;
-            u0[nb++] = s;
-            if (nb < 4)
-                continue;
-            m = point_from4(c, bonded, idx, delta, u0, out, ro);
-        } else {
-            m = 0;     /* the last points, fewer than four */
         }
-        for (l = 0; l < nb; l++) {
-            const size_t j = idx[l];
-            if ((m & (1 << l))
-                || point_from(c, bonded, delta[j], u0[l], &out[j], &ro[j]))
-                continue;
-            if (eval_point(c, bonded, 1, delta[j], u0[l], &out[j], &w, &ro[j]) != LF_OK)
-                return LF_EINVAL;
+        /* one point as eval_from takes it */
+        if (!touching(c, load, start, delta[i])) {
+            lf_eval *e = &out[i];
+            e->P = e->a = e->dP_ddelta = e->dP_dlogw = e->dP_dlogE = e->dP_dnu = 0.0;
+            ro[i].u = NAN;
+            i++;
+            continue;
         }
-        nb = 0;
+        u0 = root_start(&ro[i], delta[i], dL);
+        if (!isfinite(u0))
+            u0 = NAN;
+        else if (point_from(c, bonded, delta[i], u0, &out[i], &ro[i])) {
+            i++;
+            continue;
+        }
+        if (eval_point(c, bonded, 1, delta[i], u0, &out[i], &w, &ro[i]) != LF_OK)
+            return LF_EINVAL;
+        i++;
     }
     return LF_OK;
 }
