@@ -2092,6 +2092,10 @@ eval_from4(const exact_ctx *c, int bonded, int load, double start, size_t n, con
             if (good) {
                 double us[4 * NB];
                 m = point_from4(c, bonded, i, delta, u, out, ro);
+                i += 4 * NB;
+                if (m == (1 << 4 * NB) - 1)
+                    continue;
+                i -= 4 * NB;
                 for (b = 0; b < NB; b++)
                     _mm256_storeu_pd(us + 4 * b, u[b]);
                 for (l = 0; l < 4 * NB; l++) {
