@@ -1932,94 +1932,171 @@ st_six(double *p, const v4 f[6])
 
 _Static_assert(sizeof(lf_eval) == 6 * sizeof(double), "lf_eval is six numbers");
 
-/* point_from for the NB blocks of four points i .. i + 4 NB - 1 (targets
- * delta[i ..], starts u[]) where it finishes after its first step; the
- * blocks' operations interleaved, so that the processor overlaps their
- * chains.  Returns the points done (bit j: point i + j).  When any is
- * done the evaluations and records of all are written (those of the
- * others are point_from's to write again). */
+/* Points taken as NB blocks of four (eval_from4). */
 #define NB 2
-AVX2_FN int
-point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const v4 u[NB],
-            lf_eval *out, root_rec *ro)
+
+/* One Newton step of point_from on the NB blocks of lanes act (st
+ * below), and the state kept for the lanes it finishes (all of it where
+ * first: the lanes that finish later overwrite theirs). */
+typedef struct {
+    v4 target[NB], u[NB], lo[NB], hi[NB], act[NB];
+    const double *fa[NB][4];
+    v4 fu[NB], ft[NB], ft2[NB], ft4[NB], fsh[NB], fsh1[NB], fsh2[NB], fd2[NB], fidd[NB], fdu[NB];
+    int m, live;
+} lanes;
+
+__attribute__((target("avx2"), always_inline)) static inline void
+lanes_step(const exact_ctx *c, lanes *st, int first)
 {
     const prodpoly *pp = c->pp;
     const double *a[NB][4];
-    const v4 lo = bc(c->u_lo), hi = bc(c->u_top), zero = _mm256_setzero_pd();
-    v4 target[NB], ok[NB], t[NB], t2[NB], t4[NB], v01[NB][2], y01[NB][2], z01[NB][2];
-    v4 shift[NB], shift1[NB], shift2[NB], dd[NB], d2[NB], idd[NB], du[NB], at[NB];
-    int l, b, m = 0;
+    const v4 zero = _mm256_setzero_pd();
+    v4 t[NB], t2[NB], t4[NB], v01[NB][2], y01[NB][2], z01[NB][2];
+    int l, b;
 
     for (b = 0; b < NB; b++) {
-        const v4 x = (u[b] - bc(pp->u0)) * bc(pp->inv_hs);
+        const v4 u = st->u[b], x = (u - bc(pp->u0)) * bc(pp->inv_hs);
         int xs[4];
-        target[b] = _mm256_loadu_pd(delta + i + 4 * (size_t) b);
-        ok[b] = _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(u[b], lo, _CMP_GT_OQ),
-                                            _mm256_cmp_pd(u[b], hi, _CMP_LT_OQ)),
-                              _mm256_and_pd(_mm256_cmp_pd(x, zero, _CMP_GE_OQ),
-                                            _mm256_cmp_pd(x, bc((double) pp->nq), _CMP_LT_OQ)));
-        /* the sub-cell (0 where not ok): x < nq, far inside int */
-        _mm_storeu_si128((__m128i *) (void *) xs, _mm256_cvttpd_epi32(_mm256_and_pd(ok[b], x)));
+        /* out of the bracket or the polynomials: point_from gives up */
+        st->act[b] = _mm256_and_pd(st->act[b], _mm256_and_pd(
+            _mm256_and_pd(_mm256_cmp_pd(u, st->lo[b], _CMP_GT_OQ), _mm256_cmp_pd(u, st->hi[b], _CMP_LT_OQ)),
+            _mm256_and_pd(_mm256_cmp_pd(x, zero, _CMP_GE_OQ),
+                          _mm256_cmp_pd(x, bc((double) pp->nq), _CMP_LT_OQ))));
+        /* the sub-cell (0 where not active): x < nq, far inside int */
+        _mm_storeu_si128((__m128i *) (void *) xs, _mm256_cvttpd_epi32(_mm256_and_pd(st->act[b], x)));
         for (l = 0; l < 4; l++)
             a[b][l] = pp->c + pp->stride * (size_t) xs[l];
-        t[b] = u[b] - _mm256_set_pd(a[b][3][PP_MID], a[b][2][PP_MID], a[b][1][PP_MID], a[b][0][PP_MID]);
+        t[b] = u - _mm256_set_pd(a[b][3][PP_MID], a[b][2][PP_MID], a[b][1][PP_MID], a[b][0][PP_MID]);
         t2[b] = t[b] * t[b];
         t4[b] = t2[b] * t2[b];
     }
     for (b = 0; b < NB; b++)
         poly4(a[b], PP_VAL, t[b], t2[b], t4[b], v01[b], y01[b], z01[b]);
     for (b = 0; b < NB; b++) {
-        v4 D, g, gp, un, tay;
-        shift[b] = bc(c->A2) * v01[b][1];
-        shift1[b] = bc(c->A2) * y01[b][1];
-        shift2[b] = bc(c->A2) * z01[b][1];
+        const v4 u = st->u[b];
+        v4 D, g, gp, un, tay, inb, shift, shift1, shift2, dd, d2, idd, du, at, fin, go, lo, hi;
+        int mf;
+        shift = bc(c->A2) * v01[b][1];
+        shift1 = bc(c->A2) * y01[b][1];
+        shift2 = bc(c->A2) * z01[b][1];
         D = bc(c->A1) * v01[b][0];
-        dd[b] = bc(c->A1) * y01[b][0] - shift1[b];
-        d2[b] = bc(c->A1) * z01[b][0] - shift2[b];
-        g = (D - shift[b]) - target[b];
-        ok[b] = _mm256_and_pd(ok[b], _mm256_cmp_pd(dd[b], zero, _CMP_GT_OQ));
-        idd[b] = bc(1.0) / dd[b];
-        du[b] = _mm256_xor_pd(g, bc(-0.0)) * idd[b];
-        at[b] = _mm256_cmp_pd(vabs(g), bc(1e-14) * (vabs(D) + vabs(shift[b])), _CMP_LE_OQ);
+        dd = bc(c->A1) * y01[b][0] - shift1;
+        d2 = bc(c->A1) * z01[b][0] - shift2;
+        g = (D - shift) - st->target[b];
+        st->act[b] = _mm256_and_pd(st->act[b], _mm256_cmp_pd(dd, zero, _CMP_GT_OQ));
+        idd = bc(1.0) / dd;
+        du = _mm256_xor_pd(g, bc(-0.0)) * idd;
+        at = _mm256_cmp_pd(vabs(g), bc(1e-14) * (vabs(D) + vabs(shift)), _CMP_LE_OQ);
         /* not at the root: the bracket, then the second-order finish where
-         * the step is small enough */
+         * the step is small enough, else another step unless it is below
+         * rounding */
         gp = _mm256_cmp_pd(g, zero, _CMP_GT_OQ);
-        un = u[b] + du[b];
-        tay = _mm256_and_pd(_mm256_and_pd(_mm256_cmp_pd(un, vsel(gp, lo, u[b]), _CMP_GT_OQ),
-                                          _mm256_cmp_pd(un, vsel(gp, u[b], hi), _CMP_LT_OQ)),
-                            _mm256_and_pd(_mm256_cmp_pd(vabs(du[b]), bc(STEP_TAYLOR), _CMP_LE_OQ),
-                                          _mm256_cmp_pd(vabs(du[b] * d2[b]), bc(CURV_TAYLOR) * dd[b],
-                                                        _CMP_LE_OQ)));
-        m |= _mm256_movemask_pd(_mm256_and_pd(ok[b], _mm256_or_pd(at[b], tay))) << (4 * b);
+        hi = vsel(gp, u, st->hi[b]);
+        lo = vsel(gp, st->lo[b], u);
+        un = u + du;
+        inb = _mm256_and_pd(_mm256_cmp_pd(un, lo, _CMP_GT_OQ), _mm256_cmp_pd(un, hi, _CMP_LT_OQ));
+        tay = _mm256_and_pd(_mm256_cmp_pd(vabs(du), bc(STEP_TAYLOR), _CMP_LE_OQ),
+                            _mm256_cmp_pd(vabs(du * d2), bc(CURV_TAYLOR) * dd, _CMP_LE_OQ));
+        fin = _mm256_and_pd(st->act[b], _mm256_or_pd(at, _mm256_and_pd(inb, tay)));
+        go = _mm256_andnot_pd(_mm256_or_pd(at, tay), _mm256_and_pd(st->act[b], inb));
+        go = _mm256_andnot_pd(_mm256_or_pd(_mm256_cmp_pd(vabs(du), bc(1e-13), _CMP_LT_OQ),
+                                           _mm256_cmp_pd(hi - lo, bc(1e-14), _CMP_LT_OQ)), go);
+        mf = _mm256_movemask_pd(fin);
+        du = vsel(at, zero, du - ((bc(0.5) * d2 * du) * du) * idd);
+        if (first) {
+            st->fu[b] = u;
+            st->ft[b] = t[b];
+            st->ft2[b] = t2[b];
+            st->ft4[b] = t4[b];
+            st->fsh[b] = shift;
+            st->fsh1[b] = shift1;
+            st->fsh2[b] = shift2;
+            st->fd2[b] = d2;
+            st->fidd[b] = idd;
+            st->fdu[b] = du;
+            for (l = 0; l < 4; l++)
+                st->fa[b][l] = a[b][l];
+        } else if (mf != 0) {
+            st->fu[b] = vsel(fin, u, st->fu[b]);
+            st->ft[b] = vsel(fin, t[b], st->ft[b]);
+            st->ft2[b] = vsel(fin, t2[b], st->ft2[b]);
+            st->ft4[b] = vsel(fin, t4[b], st->ft4[b]);
+            st->fsh[b] = vsel(fin, shift, st->fsh[b]);
+            st->fsh1[b] = vsel(fin, shift1, st->fsh1[b]);
+            st->fsh2[b] = vsel(fin, shift2, st->fsh2[b]);
+            st->fd2[b] = vsel(fin, d2, st->fd2[b]);
+            st->fidd[b] = vsel(fin, idd, st->fidd[b]);
+            st->fdu[b] = vsel(fin, du, st->fdu[b]);
+            for (l = 0; l < 4; l++)
+                if (mf & (1 << l))
+                    st->fa[b][l] = a[b][l];
+        }
+        st->m |= mf << (4 * b);
+        st->act[b] = go;
+        st->u[b] = vsel(go, un, u);
+        st->lo[b] = lo;
+        st->hi[b] = hi;
+        st->live = (st->live & ~(15 << (4 * b))) | (_mm256_movemask_pd(go) << (4 * b));
     }
+}
+
+/* point_from for the NB blocks of four points i .. i + 4 NB - 1 (targets
+ * delta[i ..], starts u0[]), its Newton steps (up to PF_STEPS) side by
+ * side; the blocks' operations interleaved, so that the processor
+ * overlaps their chains.  Returns the points done (bit j: point i + j);
+ * the others are those point_from gives up on.  When any is done the
+ * evaluations and records of all are written (those of the others are
+ * eval_point's to write again). */
+AVX2_FN int
+point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const v4 u0[NB],
+            lf_eval *out, root_rec *ro)
+{
+    const v4 zero = _mm256_setzero_pd();
+    lanes st;
+    int it, b;
+
+    for (b = 0; b < NB; b++) {
+        st.target[b] = _mm256_loadu_pd(delta + i + 4 * (size_t) b);
+        st.u[b] = u0[b];
+        st.lo[b] = bc(c->u_lo);
+        st.hi[b] = bc(c->u_top);
+        st.act[b] = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+    }
+    st.m = st.live = 0;
+    lanes_step(c, &st, 1);
+    for (it = 1; it < PF_STEPS && st.live != 0; it++)
+        lanes_step(c, &st, 0);
+    const int m = st.m;
+    const double *(*fa)[4] = st.fa;
+    v4 *fu = st.fu, *ft = st.ft, *ft2 = st.ft2, *ft4 = st.ft4, *fsh = st.fsh, *fsh1 = st.fsh1;
+    v4 *fsh2 = st.fsh2, *fd2 = st.fd2, *fidd = st.fidd, *fdu = st.fdu, *target = st.target;
     if (m == 0)
         return 0;
     for (b = 0; b < NB; b++) {
         v4 h, ee, v23[2], y23[2], z23[2], ta, tb, tc, td, te, tf, tg, tmid, tau, Ssh, Ssh1, Ssh2;
-        v4 P1, P11, P12, P, dP, dPdd, half, sh, f[6];
-        du[b] = vsel(at[b], zero, du[b] - ((bc(0.5) * d2[b] * du[b]) * du[b]) * idd[b]);
-        h = bc(0.5) * du[b] * du[b];
-        ee = d2[b] * du[b] * idd[b];
-        idd[b] = idd[b] * ((bc(1.0) - ee) + ee * ee);
-        poly4(a[b], PP_VAL + 2, t[b], t2[b], t4[b], v23, y23, z23);
-        ld_pair(a[b], PP_TAU, &ta, &tb);
-        ld_pair(a[b], PP_TAU + 2, &tc, &td);
-        ld_pair(a[b], PP_TAU + 4, &te, &tf);
-        ld_pair(a[b], PP_TAU + 6, &tg, &tmid);
-        tau = ((ta + tb * t[b]) + t2[b] * (tc + td * t[b])) + t4[b] * ((te + tf * t[b]) + tg * t2[b]);
+        v4 P1, P11, P12, P, dP, dPdd, half, sh, du = fdu[b], idd = fidd[b], f[6];
+        h = bc(0.5) * du * du;
+        ee = fd2[b] * du * idd;
+        idd = idd * ((bc(1.0) - ee) + ee * ee);
+        poly4(fa[b], PP_VAL + 2, ft[b], ft2[b], ft4[b], v23, y23, z23);
+        ld_pair(fa[b], PP_TAU, &ta, &tb);
+        ld_pair(fa[b], PP_TAU + 2, &tc, &td);
+        ld_pair(fa[b], PP_TAU + 4, &te, &tf);
+        ld_pair(fa[b], PP_TAU + 6, &tg, &tmid);
+        tau = ((ta + tb * ft[b]) + ft2[b] * (tc + td * ft[b])) + ft4[b] * ((te + tf * ft[b]) + tg * ft2[b]);
         Ssh = bc(c->Sc) * v23[0];
         Ssh1 = bc(c->Sc) * y23[0];
         Ssh2 = bc(c->Sc) * z23[0];
         P1 = bc(c->F1) * v23[1];
         P11 = bc(c->F1) * y23[1];
         P12 = bc(c->F1) * z23[1];
-        P = ((P1 - Ssh) + (P11 - Ssh1) * du[b]) + (P12 - Ssh2) * h;
-        dP = (P11 - Ssh1) + (P12 - Ssh2) * du[b];
-        tau = tau * ((bc(1.0) + du[b]) + h);
-        sh = shift[b] + (shift1[b] * du[b] + shift2[b] * h);
-        Ssh = Ssh + (Ssh1 * du[b] + Ssh2 * h);
-        P1 = P1 + (P11 * du[b] + P12 * h);
-        dPdd = dP * idd[b];
+        P = ((P1 - Ssh) + (P11 - Ssh1) * du) + (P12 - Ssh2) * h;
+        dP = (P11 - Ssh1) + (P12 - Ssh2) * du;
+        tau = tau * ((bc(1.0) + du) + h);
+        sh = fsh[b] + (fsh1[b] * du + fsh2[b] * h);
+        Ssh = Ssh + (Ssh1 * du + Ssh2 * h);
+        P1 = P1 + (P11 * du + P12 * h);
+        dPdd = dP * idd;
         half = dPdd * bc(0.5);
         /* poly_out's */
         f[0] = P;
@@ -2029,14 +2106,14 @@ point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const
         f[4] = vcapped((P1 - bc(0.5) * Ssh) - half * sh);
         f[5] = zero;
         if (bonded) {
-            const v4 tr = t[b] + du[b];
+            const v4 tr = ft[b] + du;
             v4 h0[4], h1[4], h2[4], h3[4], H[4];
             int j;
             for (j = 0; j < 4; j += 2) {
-                ld_pair(a[b], PP_NU + (size_t) j, &h0[j], &h0[j + 1]);
-                ld_pair(a[b], PP_NU + 4 + (size_t) j, &h1[j], &h1[j + 1]);
-                ld_pair(a[b], PP_NU + 8 + (size_t) j, &h2[j], &h2[j + 1]);
-                ld_pair(a[b], PP_NU + 12 + (size_t) j, &h3[j], &h3[j + 1]);
+                ld_pair(fa[b], PP_NU + (size_t) j, &h0[j], &h0[j + 1]);
+                ld_pair(fa[b], PP_NU + 4 + (size_t) j, &h1[j], &h1[j + 1]);
+                ld_pair(fa[b], PP_NU + 8 + (size_t) j, &h2[j], &h2[j + 1]);
+                ld_pair(fa[b], PP_NU + 12 + (size_t) j, &h3[j], &h3[j + 1]);
             }
             for (j = 0; j < 4; j++)
                 H[j] = h0[j] + tr * (h1[j] + tr * (h2[j] + tr * h3[j]));
@@ -2045,12 +2122,12 @@ point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const
         }
         st_six(&out[i + 4 * (size_t) b].P, f);
         /* root_put's */
-        f[0] = u[b] + du[b];
+        f[0] = fu[b] + du;
         f[1] = target[b];
-        f[2] = idd[b];
+        f[2] = idd;
         f[3] = sh;
-        f[4] = shift1[b];
-        f[5] = d2[b];
+        f[4] = fsh1[b];
+        f[5] = fd2[b];
         st_six(&ro[i + 4 * (size_t) b].u, f);
     }
     return m;
@@ -2100,7 +2177,7 @@ eval_from4(const exact_ctx *c, int bonded, int load, double start, size_t n, con
                     _mm256_storeu_pd(us + 4 * b, u[b]);
                 for (l = 0; l < 4 * NB; l++) {
                     const size_t j = i + (size_t) l;
-                    if ((m & (1 << l)) || point_from(c, bonded, delta[j], us[l], &out[j], &ro[j]))
+                    if (m & (1 << l))
                         continue;
                     if (eval_point(c, bonded, 1, delta[j], us[l], &out[j], &w, &ro[j]) != LF_OK)
                         return LF_EINVAL;
