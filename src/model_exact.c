@@ -66,6 +66,12 @@
 
 #include "exact.h"
 
+/* The fast path's points four at a time with AVX2 where the processor has
+ * it (eval_from4, poly_finish4 below). */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(LF_EXACT_NO_SIMD)
+#define EXACT_AVX2 1
+#endif
+
 #define U_LOW (-60.0)   /* ln tau treated as contact vanishing */
 #define U_HIGH 30.0
 
@@ -1618,6 +1624,11 @@ eval_point(const exact_ctx *c, int bonded, int fast, double delta, double guess,
 #define RUN_MIN 32
 #define CHUNK 16
 
+#ifdef EXACT_AVX2
+__attribute__((target("avx2"))) static void
+poly_finish4(const exact_ctx *c, int bonded, const poly_step *s, lf_eval *e);
+#endif
+
 static int
 eval_runs(const exact_ctx *c, int bonded, int load, double start, size_t n, const double *delta,
           lf_eval *out, root_rec *ro)
@@ -1625,6 +1636,9 @@ eval_runs(const exact_ctx *c, int bonded, int load, double start, size_t n, cons
     warm w[NRUN];
     poly_step st[NRUN][CHUNK];
     size_t nrun = n / RUN_MIN, len, j0, j, r, nj;
+#ifdef EXACT_AVX2
+    const int simd = lf_exact_simd(-1);
+#endif
 
     nrun = nrun < 1 ? 1 : nrun > NRUN ? NRUN : nrun;
     len = (n + nrun - 1) / nrun;
@@ -1678,9 +1692,19 @@ eval_runs(const exact_ctx *c, int bonded, int load, double start, size_t n, cons
             }
         }
         for (r = 0; r < nrun; r++)
-            for (j = 0; j < nj; j++)
+            for (j = 0; j < nj; j++) {
+#ifdef EXACT_AVX2
+                /* four in a row at once (poly_finish4: the same bits) */
+                if (simd && j + 4 <= nj && st[r][j].a != NULL && st[r][j + 1].a != NULL
+                    && st[r][j + 2].a != NULL && st[r][j + 3].a != NULL) {
+                    poly_finish4(c, bonded, &st[r][j], &out[r * len + j0 + j]);
+                    j += 3;
+                    continue;
+                }
+#endif
                 if (st[r][j].a != NULL)
                     poly_finish(c, bonded, &st[r][j], &out[r * len + j0 + j]);
+            }
     }
     return LF_OK;
 }
@@ -1813,9 +1837,6 @@ point_from(const exact_ctx *c, int bonded, double target, double u, lf_eval *e, 
  * up on, is left to point_from and invert from the same start.  Chosen at
  * run time (__builtin_cpu_supports); elsewhere eval_from is the scalar
  * loop. */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(LF_EXACT_NO_SIMD)
-#define EXACT_AVX2 1
-#endif
 
 /* -1: as the processor allows; 0: the scalar path (lf_exact_simd) */
 static _Atomic int simd_mode = -1;
@@ -1931,6 +1952,79 @@ st_six(double *p, const v4 f[6])
 }
 
 _Static_assert(sizeof(lf_eval) == 6 * sizeof(double), "lf_eval is six numbers");
+
+/* poly_out for four consecutive points (the evaluation at e) across the
+ * lanes: their sub-cells a[], tr = t + du there, and the products at the
+ * roots. */
+AVX2_FN void
+outs4(const exact_ctx *c, int bonded, const double *const a[4], v4 tr, v4 target, v4 P, v4 tau,
+      v4 P1, v4 Ssh, v4 shift, v4 dPdd, lf_eval *e)
+{
+    const v4 half = dPdd * bc(0.5);
+    v4 f[6];
+
+    f[0] = P;
+    f[1] = tau * bc(c->h);
+    f[2] = vcapped(dPdd);
+    f[3] = vcapped(bc(-0.5) * Ssh + half * shift);
+    f[4] = vcapped((P1 - bc(0.5) * Ssh) - half * shift);
+    f[5] = _mm256_setzero_pd();
+    if (bonded) {
+        v4 h0[4], h1[4], h2[4], h3[4], H[4];
+        int j;
+        for (j = 0; j < 4; j += 2) {
+            ld_pair(a, PP_NU + (size_t) j, &h0[j], &h0[j + 1]);
+            ld_pair(a, PP_NU + 4 + (size_t) j, &h1[j], &h1[j + 1]);
+            ld_pair(a, PP_NU + 8 + (size_t) j, &h2[j], &h2[j + 1]);
+            ld_pair(a, PP_NU + 12 + (size_t) j, &h3[j], &h3[j + 1]);
+        }
+        for (j = 0; j < 4; j++)
+            H[j] = h0[j] + tr * (h1[j] + tr * (h2[j] + tr * h3[j]));
+        f[5] = vcapped((P1 * H[3] - Ssh * (H[0] - H[1])) - dPdd * ((target + shift) * H[2] + shift * H[1]));
+    }
+    st_six(&e->P, f);
+}
+
+/* poly_finish for the four points s[0 .. 3] (each with its sub-cell s->a),
+ * whose evaluations are e[0 .. 3]: one point per lane, poly_finish's
+ * operations in its order (where du is 0 the products at s->u stand, as
+ * there). */
+__attribute__((target("avx2"))) static void
+poly_finish4(const exact_ctx *c, int bonded, const poly_step *s, lf_eval *e)
+{
+#define LANES(f) _mm256_set_pd(s[3].f, s[2].f, s[1].f, s[0].f)
+    const double *const a[4] = { s[0].a, s[1].a, s[2].a, s[3].a };
+    const v4 t = LANES(t), t2 = LANES(t2), t4 = LANES(t4), du = LANES(du);
+    const v4 still = _mm256_cmp_pd(du, _mm256_setzero_pd(), _CMP_EQ_OQ);
+    v4 v[2], y[2], z[2], ta, tb, tc, td, te, tf, tg, tmid, tau, Ssh, Ssh1, Ssh2, P1, P11, P12, P, dP;
+    v4 shift = LANES(shift), h, P2;
+
+    poly4(a, PP_VAL + 2, t, t2, t4, v, y, z);
+    ld_pair(a, PP_TAU, &ta, &tb);
+    ld_pair(a, PP_TAU + 2, &tc, &td);
+    ld_pair(a, PP_TAU + 4, &te, &tf);
+    ld_pair(a, PP_TAU + 6, &tg, &tmid);
+    tau = ((ta + tb * t) + t2 * (tc + td * t)) + t4 * ((te + tf * t) + tg * t2);
+    Ssh = bc(c->Sc) * v[0];
+    Ssh1 = bc(c->Sc) * y[0];
+    P1 = bc(c->F1) * v[1];
+    P11 = bc(c->F1) * y[1];
+    P = P1 - Ssh;
+    dP = P11 - Ssh1;
+    Ssh2 = bc(c->Sc) * z[0];
+    P12 = bc(c->F1) * z[1];
+    P2 = P12 - Ssh2;
+    h = bc(0.5) * du * du;
+    P = vsel(still, P, P + (dP * du + P2 * h));
+    dP = vsel(still, dP, dP + P2 * du);
+    tau = vsel(still, tau, tau * ((bc(1.0) + du) + h));
+    shift = vsel(still, shift, shift + (LANES(shift1) * du + LANES(shift2) * h));
+    Ssh = vsel(still, Ssh, Ssh + (Ssh1 * du + Ssh2 * h));
+    P1 = vsel(still, P1, P1 + (P11 * du + P12 * h));
+    outs4(c, bonded, a, t + du, LANES(target), P, tau, P1, Ssh, shift, dP * LANES(idd_root), e);
+#undef LANES
+}
+
 
 /* Points taken as NB blocks of four (eval_from4). */
 #define NB 2
@@ -2051,7 +2145,6 @@ AVX2_FN int
 point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const v4 u0[NB],
             lf_eval *out, root_rec *ro)
 {
-    const v4 zero = _mm256_setzero_pd();
     lanes st;
     int it, b;
 
@@ -2074,7 +2167,7 @@ point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const
         return 0;
     for (b = 0; b < NB; b++) {
         v4 h, ee, v23[2], y23[2], z23[2], ta, tb, tc, td, te, tf, tg, tmid, tau, Ssh, Ssh1, Ssh2;
-        v4 P1, P11, P12, P, dP, dPdd, half, sh, du = fdu[b], idd = fidd[b], f[6];
+        v4 P1, P11, P12, P, dP, dPdd, sh, du = fdu[b], idd = fidd[b], f[6];
         h = bc(0.5) * du * du;
         ee = fd2[b] * du * idd;
         idd = idd * ((bc(1.0) - ee) + ee * ee);
@@ -2097,30 +2190,7 @@ point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const
         Ssh = Ssh + (Ssh1 * du + Ssh2 * h);
         P1 = P1 + (P11 * du + P12 * h);
         dPdd = dP * idd;
-        half = dPdd * bc(0.5);
-        /* poly_out's */
-        f[0] = P;
-        f[1] = tau * bc(c->h);
-        f[2] = vcapped(dPdd);
-        f[3] = vcapped(bc(-0.5) * Ssh + half * sh);
-        f[4] = vcapped((P1 - bc(0.5) * Ssh) - half * sh);
-        f[5] = zero;
-        if (bonded) {
-            const v4 tr = ft[b] + du;
-            v4 h0[4], h1[4], h2[4], h3[4], H[4];
-            int j;
-            for (j = 0; j < 4; j += 2) {
-                ld_pair(fa[b], PP_NU + (size_t) j, &h0[j], &h0[j + 1]);
-                ld_pair(fa[b], PP_NU + 4 + (size_t) j, &h1[j], &h1[j + 1]);
-                ld_pair(fa[b], PP_NU + 8 + (size_t) j, &h2[j], &h2[j + 1]);
-                ld_pair(fa[b], PP_NU + 12 + (size_t) j, &h3[j], &h3[j + 1]);
-            }
-            for (j = 0; j < 4; j++)
-                H[j] = h0[j] + tr * (h1[j] + tr * (h2[j] + tr * h3[j]));
-            f[5] = vcapped((P1 * H[3] - Ssh * (H[0] - H[1]))
-                           - dPdd * ((target[b] + sh) * H[2] + sh * H[1]));
-        }
-        st_six(&out[i + 4 * (size_t) b].P, f);
+        outs4(c, bonded, fa[b], ft[b] + du, target[b], P, tau, P1, Ssh, sh, dPdd, &out[i + 4 * (size_t) b]);
         /* root_put's */
         f[0] = fu[b] + du;
         f[1] = target[b];
