@@ -2134,6 +2134,17 @@ lanes_step(const exact_ctx *c, lanes *st, int first)
     }
 }
 
+/* The Newton steps after the first (lanes_step), apart so that the first
+ * keeps its state in registers. */
+__attribute__((target("avx2"), noinline)) static void
+lanes_more(const exact_ctx *c, lanes *st)
+{
+    int it;
+
+    for (it = 1; it < PF_STEPS && st->live != 0; it++)
+        lanes_step(c, st, 0);
+}
+
 /* point_from for the NB blocks of four points i .. i + 4 NB - 1 (targets
  * delta[i ..], starts u0[]), its Newton steps (up to PF_STEPS) side by
  * side; the blocks' operations interleaved, so that the processor
@@ -2146,7 +2157,7 @@ point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const
             lf_eval *out, root_rec *ro)
 {
     lanes st;
-    int it, b;
+    int b;
 
     for (b = 0; b < NB; b++) {
         st.target[b] = _mm256_loadu_pd(delta + i + 4 * (size_t) b);
@@ -2157,8 +2168,8 @@ point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const
     }
     st.m = st.live = 0;
     lanes_step(c, &st, 1);
-    for (it = 1; it < PF_STEPS && st.live != 0; it++)
-        lanes_step(c, &st, 0);
+    if (st.live != 0)
+        lanes_more(c, &st);
     const int m = st.m;
     const double *(*fa)[4] = st.fa;
     v4 *fu = st.fu, *ft = st.ft, *ft2 = st.ft2, *ft4 = st.ft4, *fsh = st.fsh, *fsh1 = st.fsh1;
