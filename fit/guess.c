@@ -172,8 +172,20 @@ trial_loop(const profile *p, size_t i0, double zd, double c, double held, int KC
     /* the sums in registers: a struct whose address is taken lives in
      * memory, and every addition would wait for the last store */
     double a00 = 0, a10 = 0, a20 = 0, a11 = 0, a21 = 0, r0 = 0, r1 = 0;
+    double root[GUESS_NSUB];
     size_t i, ncontact = 0;
 
+    if (KC == 3) {
+        /* the roots first: the seeds from the bits, then the two Newton
+         * steps in a loop of arithmetic alone, which the compiler runs on
+         * vectors of points (the same operations on each) */
+        for (i = i0; i < p->n; i++)
+            root[i] = lf_inv_cbrt_seed(p->z[i] - zd);
+        for (i = i0; i < p->n; i++) {
+            const double d1 = p->z[i] - zd;
+            root[i] = lf_inv_cbrt_step(d1, lf_inv_cbrt_step(d1, root[i]));
+        }
+    }
     for (i = i0; i < p->n; i++) {
         const double d1 = p->z[i] - zd;
         double g, x0, y;
@@ -203,12 +215,16 @@ trial_loop(const profile *p, size_t i0, double zd, double c, double held, int KC
         if (KC == 2)
             g = d1;
         else if (KC == 3)
-            g = d1 * lf_inv_cbrt_step(d1, lf_inv_cbrt_step(d1, lf_inv_cbrt_seed(d1)));
+            g = d1 * root[i];
         else
             g = guess_pow_2k(d1, k);
-        if (!(g > 0))
-            continue;
-        ncontact++;
+        /* KC = 2, 3: g > 0 at every point, as d1 is (and within the cube
+         * root's range), so the test and the count are left out */
+        if (KC != 2 && KC != 3) {
+            if (!(g > 0))
+                continue;
+            ncontact++;
+        }
         y = p->F[i] - held;
         if (zd_kind) {
             const double x1 = K * g;
@@ -231,7 +247,7 @@ trial_loop(const profile *p, size_t i0, double zd, double c, double held, int KC
     t->a21 = a21;
     t->r0 = r0;
     t->r1 = r1;
-    return ncontact;
+    return KC == 2 || KC == 3 ? (i0 < p->n ? p->n - i0 : 0) : ncontact;
 }
 
 /* The residual sum of squares at trial value s of the profiled parameter;

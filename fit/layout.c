@@ -378,8 +378,10 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     for (j = 0, nmax = 0; j < ncurves; j++)
         nmax = curves[j].n > nmax ? curves[j].n : nmax;
     f->ws.ev = malloc((f->ndata + nmax) * sizeof *f->ws.ev);
-    f->ws.roots = calloc(LF_MODEL_ROOTS_SIZE(f->ndata) + LF_MODEL_ROOTS_HEAD * ncurves,
-                         sizeof *f->ws.roots);
+    /* not zeroed either: a model reads a curve's roots only after its head
+     * says they are its own (roots[0] = NAN below: none yet) */
+    f->ws.roots = malloc((LF_MODEL_ROOTS_SIZE(f->ndata) + LF_MODEL_ROOTS_HEAD * ncurves)
+                         * sizeof *f->ws.roots);
     scratch = malloc(nmax * sizeof(depth_index) + sizeof(size_t));
     if (f->order == NULL || f->ws.ev == NULL || f->ws.roots == NULL || scratch == NULL
         || work_alloc(f) != LF_OK)

@@ -24,6 +24,7 @@
  * it the fit is broken.  For white noise all of this reduces to the plain
  * test. */
 #include <math.h>
+#include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -337,8 +338,10 @@ cmp_double(const void *a, const void *b)
 static size_t
 bucket_of(double x, double lo, double scale, size_t n)
 {
+    /* 0 <= v (x >= lo): converted as a signed number, one instruction
+     * where an unsigned conversion takes a test and a branch */
     const double v = (x - lo) * scale, top = (double) (n - 1);
-    return (size_t) (v < top ? v : top);
+    return (size_t) (int64_t) (v < top ? v : top);
 }
 
 static void

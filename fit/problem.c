@@ -294,14 +294,19 @@ lf_fit_residuals_ss(lf_fit *f, const gsl_vector *xv, gsl_vector *r, double *ss_o
     for (j = 0; j < f->ncurves; j++) {
         const fit_curve *c = &f->c[j];
         const double inv_sigma = 1.0 / c->sigma;
+        /* through local pointers: the stores into r would make the loop
+         * read f's again at every point */
+        const lf_eval *ev = f->ws.ev + c->row;
+        const double *delta = f->ws.delta + c->row, *sw = f->ws.sqrtw + c->row;
+        const double *force = c->data.force;
+        const size_t n = c->data.n, stride = r->stride;
+        double *rc = r->data + c->row * stride;
         lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
-        for (i = 0; i < c->data.n; i++) {
-            size_t k = c->row + i;
-            double v = (f->ws.ev[k].P + F0 + slope * f->ws.delta[k] - c->data.force[i]) * inv_sigma
-                       * f->ws.sqrtw[k];
+        for (i = 0; i < n; i++) {
+            const double v = (ev[i].P + F0 + slope * delta[i] - force[i]) * inv_sigma * sw[i];
             if (!isfinite(v))
                 return GSL_EDOM;
-            r->data[k * r->stride] = v;
+            rc[i * stride] = v;
             ss += v * v;
         }
     }
@@ -409,6 +414,8 @@ typedef struct {
     lf_material mat;
     double slope, ddet;
     const lf_model *model;      /* the model the rows are of */
+    int edge_ok;                /* edge holds the model at ddet + eps */
+    lf_eval edge;
 } row_map;
 
 /* The column in x of the six a curve's rows can touch (row_entries'
@@ -465,12 +472,20 @@ curve_map_of(const lf_fit *f, const double *x, size_t j, int physical, const lf_
         }
     }
     /* on unloading, a point closer than eps to detachment, where the
-     * derivatives blow up, takes those of the point eps inside contact */
+     * derivatives blow up, takes those of the point eps inside contact:
+     * evaluated here, once for the curve's rows (a call among them would
+     * keep their sums in memory) */
     map->model = model != NULL ? model : c->model;
     map->ddet = -HUGE_VAL;
+    map->edge_ok = 0;
     if (c->data.branch == LF_BRANCH_UNLOAD
-        && lf_model_pulloff(map->model, &map->mat, &po, NULL) == LF_OK)
+        && lf_model_pulloff(map->model, &map->mat, &po, NULL) == LF_OK) {
+        double d2;
         map->ddet = po.delta_detach;
+        d2 = map->ddet + c->eps;
+        map->edge_ok = lf_model_eval(map->model, &map->mat, c->data.branch, 1, &d2, &map->edge,
+                                     NULL) == LF_OK;
+    }
 }
 
 static void
@@ -487,15 +502,11 @@ LF_KERNEL void
 row_entries(const fit_curve *c, const row_map *map, size_t M, const int *sel, double d,
             const lf_eval *e, double ws, double *v)
 {
-    lf_eval eg;
     double t[6];
     size_t q;
 
-    if (d > map->ddet && d < map->ddet + c->eps) {     /* ddet = -inf unless unloading */
-        double d2 = map->ddet + c->eps;
-        if (lf_model_eval(map->model, &map->mat, c->data.branch, 1, &d2, &eg, NULL) == LF_OK)
-            e = &eg;
-    }
+    if (d > map->ddet && d < map->ddet + c->eps && map->edge_ok)  /* ddet = -inf unless unloading */
+        e = &map->edge;
     t[0] = e->dP_dlogw;
     t[1] = e->dP_dlogE;
     t[2] = e->dP_dnu;
@@ -578,14 +589,18 @@ curve_sums(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M,
            const int *sel, const double *r, double *sa, double *sg, double *sb)
 {
     const double inv_sigma = 1.0 / c->sigma;
+    /* the curve's numbers through local pointers: the sums are stored
+     * nowhere in the loop, so nothing is read again */
+    const double *delta = f->ws.delta + c->row, *sw = f->ws.sqrtw + c->row, *rc = r + c->row;
+    const lf_eval *ev = f->ws.ev + c->row;
+    const size_t n = c->data.n;
     double a[36] = { 0 }, gk[6] = { 0 }, bk[6] = { 0 };
     size_t i, q, l;
 
-    for (i = 0; i < c->data.n; i++) {
-        const size_t k = c->row + i;
-        const double ri = r[k];
+    for (i = 0; i < n; i++) {
+        const double ri = rc[i];
         double v[6];
-        row_entries(c, map, M, sel, f->ws.delta[k], &f->ws.ev[k], f->ws.sqrtw[k] * inv_sigma, v);
+        row_entries(c, map, M, sel, delta[i], &ev[i], sw[i] * inv_sigma, v);
         /* unrolled (M is constant): the sums stay in registers */
 #pragma GCC unroll 6
         for (q = 0; q < M; q++) {

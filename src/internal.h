@@ -113,11 +113,10 @@ const char *lf_optset_get(const lf_option *table, char *const *text, const char 
 static inline double
 lf_capped(double x)
 {
-    if (!(x < LF_BIG))
-        return LF_BIG;
-    if (!(x > -LF_BIG))
-        return -LF_BIG;
-    return x;
+    /* as two selections, NaN to LF_BIG: a minimum and a maximum the
+     * processor takes without a branch */
+    x = x < LF_BIG ? x : LF_BIG;
+    return x > -LF_BIG ? x : -LF_BIG;
 }
 
 /* x^(-1/3) for 1e-300 <= x <= 1e300 without a library call (glibc's cbrt

@@ -17,6 +17,7 @@
  */
 #include <math.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "internal.h"
@@ -65,13 +66,13 @@ typedef struct {
 } thin_consts;
 
 static thin_consts
-thin_setup(const lf_probe *p, const lf_material *m)
+thin_setup(const lf_probe *p, double scale, const lf_material *m)
 {
     thin_consts t;
 
     t.M = lf_thin_Z(p->base, m->nu) * m->Estar;
     t.c = sqrt(2.0 * p->b * m->w / t.M);
-    t.C = t.M * lf_thin_scale(p);
+    t.C = t.M * scale;
     t.dlogZ = lf_thin_dlogZ_dnu(p->base, m->nu);
     return t;
 }
@@ -125,6 +126,39 @@ powers_setup(const lf_probe *p)
         w.kind = p->k > 2.0 ? ROOT_EXP : ROOT_LOG;
     }
     return w;
+}
+
+/* A model's state: what depends on its probe alone (a few powers and
+ * logarithms, more than the rest of a short curve's evaluation), taken
+ * once; a NULL state (a caller without a model) takes them at each call. */
+typedef struct {
+    double scale;          /* lf_thin_scale */
+    thin_powers pw;
+} thin_state;
+
+static int
+thin_alloc(void **state, const lf_probe *p, lf_error *err)
+{
+    thin_state *s = malloc(sizeof *s);
+
+    if (s == NULL)
+        return lf_fail(err, LF_ENOMEM, "out of memory allocating a model");
+    s->scale = lf_thin_scale(p);
+    s->pw = powers_setup(p);
+    *state = s;
+    return LF_OK;
+}
+
+static void
+thin_free(void *state)
+{
+    free(state);
+}
+
+static double
+state_scale(const void *state, const lf_probe *p)
+{
+    return state != NULL ? ((const thin_state *) state)->scale : lf_thin_scale(p);
 }
 
 /* g = delta1^(2/k-1) (capped), p2 = delta1^(2/k), a = (k R^(k-1) delta1)^(1/k);
@@ -301,12 +335,11 @@ thin_eval(void *state, const lf_probe *p, const lf_material *m,
 {
     thin_loop L;
     const double k = p->k, kk = (k + 2.0) / k;
-    double y[BLOCK] = { 0.0 };
+    double y[BLOCK] = { 0.0 }, xr[BLOCK];
     size_t i0;
 
-    (void) state;
-    L.t = thin_setup(p, m);
-    L.pw = powers_setup(p);
+    L.t = thin_setup(p, state_scale(state, p), m);
+    L.pw = state != NULL ? ((const thin_state *) state)->pw : powers_setup(p);
     L.Ckk = L.t.C * kk;
     L.kkc = kk * L.t.c;
     L.c2k = 2.0 * L.t.c / k;
@@ -322,11 +355,24 @@ thin_eval(void *state, const lf_probe *p, const lf_material *m,
         size_t j;
         /* k = 3: the roots of a block first, in a loop of independent
          * multiplications that the processor overlaps */
-        if (L.pw.kind == ROOT_CBRT)
+        if (L.pw.kind == ROOT_CBRT) {
             for (j = 0; j < nb; j++) {
                 double x = d[j] + L.t.c;
-                y[j] = lf_inv_cbrt(x >= 1e-300 && x <= 1e300 ? x : 1.0);
+                xr[j] = x >= 1e-300 && x <= 1e300 ? x : 1.0;
+                y[j] = lf_inv_cbrt_seed(xr[j]);
             }
+            /* lf_inv_cbrt's four steps, apart from its integer first
+             * guesses: a loop of arithmetic alone, which the compiler
+             * runs on vectors of points (the same operations on each) */
+            for (j = 0; j < nb; j++) {
+                const double x = xr[j];
+                double r = y[j];
+                r = lf_inv_cbrt_step(x, r);
+                r = lf_inv_cbrt_step(x, r);
+                r = lf_inv_cbrt_step(x, r);
+                y[j] = lf_inv_cbrt_step(x, r);
+            }
+        }
         switch (L.pw.kind) {
         case ROOT_SQRT:
             if (adh)
@@ -355,11 +401,10 @@ static int
 thin_pulloff(void *state, const lf_probe *p, const lf_material *m,
              lf_pulloff *out)
 {
-    const thin_consts t = thin_setup(p, m);
+    const thin_consts t = thin_setup(p, state_scale(state, p), m);
     const double k = p->k;
     double d1po = 2.0 * t.c / k;
 
-    (void) state;
     if (p->tip == LF_TIP_SPHERE) {
         sphere_pulloff(p, &t, out);
         return LF_OK;
@@ -383,8 +428,8 @@ thin_pulloff(void *state, const lf_probe *p, const lf_material *m,
 const lf_model_type lf_model_thin = {
     "thin",
     "thin-layer closed form (Papangelo; Johnson/Jaffar/Barber limit b << a)",
-    NULL,
-    NULL,
+    thin_alloc,
+    thin_free,
     thin_eval,
     thin_pulloff,
     0, LF_SCOPE_THIN, 0.0, 0, NULL, 0.0

@@ -45,6 +45,11 @@ async function open(browser, file, hash) {
   return { page, errors };
 }
 
+// Wait up to 5 s for the page to reach a state (a hashchange handler runs
+// after the hash is set, later on a loaded machine); the check that
+// follows asserts it, so a page that never gets there still fails.
+const settle = (page, fn, ...args) => page.waitForFunction(fn, { timeout: 5000 }, ...args).catch(() => {});
+
 const canvasImage = (page, sel) => page.$eval(sel, c => c.toDataURL());
 
 async function fitReport(browser) {
@@ -61,6 +66,8 @@ async function fitReport(browser) {
   // a click on the second curve's row selects it (#curve=2)
   await page.click('#curve-table tr[data-curve="2"]');
   await page.waitForFunction(() => location.hash === '#curve=2');
+  // the panel is drawn by the hashchange event, after the hash is set
+  await settle(page, () => { const e = document.querySelector('#curve-file'); return e && e.title.endsWith('curve2.csv'); });
   const file2 = await page.$eval('#curve-file', e => e.title);
   check(file2.endsWith('curve2.csv'), 'fit report: a click on row 2 shows curve2.csv (' + file2 + ')');
   const nums = await page.$$eval('#curve-numbers td', t => t.map(e => e.textContent));
@@ -89,6 +96,7 @@ async function fitReport(browser) {
   check(/ nm, /.test(tip), 'fit report: hovering a point gives its values (' + tip + ')');
   await page.goBack();
   await page.waitForFunction(() => location.hash === '');
+  await settle(page, () => { const e = document.querySelector('#curve-file'); return e && !e.title.endsWith('curve2.csv'); });
   check(await page.$eval('#curve-file', e => e.title.endsWith('.csv') && !e.title.endsWith('curve2.csv')), 'fit report: the back button returns to curve 1');
   await page.screenshot({ path: path.join(shots, 'fit.png'), fullPage: true });
   check(errors.length === 0, 'fit report: no console error (' + errors.join(' | ') + ')');
@@ -134,6 +142,7 @@ async function mapReport(browser) {
   await page.mouse.click(b.x + (2.5 / nx) * b.width, b.y + ((ny - 1 - 5) + 0.5) / ny * b.height);
   await page.waitForFunction(() => /curve=\d+/.test(location.hash), { timeout: 5000 }).catch(() => {});
   const hash = await page.evaluate(() => location.hash);
+  await settle(page, f => { const e = document.querySelector('#curve-file'); return e && e.title === f; }, rows[want - 1].file);
   check(hash === '#curve=' + want, 'map report: a click on pixel (2, 5) selects fit ' + want + ' (' + hash + ')');
   const row = rows[want - 1];
   const file = await page.$eval('#curve-file', e => e.title);
@@ -176,6 +185,7 @@ async function mapReport(browser) {
   // back: the selection goes, the address too
   await page.goBack();
   await page.waitForFunction(() => location.hash === '');
+  await settle(page, () => document.querySelector('#curve-panel').hidden);
   check(await page.$eval('#curve-panel', e => e.hidden), 'map report: the back button closes the curve');
   check(errors.length === 0, 'map report: no console error (' + errors.join(' | ') + ')');
   await page.close();
