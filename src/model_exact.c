@@ -1823,9 +1823,9 @@ point_from(const exact_ctx *c, int bonded, double target, double u, lf_eval *e, 
 
 /* ---- four points at once (x86-64 with AVX2) ---------------------------
  *
- * eval_from's points are independent, so four of them can take
- * point_from's first Newton step and its second-order finish side by
- * side, one point per lane of a 256-bit register: the sub-cells'
+ * eval_from's points are independent, so eight of them (two blocks of
+ * four) can take point_from's Newton steps and its second-order finish
+ * side by side, one point per lane of a 256-bit register: the sub-cells'
  * coefficients (four products side by side in each row, prodpoly) are
  * read two products at a time from each point's sub-cell and transposed
  * to one product across the four points.  Every lane performs
@@ -1833,8 +1833,9 @@ point_from(const exact_ctx *c, int bonded, double target, double u, lf_eval *e, 
  * operations lane by lane; no fused multiply-add: the target is AVX2
  * without FMA, and neither path contracts), so a point done here has
  * point_from's bits (tests/test_exact.c holds the two paths equal bit for
- * bit).  A point that needs a second step, or that point_from would give
- * up on, is left to point_from and invert from the same start.  Chosen at
+ * bit).  A point that point_from would give up on is left to invert
+ * from the same start; eval_runs' second pass (poly_finish4) is taken
+ * four points at a time in the same way.  Chosen at
  * run time (__builtin_cpu_supports); elsewhere eval_from is the scalar
  * loop. */
 
