@@ -52,8 +52,9 @@ lf_fit_path_chi2(fit_prof *p, const lf_fit_result *res, int which, int strict, s
     const size_t nc = p->nc;
     lf_fit *g;
     gsl_vector *r;
-    size_t i, j, np = res->npar, k = index_of(res, mat_name[which]), q;
-    double best = HUGE_VAL;
+    size_t i, j, np = res->npar, k = index_of(res, mat_name[which]), q, qq, *by_t;
+    double best = HUGE_VAL, **slot;
+    lf_material mat;
     int found = 0;
 
     for (q = 0; q < nt; q++)
@@ -68,14 +69,48 @@ lf_fit_path_chi2(fit_prof *p, const lf_fit_result *res, int which, int strict, s
     if (g == NULL || g->np != np)
         return 0;
     r = gsl_vector_alloc(g->nres);
-    if (r == NULL)
+    by_t = malloc((nt ? nt : 1) * sizeof *by_t);
+    slot = malloc(np * sizeof *slot);
+    if (r == NULL || by_t == NULL || slot == NULL) {
+        gsl_vector_free(r);
+        free(by_t);
+        free(slot);
         return 0;
+    }
+    /* where each parameter's value goes (NULL: nowhere) */
+    for (i = 0; i < np; i++) {
+        size_t jj;
+        slot[i] = NULL;
+        if (strcmp(res->names[i], "w") == 0)
+            slot[i] = &mat.w;
+        else if (strcmp(res->names[i], "E*") == 0)
+            slot[i] = &mat.Estar;
+        else if (strcmp(res->names[i], "nu") == 0)
+            slot[i] = &mat.nu;
+        else if (sscanf(res->names[i], "z0[%zu]", &jj) == 1 && jj >= 1 && jj <= nc)
+            slot[i] = &g->c[jj - 1].z0;
+        else if (sscanf(res->names[i], "F0[%zu]", &jj) == 1 && jj >= 1 && jj <= nc)
+            slot[i] = &g->c[jj - 1].F0;
+        else if (sscanf(res->names[i], "s[%zu]", &jj) == 1 && jj >= 1 && jj <= nc)
+            slot[i] = &g->c[jj - 1].slope;
+    }
+    /* the points in the order of t: each starts the exact model at the
+     * roots of its neighbour on the path (lf_model_eval_roots; a point
+     * across the estimate, the next of t = -0.5, 0.5, -1, 1, ..., lies
+     * too far for those) */
+    for (q = 0; q < nt; q++) {
+        size_t m = q;
+        for (; m > 0 && t[by_t[m - 1]] > t[q]; m--)
+            by_t[m] = by_t[m - 1];
+        by_t[m] = q;
+    }
     for (i = 0; i < g->ndata; i++)
         g->ws.sqrtw[i] = 1.0;        /* least squares (as lf_fit_solve sets) */
-    for (q = 0; q < nt; q++) {
-        double d = t[q] * sqrt(lf_fit_result_cov(res, k, k)), cost;
-        lf_material mat;
+    for (qq = 0; qq < nt; qq++) {
+        double d, cost;
         int ok = 1;
+        q = by_t[qq];
+        d = t[q] * sqrt(lf_fit_result_cov(res, k, k));
         mat.w = lf_fit_best_value(res, "w", res->w.value);
         mat.Estar = lf_fit_best_value(res, "E*", res->Estar.value);
         mat.nu = lf_fit_best_value(res, "nu", isfinite(res->nu.value) ? res->nu.value
@@ -84,7 +119,6 @@ lf_fit_path_chi2(fit_prof *p, const lf_fit_result *res, int which, int strict, s
             g->c[j].slope = 0.0;
         for (i = 0; i < np && ok; i++) {
             double c = lf_fit_result_cov(res, i, k) / lf_fit_result_cov(res, k, k), v;
-            size_t jj;
             if (!isfinite(c) && !strict)
                 c = 0.0;        /* an undetermined one stays where it is */
             v = res->value[i] + c * d;
@@ -92,18 +126,8 @@ lf_fit_path_chi2(fit_prof *p, const lf_fit_result *res, int which, int strict, s
                 ok = 0;
                 break;
             }
-            if (strcmp(res->names[i], "w") == 0)
-                mat.w = v;
-            else if (strcmp(res->names[i], "E*") == 0)
-                mat.Estar = v;
-            else if (strcmp(res->names[i], "nu") == 0)
-                mat.nu = v;
-            else if (sscanf(res->names[i], "z0[%zu]", &jj) == 1 && jj >= 1 && jj <= nc)
-                g->c[jj - 1].z0 = v;
-            else if (sscanf(res->names[i], "F0[%zu]", &jj) == 1 && jj >= 1 && jj <= nc)
-                g->c[jj - 1].F0 = v;
-            else if (sscanf(res->names[i], "s[%zu]", &jj) == 1 && jj >= 1 && jj <= nc)
-                g->c[jj - 1].slope = v;
+            if (slot[i] != NULL)
+                *slot[i] = v;
         }
         if (!ok || !(mat.w > 0) || !(mat.Estar > 0)
             || (g->imat[FIT_NU] >= 0 && !(mat.nu > 0.0 && mat.nu < 0.5)))
@@ -127,6 +151,8 @@ lf_fit_path_chi2(fit_prof *p, const lf_fit_result *res, int which, int strict, s
         }
     }
     gsl_vector_free(r);
+    free(by_t);
+    free(slot);
     return found;
 }
 

@@ -148,6 +148,11 @@ main(void)
           { 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, LF_BRANCH_UNLOAD },
         { "halfspace k=3 load", &lf_model_halfspace,
           { 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, LF_BRANCH_LOAD },
+        /* the thin layer's scan is interpolated at these k (edge_scan.c) */
+        { "thin k=3 frictionless unload", &lf_model_thin,
+          { 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 }, LF_BRANCH_UNLOAD },
+        { "thin k=1.5 bonded load", &lf_model_thin,
+          { 1.5, 1e-3, 1e-6, LF_BASE_BONDED, LF_TIP_POWER, 0.0, 0.0 }, LF_BRANCH_LOAD },
     };
     size_t i;
 
