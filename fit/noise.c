@@ -62,26 +62,37 @@ lf_fit_corr_time(const double *e, size_t n)
     return lf_fmin(tau, (double) n / 4.0);
 }
 
-/* The departures of the residuals e (file order) at stride m in depth
- * order: of each from the line through its neighbours m points away
- * (guess.c's estimate at that stride), squared over their variance factor
- * (see guess.c), into work; returns their count.  A smooth misfit hardly
- * shows at small strides; correlated noise shows fully once m exceeds its
- * correlation. */
+/* The departures of v (file order) at stride m in depth order z[ord[.]]:
+ * of each from the line through its neighbours m points away, squared
+ * over their variance factor (see lf_fit_noise_sigma), into work; returns
+ * their count. */
 static size_t
-departures(const fit_curve *c, const size_t *ord, const double *e, size_t m, double *work)
+line_departures(const double *z, const double *v, const size_t *ord, size_t n, size_t m,
+                double *work)
 {
-    size_t i, cnt = 0, n = c->data.n;
-    const double *z = c->data.depth;
+    size_t i, cnt = 0;
+
     for (i = m; i + m < n; i++) {
-        size_t a = ord[i - m], b = ord[i], d = ord[i + m];
-        double h0 = z[b] - z[a], h1 = z[d] - z[b], h = h0 + h1, q;
+        const size_t a = ord[i - m], b = ord[i], d = ord[i + m];
+        const double h0 = z[b] - z[a], h1 = z[d] - z[b], h = h0 + h1;
+        double q;
         if (!(h > 0))
-            continue;
-        q = e[b] * h - e[a] * h1 - e[d] * h0;
+            continue;           /* three points at one depth: no line */
+        /* (e over its sd factor)^2, one division (numerators are forces
+         * times depths in SI, far from overflowing when squared) */
+        q = v[b] * h - v[a] * h1 - v[d] * h0;
         work[cnt++] = q * q / (h * h + h0 * h0 + h1 * h1);
     }
     return cnt;
+}
+
+/* The departures of the residuals e (file order) at stride m (guess.c's
+ * estimate at that stride).  A smooth misfit hardly shows at small
+ * strides; correlated noise shows fully once m exceeds its correlation. */
+static size_t
+departures(const fit_curve *c, const size_t *ord, const double *e, size_t m, double *work)
+{
+    return line_departures(c->data.depth, e, ord, c->data.n, m, work);
 }
 
 /* Their noise sd, robust: the (upper) median of |q| over 0.6745 (work
@@ -298,19 +309,9 @@ double
 lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order, size_t n,
                    double fbig, double *work)
 {
-    size_t i, m = 0;
+    const size_t m = line_departures(depth, force, order, n, 1, work);
     double med;
 
-    for (i = 1; i + 1 < n; i++) {
-        size_t a = order[i - 1], b = order[i], c = order[i + 1];
-        double h0 = depth[b] - depth[a], h1 = depth[c] - depth[b], h = h0 + h1, e;
-        if (!(h > 0))
-            continue;           /* three points at one depth: no line */
-        /* (e over its sd factor)^2, one division (numerators are forces
-         * times depths in SI, far from overflowing when squared) */
-        e = force[b] * h - force[a] * h1 - force[c] * h0;
-        work[m++] = e * e / (h * h + h0 * h0 + h1 * h1);
-    }
     if (m == 0)
         return fbig > 0 ? fbig : 1.0;
     med = lf_fit_median_sqrt(work, m);
