@@ -181,10 +181,10 @@ trial_loop(const profile *p, size_t i0, double zd, double c, double held, int KC
          * vectors of points (the same operations on each) */
         for (i = i0; i < p->n; i++)
             root[i] = lf_inv_cbrt_seed(p->z[i] - zd);
-        for (i = i0; i < p->n; i++) {
-            const double d1 = p->z[i] - zd;
-            root[i] = lf_inv_cbrt_step(d1, lf_inv_cbrt_step(d1, root[i]));
-        }
+        for (i = i0; i < p->n; i++)
+            root[i] = lf_inv_cbrt_step(p->z[i] - zd, root[i]);
+        for (i = i0; i < p->n; i++)
+            root[i] = lf_inv_cbrt_step(p->z[i] - zd, root[i]);
     }
     for (i = i0; i < p->n; i++) {
         const double d1 = p->z[i] - zd;
