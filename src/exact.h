@@ -242,6 +242,12 @@ int lf_exact_eval_warm(void *state, const lf_probe *probe, const lf_material *ma
                        lf_branch branch, size_t n, const double *delta, lf_eval *out,
                        double *roots);
 
+/* The fast path's four points at once (x86-64 with AVX2, model_exact.c):
+ * mode 0 forces the scalar path, 1 restores the choice by the processor,
+ * -1 leaves it; returns 1 when the vector path is in use.  The two give
+ * the same bits (tests/test_exact.c). */
+int lf_exact_simd(int mode);
+
 /* Build statistics of the last table built in this process (bench). */
 double lf_exact_last_build_seconds(void);
 

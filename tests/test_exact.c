@@ -552,6 +552,88 @@ test_fast_roots(void)
     }
 }
 
+/* The fast path's four points at once (AVX2, model_exact.c) against its
+ * scalar path, bit for bit: every value and every point's record of the
+ * same sequence of a fit's evaluations as test_fast_roots (moves of 30%
+ * down to 1e-7, so points that need more than one Newton step and points
+ * that start afresh), on indentations from beyond detachment (out of
+ * contact) into the thin-layer range, 241 of them (not a multiple of
+ * four), k = 1.5, 2, 3, 6, w = 0, bonded at a held nu and with nu free,
+ * both branches.  On a processor without AVX2 both runs take the scalar
+ * path. */
+#define NP_SIMD 241
+static void
+test_simd_bits(void)
+{
+    struct { double k; lf_base b; double nu, w, E; int held; } c[] = {
+        {1.5, LF_BASE_FRICTIONLESS, 0.3, 0.01, 1e9, 0},
+        {2.0, LF_BASE_FRICTIONLESS, 0.3, 0.01, 1e9, 0},
+        {3.0, LF_BASE_FRICTIONLESS, 0.3, 0.05, 2e8, 0},
+        {6.0, LF_BASE_FRICTIONLESS, 0.3, 0.01, 1e9, 0},
+        {2.0, LF_BASE_FRICTIONLESS, 0.3, 0.0, 1e9, 0},
+        {2.0, LF_BASE_BONDED, 0.45, 0.01, 1e9, 1},
+        {3.0, LF_BASE_BONDED, 0.3, 0.05, 2e8, 1},
+        {3.0, LF_BASE_BONDED, 0.3, 0.002, 3e9, 0}};
+    static double d0[NP_SIMD], d[NP_SIMD], roots[2][LF_MODEL_ROOTS_SIZE(NP_SIMD)];
+    static lf_eval e[2][NP_SIMD];
+    const int vec = lf_exact_simd(1);
+    size_t ci;
+    int br, s, i, v, differ = 0, evals = 0;
+
+#if defined(__x86_64__) && defined(__GNUC__)
+    t_int(vec, __builtin_cpu_supports("avx2") ? 1 : 0, "exact model: the vector path where AVX2 is");
+#endif
+    for (ci = 0; ci < sizeof c / sizeof c[0]; ci++) {
+        lf_probe pr = {c[ci].k, 1e-3, 1e-6, c[ci].b, LF_TIP_POWER, 0.0, 0.0};
+        lf_material m0 = {c[ci].w, c[ci].E, c[ci].nu};
+        lf_model *mod = lf_model_alloc(&lf_model_exact, &pr, NULL);
+        lf_pulloff po;
+        double lo, hi;
+        if (mod == NULL || (c[ci].held && lf_model_prepare(mod, m0.nu, m0.nu, NULL) != LF_OK)
+            || (c[ci].held && lf_model_prepare(mod, m0.nu, m0.nu, NULL) != LF_OK)
+            || lf_model_pulloff(mod, &m0, &po, NULL) != LF_OK) {
+            t_true(0, "alloc/pulloff simd case %zu", ci);
+            lf_model_free(mod);
+            continue;
+        }
+        lo = po.delta_detach < 0.0 ? 1.2 * po.delta_detach : -5e-9;
+        hi = fast_top(po.delta_detach, 1e-6);
+        for (i = 0; i < NP_SIMD; i++)
+            d0[i] = lo + (hi - lo) * pow((i + 0.5 - (i % 37 == 5)) / NP_SIMD, 1.7);
+        for (br = 0; br < 2; br++) {
+            const lf_branch b = br ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD;
+            roots[0][0] = roots[1][0] = NAN;
+            for (s = 0; s < 16; s++) {
+                const double q = 0.3 * pow(10.0, -0.4 * s), z0 = q * 0.1 * fabs(po.delta_detach);
+                lf_material m = m0;
+                int st[2];
+                m.w *= 1.0 + q * sin(s + 1.0);
+                m.Estar *= 1.0 + q * cos(s + 2.0);
+                if (c[ci].b == LF_BASE_BONDED && !c[ci].held)
+                    m.nu += 0.05 * q * sin(3.0 * s);
+                for (i = 0; i < NP_SIMD; i++)
+                    d[i] = d0[i] - z0 * cos(s + 0.5);
+                for (v = 0; v < 2; v++) {
+                    lf_exact_simd(v);
+                    st[v] = lf_model_eval_roots(mod, &m, b, NP_SIMD, d, e[v], roots[v]);
+                }
+                lf_exact_simd(1);
+                evals++;
+                if (st[0] != LF_OK || st[1] != LF_OK
+                    || memcmp(e[0], e[1], sizeof e[0]) != 0
+                    || memcmp(roots[0], roots[1], sizeof roots[0]) != 0) {
+                    if (differ++ < 3)
+                        t_true(0, "exact simd case %zu branch %d step %d: status %d %d, "
+                               "evaluations or records differ", ci, br, s, st[0], st[1]);
+                }
+            }
+        }
+        lf_model_free(mod);
+    }
+    t_int(differ, 0, "exact model: vector and scalar paths equal bit for bit in %d evaluations",
+          evals);
+}
+
 static void
 test_fast_path(void)
 {
@@ -1048,6 +1130,7 @@ main(void)
     test_fast_path();
     test_fast_grid();
     test_fast_roots();
+    test_simd_bits();
     test_held_nu();
     test_slots();
     test_thin_limit();
