@@ -34,6 +34,15 @@
 #define AGREE_REL 0.05
 #define NOISE_GROWTH 1.3
 
+/* Residual i of res: the index is in range by construction (its rows are
+ * the curves'), so without gsl_vector_get's check, a load and a branch
+ * per point in loops over all of them. */
+static inline double
+res_at(const gsl_vector *res, size_t i)
+{
+    return res->data[i * res->stride];
+}
+
 double
 lf_fit_corr_time(const double *e, size_t n)
 {
@@ -137,7 +146,7 @@ lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau
     double *e = f->ws.work, *work = f->ws.work + n, s1, sm, tau;
 
     for (i = 0; i < n; i++)
-        e[i] = lf_fit_unweighted(gsl_vector_get(res, c->row + i), c->sigma,
+        e[i] = lf_fit_unweighted(res_at(res, c->row + i), c->sigma,
                                  f->ws.sqrtw[c->row + i]);
     /* the plateau of the residuals' noise over strides 1, 2, 4, ...: where
      * doubling the stride no longer raises it by NOISE_GROWTH (at stride 2
@@ -200,7 +209,7 @@ shape(const lf_fit *f, size_t j, const gsl_vector *res, size_t m)
     if (nb < 2)
         return 0.0;
     for (i = 0; i < n; i++) {
-        e[i] = lf_fit_unweighted(gsl_vector_get(res, c->row + i), c->sigma,
+        e[i] = lf_fit_unweighted(res_at(res, c->row + i), c->sigma,
                                  f->ws.sqrtw[c->row + i]);
         mean += e[i];
     }
@@ -246,7 +255,7 @@ lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curv
     /* against that noise: chi2 per point and the runs test of every m-th
      * residual in depth order */
     for (i = 0; i < n; i++) {
-        double u = gsl_vector_get(res, c->row + i) * c->sigma / noise;
+        double u = res_at(res, c->row + i) * c->sigma / noise;
         chi2 += u * u;
     }
     rms = cr->rms;
@@ -274,7 +283,7 @@ lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, size_t st
     /* without branches: the signs are noise, a branch on each would be
      * mispredicted half the time; a zero residual is skipped */
     for (i = 0; i < c->data.n; i += stride) {
-        double u = gsl_vector_get(res, c->row + ord[i]);
+        double u = res_at(res, c->row + ord[i]);
         int pos = u > 0, neg = u < 0, sgn = pos - neg, nz = pos | neg;
         npos += (size_t) pos;
         nneg += (size_t) neg;
