@@ -177,14 +177,15 @@ trial_loop(const profile *p, size_t i0, double zd, double c, double held, int KC
 
     if (KC == 3) {
         /* the roots first: the seeds from the bits, then the two Newton
-         * steps in a loop of arithmetic alone, which the compiler runs on
-         * vectors of points (the same operations on each) */
+         * steps, one loop of arithmetic alone each, which the compiler
+         * runs on vectors of points (the same operations on each; a step
+         * over all points before the next, none waits on the last) */
         for (i = i0; i < p->n; i++)
             root[i] = lf_inv_cbrt_seed(p->z[i] - zd);
-        for (i = i0; i < p->n; i++) {
-            const double d1 = p->z[i] - zd;
-            root[i] = lf_inv_cbrt_step(d1, lf_inv_cbrt_step(d1, root[i]));
-        }
+        for (i = i0; i < p->n; i++)
+            root[i] = lf_inv_cbrt_step(p->z[i] - zd, root[i]);
+        for (i = i0; i < p->n; i++)
+            root[i] = lf_inv_cbrt_step(p->z[i] - zd, root[i]);
     }
     for (i = i0; i < p->n; i++) {
         const double d1 = p->z[i] - zd;

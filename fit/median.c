@@ -9,9 +9,11 @@
 /* The k-th smallest of v[0..n-1] (0-based; v reordered), by quickselect
  * with branch-free partitions (the data are noise, so a branch on each
  * comparison would be mispredicted half the time).  Each round moves the
- * values below the pivot (the median of three) to the front, then, if k
- * lies beyond them, the values equal to it: the pivot is in the range, so
- * every round shrinks it, also when many values are equal. */
+ * values below the pivot (the median of three) to the front and, if k
+ * lies beyond them, keeps the rest; only where none is below (the pivot
+ * is the range's least) does it move the values equal to the pivot to
+ * the front, so every round shrinks the range, also when many values are
+ * equal. */
 double
 lf_fit_select_kth(double *v, size_t n, size_t k)
 {
@@ -31,7 +33,10 @@ lf_fit_select_kth(double *v, size_t n, size_t k)
             hi = j;
             continue;
         }
-        lo = j;
+        if (j > lo) {                   /* the range shrinks: no second pass */
+            lo = j;
+            continue;
+        }
         for (i = lo; i < hi; i++) {     /* [lo, j) == pivot < [j, i) */
             double x = v[i];
             v[i] = v[j];

@@ -34,6 +34,15 @@
 #define AGREE_REL 0.05
 #define NOISE_GROWTH 1.3
 
+/* Residual i of res: the index is in range by construction (its rows are
+ * the curves'), so without gsl_vector_get's check, a load and a branch
+ * per point in loops over all of them. */
+static inline double
+res_at(const gsl_vector *res, size_t i)
+{
+    return res->data[i * res->stride];
+}
+
 double
 lf_fit_corr_time(const double *e, size_t n)
 {
@@ -62,26 +71,37 @@ lf_fit_corr_time(const double *e, size_t n)
     return lf_fmin(tau, (double) n / 4.0);
 }
 
-/* The departures of the residuals e (file order) at stride m in depth
- * order: of each from the line through its neighbours m points away
- * (guess.c's estimate at that stride), squared over their variance factor
- * (see guess.c), into work; returns their count.  A smooth misfit hardly
- * shows at small strides; correlated noise shows fully once m exceeds its
- * correlation. */
+/* The departures of v (file order) at stride m in depth order z[ord[.]]:
+ * of each from the line through its neighbours m points away, squared
+ * over their variance factor (see lf_fit_noise_sigma), into work; returns
+ * their count. */
 static size_t
-departures(const fit_curve *c, const size_t *ord, const double *e, size_t m, double *work)
+line_departures(const double *z, const double *v, const size_t *ord, size_t n, size_t m,
+                double *work)
 {
-    size_t i, cnt = 0, n = c->data.n;
-    const double *z = c->data.depth;
+    size_t i, cnt = 0;
+
     for (i = m; i + m < n; i++) {
-        size_t a = ord[i - m], b = ord[i], d = ord[i + m];
-        double h0 = z[b] - z[a], h1 = z[d] - z[b], h = h0 + h1, q;
+        const size_t a = ord[i - m], b = ord[i], d = ord[i + m];
+        const double h0 = z[b] - z[a], h1 = z[d] - z[b], h = h0 + h1;
+        double q;
         if (!(h > 0))
-            continue;
-        q = e[b] * h - e[a] * h1 - e[d] * h0;
+            continue;           /* three points at one depth: no line */
+        /* (e over its sd factor)^2, one division (numerators are forces
+         * times depths in SI, far from overflowing when squared) */
+        q = v[b] * h - v[a] * h1 - v[d] * h0;
         work[cnt++] = q * q / (h * h + h0 * h0 + h1 * h1);
     }
     return cnt;
+}
+
+/* The departures of the residuals e (file order) at stride m (guess.c's
+ * estimate at that stride).  A smooth misfit hardly shows at small
+ * strides; correlated noise shows fully once m exceeds its correlation. */
+static size_t
+departures(const fit_curve *c, const size_t *ord, const double *e, size_t m, double *work)
+{
+    return line_departures(c->data.depth, e, ord, c->data.n, m, work);
 }
 
 /* Their noise sd, robust: the (upper) median of |q| over 0.6745 (work
@@ -126,7 +146,7 @@ lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau
     double *e = f->ws.work, *work = f->ws.work + n, s1, sm, tau;
 
     for (i = 0; i < n; i++)
-        e[i] = lf_fit_unweighted(gsl_vector_get(res, c->row + i), c->sigma,
+        e[i] = lf_fit_unweighted(res_at(res, c->row + i), c->sigma,
                                  f->ws.sqrtw[c->row + i]);
     /* the plateau of the residuals' noise over strides 1, 2, 4, ...: where
      * doubling the stride no longer raises it by NOISE_GROWTH (at stride 2
@@ -189,7 +209,7 @@ shape(const lf_fit *f, size_t j, const gsl_vector *res, size_t m)
     if (nb < 2)
         return 0.0;
     for (i = 0; i < n; i++) {
-        e[i] = lf_fit_unweighted(gsl_vector_get(res, c->row + i), c->sigma,
+        e[i] = lf_fit_unweighted(res_at(res, c->row + i), c->sigma,
                                  f->ws.sqrtw[c->row + i]);
         mean += e[i];
     }
@@ -235,7 +255,7 @@ lf_fit_noise_model(const lf_fit *f, size_t j, const gsl_vector *res, lf_fit_curv
     /* against that noise: chi2 per point and the runs test of every m-th
      * residual in depth order */
     for (i = 0; i < n; i++) {
-        double u = gsl_vector_get(res, c->row + i) * c->sigma / noise;
+        double u = res_at(res, c->row + i) * c->sigma / noise;
         chi2 += u * u;
     }
     rms = cr->rms;
@@ -263,7 +283,7 @@ lf_fit_runs_z_stride(const lf_fit *f, size_t j, const gsl_vector *res, size_t st
     /* without branches: the signs are noise, a branch on each would be
      * mispredicted half the time; a zero residual is skipped */
     for (i = 0; i < c->data.n; i += stride) {
-        double u = gsl_vector_get(res, c->row + ord[i]);
+        double u = res_at(res, c->row + ord[i]);
         int pos = u > 0, neg = u < 0, sgn = pos - neg, nz = pos | neg;
         npos += (size_t) pos;
         nneg += (size_t) neg;
@@ -298,19 +318,9 @@ double
 lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order, size_t n,
                    double fbig, double *work)
 {
-    size_t i, m = 0;
+    const size_t m = line_departures(depth, force, order, n, 1, work);
     double med;
 
-    for (i = 1; i + 1 < n; i++) {
-        size_t a = order[i - 1], b = order[i], c = order[i + 1];
-        double h0 = depth[b] - depth[a], h1 = depth[c] - depth[b], h = h0 + h1, e;
-        if (!(h > 0))
-            continue;           /* three points at one depth: no line */
-        /* (e over its sd factor)^2, one division (numerators are forces
-         * times depths in SI, far from overflowing when squared) */
-        e = force[b] * h - force[a] * h1 - force[c] * h0;
-        work[m++] = e * e / (h * h + h0 * h0 + h1 * h1);
-    }
     if (m == 0)
         return fbig > 0 ? fbig : 1.0;
     med = lf_fit_median_sqrt(work, m);
