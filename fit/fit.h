@@ -376,6 +376,14 @@ void lf_fit_bound_words(lf_fit_result *r);
 /* Take the verdict (converged, stop, user_test, why) of another run. */
 void lf_fit_run_verdict_from(fit_run *run, const fit_run *from);
 
+/* gsl_block.c's scratch for a Jacobian by differences (made with GSL's
+ * workspace): the residuals at x and at a step (nres each), a curve's
+ * indentations and evaluations (the longest curve's n). */
+typedef struct {
+    double *r0, *r1, *delta;
+    lf_eval *ev;
+} fit_fd;
+
 struct lf_fit {
     lf_fit_settings set;    /* copied at alloc, never changed */
     /* the problem's layout, fixed at alloc */
@@ -392,6 +400,10 @@ struct lf_fit {
     double mu0;          /* lm.c's first damping (in units of the scaled
                             diagonal): FIT_LM_MU0, or where a profile's last
                             refit took its first step (profile.c) */
+    int k2_waits;        /* the assessment leaves out the k = 2 check's refit,
+                            taking w as not open above, and sets k2_waited
+                            where it would have made it (loo.c) */
+    int k2_waited;
     int start_by_model;  /* the start's offsets from the model's force law
                             (guess_model.c), not the thin profile */
     int any_bonded, any_frictionless;
@@ -406,11 +418,31 @@ struct lf_fit {
     gsl_multifit_nlinear_parameters gsl_par;
     gsl_multifit_nlinear_workspace *gsl;   /* NULL until lf_fit_gsl */
     gsl_multifit_nlinear_fdf fdf;
+    fit_fd fd;
 };
 
 /* layout.c: GSL's workspace, made on first use (the "lm" method with the
  * analytic Jacobian may never need it); LF_ENOMEM when it cannot be. */
 int lf_fit_gsl(lf_fit *f);
+
+/* gsl_block.c: GSL's trust region in the block form of a joint fit, with
+ * GSL's numbers.  lf_fit_scale_more: GSL's "more" scaling, column norms
+ * over the rows not zero.  lf_fit_solver_normal: GSL's "cholesky" linear
+ * solver with J^T J summed where the columns are not zero
+ * (lf_fit_jtj_lower: the lower triangle of J^T J into C as gsl_blas_dsyrk
+ * gives it; lo, hi: p each, scratch).  lf_fit_jacobian_fd: GSL's forward-difference
+ * Jacobian, a curve's own column evaluating that curve alone;
+ * lf_fit_block_fd: it, where it gives GSL's bits (forward differences, no
+ * curve on the exact model), else NULL (GSL's own).  Its scratch made and
+ * freed by lf_fit_fd_alloc and lf_fit_fd_free. */
+typedef int (*fit_df)(const gsl_vector *x, void *params, gsl_matrix *J);
+extern const gsl_multifit_nlinear_solver *const lf_fit_solver_normal;
+extern const gsl_multifit_nlinear_scale *const lf_fit_scale_more;
+int lf_fit_jtj_lower(const gsl_matrix *J, gsl_matrix *C, size_t *lo, size_t *hi);
+int lf_fit_jacobian_fd(const gsl_vector *x, void *params, gsl_matrix *J);
+fit_df lf_fit_block_fd(const lf_fit *f);
+int lf_fit_fd_alloc(lf_fit *f);
+void lf_fit_fd_free(lf_fit *f);
 
 /* problem.c: the parameter mapping, residuals and Jacobian */
 int lf_fit_problem_setup(lf_fit *f, lf_error *err);
@@ -433,6 +465,14 @@ int lf_fit_residuals(const gsl_vector *x, void *params, gsl_vector *r);
  * bits of a separate sum over r). */
 int lf_fit_residuals_ss(lf_fit *f, const gsl_vector *x, gsl_vector *r, double *ss);
 int lf_fit_jacobian(const gsl_vector *x, void *params, gsl_matrix *J);
+/* Curve j's residual rows at x into r (its n_j rows), its model evaluated
+ * into delta and ev (n_j each) without the roots of its last evaluation:
+ * lf_fit_residuals' rows of curve j, bit for bit, for a model other than
+ * the exact one.  delta and ev NULL: the model's evaluation in f's cache
+ * (lf_fit_eval_at), which x must share but for curve j's F0 and slope.
+ * GSL_EDOM as lf_fit_residuals. */
+int lf_fit_curve_residuals(lf_fit *f, const double *x, size_t j, double *delta, lf_eval *ev,
+                           double *r);
 /* The free force offsets (and slopes) of x moved to their least-squares
  * values for the residuals r at x, x and r updated (variable projection);
  * 0 when there are none (r untouched). */

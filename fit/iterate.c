@@ -46,16 +46,20 @@ cur_niter(lf_fit *f)
     return f->ws.own ? f->ws.lm.niter : gsl_multifit_nlinear_niter(f->gsl);
 }
 
+/* Evaluations of the residuals; a Jacobian by differences (GSL's or
+ * gsl_block.c's) counts one per column. */
 static size_t
 cur_evals(lf_fit *f)
 {
-    return f->ws.own ? f->ws.lm.nevalf + f->ws.lm.nevaldf : f->fdf.nevalf + f->fdf.nevaldf;
+    if (f->ws.own)
+        return f->ws.lm.nevalf + f->ws.lm.nevaldf;
+    return f->fdf.nevalf + f->fdf.nevaldf * (f->fdf.df == lf_fit_jacobian_fd ? f->np : 1);
 }
 
 static int
 solver_init(lf_fit *f, const gsl_vector *x, int allow_own)
 {
-    f->ws.own = allow_own && f->fdf.df != NULL && strcmp(f->set.method, "lm") == 0;
+    f->ws.own = allow_own && f->fdf.df == lf_fit_jacobian && strcmp(f->set.method, "lm") == 0;
     if (f->ws.own)
         return lf_fit_lm_init(f, x);
     if (lf_fit_gsl(f) != LF_OK)
@@ -337,7 +341,7 @@ lf_fit_gn_at(const lf_fit *f, const gsl_vector *x)
 static void
 remember_gn(lf_fit *f, double dchi2, double chi2dof)
 {
-    f->ws.gn_ok = f->fdf.df != NULL && dchi2 < HUGE_VAL;
+    f->ws.gn_ok = f->fdf.df == lf_fit_jacobian && dchi2 < HUGE_VAL;
     if (!f->ws.gn_ok)
         return;
     memcpy(f->ws.gn_x, cur_x(f)->data, f->np * sizeof *f->ws.gn_x);
@@ -507,8 +511,9 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
     if (status == GSL_ENOPROG && !at_minimum(f) && f->fdf.df != NULL && !no_descent(f, x)) {
         /* the analytic derivatives, guarded at the contact edge, can point
          * nowhere useful there: go on with finite differences, which see the
-         * residuals as they are */
-        f->fdf.df = NULL;
+         * residuals as they are (GSL's, in block form where that gives
+         * GSL's numbers: gsl_block.c) */
+        f->fdf.df = lf_fit_block_fd(f);
         status = solve_again(f, x, 0, run, &info, &dead, &started);
         f->fdf.df = lf_fit_jacobian;
         stop_reason(status, info, f->set.max_iter, run);

@@ -393,8 +393,8 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     /* GSL's workspace: made when a run first needs it (lf_fit_gsl) */
     f->gsl_par = par;
     f->gsl_par.trs = f->trs;
-    f->gsl_par.scale = gsl_multifit_nlinear_scale_more;
-    f->gsl_par.solver = gsl_multifit_nlinear_solver_cholesky;
+    f->gsl_par.scale = lf_fit_scale_more;           /* GSL's "more", block form */
+    f->gsl_par.solver = lf_fit_solver_normal;       /* GSL's "cholesky", block form */
     f->gsl_par.fdtype = settings->jacobian == LF_JAC_CENTRAL ? GSL_MULTIFIT_NLINEAR_CTRDIFF
                                                              : GSL_MULTIFIT_NLINEAR_FWDIFF;
     f->fdf.f = lf_fit_residuals;
@@ -438,6 +438,7 @@ lf_fit_free(lf_fit *f)
     lf_arrow_free(&f->ws.lm.A);
     if (f->gsl != NULL)
         gsl_multifit_nlinear_free(f->gsl);
+    lf_fit_fd_free(f);
     free(f);
 }
 
@@ -448,5 +449,5 @@ lf_fit_gsl(lf_fit *f)
     if (f->gsl == NULL)
         f->gsl = gsl_multifit_nlinear_alloc(gsl_multifit_nlinear_trust, &f->gsl_par, f->nres,
                                             f->np);
-    return f->gsl != NULL ? LF_OK : LF_ENOMEM;
+    return f->gsl != NULL ? lf_fit_fd_alloc(f) : LF_ENOMEM;
 }

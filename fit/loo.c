@@ -11,7 +11,9 @@
 
 /* The fit g from its automatic guess, solved and assessed as the driver
  * does but without leave-one-out: 1 with *r filled when it converged to
- * an answer (not degenerate), else 0 and *r empty. */
+ * an answer (not degenerate), else 0 and *r empty.  With g->k2_waits the
+ * assessment leaves out the k = 2 check's refit (a joint fit again, with
+ * w held higher), taking w as not open above (see leave_one_out). */
 static int
 refit(lf_fit *g, lf_fit_result *r)
 {
@@ -45,11 +47,29 @@ lf_fit_loo_due(const lf_fit_result *res)
     return res->ncurves >= 3 && bad == res->ncurves;
 }
 
+/* w's verdict decides whether the fit r is degenerate: no other material
+ * parameter (nor M) is determined. */
+static int
+w_decides(const lf_fit_result *r)
+{
+    return !(r->Estar.free && r->Estar.determined) && !(r->nu.free && r->nu.determined)
+           && !r->M.determined;
+}
+
 /* Every curve of three or more disagrees with the joint fit: refit
  * without each in turn (the curves f's, or cc[0..n-1] under s where f is
  * NULL).  When exactly one curve's absence lets all the others agree,
  * that curve is named; when none or several do, the disagreement is
- * reported as general. */
+ * reported as general.
+ *
+ * Each refit is first assessed without the k = 2 check's refit, which
+ * can only take w's verdict away (judge.c: the other estimates, every
+ * curve's residuals and so its agreement do not depend on it).  What is
+ * read here of a refit needs that verdict only where the refit is a
+ * candidate (its curves all agree: its w is then quoted) or where w's
+ * verdict alone decides whether it is degenerate; there the refit is
+ * made again with the check, as it was before, so every answer is the
+ * same. */
 static void
 leave_one_out(const lf_fit_settings *s, size_t n, const lf_fit *f, const lf_fit_curve *cc,
               lf_fit_result *res)
@@ -61,7 +81,9 @@ leave_one_out(const lf_fit_settings *s, size_t n, const lf_fit *f, const lf_fit_
 
     if (sub == NULL || worst == NULL || mat == NULL)
         goto done;
-    for (j = 0; j < n; j++) {
+    /* a second curve whose absence helps settles the words (several help):
+     * the other refits would change nothing said */
+    for (j = 0; j < n && ncul < 2; j++) {
         lf_fit *g;
         lf_fit_result r;
         int ok = 1;
@@ -72,12 +94,24 @@ leave_one_out(const lf_fit_settings *s, size_t n, const lf_fit *f, const lf_fit_
         g = lf_fit_alloc(s, m, sub, NULL);
         if (g == NULL)
             continue;
+        g->k2_waits = 1;
         if (refit(g, &r)) {
-            worst[j] = 0.0;
-            for (i = 0; i < m; i++) {
+            for (i = 0; i < m; i++)
                 ok &= r.curves[i].consistent;
-                worst[j] = lf_fmax(worst[j], r.curves[i].chi2_per_point);
+            if (g->k2_waited && (ok || w_decides(&r))) {
+                lf_fit_result_free(&r);
+                lf_fit_free(g);
+                g = lf_fit_alloc(s, m, sub, NULL);
+                if (g == NULL || !refit(g, &r)) {
+                    lf_fit_free(g);
+                    continue;
+                }
+                for (i = 0, ok = 1; i < m; i++)
+                    ok &= r.curves[i].consistent;
             }
+            worst[j] = 0.0;
+            for (i = 0; i < m; i++)
+                worst[j] = lf_fmax(worst[j], r.curves[i].chi2_per_point);
             mat[j].w = r.w.value;
             mat[j].Estar = r.Estar.value;
             if (ok) {

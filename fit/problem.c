@@ -328,6 +328,37 @@ lf_fit_residuals(const gsl_vector *xv, void *params, gsl_vector *r)
     return lf_fit_residuals_ss(params, xv, r, NULL);
 }
 
+int
+lf_fit_curve_residuals(lf_fit *f, const double *x, size_t j, double *delta, lf_eval *ev,
+                       double *r)
+{
+    const fit_curve *c = &f->c[j];
+    const double inv_sigma = 1.0 / c->sigma;
+    lf_material mat;
+    double z0, F0, slope;
+    size_t i;
+
+    lf_fit_unpack(f, x, &mat, &z0, &F0, &slope, j);
+    if (ev == NULL) {           /* f's evaluation holds */
+        delta = f->ws.delta + c->row;
+        ev = f->ws.ev + c->row;
+    } else {
+        for (i = 0; i < c->data.n; i++)
+            delta[i] = c->data.depth[i] - z0;
+        if (lf_model_eval_roots(c->model, &mat, c->data.branch, c->data.n, delta, ev, NULL)
+            != LF_OK)
+            return GSL_EDOM;
+    }
+    for (i = 0; i < c->data.n; i++) {
+        const size_t k = c->row + i;
+        /* lf_fit_residuals_ss's expression */
+        r[i] = (ev[i].P + F0 + slope * delta[i] - c->data.force[i]) * inv_sigma * f->ws.sqrtw[k];
+        if (!isfinite(r[i]))
+            return GSL_EDOM;
+    }
+    return GSL_SUCCESS;
+}
+
 /* Each curve's free force offset F0 (and slope) set to its least-squares
  * value given the rest of x, from the residuals r at x: the residuals are
  * linear in them, with columns Fs sqrtw/sigma (and Fs/L delta

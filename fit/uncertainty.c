@@ -457,6 +457,10 @@ static int
 w_open_above(void *ctx)
 {
     assess_ctx *a = ctx;
+    if (a->f->k2_waits) {       /* leave-one-out's refits (loo.c) */
+        a->f->k2_waited = 1;
+        return 0;
+    }
     a->refitted = 1;
     return lf_fit_w_open_above(a->f, a->r, exp(FIT_K2_W_HIGH));
 }
