@@ -1971,16 +1971,26 @@ outs4(const exact_ctx *c, int bonded, const double *const a[4], v4 tr, v4 target
     f[4] = vcapped((P1 - bc(0.5) * Ssh) - half * shift);
     f[5] = _mm256_setzero_pd();
     if (bonded) {
-        v4 h0[4], h1[4], h2[4], h3[4], H[4];
-        int j;
-        for (j = 0; j < 4; j += 2) {
-            ld_pair(a, PP_NU + (size_t) j, &h0[j], &h0[j + 1]);
-            ld_pair(a, PP_NU + 4 + (size_t) j, &h1[j], &h1[j + 1]);
-            ld_pair(a, PP_NU + 8 + (size_t) j, &h2[j], &h2[j + 1]);
-            ld_pair(a, PP_NU + 12 + (size_t) j, &h3[j], &h3[j + 1]);
+        /* each point's four cubics in one row (its tr in every lane),
+         * then the rows transposed to one product across the points */
+        v4 R[4], H[4], lo01, hi01, lo23, hi23;
+        int l;
+        for (l = 0; l < 4; l++) {
+            const double *h = a[l] + PP_NU;
+            const v4 x = l == 0 ? _mm256_permute4x64_pd(tr, 0x00)
+                         : l == 1 ? _mm256_permute4x64_pd(tr, 0x55)
+                         : l == 2 ? _mm256_permute4x64_pd(tr, 0xAA) : _mm256_permute4x64_pd(tr, 0xFF);
+            R[l] = _mm256_loadu_pd(h) + x * (_mm256_loadu_pd(h + 4) + x * (_mm256_loadu_pd(h + 8)
+                                                                      + x * _mm256_loadu_pd(h + 12)));
         }
-        for (j = 0; j < 4; j++)
-            H[j] = h0[j] + tr * (h1[j] + tr * (h2[j] + tr * h3[j]));
+        lo01 = _mm256_unpacklo_pd(R[0], R[1]);
+        hi01 = _mm256_unpackhi_pd(R[0], R[1]);
+        lo23 = _mm256_unpacklo_pd(R[2], R[3]);
+        hi23 = _mm256_unpackhi_pd(R[2], R[3]);
+        H[0] = _mm256_permute2f128_pd(lo01, lo23, 0x20);
+        H[1] = _mm256_permute2f128_pd(hi01, hi23, 0x20);
+        H[2] = _mm256_permute2f128_pd(lo01, lo23, 0x31);
+        H[3] = _mm256_permute2f128_pd(hi01, hi23, 0x31);
         f[5] = vcapped((P1 * H[3] - Ssh * (H[0] - H[1])) - dPdd * ((target + shift) * H[2] + shift * H[1]));
     }
     st_six(&e->P, f);
