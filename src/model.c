@@ -115,9 +115,11 @@ material_in(const lf_model *m, const lf_material *mat, lf_error *err)
     return status;
 }
 
-int
-lf_model_eval(const lf_model *m, const lf_material *mat, lf_branch branch,
-              size_t n, const double *delta, lf_eval *out, lf_error *err)
+/* An evaluation's arguments checked: mat (material_in) and every
+ * indentation finite. */
+static int
+eval_args_in(const lf_model *m, const lf_material *mat, size_t n, const double *delta,
+             lf_error *err)
 {
     size_t i;
     int status = material_in(m, mat, err);
@@ -127,6 +129,17 @@ lf_model_eval(const lf_model *m, const lf_material *mat, lf_branch branch,
     for (i = 0; i < n; i++)
         if (!isfinite(delta[i]))
             return lf_fail(err, LF_EINVAL, "indentation %zu is not finite", i);
+    return LF_OK;
+}
+
+int
+lf_model_eval(const lf_model *m, const lf_material *mat, lf_branch branch,
+              size_t n, const double *delta, lf_eval *out, lf_error *err)
+{
+    int status = eval_args_in(m, mat, n, delta, err);
+
+    if (status != LF_OK)
+        return status;
     status = m->type->eval(m->state, &m->probe, mat, branch, n, delta, out);
     if (status != LF_OK)
         return lf_fail(err, status, "model %s failed to evaluate", m->type->name);
@@ -137,15 +150,13 @@ int
 lf_model_eval_roots(const lf_model *m, const lf_material *mat, lf_branch branch,
                     size_t n, const double *delta, lf_eval *out, double *roots)
 {
-    size_t i;
+    int status;
 
     if (m->type != &lf_model_exact || roots == NULL)
         return lf_model_eval(m, mat, branch, n, delta, out, NULL);
-    if (material_in(m, mat, NULL) != LF_OK)
-        return LF_EINVAL;
-    for (i = 0; i < n; i++)
-        if (!isfinite(delta[i]))
-            return LF_EINVAL;
+    status = eval_args_in(m, mat, n, delta, NULL);
+    if (status != LF_OK)
+        return status;
     return lf_exact_eval_warm(m->state, &m->probe, mat, branch, n, delta, out, roots);
 }
 
