@@ -47,6 +47,11 @@ double lf_probe_length(const lf_probe *p);
 /* The thin-layer force scale C of a probe per unit constrained modulus M
  * (model_thin.c): C / M = pi/b k/(k+2) B^(-2/k). */
 double lf_thin_scale(const lf_probe *p);
+/* The thin model's evaluation four points at a time where the processor
+ * has AVX2 (mode 1, the default) or always point by point (0, for the
+ * tests: the two give the same bits); -1 leaves it.  Returns 1 when the
+ * vector path is taken. */
+int lf_thin_simd(int mode);
 
 /* LF_OK when the open file fd (named path) is no larger than
  * lf_input_limit(), else LF_EIO with a message saying so and how to raise
