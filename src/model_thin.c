@@ -25,7 +25,7 @@
 
 /* Four points at a time with AVX2 where the processor has it (thin_block4
  * below). */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(LF_THIN_NO_SIMD)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(LF_NO_SIMD)
 #define THIN_AVX2 1
 #endif
 
@@ -351,7 +351,7 @@ thin_block(const thin_loop *L, root_kind KIND, int ADH, size_t nb, const double 
  * run time (__builtin_cpu_supports); elsewhere, and for other k, the
  * scalar loop. */
 
-/* -1: as the processor allows; 0: the scalar path (lf_thin_simd) */
+/* -1: as the processor allows; 0: the scalar path (lf_simd) */
 static _Atomic int simd_mode = -1;
 
 static int
@@ -365,7 +365,7 @@ simd_have(void)
 }
 
 int
-lf_thin_simd(int mode)
+lf_simd(int mode)
 {
     if (mode >= 0)
         atomic_store_explicit(&simd_mode, mode ? -1 : 0, memory_order_relaxed);
@@ -494,27 +494,28 @@ vcbrt_seed(v4 x)
     return _mm256_castsi256_pd(_mm256_sub_epi64(_mm256_set1_epi64x(0x553F000000000000), q));
 }
 
-/* thin_eval's k = 3 roots of a block, four points at a time */
+/* lf_thin_roots four points at a time */
 __attribute__((target("avx2"))) static void
-cbrt_roots4(double c, size_t nb, const double *d, double *xr, double *y)
+roots4(const double *z, double shift, size_t n, int steps, double *xr, double *y)
 {
-    size_t j, s;
+    size_t j;
+    int s;
 
-    for (j = 0; j + 4 <= nb; j += 4) {
-        const v4 x = _mm256_loadu_pd(d + j) + bc(c);
+    for (j = 0; j + 4 <= n; j += 4) {
+        const v4 x = _mm256_loadu_pd(z + j) + bc(shift);
         const v4 in = _mm256_and_pd(_mm256_cmp_pd(x, bc(1e-300), _CMP_GE_OQ),
                                     _mm256_cmp_pd(x, bc(1e300), _CMP_LE_OQ));
         const v4 r = _mm256_blendv_pd(bc(1.0), x, in);
         _mm256_storeu_pd(xr + j, r);
         _mm256_storeu_pd(y + j, vcbrt_seed(r));
     }
-    for (; j < nb; j++) {
-        double x = d[j] + c;
+    for (; j < n; j++) {
+        double x = z[j] + shift;
         xr[j] = x >= 1e-300 && x <= 1e300 ? x : 1.0;
         y[j] = lf_inv_cbrt_seed(xr[j]);
     }
-    for (s = 0; s < 4; s++)
-        for (j = 0; j < nb; j++)
+    for (s = 0; s < steps; s++)
+        for (j = 0; j < n; j++)
             y[j] = lf_inv_cbrt_step(xr[j], y[j]);
 }
 
@@ -542,6 +543,33 @@ thin_block4(const thin_loop *L, int adh, size_t nb, const double *delta, const d
 }
 #endif
 
+void
+lf_thin_roots(const double *z, double shift, size_t n, int steps, double *xr, double *y)
+{
+    size_t j;
+    int s;
+
+#ifdef THIN_AVX2
+    if (lf_simd(-1)) {
+        roots4(z, shift, n, steps, xr, y);
+        return;
+    }
+#endif
+    for (j = 0; j < n; j++) {
+        double x = z[j] + shift;
+        xr[j] = x >= 1e-300 && x <= 1e300 ? x : 1.0;
+        y[j] = lf_inv_cbrt_seed(xr[j]);
+    }
+    /* the steps apart from the integer first guesses: loops of arithmetic
+     * alone, which the compiler runs on vectors of points (the same
+     * operations on each), one step over all points at a time (no step
+     * waits on the one before it for the same point: 0.4 ns a point less
+     * than the four in a row for the model's roots) */
+    for (s = 0; s < steps; s++)
+        for (j = 0; j < n; j++)
+            y[j] = lf_inv_cbrt_step(xr[j], y[j]);
+}
+
 static int
 thin_eval(void *state, const lf_probe *p, const lf_material *m,
           lf_branch branch, size_t n, const double *delta, lf_eval *out)
@@ -551,7 +579,7 @@ thin_eval(void *state, const lf_probe *p, const lf_material *m,
     double y[BLOCK] = { 0.0 }, xr[BLOCK];
     size_t i0;
 #ifdef THIN_AVX2
-    const int vec = lf_thin_simd(-1);
+    const int vec = lf_simd(-1);
 #endif
 
     L.t = thin_setup(p, state_scale(state, p), m);
@@ -569,30 +597,9 @@ thin_eval(void *state, const lf_probe *p, const lf_material *m,
         const double *yb = y;
         lf_eval *o = out + i0;
         const int adh = L.t.c > 0.0;
-        size_t j, s;
-        /* k = 3: the roots of a block first, in a loop of independent
-         * multiplications that the processor overlaps */
-#ifdef THIN_AVX2
-        if (vec && L.pw.kind == ROOT_CBRT)
-            cbrt_roots4(L.t.c, nb, d, xr, y);
-        else
-#endif
-        if (L.pw.kind == ROOT_CBRT) {
-            for (j = 0; j < nb; j++) {
-                double x = d[j] + L.t.c;
-                xr[j] = x >= 1e-300 && x <= 1e300 ? x : 1.0;
-                y[j] = lf_inv_cbrt_seed(xr[j]);
-            }
-            /* lf_inv_cbrt's four steps, apart from its integer first
-             * guesses: loops of arithmetic alone, which the compiler runs
-             * on vectors of points (the same operations on each), one
-             * step over the block at a time (no step waits on the one
-             * before it for the same point: 0.4 ns a point less than
-             * the four in a row) */
-            for (s = 0; s < 4; s++)
-                for (j = 0; j < nb; j++)
-                    y[j] = lf_inv_cbrt_step(xr[j], y[j]);
-        }
+        /* k = 3: the roots of a block first (lf_inv_cbrt's four steps) */
+        if (L.pw.kind == ROOT_CBRT)
+            lf_thin_roots(d, L.t.c, nb, 4, xr, y);
 #ifdef THIN_AVX2
         if (vec) {
             const size_t done = thin_block4(&L, adh, nb, d, y, o);

@@ -465,7 +465,7 @@ test_simd_bits(void)
     const double ks[] = { 1.0, 1.5, 2.0, 3.0, 4.0, 6.0 };
     static double d[NP_SIMD];
     static lf_eval e[2][NP_SIMD];
-    const int vec = lf_thin_simd(1);
+    const int vec = lf_simd(1);
     size_t ki, i;
     int base, adh, br, v, differ = 0, evals = 0;
 
@@ -503,11 +503,11 @@ test_simd_bits(void)
                 for (br = 0; br < 2; br++) {
                     int st[2];
                     for (v = 0; v < 2; v++) {
-                        lf_thin_simd(v);
+                        lf_simd(v);
                         st[v] = lf_model_eval(mod, &m, br ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD,
                                               NP_SIMD, d, e[v], NULL);
                     }
-                    lf_thin_simd(1);
+                    lf_simd(1);
                     evals++;
                     if (st[0] != LF_OK || st[1] != LF_OK || memcmp(e[0], e[1], sizeof e[0]) != 0)
                         if (differ++ < 3)
@@ -541,10 +541,10 @@ test_simd_cbrt(void)
     for (i = 0; i < NP_CBRT; i++)
         d[i] = pow(10.0, -300.0 + 600.0 * (double) i / (NP_CBRT - 1)) * (1.0 + 0.37 * sin(i * 1.7));
     for (v = 0; v < 2; v++) {
-        lf_thin_simd(v);
+        lf_simd(v);
         st[v] = lf_model_eval(mod, &m, LF_BRANCH_UNLOAD, NP_CBRT, d, e[v], NULL);
     }
-    lf_thin_simd(1);
+    lf_simd(1);
     t_true(st[0] == LF_OK && st[1] == LF_OK && memcmp(e[0], e[1], sizeof e[0]) == 0,
            "thin model k = 3: vector and scalar cube roots equal bit for bit over 1e-300..1e300");
     lf_model_free(mod);
