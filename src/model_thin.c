@@ -474,23 +474,23 @@ block4(const thin_loop *L, root_kind KIND, int ADH, size_t nb, const double *del
 }
 
 /* lf_inv_cbrt_seed lane by lane: 0x553F000000000000 - i / 3 for the bits i
- * of x > 0, the quotient exact in double arithmetic (i's two halves, each
- * below 2^32, with a half added before the multiplication by 1/3: the
- * product is then at least 1/6 from an integer, far beyond its rounding,
- * so that its floor is the integer quotient) */
+ * of x > 0, the quotient exact from 32-bit multiplications: with i = H 2^32
+ * + L, H / 3 and L / 3 by the multiplier 0xAAAAAAAB (exact for any 32-bit
+ * numerator), remainders rH and rL, and 2^32 = 3 0x55555555 + 1,
+ *     i / 3 = (H / 3) 2^32 + rH 0x55555555 + L / 3 + (rH + rL >= 3). */
 AVX2_FN v4
 vcbrt_seed(v4 x)
 {
-    const __m256i i = _mm256_castpd_si256(x), magic = _mm256_set1_epi64x(0x4330000000000000);
-    const v4 two52 = bc(4503599627370496.0), third = bc(1.0 / 3.0), half = bc(0.5);
-    const v4 h = _mm256_castsi256_pd(_mm256_or_si256(_mm256_srli_epi64(i, 32), magic)) - two52;
-    const v4 l = _mm256_castsi256_pd(_mm256_or_si256(
-                     _mm256_and_si256(i, _mm256_set1_epi64x(0xFFFFFFFF)), magic)) - two52;
-    const v4 qh = _mm256_floor_pd((h + half) * third);
-    const v4 ql = _mm256_floor_pd(((h - bc(3.0) * qh) * bc(4294967296.0) + l + half) * third);
-    const __m256i qhi = _mm256_sub_epi64(_mm256_castpd_si256(qh + two52), magic);
-    const __m256i qli = _mm256_sub_epi64(_mm256_castpd_si256(ql + two52), magic);
-    const __m256i q = _mm256_add_epi64(_mm256_slli_epi64(qhi, 32), qli);
+    const __m256i i = _mm256_castpd_si256(x), mul = _mm256_set1_epi64x(0xAAAAAAAB);
+    const __m256i H = _mm256_srli_epi64(i, 32), L = _mm256_and_si256(i, _mm256_set1_epi64x(0xFFFFFFFF));
+    const __m256i qH = _mm256_srli_epi64(_mm256_mul_epu32(H, mul), 33);
+    const __m256i qL = _mm256_srli_epi64(_mm256_mul_epu32(L, mul), 33);
+    const __m256i rH = _mm256_sub_epi64(H, _mm256_add_epi64(_mm256_add_epi64(qH, qH), qH));
+    const __m256i rL = _mm256_sub_epi64(L, _mm256_add_epi64(_mm256_add_epi64(qL, qL), qL));
+    const __m256i carry = _mm256_cmpgt_epi64(_mm256_add_epi64(rH, rL), _mm256_set1_epi64x(2));
+    __m256i q = _mm256_add_epi64(_mm256_slli_epi64(qH, 32),
+                                 _mm256_mul_epu32(rH, _mm256_set1_epi64x(0x55555555)));
+    q = _mm256_sub_epi64(_mm256_add_epi64(q, qL), carry);     /* carry: -1 or 0 */
     return _mm256_castsi256_pd(_mm256_sub_epi64(_mm256_set1_epi64x(0x553F000000000000), q));
 }
 
