@@ -142,7 +142,7 @@ static void
 test_simd_departures(gsl_rng *rng)
 {
     enum { N = 301 };
-    static double z[N], F[N], work[2][2 * N], key[N];
+    static double z[N], F[N], work[2][3 * N], key[N];
     static size_t ord[N], perm[N];
     const int vec = lf_simd(1);
     double sd[2];
