@@ -531,6 +531,22 @@ curve_map(const lf_fit *f, const double *x, size_t j, int physical, row_map *map
     curve_map_of(f, x, j, physical, NULL, map);
 }
 
+/* The six numbers a row of indentation d can hold, the model's evaluation
+ * e there, in the columns' numbering (before their factors): dP/dln w,
+ * dP/dln E*, dP/dnu, dP/ddelta + slope, 1, d. */
+LF_KERNEL void
+row_values(const row_map *map, double d, const lf_eval *e, double *t)
+{
+    if (d > map->ddet && d < map->edge_hi)      /* never unless unloading */
+        e = &map->edge;
+    t[0] = e->dP_dlogw;
+    t[1] = e->dP_dlogE;
+    t[2] = e->dP_dnu;
+    t[3] = e->dP_ddelta + map->slope;
+    t[4] = 1.0;
+    t[5] = d;
+}
+
 /* The entries of the row of indentation d, the model's evaluation e there,
  * in the map's columns into v[0..M-1] (unweighted by sigma and the robust
  * weight: ws multiplies them); sel is map->sel or, in the instances for
@@ -542,14 +558,7 @@ row_entries(const row_map *map, size_t M, const int *sel, double d,
     double t[6];
     size_t q;
 
-    if (d > map->ddet && d < map->edge_hi)      /* never unless unloading */
-        e = &map->edge;
-    t[0] = e->dP_dlogw;
-    t[1] = e->dP_dlogE;
-    t[2] = e->dP_dnu;
-    t[3] = e->dP_ddelta + map->slope;
-    t[4] = 1.0;
-    t[5] = d;
+    row_values(map, d, e, t);
 #pragma GCC unroll 6
     for (q = 0; q < M; q++)
         v[q] = t[sel[q]] * map->mult[q] * ws;
@@ -687,19 +696,10 @@ curve_sums_pairs(const lf_fit *f, const fit_curve *c, const row_map *map, size_t
             A[p][l] = _mm_setzero_pd();
     }
     for (i = 0; i < n; i++) {
-        const double d = delta[i];
-        const lf_eval *e = &ev[i];
         const __m128d ws = _mm_set1_pd(sw[i] * inv_sigma), ri = _mm_set1_pd(rc[i]);
         double t[6];
         __m128d v[3];
-        if (d > map->ddet && d < map->edge_hi)
-            e = &map->edge;
-        t[0] = e->dP_dlogw;
-        t[1] = e->dP_dlogE;
-        t[2] = e->dP_dnu;
-        t[3] = e->dP_ddelta + map->slope;
-        t[4] = 1.0;
-        t[5] = d;
+        row_values(map, delta[i], &ev[i], t);
 #pragma GCC unroll 3
         for (p = 0; p < P; p++)
             v[p] = _mm_mul_pd(_mm_mul_pd(_mm_set_pd(2 * p + 1 < M ? t[sel[2 * p + 1]] : 0.0,
