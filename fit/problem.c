@@ -13,6 +13,10 @@
 
 #include <gsl/gsl_blas.h>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include "fit.h"
 
 double
@@ -444,8 +448,10 @@ typedef struct {
     double mult[6];
     lf_material mat;
     double slope, ddet;
+    double edge_hi;             /* ddet + eps where edge holds the model there,
+                                   else ddet: a row of indentation d takes edge
+                                   where ddet < d < edge_hi */
     const lf_model *model;      /* the model the rows are of */
-    int edge_ok;                /* edge holds the model at ddet + eps */
     lf_eval edge;
 } row_map;
 
@@ -507,15 +513,15 @@ curve_map_of(const lf_fit *f, const double *x, size_t j, int physical, const lf_
      * evaluated here, once for the curve's rows (a call among them would
      * keep their sums in memory) */
     map->model = model != NULL ? model : c->model;
-    map->ddet = -HUGE_VAL;
-    map->edge_ok = 0;
+    map->ddet = map->edge_hi = -HUGE_VAL;
     if (c->data.branch == LF_BRANCH_UNLOAD
         && lf_model_pulloff(map->model, &map->mat, &po, NULL) == LF_OK) {
         double d2;
-        map->ddet = po.delta_detach;
+        map->ddet = map->edge_hi = po.delta_detach;
         d2 = map->ddet + c->eps;
-        map->edge_ok = lf_model_eval(map->model, &map->mat, c->data.branch, 1, &d2, &map->edge,
-                                     NULL) == LF_OK;
+        if (lf_model_eval(map->model, &map->mat, c->data.branch, 1, &d2, &map->edge, NULL)
+            == LF_OK)
+            map->edge_hi = d2;
     }
 }
 
@@ -525,18 +531,13 @@ curve_map(const lf_fit *f, const double *x, size_t j, int physical, row_map *map
     curve_map_of(f, x, j, physical, NULL, map);
 }
 
-/* The entries of the row of indentation d, the model's evaluation e there,
- * in the map's columns into v[0..M-1] (unweighted by sigma and the robust
- * weight: ws multiplies them); sel is map->sel or, in the instances for
- * the usual columns, a constant copy of it. */
+/* The six numbers a row of indentation d can hold, the model's evaluation
+ * e there, in the columns' numbering (before their factors): dP/dln w,
+ * dP/dln E*, dP/dnu, dP/ddelta + slope, 1, d. */
 LF_KERNEL void
-row_entries(const fit_curve *c, const row_map *map, size_t M, const int *sel, double d,
-            const lf_eval *e, double ws, double *v)
+row_values(const row_map *map, double d, const lf_eval *e, double *t)
 {
-    double t[6];
-    size_t q;
-
-    if (d > map->ddet && d < map->ddet + c->eps && map->edge_ok)  /* ddet = -inf unless unloading */
+    if (d > map->ddet && d < map->edge_hi)      /* never unless unloading */
         e = &map->edge;
     t[0] = e->dP_dlogw;
     t[1] = e->dP_dlogE;
@@ -544,6 +545,20 @@ row_entries(const fit_curve *c, const row_map *map, size_t M, const int *sel, do
     t[3] = e->dP_ddelta + map->slope;
     t[4] = 1.0;
     t[5] = d;
+}
+
+/* The entries of the row of indentation d, the model's evaluation e there,
+ * in the map's columns into v[0..M-1] (unweighted by sigma and the robust
+ * weight: ws multiplies them); sel is map->sel or, in the instances for
+ * the usual columns, a constant copy of it. */
+LF_KERNEL void
+row_entries(const row_map *map, size_t M, const int *sel, double d,
+            const lf_eval *e, double ws, double *v)
+{
+    double t[6];
+    size_t q;
+
+    row_values(map, d, e, t);
 #pragma GCC unroll 6
     for (q = 0; q < M; q++)
         v[q] = t[sel[q]] * map->mult[q] * ws;
@@ -569,7 +584,7 @@ curve_rows(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M, gs
     for (i = 0; i < c->data.n; i++) {
         const size_t k = c->row + i;
         double v[6], *row = J->data + k * J->tda;
-        row_entries(c, map, M, map->sel, f->ws.delta[k], &f->ws.ev[k], f->ws.sqrtw[k] * inv_sigma,
+        row_entries(map, M, map->sel, f->ws.delta[k], &f->ws.ev[k], f->ws.sqrtw[k] * inv_sigma,
                     v);
 #pragma GCC unroll 6
         for (q = 0; q < M; q++)
@@ -631,7 +646,7 @@ curve_sums(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M,
     for (i = 0; i < n; i++) {
         const double ri = rc[i];
         double v[6];
-        row_entries(c, map, M, sel, delta[i], &ev[i], sw[i] * inv_sigma, v);
+        row_entries(map, M, sel, delta[i], &ev[i], sw[i] * inv_sigma, v);
         /* unrolled (M is constant): the sums stay in registers */
 #pragma GCC unroll 6
         for (q = 0; q < M; q++) {
@@ -652,6 +667,75 @@ curve_sums(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M,
     }
 }
 
+#if defined(__SSE2__)
+/* curve_sums with the columns two to a register, for a constant sel: the
+ * row's entries v[2p], v[2p+1] side by side (a missing last one 0), and
+ * each sum a lane of its own, its products added in the rows' order as
+ * curve_sums adds them (each lane curve_sums' operations on its sum: the
+ * same bits in about half the instructions).  Lane q % 2 of A[q/2][l]
+ * holds a[q][l] for l <= q (the other lanes, sums a[q][l] with q < l,
+ * are taken and not read); of G[q/2] g[q], of B[q/2] the maximum of
+ * |v[q]|. */
+LF_KERNEL void
+curve_sums_pairs(const lf_fit *f, const fit_curve *c, const row_map *map, size_t M,
+                 const int *sel, const double *r, double *sa, double *sg, double *sb)
+{
+    const size_t P = (M + 1) / 2;
+    const double inv_sigma = 1.0 / c->sigma;
+    const double *delta = f->ws.delta + c->row, *sw = f->ws.sqrtw + c->row, *rc = r + c->row;
+    const lf_eval *ev = f->ws.ev + c->row;
+    const size_t n = c->data.n;
+    const __m128d sign = _mm_set1_pd(-0.0);
+    __m128d A[3][6], G[3], B[3], mult[3];
+    size_t i, p, l, q;
+
+    for (p = 0; p < P; p++) {
+        mult[p] = _mm_set_pd(2 * p + 1 < M ? map->mult[2 * p + 1] : 0.0, map->mult[2 * p]);
+        G[p] = B[p] = _mm_setzero_pd();
+        for (l = 0; l < M; l++)
+            A[p][l] = _mm_setzero_pd();
+    }
+    for (i = 0; i < n; i++) {
+        const __m128d ws = _mm_set1_pd(sw[i] * inv_sigma), ri = _mm_set1_pd(rc[i]);
+        double t[6];
+        __m128d v[3];
+        row_values(map, delta[i], &ev[i], t);
+#pragma GCC unroll 3
+        for (p = 0; p < P; p++)
+            v[p] = _mm_mul_pd(_mm_mul_pd(_mm_set_pd(2 * p + 1 < M ? t[sel[2 * p + 1]] : 0.0,
+                                                    t[sel[2 * p]]), mult[p]), ws);
+#pragma GCC unroll 6
+        for (l = 0; l < M; l++) {
+            const __m128d vl = l % 2 ? _mm_unpackhi_pd(v[l / 2], v[l / 2])
+                                     : _mm_unpacklo_pd(v[l / 2], v[l / 2]);
+#pragma GCC unroll 3
+            for (p = l / 2; p < P; p++)
+                A[p][l] = _mm_add_pd(A[p][l], _mm_mul_pd(v[p], vl));
+        }
+#pragma GCC unroll 3
+        for (p = 0; p < P; p++) {
+            G[p] = _mm_add_pd(G[p], _mm_mul_pd(v[p], ri));
+            /* max(|v|, b): |v| where |v| > b, else b (a NaN leaves b) */
+            B[p] = _mm_max_pd(_mm_andnot_pd(sign, v[p]), B[p]);
+        }
+    }
+    for (q = 0; q < M; q++) {
+        double lane[2];
+        _mm_storeu_pd(lane, G[q / 2]);
+        sg[q] = lane[q % 2];
+        _mm_storeu_pd(lane, B[q / 2]);
+        sb[q] = lane[q % 2];
+        for (l = 0; l <= q; l++) {
+            _mm_storeu_pd(lane, A[q / 2][l]);
+            sa[q * 6 + l] = lane[q % 2];
+        }
+    }
+}
+#define CURVE_SUMS_CONST curve_sums_pairs
+#else
+#define CURVE_SUMS_CONST curve_sums
+#endif
+
 /* The columns a curve's rows touch most often, in row_entries' numbering:
  * w and E*, with nu, with the curve's z0 and F0, with both. */
 static const int SEL_WE[] = { 0, 1 }, SEL_WEN[] = { 0, 1, 2 }, SEL_WEZF[] = { 0, 1, 3, 4 },
@@ -670,13 +754,13 @@ sums_of(const lf_fit *f, const fit_curve *c, const row_map *map, const double *r
         double *sg, double *sb)
 {
     if (sel_is(map, SEL_WE, 2))
-        curve_sums(f, c, map, 2, SEL_WE, r, sa, sg, sb);
+        CURVE_SUMS_CONST(f, c, map, 2, SEL_WE, r, sa, sg, sb);
     else if (sel_is(map, SEL_WEZF, 4))
-        curve_sums(f, c, map, 4, SEL_WEZF, r, sa, sg, sb);
+        CURVE_SUMS_CONST(f, c, map, 4, SEL_WEZF, r, sa, sg, sb);
     else if (sel_is(map, SEL_WEN, 3))
-        curve_sums(f, c, map, 3, SEL_WEN, r, sa, sg, sb);
+        CURVE_SUMS_CONST(f, c, map, 3, SEL_WEN, r, sa, sg, sb);
     else if (sel_is(map, SEL_WENZF, 5))
-        curve_sums(f, c, map, 5, SEL_WENZF, r, sa, sg, sb);
+        CURVE_SUMS_CONST(f, c, map, 5, SEL_WENZF, r, sa, sg, sb);
     else
         switch (map->m) {
         case 1: curve_sums(f, c, map, 1, map->sel, r, sa, sg, sb); break;
@@ -825,7 +909,7 @@ lf_fit_jacobian_physical_nu(lf_fit *f, const double *x, gsl_matrix *J)
         for (i = 0; i < c->data.n; i++) {
             const size_t k = c->row + i;
             double v;
-            row_entries(c, &map, 1, sel, f->ws.delta[k], &f->ws.ev[k], f->ws.sqrtw[k] / c->sigma,
+            row_entries(&map, 1, sel, f->ws.delta[k], &f->ws.ev[k], f->ws.sqrtw[k] / c->sigma,
                         &v);
             gsl_matrix_set(J, k, f->np, v);
         }
@@ -873,7 +957,7 @@ lf_fit_curve_rows(lf_fit *f, const double *x, size_t j, lf_model *model, lf_eval
     wide.m = k;
     *mcols = m + (size_t) (with_nu != 0);
     for (i = 0; i < c->data.n; i++)
-        row_entries(c, &wide, k, sel, delta[i], &e[i], f->ws.sqrtw[c->row + i] * inv_sigma,
+        row_entries(&wide, k, sel, delta[i], &e[i], f->ws.sqrtw[c->row + i] * inv_sigma,
                     rows + i * k);
     return GSL_SUCCESS;
 }

@@ -47,6 +47,19 @@ double lf_probe_length(const lf_probe *p);
 /* The thin-layer force scale C of a probe per unit constrained modulus M
  * (model_thin.c): C / M = pi/b k/(k+2) B^(-2/k). */
 double lf_thin_scale(const lf_probe *p);
+/* The AVX2 paths of the thin model's evaluation and roots (model_thin.c)
+ * and of the noise estimates' departures (fit/noise.c), four points at a
+ * time, where the processor has AVX2 (mode 1, the default), or always
+ * point by point (0, for the tests: the two give the same bits); -1
+ * leaves it.  Returns 1 when the vector paths are taken.  The exact
+ * model has its own (lf_exact_simd). */
+int lf_simd(int mode);
+/* x^(-1/3) for x = z[j] + shift, j < n: xr[j] = x within [1e-300, 1e300]
+ * (else 1), y[j] = lf_inv_cbrt_seed(xr[j]) followed by `steps` of
+ * lf_inv_cbrt_step, each step over all points before the next; the bits
+ * of that scalar loop, four points at a time where lf_simd allows
+ * (model_thin.c). */
+void lf_thin_roots(const double *z, double shift, size_t n, int steps, double *xr, double *y);
 
 /* LF_OK when the open file fd (named path) is no larger than
  * lf_input_limit(), else LF_EIO with a message saying so and how to raise

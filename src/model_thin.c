@@ -16,11 +16,18 @@
  *   dP/dln M  = P - dP/dln w,   dP/dnu = dP/dln M * dln Z/dnu.
  */
 #include <math.h>
+#include <stdatomic.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "internal.h"
+
+/* Four points at a time with AVX2 where the processor has it (thin_block4
+ * below). */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(LF_NO_SIMD)
+#define THIN_AVX2 1
+#endif
 
 double
 lf_thin_Z(lf_base base, double nu)
@@ -329,6 +336,240 @@ thin_block(const thin_loop *L, root_kind KIND, int ADH, size_t nb, const double 
     }
 }
 
+/* lf_thin_roots from point j0 on (the first guesses of the points before
+ * it already in xr and y), then the steps over all n: the steps apart from
+ * the integer first guesses are loops of arithmetic alone, which the
+ * compiler runs on vectors of points (the same operations on each), one
+ * step over all points at a time (no step waits on the one before it for
+ * the same point: 0.4 ns a point less than the four in a row for the
+ * model's roots) */
+LF_KERNEL void
+roots_from(const double *z, double shift, size_t j0, size_t n, int steps, double *xr, double *y)
+{
+    size_t j;
+    int s;
+
+    for (j = j0; j < n; j++) {
+        double x = z[j] + shift;
+        xr[j] = x >= 1e-300 && x <= 1e300 ? x : 1.0;
+        y[j] = lf_inv_cbrt_seed(xr[j]);
+    }
+    for (s = 0; s < steps; s++)
+        for (j = 0; j < n; j++)
+            y[j] = lf_inv_cbrt_step(xr[j], y[j]);
+}
+
+/* ---- four points at a time ------------------------------------------
+ *
+ * thin_block's points are independent: with AVX2, four of them go side by
+ * side, one point per lane of a 256-bit register, each lane performing
+ * thin_block's operations on its point in thin_block's order (IEEE
+ * operations lane by lane; no fused multiply-add: the target is AVX2
+ * without FMA, so nothing is contracted), so a point done here has
+ * thin_block's bits (tests/test_model.c holds the two paths equal bit for
+ * bit).  A lane out of contact computes what it may and is written as
+ * thin_block writes it, all zeros; a group of four with a point that
+ * thin_block would take through exp and log (k = 3 beyond the fast cube
+ * root's range) is left to thin_block.  For k = 1, 2, 3 and 4, chosen at
+ * run time (__builtin_cpu_supports); elsewhere, and for other k, the
+ * scalar loop. */
+
+/* -1: as the processor allows; 0: the scalar path (lf_simd) */
+static _Atomic int simd_mode = -1;
+
+static int
+simd_have(void)
+{
+#ifdef THIN_AVX2
+    return __builtin_cpu_supports("avx2") ? 1 : 0;
+#else
+    return 0;
+#endif
+}
+
+int
+lf_simd(int mode)
+{
+    if (mode >= 0)
+        atomic_store_explicit(&simd_mode, mode ? -1 : 0, memory_order_relaxed);
+    return atomic_load_explicit(&simd_mode, memory_order_relaxed) != 0 && simd_have();
+}
+
+#ifdef THIN_AVX2
+#include <immintrin.h>
+
+#define AVX2_FN static inline __attribute__((target("avx2"), always_inline))
+typedef __m256d v4;
+
+AVX2_FN v4
+bc(double x)
+{
+    return _mm256_set1_pd(x);
+}
+
+/* lf_capped lane by lane (a NaN becomes LF_BIG) */
+AVX2_FN v4
+vcapped(v4 x)
+{
+    const v4 r = _mm256_blendv_pd(bc(-LF_BIG), x, _mm256_cmp_pd(x, bc(-LF_BIG), _CMP_GT_OQ));
+    return _mm256_blendv_pd(bc(LF_BIG), r, _mm256_cmp_pd(x, bc(LF_BIG), _CMP_LT_OQ));
+}
+
+/* Four evaluations at e, from their six fields across the lanes. */
+AVX2_FN void
+store4(lf_eval *e, const v4 f[6])
+{
+    double *p = &e->P;
+    int j;
+
+    for (j = 0; j < 6; j += 2) {
+        const v4 lo = _mm256_unpacklo_pd(f[j], f[j + 1]), hi = _mm256_unpackhi_pd(f[j], f[j + 1]);
+        _mm_storeu_pd(p + j, _mm256_castpd256_pd128(lo));
+        _mm_storeu_pd(p + 6 + j, _mm256_castpd256_pd128(hi));
+        _mm_storeu_pd(p + 12 + j, _mm256_extractf128_pd(lo, 1));
+        _mm_storeu_pd(p + 18 + j, _mm256_extractf128_pd(hi, 1));
+    }
+}
+
+_Static_assert(sizeof(lf_eval) == 6 * sizeof(double), "lf_eval is six numbers");
+
+/* thin_block's points i0..i0+nb-1 for KIND (ROOT_ONE, ROOT_SQRT, ROOT_CBRT,
+ * ROOT_SQRT2) and ADH, four at a time; returns how many were done (a
+ * multiple of four: the rest are thin_block's). */
+__attribute__((target("avx2"), always_inline)) static inline size_t
+block4(const thin_loop *L, root_kind KIND, int ADH, size_t nb, const double *delta,
+       const double *y, lf_eval *out)
+{
+    const thin_consts *t = &L->t;
+    const v4 c = bc(t->c), C = bc(t->C), Ckk = bc(L->Ckk), kkc = bc(L->kkc), c2k = bc(L->c2k);
+    const v4 wcoef = bc(L->wcoef), dlogZ = bc(t->dlogZ), ak = bc(L->pw.ak), zero = bc(0.0);
+    size_t j;
+
+    for (j = 0; j + 4 <= nb; j += 4) {
+        const v4 d = _mm256_loadu_pd(delta + j), d1 = d + c;
+        v4 off = _mm256_cmp_pd(d1, zero, _CMP_LE_OQ), g, p2, a, f[6];
+        if (L->load)
+            off = _mm256_or_pd(off, _mm256_cmp_pd(d, zero, _CMP_LT_OQ));
+        if (KIND == ROOT_ONE) {
+            g = d1;
+            p2 = d1 * d1;
+            a = ak * d1;
+        } else if (KIND == ROOT_SQRT) {
+            g = bc(1.0);
+            p2 = d1;
+            a = ak * _mm256_sqrt_pd(d1);
+        } else if (KIND == ROOT_CBRT) {
+            const v4 in = _mm256_and_pd(_mm256_cmp_pd(d1, bc(1e-300), _CMP_GE_OQ),
+                                        _mm256_cmp_pd(d1, bc(1e300), _CMP_LE_OQ));
+            if (_mm256_movemask_pd(_mm256_or_pd(in, off)) != 15)
+                return j;           /* a point for exp and log: thin_block's */
+            g = _mm256_loadu_pd(y + j);
+            p2 = d1 * g;
+            a = ak * (p2 * g);
+        } else {                    /* ROOT_SQRT2 */
+            const v4 r = _mm256_sqrt_pd(_mm256_sqrt_pd(d1));
+            p2 = r * r;
+            /* fmin: a NaN quotient gives LF_BIG, as minpd's second operand */
+            g = _mm256_min_pd(p2 / d1, bc(LF_BIG));
+            a = ak * r;
+        }
+        if (ADH) {
+            f[0] = C * p2 * (d1 - kkc);
+            f[2] = vcapped(Ckk * g * (d1 - c2k));
+            f[3] = vcapped(wcoef * g);
+        } else {
+            f[0] = C * p2 * d1;
+            f[2] = Ckk * p2;
+            f[3] = zero;
+        }
+        f[1] = a;
+        f[4] = vcapped(f[0] - f[3]);
+        f[5] = vcapped(f[4] * dlogZ);
+        f[0] = _mm256_andnot_pd(off, f[0]);
+        f[1] = _mm256_andnot_pd(off, f[1]);
+        f[2] = _mm256_andnot_pd(off, f[2]);
+        f[3] = _mm256_andnot_pd(off, f[3]);
+        f[4] = _mm256_andnot_pd(off, f[4]);
+        f[5] = _mm256_andnot_pd(off, f[5]);
+        store4(out + j, f);
+    }
+    return j;
+}
+
+/* lf_inv_cbrt_seed lane by lane: 0x553F000000000000 - i / 3 for the bits i
+ * of x > 0, the quotient exact from 32-bit multiplications: with i = H 2^32
+ * + L, H / 3 and L / 3 by the multiplier 0xAAAAAAAB (exact for any 32-bit
+ * numerator), remainders rH and rL, and 2^32 = 3 0x55555555 + 1,
+ *     i / 3 = (H / 3) 2^32 + rH 0x55555555 + L / 3 + (rH + rL >= 3). */
+AVX2_FN v4
+vcbrt_seed(v4 x)
+{
+    const __m256i i = _mm256_castpd_si256(x), mul = _mm256_set1_epi64x(0xAAAAAAAB);
+    const __m256i H = _mm256_srli_epi64(i, 32), L = _mm256_and_si256(i, _mm256_set1_epi64x(0xFFFFFFFF));
+    const __m256i qH = _mm256_srli_epi64(_mm256_mul_epu32(H, mul), 33);
+    const __m256i qL = _mm256_srli_epi64(_mm256_mul_epu32(L, mul), 33);
+    const __m256i rH = _mm256_sub_epi64(H, _mm256_add_epi64(_mm256_add_epi64(qH, qH), qH));
+    const __m256i rL = _mm256_sub_epi64(L, _mm256_add_epi64(_mm256_add_epi64(qL, qL), qL));
+    const __m256i carry = _mm256_cmpgt_epi64(_mm256_add_epi64(rH, rL), _mm256_set1_epi64x(2));
+    __m256i q = _mm256_add_epi64(_mm256_slli_epi64(qH, 32),
+                                 _mm256_mul_epu32(rH, _mm256_set1_epi64x(0x55555555)));
+    q = _mm256_sub_epi64(_mm256_add_epi64(q, qL), carry);     /* carry: -1 or 0 */
+    return _mm256_castsi256_pd(_mm256_sub_epi64(_mm256_set1_epi64x(0x553F000000000000), q));
+}
+
+/* lf_thin_roots four points at a time */
+__attribute__((target("avx2"))) static void
+roots4(const double *z, double shift, size_t n, int steps, double *xr, double *y)
+{
+    size_t j;
+
+    for (j = 0; j + 4 <= n; j += 4) {
+        const v4 x = _mm256_loadu_pd(z + j) + bc(shift);
+        const v4 in = _mm256_and_pd(_mm256_cmp_pd(x, bc(1e-300), _CMP_GE_OQ),
+                                    _mm256_cmp_pd(x, bc(1e300), _CMP_LE_OQ));
+        const v4 r = _mm256_blendv_pd(bc(1.0), x, in);
+        _mm256_storeu_pd(xr + j, r);
+        _mm256_storeu_pd(y + j, vcbrt_seed(r));
+    }
+    roots_from(z, shift, j, n, steps, xr, y);
+}
+
+/* block4 for the kind and adhesion of L (kinds it has not: none done) */
+__attribute__((target("avx2"))) static size_t
+thin_block4(const thin_loop *L, int adh, size_t nb, const double *delta, const double *y,
+            lf_eval *out)
+{
+    switch (L->pw.kind) {
+    case ROOT_ONE:
+        return adh ? block4(L, ROOT_ONE, 1, nb, delta, y, out)
+                   : block4(L, ROOT_ONE, 0, nb, delta, y, out);
+    case ROOT_SQRT:
+        return adh ? block4(L, ROOT_SQRT, 1, nb, delta, y, out)
+                   : block4(L, ROOT_SQRT, 0, nb, delta, y, out);
+    case ROOT_CBRT:
+        return adh ? block4(L, ROOT_CBRT, 1, nb, delta, y, out)
+                   : block4(L, ROOT_CBRT, 0, nb, delta, y, out);
+    case ROOT_SQRT2:
+        return adh ? block4(L, ROOT_SQRT2, 1, nb, delta, y, out)
+                   : block4(L, ROOT_SQRT2, 0, nb, delta, y, out);
+    default:
+        return 0;
+    }
+}
+#endif
+
+void
+lf_thin_roots(const double *z, double shift, size_t n, int steps, double *xr, double *y)
+{
+#ifdef THIN_AVX2
+    if (lf_simd(-1)) {
+        roots4(z, shift, n, steps, xr, y);
+        return;
+    }
+#endif
+    roots_from(z, shift, 0, n, steps, xr, y);
+}
+
 static int
 thin_eval(void *state, const lf_probe *p, const lf_material *m,
           lf_branch branch, size_t n, const double *delta, lf_eval *out)
@@ -337,6 +578,9 @@ thin_eval(void *state, const lf_probe *p, const lf_material *m,
     const double k = p->k, kk = (k + 2.0) / k;
     double y[BLOCK] = { 0.0 }, xr[BLOCK];
     size_t i0;
+#ifdef THIN_AVX2
+    const int vec = lf_simd(-1);
+#endif
 
     L.t = thin_setup(p, state_scale(state, p), m);
     L.pw = state != NULL ? ((const thin_state *) state)->pw : powers_setup(p);
@@ -348,47 +592,43 @@ thin_eval(void *state, const lf_probe *p, const lf_material *m,
     if (p->tip == LF_TIP_SPHERE)
         return sphere_eval(p, &L.t, branch, n, delta, out);
     for (i0 = 0; i0 < n; i0 += BLOCK) {
-        const size_t nb = n - i0 < BLOCK ? n - i0 : BLOCK;
+        size_t nb = n - i0 < BLOCK ? n - i0 : BLOCK;
         const double *d = delta + i0;
+        const double *yb = y;
         lf_eval *o = out + i0;
         const int adh = L.t.c > 0.0;
-        size_t j, s;
-        /* k = 3: the roots of a block first, in a loop of independent
-         * multiplications that the processor overlaps */
-        if (L.pw.kind == ROOT_CBRT) {
-            for (j = 0; j < nb; j++) {
-                double x = d[j] + L.t.c;
-                xr[j] = x >= 1e-300 && x <= 1e300 ? x : 1.0;
-                y[j] = lf_inv_cbrt_seed(xr[j]);
-            }
-            /* lf_inv_cbrt's four steps, apart from its integer first
-             * guesses: loops of arithmetic alone, which the compiler runs
-             * on vectors of points (the same operations on each), one
-             * step over the block at a time (no step waits on the one
-             * before it for the same point: 0.4 ns a point less than
-             * the four in a row) */
-            for (s = 0; s < 4; s++)
-                for (j = 0; j < nb; j++)
-                    y[j] = lf_inv_cbrt_step(xr[j], y[j]);
+        /* k = 3: the roots of a block first (lf_inv_cbrt's four steps) */
+        if (L.pw.kind == ROOT_CBRT)
+            lf_thin_roots(d, L.t.c, nb, 4, xr, y);
+#ifdef THIN_AVX2
+        if (vec) {
+            const size_t done = thin_block4(&L, adh, nb, d, y, o);
+            d += done;
+            yb += done;
+            o += done;
+            nb -= done;
+            if (nb == 0)
+                continue;
         }
+#endif
         switch (L.pw.kind) {
         case ROOT_SQRT:
             if (adh)
-                thin_block(&L, ROOT_SQRT, 1, nb, d, y, o);
+                thin_block(&L, ROOT_SQRT, 1, nb, d, yb, o);
             else
-                thin_block(&L, ROOT_SQRT, 0, nb, d, y, o);
+                thin_block(&L, ROOT_SQRT, 0, nb, d, yb, o);
             break;
         case ROOT_CBRT:
             if (adh)
-                thin_block(&L, ROOT_CBRT, 1, nb, d, y, o);
+                thin_block(&L, ROOT_CBRT, 1, nb, d, yb, o);
             else
-                thin_block(&L, ROOT_CBRT, 0, nb, d, y, o);
+                thin_block(&L, ROOT_CBRT, 0, nb, d, yb, o);
             break;
         default:        /* the other kinds: the kind tested per point */
             if (adh)
-                thin_block(&L, L.pw.kind, 1, nb, d, y, o);
+                thin_block(&L, L.pw.kind, 1, nb, d, yb, o);
             else
-                thin_block(&L, L.pw.kind, 0, nb, d, y, o);
+                thin_block(&L, L.pw.kind, 0, nb, d, yb, o);
             break;
         }
     }

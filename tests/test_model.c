@@ -8,7 +8,9 @@
  *  - the numerical minimum of P(delta) for the pull-off (Eq. 13, 25);
  *  - reference numbers of the seed paper's closed forms (Papangelo,
  *    Eq. 12-14, 24-25: the pull-off of k = 2, 3, 5 on a 1 um layer);
- *  - central finite differences for every analytic derivative.
+ *  - central finite differences for every analytic derivative;
+ *  - its evaluation four points at a time (AVX2) against the scalar loop,
+ *    bit for bit.
  */
 #include <math.h>
 #include <string.h>
@@ -18,6 +20,7 @@
 #include <gsl/gsl_integration.h>
 #include <gsl/gsl_min.h>
 
+#include "internal.h"
 #include "layerfit.h"
 #include "testlib.h"
 
@@ -446,6 +449,108 @@ test_branches_and_domain(void)
     lf_model_free(NULL);
 }
 
+/* The vector path (four points a lane each, src/model_thin.c) and the
+ * scalar loop give the same bits: k = 1, 1.5, 2, 3, 4, 6 (the vector
+ * kinds and two that are not), with adhesion and without (w = 0), a
+ * frictionless and a bonded layer, both branches; 243 points (not a
+ * multiple of four, nor of the 64 of a block) from far out of contact
+ * through detachment, its neighbourhood and depths a hundred times c, and
+ * at w = 0 a few below 1e-300 (k = 3's cube root then takes exp and log:
+ * its group of four is the scalar loop's).  On a processor without AVX2
+ * both runs take the scalar path. */
+#define NP_SIMD 243
+static void
+test_simd_bits(void)
+{
+    const double ks[] = { 1.0, 1.5, 2.0, 3.0, 4.0, 6.0 };
+    static double d[NP_SIMD];
+    static lf_eval e[2][NP_SIMD];
+    const int vec = lf_simd(1);
+    size_t ki, i;
+    int base, adh, br, v, differ = 0, evals = 0;
+
+    (void) vec;     /* read only where the vector path exists */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(LF_NO_SIMD)
+    t_int(vec, __builtin_cpu_supports("avx2") ? 1 : 0, "thin model: the vector path where AVX2 is");
+#endif
+    for (ki = 0; ki < sizeof ks / sizeof ks[0]; ki++)
+        for (base = 0; base < 2; base++)
+            for (adh = 0; adh < 2; adh++) {
+                /* k = 1: a cone of half-angle 70 degrees */
+                const lf_probe pr = { ks[ki], 1e-3, 1e-6,
+                                      base ? LF_BASE_BONDED : LF_BASE_FRICTIONLESS,
+                                      ks[ki] == 1.0 ? LF_TIP_CONE : LF_TIP_POWER, 1.22, 0.0 };
+                const lf_material m = { adh ? 0.01 : 0.0, 1e9, 0.3 };
+                lf_model *mod = lf_model_alloc(&lf_model_thin, &pr, NULL);
+                lf_pulloff po;
+                double c;
+                if (mod == NULL || lf_model_pulloff(mod, &m, &po, NULL) != LF_OK) {
+                    t_true(0, "alloc/pulloff thin simd k = %g", ks[ki]);
+                    lf_model_free(mod);
+                    continue;
+                }
+                c = adh ? po.c : 1e-9;
+                for (i = 0; i < NP_SIMD; i++)
+                    d[i] = -2.0 * c + 102.0 * c * pow((i + 0.5) / NP_SIMD, 2.0 + (i % 7 == 3));
+                d[10] = -c;
+                d[11] = -c * (1.0 - 1e-15);
+                d[12] = -c * (1.0 + 1e-15);
+                d[13] = 0.0;
+                if (!adh) {
+                    d[20] = 1e-305;
+                    d[21] = 4e-310;
+                    d[22] = 1e-300;
+                }
+                for (br = 0; br < 2; br++) {
+                    int st[2];
+                    for (v = 0; v < 2; v++) {
+                        lf_simd(v);
+                        st[v] = lf_model_eval(mod, &m, br ? LF_BRANCH_LOAD : LF_BRANCH_UNLOAD,
+                                              NP_SIMD, d, e[v], NULL);
+                    }
+                    lf_simd(1);
+                    evals++;
+                    if (st[0] != LF_OK || st[1] != LF_OK || memcmp(e[0], e[1], sizeof e[0]) != 0)
+                        if (differ++ < 3)
+                            t_true(0, "thin simd k = %g base %d adhesion %d branch %d: status "
+                                   "%d %d, evaluations differ", ks[ki], base, adh, br, st[0],
+                                   st[1]);
+                }
+                lf_model_free(mod);
+            }
+    t_int(differ, 0, "thin model: vector and scalar paths equal bit for bit in %d evaluations",
+          evals);
+}
+
+/* k = 3's cube roots four at a time against the scalar loop's over the
+ * whole range of the fast root, 1e-300 to 1e300 (w = 0: delta1 = delta),
+ * each decade at many mantissas: the first guesses come from the bits
+ * (an integer division by 3 done in double arithmetic by the vector path),
+ * and one off by a unit would move some roots' last bits. */
+#define NP_CBRT 4096
+static void
+test_simd_cbrt(void)
+{
+    const lf_probe pr = { 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 };
+    const lf_material m = { 0.0, 1e9, 0.3 };
+    static double d[NP_CBRT];
+    static lf_eval e[2][NP_CBRT];
+    lf_model *mod = lf_model_alloc(&lf_model_thin, &pr, NULL);
+    size_t i;
+    int v, st[2];
+
+    for (i = 0; i < NP_CBRT; i++)
+        d[i] = pow(10.0, -300.0 + 600.0 * (double) i / (NP_CBRT - 1)) * (1.0 + 0.37 * sin(i * 1.7));
+    for (v = 0; v < 2; v++) {
+        lf_simd(v);
+        st[v] = lf_model_eval(mod, &m, LF_BRANCH_UNLOAD, NP_CBRT, d, e[v], NULL);
+    }
+    lf_simd(1);
+    t_true(st[0] == LF_OK && st[1] == LF_OK && memcmp(e[0], e[1], sizeof e[0]) == 0,
+           "thin model k = 3: vector and scalar cube roots equal bit for bit over 1e-300..1e300");
+    lf_model_free(mod);
+}
+
 int
 main(void)
 {
@@ -456,5 +561,7 @@ main(void)
     test_reference_numbers();
     test_derivatives();
     test_branches_and_domain();
+    test_simd_bits();
+    test_simd_cbrt();
     return t_summary();
 }

@@ -8,7 +8,9 @@
  * quantum (fit/noise.c, sorted by buckets) against the same rule on a
  * qsort: on lattices, with rounding jitter, noise, outliers and ties.
  * A fit's noise is of the data its buffers hold now: buffers filled again
- * with other data give those data's noise. */
+ * with other data give those data's noise.  The departures four points at
+ * a time (AVX2) give the scalar loop's bits, alone and in a fit's noise
+ * model of correlated noise (strides beyond 1). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -132,6 +134,105 @@ test_buffers_refilled(void)
     scene_free(&b);
 }
 
+/* lf_fit_noise_sigma's departures (left in work) and sd with the vector
+ * path and without: 301 points (not a multiple of four) in a shuffled
+ * order, some at repeated depths (no line through three points at one
+ * depth: the group of four holding one is the scalar loop's). */
+static void
+test_simd_departures(gsl_rng *rng)
+{
+    enum { N = 301 };
+    static double z[N], F[N], work[2][3 * N], key[N];
+    static size_t ord[N], perm[N];
+    const int vec = lf_simd(1);
+    double sd[2];
+    size_t i, j, rep;
+    int v;
+
+    (void) vec;     /* read only where the vector path exists */
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(LF_NO_SIMD)
+    t_int(vec, __builtin_cpu_supports("avx2") ? 1 : 0, "noise: the vector path where AVX2 is");
+#endif
+    for (rep = 0; rep < 2; rep++) {
+        for (i = 0; i < N; i++) {
+            perm[i] = i;
+            /* rep 1: every 50th depth repeated from its neighbour */
+            key[i] = rep && i % 50 == 7 ? (double) (i - 1) : (double) i;
+        }
+        gsl_ran_shuffle(rng, perm, N, sizeof *perm);
+        for (i = 0; i < N; i++) {           /* file order perm, depth order i */
+            z[perm[i]] = 1e-9 * key[i] + 1e-12 * gsl_rng_uniform(rng) * (key[i] == (double) i);
+            F[perm[i]] = 1e-6 * sin(0.01 * (double) i) + 1e-8 * gsl_ran_gaussian(rng, 1.0);
+        }
+        for (i = 0; i < N; i++)             /* by depth, ties in file order */
+            ord[i] = perm[i];
+        for (i = 1; i < N; i++)
+            for (j = i; j > 0 && (z[ord[j - 1]] > z[ord[j]]
+                                  || (z[ord[j - 1]] == z[ord[j]] && ord[j - 1] > ord[j])); j--) {
+                size_t t = ord[j];
+                ord[j] = ord[j - 1];
+                ord[j - 1] = t;
+            }
+        for (v = 0; v < 2; v++) {
+            memset(work[v], 0, sizeof work[v]);
+            lf_simd(v);
+            sd[v] = lf_fit_noise_sigma(z, F, ord, N, 1e-6, work[v]);
+        }
+        lf_simd(1);
+        t_true(sd[0] == sd[1] && memcmp(work[0], work[1], sizeof work[0]) == 0,
+               "noise sd and departures: vector and scalar paths equal bit for bit (%s)",
+               rep ? "repeated depths" : "distinct depths");
+    }
+}
+
+/* A fit's noise model (correlation time, the plateau's noise sd at its
+ * stride, shape, runs test) with and without the vector path, on noise
+ * made correlated by a running mean over 9 points taken twice: the
+ * same bits. */
+static void
+test_simd_noise_model(void)
+{
+    scene a = scene_default("correlated noise");
+    lf_fit_result res[2];
+    static double raw[600];
+    int v, st[2], pass;
+    size_t i, k;
+
+    scene_add(&a, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    a.sim.noise = 0.02;
+    t_int(scene_simulate(&a, 5), LF_OK, "scene simulated (seed 5)");
+    for (pass = 0; pass < 2; pass++) {      /* twice: a triangle of 17 points */
+        for (i = 0; i < a.curve[0].n && i < 600; i++)
+            raw[i] = a.force[0][i];
+        for (i = 0; i < a.curve[0].n && i < 600; i++) {
+            double m = 0.0;
+            for (k = 0; k < 9; k++)
+                m += raw[i + k < a.curve[0].n ? i + k : a.curve[0].n - 1];
+            a.force[0][i] = m / 9.0;
+        }
+    }
+    for (v = 0; v < 2; v++) {
+        lf_simd(v);
+        st[v] = lf_fit_driver(&a.fit, a.n, a.curve, &res[v], NULL);
+    }
+    lf_simd(1);
+    if (st[0] != LF_OK || st[1] != LF_OK) {
+        t_true(0, "correlated-noise fits converge (%d %d)", st[0], st[1]);
+    } else {
+        const lf_fit_curve_result *c0 = &res[0].curves[0], *c1 = &res[1].curves[0];
+        t_true(c0->corr_time > 1.5, "the noise is correlated (corr_time %.3g)", c0->corr_time);
+        t_true(c0->corr_time == c1->corr_time && c0->noise_sd == c1->noise_sd
+               && c0->shape == c1->shape && c0->runs_z == c1->runs_z
+               && res[0].chi2 == res[1].chi2 && res[0].se_scale == res[1].se_scale
+               && memcmp(res[0].value, res[1].value, res[0].npar * sizeof *res[0].value) == 0,
+               "correlated noise: vector and scalar paths give the same bits");
+    }
+    for (v = 0; v < 2; v++)
+        if (st[v] == LF_OK || st[v] == LF_ENOCONV)
+            lf_fit_result_free(&res[v]);
+    scene_free(&a);
+}
+
 int
 main(void)
 {
@@ -217,7 +318,9 @@ main(void)
         /* the lattices are found (else the comparison tests little) */
         t_true(nonzero >= 8, "quantized kinds found quantized (%d)", nonzero);
     }
+    test_simd_departures(rng);
     gsl_rng_free(rng);
     test_buffers_refilled();
+    test_simd_noise_model();
     return t_summary();
 }
