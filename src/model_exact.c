@@ -422,14 +422,15 @@ slot_claim(exact_state *st)
  * + j for product j) so that the evaluation reads them in order: the
  * Taylor coefficients y_n (n = 0..PP_DEG), those of the first derivative
  * n y_n (n = 1..PP_DEG) and of the second, 2 y_2, 6 y_3 and y_4 (times
- * 12 in pp_d2; the series curve_poly cuts there); then tau's y_n and the
- * sub-cell's centre. */
+ * 12 in pp_d2; the series curve_poly cuts there); then the sub-cell's
+ * centre and tau's y_n (its y_0 = e^centre next to the centre, which
+ * point_from reads as a pair). */
 #define PP_VAL 0
 #define PP_D1 (PP_VAL + 4 * PP_NC)
 #define PP_D2 (PP_D1 + 4 * PP_DEG)
-#define PP_TAU (PP_D2 + 4 * 3)
-#define PP_MID (PP_TAU + PP_NC)
-#define PP_STRIDE (PP_MID + 1)
+#define PP_MID (PP_D2 + 4 * 3)
+#define PP_TAU (PP_MID + 1)
+#define PP_STRIDE (PP_TAU + PP_NC)
 /* a bonded mix's: then d ln f_j/dnu (its table's cubic) at 4 n + j */
 #define PP_NU PP_STRIDE
 #define PP_STRIDE_NU (PP_NU + 16)
@@ -863,6 +864,16 @@ LF_KERNEL double
 pp_tau(const double *a, double t, double t2, double t4)
 {
     return (a[0] + a[1] * t) + t2 * (a[2] + a[3] * t) + t4 * ((a[4] + a[5] * t) + a[6] * t2);
+}
+
+/* e^t to degree 6 (|t| <= ~0.003: the first term left out ~1e-21), by
+ * Estrin's scheme: tau at a root from the sub-cell's e^centre
+ * (point_from). */
+LF_KERNEL double
+pp_exp(double t, double t2, double t4)
+{
+    return ((1.0 + t) + t2 * (1.0 / 2 + t * (1.0 / 6)))
+           + t4 * ((1.0 / 24 + t * (1.0 / 120)) + t2 * (1.0 / 720));
 }
 
 /* Two products' value, first and second derivative at t side by side
@@ -1752,9 +1763,9 @@ point_from(const exact_ctx *c, int bonded, double target, double u, lf_eval *e, 
 {
     const prodpoly *pp = c->pp;
     const double *a;
-    double t, t2, t4, tau, shift, shift1, shift2, D, dd, d2, g, idd, du, h, ee;
-    double Ssh, Ssh1, Ssh2, P1, P11, P12, P, dP, lo = c->u_lo, hi = c->u_top;
-    pp_v2 v01, v23, y01, y23, z01, z23;
+    double t, t2, t4, tp, tp2, tp4, tau, shift, shift1, shift2, D, dd, d2, g, idd, du, h, ee;
+    double Ssh, P1, P, dP, lo = c->u_lo, hi = c->u_top;
+    pp_v2 v01, v23, y01, y23, z01;
     int it;
 
     for (it = 0;; it++) {
@@ -1800,23 +1811,19 @@ point_from(const exact_ctx *c, int bonded, double target, double u, lf_eval *e, 
     h = 0.5 * du * du;
     ee = d2 * du * idd;
     idd *= 1.0 - ee + ee * ee;
-    v23 = pp_val2(a + PP_VAL + 2, t, t2, t4);
-    y23 = pp_d12(a + PP_D1 + 2, t, t2, t4);
-    z23 = pp_d22(a + PP_D2 + 2, t);
-    tau = pp_tau(a + PP_TAU, t, t2, t4);
+    /* P's products and tau at the root itself */
+    tp = t + du;
+    tp2 = tp * tp;
+    tp4 = tp2 * tp2;
+    v23 = pp_val2(a + PP_VAL + 2, tp, tp2, tp4);
+    y23 = pp_d12(a + PP_D1 + 2, tp, tp2, tp4);
+    tau = a[PP_TAU] * pp_exp(tp, tp2, tp4);
     Ssh = c->Sc * v23[0];
-    Ssh1 = c->Sc * y23[0];
-    Ssh2 = c->Sc * z23[0];
     P1 = c->F1 * v23[1];
-    P11 = c->F1 * y23[1];
-    P12 = c->F1 * z23[1];
-    P = (P1 - Ssh) + (P11 - Ssh1) * du + (P12 - Ssh2) * h;
-    dP = (P11 - Ssh1) + (P12 - Ssh2) * du;
-    tau *= 1.0 + du + h;
+    P = P1 - Ssh;
+    dP = c->F1 * y23[1] - c->Sc * y23[0];
     shift += shift1 * du + shift2 * h;
-    Ssh += Ssh1 * du + Ssh2 * h;
-    P1 += P11 * du + P12 * h;
-    poly_out(c, bonded, a, t + du, target, P, tau, P1, Ssh, shift, dP * idd, e);
+    poly_out(c, bonded, a, tp, target, P, tau, P1, Ssh, shift, dP * idd, e);
     root_put(ro, u + du, target, idd, shift, shift1, d2);
     return 1;
 }
@@ -1907,6 +1914,23 @@ poly4(const double *const a[4], size_t off, v4 t, v4 t2, v4 t4, v4 v[2], v4 y[2]
     }
 }
 
+/* poly4's values and first derivatives alone. */
+AVX2_FN void
+poly4_vy(const double *const a[4], size_t off, v4 t, v4 t2, v4 t4, v4 v[2], v4 y[2])
+{
+    v4 c[7][2];
+    int n;
+    for (n = 0; n < 7; n++)
+        ld_pair(a, off + 4 * (size_t) n, &c[n][0], &c[n][1]);
+    for (n = 0; n < 2; n++) {
+        const v4 b0 = c[1][n], b1 = bc(2.0) * c[2][n], b2 = bc(3.0) * c[3][n];
+        const v4 b3 = bc(4.0) * c[4][n], b4 = bc(5.0) * c[5][n], b5 = bc(6.0) * c[6][n];
+        v[n] = ((c[0][n] + c[1][n] * t) + t2 * (c[2][n] + c[3][n] * t))
+               + t4 * ((c[4][n] + c[5][n] * t) + c[6][n] * t2);
+        y[n] = ((b0 + b1 * t) + t2 * (b2 + b3 * t)) + t4 * (b4 + b5 * t);
+    }
+}
+
 AVX2_FN v4
 vabs(v4 x)
 {
@@ -1923,8 +1947,9 @@ vsel(v4 mask, v4 yes, v4 no)
 AVX2_FN v4
 vcapped(v4 x)
 {
-    const v4 r = vsel(_mm256_cmp_pd(x, bc(-LF_BIG), _CMP_GT_OQ), x, bc(-LF_BIG));
-    return vsel(_mm256_cmp_pd(x, bc(LF_BIG), _CMP_LT_OQ), r, bc(LF_BIG));
+    /* lf_capped's two selections: vminpd is x < BIG ? x : BIG and vmaxpd
+     * x > -BIG ? x : -BIG, as written there (a NaN becomes BIG) */
+    return _mm256_max_pd(_mm256_min_pd(x, bc(LF_BIG)), bc(-LF_BIG));
 }
 
 /* Four consecutive records or evaluations (six numbers each) at p:
@@ -2011,10 +2036,10 @@ poly_finish4(const exact_ctx *c, int bonded, const poly_step *s, lf_eval *e)
     v4 shift = LANES(shift), h, P2;
 
     poly4(a, PP_VAL + 2, t, t2, t4, v, y, z);
-    ld_pair(a, PP_TAU, &ta, &tb);
-    ld_pair(a, PP_TAU + 2, &tc, &td);
-    ld_pair(a, PP_TAU + 4, &te, &tf);
-    ld_pair(a, PP_TAU + 6, &tg, &tmid);
+    ld_pair(a, PP_MID, &tmid, &ta);
+    ld_pair(a, PP_TAU + 1, &tb, &tc);
+    ld_pair(a, PP_TAU + 3, &td, &te);
+    ld_pair(a, PP_TAU + 5, &tf, &tg);
     tau = ((ta + tb * t) + t2 * (tc + td * t)) + t4 * ((te + tf * t) + tg * t2);
     Ssh = bc(c->Sc) * v[0];
     Ssh1 = bc(c->Sc) * y[0];
@@ -2036,6 +2061,45 @@ poly_finish4(const exact_ctx *c, int bonded, const poly_step *s, lf_eval *e)
 #undef LANES
 }
 
+
+/* point_from's finish for four points across the lanes (their sub-cells
+ * a[], t, t^2, t^4 there, the step's u, du, 1/dd and d2, and delta's
+ * shift, shift1 and shift2 at u): P's products and tau at u carried to
+ * the root, the evaluations out[0 .. 3] and the records ro[0 .. 3]. */
+AVX2_FN void
+finish4(const exact_ctx *c, int bonded, const double *const a[4], v4 t, v4 t2, v4 t4, v4 u, v4 du,
+        v4 idd, v4 d2, v4 sh, v4 sh1, v4 sh2, v4 target, lf_eval *out, root_rec *ro)
+{
+    v4 h, ee, v23[2], y23[2], mid, emid, tp, tp2, tp4, tau, Ssh, P1, P, dP, dPdd, f[6];
+
+    (void) t2;
+    (void) t4;
+    h = bc(0.5) * du * du;
+    ee = d2 * du * idd;
+    idd = idd * ((bc(1.0) - ee) + ee * ee);
+    tp = t + du;
+    tp2 = tp * tp;
+    tp4 = tp2 * tp2;
+    poly4_vy(a, PP_VAL + 2, tp, tp2, tp4, v23, y23);
+    ld_pair(a, PP_MID, &mid, &emid);
+    tau = emid * (((bc(1.0) + tp) + tp2 * (bc(1.0 / 2) + tp * bc(1.0 / 6)))
+                  + tp4 * ((bc(1.0 / 24) + tp * bc(1.0 / 120)) + tp2 * bc(1.0 / 720)));
+    Ssh = bc(c->Sc) * v23[0];
+    P1 = bc(c->F1) * v23[1];
+    P = P1 - Ssh;
+    dP = bc(c->F1) * y23[1] - bc(c->Sc) * y23[0];
+    sh = sh + (sh1 * du + sh2 * h);
+    dPdd = dP * idd;
+    outs4(c, bonded, a, tp, target, P, tau, P1, Ssh, sh, dPdd, out);
+    /* root_put's */
+    f[0] = u + du;
+    f[1] = target;
+    f[2] = idd;
+    f[3] = sh;
+    f[4] = sh1;
+    f[5] = d2;
+    st_six(&ro->u, f);
+}
 
 /* Points taken as NB blocks of four (eval_from4). */
 #define NB 2
@@ -2187,42 +2251,78 @@ point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const
     v4 *fsh2 = st.fsh2, *fd2 = st.fd2, *fidd = st.fidd, *fdu = st.fdu, *target = st.target;
     if (m == 0)
         return 0;
-    for (b = 0; b < NB; b++) {
-        v4 h, ee, v23[2], y23[2], z23[2], ta, tb, tc, td, te, tf, tg, tmid, tau, Ssh, Ssh1, Ssh2;
-        v4 P1, P11, P12, P, dP, dPdd, sh, du = fdu[b], idd = fidd[b], f[6];
-        h = bc(0.5) * du * du;
-        ee = fd2[b] * du * idd;
-        idd = idd * ((bc(1.0) - ee) + ee * ee);
-        poly4(fa[b], PP_VAL + 2, ft[b], ft2[b], ft4[b], v23, y23, z23);
-        ld_pair(fa[b], PP_TAU, &ta, &tb);
-        ld_pair(fa[b], PP_TAU + 2, &tc, &td);
-        ld_pair(fa[b], PP_TAU + 4, &te, &tf);
-        ld_pair(fa[b], PP_TAU + 6, &tg, &tmid);
-        tau = ((ta + tb * ft[b]) + ft2[b] * (tc + td * ft[b])) + ft4[b] * ((te + tf * ft[b]) + tg * ft2[b]);
-        Ssh = bc(c->Sc) * v23[0];
-        Ssh1 = bc(c->Sc) * y23[0];
-        Ssh2 = bc(c->Sc) * z23[0];
-        P1 = bc(c->F1) * v23[1];
-        P11 = bc(c->F1) * y23[1];
-        P12 = bc(c->F1) * z23[1];
-        P = ((P1 - Ssh) + (P11 - Ssh1) * du) + (P12 - Ssh2) * h;
-        dP = (P11 - Ssh1) + (P12 - Ssh2) * du;
-        tau = tau * ((bc(1.0) + du) + h);
-        sh = fsh[b] + (fsh1[b] * du + fsh2[b] * h);
-        Ssh = Ssh + (Ssh1 * du + Ssh2 * h);
-        P1 = P1 + (P11 * du + P12 * h);
-        dPdd = dP * idd;
-        outs4(c, bonded, fa[b], ft[b] + du, target[b], P, tau, P1, Ssh, sh, dPdd, &out[i + 4 * (size_t) b]);
-        /* root_put's */
-        f[0] = fu[b] + du;
-        f[1] = target[b];
-        f[2] = idd;
-        f[3] = sh;
-        f[4] = fsh1[b];
-        f[5] = fd2[b];
-        st_six(&ro[i + 4 * (size_t) b].u, f);
-    }
+    for (b = 0; b < NB; b++)
+        finish4(c, bonded, fa[b], ft[b], ft2[b], ft4[b], fu[b], fdu[b], fidd[b], fd2[b], fsh[b],
+                fsh1[b], fsh2[b], target[b], &out[i + 4 * (size_t) b], &ro[i + 4 * (size_t) b]);
     return m;
+}
+
+/* point_from4 where every point's first Newton step finishes (a fit's
+ * evaluations from the last roots, nearly always): the step and the
+ * finish in one pass, the step's state in registers, none of the later
+ * steps' bookkeeping.  The first step's operations are lanes_step's from
+ * point_from4's start (bracket [u_lo, u_top]), so the bits are the same;
+ * where a point does not finish there, point_from4 takes all of them
+ * from the start. */
+AVX2_FN int
+point_one4(const exact_ctx *c, int bonded, size_t i, const double *delta, const v4 u0[NB],
+           lf_eval *out, root_rec *ro)
+{
+    const prodpoly *pp = c->pp;
+    const double *a[NB][4];
+    const v4 zero = _mm256_setzero_pd(), ulo = bc(c->u_lo), utop = bc(c->u_top);
+    v4 t[NB], t2[NB], t4[NB], v01[NB][2], y01[NB][2], z01[NB][2], target[NB];
+    v4 du[NB], idd[NB], d2[NB], sh[NB], sh1[NB], sh2[NB], act[NB];
+    int l, b, all = 1;
+
+    for (b = 0; b < NB; b++) {
+        const v4 u = u0[b], x = (u - bc(pp->u0)) * bc(pp->inv_hs);
+        int xs[4];
+        act[b] = _mm256_and_pd(
+            _mm256_and_pd(_mm256_cmp_pd(u, ulo, _CMP_GT_OQ), _mm256_cmp_pd(u, utop, _CMP_LT_OQ)),
+            _mm256_and_pd(_mm256_cmp_pd(x, zero, _CMP_GE_OQ),
+                          _mm256_cmp_pd(x, bc((double) pp->nq), _CMP_LT_OQ)));
+        _mm_storeu_si128((__m128i *) (void *) xs, _mm256_cvttpd_epi32(_mm256_and_pd(act[b], x)));
+        for (l = 0; l < 4; l++)
+            a[b][l] = pp->c + pp->stride * (size_t) xs[l];
+        t[b] = u - _mm256_set_pd(a[b][3][PP_MID], a[b][2][PP_MID], a[b][1][PP_MID], a[b][0][PP_MID]);
+        t2[b] = t[b] * t[b];
+        t4[b] = t2[b] * t2[b];
+        target[b] = _mm256_loadu_pd(delta + i + 4 * (size_t) b);
+    }
+    for (b = 0; b < NB; b++)
+        poly4(a[b], PP_VAL, t[b], t2[b], t4[b], v01[b], y01[b], z01[b]);
+    for (b = 0; b < NB; b++) {
+        const v4 u = u0[b];
+        v4 D, g, gp, un, tay, inb, dd, at, fin, lo, hi, s;
+        sh[b] = bc(c->A2) * v01[b][1];
+        sh1[b] = bc(c->A2) * y01[b][1];
+        sh2[b] = bc(c->A2) * z01[b][1];
+        D = bc(c->A1) * v01[b][0];
+        dd = bc(c->A1) * y01[b][0] - sh1[b];
+        d2[b] = bc(c->A1) * z01[b][0] - sh2[b];
+        g = (D - sh[b]) - target[b];
+        idd[b] = bc(1.0) / dd;
+        s = _mm256_xor_pd(g, bc(-0.0)) * idd[b];
+        at = _mm256_cmp_pd(vabs(g), bc(1e-14) * (vabs(D) + vabs(sh[b])), _CMP_LE_OQ);
+        gp = _mm256_cmp_pd(g, zero, _CMP_GT_OQ);
+        hi = vsel(gp, u, utop);
+        lo = vsel(gp, ulo, u);
+        un = u + s;
+        inb = _mm256_and_pd(_mm256_cmp_pd(un, lo, _CMP_GT_OQ), _mm256_cmp_pd(un, hi, _CMP_LT_OQ));
+        tay = _mm256_and_pd(_mm256_cmp_pd(vabs(s), bc(STEP_TAYLOR), _CMP_LE_OQ),
+                            _mm256_cmp_pd(vabs(s * d2[b]), bc(CURV_TAYLOR) * dd, _CMP_LE_OQ));
+        fin = _mm256_and_pd(_mm256_and_pd(act[b], _mm256_cmp_pd(dd, zero, _CMP_GT_OQ)),
+                            _mm256_or_pd(at, _mm256_and_pd(inb, tay)));
+        all &= _mm256_movemask_pd(fin) == 15;
+        du[b] = vsel(at, zero, s - ((bc(0.5) * d2[b] * s) * s) * idd[b]);
+    }
+    if (!all)
+        return point_from4(c, bonded, i, delta, u0, out, ro);
+    for (b = 0; b < NB; b++)
+        finish4(c, bonded, a[b], t[b], t2[b], t4[b], u0[b], du[b], idd[b], d2[b], sh[b], sh1[b],
+                sh2[b], target[b], &out[i + 4 * (size_t) b], &ro[i + 4 * (size_t) b]);
+    return (1 << 4 * NB) - 1;
 }
 
 /* eval_from with the points taken 4 NB at a time by point_from4 where
@@ -2260,7 +2360,7 @@ eval_from4(const exact_ctx *c, int bonded, int load, double start, size_t n, con
             }
             if (good) {
                 double us[4 * NB];
-                m = point_from4(c, bonded, i, delta, u, out, ro);
+                m = point_one4(c, bonded, i, delta, u, out, ro);
                 i += 4 * NB;
                 if (m == (1 << 4 * NB) - 1)
                     continue;
