@@ -2121,7 +2121,7 @@ poly_finish4(const exact_ctx *c, int bonded, const poly_step *s, lf_eval *e)
  * a[], t, t^2, t^4 there, the step's u, du, 1/dd and d2, and delta's
  * shift, shift1 and shift2 at u): P's products and tau at u carried to
  * the root, the evaluations out[0 .. 3] and the records ro[0 .. 3]. */
-AVX2_FN void
+__attribute__((target("avx2"), always_inline)) static inline void
 finish4(const exact_ctx *c, int bonded, const double *const a[4], v4 t, v4 t2, v4 t4, v4 u, v4 du,
         v4 idd, v4 d2, v4 sh, v4 sh1, v4 sh2, v4 target, lf_eval *out, root_rec *ro)
 {
@@ -2156,8 +2156,10 @@ finish4(const exact_ctx *c, int bonded, const double *const a[4], v4 t, v4 t2, v
     st_six(&ro->u, f);
 }
 
-/* Points taken as NB blocks of four (eval_from4). */
-#define NB 2
+/* Points taken as up to NB blocks of four (eval_from4); the functions
+ * below take the number of blocks nb <= NB as an argument, a constant
+ * where they are inlined. */
+#define NB 3
 
 /* One Newton step of point_from on the NB blocks of lanes act (st
  * below), and the state kept for the lanes it finishes (all of it where
@@ -2170,7 +2172,7 @@ typedef struct {
 } lanes;
 
 __attribute__((target("avx2"), always_inline)) static inline void
-lanes_step(const exact_ctx *c, lanes *st, int first)
+lanes_step(const exact_ctx *c, lanes *st, int first, int nb)
 {
     const prodpoly *pp = c->pp;
     const double *a[NB][4];
@@ -2178,7 +2180,7 @@ lanes_step(const exact_ctx *c, lanes *st, int first)
     v4 t[NB], t2[NB], t4[NB], v01[NB][2], y01[NB][2], z01[NB][2];
     int l, b;
 
-    for (b = 0; b < NB; b++) {
+    for (b = 0; b < nb; b++) {
         const v4 u = st->u[b], x = (u - bc(pp->u0)) * bc(pp->inv_hs);
         int xs[4];
         /* out of the bracket or the polynomials: point_from gives up */
@@ -2194,9 +2196,9 @@ lanes_step(const exact_ctx *c, lanes *st, int first)
         t2[b] = t[b] * t[b];
         t4[b] = t2[b] * t2[b];
     }
-    for (b = 0; b < NB; b++)
+    for (b = 0; b < nb; b++)
         poly4(a[b], PP_VAL, t[b], t2[b], t4[b], v01[b], y01[b], z01[b]);
-    for (b = 0; b < NB; b++) {
+    for (b = 0; b < nb; b++) {
         const v4 u = st->u[b];
         v4 D, g, gp, un, tay, inb, shift, shift1, shift2, dd, d2, idd, du, at, fin, go, lo, hi;
         int mf;
@@ -2267,12 +2269,12 @@ lanes_step(const exact_ctx *c, lanes *st, int first)
 /* The Newton steps after the first (lanes_step), apart so that the first
  * keeps its state in registers. */
 __attribute__((target("avx2"), noinline)) static void
-lanes_more(const exact_ctx *c, lanes *st)
+lanes_more(const exact_ctx *c, lanes *st, int nb)
 {
     int it;
 
     for (it = 1; it < PF_STEPS && st->live != 0; it++)
-        lanes_step(c, st, 0);
+        lanes_step(c, st, 0, nb);
 }
 
 /* point_from for the NB blocks of four points i .. i + 4 NB - 1 (targets
@@ -2282,14 +2284,14 @@ lanes_more(const exact_ctx *c, lanes *st)
  * the others are those point_from gives up on.  When any is done the
  * evaluations and records of all are written (those of the others are
  * eval_point's to write again). */
-AVX2_FN int
+__attribute__((target("avx2"), always_inline)) static inline int
 point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const v4 u0[NB],
-            lf_eval *out, root_rec *ro)
+            lf_eval *out, root_rec *ro, int nb)
 {
     lanes st;
     int b;
 
-    for (b = 0; b < NB; b++) {
+    for (b = 0; b < nb; b++) {
         st.target[b] = _mm256_loadu_pd(delta + i + 4 * (size_t) b);
         st.u[b] = u0[b];
         st.lo[b] = bc(c->u_lo);
@@ -2297,16 +2299,16 @@ point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const
         st.act[b] = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
     }
     st.m = st.live = 0;
-    lanes_step(c, &st, 1);
+    lanes_step(c, &st, 1, nb);
     if (st.live != 0)
-        lanes_more(c, &st);
+        lanes_more(c, &st, nb);
     const int m = st.m;
     const double *(*fa)[4] = st.fa;
     v4 *fu = st.fu, *ft = st.ft, *ft2 = st.ft2, *ft4 = st.ft4, *fsh = st.fsh, *fsh1 = st.fsh1;
     v4 *fsh2 = st.fsh2, *fd2 = st.fd2, *fidd = st.fidd, *fdu = st.fdu, *target = st.target;
     if (m == 0)
         return 0;
-    for (b = 0; b < NB; b++)
+    for (b = 0; b < nb; b++)
         finish4(c, bonded, fa[b], ft[b], ft2[b], ft4[b], fu[b], fdu[b], fidd[b], fd2[b], fsh[b],
                 fsh1[b], fsh2[b], target[b], &out[i + 4 * (size_t) b], &ro[i + 4 * (size_t) b]);
     return m;
@@ -2319,9 +2321,9 @@ point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const
  * point_from4's start (bracket [u_lo, u_top]), so the bits are the same;
  * where a point does not finish there, point_from4 takes all of them
  * from the start. */
-AVX2_FN int
+__attribute__((target("avx2"), always_inline)) static inline int
 point_one4(const exact_ctx *c, int bonded, size_t i, const double *delta, const v4 u0[NB],
-           lf_eval *out, root_rec *ro)
+           lf_eval *out, root_rec *ro, int nb)
 {
     const prodpoly *pp = c->pp;
     const double *a[NB][4];
@@ -2330,7 +2332,7 @@ point_one4(const exact_ctx *c, int bonded, size_t i, const double *delta, const 
     v4 du[NB], idd[NB], d2[NB], sh[NB], sh1[NB], sh2[NB], act[NB];
     int l, b, all = 1;
 
-    for (b = 0; b < NB; b++) {
+    for (b = 0; b < nb; b++) {
         const v4 u = u0[b], x = (u - bc(pp->u0)) * bc(pp->inv_hs);
         int xs[4];
         act[b] = _mm256_and_pd(
@@ -2345,9 +2347,9 @@ point_one4(const exact_ctx *c, int bonded, size_t i, const double *delta, const 
         t4[b] = t2[b] * t2[b];
         target[b] = _mm256_loadu_pd(delta + i + 4 * (size_t) b);
     }
-    for (b = 0; b < NB; b++)
+    for (b = 0; b < nb; b++)
         poly4(a[b], PP_VAL, t[b], t2[b], t4[b], v01[b], y01[b], z01[b]);
-    for (b = 0; b < NB; b++) {
+    for (b = 0; b < nb; b++) {
         const v4 u = u0[b];
         v4 D, g, gp, un, tay, inb, dd, at, fin, lo, hi, s;
         sh[b] = bc(c->A2) * v01[b][1];
@@ -2373,16 +2375,16 @@ point_one4(const exact_ctx *c, int bonded, size_t i, const double *delta, const 
         du[b] = vsel(at, zero, s - ((bc(0.5) * d2[b] * s) * s) * idd[b]);
     }
     if (!all)
-        return point_from4(c, bonded, i, delta, u0, out, ro);
-    for (b = 0; b < NB; b++)
+        return point_from4(c, bonded, i, delta, u0, out, ro, nb);
+    for (b = 0; b < nb; b++)
         finish4(c, bonded, a[b], t[b], t2[b], t4[b], u0[b], du[b], idd[b], d2[b], sh[b], sh1[b],
                 sh2[b], target[b], &out[i + 4 * (size_t) b], &ro[i + 4 * (size_t) b]);
-    return (1 << 4 * NB) - 1;
+    return (1 << 4 * nb) - 1;
 }
 
-/* eval_from with the points taken 4 NB at a time by point_from4 where
- * that many in a row touch and have starts; the rest as eval_from takes
- * them (one at a time). */
+/* eval_from with the points taken 4 NB at a time by point_one4 where
+ * that many in a row touch and have starts, else four at a time where
+ * four do; the rest as eval_from takes them (one at a time). */
 __attribute__((target("avx2"))) static int
 eval_from4(const exact_ctx *c, int bonded, int load, double start, size_t n, const double *delta,
            lf_eval *out, root_rec *ro, double dL)
@@ -2395,10 +2397,13 @@ eval_from4(const exact_ctx *c, int bonded, int load, double start, size_t n, con
 
     while (i < n) {
         double u0;
-        if (i + 4 * NB <= n) {
+        if (i + 4 <= n) {
             v4 u[NB];
-            int good = 1;
-            for (b = 0; b < NB && good; b++) {
+            const int most = i + 4 * NB <= n ? NB : 1;
+            int nb = 0;
+            /* as many blocks as there is room for, or one block, where
+             * their points touch and have starts */
+            for (b = 0; b < most; b++) {
                 const v4 dv = _mm256_loadu_pd(delta + i + 4 * (size_t) b);
                 v4 touch = load ? _mm256_cmp_pd(dv, vstart, _CMP_GE_OQ)
                                 : _mm256_cmp_pd(dv, vstart, _CMP_GT_OQ);
@@ -2410,26 +2415,27 @@ eval_from4(const exact_ctx *c, int bonded, int load, double start, size_t n, con
                 du1 = ((dv - r[1]) + r[3] * vdL) * r[2];
                 u[b] = (r[0] + du1) - r[2] * ((((bc(0.5) * r[5]) * du1) * du1 - (r[4] * du1) * vdL)
                                               - ((bc(0.5) * r[3]) * vdL) * vdL);
-                good = _mm256_movemask_pd(_mm256_and_pd(
-                           touch, _mm256_cmp_pd(vabs(u[b]), bc(INFINITY), _CMP_LT_OQ))) == 15;
+                if (_mm256_movemask_pd(_mm256_and_pd(
+                        touch, _mm256_cmp_pd(vabs(u[b]), bc(INFINITY), _CMP_LT_OQ))) != 15)
+                    break;
             }
-            if (good) {
+            nb = b == most ? most : b > 0 ? 1 : 0;
+            if (nb > 0) {
                 double us[4 * NB];
-                m = point_one4(c, bonded, i, delta, u, out, ro);
-                i += 4 * NB;
-                if (m == (1 << 4 * NB) - 1)
-                    continue;
-                i -= 4 * NB;
-                for (b = 0; b < NB; b++)
-                    _mm256_storeu_pd(us + 4 * b, u[b]);
-                for (l = 0; l < 4 * NB; l++) {
-                    const size_t j = i + (size_t) l;
-                    if (m & (1 << l))
-                        continue;
-                    if (eval_point(c, bonded, 1, delta[j], us[l], &out[j], &w, &ro[j]) != LF_OK)
-                        return LF_EINVAL;
+                m = nb == NB ? point_one4(c, bonded, i, delta, u, out, ro, NB)
+                             : point_one4(c, bonded, i, delta, u, out, ro, 1);
+                if (m != (1 << 4 * nb) - 1) {
+                    for (b = 0; b < nb; b++)
+                        _mm256_storeu_pd(us + 4 * b, u[b]);
+                    for (l = 0; l < 4 * nb; l++) {
+                        const size_t j = i + (size_t) l;
+                        if (m & (1 << l))
+                            continue;
+                        if (eval_point(c, bonded, 1, delta[j], us[l], &out[j], &w, &ro[j]) != LF_OK)
+                            return LF_EINVAL;
+                    }
                 }
-                i += 4 * NB;
+                i += 4 * (size_t) nb;
                 continue;
             }
         }
