@@ -106,6 +106,8 @@ typedef struct {
     lf_exact_premix premix;       /* bonded: the mix flattened for this nu */
     double r[3][GRID_N];          /* rho_d, rho_p, rho_0 at the nodes */
     double dr[3][GRID_N];         /* their u-derivatives */
+    double dmin[GRID_N];          /* min of rho_d over the nodes from i up */
+    int dmin_ok;                  /* 0: some rho_d is NaN (dmin unused) */
 } mixdata;
 
 /* A cache slot of the model object: immutable while READY; readers hold a
@@ -325,6 +327,11 @@ mixdata_build(mixdata *md, exact_state *st, const lf_probe *pr, double nu, lf_er
             md->r[w][i] = rho_of(w, pr->k, u, F, g);
             md->dr[w][i] = drho_of(w, pr->k, g, dg);
         }
+    }
+    md->dmin_ok = 1;
+    for (i = GRID_N - 1; i >= 0; i--) {
+        md->dmin_ok &= !isnan(md->r[RHO_D][i]);
+        md->dmin[i] = i == GRID_N - 1 ? md->r[RHO_D][i] : fmin(md->r[RHO_D][i], md->dmin[i + 1]);
     }
     return LF_OK;
 }
@@ -1206,8 +1213,24 @@ find_detach(exact_ctx *c)
     c->delta_det = 0.0;
     if (c->A2 == 0.0)
         return;
-    for (i = GRID_N - 1; i >= 0 && r[i] - c->L > 0.0; i--)
-        ;
+    if (c->md->dmin_ok && !isnan(c->L)) {
+        /* the largest node with rho_d <= ln lambda: the largest whose
+         * minimum from there up is (that minimum rises with i), by
+         * bisection */
+        const double *m = c->md->dmin;
+        int below = -1, above = GRID_N;   /* m[below] <= L < m[above] (ends unread) */
+        while (above - below > 1) {
+            const int mid = (below + above) / 2;
+            if (m[mid] <= c->L)
+                below = mid;
+            else
+                above = mid;
+        }
+        i = below;
+    } else {
+        for (i = GRID_N - 1; i >= 0 && r[i] - c->L > 0.0; i--)
+            ;
+    }
     if (i == GRID_N - 1) {
         /* delta falls with a at the grid's top: the end lies beyond */
         lo = GRID_U0 + GRID_HU * i;
