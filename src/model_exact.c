@@ -797,49 +797,6 @@ typedef struct {
     double du_det;
 } exact_ctx;
 
-/* e^x[j] for four numbers at once (GCC/Clang vector extensions: each
- * element the same IEEE operations, whatever the instructions): x = n ln2
- * + r with |r| <= ln2/2 (ln2 in two parts, n ln2_hi exact), e^r by its
- * Taylor series to r^13 (the first term left out below 5e-18 of it) in
- * Estrin's scheme, times 2^n from n's bits.  Within a few units in the
- * last place of exp(); where some |x| >= 700 (2^n would leave the
- * normal numbers), exp() itself. */
-typedef double e_v4 __attribute__((vector_size(4 * sizeof(double))));
-typedef long long e_i4 __attribute__((vector_size(4 * sizeof(long long))));
-
-LF_KERNEL void
-exp4(const double x[4], double y[4])
-{
-    const double shifter = 0x1.8p52;   /* adding it rounds to an integer */
-    e_v4 v, nd, n, r, r2, r4, r8, p, sc;
-    e_i4 bits, sbits;
-    int j;
-
-    if (!(fabs(x[0]) < 700.0 && fabs(x[1]) < 700.0 && fabs(x[2]) < 700.0 && fabs(x[3]) < 700.0)) {
-        for (j = 0; j < 4; j++)
-            y[j] = exp(x[j]);
-        return;
-    }
-    memcpy(&v, x, sizeof v);
-    nd = v * 0x1.71547652b82fep0 + shifter;            /* x/ln2 + shifter */
-    n = nd - shifter;
-    r = (v - n * 0x1.62e42fee00000p-1) - n * 0x1.a39ef35793c76p-33;
-    r2 = r * r;
-    r4 = r2 * r2;
-    r8 = r4 * r4;
-    p = ((1.0 + r) + r2 * (1.0 / 2 + r * (1.0 / 6)))
-        + r4 * ((1.0 / 24 + r * (1.0 / 120)) + r2 * (1.0 / 720 + r * (1.0 / 5040)))
-        + r8 * (((1.0 / 40320 + r * (1.0 / 362880)) + r2 * (1.0 / 3628800 + r * (1.0 / 39916800)))
-                + r4 * (1.0 / 479001600 + r * (1.0 / 6227020800.0)));
-    /* n from the bits of nd (shifter + n), then 2^n's */
-    memcpy(&bits, &nd, sizeof bits);
-    memcpy(&sbits, &(e_v4){ shifter, shifter, shifter, shifter }, sizeof sbits);
-    bits = (bits - sbits + 1023) << 52;
-    memcpy(&sc, &bits, sizeof sc);
-    p = p * sc;
-    memcpy(y, &p, sizeof p);
-}
-
 /* Each product of a power of tau and a tabulated function is one
  * exponential of a sum of logarithms; the u-derivatives follow as value
  * times the sum of the logarithmic derivatives.  H: d ln f/dnu, or NULL;
@@ -848,25 +805,13 @@ static void
 curve_from(const exact_ctx *c, double u, const double F[4], const double g[4],
            const double *dg, const double *H, const double *dH, exact_pt *o)
 {
-    double k = c->k, D1, gD1, x[4], E[4];
+    double k = c->k, D1, gD1;
 
     o->tau = NAN;
-    x[0] = k * u + F[2];                               /* A1 tau^k d */
-    x[1] = 0.5 * u - F[1];                             /* A2 sqrt(tau) / e */
-    x[2] = 1.5 * u + F[0] - F[1];                      /* S shift */
-    x[3] = (k + 1.0) * u + F[3];                       /* F1 tau^(k+1) p */
-    if (dg != NULL) {
-        exp4(x, E);     /* the fast path's (curve_at2) */
-    } else {
-        E[0] = exp(x[0]);
-        E[1] = exp(x[1]);
-        E[2] = exp(x[2]);
-        E[3] = exp(x[3]);
-    }
-    D1 = c->A1 * E[0];
-    o->shift = c->A2 * E[1];
-    o->Ssh = c->Sc * E[2];
-    o->P1 = c->F1 * E[3];
+    D1 = c->A1 * exp(k * u + F[2]);                    /* A1 tau^k d */
+    o->shift = c->A2 * exp(0.5 * u - F[1]);            /* A2 sqrt(tau) / e */
+    o->Ssh = c->Sc * exp(1.5 * u + F[0] - F[1]);       /* S shift */
+    o->P1 = c->F1 * exp((k + 1.0) * u + F[3]);         /* F1 tau^(k+1) p */
     gD1 = k + g[2];
     o->gsh = 0.5 - g[1];
     o->gSsh = 1.5 + g[0] - g[1];
