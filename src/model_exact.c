@@ -1919,7 +1919,8 @@ bc(double x)
  * (off = PP_VAL + j0), across the points.  Only the values' rows are
  * read: the derivatives' coefficients are the same multiples of them
  * that prodpoly_build stores (n y_n; 2 y_2, 6 y_3, y_4), which give the
- * same bits and cost less than reading them. */
+ * same bits and cost less than reading them.  z NULL: values and first
+ * derivatives alone. */
 AVX2_FN void
 poly4(const double *const a[4], size_t off, v4 t, v4 t2, v4 t4, v4 v[2], v4 y[2], v4 z[2])
 {
@@ -1933,24 +1934,8 @@ poly4(const double *const a[4], size_t off, v4 t, v4 t2, v4 t4, v4 v[2], v4 y[2]
         v[n] = ((c[0][n] + c[1][n] * t) + t2 * (c[2][n] + c[3][n] * t))
                + t4 * ((c[4][n] + c[5][n] * t) + c[6][n] * t2);
         y[n] = ((b0 + b1 * t) + t2 * (b2 + b3 * t)) + t4 * (b4 + b5 * t);
-        z[n] = b1 + t * (bc(6.0) * c[3][n] + (t * bc(12.0)) * c[4][n]);
-    }
-}
-
-/* poly4's values and first derivatives alone. */
-AVX2_FN void
-poly4_vy(const double *const a[4], size_t off, v4 t, v4 t2, v4 t4, v4 v[2], v4 y[2])
-{
-    v4 c[7][2];
-    int n;
-    for (n = 0; n < 7; n++)
-        ld_pair(a, off + 4 * (size_t) n, &c[n][0], &c[n][1]);
-    for (n = 0; n < 2; n++) {
-        const v4 b0 = c[1][n], b1 = bc(2.0) * c[2][n], b2 = bc(3.0) * c[3][n];
-        const v4 b3 = bc(4.0) * c[4][n], b4 = bc(5.0) * c[5][n], b5 = bc(6.0) * c[6][n];
-        v[n] = ((c[0][n] + c[1][n] * t) + t2 * (c[2][n] + c[3][n] * t))
-               + t4 * ((c[4][n] + c[5][n] * t) + c[6][n] * t2);
-        y[n] = ((b0 + b1 * t) + t2 * (b2 + b3 * t)) + t4 * (b4 + b5 * t);
+        if (z != NULL)
+            z[n] = b1 + t * (bc(6.0) * c[3][n] + (t * bc(12.0)) * c[4][n]);
     }
 }
 
@@ -2103,7 +2088,7 @@ finish4(const exact_ctx *c, int bonded, const double *const a[4], v4 t, v4 t2, v
     tp = t + du;
     tp2 = tp * tp;
     tp4 = tp2 * tp2;
-    poly4_vy(a, PP_VAL + 2, tp, tp2, tp4, v23, y23);
+    poly4(a, PP_VAL + 2, tp, tp2, tp4, v23, y23, NULL);
     ld_pair(a, PP_MID, &mid, &emid);
     tau = emid * (((bc(1.0) + tp) + tp2 * (bc(1.0 / 2) + tp * bc(1.0 / 6)))
                   + tp4 * ((bc(1.0 / 24) + tp * bc(1.0 / 120)) + tp2 * bc(1.0 / 720)));
