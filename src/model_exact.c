@@ -55,7 +55,8 @@
  * per curve the fit owns) each point starts at its root of the curve's
  * last evaluation carried to second order by the moves of its depth and
  * of lambda, so that no point's start waits on another's root and most
- * points take the second-order finish at once (eval_from).
+ * points take the second-order finish at once (eval_from; there P's
+ * products and tau are evaluated at the root itself).
  * lf_exact_eval_precise skips all this.
  */
 #include <math.h>
@@ -1776,8 +1777,10 @@ eval_points(const exact_ctx *c, int bonded, int fast, lf_branch branch, size_t n
 
 /* One point from a start u near its root: invert's Newton steps on
  * delta's products (poly_newton's) until one is small enough to be
- * finished to second order, then P's products and tau at that u carried
- * to the root, straight to the evaluation, and the point's record *ro.
+ * finished to second order, then P's two products (values and slopes)
+ * and tau at the root itself in the same sub-cell (no second-order carry:
+ * the same work and closer to the precise evaluation), straight to the
+ * evaluation, and the point's record *ro.
  * 1 when done; 0 where invert would leave the polynomials or bisect, or
  * after PF_STEPS steps (then nothing is written). */
 #define PF_STEPS 6
@@ -2071,17 +2074,15 @@ poly_finish4(const exact_ctx *c, int bonded, const poly_step *s, lf_eval *e)
 
 
 /* point_from's finish for four points across the lanes (their sub-cells
- * a[], t, t^2, t^4 there, the step's u, du, 1/dd and d2, and delta's
- * shift, shift1 and shift2 at u): P's products and tau at u carried to
- * the root, the evaluations out[0 .. 3] and the records ro[0 .. 3]. */
+ * a[] and t there, the step's u, du, 1/dd and d2, and delta's shift,
+ * shift1 and shift2 at u): P's products and tau at the root, the
+ * evaluations out[0 .. 3] and the records ro[0 .. 3]. */
 __attribute__((target("avx2"), always_inline)) static inline void
-finish4(const exact_ctx *c, int bonded, const double *const a[4], v4 t, v4 t2, v4 t4, v4 u, v4 du,
-        v4 idd, v4 d2, v4 sh, v4 sh1, v4 sh2, v4 target, lf_eval *out, root_rec *ro)
+finish4(const exact_ctx *c, int bonded, const double *const a[4], v4 t, v4 u, v4 du, v4 idd, v4 d2,
+        v4 sh, v4 sh1, v4 sh2, v4 target, lf_eval *out, root_rec *ro)
 {
     v4 h, ee, v23[2], y23[2], mid, emid, tp, tp2, tp4, tau, Ssh, P1, P, dP, dPdd, f[6];
 
-    (void) t2;
-    (void) t4;
     h = bc(0.5) * du * du;
     ee = d2 * du * idd;
     idd = idd * ((bc(1.0) - ee) + ee * ee);
@@ -2120,7 +2121,7 @@ finish4(const exact_ctx *c, int bonded, const double *const a[4], v4 t, v4 t2, v
 typedef struct {
     v4 target[NB], u[NB], lo[NB], hi[NB], act[NB];
     const double *fa[NB][4];
-    v4 fu[NB], ft[NB], ft2[NB], ft4[NB], fsh[NB], fsh1[NB], fsh2[NB], fd2[NB], fidd[NB], fdu[NB];
+    v4 fu[NB], ft[NB], fsh[NB], fsh1[NB], fsh2[NB], fd2[NB], fidd[NB], fdu[NB];
     int m, live;
 } lanes;
 
@@ -2185,8 +2186,6 @@ lanes_step(const exact_ctx *c, lanes *st, int first, int nb)
         if (first) {
             st->fu[b] = u;
             st->ft[b] = t[b];
-            st->ft2[b] = t2[b];
-            st->ft4[b] = t4[b];
             st->fsh[b] = shift;
             st->fsh1[b] = shift1;
             st->fsh2[b] = shift2;
@@ -2198,8 +2197,6 @@ lanes_step(const exact_ctx *c, lanes *st, int first, int nb)
         } else if (mf != 0) {
             st->fu[b] = vsel(fin, u, st->fu[b]);
             st->ft[b] = vsel(fin, t[b], st->ft[b]);
-            st->ft2[b] = vsel(fin, t2[b], st->ft2[b]);
-            st->ft4[b] = vsel(fin, t4[b], st->ft4[b]);
             st->fsh[b] = vsel(fin, shift, st->fsh[b]);
             st->fsh1[b] = vsel(fin, shift1, st->fsh1[b]);
             st->fsh2[b] = vsel(fin, shift2, st->fsh2[b]);
@@ -2257,13 +2254,13 @@ point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const
         lanes_more(c, &st, nb);
     const int m = st.m;
     const double *(*fa)[4] = st.fa;
-    v4 *fu = st.fu, *ft = st.ft, *ft2 = st.ft2, *ft4 = st.ft4, *fsh = st.fsh, *fsh1 = st.fsh1;
+    v4 *fu = st.fu, *ft = st.ft, *fsh = st.fsh, *fsh1 = st.fsh1;
     v4 *fsh2 = st.fsh2, *fd2 = st.fd2, *fidd = st.fidd, *fdu = st.fdu, *target = st.target;
     if (m == 0)
         return 0;
     for (b = 0; b < nb; b++)
-        finish4(c, bonded, fa[b], ft[b], ft2[b], ft4[b], fu[b], fdu[b], fidd[b], fd2[b], fsh[b],
-                fsh1[b], fsh2[b], target[b], &out[i + 4 * (size_t) b], &ro[i + 4 * (size_t) b]);
+        finish4(c, bonded, fa[b], ft[b], fu[b], fdu[b], fidd[b], fd2[b], fsh[b], fsh1[b], fsh2[b],
+                target[b], &out[i + 4 * (size_t) b], &ro[i + 4 * (size_t) b]);
     return m;
 }
 
@@ -2330,8 +2327,8 @@ point_one4(const exact_ctx *c, int bonded, size_t i, const double *delta, const 
     if (!all)
         return point_from4(c, bonded, i, delta, u0, out, ro, nb);
     for (b = 0; b < nb; b++)
-        finish4(c, bonded, a[b], t[b], t2[b], t4[b], u0[b], du[b], idd[b], d2[b], sh[b], sh1[b],
-                sh2[b], target[b], &out[i + 4 * (size_t) b], &ro[i + 4 * (size_t) b]);
+        finish4(c, bonded, a[b], t[b], u0[b], du[b], idd[b], d2[b], sh[b], sh1[b], sh2[b],
+                target[b], &out[i + 4 * (size_t) b], &ro[i + 4 * (size_t) b]);
     return (1 << 4 * nb) - 1;
 }
 
