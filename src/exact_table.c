@@ -32,6 +32,7 @@
 #include <pthread.h>
 #include <stdatomic.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -252,6 +253,8 @@ lpos_at(const lf_exact_table *t, double l, lpos *p)
  * a position, with derivatives in l (no tau needed inside the grid, where
  * the tables store d ln f/dl).  dg
  * is the second derivative of the piecewise cubic (a step at nodes). */
+typedef double tab_v4 __attribute__((vector_size(4 * sizeof(double))));
+
 static void
 table_apply(const lf_exact_table *t, const lpos *p, double F[4], double g[4], double dg[4])
 {
@@ -275,13 +278,23 @@ table_apply(const lf_exact_table *t, const lpos *p, double F[4], double g[4], do
                 dg[j] = t->alpha[j] * sg + 4.0 * t->beta[j] * sg * sg;
         }
     } else {
+        /* the four functions side by side, one per element of a vector
+         * (GCC/Clang vector extensions): each element takes the scalar
+         * loop's operations in its order */
         const double *Fa = t->F + NFUN * p->i, *Ga = t->G + NFUN * p->i;
-        for (j = 0; j < NFUN; j++) {
-            double dF = Fa[j] - Fa[j + NFUN];
-            F[j] = p->h00 * Fa[j] + p->h01 * Fa[j + NFUN] + p->h10 * Ga[j] + p->h11 * Ga[j + NFUN];
-            g[j] = p->g00 * dF + p->g10 * Ga[j] + p->g11 * Ga[j + NFUN];
-            if (dg != NULL)
-                dg[j] = p->c00 * dF + p->c10 * Ga[j] + p->c11 * Ga[j + NFUN];
+        tab_v4 fa, fb, ga, gb, dF, v;
+        memcpy(&fa, Fa, sizeof fa);
+        memcpy(&fb, Fa + NFUN, sizeof fb);
+        memcpy(&ga, Ga, sizeof ga);
+        memcpy(&gb, Ga + NFUN, sizeof gb);
+        dF = fa - fb;
+        v = p->h00 * fa + p->h01 * fb + p->h10 * ga + p->h11 * gb;
+        memcpy(F, &v, sizeof v);
+        v = p->g00 * dF + p->g10 * ga + p->g11 * gb;
+        memcpy(g, &v, sizeof v);
+        if (dg != NULL) {
+            v = p->c00 * dF + p->c10 * ga + p->c11 * gb;
+            memcpy(dg, &v, sizeof v);
         }
     }
 }

@@ -55,7 +55,8 @@
  * per curve the fit owns) each point starts at its root of the curve's
  * last evaluation carried to second order by the moves of its depth and
  * of lambda, so that no point's start waits on another's root and most
- * points take the second-order finish at once (eval_from).
+ * points take the second-order finish at once (eval_from; there P's
+ * products and tau are evaluated at the root itself).
  * lf_exact_eval_precise skips all this.
  */
 #include <math.h>
@@ -106,6 +107,8 @@ typedef struct {
     lf_exact_premix premix;       /* bonded: the mix flattened for this nu */
     double r[3][GRID_N];          /* rho_d, rho_p, rho_0 at the nodes */
     double dr[3][GRID_N];         /* their u-derivatives */
+    double dmin[GRID_N];          /* min of rho_d over the nodes from i up */
+    int dmin_ok;                  /* 0: some rho_d is NaN (dmin unused) */
 } mixdata;
 
 /* A cache slot of the model object: immutable while READY; readers hold a
@@ -326,6 +329,11 @@ mixdata_build(mixdata *md, exact_state *st, const lf_probe *pr, double nu, lf_er
             md->dr[w][i] = drho_of(w, pr->k, g, dg);
         }
     }
+    md->dmin_ok = 1;
+    for (i = GRID_N - 1; i >= 0; i--) {
+        md->dmin_ok &= !isnan(md->r[RHO_D][i]);
+        md->dmin[i] = i == GRID_N - 1 ? md->r[RHO_D][i] : fmin(md->r[RHO_D][i], md->dmin[i + 1]);
+    }
     return LF_OK;
 }
 
@@ -422,14 +430,15 @@ slot_claim(exact_state *st)
  * + j for product j) so that the evaluation reads them in order: the
  * Taylor coefficients y_n (n = 0..PP_DEG), those of the first derivative
  * n y_n (n = 1..PP_DEG) and of the second, 2 y_2, 6 y_3 and y_4 (times
- * 12 in pp_d2; the series curve_poly cuts there); then tau's y_n and the
- * sub-cell's centre. */
+ * 12 in pp_d2; the series curve_poly cuts there); then the sub-cell's
+ * centre and tau's y_n (its y_0 = e^centre next to the centre, which
+ * point_from reads as a pair). */
 #define PP_VAL 0
 #define PP_D1 (PP_VAL + 4 * PP_NC)
 #define PP_D2 (PP_D1 + 4 * PP_DEG)
-#define PP_TAU (PP_D2 + 4 * 3)
-#define PP_MID (PP_TAU + PP_NC)
-#define PP_STRIDE (PP_MID + 1)
+#define PP_MID (PP_D2 + 4 * 3)
+#define PP_TAU (PP_MID + 1)
+#define PP_STRIDE (PP_TAU + PP_NC)
 /* a bonded mix's: then d ln f_j/dnu (its table's cubic) at 4 n + j */
 #define PP_NU PP_STRIDE
 #define PP_STRIDE_NU (PP_NU + 16)
@@ -865,6 +874,16 @@ pp_tau(const double *a, double t, double t2, double t4)
     return (a[0] + a[1] * t) + t2 * (a[2] + a[3] * t) + t4 * ((a[4] + a[5] * t) + a[6] * t2);
 }
 
+/* e^t to degree 6 (|t| <= ~0.003: the first term left out ~1e-21), by
+ * Estrin's scheme: tau at a root from the sub-cell's e^centre
+ * (point_from). */
+LF_KERNEL double
+pp_exp(double t, double t2, double t4)
+{
+    return ((1.0 + t) + t2 * (1.0 / 2 + t * (1.0 / 6)))
+           + t4 * ((1.0 / 24 + t * (1.0 / 120)) + t2 * (1.0 / 720));
+}
+
 /* Two products' value, first and second derivative at t side by side
  * (a at product 0 or 2 of the kind), by Estrin's scheme: the same
  * operations on both in one vector register (GCC/Clang vector
@@ -1140,8 +1159,24 @@ find_detach(exact_ctx *c)
     c->delta_det = 0.0;
     if (c->A2 == 0.0)
         return;
-    for (i = GRID_N - 1; i >= 0 && r[i] - c->L > 0.0; i--)
-        ;
+    if (c->md->dmin_ok && !isnan(c->L)) {
+        /* the largest node with rho_d <= ln lambda: the largest whose
+         * minimum from there up is (that minimum rises with i), by
+         * bisection */
+        const double *m = c->md->dmin;
+        int below = -1, above = GRID_N;   /* m[below] <= L < m[above] (ends unread) */
+        while (above - below > 1) {
+            const int mid = (below + above) / 2;
+            if (m[mid] <= c->L)
+                below = mid;
+            else
+                above = mid;
+        }
+        i = below;
+    } else {
+        for (i = GRID_N - 1; i >= 0 && r[i] - c->L > 0.0; i--)
+            ;
+    }
     if (i == GRID_N - 1) {
         /* delta falls with a at the grid's top: the end lies beyond */
         lo = GRID_U0 + GRID_HU * i;
@@ -1742,8 +1777,10 @@ eval_points(const exact_ctx *c, int bonded, int fast, lf_branch branch, size_t n
 
 /* One point from a start u near its root: invert's Newton steps on
  * delta's products (poly_newton's) until one is small enough to be
- * finished to second order, then P's products and tau at that u carried
- * to the root, straight to the evaluation, and the point's record *ro.
+ * finished to second order, then P's two products (values and slopes)
+ * and tau at the root itself in the same sub-cell (no second-order carry:
+ * the same work and closer to the precise evaluation), straight to the
+ * evaluation, and the point's record *ro.
  * 1 when done; 0 where invert would leave the polynomials or bisect, or
  * after PF_STEPS steps (then nothing is written). */
 #define PF_STEPS 6
@@ -1752,9 +1789,9 @@ point_from(const exact_ctx *c, int bonded, double target, double u, lf_eval *e, 
 {
     const prodpoly *pp = c->pp;
     const double *a;
-    double t, t2, t4, tau, shift, shift1, shift2, D, dd, d2, g, idd, du, h, ee;
-    double Ssh, Ssh1, Ssh2, P1, P11, P12, P, dP, lo = c->u_lo, hi = c->u_top;
-    pp_v2 v01, v23, y01, y23, z01, z23;
+    double t, t2, t4, tp, tp2, tp4, tau, shift, shift1, shift2, D, dd, d2, g, idd, du, h, ee;
+    double Ssh, P1, P, dP, lo = c->u_lo, hi = c->u_top;
+    pp_v2 v01, v23, y01, y23, z01;
     int it;
 
     for (it = 0;; it++) {
@@ -1800,23 +1837,19 @@ point_from(const exact_ctx *c, int bonded, double target, double u, lf_eval *e, 
     h = 0.5 * du * du;
     ee = d2 * du * idd;
     idd *= 1.0 - ee + ee * ee;
-    v23 = pp_val2(a + PP_VAL + 2, t, t2, t4);
-    y23 = pp_d12(a + PP_D1 + 2, t, t2, t4);
-    z23 = pp_d22(a + PP_D2 + 2, t);
-    tau = pp_tau(a + PP_TAU, t, t2, t4);
+    /* P's products and tau at the root itself */
+    tp = t + du;
+    tp2 = tp * tp;
+    tp4 = tp2 * tp2;
+    v23 = pp_val2(a + PP_VAL + 2, tp, tp2, tp4);
+    y23 = pp_d12(a + PP_D1 + 2, tp, tp2, tp4);
+    tau = a[PP_TAU] * pp_exp(tp, tp2, tp4);
     Ssh = c->Sc * v23[0];
-    Ssh1 = c->Sc * y23[0];
-    Ssh2 = c->Sc * z23[0];
     P1 = c->F1 * v23[1];
-    P11 = c->F1 * y23[1];
-    P12 = c->F1 * z23[1];
-    P = (P1 - Ssh) + (P11 - Ssh1) * du + (P12 - Ssh2) * h;
-    dP = (P11 - Ssh1) + (P12 - Ssh2) * du;
-    tau *= 1.0 + du + h;
+    P = P1 - Ssh;
+    dP = c->F1 * y23[1] - c->Sc * y23[0];
     shift += shift1 * du + shift2 * h;
-    Ssh += Ssh1 * du + Ssh2 * h;
-    P1 += P11 * du + P12 * h;
-    poly_out(c, bonded, a, t + du, target, P, tau, P1, Ssh, shift, dP * idd, e);
+    poly_out(c, bonded, a, tp, target, P, tau, P1, Ssh, shift, dP * idd, e);
     root_put(ro, u + du, target, idd, shift, shift1, d2);
     return 1;
 }
@@ -1889,7 +1922,8 @@ bc(double x)
  * (off = PP_VAL + j0), across the points.  Only the values' rows are
  * read: the derivatives' coefficients are the same multiples of them
  * that prodpoly_build stores (n y_n; 2 y_2, 6 y_3, y_4), which give the
- * same bits and cost less than reading them. */
+ * same bits and cost less than reading them.  z NULL: values and first
+ * derivatives alone. */
 AVX2_FN void
 poly4(const double *const a[4], size_t off, v4 t, v4 t2, v4 t4, v4 v[2], v4 y[2], v4 z[2])
 {
@@ -1903,7 +1937,8 @@ poly4(const double *const a[4], size_t off, v4 t, v4 t2, v4 t4, v4 v[2], v4 y[2]
         v[n] = ((c[0][n] + c[1][n] * t) + t2 * (c[2][n] + c[3][n] * t))
                + t4 * ((c[4][n] + c[5][n] * t) + c[6][n] * t2);
         y[n] = ((b0 + b1 * t) + t2 * (b2 + b3 * t)) + t4 * (b4 + b5 * t);
-        z[n] = b1 + t * (bc(6.0) * c[3][n] + (t * bc(12.0)) * c[4][n]);
+        if (z != NULL)
+            z[n] = b1 + t * (bc(6.0) * c[3][n] + (t * bc(12.0)) * c[4][n]);
     }
 }
 
@@ -1923,8 +1958,9 @@ vsel(v4 mask, v4 yes, v4 no)
 AVX2_FN v4
 vcapped(v4 x)
 {
-    const v4 r = vsel(_mm256_cmp_pd(x, bc(-LF_BIG), _CMP_GT_OQ), x, bc(-LF_BIG));
-    return vsel(_mm256_cmp_pd(x, bc(LF_BIG), _CMP_LT_OQ), r, bc(LF_BIG));
+    /* lf_capped's two selections: vminpd is x < BIG ? x : BIG and vmaxpd
+     * x > -BIG ? x : -BIG, as written there (a NaN becomes BIG) */
+    return _mm256_max_pd(_mm256_min_pd(x, bc(LF_BIG)), bc(-LF_BIG));
 }
 
 /* Four consecutive records or evaluations (six numbers each) at p:
@@ -2011,10 +2047,10 @@ poly_finish4(const exact_ctx *c, int bonded, const poly_step *s, lf_eval *e)
     v4 shift = LANES(shift), h, P2;
 
     poly4(a, PP_VAL + 2, t, t2, t4, v, y, z);
-    ld_pair(a, PP_TAU, &ta, &tb);
-    ld_pair(a, PP_TAU + 2, &tc, &td);
-    ld_pair(a, PP_TAU + 4, &te, &tf);
-    ld_pair(a, PP_TAU + 6, &tg, &tmid);
+    ld_pair(a, PP_MID, &tmid, &ta);
+    ld_pair(a, PP_TAU + 1, &tb, &tc);
+    ld_pair(a, PP_TAU + 3, &td, &te);
+    ld_pair(a, PP_TAU + 5, &tf, &tg);
     tau = ((ta + tb * t) + t2 * (tc + td * t)) + t4 * ((te + tf * t) + tg * t2);
     Ssh = bc(c->Sc) * v[0];
     Ssh1 = bc(c->Sc) * y[0];
@@ -2037,8 +2073,47 @@ poly_finish4(const exact_ctx *c, int bonded, const poly_step *s, lf_eval *e)
 }
 
 
-/* Points taken as NB blocks of four (eval_from4). */
-#define NB 2
+/* point_from's finish for four points across the lanes (their sub-cells
+ * a[] and t there, the step's u, du, 1/dd and d2, and delta's shift,
+ * shift1 and shift2 at u): P's products and tau at the root, the
+ * evaluations out[0 .. 3] and the records ro[0 .. 3]. */
+__attribute__((target("avx2"), always_inline)) static inline void
+finish4(const exact_ctx *c, int bonded, const double *const a[4], v4 t, v4 u, v4 du, v4 idd, v4 d2,
+        v4 sh, v4 sh1, v4 sh2, v4 target, lf_eval *out, root_rec *ro)
+{
+    v4 h, ee, v23[2], y23[2], mid, emid, tp, tp2, tp4, tau, Ssh, P1, P, dP, dPdd, f[6];
+
+    h = bc(0.5) * du * du;
+    ee = d2 * du * idd;
+    idd = idd * ((bc(1.0) - ee) + ee * ee);
+    tp = t + du;
+    tp2 = tp * tp;
+    tp4 = tp2 * tp2;
+    poly4(a, PP_VAL + 2, tp, tp2, tp4, v23, y23, NULL);
+    ld_pair(a, PP_MID, &mid, &emid);
+    tau = emid * (((bc(1.0) + tp) + tp2 * (bc(1.0 / 2) + tp * bc(1.0 / 6)))
+                  + tp4 * ((bc(1.0 / 24) + tp * bc(1.0 / 120)) + tp2 * bc(1.0 / 720)));
+    Ssh = bc(c->Sc) * v23[0];
+    P1 = bc(c->F1) * v23[1];
+    P = P1 - Ssh;
+    dP = bc(c->F1) * y23[1] - bc(c->Sc) * y23[0];
+    sh = sh + (sh1 * du + sh2 * h);
+    dPdd = dP * idd;
+    outs4(c, bonded, a, tp, target, P, tau, P1, Ssh, sh, dPdd, out);
+    /* root_put's */
+    f[0] = u + du;
+    f[1] = target;
+    f[2] = idd;
+    f[3] = sh;
+    f[4] = sh1;
+    f[5] = d2;
+    st_six(&ro->u, f);
+}
+
+/* Points taken as up to NB blocks of four (eval_from4); the functions
+ * below take the number of blocks nb <= NB as an argument, a constant
+ * where they are inlined. */
+#define NB 3
 
 /* One Newton step of point_from on the NB blocks of lanes act (st
  * below), and the state kept for the lanes it finishes (all of it where
@@ -2046,12 +2121,12 @@ poly_finish4(const exact_ctx *c, int bonded, const poly_step *s, lf_eval *e)
 typedef struct {
     v4 target[NB], u[NB], lo[NB], hi[NB], act[NB];
     const double *fa[NB][4];
-    v4 fu[NB], ft[NB], ft2[NB], ft4[NB], fsh[NB], fsh1[NB], fsh2[NB], fd2[NB], fidd[NB], fdu[NB];
+    v4 fu[NB], ft[NB], fsh[NB], fsh1[NB], fsh2[NB], fd2[NB], fidd[NB], fdu[NB];
     int m, live;
 } lanes;
 
 __attribute__((target("avx2"), always_inline)) static inline void
-lanes_step(const exact_ctx *c, lanes *st, int first)
+lanes_step(const exact_ctx *c, lanes *st, int first, int nb)
 {
     const prodpoly *pp = c->pp;
     const double *a[NB][4];
@@ -2059,7 +2134,7 @@ lanes_step(const exact_ctx *c, lanes *st, int first)
     v4 t[NB], t2[NB], t4[NB], v01[NB][2], y01[NB][2], z01[NB][2];
     int l, b;
 
-    for (b = 0; b < NB; b++) {
+    for (b = 0; b < nb; b++) {
         const v4 u = st->u[b], x = (u - bc(pp->u0)) * bc(pp->inv_hs);
         int xs[4];
         /* out of the bracket or the polynomials: point_from gives up */
@@ -2075,9 +2150,9 @@ lanes_step(const exact_ctx *c, lanes *st, int first)
         t2[b] = t[b] * t[b];
         t4[b] = t2[b] * t2[b];
     }
-    for (b = 0; b < NB; b++)
+    for (b = 0; b < nb; b++)
         poly4(a[b], PP_VAL, t[b], t2[b], t4[b], v01[b], y01[b], z01[b]);
-    for (b = 0; b < NB; b++) {
+    for (b = 0; b < nb; b++) {
         const v4 u = st->u[b];
         v4 D, g, gp, un, tay, inb, shift, shift1, shift2, dd, d2, idd, du, at, fin, go, lo, hi;
         int mf;
@@ -2111,8 +2186,6 @@ lanes_step(const exact_ctx *c, lanes *st, int first)
         if (first) {
             st->fu[b] = u;
             st->ft[b] = t[b];
-            st->ft2[b] = t2[b];
-            st->ft4[b] = t4[b];
             st->fsh[b] = shift;
             st->fsh1[b] = shift1;
             st->fsh2[b] = shift2;
@@ -2124,8 +2197,6 @@ lanes_step(const exact_ctx *c, lanes *st, int first)
         } else if (mf != 0) {
             st->fu[b] = vsel(fin, u, st->fu[b]);
             st->ft[b] = vsel(fin, t[b], st->ft[b]);
-            st->ft2[b] = vsel(fin, t2[b], st->ft2[b]);
-            st->ft4[b] = vsel(fin, t4[b], st->ft4[b]);
             st->fsh[b] = vsel(fin, shift, st->fsh[b]);
             st->fsh1[b] = vsel(fin, shift1, st->fsh1[b]);
             st->fsh2[b] = vsel(fin, shift2, st->fsh2[b]);
@@ -2148,12 +2219,12 @@ lanes_step(const exact_ctx *c, lanes *st, int first)
 /* The Newton steps after the first (lanes_step), apart so that the first
  * keeps its state in registers. */
 __attribute__((target("avx2"), noinline)) static void
-lanes_more(const exact_ctx *c, lanes *st)
+lanes_more(const exact_ctx *c, lanes *st, int nb)
 {
     int it;
 
     for (it = 1; it < PF_STEPS && st->live != 0; it++)
-        lanes_step(c, st, 0);
+        lanes_step(c, st, 0, nb);
 }
 
 /* point_from for the NB blocks of four points i .. i + 4 NB - 1 (targets
@@ -2163,14 +2234,14 @@ lanes_more(const exact_ctx *c, lanes *st)
  * the others are those point_from gives up on.  When any is done the
  * evaluations and records of all are written (those of the others are
  * eval_point's to write again). */
-AVX2_FN int
+__attribute__((target("avx2"), always_inline)) static inline int
 point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const v4 u0[NB],
-            lf_eval *out, root_rec *ro)
+            lf_eval *out, root_rec *ro, int nb)
 {
     lanes st;
     int b;
 
-    for (b = 0; b < NB; b++) {
+    for (b = 0; b < nb; b++) {
         st.target[b] = _mm256_loadu_pd(delta + i + 4 * (size_t) b);
         st.u[b] = u0[b];
         st.lo[b] = bc(c->u_lo);
@@ -2178,56 +2249,92 @@ point_from4(const exact_ctx *c, int bonded, size_t i, const double *delta, const
         st.act[b] = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
     }
     st.m = st.live = 0;
-    lanes_step(c, &st, 1);
+    lanes_step(c, &st, 1, nb);
     if (st.live != 0)
-        lanes_more(c, &st);
+        lanes_more(c, &st, nb);
     const int m = st.m;
     const double *(*fa)[4] = st.fa;
-    v4 *fu = st.fu, *ft = st.ft, *ft2 = st.ft2, *ft4 = st.ft4, *fsh = st.fsh, *fsh1 = st.fsh1;
+    v4 *fu = st.fu, *ft = st.ft, *fsh = st.fsh, *fsh1 = st.fsh1;
     v4 *fsh2 = st.fsh2, *fd2 = st.fd2, *fidd = st.fidd, *fdu = st.fdu, *target = st.target;
     if (m == 0)
         return 0;
-    for (b = 0; b < NB; b++) {
-        v4 h, ee, v23[2], y23[2], z23[2], ta, tb, tc, td, te, tf, tg, tmid, tau, Ssh, Ssh1, Ssh2;
-        v4 P1, P11, P12, P, dP, dPdd, sh, du = fdu[b], idd = fidd[b], f[6];
-        h = bc(0.5) * du * du;
-        ee = fd2[b] * du * idd;
-        idd = idd * ((bc(1.0) - ee) + ee * ee);
-        poly4(fa[b], PP_VAL + 2, ft[b], ft2[b], ft4[b], v23, y23, z23);
-        ld_pair(fa[b], PP_TAU, &ta, &tb);
-        ld_pair(fa[b], PP_TAU + 2, &tc, &td);
-        ld_pair(fa[b], PP_TAU + 4, &te, &tf);
-        ld_pair(fa[b], PP_TAU + 6, &tg, &tmid);
-        tau = ((ta + tb * ft[b]) + ft2[b] * (tc + td * ft[b])) + ft4[b] * ((te + tf * ft[b]) + tg * ft2[b]);
-        Ssh = bc(c->Sc) * v23[0];
-        Ssh1 = bc(c->Sc) * y23[0];
-        Ssh2 = bc(c->Sc) * z23[0];
-        P1 = bc(c->F1) * v23[1];
-        P11 = bc(c->F1) * y23[1];
-        P12 = bc(c->F1) * z23[1];
-        P = ((P1 - Ssh) + (P11 - Ssh1) * du) + (P12 - Ssh2) * h;
-        dP = (P11 - Ssh1) + (P12 - Ssh2) * du;
-        tau = tau * ((bc(1.0) + du) + h);
-        sh = fsh[b] + (fsh1[b] * du + fsh2[b] * h);
-        Ssh = Ssh + (Ssh1 * du + Ssh2 * h);
-        P1 = P1 + (P11 * du + P12 * h);
-        dPdd = dP * idd;
-        outs4(c, bonded, fa[b], ft[b] + du, target[b], P, tau, P1, Ssh, sh, dPdd, &out[i + 4 * (size_t) b]);
-        /* root_put's */
-        f[0] = fu[b] + du;
-        f[1] = target[b];
-        f[2] = idd;
-        f[3] = sh;
-        f[4] = fsh1[b];
-        f[5] = fd2[b];
-        st_six(&ro[i + 4 * (size_t) b].u, f);
-    }
+    for (b = 0; b < nb; b++)
+        finish4(c, bonded, fa[b], ft[b], fu[b], fdu[b], fidd[b], fd2[b], fsh[b], fsh1[b], fsh2[b],
+                target[b], &out[i + 4 * (size_t) b], &ro[i + 4 * (size_t) b]);
     return m;
 }
 
-/* eval_from with the points taken 4 NB at a time by point_from4 where
- * that many in a row touch and have starts; the rest as eval_from takes
- * them (one at a time). */
+/* point_from4 where every point's first Newton step finishes (a fit's
+ * evaluations from the last roots, nearly always): the step and the
+ * finish in one pass, the step's state in registers, none of the later
+ * steps' bookkeeping.  The first step's operations are lanes_step's from
+ * point_from4's start (bracket [u_lo, u_top]), so the bits are the same;
+ * where a point does not finish there, point_from4 takes all of them
+ * from the start. */
+__attribute__((target("avx2"), always_inline)) static inline int
+point_one4(const exact_ctx *c, int bonded, size_t i, const double *delta, const v4 u0[NB],
+           lf_eval *out, root_rec *ro, int nb)
+{
+    const prodpoly *pp = c->pp;
+    const double *a[NB][4];
+    const v4 zero = _mm256_setzero_pd(), ulo = bc(c->u_lo), utop = bc(c->u_top);
+    v4 t[NB], t2[NB], t4[NB], v01[NB][2], y01[NB][2], z01[NB][2], target[NB];
+    v4 du[NB], idd[NB], d2[NB], sh[NB], sh1[NB], sh2[NB], act[NB];
+    int l, b, all = 1;
+
+    for (b = 0; b < nb; b++) {
+        const v4 u = u0[b], x = (u - bc(pp->u0)) * bc(pp->inv_hs);
+        int xs[4];
+        act[b] = _mm256_and_pd(
+            _mm256_and_pd(_mm256_cmp_pd(u, ulo, _CMP_GT_OQ), _mm256_cmp_pd(u, utop, _CMP_LT_OQ)),
+            _mm256_and_pd(_mm256_cmp_pd(x, zero, _CMP_GE_OQ),
+                          _mm256_cmp_pd(x, bc((double) pp->nq), _CMP_LT_OQ)));
+        _mm_storeu_si128((__m128i *) (void *) xs, _mm256_cvttpd_epi32(_mm256_and_pd(act[b], x)));
+        for (l = 0; l < 4; l++)
+            a[b][l] = pp->c + pp->stride * (size_t) xs[l];
+        t[b] = u - _mm256_set_pd(a[b][3][PP_MID], a[b][2][PP_MID], a[b][1][PP_MID], a[b][0][PP_MID]);
+        t2[b] = t[b] * t[b];
+        t4[b] = t2[b] * t2[b];
+        target[b] = _mm256_loadu_pd(delta + i + 4 * (size_t) b);
+    }
+    for (b = 0; b < nb; b++)
+        poly4(a[b], PP_VAL, t[b], t2[b], t4[b], v01[b], y01[b], z01[b]);
+    for (b = 0; b < nb; b++) {
+        const v4 u = u0[b];
+        v4 D, g, gp, un, tay, inb, dd, at, fin, lo, hi, s;
+        sh[b] = bc(c->A2) * v01[b][1];
+        sh1[b] = bc(c->A2) * y01[b][1];
+        sh2[b] = bc(c->A2) * z01[b][1];
+        D = bc(c->A1) * v01[b][0];
+        dd = bc(c->A1) * y01[b][0] - sh1[b];
+        d2[b] = bc(c->A1) * z01[b][0] - sh2[b];
+        g = (D - sh[b]) - target[b];
+        idd[b] = bc(1.0) / dd;
+        s = _mm256_xor_pd(g, bc(-0.0)) * idd[b];
+        at = _mm256_cmp_pd(vabs(g), bc(1e-14) * (vabs(D) + vabs(sh[b])), _CMP_LE_OQ);
+        gp = _mm256_cmp_pd(g, zero, _CMP_GT_OQ);
+        hi = vsel(gp, u, utop);
+        lo = vsel(gp, ulo, u);
+        un = u + s;
+        inb = _mm256_and_pd(_mm256_cmp_pd(un, lo, _CMP_GT_OQ), _mm256_cmp_pd(un, hi, _CMP_LT_OQ));
+        tay = _mm256_and_pd(_mm256_cmp_pd(vabs(s), bc(STEP_TAYLOR), _CMP_LE_OQ),
+                            _mm256_cmp_pd(vabs(s * d2[b]), bc(CURV_TAYLOR) * dd, _CMP_LE_OQ));
+        fin = _mm256_and_pd(_mm256_and_pd(act[b], _mm256_cmp_pd(dd, zero, _CMP_GT_OQ)),
+                            _mm256_or_pd(at, _mm256_and_pd(inb, tay)));
+        all &= _mm256_movemask_pd(fin) == 15;
+        du[b] = vsel(at, zero, s - ((bc(0.5) * d2[b] * s) * s) * idd[b]);
+    }
+    if (!all)
+        return point_from4(c, bonded, i, delta, u0, out, ro, nb);
+    for (b = 0; b < nb; b++)
+        finish4(c, bonded, a[b], t[b], u0[b], du[b], idd[b], d2[b], sh[b], sh1[b], sh2[b],
+                target[b], &out[i + 4 * (size_t) b], &ro[i + 4 * (size_t) b]);
+    return (1 << 4 * nb) - 1;
+}
+
+/* eval_from with the points taken 4 NB at a time by point_one4 where
+ * that many in a row touch and have starts, else four at a time where
+ * four do; the rest as eval_from takes them (one at a time). */
 __attribute__((target("avx2"))) static int
 eval_from4(const exact_ctx *c, int bonded, int load, double start, size_t n, const double *delta,
            lf_eval *out, root_rec *ro, double dL)
@@ -2240,10 +2347,13 @@ eval_from4(const exact_ctx *c, int bonded, int load, double start, size_t n, con
 
     while (i < n) {
         double u0;
-        if (i + 4 * NB <= n) {
+        if (i + 4 <= n) {
             v4 u[NB];
-            int good = 1;
-            for (b = 0; b < NB && good; b++) {
+            const int most = i + 4 * NB <= n ? NB : 1;
+            int nb = 0;
+            /* as many blocks as there is room for, or one block, where
+             * their points touch and have starts */
+            for (b = 0; b < most; b++) {
                 const v4 dv = _mm256_loadu_pd(delta + i + 4 * (size_t) b);
                 v4 touch = load ? _mm256_cmp_pd(dv, vstart, _CMP_GE_OQ)
                                 : _mm256_cmp_pd(dv, vstart, _CMP_GT_OQ);
@@ -2255,26 +2365,27 @@ eval_from4(const exact_ctx *c, int bonded, int load, double start, size_t n, con
                 du1 = ((dv - r[1]) + r[3] * vdL) * r[2];
                 u[b] = (r[0] + du1) - r[2] * ((((bc(0.5) * r[5]) * du1) * du1 - (r[4] * du1) * vdL)
                                               - ((bc(0.5) * r[3]) * vdL) * vdL);
-                good = _mm256_movemask_pd(_mm256_and_pd(
-                           touch, _mm256_cmp_pd(vabs(u[b]), bc(INFINITY), _CMP_LT_OQ))) == 15;
+                if (_mm256_movemask_pd(_mm256_and_pd(
+                        touch, _mm256_cmp_pd(vabs(u[b]), bc(INFINITY), _CMP_LT_OQ))) != 15)
+                    break;
             }
-            if (good) {
+            nb = b == most ? most : b > 0 ? 1 : 0;
+            if (nb > 0) {
                 double us[4 * NB];
-                m = point_from4(c, bonded, i, delta, u, out, ro);
-                i += 4 * NB;
-                if (m == (1 << 4 * NB) - 1)
-                    continue;
-                i -= 4 * NB;
-                for (b = 0; b < NB; b++)
-                    _mm256_storeu_pd(us + 4 * b, u[b]);
-                for (l = 0; l < 4 * NB; l++) {
-                    const size_t j = i + (size_t) l;
-                    if (m & (1 << l))
-                        continue;
-                    if (eval_point(c, bonded, 1, delta[j], us[l], &out[j], &w, &ro[j]) != LF_OK)
-                        return LF_EINVAL;
+                m = nb == NB ? point_one4(c, bonded, i, delta, u, out, ro, NB)
+                             : point_one4(c, bonded, i, delta, u, out, ro, 1);
+                if (m != (1 << 4 * nb) - 1) {
+                    for (b = 0; b < nb; b++)
+                        _mm256_storeu_pd(us + 4 * b, u[b]);
+                    for (l = 0; l < 4 * nb; l++) {
+                        const size_t j = i + (size_t) l;
+                        if (m & (1 << l))
+                            continue;
+                        if (eval_point(c, bonded, 1, delta[j], us[l], &out[j], &w, &ro[j]) != LF_OK)
+                            return LF_EINVAL;
+                    }
                 }
-                i += 4 * NB;
+                i += 4 * (size_t) nb;
                 continue;
             }
         }
