@@ -397,6 +397,11 @@ struct lf_fit {
     int nu_determinable; /* the plan alone determines nu */
     double chi2_step;    /* the solve's precision in chi2/dof: FIT_CHI2_STEP,
                             or a profile point's coarser one (profile.c) */
+    double stop_above;   /* > 0: the solve ends, not converged, where the
+                            Gauss-Newton step's chi2 stays above this
+                            (hold.c's k = 2 check asks only whether chi2
+                            ends far below it) */
+    int stopped_above;   /* the last iterate.c run ended so */
     double mu0;          /* lm.c's first damping (in units of the scaled
                             diagonal): FIT_LM_MU0, or where a profile's last
                             refit took its first step (profile.c) */
@@ -629,6 +634,7 @@ typedef struct {
     int mode;                  /* LF_PROFILE_CHECK, _ALWAYS or _SCREEN */
     int calibrate;             /* LF_PROFILE_CALIBRATE was asked */
     double thr;                /* the threshold of the rise, s^2 F(1, n_eff - p) */
+    double stop_above;         /* its refits' stop_above (0: none) */
     double mu0;                /* the damping at which this profile's last
                                   refit took its first step (NaN: none) */
     size_t fits;
