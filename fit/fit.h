@@ -451,6 +451,12 @@ void lf_fit_fd_free(lf_fit *f);
 
 /* problem.c: the parameter mapping, residuals and Jacobian */
 int lf_fit_problem_setup(lf_fit *f, lf_error *err);
+/* lf_fit_alloc, with what the layout derives from a curve's points alone
+ * (its depth order, noise and quantum) taken from like (NULL: none) for
+ * each curve that like holds at the same index with the same depth and
+ * force arrays (layout.c): the same fit, without sorting again. */
+lf_fit *lf_fit_alloc_like(const lf_fit_settings *settings, size_t ncurves,
+                          const lf_fit_curve *curves, const lf_fit *like, lf_error *err);
 /* Map x to the material and per-curve offsets. */
 void lf_fit_unpack(const lf_fit *f, const double *x, lf_material *mat,
                 double *z0, double *F0, double *slope, size_t j);
@@ -635,6 +641,8 @@ typedef struct {
     int calibrate;             /* LF_PROFILE_CALIBRATE was asked */
     double thr;                /* the threshold of the rise, s^2 F(1, n_eff - p) */
     double stop_above;         /* its refits' stop_above (0: none) */
+    const lf_fit *like;        /* a fit of these curves whose layout a refit's
+                                  takes (lf_fit_alloc_like; NULL: none) */
     double mu0;                /* the damping at which this profile's last
                                   refit took its first step (NaN: none) */
     size_t fits;

@@ -137,7 +137,8 @@ hold_alloc(fit_prof *p, double v)
         g->set = s;
         g->mu0 = FIT_LM_MU0;
     } else {
-        g = lf_fit_alloc(&s, p->nc, p->cc, NULL);
+        g = lf_fit_alloc_like(&s, p->nc, p->cc, p->held != NULL ? p->held
+                              : p->like != NULL ? p->like : p->walker, NULL);
     }
     if (g == NULL)
         return NULL;
@@ -326,6 +327,7 @@ lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor)
     p.nc = f->ncurves;
     p.best = r;
     p.which = FIT_W;
+    p.like = f;
     p.thr = lf_fit_hold_threshold(r);
     p.stop_above = r->chi2 + K2_STOP_ABOVE * p.thr;
     up = lf_fit_hold_rise(&p, w * factor);

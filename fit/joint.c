@@ -124,12 +124,13 @@ pooled(const lf_heterogeneity *h, const lf_material *a, size_t n, const lf_curve
 }
 
 /* Joint fit B from mat and the singles' offsets (NaN: profiled at mat),
- * on A's models (model[j], NULL: the curve's own), nu where held by mat
+ * on A's models (model[j], NULL: the curve's own; like, A's fit where it
+ * waits, lends its layout), nu where held by mat
  * out of range at nu_a: its run, not assessed, in *fb (at its solution)
  * and *run, b holding the run's totals; LF_EINVAL when it cannot be
  * made. */
 static int
-from_pooled(const lf_fit_settings *s, size_t n, const lf_fit_curve *curves,
+from_pooled(const lf_fit_settings *s, size_t n, const lf_fit_curve *curves, const lf_fit *like,
             const lf_model_type *const *model, double nu_a, const lf_material *mat,
             const double *off, lf_fit **fb, fit_run *run, lf_fit_result *b)
 {
@@ -147,7 +148,7 @@ from_pooled(const lf_fit_settings *s, size_t n, const lf_fit_curve *curves,
         if (model[j] != NULL)
             cc[j].model = model[j];
     }
-    f = lf_fit_alloc(s, n, cc, NULL);
+    f = lf_fit_alloc_like(s, n, cc, like, NULL);
     free(cc);
     if (f == NULL || !(mat->w > 0) || !(mat->Estar > 0)) {
         lf_fit_free(f);
@@ -261,7 +262,7 @@ lf_fit_joint(const lf_fit_settings *settings, const lf_choose_settings *choose,
             lf_fit_result b;
             lf_fit *fb;
             fit_run rb;
-            int sb = from_pooled(settings, n, curves, model, nu_free ? ma.nu : 0.25, &m, off,
+            int sb = from_pooled(settings, n, curves, ja.a, model, nu_free ? ma.nu : 0.25, &m, off,
                                  &fb, &rb, &b);
             int lower = sb == LF_OK
                         && run_chi2(fb) < (ja.a != NULL ? run_chi2(ja.a) : res->chi2) * (1.0 - 1e-9);
