@@ -620,9 +620,10 @@ int lf_fit_loo_due(const lf_fit_result *res);
 /* Leave-one-out made later than the assessment (descend.c: only for the
  * point finally reported): of the curves cc[0..n-1] (each with its fitted
  * model) under s, its words inserted at res->warnings' index at, where
- * lf_fit_solve_end_at said they belong. */
+ * lf_fit_solve_end_at said they belong; like (NULL: none), a fit of
+ * these curves, lends its layout to the first refit's fit. */
 void lf_fit_leave_one_out_at(const lf_fit_settings *s, size_t n, const lf_fit_curve *cc,
-                             lf_fit_result *res, size_t at);
+                             lf_fit_result *res, size_t at, const lf_fit *like);
 #define FIT_LOO_NONE ((size_t) -1)
 
 /* descend.c's walk: multiples of the standard error either side */
@@ -706,9 +707,12 @@ void lf_fit_refit_settle(fit_prof *p, lf_fit_result *res);
 int lf_fit_descend(fit_prof *p, lf_fit_result *res);
 /* lf_fit_profile of a result whose leave-one-out its assessment left
  * waiting (lf_fit_solve_end_at's loo_at; FIT_LOO_NONE: none): made on the
- * result finally reported, whether res or a lower point that replaced it. */
+ * result finally reported, whether res or a lower point that replaced it;
+ * like (NULL: none), a fit of these curves, lends its layout to the
+ * profile's fits (lf_fit_alloc_like). */
 int lf_fit_profile_at(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
-                      lf_fit_result *res, int always, size_t loo_at, lf_error *err);
+                      lf_fit_result *res, int always, size_t loo_at, const lf_fit *like,
+                      lf_error *err);
 /* a profile point lower than the best fit by this fraction of the
  * threshold means the best fit was not the global minimum */
 #define FIT_PROFILE_LOWER 0.01

@@ -215,6 +215,7 @@ lf_fit_joint(const lf_fit_settings *settings, const lf_choose_settings *choose,
     const lf_model_type **model = NULL;
     double *off = NULL;
     joint_a ja;
+    lf_fit *like = NULL;        /* B's fit, whose layout the profile's fits take */
     lf_error perr;
     /* res's leave-one-out, left waiting for the result finally reported
      * (lf_fit_profile_at): the descent or a profile may replace res */
@@ -302,18 +303,20 @@ lf_fit_joint(const lf_fit_settings *settings, const lf_choose_settings *choose,
                 res->evaluations += b.evaluations;
                 lf_fit_result_free(&b);
             }
-            lf_fit_free(fb);
+            like = fb;
         }
     }
     free(model);
     if (ja.a != NULL && (st = a_assess(&ja, res, &loo_at, err)) != LF_OK && st != LF_ENOCONV) {
+        lf_fit_free(like);
         free(each);
         free(off);
         return st;
     }
-    if (lf_fit_profile_at(settings, n, curves, res, intervals, loo_at, &perr) != LF_OK)
+    if (lf_fit_profile_at(settings, n, curves, res, intervals, loo_at, like, &perr) != LF_OK)
         lf_warn(&res->warnings, "the intervals could not be made (%s): the linear ones stand",
                 perr.msg);
+    lf_fit_free(like);
     if (st == LF_OK && !res->converged)
         st = LF_ENOCONV;        /* a local minimum, or nothing determined */
     if (n >= 2) {

@@ -135,18 +135,22 @@ sort_by_depth(const double *z, size_t n, size_t *order, depth_index *di)
         order[i] = di[i].i;
 }
 
-/* 1 when like (NULL: none) has curve j of f with the same points, the
- * same depth and force arrays: what the layout derives from them alone
- * (depth order, noise, quantum) is taken from like. */
-static int
+/* The curve of like (NULL: none) with the points of f's curve j, the same
+ * depth and force arrays (at index j, else searched), or NULL: what the
+ * layout derives from the points alone (depth order, noise, quantum) is
+ * then taken from it. */
+static const fit_curve *
 same_points(const lf_fit *like, const lf_fit *f, size_t j)
 {
-    const lf_fit_curve *a, *b = &f->c[j].data;
+    const lf_fit_curve *b = &f->c[j].data;
+    size_t i;
 
-    if (like == NULL || j >= like->ncurves)
-        return 0;
-    a = &like->c[j].data;
-    return a->depth == b->depth && a->force == b->force && a->n == b->n;
+    for (i = 0; like != NULL && i < like->ncurves; i++) {
+        const fit_curve *c = &like->c[(j + i) % like->ncurves];
+        if (c->data.depth == b->depth && c->data.force == b->force && c->data.n == b->n)
+            return c;
+    }
+    return NULL;
 }
 
 /* f->order: each curve's points sorted by depth, ties in file order, so
@@ -159,8 +163,9 @@ depth_order(lf_fit *f, const lf_fit *like, depth_index *di)
 
     for (j = 0; j < f->ncurves; j++) {
         size_t *order = f->order + f->c[j].row;
-        if (same_points(like, f, j))
-            memcpy(order, like->order + like->c[j].row, f->c[j].data.n * sizeof *order);
+        const fit_curve *c = same_points(like, f, j);
+        if (c != NULL)
+            memcpy(order, like->order + c->row, f->c[j].data.n * sizeof *order);
         else
             sort_by_depth(f->c[j].data.depth, f->c[j].data.n, order, di);
     }
@@ -196,6 +201,7 @@ curve_scales(lf_fit *f, const lf_fit *like, size_t *start, lf_error *err)
 
     for (j = 0; j < f->ncurves; j++) {
         fit_curve *c = &f->c[j];
+        const fit_curve *lc;
         /* every point is finite (check_curve) and f->order sorts the depths */
         const double zmin = c->data.depth[f->order[c->row]];
         const double zmax = c->data.depth[f->order[c->row + c->data.n - 1]];
@@ -216,9 +222,9 @@ curve_scales(lf_fit *f, const lf_fit *like, size_t *start, lf_error *err)
         c->L = zmax - zmin;
         c->Fs = fbig;
         c->eps = 1e-3 * c->L / (double) (c->data.n - 1);
-        if (same_points(like, f, j)) {
-            c->sigma = like->c[j].sigma;
-            c->quantum = like->c[j].quantum;
+        if ((lc = same_points(like, f, j)) != NULL) {
+            c->sigma = lc->sigma;
+            c->quantum = lc->quantum;
             lf_fit_guess_subsample(f, j);
             continue;
         }
