@@ -892,6 +892,9 @@ double lf_fit_decomp_combination_nullw(const fit_decomp *d, const int *cols, con
                                    for its baseline to count */
 #define FIT_K2_W_HIGH 4.0       /* k = 2: ln of the factor w is held higher
                                    by to see whether the data bound it */
+#define FIT_K2_STOP_ABOVE 100.0 /* k = 2: that refit stops where the
+                                   Gauss-Newton step's chi2 stays this many
+                                   thresholds above the best (hold.c) */
 /* The words of w bounded from above only, with the bound: the judgement's
  * at the solution, made again from the estimate's own interval once the
  * intervals are made (lf_fit_bound_words), so that a report states one

@@ -293,14 +293,12 @@ lf_fit_hold_threshold(const lf_fit_result *r)
 /* The k = 2 check asks only whether chi2 with w held higher ends within
  * the threshold of the best: its refit stops (iterate.c) once the minimum
  * of the local quadratic, chi2 less the Gauss-Newton step's decrease, lies
- * more than K2_STOP_ABOVE thresholds above the best chi2.  Of the 7 127
+ * more than FIT_K2_STOP_ABOVE thresholds above the best chi2.  Of the 7 127
  * checks that `make check` makes, 6 850 stop so, at their first
  * iteration, and each of them ended closed when refitted in full (its
  * rise at least 117 thresholds); none of the 129 that end open meets the
  * condition at any iteration.  The PEG exports' checks rise by 5e5 to
  * 1e8 thresholds; each costs 2 evaluations instead of 50 to 175. */
-#define K2_STOP_ABOVE 100.0
-
 int
 lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor)
 {
@@ -329,7 +327,7 @@ lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor)
     p.which = FIT_W;
     p.like = f;
     p.thr = lf_fit_hold_threshold(r);
-    p.stop_above = r->chi2 + K2_STOP_ABOVE * p.thr;
+    p.stop_above = r->chi2 + FIT_K2_STOP_ABOVE * p.thr;
     up = lf_fit_hold_rise(&p, w * factor);
     open = isfinite(up) && up < p.thr;
     lf_fit_free(p.held);
