@@ -734,6 +734,12 @@ double lf_fit_best_value(const lf_fit_result *r, const char *name, double fallba
 /* 1 when chi2 with w held at factor times the solution's rises by less
  * than the threshold (the data do not bound w from above). */
 int lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor);
+/* That rise (NaN where w is not fitted or not positive), its threshold in
+ * *thr, the refit stopped where its Gauss-Newton step stays `stop`
+ * thresholds above the best (0: in full; *stopped, when not NULL, says
+ * whether it did). */
+double lf_fit_w_rise_above(lf_fit *f, const lf_fit_result *r, double factor, double stop,
+                           double *thr, int *stopped);
 
 /* verdict.c: refuse a curve with no contact signal (LF_EDATA); at the end
  * of a solve, continue a stalled one, call a stall or offsets far outside

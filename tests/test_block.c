@@ -755,38 +755,6 @@ case_k2_waits(void)
 
 /* ---- the k = 2 check's early stop ---------------------------------------- */
 
-/* The rise of the k = 2 check's refit (w held e^FIT_K2_W_HIGH higher) of
- * the assessed fit g (result r), stopped at stop_above thresholds above the
- * best (0: in full), as lf_fit_w_open_above makes it; *stopped whether it
- * stopped so. */
-static double
-k2_rise(lf_fit *g, const lf_fit_result *r, double stop_above, double *thr, int *stopped)
-{
-    fit_prof p;
-    size_t j;
-    double up;
-
-    memset(&p, 0, sizeof p);
-    p.mu0 = NAN;
-    p.cc = malloc(g->ncurves * sizeof *p.cc);
-    for (j = 0; j < g->ncurves; j++) {
-        p.cc[j] = g->c[j].data;
-        p.cc[j].model = lf_model_get_type(g->c[j].model);
-    }
-    p.s = &g->set;
-    p.nc = g->ncurves;
-    p.best = r;
-    p.which = FIT_W;
-    p.like = g;
-    p.thr = *thr = lf_fit_hold_threshold(r);
-    p.stop_above = stop_above > 0 ? r->chi2 + stop_above * p.thr : 0.0;
-    up = lf_fit_hold_rise(&p, r->value[g->imat[FIT_W]] * exp(FIT_K2_W_HIGH));
-    *stopped = p.held != NULL && p.held->stopped_above;
-    lf_fit_free(p.held);
-    free(p.cc);
-    return up;
-}
-
 /* k = 2 scenes with and without a baseline out of contact (w bounded from
  * above or not): the verdict of the stopped refit is that of the refit in
  * full, the refit stops where the data bound w, and never where they do
@@ -821,11 +789,13 @@ case_k2_stop(void)
                 if (g != NULL && lf_fit_guess(g, &start, NULL) == LF_OK
                     && lf_fit_solve_run(g, &start, &run, NULL, NULL) == LF_OK
                     && lf_fit_assess(g, g->ws.x->data, &run, &r, NULL) == LF_OK
-                    && g->imat[FIT_W] >= 0 && r.value[g->imat[FIT_W]] > 0) {
+                    && g->imat[FIT_W] >= 0 && r.value[g->imat[FIT_W]] > 0
+                    && r.se_scale > 0) {
                     double thr, full, cut;
                     int st_full, st_cut;
-                    full = k2_rise(g, &r, 0.0, &thr, &st_full);
-                    cut = k2_rise(g, &r, FIT_K2_STOP_ABOVE, &thr, &st_cut);
+                    full = lf_fit_w_rise_above(g, &r, exp(FIT_K2_W_HIGH), 0.0, &thr, &st_full);
+                    cut = lf_fit_w_rise_above(g, &r, exp(FIT_K2_W_HIGH), FIT_K2_STOP_ABOVE, &thr,
+                                              &st_cut);
                     runs++;
                     same += (isfinite(full) && full < thr) == (isfinite(cut) && cut < thr)
                             && !st_full;
