@@ -32,10 +32,13 @@
 
 /* Fit one curve alone into *e (its estimates, NaN where not determined or
  * not converged) and off[0..2] (its offsets at the solution, NaN where
- * none); nu held at the joint fit's where that fitted it (see the top). */
+ * none); nu held at the joint fit's where that fitted it (see the top);
+ * like (NULL: none), a fit of the curves, lends its layout to the
+ * profile's fits. */
 static void
 single(const lf_fit_settings *settings, const lf_choose_settings *choose,
-       const lf_fit_curve *curve, double nu, lf_curve_estimate *e, double *off)
+       const lf_fit_curve *curve, double nu, const lf_fit *like, lf_curve_estimate *e,
+       double *off)
 {
     lf_fit_settings s = *settings;
     lf_fit_result r;
@@ -56,7 +59,7 @@ single(const lf_fit_settings *settings, const lf_choose_settings *choose,
     }
     if (st != LF_OK && st != LF_ENOCONV)
         return;
-    lf_fit_profile(&s, 1, curve, &r, LF_PROFILE_SCREEN, NULL);
+    lf_fit_profile_at(&s, 1, curve, &r, LF_PROFILE_SCREEN, FIT_LOO_NONE, like, NULL);
     if (r.converged)
         lf_curve_estimate_of(&r, e);
     off[0] = lf_fit_best_value(&r, "z0[1]", NAN);
@@ -257,7 +260,8 @@ lf_fit_joint(const lf_fit_settings *settings, const lf_choose_settings *choose,
         }
         ma = a_solution(&ja, res, n, model, &nu_free);
         for (j = 0; j < n; j++)
-            single(settings, choose, &curves[j], nu_free ? ma.nu : NAN, &each[j], off + 3 * j);
+            single(settings, choose, &curves[j], nu_free ? ma.nu : NAN, ja.a, &each[j],
+                   off + 3 * j);
         if (lf_heterogeneity_of(n, each, &h, NULL) == LF_OK) {
             lf_material m = pooled(&h, &ma, n, each);
             lf_fit_result b;
