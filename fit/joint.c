@@ -33,8 +33,8 @@
 /* Fit one curve alone into *e (its estimates, NaN where not determined or
  * not converged) and off[0..2] (its offsets at the solution, NaN where
  * none); nu held at the joint fit's where that fitted it (see the top);
- * like (NULL: none), a fit of the curves, lends its layout to the
- * profile's fits. */
+ * like (NULL: none), a fit of the curves, lends its layout to the fit and
+ * its profile's. */
 static void
 single(const lf_fit_settings *settings, const lf_choose_settings *choose,
        const lf_fit_curve *curve, double nu, const lf_fit *like, lf_curve_estimate *e,
@@ -55,7 +55,11 @@ single(const lf_fit_settings *settings, const lf_choose_settings *choose,
         cs.thin_comparison = 0;
         st = lf_fit_choose_driver(&s, &cs, 1, curve, &r, NULL);
     } else {
-        st = lf_fit_driver(&s, 1, curve, &r, NULL);
+        /* lf_fit_driver, its fit's layout from like */
+        lf_fit *f = lf_fit_alloc_like(&s, 1, curve, like, NULL);
+        memset(&r, 0, sizeof r);
+        st = f != NULL ? lf_fit_run(f, &r, NULL) : LF_EINVAL;
+        lf_fit_free(f);
     }
     if (st != LF_OK && st != LF_ENOCONV)
         return;
