@@ -453,8 +453,8 @@ void lf_fit_fd_free(lf_fit *f);
 int lf_fit_problem_setup(lf_fit *f, lf_error *err);
 /* lf_fit_alloc, with what the layout derives from a curve's points alone
  * (its depth order, noise and quantum) taken from like (NULL: none) for
- * each curve that like holds at the same index with the same depth and
- * force arrays (layout.c): the same fit, without sorting again. */
+ * each curve that like also holds, with the same depth and force arrays
+ * at any index (layout.c): the same fit, without sorting again. */
 lf_fit *lf_fit_alloc_like(const lf_fit_settings *settings, size_t ncurves,
                           const lf_fit_curve *curves, const lf_fit *like, lf_error *err);
 /* Map x to the material and per-curve offsets. */

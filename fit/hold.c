@@ -292,10 +292,10 @@ lf_fit_hold_threshold(const lf_fit_result *r)
 
 /* The k = 2 check (lf_fit_w_open_above) asks only whether chi2 with w
  * held higher ends within the threshold of the best: its refit stops
- * (iterate.c) once the minimum
- * of the local quadratic, chi2 less the Gauss-Newton step's decrease, lies
- * more than FIT_K2_STOP_ABOVE thresholds above the best chi2.  Of the 7 127
- * checks that `make check` makes, 6 850 stop so, at their first
+ * (iterate.c) once the minimum of the local quadratic, chi2 less the
+ * Gauss-Newton step's decrease, lies more than FIT_K2_STOP_ABOVE
+ * thresholds above the best chi2, and no contact-edge scan follows.  Of
+ * the 7 127 checks that `make check` makes, 6 850 stop so, at their first
  * iteration, and each of them ended closed when refitted in full (its
  * rise at least 117 thresholds); none of the 129 that end open meets the
  * condition at any iteration.  The PEG exports' checks rise by 5e5 to

@@ -58,9 +58,9 @@ w_decides(const lf_fit_result *r)
 
 /* Every curve of three or more disagrees with the joint fit: refit
  * without each in turn (the curves f's, or cc[0..n-1] under s where f is
- * NULL, like then lending its layout to the first refit).  When exactly one curve's absence lets all the others agree,
- * that curve is named; when none or several do, the disagreement is
- * reported as general.
+ * NULL, like then lending its layout to the first refit).  When exactly
+ * one curve's absence lets all the others agree, that curve is named;
+ * when none or several do, the disagreement is reported as general.
  *
  * Each refit is first assessed without the k = 2 check's refit, which
  * can only take w's verdict away (judge.c: the other estimates, every
