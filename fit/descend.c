@@ -64,7 +64,7 @@ lf_fit_path_chi2(fit_prof *p, const lf_fit_result *res, int which, int strict, s
     /* one fit of the curves for every path: each point sets all it uses
      * (the material, the free offsets, the origin) */
     if (p->walker == NULL)
-        p->walker = lf_fit_alloc(p->s, nc, p->cc, NULL);
+        p->walker = lf_fit_alloc_like(p->s, nc, p->cc, p->like, NULL);
     g = p->walker;
     if (g == NULL || g->np != np)
         return 0;
@@ -254,7 +254,8 @@ void
 lf_fit_refit_settle(fit_prof *p, lf_fit_result *res)
 {
     if (p->loo_due)
-        lf_fit_leave_one_out_at(p->s, p->nc, p->cc, res, p->loo_at);
+        lf_fit_leave_one_out_at(p->s, p->nc, p->cc, res, p->loo_at,
+                                p->walker != NULL ? p->walker : p->like);
     p->loo_due = 0;
 }
 

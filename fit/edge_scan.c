@@ -363,8 +363,8 @@ lf_fit_solve_scanned(lf_fit *f, gsl_vector *x, int from_origin, fit_run *run, lf
         lf_fit_invalidate(f);
     }
     status = lf_fit_iterate(f, x, !from_origin, run, err);
-    for (scan = 0; status == LF_OK && !f->ws.basin_hit && scan < FIT_MAX_SCANS && edge_scan(f, x);
-         scan++)
+    for (scan = 0; status == LF_OK && !f->ws.basin_hit && !f->stopped_above && scan < FIT_MAX_SCANS
+                   && edge_scan(f, x); scan++)
         status = lf_fit_iterate(f, x, 1, run, err);
     return status;
 }

@@ -399,6 +399,11 @@ struct lf_fit {
     int nu_determinable; /* the plan alone determines nu */
     double chi2_step;    /* the solve's precision in chi2/dof: FIT_CHI2_STEP,
                             or a profile point's coarser one (profile.c) */
+    double stop_above;   /* > 0: the solve ends, not converged, where the
+                            Gauss-Newton step's chi2 stays above this
+                            (hold.c's k = 2 check asks only whether chi2
+                            ends far below it) */
+    int stopped_above;   /* the last iterate.c run ended so */
     double mu0;          /* lm.c's first damping (in units of the scaled
                             diagonal): FIT_LM_MU0, or where a profile's last
                             refit took its first step (profile.c) */
@@ -448,6 +453,12 @@ void lf_fit_fd_free(lf_fit *f);
 
 /* problem.c: the parameter mapping, residuals and Jacobian */
 int lf_fit_problem_setup(lf_fit *f, lf_error *err);
+/* lf_fit_alloc, with what the layout derives from a curve's points alone
+ * (its depth order, noise and quantum) taken from like (NULL: none) for
+ * each curve that like also holds, with the same depth and force arrays
+ * at any index (layout.c): the same fit, without sorting again. */
+lf_fit *lf_fit_alloc_like(const lf_fit_settings *settings, size_t ncurves,
+                          const lf_fit_curve *curves, const lf_fit *like, lf_error *err);
 /* Map x to the material and per-curve offsets. */
 void lf_fit_unpack(const lf_fit *f, const double *x, lf_material *mat,
                 double *z0, double *F0, double *slope, size_t j);
@@ -611,9 +622,10 @@ int lf_fit_loo_due(const lf_fit_result *res);
 /* Leave-one-out made later than the assessment (descend.c: only for the
  * point finally reported): of the curves cc[0..n-1] (each with its fitted
  * model) under s, its words inserted at res->warnings' index at, where
- * lf_fit_solve_end_at said they belong. */
+ * lf_fit_solve_end_at said they belong; like (NULL: none), a fit of
+ * these curves, lends its layout to the first refit's fit. */
 void lf_fit_leave_one_out_at(const lf_fit_settings *s, size_t n, const lf_fit_curve *cc,
-                             lf_fit_result *res, size_t at);
+                             lf_fit_result *res, size_t at, const lf_fit *like);
 #define FIT_LOO_NONE ((size_t) -1)
 
 /* descend.c's walk: multiples of the standard error either side */
@@ -631,6 +643,9 @@ typedef struct {
     int mode;                  /* LF_PROFILE_CHECK, _ALWAYS or _SCREEN */
     int calibrate;             /* LF_PROFILE_CALIBRATE was asked */
     double thr;                /* the threshold of the rise, s^2 F(1, n_eff - p) */
+    double stop_above;         /* its refits' stop_above (0: none) */
+    const lf_fit *like;        /* a fit of these curves whose layout a refit's
+                                  takes (lf_fit_alloc_like; NULL: none) */
     double mu0;                /* the damping at which this profile's last
                                   refit took its first step (NaN: none) */
     size_t fits;
@@ -694,9 +709,12 @@ void lf_fit_refit_settle(fit_prof *p, lf_fit_result *res);
 int lf_fit_descend(fit_prof *p, lf_fit_result *res);
 /* lf_fit_profile of a result whose leave-one-out its assessment left
  * waiting (lf_fit_solve_end_at's loo_at; FIT_LOO_NONE: none): made on the
- * result finally reported, whether res or a lower point that replaced it. */
+ * result finally reported, whether res or a lower point that replaced it;
+ * like (NULL: none), a fit of these curves, lends its layout to the
+ * profile's fits (lf_fit_alloc_like). */
 int lf_fit_profile_at(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
-                      lf_fit_result *res, int always, size_t loo_at, lf_error *err);
+                      lf_fit_result *res, int always, size_t loo_at, const lf_fit *like,
+                      lf_error *err);
 /* a profile point lower than the best fit by this fraction of the
  * threshold means the best fit was not the global minimum */
 #define FIT_PROFILE_LOWER 0.01
@@ -718,6 +736,12 @@ double lf_fit_best_value(const lf_fit_result *r, const char *name, double fallba
 /* 1 when chi2 with w held at factor times the solution's rises by less
  * than the threshold (the data do not bound w from above). */
 int lf_fit_w_open_above(lf_fit *f, const lf_fit_result *r, double factor);
+/* That rise (NaN where w is not fitted or not positive), its threshold in
+ * *thr, the refit stopped where its Gauss-Newton step stays `stop`
+ * thresholds above the best (0: in full; *stopped, when not NULL, says
+ * whether it did). */
+double lf_fit_w_rise_above(lf_fit *f, const lf_fit_result *r, double factor, double stop,
+                           double *thr, int *stopped);
 
 /* verdict.c: refuse a curve with no contact signal (LF_EDATA); at the end
  * of a solve, continue a stalled one, call a stall or offsets far outside
@@ -876,6 +900,9 @@ double lf_fit_decomp_combination_nullw(const fit_decomp *d, const int *cols, con
                                    for its baseline to count */
 #define FIT_K2_W_HIGH 4.0       /* k = 2: ln of the factor w is held higher
                                    by to see whether the data bound it */
+#define FIT_K2_STOP_ABOVE 100.0 /* k = 2: that refit stops where the
+                                   Gauss-Newton step's chi2 stays this many
+                                   thresholds above the best (hold.c) */
 /* The words of w bounded from above only, with the bound: the judgement's
  * at the solution, made again from the estimate's own interval once the
  * intervals are made (lf_fit_bound_words), so that a report states one

@@ -371,7 +371,8 @@ in_basin(lf_fit *f)
  * *info = FIT_INFO_CHI2 when a Gauss-Newton step would lower chi2 by less
  * than chi2_step chi2/dof (FIT_CHI2_STEP: the estimates are then within
  * sqrt(FIT_CHI2_STEP) of their reported standard errors of the minimum),
- * else by GSL's tests.  An unusable
+ * else by GSL's tests; where the Gauss-Newton step's chi2 stays above
+ * f->stop_above, with f->stopped_above set.  An unusable
  * Jacobian ends the run with GSL_EBADFUNC and the negligible column in
  * *dead. */
 static int
@@ -387,6 +388,12 @@ drive(lf_fit *f, int *info, size_t *dead)
             return GSL_EBADFUNC;
         chi2dof = chi2_per_dof(f);
         remember_gn(f, dchi2, chi2dof);
+        /* a run that only asks whether chi2 ends below a level: not from
+         * here (dchi2 is HUGE_VAL where J^T J is not positive definite) */
+        if (f->stop_above > 0 && chi2dof * (double) (f->nres - f->np) - dchi2 > f->stop_above) {
+            f->stopped_above = 1;
+            return GSL_SUCCESS;
+        }
         if (dchi2 <= f->chi2_step * chi2dof) {
             *info = FIT_INFO_CHI2;
             return GSL_SUCCESS;
@@ -448,6 +455,17 @@ solve_again(lf_fit *f, gsl_vector *x, int allow_own, fit_run *run, int *info, si
     return status;
 }
 
+/* The end of a run that drive() stopped at f->stop_above: x the solver's
+ * position, where chi2 exceeds that level. */
+static int
+above_end(lf_fit *f, gsl_vector *x, fit_run *run)
+{
+    take_position(f, x);
+    lf_fit_run_says(run, LF_STOP_NO_PROGRESS, "not converged: stopped where a Gauss-Newton step "
+                    "cannot bring chi2 down to the level asked");
+    return LF_OK;
+}
+
 int
 lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error *err)
 {
@@ -462,7 +480,13 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
     if (status != GSL_SUCCESS)
         return lf_fail(err, LF_ENUMERIC, "the model cannot be evaluated at the starting point (%s)",
                        status_words(status));
+    f->stopped_above = 0;
     status = drive(f, &info, &dead);
+    if (f->stopped_above) {
+        run->iters += cur_niter(f);
+        run->evals += cur_evals(f);
+        return above_end(f, x, run);
+    }
     if (f->ws.own && status != GSL_SUCCESS && status != GSL_EBADFUNC) {
         /* lm.c stalled (at a kink of the cost, where steps are rejected or
          * creep): the same start with GSL's trust region, whose path
@@ -516,6 +540,8 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
         f->fdf.df = lf_fit_block_fd(f);
         status = solve_again(f, x, 0, run, &info, &dead, &started);
         f->fdf.df = lf_fit_jacobian;
+        if (f->stopped_above)
+            return above_end(f, x, run);
         stop_reason(status, info, f->set.max_iter, run);
         take_position(f, x);
     }
@@ -533,6 +559,8 @@ lf_fit_iterate(lf_fit *f, gsl_vector *x, int after_scan, fit_run *run, lf_error 
         status = solve_again(f, x, 1, run, &info, &dead, &started);
         if (!started)
             break;
+        if (f->stopped_above)
+            return above_end(f, x, run);
         if (status == GSL_EBADFUNC) {
             status = GSL_ENOPROG;       /* judged below as the stall it ends */
             take_position(f, x);

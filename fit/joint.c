@@ -32,10 +32,13 @@
 
 /* Fit one curve alone into *e (its estimates, NaN where not determined or
  * not converged) and off[0..2] (its offsets at the solution, NaN where
- * none); nu held at the joint fit's where that fitted it (see the top). */
+ * none); nu held at the joint fit's where that fitted it (see the top);
+ * like (NULL: none), a fit of the curves, lends its layout to the fit and
+ * its profile's. */
 static void
 single(const lf_fit_settings *settings, const lf_choose_settings *choose,
-       const lf_fit_curve *curve, double nu, lf_curve_estimate *e, double *off)
+       const lf_fit_curve *curve, double nu, const lf_fit *like, lf_curve_estimate *e,
+       double *off)
 {
     lf_fit_settings s = *settings;
     lf_fit_result r;
@@ -52,11 +55,15 @@ single(const lf_fit_settings *settings, const lf_choose_settings *choose,
         cs.thin_comparison = 0;
         st = lf_fit_choose_driver(&s, &cs, 1, curve, &r, NULL);
     } else {
-        st = lf_fit_driver(&s, 1, curve, &r, NULL);
+        /* lf_fit_driver, its fit's layout from like */
+        lf_fit *f = lf_fit_alloc_like(&s, 1, curve, like, NULL);
+        memset(&r, 0, sizeof r);
+        st = f != NULL ? lf_fit_run(f, &r, NULL) : LF_EINVAL;
+        lf_fit_free(f);
     }
     if (st != LF_OK && st != LF_ENOCONV)
         return;
-    lf_fit_profile(&s, 1, curve, &r, LF_PROFILE_SCREEN, NULL);
+    lf_fit_profile_at(&s, 1, curve, &r, LF_PROFILE_SCREEN, FIT_LOO_NONE, like, NULL);
     if (r.converged)
         lf_curve_estimate_of(&r, e);
     off[0] = lf_fit_best_value(&r, "z0[1]", NAN);
@@ -124,12 +131,13 @@ pooled(const lf_heterogeneity *h, const lf_material *a, size_t n, const lf_curve
 }
 
 /* Joint fit B from mat and the singles' offsets (NaN: profiled at mat),
- * on A's models (model[j], NULL: the curve's own), nu where held by mat
+ * on A's models (model[j], NULL: the curve's own; like, A's fit where it
+ * waits, lends its layout), nu where held by mat
  * out of range at nu_a: its run, not assessed, in *fb (at its solution)
  * and *run, b holding the run's totals; LF_EINVAL when it cannot be
  * made. */
 static int
-from_pooled(const lf_fit_settings *s, size_t n, const lf_fit_curve *curves,
+from_pooled(const lf_fit_settings *s, size_t n, const lf_fit_curve *curves, const lf_fit *like,
             const lf_model_type *const *model, double nu_a, const lf_material *mat,
             const double *off, lf_fit **fb, fit_run *run, lf_fit_result *b)
 {
@@ -147,7 +155,7 @@ from_pooled(const lf_fit_settings *s, size_t n, const lf_fit_curve *curves,
         if (model[j] != NULL)
             cc[j].model = model[j];
     }
-    f = lf_fit_alloc(s, n, cc, NULL);
+    f = lf_fit_alloc_like(s, n, cc, like, NULL);
     free(cc);
     if (f == NULL || !(mat->w > 0) || !(mat->Estar > 0)) {
         lf_fit_free(f);
@@ -214,6 +222,7 @@ lf_fit_joint(const lf_fit_settings *settings, const lf_choose_settings *choose,
     const lf_model_type **model = NULL;
     double *off = NULL;
     joint_a ja;
+    lf_fit *like = NULL;        /* B's fit, whose layout the profile's fits take */
     lf_error perr;
     /* res's leave-one-out, left waiting for the result finally reported
      * (lf_fit_profile_at): the descent or a profile may replace res */
@@ -255,13 +264,14 @@ lf_fit_joint(const lf_fit_settings *settings, const lf_choose_settings *choose,
         }
         ma = a_solution(&ja, res, n, model, &nu_free);
         for (j = 0; j < n; j++)
-            single(settings, choose, &curves[j], nu_free ? ma.nu : NAN, &each[j], off + 3 * j);
+            single(settings, choose, &curves[j], nu_free ? ma.nu : NAN, ja.a, &each[j],
+                   off + 3 * j);
         if (lf_heterogeneity_of(n, each, &h, NULL) == LF_OK) {
             lf_material m = pooled(&h, &ma, n, each);
             lf_fit_result b;
             lf_fit *fb;
             fit_run rb;
-            int sb = from_pooled(settings, n, curves, model, nu_free ? ma.nu : 0.25, &m, off,
+            int sb = from_pooled(settings, n, curves, ja.a, model, nu_free ? ma.nu : 0.25, &m, off,
                                  &fb, &rb, &b);
             int lower = sb == LF_OK
                         && run_chi2(fb) < (ja.a != NULL ? run_chi2(ja.a) : res->chi2) * (1.0 - 1e-9);
@@ -301,18 +311,20 @@ lf_fit_joint(const lf_fit_settings *settings, const lf_choose_settings *choose,
                 res->evaluations += b.evaluations;
                 lf_fit_result_free(&b);
             }
-            lf_fit_free(fb);
+            like = fb;
         }
     }
     free(model);
     if (ja.a != NULL && (st = a_assess(&ja, res, &loo_at, err)) != LF_OK && st != LF_ENOCONV) {
+        lf_fit_free(like);
         free(each);
         free(off);
         return st;
     }
-    if (lf_fit_profile_at(settings, n, curves, res, intervals, loo_at, &perr) != LF_OK)
+    if (lf_fit_profile_at(settings, n, curves, res, intervals, loo_at, like, &perr) != LF_OK)
         lf_warn(&res->warnings, "the intervals could not be made (%s): the linear ones stand",
                 perr.msg);
+    lf_fit_free(like);
     if (st == LF_OK && !res->converged)
         st = LF_ENOCONV;        /* a local minimum, or nothing determined */
     if (n >= 2) {

@@ -135,16 +135,40 @@ sort_by_depth(const double *z, size_t n, size_t *order, depth_index *di)
         order[i] = di[i].i;
 }
 
+/* The curve of like (NULL: none) with the points of f's curve j, the same
+ * depth and force arrays (at index j, else searched), or NULL: what the
+ * layout derives from the points alone (depth order, noise, quantum) is
+ * then taken from it. */
+static const fit_curve *
+same_points(const lf_fit *like, const lf_fit *f, size_t j)
+{
+    const lf_fit_curve *b = &f->c[j].data;
+    size_t i;
+
+    for (i = 0; like != NULL && i < like->ncurves; i++) {
+        const fit_curve *c = &like->c[(j + i) % like->ncurves];
+        if (c->data.depth == b->depth && c->data.force == b->force && c->data.n == b->n)
+            return c;
+    }
+    return NULL;
+}
+
 /* f->order: each curve's points sorted by depth, ties in file order, so
  * that nothing the fit computes depends on the order of the rows (di:
- * scratch for the longest curve). */
+ * scratch for the longest curve); like's where it has the same points. */
 static void
-depth_order(lf_fit *f, depth_index *di)
+depth_order(lf_fit *f, const lf_fit *like, depth_index *di)
 {
     size_t j;
 
-    for (j = 0; j < f->ncurves; j++)
-        sort_by_depth(f->c[j].data.depth, f->c[j].data.n, f->order + f->c[j].row, di);
+    for (j = 0; j < f->ncurves; j++) {
+        size_t *order = f->order + f->c[j].row;
+        const fit_curve *c = same_points(like, f, j);
+        if (c != NULL)
+            memcpy(order, like->order + c->row, f->c[j].data.n * sizeof *order);
+        else
+            sort_by_depth(f->c[j].data.depth, f->c[j].data.n, order, di);
+    }
 }
 
 const char *
@@ -168,14 +192,16 @@ lf_loss_find(const char *name)
 }
 
 /* Depth span, force scale, guard width and noise of each curve (start:
- * scratch of n + 1 for the longest). */
+ * scratch of n + 1 for the longest); the noise and quantum like's where it
+ * has the same points. */
 static int
-curve_scales(lf_fit *f, size_t *start, lf_error *err)
+curve_scales(lf_fit *f, const lf_fit *like, size_t *start, lf_error *err)
 {
     size_t i, j;
 
     for (j = 0; j < f->ncurves; j++) {
         fit_curve *c = &f->c[j];
+        const fit_curve *lc;
         /* every point is finite (check_curve) and f->order sorts the depths */
         const double zmin = c->data.depth[f->order[c->row]];
         const double zmax = c->data.depth[f->order[c->row + c->data.n - 1]];
@@ -198,6 +224,12 @@ curve_scales(lf_fit *f, size_t *start, lf_error *err)
         c->L = zmax - zmin;
         c->Fs = fbig;
         c->eps = 1e-3 * c->L / (double) (c->data.n - 1);
+        if ((lc = same_points(like, f, j)) != NULL) {
+            c->sigma = lc->sigma;
+            c->quantum = lc->quantum;
+            lf_fit_guess_subsample(f, j);
+            continue;
+        }
         c->sigma = lf_fit_noise_sigma(c->data.depth, c->data.force, f->order + c->row,
                                       c->data.n, fbig, f->ws.work);
         c->quantum = lf_fit_quantum(c->data.force, c->data.n, fbig, f->ws.work, start);
@@ -306,6 +338,13 @@ lf_fit *
 lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
              const lf_fit_curve *curves, lf_error *err)
 {
+    return lf_fit_alloc_like(settings, ncurves, curves, NULL, err);
+}
+
+lf_fit *
+lf_fit_alloc_like(const lf_fit_settings *settings, size_t ncurves,
+                  const lf_fit_curve *curves, const lf_fit *like, lf_error *err)
+{
     lf_fit *f;
     gsl_multifit_nlinear_parameters par = gsl_multifit_nlinear_default_parameters();
     size_t j, nm = sizeof methods / sizeof methods[0], im, nmax;
@@ -391,7 +430,7 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
         goto nomem;
     for (j = 0; j < ncurves; j++)
         lf_fit_roots(f, j)[0] = NAN;
-    depth_order(f, scratch);
+    depth_order(f, like, scratch);
     f->ws.scan_ev = f->ws.ev + f->ndata;
     /* GSL's workspace: made when a run first needs it (lf_fit_gsl) */
     f->gsl_par = par;
@@ -406,7 +445,7 @@ lf_fit_alloc(const lf_fit_settings *settings, size_t ncurves,
     f->fdf.n = f->nres;
     f->fdf.p = f->np;
     f->fdf.params = f;
-    if (curve_scales(f, scratch, err) != LF_OK) {
+    if (curve_scales(f, like, scratch, err) != LF_OK) {
         free(scratch);
         lf_fit_free(f);
         return NULL;

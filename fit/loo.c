@@ -58,9 +58,9 @@ w_decides(const lf_fit_result *r)
 
 /* Every curve of three or more disagrees with the joint fit: refit
  * without each in turn (the curves f's, or cc[0..n-1] under s where f is
- * NULL).  When exactly one curve's absence lets all the others agree,
- * that curve is named; when none or several do, the disagreement is
- * reported as general.
+ * NULL, like then lending its layout to the first refit).  When exactly
+ * one curve's absence lets all the others agree, that curve is named;
+ * when none or several do, the disagreement is reported as general.
  *
  * Each refit is first assessed without the k = 2 check's refit, which
  * can only take w's verdict away (judge.c: the other estimates, every
@@ -72,12 +72,15 @@ w_decides(const lf_fit_result *r)
  * same. */
 static void
 leave_one_out(const lf_fit_settings *s, size_t n, const lf_fit *f, const lf_fit_curve *cc,
-              lf_fit_result *res)
+              const lf_fit *like, lf_fit_result *res)
 {
     size_t j, i, m, culprit = 0, ncul = 0;
     lf_fit_curve *sub = malloc(n * sizeof *sub);
     double *worst = malloc(n * sizeof *worst);
     lf_material *mat = malloc(n * sizeof *mat);
+    /* the last refit's fit: its curves' layout (all but one of the next
+     * refit's curves) lends the next one its depth orders and noise */
+    lf_fit *prev = NULL;
 
     if (sub == NULL || worst == NULL || mat == NULL)
         goto done;
@@ -91,7 +94,7 @@ leave_one_out(const lf_fit_settings *s, size_t n, const lf_fit *f, const lf_fit_
             if (i != j)
                 sub[m++] = f != NULL ? f->c[i].data : cc[i];
         worst[j] = HUGE_VAL;
-        g = lf_fit_alloc(s, m, sub, NULL);
+        g = lf_fit_alloc_like(s, m, sub, f != NULL ? f : prev != NULL ? prev : like, NULL);
         if (g == NULL)
             continue;
         g->k2_waits = 1;
@@ -100,8 +103,9 @@ leave_one_out(const lf_fit_settings *s, size_t n, const lf_fit *f, const lf_fit_
                 ok &= r.curves[i].consistent;
             if (g->k2_waited && (ok || w_decides(&r))) {
                 lf_fit_result_free(&r);
-                lf_fit_free(g);
-                g = lf_fit_alloc(s, m, sub, NULL);
+                lf_fit_free(prev);
+                prev = g;
+                g = lf_fit_alloc_like(s, m, sub, prev, NULL);
                 if (g == NULL || !refit(g, &r)) {
                     lf_fit_free(g);
                     continue;
@@ -120,7 +124,8 @@ leave_one_out(const lf_fit_settings *s, size_t n, const lf_fit *f, const lf_fit_
             }
             lf_fit_result_free(&r);
         }
-        lf_fit_free(g);
+        lf_fit_free(prev);     /* the next refit's layout from this one's */
+        prev = g;
     }
     if (ncul == 1) {
         const lf_fit_curve_result *cr = &res->curves[culprit];
@@ -140,6 +145,7 @@ leave_one_out(const lf_fit_settings *s, size_t n, const lf_fit *f, const lf_fit_
                 res->curves[0].chi2_per_point);
     }
 done:
+    lf_fit_free(prev);
     free(sub);
     free(worst);
     free(mat);
@@ -149,17 +155,17 @@ done:
 void
 lf_fit_leave_one_out(lf_fit *f, lf_fit_result *res)
 {
-    leave_one_out(&f->set, f->ncurves, f, NULL, res);
+    leave_one_out(&f->set, f->ncurves, f, NULL, NULL, res);
 }
 
 void
 lf_fit_leave_one_out_at(const lf_fit_settings *s, size_t n, const lf_fit_curve *cc,
-                        lf_fit_result *res, size_t at)
+                        lf_fit_result *res, size_t at, const lf_fit *like)
 {
     lf_warnings *w = &res->warnings;
     size_t n0 = w->n, i;
 
-    leave_one_out(s, n, NULL, cc, res);
+    leave_one_out(s, n, NULL, cc, like, res);
     if (at >= n0)
         return;
     /* its words where the assessment would have put them: rotate the new

@@ -474,12 +474,13 @@ int
 lf_fit_profile(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
                lf_fit_result *res, int always, lf_error *err)
 {
-    return lf_fit_profile_at(settings, ncurves, curves, res, always, FIT_LOO_NONE, err);
+    return lf_fit_profile_at(settings, ncurves, curves, res, always, FIT_LOO_NONE, NULL, err);
 }
 
 int
 lf_fit_profile_at(const lf_fit_settings *settings, size_t ncurves, const lf_fit_curve *curves,
-                  lf_fit_result *res, int always, size_t loo_at, lf_error *err)
+                  lf_fit_result *res, int always, size_t loo_at, const lf_fit *like,
+                  lf_error *err)
 {
     static const int which[FIT_NMAT] = { FIT_W, FIT_E, FIT_NU };
     fit_prof p;
@@ -489,13 +490,14 @@ lf_fit_profile_at(const lf_fit_settings *settings, size_t ncurves, const lf_fit_
     if (res == NULL || res->ncurves != ncurves)
         return lf_fail(err, LF_EINVAL, "lf_fit_profile: the result is not of these curves");
     memset(&p, 0, sizeof p);
+    p.like = like;
     p.cc = malloc((ncurves ? ncurves : 1) * sizeof *p.cc);
     p.lower_off = malloc((ncurves ? 3 * ncurves : 1) * sizeof *p.lower_off);
     if (p.cc == NULL || p.lower_off == NULL) {
         free(p.cc);
         free(p.lower_off);
         if (loo_at != FIT_LOO_NONE)
-            lf_fit_leave_one_out_at(settings, ncurves, curves, res, loo_at);
+            lf_fit_leave_one_out_at(settings, ncurves, curves, res, loo_at, like);
         return lf_fail(err, LF_ENOMEM, "out of memory");
     }
     for (j = 0; j < ncurves; j++) {

@@ -13,7 +13,13 @@
  *  - GSL's trust region in block form (gsl_block.c): its Jacobian by
  *    differences, J^T J, scaling and iterations GSL's own bit for bit;
  *  - leave-one-out's refits assessed without the k = 2 check's refit
- *    (loo.c): only w's verdict changes. */
+ *    (loo.c): only w's verdict changes;
+ *  - the k = 2 check's refit stopped where its Gauss-Newton step stays far
+ *    above the threshold (hold.c, iterate.c): the verdict of the refit in
+ *    full;
+ *  - a fit's layout taken from another fit of the same points
+ *    (lf_fit_alloc_like): the depth orders, noise and quantum bit for bit
+ *    those computed afresh. */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -747,6 +753,123 @@ case_k2_waits(void)
     t_true(waited >= runs / 2, "k2 waits: the check waited in %zu refits", waited);
 }
 
+/* ---- the k = 2 check's early stop ---------------------------------------- */
+
+/* k = 2 scenes with and without a baseline out of contact (w bounded from
+ * above or not): the verdict of the stopped refit is that of the refit in
+ * full, the refit stops where the data bound w, and never where they do
+ * not. */
+static void
+case_k2_stop(void)
+{
+    static const lf_model_type *const models[] = { &lf_model_thin, &lf_model_halfspace };
+    size_t im, seed, pc, runs = 0, same = 0, stops = 0, stopped_open = 0, open = 0;
+    size_t above = 0;
+
+    for (im = 0; im < 2; im++)
+        for (pc = 0; pc < 2; pc++)
+            for (seed = 1; seed <= 3; seed++) {
+                scene s = scene_default("k2 stop");
+                lf_fit *g;
+                fit_start start;
+                fit_run run;
+                lf_fit_result r;
+                scene_add(&s, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+                scene_add(&s, 2.0, 2e-3, 1e-6, LF_BASE_FRICTIONLESS);
+                s.sim.noise = pc ? 0.01 : 0.001;
+                s.sim.past_c = 3.0;     /* a long baseline out of contact */
+                if (pc)
+                    s.sim.delta_min = -0.9 * sqrt(2.0 * s.probe[0].b * s.mat.w
+                                                  / (lf_thin_Z(LF_BASE_FRICTIONLESS, s.mat.nu)
+                                                     * s.mat.Estar));
+                s.fit.model = models[im];
+                scene_simulate(&s, seed);
+                g = lf_fit_alloc(&s.fit, s.n, s.curve, NULL);
+                memset(&r, 0, sizeof r);
+                if (g != NULL && lf_fit_guess(g, &start, NULL) == LF_OK
+                    && lf_fit_solve_run(g, &start, &run, NULL, NULL) == LF_OK
+                    && lf_fit_assess(g, g->ws.x->data, &run, &r, NULL) == LF_OK
+                    && g->imat[FIT_W] >= 0 && r.value[g->imat[FIT_W]] > 0
+                    && r.se_scale > 0) {
+                    double thr, full, cut;
+                    int st_full, st_cut;
+                    full = lf_fit_w_rise_above(g, &r, exp(FIT_K2_W_HIGH), 0.0, &thr, &st_full);
+                    cut = lf_fit_w_rise_above(g, &r, exp(FIT_K2_W_HIGH), FIT_K2_STOP_ABOVE, &thr,
+                                              &st_cut);
+                    runs++;
+                    same += (isfinite(full) && full < thr) == (isfinite(cut) && cut < thr)
+                            && !st_full;
+                    open += isfinite(full) && full < thr;
+                    stops += st_cut;
+                    stopped_open += st_cut && isfinite(full) && full < thr;
+                    above += st_cut && cut >= FIT_K2_STOP_ABOVE * thr;
+                }
+                if (g != NULL)
+                    lf_fit_result_free(&r);
+                lf_fit_free(g);
+                scene_free(&s);
+            }
+    t_int((long) runs, 12, "k2 stop: every scene fitted and assessed");
+    t_int((long) same, (long) runs, "k2 stop: the verdict of the refit in full");
+    t_true(stops > 0 && open > 0, "k2 stop: %zu refits stop, %zu scenes open", stops, open);
+    t_int((long) stopped_open, 0, "k2 stop: no open scene's refit stops");
+    t_int((long) above, (long) stops, "k2 stop: a stopped refit's rise is beyond its level");
+}
+
+/* ---- a fit's layout from another fit of the same points ----------------- */
+
+/* f's layout from its points (depth order, noise, quantum) bit for bit g's. */
+static int
+same_layout(const lf_fit *f, const lf_fit *g)
+{
+    size_t j;
+    int eq = f->ncurves == g->ncurves && f->ndata == g->ndata
+             && memcmp(f->order, g->order, f->ndata * sizeof *f->order) == 0;
+
+    for (j = 0; eq && j < f->ncurves; j++)
+        eq = memcmp(&f->c[j].sigma, &g->c[j].sigma, sizeof f->c[j].sigma) == 0
+             && memcmp(&f->c[j].quantum, &g->c[j].quantum, sizeof f->c[j].quantum) == 0
+             && f->c[j].zlo == g->c[j].zlo && f->c[j].zhi == g->c[j].zhi;
+    return eq;
+}
+
+static void
+case_alloc_like(void)
+{
+    scene s = scene_default("alloc like"), o = scene_default("alloc like, other data");
+    lf_fit_curve sub[2];
+    lf_fit *f, *g, *h, *fresh, *other;
+
+    scene_add(&s, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    scene_add(&s, 1.5, 2e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    scene_add(&s, 3.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    scene_add(&o, 2.0, 1e-3, 1e-6, LF_BASE_FRICTIONLESS);
+    s.sim.noise = o.sim.noise = 0.01;
+    scene_simulate(&s, 5);
+    scene_simulate(&o, 6);
+    f = lf_fit_alloc(&s.fit, s.n, s.curve, NULL);
+    other = lf_fit_alloc(&o.fit, o.n, o.curve, NULL);
+    g = lf_fit_alloc_like(&s.fit, s.n, s.curve, f, NULL);
+    t_true(f != NULL && g != NULL && same_layout(f, g), "alloc like: the same curves");
+    /* leave-one-out's shape: the template's curves shifted by one */
+    sub[0] = s.curve[0];
+    sub[1] = s.curve[2];
+    h = lf_fit_alloc_like(&s.fit, 2, sub, f, NULL);
+    fresh = lf_fit_alloc(&s.fit, 2, sub, NULL);
+    t_true(h != NULL && fresh != NULL && same_layout(h, fresh), "alloc like: a subset");
+    lf_fit_free(h);
+    /* a template of other points lends nothing */
+    h = lf_fit_alloc_like(&s.fit, 2, sub, other, NULL);
+    t_true(h != NULL && same_layout(h, fresh), "alloc like: other points");
+    lf_fit_free(h);
+    lf_fit_free(fresh);
+    lf_fit_free(g);
+    lf_fit_free(f);
+    lf_fit_free(other);
+    scene_free(&s);
+    scene_free(&o);
+}
+
 /* ---- lf_fit_joint beyond the dense covariance ---------------------------- */
 
 /* The whole joint path of `layerfit fit` (each curve alone, the joint fit
@@ -795,5 +918,7 @@ main(void)
     joint_many();
     gsl_block_bits();
     case_k2_waits();
+    case_k2_stop();
+    case_alloc_like();
     return t_summary();
 }
