@@ -237,7 +237,10 @@ static const char *const columns[] = {
     /* what redraws a fit of one curve (`map RESULTS --report`): its probe,
      * segment, the offsets the figures draw with and a nu that was held */
     "k", "R_m", "b_m", "interface", "tip", "half_angle_rad", "B", "segment",
-    "z0_m", "F0_N", "slope_N_m", "nu_held", NULL
+    "z0_m", "F0_N", "slope_N_m", "nu_held",
+    /* --model auto: "group" where the curve's group of one probe and layer
+     * decided its model, "curve" where its own rule did */
+    "model_by", NULL
 };
 
 /* The cells of a fit of one curve that redraw it; NULL for a joint fit. */
@@ -332,7 +335,7 @@ put_row(lf_str *b, const batch_config *cfg, size_t fit_no, const char *sample,
         const char *files, const unit_files *uf, size_t ncurves, const char *status,
         const char *model, const num_field *num, size_t nnum, const char *const *text,
         const char *ident, const char *msg, const double grid[2], const lf_observables *obs,
-        const curve_cells *cc)
+        const curve_cells *cc, const char *model_by)
 {
     int json = cfg->json;
     double ov[LF_NOBSERVED];
@@ -428,6 +431,11 @@ put_row(lf_str *b, const batch_config *cfg, size_t fit_no, const char *sample,
                 sb_text(b, tv[i], json, cfg->csv_raw);
         }
     }
+    lf_str_printf(b, json ? ", \"model_by\": " : ",");
+    if (json && model_by[0] == '\0')
+        lf_str_printf(b, "null");
+    else
+        sb_text(b, model_by, json, cfg->csv_raw);
     lf_str_printf(b, json ? "}\n" : "\n");
 }
 
@@ -469,7 +477,8 @@ cause_of(const char *why, const unit_files *uf)
  * curve (status misfit), LF_BATCH_OK when it succeeded.  What goes wrong
  * is written into the row; o->text.failed when the row could not be. */
 static void
-fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, unit_out *o)
+fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, lf_model_group *mg,
+         unit_out *o)
 {
     lf_str *out = &o->text;
     const lf_plan *plan = ul->plan;
@@ -534,7 +543,13 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, unit_out *o)
     grid[0] = in.grid_i >= 0 ? (double) in.grid_i : NAN;
     grid[1] = in.grid_j >= 0 ? (double) in.grid_j : NAN;
     /* as a single fit is made, after the profile's cheap screen */
-    st = lf_fit_request_run(cfg->req, &in, LF_RUN_BATCH, &res, NULL, &err);
+    if (mg != NULL) {       /* the model chosen with the curve's group */
+        lf_fit_request rq = *cfg->req;
+        rq.choose.group = mg;
+        st = lf_fit_request_run(&rq, &in, LF_RUN_BATCH, &res, NULL, &err);
+    } else {
+        st = lf_fit_request_run(cfg->req, &in, LF_RUN_BATCH, &res, NULL, &err);
+    }
     if (st == LF_OK || st == LF_ENOCONV) {
         have_res = 1;
         /* the profile may find the minimum was a local one (noconv) */
@@ -597,7 +612,9 @@ row:
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status,
                 res.model ? res.model : "", num,
                 sizeof num / sizeof num[0], text, ident.s ? ident.s : "", msg.s ? msg.s : "",
-                grid, in.n > 0 ? &in.observed[0] : NULL, n == 1 ? &cc : NULL);
+                grid, in.n > 0 ? &in.observed[0] : NULL, n == 1 ? &cc : NULL,
+                !cfg->req->model_auto || res.ncurves != 1 ? ""
+                : res.curves[0].model_by_group ? "group" : "curve");
         if (failed == 1)
             o->why = lf_strdup(res.stop_reason);
         if (cfg->keep) {
@@ -619,7 +636,7 @@ row:
         const char *text[NTEXT] = { "", "", "" };
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status, "", num,
                 sizeof num / sizeof num[0], text, "", ebuf, grid,
-                in.n > 0 ? &in.observed[0] : NULL, n == 1 ? &cc : NULL);
+                in.n > 0 ? &in.observed[0] : NULL, n == 1 ? &cc : NULL, "");
         o->why = lf_strdup(ebuf);
     }
     if (cfg->keep && in.n > 0) {
@@ -643,6 +660,141 @@ row:
     free(rows);
 }
 
+
+/* ------------------------------------------------------------------------
+ * --model auto once per probe and layer: the plan's fits of one curve
+ * grouped by what shapes the model choice (the row's probe and layer, nu,
+ * segment, which offsets it holds); the first LF_GROUP_REFS fits of a
+ * group, in plan order, choose by their own rule and record it, the
+ * others' choice is made from those records where they settle it
+ * (lf_model_group, the rule in fit/choose.c).  The first fits are the same
+ * whatever the threads or the shard (a shard fits those before its share
+ * first, without their rows), so the rows are too.
+ * --------------------------------------------------------------------- */
+
+#define GROUP_KEY 11
+
+typedef struct {
+    double key[GROUP_KEY];
+    size_t nunits, last;            /* its fits, the last one's index */
+    size_t ref_unit[LF_GROUP_REFS]; /* its first fits */
+    size_t nref, ndone;             /* how many, and how many are done */
+    lf_group_ref rec[LF_GROUP_REFS];
+} batch_group;
+
+typedef struct {
+    size_t n, cap;
+    batch_group *g;
+    size_t *of;             /* per fit: its group, or SIZE_MAX */
+    signed char *slot;      /* per fit: its place among its group's first, or -1 */
+    size_t *table, tsize;   /* open addressing: group index + 1, 0 empty */
+} group_list;
+
+static void
+group_key(const lf_plan_row *r, double *key)
+{
+    const double v[GROUP_KEY] = {
+        r->probe.k, r->probe.R, r->probe.b, (double) r->probe.base, (double) r->probe.tip,
+        r->probe.angle, r->probe.B, r->nu, (double) r->segment, isnan(r->z0), isnan(r->F0)
+    };
+    size_t i;
+
+    for (i = 0; i < GROUP_KEY; i++)     /* one bit pattern per value */
+        key[i] = isnan(v[i]) ? -HUGE_VAL : v[i] == 0.0 ? 0.0 : v[i];
+}
+
+static size_t
+key_hash(const double *key)
+{
+    const unsigned char *p = (const unsigned char *) key;
+    size_t i, h = 14695981039346656037ULL & SIZE_MAX;
+
+    for (i = 0; i < GROUP_KEY * sizeof *key; i++)
+        h = (h ^ p[i]) * (1099511628211ULL & SIZE_MAX);
+    return h;
+}
+
+static void
+groups_free(group_list *gl)
+{
+    free(gl->g);
+    free(gl->of);
+    free(gl->slot);
+    free(gl->table);
+}
+
+/* The groups of the plan's fits of one curve; -1 when out of memory. */
+static int
+groups_make(const unit_list *ul, group_list *gl)
+{
+    size_t u, n = ul->nunits;
+
+    memset(gl, 0, sizeof *gl);
+    for (gl->tsize = 16; gl->tsize < 2 * n; gl->tsize *= 2)
+        ;
+    gl->of = malloc((n ? n : 1) * sizeof *gl->of);
+    gl->slot = malloc(n ? n : 1);
+    gl->table = calloc(gl->tsize, sizeof *gl->table);
+    if (gl->of == NULL || gl->slot == NULL || gl->table == NULL)
+        return -1;
+    for (u = 0; u < n; u++) {
+        double key[GROUP_KEY];
+        size_t h;
+        batch_group *g;
+        gl->of[u] = SIZE_MAX;
+        gl->slot[u] = -1;
+        if (ul->start[u + 1] - ul->start[u] != 1)
+            continue;       /* a joint fit chooses its own models */
+        group_key(&ul->plan->rows[ul->item_row[ul->row[ul->start[u]]]], key);
+        for (h = key_hash(key) & (gl->tsize - 1); gl->table[h] != 0; h = (h + 1) & (gl->tsize - 1))
+            if (memcmp(gl->g[gl->table[h] - 1].key, key, sizeof key) == 0)
+                break;
+        if (gl->table[h] == 0) {
+            if (gl->n == gl->cap) {
+                size_t cap = gl->cap ? 2 * gl->cap : 16;
+                batch_group *ng = realloc(gl->g, cap * sizeof *ng);
+                if (ng == NULL)
+                    return -1;
+                gl->g = ng;
+                gl->cap = cap;
+            }
+            g = &gl->g[gl->n];
+            memset(g, 0, sizeof *g);
+            memcpy(g->key, key, sizeof key);
+            gl->table[h] = ++gl->n;
+        }
+        g = &gl->g[gl->table[h] - 1];
+        gl->of[u] = gl->table[h] - 1;
+        g->nunits++;
+        g->last = u;
+        if (g->nref < LF_GROUP_REFS) {
+            gl->slot[u] = (signed char) g->nref;
+            g->ref_unit[g->nref++] = u;
+        }
+    }
+    return 0;
+}
+
+/* The group context of fit u (into mg), or NULL when it has none. */
+static lf_model_group *
+unit_group(group_list *gl, size_t u, lf_model_group *mg)
+{
+    batch_group *g;
+
+    if (gl == NULL || gl->of[u] == SIZE_MAX)
+        return NULL;
+    g = &gl->g[gl->of[u]];
+    if (g->nunits <= g->nref)
+        return NULL;        /* no fit of the group is decided by it */
+    memset(mg, 0, sizeof *mg);
+    if (gl->slot[u] >= 0) {
+        mg->record = &g->rec[gl->slot[u]];
+    } else {
+        mg->ref = g->rec;
+        mg->nref = g->nref;
+    }
+    return mg;
+}
 
 /* ------------------------------------------------------------------------
  * The engine.
@@ -700,6 +852,7 @@ typedef struct {
     int stop;               /* the caller stopped it, or a row was lost */
     int status;
     lf_error err;
+    group_list *gl;         /* --model auto: the fits' groups, or NULL */
 } engine;
 
 static void
@@ -759,6 +912,7 @@ worker(void *arg)
 {
     engine *e = arg;
     unit_out own;
+    lf_model_group mg, *mgp;
 
     memset(&own, 0, sizeof own);
     pthread_mutex_lock(&e->lock);
@@ -773,10 +927,20 @@ worker(void *arg)
         }
         u = e->next++;
         o = e->ordered ? &e->slot[u % e->window] : &own;
+        /* a fit whose group decides waits for the group's first fits (all
+         * taken before it, in plan order) */
+        if (e->gl != NULL && e->gl->of[u] != SIZE_MAX && e->gl->slot[u] < 0)
+            while (!e->stop && e->gl->g[e->gl->of[u]].ndone < e->gl->g[e->gl->of[u]].nref)
+                pthread_cond_wait(&e->moved, &e->lock);
+        mgp = unit_group(e->gl, u, &mg);
         pthread_mutex_unlock(&e->lock);
         /* the slot is this worker's alone until it is marked ready */
-        fit_unit(e->ul, u, e->cfg, o);
+        fit_unit(e->ul, u, e->cfg, mgp, o);
         pthread_mutex_lock(&e->lock);
+        if (mgp != NULL && mgp->record != NULL) {
+            e->gl->g[e->gl->of[u]].ndone++;
+            pthread_cond_broadcast(&e->moved);
+        }
         if (!e->ordered) {
             hand_over(e, u, o);
             unit_release(o);
@@ -798,6 +962,30 @@ worker(void *arg)
     return NULL;
 }
 
+/* A shard's share needs the first fits of its groups that lie before it:
+ * made here, without their rows. */
+static void
+pre_fit(engine *e)
+{
+    group_list *gl = e->gl;
+    size_t i, r;
+
+    for (i = 0; i < gl->n; i++) {
+        batch_group *g = &gl->g[i];
+        if (g->nunits <= g->nref || g->last < e->lo)
+            continue;
+        for (r = 0; r < g->nref && g->ref_unit[r] < e->lo; r++) {
+            unit_out o;
+            lf_model_group mg;
+            memset(&o, 0, sizeof o);
+            fit_unit(e->ul, g->ref_unit[r], e->cfg, unit_group(gl, g->ref_unit[r], &mg), &o);
+            unit_release(&o);
+            lf_str_free(&o.text);
+            g->ndone++;
+        }
+    }
+}
+
 /* Processors to run on: the threads asked for, or one per processor. */
 static size_t
 thread_count(long asked)
@@ -813,6 +1001,7 @@ lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *
     lf_batch_settings def = lf_batch_settings_default();
     batch_config cfg;
     unit_list ul;
+    group_list gl;
     engine e;
     pthread_t *tid = NULL;
     size_t nthreads, started = 0, i;
@@ -834,6 +1023,7 @@ lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *
         || (status = lf_plan_need_layers(plan, req->model, err)) != LF_OK)
         return status;
     memset(&ul, 0, sizeof ul);
+    memset(&gl, 0, sizeof gl);
     if (units_make(plan, &ul) != 0) {
         units_free(&ul);
         return lf_fail(err, LF_ENOMEM, "out of memory");
@@ -862,6 +1052,15 @@ lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *
     if (e.ordered && (e.slot = calloc(e.window, sizeof *e.slot)) == NULL) {
         e.status = lf_fail(&e.err, LF_ENOMEM, "out of memory");
         e.stop = 1;
+    }
+    if (!e.stop && req->model_auto && req->choose.group == NULL) {
+        if (groups_make(&ul, &gl) != 0) {
+            e.status = lf_fail(&e.err, LF_ENOMEM, "out of memory");
+            e.stop = 1;
+        } else {
+            e.gl = &gl;
+            pre_fit(&e);
+        }
     }
     if (!e.stop && nthreads > 1 && (tid = malloc(nthreads * sizeof *tid)) == NULL)
         nthreads = 1;
@@ -892,6 +1091,7 @@ lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *
         sum->stopped = e.stop && e.status == LF_OK && e.done < e.hi - e.lo;
     }
     units_free(&ul);
+    groups_free(&gl);
     if (e.status != LF_OK && err != NULL)
         *err = e.err;
     return e.status;

@@ -636,6 +636,10 @@ typedef struct {
                                their unscaled standard errors (se /
                                se_scale); 0 where not fitted, NaN when not
                                assessed */
+    int model_by_group;     /* 1: the model was decided with the curve's
+                               group of one probe and layer in a batch
+                               (lf_choose_settings.group), 0: by the
+                               curve's own assessment */
     /* Is this curve consistent with the material fitted to all?  The noise
      * sd comes from the data alone (not the model), so: */
     double chi2_per_point;  /* sum (residual/sigma)^2 / n: about 1 when the
@@ -861,11 +865,17 @@ LF_API int lf_fit_check_jacobian(lf_fit *fit, const lf_material *mat,
  * lf_fit_driver (the status of the final fit).
  * --------------------------------------------------------------------- */
 
+typedef struct lf_model_group lf_model_group;
+
 typedef struct {
     double tol;              /* bias allowed, in standard errors (0.2) */
     size_t max_rounds;       /* refits after the first fit (3) */
     int halfspace;           /* 1: the half-space model is a candidate (1) */
     int thin_comparison;     /* 1: fill res->thin (1) */
+    lf_model_group *group;   /* NULL (default): the curve decides alone; a
+                                batch's group of curves of one probe and
+                                layer (lf_batch_run), for a fit of one
+                                curve */
 } lf_choose_settings;
 
 LF_API lf_choose_settings lf_choose_settings_default(void);
