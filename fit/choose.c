@@ -19,7 +19,6 @@
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
-#include <stdio.h>
 
 #include <gsl/gsl_blas.h>
 #include <gsl/gsl_linalg.h>
@@ -34,6 +33,7 @@ lf_choose_settings_default(void)
     s.max_rounds = 3;
     s.halfspace = 1;
     s.thin_comparison = 1;
+    s.each = 0;
     s.group = NULL;
     return s;
 }
@@ -733,7 +733,6 @@ group_decide(chooser *c, const lf_model_group *g, double *pred)
             nhi++;
         }
     }
-    if (getenv("LF_DBG_G")) fprintf(stderr, "G snr %g ablo %g nlo %zu lo %g nh %zu hlo %g nhi %zu hi %g half %d\n", snr, c->ab_lo[0], nlo, lo*snr, nh, hlo*snr, nhi, hi*snr, half);
     if (nlo > 0 && lo * snr >= GROUP_MARGIN * tol
         && (!half || (nh > 0 && hlo * snr >= GROUP_MARGIN * tol))) {
         *pred = lo * snr;

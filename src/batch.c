@@ -1053,7 +1053,7 @@ lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *
         e.status = lf_fail(&e.err, LF_ENOMEM, "out of memory");
         e.stop = 1;
     }
-    if (!e.stop && req->model_auto && req->choose.group == NULL) {
+    if (!e.stop && req->model_auto && !req->choose.each && req->choose.group == NULL) {
         if (groups_make(&ul, &gl) != 0) {
             e.status = lf_fail(&e.err, LF_ENOMEM, "out of memory");
             e.stop = 1;

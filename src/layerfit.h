@@ -872,6 +872,9 @@ typedef struct {
     size_t max_rounds;       /* refits after the first fit (3) */
     int halfspace;           /* 1: the half-space model is a candidate (1) */
     int thin_comparison;     /* 1: fill res->thin (1) */
+    int each;                /* 1: in a batch too, every curve decides
+                                alone (0, default: once per probe and layer
+                                where that settles it, lf_batch_run) */
     lf_model_group *group;   /* NULL (default): the curve decides alone; a
                                 batch's group of curves of one probe and
                                 layer (lf_batch_run), for a fit of one
