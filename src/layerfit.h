@@ -1959,7 +1959,10 @@ LF_API int lf_fit_job_figure(const lf_fit_job *j, size_t i, size_t n, double *z,
  * of its curves (the file opened once, lf_plan_open_files).  A bad curve
  * (a missing file included) is a row with status "error" and its message;
  * the batch goes on.  The rows, in plan order, do not depend on the number
- * of threads.
+ * of threads.  With --model auto (and not lf_choose_settings.each), the
+ * fits of one curve are grouped by probe and layer and the model decided
+ * once per group where that settles it (lf_choose_settings.group; column
+ * model_by); the rows do not depend on the threads or the shard either.
  * --------------------------------------------------------------------- */
 
 typedef struct {
