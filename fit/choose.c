@@ -691,7 +691,6 @@ group_record(const chooser *c, lf_group_ref *q)
     q->half = lf_judge_bias_max(c->half_b[0].r, NULL);
     q->snr = signal_of(c->f);
     q->ab_lo = c->ab_lo[0];
-    q->ab_hi = c->ab_hi[0];
 }
 
 /* The model the group decides for the curve at the origin (its thin fit),

@@ -229,7 +229,7 @@ typedef struct {
     int ok, half_ok;        /* the thin-layer (half-space) bias was assessed */
     double thin, half;      /* their largest |bias| / se at the thin fit */
     double snr;             /* sqrt(n) * largest |force| / noise sd */
-    double ab_lo, ab_hi;    /* a/b in contact at the thin fit */
+    double ab_lo;           /* a/b where its contact starts, at the thin fit */
 } lf_group_ref;
 
 struct lf_model_group {
