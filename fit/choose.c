@@ -658,6 +658,7 @@ lf_fit_compare_thin(const lf_fit_settings *settings, size_t ncurves,
  * assessment.  On the 1 024-curve map the realised bias of every curve the
  * group decided was at least 0.81 of its prediction. */
 #define GROUP_MARGIN 2.0
+#define GROUP_MATERIAL 0.2231435513142098   /* ln 1.25 */
 
 static int
 same_probe(const lf_probe *a, const lf_probe *b)
@@ -691,6 +692,8 @@ group_record(const chooser *c, lf_group_ref *q)
     q->half = lf_judge_bias_max(c->half_b[0].r, NULL);
     q->snr = signal_of(c->f);
     q->ab_lo = c->ab_lo[0];
+    q->w = c->f->mat.w;
+    q->Estar = c->f->mat.Estar;
 }
 
 /* The model the group decides for the curve at the origin (its thin fit),
@@ -717,7 +720,9 @@ group_decide(chooser *c, const lf_model_group *g, double *pred)
         return -1;
     for (r = 0; r < g->nref; r++) {
         const lf_group_ref *q = &g->ref[r];
-        if (!q->ok || !(q->snr > 0) || !same_probe(&q->probe, &fc->data.probe))
+        if (!q->ok || !(q->snr > 0) || !same_probe(&q->probe, &fc->data.probe)
+            || !(fabs(log(q->w / f->mat.w)) <= GROUP_MATERIAL)
+            || !(fabs(log(q->Estar / f->mat.Estar)) <= GROUP_MATERIAL))
             continue;
         if (q->ab_lo <= c->ab_lo[0]) {
             lo = lf_fmin(lo, q->thin / q->snr);

@@ -230,6 +230,7 @@ typedef struct {
     double thin, half;      /* their largest |bias| / se at the thin fit */
     double snr;             /* sqrt(n) * largest |force| / noise sd */
     double ab_lo;           /* a/b where its contact starts, at the thin fit */
+    double w, Estar;        /* the thin fit's material */
 } lf_group_ref;
 
 struct lf_model_group {
