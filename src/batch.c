@@ -664,31 +664,48 @@ row:
 /* ------------------------------------------------------------------------
  * --model auto once per probe and layer: the plan's fits of one curve
  * grouped by what shapes the model choice (the row's probe and layer, nu,
- * segment, which offsets it holds); the first LF_GROUP_REFS fits of a
- * group, in plan order, choose by their own rule and record it, the
- * others' choice is made from those records where they settle it
- * (lf_model_group, the rule in fit/choose.c).  The first fits are the same
- * whatever the threads or the shard (a shard fits those before its share
- * first, without their rows), so the rows are too.
+ * segment, which offsets it holds).  The fits of a group that choose by
+ * their own rule and record it (lf_model_group, the rule in fit/choose.c)
+ * are its first LF_GROUP_REFS, in plan order, and every GROUP_EVERY-th
+ * after them; every other fit's choice is made from the LF_GROUP_REFS
+ * records made last before it, where they settle it.  Which fits record,
+ * and which records a fit goes by, follow from the plan alone, whatever
+ * the threads or the shard (a shard first fits, without their rows, the
+ * records its share needs from before it), so the rows do too.
  * --------------------------------------------------------------------- */
 
 #define GROUP_KEY 11
+#define GROUP_EVERY 16
 
 typedef struct {
     double key[GROUP_KEY];
-    size_t nunits, last;            /* its fits, the last one's index */
-    size_t ref_unit[LF_GROUP_REFS]; /* its first fits */
-    size_t nref, ndone;             /* how many, and how many are done */
-    lf_group_ref rec[LF_GROUP_REFS];
+    size_t nunits, last;    /* its fits, the last one's index */
+    size_t nref;            /* its fits that record */
+    size_t *ref_unit;       /* nref: which */
+    unsigned char *done;    /* nref: recorded */
+    lf_group_ref *rec;      /* nref: what they recorded */
 } batch_group;
 
 typedef struct {
     size_t n, cap;
     batch_group *g;
     size_t *of;             /* per fit: its group, or SIZE_MAX */
-    signed char *slot;      /* per fit: its place among its group's first, or -1 */
+    size_t *rank;           /* per fit: its place in its group, in plan order */
     size_t *table, tsize;   /* open addressing: group index + 1, 0 empty */
 } group_list;
+
+/* The fit of rank r records; how many of the ranks before r do. */
+static int
+records(size_t r)
+{
+    return r < LF_GROUP_REFS || r % GROUP_EVERY == 0;
+}
+
+static size_t
+records_before(size_t r)
+{
+    return (r < LF_GROUP_REFS ? r : LF_GROUP_REFS) + (r > GROUP_EVERY ? (r - 1) / GROUP_EVERY : 0);
+}
 
 static void
 group_key(const lf_plan_row *r, double *key)
@@ -717,9 +734,16 @@ key_hash(const double *key)
 static void
 groups_free(group_list *gl)
 {
+    size_t i;
+
+    for (i = 0; i < gl->n; i++) {
+        free(gl->g[i].ref_unit);
+        free(gl->g[i].done);
+        free(gl->g[i].rec);
+    }
     free(gl->g);
     free(gl->of);
-    free(gl->slot);
+    free(gl->rank);
     free(gl->table);
 }
 
@@ -727,22 +751,21 @@ groups_free(group_list *gl)
 static int
 groups_make(const unit_list *ul, group_list *gl)
 {
-    size_t u, n = ul->nunits;
+    size_t u, i, n = ul->nunits;
 
     memset(gl, 0, sizeof *gl);
     for (gl->tsize = 16; gl->tsize < 2 * n; gl->tsize *= 2)
         ;
     gl->of = malloc((n ? n : 1) * sizeof *gl->of);
-    gl->slot = malloc(n ? n : 1);
+    gl->rank = malloc((n ? n : 1) * sizeof *gl->rank);
     gl->table = calloc(gl->tsize, sizeof *gl->table);
-    if (gl->of == NULL || gl->slot == NULL || gl->table == NULL)
+    if (gl->of == NULL || gl->rank == NULL || gl->table == NULL)
         return -1;
     for (u = 0; u < n; u++) {
         double key[GROUP_KEY];
         size_t h;
         batch_group *g;
         gl->of[u] = SIZE_MAX;
-        gl->slot[u] = -1;
         if (ul->start[u + 1] - ul->start[u] != 1)
             continue;       /* a joint fit chooses its own models */
         group_key(&ul->plan->rows[ul->item_row[ul->row[ul->start[u]]]], key);
@@ -765,33 +788,48 @@ groups_make(const unit_list *ul, group_list *gl)
         }
         g = &gl->g[gl->table[h] - 1];
         gl->of[u] = gl->table[h] - 1;
-        g->nunits++;
+        gl->rank[u] = g->nunits++;
         g->last = u;
-        if (g->nref < LF_GROUP_REFS) {
-            gl->slot[u] = (signed char) g->nref;
-            g->ref_unit[g->nref++] = u;
-        }
     }
+    for (i = 0; i < gl->n; i++) {
+        batch_group *g = &gl->g[i];
+        if (g->nunits <= LF_GROUP_REFS)
+            continue;       /* no fit of the group is decided by it */
+        g->nref = records_before(g->nunits);
+        g->ref_unit = malloc(g->nref * sizeof *g->ref_unit);
+        g->done = calloc(g->nref, 1);
+        g->rec = calloc(g->nref, sizeof *g->rec);
+        if (g->ref_unit == NULL || g->done == NULL || g->rec == NULL)
+            return -1;
+    }
+    for (u = 0; u < n; u++)
+        if (gl->of[u] != SIZE_MAX && gl->g[gl->of[u]].nref > 0 && records(gl->rank[u]))
+            gl->g[gl->of[u]].ref_unit[records_before(gl->rank[u])] = u;
     return 0;
 }
 
-/* The group context of fit u (into mg), or NULL when it has none. */
+/* The group context of fit u (into mg), or NULL when it has none; *wait:
+ * the records it needs are not all made yet. */
 static lf_model_group *
-unit_group(group_list *gl, size_t u, lf_model_group *mg)
+unit_group(group_list *gl, size_t u, lf_model_group *mg, int *wait)
 {
     batch_group *g;
+    size_t r, k;
 
-    if (gl == NULL || gl->of[u] == SIZE_MAX)
+    *wait = 0;
+    if (gl == NULL || gl->of[u] == SIZE_MAX || gl->g[gl->of[u]].nref == 0)
         return NULL;
     g = &gl->g[gl->of[u]];
-    if (g->nunits <= g->nref)
-        return NULL;        /* no fit of the group is decided by it */
+    r = gl->rank[u];
     memset(mg, 0, sizeof *mg);
-    if (gl->slot[u] >= 0) {
-        mg->record = &g->rec[gl->slot[u]];
+    if (records(r)) {
+        mg->record = &g->rec[records_before(r)];
     } else {
-        mg->ref = g->rec;
-        mg->nref = g->nref;
+        k = records_before(r);      /* at least LF_GROUP_REFS */
+        mg->ref = &g->rec[k - LF_GROUP_REFS];
+        mg->nref = LF_GROUP_REFS;
+        for (; k > records_before(r) - LF_GROUP_REFS; k--)
+            *wait |= !g->done[k - 1];
     }
     return mg;
 }
@@ -913,6 +951,7 @@ worker(void *arg)
     engine *e = arg;
     unit_out own;
     lf_model_group mg, *mgp;
+    int wait;
 
     memset(&own, 0, sizeof own);
     pthread_mutex_lock(&e->lock);
@@ -927,18 +966,16 @@ worker(void *arg)
         }
         u = e->next++;
         o = e->ordered ? &e->slot[u % e->window] : &own;
-        /* a fit whose group decides waits for the group's first fits (all
-         * taken before it, in plan order) */
-        if (e->gl != NULL && e->gl->of[u] != SIZE_MAX && e->gl->slot[u] < 0)
-            while (!e->stop && e->gl->g[e->gl->of[u]].ndone < e->gl->g[e->gl->of[u]].nref)
-                pthread_cond_wait(&e->moved, &e->lock);
-        mgp = unit_group(e->gl, u, &mg);
+        /* a fit whose group decides waits for the records it goes by (of
+         * fits taken before it, in plan order) */
+        while ((mgp = unit_group(e->gl, u, &mg, &wait)) != NULL && wait && !e->stop)
+            pthread_cond_wait(&e->moved, &e->lock);
         pthread_mutex_unlock(&e->lock);
         /* the slot is this worker's alone until it is marked ready */
         fit_unit(e->ul, u, e->cfg, mgp, o);
         pthread_mutex_lock(&e->lock);
         if (mgp != NULL && mgp->record != NULL) {
-            e->gl->g[e->gl->of[u]].ndone++;
+            e->gl->g[e->gl->of[u]].done[records_before(e->gl->rank[u])] = 1;
             pthread_cond_broadcast(&e->moved);
         }
         if (!e->ordered) {
@@ -962,26 +999,31 @@ worker(void *arg)
     return NULL;
 }
 
-/* A shard's share needs the first fits of its groups that lie before it:
- * made here, without their rows. */
+/* A shard's share goes by records of fits before it (at most the
+ * LF_GROUP_REFS made last before its first fit, in each group): made here,
+ * without their rows. */
 static void
 pre_fit(engine *e)
 {
     group_list *gl = e->gl;
-    size_t i, r;
+    size_t i, k, r;
 
     for (i = 0; i < gl->n; i++) {
         batch_group *g = &gl->g[i];
-        if (g->nunits <= g->nref || g->last < e->lo)
+        if (g->nref == 0 || g->last < e->lo)
             continue;
-        for (r = 0; r < g->nref && g->ref_unit[r] < e->lo; r++) {
+        for (k = 0; k < g->nref && g->ref_unit[k] < e->lo; k++)
+            ;
+        for (r = k > LF_GROUP_REFS ? k - LF_GROUP_REFS : 0; r < k; r++) {
             unit_out o;
             lf_model_group mg;
+            int wait;
             memset(&o, 0, sizeof o);
-            fit_unit(e->ul, g->ref_unit[r], e->cfg, unit_group(gl, g->ref_unit[r], &mg), &o);
+            fit_unit(e->ul, g->ref_unit[r], e->cfg, unit_group(gl, g->ref_unit[r], &mg, &wait),
+                     &o);
             unit_release(&o);
             lf_str_free(&o.text);
-            g->ndone++;
+            g->done[r] = 1;
         }
     }
 }
