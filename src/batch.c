@@ -704,7 +704,8 @@ records(size_t r)
 static size_t
 records_before(size_t r)
 {
-    return (r < LF_GROUP_REFS ? r : LF_GROUP_REFS) + (r > GROUP_EVERY ? (r - 1) / GROUP_EVERY : 0);
+    return r <= LF_GROUP_REFS ? r
+           : LF_GROUP_REFS + (r - 1) / GROUP_EVERY - (LF_GROUP_REFS - 1) / GROUP_EVERY;
 }
 
 static void
