@@ -632,31 +632,35 @@ lf_fit_compare_thin(const lf_fit_settings *settings, size_t ncurves,
 
 /* --model auto once per probe and layer (lf_choose_settings.group).
  *
- * The first curves of a batch's group of one probe and layer choose by
- * their own rule, and what their first assessment found is recorded: the
- * thin-layer (and half-space) model's largest bias over se at the thin fit,
- * the curve's signal sqrt(n) Fs / sigma (n points, largest |force| Fs, noise
- * sd sigma) and its a/b in contact.  A bias over se is a Gauss-Newton step
+ * Some curves of a batch's group of one probe and layer (src/batch.c says
+ * which) choose by their own rule, and what their first assessment found
+ * is recorded: the thin-layer (and half-space) model's largest bias over se
+ * at the thin fit, the thin fit's w and E*, the curve's signal
+ * sqrt(n) Fs / sigma (n points, largest |force| Fs, noise sd sigma) and
+ * the a/b where its contact starts.  A bias over se is a Gauss-Newton step
  * over se: the model difference over sigma projected on the Jacobian's
  * columns, so that at one shape of the difference it grows as the signal
  * (n points alike: as sqrt(n); sigma halved: twice).  Its shape follows the
- * contact's a/b: the thin-layer model is least accurate where the contact
- * is smallest against b, and a curve whose contact starts at a larger a/b
- * is biased more (the 1 024-curve map's thin bias rises from 0.09-0.24 se
- * where a/b starts below 2 to 0.46-1.26 se where it starts above 6).  So
- * another curve of the group is predicted from the first curves' bias per
- * unit of signal, times its own signal: to be biased at least the smallest
- * of those whose contact starts at an a/b no larger than its own, and at
- * most the largest of those whose contact starts at an a/b no smaller.  It
- * is decided by its group where that prediction clears the rule's own
- * tolerance by GROUP_MARGIN (exact: biased at least GROUP_MARGIN tol by the
- * thin-layer model and, where the half-space model is a candidate, by that
- * too; thin: at most tol / GROUP_MARGIN); any other curve, or one whose
- * prediction has no first curve to go by, decides by its own rule.  A curve
- * decided so is fitted as its own rule would (the thin fit first, the exact
- * model's refit from it, the final assessment) without the first
+ * material and where the contact starts against b: the thin-layer model is
+ * least accurate where the contact is small against b, and a curve whose
+ * contact starts at a larger a/b is biased more (the 1 024-curve map's
+ * thin bias rises from 0.09-0.24 se where a/b starts below 2 to 0.46-1.26
+ * se where it starts above 6).  So another curve of the group is predicted
+ * from the records of material within GROUP_MATERIAL of its own (w and E*
+ * each), from their bias per unit of signal times its own signal: biased
+ * at least the smallest of those whose contact starts at an a/b no larger
+ * than its own, at most the largest of those whose contact starts at an
+ * a/b no smaller.  It is decided by its group where that prediction clears
+ * the rule's own tolerance by GROUP_MARGIN (exact: biased at least
+ * GROUP_MARGIN tol by the thin-layer model and, where the half-space model
+ * is a candidate, by that too; thin: at most tol / GROUP_MARGIN); any other
+ * curve, or one without a record to go by, decides by its own rule.  A
+ * curve decided so is fitted as its own rule would (the thin fit first,
+ * the exact model's refit from it, the final assessment) without the first
  * assessment.  On the 1 024-curve map the realised bias of every curve the
- * group decided was at least 0.81 of its prediction. */
+ * group decided was at least 0.81 of its prediction; without the material
+ * window, records at E* 0.5 GPa decided curves at 2-2.5 GPa exact that
+ * their own rule keeps thin (the 16 384-curve map). */
 #define GROUP_MARGIN 2.0
 #define GROUP_MATERIAL 0.2231435513142098   /* ln 1.25 */
 

@@ -220,9 +220,10 @@ int lf_model_eval_roots(const lf_model *m, const lf_material *mat, lf_branch bra
 
 /* --model auto once per probe and layer (src/batch.c, fit/choose.c).  A
  * batch's curves of one probe and layer form a group; the model choice of
- * its first LF_GROUP_REFS curves (in plan order) is made by each curve's
- * own rule and recorded; the others' is made from those records where the
- * group's margin settles it, else by the curve's own rule. */
+ * some (its first LF_GROUP_REFS in plan order, and regularly after them) is
+ * made by each curve's own rule and recorded; each other curve's is made
+ * from the LF_GROUP_REFS records made last before it where they settle it,
+ * else by the curve's own rule. */
 #define LF_GROUP_REFS 8
 typedef struct {
     lf_probe probe;         /* the curve's, as read */
