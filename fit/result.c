@@ -100,6 +100,7 @@ lf_fit_keep_choice(lf_fit_result *nr, const lf_fit_result *res)
         memcpy(nr->curves[j].model_reason, res->curves[j].model_reason,
                sizeof nr->curves[j].model_reason);
         nr->curves[j].thin_bias = res->curves[j].thin_bias;
+        nr->curves[j].model_by_group = res->curves[j].model_by_group;
         memcpy(nr->curves[j].thin_bias_se, res->curves[j].thin_bias_se,
                sizeof nr->curves[j].thin_bias_se);
         nr->curves[j].alone = res->curves[j].alone;

@@ -237,7 +237,10 @@ static const char *const columns[] = {
     /* what redraws a fit of one curve (`map RESULTS --report`): its probe,
      * segment, the offsets the figures draw with and a nu that was held */
     "k", "R_m", "b_m", "interface", "tip", "half_angle_rad", "B", "segment",
-    "z0_m", "F0_N", "slope_N_m", "nu_held", NULL
+    "z0_m", "F0_N", "slope_N_m", "nu_held",
+    /* --model auto: "group" where the curve's group of one probe and layer
+     * decided its model, "curve" where its own rule did */
+    "model_by", NULL
 };
 
 /* The cells of a fit of one curve that redraw it; NULL for a joint fit. */
@@ -332,7 +335,7 @@ put_row(lf_str *b, const batch_config *cfg, size_t fit_no, const char *sample,
         const char *files, const unit_files *uf, size_t ncurves, const char *status,
         const char *model, const num_field *num, size_t nnum, const char *const *text,
         const char *ident, const char *msg, const double grid[2], const lf_observables *obs,
-        const curve_cells *cc)
+        const curve_cells *cc, const char *model_by)
 {
     int json = cfg->json;
     double ov[LF_NOBSERVED];
@@ -428,6 +431,11 @@ put_row(lf_str *b, const batch_config *cfg, size_t fit_no, const char *sample,
                 sb_text(b, tv[i], json, cfg->csv_raw);
         }
     }
+    lf_str_printf(b, json ? ", \"model_by\": " : ",");
+    if (json && model_by[0] == '\0')
+        lf_str_printf(b, "null");
+    else
+        sb_text(b, model_by, json, cfg->csv_raw);
     lf_str_printf(b, json ? "}\n" : "\n");
 }
 
@@ -469,7 +477,8 @@ cause_of(const char *why, const unit_files *uf)
  * curve (status misfit), LF_BATCH_OK when it succeeded.  What goes wrong
  * is written into the row; o->text.failed when the row could not be. */
 static void
-fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, unit_out *o)
+fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, lf_model_group *mg,
+         unit_out *o)
 {
     lf_str *out = &o->text;
     const lf_plan *plan = ul->plan;
@@ -534,7 +543,13 @@ fit_unit(const unit_list *ul, size_t u, const batch_config *cfg, unit_out *o)
     grid[0] = in.grid_i >= 0 ? (double) in.grid_i : NAN;
     grid[1] = in.grid_j >= 0 ? (double) in.grid_j : NAN;
     /* as a single fit is made, after the profile's cheap screen */
-    st = lf_fit_request_run(cfg->req, &in, LF_RUN_BATCH, &res, NULL, &err);
+    if (mg != NULL) {       /* the model chosen with the curve's group */
+        lf_fit_request rq = *cfg->req;
+        rq.choose.group = mg;
+        st = lf_fit_request_run(&rq, &in, LF_RUN_BATCH, &res, NULL, &err);
+    } else {
+        st = lf_fit_request_run(cfg->req, &in, LF_RUN_BATCH, &res, NULL, &err);
+    }
     if (st == LF_OK || st == LF_ENOCONV) {
         have_res = 1;
         /* the profile may find the minimum was a local one (noconv) */
@@ -597,7 +612,9 @@ row:
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status,
                 res.model ? res.model : "", num,
                 sizeof num / sizeof num[0], text, ident.s ? ident.s : "", msg.s ? msg.s : "",
-                grid, in.n > 0 ? &in.observed[0] : NULL, n == 1 ? &cc : NULL);
+                grid, in.n > 0 ? &in.observed[0] : NULL, n == 1 ? &cc : NULL,
+                !cfg->req->model_auto || res.ncurves != 1 ? ""
+                : res.curves[0].model_by_group ? "group" : "curve");
         if (failed == 1)
             o->why = lf_strdup(res.stop_reason);
         if (cfg->keep) {
@@ -619,7 +636,7 @@ row:
         const char *text[NTEXT] = { "", "", "" };
         put_row(out, cfg, u + 1, sample, files.s ? files.s : "", &uf, n, status, "", num,
                 sizeof num / sizeof num[0], text, "", ebuf, grid,
-                in.n > 0 ? &in.observed[0] : NULL, n == 1 ? &cc : NULL);
+                in.n > 0 ? &in.observed[0] : NULL, n == 1 ? &cc : NULL, "");
         o->why = lf_strdup(ebuf);
     }
     if (cfg->keep && in.n > 0) {
@@ -643,6 +660,180 @@ row:
     free(rows);
 }
 
+
+/* ------------------------------------------------------------------------
+ * --model auto once per probe and layer: the plan's fits of one curve
+ * grouped by what shapes the model choice (the row's probe and layer, nu,
+ * segment, which offsets it holds).  The fits of a group that choose by
+ * their own rule and record it (lf_model_group, the rule in fit/choose.c)
+ * are its first LF_GROUP_REFS, in plan order, and every GROUP_EVERY-th
+ * after them; every other fit's choice is made from the LF_GROUP_REFS
+ * records made last before it, where they settle it.  Which fits record,
+ * and which records a fit goes by, follow from the plan alone, whatever
+ * the threads or the shard (a shard first fits, without their rows, the
+ * records its share needs from before it), so the rows do too.
+ * --------------------------------------------------------------------- */
+
+#define GROUP_KEY 11
+#define GROUP_EVERY 16
+
+typedef struct {
+    double key[GROUP_KEY];
+    size_t nunits, last;    /* its fits, the last one's index */
+    size_t nref;            /* its fits that record */
+    size_t *ref_unit;       /* nref: which */
+    unsigned char *done;    /* nref: recorded */
+    lf_group_ref *rec;      /* nref: what they recorded */
+} batch_group;
+
+typedef struct {
+    size_t n, cap;
+    batch_group *g;
+    size_t *of;             /* per fit: its group, or SIZE_MAX */
+    size_t *rank;           /* per fit: its place in its group, in plan order */
+    size_t *table, tsize;   /* open addressing: group index + 1, 0 empty */
+} group_list;
+
+/* The fit of rank r records; how many of the ranks before r do. */
+static int
+records(size_t r)
+{
+    return r < LF_GROUP_REFS || r % GROUP_EVERY == 0;
+}
+
+static size_t
+records_before(size_t r)
+{
+    return r <= LF_GROUP_REFS ? r
+           : LF_GROUP_REFS + (r - 1) / GROUP_EVERY - (LF_GROUP_REFS - 1) / GROUP_EVERY;
+}
+
+static void
+group_key(const lf_plan_row *r, double *key)
+{
+    const double v[GROUP_KEY] = {
+        r->probe.k, r->probe.R, r->probe.b, (double) r->probe.base, (double) r->probe.tip,
+        r->probe.angle, r->probe.B, r->nu, (double) r->segment, isnan(r->z0), isnan(r->F0)
+    };
+    size_t i;
+
+    for (i = 0; i < GROUP_KEY; i++)     /* one bit pattern per value */
+        key[i] = isnan(v[i]) ? -HUGE_VAL : v[i] == 0.0 ? 0.0 : v[i];
+}
+
+static size_t
+key_hash(const double *key)
+{
+    const unsigned char *p = (const unsigned char *) key;
+    size_t i, h = 14695981039346656037ULL & SIZE_MAX;
+
+    for (i = 0; i < GROUP_KEY * sizeof *key; i++)
+        h = (h ^ p[i]) * (1099511628211ULL & SIZE_MAX);
+    return h;
+}
+
+static void
+groups_free(group_list *gl)
+{
+    size_t i;
+
+    for (i = 0; i < gl->n; i++) {
+        free(gl->g[i].ref_unit);
+        free(gl->g[i].done);
+        free(gl->g[i].rec);
+    }
+    free(gl->g);
+    free(gl->of);
+    free(gl->rank);
+    free(gl->table);
+}
+
+/* The groups of the plan's fits of one curve; -1 when out of memory. */
+static int
+groups_make(const unit_list *ul, group_list *gl)
+{
+    size_t u, i, n = ul->nunits;
+
+    memset(gl, 0, sizeof *gl);
+    for (gl->tsize = 16; gl->tsize < 2 * n; gl->tsize *= 2)
+        ;
+    gl->of = malloc((n ? n : 1) * sizeof *gl->of);
+    gl->rank = malloc((n ? n : 1) * sizeof *gl->rank);
+    gl->table = calloc(gl->tsize, sizeof *gl->table);
+    if (gl->of == NULL || gl->rank == NULL || gl->table == NULL)
+        return -1;
+    for (u = 0; u < n; u++) {
+        double key[GROUP_KEY];
+        size_t h;
+        batch_group *g;
+        gl->of[u] = SIZE_MAX;
+        if (ul->start[u + 1] - ul->start[u] != 1)
+            continue;       /* a joint fit chooses its own models */
+        group_key(&ul->plan->rows[ul->item_row[ul->row[ul->start[u]]]], key);
+        for (h = key_hash(key) & (gl->tsize - 1); gl->table[h] != 0; h = (h + 1) & (gl->tsize - 1))
+            if (memcmp(gl->g[gl->table[h] - 1].key, key, sizeof key) == 0)
+                break;
+        if (gl->table[h] == 0) {
+            if (gl->n == gl->cap) {
+                size_t cap = gl->cap ? 2 * gl->cap : 16;
+                batch_group *ng = realloc(gl->g, cap * sizeof *ng);
+                if (ng == NULL)
+                    return -1;
+                gl->g = ng;
+                gl->cap = cap;
+            }
+            g = &gl->g[gl->n];
+            memset(g, 0, sizeof *g);
+            memcpy(g->key, key, sizeof key);
+            gl->table[h] = ++gl->n;
+        }
+        g = &gl->g[gl->table[h] - 1];
+        gl->of[u] = gl->table[h] - 1;
+        gl->rank[u] = g->nunits++;
+        g->last = u;
+    }
+    for (i = 0; i < gl->n; i++) {
+        batch_group *g = &gl->g[i];
+        if (g->nunits <= LF_GROUP_REFS)
+            continue;       /* no fit of the group is decided by it */
+        g->nref = records_before(g->nunits);
+        g->ref_unit = malloc(g->nref * sizeof *g->ref_unit);
+        g->done = calloc(g->nref, 1);
+        g->rec = calloc(g->nref, sizeof *g->rec);
+        if (g->ref_unit == NULL || g->done == NULL || g->rec == NULL)
+            return -1;
+    }
+    for (u = 0; u < n; u++)
+        if (gl->of[u] != SIZE_MAX && gl->g[gl->of[u]].nref > 0 && records(gl->rank[u]))
+            gl->g[gl->of[u]].ref_unit[records_before(gl->rank[u])] = u;
+    return 0;
+}
+
+/* The group context of fit u (into mg), or NULL when it has none; *wait:
+ * the records it needs are not all made yet. */
+static lf_model_group *
+unit_group(group_list *gl, size_t u, lf_model_group *mg, int *wait)
+{
+    batch_group *g;
+    size_t r, k;
+
+    *wait = 0;
+    if (gl == NULL || gl->of[u] == SIZE_MAX || gl->g[gl->of[u]].nref == 0)
+        return NULL;
+    g = &gl->g[gl->of[u]];
+    r = gl->rank[u];
+    memset(mg, 0, sizeof *mg);
+    if (records(r)) {
+        mg->record = &g->rec[records_before(r)];
+    } else {
+        k = records_before(r);      /* at least LF_GROUP_REFS */
+        mg->ref = &g->rec[k - LF_GROUP_REFS];
+        mg->nref = LF_GROUP_REFS;
+        for (; k > records_before(r) - LF_GROUP_REFS; k--)
+            *wait |= !g->done[k - 1];
+    }
+    return mg;
+}
 
 /* ------------------------------------------------------------------------
  * The engine.
@@ -700,6 +891,7 @@ typedef struct {
     int stop;               /* the caller stopped it, or a row was lost */
     int status;
     lf_error err;
+    group_list *gl;         /* --model auto: the fits' groups, or NULL */
 } engine;
 
 static void
@@ -759,6 +951,8 @@ worker(void *arg)
 {
     engine *e = arg;
     unit_out own;
+    lf_model_group mg, *mgp;
+    int wait;
 
     memset(&own, 0, sizeof own);
     pthread_mutex_lock(&e->lock);
@@ -773,10 +967,18 @@ worker(void *arg)
         }
         u = e->next++;
         o = e->ordered ? &e->slot[u % e->window] : &own;
+        /* a fit whose group decides waits for the records it goes by (of
+         * fits taken before it, in plan order) */
+        while ((mgp = unit_group(e->gl, u, &mg, &wait)) != NULL && wait && !e->stop)
+            pthread_cond_wait(&e->moved, &e->lock);
         pthread_mutex_unlock(&e->lock);
         /* the slot is this worker's alone until it is marked ready */
-        fit_unit(e->ul, u, e->cfg, o);
+        fit_unit(e->ul, u, e->cfg, mgp, o);
         pthread_mutex_lock(&e->lock);
+        if (mgp != NULL && mgp->record != NULL) {
+            e->gl->g[e->gl->of[u]].done[records_before(e->gl->rank[u])] = 1;
+            pthread_cond_broadcast(&e->moved);
+        }
         if (!e->ordered) {
             hand_over(e, u, o);
             unit_release(o);
@@ -798,6 +1000,35 @@ worker(void *arg)
     return NULL;
 }
 
+/* A shard's share goes by records of fits before it (at most the
+ * LF_GROUP_REFS made last before its first fit, in each group): made here,
+ * without their rows. */
+static void
+pre_fit(engine *e)
+{
+    group_list *gl = e->gl;
+    size_t i, k, r;
+
+    for (i = 0; i < gl->n; i++) {
+        batch_group *g = &gl->g[i];
+        if (g->nref == 0 || g->last < e->lo)
+            continue;
+        for (k = 0; k < g->nref && g->ref_unit[k] < e->lo; k++)
+            ;
+        for (r = k > LF_GROUP_REFS ? k - LF_GROUP_REFS : 0; r < k; r++) {
+            unit_out o;
+            lf_model_group mg;
+            int wait;
+            memset(&o, 0, sizeof o);
+            fit_unit(e->ul, g->ref_unit[r], e->cfg, unit_group(gl, g->ref_unit[r], &mg, &wait),
+                     &o);
+            unit_release(&o);
+            lf_str_free(&o.text);
+            g->done[r] = 1;
+        }
+    }
+}
+
 /* Processors to run on: the threads asked for, or one per processor. */
 static size_t
 thread_count(long asked)
@@ -813,6 +1044,7 @@ lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *
     lf_batch_settings def = lf_batch_settings_default();
     batch_config cfg;
     unit_list ul;
+    group_list gl;
     engine e;
     pthread_t *tid = NULL;
     size_t nthreads, started = 0, i;
@@ -834,6 +1066,7 @@ lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *
         || (status = lf_plan_need_layers(plan, req->model, err)) != LF_OK)
         return status;
     memset(&ul, 0, sizeof ul);
+    memset(&gl, 0, sizeof gl);
     if (units_make(plan, &ul) != 0) {
         units_free(&ul);
         return lf_fail(err, LF_ENOMEM, "out of memory");
@@ -862,6 +1095,15 @@ lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *
     if (e.ordered && (e.slot = calloc(e.window, sizeof *e.slot)) == NULL) {
         e.status = lf_fail(&e.err, LF_ENOMEM, "out of memory");
         e.stop = 1;
+    }
+    if (!e.stop && req->model_auto && !req->choose.each && req->choose.group == NULL) {
+        if (groups_make(&ul, &gl) != 0) {
+            e.status = lf_fail(&e.err, LF_ENOMEM, "out of memory");
+            e.stop = 1;
+        } else {
+            e.gl = &gl;
+            pre_fit(&e);
+        }
     }
     if (!e.stop && nthreads > 1 && (tid = malloc(nthreads * sizeof *tid)) == NULL)
         nthreads = 1;
@@ -892,6 +1134,7 @@ lf_batch_run(lf_plan *plan, const lf_fit_request *req, const lf_batch_settings *
         sum->stopped = e.stop && e.status == LF_OK && e.done < e.hi - e.lo;
     }
     units_free(&ul);
+    groups_free(&gl);
     if (e.status != LF_OK && err != NULL)
         *err = e.err;
     return e.status;

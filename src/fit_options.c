@@ -17,7 +17,7 @@ enum {
     O_MODEL_TOL, O_SLOPE, O_MAX_ITER, O_GUESS_W, O_GUESS_E, O_GUESS_NU, O_LOSS, O_LOSS_SCALE,
     O_INTERVALS, O_FORMAT, O_SPRING, O_SENSITIVITY, O_DEPTH_UNIT, O_FORCE_UNIT, O_SKIP_BAD,
     O_K, O_R, O_B, O_INTERFACE, O_TIP, O_HALF_ANGLE, O_PREFACTOR, O_DEPTH_RANGE, O_FORCE_RANGE,
-    O_SAMPLE, O_GROUP_BY, O_COUNT
+    O_SAMPLE, O_GROUP_BY, O_MODEL_EACH, O_COUNT
 };
 
 const lf_option lf_fit_option_table[] = {
@@ -56,6 +56,7 @@ const lf_option lf_fit_option_table[] = {
     { "force-range", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },
     { "sample", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },
     { "group-by", LF_OPTION_TEXT, LF_Q_DIMENSIONLESS },
+    { "model-each", LF_OPTION_FLAG, LF_Q_DIMENSIONLESS },
     { NULL, LF_OPTION_FLAG, LF_Q_DIMENSIONLESS }
 };
 
@@ -296,6 +297,11 @@ lf_fit_options_request(lf_fit_options *o, lf_fit_request *req, lf_error *err)
         if (!req->model_auto)
             return lf_fail(err, LF_EINVAL, "--model-tol applies to --model auto only");
         cs->tol = v[O_MODEL_TOL];
+    }
+    if (o->text[O_MODEL_EACH] != NULL) {
+        if (!req->model_auto)
+            return lf_fail(err, LF_EINVAL, "--model-each applies to --model auto only");
+        cs->each = 1;
     }
     if (strcmp(intervals, "auto") == 0)
         req->profile = LF_PROFILE_CHECK;

@@ -231,4 +231,27 @@ lf_fmin(double a, double b)
 int lf_model_eval_roots(const lf_model *m, const lf_material *mat, lf_branch branch,
                         size_t n, const double *delta, lf_eval *out, double *roots);
 
+/* --model auto once per probe and layer (src/batch.c, fit/choose.c).  A
+ * batch's curves of one probe and layer form a group; the model choice of
+ * some (its first LF_GROUP_REFS in plan order, and regularly after them) is
+ * made by each curve's own rule and recorded; each other curve's is made
+ * from the LF_GROUP_REFS records made last before it where they settle it,
+ * else by the curve's own rule. */
+#define LF_GROUP_REFS 8
+typedef struct {
+    lf_probe probe;         /* the curve's, as read */
+    int ok, half_ok;        /* the thin-layer (half-space) bias was assessed */
+    double thin, half;      /* their largest |bias| / se at the thin fit */
+    double snr;             /* sqrt(n) * largest |force| / noise sd */
+    double ab_lo;           /* a/b where its contact starts, at the thin fit */
+    double w, Estar;        /* the thin fit's material */
+} lf_group_ref;
+
+struct lf_model_group {
+    lf_group_ref *record;       /* non-NULL: one of the first curves: its own
+                                   choice is made and recorded here */
+    const lf_group_ref *ref;    /* else the first curves' records */
+    size_t nref;
+};
+
 #endif

@@ -636,6 +636,10 @@ typedef struct {
                                their unscaled standard errors (se /
                                se_scale); 0 where not fitted, NaN when not
                                assessed */
+    int model_by_group;     /* 1: the model was decided with the curve's
+                               group of one probe and layer in a batch
+                               (lf_choose_settings.group), 0: by the
+                               curve's own assessment */
     /* Is this curve consistent with the material fitted to all?  The noise
      * sd comes from the data alone (not the model), so: */
     double chi2_per_point;  /* sum (residual/sigma)^2 / n: about 1 when the
@@ -861,11 +865,20 @@ LF_API int lf_fit_check_jacobian(lf_fit *fit, const lf_material *mat,
  * lf_fit_driver (the status of the final fit).
  * --------------------------------------------------------------------- */
 
+typedef struct lf_model_group lf_model_group;
+
 typedef struct {
     double tol;              /* bias allowed, in standard errors (0.2) */
     size_t max_rounds;       /* refits after the first fit (3) */
     int halfspace;           /* 1: the half-space model is a candidate (1) */
     int thin_comparison;     /* 1: fill res->thin (1) */
+    int each;                /* 1: in a batch too, every curve decides
+                                alone (0, default: once per probe and layer
+                                where that settles it, lf_batch_run) */
+    lf_model_group *group;   /* NULL (default): the curve decides alone; a
+                                batch's group of curves of one probe and
+                                layer (lf_batch_run), for a fit of one
+                                curve */
 } lf_choose_settings;
 
 LF_API lf_choose_settings lf_choose_settings_default(void);
@@ -1946,7 +1959,10 @@ LF_API int lf_fit_job_figure(const lf_fit_job *j, size_t i, size_t n, double *z,
  * of its curves (the file opened once, lf_plan_open_files).  A bad curve
  * (a missing file included) is a row with status "error" and its message;
  * the batch goes on.  The rows, in plan order, do not depend on the number
- * of threads.
+ * of threads.  With --model auto (and not lf_choose_settings.each), the
+ * fits of one curve are grouped by probe and layer and the model decided
+ * once per group where that settles it (lf_choose_settings.group; column
+ * model_by); the rows do not depend on the threads or the shard either.
  * --------------------------------------------------------------------- */
 
 typedef struct {

@@ -178,6 +178,8 @@ jcurve(lf_str *b, const lf_report_info *in, const lf_fit_result *r, size_t j)
     lf_str_json(b, c->model);
     lf_str_puts(b, ", \"model_reason\": ");
     lf_str_json(b, c->model_reason);
+    if (c->model_by_group)      /* a batch's curve decided with its group */
+        lf_str_puts(b, ", \"model_decided_by\": \"group\"");
     lf_str_puts(b, ", \"thin_bias_in_se\": ");
     jnum(b, c->thin_bias);
     if (in->origin != NULL) {   /* where R, b and the AFM constants came from */

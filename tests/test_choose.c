@@ -31,6 +31,7 @@
 
 #include <gsl/gsl_errno.h>
 
+#include "internal.h"     /* lf_model_group */
 #include "scene.h"
 #include "testlib.h"
 
@@ -337,6 +338,153 @@ recovery(void)
     scene_free(&s);
 }
 
+/* ---- 4. once per probe and layer (lf_choose_settings.group) ------------- */
+
+#define GROUP_N 14
+
+/* Curve i of a group of one probe and layer, as `layerfit map
+ * --synthetic` makes them: k = 3 on 1 um, thin-layer data from 20 nm to
+ * 1.5 c past detachment, E* 0.5-1 GPa, 1% noise, 300 points, its own
+ * seed. */
+static void
+group_curve(size_t i, double *depth, double *force, lf_fit_curve *cv)
+{
+    lf_probe p = { 3, 1e-3, 1e-6, LF_BASE_FRICTIONLESS, LF_TIP_POWER, 0.0, 0.0 };
+    lf_material mat = { 10e-3, 0.5e9 + 0.5e9 * (double) i / (GROUP_N - 1), 0.3 };
+    lf_sim_settings sim = lf_sim_settings_default();
+    lf_error err;
+
+    sim.noise = 0.01;
+    sim.delta_max = 20e-9;
+    sim.past_c = 1.5;
+    sim.z0 = 30e-9;
+    sim.seed = 40 + i;
+    t_int(lf_simulate(&sim, &lf_model_thin, &mat, 1, &p, &depth, &force, NULL, &err), LF_OK,
+          "group: simulate curve %zu", i);
+    memset(cv, 0, sizeof *cv);
+    cv->name = "group";
+    cv->n = sim.points;
+    cv->depth = depth;
+    cv->force = force;
+    cv->probe = p;
+    cv->branch = LF_BRANCH_UNLOAD;
+    cv->z0 = cv->F0 = NAN;
+}
+
+/* The model choice of one curve with group g (NULL: alone) at tol. */
+static int
+group_fit(const lf_fit_curve *cv, lf_model_group *g, double tol, lf_fit_result *r)
+{
+    lf_fit_settings set = lf_fit_settings_default();
+    lf_choose_settings cs = lf_choose_settings_default();
+    lf_error err;
+    int st;
+
+    cs.tol = tol;
+    cs.group = g;
+    st = lf_fit_choose_driver(&set, &cs, 1, cv, r, &err);
+    return st == LF_OK || st == LF_ENOCONV;
+}
+
+/* Two fits the same, bit for bit, model and all. */
+static int
+same_fit(const lf_fit_result *a, const lf_fit_result *b)
+{
+    return strcmp(a->curves[0].model, b->curves[0].model) == 0
+           && memcmp(&a->w.value, &b->w.value, sizeof a->w.value) == 0
+           && memcmp(&a->Estar.value, &b->Estar.value, sizeof a->Estar.value) == 0
+           && memcmp(&a->w.se, &b->w.se, sizeof a->w.se) == 0
+           && memcmp(&a->chi2, &b->chi2, sizeof a->chi2) == 0
+           && a->iterations == b->iterations;
+}
+
+/* The first LF_GROUP_REFS curves record their own choice; the others are
+ * decided with the group where its margin settles it, and then exactly as
+ * alone; a curve whose own bias lies within the margin of the tolerance is
+ * decided alone. */
+static void
+group_choice(void)
+{
+    static double depth[GROUP_N][300], force[GROUP_N][300];
+    lf_fit_curve cv[GROUP_N];
+    lf_group_ref rec[LF_GROUP_REFS + 1];
+    lf_model_group g;
+    lf_fit_result alone, with;
+    size_t i, by_group = 0, jn = GROUP_N;
+    const double tol = lf_choose_settings_default().tol;
+
+    memset(rec, 0, sizeof rec);
+    for (i = 0; i < GROUP_N; i++)
+        group_curve(i, depth[i], force[i], &cv[i]);
+    for (i = 0; i < GROUP_N; i++) {
+        memset(&g, 0, sizeof g);
+        if (i < LF_GROUP_REFS) {
+            g.record = &rec[i];
+        } else {
+            g.ref = rec;
+            g.nref = LF_GROUP_REFS;
+        }
+        if (!t_true(group_fit(&cv[i], NULL, tol, &alone), "group: curve %zu alone fits", i))
+            continue;
+        if (t_true(group_fit(&cv[i], &g, tol, &with), "group: curve %zu with its group fits", i)) {
+            t_true(same_fit(&alone, &with), "group: curve %zu with its group (%s, %s) as alone "
+                   "(%s): w %.17g / %.17g", i, with.curves[0].model,
+                   with.curves[0].model_by_group ? "by the group" : "alone",
+                   alone.curves[0].model, with.w.value, alone.w.value);
+            if (i < LF_GROUP_REFS)
+                t_true(rec[i].ok && rec[i].snr > 0 && !with.curves[0].model_by_group,
+                       "group: curve %zu decides alone and records its bias (%.3g se)", i,
+                       rec[i].thin);
+            by_group += with.curves[0].model_by_group;
+            if (with.curves[0].model_by_group) {
+                t_true(strstr(with.curves[0].model_reason, "decided with its group") != NULL,
+                       "group: curve %zu's reason says so: %s", i, with.curves[0].model_reason);
+                jn = jn < GROUP_N ? jn : i;
+            }
+            lf_fit_result_free(&with);
+        }
+        lf_fit_result_free(&alone);
+    }
+    t_true(by_group > 0, "group: %zu of %d curves decided with their group", by_group,
+           GROUP_N - LF_GROUP_REFS);
+    /* records of another material (E* 0.5-0.62 GPa against 1 GPa) decide
+     * nothing */
+    memset(&g, 0, sizeof g);
+    g.ref = rec;
+    g.nref = 4;
+    if (t_true(group_fit(&cv[GROUP_N - 1], &g, tol, &with), "group: the last curve fits")) {
+        t_true(!with.curves[0].model_by_group, "group: records of E* 0.5-0.62 GPa do not decide "
+               "for a curve of 1 GPa: %s", with.curves[0].model_reason);
+        lf_fit_result_free(&with);
+    }
+    if (jn == GROUP_N)
+        return;
+    /* curve jn at a tolerance just below its own bias: the group's
+     * prediction (its own record among the group's) lies within the margin,
+     * so it decides alone, as the rule does */
+    memset(&g, 0, sizeof g);
+    g.record = &rec[LF_GROUP_REFS];
+    if (!t_true(group_fit(&cv[jn], &g, tol, &with), "group: curve %zu records", jn))
+        return;
+    lf_fit_result_free(&with);
+    memset(&g, 0, sizeof g);
+    g.ref = rec;
+    g.nref = LF_GROUP_REFS + 1;
+    if (t_true(group_fit(&cv[jn], NULL, 0.9 * rec[LF_GROUP_REFS].thin, &alone),
+               "group: curve %zu alone at %.3g se", jn, 0.9 * rec[LF_GROUP_REFS].thin)) {
+        if (t_true(group_fit(&cv[jn], &g, 0.9 * rec[LF_GROUP_REFS].thin, &with),
+                   "group: curve %zu with its group near the tolerance", jn)) {
+            t_true(!with.curves[0].model_by_group, "group: curve %zu, biased %.3g se against "
+                   "%.3g se, decides alone: %s", jn, rec[LF_GROUP_REFS].thin,
+                   0.9 * rec[LF_GROUP_REFS].thin, with.curves[0].model_reason);
+            t_true(same_fit(&alone, &with), "group: curve %zu near the tolerance as alone", jn);
+            t_str(with.curves[0].model, "exact", "group: curve %zu near the tolerance: exact", jn);
+            lf_fit_result_free(&with);
+        }
+        lf_fit_result_free(&alone);
+    }
+}
+
 int
 main(void)
 {
@@ -344,5 +492,6 @@ main(void)
     mixed_models();
     bias_table();
     recovery();
+    group_choice();
     return t_summary();
 }

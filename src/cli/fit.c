@@ -42,6 +42,8 @@ const char cli_fit_help[] =
     "  --model NAME         auto (default), thin, exact or halfspace; auto picks per curve\n"
     "                       the cheapest model whose bias on w, E*, nu is below --model-tol\n"
     "  --model-tol X        bias allowed to a cheaper model, in standard errors (0.2)\n"
+    "  --model-each         a batch's auto decides every curve alone (default: once per\n"
+    "                       probe and layer where the group's margin settles it)\n"
     "  --method M           lm (default), lmaccel, dogleg, ddogleg, subspace2D\n"
     "  --jacobian J         analytic (default), forward, central\n"
     "  --no-cache           neither read nor write the exact model's tables on disk\n"

@@ -71,6 +71,35 @@ cmp -s "$tmp/merged.jsonl" "$tmp/r1.jsonl" && ok || bad "JSONL shards merged dif
 run_ok fit --batch "$tmp/fm/plan.csv" --shard 1/70 --out "$tmp/empty.csv"
 [ "$(wc -l < "$tmp/empty.csv")" -eq 1 ] && ok || bad "a share with no fit is a header"
 
+# --model auto once per probe and layer: the first 8 fits of a group choose
+# by their own rule, the others with their group where its margin settles
+# it; every answer is the per-curve rule's (--model-each), with threads and
+# in shards alike
+"$LF" map --synthetic "$tmp/fg" --size 5 --points 300 --seed 7 2>/dev/null
+run_ok fit --batch "$tmp/fg/plan.csv" --threads 2 --out "$tmp/g.csv"
+run_ok fit --batch "$tmp/fg/plan.csv" --threads 2 --model-each --out "$tmp/e.csv"
+[ "$(head -n 1 "$tmp/g.csv" | tr ',' '\n' | tail -n 1)" = model_by ] && ok || bad "model_by is the last column"
+ng=$(awk -F, 'NR > 1 && $NF == "group"' "$tmp/g.csv" | wc -l)
+[ "$ng" -ge 1 ] && ok || bad "some fits of the 5 x 5 map decided with their group, got $ng"
+[ "$(awk -F, 'NR > 1 && NR <= 9 && $NF == "curve"' "$tmp/g.csv" | wc -l)" -eq 8 ] && ok \
+    || bad "the group's first 8 fits decide by their own rule"
+[ "$(awk -F, 'NR > 1 && $NF != "curve"' "$tmp/e.csv" | wc -l)" -eq 0 ] && ok \
+    || bad "--model-each: every fit decides by its own rule"
+sed 's/,[^,]*$//' "$tmp/g.csv" > "$tmp/g.cut"
+sed 's/,[^,]*$//' "$tmp/e.csv" > "$tmp/e.cut"
+cmp -s "$tmp/g.cut" "$tmp/e.cut" && ok || bad "decided with the group, every column but model_by as decided alone"
+grep -q ',thin,' "$tmp/g.csv" && grep -q ',exact,' "$tmp/g.csv" && ok \
+    || bad "the 5 x 5 map's batch mixes thin and exact fits"
+for i in 1 2; do
+    run_ok fit --batch "$tmp/fg/plan.csv" --threads 1 --shard $i/2 --out "$tmp/gs$i.csv"
+done
+{ cat "$tmp/gs1.csv"; tail -n +2 "$tmp/gs2.csv"; } | cmp -s - "$tmp/g.csv" && ok \
+    || bad "with groups, shards 1..2 merged (one thread) differ from the whole (two)"
+run_ok fit --batch "$tmp/fg/plan.csv" --threads 2 --out "$tmp/g.jsonl"
+grep -q '"model_by": "group"' "$tmp/g.jsonl" && ok || bad "JSON Lines rows say model_by group"
+expect_fail 2 "layerfit: fit: --model-each applies to --model auto only" \
+    fit --batch "$tmp/fg/plan.csv" --model exact --model-each
+
 # a bad curve gets a row and counts in the exit status; the rest go on
 cp "$tmp/fm/plan.csv" "$tmp/fm/plan_bad.csv"
 printf 'depth_nm,force_mN\n1,2\nthree,4\n' > "$tmp/fm/curves/bad.csv"
