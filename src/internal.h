@@ -52,7 +52,8 @@ double lf_thin_scale(const lf_probe *p);
  * time, where the processor has AVX2 (mode 1, the default), or always
  * point by point (0, for the tests: the two give the same bits); -1
  * leaves it.  Returns 1 when the vector paths are taken.  The exact
- * model has its own (lf_exact_simd). */
+ * model's (lf_exact_simd) follows the same switch; -DLF_NO_SIMD removes
+ * them all. */
 int lf_simd(int mode);
 /* x^(-1/3) for x = z[j] + shift, j < n: xr[j] = x within [1e-300, 1e300]
  * (else 1), y[j] = lf_inv_cbrt_seed(xr[j]) followed by `steps` of

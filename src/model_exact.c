@@ -69,7 +69,7 @@
 
 /* The fast path's points four at a time with AVX2 where the processor has
  * it (eval_from4, poly_finish4 below). */
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(LF_EXACT_NO_SIMD)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(LF_EXACT_NO_SIMD) && !defined(LF_NO_SIMD)
 #define EXACT_AVX2 1
 #endif
 
@@ -1872,25 +1872,17 @@ point_from(const exact_ctx *c, int bonded, double target, double u, lf_eval *e, 
  * run time (__builtin_cpu_supports); elsewhere eval_from is the scalar
  * loop. */
 
-/* -1: as the processor allows; 0: the scalar path (lf_exact_simd) */
-static _Atomic int simd_mode = -1;
-
-static int
-simd_have(void)
-{
-#ifdef EXACT_AVX2
-    return __builtin_cpu_supports("avx2") ? 1 : 0;
-#else
-    return 0;
-#endif
-}
-
+/* The processor's AVX2 under the one switch the thin model's vector path
+ * also follows (lf_simd: 0 forces the scalar paths for the tests). */
 int
 lf_exact_simd(int mode)
 {
-    if (mode >= 0)
-        atomic_store_explicit(&simd_mode, mode ? -1 : 0, memory_order_relaxed);
-    return atomic_load_explicit(&simd_mode, memory_order_relaxed) != 0 && simd_have();
+#ifdef EXACT_AVX2
+    return lf_simd(mode);
+#else
+    (void) lf_simd(mode);
+    return 0;
+#endif
 }
 
 #ifdef EXACT_AVX2
