@@ -1886,10 +1886,9 @@ lf_exact_simd(int mode)
 }
 
 #ifdef EXACT_AVX2
-#include <immintrin.h>
+#include "simd.h"
 
 #define AVX2_FN static inline __attribute__((target("avx2")))
-typedef __m256d v4;
 
 /* Products j0, j0 + 1 of the row at off of the four points' sub-cells a[]
  * as two vectors across the points (lane l: point l). */
@@ -1902,12 +1901,6 @@ ld_pair(const double *const a[4], size_t off, v4 *p0, v4 *p1)
                                       _mm_loadu_pd(a[3] + off), 1);
     *p0 = _mm256_unpacklo_pd(x, y);
     *p1 = _mm256_unpackhi_pd(x, y);
-}
-
-AVX2_FN v4
-bc(double x)
-{
-    return _mm256_set1_pd(x);
 }
 
 /* pp_val2, pp_d12 and pp_d22 for products j0, j0 + 1 of the sub-cells a[]
@@ -1946,18 +1939,9 @@ vsel(v4 mask, v4 yes, v4 no)
     return _mm256_blendv_pd(no, yes, mask);
 }
 
-/* lf_capped lane by lane (a NaN becomes LF_BIG) */
-AVX2_FN v4
-vcapped(v4 x)
-{
-    /* lf_capped's two selections: vminpd is x < BIG ? x : BIG and vmaxpd
-     * x > -BIG ? x : -BIG, as written there (a NaN becomes BIG) */
-    return _mm256_max_pd(_mm256_min_pd(x, bc(LF_BIG)), bc(-LF_BIG));
-}
-
 /* Four consecutive records or evaluations (six numbers each) at p:
- * field pairs (f, f + 1) read as vectors across the points, or written
- * from them. */
+ * field pairs (f, f + 1) read as vectors across the points (written by
+ * st_six). */
 AVX2_FN void
 ld_six(const double *p, v4 f[6])
 {
@@ -1965,19 +1949,6 @@ ld_six(const double *p, v4 f[6])
     ld_pair(a, 0, &f[0], &f[1]);
     ld_pair(a, 2, &f[2], &f[3]);
     ld_pair(a, 4, &f[4], &f[5]);
-}
-
-AVX2_FN void
-st_six(double *p, const v4 f[6])
-{
-    int j;
-    for (j = 0; j < 6; j += 2) {
-        const v4 lo = _mm256_unpacklo_pd(f[j], f[j + 1]), hi = _mm256_unpackhi_pd(f[j], f[j + 1]);
-        _mm_storeu_pd(p + j, _mm256_castpd256_pd128(lo));
-        _mm_storeu_pd(p + 6 + j, _mm256_castpd256_pd128(hi));
-        _mm_storeu_pd(p + 12 + j, _mm256_extractf128_pd(lo, 1));
-        _mm_storeu_pd(p + 18 + j, _mm256_extractf128_pd(hi, 1));
-    }
 }
 
 _Static_assert(sizeof(lf_eval) == 6 * sizeof(double), "lf_eval is six numbers");

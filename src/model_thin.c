@@ -396,40 +396,7 @@ lf_simd(int mode)
 }
 
 #ifdef THIN_AVX2
-#include <immintrin.h>
-
-#define AVX2_FN static inline __attribute__((target("avx2"), always_inline))
-typedef __m256d v4;
-
-AVX2_FN v4
-bc(double x)
-{
-    return _mm256_set1_pd(x);
-}
-
-/* lf_capped lane by lane (a NaN becomes LF_BIG) */
-AVX2_FN v4
-vcapped(v4 x)
-{
-    const v4 r = _mm256_blendv_pd(bc(-LF_BIG), x, _mm256_cmp_pd(x, bc(-LF_BIG), _CMP_GT_OQ));
-    return _mm256_blendv_pd(bc(LF_BIG), r, _mm256_cmp_pd(x, bc(LF_BIG), _CMP_LT_OQ));
-}
-
-/* Four evaluations at e, from their six fields across the lanes. */
-AVX2_FN void
-store4(lf_eval *e, const v4 f[6])
-{
-    double *p = &e->P;
-    int j;
-
-    for (j = 0; j < 6; j += 2) {
-        const v4 lo = _mm256_unpacklo_pd(f[j], f[j + 1]), hi = _mm256_unpackhi_pd(f[j], f[j + 1]);
-        _mm_storeu_pd(p + j, _mm256_castpd256_pd128(lo));
-        _mm_storeu_pd(p + 6 + j, _mm256_castpd256_pd128(hi));
-        _mm_storeu_pd(p + 12 + j, _mm256_extractf128_pd(lo, 1));
-        _mm_storeu_pd(p + 18 + j, _mm256_extractf128_pd(hi, 1));
-    }
-}
+#include "simd.h"
 
 _Static_assert(sizeof(lf_eval) == 6 * sizeof(double), "lf_eval is six numbers");
 
@@ -491,7 +458,7 @@ block4(const thin_loop *L, root_kind KIND, int ADH, size_t nb, const double *del
         f[3] = _mm256_andnot_pd(off, f[3]);
         f[4] = _mm256_andnot_pd(off, f[4]);
         f[5] = _mm256_andnot_pd(off, f[5]);
-        store4(out + j, f);
+        st_six(&out[j].P, f);
     }
     return j;
 }
@@ -501,7 +468,7 @@ block4(const thin_loop *L, root_kind KIND, int ADH, size_t nb, const double *del
  * + L, H / 3 and L / 3 by the multiplier 0xAAAAAAAB (exact for any 32-bit
  * numerator), remainders rH and rL, and 2^32 = 3 0x55555555 + 1,
  *     i / 3 = (H / 3) 2^32 + rH 0x55555555 + L / 3 + (rH + rL >= 3). */
-AVX2_FN v4
+LF_AVX2 v4
 vcbrt_seed(v4 x)
 {
     const __m256i i = _mm256_castpd_si256(x), mul = _mm256_set1_epi64x(0xAAAAAAAB);
